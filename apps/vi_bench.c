@@ -1,0 +1,157 @@
+/* vi_bench - run time against error on the paper's Fig. 2 scene.
+ *
+ * 1000 forcing periods for each method and tolerance; the impact times are
+ * compared with the closed-form event-driven run (VI_METHOD_EXACT, whose
+ * contacts are located to round-off).  Wall times are the best of several
+ * repeats and are also printed as ratios to the exact method measured in
+ * the same process, because absolute times on a shared machine are noise. */
+#include <link.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "vibroimpact.h"
+
+typedef struct rec { int n, cap; double *t, *vn; } rec;
+
+static int collect(const vi_event *ev, void *u)
+{
+  rec *r = u;
+  if (ev->kind != VI_EVENT_IMPACT) return 0;
+  if (r->n == r->cap) {
+    r->cap = r->cap ? 2 * r->cap : 1024;
+    r->t = realloc(r->t, sizeof(double) * r->cap);
+    r->vn = realloc(r->vn, sizeof(double) * r->cap);
+    if (!r->t || !r->vn) return 1;
+  }
+  r->t[r->n] = ev->t;
+  r->vn[r->n++] = ev->vn;
+  return 0;
+}
+
+static double now(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int find_lib(struct dl_phdr_info *info, size_t size, void *out)
+{
+  (void)size;
+  if (strstr(info->dlpi_name, "sundials_cvodes")) {
+    snprintf(out, 512, "%s", info->dlpi_name);
+    return 1;
+  }
+  return 0;
+}
+
+static vi_model *fig2(void)
+{
+  const double mass[2] = {1, 1}, k[2] = {1, 1}, c[2] = {0.1, 0.1};
+  const double a[2] = {0.5, 0.0}, w[2] = {0.0, 1.0};
+  double M[4], C[4], K[4];
+  vi_model *m = NULL;
+  vi_build_chain(2, mass, k, c, M, C, K, 2);
+  if (vi_model_create(2, &m) || vi_model_set_mass(m, M, 2) ||
+      vi_model_set_damping(m, C, 2) || vi_model_set_stiffness(m, K, 2) ||
+      vi_model_set_forcing(m, 0.9, a, NULL, NULL) ||
+      vi_model_set_stop(m, w, 0.1, 0.7) || vi_model_setup(m)) {
+    fprintf(stderr, "vi_bench: model: %s\n", vi_model_errmsg(m));
+    exit(1);
+  }
+  return m;
+}
+
+typedef struct result { double wall; int64_t rhs, steps; rec r; } result;
+
+static result run(const vi_model *m, int method, double rtol, double hrestart,
+                  double t_end, int repeats)
+{
+  result best = {HUGE_VAL, 0, 0, {0, 0, NULL, NULL}};
+  for (int k = 0; k < repeats; k++) {
+    vi_sim *s = NULL;
+    rec r = {0, 0, NULL, NULL};
+    if (vi_sim_create(m, &s) || vi_sim_set_method(s, method) ||
+        vi_sim_set_tolerances(s, rtol, rtol * 1e-2) ||
+        vi_sim_set_restart_step(s, hrestart) ||
+        vi_sim_set_event_callback(s, collect, &r)) {
+      fprintf(stderr, "vi_bench: set-up: %s\n", vi_sim_errmsg(s));
+      exit(1);
+    }
+    double t0 = now();
+    int st = vi_sim_run(s, t_end);
+    double wall = now() - t0;
+    if (st) {
+      fprintf(stderr, "vi_bench: run: %s\n", vi_sim_errmsg(s));
+      exit(1);
+    }
+    if (wall < best.wall) {
+      free(best.r.t);
+      free(best.r.vn);
+      best.wall = wall;
+      best.rhs = vi_sim_get_stat(s, VI_STAT_RHS_EVALS);
+      best.steps = vi_sim_get_stat(s, VI_STAT_STEPS);
+      best.r = r;
+    } else {
+      free(r.t);
+      free(r.vn);
+    }
+    vi_sim_destroy(&s);
+  }
+  return best;
+}
+
+int main(int argc, char **argv)
+{
+  gsl_set_error_handler_off();
+  double periods = argc > 1 ? atof(argv[1]) : 1000.0;
+  int repeats = argc > 2 ? atoi(argv[2]) : 3;
+  if (!(periods > 0) || repeats < 1) {
+    fprintf(stderr, "usage: vi_bench [PERIODS [REPEATS]]\n");
+    return 2;
+  }
+  char lib[512] = "(not found)";
+  dl_iterate_phdr(find_lib, lib);
+  printf("vi_bench: vibroimpact %s, SUNDIALS %s from %s\n",
+         vi_version_string(), vi_sundials_version(), lib);
+  printf("scene: Wagg & Bishop Fig. 2, %g forcing periods, best of %d; "
+         "atol = rtol / 100\n\n", periods, repeats);
+  vi_model *m = fig2();
+  double t_end = periods * 2.0 * M_PI / 0.9;
+  result ref = run(m, VI_METHOD_EXACT, 1e-12, 0.0, t_end, repeats);
+  printf("%-7s %-9s %-9s %10s %8s %12s %10s %10s %12s %9s\n", "method", "rtol",
+         "h_restart", "wall_ms", "impacts", "rhs/period", "steps/imp",
+         "us/impact", "max|dt_imp|", "x_exact");
+  const struct { int m; const char *name; } meth[] = {
+      {VI_METHOD_EXACT, "exact"}, {VI_METHOD_ADAMS, "adams"},
+      {VI_METHOD_BDF, "bdf"}};
+  const double tols[] = {1e-6, 1e-8, 1e-10};
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      for (int h = 0; h < (meth[i].m == VI_METHOD_EXACT ? 1 : 2); h++) {
+        double hr = h ? 1e-3 * pow(tols[j], 0.25) : 0.0;
+        result r = run(m, meth[i].m, tols[j], hr, t_end, repeats);
+        double err = 0.0;
+        int nc = r.r.n < ref.r.n ? r.r.n : ref.r.n;
+        for (int k = 0; k < nc; k++) err = fmax(err, fabs(r.r.t[k] - ref.r.t[k]));
+        char hs[16];
+        snprintf(hs, sizeof hs, h ? "%.1e" : "cvode", hr);
+        printf("%-7s %-9.0e %-9s %10.3f %8d %12.1f %10.1f %10.2f %12.3e %9.1f%s\n",
+               meth[i].name, tols[j], meth[i].m == VI_METHOD_EXACT ? "-" : hs,
+               1e3 * r.wall, r.r.n, (double)r.rhs / periods,
+               r.r.n ? (double)r.steps / r.r.n : 0.0,
+               r.r.n ? 1e6 * r.wall / r.r.n : 0.0, err, r.wall / ref.wall,
+               r.r.n != ref.r.n ? "  COUNT MISMATCH" : "");
+        free(r.r.t);
+        free(r.r.vn);
+      }
+  free(ref.r.t);
+  free(ref.r.vn);
+  vi_model_destroy(&m);
+  return 0;
+}

@@ -1,0 +1,31 @@
+/* vi_flow.h - the exact flow between impacts (MODEL.md section 8).
+ *
+ * Between impacts the structure is linear with harmonic forcing, so for
+ * proportional damping every mode is a forced damped oscillator with a
+ * closed-form solution:  q_j = q_p,j(t) + homogeneous part.  This is both the
+ * integrator of the VI_METHOD_EXACT simulation and the reference against
+ * which the CVODE path's error is measured. */
+#ifndef VI_FLOW_H
+#define VI_FLOW_H
+
+#include "vibroimpact/vi_export.h"
+#include "vibroimpact/vi_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Advance the free (stop-ignoring) motion from (t0, x0, v0) to t >= t0:
+ * x, v [n] receive the state at t.  Arrays may not overlap.  Returns
+ * VI_ERR_UNSUPPORTED for non-proportional damping and for an undamped mode
+ * forced exactly at its natural frequency (secular growth). */
+VI_API int vi_flow_physical(const vi_model *m, double t0, const double *x0,
+                            const double *v0, double t, double *x, double *v);
+/* The same in modal coordinates q, q' [n]. */
+VI_API int vi_flow_modal(const vi_model *m, double t0, const double *q0,
+                         const double *qd0, double t, double *q, double *qd);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

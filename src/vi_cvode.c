@@ -1,0 +1,307 @@
+/* vi_cvode.c - CVODE(S) backend: Adams/fixed-point or BDF/Newton with the
+ * analytic (constant) Jacobian, root functions for contact, maxima of the
+ * gap (grazing) and release from sticking. */
+#include <stdlib.h>
+#include <string.h>
+
+#include <cvodes/cvodes.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_band.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_band.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include "vi_sim_internal.h"
+
+typedef struct cv_data {
+  SUNContext ctx;
+  void *mem;
+  N_Vector y;     /* wraps s->z: CVODE writes the state in place */
+  N_Vector ys;    /* wraps s->zs: interpolant output */
+  SUNMatrix A;
+  SUNLinearSolver LS;
+  SUNNonlinearSolver NLS;
+  int nroots;     /* 2 in free flight, 1 while sticking */
+  long base[4];   /* steps, rhs, jac, root evals before the last ReInit */
+  double t_prev;  /* time of the previous return */
+} cv_data;
+
+static int rhs(double t, N_Vector y, N_Vector yd, void *user)
+{
+  vi_sim *s = user;
+  const double *z = N_VGetArrayPointer(y);
+  double *zd = N_VGetArrayPointer(yd);
+  int n = s->n;
+  /* acceleration into the odd slots first, then positions' rates: the
+   * velocities are read from z, so zd can be filled in either order */
+  vi_sim_accel(s, t, z, s->sticking, s->vp);
+  for (int i = 0; i < n; i++) {
+    zd[2 * i] = z[2 * i + 1];
+    zd[2 * i + 1] = s->vp[i];
+  }
+  return 0;
+}
+
+/* Free flight: g0 = w.x - x_s rising (contact), g1 = w.x' falling (a maximum
+ * of the gap, where a grazing contact inside one step is looked for).
+ * Sticking: g0 = w.a_free falling (the contact force lambda through zero). */
+static int roots(double t, N_Vector y, double *g, void *user)
+{
+  vi_sim *s = user;
+  const double *z = N_VGetArrayPointer(y);
+  if (s->sticking) {
+    vi_sim_accel(s, t, z, 0, s->vp);
+    g[0] = vi_dot(s->n, s->m->w, s->vp);
+  } else {
+    vi_sim_gap(s, z, &g[0], &g[1]);
+  }
+  return 0;
+}
+
+/* J = [[0, I], [-M^-1 K, -M^-1 C]] in interleaved order; while sticking the
+ * rows of the acceleration are projected like the RHS. */
+static void jac_entries(vi_sim *s, SUNMatrix J, int band)
+{
+  const vi_model *m = s->m;
+  int n = s->n, bw = band ? m->bw : n;
+  double *col = s->zs; /* 2n scratch: one column of d(acc)/dz */
+  for (int jz = 0; jz < 2 * n; jz++) {
+    int j = jz / 2;
+    const double *src = (jz % 2 ? m->MinvC : m->MinvK) + (size_t)j * n;
+    for (int i = 0; i < n; i++) col[i] = -src[i];
+    if (s->sticking) {
+      double lam = vi_dot(n, m->w, col) / m->wMw;
+      for (int i = 0; i < n; i++) col[i] -= lam * m->Minv_w[i];
+    }
+    int i0 = j - bw < 0 ? 0 : j - bw, i1 = j + bw >= n ? n - 1 : j + bw;
+    for (int i = i0; i <= i1; i++) {
+      if (band) SM_ELEMENT_B(J, 2 * i + 1, jz) = col[i];
+      else SM_ELEMENT_D(J, 2 * i + 1, jz) = col[i];
+    }
+    if (jz % 2) { /* d(x_j')/d(v_j) = 1 */
+      if (band) SM_ELEMENT_B(J, jz - 1, jz) = 1.0;
+      else SM_ELEMENT_D(J, jz - 1, jz) = 1.0;
+    }
+  }
+}
+
+static int jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void *user,
+               N_Vector t1, N_Vector t2, N_Vector t3)
+{
+  (void)t; (void)y; (void)fy; (void)t1; (void)t2; (void)t3;
+  SUNMatZero(J);
+  jac_entries(user, J, SUNMatGetID(J) == SUNMATRIX_BAND);
+  return 0;
+}
+
+/* CVODE would print to stderr; keep the message for vi_sim_errmsg. */
+static void err_handler(int code, const char *module, const char *function,
+                        char *msg, void *user)
+{
+  vi_sim *s = user;
+  if (code < 0)
+    vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s %s (%d): %s", module, function,
+            code, msg);
+}
+
+static void cv_destroy(vi_sim *s)
+{
+  cv_data *d = s->be_data;
+  if (!d) return;
+  CVodeFree(&d->mem);
+  SUNNonlinSolFree(d->NLS);
+  SUNLinSolFree(d->LS);
+  SUNMatDestroy(d->A);
+  N_VDestroy(d->y);
+  N_VDestroy(d->ys);
+  SUNContext_Free(&d->ctx);
+  free(d);
+  s->be_data = NULL;
+}
+
+/* The band solver pays when the interleaved bandwidth is well below 2n and
+ * the sticking projection keeps the band (stop on one coordinate of a
+ * diagonal-mass chain). */
+static int use_band(const vi_sim *s)
+{
+  const vi_model *m = s->m;
+  int n = s->n, nz = 0;
+  for (int i = 0; i < n; i++) {
+    if (m->Minv_w[i] != 0.0) nz++;
+    if ((m->Minv_w[i] != 0.0) != (m->w[i] != 0.0)) return 0;
+  }
+  return nz == 1 && 4 * m->bw + 2 < n;
+}
+
+#define CV_TRY(call)                                                   \
+  do {                                                                 \
+    int flag_ = (call);                                                \
+    if (flag_ < 0) {                                                   \
+      if (!s->errmsg[0] || st == VI_OK)                                \
+        vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s failed (flag %d)",   \
+                #call, flag_);                                         \
+      st = VI_ERR_INTEGRATOR;                                          \
+      goto cleanup;                                                    \
+    }                                                                  \
+  } while (0)
+
+static int cv_create(vi_sim *s)
+{
+  int st = VI_OK, N = 2 * s->n;
+  cv_data *d = calloc(1, sizeof *d);
+  if (!d) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  s->be_data = d;
+  s->errmsg[0] = '\0';
+  VI_CHECK(SUNContext_Create(NULL, &d->ctx) == 0, s->errmsg, VI_ERR_NOMEM,
+           "SUNContext_Create failed");
+  d->y = N_VMake_Serial(N, s->z, d->ctx);
+  d->ys = N_VMake_Serial(N, s->zs, d->ctx);
+  VI_CHECK(d->y && d->ys, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
+  d->mem = CVodeCreate(s->method == VI_METHOD_BDF ? CV_BDF : CV_ADAMS, d->ctx);
+  VI_CHECK(d->mem, s->errmsg, VI_ERR_NOMEM, "CVodeCreate failed");
+  CV_TRY(CVodeSetErrHandlerFn(d->mem, err_handler, s));
+  CV_TRY(CVodeInit(d->mem, rhs, s->t, d->y));
+  CV_TRY(CVodeSetUserData(d->mem, s));
+  CV_TRY(CVodeSStolerances(d->mem, s->rtol, s->atol));
+  CV_TRY(CVodeSetNoInactiveRootWarn(d->mem));
+  if (s->hmax > 0.0) CV_TRY(CVodeSetMaxStep(d->mem, s->hmax));
+  if (s->method == VI_METHOD_BDF) {
+    int bw = s->m->bw;
+    d->A = use_band(s) ? SUNBandMatrix(N, bw > 0 ? 2 * bw : 1, 2 * bw + 1, d->ctx)
+                       : SUNDenseMatrix(N, N, d->ctx);
+    VI_CHECK(d->A, s->errmsg, VI_ERR_NOMEM, "matrix allocation failed");
+    d->LS = SUNMatGetID(d->A) == SUNMATRIX_BAND
+                ? SUNLinSol_Band(d->y, d->A, d->ctx)
+                : SUNLinSol_Dense(d->y, d->A, d->ctx);
+    VI_CHECK(d->LS, s->errmsg, VI_ERR_NOMEM, "linear solver allocation failed");
+    CV_TRY(CVodeSetLinearSolver(d->mem, d->LS, d->A));
+    CV_TRY(CVodeSetJacFn(d->mem, jac));
+  } else {
+    /* non-stiff: fixed-point iteration needs no Jacobian at all */
+    d->NLS = SUNNonlinSol_FixedPoint(d->y, 0, d->ctx);
+    VI_CHECK(d->NLS, s->errmsg, VI_ERR_NOMEM, "fixed-point solver failed");
+    CV_TRY(CVodeSetNonlinearSolver(d->mem, d->NLS));
+  }
+  d->nroots = 0;
+cleanup:
+  if (st) cv_destroy(s);
+  return st;
+}
+
+static int64_t cv_live(const cv_data *d, int which)
+{
+  long v = 0;
+  switch (which) {
+  case VI_STAT_STEPS: CVodeGetNumSteps(d->mem, &v); break;
+  case VI_STAT_RHS_EVALS: CVodeGetNumRhsEvals(d->mem, &v); break;
+  case VI_STAT_JAC_EVALS: if (d->LS) CVodeGetNumJacEvals(d->mem, &v); break;
+  case VI_STAT_ROOT_EVALS: CVodeGetNumGEvals(d->mem, &v); break;
+  default: break;
+  }
+  return v;
+}
+
+static int64_t cv_stat(const vi_sim *s, int which)
+{
+  const cv_data *d = s->be_data;
+  if (which < 0 || which > VI_STAT_ROOT_EVALS) return 0;
+  return d->base[which] + cv_live(d, which);
+}
+
+static int cv_start(vi_sim *s)
+{
+  int st = VI_OK;
+  if (!s->be_data && (st = cv_create(s))) return st;
+  cv_data *d = s->be_data;
+  /* ReInit zeroes CVODE's counters: bank them first */
+  for (int k = 0; k <= VI_STAT_ROOT_EVALS; k++) d->base[k] += cv_live(d, k);
+  CV_TRY(CVodeReInit(d->mem, s->t, d->y));
+  int nr = s->sticking ? 1 : 2;
+  if (nr != d->nroots) {
+    int dir[2] = {s->sticking ? -1 : 1, -1};
+    CV_TRY(CVodeRootInit(d->mem, nr, roots));
+    CV_TRY(CVodeSetRootDirection(d->mem, dir));
+    d->nroots = nr;
+  }
+  if (s->h_restart > 0.0) CV_TRY(CVodeSetInitStep(d->mem, s->h_restart));
+  d->t_prev = s->t;
+cleanup:
+  return st;
+}
+
+typedef struct gap_ctx { vi_sim *s; cv_data *d; } gap_ctx;
+
+static double gap_at(double t, void *p)
+{
+  gap_ctx *c = p;
+  double g, gd;
+  CVodeGetDky(c->d->mem, t, 0, c->d->ys);
+  vi_sim_gap(c->s, c->s->zs, &g, &gd);
+  return g;
+}
+
+/* A maximum of the gap was found at s->t.  If the gap is positive there, the
+ * contact was stepped over (two crossings inside one step: grazing); locate
+ * the first crossing on the interpolant and report it as the contact. */
+static int graze_check(vi_sim *s, cv_data *d, int *event)
+{
+  double g, gd;
+  vi_sim_gap(s, s->z, &g, &gd);
+  s->stats[VI_STAT_GRAZE_CHECKS]++;
+  if (g <= 0.0) return VI_OK;
+  double tn, hu, lo;
+  CVodeGetCurrentTime(d->mem, &tn);
+  CVodeGetLastStep(d->mem, &hu);
+  lo = fmax(d->t_prev, tn - hu);
+  gap_ctx c = {s, d};
+  double tc = lo;
+  if (gap_at(lo, &c) < 0.0) {
+    int st = vi_sim_bracket(s, gap_at, &c, lo, s->t, &tc);
+    if (st) return st;
+  }
+  if (CVodeGetDky(d->mem, tc, 0, d->y) < 0)
+    return vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVodeGetDky failed");
+  s->t = tc;
+  *event = VI_STEP_CONTACT;
+  return VI_OK;
+}
+
+static int cv_step(vi_sim *s, double t_end, int *event)
+{
+  cv_data *d = s->be_data;
+  int st = VI_OK;
+  *event = VI_STEP_NONE;
+  CV_TRY(CVodeSetStopTime(d->mem, t_end));
+  double t;
+  int flag = CVode(d->mem, t_end, d->y, &t, CV_ONE_STEP);
+  if (flag < 0) {
+    if (!s->errmsg[0])
+      vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVode failed (flag %d) at t = %g",
+              flag, t);
+    return VI_ERR_INTEGRATOR;
+  }
+  s->t = t;
+  if (flag == CV_ROOT_RETURN) {
+    int info[2] = {0, 0};
+    CVodeGetRootInfo(d->mem, info);
+    if (s->sticking) *event = info[0] ? VI_STEP_RELEASE : VI_STEP_NONE;
+    else if (info[0]) *event = VI_STEP_CONTACT;
+    else if (info[1]) st = graze_check(s, d, event);
+  }
+  d->t_prev = s->t;
+cleanup:
+  return st;
+}
+
+static int cv_dense(vi_sim *s, double t)
+{
+  cv_data *d = s->be_data; /* ys wraps s->zs */
+  if (CVodeGetDky(d->mem, t, 0, d->ys) < 0)
+    return vi_fail(s->errmsg, VI_ERR_INTEGRATOR,
+                   "CVodeGetDky failed at t = %.17g", t);
+  return VI_OK;
+}
+
+const vi_backend vi_backend_cvode = {"cvode", cv_start, cv_step, cv_dense,
+                                     cv_stat, cv_destroy};

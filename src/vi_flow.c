@@ -1,0 +1,99 @@
+/* vi_flow.c - closed-form motion of proportionally damped modes
+ * (MODEL.md section 8). */
+#include <math.h>
+#include <stdlib.h>
+
+#include "vi_internal.h"
+
+/* u'' + d u' + lambda u = 0 from u(0) = u0, u'(0) = v0, after tau >= 0.
+ * With mu^2 = lambda - d^2/4 and w = v0 + d u0 / 2:
+ *   u = e^{-d tau/2} (u0 C + w S),  u' = e^{-d tau/2} (v0 C - (d/2 v0 + lambda u0) S)
+ * where C = cos, cosh or 1 and S = sin/mu, sinh/kappa or tau for under-,
+ * over- and critically damped modes (rigid-body modes included).  The
+ * overdamped branch folds the exponential into the hyperbolic functions so
+ * that a heavily damped mode cannot overflow. */
+void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
+                         double tau, double *u, double *ud)
+{
+  double h = 0.5 * d, mu2 = lambda - h * h, w = v0 + h * u0;
+  double eC, eS; /* e^{-h tau} C and e^{-h tau} S */
+  if (mu2 > 0.0) {
+    double mu = sqrt(mu2), e = exp(-h * tau);
+    eC = e * cos(mu * tau);
+    eS = e * sin(mu * tau) / mu;
+  } else if (mu2 < 0.0) {
+    double ka = sqrt(-mu2);
+    double ep = exp((ka - h) * tau), em = exp(-(ka + h) * tau);
+    eC = 0.5 * (ep + em);
+    eS = 0.5 * (ep - em) / ka;
+  } else {
+    double e = exp(-h * tau);
+    eC = e;
+    eS = e * tau;
+  }
+  *u = u0 * eC + w * eS;
+  *ud = v0 * eC - (h * v0 + lambda * u0) * eS;
+}
+
+void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
+                        double tau, double *qp, double *qpd)
+{
+  double Om = m->omega_f, lam = m->lambda[j], d = m->D[j + (size_t)j * m->n];
+  double q = m->pA[j] * cos_t + m->pB[j] * sin_t;
+  double qd = Om * (m->pB[j] * cos_t - m->pA[j] * sin_t);
+  double F0 = m->F0[j];
+  if (F0 != 0.0) {
+    if (lam > 0.0) {
+      q += F0 / lam;
+    } else if (d > 0.0) { /* rigid mode with damping: drift at F0/d */
+      q += F0 / d * tau;
+      qd += F0 / d;
+    } else { /* free rigid mode: uniform acceleration */
+      q += 0.5 * F0 * tau * tau;
+      qd += F0 * tau;
+    }
+  }
+  *qp = q;
+  *qpd = qd;
+}
+
+int vi_flow_modal(const vi_model *m, double t0, const double *q0,
+                  const double *qd0, double t, double *q, double *qd)
+{
+  if (!m || !q0 || !qd0 || !q || !qd) return VI_ERR_ARG;
+  if (!m->frozen) return VI_ERR_STATE;
+  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!(t >= t0)) return VI_ERR_TIME;
+  double tau = t - t0, Om = m->omega_f;
+  double c0 = cos(Om * t0), s0 = sin(Om * t0), c1 = cos(Om * t), s1 = sin(Om * t);
+  for (int j = 0; j < m->n; j++) {
+    double p0, pd0, p1, pd1, u, ud;
+    vi_flow_particular(m, j, c0, s0, 0.0, &p0, &pd0);
+    vi_flow_particular(m, j, c1, s1, tau, &p1, &pd1);
+    vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * m->n], q0[j] - p0,
+                        qd0[j] - pd0, tau, &u, &ud);
+    q[j] = p1 + u;
+    qd[j] = pd1 + ud;
+  }
+  return VI_OK;
+}
+
+int vi_flow_physical(const vi_model *m, double t0, const double *x0,
+                     const double *v0, double t, double *x, double *v)
+{
+  if (!m || !x0 || !v0 || !x || !v) return VI_ERR_ARG;
+  if (!m->frozen) return VI_ERR_STATE;
+  int n = m->n;
+  double *q = malloc(sizeof(double) * 4 * (size_t)n);
+  if (!q) return VI_ERR_NOMEM;
+  double *qd = q + n, *q1 = q + 2 * n, *qd1 = q + 3 * n;
+  vi_matvec(n, m->PsiTM, x0, q);
+  vi_matvec(n, m->PsiTM, v0, qd);
+  int st = vi_flow_modal(m, t0, q, qd, t, q1, qd1);
+  if (st == VI_OK) {
+    vi_matvec(n, m->Psi, q1, x);
+    vi_matvec(n, m->Psi, qd1, v);
+  }
+  free(q);
+  return st;
+}

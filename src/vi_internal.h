@@ -1,0 +1,65 @@
+/* vi_internal.h - private structures and helpers; never installed. */
+#ifndef VI_INTERNAL_H
+#define VI_INTERNAL_H
+
+#include <stddef.h>
+
+#include "vibroimpact.h"
+
+#define VI_MSG_LEN 512
+
+/* Format a message into a fixed buffer (truncating) and return code, so that
+ * a check reads  if (bad) return vi_fail(m->errmsg, VI_ERR_X, "...", ...); */
+int vi_fail(char *buf, int code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* PetscCheck-style: on a false condition record the message, set `st` and
+ * leave through the function's single cleanup label. */
+#define VI_CHECK(cond, buf, code, ...)          \
+  do {                                          \
+    if (!(cond)) {                              \
+      st = vi_fail((buf), (code), __VA_ARGS__); \
+      goto cleanup;                             \
+    }                                           \
+  } while (0)
+
+struct vi_model {
+  int n;
+  int frozen;
+  int has_stop;
+  double omega_f, xs, r;
+  /* as set; column-major, leading dimension n */
+  double *M, *C, *K;
+  double *a, *b, *f0, *w;
+  /* derived at setup */
+  double *MinvK, *MinvC;          /* M^-1 K, M^-1 C */
+  double *Minv_a, *Minv_b, *Minv_f0, *Minv_w;
+  double wMw;                     /* w^T M^-1 w */
+  int bw;                         /* half-bandwidth of M^-1 K and M^-1 C */
+  double *omega, *lambda, *Psi, *PsiTM, *D, *zeta, *psi;
+  double *Fa, *Fb, *F0;           /* Psi^T a, Psi^T b, Psi^T f0 */
+  double *pA, *pB;                /* harmonic particular solution per mode */
+  int proportional;
+  int flow_ok;                    /* closed-form flow available */
+  char flow_why[VI_MSG_LEN];
+  double *block;                  /* single allocation behind the arrays */
+  char errmsg[VI_MSG_LEN];
+};
+
+/* Modal analysis (vi_modal.c), called by vi_model_setup. */
+int vi_modal_setup(vi_model *m);
+
+/* Closed-form mode j (vi_flow.c): particular solution at t, with tau = t - t0
+ * for the polynomial part of a rigid-body mode, and the homogeneous solution
+ * from (u0, v0) after tau. */
+void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
+                        double tau, double *qp, double *qpd);
+void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
+                         double tau, double *u, double *ud);
+
+/* Dense helpers, column-major with leading dimension n. */
+void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x */
+void vi_matvec_t(int n, const double *A, const double *x, double *y); /* y = A^T x */
+double vi_dot(int n, const double *x, const double *y);
+
+#endif

@@ -1,0 +1,394 @@
+/* vi_model.c - store, validate and freeze M, C, K, the forcing and the stop. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <lapacke.h>
+
+#include "vi_internal.h"
+
+/* Relative tolerance for symmetry and semidefiniteness: generous enough for
+ * matrices read from text with 15-17 digits, tight enough to catch typos. */
+#define VI_SYM_TOL 1e-12
+#define VI_PSD_TOL 1e-12
+
+int vi_model_create(int n, vi_model **out)
+{
+  if (!out) return VI_ERR_ARG;
+  *out = NULL;
+  if (n < 1) return VI_ERR_DIM;
+  vi_model *m = calloc(1, sizeof *m);
+  if (!m) return VI_ERR_NOMEM;
+  size_t nn = (size_t)n * n;
+  /* 10 n x n matrices and 17 vectors in one block */
+  m->block = calloc(10 * nn + 17 * (size_t)n, sizeof(double));
+  if (!m->block) {
+    free(m);
+    return VI_ERR_NOMEM;
+  }
+  double *p = m->block;
+  m->M = p; p += nn;
+  m->C = p; p += nn;
+  m->K = p; p += nn;
+  m->MinvK = p; p += nn;
+  m->MinvC = p; p += nn;
+  m->Psi = p; p += nn;
+  m->PsiTM = p; p += nn;
+  m->D = p; p += nn;
+  p += 2 * nn; /* spare: workspace for setup */
+  m->a = p; p += n;
+  m->b = p; p += n;
+  m->f0 = p; p += n;
+  m->w = p; p += n;
+  m->Minv_a = p; p += n;
+  m->Minv_b = p; p += n;
+  m->Minv_f0 = p; p += n;
+  m->Minv_w = p; p += n;
+  m->omega = p; p += n;
+  m->lambda = p; p += n;
+  m->zeta = p; p += n;
+  m->psi = p; p += n;
+  m->Fa = p; p += n;
+  m->Fb = p; p += n;
+  m->F0 = p; p += n;
+  m->pA = p; p += n;
+  m->pB = p;
+  m->n = n;
+  for (int i = 0; i < n; i++) m->M[i + (size_t)i * n] = 1.0;
+  *out = m;
+  return VI_OK;
+}
+
+void vi_model_destroy(vi_model **model)
+{
+  if (!model || !*model) return;
+  free((*model)->block);
+  free(*model);
+  *model = NULL;
+}
+
+const char *vi_model_errmsg(const vi_model *m) { return m ? m->errmsg : ""; }
+
+/* Common checks of every setter: not frozen, finite values. */
+static int check_open(vi_model *m)
+{
+  if (!m) return VI_ERR_ARG;
+  if (m->frozen)
+    return vi_fail(m->errmsg, VI_ERR_STATE,
+                   "the model is frozen by vi_model_setup; create a new one");
+  return VI_OK;
+}
+
+static int check_vector(vi_model *m, const char *name, const double *v)
+{
+  if (!v) return VI_OK;
+  for (int i = 0; i < m->n; i++)
+    if (!isfinite(v[i]))
+      return vi_fail(m->errmsg, VI_ERR_NONFINITE, "%s(%d) = %g is not finite",
+                     name, i + 1, v[i]);
+  return VI_OK;
+}
+
+/* Copy a symmetric matrix, checking size, finiteness and symmetry; the stored
+ * copy is exactly symmetric (averaged) so later factorisations see one. */
+static int set_symmetric(vi_model *m, const char *name, double *dst,
+                         const double *src, int ld)
+{
+  int st = check_open(m);
+  if (st) return st;
+  int n = m->n;
+  if (!src)
+    return vi_fail(m->errmsg, VI_ERR_ARG, "%s: NULL array", name);
+  if (ld < n)
+    return vi_fail(m->errmsg, VI_ERR_DIM,
+                   "%s: leading dimension %d is less than n = %d", name, ld, n);
+  double amax = 0.0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double v = src[i + (size_t)j * ld];
+      if (!isfinite(v))
+        return vi_fail(m->errmsg, VI_ERR_NONFINITE,
+                       "%s(%d,%d) = %g is not finite", name, i + 1, j + 1, v);
+      amax = fmax(amax, fabs(v));
+    }
+  for (int j = 0; j < n; j++)
+    for (int i = j + 1; i < n; i++) {
+      double lo = src[i + (size_t)j * ld], up = src[j + (size_t)i * ld];
+      if (fabs(lo - up) > VI_SYM_TOL * amax)
+        return vi_fail(m->errmsg, VI_ERR_NOT_SYMMETRIC,
+                       "%s is not symmetric: %s(%d,%d) = %.17g but "
+                       "%s(%d,%d) = %.17g",
+                       name, name, i + 1, j + 1, lo, name, j + 1, i + 1, up);
+    }
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++)
+      dst[i + (size_t)j * n] =
+          0.5 * (src[i + (size_t)j * ld] + src[j + (size_t)i * ld]);
+  return VI_OK;
+}
+
+int vi_model_set_mass(vi_model *m, const double *M, int ldm)
+{
+  return set_symmetric(m, "M", m ? m->M : NULL, M, ldm);
+}
+
+int vi_model_set_damping(vi_model *m, const double *C, int ldc)
+{
+  if (m && !C && !m->frozen) {
+    memset(m->C, 0, sizeof(double) * (size_t)m->n * m->n);
+    return VI_OK;
+  }
+  return set_symmetric(m, "C", m ? m->C : NULL, C, ldc);
+}
+
+int vi_model_set_stiffness(vi_model *m, const double *K, int ldk)
+{
+  return set_symmetric(m, "K", m ? m->K : NULL, K, ldk);
+}
+
+static int is_zero(int n, const double *v)
+{
+  if (!v) return 1;
+  for (int i = 0; i < n; i++)
+    if (v[i] != 0.0) return 0;
+  return 1;
+}
+
+int vi_model_set_forcing(vi_model *m, double omega, const double *a,
+                         const double *b, const double *f0)
+{
+  int st = check_open(m);
+  if (st) return st;
+  if ((st = check_vector(m, "a", a)) || (st = check_vector(m, "b", b)) ||
+      (st = check_vector(m, "f0", f0)))
+    return st;
+  int harmonic = !is_zero(m->n, a) || !is_zero(m->n, b);
+  if (!isfinite(omega))
+    return vi_fail(m->errmsg, VI_ERR_NONFINITE,
+                   "forcing frequency Omega = %g is not finite", omega);
+  if (harmonic && omega <= 0.0)
+    return vi_fail(m->errmsg, VI_ERR_FREQUENCY,
+                   "forcing frequency Omega = %g must be > 0 when a or b is "
+                   "non-zero", omega);
+  size_t bytes = sizeof(double) * (size_t)m->n;
+  a ? memcpy(m->a, a, bytes) : memset(m->a, 0, bytes);
+  b ? memcpy(m->b, b, bytes) : memset(m->b, 0, bytes);
+  f0 ? memcpy(m->f0, f0, bytes) : memset(m->f0, 0, bytes);
+  m->omega_f = harmonic ? omega : (omega > 0.0 ? omega : 0.0);
+  return VI_OK;
+}
+
+int vi_model_set_stop(vi_model *m, const double *w, double x_s, double r)
+{
+  int st = check_open(m);
+  if (st) return st;
+  if (!w) return vi_fail(m->errmsg, VI_ERR_ARG, "stop vector w is NULL");
+  if ((st = check_vector(m, "w", w))) return st;
+  if (!isfinite(x_s))
+    return vi_fail(m->errmsg, VI_ERR_NONFINITE, "clearance x_s = %g is not "
+                   "finite", x_s);
+  if (!isfinite(r))
+    return vi_fail(m->errmsg, VI_ERR_NONFINITE,
+                   "restitution r = %g is not finite", r);
+  if (r < 0.0 || r > 1.0)
+    return vi_fail(m->errmsg, VI_ERR_RESTITUTION,
+                   "restitution r = %g is outside [0, 1]", r);
+  if (is_zero(m->n, w))
+    return vi_fail(m->errmsg, VI_ERR_STOP_VECTOR,
+                   "stop vector w is zero: no coordinate meets the stop");
+  memcpy(m->w, w, sizeof(double) * (size_t)m->n);
+  m->xs = x_s;
+  m->r = r;
+  m->has_stop = 1;
+  return VI_OK;
+}
+
+/* Smallest eigenvalue of a symmetric matrix relative to its largest
+ * magnitude, via dsyev on a copy in work (n x n). */
+static int check_psd(vi_model *m, const char *name, const double *A,
+                     double *work, double *eig)
+{
+  int n = m->n;
+  memcpy(work, A, sizeof(double) * (size_t)n * n);
+  lapack_int info = LAPACKE_dsyev(LAPACK_COL_MAJOR, 'N', 'L', n, work, n, eig);
+  if (info != 0)
+    return vi_fail(m->errmsg, VI_ERR_LAPACK, "dsyev on %s failed (info %d)",
+                   name, (int)info);
+  double big = fmax(fabs(eig[0]), fabs(eig[n - 1]));
+  if (eig[0] < -VI_PSD_TOL * big)
+    return vi_fail(m->errmsg, VI_ERR_NOT_PSD,
+                   "%s is not positive semidefinite: smallest eigenvalue %.6g "
+                   "(largest magnitude %.6g)", name, eig[0], big);
+  return VI_OK;
+}
+
+int vi_model_setup(vi_model *m)
+{
+  int st = check_open(m);
+  if (st) return st;
+  int n = m->n;
+  size_t nn = (size_t)n * n;
+  double *work = m->D + nn; /* the two spare n x n blocks */
+  double *L = work + nn;
+  if (!m->has_stop)
+    return vi_fail(m->errmsg, VI_ERR_STOP_VECTOR,
+                   "no stop: call vi_model_set_stop before setup");
+  if ((st = check_psd(m, "K", m->K, work, m->omega))) return st;
+  if ((st = check_psd(m, "C", m->C, work, m->omega))) return st;
+
+  /* Cholesky of M: the positive-definiteness test, and M^-1 for the RHS */
+  memcpy(L, m->M, sizeof(double) * nn);
+  lapack_int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', n, L, n);
+  if (info != 0)
+    return vi_fail(m->errmsg, VI_ERR_NOT_SPD,
+                   "M is not positive definite (Cholesky fails at column %d)",
+                   (int)info);
+  /* right-hand sides [K C a b f0 w] solved in one dpotrs call */
+  size_t nrhs = 2 * (size_t)n + 6;
+  double *rhs = malloc(sizeof(double) * nrhs * n);
+  if (!rhs) return vi_fail(m->errmsg, VI_ERR_NOMEM, "out of memory");
+  memcpy(rhs, m->K, sizeof(double) * nn);
+  memcpy(rhs + nn, m->C, sizeof(double) * nn);
+  const double *vecs[4] = {m->a, m->b, m->f0, m->w};
+  for (int k = 0; k < 4; k++)
+    memcpy(rhs + 2 * nn + (size_t)k * n, vecs[k], sizeof(double) * n);
+  info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, (lapack_int)(2 * n + 4), L,
+                        n, rhs, n);
+  if (info != 0) {
+    free(rhs);
+    return vi_fail(m->errmsg, VI_ERR_LAPACK, "dpotrs failed (info %d)",
+                   (int)info);
+  }
+  memcpy(m->MinvK, rhs, sizeof(double) * nn);
+  memcpy(m->MinvC, rhs + nn, sizeof(double) * nn);
+  double *outs[4] = {m->Minv_a, m->Minv_b, m->Minv_f0, m->Minv_w};
+  for (int k = 0; k < 4; k++)
+    memcpy(outs[k], rhs + 2 * nn + (size_t)k * n, sizeof(double) * n);
+  free(rhs);
+  m->wMw = vi_dot(n, m->w, m->Minv_w);
+
+  /* half-bandwidth of the RHS matrices: a chain with diagonal M is
+   * tridiagonal, and the RHS and band Jacobian exploit it */
+  m->bw = 0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++)
+      if ((m->MinvK[i + (size_t)j * n] != 0.0 ||
+           m->MinvC[i + (size_t)j * n] != 0.0) && abs(i - j) > m->bw)
+        m->bw = abs(i - j);
+
+  if ((st = vi_modal_setup(m))) return st;
+  m->frozen = 1;
+  m->errmsg[0] = '\0';
+  return VI_OK;
+}
+
+/* ---- getters ------------------------------------------------------------ */
+#define FROZEN_OR(m, v) (((m) && (m)->frozen) ? (v) : 0)
+
+int vi_model_n(const vi_model *m) { return m ? m->n : 0; }
+double vi_model_omega_forcing(const vi_model *m) { return FROZEN_OR(m, m->omega_f); }
+double vi_model_clearance(const vi_model *m) { return FROZEN_OR(m, m->xs); }
+double vi_model_restitution(const vi_model *m) { return FROZEN_OR(m, m->r); }
+const double *vi_model_mass(const vi_model *m) { return FROZEN_OR(m, m->M); }
+const double *vi_model_damping(const vi_model *m) { return FROZEN_OR(m, m->C); }
+const double *vi_model_stiffness(const vi_model *m) { return FROZEN_OR(m, m->K); }
+const double *vi_model_stop_vector(const vi_model *m) { return FROZEN_OR(m, m->w); }
+const double *vi_model_forcing_cos(const vi_model *m) { return FROZEN_OR(m, m->a); }
+const double *vi_model_forcing_sin(const vi_model *m) { return FROZEN_OR(m, m->b); }
+const double *vi_model_forcing_const(const vi_model *m) { return FROZEN_OR(m, m->f0); }
+const double *vi_model_omega(const vi_model *m) { return FROZEN_OR(m, m->omega); }
+const double *vi_model_zeta(const vi_model *m) { return FROZEN_OR(m, m->zeta); }
+const double *vi_model_modal_stop(const vi_model *m) { return FROZEN_OR(m, m->psi); }
+const double *vi_model_modal_forcing_cos(const vi_model *m) { return FROZEN_OR(m, m->Fa); }
+const double *vi_model_modal_forcing_sin(const vi_model *m) { return FROZEN_OR(m, m->Fb); }
+const double *vi_model_modal_forcing_const(const vi_model *m) { return FROZEN_OR(m, m->F0); }
+int vi_model_is_proportional(const vi_model *m) { return FROZEN_OR(m, m->proportional); }
+double vi_model_stop_compliance(const vi_model *m) { return FROZEN_OR(m, m->wMw); }
+
+const double *vi_model_modal_shapes(const vi_model *m, int *ld)
+{
+  if (ld) *ld = m ? m->n : 0;
+  return FROZEN_OR(m, m->Psi);
+}
+
+const double *vi_model_modal_damping(const vi_model *m, int *ld)
+{
+  if (ld) *ld = m ? m->n : 0;
+  return FROZEN_OR(m, m->D);
+}
+
+int vi_model_to_modal(const vi_model *m, const double *x, double *q)
+{
+  if (!m || !x || !q) return VI_ERR_ARG;
+  if (!m->frozen) return VI_ERR_STATE;
+  vi_matvec(m->n, m->PsiTM, x, q);
+  return VI_OK;
+}
+
+int vi_model_from_modal(const vi_model *m, const double *q, double *x)
+{
+  if (!m || !x || !q) return VI_ERR_ARG;
+  if (!m->frozen) return VI_ERR_STATE;
+  vi_matvec(m->n, m->Psi, q, x);
+  return VI_OK;
+}
+
+double vi_model_energy(const vi_model *m, const double *x, const double *v)
+{
+  if (!m || !x || !v) return NAN;
+  int n = m->n;
+  double e = 0.0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++)
+      e += 0.5 * (v[i] * m->M[i + (size_t)j * n] * v[j] +
+                  x[i] * m->K[i + (size_t)j * n] * x[j]);
+  return e;
+}
+
+/* ---- dense helpers ------------------------------------------------------ */
+void vi_matvec(int n, const double *A, const double *x, double *y)
+{
+  for (int i = 0; i < n; i++) y[i] = 0.0;
+  for (int j = 0; j < n; j++) {
+    double xj = x[j];
+    const double *col = A + (size_t)j * n;
+    for (int i = 0; i < n; i++) y[i] += col[i] * xj;
+  }
+}
+
+void vi_matvec_t(int n, const double *A, const double *x, double *y)
+{
+  for (int j = 0; j < n; j++) y[j] = vi_dot(n, A + (size_t)j * n, x);
+}
+
+double vi_dot(int n, const double *x, const double *y)
+{
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s += x[i] * y[i];
+  return s;
+}
+
+/* ---- builders ----------------------------------------------------------- */
+int vi_build_chain(int n, const double *mass, const double *k,
+                   const double *c, double *M, double *C, double *K, int ld)
+{
+  if (n < 1 || ld < n) return VI_ERR_DIM;
+  if (!mass || !k || !M || !C || !K) return VI_ERR_ARG;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++)
+      M[i + (size_t)j * ld] = C[i + (size_t)j * ld] = K[i + (size_t)j * ld] = 0;
+  for (int j = 0; j < n; j++) {
+    double cj = c ? c[j] : 0.0;
+    M[j + (size_t)j * ld] = mass[j];
+    /* element j joins mass j-1 (the ground for j = 0) to mass j */
+    K[j + (size_t)j * ld] += k[j];
+    C[j + (size_t)j * ld] += cj;
+    if (j > 0) {
+      K[(j - 1) + (size_t)(j - 1) * ld] += k[j];
+      C[(j - 1) + (size_t)(j - 1) * ld] += cj;
+      K[(j - 1) + (size_t)j * ld] = K[j + (size_t)(j - 1) * ld] = -k[j];
+      C[(j - 1) + (size_t)j * ld] = C[j + (size_t)(j - 1) * ld] = -cj;
+    }
+  }
+  return VI_OK;
+}

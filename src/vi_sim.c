@@ -1,0 +1,392 @@
+/* vi_sim.c - the event-driven simulation: impacts, sticking, samples,
+ * monitors and callbacks, over an integrator backend. */
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_sim_internal.h"
+
+int vi_sim_create(const vi_model *model, vi_sim **out)
+{
+  if (!out) return VI_ERR_ARG;
+  *out = NULL;
+  if (!model) return VI_ERR_ARG;
+  if (!model->frozen) return VI_ERR_STATE;
+  vi_sim *s = calloc(1, sizeof *s);
+  if (!s) return VI_ERR_NOMEM;
+  int n = model->n;
+  s->z = calloc(7 * (size_t)n, sizeof(double));
+  s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+  if (!s->z || !s->brent) {
+    gsl_root_fsolver_free(s->brent);
+    free(s->z);
+    free(s);
+    return VI_ERR_NOMEM;
+  }
+  s->x = s->z + 2 * n;
+  s->v = s->x + n;
+  s->vp = s->v + n;
+  s->zs = s->vp + n; /* 2n: ends at 7n */
+  s->m = model;
+  s->n = n;
+  s->method = VI_METHOD_ADAMS;
+  s->be = &vi_backend_cvode;
+  s->rtol = 1e-8;
+  s->atol = 1e-10;
+  s->vchat = 1e-7;
+  s->wnorm = sqrt(vi_dot(n, model->w, model->w));
+  for (int i = 0; i < n && !s->harmonic; i++)
+    s->harmonic = model->a[i] != 0.0 || model->b[i] != 0.0;
+  *out = s;
+  return VI_OK;
+}
+
+static void backend_destroy(vi_sim *s)
+{
+  if (s->be_data) s->be->destroy(s);
+  s->be_data = NULL;
+  s->started = 0;
+}
+
+void vi_sim_destroy(vi_sim **sim)
+{
+  if (!sim || !*sim) return;
+  vi_sim *s = *sim;
+  backend_destroy(s);
+  gsl_root_fsolver_free(s->brent);
+  free(s->z);
+  free(s);
+  *sim = NULL;
+}
+
+const char *vi_sim_errmsg(const vi_sim *s) { return s ? s->errmsg : ""; }
+
+/* Settings that shape the integrator take effect at the next restart: the
+ * backend is rebuilt lazily by vi_sim_run. */
+int vi_sim_set_method(vi_sim *s, int method)
+{
+  if (!s) return VI_ERR_ARG;
+  const vi_backend *be;
+  switch (method) {
+  case VI_METHOD_ADAMS:
+  case VI_METHOD_BDF: be = &vi_backend_cvode; break;
+  case VI_METHOD_EXACT:
+    if (!s->m->flow_ok)
+      return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
+                     "exact method unavailable: %s", s->m->flow_why);
+    be = &vi_backend_exact;
+    break;
+  default:
+    return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
+  }
+  backend_destroy(s);
+  s->method = method;
+  s->be = be;
+  return VI_OK;
+}
+
+int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!(rtol > 0.0) || !(atol > 0.0) || !isfinite(rtol) || !isfinite(atol))
+    return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
+                   "tolerances rtol = %g, atol = %g must be positive and "
+                   "finite", rtol, atol);
+  if (rtol < 2.0 * DBL_EPSILON)
+    return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
+                   "rtol = %g is below twice the machine epsilon", rtol);
+  s->rtol = rtol;
+  s->atol = atol;
+  backend_destroy(s);
+  return VI_OK;
+}
+
+int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
+{
+  if (!s) return VI_ERR_ARG;
+  const vi_model *m = s->m;
+  int n = s->n;
+  if (!isfinite(t0))
+    return vi_fail(s->errmsg, VI_ERR_NONFINITE, "t0 = %g is not finite", t0);
+  for (int i = 0; i < n; i++) {
+    double xi = x0 ? x0[i] : 0.0, vi = v0 ? v0[i] : 0.0;
+    if (!isfinite(xi) || !isfinite(vi))
+      return vi_fail(s->errmsg, VI_ERR_NONFINITE,
+                     "initial state x(%d) = %g, v(%d) = %g is not finite",
+                     i + 1, xi, i + 1, vi);
+    s->z[2 * i] = xi;
+    s->z[2 * i + 1] = vi;
+  }
+  double g, gd;
+  vi_sim_gap(s, s->z, &g, &gd);
+  /* allow round-off of a state handed over from an earlier contact */
+  if (g > 1e-13 * fmax(1.0, fabs(m->xs)))
+    return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE,
+                   "initial state violates the stop: w.x0 = %.17g > x_s = "
+                   "%.17g", g + m->xs, m->xs);
+  s->t = t0;
+  s->sticking = 0;
+  s->started = 0;
+  return VI_OK;
+}
+
+int vi_sim_set_chatter_threshold(vi_sim *s, double vmin)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!(vmin >= 0.0) || !isfinite(vmin))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "chatter threshold %g must be a "
+                   "finite non-negative velocity", vmin);
+  s->vchat = vmin;
+  return VI_OK;
+}
+
+int vi_sim_set_restart_step(vi_sim *s, double h)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!(h >= 0.0) || !isfinite(h))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "restart step %g must be >= 0", h);
+  s->h_restart = h;
+  return VI_OK;
+}
+
+int vi_sim_set_max_step(vi_sim *s, double hmax)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!(hmax >= 0.0) || !isfinite(hmax))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "max step %g must be >= 0", hmax);
+  s->hmax = hmax;
+  backend_destroy(s);
+  return VI_OK;
+}
+
+int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user)
+{
+  if (!s) return VI_ERR_ARG;
+  s->ev_fn = fn;
+  s->ev_user = user;
+  return VI_OK;
+}
+
+int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!isfinite(dt))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g", dt);
+  s->smp_fn = dt > 0.0 ? fn : NULL;
+  s->smp_user = user;
+  s->smp_dt = dt;
+  s->smp_t0 = s->t;
+  s->smp_k = 0;
+  return VI_OK;
+}
+
+int vi_sim_set_monitor(vi_sim *s, vi_monitor_fn fn, void *user, double every)
+{
+  if (!s) return VI_ERR_ARG;
+  if (fn && !(every > 0.0))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "monitor interval %g must be > 0",
+                   every);
+  s->mon_fn = fn;
+  s->mon_user = user;
+  s->mon_every = every;
+  s->mon_next = s->t;
+  return VI_OK;
+}
+
+int vi_sim_get_state(const vi_sim *s, double *t, double *x, double *v)
+{
+  if (!s) return VI_ERR_ARG;
+  if (t) *t = s->t;
+  for (int i = 0; i < s->n; i++) {
+    if (x) x[i] = s->z[2 * i];
+    if (v) v[i] = s->z[2 * i + 1];
+  }
+  return VI_OK;
+}
+
+int vi_sim_is_sticking(const vi_sim *s) { return s ? s->sticking : 0; }
+
+int64_t vi_sim_get_stat(const vi_sim *s, int which)
+{
+  if (!s || which < 0 || which >= VI_STAT_COUNT) return -1;
+  int64_t v = s->stats[which];
+  if (s->be_data) v += s->be->stat(s, which);
+  return v;
+}
+
+/* ---- root bracketing shared by the backends ----------------------------- */
+int vi_sim_bracket(vi_sim *s, double (*f)(double, void *), void *params,
+                   double lo, double hi, double *root)
+{
+  double flo = f(lo, params), fhi = f(hi, params);
+  if (fhi == 0.0) { *root = hi; return VI_OK; }
+  if (flo == 0.0) { *root = lo; return VI_OK; }
+  if ((flo < 0.0) == (fhi < 0.0) || !isfinite(flo) || !isfinite(fhi))
+    return vi_fail(s->errmsg, VI_ERR_ROOT,
+                   "event not bracketed in [%.17g, %.17g]: f = %g, %g", lo, hi,
+                   flo, fhi);
+  gsl_function F = {f, params};
+  gsl_root_fsolver_set(s->brent, &F, lo, hi);
+  for (int it = 0; it < 200; it++) {
+    if (gsl_root_fsolver_iterate(s->brent) != 0) break;
+    double a = gsl_root_fsolver_x_lower(s->brent);
+    double b = gsl_root_fsolver_x_upper(s->brent);
+    if (b - a <= 4.0 * DBL_EPSILON * fmax(fabs(a), fabs(b)) + DBL_MIN) {
+      *root = gsl_root_fsolver_root(s->brent);
+      return VI_OK;
+    }
+  }
+  *root = gsl_root_fsolver_root(s->brent);
+  return VI_OK; /* Brent's bracket still holds the root: report its best */
+}
+
+/* ---- events ------------------------------------------------------------- */
+static void split(vi_sim *s, const double *z)
+{
+  for (int i = 0; i < s->n; i++) {
+    s->x[i] = z[2 * i];
+    s->v[i] = z[2 * i + 1];
+  }
+}
+
+static void emit(vi_sim *s, int kind, double vn, double ie)
+{
+  int64_t idx = s->nevents[kind]++;
+  if (!s->ev_fn || s->stop) return;
+  vi_event ev = {kind, s->n, idx, s->t, vn, ie, s->x, s->v, s->vp};
+  if (s->ev_fn(&ev, s->ev_user)) s->stop = 1;
+}
+
+/* A contact located at s->t: impact, start of sticking, or a tangential
+ * touch that needs nothing but a restart past it. */
+static int on_contact(vi_sim *s)
+{
+  const vi_model *m = s->m;
+  int n = s->n;
+  split(s, s->z);
+  double vn = vi_dot(n, m->w, s->v);
+  vi_sim_accel(s, s->t, s->z, 0, s->vp);
+  double push = vi_dot(n, m->w, s->vp); /* > 0: pressed into the stop */
+  /* Chattering (Budd & Dux 1994): with r < 1 and the stop pressed on,
+   * impacts accumulate at a finite time; jump to the accumulation point and
+   * stick (Nordmark & Piiroinen 2009) once v_n is below the threshold, or
+   * once the next bounce's apex (r v_n)^2 / (2 w.a) lies within a few atol
+   * of the stop: below that the integrator's position error dx turns into
+   * an approach-velocity error w.a dx / v_n as large as v_n itself, and the
+   * sequence is no longer resolved. */
+  double apex = push > 0.0 ? 0.5 * m->r * m->r * vn * vn / push : HUGE_VAL;
+  int chatter = m->r < 1.0 && push > 0.0 &&
+                (vn < s->vchat || apex < 10.0 * s->atol * s->wnorm);
+  double ie = 0.0;
+  if (vn > 0.0) {
+    vi_impact_apply_r(m, chatter ? 0.0 : m->r, s->v, s->vp, &vn, &ie);
+    s->stats[VI_STAT_IMPACTS] += !chatter;
+  } else {
+    memcpy(s->vp, s->v, sizeof(double) * n);
+  }
+  int stick = chatter || (vn > 0.0 && m->r == 0.0 && push > 0.0);
+  if (vn > 0.0 && !chatter) emit(s, VI_EVENT_IMPACT, vn, ie);
+  if (stick) {
+    /* remove any residual normal velocity: the constraint holds exactly */
+    double u = vi_dot(n, m->w, s->vp) / m->wMw;
+    for (int i = 0; i < n; i++) s->vp[i] -= u * m->Minv_w[i];
+    s->sticking = 1;
+    s->stats[VI_STAT_STICKS]++;
+    emit(s, VI_EVENT_STICK, vn, chatter ? ie : 0.0);
+  }
+  /* The contact is at g = 0 by definition, but the located state carries
+   * the integrator's position error along w.  Near grazing that error is
+   * amplified into the next approach velocity as dv ~ g'' dx / v (the
+   * square-root singularity), so put the state back on the stop: the
+   * M-orthogonal projection, the smallest change in kinetic-energy norm. */
+  double g = vi_dot(n, m->w, s->x) - m->xs;
+  for (int i = 0; i < n; i++) s->x[i] -= g * m->Minv_w[i] / m->wMw;
+  for (int i = 0; i < n; i++) {
+    s->z[2 * i] = s->x[i];
+    s->z[2 * i + 1] = s->vp[i];
+  }
+  s->stats[VI_STAT_REINITS]++;
+  return s->be->start(s);
+}
+
+static int on_release(vi_sim *s)
+{
+  split(s, s->z);
+  memcpy(s->vp, s->v, sizeof(double) * s->n);
+  s->sticking = 0;
+  emit(s, VI_EVENT_RELEASE, 0.0, 0.0);
+  s->stats[VI_STAT_REINITS]++;
+  return s->be->start(s);
+}
+
+/* At the start of a run the state may already sit on the stop: moving into
+ * it is an impact now, resting on it and pressed is sticking. */
+static int initial_contact(vi_sim *s)
+{
+  double g, gd;
+  vi_sim_gap(s, s->z, &g, &gd);
+  if (s->sticking || g < -1e-13 * fmax(1.0, fabs(s->m->xs))) return 0;
+  if (gd > 0.0) return 1;
+  double push;
+  vi_sim_accel(s, s->t, s->z, 0, s->vp);
+  push = vi_dot(s->n, s->m->w, s->vp);
+  return gd == 0.0 && push > 0.0 && s->m->r < 1.0;
+}
+
+/* Deliver the uniform samples that fall in (t_prev, t] from the backend's
+ * interpolant; nothing here forces the integrator's steps. */
+static int samples(vi_sim *s, double t)
+{
+  for (;;) {
+    double ts = s->smp_t0 + (double)s->smp_k * s->smp_dt;
+    if (ts > t || ts > s->t_end) return VI_OK;
+    s->smp_k++;
+    if (s->stop) continue;
+    int st = s->be->dense(s, ts);
+    if (st) return st;
+    for (int i = 0; i < s->n; i++) {
+      s->x[i] = s->zs[2 * i];
+      s->v[i] = s->zs[2 * i + 1];
+    }
+    if (s->smp_fn(ts, s->n, s->x, s->v, s->smp_user)) s->stop = 1;
+  }
+}
+
+static void monitor(vi_sim *s)
+{
+  if (!s->mon_fn || s->t < s->mon_next || s->stop) return;
+  vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_get_stat(s, VI_STAT_STEPS),
+                   s->stats[VI_STAT_IMPACTS]};
+  if (s->mon_fn(&p, s->mon_user)) s->stop = 1;
+  while (s->mon_next <= s->t) s->mon_next += s->mon_every;
+}
+
+int vi_sim_run(vi_sim *s, double t_end)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!isfinite(t_end) || !(t_end > s->t))
+    return vi_fail(s->errmsg, VI_ERR_TIME,
+                   "end time %.17g is not after the current time %.17g", t_end,
+                   s->t);
+  int st = VI_OK;
+  s->t_end = t_end;
+  s->run_t0 = s->t;
+  s->stop = 0;
+  if (s->smp_fn && s->smp_k == 0) s->smp_t0 = s->t;
+  if (!s->started) {
+    if ((st = s->be->start(s))) return st;
+    s->started = 1;
+    if (s->smp_fn && (st = samples(s, s->t))) return st;
+    if (initial_contact(s) && (st = on_contact(s))) return st;
+  }
+  while (s->t < t_end && !s->stop) {
+    int event = VI_STEP_NONE;
+    if ((st = s->be->step(s, t_end, &event))) return st;
+    if (s->smp_fn && (st = samples(s, s->t))) return st;
+    if (event == VI_STEP_CONTACT) st = on_contact(s);
+    else if (event == VI_STEP_RELEASE) st = on_release(s);
+    if (st) return st;
+    monitor(s);
+  }
+  return s->stop ? VI_STOPPED : VI_OK;
+}

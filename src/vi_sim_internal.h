@@ -1,0 +1,103 @@
+/* vi_sim_internal.h - the simulation object and its integrator backends. */
+#ifndef VI_SIM_INTERNAL_H
+#define VI_SIM_INTERNAL_H
+
+#include <math.h>
+
+#include <gsl/gsl_roots.h>
+
+#include "vi_internal.h"
+
+/* What a backend step ended on. */
+enum { VI_STEP_NONE = 0, VI_STEP_CONTACT = 1, VI_STEP_RELEASE = 2 };
+
+/* An integrator, chosen by pointer like gsl_odeiv2_step_type.  The state is
+ * interleaved, z = (x_1, v_1, x_2, v_2, ...), so that a chain's Jacobian is
+ * banded.  After step() s->t and s->z hold the new time and state. */
+typedef struct vi_backend {
+  const char *name;
+  int (*start)(vi_sim *s);  /* (re)start from s->t, s->z, s->sticking */
+  int (*step)(vi_sim *s, double t_end, int *event);
+  int (*dense)(vi_sim *s, double t); /* state at t in the last step -> s->zs */
+  int64_t (*stat)(const vi_sim *s, int which);  /* backend counters */
+  void (*destroy)(vi_sim *s);
+} vi_backend;
+
+extern const vi_backend vi_backend_cvode;
+extern const vi_backend vi_backend_exact;
+
+struct vi_sim {
+  const vi_model *m;
+  int n, method;
+  double rtol, atol, vchat, h_restart, hmax;
+  int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
+  double wnorm;  /* |w|, the scale of gap tolerances */
+
+  double t, *z;   /* current time and state [2n] */
+  int sticking, started;
+  double t_end;   /* of the current vi_sim_run call */
+
+  vi_event_fn ev_fn;    void *ev_user;
+  vi_sample_fn smp_fn;  void *smp_user;  double smp_dt, smp_t0;  int64_t smp_k;
+  vi_monitor_fn mon_fn; void *mon_user;  double mon_every, mon_next;
+  double run_t0;
+  int stop;       /* a callback asked to stop */
+
+  int64_t stats[VI_STAT_COUNT]; /* driver-owned counters */
+  int64_t nevents[3];
+
+  const vi_backend *be;
+  void *be_data;
+  gsl_root_fsolver *brent;
+
+  double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */
+  char errmsg[VI_MSG_LEN];
+};
+
+/* Free acceleration M^-1 (f - C v - K x) at t for interleaved z; in a
+ * sticking phase the component along M^-1 w is removed so that w.x'' = 0.
+ * This is the right-hand side's hot loop, hence inline. */
+static inline void vi_sim_accel(const vi_sim *s, double t, const double *z,
+                                int sticking, double *acc)
+{
+  const vi_model *m = s->m;
+  int n = s->n, bw = m->bw;
+  double c = 1.0, sn = 0.0;
+  if (s->harmonic) {
+    c = cos(m->omega_f * t);
+    sn = sin(m->omega_f * t);
+  }
+  for (int i = 0; i < n; i++) {
+    double a = m->Minv_a[i] * c + m->Minv_b[i] * sn + m->Minv_f0[i];
+    int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
+    for (int j = j0; j <= j1; j++) {
+      size_t ij = (size_t)i + (size_t)j * n;
+      a -= m->MinvK[ij] * z[2 * j] + m->MinvC[ij] * z[2 * j + 1];
+    }
+    acc[i] = a;
+  }
+  if (sticking) {
+    double lam = vi_dot(n, m->w, acc) / m->wMw;
+    for (int i = 0; i < n; i++) acc[i] -= lam * m->Minv_w[i];
+  }
+}
+
+/* Gap g = w.x - x_s and its rate w.x' of an interleaved state. */
+static inline void vi_sim_gap(const vi_sim *s, const double *z, double *g,
+                              double *gd)
+{
+  double a = 0.0, b = 0.0;
+  for (int i = 0; i < s->n; i++) {
+    a += s->m->w[i] * z[2 * i];
+    b += s->m->w[i] * z[2 * i + 1];
+  }
+  *g = a - s->m->xs;
+  *gd = b;
+}
+
+/* Root of f in [lo, hi] with f(lo) < 0 <= f(hi) (or the reverse), to
+ * round-off in t, by GSL's Brent solver. */
+int vi_sim_bracket(vi_sim *s, double (*f)(double, void *), void *params,
+                   double lo, double hi, double *root);
+
+#endif

@@ -1,0 +1,285 @@
+/* test_sim.c - the event integrator against closed forms: free flight,
+ * impact times, the Fig. 2 orbit, restarts, grazing and chattering. */
+#include <math.h>
+#include <string.h>
+
+#include "vi_testutil.h"
+
+static const int methods[3] = {VI_METHOD_ADAMS, VI_METHOD_BDF, VI_METHOD_EXACT};
+static const char *mname[3] = {"adams", "bdf", "exact"};
+
+/* Stop out of reach: CVODE's samples match the closed form to 1e-9. */
+typedef struct flow_check { const vi_model *m; double x0[2], v0[2], err; int n; } flow_check;
+
+static int sample_check(double t, int n, const double *x, const double *v, void *u)
+{
+  flow_check *c = u;
+  double xe[2], ve[2];
+  vi_flow_physical(c->m, 0.0, c->x0, c->v0, t, xe, ve);
+  for (int i = 0; i < n; i++)
+    c->err = fmax(c->err, fmax(fabs(x[i] - xe[i]), fabs(v[i] - ve[i])));
+  c->n++;
+  return 0;
+}
+
+static void test_free_flight_matches_closed_form(void **state)
+{
+  (void)state;
+  const double a[2] = {0.5, 0.0};
+  vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.1, 100.0, 0.7, 0.9, a);
+  for (int k = 0; k < 2; k++) {
+    flow_check c = {m, {0.2, -0.1}, {0.0, 0.3}, 0.0, 0};
+    vi_sim *s = NULL;
+    assert_int_equal(vi_sim_create(m, &s), VI_OK);
+    assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
+    assert_int_equal(vi_sim_set_tolerances(s, 1e-11, 1e-13), VI_OK);
+    assert_int_equal(vi_sim_set_initial(s, 0.0, c.x0, c.v0), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, 0.25, sample_check, &c), VI_OK);
+    assert_int_equal(vi_sim_run(s, 200.0), VI_OK);
+    print_message("free flight %s: max error %.3g over %d samples\n", mname[k],
+                  c.err, c.n);
+    assert_int_equal(c.n, 801); /* t = 0, 0.25, ..., 200 */
+    assert_true(c.err < 1e-9);
+    assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 0);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+}
+
+/* Undamped SDOF from x = 0 with speed V: x = (V/w) sin wt reaches x_s at
+ * t1 = th / w, th = asin(x_s w / V).  With r = 1 the motion is periodic: a
+ * flight is the free period less the arc above x_s, (pi + 2 th) / w.  So both the first
+ * impact time and the exact count over a long run are known. */
+static void test_sdof_impact_times(void **state)
+{
+  (void)state;
+  double w = 2.0, V = 1.0, xs = 0.3;
+  vi_model *m = vi_test_sdof(1.0, 0.0, w * w, 0.0, 0.0, 0.0, xs, 1.0);
+  double th = asin(xs * w / V), t1 = th / w, T = (M_PI + 2 * th) / w;
+  double t_end = 100.0;
+  int expect = 1 + (int)floor((t_end - t1) / T);
+  for (int k = 0; k < 3; k++) {
+    vi_test_events ev = {0};
+    double x0 = 0.0, v0 = V;
+    assert_int_equal(vi_test_run(m, methods[k], 1e-10, 1e-12, &x0, &v0, t_end, &ev),
+                     VI_OK);
+    print_message("sdof %s: %d impacts (expect %d)\n", mname[k], ev.count, expect);
+    assert_int_equal(ev.count, expect); /* no double report, none missed */
+    for (int i = 0; i < ev.count; i++) {
+      assert_int_equal(ev.kind[i], VI_EVENT_IMPACT);
+      /* undamped and elastic: neutrally stable, so CVODE's phase error
+       * grows with each flight (measured: 1e-8 per flight for Adams, 1e-7
+       * for BDF at rtol 1e-10) */
+      double tol = k == 2 ? 1e-12 : 2e-7 * (i + 1);
+      assert_close(ev.t[i], t1 + i * T, tol);
+      assert_close(ev.vn[i], V * cos(th), tol);
+      assert_close(ev.vp[i], -ev.vm[i], 1e-15); /* r = 1 */
+      assert_close(ev.x[i], xs, 1e-12);
+    }
+    vi_test_events_free(&ev);
+  }
+  vi_model_destroy(&m);
+}
+
+/* The paper's Fig. 2: every impact of CVODE's run in 100 forcing periods
+ * matches the closed-form event-driven run to 1e-8 in time and velocity. */
+static void test_fig2_cvode_vs_exact(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double t_end = 100.0 * 2.0 * M_PI / 0.9;
+  vi_test_events ref = {0};
+  assert_int_equal(vi_test_run(m, VI_METHOD_EXACT, 1e-12, 1e-14, NULL, NULL, t_end, &ref),
+                   VI_OK);
+  assert_true(ref.count > 90); /* a P(1,1) orbit: about one per period */
+  for (int k = 0; k < 2; k++) {
+    vi_test_events ev = {0};
+    assert_int_equal(vi_test_run(m, methods[k], 1e-12, 1e-14, NULL, NULL, t_end, &ev),
+                     VI_OK);
+    assert_int_equal(ev.count, ref.count);
+    double et = 0, ev_ = 0;
+    for (int i = 0; i < ev.count; i++) {
+      et = fmax(et, fabs(ev.t[i] - ref.t[i]));
+      ev_ = fmax(ev_, fabs(ev.vn[i] - ref.vn[i]));
+      assert_close(ev.x[2 * i + 1], 0.1, 1e-10); /* contact at x_s */
+    }
+    print_message("fig2 %s: %d impacts, max |dt| %.3g, max |dvn| %.3g\n",
+                  mname[k], ev.count, et, ev_);
+    assert_true(et < 1e-8);
+    assert_true(ev_ < 1e-8);
+    vi_test_events_free(&ev);
+  }
+  /* the exact run itself: post-impact w.v = -r v_n and IE from WB 10 */
+  for (int i = 0; i < ref.count; i++)
+    assert_close(ref.vp[2 * i + 1], -0.7 * ref.vn[i], 1e-14);
+  vi_test_events_free(&ref);
+  vi_model_destroy(&m);
+}
+
+/* Grazing: the free motion x = -A sin wt first peaks, just above x_s, at
+ * t = 3 pi / (2 w).  The excursion above the stop lasts 2 sqrt(2 eps) / w,
+ * far shorter than the steps CVODE takes at rtol 1e-6 by then, so a sign
+ * test at step ends steps over it; the check at the maximum of w.x must find
+ * it, at t = (pi + asin(1 / (1 + eps))) / w.  Near grazing a position error
+ * d moves the crossing by d / g', hence the CVODE tolerances below. */
+static void test_grazing_contact_found(void **state)
+{
+  (void)state;
+  double w = 1.0, xs = 1.0, eps = 1e-4, A = xs * (1 + eps);
+  vi_model *m = vi_test_sdof(1.0, 0.0, w * w, 0.0, 0.0, 0.0, xs, 0.8);
+  double tc = (M_PI + asin(1.0 / (1 + eps))) / w, vc = -A * w * cos(w * tc);
+  for (int k = 0; k < 3; k++) {
+    vi_test_events ev = {0};
+    vi_sim *s = NULL;
+    double x0 = 0.0, v0 = -A * w;
+    assert_int_equal(vi_sim_create(m, &s), VI_OK);
+    assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
+    assert_int_equal(vi_sim_set_tolerances(s, 1e-6, 1e-8), VI_OK);
+    assert_int_equal(vi_sim_set_initial(s, 0.0, &x0, &v0), VI_OK);
+    assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, &ev), VI_OK);
+    assert_int_equal(vi_sim_run(s, 6.0), VI_OK);
+    print_message("graze %s: %d events, t = %.10g (exact %.10g), %lld graze "
+                  "checks\n", mname[k], ev.count, ev.count ? ev.t[0] : -1.0,
+                  tc, (long long)vi_sim_get_stat(s, VI_STAT_GRAZE_CHECKS));
+    assert_int_equal(ev.count, 1);
+    assert_close(ev.t[0], tc, k == 2 ? 1e-12 : 3e-3);
+    assert_close(ev.vn[0], vc, k == 2 ? 1e-10 : 1e-3);
+    vi_sim_destroy(&s);
+    vi_test_events_free(&ev);
+  }
+  vi_model_destroy(&m);
+}
+
+/* Chattering: a free mass pressed on the stop by a constant load g, leaving
+ * it at speed V, returns after 2V/g and bounces with r V, ...; the impacts
+ * accumulate at T = 2V / (g (1 - r)) (Budd & Dux).  The sim must reach the
+ * accumulation point, stick there (x = x_s, v = 0) and stay while pressed. */
+static void test_chattering_accumulates_then_sticks(void **state)
+{
+  (void)state;
+  double g = 2.0, V = 1.0, r = 0.5;
+  vi_model *m = vi_test_sdof(1.0, 0.0, 0.0, 0.0, g, 0.0, 0.0, r);
+  double Tacc = 2 * V / (g * (1 - r));
+  for (int k = 0; k < 2; k++) {
+    vi_test_events ev = {0};
+    double x0 = 0.0, v0 = -V;
+    vi_sim *s = NULL;
+    assert_int_equal(vi_sim_create(m, &s), VI_OK);
+    assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
+    assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
+    assert_int_equal(vi_sim_set_initial(s, 0.0, &x0, &v0), VI_OK);
+    assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, &ev), VI_OK);
+    assert_int_equal(vi_sim_run(s, 5.0), VI_OK);
+    int last = ev.count - 1;
+    assert_true(ev.count > 10);
+    assert_int_equal(ev.kind[last], VI_EVENT_STICK);
+    /* The k-th impact happens at 2V/g (1 + r + ... + r^(k-1)) with speed
+     * V r^(k-1).  Well-conditioned while v is large; as v -> 0 a position
+     * error dx becomes a velocity error g dx / v (grazing), hence the
+     * looser bound for the late bounces. */
+    double tk = 0, vk = V;
+    for (int i = 0; i < last; i++) {
+      tk += 2 * vk / g;
+      double tol = vk > 1e-2 ? 1e-9 : 1e-6;
+      assert_close(ev.t[i], tk, tol);
+      assert_close(ev.vn[i], vk, tol);
+      vk *= r;
+    }
+    /* sticking starts at a contact with speed v from which the remaining
+     * bounces would have taken 2 r v / (g (1 - r)): the jump lands on the
+     * accumulation point */
+    assert_true(ev.vn[last] < 1e-4);
+    assert_close(ev.t[last] + 2 * r * ev.vn[last] / (g * (1 - r)), Tacc, 5e-6);
+    double t, x, v;
+    vi_sim_get_state(s, &t, &x, &v);
+    assert_close(t, 5.0, 0);
+    assert_close(x, 0.0, 1e-12);
+    assert_close(v, 0.0, 1e-12);
+    assert_int_equal(vi_sim_is_sticking(s), 1);
+    print_message("chatter %s: %d impacts, stick at %.12g (T_acc %.12g)\n",
+                  mname[k], last, ev.t[last], Tacc);
+    vi_sim_destroy(&s);
+    vi_test_events_free(&ev);
+  }
+  vi_model_destroy(&m);
+}
+
+/* Release: a free mass on the stop pressed by f = g + a cos(W t) with a > g
+ * sticks (r = 0) until the contact force f falls through zero, at
+ * t = acos(-g / a) / W; afterwards it moves as the free particle does. */
+static void test_sticking_release_time(void **state)
+{
+  (void)state;
+  double g = 0.5, a = 1.0, W = 2.0;
+  vi_model *m = vi_test_sdof(1.0, 0.0, 0.0, a, g, W, 0.0, 0.0);
+  double trel = acos(-g / a) / W;
+  for (int k = 0; k < 2; k++) {
+    vi_test_events ev = {0};
+    vi_sim *s = NULL;
+    assert_int_equal(vi_sim_create(m, &s), VI_OK);
+    assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
+    assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
+    assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, &ev), VI_OK);
+    assert_int_equal(vi_sim_run(s, trel + 0.1), VI_OK);
+    assert_int_equal(ev.count, 2);
+    assert_int_equal(ev.kind[0], VI_EVENT_STICK); /* at rest on the stop, pressed */
+    assert_close(ev.t[0], 0.0, 0);
+    assert_int_equal(ev.kind[1], VI_EVENT_RELEASE);
+    assert_close(ev.t[1], trel, 1e-9);
+    /* after release: x = int int (g + a cos W t) from trel */
+    double t, x, v, tau = 0.1;
+    vi_sim_get_state(s, &t, &x, &v);
+    double ve = g * tau + a / W * (sin(W * t) - sin(W * trel));
+    double xe = 0.5 * g * tau * tau - a / (W * W) * (cos(W * t) - cos(W * trel))
+                - a / W * sin(W * trel) * tau;
+    assert_close(v, ve, 1e-8);
+    assert_close(x, xe, 1e-8);
+    assert_true(x < 0.0);
+    vi_sim_destroy(&s);
+    vi_test_events_free(&ev);
+  }
+  vi_model_destroy(&m);
+}
+
+/* Stopping from a callback returns VI_STOPPED; a second run continues. */
+static int stop_after_three(const vi_event *ev, void *u)
+{
+  (void)u;
+  return ev->index == 2;
+}
+
+static void test_callback_stop_and_resume(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, stop_after_three, NULL), VI_OK);
+  assert_int_equal(vi_sim_run(s, 500.0), VI_STOPPED);
+  assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 3);
+  double t;
+  vi_sim_get_state(s, &t, NULL, NULL);
+  assert_true(t < 500.0);
+  assert_int_equal(vi_sim_set_event_callback(s, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sim_run(s, 500.0), VI_OK);
+  vi_sim_get_state(s, &t, NULL, NULL);
+  assert_close(t, 500.0, 0);
+  assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) > 60);
+  assert_true(vi_sim_get_stat(s, VI_STAT_RHS_EVALS) > 0);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_free_flight_matches_closed_form),
+      cmocka_unit_test(test_sdof_impact_times),
+      cmocka_unit_test(test_fig2_cvode_vs_exact),
+      cmocka_unit_test(test_grazing_contact_found),
+      cmocka_unit_test(test_chattering_accumulates_then_sticks),
+      cmocka_unit_test(test_sticking_release_time),
+      cmocka_unit_test(test_callback_stop_and_resume),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,111 @@
+/* vi_testutil.c - shared fixtures for the cmocka tests. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_testutil.h"
+
+void vi_assert_close_(double a, double b, double tol, const char *sa,
+                      const char *sb, const char *file, int line)
+{
+  if (!(fabs(a - b) <= tol)) {
+    print_error("%s = %.17g and %s = %.17g differ by %.3g > %.3g\n", sa, a,
+                sb, b, fabs(a - b), tol);
+    _fail(file, line);
+  }
+}
+
+vi_model *vi_test_chain(int n, double m, double k, double c, double xs,
+                        double r, double omega, const double *a)
+{
+  double *buf = calloc((size_t)3 * n * n + 4 * (size_t)n, sizeof(double));
+  assert_non_null(buf);
+  double *M = buf, *C = M + n * n, *K = C + n * n, *mv = K + n * n;
+  double *kv = mv + n, *cv = kv + n, *w = cv + n;
+  for (int i = 0; i < n; i++) {
+    mv[i] = m;
+    kv[i] = k;
+    cv[i] = c;
+  }
+  w[n - 1] = 1.0;
+  assert_int_equal(vi_build_chain(n, mv, kv, cv, M, C, K, n), VI_OK);
+  vi_model *md = NULL;
+  assert_int_equal(vi_model_create(n, &md), VI_OK);
+  assert_int_equal(vi_model_set_mass(md, M, n), VI_OK);
+  assert_int_equal(vi_model_set_damping(md, C, n), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(md, K, n), VI_OK);
+  assert_int_equal(vi_model_set_forcing(md, omega, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_set_stop(md, w, xs, r), VI_OK);
+  assert_int_equal(vi_model_setup(md), VI_OK);
+  free(buf);
+  return md;
+}
+
+vi_model *vi_test_fig2(void)
+{
+  const double a[2] = {0.5, 0.0};
+  return vi_test_chain(2, 1.0, 1.0, 0.1, 0.1, 0.7, 0.9, a);
+}
+
+vi_model *vi_test_sdof(double m, double c, double k, double a, double f0,
+                       double omega, double xs, double r)
+{
+  vi_model *md = NULL;
+  const double w = 1.0;
+  assert_int_equal(vi_model_create(1, &md), VI_OK);
+  assert_int_equal(vi_model_set_mass(md, &m, 1), VI_OK);
+  assert_int_equal(vi_model_set_damping(md, &c, 1), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(md, &k, 1), VI_OK);
+  assert_int_equal(vi_model_set_forcing(md, omega, &a, NULL, &f0), VI_OK);
+  assert_int_equal(vi_model_set_stop(md, &w, xs, r), VI_OK);
+  assert_int_equal(vi_model_setup(md), VI_OK);
+  return md;
+}
+
+int vi_test_collect(const vi_event *ev, void *user)
+{
+  vi_test_events *e = user;
+  int n = ev->n;
+  if (e->count == e->cap) {
+    e->cap = e->cap ? 2 * e->cap : 64;
+    e->n = n;
+    e->kind = realloc(e->kind, sizeof(int) * e->cap);
+    e->t = realloc(e->t, sizeof(double) * e->cap);
+    e->vn = realloc(e->vn, sizeof(double) * e->cap);
+    e->x = realloc(e->x, sizeof(double) * e->cap * n);
+    e->vm = realloc(e->vm, sizeof(double) * e->cap * n);
+    e->vp = realloc(e->vp, sizeof(double) * e->cap * n);
+    assert_true(e->kind && e->t && e->vn && e->x && e->vm && e->vp);
+  }
+  int k = e->count++;
+  e->kind[k] = ev->kind;
+  e->t[k] = ev->t;
+  e->vn[k] = ev->vn;
+  memcpy(e->x + (size_t)k * n, ev->x, sizeof(double) * n);
+  memcpy(e->vm + (size_t)k * n, ev->v_minus, sizeof(double) * n);
+  memcpy(e->vp + (size_t)k * n, ev->v_plus, sizeof(double) * n);
+  return 0;
+}
+
+void vi_test_events_free(vi_test_events *e)
+{
+  free(e->kind); free(e->t); free(e->vn); free(e->x); free(e->vm); free(e->vp);
+  memset(e, 0, sizeof *e);
+}
+
+int vi_test_run(const vi_model *m, int method, double rtol, double atol,
+                const double *x0, const double *v0, double t_end,
+                vi_test_events *ev)
+{
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
+  if (ev) assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, ev), VI_OK);
+  int st = vi_sim_run(s, t_end);
+  if (st < 0) print_error("vi_sim_run: %s\n", vi_sim_errmsg(s));
+  vi_sim_destroy(&s);
+  return st;
+}

@@ -1,0 +1,46 @@
+/* vi_testutil.h - shared fixtures for the cmocka tests. */
+#ifndef VI_TESTUTIL_H
+#define VI_TESTUTIL_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "vibroimpact.h"
+
+/* assert |a - b| <= tol, printing both on failure */
+#define assert_close(a, b, tol)                                            \
+  vi_assert_close_((a), (b), (tol), #a, #b, __FILE__, __LINE__)
+void vi_assert_close_(double a, double b, double tol, const char *sa,
+                      const char *sb, const char *file, int line);
+
+/* The paper's Fig. 2 scene (MODEL.md section 6): N = 2 chain, m = k = 1,
+ * c = 0.1, x_s = 0.1, a = (0.5, 0), Omega = 0.9, r = 0.7, stop on mass 2.
+ * Returns a set-up model; fails the test on error. */
+vi_model *vi_test_fig2(void);
+/* Uniform fixed-free chain of n masses; stop on the last mass. */
+vi_model *vi_test_chain(int n, double m, double k, double c, double xs,
+                        double r, double omega, const double *a);
+/* Single degree of freedom m x'' + c x' + k x = f, stop at xs. */
+vi_model *vi_test_sdof(double m, double c, double k, double a, double f0,
+                       double omega, double xs, double r);
+
+/* Impact records collected by vi_test_collect (an event callback). */
+typedef struct vi_test_events {
+  int count, cap, n;
+  int *kind;
+  double *t, *vn, *x, *vm, *vp; /* vm, vp, x: count x n */
+} vi_test_events;
+int vi_test_collect(const vi_event *ev, void *user);
+void vi_test_events_free(vi_test_events *e);
+
+/* Run a model with a method and tolerances from rest (or x0, v0) over
+ * [0, t_end], collecting events; returns the status of vi_sim_run. */
+int vi_test_run(const vi_model *m, int method, double rtol, double atol,
+                const double *x0, const double *v0, double t_end,
+                vi_test_events *ev);
+
+#endif
