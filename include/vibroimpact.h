@@ -16,5 +16,6 @@
 #include "vibroimpact/vi_impact.h"
 #include "vibroimpact/vi_flow.h"
 #include "vibroimpact/vi_sim.h"
+#include "vibroimpact/vi_ledger.h"
 
 #endif

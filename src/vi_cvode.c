@@ -19,6 +19,7 @@ typedef struct cv_data {
   void *mem;
   N_Vector y;     /* wraps s->z: CVODE writes the state in place */
   N_Vector ys;    /* wraps s->zs: interpolant output */
+  N_Vector yQ;    /* wraps s->Q: ledger quadratures, NULL without a ledger */
   SUNMatrix A;
   SUNLinearSolver LS;
   SUNNonlinearSolver NLS;
@@ -95,6 +96,21 @@ static int jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void *user,
   return 0;
 }
 
+/* Ledger integrands FE', DE', XE', CE' (vi_ledger.c). */
+static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
+{
+  vi_sim *s = user;
+  const double *z = N_VGetArrayPointer(y);
+  double Lambda = 0.0;
+  if (s->sticking) { /* contact force magnitude, pressing into the stop */
+    vi_sim_accel(s, t, z, 0, s->vp);
+    Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
+  }
+  vi_ledger_modal_velocity(s, z, s->qdw);
+  vi_ledger_rates(s, t, s->qdw, Lambda, N_VGetArrayPointer(yQd));
+  return 0;
+}
+
 /* CVODE would print to stderr; keep the message for vi_sim_errmsg. */
 static void err_handler(int code, const char *module, const char *function,
                         char *msg, void *user)
@@ -115,6 +131,7 @@ static void cv_destroy(vi_sim *s)
   SUNMatDestroy(d->A);
   N_VDestroy(d->y);
   N_VDestroy(d->ys);
+  N_VDestroy(d->yQ);
   SUNContext_Free(&d->ctx);
   free(d);
   s->be_data = NULL;
@@ -183,6 +200,14 @@ static int cv_create(vi_sim *s)
     VI_CHECK(d->NLS, s->errmsg, VI_ERR_NOMEM, "fixed-point solver failed");
     CV_TRY(CVodeSetNonlinearSolver(d->mem, d->NLS));
   }
+  if (s->ledger_on) {
+    /* under the state's error control, so the ledger closes to tolerance */
+    d->yQ = N_VMake_Serial(4 * s->n, s->Q, d->ctx);
+    VI_CHECK(d->yQ, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
+    CV_TRY(CVodeQuadInit(d->mem, qrhs, d->yQ));
+    CV_TRY(CVodeQuadSStolerances(d->mem, s->rtol, s->atol));
+    CV_TRY(CVodeSetQuadErrCon(d->mem, 1));
+  }
   d->nroots = 0;
 cleanup:
   if (st) cv_destroy(s);
@@ -217,6 +242,7 @@ static int cv_start(vi_sim *s)
   /* ReInit zeroes CVODE's counters: bank them first */
   for (int k = 0; k <= VI_STAT_ROOT_EVALS; k++) d->base[k] += cv_live(d, k);
   CV_TRY(CVodeReInit(d->mem, s->t, d->y));
+  if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));
   int nr = s->sticking ? 1 : 2;
   if (nr != d->nroots) {
     int dir[2] = {s->sticking ? -1 : 1, -1};
@@ -260,7 +286,8 @@ static int graze_check(vi_sim *s, cv_data *d, int *event)
     int st = vi_sim_bracket(s, gap_at, &c, lo, s->t, &tc);
     if (st) return st;
   }
-  if (CVodeGetDky(d->mem, tc, 0, d->y) < 0)
+  if (CVodeGetDky(d->mem, tc, 0, d->y) < 0 ||
+      (d->yQ && CVodeGetQuadDky(d->mem, tc, 0, d->yQ) < 0))
     return vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVodeGetDky failed");
   s->t = tc;
   *event = VI_STEP_CONTACT;
@@ -282,6 +309,7 @@ static int cv_step(vi_sim *s, double t_end, int *event)
     return VI_ERR_INTEGRATOR;
   }
   s->t = t;
+  if (d->yQ) CV_TRY(CVodeGetQuad(d->mem, &t, d->yQ));
   if (flag == CV_ROOT_RETURN) {
     int info[2] = {0, 0};
     CVodeGetRootInfo(d->mem, info);

@@ -53,6 +53,7 @@ void vi_sim_destroy(vi_sim **sim)
   if (!sim || !*sim) return;
   vi_sim *s = *sim;
   backend_destroy(s);
+  vi_ledger_free(s);
   gsl_root_fsolver_free(s->brent);
   free(s->z);
   free(s);
@@ -127,6 +128,7 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
   s->t = t0;
   s->sticking = 0;
   s->started = 0;
+  vi_ledger_begin(s);
   return VI_OK;
 }
 
@@ -263,6 +265,7 @@ static int on_contact(vi_sim *s)
 {
   const vi_model *m = s->m;
   int n = s->n;
+  vi_ledger_pre_jump(s);
   split(s, s->z);
   double vn = vi_dot(n, m->w, s->v);
   vi_sim_accel(s, s->t, s->z, 0, s->vp);
@@ -305,12 +308,15 @@ static int on_contact(vi_sim *s)
     s->z[2 * i] = s->x[i];
     s->z[2 * i + 1] = s->vp[i];
   }
+  vi_ledger_close(s, vn > 0.0 || stick, ie);
   s->stats[VI_STAT_REINITS]++;
   return s->be->start(s);
 }
 
 static int on_release(vi_sim *s)
 {
+  vi_ledger_pre_jump(s);
+  vi_ledger_close(s, 0, 0.0);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * s->n);
   s->sticking = 0;
@@ -387,6 +393,10 @@ int vi_sim_run(vi_sim *s, double t_end)
     else if (event == VI_STEP_RELEASE) st = on_release(s);
     if (st) return st;
     monitor(s);
+  }
+  if (s->ledger_on && s->t > s->led_ta) {
+    vi_ledger_pre_jump(s);
+    vi_ledger_close(s, 0, 0.0);
   }
   return s->stop ? VI_STOPPED : VI_OK;
 }

@@ -51,8 +51,30 @@ struct vi_sim {
   gsl_root_fsolver *brent;
 
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */
+
+  /* energy ledger (vi_ledger.c); all NULL unless enabled */
+  int ledger_on;
+  double *Q;           /* cumulative FE, DE, XE, CE at s->t [4n] */
+  double *QA, *EA, *KA, *EB, *KB, *dE, *dEtot, *qd; /* 4n, then n each */
+  double *qdw;         /* scratch for the quadrature right-hand side [n] */
+  double led_ta, led_ie, led_maxres;
+  vi_ledger_fn led_fn; void *led_user;
+  double *led_block;
+
   char errmsg[VI_MSG_LEN];
 };
+
+/* Ledger hooks for the driver (vi_ledger.c). */
+void vi_ledger_begin(vi_sim *s);           /* an interval starts at s->t */
+void vi_ledger_pre_jump(vi_sim *s);        /* state at s->t before a jump */
+void vi_ledger_close(vi_sim *s, int jump, double ie); /* after the jump */
+void vi_ledger_free(vi_sim *s);
+/* Modal velocities q' = Psi^T M v of an interleaved state. */
+void vi_ledger_modal_velocity(const vi_sim *s, const double *z, double *qd);
+/* Rates of FE, DE, XE, CE [4n] at t from modal velocities; Lambda is the
+ * contact force magnitude (0 in free flight). */
+void vi_ledger_rates(const vi_sim *s, double t, const double *qd,
+                     double Lambda, double *rates);
 
 /* Free acceleration M^-1 (f - C v - K x) at t for interleaved z; in a
  * sticking phase the component along M^-1 w is removed so that w.x'' = 0.
