@@ -17,5 +17,6 @@
 #include "vibroimpact/vi_flow.h"
 #include "vibroimpact/vi_sim.h"
 #include "vibroimpact/vi_ledger.h"
+#include "vibroimpact/vi_orbit.h"
 
 #endif

@@ -26,6 +26,7 @@ typedef struct cv_data {
   int nroots;     /* 2 in free flight, 1 while sticking */
   long base[4];   /* steps, rhs, jac, root evals before the last ReInit */
   double t_prev;  /* time of the previous return */
+  int continued;  /* the last step ended on a root we integrated through */
 } cv_data;
 
 static int rhs(double t, N_Vector y, N_Vector yd, void *user)
@@ -302,6 +303,16 @@ static int cv_step(vi_sim *s, double t_end, int *event)
   CV_TRY(CVodeSetStopTime(d->mem, t_end));
   double t;
   int flag = CVode(d->mem, t_end, d->y, &t, CV_ONE_STEP);
+  if (flag == CV_ILL_INPUT && d->continued) {
+    /* CVODE refuses to go on from a root at which a root function stays
+     * exactly zero (a gap maximum on a resting contact); a restart from the
+     * same state clears its root history */
+    s->errmsg[0] = '\0';
+    if ((st = cv_start(s))) return st;
+    s->stats[VI_STAT_REINITS]++;
+    flag = CVode(d->mem, t_end, d->y, &t, CV_ONE_STEP);
+  }
+  d->continued = 0;
   if (flag < 0) {
     if (!s->errmsg[0])
       vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVode failed (flag %d) at t = %g",
@@ -316,6 +327,7 @@ static int cv_step(vi_sim *s, double t_end, int *event)
     if (s->sticking) *event = info[0] ? VI_STEP_RELEASE : VI_STEP_NONE;
     else if (info[0]) *event = VI_STEP_CONTACT;
     else if (info[1]) st = graze_check(s, d, event);
+    d->continued = *event == VI_STEP_NONE;
   }
   d->t_prev = s->t;
 cleanup:

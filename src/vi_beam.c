@@ -1,0 +1,85 @@
+/* vi_beam.c - clamped-free Euler-Bernoulli cantilever modes and the Galerkin
+ * model of the paper's beam example (MODEL.md section 6, WB section 4). */
+#include <float.h>
+#include <math.h>
+
+#include <gsl/gsl_roots.h>
+
+#include "vi_internal.h"
+
+static double freq_eq(double b, void *p)
+{
+  (void)p;
+  return cos(b) + 1.0 / cosh(b); /* cos b cosh b = -1, divided by cosh b */
+}
+
+double vi_cantilever_beta(int j)
+{
+  if (j < 0 || j > 200) return NAN;
+  /* cos b changes sign once within 1 of (j + 1/2) pi, and there only: the
+   * root lies there (sech b is small) */
+  double c = (j + 0.5) * M_PI, lo = c - 1.0, hi = c + 1.0;
+  gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+  if (!s) return NAN;
+  gsl_function F = {freq_eq, NULL};
+  gsl_root_fsolver_set(s, &F, lo, hi);
+  double b = c;
+  for (int it = 0; it < 100; it++) {
+    gsl_root_fsolver_iterate(s);
+    b = gsl_root_fsolver_root(s);
+    lo = gsl_root_fsolver_x_lower(s);
+    hi = gsl_root_fsolver_x_upper(s);
+    if (hi - lo < 4 * DBL_EPSILON * b) break;
+  }
+  gsl_root_fsolver_free(s);
+  return b;
+}
+
+/* s_j = (cosh b + cos b) / (sinh b + sin b), and 1 - s_j without the
+ * cancellation of sinh b - cosh b = -e^{-b}. */
+static void sigma(double b, double *s, double *one_minus_s)
+{
+  double den = sinh(b) + sin(b);
+  *s = (cosh(b) + cos(b)) / den;
+  *one_minus_s = (-exp(-b) + sin(b) - cos(b)) / den;
+}
+
+double vi_cantilever_shape(int j, double xi)
+{
+  double b = vi_cantilever_beta(j), s, oms;
+  if (!isfinite(b)) return NAN;
+  sigma(b, &s, &oms);
+  double y = b * xi;
+  /* cosh y - s sinh y = ((1 - s) e^y + (1 + s) e^-y) / 2: stable for large b */
+  return 0.5 * (oms * exp(y) + (1.0 + s) * exp(-y)) - cos(y) + s * sin(y);
+}
+
+double vi_cantilever_participation(int j)
+{
+  double b = vi_cantilever_beta(j), s, oms;
+  if (!isfinite(b)) return NAN;
+  sigma(b, &s, &oms);
+  return 2.0 * s / b;
+}
+
+int vi_build_cantilever(int modes, double omega1, double zeta, double xi_stop,
+                        double *M, double *C, double *K, int ld, double *w,
+                        double *gamma)
+{
+  if (modes < 1 || ld < modes) return VI_ERR_DIM;
+  if (!M || !C || !K || !w) return VI_ERR_ARG;
+  if (!(omega1 > 0.0) || !(zeta >= 0.0) || !(xi_stop >= 0.0 && xi_stop <= 1.0))
+    return VI_ERR_ARG;
+  double b1 = vi_cantilever_beta(0);
+  for (int j = 0; j < modes; j++) {
+    for (int i = 0; i < modes; i++)
+      M[i + (size_t)j * ld] = C[i + (size_t)j * ld] = K[i + (size_t)j * ld] = 0;
+    double bj = vi_cantilever_beta(j), om = omega1 * (bj / b1) * (bj / b1);
+    M[j + (size_t)j * ld] = 1.0;
+    K[j + (size_t)j * ld] = om * om;
+    C[j + (size_t)j * ld] = 2.0 * zeta * om;
+    w[j] = vi_cantilever_shape(j, xi_stop);
+    if (gamma) gamma[j] = vi_cantilever_participation(j);
+  }
+  return VI_OK;
+}
