@@ -1,0 +1,229 @@
+/* vi_cmd_run.c - `vibroimpact run`: simulate a scene, write CSV / HDF5. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "vi_app.h"
+
+int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model)
+{
+  vi_diag d;
+  char msg[1200];
+  int st = o->scene ? vi_scene_load(o->scene, scene, &d)
+                    : vi_scene_parse(vi_scene_default_text(), -1,
+                                     "<default scene: fig2>", scene, &d);
+  if (!st) st = vi_scene_set_run(*scene, o->rtol, o->atol, o->periods, o->method);
+  if (!st) st = vi_scene_create_model(*scene, model, &d);
+  if (st) {
+    if (!d.code) {
+      d.code = st;
+      snprintf(d.message, sizeof d.message, "%s", vi_strerror(st));
+    }
+    vi_diag_format(&d, msg, sizeof msg);
+    fprintf(stderr, "vibroimpact: %s\n", msg);
+    vi_scene_destroy(scene);
+    return st == VI_ERR_IO || st == VI_ERR_NOMEM ? 1 : 2;
+  }
+  return 0;
+}
+
+typedef struct run_ctx {
+  const app_opts *o;
+  FILE *csv;
+  vi_writer *w;
+  int n, io_err;
+  int64_t impacts;
+  double t_last, vn_last, t0, t_end, wall0;
+} run_ctx;
+
+static double now(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int on_event(const vi_event *ev, void *user)
+{
+  run_ctx *c = user;
+  if (c->w && vi_writer_event(c->w, ev)) c->io_err = 1;
+  if (ev->kind != VI_EVENT_IMPACT) return c->io_err;
+  c->t_last = ev->t;
+  c->vn_last = ev->vn;
+  if (c->csv) {
+    fprintf(c->csv, "%lld,%.17g,%.17g", (long long)c->impacts, ev->t, ev->vn);
+    for (int i = 0; i < ev->n; i++) fprintf(c->csv, ",%.17g", ev->x[i]);
+    for (int i = 0; i < ev->n; i++) fprintf(c->csv, ",%.17g", ev->v_minus[i]);
+    if (fputc('\n', c->csv) == EOF) c->io_err = 1;
+  }
+  c->impacts++;
+  return c->io_err;
+}
+
+static int on_sample(double t, int n, const double *x, const double *v, void *user)
+{
+  (void)n;
+  run_ctx *c = user;
+  if (vi_writer_sample(c->w, t, x, v)) c->io_err = 1;
+  return c->io_err;
+}
+
+static int on_ledger(const vi_ledger_interval *iv, void *user)
+{
+  run_ctx *c = user;
+  if (c->w && vi_writer_ledger(c->w, iv)) c->io_err = 1;
+  return c->io_err;
+}
+
+static int on_monitor(const vi_progress *p, void *user)
+{
+  run_ctx *c = user;
+  if (c->o->progress) {
+    double frac = (p->t - c->t0) / (c->t_end - c->t0), el = now() - c->wall0;
+    int bar = (int)(30 * frac);
+    fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %lld impacts  %.3g time units/s ",
+            bar, "##############################", 30 - bar, "", 100 * frac,
+            (long long)p->impacts, el > 0 ? (p->t - c->t0) / el : 0.0);
+  }
+  return vi_app_interrupted;
+}
+
+int vi_cmd_run(const app_opts *o)
+{
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  run_ctx c = {o, NULL, NULL, 0, 0, 0, 0, 0, 0, 0, 0};
+  char part[4096] = "";
+  vi_diag d;
+  int rc = vi_app_load(o, &sc, &m), st;
+  if (rc) return rc;
+  rc = 1;
+  int n = vi_model_n(m);
+  c.n = n;
+  c.t0 = vi_scene_t0(sc);
+  c.t_end = vi_scene_t_end(sc);
+  int ledger = vi_scene_wants(sc, "ledger");
+  /* nothing the scene did not ask for: samples only into a file */
+  int spp = o->out ? vi_scene_samples_per_period(sc) : 0;
+  if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
+    char msg[1200];
+    if (!d.code) snprintf(d.message, sizeof d.message, "%s", vi_sim_errmsg(s));
+    vi_diag_format(&d, msg, sizeof msg);
+    fprintf(stderr, "vibroimpact: %s\n", msg);
+    rc = 2;
+    goto done;
+  }
+  if (o->out) {
+    if (vi_writer_create(o->out, m, vi_scene_wants(sc, "compress"), &c.w, &d)) {
+      fprintf(stderr, "vibroimpact: %s\n", d.message);
+      goto done;
+    }
+    if (vi_writer_write_header(c.w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
+                               vi_scene_method(sc))) {
+      fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(c.w));
+      goto done;
+    }
+  }
+  if (o->csv) {
+    if (!strcmp(o->csv, "-")) {
+      c.csv = stdout;
+    } else {
+      snprintf(part, sizeof part, "%s.part", o->csv);
+      if (!(c.csv = fopen(part, "w"))) {
+        fprintf(stderr, "vibroimpact: cannot write '%s': %s\n", part, strerror(errno));
+        part[0] = '\0';
+        goto done;
+      }
+    }
+    fprintf(c.csv, "k,t,vn");
+    for (int i = 1; i <= n; i++) fprintf(c.csv, ",x_%d", i);
+    for (int i = 1; i <= n; i++) fprintf(c.csv, ",v_%d", i);
+    fputc('\n', c.csv);
+  }
+  double omega = vi_model_omega_forcing(m);
+  double period = omega > 0 ? 2 * M_PI / omega : (c.t_end - c.t0) / 100;
+  vi_sim_set_event_callback(s, on_event, &c);
+  vi_sim_set_monitor(s, on_monitor, &c, period);
+  if (spp > 0) vi_sim_set_sampling(s, period / spp, on_sample, &c);
+  if (ledger) {
+    vi_sim_enable_ledger(s, 1);
+    vi_sim_set_ledger_callback(s, on_ledger, &c);
+  }
+  c.wall0 = now();
+  st = vi_sim_run(s, c.t_end);
+  double wall = now() - c.wall0;
+  if (o->progress) fputc('\n', stderr);
+  if (st < 0) {
+    fprintf(stderr, "vibroimpact: %s: %s\n", vi_strerror(st), vi_sim_errmsg(s));
+    goto done;
+  }
+  if (c.io_err) {
+    fprintf(stderr, "vibroimpact: writing output failed: %s\n",
+            c.w ? vi_writer_errmsg(c.w) : "CSV write error");
+    goto done;
+  }
+  int complete = st == VI_OK;
+  if (c.w && vi_writer_close(&c.w, complete)) {
+    fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(c.w));
+    goto done;
+  }
+  if (c.csv && c.csv != stdout) {
+    int bad = ferror(c.csv) | fclose(c.csv);
+    c.csv = NULL;
+    if (bad || rename(part, o->csv)) {
+      fprintf(stderr, "vibroimpact: cannot write '%s': %s\n", o->csv, strerror(errno));
+      goto done;
+    }
+    part[0] = '\0';
+  }
+  if (!complete) {
+    double t;
+    vi_sim_get_state(s, &t, NULL, NULL);
+    fprintf(stderr, "vibroimpact: interrupted at t = %g%s\n", t,
+            o->out ? "; the output file is valid and marked incomplete" : "");
+    goto done;
+  }
+  if (!o->quiet) {
+    FILE *f = c.csv == stdout ? stderr : stdout;
+    static const char *mn[] = {"adams", "bdf", "exact"};
+    const double *om = vi_model_omega(m);
+    fprintf(f, "vibroimpact %s: scene %s (n = %d)\n", vi_version_string(),
+            vi_scene_name(sc), n);
+    fprintf(f, "  modes     omega =");
+    for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);
+    fprintf(f, "%s\n", n > 8 ? " ..." : "");
+    fprintf(f, "  run       t = %g .. %g (%.6g forcing periods), method %s, rtol %g, atol %g\n",
+            c.t0, c.t_end, (c.t_end - c.t0) / period, mn[vi_scene_method(sc)],
+            vi_scene_rtol(sc), vi_scene_atol(sc));
+    fprintf(f, "  impacts   %lld (%.4f per forcing period)", (long long)c.impacts,
+            c.impacts / ((c.t_end - c.t0) / period));
+    if (c.impacts)
+      fprintf(f, "; last at t = %.10g, v_n = %.10g", c.t_last, c.vn_last);
+    fprintf(f, "\n  events    %lld sticking phases, %lld graze checks\n",
+            (long long)vi_sim_get_stat(s, VI_STAT_STICKS),
+            (long long)vi_sim_get_stat(s, VI_STAT_GRAZE_CHECKS));
+    if (ledger) {
+      double ie;
+      vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL, &ie);
+      fprintf(f, "  ledger    energy lost at impacts %.10g; largest closure "
+              "residual %.3g\n", ie, vi_sim_ledger_max_residual(s));
+    }
+    fprintf(f, "  cost      %lld steps, %lld RHS evaluations, %.3f ms\n",
+            (long long)vi_sim_get_stat(s, VI_STAT_STEPS),
+            (long long)vi_sim_get_stat(s, VI_STAT_RHS_EVALS), 1e3 * wall);
+    if (o->out) fprintf(f, "  output    %s\n", o->out);
+  }
+  rc = 0;
+done:
+  if (c.csv && c.csv != stdout) fclose(c.csv);
+  if (part[0]) remove(part);
+  vi_writer_abort(&c.w);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+  return rc;
+}
