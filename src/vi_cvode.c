@@ -183,7 +183,6 @@ static int cv_create(vi_sim *s)
   CV_TRY(CVodeSetUserData(d->mem, s));
   CV_TRY(CVodeSStolerances(d->mem, s->rtol, s->atol));
   CV_TRY(CVodeSetNoInactiveRootWarn(d->mem));
-  if (s->hmax > 0.0) CV_TRY(CVodeSetMaxStep(d->mem, s->hmax));
   if (s->method == VI_METHOD_BDF) {
     int bw = s->m->bw;
     d->A = use_band(s) ? SUNBandMatrix(N, bw > 0 ? 2 * bw : 1, 2 * bw + 1, d->ctx)
@@ -252,6 +251,15 @@ static int cv_start(vi_sim *s)
     d->nroots = nr;
   }
   if (s->h_restart > 0.0) CV_TRY(CVodeSetInitStep(d->mem, s->h_restart));
+  /* While sticking the state barely moves, so CVODE's error control lets
+   * the step grow past oscillations of the contact force that the release
+   * root must see: resolve the forcing instead. */
+  double hmax = s->hmax;
+  if (s->sticking && s->m->omega_f > 0.0) {
+    double h = 2.0 * M_PI / s->m->omega_f / 32.0;
+    hmax = hmax > 0.0 ? fmin(hmax, h) : h;
+  }
+  CV_TRY(CVodeSetMaxStep(d->mem, hmax));
   d->t_prev = s->t;
 cleanup:
   return st;

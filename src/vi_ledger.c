@@ -84,6 +84,7 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
     s->ledger_on = 1;
     s->led_ie = 0.0;
     s->led_maxres = 0.0;
+    s->led_emax = 0.0;
     vi_ledger_begin(s);
   }
   /* the integrator must be rebuilt with (or without) the quadratures */
@@ -139,7 +140,11 @@ void vi_ledger_close(vi_sim *s, int jump, double ie)
     eb += s->EB[j];
     scale = fmax(scale, fabs(FE) + fabs(DE) + fabs(XE) + fabs(CE));
   }
-  scale = fmax(scale, fmax(ea, eb));
+  /* relative to the energy scale of the run so far: the micro-bounces at
+   * the end of a chattering sequence carry 1e-11 of it, and their own
+   * energy would turn the quadrature's absolute error into a large ratio */
+  s->led_emax = fmax(s->led_emax, fmax(ea, eb));
+  scale = fmax(scale, s->led_emax);
   double res = fabs(sum) / scale;
   if (res > s->led_maxres) s->led_maxres = res;
   if (jump) {

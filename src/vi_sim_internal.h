@@ -57,7 +57,7 @@ struct vi_sim {
   double *Q;           /* cumulative FE, DE, XE, CE at s->t [4n] */
   double *QA, *EA, *KA, *EB, *KB, *dE, *dEtot, *qd; /* 4n, then n each */
   double *qdw;         /* scratch for the quadrature right-hand side [n] */
-  double led_ta, led_ie, led_maxres;
+  double led_ta, led_ie, led_maxres, led_emax;
   vi_ledger_fn led_fn; void *led_user;
   double *led_block;
 

@@ -35,7 +35,9 @@ typedef struct vi_ledger_interval {
   const double *FE, *DE, *XE, *CE; /* integrals over the interval */
   const double *dE;                /* impact jumps at t_b, or NULL */
   double ie;                       /* energy lost at t_b (WB 10) */
-  double residual;  /* |sum_j (Eb - Ea - FE + DE + XE - CE)| / energy scale */
+  double residual;  /* |sum_j (Eb - Ea - FE + DE + XE - CE)| divided by the
+                       energy scale: the largest total energy at any interval
+                       end so far, or this interval's summed |work| if larger */
 } vi_ledger_interval;
 
 typedef int (*vi_ledger_fn)(const vi_ledger_interval *iv, void *user);

@@ -1,0 +1,187 @@
+/* test_scene.c - scene files: every scene in share/scenes runs; malformed
+ * scenes are reported with their code, line and key. */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "vi_testutil.h"
+#include "vibroimpact/vi_scene.h"
+
+static void test_shipped_scenes_run(void **state)
+{
+  (void)state;
+  DIR *dir = opendir(VI_SCENE_DIR);
+  assert_non_null(dir);
+  struct dirent *e;
+  int count = 0;
+  while ((e = readdir(dir))) {
+    size_t len = strlen(e->d_name);
+    if (len < 6 || strcmp(e->d_name + len - 5, ".yaml")) continue;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", VI_SCENE_DIR, e->d_name);
+    vi_scene *sc = NULL;
+    vi_model *m = NULL;
+    vi_sim *s = NULL;
+    vi_diag d;
+    int st = vi_scene_load(path, &sc, &d);
+    if (st) print_error("%s: %s\n", path, d.message);
+    assert_int_equal(st, VI_OK);
+    assert_int_equal(vi_scene_set_run(sc, 0, 0, 5, -1), VI_OK); /* short */
+    assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+    assert_int_equal(vi_model_n(m), vi_scene_n(sc));
+    assert_int_equal(vi_sim_create(m, &s), VI_OK);
+    assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
+    if (vi_scene_wants(sc, "ledger")) assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+    st = vi_sim_run(s, vi_scene_t_end(sc));
+    if (st) print_error("%s: %s\n", path, vi_sim_errmsg(s));
+    assert_int_equal(st, VI_OK);
+    if (vi_scene_wants(sc, "ledger")) assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
+    print_message("%-22s n = %d, %lld impacts in 5 periods\n", e->d_name,
+                  vi_model_n(m), (long long)vi_sim_get_stat(s, VI_STAT_IMPACTS));
+    vi_sim_destroy(&s);
+    vi_model_destroy(&m);
+    vi_scene_destroy(&sc);
+    count++;
+  }
+  closedir(dir);
+  assert_true(count >= 6);
+}
+
+/* The embedded default is share/scenes/fig2.yaml, byte for byte. */
+static void test_default_is_fig2(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_load(VI_SCENE_DIR "/fig2.yaml", &sc, &d), VI_OK);
+  assert_string_equal(vi_scene_text(sc), vi_scene_default_text());
+  assert_close(vi_scene_t_end(sc), 100 * 2 * M_PI / 0.9, 1e-12);
+  vi_scene_destroy(&sc);
+}
+
+/* A malformed scene, the stage that must reject it, the code, line, key. */
+typedef struct bad {
+  const char *what, *text;
+  int code, line;
+  const char *key;
+} bad;
+
+#define GOOD_STOP "stop: {mass: 2, xs: 0.1, r: 0.7}\n"
+#define CHAIN "model:\n  chain: {n: 2, m: 1, k: 1, c: 0.1}\n"
+
+static const bad cases[] = {
+  {"YAML syntax", CHAIN "forcing: {omega: 0.9, a: [0.5, 0.0}\n" GOOD_STOP, VI_ERR_PARSE, 3, ""},
+  {"unknown top key", CHAIN GOOD_STOP "solver: cvode\n", VI_ERR_PARSE, 4, "solver"},
+  {"misspelt key", CHAIN "forcing: {omgea: 0.9}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.omgea"},
+  {"wrong type", CHAIN "forcing: {omega: fast}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.omega"},
+  {"wrong length", CHAIN "forcing: {omega: 0.9, a: [0.5, 0.0, 1.0]}\n" GOOD_STOP, VI_ERR_DIM, 3, "forcing.a"},
+  {"NaN", CHAIN "forcing: {omega: 0.9, a: [.nan, 0.0]}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.a[1]"},
+  {"r = 1.5", CHAIN "stop: {mass: 2, xs: 0.1, r: 1.5}\n", VI_ERR_RESTITUTION, 3, "stop.r"},
+  {"missing stop", CHAIN "forcing: {omega: 0.9}\n", VI_ERR_PARSE, 1, "stop"},
+  {"missing r", CHAIN "stop: {mass: 2, xs: 0.1}\n", VI_ERR_PARSE, 3, "stop.r"},
+  {"stop mass out of range", CHAIN "stop: {mass: 3, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.mass"},
+  {"negative tolerance", CHAIN GOOD_STOP "run: {rtol: -1.0e-8}\n", VI_ERR_TOLERANCE, 4, "run.rtol"},
+  {"bad method", CHAIN GOOD_STOP "run: {method: rk4}\n", VI_ERR_PARSE, 4, "run.method"},
+  {"t_end and periods", CHAIN GOOD_STOP "run: {t_end: 10, periods: 3}\n", VI_ERR_PARSE, 4, "run.periods"},
+  {"non-square K", "model:\n  K: [[2, -1], [-1]]\n" GOOD_STOP, VI_ERR_DIM, 2, "model.K row 2"},
+  {"two model kinds", "model:\n  K: [[1]]\n  chain: {n: 1, m: 1, k: 1}\nstop: {mass: 1, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 2, "model"},
+  {"duplicate key", CHAIN GOOD_STOP "stop: {mass: 1, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 4, "stop"},
+  {"not a mapping", "- 1\n- 2\n", VI_ERR_PARSE, 1, ""},
+  {"boolean expected", CHAIN GOOD_STOP "forcing: {omega: 0.9}\noutput: {ledger: maybe}\n", VI_ERR_PARSE, 5, "output.ledger"},
+  {"no frequency, no end time", CHAIN GOOD_STOP, VI_ERR_TIME, 0, "run.t_end"},
+  {"empty file", "", VI_ERR_PARSE, 1, ""},
+  /* rejected when the model is built: the model's own validation */
+  {"non-symmetric K", "model:\n  K: [[2, -1], [-0.5, 1]]\nstop: {w: [0, 1], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_NOT_SYMMETRIC, 2, "model.K"},
+  {"non-SPD M", "model:\n  M: [[1, 2], [2, 1]]\n  K: [[2, -1], [-1, 1]]\nstop: {w: [0, 1], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_NOT_SPD, 2, "model"},
+  {"zero stop vector", "model:\n  K: [[2, -1], [-1, 1]]\nstop: {w: [0, 0], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_STOP_VECTOR, 3, "stop"},
+  /* rejected when the run is configured */
+  {"initial state beyond the stop", CHAIN GOOD_STOP "initial: {x: [0.0, 0.5]}\nrun: {t_end: 10}\n", VI_ERR_INITIAL_STATE, 4, "initial"},
+};
+
+static void test_malformed_scenes(void **state)
+{
+  (void)state;
+  size_t nc = sizeof cases / sizeof cases[0];
+  assert_true(nc >= 15);
+  for (size_t i = 0; i < nc; i++) {
+    const bad *b = &cases[i];
+    vi_scene *sc = NULL;
+    vi_model *m = NULL;
+    vi_sim *s = NULL;
+    vi_diag d;
+    int st = vi_scene_parse(b->text, -1, "bad.yaml", &sc, &d);
+    if (!st) st = vi_scene_create_model(sc, &m, &d);
+    if (!st) {
+      assert_int_equal(vi_sim_create(m, &s), VI_OK);
+      st = vi_scene_configure_sim(sc, s, &d);
+    }
+    char msg[1200];
+    vi_diag_format(&d, msg, sizeof msg);
+    print_message("%-30s -> %s\n", b->what, msg);
+    assert_int_equal(st, b->code);
+    assert_int_equal(d.code, b->code);
+    assert_string_equal(d.file, "bad.yaml");
+    assert_int_equal(d.line, b->line);
+    assert_string_equal(d.key, b->key);
+    assert_true(strlen(d.message) > 5);
+    vi_sim_destroy(&s);
+    vi_model_destroy(&m);
+    vi_scene_destroy(&sc);
+    assert_null(sc);
+  }
+}
+
+static void test_overrides_and_builders(void **state)
+{
+  (void)state;
+  /* Rayleigh damping on a chain, forcing by index and amplitude */
+  const char *t = "model:\n  chain: {n: 3, m: [1, 2, 3], k: 4}\n"
+                  "  rayleigh: {alpha: 0.01, beta: 0.02}\n"
+                  "forcing: {omega: 2, on: [1, 3], amplitude: 0.5}\n"
+                  "stop: {mass: 3, xs: 0.2, r: 0.9}\n";
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(t, -1, "x", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  const double *M = vi_model_mass(m), *C = vi_model_damping(m), *K = vi_model_stiffness(m);
+  assert_close(M[4], 2.0, 0);
+  assert_close(K[0], 8.0, 0);  /* k1 + k2 */
+  assert_close(C[0], 0.01 * 1 + 0.02 * 8, 1e-15);
+  assert_int_equal(vi_model_is_proportional(m), 1);
+  assert_close(vi_model_forcing_cos(m)[0], 0.5, 0);
+  assert_close(vi_model_forcing_cos(m)[1], 0.0, 0);
+  assert_close(vi_model_forcing_cos(m)[2], 0.5, 0);
+  assert_close(vi_scene_t_end(sc), 100 * M_PI, 1e-12); /* default 100 periods */
+  assert_int_equal(vi_scene_set_run(sc, 1e-9, 1e-11, 7, VI_METHOD_EXACT), VI_OK);
+  assert_close(vi_scene_t_end(sc), 7 * M_PI, 1e-12);
+  assert_int_equal(vi_scene_method(sc), VI_METHOD_EXACT);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+  /* the cantilever's base excitation is -A gamma; its stop the tip shapes */
+  t = "model:\n  cantilever: {modes: 2, omega1: 3}\nforcing: {omega: 2.5, base: 0.1}\n"
+      "stop: {xs: 0.01, r: 0.75}\n";
+  assert_int_equal(vi_scene_parse(t, -1, "x", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  assert_close(vi_model_forcing_cos(m)[0], -0.1 * vi_cantilever_participation(0), 1e-15);
+  assert_close(fabs(vi_model_stop_vector(m)[1]), 2.0, 1e-10);
+  assert_close(vi_model_omega(m)[0], 3.0, 1e-12);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+}
+
+int main(void)
+{
+  gsl_set_error_handler_off();
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_shipped_scenes_run),
+      cmocka_unit_test(test_default_is_fig2),
+      cmocka_unit_test(test_malformed_scenes),
+      cmocka_unit_test(test_overrides_and_builders),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
