@@ -345,6 +345,9 @@ static int samples(vi_sim *s, double t)
 {
   for (;;) {
     double ts = s->smp_t0 + (double)s->smp_k * s->smp_dt;
+    /* t0 + k dt may land a rounding above an end time it should equal */
+    if (ts > s->t_end && ts - s->t_end <= 8 * DBL_EPSILON * fabs(s->t_end))
+      ts = s->t_end;
     if (ts > t || ts > s->t_end) return VI_OK;
     s->smp_k++;
     if (s->stop) continue;

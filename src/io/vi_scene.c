@@ -408,7 +408,7 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
     }
   }
   if (!(s->t_end > 0) && !(s->periods > 0) && !(s->omega > 0))
-    return fail(c, run, VI_ERR_TIME, "run.t_end", "%s", "without a forcing frequency give run.t_end");
+    return fail(c, run ? run : root, VI_ERR_TIME, "run.t_end", "%s", "without a forcing frequency give run.t_end");
   if (out) {
     if ((st = check_map(c, out, "output", ok))) return st;
     if ((v = find(c, out, "impacts")) && (st = boolean(c, v, "output.impacts", &s->out_impacts))) return st;

@@ -1,0 +1,188 @@
+/* test_app.c - the program as a user runs it: exit statuses, messages with
+ * the line, no output file after an error, SIGINT leaves a valid file
+ * marked incomplete. */
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <hdf5.h>
+
+#include "vi_testutil.h"
+#include "vi_bad_scenes.h"
+
+static const char *app;
+static char dir[] = "/tmp/vi_test_app_XXXXXX";
+
+/* Run the app with argv, stdout and stderr to files; returns the exit
+ * status, or 128 + signal. */
+static int run_app(char *const argv[], const char *out, const char *err)
+{
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    int o = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    int e = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(o, 1);
+    dup2(e, 2);
+    execv(app, argv);
+    _exit(127);
+  }
+  int st;
+  waitpid(pid, &st, 0);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+static char *slurp(const char *path)
+{
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  static char buf[65536];
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  buf[n] = '\0';
+  fclose(f);
+  return buf;
+}
+
+static int exists(const char *p) { return access(p, F_OK) == 0; }
+
+static void test_malformed_scene_files(void **state)
+{
+  (void)state;
+  char scene[256], h5[256], part[256], out[256], err[256];
+  snprintf(h5, sizeof h5, "%s/out.h5", dir);
+  snprintf(part, sizeof part, "%s/out.h5.part", dir);
+  snprintf(out, sizeof out, "%s/stdout", dir);
+  snprintf(err, sizeof err, "%s/stderr", dir);
+  size_t nc = sizeof cases / sizeof cases[0];
+  for (size_t i = 0; i < nc; i++) {
+    snprintf(scene, sizeof scene, "%s/bad%02zu.yaml", dir, i);
+    FILE *f = fopen(scene, "w");
+    fputs(cases[i].text, f);
+    fclose(f);
+    char *argv[] = {(char *)app, "run", scene, "-o", h5, "--quiet", NULL};
+    int rc = run_app(argv, out, err);
+    char *msg = slurp(err);
+    print_message("%-30s exit %d: %s", cases[i].what, rc, msg);
+    assert_true(rc == 2 || rc == 1);
+    assert_non_null(strstr(msg, scene)); /* names the file */
+    if (cases[i].line > 0) {
+      char at[300];
+      snprintf(at, sizeof at, "%s:%d:", scene, cases[i].line);
+      assert_non_null(strstr(msg, at));  /* and the line */
+    }
+    assert_false(exists(h5));
+    assert_false(exists(part));
+    remove(scene);
+  }
+  /* a missing file and an unwritable output are run-time errors: 1 */
+  char *argv2[] = {(char *)app, "/nonexistent/scene.yaml", NULL};
+  assert_int_equal(run_app(argv2, out, err), 1);
+  assert_non_null(strstr(slurp(err), "cannot open"));
+  char *argv3[] = {(char *)app, "-o", "/nonexistent-dir/x.h5", "--periods", "2", NULL};
+  assert_int_equal(run_app(argv3, out, err), 1);
+  assert_non_null(strstr(slurp(err), "cannot create"));
+  char *argv4[] = {(char *)app, "--rtol", "-3", NULL};
+  assert_int_equal(run_app(argv4, out, err), 2);
+  char *argv5[] = {(char *)app, "--bogus", NULL};
+  assert_int_equal(run_app(argv5, out, err), 2);
+  remove(out);
+  remove(err);
+}
+
+static void test_outputs(void **state)
+{
+  (void)state;
+  char out[256], err[256];
+  snprintf(out, sizeof out, "%s/stdout", dir);
+  snprintf(err, sizeof err, "%s/stderr", dir);
+  char *a1[] = {(char *)app, "--impacts-csv", "-", "--periods", "3", "--quiet", NULL};
+  assert_int_equal(run_app(a1, out, err), 0);
+  char *csv = slurp(out);
+  assert_int_equal(strncmp(csv, "k,t,vn,x_1,x_2,v_1,v_2\n0,", 25), 0);
+  char *a2[] = {(char *)app, "restitution", "--re", "0.51", "--ke", "1", NULL};
+  assert_int_equal(run_app(a2, out, err), 0);
+  assert_close(atof(slurp(out)), 0.7, 1e-15);
+  char *a3[] = {(char *)app, "restitution", "--re", "2", "--ke", "1", NULL};
+  assert_int_equal(run_app(a3, out, err), 2);
+  char *a4[] = {(char *)app, "energy", "--json", NULL};
+  assert_int_equal(run_app(a4, out, err), 0);
+  char *js = slurp(out), *p = strstr(js, "\"r_recovered\": ");
+  assert_non_null(p);
+  assert_close(atof(p + 15), 0.7, 1e-10);
+  assert_non_null(strstr(js, "\"modes\": [{\"omega\": "));
+  assert_non_null(strstr(js, "\"reduced\": [{\"modes\": 1, \"r_S\": "));
+  remove(out);
+  remove(err);
+}
+
+/* SIGINT during a long run: exit 1, the file exists, is valid HDF5, holds
+ * what was computed and says complete = 0. */
+static void test_sigint_leaves_valid_file(void **state)
+{
+  (void)state;
+  char h5[256], part[256], err[256];
+  snprintf(h5, sizeof h5, "%s/long.h5", dir);
+  snprintf(part, sizeof part, "%s/long.h5.part", dir);
+  snprintf(err, sizeof err, "%s/stderr", dir);
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    int e = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(e, 2);
+    execl(app, app, "--periods", "1e7", "--method", "exact", "-o", h5, "--quiet", (char *)NULL);
+    _exit(127);
+  }
+  /* wait until the run is writing, then interrupt it */
+  for (int i = 0; i < 200 && !exists(part); i++) usleep(10000);
+  usleep(300000);
+  assert_true(exists(part));
+  kill(pid, SIGINT);
+  int st;
+  waitpid(pid, &st, 0);
+  assert_true(WIFEXITED(st));
+  assert_int_equal(WEXITSTATUS(st), 1);
+  assert_non_null(strstr(slurp(err), "interrupted"));
+  assert_true(exists(h5));
+  assert_false(exists(part));
+  hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  int complete = -1;
+  hid_t a = H5Aopen(f, "complete", H5P_DEFAULT);
+  H5Aread(a, H5T_NATIVE_INT, &complete);
+  H5Aclose(a);
+  assert_int_equal(complete, 0);
+  hid_t d = H5Dopen2(f, "impacts/time", H5P_DEFAULT), sp = H5Dget_space(d);
+  hsize_t n;
+  H5Sget_simple_extent_dims(sp, &n, NULL);
+  H5Sclose(sp);
+  H5Dclose(d);
+  print_message("interrupted run kept %llu impacts\n", (unsigned long long)n);
+  assert_true(n > 10);
+  H5Fclose(f);
+  remove(h5);
+  remove(err);
+}
+
+int main(int argc, char **argv)
+{
+  if (argc < 2) {
+    fprintf(stderr, "usage: test_app PATH-TO-vibroimpact\n");
+    return 2;
+  }
+  app = argv[1];
+  if (!mkdtemp(dir)) return 2;
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_malformed_scene_files),
+      cmocka_unit_test(test_outputs),
+      cmocka_unit_test(test_sigint_leaves_valid_file),
+  };
+  int rc = cmocka_run_group_tests(tests, NULL, NULL);
+  rmdir(dir);
+  return rc;
+}

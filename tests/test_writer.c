@@ -1,0 +1,182 @@
+/* test_writer.c - the HDF5 file of the Fig. 2 scene read back through the
+ * HDF5 API; no partial file after an error; no HDF5 object left open. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <gsl/gsl_errno.h>
+#include <hdf5.h>
+
+#include "vi_testutil.h"
+#include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_writer.h"
+
+typedef struct both { vi_writer *w; vi_test_events ev; int nled; } both;
+
+static int on_ev(const vi_event *e, void *u)
+{
+  both *b = u;
+  vi_test_collect(e, &b->ev);
+  return vi_writer_event(b->w, e);
+}
+static int on_smp(double t, int n, const double *x, const double *v, void *u)
+{
+  (void)n;
+  return vi_writer_sample(((both *)u)->w, t, x, v);
+}
+static int on_led(const vi_ledger_interval *iv, void *u)
+{
+  ((both *)u)->nled++;
+  return vi_writer_ledger(((both *)u)->w, iv);
+}
+
+static hsize_t rows(hid_t f, const char *name, int *rank, hsize_t *cols)
+{
+  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  assert_true(d >= 0);
+  hid_t sp = H5Dget_space(d);
+  hsize_t dims[2] = {0, 1};
+  *rank = H5Sget_simple_extent_dims(sp, dims, NULL);
+  H5Sclose(sp);
+  H5Dclose(d);
+  *cols = dims[1];
+  return dims[0];
+}
+
+static double *read_all(hid_t f, const char *name, size_t count)
+{
+  double *buf = malloc(sizeof(double) * count);
+  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  assert_true(d >= 0);
+  assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
+  H5Dclose(d);
+  return buf;
+}
+
+static void test_fig2_round_trip(void **state)
+{
+  (void)state;
+  char path[] = "/tmp/vi_test_writer_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "fig2", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, 20, -1), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  both b = {NULL, {0}, 0};
+  assert_int_equal(vi_writer_create(path, m, 1, &b.w, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(b.w, sc, 1e-8, 1e-10, 0), VI_OK);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
+  double T = 2 * M_PI / 0.9;
+  int spp = vi_scene_samples_per_period(sc);
+  assert_int_equal(spp, 64);
+  vi_sim_set_event_callback(s, on_ev, &b);
+  vi_sim_set_sampling(s, T / spp, on_smp, &b);
+  vi_sim_enable_ledger(s, 1);
+  vi_sim_set_ledger_callback(s, on_led, &b);
+  assert_int_equal(vi_sim_run(s, vi_scene_t_end(sc)), VI_OK);
+  assert_int_equal(vi_writer_close(&b.w, 1), VI_OK);
+  assert_null(b.w);
+
+  char part[64];
+  snprintf(part, sizeof part, "%s.part", path);
+  assert_int_not_equal(access(part, F_OK), 0); /* renamed */
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  int rank;
+  hsize_t cols, ni = rows(f, "impacts/time", &rank, &cols);
+  assert_int_equal((int)ni, b.ev.count);
+  assert_true(ni >= 19);
+  double *t = read_all(f, "impacts/time", ni), *vn = read_all(f, "impacts/vn", ni);
+  double *x = read_all(f, "impacts/x", 2 * ni);
+  assert_int_equal((int)rows(f, "impacts/x", &rank, &cols), b.ev.count);
+  assert_int_equal(rank, 2);
+  assert_int_equal((int)cols, 2);
+  for (hsize_t i = 0; i < ni; i++) {
+    assert_close(t[i], b.ev.t[i], 0);       /* bit for bit */
+    assert_close(vn[i], b.ev.vn[i], 0);
+    assert_close(x[2 * i + 1], b.ev.x[2 * i + 1], 0); /* row i = (x_1, x_2) */
+  }
+  /* samples at t0 + k T/64 for k = 0 .. 20*64 */
+  hsize_t ns = rows(f, "trajectory/time", &rank, &cols);
+  assert_int_equal((int)ns, 20 * spp + 1);
+  double *ts = read_all(f, "trajectory/time", ns), *q = read_all(f, "trajectory/q", 2 * ns),
+         *xs = read_all(f, "trajectory/x", 2 * ns);
+  assert_close(ts[ns - 1], 20 * T, 1e-9);
+  /* the modal columns are Psi^T M x of the physical ones */
+  double qq[2];
+  vi_model_to_modal(m, xs + 2 * (ns / 2), qq);
+  assert_close(q[2 * (ns / 2)], qq[0], 1e-15);
+  assert_int_equal((int)rows(f, "ledger/FE", &rank, &cols), b.nled);
+  /* attributes carry the scene and the state of the file */
+  hid_t a = H5Aopen(f, "scene", H5P_DEFAULT);
+  hid_t ty = H5Aget_type(a);
+  size_t len = H5Tget_size(ty);
+  char *text = malloc(len);
+  assert_true(H5Aread(a, ty, text) >= 0);
+  assert_string_equal(text, vi_scene_default_text());
+  H5Tclose(ty);
+  H5Aclose(a);
+  int complete = -1;
+  a = H5Aopen(f, "complete", H5P_DEFAULT);
+  H5Aread(a, H5T_NATIVE_INT, &complete);
+  H5Aclose(a);
+  assert_int_equal(complete, 1);
+  double Psi[4];
+  hid_t ds = H5Dopen2(f, "modal/Psi", H5P_DEFAULT);
+  H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, Psi);
+  H5Dclose(ds);
+  int ld;
+  const double *P = vi_model_modal_shapes(m, &ld);
+  assert_close(Psi[0 * 2 + 1], P[0 + 1 * ld], 0); /* [i][j] = Psi(i, j) */
+  H5Fclose(f);
+  /* nothing left open by the writer or by us */
+  assert_int_equal((int)H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+  free(text); free(t); free(vn); free(x); free(ts); free(q); free(xs);
+  remove(path);
+  vi_test_events_free(&b.ev);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+}
+
+static void test_unwritable_and_abort(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_writer *w = NULL;
+  vi_diag d;
+  assert_int_equal(vi_writer_create("/nonexistent-dir/x.h5", m, 0, &w, &d), VI_ERR_IO);
+  assert_null(w);
+  assert_non_null(strstr(d.message, "cannot create"));
+  char path[] = "/tmp/vi_test_abort_XXXXXX", part[64];
+  int fd = mkstemp(path);
+  close(fd);
+  remove(path);
+  snprintf(part, sizeof part, "%s.part", path);
+  assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
+  assert_int_equal(access(part, F_OK), 0);
+  vi_writer_abort(&w); /* an error in the run: no file at all */
+  assert_null(w);
+  assert_int_not_equal(access(part, F_OK), 0);
+  assert_int_not_equal(access(path, F_OK), 0);
+  assert_int_equal((int)H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+  vi_model_destroy(&m);
+}
+
+int main(void)
+{
+  gsl_set_error_handler_off();
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_fig2_round_trip),
+      cmocka_unit_test(test_unwritable_and_abort),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

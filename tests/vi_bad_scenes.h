@@ -1,0 +1,44 @@
+/* vi_bad_scenes.h - malformed scenes shared by test_scene and test_app. */
+#ifndef VI_BAD_SCENES_H
+#define VI_BAD_SCENES_H
+
+/* A malformed scene, the stage that must reject it, the code, line, key. */
+typedef struct bad {
+  const char *what, *text;
+  int code, line;
+  const char *key;
+} bad;
+
+#define GOOD_STOP "stop: {mass: 2, xs: 0.1, r: 0.7}\n"
+#define CHAIN "model:\n  chain: {n: 2, m: 1, k: 1, c: 0.1}\n"
+
+static const bad cases[] = {
+  {"YAML syntax", CHAIN "forcing: {omega: 0.9, a: [0.5, 0.0}\n" GOOD_STOP, VI_ERR_PARSE, 3, ""},
+  {"unknown top key", CHAIN GOOD_STOP "solver: cvode\n", VI_ERR_PARSE, 4, "solver"},
+  {"misspelt key", CHAIN "forcing: {omgea: 0.9}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.omgea"},
+  {"wrong type", CHAIN "forcing: {omega: fast}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.omega"},
+  {"wrong length", CHAIN "forcing: {omega: 0.9, a: [0.5, 0.0, 1.0]}\n" GOOD_STOP, VI_ERR_DIM, 3, "forcing.a"},
+  {"NaN", CHAIN "forcing: {omega: 0.9, a: [.nan, 0.0]}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.a[1]"},
+  {"r = 1.5", CHAIN "stop: {mass: 2, xs: 0.1, r: 1.5}\n", VI_ERR_RESTITUTION, 3, "stop.r"},
+  {"missing stop", CHAIN "forcing: {omega: 0.9}\n", VI_ERR_PARSE, 1, "stop"},
+  {"missing r", CHAIN "stop: {mass: 2, xs: 0.1}\n", VI_ERR_PARSE, 3, "stop.r"},
+  {"stop mass out of range", CHAIN "stop: {mass: 3, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.mass"},
+  {"negative tolerance", CHAIN GOOD_STOP "run: {rtol: -1.0e-8}\n", VI_ERR_TOLERANCE, 4, "run.rtol"},
+  {"bad method", CHAIN GOOD_STOP "run: {method: rk4}\n", VI_ERR_PARSE, 4, "run.method"},
+  {"t_end and periods", CHAIN GOOD_STOP "run: {t_end: 10, periods: 3}\n", VI_ERR_PARSE, 4, "run.periods"},
+  {"non-square K", "model:\n  K: [[2, -1], [-1]]\n" GOOD_STOP, VI_ERR_DIM, 2, "model.K row 2"},
+  {"two model kinds", "model:\n  K: [[1]]\n  chain: {n: 1, m: 1, k: 1}\nstop: {mass: 1, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 2, "model"},
+  {"duplicate key", CHAIN GOOD_STOP "stop: {mass: 1, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 4, "stop"},
+  {"not a mapping", "- 1\n- 2\n", VI_ERR_PARSE, 1, ""},
+  {"boolean expected", CHAIN GOOD_STOP "forcing: {omega: 0.9}\noutput: {ledger: maybe}\n", VI_ERR_PARSE, 5, "output.ledger"},
+  {"no frequency, no end time", CHAIN GOOD_STOP, VI_ERR_TIME, 1, "run.t_end"},
+  {"empty file", "", VI_ERR_PARSE, 1, ""},
+  /* rejected when the model is built: the model's own validation */
+  {"non-symmetric K", "model:\n  K: [[2, -1], [-0.5, 1]]\nstop: {w: [0, 1], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_NOT_SYMMETRIC, 2, "model.K"},
+  {"non-SPD M", "model:\n  M: [[1, 2], [2, 1]]\n  K: [[2, -1], [-1, 1]]\nstop: {w: [0, 1], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_NOT_SPD, 2, "model"},
+  {"zero stop vector", "model:\n  K: [[2, -1], [-1, 1]]\nstop: {w: [0, 0], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_STOP_VECTOR, 3, "stop"},
+  /* rejected when the run is configured */
+  {"initial state beyond the stop", CHAIN GOOD_STOP "initial: {x: [0.0, 0.5]}\nrun: {t_end: 10}\n", VI_ERR_INITIAL_STATE, 4, "initial"},
+};
+
+#endif
