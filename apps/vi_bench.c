@@ -12,9 +12,15 @@
 #include <string.h>
 #include <time.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <gsl/gsl_errno.h>
 
 #include "vibroimpact.h"
+#include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_writer.h"
 
 typedef struct rec { int n, cap; double *t, *vn; } rec;
 
@@ -106,6 +112,73 @@ static result run(const vi_model *m, int method, double rtol, double hrestart,
   return best;
 }
 
+/* ---- memory: peak RSS of a run writing samples, in a fresh child ------- */
+static int wr_event(const vi_event *ev, void *u) { return vi_writer_event(u, ev); }
+static int wr_sample(double t, int n, const double *x, const double *v, void *u)
+{
+  (void)n;
+  return vi_writer_sample(u, t, x, v);
+}
+
+/* Child: Fig. 2 for `periods` periods, exact method, 16 samples per period
+ * and every impact into a compressed HDF5 file; reports ru_maxrss (KiB). */
+static long child_rss(double periods, const char *path)
+{
+  int fd[2];
+  if (pipe(fd)) return -1;
+  pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    vi_scene *sc = NULL;
+    vi_model *m = NULL;
+    vi_sim *s = NULL;
+    vi_writer *w = NULL;
+    vi_diag d;
+    long rss = -1;
+    double T = 2 * M_PI / 0.9;
+    if (!vi_scene_parse(vi_scene_default_text(), -1, "fig2", &sc, &d) &&
+        !vi_scene_set_run(sc, 0, 0, periods, VI_METHOD_EXACT) &&
+        !vi_scene_create_model(sc, &m, &d) && !vi_sim_create(m, &s) &&
+        !vi_scene_configure_sim(sc, s, &d) && !vi_writer_create(path, m, 1, &w, &d) &&
+        !vi_writer_write_header(w, sc, 1e-8, 1e-10, VI_METHOD_EXACT) &&
+        !vi_sim_set_event_callback(s, wr_event, w) &&
+        !vi_sim_set_sampling(s, T / 16, wr_sample, w) &&
+        !vi_sim_run(s, vi_scene_t_end(sc)) && !vi_writer_close(&w, 1)) {
+      struct rusage ru;
+      getrusage(RUSAGE_SELF, &ru);
+      rss = ru.ru_maxrss;
+    }
+    if (write(fd[1], &rss, sizeof rss) != sizeof rss) _exit(1);
+    _exit(0);
+  }
+  close(fd[1]);
+  long rss = -1;
+  if (read(fd[0], &rss, sizeof rss) != sizeof rss) rss = -1;
+  close(fd[0]);
+  waitpid(pid, NULL, 0);
+  return rss;
+}
+
+static void memory_section(void)
+{
+  const double periods[2] = {1e3, 1e5};
+  long rss[2];
+  char path[] = "/tmp/vi_bench_XXXXXX";
+  int fd = mkstemp(path);
+  if (fd < 0) return;
+  close(fd);
+  printf("\nmemory: Fig. 2, exact method, 16 samples per period and every impact "
+         "written to HDF5 (deflate), peak RSS of a fresh process\n");
+  for (int k = 0; k < 2; k++) {
+    double t0 = now();
+    rss[k] = child_rss(periods[k], path);
+    printf("  %8.0f periods: peak RSS %6.1f MiB (%.2f s)\n", periods[k],
+           rss[k] / 1024.0, now() - t0);
+  }
+  printf("  growth for 100x the run: %+.2f MiB\n", (rss[1] - rss[0]) / 1024.0);
+  remove(path);
+}
+
 int main(int argc, char **argv)
 {
   gsl_set_error_handler_off();
@@ -153,5 +226,6 @@ int main(int argc, char **argv)
   free(ref.r.t);
   free(ref.r.vn);
   vi_model_destroy(&m);
+  memory_section();
   return 0;
 }

@@ -2,7 +2,8 @@
 # Install the Debian 12 packages vibroimpact needs, only those missing.
 set -euo pipefail
 pkgs=(cmake make gcc gfortran pkg-config libsundials-dev libgsl-dev
-      liblapacke-dev libcmocka-dev libhdf5-dev libyaml-dev)
+      liblapacke-dev libcmocka-dev libhdf5-dev libyaml-dev
+      python3-h5py python3-matplotlib)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \

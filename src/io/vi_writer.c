@@ -134,7 +134,12 @@ static int table_init(vi_writer *w, table *t, const char *group, int compress)
       H5Pset_shuffle(pl);
       H5Pset_deflate(pl, 4);
     }
-    c->dset = H5Dcreate2(t->group, c->name, c->ftype, sp, H5P_DEFAULT, pl, H5P_DEFAULT);
+    /* rows are flushed a whole chunk at a time, so HDF5's default 1 MiB
+     * chunk cache per dataset would only grow the footprint */
+    hid_t ap = H5Pcreate(H5P_DATASET_ACCESS);
+    H5Pset_chunk_cache(ap, 11, 2 * sizeof(double) * t->cap * c->width, 1.0);
+    c->dset = H5Dcreate2(t->group, c->name, c->ftype, sp, H5P_DEFAULT, pl, ap);
+    H5Pclose(ap);
     H5Pclose(pl);
     H5Sclose(sp);
     c->buf = malloc(sizeof(double) * t->cap * c->width);
