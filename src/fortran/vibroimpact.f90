@@ -1,0 +1,363 @@
+! vibroimpact.f90 - Fortran 2003 interface to the vibroimpact C library.
+!
+!   use vibroimpact
+!
+! Every routine is the C function of the same name (include/vibroimpact/*.h
+! documents units, ownership and errors).  Handles are type(c_ptr), created
+! by vi_*_create and released by vi_*_destroy, which also nullify them.
+! Matrices are Fortran arrays passed straight through, column-major with
+! their leading dimension: no copies.  Indices that the C API counts from 0
+! (mode numbers in vi_orbit_reduced_restitution, vi_event%index) stay
+! 0-based here.  Callbacks are bind(C) functions passed with c_funloc; they
+! return 0 to go on and non-zero to stop the run.  Messages come back as
+! Fortran strings through vi_string.
+module vibroimpact
+  use, intrinsic :: iso_c_binding
+  implicit none
+  private
+
+  include 'vi_constants.inc'
+
+  !> An event as the event callback sees it (vi_event in vi_sim.h).
+  type, bind(C), public :: vi_event
+    integer(c_int) :: kind, n
+    integer(c_int64_t) :: index
+    real(c_double) :: t, vn, ie
+    type(c_ptr) :: x, v_minus, v_plus   ! real(c_double) [n]: use c_f_pointer
+  end type
+
+  !> Progress as the monitor sees it (vi_progress in vi_sim.h).
+  type, bind(C), public :: vi_progress
+    real(c_double) :: t, t_start, t_end
+    integer(c_int64_t) :: steps, impacts
+  end type
+
+  public :: vi_string
+  public :: vi_status_name, vi_strerror, vi_version_number, vi_version_string
+  public :: vi_model_create, vi_model_destroy, vi_model_set_mass, &
+            vi_model_set_damping, vi_model_set_stiffness, vi_model_set_forcing, &
+            vi_model_set_stop, vi_model_setup, vi_model_errmsg, vi_model_n, &
+            vi_model_omega, vi_model_zeta, vi_model_modal_shapes, &
+            vi_model_modal_stop, vi_model_is_proportional, vi_model_to_modal, &
+            vi_model_from_modal, vi_model_energy, vi_model_stop_compliance
+  public :: vi_build_chain, vi_build_cantilever
+  public :: vi_impact_apply, vi_restitution_from_energy, vi_flow_physical
+  public :: vi_sim_create, vi_sim_destroy, vi_sim_errmsg, vi_sim_set_method, &
+            vi_sim_set_tolerances, vi_sim_set_initial, vi_sim_set_event_callback, &
+            vi_sim_set_sampling, vi_sim_set_monitor, vi_sim_run, vi_sim_get_state, &
+            vi_sim_get_stat, vi_sim_is_sticking
+  public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual
+  public :: vi_orbit_create, vi_orbit_destroy, vi_orbit_errmsg, vi_orbit_set_method, &
+            vi_orbit_set_tolerances, vi_orbit_find, vi_orbit_classify, &
+            vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution
+
+  interface
+    ! ---- status and version -------------------------------------------------
+    type(c_ptr) function vi_status_name(code) bind(C, name="vi_status_name")
+      import :: c_ptr, c_int
+      integer(c_int), value :: code
+    end function
+    type(c_ptr) function vi_strerror(code) bind(C, name="vi_strerror")
+      import :: c_ptr, c_int
+      integer(c_int), value :: code
+    end function
+    integer(c_int) function vi_version_number() bind(C, name="vi_version_number")
+      import :: c_int
+    end function
+    type(c_ptr) function vi_version_string() bind(C, name="vi_version_string")
+      import :: c_ptr
+    end function
+
+    ! ---- model ----------------------------------------------------------------
+    integer(c_int) function vi_model_create(n, model) bind(C, name="vi_model_create")
+      import :: c_int, c_ptr
+      integer(c_int), value :: n
+      type(c_ptr) :: model
+    end function
+    subroutine vi_model_destroy(model) bind(C, name="vi_model_destroy")
+      import :: c_ptr
+      type(c_ptr) :: model
+    end subroutine
+    integer(c_int) function vi_model_set_mass(model, M, ldm) bind(C, name="vi_model_set_mass")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: ldm
+      real(c_double), intent(in) :: M(ldm, *)
+    end function
+    integer(c_int) function vi_model_set_damping(model, C, ldc) bind(C, name="vi_model_set_damping")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: ldc
+      real(c_double), intent(in) :: C(ldc, *)
+    end function
+    integer(c_int) function vi_model_set_stiffness(model, K, ldk) bind(C, name="vi_model_set_stiffness")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: ldk
+      real(c_double), intent(in) :: K(ldk, *)
+    end function
+    integer(c_int) function vi_model_set_forcing(model, omega, a, b, f0) &
+        bind(C, name="vi_model_set_forcing")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), value :: omega
+      real(c_double), intent(in) :: a(*), b(*), f0(*)
+    end function
+    integer(c_int) function vi_model_set_stop(model, w, x_s, r) bind(C, name="vi_model_set_stop")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), intent(in) :: w(*)
+      real(c_double), value :: x_s, r
+    end function
+    integer(c_int) function vi_model_setup(model) bind(C, name="vi_model_setup")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_errmsg(model) bind(C, name="vi_model_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int) function vi_model_n(model) bind(C, name="vi_model_n")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_omega(model) bind(C, name="vi_model_omega")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_zeta(model) bind(C, name="vi_model_zeta")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_modal_shapes(model, ld) bind(C, name="vi_model_modal_shapes")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: ld
+    end function
+    type(c_ptr) function vi_model_modal_stop(model) bind(C, name="vi_model_modal_stop")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int) function vi_model_is_proportional(model) bind(C, name="vi_model_is_proportional")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int) function vi_model_to_modal(model, x, q) bind(C, name="vi_model_to_modal")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), intent(in) :: x(*)
+      real(c_double) :: q(*)
+    end function
+    integer(c_int) function vi_model_from_modal(model, q, x) bind(C, name="vi_model_from_modal")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), intent(in) :: q(*)
+      real(c_double) :: x(*)
+    end function
+    real(c_double) function vi_model_energy(model, x, v) bind(C, name="vi_model_energy")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), intent(in) :: x(*), v(*)
+    end function
+    real(c_double) function vi_model_stop_compliance(model) bind(C, name="vi_model_stop_compliance")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: model
+    end function
+    integer(c_int) function vi_build_chain(n, mass, k, c, M, Cm, Km, ld) bind(C, name="vi_build_chain")
+      import :: c_int, c_double
+      integer(c_int), value :: n, ld
+      real(c_double), intent(in) :: mass(*), k(*), c(*)
+      real(c_double) :: M(ld, *), Cm(ld, *), Km(ld, *)
+    end function
+    integer(c_int) function vi_build_cantilever(modes, omega1, zeta, xi_stop, M, Cm, Km, ld, w, gamma) &
+        bind(C, name="vi_build_cantilever")
+      import :: c_int, c_double
+      integer(c_int), value :: modes, ld
+      real(c_double), value :: omega1, zeta, xi_stop
+      real(c_double) :: M(ld, *), Cm(ld, *), Km(ld, *), w(*), gamma(*)
+    end function
+
+    ! ---- impact law and exact flow --------------------------------------------
+    integer(c_int) function vi_impact_apply(model, v_minus, v_plus, vn, ie) bind(C, name="vi_impact_apply")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), intent(in) :: v_minus(*)
+      real(c_double) :: v_plus(*), vn, ie
+    end function
+    integer(c_int) function vi_restitution_from_energy(re, ke_i, r) bind(C, name="vi_restitution_from_energy")
+      import :: c_int, c_double
+      real(c_double), value :: re, ke_i
+      real(c_double) :: r
+    end function
+    integer(c_int) function vi_flow_physical(model, t0, x0, v0, t, x, v) bind(C, name="vi_flow_physical")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), value :: t0, t
+      real(c_double), intent(in) :: x0(*), v0(*)
+      real(c_double) :: x(*), v(*)
+    end function
+
+    ! ---- simulation -----------------------------------------------------------
+    integer(c_int) function vi_sim_create(model, sim) bind(C, name="vi_sim_create")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      type(c_ptr) :: sim
+    end function
+    subroutine vi_sim_destroy(sim) bind(C, name="vi_sim_destroy")
+      import :: c_ptr
+      type(c_ptr) :: sim
+    end subroutine
+    type(c_ptr) function vi_sim_errmsg(sim) bind(C, name="vi_sim_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: sim
+    end function
+    integer(c_int) function vi_sim_set_method(sim, method) bind(C, name="vi_sim_set_method")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+      integer(c_int), value :: method
+    end function
+    integer(c_int) function vi_sim_set_tolerances(sim, rtol, atol) bind(C, name="vi_sim_set_tolerances")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: rtol, atol
+    end function
+    integer(c_int) function vi_sim_set_initial(sim, t0, x0, v0) bind(C, name="vi_sim_set_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: t0
+      real(c_double), intent(in) :: x0(*), v0(*)
+    end function
+    !> fn: integer(c_int) function f(ev, user) bind(C); type(vi_event), intent(in) :: ev
+    integer(c_int) function vi_sim_set_event_callback(sim, fn, user) bind(C, name="vi_sim_set_event_callback")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: sim, user
+      type(c_funptr), value :: fn
+    end function
+    !> fn: integer(c_int) function f(t, n, x, v, user) bind(C) with t, n by value
+    integer(c_int) function vi_sim_set_sampling(sim, dt, fn, user) bind(C, name="vi_sim_set_sampling")
+      import :: c_int, c_ptr, c_funptr, c_double
+      type(c_ptr), value :: sim, user
+      real(c_double), value :: dt
+      type(c_funptr), value :: fn
+    end function
+    integer(c_int) function vi_sim_set_monitor(sim, fn, user, every) bind(C, name="vi_sim_set_monitor")
+      import :: c_int, c_ptr, c_funptr, c_double
+      type(c_ptr), value :: sim, user
+      type(c_funptr), value :: fn
+      real(c_double), value :: every
+    end function
+    integer(c_int) function vi_sim_run(sim, t_end) bind(C, name="vi_sim_run")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: t_end
+    end function
+    integer(c_int) function vi_sim_get_state(sim, t, x, v) bind(C, name="vi_sim_get_state")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double) :: t, x(*), v(*)
+    end function
+    integer(c_int64_t) function vi_sim_get_stat(sim, which) bind(C, name="vi_sim_get_stat")
+      import :: c_int64_t, c_ptr, c_int
+      type(c_ptr), value :: sim
+      integer(c_int), value :: which
+    end function
+    integer(c_int) function vi_sim_is_sticking(sim) bind(C, name="vi_sim_is_sticking")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+    end function
+
+    ! ---- ledger ---------------------------------------------------------------
+    integer(c_int) function vi_sim_enable_ledger(sim, on) bind(C, name="vi_sim_enable_ledger")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+      integer(c_int), value :: on
+    end function
+    integer(c_int) function vi_sim_get_ledger(sim, E, FE, DE, XE, CE, jumps, ie) bind(C, name="vi_sim_get_ledger")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double) :: E(*), FE(*), DE(*), XE(*), CE(*), jumps(*), ie  ! jumps: C dE
+    end function
+    real(c_double) function vi_sim_ledger_max_residual(sim) bind(C, name="vi_sim_ledger_max_residual")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: sim
+    end function
+
+    ! ---- periodic orbits --------------------------------------------------------
+    integer(c_int) function vi_orbit_create(model, orbit) bind(C, name="vi_orbit_create")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      type(c_ptr) :: orbit
+    end function
+    subroutine vi_orbit_destroy(orbit) bind(C, name="vi_orbit_destroy")
+      import :: c_ptr
+      type(c_ptr) :: orbit
+    end subroutine
+    type(c_ptr) function vi_orbit_errmsg(orbit) bind(C, name="vi_orbit_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: orbit
+    end function
+    integer(c_int) function vi_orbit_set_method(orbit, method) bind(C, name="vi_orbit_set_method")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: method
+    end function
+    integer(c_int) function vi_orbit_set_tolerances(orbit, rtol, atol) bind(C, name="vi_orbit_set_tolerances")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double), value :: rtol, atol
+    end function
+    integer(c_int) function vi_orbit_find(orbit) bind(C, name="vi_orbit_find")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: orbit
+    end function
+    integer(c_int) function vi_orbit_classify(orbit, n, m) bind(C, name="vi_orbit_classify")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: orbit
+      integer(c_int) :: n, m
+    end function
+    integer(c_int) function vi_orbit_balance(orbit, period, phase, vN, KE_i, RE, IE, r_rec, closure) &
+        bind(C, name="vi_orbit_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double) :: period, phase, vN, KE_i, RE, IE, r_rec, closure
+    end function
+    integer(c_int) function vi_orbit_modal_balance(orbit, FE, DE, XE, r_eff) bind(C, name="vi_orbit_modal_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double) :: FE(*), DE(*), XE(*), r_eff(*)
+    end function
+    integer(c_int) function vi_orbit_reduced_restitution(orbit, modes, k, r_S) &
+        bind(C, name="vi_orbit_reduced_restitution")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), intent(in) :: modes(*)
+      integer(c_int), value :: k
+      real(c_double) :: r_S
+    end function
+  end interface
+
+contains
+
+  !> A C string (as returned by vi_strerror, vi_*_errmsg, ...) as a Fortran
+  !> string; '' for a null pointer.
+  function vi_string(p) result(s)
+    type(c_ptr), intent(in) :: p
+    character(len=:), allocatable :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer :: n
+    interface
+      integer(c_size_t) function c_strlen(str) bind(C, name="strlen")
+        import :: c_size_t, c_ptr
+        type(c_ptr), value :: str
+      end function
+    end interface
+    if (.not. c_associated(p)) then
+      s = ''
+      return
+    end if
+    n = int(c_strlen(p))
+    call c_f_pointer(p, chars, [n])
+    allocate(character(len=n) :: s)
+    s = transfer(chars(1:n), s)
+  end function
+end module vibroimpact

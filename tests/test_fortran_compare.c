@@ -1,0 +1,65 @@
+/* test_fortran_compare.c - the Fortran example (apps/fortran/fig2.f90) and
+ * the C API with the same settings give the same impacts on Fig. 2. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "vi_testutil.h"
+
+static const char *fpath;
+
+static int read_csv(const char *path, double *rows, int cap)
+{
+  FILE *f = fopen(path, "r");
+  assert_non_null(f);
+  char line[1024];
+  assert_non_null(fgets(line, sizeof line, f)); /* header */
+  assert_string_equal(line, "k,t,vn,x_1,x_2,v_1,v_2\n");
+  int n = 0;
+  while (n < cap && fgets(line, sizeof line, f)) {
+    double *r = rows + 7 * n;
+    assert_int_equal(sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf", r, r + 1, r + 2,
+                            r + 3, r + 4, r + 5, r + 6), 7);
+    n++;
+  }
+  fclose(f);
+  return n;
+}
+
+static void test_same_impacts(void **state)
+{
+  (void)state;
+  static double a[7 * 1000], b[7 * 1000];
+  int na = read_csv(fpath, a, 1000), nb;
+  /* the C side: same model, Adams, rtol 1e-8, atol 1e-10, from rest */
+  vi_model *m = vi_test_fig2();
+  vi_test_events ev = {0};
+  assert_int_equal(vi_test_run(m, VI_METHOD_ADAMS, 1e-8, 1e-10, NULL, NULL,
+                               100 * 2 * M_PI / 0.9, &ev), VI_OK);
+  nb = ev.count;
+  for (int i = 0; i < nb && i < 1000; i++) {
+    double *r = b + 7 * i;
+    r[0] = i;
+    r[1] = ev.t[i];
+    r[2] = ev.vn[i];
+    r[3] = ev.x[2 * i];
+    r[4] = ev.x[2 * i + 1];
+    r[5] = ev.vm[2 * i];
+    r[6] = ev.vm[2 * i + 1];
+  }
+  vi_test_events_free(&ev);
+  vi_model_destroy(&m);
+  print_message("fortran %d impacts, C %d impacts\n", na, nb);
+  assert_int_equal(na, nb);
+  assert_true(na >= 99);
+  for (int i = 0; i < 7 * na; i++)
+    assert_close(a[i], b[i], 1e-15 * fmax(1.0, fabs(b[i]))); /* round-off */
+}
+
+int main(int argc, char **argv)
+{
+  if (argc < 2) return 2;
+  fpath = argv[1];
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_same_impacts)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
