@@ -1,4 +1,5 @@
-/* vibroimpact.h - simulate multi-degree-of-freedom vibro-impact systems.
+/** @file vibroimpact.h
+ * simulate multi-degree-of-freedom vibro-impact systems.
  *
  * Linear structures M x'' + C x' + K x = f(t) driven against a one-sided stop
  * w.x <= x_s with a Newton restitution law, after D. J. Wagg and S. R. Bishop,

@@ -1,4 +1,5 @@
-/* vi_flow.h - the exact flow between impacts (MODEL.md section 8).
+/** @file vi_flow.h
+ * the exact flow between impacts (MODEL.md section 8).
  *
  * Between impacts the structure is linear with harmonic forcing, so for
  * proportional damping every mode is a forced damped oscillator with a
@@ -15,13 +16,13 @@
 extern "C" {
 #endif
 
-/* Advance the free (stop-ignoring) motion from (t0, x0, v0) to t >= t0:
+/** Advance the free (stop-ignoring) motion from (t0, x0, v0) to t >= t0:
  * x, v [n] receive the state at t.  Arrays may not overlap.  Returns
  * VI_ERR_UNSUPPORTED for non-proportional damping and for an undamped mode
  * forced exactly at its natural frequency (secular growth). */
 VI_API int vi_flow_physical(const vi_model *m, double t0, const double *x0,
                             const double *v0, double t, double *x, double *v);
-/* The same in modal coordinates q, q' [n]. */
+/** The same in modal coordinates q, q' [n]. */
 VI_API int vi_flow_modal(const vi_model *m, double t0, const double *q0,
                          const double *qd0, double t, double *q, double *qd);
 

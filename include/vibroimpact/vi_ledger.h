@@ -1,4 +1,5 @@
-/* vi_ledger.h - the per-mode energy ledger (MODEL.md section 4; WB 7, 8).
+/** @file vi_ledger.h
+ * the per-mode energy ledger (MODEL.md section 4; WB 7, 8).
  *
  * Modal energy E_j = 1/2 q_j'^2 + 1/2 omega_j^2 q_j^2.  Between impacts
  *   E_j(t_b) - E_j(t_a) = FE_j - DE_j - XE_j + CE_j
@@ -24,39 +25,46 @@
 extern "C" {
 #endif
 
-/* One impact-free interval [t_a, t_b] and the event that ends it; every
+/** One impact-free interval [t_a, t_b] and the event that ends it; every
  * array is [n], valid only during the callback.  dE is NULL when the
  * interval ends without an impact (end of a vi_sim_run call, release). */
 typedef struct vi_ledger_interval {
-  int n;
-  double t_a, t_b;
-  const double *Ea, *Eb;           /* E_j at both ends (t_b before the jump) */
-  const double *Ka, *Kb;           /* kinetic parts 1/2 q_j'^2 */
-  const double *FE, *DE, *XE, *CE; /* integrals over the interval */
-  const double *dE;                /* impact jumps at t_b, or NULL */
-  double ie;                       /* energy lost at t_b (WB 10) */
-  double residual;  /* |sum_j (Eb - Ea - FE + DE + XE - CE)| divided by the
+  int n;             /**< number of modes */
+  double t_a;        /**< start of the interval */
+  double t_b;        /**< end of the interval (the event's time) */
+  const double *Ea;  /**< E_j at t_a */
+  const double *Eb;  /**< E_j at t_b, before the jump */
+  const double *Ka;  /**< kinetic part 1/2 q_j'^2 at t_a */
+  const double *Kb;  /**< kinetic part at t_b, before the jump */
+  const double *FE;  /**< forcing work into each mode over the interval */
+  const double *DE;  /**< damping loss of each mode */
+  const double *XE;  /**< damping-coupling work (0 for proportional damping) */
+  const double *CE;  /**< contact-force work while sticking */
+  const double *dE;                /**< impact jumps at t_b, or NULL */
+  double ie;                       /**< energy lost at t_b (WB 10) */
+  double residual;  /**< |sum_j (Eb - Ea - FE + DE + XE - CE)| divided by the
                        energy scale: the largest total energy at any interval
                        end so far, or this interval's summed |work| if larger */
 } vi_ledger_interval;
 
+/** Ledger callback: return 0 to go on, non-zero to stop the run. */
 typedef int (*vi_ledger_fn)(const vi_ledger_interval *iv, void *user);
 
-/* Enable (on = 1) or disable the ledger; before the first vi_sim_run or
+/** Enable (on = 1) or disable the ledger; before the first vi_sim_run or
  * between runs (the cumulative totals restart from zero). */
 VI_API int vi_sim_enable_ledger(vi_sim *sim, int on);
-/* Called at the end of each interval: at every impact, stick, release, and
+/** Called at the end of each interval: at every impact, stick, release, and
  * at the end of each vi_sim_run call. */
 VI_API int vi_sim_set_ledger_callback(vi_sim *sim, vi_ledger_fn fn,
                                       void *user);
-/* Cumulative totals since the ledger was enabled, at the current time:
+/** Cumulative totals since the ledger was enabled, at the current time:
  * E [n] modal energies now; FE, DE, XE, CE, dE [n]; *ie the summed impact
  * losses.  Any pointer may be NULL.  A window's ledger is the difference of
  * two calls, E excepted. */
 VI_API int vi_sim_get_ledger(const vi_sim *sim, double *E, double *FE,
                              double *DE, double *XE, double *CE, double *dE,
                              double *ie);
-/* Largest closure residual of any interval so far (0 before any). */
+/** Largest closure residual of any interval so far (0 before any). */
 VI_API double vi_sim_ledger_max_residual(const vi_sim *sim);
 
 #ifdef __cplusplus

@@ -1,4 +1,5 @@
-/* vi_model.h - the linear structure, its forcing and the stop.
+/** @file vi_model.h
+ * The linear structure, its forcing and the stop.
  *
  *   M x'' + C x' + K x = a cos(Omega t) + b sin(Omega t) + f0      (WB 1)
  *   w.x <= x_s, Newton impact with restitution r                     (WB 2)
@@ -8,7 +9,9 @@
  * it is set; matrices are column-major with a leading dimension (LAPACK),
  * so a Fortran caller passes its arrays unchanged.  After vi_model_setup the
  * model is frozen (setters return VI_ERR_STATE) and may be shared by threads.
- * Indices in messages are 1-based, as a Fortran or MATLAB user reads them. */
+ * Units are the caller's, consistent throughout (any length, mass, time).
+ * Indices in messages are 1-based, as a Fortran or MATLAB user reads them.
+ */
 #ifndef VI_MODEL_H
 #define VI_MODEL_H
 
@@ -18,82 +21,114 @@
 extern "C" {
 #endif
 
+/** Opaque model handle. */
 typedef struct vi_model vi_model;
 
-/* A model with n >= 1 coordinates: M = I, C = K = 0, no forcing, no stop
- * (w must be set before setup). */
+/** Create a model with n >= 1 coordinates: M = I, C = K = 0, no forcing and
+ *  no stop (w must be set before setup).  *out receives the handle, NULL on
+ *  failure.  @return VI_OK, VI_ERR_DIM (n < 1), VI_ERR_ARG, VI_ERR_NOMEM. */
 VI_API int vi_model_create(int n, vi_model **out);
-/* NULL-safe; clears the caller's pointer. */
+/** Destroy a model and set *model to NULL; NULL-safe.  Sims and orbits made
+ *  from it must be destroyed first. */
 VI_API void vi_model_destroy(vi_model **model);
 
-/* M symmetric positive definite (checked at setup by Cholesky). */
+/** Set the mass matrix M [ldm x n] (copied; symmetric to 1e-12 relative,
+ *  positive definite, checked at setup).  @return VI_OK, VI_ERR_DIM
+ *  (ldm < n), VI_ERR_NONFINITE, VI_ERR_NOT_SYMMETRIC, VI_ERR_STATE. */
 VI_API int vi_model_set_mass(vi_model *m, const double *M, int ldm);
-/* C symmetric positive semidefinite; NULL means C = 0. */
+/** Set the damping matrix C [ldc x n], symmetric positive semidefinite;
+ *  NULL means C = 0.  Errors as vi_model_set_mass. */
 VI_API int vi_model_set_damping(vi_model *m, const double *C, int ldc);
-/* K symmetric positive semidefinite (rigid-body modes allowed). */
+/** Set the stiffness matrix K [ldk x n], symmetric positive semidefinite
+ *  (rigid-body modes allowed).  Errors as vi_model_set_mass. */
 VI_API int vi_model_set_stiffness(vi_model *m, const double *K, int ldk);
-/* Forcing f(t) = a cos(omega t) + b sin(omega t) + f0; any of a, b, f0 may be
- * NULL (zero).  omega must be > 0 when a or b is non-zero. */
+/** Set the forcing f(t) = a cos(omega t) + b sin(omega t) + f0 (rad per time
+ *  unit; vectors [n], each may be NULL = 0).  @return VI_OK,
+ *  VI_ERR_FREQUENCY (omega <= 0 with a or b non-zero), VI_ERR_NONFINITE. */
 VI_API int vi_model_set_forcing(vi_model *m, double omega, const double *a,
                                 const double *b, const double *f0);
-/* The stop w.x <= x_s with restitution r in [0, 1]; w != 0. */
+/** Set the stop w.x <= x_s (w [n], not zero) and the restitution r in
+ *  [0, 1].  @return VI_OK, VI_ERR_STOP_VECTOR, VI_ERR_RESTITUTION,
+ *  VI_ERR_NONFINITE, VI_ERR_ARG (w NULL). */
 VI_API int vi_model_set_stop(vi_model *m, const double *w, double x_s,
                              double r);
-/* Validate everything, factor M, solve the modal problem; freezes the model. */
+/** Validate everything, factor M, solve the modal problem, freeze.
+ *  @return VI_OK, VI_ERR_STOP_VECTOR (no stop set), VI_ERR_NOT_SPD (M),
+ *  VI_ERR_NOT_PSD (C or K), VI_ERR_LAPACK, VI_ERR_NOMEM, VI_ERR_STATE. */
 VI_API int vi_model_setup(vi_model *m);
-/* Detail of the last error on this model ("" if none); owned by the model. */
+/** Detail of the last error on this model, naming the culprit ("" if none);
+ *  owned by the model, valid until its next call. */
 VI_API const char *vi_model_errmsg(const vi_model *m);
 
-/* ---- getters: valid after vi_model_setup (NULL / 0 before) ----------------
- * Returned pointers are read-only views owned by the model, valid until it
- * is destroyed. */
+/** @name Getters
+ *  Valid after vi_model_setup: before it they return 0 or NULL.  Returned
+ *  pointers are read-only views owned by the model, valid until it is
+ *  destroyed.
+ *  @{ */
+/** Number of coordinates n (also before setup). */
 VI_API int vi_model_n(const vi_model *m);
+/** Forcing frequency Omega (rad per time unit; 0 without harmonic forcing). */
 VI_API double vi_model_omega_forcing(const vi_model *m);
-VI_API double vi_model_clearance(const vi_model *m);  /* x_s */
-VI_API double vi_model_restitution(const vi_model *m); /* r */
-/* Physical matrices as set (column-major, leading dimension n). */
+/** Clearance x_s of the stop. */
+VI_API double vi_model_clearance(const vi_model *m);
+/** Coefficient of restitution r. */
+VI_API double vi_model_restitution(const vi_model *m);
+/** Mass matrix as set (exactly symmetric), column-major, leading dimension n. */
 VI_API const double *vi_model_mass(const vi_model *m);
+/** Damping matrix as set, column-major, leading dimension n. */
 VI_API const double *vi_model_damping(const vi_model *m);
+/** Stiffness matrix as set, column-major, leading dimension n. */
 VI_API const double *vi_model_stiffness(const vi_model *m);
-VI_API const double *vi_model_stop_vector(const vi_model *m);     /* w [n] */
-/* a, b, f0 [n] each. */
+/** Stop vector w [n]. */
+VI_API const double *vi_model_stop_vector(const vi_model *m);
+/** Forcing amplitude a [n] of a cos(Omega t). */
 VI_API const double *vi_model_forcing_cos(const vi_model *m);
+/** Forcing amplitude b [n] of b sin(Omega t). */
 VI_API const double *vi_model_forcing_sin(const vi_model *m);
+/** Constant load f0 [n]. */
 VI_API const double *vi_model_forcing_const(const vi_model *m);
-
-/* Modal analysis: K psi_j = omega_j^2 M psi_j, Psi^T M Psi = I.
- * omega [n] ascending (rad per time unit); Psi column j is mode j, with its
- * largest-magnitude entry positive; *ld receives the leading dimension. */
+/** Natural frequencies omega_j [n], ascending (rad per time unit), from
+ *  K psi_j = omega_j^2 M psi_j (LAPACK dsygvd). */
 VI_API const double *vi_model_omega(const vi_model *m);
+/** Mode shapes Psi [n x n], column j = mode j, mass-normalised
+ *  (Psi^T M Psi = I), largest-magnitude entry positive; *ld receives the
+ *  leading dimension (n). */
 VI_API const double *vi_model_modal_shapes(const vi_model *m, int *ld);
-/* D = Psi^T C Psi [n x n], column-major, leading dimension n. */
+/** Modal damping D = Psi^T C Psi [n x n]; *ld receives n. */
 VI_API const double *vi_model_modal_damping(const vi_model *m, int *ld);
-/* zeta_j = D_jj / (2 omega_j); 0 for a rigid-body mode (omega_j = 0). */
+/** Damping ratios zeta_j = D_jj / (2 omega_j) [n]; 0 for a rigid-body mode. */
 VI_API const double *vi_model_zeta(const vi_model *m);
-/* 1 if D is diagonal to 1e-12 relative (modes decouple between impacts). */
+/** 1 if D is diagonal to 1e-10 relative (proportional damping: the modes
+ *  decouple between impacts and the exact method applies), else 0. */
 VI_API int vi_model_is_proportional(const vi_model *m);
-/* Modal impact vector psi = Psi^T w [n]; psi.psi = w^T M^-1 w. */
+/** Modal impact vector psi = Psi^T w [n]; psi.psi = w^T M^-1 w. */
 VI_API const double *vi_model_modal_stop(const vi_model *m);
-/* Modal forces Psi^T a, Psi^T b, Psi^T f0 [n] each. */
+/** Modal forcing Psi^T a [n]. */
 VI_API const double *vi_model_modal_forcing_cos(const vi_model *m);
+/** Modal forcing Psi^T b [n]. */
 VI_API const double *vi_model_modal_forcing_sin(const vi_model *m);
+/** Modal constant load Psi^T f0 [n]. */
 VI_API const double *vi_model_modal_forcing_const(const vi_model *m);
-/* w^T M^-1 w: the inverse of the stop's effective mass. */
+/** w^T M^-1 w: the inverse of the stop's effective mass (WB 10). */
 VI_API double vi_model_stop_compliance(const vi_model *m);
+/** @} */
 
-/* Coordinate changes: q = Psi^T M x and x = Psi q (also for velocities).
- * x and q [n], caller-owned; they must not overlap. */
+/** Modal coordinates q = Psi^T M x of x [n] into q [n] (also velocities);
+ *  the arrays must not overlap.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
 VI_API int vi_model_to_modal(const vi_model *m, const double *x, double *q);
+/** Physical coordinates x = Psi q of q [n] into x [n]; no overlap.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
 VI_API int vi_model_from_modal(const vi_model *m, const double *q, double *x);
-/* Total mechanical energy 1/2 v^T M v + 1/2 x^T K x. */
+/** Total mechanical energy 1/2 v^T M v + 1/2 x^T K x of x, v [n]
+ *  (NaN for NULL arguments). */
 VI_API double vi_model_energy(const vi_model *m, const double *x,
                               const double *v);
 
-/* ---- model builders: fill caller arrays, no handle needed ----------------
- * The paper's fixed-free chain (MODEL.md section 1): mass j is tied to mass
- * j-1 (mass 0 to the ground) by spring k_j and dashpot c_j.  mass, k, c are
- * arrays of length n (c may be NULL for no damping); M, C, K are written
- * n x n column-major with leading dimension ld >= n. */
+/** The paper's fixed-free chain (MODEL.md section 1), into caller arrays:
+ *  element j joins mass j-1 (mass 0 to the ground) to mass j with spring k_j
+ *  and dashpot c_j.  mass, k, c [n] (c may be NULL: no damping); M, C, K are
+ *  written n x n column-major with leading dimension ld >= n.
+ *  @return VI_OK, VI_ERR_DIM, VI_ERR_ARG. */
 VI_API int vi_build_chain(int n, const double *mass, const double *k,
                           const double *c, double *M, double *C, double *K,
                           int ld);

@@ -1,4 +1,5 @@
-/* vi_scene.h - scene files (YAML, read with libyaml): part of the companion
+/** @file vi_scene.h
+ * scene files (YAML, read with libyaml): part of the companion
  * library vibroimpact_io, so that the numerical core links no YAML.
  *
  * A scene is plain, validated data: the model (explicit M, C, K or a
@@ -30,51 +31,77 @@
 extern "C" {
 #endif
 
-/* Where and why a scene (or a step before a handle exists) failed.  Fixed
+/** Where and why a scene (or a step before a handle exists) failed.  Fixed
  * arrays only, so Fortran can read it. */
 typedef struct vi_diag {
-  int code;          /* a vi_status */
-  int line, column;  /* 1-based; 0 when not known */
-  char file[256];
-  char key[128];     /* dotted path, e.g. "stop.r" */
-  char value[128];
-  char message[512];
+  int code;          /**< a vi_status */
+  int line;          /**< 1-based line; 0 when not known */
+  int column;        /**< 1-based column; 0 when not known */
+  char file[256];    /**< the file (or name given to vi_scene_parse) */
+  char key[128];     /**< dotted path of the key, e.g. "stop.r" */
+  char value[128];   /**< the offending value as written, or "" */
+  char message[512]; /**< what is wrong */
 } vi_diag;
 
+/** Opaque parsed scene: plain, validated data. */
 typedef struct vi_scene vi_scene;
 
+/** Read and validate a scene file.  *out receives the scene (NULL on
+ *  failure); diag (may be NULL) says where and why it failed.
+ *  @return VI_OK, VI_ERR_IO (cannot read), VI_ERR_PARSE (syntax, unknown or
+ *  missing key, wrong type), VI_ERR_DIM (wrong length), VI_ERR_NONFINITE,
+ *  VI_ERR_RESTITUTION, VI_ERR_TOLERANCE, VI_ERR_TIME, VI_ERR_NOMEM. */
 VI_API int vi_scene_load(const char *path, vi_scene **out, vi_diag *diag);
-/* Parse from memory; `name` stands for the file name in messages. */
+/** Parse from memory (len < 0: NUL-terminated); `name` stands for the file
+ *  name in messages.  Returns as vi_scene_load. */
 VI_API int vi_scene_parse(const char *text, long len, const char *name,
                           vi_scene **out, vi_diag *diag);
+/** Destroy and set *scene to NULL; NULL-safe. */
 VI_API void vi_scene_destroy(vi_scene **scene);
 
-/* A new, set-up model (validation messages carry the scene's key and line). */
+/** Build and set up the scene's model (a new handle in *out); the model's
+ *  own validation errors (VI_ERR_NOT_SYMMETRIC, VI_ERR_NOT_SPD, ...) come
+ *  back in diag with the scene's key and line. */
 VI_API int vi_scene_create_model(const vi_scene *sc, vi_model **out,
                                  vi_diag *diag);
-/* Apply method, tolerances and initial state to a sim of that model. */
+/** Apply the scene's method, tolerances and initial state to a sim of its
+ *  model.  @return VI_OK or the sim setter's error (e.g.
+ *  VI_ERR_INITIAL_STATE) with the scene's key and line in diag. */
 VI_API int vi_scene_configure_sim(const vi_scene *sc, vi_sim *sim,
                                   vi_diag *diag);
 
+/** The scene's `name` (the file name if it has none); owned by the scene. */
 VI_API const char *vi_scene_name(const vi_scene *sc);
-VI_API const char *vi_scene_text(const vi_scene *sc); /* the YAML as read */
+/** The YAML text as read; owned by the scene. */
+VI_API const char *vi_scene_text(const vi_scene *sc);
+/** Number of coordinates of the scene's model. */
 VI_API int vi_scene_n(const vi_scene *sc);
+/** Initial time (initial.t0, default 0). */
 VI_API double vi_scene_t0(const vi_scene *sc);
+/** End time: run.t_end, or t0 + periods 2 pi / omega (default 100 periods). */
 VI_API double vi_scene_t_end(const vi_scene *sc);
+/** Relative tolerance (run.rtol, default 1e-8). */
 VI_API double vi_scene_rtol(const vi_scene *sc);
+/** Absolute tolerance (run.atol, default 1e-10). */
 VI_API double vi_scene_atol(const vi_scene *sc);
+/** Method, VI_METHOD_* (run.method, default adams). */
 VI_API int vi_scene_method(const vi_scene *sc);
+/** output.samples_per_period (0: no sampling). */
 VI_API int vi_scene_samples_per_period(const vi_scene *sc);
-VI_API int vi_scene_wants(const vi_scene *sc, const char *what); /* "impacts",
-                                     "ledger", "modes", "compress" */
-/* Overrides from the command line (code overrides scene). */
+/** 1 if the scene's output asks for `what`: "impacts", "ledger", "modes" or
+ *  "compress"; else 0. */
+VI_API int vi_scene_wants(const vi_scene *sc, const char *what);
+/** Override the run from the command line (code overrides scene): values
+ *  <= 0 (method < 0) keep the scene's.  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_FREQUENCY (periods without a forcing frequency). */
 VI_API int vi_scene_set_run(vi_scene *sc, double rtol, double atol,
                             double periods, int method);
 
-/* Print-free formatting of a diag: "file:line:column: key = value: message". */
+/** Print-free formatting of a diag: "file:line:column: key = value: message". */
 VI_API void vi_diag_format(const vi_diag *d, char *buf, int len);
 
-/* The embedded default scene: the paper's Fig. 2. */
+/** The embedded default scene, share/scenes/fig2.yaml compiled in: the
+ *  paper's Fig. 2 (static storage). */
 VI_API const char *vi_scene_default_text(void);
 
 #ifdef __cplusplus

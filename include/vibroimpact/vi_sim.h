@@ -1,4 +1,5 @@
-/* vi_sim.h - the event integrator.
+/** @file vi_sim.h
+ * The event integrator.
  *
  * Integrates the physical-coordinate system between impacts, locates each
  * contact w.x = x_s (approached from below, and also at maxima of w.x so that
@@ -10,7 +11,8 @@
  * Life cycle: vi_sim_create -> vi_sim_set_* -> vi_sim_run (repeatable; each
  * call continues from where the last stopped) -> vi_sim_get_* ->
  * vi_sim_destroy.  Results leave only through callbacks: the library keeps no
- * storage that grows with the run. */
+ * storage that grows with the run.  One vi_sim per thread.
+ */
 #ifndef VI_SIM_H
 #define VI_SIM_H
 
@@ -23,106 +25,133 @@
 extern "C" {
 #endif
 
+/** Opaque simulation handle. */
 typedef struct vi_sim vi_sim;
 
-/* Integration methods. */
+/** Integration methods (vi_sim_set_method). */
 enum {
-  VI_METHOD_ADAMS = 0, /* CVODE Adams-Moulton, fixed-point iteration (default) */
-  VI_METHOD_BDF = 1,   /* CVODE BDF, Newton with analytic Jacobian, dense or
-                          band linear solver chosen from the model's bandwidth */
-  VI_METHOD_EXACT = 2  /* closed-form flow (vi_flow.h) with root bracketing;
-                          proportional damping only */
+  VI_METHOD_ADAMS = 0, /**< CVODE Adams-Moulton, fixed-point iteration (default:
+                            fastest at every tolerance, see the README) */
+  VI_METHOD_BDF = 1,   /**< CVODE BDF, Newton with the analytic Jacobian and a
+                            dense or (banded models) band linear solver */
+  VI_METHOD_EXACT = 2  /**< closed-form flow (vi_flow.h) with root bracketing;
+                            proportional damping only, no sticking phases */
 };
 
-/* Kinds of event passed to the impact callback. */
+/** Kinds of event passed to the event callback. */
 enum {
-  VI_EVENT_IMPACT = 0,  /* a Newton impact (WB 2) */
-  VI_EVENT_STICK = 1,   /* chattering accumulated: sticking begins */
-  VI_EVENT_RELEASE = 2  /* contact force fell through zero: sticking ends */
+  VI_EVENT_IMPACT = 0,  /**< a Newton impact (WB 2) */
+  VI_EVENT_STICK = 1,   /**< chattering accumulated (or r = 0): sticking begins */
+  VI_EVENT_RELEASE = 2  /**< contact force fell through zero: sticking ends */
 };
 
-/* Statistics, read with vi_sim_get_stat(); totals over all vi_sim_run calls. */
+/** Statistics, read with vi_sim_get_stat(); totals over all vi_sim_run calls. */
 enum {
-  VI_STAT_STEPS = 0,      /* integrator steps (exact method: bracketing steps) */
-  VI_STAT_RHS_EVALS = 1,  /* right-hand side evaluations */
-  VI_STAT_JAC_EVALS = 2,  /* Jacobian evaluations (BDF) */
-  VI_STAT_ROOT_EVALS = 3, /* root (event) function evaluations */
-  VI_STAT_IMPACTS = 4,    /* Newton impacts applied */
-  VI_STAT_STICKS = 5,     /* sticking phases entered */
-  VI_STAT_GRAZE_CHECKS = 6, /* maxima of w.x examined for a missed contact */
-  VI_STAT_REINITS = 7,    /* integrator restarts */
-  VI_STAT_COUNT = 8
+  VI_STAT_STEPS = 0,      /**< integrator steps (exact method: scan steps) */
+  VI_STAT_RHS_EVALS = 1,  /**< right-hand side evaluations */
+  VI_STAT_JAC_EVALS = 2,  /**< Jacobian evaluations (BDF) */
+  VI_STAT_ROOT_EVALS = 3, /**< root (event) function evaluations */
+  VI_STAT_IMPACTS = 4,    /**< Newton impacts applied */
+  VI_STAT_STICKS = 5,     /**< sticking phases entered */
+  VI_STAT_GRAZE_CHECKS = 6, /**< maxima of w.x examined for a missed contact */
+  VI_STAT_REINITS = 7,    /**< integrator restarts */
+  VI_STAT_COUNT = 8       /**< number of statistics */
 };
 
-/* An event, valid only during the callback.  x, v_minus and v_plus are [n]
- * physical positions and velocities just before and after the event. */
+/** An event as the event callback sees it, valid only during the call. */
 typedef struct vi_event {
-  int kind;        /* VI_EVENT_* */
-  int n;
-  int64_t index;   /* 0-based count of events of this kind so far */
-  double t;
-  double vn;       /* approach velocity w.x'(t-) */
-  double ie;       /* kinetic energy lost (WB 10); 0 for stick/release */
-  const double *x;
-  const double *v_minus;
-  const double *v_plus;
+  int kind;        /**< VI_EVENT_* */
+  int n;           /**< number of coordinates */
+  int64_t index;   /**< 0-based count of earlier events of this kind */
+  double t;        /**< time of the event */
+  double vn;       /**< approach velocity w.x'(t-) */
+  double ie;       /**< kinetic energy lost (WB 10); 0 for a release */
+  const double *x;       /**< positions [n] at the event */
+  const double *v_minus; /**< velocities [n] just before */
+  const double *v_plus;  /**< velocities [n] just after */
 } vi_event;
 
+/** Progress as the monitor sees it. */
 typedef struct vi_progress {
-  double t, t_start, t_end;
-  int64_t steps, impacts;
+  double t;        /**< current time */
+  double t_start;  /**< time at the start of this vi_sim_run call */
+  double t_end;    /**< end time of this vi_sim_run call */
+  int64_t steps;   /**< integrator steps so far (VI_STAT_STEPS) */
+  int64_t impacts; /**< impacts so far (VI_STAT_IMPACTS) */
 } vi_progress;
 
-/* Callbacks return 0 to go on, non-zero to stop: vi_sim_run then returns
- * VI_STOPPED with the state at the moment of the callback. */
+/** Event callback: return 0 to go on, non-zero to stop the run. */
 typedef int (*vi_event_fn)(const vi_event *ev, void *user);
+/** Sample callback: state at time t, x and v [n] valid during the call;
+ *  return 0 to go on, non-zero to stop. */
 typedef int (*vi_sample_fn)(double t, int n, const double *x, const double *v,
                             void *user);
+/** Monitor callback: return 0 to go on, non-zero to stop (e.g. on SIGINT). */
 typedef int (*vi_monitor_fn)(const vi_progress *p, void *user);
 
-/* The model must be set up; it is borrowed and must outlive the sim. */
+/** Create a simulation of a set-up model (borrowed: it must outlive the
+ *  sim).  Defaults: Adams, rtol 1e-8, atol 1e-10, rest at t = 0.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (model not set up), VI_ERR_NOMEM. */
 VI_API int vi_sim_create(const vi_model *model, vi_sim **out);
+/** Destroy a simulation and set *sim to NULL; NULL-safe. */
 VI_API void vi_sim_destroy(vi_sim **sim);
+/** Detail of the last error ("" if none), owned by the sim; CVODE's own
+ *  messages end up here instead of on stderr. */
 VI_API const char *vi_sim_errmsg(const vi_sim *sim);
 
+/** Choose the integrator (VI_METHOD_*); takes effect at the next run.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
+ *  without closed form: non-proportional damping or undamped resonance). */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
-/* rtol > 0, atol > 0 (absolute, on positions and velocities alike);
- * defaults 1e-8 and 1e-10. */
+/** Relative and absolute tolerances, both > 0 and finite, rtol at least
+ *  twice the machine epsilon; atol applies to positions and velocities
+ *  alike (and to the ledger's energies).  @return VI_OK, VI_ERR_TOLERANCE. */
 VI_API int vi_sim_set_tolerances(vi_sim *sim, double rtol, double atol);
-/* Initial time and state; x0, v0 [n] (NULL = 0).  Default: rest at t = 0.
- * VI_ERR_INITIAL_STATE if w.x0 > x_s. */
+/** Initial time and state; x0, v0 [n] (NULL = 0).  @return VI_OK,
+ *  VI_ERR_NONFINITE, VI_ERR_INITIAL_STATE (w.x0 > x_s). */
 VI_API int vi_sim_set_initial(vi_sim *sim, double t0, const double *x0,
                               const double *v0);
-/* Approach velocity below which an impact ends chattering: the accumulation
- * point is taken as reached and sticking begins (if the contact force pushes
- * into the stop).  Default 1e-7 (in the model's velocity unit); 0 disables
- * it (then only r = 0 sticks). */
+/** Approach velocity below which an impact of a chattering sequence ends it:
+ *  the accumulation point is taken as reached and sticking begins, if the
+ *  stop is pressed on.  A sequence also ends once the next bounce would rise
+ *  less than 10 atol from the stop (no longer resolved).  Default 1e-7 in
+ *  the model's velocity unit; 0 leaves only the tolerance criterion.
+ *  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_chatter_threshold(vi_sim *sim, double vmin);
-/* Step chosen by CVODE just after a restart: 0 (default) lets CVODE estimate
- * it; h > 0 forces it. */
+/** First step CVODE takes after a restart: 0 (default) lets CVODE estimate
+ *  it; h > 0 forces it.  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_restart_step(vi_sim *sim, double h);
-/* Maximum step size (0: unlimited, the default). */
+/** Largest CVODE step (0: unlimited, the default).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_max_step(vi_sim *sim, double hmax);
 
+/** Call fn at every event (impact, stick, release); NULL turns it off. */
 VI_API int vi_sim_set_event_callback(vi_sim *sim, vi_event_fn fn, void *user);
-/* Samples at t0 + k dt taken from the integrator's interpolant, without
- * forcing steps on it.  dt <= 0 or fn NULL turns sampling off. */
+/** Call fn at t0 + k dt (k = 0, 1, ...), states taken from the integrator's
+ *  interpolant without forcing steps on it; a sample at an impact time sees
+ *  the state before the impact.  dt <= 0 or fn NULL turns sampling off.
+ *  @return VI_OK, VI_ERR_ARG (dt not finite). */
 VI_API int vi_sim_set_sampling(vi_sim *sim, double dt, vi_sample_fn fn,
                                void *user);
-/* Monitor called at least every `every` units of simulated time. */
+/** Call fn after the step that passes each multiple of `every` (> 0) units
+ *  of simulated time.  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_monitor(vi_sim *sim, vi_monitor_fn fn, void *user,
                               double every);
 
-/* Integrate to t_end (> current time).  VI_OK on reaching t_end, VI_STOPPED
- * if a callback asked to stop, a negative code on failure. */
+/** Integrate from the current time to t_end.  A callback's stop request
+ *  takes effect once its step is complete (its impacts applied), so the
+ *  state stays consistent and a later call continues seamlessly; samples of
+ *  that step after the request are dropped.
+ *  @return VI_OK on reaching t_end, VI_STOPPED, or VI_ERR_TIME (t_end not
+ *  after the current time), VI_ERR_INTEGRATOR, VI_ERR_ROOT,
+ *  VI_ERR_UNSUPPORTED (sticking with the exact method), VI_ERR_NOMEM. */
 VI_API int vi_sim_run(vi_sim *sim, double t_end);
 
-/* Current time and state; x, v [n] may be NULL. */
+/** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */
 VI_API int vi_sim_get_state(const vi_sim *sim, double *t, double *x,
                             double *v);
-/* 1 while in a sticking phase. */
+/** 1 while in a sticking phase, else 0. */
 VI_API int vi_sim_is_sticking(const vi_sim *sim);
-/* A statistic (VI_STAT_*); -1 for an unknown one. */
+/** Value of a statistic (VI_STAT_*); -1 for an unknown one. */
 VI_API int64_t vi_sim_get_stat(const vi_sim *sim, int which);
 
 #ifdef __cplusplus

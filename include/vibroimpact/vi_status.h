@@ -1,4 +1,5 @@
-/* vi_status.h - status codes shared by every vibroimpact call.
+/** @file vi_status.h
+ * status codes shared by every vibroimpact call.
  *
  * 0 is success, positive codes are normal stops, negative codes are errors.
  * The enum, vi_status_name() and vi_strerror() are generated from one list so
@@ -12,6 +13,9 @@
 extern "C" {
 #endif
 
+/** The status codes as an X-macro list X(name, value, message): the single
+ *  source of the enum, vi_status_name(), vi_strerror() and the Fortran
+ *  constants.  0 is success, positive a normal stop, negative an error. */
 #define VI_STATUS_LIST(X)                                                    \
   X(VI_OK,                    0, "success")                                  \
   X(VI_STOPPED,               1, "stopped by a user callback")               \
@@ -37,13 +41,16 @@ extern "C" {
   X(VI_ERR_IO,              -20, "input/output failure")                     \
   X(VI_ERR_PARSE,           -21, "malformed input file")
 
+/// @cond INTERNAL
 #define VI_STATUS_ENUM_(name, value, msg) name = value,
+/// @endcond
+/** Status of every call (values and messages: VI_STATUS_LIST). */
 typedef enum vi_status { VI_STATUS_LIST(VI_STATUS_ENUM_) } vi_status;
 #undef VI_STATUS_ENUM_
 
-/* Symbolic name of a code ("VI_ERR_NOT_SPD"); "VI_UNKNOWN" for others. */
+/** Symbolic name of a code ("VI_ERR_NOT_SPD"); "VI_UNKNOWN" for others. */
 VI_API const char *vi_status_name(int code);
-/* Fixed English message for a code; never NULL. */
+/** Fixed English message for a code; never NULL. */
 VI_API const char *vi_strerror(int code);
 
 #ifdef __cplusplus

@@ -1,4 +1,5 @@
-/* vi_writer.h - HDF5 output of a run (companion library vibroimpact_io).
+/** @file vi_writer.h
+ * HDF5 output of a run (companion library vibroimpact_io).
  * The layout is documented in share/doc/hdf5-layout.md.
  *
  * The file is written as PATH.part and renamed to PATH by vi_writer_close:
@@ -20,26 +21,38 @@
 extern "C" {
 #endif
 
+/** Opaque HDF5 writer handle. */
 typedef struct vi_writer vi_writer;
 
-/* Create PATH.part for a model of n coordinates.  compress: shuffle +
- * deflate(4) on the trajectory. */
+/** Create PATH.part for the model's run (the model is borrowed); compress
+ *  != 0 puts shuffle + deflate(4) on the trajectory.  @return VI_OK,
+ *  VI_ERR_IO (with the reason in diag), VI_ERR_ARG, VI_ERR_NOMEM. */
 VI_API int vi_writer_create(const char *path, const vi_model *model,
                             int compress, vi_writer **out, vi_diag *diag);
-/* Scene text and run parameters as attributes, /model and /modal. */
+/** Write the root attributes (creator, scene text, tolerances, method),
+ *  /model and /modal; scene may be NULL.  @return VI_OK, VI_ERR_IO. */
 VI_API int vi_writer_write_header(vi_writer *w, const vi_scene *scene,
                                   double rtol, double atol, int method);
-/* Append one event, one sample (physical and modal), one ledger interval. */
+/** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...). */
 VI_API int vi_writer_event(vi_writer *w, const vi_event *ev);
+/** Append one sample at t (x, v [n]) to /trajectory, with its modal
+ *  coordinates.  @return VI_OK, VI_ERR_IO. */
 VI_API int vi_writer_sample(vi_writer *w, double t, const double *x,
                             const double *v);
+/** Append one ledger interval to /ledger.  @return VI_OK, VI_ERR_IO. */
 VI_API int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv);
-/* Counters for the summary. */
+/** Rows written so far to "impacts", "trajectory" or "ledger" (-1 for
+ *  another name). */
 VI_API long vi_writer_rows(const vi_writer *w, const char *what);
-/* Flush, mark complete (1) or interrupted (0), close and rename. */
+/** Flush, mark the file complete (1) or interrupted (0), close it and
+ *  rename PATH.part to PATH; *w becomes NULL.  On failure the partial file
+ *  is removed, *w stays for vi_writer_errmsg and must go to
+ *  vi_writer_abort.  @return VI_OK, VI_ERR_IO. */
 VI_API int vi_writer_close(vi_writer **w, int complete);
-/* Close and delete the partial file. */
+/** Close and delete the partial file (after an error: no output file at
+ *  all); *w becomes NULL.  NULL-safe. */
 VI_API void vi_writer_abort(vi_writer **w);
+/** Detail of the last error ("" if none), owned by the writer. */
 VI_API const char *vi_writer_errmsg(const vi_writer *w);
 
 #ifdef __cplusplus
