@@ -15,13 +15,7 @@ static double kinetic(int n, const double *M, const double *v)
 static vi_model *model3(const double *M, const double *w, double r)
 {
   const double K[9] = {2, -1, 0, -1, 2, -1, 0, -1, 1};
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(3, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, 3), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, 3), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, 0.1, r), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
-  return m;
+  return vi_test_model(3, M, NULL, K, 0.0, NULL, NULL, w, 0.1, r);
 }
 
 /* Diagonal M, w = e_N: R = diag(1, ..., 1, -r) exactly as in the paper. */

@@ -37,11 +37,7 @@ static led_stats run_ledger(const vi_model *m, int method, double rtol,
                             const double *x0, const double *v0, double t_end)
 {
   led_stats st = {0};
-  vi_sim *s = NULL;
-  assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
-  assert_int_equal(vi_sim_set_tolerances(s, rtol, rtol * 1e-2), VI_OK);
-  assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
+  vi_sim *s = vi_test_sim(m, method, rtol, rtol * 1e-2, x0, v0, NULL);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st), VI_OK);
   assert_int_equal(vi_sim_run(s, t_end), VI_OK);
@@ -83,14 +79,7 @@ static void test_nonproportional_closure(void **state)
   const double K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
   const double C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};
   const double w[3] = {0.2, -0.5, 1.0}, a[3] = {0.6, 0.0, 0.3};
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(3, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, 3), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, 3), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, 3), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, 0.8, a, NULL, NULL), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, 0.05, 0.6), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
+  vi_model *m = vi_test_model(3, M, C, K, 0.8, a, NULL, w, 0.05, 0.6);
   assert_int_equal(vi_model_is_proportional(m), 0);
   for (int k = 0; k < 2; k++) {
     led_stats st = run_ledger(m, k, 1e-10, NULL, NULL, 400.0);
@@ -113,10 +102,7 @@ static void test_conservative_run(void **state)
   vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.0, 0.4, 1.0, 0.9, a);
   for (int k = 0; k < 3; k++) {
     int meth = k == 2 ? VI_METHOD_EXACT : k;
-    vi_sim *s = NULL;
-    assert_int_equal(vi_sim_create(m, &s), VI_OK);
-    assert_int_equal(vi_sim_set_method(s, meth), VI_OK);
-    assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
+    vi_sim *s = vi_test_sim(m, meth, 1e-10, 1e-12, NULL, NULL, NULL);
     assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
     assert_int_equal(vi_sim_run(s, 2000.0), VI_OK);
     double E[2], FE[2], DE[2], dE[2], ie, x[2], v[2];
@@ -151,18 +137,9 @@ static void test_sticking_ledger(void **state)
   const double mass[2] = {1, 1}, k[2] = {1, 1}, c[2] = {0.05, 0.05}, w[2] = {0, 1};
   double M[4], C[4], K[4];
   vi_build_chain(2, mass, k, c, M, C, K, 2);
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(2, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, 0.5, a, NULL, f0), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, 0.2, 0.0), VI_OK); /* plastic */
-  assert_int_equal(vi_model_setup(m), VI_OK);
-  vi_sim *s = NULL;
+  vi_model *m = vi_test_model(2, M, C, K, 0.5, a, f0, w, 0.2, 0.0); /* plastic */
   led_stats st = {0};
-  assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
+  vi_sim *s = vi_test_sim(m, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, NULL, NULL);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st), VI_OK);
   assert_int_equal(vi_sim_run(s, 300.0), VI_OK);

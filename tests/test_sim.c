@@ -130,13 +130,8 @@ static void test_grazing_contact_found(void **state)
   double tc = (M_PI + asin(1.0 / (1 + eps))) / w, vc = -A * w * cos(w * tc);
   for (int k = 0; k < 3; k++) {
     vi_test_events ev = {0};
-    vi_sim *s = NULL;
     double x0 = 0.0, v0 = -A * w;
-    assert_int_equal(vi_sim_create(m, &s), VI_OK);
-    assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
-    assert_int_equal(vi_sim_set_tolerances(s, 1e-6, 1e-8), VI_OK);
-    assert_int_equal(vi_sim_set_initial(s, 0.0, &x0, &v0), VI_OK);
-    assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, &ev), VI_OK);
+    vi_sim *s = vi_test_sim(m, methods[k], 1e-6, 1e-8, &x0, &v0, &ev);
     assert_int_equal(vi_sim_run(s, 6.0), VI_OK);
     print_message("graze %s: %d events, t = %.10g (exact %.10g), %lld graze "
                   "checks\n", mname[k], ev.count, ev.count ? ev.t[0] : -1.0,
@@ -163,12 +158,7 @@ static void test_chattering_accumulates_then_sticks(void **state)
   for (int k = 0; k < 2; k++) {
     vi_test_events ev = {0};
     double x0 = 0.0, v0 = -V;
-    vi_sim *s = NULL;
-    assert_int_equal(vi_sim_create(m, &s), VI_OK);
-    assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
-    assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
-    assert_int_equal(vi_sim_set_initial(s, 0.0, &x0, &v0), VI_OK);
-    assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, &ev), VI_OK);
+    vi_sim *s = vi_test_sim(m, methods[k], 1e-10, 1e-12, &x0, &v0, &ev);
     assert_int_equal(vi_sim_run(s, 5.0), VI_OK);
     int last = ev.count - 1;
     assert_true(ev.count > 10);
@@ -215,11 +205,7 @@ static void test_sticking_release_time(void **state)
   double trel = acos(-g / a) / W;
   for (int k = 0; k < 2; k++) {
     vi_test_events ev = {0};
-    vi_sim *s = NULL;
-    assert_int_equal(vi_sim_create(m, &s), VI_OK);
-    assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
-    assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
-    assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, &ev), VI_OK);
+    vi_sim *s = vi_test_sim(m, methods[k], 1e-10, 1e-12, NULL, NULL, &ev);
     assert_int_equal(vi_sim_run(s, trel + 0.1), VI_OK);
     assert_int_equal(ev.count, 2);
     assert_int_equal(ev.kind[0], VI_EVENT_STICK); /* at rest on the stop, pressed */

@@ -30,14 +30,7 @@ vi_model *vi_test_chain(int n, double m, double k, double c, double xs,
   }
   w[n - 1] = 1.0;
   assert_int_equal(vi_build_chain(n, mv, kv, cv, M, C, K, n), VI_OK);
-  vi_model *md = NULL;
-  assert_int_equal(vi_model_create(n, &md), VI_OK);
-  assert_int_equal(vi_model_set_mass(md, M, n), VI_OK);
-  assert_int_equal(vi_model_set_damping(md, C, n), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(md, K, n), VI_OK);
-  assert_int_equal(vi_model_set_forcing(md, omega, a, NULL, NULL), VI_OK);
-  assert_int_equal(vi_model_set_stop(md, w, xs, r), VI_OK);
-  assert_int_equal(vi_model_setup(md), VI_OK);
+  vi_model *md = vi_test_model(n, M, C, K, omega, a, NULL, w, xs, r);
   free(buf);
   return md;
 }
@@ -51,16 +44,35 @@ vi_model *vi_test_fig2(void)
 vi_model *vi_test_sdof(double m, double c, double k, double a, double f0,
                        double omega, double xs, double r)
 {
-  vi_model *md = NULL;
   const double w = 1.0;
-  assert_int_equal(vi_model_create(1, &md), VI_OK);
-  assert_int_equal(vi_model_set_mass(md, &m, 1), VI_OK);
-  assert_int_equal(vi_model_set_damping(md, &c, 1), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(md, &k, 1), VI_OK);
-  assert_int_equal(vi_model_set_forcing(md, omega, &a, NULL, &f0), VI_OK);
-  assert_int_equal(vi_model_set_stop(md, &w, xs, r), VI_OK);
-  assert_int_equal(vi_model_setup(md), VI_OK);
-  return md;
+  return vi_test_model(1, &m, &c, &k, omega, &a, &f0, &w, xs, r);
+}
+
+vi_model *vi_test_model(int n, const double *M, const double *C,
+                        const double *K, double omega, const double *a,
+                        const double *f0, const double *w, double xs, double r)
+{
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(n, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, n), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, n), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, omega, a, NULL, f0), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w, xs, r), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  return m;
+}
+
+vi_sim *vi_test_sim(const vi_model *m, int method, double rtol, double atol,
+                    const double *x0, const double *v0, vi_test_events *ev)
+{
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
+  if (ev) assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, ev), VI_OK);
+  return s;
 }
 
 int vi_test_collect(const vi_event *ev, void *user)
@@ -98,12 +110,7 @@ int vi_test_run(const vi_model *m, int method, double rtol, double atol,
                 const double *x0, const double *v0, double t_end,
                 vi_test_events *ev)
 {
-  vi_sim *s = NULL;
-  assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
-  assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
-  assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
-  if (ev) assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, ev), VI_OK);
+  vi_sim *s = vi_test_sim(m, method, rtol, atol, x0, v0, ev);
   int st = vi_sim_run(s, t_end);
   if (st < 0) print_error("vi_sim_run: %s\n", vi_sim_errmsg(s));
   vi_sim_destroy(&s);

@@ -28,6 +28,12 @@ vi_model *vi_test_chain(int n, double m, double k, double c, double xs,
 vi_model *vi_test_sdof(double m, double c, double k, double a, double f0,
                        double omega, double xs, double r);
 
+/* A set-up model from explicit column-major n x n matrices (C may be NULL),
+ * forcing a cos(omega t) (a may be NULL) and the stop w.x <= xs, r. */
+vi_model *vi_test_model(int n, const double *M, const double *C,
+                        const double *K, double omega, const double *a,
+                        const double *f0, const double *w, double xs, double r);
+
 /* Impact records collected by vi_test_collect (an event callback). */
 typedef struct vi_test_events {
   int count, cap, n;
@@ -36,6 +42,11 @@ typedef struct vi_test_events {
 } vi_test_events;
 int vi_test_collect(const vi_event *ev, void *user);
 void vi_test_events_free(vi_test_events *e);
+
+/* A sim with method and tolerances from (0, x0, v0), collecting events into
+ * ev when it is not NULL. */
+vi_sim *vi_test_sim(const vi_model *m, int method, double rtol, double atol,
+                    const double *x0, const double *v0, vi_test_events *ev);
 
 /* Run a model with a method and tolerances from rest (or x0, v0) over
  * [0, t_end], collecting events; returns the status of vi_sim_run. */
