@@ -156,6 +156,33 @@ static void test_sticking_ledger(void **state)
   vi_model_destroy(&m);
 }
 
+/* Windowed totals: the difference of two cumulative snapshots is the
+ * ledger of the window, and it closes like any interval. */
+static void test_window_totals(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_sim *s = vi_test_sim(m, VI_METHOD_EXACT, 1e-12, 1e-14, NULL, NULL, NULL);
+  assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+  double T = 2 * M_PI / 0.9, E1[2], F1[2], D1[2], J1[2], ie1, E2[2], F2[2], D2[2], J2[2], ie2;
+  assert_int_equal(vi_sim_run(s, 50.3 * T), VI_OK);
+  assert_int_equal(vi_sim_get_ledger(s, E1, F1, D1, NULL, NULL, J1, &ie1), VI_OK);
+  int64_t i1 = vi_sim_get_stat(s, VI_STAT_IMPACTS);
+  assert_int_equal(vi_sim_run(s, 57.3 * T), VI_OK); /* seven periods */
+  assert_int_equal(vi_sim_get_ledger(s, E2, F2, D2, NULL, NULL, J2, &ie2), VI_OK);
+  assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS) - i1, 7);
+  double lhs = E2[0] + E2[1] - E1[0] - E1[1], rhs = 0.0, jumps = 0.0;
+  for (int j = 0; j < 2; j++) {
+    rhs += (F2[j] - F1[j]) - (D2[j] - D1[j]) + (J2[j] - J1[j]);
+    jumps += J2[j] - J1[j];
+  }
+  assert_close(lhs, rhs, 1e-11);
+  assert_close(jumps, -(ie2 - ie1), 1e-12);  /* the window's jumps sum to -IE */
+  assert_true(ie2 - ie1 > 1.0);             /* seven impacts of ~0.158 */
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -163,6 +190,7 @@ int main(void)
       cmocka_unit_test(test_nonproportional_closure),
       cmocka_unit_test(test_conservative_run),
       cmocka_unit_test(test_sticking_ledger),
+      cmocka_unit_test(test_window_totals),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -32,6 +32,15 @@ module vibroimpact
     integer(c_int64_t) :: steps, impacts
   end type
 
+  !> One ledger interval as the ledger callback sees it (vi_ledger.h);
+  !> the arrays are real(c_double) [n]: use c_f_pointer.
+  type, bind(C), public :: vi_ledger_interval
+    integer(c_int) :: n
+    real(c_double) :: t_a, t_b
+    type(c_ptr) :: Ea, Eb, Ka, Kb, FE, DE, XE, CE, jumps  ! jumps: C dE (may be null)
+    real(c_double) :: ie, residual
+  end type
+
   public :: vi_string
   public :: vi_status_name, vi_strerror, vi_version_number, vi_version_string
   public :: vi_model_create, vi_model_destroy, vi_model_set_mass, &
@@ -46,7 +55,8 @@ module vibroimpact
             vi_sim_set_tolerances, vi_sim_set_initial, vi_sim_set_event_callback, &
             vi_sim_set_sampling, vi_sim_set_monitor, vi_sim_run, vi_sim_get_state, &
             vi_sim_get_stat, vi_sim_is_sticking
-  public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual
+  public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual, &
+            vi_sim_set_ledger_callback
   public :: vi_orbit_create, vi_orbit_destroy, vi_orbit_errmsg, vi_orbit_set_method, &
             vi_orbit_set_tolerances, vi_orbit_find, vi_orbit_classify, &
             vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution
@@ -276,6 +286,12 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double) :: E(*), FE(*), DE(*), XE(*), CE(*), jumps(*), ie  ! jumps: C dE
+    end function
+    !> fn: integer(c_int) function f(iv, user) bind(C); type(vi_ledger_interval), intent(in) :: iv
+    integer(c_int) function vi_sim_set_ledger_callback(sim, fn, user) bind(C, name="vi_sim_set_ledger_callback")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: sim, user
+      type(c_funptr), value :: fn
     end function
     real(c_double) function vi_sim_ledger_max_residual(sim) bind(C, name="vi_sim_ledger_max_residual")
       import :: c_double, c_ptr
