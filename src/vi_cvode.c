@@ -176,6 +176,7 @@ static int cv_create(vi_sim *s)
   d->y = N_VMake_Serial(N, s->z, d->ctx);
   d->ys = N_VMake_Serial(N, s->zs, d->ctx);
   VI_CHECK(d->y && d->ys, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
+  if (s->fast_nvector) vi_nvector_fast_ops(d->y); /* before CVODE clones it */
   d->mem = CVodeCreate(s->method == VI_METHOD_BDF ? CV_BDF : CV_ADAMS, d->ctx);
   VI_CHECK(d->mem, s->errmsg, VI_ERR_NOMEM, "CVodeCreate failed");
   CV_TRY(CVodeSetErrHandlerFn(d->mem, err_handler, s));

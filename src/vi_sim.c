@@ -34,6 +34,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->rtol = 1e-8;
   s->atol = 1e-10;
   s->vchat = 1e-7;
+  s->fast_nvector = 1;
   s->wnorm = sqrt(vi_dot(n, model->w, model->w));
   for (int i = 0; i < n && !s->harmonic; i++)
     s->harmonic = model->a[i] != 0.0 || model->b[i] != 0.0;
@@ -157,6 +158,16 @@ int vi_sim_set_max_step(vi_sim *s, double hmax)
   if (!(hmax >= 0.0) || !isfinite(hmax))
     return vi_fail(s->errmsg, VI_ERR_ARG, "max step %g must be >= 0", hmax);
   s->hmax = hmax;
+  backend_destroy(s);
+  return VI_OK;
+}
+
+int vi_sim_set_native_vector_ops(vi_sim *s, int on)
+{
+  if (!s) return VI_ERR_ARG;
+  if (on != 0 && on != 1)
+    return vi_fail(s->errmsg, VI_ERR_ARG, "native vector ops: %d is not 0 or 1", on);
+  s->fast_nvector = on;
   backend_destroy(s);
   return VI_OK;
 }

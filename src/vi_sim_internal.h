@@ -32,6 +32,7 @@ struct vi_sim {
   double rtol, atol, vchat, h_restart, hmax;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
   double wnorm;  /* |w|, the scale of gap tolerances */
+  int fast_nvector; /* our vector ops instead of Debian's -O0 ones */
 
   double t, *z;   /* current time and state [2n] */
   int sticking, started;
@@ -116,6 +117,11 @@ static inline void vi_sim_gap(const vi_sim *s, const double *z, double *g,
   *g = a - s->m->xs;
   *gd = b;
 }
+
+/* Replace the hot operations of a SUNDIALS serial vector (and of its future
+ * clones) with ours, compiled with optimisation (vi_nvector.c). */
+struct _generic_N_Vector;
+void vi_nvector_fast_ops(struct _generic_N_Vector *v);
 
 /* Root of f in [lo, hi] with f(lo) < 0 <= f(hi) (or the reverse), to
  * round-off in t, by GSL's Brent solver. */

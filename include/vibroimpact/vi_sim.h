@@ -123,6 +123,12 @@ VI_API int vi_sim_set_chatter_threshold(vi_sim *sim, double vmin);
 VI_API int vi_sim_set_restart_step(vi_sim *sim, double h);
 /** Largest CVODE step (0: unlimited, the default).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_max_step(vi_sim *sim, double hmax);
+/** 1 (default): CVODE's vector operations are vibroimpact's own, compiled
+ *  with optimisation (Debian's SUNDIALS is built without: 1.5-1.8x faster
+ *  runs, see vi_bench); 0: SUNDIALS' serial ones.  Results agree within
+ *  the integration error (round-off can change CVODE's step choices).
+ *  Takes effect at the next run.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_sim_set_native_vector_ops(vi_sim *sim, int on);
 
 /** Call fn at every event (impact, stick, release); NULL turns it off. */
 VI_API int vi_sim_set_event_callback(vi_sim *sim, vi_event_fn fn, void *user);

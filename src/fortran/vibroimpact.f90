@@ -54,7 +54,7 @@ module vibroimpact
   public :: vi_sim_create, vi_sim_destroy, vi_sim_errmsg, vi_sim_set_method, &
             vi_sim_set_tolerances, vi_sim_set_initial, vi_sim_set_event_callback, &
             vi_sim_set_sampling, vi_sim_set_monitor, vi_sim_run, vi_sim_get_state, &
-            vi_sim_get_stat, vi_sim_is_sticking
+            vi_sim_get_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops
   public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_orbit_create, vi_orbit_destroy, vi_orbit_errmsg, vi_orbit_set_method, &
@@ -255,6 +255,11 @@ module vibroimpact
       type(c_ptr), value :: sim, user
       type(c_funptr), value :: fn
       real(c_double), value :: every
+    end function
+    integer(c_int) function vi_sim_set_native_vector_ops(sim, on) bind(C, name="vi_sim_set_native_vector_ops")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+      integer(c_int), value :: on
     end function
     integer(c_int) function vi_sim_run(sim, t_end) bind(C, name="vi_sim_run")
       import :: c_int, c_ptr, c_double
