@@ -1,6 +1,7 @@
-/* vi_exact.c - event-driven simulation on the closed-form flow (vi_flow.c).
+/* vi_exact.c - event-driven simulation on the closed-form flow (vi_flow.c
+ * for proportional damping, vi_general.c for any other).
  *
- * Between impacts every mode is known exactly, so the gap g(t) = psi.q(t) -
+ * Between impacts the motion is known exactly, so the gap g(t) = w.x(t) -
  * x_s is an explicit function.  It is scanned in steps of 1/16 of the
  * shortest period present in g; in each step the sign of g' splits the step
  * at an extremum (located by Brent), and a contact is a rising crossing of a
@@ -8,6 +9,7 @@
  * is what catches grazing contacts that a sign test at step ends misses. */
 #include <float.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "vi_sim_internal.h"
 
@@ -19,6 +21,8 @@ typedef struct ex_data {
   double h;           /* scan step */
   double ta, ga, gda; /* left end of the next scan step */
   double *rates;      /* ledger integrands [4n] */
+  vi_gflow *gf;       /* non-proportional damping: the first-order flow */
+  double *zfull;      /* its state at the last full evaluation [2n] */
   int64_t steps, evals;
 } ex_data;
 
@@ -27,6 +31,22 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
 {
   const vi_model *m = d->s->m;
   int n = m->n;
+  if (d->gf) {
+    vi_gflow_eval(d->gf, m, t, g, gd, full ? d->zfull : NULL);
+    d->evals++;
+    if (full) /* modal velocities for the ledger */
+      for (int j = 0; j < n; j++) {
+        double q = 0.0, qd = 0.0;
+        for (int i = 0; i < n; i++) {
+          double p = m->PsiTM[j + (size_t)i * n];
+          q += p * d->zfull[2 * i];
+          qd += p * d->zfull[2 * i + 1];
+        }
+        d->q[j] = q;
+        d->qd[j] = qd;
+      }
+    return;
+  }
   double tau = t - d->t0, c = cos(m->omega_f * t), sn = sin(m->omega_f * t);
   double a = 0.0, b = 0.0;
   for (int j = 0; j < n; j++) {
@@ -63,6 +83,10 @@ static double rate_fn(double t, void *p)
 static void to_state(const vi_model *m, const ex_data *d, double *z)
 {
   int n = m->n;
+  if (d->gf) {
+    memcpy(z, d->zfull, sizeof(double) * 2 * n);
+    return;
+  }
   for (int i = 0; i < n; i++) {
     double x = 0.0, v = 0.0;
     for (int j = 0; j < n; j++) {
@@ -78,7 +102,10 @@ static void to_state(const vi_model *m, const ex_data *d, double *z)
 static void ex_destroy(vi_sim *s)
 {
   ex_data *d = s->be_data;
-  if (d) free(d->u0);
+  if (d) {
+    vi_gflow_free(d->gf);
+    free(d->u0);
+  }
   free(d);
   s->be_data = NULL;
 }
@@ -95,8 +122,10 @@ static int ex_start(vi_sim *s)
   ex_data *d = s->be_data;
   if (!d) {
     d = calloc(1, sizeof *d);
-    if (d) d->u0 = malloc(sizeof(double) * 8 * (size_t)n);
-    if (!d || !d->u0) {
+    if (d) d->u0 = malloc(sizeof(double) * 10 * (size_t)n);
+    if (d && !m->proportional) d->gf = vi_gflow_create(m);
+    if (!d || !d->u0 || (!m->proportional && !d->gf)) {
+      if (d) free(d->u0);
       free(d);
       return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
     }
@@ -104,15 +133,23 @@ static int ex_start(vi_sim *s)
     d->q = d->v0 + n;
     d->qd = d->q + n;
     d->rates = d->qd + n;
+    d->zfull = d->rates + 4 * n;
     d->s = s;
     double wtop = m->omega_f;
     for (int j = 0; j < n; j++)
       if (m->psi[j] != 0.0) wtop = fmax(wtop, m->omega[j]);
+    if (d->gf) wtop = vi_general_top_frequency(m);
     d->h = wtop > 0.0 ? M_PI / (8.0 * wtop) : HUGE_VAL;
     s->be_data = d;
   }
-  /* modal state now, minus the particular solution: the homogeneous part */
   d->t0 = s->t;
+  d->ta = s->t;
+  if (d->gf) {
+    vi_gflow_start(d->gf, m, s->t, s->z);
+    ex_eval(d, d->ta, &d->ga, &d->gda, 0);
+    return VI_OK;
+  }
+  /* modal state now, minus the particular solution: the homogeneous part */
   double c = cos(m->omega_f * s->t), sn = sin(m->omega_f * s->t);
   for (int j = 0; j < n; j++) {
     double q = 0.0, qd = 0.0, qp, qpd;

@@ -1,5 +1,5 @@
-/* vi_flow.c - closed-form motion of proportionally damped modes
- * (MODEL.md section 8). */
+/* vi_flow.c - closed-form motion between impacts (MODEL.md section 8):
+ * proportionally damped modes here, any other damping in vi_general.c. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -57,6 +57,33 @@ void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
   *qpd = qd;
 }
 
+/* Non-proportional damping: the first-order eigen-solution (vi_general.c). */
+static int flow_general(const vi_model *m, double t0, const double *x0,
+                        const double *v0, double t, double *x, double *v)
+{
+  int n = m->n;
+  double *z = malloc(sizeof(double) * 2 * (size_t)n), g, gd;
+  vi_gflow *f = vi_gflow_create(m);
+  if (!z || !f) {
+    free(z);
+    vi_gflow_free(f);
+    return VI_ERR_NOMEM;
+  }
+  for (int i = 0; i < n; i++) {
+    z[2 * i] = x0[i];
+    z[2 * i + 1] = v0[i];
+  }
+  vi_gflow_start(f, m, t0, z);
+  vi_gflow_eval(f, m, t, &g, &gd, z);
+  for (int i = 0; i < n; i++) {
+    x[i] = z[2 * i];
+    v[i] = z[2 * i + 1];
+  }
+  vi_gflow_free(f);
+  free(z);
+  return VI_OK;
+}
+
 int vi_flow_modal(const vi_model *m, double t0, const double *q0,
                   const double *qd0, double t, double *q, double *qd)
 {
@@ -64,6 +91,18 @@ int vi_flow_modal(const vi_model *m, double t0, const double *q0,
   if (!m->frozen) return VI_ERR_STATE;
   if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(t >= t0)) return VI_ERR_TIME;
+  if (m->gen) { /* through physical coordinates: x = Psi q, q = Psi^T M x */
+    int n = m->n;
+    double *buf = malloc(sizeof(double) * 4 * (size_t)n);
+    if (!buf) return VI_ERR_NOMEM;
+    vi_matvec(n, m->Psi, q0, buf);
+    vi_matvec(n, m->Psi, qd0, buf + n);
+    int st = flow_general(m, t0, buf, buf + n, t, buf + 2 * n, buf + 3 * n);
+    vi_matvec(n, m->PsiTM, buf + 2 * n, q);
+    vi_matvec(n, m->PsiTM, buf + 3 * n, qd);
+    free(buf);
+    return st;
+  }
   double tau = t - t0, Om = m->omega_f;
   double c0 = cos(Om * t0), s0 = sin(Om * t0), c1 = cos(Om * t), s1 = sin(Om * t);
   for (int j = 0; j < m->n; j++) {
@@ -83,6 +122,9 @@ int vi_flow_physical(const vi_model *m, double t0, const double *x0,
 {
   if (!m || !x0 || !v0 || !x || !v) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!(t >= t0)) return VI_ERR_TIME;
+  if (m->gen) return flow_general(m, t0, x0, v0, t, x, v);
   int n = m->n;
   double *q = malloc(sizeof(double) * 4 * (size_t)n);
   if (!q) return VI_ERR_NOMEM;

@@ -42,6 +42,7 @@ struct vi_model {
   int proportional;
   int flow_ok;                    /* closed-form flow available */
   char flow_why[VI_MSG_LEN];
+  struct vi_general *gen;         /* exact flow for non-proportional damping */
   double *block;                  /* single allocation behind the arrays */
   char errmsg[VI_MSG_LEN];
 };
@@ -56,6 +57,20 @@ void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
                         double tau, double *qp, double *qpd);
 void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
                          double tau, double *u, double *ud);
+
+/* Exact flow for any damping (vi_general.c): set up at vi_model_setup when
+ * the damping is not proportional; a vi_gflow is the flow from one start. */
+typedef struct vi_gflow vi_gflow;
+int vi_general_setup(vi_model *m);
+void vi_general_free(vi_model *m);
+double vi_general_top_frequency(const vi_model *m);
+vi_gflow *vi_gflow_create(const vi_model *m);
+void vi_gflow_free(vi_gflow *f);
+/* z: interleaved state (x_1, v_1, ...) at t0 */
+void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z);
+/* gap w.x - x_s and rate w.x' at t; with z != NULL the state too */
+void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
+                   double *rate, double *z);
 
 /* Dense helpers, column-major with leading dimension n. */
 void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x */

@@ -75,17 +75,20 @@ int vi_modal_setup(vi_model *m)
   vi_matvec_t(n, m->Psi, m->b, m->Fb);
   vi_matvec_t(n, m->Psi, m->f0, m->F0);
 
-  m->flow_ok = m->proportional;
+  m->flow_ok = 1;
   m->flow_why[0] = '\0';
-  if (!m->proportional)
-    vi_fail(m->flow_why, VI_ERR_UNSUPPORTED,
-            "damping is not proportional (largest off-diagonal of Psi^T C Psi "
-            "is %.3g of its largest entry)", dmax > 0 ? offmax / dmax : 0.0);
+  vi_general_free(m);
+  if (!m->proportional) {
+    /* modes couple between impacts: the first-order eigen-solution */
+    int st = vi_general_setup(m);
+    if (st == VI_ERR_NOMEM || st == VI_ERR_LAPACK) return vi_fail(m->errmsg, st, "%s", m->flow_why);
+    m->flow_ok = st == VI_OK;
+  }
   for (int j = 0; j < n; j++) {
     double d = m->D[j + (size_t)j * n];
     m->zeta[j] = m->omega[j] > 0.0 ? d / (2.0 * m->omega[j]) : 0.0;
     if (!particular(m->lambda[j], d, m->omega_f, m->Fa[j], m->Fb[j], &m->pA[j],
-                    &m->pB[j]) && m->flow_ok) {
+                    &m->pB[j]) && m->flow_ok && m->proportional) {
       m->flow_ok = 0;
       vi_fail(m->flow_why, VI_ERR_UNSUPPORTED,
               "mode %d (omega = %.17g) is undamped and forced at resonance",

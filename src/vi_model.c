@@ -62,6 +62,7 @@ int vi_model_create(int n, vi_model **out)
 void vi_model_destroy(vi_model **model)
 {
   if (!model || !*model) return;
+  vi_general_free(*model);
   free((*model)->block);
   free(*model);
   *model = NULL;

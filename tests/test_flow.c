@@ -95,6 +95,43 @@ static void test_semigroup(void **state)
   vi_model_destroy(&m);
 }
 
+/* Non-proportional damping (first-order eigen-solution): the ODE residual
+ * M x'' + C x' + K x - f by central differences, and the semigroup. */
+static void test_nonproportional_flow(void **state)
+{
+  (void)state;
+  const double M[9] = {2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0};
+  const double K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
+  const double C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};
+  const double w[3] = {0.2, -0.5, 1.0}, a[3] = {0.6, 0.0, 0.3}, f0[3] = {0.1, 0, -0.2};
+  vi_model *m = vi_test_model(3, M, C, K, 0.8, a, f0, w, 10.0, 0.6);
+  assert_int_equal(vi_model_is_proportional(m), 0);
+  double x0[3] = {0.1, -0.2, 0.05}, v0[3] = {0.3, 0.0, -0.1}, h = 1e-3;
+  for (double t = 1.0; t < 30.0; t += 3.3) {
+    double xm[3], xc[3], xp[3], vm[3], vc[3], vp[3];
+    vi_flow_physical(m, 0.5, x0, v0, t - h, xm, vm);
+    vi_flow_physical(m, 0.5, x0, v0, t, xc, vc);
+    vi_flow_physical(m, 0.5, x0, v0, t + h, xp, vp);
+    for (int i = 0; i < 3; i++) {
+      double r = -(a[i] * cos(0.8 * t) + f0[i]);
+      for (int j = 0; j < 3; j++)
+        r += M[i + 3 * j] * (xp[j] - 2 * xc[j] + xm[j]) / (h * h) +
+             C[i + 3 * j] * vc[j] + K[i + 3 * j] * xc[j];
+      assert_close(r, 0.0, 2e-6);
+      assert_close((xp[i] - xm[i]) / (2 * h), vc[i], 1e-6);
+    }
+  }
+  double x1[3], v1[3], x2[3], v2[3], y2[3], u2[3];
+  vi_flow_physical(m, 0.0, x0, v0, 7.7, x1, v1);
+  vi_flow_physical(m, 7.7, x1, v1, 31.0, x2, v2);
+  vi_flow_physical(m, 0.0, x0, v0, 31.0, y2, u2);
+  for (int i = 0; i < 3; i++) {
+    assert_close(x2[i], y2[i], 1e-13);
+    assert_close(v2[i], u2[i], 1e-13);
+  }
+  vi_model_destroy(&m);
+}
+
 static void test_unsupported(void **state)
 {
   (void)state;
@@ -113,6 +150,7 @@ int main(void)
       cmocka_unit_test(test_ode_residual),
       cmocka_unit_test(test_uniform_acceleration),
       cmocka_unit_test(test_semigroup),
+      cmocka_unit_test(test_nonproportional_flow),
       cmocka_unit_test(test_unsupported),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -46,6 +46,35 @@ static void test_free_flight_matches_closed_form(void **state)
   vi_model_destroy(&m);
 }
 
+/* Non-proportional damping, non-diagonal M, a stop on a combination of
+ * coordinates: CVODE's impacts against the exact (first-order eigen) flow. */
+static void test_nonproportional_cvode_vs_exact(void **state)
+{
+  (void)state;
+  const double M[9] = {2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0};
+  const double K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
+  const double C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};
+  const double w[3] = {0.2, -0.5, 1.0}, a[3] = {0.6, 0.0, 0.3};
+  vi_model *m = vi_test_model(3, M, C, K, 0.8, a, NULL, w, 0.05, 0.6);
+  vi_test_events ref = {0}, ev = {0};
+  assert_int_equal(vi_test_run(m, VI_METHOD_EXACT, 1e-12, 1e-14, NULL, NULL, 400.0, &ref), VI_OK);
+  assert_int_equal(vi_test_run(m, VI_METHOD_ADAMS, 1e-12, 1e-14, NULL, NULL, 400.0, &ev), VI_OK);
+  assert_int_equal(ev.count, ref.count);
+  double et = 0.0, evn = 0.0;
+  for (int i = 0; i < ev.count; i++) {
+    et = fmax(et, fabs(ev.t[i] - ref.t[i]));
+    evn = fmax(evn, fabs(ev.vn[i] - ref.vn[i]));
+  }
+  print_message("non-proportional: %d impacts, max |dt| %.3g, max |dvn| %.3g\n",
+                ev.count, et, evn);
+  assert_true(ref.count > 50);
+  assert_true(et < 1e-8);
+  assert_true(evn < 1e-8);
+  vi_test_events_free(&ref);
+  vi_test_events_free(&ev);
+  vi_model_destroy(&m);
+}
+
 /* Undamped SDOF from x = 0 with speed V: x = (V/w) sin wt reaches x_s at
  * t1 = th / w, th = asin(x_s w / V).  With r = 1 the motion is periodic: a
  * flight is the free period less the arc above x_s, (pi + 2 th) / w.  So both the first
@@ -326,6 +355,7 @@ int main(void)
       cmocka_unit_test(test_free_flight_matches_closed_form),
       cmocka_unit_test(test_sdof_impact_times),
       cmocka_unit_test(test_fig2_cvode_vs_exact),
+      cmocka_unit_test(test_nonproportional_cvode_vs_exact),
       cmocka_unit_test(test_grazing_contact_found),
       cmocka_unit_test(test_chattering_accumulates_then_sticks),
       cmocka_unit_test(test_sticking_release_time),

@@ -99,7 +99,7 @@ VI_API const double *vi_model_modal_damping(const vi_model *m, int *ld);
 /** Damping ratios zeta_j = D_jj / (2 omega_j) [n]; 0 for a rigid-body mode. */
 VI_API const double *vi_model_zeta(const vi_model *m);
 /** 1 if D is diagonal to 1e-10 relative (proportional damping: the modes
- *  decouple between impacts and the exact method applies), else 0. */
+ *  decouple between impacts, WB 4, and XE = 0), else 0. */
 VI_API int vi_model_is_proportional(const vi_model *m);
 /** Modal impact vector psi = Psi^T w [n]; psi.psi = w^T M^-1 w. */
 VI_API const double *vi_model_modal_stop(const vi_model *m);

@@ -34,8 +34,9 @@ enum {
                             fastest at every tolerance, see the README) */
   VI_METHOD_BDF = 1,   /**< CVODE BDF, Newton with the analytic Jacobian and a
                             dense or (banded models) band linear solver */
-  VI_METHOD_EXACT = 2  /**< closed-form flow (vi_flow.h) with root bracketing;
-                            proportional damping only, no sticking phases */
+  VI_METHOD_EXACT = 2  /**< closed-form flow (vi_flow.h) with root bracketing:
+                            any damping whose first-order system is
+                            diagonalisable; no sticking phases */
 };
 
 /** Kinds of event passed to the event callback. */
@@ -101,7 +102,9 @@ VI_API const char *vi_sim_errmsg(const vi_sim *sim);
 
 /** Choose the integrator (VI_METHOD_*); takes effect at the next run.
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
- *  without closed form: non-proportional damping or undamped resonance). */
+ *  without a usable closed form: an undamped mode forced at resonance, or a
+ *  defective first-order system such as an undamped rigid-body mode beside
+ *  non-proportional damping; the message says which). */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
 /** Relative and absolute tolerances, both > 0 and finite, rtol at least
  *  twice the machine epsilon; atol applies to positions and velocities
