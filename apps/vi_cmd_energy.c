@@ -40,10 +40,11 @@ int vi_cmd_energy(const app_opts *o)
   if (rc) return rc;
   rc = 1;
   int n = vi_model_n(m);
-  double *buf = calloc(6 * (size_t)n, sizeof(double));
+  enum { KMAX = 4 }; /* reduced models with the first 1..4 modes */
+  double *buf = calloc(4 * (size_t)n, sizeof(double)), rS[KMAX];
+  int ok[KMAX], modes[KMAX] = {0, 1, 2, 3};
   if (!buf) goto done;
-  double *FE = buf, *DE = FE + n, *XE = DE + n, *reff = XE + n, *rS = reff + n;
-  int *ok = (int *)(rS + n);
+  double *FE = buf, *DE = FE + n, *XE = DE + n, *reff = XE + n;
   if (!(vi_model_omega_forcing(m) > 0)) {
     fprintf(stderr, "vibroimpact: energy: the scene has no harmonic forcing, "
             "so no P(1,1) orbit\n");
@@ -74,13 +75,9 @@ int vi_cmd_energy(const app_opts *o)
   vi_orbit_balance(orb, &T, &ph, &vN, &KE, &RE, &IE, &rr, &cl);
   vi_orbit_modal_balance(orb, FE, DE, XE, reff);
   const double *om = vi_model_omega(m), *ze = vi_model_zeta(m);
-  int kmax = n < 4 ? n : 4;
-  for (int k = 1; k <= kmax; k++) {
-    int *modes = (int *)malloc(sizeof(int) * k);
-    for (int j = 0; j < k; j++) modes[j] = j;
-    ok[k - 1] = modes && vi_orbit_reduced_restitution(orb, modes, k, &rS[k - 1]) == VI_OK;
-    free(modes);
-  }
+  int kmax = n < KMAX ? n : KMAX;
+  for (int k = 1; k <= kmax; k++)
+    ok[k - 1] = vi_orbit_reduced_restitution(orb, modes, k, &rS[k - 1]) == VI_OK;
   /* check the one-mode reduced model: simulate it with its r_S */
   double cv = NAN, cg = NAN, cp = NAN, gmin;
   int cpn = 0, cpm = 0, checked = n > 1 && ok[0] &&
