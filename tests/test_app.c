@@ -139,7 +139,7 @@ static void test_sigint_leaves_valid_file(void **state)
     _exit(127);
   }
   /* wait until the run is writing, then interrupt it */
-  for (int i = 0; i < 200 && !exists(part); i++) usleep(10000);
+  for (int i = 0; i < 1000 && !exists(part); i++) usleep(10000); /* up to 10 s */
   usleep(300000);
   assert_true(exists(part));
   kill(pid, SIGINT);
