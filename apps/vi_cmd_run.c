@@ -34,7 +34,7 @@ typedef struct run_ctx {
   const app_opts *o;
   FILE *csv;
   vi_writer *w;
-  int n, io_err;
+  int n, io_err, store_events;
   int64_t impacts;
   double t_last, vn_last, t0, t_end, wall0;
 } run_ctx;
@@ -49,7 +49,7 @@ static double now(void)
 static int on_event(const vi_event *ev, void *user)
 {
   run_ctx *c = user;
-  if (c->w && vi_writer_event(c->w, ev)) c->io_err = 1;
+  if (c->w && c->store_events && vi_writer_event(c->w, ev)) c->io_err = 1;
   if (ev->kind != VI_EVENT_IMPACT) return c->io_err;
   c->t_last = ev->t;
   c->vn_last = ev->vn;
@@ -96,7 +96,7 @@ int vi_cmd_run(const app_opts *o)
   vi_scene *sc = NULL;
   vi_model *m = NULL;
   vi_sim *s = NULL;
-  run_ctx c = {o, NULL, NULL, 0, 0, 0, 0, 0, 0, 0, 0};
+  run_ctx c = {o, NULL, NULL, 0, 0, 0, 0, 0, 0, 0, 0, 0};
   char part[4096] = "";
   vi_diag d;
   int rc = vi_app_load(o, &sc, &m), st;
@@ -107,6 +107,7 @@ int vi_cmd_run(const app_opts *o)
   c.t0 = vi_scene_t0(sc);
   c.t_end = vi_scene_t_end(sc);
   int ledger = vi_scene_wants(sc, "ledger");
+  c.store_events = vi_scene_wants(sc, "impacts");
   /* nothing the scene did not ask for: samples only into a file */
   int spp = o->out ? vi_scene_samples_per_period(sc) : 0;
   if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {

@@ -121,6 +121,44 @@ static void test_outputs(void **state)
   remove(err);
 }
 
+/* What the scene does not ask for is not in the file: no events without
+ * output.impacts, no /modal without output.modes, no /ledger rows and no
+ * samples without output.ledger / samples_per_period. */
+static void test_output_flags(void **state)
+{
+  (void)state;
+  char scene[256], h5[256], out[256], err[256];
+  snprintf(scene, sizeof scene, "%s/flags.yaml", dir);
+  snprintf(h5, sizeof h5, "%s/flags.h5", dir);
+  snprintf(out, sizeof out, "%s/stdout", dir);
+  snprintf(err, sizeof err, "%s/stderr", dir);
+  FILE *f = fopen(scene, "w");
+  fputs("model:\n  chain: {n: 2, m: 1, k: 1, c: 0.1}\n"
+        "forcing: {omega: 0.9, a: [0.5, 0]}\nstop: {mass: 2, xs: 0.1, r: 0.7}\n"
+        "run: {periods: 5}\noutput: {impacts: false, modes: false}\n", f);
+  fclose(f);
+  char *argv[] = {(char *)app, scene, "-o", h5, "--quiet", NULL};
+  assert_int_equal(run_app(argv, out, err), 0);
+  hid_t file = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(file >= 0);
+  assert_int_equal(H5Lexists(file, "modal", H5P_DEFAULT), 0);
+  assert_true(H5Lexists(file, "model", H5P_DEFAULT) > 0);
+  const char *empty[3] = {"impacts/time", "trajectory/time", "ledger/FE"};
+  for (int k = 0; k < 3; k++) {
+    hid_t d = H5Dopen2(file, empty[k], H5P_DEFAULT), sp = H5Dget_space(d);
+    hsize_t rows;
+    H5Sget_simple_extent_dims(sp, &rows, NULL);
+    assert_int_equal((int)rows, 0);
+    H5Sclose(sp);
+    H5Dclose(d);
+  }
+  H5Fclose(file);
+  remove(h5);
+  remove(scene);
+  remove(out);
+  remove(err);
+}
+
 /* SIGINT during a long run: exit 1, the file exists, is valid HDF5, holds
  * what was computed and says complete = 0. */
 static void test_sigint_leaves_valid_file(void **state)
@@ -180,6 +218,7 @@ int main(int argc, char **argv)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_malformed_scene_files),
       cmocka_unit_test(test_outputs),
+      cmocka_unit_test(test_output_flags),
       cmocka_unit_test(test_sigint_leaves_valid_file),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);

@@ -17,8 +17,9 @@
  *   stop:    {w: [...] | mass: j (1-based), xs, r}
  *   initial: {t0, x, v}
  *   run:     {t_end | periods, rtol, atol, method: adams|bdf|exact}
- *   output:  {impacts: bool, samples_per_period: int, ledger: bool,
- *             modes: bool, compress: bool}
+ *   output:  {impacts: bool (default true), samples_per_period: int
+ *             (default 0), ledger: bool (false), modes: bool (false: no
+ *             /modal group), compress: bool (true: deflate the trajectory)}
  */
 #ifndef VI_SCENE_H
 #define VI_SCENE_H

@@ -30,7 +30,8 @@ typedef struct vi_writer vi_writer;
 VI_API int vi_writer_create(const char *path, const vi_model *model,
                             int compress, vi_writer **out, vi_diag *diag);
 /** Write the root attributes (creator, scene text, tolerances, method),
- *  /model and /modal; scene may be NULL.  @return VI_OK, VI_ERR_IO. */
+ *  /model and, when the scene's output.modes is true or scene is NULL,
+ *  /modal.  @return VI_OK, VI_ERR_IO. */
 VI_API int vi_writer_write_header(vi_writer *w, const vi_scene *scene,
                                   double rtol, double atol, int method);
 /** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...). */

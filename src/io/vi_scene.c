@@ -467,6 +467,7 @@ int vi_scene_parse(const char *text, long len, const char *name, vi_scene **out,
   s->atol = 1e-10;
   s->method = VI_METHOD_ADAMS;
   s->out_impacts = 1;
+  s->compress = 1;
   ctx c = {.d = d, .file = s->file};
   yaml_parser_t p;
   yaml_parser_initialize(&p);

@@ -315,9 +315,11 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
       v = vi_model_omega_forcing(m); bad |= attr_num(g, "Omega", &v, 1);
       H5Gclose(g);
     }
-    g = H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    /* the modes only when the scene asks for them (always without a scene) */
+    g = scene && !vi_scene_wants(scene, "modes") ? 0
+        : H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     bad |= g < 0;
-    if (g >= 0) {
+    if (g > 0) {
       bad |= put(g, "omega", vi_model_omega(m), n, 0, "natural frequencies, ascending");
       bad |= put(g, "zeta", vi_model_zeta(m), n, 0, "modal damping ratios D_jj/(2 omega_j)");
       bad |= put(g, "Psi", vi_model_modal_shapes(m, &ld), n, n, "mass-normalised modes, column j = mode j");
