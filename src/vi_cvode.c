@@ -205,6 +205,7 @@ static int cv_create(vi_sim *s)
     /* under the state's error control, so the ledger closes to tolerance */
     d->yQ = N_VMake_Serial(4 * s->n, s->Q, d->ctx);
     VI_CHECK(d->yQ, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
+    if (s->fast_nvector) vi_nvector_fast_ops(d->yQ);
     CV_TRY(CVodeQuadInit(d->mem, qrhs, d->yQ));
     CV_TRY(CVodeQuadSStolerances(d->mem, s->rtol, s->atol));
     CV_TRY(CVodeSetQuadErrCon(d->mem, 1));
