@@ -100,12 +100,9 @@ static void test_semigroup(void **state)
 static void test_nonproportional_flow(void **state)
 {
   (void)state;
-  const double M[9] = {2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0};
-  const double K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
-  const double C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};
-  const double w[3] = {0.2, -0.5, 1.0}, a[3] = {0.6, 0.0, 0.3}, f0[3] = {0.1, 0, -0.2};
-  vi_model *m = vi_test_model(3, M, C, K, 0.8, a, f0, w, 10.0, 0.6);
-  assert_int_equal(vi_model_is_proportional(m), 0);
+  const double *M = vi_test_np3_M, *C = vi_test_np3_C, *K = vi_test_np3_K,
+               *a = vi_test_np3_a, f0[3] = {0.1, 0, -0.2};
+  vi_model *m = vi_test_nonprop3(10.0, f0); /* stop out of reach */
   double x0[3] = {0.1, -0.2, 0.05}, v0[3] = {0.3, 0.0, -0.1}, h = 1e-3;
   for (double t = 1.0; t < 30.0; t += 3.3) {
     double xm[3], xc[3], xp[3], vm[3], vc[3], vp[3];

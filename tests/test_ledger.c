@@ -75,12 +75,7 @@ static void test_fig2_closure(void **state)
 static void test_nonproportional_closure(void **state)
 {
   (void)state;
-  const double M[9] = {2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0};
-  const double K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
-  const double C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};
-  const double w[3] = {0.2, -0.5, 1.0}, a[3] = {0.6, 0.0, 0.3};
-  vi_model *m = vi_test_model(3, M, C, K, 0.8, a, NULL, w, 0.05, 0.6);
-  assert_int_equal(vi_model_is_proportional(m), 0);
+  vi_model *m = vi_test_nonprop3(0.05, NULL);
   for (int k = 0; k < 3; k++) { /* Adams, BDF, exact */
     led_stats st = run_ledger(m, k, 1e-10, NULL, NULL, 400.0);
     print_message("3-dof method %d: %d impacts, max residual %.3g, max |XE| "

@@ -51,11 +51,7 @@ static void test_free_flight_matches_closed_form(void **state)
 static void test_nonproportional_cvode_vs_exact(void **state)
 {
   (void)state;
-  const double M[9] = {2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0};
-  const double K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
-  const double C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};
-  const double w[3] = {0.2, -0.5, 1.0}, a[3] = {0.6, 0.0, 0.3};
-  vi_model *m = vi_test_model(3, M, C, K, 0.8, a, NULL, w, 0.05, 0.6);
+  vi_model *m = vi_test_nonprop3(0.05, NULL);
   vi_test_events ref = {0}, ev = {0};
   assert_int_equal(vi_test_run(m, VI_METHOD_EXACT, 1e-12, 1e-14, NULL, NULL, 400.0, &ref), VI_OK);
   assert_int_equal(vi_test_run(m, VI_METHOD_ADAMS, 1e-12, 1e-14, NULL, NULL, 400.0, &ev), VI_OK);

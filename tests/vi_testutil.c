@@ -63,6 +63,20 @@ vi_model *vi_test_model(int n, const double *M, const double *C,
   return m;
 }
 
+const double vi_test_np3_M[9] = {2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0};
+const double vi_test_np3_K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
+const double vi_test_np3_C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};
+const double vi_test_np3_a[3] = {0.6, 0.0, 0.3};
+
+vi_model *vi_test_nonprop3(double xs, const double *f0)
+{
+  const double w[3] = {0.2, -0.5, 1.0};
+  vi_model *m = vi_test_model(3, vi_test_np3_M, vi_test_np3_C, vi_test_np3_K,
+                              0.8, vi_test_np3_a, f0, w, xs, 0.6);
+  assert_int_equal(vi_model_is_proportional(m), 0);
+  return m;
+}
+
 vi_sim *vi_test_sim(const vi_model *m, int method, double rtol, double atol,
                     const double *x0, const double *v0, vi_test_events *ev)
 {

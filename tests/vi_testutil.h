@@ -34,6 +34,14 @@ vi_model *vi_test_model(int n, const double *M, const double *C,
                         const double *K, double omega, const double *a,
                         const double *f0, const double *w, double xs, double r);
 
+/* The non-proportional 3-DOF fixture (also share/scenes/nonproportional.yaml):
+ * non-diagonal M, a damper that is not proportional, stop w = (0.2, -0.5, 1)
+ * at xs with r = 0.6, forcing a = (0.6, 0, 0.3) cos(0.8 t) + f0 (f0 may be
+ * NULL).  The arrays are exported for tests that check the ODE itself. */
+extern const double vi_test_np3_M[9], vi_test_np3_C[9], vi_test_np3_K[9],
+    vi_test_np3_a[3];
+vi_model *vi_test_nonprop3(double xs, const double *f0);
+
 /* Impact records collected by vi_test_collect (an event callback). */
 typedef struct vi_test_events {
   int count, cap, n;
