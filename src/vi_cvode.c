@@ -229,9 +229,9 @@ static int64_t cv_live(const cv_data *d, int which)
   return v;
 }
 
-static int64_t cv_stat(const vi_sim *s, int which)
+static int64_t cv_stat(const void *data, int which)
 {
-  const cv_data *d = s->be_data;
+  const cv_data *d = data;
   if (which < 0 || which > VI_STAT_ROOT_EVALS) return 0;
   return d->base[which] + cv_live(d, which);
 }

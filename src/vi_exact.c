@@ -114,11 +114,9 @@ static int ex_start(vi_sim *s)
 {
   const vi_model *m = s->m;
   int n = s->n;
-  if (s->sticking)
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
-                   "the exact method has no sticking phase (at t = %.17g); "
-                   "use VI_METHOD_ADAMS or VI_METHOD_BDF for chattering "
-                   "scenes", s->t);
+  if (s->sticking) /* the driver runs sticking phases on CVODE */
+    return vi_fail(s->errmsg, VI_ERR_STATE, "internal: the closed form "
+                   "cannot start in a sticking phase (t = %.17g)", s->t);
   ex_data *d = s->be_data;
   if (!d) {
     d = calloc(1, sizeof *d);
@@ -241,9 +239,9 @@ static int ex_dense(vi_sim *s, double t)
   return VI_OK;
 }
 
-static int64_t ex_stat(const vi_sim *s, int which)
+static int64_t ex_stat(const void *data, int which)
 {
-  const ex_data *d = s->be_data;
+  const ex_data *d = data;
   if (which == VI_STAT_STEPS) return d->steps;
   if (which == VI_STAT_ROOT_EVALS) return d->evals;
   return 0;

@@ -360,22 +360,9 @@ static int balance(vi_orbit *o)
   return VI_OK;
 }
 
-static int find(vi_orbit *o);
-
 int vi_orbit_find(vi_orbit *o)
 {
   if (!o) return VI_ERR_ARG;
-  int st = find(o);
-  if (st == VI_ERR_UNSUPPORTED && o->method == VI_METHOD_EXACT) {
-    /* the closed form has no sticking phase: redo the run with CVODE */
-    if ((st = vi_orbit_set_method(o, VI_METHOD_ADAMS))) return st;
-    st = find(o);
-  }
-  return st;
-}
-
-static int find(vi_orbit *o)
-{
   int st, n = o->n;
   double t;
   o->analysed = 0;

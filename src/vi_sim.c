@@ -42,11 +42,37 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   return VI_OK;
 }
 
+static const vi_backend *method_backend(int method)
+{
+  return method == VI_METHOD_EXACT ? &vi_backend_exact : &vi_backend_cvode;
+}
+
 static void backend_destroy(vi_sim *s)
 {
-  if (s->be_data) s->be->destroy(s);
-  s->be_data = NULL;
+  for (;;) {
+    if (s->be_data) s->be->destroy(s);
+    s->be_data = NULL;
+    if (!s->park_be) break;
+    s->be = s->park_be;
+    s->be_data = s->park_data;
+    s->park_be = NULL;
+    s->park_data = NULL;
+  }
+  s->be = method_backend(s->method);
   s->started = 0;
+}
+
+/* The closed form has no constrained flow: an exact-method simulation runs
+ * its sticking phases on CVODE (Adams) and returns at release.  The
+ * backend not in use keeps its data for the next switch. */
+static void use_backend(vi_sim *s, const vi_backend *be)
+{
+  if (s->be == be) return;
+  void *pd = s->park_be == be ? s->park_data : NULL;
+  s->park_be = s->be;
+  s->park_data = s->be_data;
+  s->be = be;
+  s->be_data = pd;
 }
 
 void vi_sim_destroy(vi_sim **sim)
@@ -68,22 +94,14 @@ const char *vi_sim_errmsg(const vi_sim *s) { return s ? s->errmsg : ""; }
 int vi_sim_set_method(vi_sim *s, int method)
 {
   if (!s) return VI_ERR_ARG;
-  const vi_backend *be;
-  switch (method) {
-  case VI_METHOD_ADAMS:
-  case VI_METHOD_BDF: be = &vi_backend_cvode; break;
-  case VI_METHOD_EXACT:
-    if (!s->m->flow_ok)
-      return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
-                     "exact method unavailable: %s", s->m->flow_why);
-    be = &vi_backend_exact;
-    break;
-  default:
+  if (method != VI_METHOD_ADAMS && method != VI_METHOD_BDF &&
+      method != VI_METHOD_EXACT)
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
-  }
-  backend_destroy(s);
+  if (method == VI_METHOD_EXACT && !s->m->flow_ok)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
+                   "exact method unavailable: %s", s->m->flow_why);
   s->method = method;
-  s->be = be;
+  backend_destroy(s);
   return VI_OK;
 }
 
@@ -223,7 +241,8 @@ int64_t vi_sim_get_stat(const vi_sim *s, int which)
 {
   if (!s || which < 0 || which >= VI_STAT_COUNT) return -1;
   int64_t v = s->stats[which];
-  if (s->be_data) v += s->be->stat(s, which);
+  if (s->be_data) v += s->be->stat(s->be_data, which);
+  if (s->park_data) v += s->park_be->stat(s->park_data, which);
   return v;
 }
 
@@ -321,6 +340,7 @@ static int on_contact(vi_sim *s)
   }
   vi_ledger_close(s, vn > 0.0 || stick, ie);
   s->stats[VI_STAT_REINITS]++;
+  if (stick) use_backend(s, &vi_backend_cvode);
   return s->be->start(s);
 }
 
@@ -333,6 +353,7 @@ static int on_release(vi_sim *s)
   s->sticking = 0;
   emit(s, VI_EVENT_RELEASE, 0.0, 0.0);
   s->stats[VI_STAT_REINITS]++;
+  use_backend(s, method_backend(s->method));
   return s->be->start(s);
 }
 
@@ -394,6 +415,7 @@ int vi_sim_run(vi_sim *s, double t_end)
   s->stop = 0;
   if (s->smp_fn && s->smp_k == 0) s->smp_t0 = s->t;
   if (!s->started) {
+    use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s->method));
     if ((st = s->be->start(s))) return st;
     s->started = 1;
     if (s->smp_fn && (st = samples(s, s->t))) return st;

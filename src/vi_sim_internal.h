@@ -19,7 +19,7 @@ typedef struct vi_backend {
   int (*start)(vi_sim *s);  /* (re)start from s->t, s->z, s->sticking */
   int (*step)(vi_sim *s, double t_end, int *event);
   int (*dense)(vi_sim *s, double t); /* state at t in the last step -> s->zs */
-  int64_t (*stat)(const vi_sim *s, int which);  /* backend counters */
+  int64_t (*stat)(const void *data, int which); /* counters of be_data */
   void (*destroy)(vi_sim *s);
 } vi_backend;
 
@@ -49,6 +49,10 @@ struct vi_sim {
 
   const vi_backend *be;
   void *be_data;
+  /* the exact method runs sticking phases on CVODE: the other backend and
+   * its data wait here meanwhile */
+  const vi_backend *park_be;
+  void *park_data;
   gsl_root_fsolver *brent;
 
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */

@@ -180,7 +180,7 @@ static void test_chattering_accumulates_then_sticks(void **state)
   double g = 2.0, V = 1.0, r = 0.5;
   vi_model *m = vi_test_sdof(1.0, 0.0, 0.0, 0.0, g, 0.0, 0.0, r);
   double Tacc = 2 * V / (g * (1 - r));
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) { /* the exact method sticks on CVODE */
     vi_test_events ev = {0};
     double x0 = 0.0, v0 = -V;
     vi_sim *s = vi_test_sim(m, methods[k], 1e-10, 1e-12, &x0, &v0, &ev);
@@ -228,7 +228,7 @@ static void test_sticking_release_time(void **state)
   double g = 0.5, a = 1.0, W = 2.0;
   vi_model *m = vi_test_sdof(1.0, 0.0, 0.0, a, g, W, 0.0, 0.0);
   double trel = acos(-g / a) / W;
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) {
     vi_test_events ev = {0};
     vi_sim *s = vi_test_sim(m, methods[k], 1e-10, 1e-12, NULL, NULL, &ev);
     assert_int_equal(vi_sim_run(s, trel + 0.1), VI_OK);

@@ -35,8 +35,8 @@ VI_API void vi_orbit_destroy(vi_orbit **orbit);
 VI_API const char *vi_orbit_errmsg(const vi_orbit *orbit);
 
 /** Integration method (VI_METHOD_*): default VI_METHOD_EXACT when the model
- *  allows it, else VI_METHOD_ADAMS (also used when the exact method meets a
- *  sticking phase).  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED. */
+ *  allows it, else VI_METHOD_ADAMS.  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_UNSUPPORTED. */
 VI_API int vi_orbit_set_method(vi_orbit *o, int method);
 /** Tolerances of the integrations, as vi_sim_set_tolerances (defaults
  *  1e-11, 1e-13).  @return VI_OK, VI_ERR_TOLERANCE. */

@@ -36,7 +36,8 @@ enum {
                             dense or (banded models) band linear solver */
   VI_METHOD_EXACT = 2  /**< closed-form flow (vi_flow.h) with root bracketing:
                             any damping whose first-order system is
-                            diagonalisable; no sticking phases */
+                            diagonalisable; sticking phases (which have no
+                            closed form here) run on CVODE Adams */
 };
 
 /** Kinds of event passed to the event callback. */
@@ -152,7 +153,7 @@ VI_API int vi_sim_set_monitor(vi_sim *sim, vi_monitor_fn fn, void *user,
  *  that step after the request are dropped.
  *  @return VI_OK on reaching t_end, VI_STOPPED, or VI_ERR_TIME (t_end not
  *  after the current time), VI_ERR_INTEGRATOR, VI_ERR_ROOT,
- *  VI_ERR_UNSUPPORTED (sticking with the exact method), VI_ERR_NOMEM. */
+ *  VI_ERR_NOMEM. */
 VI_API int vi_sim_run(vi_sim *sim, double t_end);
 
 /** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */
