@@ -16,9 +16,11 @@ static int reduced_check(const vi_model *m, int k, double rS, double *vN,
   vi_model *red = NULL;
   vi_orbit *o = NULL;
   if (!modes) return 1;
-  for (int j = 0; j < k; j++) modes[j] = j;
-  if (vi_model_create_reduced(m, modes, k, rS, &red) || vi_orbit_create(red, &o) ||
-      vi_orbit_find(o)) ok = 0;
+  for (int j = 0; j < k; j++)
+    modes[j] = j;
+  if (vi_model_create_reduced(m, modes, k, rS, &red) ||
+      vi_orbit_create(red, &o) || vi_orbit_find(o))
+    ok = 0;
   if (ok) {
     vi_orbit_classify(o, pn, pm);
     ok = *pn == 1 && *pm == 1 &&
@@ -47,26 +49,34 @@ int vi_cmd_energy(const app_opts *o)
   double *FE = buf, *DE = FE + n, *XE = DE + n, *reff = XE + n;
   if (!(vi_model_omega_forcing(m) > 0)) {
     fprintf(stderr, "vibroimpact: energy: the scene has no harmonic forcing, "
-            "so no P(1,1) orbit\n");
+                    "so no P(1,1) orbit\n");
     rc = 2;
     goto done;
   }
   if ((st = vi_orbit_create(m, &orb)) ||
       (o->method >= 0 && (st = vi_orbit_set_method(orb, o->method))) ||
-      (o->rtol > 0 && (st = vi_orbit_set_tolerances(orb, o->rtol, o->atol > 0 ? o->atol : o->rtol * 1e-2))) ||
-      (st = vi_orbit_set_initial(orb, NULL, NULL)) || (st = vi_orbit_find(orb))) {
-    fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st), vi_orbit_errmsg(orb));
+      (o->rtol > 0 &&
+       (st = vi_orbit_set_tolerances(
+            orb, o->rtol, o->atol > 0 ? o->atol : o->rtol * 1e-2))) ||
+      (st = vi_orbit_set_initial(orb, NULL, NULL)) ||
+      (st = vi_orbit_find(orb))) {
+    fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st),
+            vi_orbit_errmsg(orb));
     goto done;
   }
   int pn, pm;
   vi_orbit_classify(orb, &pn, &pm);
   if (pn != 1 || pm != 1) {
     if (pn == 0)
-      fprintf(stderr, "vibroimpact: energy: the motion is not periodic within the "
-              "transient allowed (about %d impacts per forcing period); no P(1,1) "
-              "balance\n", pm);
+      fprintf(
+          stderr,
+          "vibroimpact: energy: the motion is not periodic within the "
+          "transient allowed (about %d impacts per forcing period); no P(1,1) "
+          "balance\n",
+          pm);
     else
-      fprintf(stderr, "vibroimpact: energy: the motion is P(%d,%d): period %d forcing "
+      fprintf(stderr,
+              "vibroimpact: energy: the motion is P(%d,%d): period %d forcing "
               "periods with %d impacts; the balance of WB 11-13 needs P(1,1)\n",
               pn, pm, pn, pm);
     goto done;
@@ -77,53 +87,70 @@ int vi_cmd_energy(const app_opts *o)
   const double *om = vi_model_omega(m), *ze = vi_model_zeta(m);
   int kmax = n < KMAX ? n : KMAX;
   for (int k = 1; k <= kmax; k++)
-    ok[k - 1] = vi_orbit_reduced_restitution(orb, modes, k, &rS[k - 1]) == VI_OK;
+    ok[k - 1] =
+        vi_orbit_reduced_restitution(orb, modes, k, &rS[k - 1]) == VI_OK;
   /* check the one-mode reduced model: simulate it with its r_S */
   double cv = NAN, cg = NAN, cp = NAN, gmin;
-  int cpn = 0, cpm = 0, checked = n > 1 && ok[0] &&
-      !reduced_check(m, 1, rS[0], &cv, &cg, &cp, &cpn, &cpm);
+  int cpn = 0, cpm = 0,
+      checked = n > 1 && ok[0] &&
+                !reduced_check(m, 1, rS[0], &cv, &cg, &cp, &cpn, &cpm);
   vi_orbit_min_gap(orb, &gmin);
   if (o->json) {
     printf("{\"scene\": \"%s\", \"period\": %.17g, \"impact_phase\": %.17g, "
            "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
-           "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, \"min_gap\": %.17g, "
-           "\"modes\": [", vi_scene_name(sc), T, ph, vN, KE, RE, IE,
-           vi_model_restitution(m), rr, cl, gmin);
+           "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, "
+           "\"min_gap\": %.17g, "
+           "\"modes\": [",
+           vi_scene_name(sc), T, ph, vN, KE, RE, IE, vi_model_restitution(m),
+           rr, cl, gmin);
     for (int j = 0; j < n; j++)
-      printf("%s{\"omega\": %.17g, \"zeta\": %.17g, \"FE\": %.17g, \"DE\": %.17g, "
-             "\"XE\": %.17g, \"r_eff\": %.17g}", j ? ", " : "", om[j], ze[j],
-             FE[j], DE[j], XE[j], reff[j]);
+      printf(
+          "%s{\"omega\": %.17g, \"zeta\": %.17g, \"FE\": %.17g, \"DE\": %.17g, "
+          "\"XE\": %.17g, \"r_eff\": %.17g}",
+          j ? ", " : "", om[j], ze[j], FE[j], DE[j], XE[j], reff[j]);
     printf("], \"reduced\": [");
     for (int k = 1, first = 1; k <= kmax; k++)
       if (ok[k - 1]) {
-        printf("%s{\"modes\": %d, \"r_S\": %.17g}", first ? "" : ", ", k, rS[k - 1]);
+        printf("%s{\"modes\": %d, \"r_S\": %.17g}", first ? "" : ", ", k,
+               rS[k - 1]);
         first = 0;
       }
     printf("]");
     if (checked)
-      printf(", \"reduced_check\": {\"modes\": 1, \"r_S\": %.17g, \"vN\": %.17g, "
-             "\"min_gap\": %.17g, \"impact_phase\": %.17g}", rS[0], cv, cg, cp);
+      printf(
+          ", \"reduced_check\": {\"modes\": 1, \"r_S\": %.17g, \"vN\": %.17g, "
+          "\"min_gap\": %.17g, \"impact_phase\": %.17g}",
+          rS[0], cv, cg, cp);
     printf("}\n");
   } else {
     printf("P(1,1) energy balance, scene %s (Wagg & Bishop 2000, eqs. 11-13)\n",
            vi_scene_name(sc));
-    printf("  period %.10g, impact phase %.10g, v_N %.10g, deepest excursion %.6g\n",
+    printf("  period %.10g, impact phase %.10g, v_N %.10g, deepest excursion "
+           "%.6g\n",
            T, ph, vN, gmin);
-    printf("  %4s %12s %10s %14s %14s %14s %14s %10s\n", "mode", "omega", "zeta",
-           "FE", "DE", "XE", "FE-DE-XE", "r_eff");
+    printf("  %4s %12s %10s %14s %14s %14s %14s %10s\n", "mode", "omega",
+           "zeta", "FE", "DE", "XE", "FE-DE-XE", "r_eff");
     for (int j = 0; j < n; j++)
       printf("  %4d %12.6g %10.4g %14.8g %14.8g %14.8g %14.8g %10.5g\n", j + 1,
              om[j], ze[j], FE[j], DE[j], XE[j], FE[j] - DE[j] - XE[j], reff[j]);
     printf("  KE_i = %.10g   RE = %.10g   IE = %.10g\n", KE, RE, IE);
-    printf("  r recovered (WB 12) = %.12f   (scene r = %g)   closure |RE-IE|/KE_i = %.3g\n",
+    printf("  r recovered (WB 12) = %.12f   (scene r = %g)   closure "
+           "|RE-IE|/KE_i = %.3g\n",
            rr, vi_model_restitution(m), cl);
     for (int k = 1; k <= kmax; k++) {
-      if (ok[k - 1]) printf("  reduced model, first %d mode%s: r_S = %.8f\n", k, k > 1 ? "s" : "", rS[k - 1]);
-      else printf("  reduced model, first %d mode%s: no real r_S (RE_S outside [0, KE_S])\n", k, k > 1 ? "s" : "");
+      if (ok[k - 1])
+        printf("  reduced model, first %d mode%s: r_S = %.8f\n", k,
+               k > 1 ? "s" : "", rS[k - 1]);
+      else
+        printf("  reduced model, first %d mode%s: no real r_S (RE_S outside "
+               "[0, KE_S])\n",
+               k, k > 1 ? "s" : "");
     }
     if (checked)
-      printf("  1-mode model run with r_S: v_N %.8g (full %.8g), deepest excursion %.6g "
-             "(full %.6g), phase %.6g (full %.6g)\n", cv, vN, cg, gmin, cp, ph);
+      printf("  1-mode model run with r_S: v_N %.8g (full %.8g), deepest "
+             "excursion %.6g "
+             "(full %.6g), phase %.6g (full %.6g)\n",
+             cv, vN, cg, gmin, cp, ph);
     else if (n > 1 && ok[0])
       printf("  1-mode model run with r_S: not P(1,1) (P(%d,%d))\n", cpn, cpm);
   }

@@ -17,10 +17,10 @@
 
 typedef struct col {
   const char *name, *units, *meaning;
-  int width;      /* 1: dataset [rows]; w > 1 or n: [rows][w] */
-  hid_t ftype;    /* file type */
+  int width;   /* 1: dataset [rows]; w > 1 or n: [rows][w] */
+  hid_t ftype; /* file type */
   hid_t dset;
-  double *buf;    /* cap x width */
+  double *buf; /* cap x width */
 } col;
 
 typedef struct table {
@@ -99,12 +99,16 @@ static int put(hid_t g, const char *name, const double *A, int rows, int cols,
     buf = malloc(sizeof(double) * rows * cols);
     if (!buf) return 1;
     for (int i = 0; i < rows; i++)
-      for (int j = 0; j < cols; j++) buf[(size_t)i * cols + j] = A[i + (size_t)j * rows];
+      for (int j = 0; j < cols; j++)
+        buf[(size_t)i * cols + j] = A[i + (size_t)j * rows];
     src = buf;
   }
   hid_t sp = H5Screate_simple(cols > 0 ? 2 : 1, dims, NULL);
-  hid_t d = H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t e = d < 0 ? -1 : H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, src);
+  hid_t d = H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT,
+                       H5P_DEFAULT);
+  herr_t e = d < 0 ? -1
+                   : H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
+                              H5P_DEFAULT, src);
   if (d >= 0) {
     if (meaning) attr_str(d, "meaning", meaning);
     H5Dclose(d);
@@ -121,14 +125,17 @@ static int table_init(vi_writer *w, table *t, const char *group, int compress)
   if (t->group < 0) return werr(w, VI_ERR_IO, "cannot create group %s", group);
   /* chunks of ~64 KiB holding whole rows along time */
   int widest = 1;
-  for (int k = 0; k < t->ncol; k++) widest = t->c[k].width > widest ? t->c[k].width : widest;
+  for (int k = 0; k < t->ncol; k++)
+    widest = t->c[k].width > widest ? t->c[k].width : widest;
   t->cap = 8192 / widest > 16 ? 8192 / widest : 16;
   for (int k = 0; k < t->ncol; k++) {
     col *c = &t->c[k];
     int rank = c->width > 1 ? 2 : 1;
-    hsize_t dims[2] = {0, (hsize_t)c->width}, maxd[2] = {H5S_UNLIMITED, (hsize_t)c->width};
+    hsize_t dims[2] = {0, (hsize_t)c->width},
+            maxd[2] = {H5S_UNLIMITED, (hsize_t)c->width};
     hsize_t chunk[2] = {(hsize_t)t->cap, (hsize_t)c->width};
-    hid_t sp = H5Screate_simple(rank, dims, maxd), pl = H5Pcreate(H5P_DATASET_CREATE);
+    hid_t sp = H5Screate_simple(rank, dims, maxd),
+          pl = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_chunk(pl, rank, chunk);
     if (compress) {
       H5Pset_shuffle(pl);
@@ -158,15 +165,18 @@ static int table_flush(vi_writer *w, table *t)
     col *c = &t->c[k];
     int rank = c->width > 1 ? 2 : 1;
     hsize_t size[2] = {t->rows + t->used, (hsize_t)c->width};
-    hsize_t start[2] = {t->rows, 0}, count[2] = {(hsize_t)t->used, (hsize_t)c->width};
+    hsize_t start[2] = {t->rows, 0},
+            count[2] = {(hsize_t)t->used, (hsize_t)c->width};
     if (H5Dset_extent(c->dset, size) < 0)
       return werr(w, VI_ERR_IO, "cannot extend %s (disk full?)", c->name);
     hid_t fs = H5Dget_space(c->dset), ms = H5Screate_simple(rank, count, NULL);
     H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL);
-    herr_t e = H5Dwrite(c->dset, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, c->buf);
+    herr_t e =
+        H5Dwrite(c->dset, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, c->buf);
     H5Sclose(ms);
     H5Sclose(fs);
-    if (e < 0) return werr(w, VI_ERR_IO, "cannot write %s (disk full?)", c->name);
+    if (e < 0)
+      return werr(w, VI_ERR_IO, "cannot write %s (disk full?)", c->name);
   }
   t->rows += t->used;
   t->used = 0;
@@ -213,12 +223,17 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
   w->path = strdup(path);
   w->part = malloc(strlen(path) + 6);
   w->q = malloc(sizeof(double) * 2 * n);
-  if (!w->path || !w->part || !w->q) { vi_writer_abort(&w); return VI_ERR_NOMEM; }
+  if (!w->path || !w->part || !w->q) {
+    vi_writer_abort(&w);
+    return VI_ERR_NOMEM;
+  }
   w->qd = w->q + n;
   sprintf(w->part, "%s.part", path);
-  H5E_BEGIN_TRY {
+  H5E_BEGIN_TRY
+  {
     w->file = H5Fcreate(w->part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  } H5E_END_TRY;
+  }
+  H5E_END_TRY;
   if (w->file < 0) {
     int e = errno;
     if (diag) {
@@ -251,19 +266,25 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
   w->led.c[1] = COL("t_b", 1, F64, "time", "interval end (before the event)");
   w->led.c[2] = COL("E_a", n, F64, "energy", "modal energy at t_a");
   w->led.c[3] = COL("E_b", n, F64, "energy", "modal energy at t_b");
-  w->led.c[4] = COL("FE", n, F64, "energy", "forcing work into each mode (WB 7)");
+  w->led.c[4] =
+      COL("FE", n, F64, "energy", "forcing work into each mode (WB 7)");
   w->led.c[5] = COL("DE", n, F64, "energy", "damping loss of each mode (WB 8)");
   w->led.c[6] = COL("XE", n, F64, "energy", "damping coupling work");
-  w->led.c[7] = COL("CE", n, F64, "energy", "contact-force work while sticking");
+  w->led.c[7] =
+      COL("CE", n, F64, "energy", "contact-force work while sticking");
   w->led.c[8] = COL("dE", n, F64, "energy", "impact jump of each mode at t_b");
   w->led.c[9] = COL("ie", 1, F64, "energy", "energy lost at t_b (WB 10)");
-  w->led.c[10] = COL("residual", 1, F64, "1", "closure residual / energy scale");
-  w->led.c[11] = COL("impact", 1, I32, "1", "1 when the interval ends in a jump");
-  H5E_BEGIN_TRY {
+  w->led.c[10] =
+      COL("residual", 1, F64, "1", "closure residual / energy scale");
+  w->led.c[11] =
+      COL("impact", 1, I32, "1", "1 when the interval ends in a jump");
+  H5E_BEGIN_TRY
+  {
     if ((st = table_init(w, &w->imp, "impacts", 0)) == VI_OK &&
         (st = table_init(w, &w->traj, "trajectory", compress)) == VI_OK)
       st = table_init(w, &w->led, "ledger", 0);
-  } H5E_END_TRY;
+  }
+  H5E_END_TRY;
   if (st) {
     if (diag) {
       diag->code = st;
@@ -286,7 +307,8 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
   static const char *mn[] = {"adams", "bdf", "exact"};
   char creator[64];
   snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
-  H5E_BEGIN_TRY {
+  H5E_BEGIN_TRY
+  {
     bad |= attr_str(w->file, "creator", creator);
     bad |= attr_int(w->file, "format_version", FORMAT_VERSION);
     bad |= attr_str(w->file, "sundials", vi_sundials_version());
@@ -296,49 +318,68 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
     }
     bad |= attr_num(w->file, "rtol", &rtol, 1);
     bad |= attr_num(w->file, "atol", &atol, 1);
-    bad |= attr_str(w->file, "method", method >= 0 && method <= 2 ? mn[method] : "?");
+    bad |= attr_str(w->file, "method",
+                    method >= 0 && method <= 2 ? mn[method] : "?");
     bad |= attr_int(w->file, "complete", 0);
-    bad |= attr_str(w->file, "units", "consistent model units: any length, mass and time");
-    hid_t g = H5Gcreate2(w->file, "model", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    bad |= attr_str(w->file, "units",
+                    "consistent model units: any length, mass and time");
+    hid_t g =
+        H5Gcreate2(w->file, "model", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     bad |= g < 0;
     if (g >= 0) {
       double v;
       bad |= put(g, "M", vi_model_mass(m), n, n, "mass matrix");
       bad |= put(g, "C", vi_model_damping(m), n, n, "damping matrix");
       bad |= put(g, "K", vi_model_stiffness(m), n, n, "stiffness matrix");
-      bad |= put(g, "w", vi_model_stop_vector(m), n, 0, "stop vector: w.x <= x_s");
-      bad |= put(g, "a", vi_model_forcing_cos(m), n, 0, "forcing a cos(Omega t)");
-      bad |= put(g, "b", vi_model_forcing_sin(m), n, 0, "forcing b sin(Omega t)");
+      bad |=
+          put(g, "w", vi_model_stop_vector(m), n, 0, "stop vector: w.x <= x_s");
+      bad |=
+          put(g, "a", vi_model_forcing_cos(m), n, 0, "forcing a cos(Omega t)");
+      bad |=
+          put(g, "b", vi_model_forcing_sin(m), n, 0, "forcing b sin(Omega t)");
       bad |= put(g, "f0", vi_model_forcing_const(m), n, 0, "constant load");
-      v = vi_model_clearance(m); bad |= attr_num(g, "x_s", &v, 1);
-      v = vi_model_restitution(m); bad |= attr_num(g, "r", &v, 1);
-      v = vi_model_omega_forcing(m); bad |= attr_num(g, "Omega", &v, 1);
+      v = vi_model_clearance(m);
+      bad |= attr_num(g, "x_s", &v, 1);
+      v = vi_model_restitution(m);
+      bad |= attr_num(g, "r", &v, 1);
+      v = vi_model_omega_forcing(m);
+      bad |= attr_num(g, "Omega", &v, 1);
       H5Gclose(g);
     }
     /* the modes only when the scene asks for them (always without a scene) */
-    g = scene && !vi_scene_wants(scene, "modes") ? 0
-        : H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    g = scene && !vi_scene_wants(scene, "modes")
+            ? 0
+            : H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT);
     bad |= g < 0;
     if (g > 0) {
-      bad |= put(g, "omega", vi_model_omega(m), n, 0, "natural frequencies, ascending");
-      bad |= put(g, "zeta", vi_model_zeta(m), n, 0, "modal damping ratios D_jj/(2 omega_j)");
-      bad |= put(g, "Psi", vi_model_modal_shapes(m, &ld), n, n, "mass-normalised modes, column j = mode j");
+      bad |= put(g, "omega", vi_model_omega(m), n, 0,
+                 "natural frequencies, ascending");
+      bad |= put(g, "zeta", vi_model_zeta(m), n, 0,
+                 "modal damping ratios D_jj/(2 omega_j)");
+      bad |= put(g, "Psi", vi_model_modal_shapes(m, &ld), n, n,
+                 "mass-normalised modes, column j = mode j");
       bad |= put(g, "D", vi_model_modal_damping(m, &ld), n, n, "Psi^T C Psi");
-      bad |= put(g, "psi", vi_model_modal_stop(m), n, 0, "modal impact vector Psi^T w");
+      bad |= put(g, "psi", vi_model_modal_stop(m), n, 0,
+                 "modal impact vector Psi^T w");
       bad |= attr_int(g, "proportional", vi_model_is_proportional(m));
       H5Gclose(g);
     }
-  } H5E_END_TRY;
-  return bad ? werr(w, VI_ERR_IO, "cannot write the header of %s", w->part) : VI_OK;
+  }
+  H5E_END_TRY;
+  return bad ? werr(w, VI_ERR_IO, "cannot write the header of %s", w->part)
+             : VI_OK;
 }
 
 int vi_writer_event(vi_writer *w, const vi_event *ev)
 {
   if (!w || !ev) return VI_ERR_ARG;
   double kind = ev->kind;
-  const double *vals[7] = {&ev->t, &kind, &ev->vn, &ev->ie, ev->x, ev->v_minus, ev->v_plus};
+  const double *vals[7] = {&ev->t, &kind,       &ev->vn,   &ev->ie,
+                           ev->x,  ev->v_minus, ev->v_plus};
   int st;
-  H5E_BEGIN_TRY { st = table_row(w, &w->imp, vals); } H5E_END_TRY;
+  H5E_BEGIN_TRY { st = table_row(w, &w->imp, vals); }
+  H5E_END_TRY;
   return st;
 }
 
@@ -349,7 +390,8 @@ int vi_writer_sample(vi_writer *w, double t, const double *x, const double *v)
   vi_model_to_modal(w->m, v, w->qd);
   const double *vals[5] = {&t, x, v, w->q, w->qd};
   int st;
-  H5E_BEGIN_TRY { st = table_row(w, &w->traj, vals); } H5E_END_TRY;
+  H5E_BEGIN_TRY { st = table_row(w, &w->traj, vals); }
+  H5E_END_TRY;
   return st;
 }
 
@@ -359,30 +401,35 @@ int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv)
   double imp = iv->dE ? 1.0 : 0.0;
   const double *dE = iv->dE ? iv->dE : w->q; /* zeros when no jump */
   if (!iv->dE) memset(w->q, 0, sizeof(double) * w->n);
-  const double *vals[12] = {&iv->t_a, &iv->t_b, iv->Ea, iv->Eb, iv->FE, iv->DE,
-                            iv->XE, iv->CE, dE, &iv->ie, &iv->residual, &imp};
+  const double *vals[12] = {&iv->t_a, &iv->t_b, iv->Ea,        iv->Eb,
+                            iv->FE,   iv->DE,   iv->XE,        iv->CE,
+                            dE,       &iv->ie,  &iv->residual, &imp};
   int st;
-  H5E_BEGIN_TRY { st = table_row(w, &w->led, vals); } H5E_END_TRY;
+  H5E_BEGIN_TRY { st = table_row(w, &w->led, vals); }
+  H5E_END_TRY;
   return st;
 }
 
 long vi_writer_rows(const vi_writer *w, const char *what)
 {
   if (!w || !what) return -1;
-  const table *t = !strcmp(what, "impacts") ? &w->imp
-                 : !strcmp(what, "trajectory") ? &w->traj
-                 : !strcmp(what, "ledger") ? &w->led : NULL;
+  const table *t = !strcmp(what, "impacts")      ? &w->imp
+                   : !strcmp(what, "trajectory") ? &w->traj
+                   : !strcmp(what, "ledger")     ? &w->led
+                                                 : NULL;
   return t ? (long)(t->rows + t->used) : -1;
 }
 
 static void close_all(vi_writer *w)
 {
-  H5E_BEGIN_TRY {
+  H5E_BEGIN_TRY
+  {
     table_close(&w->imp);
     table_close(&w->traj);
     table_close(&w->led);
     if (w->file > 0) H5Fclose(w->file);
-  } H5E_END_TRY;
+  }
+  H5E_END_TRY;
   w->file = 0;
 }
 
@@ -399,7 +446,8 @@ int vi_writer_close(vi_writer **wp, int complete)
   if (!wp || !*wp) return VI_ERR_ARG;
   vi_writer *w = *wp;
   int st = VI_OK;
-  H5E_BEGIN_TRY {
+  H5E_BEGIN_TRY
+  {
     if ((st = table_flush(w, &w->imp)) == VI_OK &&
         (st = table_flush(w, &w->traj)) == VI_OK)
       st = table_flush(w, &w->led);
@@ -412,7 +460,8 @@ int vi_writer_close(vi_writer **wp, int complete)
       if (st == VI_OK && H5Fflush(w->file, H5F_SCOPE_GLOBAL) < 0)
         st = werr(w, VI_ERR_IO, "cannot flush %s (disk full?)", w->part);
     }
-  } H5E_END_TRY;
+  }
+  H5E_END_TRY;
   close_all(w);
   if (st == VI_OK && rename(w->part, w->path) != 0)
     st = werr(w, VI_ERR_IO, "cannot rename %s to %s: %s", w->part, w->path,
