@@ -24,6 +24,8 @@ struct vi_orbit {
   /* impact ring: t, then x, v per impact */
   int64_t nimp;
   double *rt, *rz;
+  /* states at the last 3 MAX_N + 1 forcing-period ends (stroboscopic) */
+  double *pz;
   /* P(1,1) results */
   double t_s, t_imp, vN, KEi, RE, IE, r_rec, closure, gmin;
   double *zfix, *x_imp, *v_imp, *vp_imp, *FE, *DE, *XE, *reff, *mre, *mim;
@@ -46,7 +48,9 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->block = calloc(23 * (size_t)n, sizeof(double));
   o->rt = malloc(sizeof(double) * RING);
   o->rz = malloc(sizeof(double) * RING * 2 * (size_t)n);
-  if (!o->block || !o->rt || !o->rz || vi_sim_create(model, &o->sim)) {
+  o->pz = malloc(sizeof(double) * (3 * MAX_N + 1) * 2 * (size_t)n);
+  if (!o->block || !o->rt || !o->rz || !o->pz ||
+      vi_sim_create(model, &o->sim)) {
     vi_orbit_destroy(&o);
     return VI_ERR_NOMEM;
   }
@@ -90,6 +94,7 @@ void vi_orbit_destroy(vi_orbit **orbit)
   free(o->block);
   free(o->rt);
   free(o->rz);
+  free(o->pz);
   free(o);
   *orbit = NULL;
 }
@@ -159,11 +164,25 @@ static int64_t first_after(const vi_orbit *o, double t)
   return k;
 }
 
-/* Do the impacts of the last three windows of n periods ending at t_now
- * repeat, shifted by n T, to the tolerance? */
-static int repeats(const vi_orbit *o, double t_now, int n, int *m)
+/* Stroboscopic state at the end of forcing period k (kept for the last
+ * 3 MAX_N + 1 periods). */
+static double *strobe(const vi_orbit *o, int64_t k)
 {
-  double nT = n * o->T;
+  return o->pz + (size_t)(k % (3 * MAX_N + 1)) * 2 * o->n;
+}
+
+/* Period n needs the states at the ends of periods k, k - n, k - 2n, k - 3n
+ * to agree (a run of impact-free periods is not yet periodic: the motion
+ * may still be creeping towards the stop), and the impacts of the three
+ * windows between them to repeat, shifted by n T. */
+static int repeats(const vi_orbit *o, int64_t kp, int n, int *m)
+{
+  double nT = n * o->T, t_now = kp * o->T, zscale = fabs(o->m->xs);
+  const double *zk = strobe(o, kp);
+  for (int i = 0; i < 2 * o->n; i++) zscale = fmax(zscale, fabs(zk[i]));
+  for (int j = 1; j <= 3; j++)
+    for (int i = 0; i < 2 * o->n; i++)
+      if (fabs(strobe(o, kp - j * n)[i] - zk[i]) > o->tol * zscale) return 0;
   int64_t k0 = first_after(o, t_now - 3 * nT), k1 = first_after(o, t_now - 2 * nT),
           k2 = first_after(o, t_now - nT), k3 = o->nimp;
   if (k0 <= o->nimp - RING) return 0; /* the ring no longer holds them */
@@ -376,9 +395,11 @@ int vi_orbit_find(vi_orbit *o)
     if ((st = vi_sim_run(o->sim, k * o->T)))
       return vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "transient: %s",
                      vi_sim_errmsg(o->sim));
+    double *z = strobe(o, k);
+    vi_sim_get_state(o->sim, NULL, z, z + n);
     for (int p = 1; p <= MAX_N && k >= 3 * p + 16; p++) {
       int mm;
-      if (repeats(o, k * o->T, p, &mm)) {
+      if (repeats(o, k, p, &mm)) {
         o->pn = p;
         o->pm = mm;
         break;
