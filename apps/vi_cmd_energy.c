@@ -33,6 +33,33 @@ static int reduced_check(const vi_model *m, int k, double rS, double *vN,
   return !ok;
 }
 
+static int on_monitor(const vi_progress *p, void *user)
+{
+  (void)p;
+  (void)user;
+  return vi_app_interrupted;
+}
+
+/* The analysis to OUT.h5 (/model, /modal, /orbits); no file on failure. */
+static int write_orbit(const app_opts *o, const vi_scene *sc, const vi_model *m,
+                       const vi_orbit *orb)
+{
+  vi_writer *w = NULL;
+  vi_diag d;
+  if (vi_writer_create(o->out, m, 0, &w, &d)) {
+    fprintf(stderr, "vibroimpact: %s\n", d.message);
+    return 1;
+  }
+  if (vi_writer_write_header(w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
+                             vi_scene_method(sc)) ||
+      vi_writer_orbit(w, orb) || vi_writer_close(&w, 1)) {
+    fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(w));
+    vi_writer_abort(&w);
+    return 1;
+  }
+  return 0;
+}
+
 int vi_cmd_energy(const app_opts *o)
 {
   vi_scene *sc = NULL;
@@ -59,11 +86,17 @@ int vi_cmd_energy(const app_opts *o)
        (st = vi_orbit_set_tolerances(
             orb, o->rtol, o->atol > 0 ? o->atol : o->rtol * 1e-2))) ||
       (st = vi_orbit_set_initial(orb, NULL, NULL)) ||
+      (st = vi_orbit_set_monitor(orb, on_monitor, NULL)) ||
       (st = vi_orbit_find(orb))) {
-    fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st),
-            vi_orbit_errmsg(orb));
+    if (st == VI_STOPPED || vi_app_interrupted)
+      fprintf(stderr, "vibroimpact: energy: interrupted\n");
+    else
+      fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st),
+              vi_orbit_errmsg(orb));
     goto done;
   }
+  /* the file holds what was found, P(1,1) or not */
+  if (o->out && write_orbit(o, sc, m, orb)) goto done;
   int pn, pm;
   vi_orbit_classify(orb, &pn, &pm);
   if (pn != 1 || pm != 1) {

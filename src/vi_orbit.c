@@ -132,6 +132,13 @@ int vi_orbit_set_initial(vi_orbit *o, const double *x0, const double *v0)
   return VI_OK;
 }
 
+int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user)
+{
+  if (!o) return VI_ERR_ARG;
+  int st = vi_sim_set_monitor(o->sim, fn, user, o->T);
+  return st ? vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim)) : VI_OK;
+}
+
 int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol)
 {
   if (!o) return VI_ERR_ARG;
@@ -392,9 +399,11 @@ int vi_orbit_find(vi_orbit *o)
     return vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim));
   int64_t kmax = (int64_t)o->max_periods;
   for (int64_t k = 1; k <= kmax && !o->pn; k++) {
-    if ((st = vi_sim_run(o->sim, k * o->T)))
-      return vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "transient: %s",
-                     vi_sim_errmsg(o->sim));
+    if ((st = vi_sim_run(o->sim, k * o->T)) == VI_STOPPED)
+      return vi_fail(o->errmsg, st, "stopped by the monitor at t = %g",
+                     k * o->T);
+    if (st)
+      return vi_fail(o->errmsg, st, "transient: %s", vi_sim_errmsg(o->sim));
     double *z = strobe(o, k);
     vi_sim_get_state(o->sim, NULL, z, z + n);
     for (int p = 1; p <= MAX_N && k >= 3 * p + 16; p++) {

@@ -117,6 +117,28 @@ static void test_outputs(void **state)
   assert_close(atof(p + 15), 0.7, 1e-10);
   assert_non_null(strstr(js, "\"modes\": [{\"omega\": "));
   assert_non_null(strstr(js, "\"reduced\": [{\"modes\": 1, \"r_S\": "));
+  /* the same analysis into HDF5: /orbits/P1_1 */
+  char h5[256];
+  snprintf(h5, sizeof h5, "%s/energy.h5", dir);
+  char *a5[] = {(char *)app, "energy", "-o", h5, NULL};
+  assert_int_equal(run_app(a5, out, err), 0);
+  hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t g = H5Gopen2(f, "orbits/P1_1", H5P_DEFAULT);
+  assert_true(g >= 0);
+  double r = 0, rS[2] = {0, 0};
+  hid_t at = H5Aopen(g, "r_recovered", H5P_DEFAULT);
+  H5Aread(at, H5T_NATIVE_DOUBLE, &r);
+  H5Aclose(at);
+  hid_t d = H5Dopen2(g, "r_S", H5P_DEFAULT);
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rS);
+  H5Dclose(d);
+  H5Gclose(g);
+  H5Fclose(f);
+  assert_close(r, 0.7, 1e-10);
+  assert_close(rS[1], 0.7, 1e-10); /* both modes kept: r itself */
+  assert_true(rS[0] > 0.2 && rS[0] < 0.5);
+  remove(h5);
   remove(out);
   remove(err);
 }

@@ -16,6 +16,7 @@
 
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_model.h"
+#include "vibroimpact/vi_sim.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -48,10 +49,14 @@ VI_API int vi_orbit_set_initial(vi_orbit *o, const double *x0,
  * motion counts as periodic when impact states repeat to tol (relative,
  * default 1e-6) over 3 consecutive orbit periods. */
 VI_API int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol);
+/** Monitor of the transient run, called once per forcing period (see
+ *  vi_sim_set_monitor); a non-zero return stops vi_orbit_find with
+ *  VI_STOPPED.  fn NULL removes it.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user);
 
 /** Run, classify, and for P(1,1) refine and analyse.  VI_OK whatever the
- * motion turns out to be: ask vi_orbit_classify.  A negative code means the
- * computation itself failed. */
+ * motion turns out to be: ask vi_orbit_classify.  VI_STOPPED if the monitor
+ * asked to stop; a negative code means the computation itself failed. */
 VI_API int vi_orbit_find(vi_orbit *o);
 /** *n periods of forcing, *m impacts per orbit period; n = 0 when no period
  * up to 8 was found within the transient (m is then the mean number of

@@ -14,6 +14,7 @@
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_ledger.h"
 #include "vibroimpact/vi_model.h"
+#include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_sim.h"
 
@@ -42,6 +43,12 @@ VI_API int vi_writer_sample(vi_writer *w, double t, const double *x,
                             const double *v);
 /** Append one ledger interval to /ledger.  @return VI_OK, VI_ERR_IO. */
 VI_API int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv);
+/** Write the analysis of a found orbit: group /orbits with its class
+ *  (attributes period_n, impacts_m) and, for P(1,1), /orbits/P1_1 with the
+ *  balance of WB 11-13 as attributes, the impact state, Floquet multipliers,
+ *  per-mode FE, DE, XE, r_eff and the reduced-model r_S of the first 1..4
+ *  modes (NaN where none exists).  @return VI_OK, VI_ERR_IO. */
+VI_API int vi_writer_orbit(vi_writer *w, const vi_orbit *orbit);
 /** Rows written so far to "impacts", "trajectory" or "ledger" (-1 for
  *  another name). */
 VI_API long vi_writer_rows(const vi_writer *w, const char *what);

@@ -2,6 +2,7 @@
  * Every HDF5 call runs inside H5E_BEGIN_TRY so that HDF5 prints nothing;
  * failures become our status codes and messages. */
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -408,6 +409,56 @@ int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv)
   H5E_BEGIN_TRY { st = table_row(w, &w->led, vals); }
   H5E_END_TRY;
   return st;
+}
+
+int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
+{
+  if (!w || !o) return VI_ERR_ARG;
+  int n = w->n, pn, pm, bad = 0;
+  vi_orbit_classify(o, &pn, &pm);
+  double *buf = calloc(10 * (size_t)n + 8, sizeof(double));
+  if (!buf) return werr(w, VI_ERR_NOMEM, "out of memory");
+  H5E_BEGIN_TRY {
+    hid_t g = H5Gcreate2(w->file, "orbits", H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT);
+    bad |= g < 0 || attr_int(g, "period_n", pn) || attr_int(g, "impacts_m", pm);
+    double v[9];
+    if (g >= 0 && !vi_orbit_balance(o, &v[0], &v[1], &v[2], &v[3], &v[4],
+                                    &v[5], &v[6], &v[7])) {
+      static const char *names[8] = {"period", "impact_phase", "vN", "KE_i",
+                                     "RE", "IE", "r_recovered", "closure"};
+      hid_t p = H5Gcreate2(g, "P1_1", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      bad |= p < 0;
+      for (int k = 0; k < 8 && p >= 0; k++) bad |= attr_num(p, names[k], &v[k], 1);
+      double *x = buf, *vel = x + n, *re = vel + n, *im = re + 2 * n;
+      double *FE = im + 2 * n, *DE = FE + n, *XE = DE + n, *reff = XE + n;
+      double *rS = reff + n, gmin, t;
+      const int modes[4] = {0, 1, 2, 3};
+      vi_orbit_impact_state(o, &t, x, vel);
+      vi_orbit_multipliers(o, re, im);
+      vi_orbit_modal_balance(o, FE, DE, XE, reff);
+      vi_orbit_min_gap(o, &gmin);
+      int kmax = n < 4 ? n : 4;
+      for (int k = 1; k <= kmax; k++)
+        if (vi_orbit_reduced_restitution(o, modes, k, &rS[k - 1])) rS[k - 1] = NAN;
+      if (p >= 0) {
+        bad |= attr_num(p, "t_impact", &t, 1) || attr_num(p, "min_gap", &gmin, 1);
+        bad |= put(p, "x_impact", x, n, 0, "positions at the impact");
+        bad |= put(p, "v_impact", vel, n, 0, "velocities just before it");
+        bad |= put(p, "multipliers_re", re, 2 * n, 0, "Floquet multipliers, real parts");
+        bad |= put(p, "multipliers_im", im, 2 * n, 0, "Floquet multipliers, imaginary parts");
+        bad |= put(p, "FE", FE, n, 0, "forcing work per mode over one period");
+        bad |= put(p, "DE", DE, n, 0, "damping loss per mode over one period");
+        bad |= put(p, "XE", XE, n, 0, "damping coupling per mode over one period");
+        bad |= put(p, "r_eff", reff, n, 0, "-q_j'(+) / q_j'(-) at the impact");
+        bad |= put(p, "r_S", rS, kmax, 0, "restitution of the reduced model with the first 1, 2, ... modes");
+        H5Gclose(p);
+      }
+    }
+    if (g >= 0) H5Gclose(g);
+  } H5E_END_TRY;
+  free(buf);
+  return bad ? werr(w, VI_ERR_IO, "cannot write /orbits to %s", w->part) : VI_OK;
 }
 
 long vi_writer_rows(const vi_writer *w, const char *what)
