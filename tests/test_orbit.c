@@ -7,6 +7,19 @@
 
 #include "vi_testutil.h"
 
+/* An orbit of m found with the default settings, asserted to be P(n, mm). */
+static vi_orbit *found(const vi_model *m, int n, int mm)
+{
+  vi_orbit *o = NULL;
+  int pn, pm;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  vi_orbit_classify(o, &pn, &pm);
+  assert_int_equal(pn, n);
+  assert_int_equal(pm, mm);
+  return o;
+}
+
 /* Fig. 2: a stable P(1,1) orbit; the ledger over one period closes eq. 11
  * and eq. 12 gives back the model's r. */
 static void check_fig2(int method, double rtol, double tol_r)
@@ -66,11 +79,7 @@ static void test_reduced_all_modes_same_orbit(void **state)
   vi_model *m = vi_test_fig2(), *red = NULL;
   const int all[2] = {0, 1};
   assert_int_equal(vi_model_create_reduced(m, all, 2, 0.7, &red), VI_OK);
-  vi_orbit *o = NULL, *or_ = NULL;
-  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
-  assert_int_equal(vi_orbit_create(red, &or_), VI_OK);
-  assert_int_equal(vi_orbit_find(o), VI_OK);
-  assert_int_equal(vi_orbit_find(or_), VI_OK);
+  vi_orbit *o = found(m, 1, 1), *or_ = found(red, 1, 1);
   double v1, v2, p1, p2;
   assert_int_equal(vi_orbit_balance(o, NULL, &p1, &v1, NULL, NULL, NULL, NULL, NULL), VI_OK);
   assert_int_equal(vi_orbit_balance(or_, NULL, &p2, &v2, NULL, NULL, NULL, NULL, NULL), VI_OK);
@@ -88,13 +97,7 @@ static void test_not_p11_reported(void **state)
   /* the stop out of reach: periodic without impacts, P(1,0) */
   const double a[2] = {0.5, 0.0};
   vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.1, 10.0, 0.7, 0.9, a);
-  vi_orbit *o = NULL;
-  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
-  assert_int_equal(vi_orbit_find(o), VI_OK);
-  int pn, pm;
-  vi_orbit_classify(o, &pn, &pm);
-  assert_int_equal(pn, 1);
-  assert_int_equal(pm, 0);
+  vi_orbit *o = found(m, 1, 0);
   assert_int_equal(vi_orbit_balance(o, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL),
                    VI_ERR_STATE);
   vi_orbit_destroy(&o);
@@ -154,13 +157,7 @@ static void test_beam_reduced_restitution(void **state)
   for (int j = 0; j < 4; j++) a[j] = -0.01 * g[j];
   vi_model *m = vi_test_model(4, M, C, K, 0.85, a, NULL, w, 0.05, 0.75);
   assert_close(vi_model_stop_compliance(m), 16.0, 1e-9); /* 4 tip values of 2 */
-  vi_orbit *o = NULL;
-  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
-  assert_int_equal(vi_orbit_find(o), VI_OK);
-  int pn, pm;
-  vi_orbit_classify(o, &pn, &pm);
-  assert_int_equal(pn, 1);
-  assert_int_equal(pm, 1);
+  vi_orbit *o = found(m, 1, 1);
   double rr, cl, r1;
   const int first[1] = {0}, all[4] = {0, 1, 2, 3};
   assert_int_equal(vi_orbit_balance(o, NULL, NULL, NULL, NULL, NULL, NULL, &rr, &cl), VI_OK);
