@@ -168,6 +168,9 @@ int vi_cmd_run(const app_opts *o)
     goto done;
   }
   int complete = st == VI_OK;
+  long rows[3] = {0, 0, 0};
+  static const char *tables[3] = {"impacts", "trajectory", "ledger"};
+  for (int k = 0; k < 3 && c.w; k++) rows[k] = vi_writer_rows(c.w, tables[k]);
   if (c.w && vi_writer_close(&c.w, complete)) {
     fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(c.w));
     goto done;
@@ -216,7 +219,9 @@ int vi_cmd_run(const app_opts *o)
     fprintf(f, "  cost      %lld steps, %lld RHS evaluations, %.3f ms\n",
             (long long)vi_sim_get_stat(s, VI_STAT_STEPS),
             (long long)vi_sim_get_stat(s, VI_STAT_RHS_EVALS), 1e3 * wall);
-    if (o->out) fprintf(f, "  output    %s\n", o->out);
+    if (o->out)
+      fprintf(f, "  output    %s: %ld events, %ld samples, %ld ledger rows\n",
+              o->out, rows[0], rows[1], rows[2]);
   }
   rc = 0;
 done:

@@ -510,11 +510,10 @@ int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes, int k,
   const vi_model *m = o->m;
   int n = o->n;
   double pq = 0.0, pp = 0.0, re = 0.0;
+  *r_S = NAN;
   for (int a = 0; a < k; a++) {
     int j = modes[a];
-    if (j < 0 || j >= n)
-      return vi_fail(((vi_orbit *)o)->errmsg, VI_ERR_ARG,
-                     "mode index %d outside 0..%d", j, n - 1);
+    if (j < 0 || j >= n) return VI_ERR_ARG; /* a getter: o stays const */
     double qd = 0.0;
     for (int i = 0; i < n; i++) qd += m->PsiTM[j + (size_t)i * n] * o->v_imp[i];
     pq += m->psi[j] * qd;
@@ -522,7 +521,6 @@ int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes, int k,
     re += o->FE[j] - o->DE[j] - o->XE[j];
   }
   double ke = 0.5 * pq * pq / pp; /* KE_S */
-  *r_S = NAN;
   if (!(pp > 0.0) || !(re >= 0.0) || re > ke) return VI_ERR_ARG;
   *r_S = sqrt(1.0 - re / ke);
   return VI_OK;

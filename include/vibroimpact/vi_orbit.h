@@ -85,7 +85,8 @@ VI_API int vi_orbit_min_gap(const vi_orbit *o, double *gmin);
 /** Equivalent restitution of a reduced model keeping the modes modes[0..k)
  * (0-based, ascending omega): r_S = sqrt(1 - RE_S / KE_S) with
  * KE_S = 1/2 (psi_S.q_S'(t-))^2 / psi_S.psi_S and RE_S the modes' residual
- * energy.  VI_ERR_ARG if RE_S is outside [0, KE_S] (no real r_S). */
+ * energy.  VI_ERR_ARG (and *r_S = NaN) if a mode index is outside 0..n-1
+ * or RE_S is outside [0, KE_S] (no real r_S). */
 VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
                                         int k, double *r_S);
 
