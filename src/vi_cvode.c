@@ -354,4 +354,4 @@ static int cv_dense(vi_sim *s, double t)
 }
 
 const vi_backend vi_backend_cvode = {"cvode", cv_start, cv_step, cv_dense,
-                                     cv_stat, cv_destroy};
+                                     cv_stat, cv_destroy, NULL};

@@ -1,10 +1,13 @@
 /* vi_sim.c - the event-driven simulation: impacts, sticking, samples,
  * monitors and callbacks, over an integrator backend. */
 #include <float.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "vi_sim_internal.h"
+
+static void note_method(vi_sim *s);
 
 int vi_sim_create(const vi_model *model, vi_sim **out)
 {
@@ -31,6 +34,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->n = n;
   s->method = VI_METHOD_ADAMS;
   s->be = &vi_backend_cvode;
+  note_method(s);
   s->rtol = 1e-8;
   s->atol = 1e-10;
   s->vchat = 1e-7;
@@ -42,9 +46,57 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   return VI_OK;
 }
 
-static const vi_backend *method_backend(int method)
+static const char *const method_names[VI_METHOD_COUNT] = {
+    "adams", "bdf", "exact", "auto", "erk"};
+
+const char *vi_method_name(int method)
 {
-  return method == VI_METHOD_EXACT ? &vi_backend_exact : &vi_backend_cvode;
+  return method >= 0 && method < VI_METHOD_COUNT ? method_names[method] : NULL;
+}
+
+int vi_method_from_name(const char *name)
+{
+  for (int k = 0; name && k < VI_METHOD_COUNT; k++)
+    if (!strcmp(name, method_names[k])) return k;
+  return -1;
+}
+
+const char *vi_stat_name(int which)
+{
+  static const char *const names[VI_STAT_COUNT] = {
+      "steps", "rhs_evals", "jac_evals", "root_evals", "impacts", "sticks",
+      "graze_checks", "reinits", "handovers", "chatter_skipped", "floors",
+      "polishes"};
+  return which >= 0 && which < VI_STAT_COUNT ? names[which] : NULL;
+}
+
+/* The closed form runs where it applies; after a hand-over (it lost its
+ * conditioning) the rest of the simulation stays on CVODE. */
+static int uses_exact(const vi_sim *s)
+{
+  return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
+         s->m->flow_ok && !s->handed_over;
+}
+
+static const vi_backend *method_backend(const vi_sim *s)
+{
+  return uses_exact(s) ? &vi_backend_exact : &vi_backend_cvode;
+}
+
+static void note_method(vi_sim *s)
+{
+  s->method_used = uses_exact(s)                  ? VI_METHOD_EXACT
+                   : s->method == VI_METHOD_BDF   ? VI_METHOD_BDF
+                                                  : VI_METHOD_ADAMS;
+  if (s->handed_over) return; /* the hand-over wrote its own note */
+  if (s->method == VI_METHOD_AUTO)
+    snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
+             method_names[s->method_used],
+             s->m->flow_ok ? "closed-form flow available"
+                           : s->m->flow_why);
+  else
+    snprintf(s->method_note, sizeof s->method_note, "%s",
+             method_names[s->method_used]);
 }
 
 static void backend_destroy(vi_sim *s)
@@ -58,7 +110,7 @@ static void backend_destroy(vi_sim *s)
     s->park_be = NULL;
     s->park_data = NULL;
   }
-  s->be = method_backend(s->method);
+  s->be = method_backend(s);
   s->started = 0;
 }
 
@@ -94,14 +146,18 @@ const char *vi_sim_errmsg(const vi_sim *s) { return s ? s->errmsg : ""; }
 int vi_sim_set_method(vi_sim *s, int method)
 {
   if (!s) return VI_ERR_ARG;
-  if (method != VI_METHOD_ADAMS && method != VI_METHOD_BDF &&
-      method != VI_METHOD_EXACT)
+  if (!vi_method_name(method))
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
   if (method == VI_METHOD_EXACT && !s->m->flow_ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->m->flow_why);
+  if (method == VI_METHOD_ERK)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
+                   "method erk is not built into this library");
   s->method = method;
+  s->handed_over = 0;
   backend_destroy(s);
+  note_method(s);
   return VI_OK;
 }
 
@@ -188,6 +244,33 @@ int vi_sim_set_native_vector_ops(vi_sim *s, int on)
   s->fast_nvector = on;
   backend_destroy(s);
   return VI_OK;
+}
+
+int vi_sim_set_cancel(vi_sim *s, vi_cancel_fn fn, void *user)
+{
+  if (!s) return VI_ERR_ARG;
+  s->cancel_fn = fn;
+  s->cancel_user = user;
+  return VI_OK;
+}
+
+int vi_sim_set_floors(vi_sim *s, double vn_min, double dt_min)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!(vn_min >= 0.0) || !isfinite(vn_min) || !(dt_min >= 0.0) ||
+      !isfinite(dt_min))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "floors v_n = %g, dt = %g must be "
+                   "finite and >= 0", vn_min, dt_min);
+  s->vn_floor = vn_min;
+  s->dt_floor = dt_min;
+  return VI_OK;
+}
+
+int vi_sim_method_used(const vi_sim *s) { return s ? s->method_used : -1; }
+
+const char *vi_sim_method_note(const vi_sim *s)
+{
+  return s ? s->method_note : "";
 }
 
 int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user)
@@ -353,7 +436,7 @@ static int on_release(vi_sim *s)
   s->sticking = 0;
   emit(s, VI_EVENT_RELEASE, 0.0, 0.0);
   s->stats[VI_STAT_REINITS]++;
-  use_backend(s, method_backend(s->method));
+  use_backend(s, method_backend(s));
   return s->be->start(s);
 }
 
@@ -402,6 +485,53 @@ static void monitor(vi_sim *s)
   while (s->mon_next <= s->t) s->mon_next += s->mon_every;
 }
 
+/* The closed form lost its conditioning at s->t: go on with CVODE (Adams,
+ * or BDF if that was asked for) for the rest of the simulation. */
+static int hand_over(vi_sim *s)
+{
+  int st = vi_sim_sync(s);
+  if (st) return st;
+  s->stats[VI_STAT_HANDOVERS]++;
+  s->handed_over = 1;
+  s->method_used = VI_METHOD_ADAMS;
+  snprintf(s->method_note, sizeof s->method_note,
+           "exact until t = %.9g, then adams: %.400s", s->t, s->handover_why);
+  use_backend(s, &vi_backend_cvode);
+  return s->be->start(s);
+}
+
+/* Invariants a step must keep, checked cheaply after every step: finite
+ * values and no penetration of the stop beyond the integration tolerance.
+ * Written so that a NaN fails every test. */
+static int check_invariants(vi_sim *s)
+{
+  double g = s->gap, gd = 0.0;
+  if (!s->be->sync) vi_sim_gap(s, s->z, &g, &gd);
+  if (!isfinite(g) || !isfinite(s->t))
+    return vi_fail(s->errmsg, VI_ERR_INVARIANT,
+                   "state not finite at t = %.17g (%s method): w.x - x_s = %g",
+                   s->t, method_names[s->method_used], g);
+  double tol = 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
+               1e-12 * fabs(s->m->xs);
+  if (!(g <= tol))
+    return vi_fail(s->errmsg, VI_ERR_INVARIANT,
+                   "state beyond the stop at t = %.17g (%s method): w.x - x_s "
+                   "= %.3g exceeds the tolerance %.3g", s->t,
+                   method_names[s->method_used], g, tol);
+  return VI_OK;
+}
+
+static int check_finite_state(vi_sim *s)
+{
+  for (int i = 0; i < 2 * s->n; i++)
+    if (!isfinite(s->z[i]))
+      return vi_fail(s->errmsg, VI_ERR_INVARIANT,
+                     "%s(%d) = %g is not finite at t = %.17g (%s method)",
+                     i % 2 ? "v" : "x", i / 2 + 1, s->z[i], s->t,
+                     method_names[s->method_used]);
+  return VI_OK;
+}
+
 int vi_sim_run(vi_sim *s, double t_end)
 {
   if (!s) return VI_ERR_ARG;
@@ -409,30 +539,52 @@ int vi_sim_run(vi_sim *s, double t_end)
     return vi_fail(s->errmsg, VI_ERR_TIME,
                    "end time %.17g is not after the current time %.17g", t_end,
                    s->t);
-  int st = VI_OK;
+  int st = VI_OK, cancelled = 0;
   s->t_end = t_end;
   s->run_t0 = s->t;
   s->stop = 0;
   if (s->smp_fn && s->smp_k == 0) s->smp_t0 = s->t;
   if (!s->started) {
-    use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s->method));
+    note_method(s);
+    use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
     if ((st = s->be->start(s))) return st;
     s->started = 1;
     if (s->smp_fn && (st = samples(s, s->t))) return st;
     if (initial_contact(s) && (st = on_contact(s))) return st;
   }
   while (s->t < t_end && !s->stop) {
+    if (vi_sim_cancelled(s)) {
+      cancelled = 1;
+      break;
+    }
     int event = VI_STEP_NONE;
-    if ((st = s->be->step(s, t_end, &event))) return st;
+    if ((st = s->be->step(s, t_end, &event))) {
+      if (st == VI_CANCELLED) {
+        cancelled = 1;
+        break;
+      }
+      return st;
+    }
+    if (event == VI_STEP_HANDOVER) {
+      if ((st = hand_over(s))) return st;
+      continue;
+    }
     if (s->smp_fn && (st = samples(s, s->t))) return st;
+    if (event != VI_STEP_NONE && (st = vi_sim_sync(s))) return st;
     if (event == VI_STEP_CONTACT) st = on_contact(s);
     else if (event == VI_STEP_RELEASE) st = on_release(s);
     if (st) return st;
+    if ((st = check_invariants(s))) return st;
     monitor(s);
   }
+  if ((st = vi_sim_sync(s)) || (st = check_finite_state(s))) return st;
   if (s->ledger_on && s->t > s->led_ta) {
     vi_ledger_pre_jump(s);
     vi_ledger_close(s, 0, 0.0);
+  }
+  if (cancelled) {
+    vi_fail(s->errmsg, VI_CANCELLED, "cancelled at t = %.17g", s->t);
+    return VI_CANCELLED;
   }
   return s->stop ? VI_STOPPED : VI_OK;
 }

@@ -8,8 +8,12 @@
 
 #include "vi_internal.h"
 
-/* What a backend step ended on. */
-enum { VI_STEP_NONE = 0, VI_STEP_CONTACT = 1, VI_STEP_RELEASE = 2 };
+/* What a backend step ended on.  HANDOVER: the backend cannot go on
+ * accurately from s->t (the closed form lost its conditioning); s->t and the
+ * state are those of the last good point, s->handover_why says why, and the
+ * driver continues on CVODE. */
+enum { VI_STEP_NONE = 0, VI_STEP_CONTACT = 1, VI_STEP_RELEASE = 2,
+       VI_STEP_HANDOVER = 3 };
 
 /* An integrator, chosen by pointer like gsl_odeiv2_step_type.  The state is
  * interleaved, z = (x_1, v_1, x_2, v_2, ...), so that a chain's Jacobian is
@@ -21,6 +25,10 @@ typedef struct vi_backend {
   int (*dense)(vi_sim *s, double t); /* state at t in the last step -> s->zs */
   int64_t (*stat)(const void *data, int which); /* counters of be_data */
   void (*destroy)(vi_sim *s);
+  /* Make s->z the state at s->t.  NULL: step() always keeps s->z current.
+   * A backend that builds physical states lazily sets s->z_stale after a
+   * step; the driver calls vi_sim_sync() before it reads s->z. */
+  int (*sync)(vi_sim *s);
 } vi_backend;
 
 extern const vi_backend vi_backend_cvode;
@@ -35,7 +43,15 @@ struct vi_sim {
   int fast_nvector; /* our vector ops instead of Debian's -O0 ones */
 
   double t, *z;   /* current time and state [2n] */
+  int z_stale;    /* s->z lags s->t: call vi_sim_sync() before reading it */
+  double gap;     /* g = w.x - x_s at s->t as the backend last saw it */
   int sticking, started;
+  int method_used;                 /* VI_METHOD_* actually running */
+  int handed_over;                 /* the closed form gave up: CVODE from now */
+  char method_note[VI_MSG_LEN];    /* which ran and why */
+  char handover_why[VI_MSG_LEN];   /* set by a backend with VI_STEP_HANDOVER */
+  vi_cancel_fn cancel_fn; void *cancel_user;
+  double vn_floor, dt_floor, t_last_contact;
   double t_end;   /* of the current vi_sim_run call */
 
   vi_event_fn ev_fn;    void *ev_user;
@@ -68,6 +84,21 @@ struct vi_sim {
 
   char errmsg[VI_MSG_LEN];
 };
+
+/* Bring s->z up to s->t (see vi_backend.sync). */
+static inline int vi_sim_sync(vi_sim *s)
+{
+  if (!s->z_stale || !s->be->sync) return 0;
+  int st = s->be->sync(s);
+  if (!st) s->z_stale = 0;
+  return st;
+}
+
+/* The host's cancellation poll; backends call it inside long loops. */
+static inline int vi_sim_cancelled(const vi_sim *s)
+{
+  return s->cancel_fn && s->cancel_fn(s->cancel_user);
+}
 
 /* Ledger hooks for the driver (vi_ledger.c). */
 void vi_ledger_begin(vi_sim *s);           /* an interval starts at s->t */

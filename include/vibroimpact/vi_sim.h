@@ -34,11 +34,24 @@ enum {
                             fastest at every tolerance, see the README) */
   VI_METHOD_BDF = 1,   /**< CVODE BDF, Newton with the analytic Jacobian and a
                             dense or (banded models) band linear solver */
-  VI_METHOD_EXACT = 2  /**< closed-form flow (vi_flow.h) with root bracketing:
+  VI_METHOD_EXACT = 2, /**< closed-form flow (vi_flow.h) with root bracketing:
                             any damping whose first-order system is
                             diagonalisable; sticking phases (which have no
                             closed form here) run on CVODE Adams */
+  VI_METHOD_AUTO = 3,  /**< the exact method where it applies and is well
+                            conditioned, CVODE Adams otherwise (and from any
+                            point where the closed form loses accuracy);
+                            vi_sim_method_note() says which ran and why */
+  VI_METHOD_ERK = 4,   /**< ARKODE explicit Runge-Kutta of high order (no
+                            restart ramp after an impact) */
+  VI_METHOD_COUNT = 5  /**< number of methods */
 };
+
+/** Name of a method ("adams", "bdf", "exact", "auto", "erk"); NULL for an
+ *  unknown value. */
+VI_API const char *vi_method_name(int method);
+/** Method of a name as vi_method_name() gives it; -1 for an unknown one. */
+VI_API int vi_method_from_name(const char *name);
 
 /** Kinds of event passed to the event callback. */
 enum {
@@ -57,8 +70,19 @@ enum {
   VI_STAT_STICKS = 5,     /**< sticking phases entered */
   VI_STAT_GRAZE_CHECKS = 6, /**< maxima of w.x examined for a missed contact */
   VI_STAT_REINITS = 7,    /**< integrator restarts */
-  VI_STAT_COUNT = 8       /**< number of statistics */
+  VI_STAT_HANDOVERS = 8,  /**< exact method handed over to CVODE because the
+                               closed form lost accuracy (vi_sim_method_note) */
+  VI_STAT_CHATTER_SKIPPED = 9, /**< impacts of chattering tails not simulated
+                               one by one: summed up by the jump to their
+                               accumulation point */
+  VI_STAT_FLOORS = 10,    /**< contacts where a floor (vi_sim_set_floors) acted */
+  VI_STAT_POLISHES = 11,  /**< contacts re-located more accurately than the
+                               integrator's step (root polishing) */
+  VI_STAT_COUNT = 12      /**< number of statistics */
 };
+
+/** Name of a statistic ("steps", "rhs_evals", ...); NULL for an unknown one. */
+VI_API const char *vi_stat_name(int which);
 
 /** An event as the event callback sees it, valid only during the call. */
 typedef struct vi_event {
@@ -90,6 +114,10 @@ typedef int (*vi_sample_fn)(double t, int n, const double *x, const double *v,
                             void *user);
 /** Monitor callback: return 0 to go on, non-zero to stop (e.g. on SIGINT). */
 typedef int (*vi_monitor_fn)(const vi_progress *p, void *user);
+/** Cancellation poll: return non-zero to cancel.  Called often (every
+ *  integrator step and inside long scans), so it must be cheap, e.g. read a
+ *  flag that a signal handler sets. */
+typedef int (*vi_cancel_fn)(void *user);
 
 /** Create a simulation of a set-up model (borrowed: it must outlive the
  *  sim).  Defaults: Adams, rtol 1e-8, atol 1e-10, rest at t = 0.
@@ -147,13 +175,31 @@ VI_API int vi_sim_set_sampling(vi_sim *sim, double dt, vi_sample_fn fn,
 VI_API int vi_sim_set_monitor(vi_sim *sim, vi_monitor_fn fn, void *user,
                               double every);
 
+/** Poll fn for cancellation during vi_sim_run; a cancelled run returns
+ *  VI_CANCELLED with the state of the last completed step (consistent: a
+ *  later run continues from it).  NULL turns it off.  @return VI_OK. */
+VI_API int vi_sim_set_cancel(vi_sim *sim, vi_cancel_fn fn, void *user);
+/** Floors that keep a run from stalling: an approach velocity below vn_min
+ *  (> 0) or a contact less than dt_min (> 0) after the previous one, with
+ *  the stop pressed on, ends the impact sequence in sticking.  0 leaves a
+ *  floor off (default: both off; the chatter threshold still applies).
+ *  Every time a floor acts it is counted (VI_STAT_FLOORS).
+ *  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_sim_set_floors(vi_sim *sim, double vn_min, double dt_min);
+/** The method that ran (VI_METHOD_*, never AUTO once a run started).  */
+VI_API int vi_sim_method_used(const vi_sim *sim);
+/** One line saying which method ran and why (auto's choice, hand-overs from
+ *  the closed form to CVODE); owned by the sim. */
+VI_API const char *vi_sim_method_note(const vi_sim *sim);
+
 /** Integrate from the current time to t_end.  A callback's stop request
  *  takes effect once its step is complete (its impacts applied), so the
  *  state stays consistent and a later call continues seamlessly; samples of
  *  that step after the request are dropped.
- *  @return VI_OK on reaching t_end, VI_STOPPED, or VI_ERR_TIME (t_end not
- *  after the current time), VI_ERR_INTEGRATOR, VI_ERR_ROOT,
- *  VI_ERR_NOMEM. */
+ *  @return VI_OK on reaching t_end, VI_STOPPED, VI_CANCELLED, or
+ *  VI_ERR_TIME (t_end not after the current time), VI_ERR_INTEGRATOR,
+ *  VI_ERR_ROOT, VI_ERR_INVARIANT (a state beyond the stop or not finite: the
+ *  message says where), VI_ERR_NOMEM. */
 VI_API int vi_sim_run(vi_sim *sim, double t_end);
 
 /** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */

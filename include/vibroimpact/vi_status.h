@@ -19,6 +19,7 @@ extern "C" {
 #define VI_STATUS_LIST(X)                                                    \
   X(VI_OK,                    0, "success")                                  \
   X(VI_STOPPED,               1, "stopped by a user callback")               \
+  X(VI_CANCELLED,             2, "cancelled through the cancellation callback") \
   X(VI_ERR_ARG,              -1, "invalid argument")                         \
   X(VI_ERR_DIM,              -2, "dimension or leading-dimension mismatch")  \
   X(VI_ERR_NONFINITE,        -3, "NaN or Inf in the input")                  \
@@ -39,7 +40,10 @@ extern "C" {
   X(VI_ERR_ROOT,            -18, "event location failed")                    \
   X(VI_ERR_NOT_CONVERGED,   -19, "iteration did not converge")               \
   X(VI_ERR_IO,              -20, "input/output failure")                     \
-  X(VI_ERR_PARSE,           -21, "malformed input file")
+  X(VI_ERR_PARSE,           -21, "malformed input file")                    \
+  X(VI_ERR_INVARIANT,       -22, "physical invariant violated (state beyond " \
+                                 "the stop or not finite)")                  \
+  X(VI_ERR_LIMIT,           -23, "size or resource limit exceeded")
 
 /// @cond INTERNAL
 #define VI_STATUS_ENUM_(name, value, msg) name = value,
