@@ -611,11 +611,15 @@ static int samples(vi_sim *s, double t)
     if (ts > t || ts > s->t_end) return VI_OK;
     s->smp_k++;
     if (s->stop) continue;
-    int st = s->be->dense(s, ts);
+    /* at the current time the state itself, not the interpolant (which
+     * CVODE has not built before its first step) */
+    const double *zs = s->z;
+    int st = ts == s->t ? vi_sim_sync(s) : s->be->dense(s, ts);
     if (st) return st;
+    if (ts != s->t) zs = s->zs;
     for (int i = 0; i < s->n; i++) {
-      s->x[i] = s->zs[2 * i];
-      s->v[i] = s->zs[2 * i + 1];
+      s->x[i] = zs[2 * i];
+      s->v[i] = zs[2 * i + 1];
     }
     if (s->smp_fn(ts, s->n, s->x, s->v, s->smp_user)) s->stop = 1;
   }

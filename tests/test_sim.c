@@ -9,15 +9,26 @@ static const int methods[3] = {VI_METHOD_ADAMS, VI_METHOD_BDF, VI_METHOD_EXACT};
 static const char *mname[3] = {"adams", "bdf", "exact"};
 
 /* Stop out of reach: CVODE's samples match the closed form to 1e-9. */
-typedef struct flow_check { const vi_model *m; double x0[2], v0[2], err; int n; } flow_check;
+typedef struct flow_check {
+  const vi_model *m;
+  double x0[2], v0[2], err, first[4];
+  int n, nonfinite;
+} flow_check;
 
 static int sample_check(double t, int n, const double *x, const double *v, void *u)
 {
   flow_check *c = u;
   double xe[2], ve[2];
   vi_flow_physical(c->m, 0.0, c->x0, c->v0, t, xe, ve);
-  for (int i = 0; i < n; i++)
+  for (int i = 0; i < n; i++) {
+    /* fmax drops NaN: count non-finite samples separately */
+    c->nonfinite += !isfinite(x[i]) || !isfinite(v[i]);
     c->err = fmax(c->err, fmax(fabs(x[i] - xe[i]), fabs(v[i] - ve[i])));
+    if (c->n == 0) {
+      c->first[2 * i] = x[i];
+      c->first[2 * i + 1] = v[i];
+    }
+  }
   c->n++;
   return 0;
 }
@@ -27,8 +38,8 @@ static void test_free_flight_matches_closed_form(void **state)
   (void)state;
   const double a[2] = {0.5, 0.0};
   vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.1, 100.0, 0.7, 0.9, a);
-  for (int k = 0; k < 2; k++) {
-    flow_check c = {m, {0.2, -0.1}, {0.0, 0.3}, 0.0, 0};
+  for (int k = 0; k < 3; k++) {
+    flow_check c = {m, {0.2, -0.1}, {0.0, 0.3}, 0.0, {0}, 0, 0};
     vi_sim *s = NULL;
     assert_int_equal(vi_sim_create(m, &s), VI_OK);
     assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
@@ -39,6 +50,12 @@ static void test_free_flight_matches_closed_form(void **state)
     print_message("free flight %s: max error %.3g over %d samples\n", mname[k],
                   c.err, c.n);
     assert_int_equal(c.n, 801); /* t = 0, 0.25, ..., 200 */
+    assert_int_equal(c.nonfinite, 0);
+    /* the sample at t0 is the initial state itself */
+    for (int i = 0; i < 2; i++) {
+      assert_true(c.first[2 * i] == c.x0[i]);
+      assert_true(c.first[2 * i + 1] == c.v0[i]);
+    }
     assert_true(c.err < 1e-9);
     assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 0);
     vi_sim_destroy(&s);
