@@ -721,6 +721,8 @@ int vi_sim_run(vi_sim *s, double t_end)
     }
     if (s->smp_fn && (st = samples(s, s->t))) return st;
     if (event != VI_STEP_NONE && (st = vi_sim_sync(s))) return st;
+    if (event == VI_STEP_CONTACT && s->be->refine && (st = s->be->refine(s)))
+      return st;
     if (event == VI_STEP_CONTACT) st = on_contact(s);
     else if (event == VI_STEP_RELEASE) st = on_release(s);
     if (st) return st;

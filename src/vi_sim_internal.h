@@ -29,6 +29,9 @@ typedef struct vi_backend {
    * A backend that builds physical states lazily sets s->z_stale after a
    * step; the driver calls vi_sim_sync() before it reads s->z. */
   int (*sync)(vi_sim *s);
+  /* After a contact step's samples went out: locate the contact (s->t,
+   * s->z) more accurately, or leave it (NULL: nothing to refine). */
+  int (*refine)(vi_sim *s);
 } vi_backend;
 
 extern const vi_backend vi_backend_cvode;
