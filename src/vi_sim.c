@@ -8,6 +8,7 @@
 #include "vi_sim_internal.h"
 
 static void note_method(vi_sim *s);
+static const vi_backend *method_backend(const vi_sim *s);
 
 int vi_sim_create(const vi_model *model, vi_sim **out)
 {
@@ -35,8 +36,8 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->w3 = s->w2 + n; /* ends at 10n */
   s->m = model;
   s->n = n;
-  s->method = VI_METHOD_ADAMS;
-  s->be = &vi_backend_cvode;
+  s->method = VI_METHOD_AUTO;
+  s->be = method_backend(s);
   note_method(s);
   s->rtol = 1e-8;
   s->atol = 1e-10;
