@@ -29,6 +29,9 @@ typedef struct vi_backend {
    * A backend that builds physical states lazily sets s->z_stale after a
    * step; the driver calls vi_sim_sync() before it reads s->z. */
   int (*sync)(vi_sim *s);
+  /* After a contact step's samples went out: locate the contact (s->t,
+   * s->z) more accurately, or leave it (NULL: nothing to refine). */
+  int (*refine)(vi_sim *s);
 } vi_backend;
 
 extern const vi_backend vi_backend_cvode;
@@ -53,6 +56,10 @@ struct vi_sim {
   char handover_why[VI_MSG_LEN];   /* set by a backend with VI_STEP_HANDOVER */
   vi_cancel_fn cancel_fn; void *cancel_user;
   double vn_floor, dt_floor, t_last_contact;
+  /* a summed chattering tail: sticking began at its first impact, the
+   * STICK event is due at its accumulation point stick_at */
+  int stick_pending;
+  double stick_at, stick_vn, stick_ie;
   double t_end;   /* of the current vi_sim_run call */
 
   vi_event_fn ev_fn;    void *ev_user;
@@ -73,6 +80,7 @@ struct vi_sim {
   gsl_root_fsolver *brent;
 
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */
+  double *w1, *w2, *w3;    /* scratch of the chatter map: n each */
 
   /* energy ledger (vi_ledger.c); all NULL unless enabled */
   int ledger_on;

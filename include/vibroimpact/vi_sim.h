@@ -30,15 +30,15 @@ typedef struct vi_sim vi_sim;
 
 /** Integration methods (vi_sim_set_method). */
 enum {
-  VI_METHOD_ADAMS = 0, /**< CVODE Adams-Moulton, fixed-point iteration (default:
-                            fastest at every tolerance, see the README) */
+  VI_METHOD_ADAMS = 0, /**< CVODE Adams-Moulton, fixed-point iteration (the
+                            fastest CVODE method on these scenes) */
   VI_METHOD_BDF = 1,   /**< CVODE BDF, Newton with the analytic Jacobian and a
                             dense or (banded models) band linear solver */
   VI_METHOD_EXACT = 2, /**< closed-form flow (vi_flow.h) with root bracketing:
                             any damping whose first-order system is
                             diagonalisable; sticking phases (which have no
                             closed form here) run on CVODE Adams */
-  VI_METHOD_AUTO = 3,  /**< the exact method where it applies and is well
+  VI_METHOD_AUTO = 3,  /**< (default) the exact method where it applies and is well
                             conditioned, CVODE Adams otherwise (and from any
                             point where the closed form loses accuracy);
                             vi_sim_method_note() says which ran and why */
@@ -120,7 +120,7 @@ typedef int (*vi_monitor_fn)(const vi_progress *p, void *user);
 typedef int (*vi_cancel_fn)(void *user);
 
 /** Create a simulation of a set-up model (borrowed: it must outlive the
- *  sim).  Defaults: Adams, rtol 1e-8, atol 1e-10, rest at t = 0.
+ *  sim).  Defaults: auto, rtol 1e-8, atol 1e-10, rest at t = 0.
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (model not set up), VI_ERR_NOMEM. */
 VI_API int vi_sim_create(const vi_model *model, vi_sim **out);
 /** Destroy a simulation and set *sim to NULL; NULL-safe. */
