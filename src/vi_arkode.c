@@ -377,4 +377,4 @@ static int ark_dense(vi_sim *s, double t)
 }
 
 const vi_backend vi_backend_arkode = {"arkode", ark_start, ark_step, ark_dense,
-                                      ark_stat, ark_destroy, NULL};
+                                      ark_stat, ark_destroy, NULL, NULL};
