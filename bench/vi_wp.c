@@ -1,6 +1,7 @@
 /* vi_wp - one work-precision point of vibroimpact for bench/workprec.py.
  *
  *   vi_wp SCENE.yaml METHOD RTOL ATOL T_END REPEATS [OUT]
+ *   vi_wp SCENE.yaml model       (the model as JSON, for the peers)
  *
  * Runs the scene from its initial state to T_END with METHOD (adams, bdf,
  * exact, erk, auto) REPEATS times in this process and prints the best wall
@@ -31,6 +32,50 @@ static int collect(const vi_event *ev, void *u)
   return 0;
 }
 
+static void vec(const char *key, const double *x, int n, const char *end)
+{
+  printf("\"%s\": [", key);
+  for (int i = 0; i < n; i++) printf("%s%.17g", i ? ", " : "", x[i]);
+  printf("]%s\n", end);
+}
+
+/* M, C, K (row-major nested lists), forcing, stop and initial state. */
+static int dump_model(const vi_scene *sc, const vi_model *m)
+{
+  int n = vi_model_n(m);
+  const double *mats[3] = {vi_model_mass(m), vi_model_damping(m),
+                           vi_model_stiffness(m)};
+  const char *names[3] = {"M", "C", "K"};
+  vi_sim *s = NULL;
+  vi_diag dg;
+  double t0, *x0 = calloc(2 * (size_t)n, sizeof(double)), *v0 = x0 + n;
+  if (!x0 || vi_sim_create(m, &s) || vi_scene_configure_sim(sc, s, &dg) ||
+      vi_sim_get_state(s, &t0, x0, v0))
+    return 1;
+  printf("{\"n\": %d, \"omega\": %.17g, \"xs\": %.17g, \"r\": %.17g, "
+         "\"t0\": %.17g,\n", n, vi_model_omega_forcing(m), vi_model_clearance(m),
+         vi_model_restitution(m), t0);
+  for (int k = 0; k < 3; k++) {
+    printf("\"%s\": [", names[k]);
+    for (int i = 0; i < n; i++) {
+      printf("%s[", i ? ", " : "");
+      for (int j = 0; j < n; j++)
+        printf("%s%.17g", j ? ", " : "", mats[k][i + (size_t)j * n]);
+      printf("]");
+    }
+    printf("],\n");
+  }
+  vec("a", vi_model_forcing_cos(m), n, ",");
+  vec("b", vi_model_forcing_sin(m), n, ",");
+  vec("f0", vi_model_forcing_const(m), n, ",");
+  vec("w", vi_model_stop_vector(m), n, ",");
+  vec("x0", x0, n, ",");
+  vec("v0", v0, n, "}");
+  vi_sim_destroy(&s);
+  free(x0);
+  return 0;
+}
+
 static double now(void)
 {
   struct timespec ts;
@@ -40,13 +85,23 @@ static double now(void)
 
 int main(int argc, char **argv)
 {
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_diag dg;
+  if (argc == 3 && !strcmp(argv[2], "model")) {
+    if (vi_scene_load(argv[1], &sc, &dg) || vi_scene_create_model(sc, &m, &dg) ||
+        dump_model(sc, m)) {
+      fprintf(stderr, "vi_wp: cannot read the model of %s\n", argv[1]);
+      return 1;
+    }
+    vi_model_destroy(&m);
+    vi_scene_destroy(&sc);
+    return 0;
+  }
   if (argc < 7) {
     fprintf(stderr, "usage: vi_wp SCENE.yaml METHOD RTOL ATOL T_END REPEATS [OUT]\n");
     return 2;
   }
-  vi_scene *sc = NULL;
-  vi_model *m = NULL;
-  vi_diag dg;
   char msg[1024];
   if (vi_scene_load(argv[1], &sc, &dg) || vi_scene_create_model(sc, &m, &dg)) {
     vi_diag_format(&dg, msg, sizeof msg);
