@@ -12,7 +12,7 @@ except SciPy, whose right-hand side is numpy.
 
 Error = the largest impact-time error against our exact method at rtol
 1e-13, which is itself checked against an independent mpmath solution of
-the first impacts (30 digits: eigen-decomposition of the first-order
+every impact (30 digits: eigen-decomposition of the first-order
 system, the harmonic particular solution, Newton on the gap).  Time = the
 integration loop only (no process start, no set-up), best of several runs.
 
@@ -147,6 +147,7 @@ class Siconos:
         s.insertNonSmoothProblem(sk.LCP(), sk.SICONOS_OSNSP_ED_SMOOTH_ACC)
         osi.setTol(1, tol, tol * 1e-2)
         s.initialize()
+        osi.setMaxNstep(1000000)  # LSODAR's default 500 per call is too few
         imp = []
         t0 = time.perf_counter()
         while s.hasNextEvent():
@@ -292,12 +293,12 @@ def main():
         t_end = mdl["t0"] + periods * 2 * math.pi / mdl["omega"]
         ref = ours.run(scene, "exact", 1e-13, t_end, 1)["t"]
         log("%s: %d impacts up to t = %.6g" % (name, len(ref), t_end))
-        if mdl["n"] <= 20:
-            k = min(5, len(ref))
+        if mdl["n"] <= 20:  # mpmath's eigen-decomposition: 10 s at n = 20
+            k = len(ref)
             mp_t = mpmath_impacts(mdl, ref[:k])
             d = max(abs(float(a) - b) for a, b in zip(mp_t, ref))
             checks.append((name, k, d))
-            log("  mpmath: first %d impacts agree with exact to %.2e" % (k, d))
+            log("  mpmath: all %d impacts agree with exact to %.2e" % (k, d))
 
         def add(solver, setting, res):
             e = impact_error(res["t"], ref)
@@ -309,6 +310,8 @@ def main():
                 solver, setting, len(res["t"]), len(ref), fmt_err(e),
                 1e3 * res["wall"]))
 
+        slow = set()
+
         def best(fn, tries):
             out = None
             for _ in range(tries):
@@ -319,6 +322,24 @@ def main():
                     break
             return out
 
+        def peer(solver, setting, fn, tries):
+            """A peer's run; a failure is a row, and a sweep stops after a
+            run longer than 20 s (the next setting would be slower still)."""
+            if solver in slow:
+                return
+            try:
+                res = best(fn, tries)
+            except Exception as e:  # Siconos raises std::exception
+                log("  %-22s %-10s failed: %s" % (solver, setting, e))
+                rows.append({"scene": name, "solver": solver, "setting": setting,
+                             "n": 0, "n_ref": len(ref), "err": None, "ms": float("nan"),
+                             "rhs": None, "note": "failed: %s" % e})
+                slow.add(solver)
+                return
+            add(solver, setting, res)
+            if res["wall"] > 20.0:
+                slow.add(solver)
+
         for m in ["exact", "auto"]:
             add("ours " + m, "rtol 1e-10", ours.run(scene, m, 1e-10, t_end))
         for m in ["adams", "bdf", "erk"]:
@@ -326,17 +347,17 @@ def main():
                 add("ours " + m, "rtol %.0e" % tol, ours.run(scene, m, tol, t_end))
         for m in ["DOP853", "LSODA"]:
             for tol in PEER_TOLS:
-                add("SciPy " + m, "rtol %.0e" % tol,
-                    best(lambda: scipy_run(mdl, m, tol, t_end, len(ref)), 3))
+                peer("SciPy " + m, "rtol %.0e" % tol,
+                     lambda: scipy_run(mdl, m, tol, t_end, len(ref)), 3)
         if sic:
             for tol in PEER_TOLS[:3]:
-                add("Siconos event-driven", "tol %.0e" % tol,
-                    best(lambda: sic.event_driven(mdl, tol, t_end), 3))
+                peer("Siconos event-driven", "tol %.0e" % tol,
+                     lambda: sic.event_driven(mdl, tol, t_end), 3)
             period = 2 * math.pi / mdl["omega"]
             for spp in MJ_STEPS_PER_PERIOD:
                 h = period / spp
-                add("Siconos Moreau-Jean", "h = T/%d" % spp,
-                    best(lambda: sic.moreau_jean(mdl, h, t_end), 2))
+                peer("Siconos Moreau-Jean", "h = T/%d" % spp,
+                     lambda: sic.moreau_jean(mdl, h, t_end), 2)
     write(rows, checks, build)
 
 
@@ -354,8 +375,10 @@ def write(rows, checks, build):
          "Error: largest impact-time error against our exact method at rtol 1e-13"
          " (— where the impacts found differ in number from the reference)."
          "  Time: integration loop only, best of several runs, in ms.", ""]
-    L += ["The reference checked by an independent 30-digit mpmath solution:", "",
-          "| scene | first impacts | max \\|t_exact − t_mpmath\\| |", "|---|---|---|"]
+    L += ["The reference checked by an independent 30-digit mpmath solution (the"
+          " 200-mass chain is not: mpmath's eigen-decomposition of a 400 x 400"
+          " system takes too long):", "",
+          "| scene | impacts checked | max \\|t_exact − t_mpmath\\| |", "|---|---|---|"]
     for name, k, d in checks:
         L.append("| %s | %d | %.1e |" % (name, k, d))
     # summary: the fastest run of each solver within 1e-8 and its ratio to
@@ -382,6 +405,10 @@ def write(rows, checks, build):
           "| scene | solver | setting | impacts | error | ms | RHS evals |",
           "|---|---|---|---|---|---:|---:|"]
     for r in rows:
+        if r["note"].startswith("failed"):
+            L.append("| %s | %s | %s | — | %s | | |" % (r["scene"], r["solver"],
+                                                        r["setting"], r["note"]))
+            continue
         L.append("| %s | %s | %s | %d/%d | %s | %.3g | %s |" % (
             r["scene"], r["solver"] + (" (%s)" % r["note"] if r["note"] and r["note"] != r["solver"].split()[-1] else ""),
             r["setting"], r["n"], r["n_ref"], fmt_err(r["err"]), r["ms"],
