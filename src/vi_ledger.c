@@ -64,6 +64,8 @@ static void modal_energy(const vi_sim *s, const double *z, double *E, double *K)
 int vi_sim_enable_ledger(vi_sim *s, int on)
 {
   if (!s) return VI_ERR_ARG;
+  if (on != 0 && on != 1)
+    return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
   int n = s->n;
   vi_ledger_free(s);
   if (on) {

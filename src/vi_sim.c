@@ -173,6 +173,9 @@ int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "tolerances rtol = %g, atol = %g must be positive and "
                    "finite", rtol, atol);
+  if (rtol >= 1.0)
+    return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
+                   "rtol = %g must be below 1 (a relative accuracy)", rtol);
   if (rtol < 2.0 * DBL_EPSILON)
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "rtol = %g is below twice the machine epsilon", rtol);
@@ -189,22 +192,25 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
   int n = s->n;
   if (!isfinite(t0))
     return vi_fail(s->errmsg, VI_ERR_NONFINITE, "t0 = %g is not finite", t0);
+  /* validate in scratch: a refused state leaves the sim as it was */
   for (int i = 0; i < n; i++) {
     double xi = x0 ? x0[i] : 0.0, vi = v0 ? v0[i] : 0.0;
     if (!isfinite(xi) || !isfinite(vi))
       return vi_fail(s->errmsg, VI_ERR_NONFINITE,
                      "initial state x(%d) = %g, v(%d) = %g is not finite",
                      i + 1, xi, i + 1, vi);
-    s->z[2 * i] = xi;
-    s->z[2 * i + 1] = vi;
+    s->zs[2 * i] = xi;
+    s->zs[2 * i + 1] = vi;
   }
   double g, gd;
-  vi_sim_gap(s, s->z, &g, &gd);
+  vi_sim_gap(s, s->zs, &g, &gd);
   /* allow round-off of a state handed over from an earlier contact */
   if (g > 1e-13 * fmax(1.0, fabs(m->xs)))
     return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE,
                    "initial state violates the stop: w.x0 = %.17g > x_s = "
                    "%.17g", g + m->xs, m->xs);
+  memcpy(s->z, s->zs, sizeof(double) * 2 * (size_t)n);
+  s->z_stale = 0;
   s->t = t0;
   s->sticking = 0;
   s->started = 0;
@@ -291,9 +297,10 @@ int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user)
 int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user)
 {
   if (!s) return VI_ERR_ARG;
-  if (!isfinite(dt))
-    return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g", dt);
-  s->smp_fn = dt > 0.0 ? fn : NULL;
+  if (fn && !(dt > 0.0 && isfinite(dt)))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g must be "
+                   "positive and finite", dt);
+  s->smp_fn = fn;
   s->smp_user = user;
   s->smp_dt = dt;
   s->smp_t0 = s->t;
@@ -689,6 +696,15 @@ int vi_sim_run(vi_sim *s, double t_end)
     return vi_fail(s->errmsg, VI_ERR_TIME,
                    "end time %.17g is not after the current time %.17g", t_end,
                    s->t);
+  if (s->smp_fn) {
+    /* refuse a sampling interval whose samples could never all be made */
+    double span = t_end - fmax(s->t, s->smp_t0), ts = fmax(fabs(t_end), fabs(s->smp_t0));
+    if (s->smp_dt <= 4.0 * DBL_EPSILON * ts || span / s->smp_dt > 1e10)
+      return vi_fail(s->errmsg, VI_ERR_LIMIT,
+                     "sampling interval %g would need %.3g samples up to t = "
+                     "%g (limit 1e10, and dt above the time's round-off)",
+                     s->smp_dt, span / s->smp_dt, t_end);
+  }
   int st = VI_OK, cancelled = 0;
   s->t_end = t_end;
   s->run_t0 = s->t;
