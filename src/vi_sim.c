@@ -617,6 +617,7 @@ static int samples(vi_sim *s, double t)
     if (ts > s->t_end && ts - s->t_end <= 8 * DBL_EPSILON * fabs(s->t_end))
       ts = s->t_end;
     if (ts > t || ts > s->t_end) return VI_OK;
+    if ((s->smp_k & 4095) == 4095 && vi_sim_cancelled(s)) return VI_CANCELLED;
     s->smp_k++;
     if (s->stop) continue;
     /* at the current time the state itself, not the interpolant (which
@@ -736,7 +737,10 @@ int vi_sim_run(vi_sim *s, double t_end)
       if ((st = hand_over(s))) return st;
       continue;
     }
-    if (s->smp_fn && (st = samples(s, s->t))) return st;
+    if (s->smp_fn && (st = samples(s, s->t))) {
+      if (st != VI_CANCELLED) return st;
+      cancelled = 1; /* the step is complete: its events are applied below */
+    }
     if (event != VI_STEP_NONE && (st = vi_sim_sync(s))) return st;
     if (event == VI_STEP_CONTACT && s->be->refine && (st = s->be->refine(s)))
       return st;
@@ -749,6 +753,7 @@ int vi_sim_run(vi_sim *s, double t_end)
     }
     if ((st = check_invariants(s))) return st;
     monitor(s);
+    if (cancelled) break;
   }
   if ((st = vi_sim_sync(s)) || (st = check_finite_state(s))) return st;
   if (s->ledger_on && s->t > s->led_ta) {
