@@ -607,6 +607,13 @@ static int initial_contact(vi_sim *s)
   return gd == 0.0 && push > 0.0 && s->m->r < 1.0;
 }
 
+/* How far beyond the stop a state may sit: the integration error. */
+static double gap_tolerance(const vi_sim *s)
+{
+  return 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
+         1e-12 * fabs(s->m->xs);
+}
+
 /* Deliver the uniform samples that fall in (t_prev, t] from the backend's
  * interpolant; nothing here forces the integrator's steps. */
 static int samples(vi_sim *s, double t)
@@ -626,10 +633,19 @@ static int samples(vi_sim *s, double t)
     int st = ts == s->t ? vi_sim_sync(s) : s->be->dense(s, ts);
     if (st) return st;
     if (ts != s->t) zs = s->zs;
+    double g = -s->m->xs;
     for (int i = 0; i < s->n; i++) {
       s->x[i] = zs[2 * i];
       s->v[i] = zs[2 * i + 1];
+      g += s->m->w[i] * s->x[i];
+      if (!isfinite(s->x[i]) || !isfinite(s->v[i]))
+        return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g "
+                       "not finite: x(%d) = %g, v(%d) = %g", ts, i + 1,
+                       s->x[i], i + 1, s->v[i]);
     }
+    if (!(g <= gap_tolerance(s)))
+      return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g lies "
+                     "beyond the stop: w.x - x_s = %.3g", ts, g);
     if (s->smp_fn(ts, s->n, s->x, s->v, s->smp_user)) s->stop = 1;
   }
 }
@@ -669,8 +685,7 @@ static int check_invariants(vi_sim *s)
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state not finite at t = %.17g (%s method): w.x - x_s = %g",
                    s->t, method_names[s->method_used], g);
-  double tol = 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
-               1e-12 * fabs(s->m->xs);
+  double tol = gap_tolerance(s);
   if (!(g <= tol))
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state beyond the stop at t = %.17g (%s method): w.x - x_s "
