@@ -157,7 +157,7 @@ void vi_ledger_close(vi_sim *s, int jump, double ie)
     }
     s->led_ie += ie;
   }
-  if (s->led_fn && !s->stop) {
+  if (s->led_fn && !vi_sim_user_stopped(s)) {
     vi_ledger_interval iv = {n, s->led_ta, s->t, s->EA, s->EB, s->KA, s->KB,
                              I, I + n, I + 2 * n, I + 3 * n,
                              jump ? s->dE : NULL, jump ? ie : 0.0, res};

@@ -381,9 +381,14 @@ static void split(vi_sim *s, const double *z)
 static void emit(vi_sim *s, int kind, double vn, double ie)
 {
   int64_t idx = s->nevents[kind]++;
-  if (!s->ev_fn || s->stop) return;
+  s->last_event = kind;
+  if (s->event_stop) s->stop = 1;
+  if (!s->ev_fn || (s->stop && !s->event_stop)) return;
   vi_event ev = {kind, s->n, idx, s->t, vn, ie, s->x, s->v, s->vp};
-  if (s->ev_fn(&ev, s->ev_user)) s->stop = 1;
+  if (s->ev_fn(&ev, s->ev_user)) {
+    s->stop = 1;
+    s->event_stop = 0; /* the user's request: the run returns VI_STOPPED */
+  }
 }
 
 /* out = M^-1 (f^(k)(t) - K u - C ud): the k-th time derivative (k = 1, 2)
@@ -626,7 +631,7 @@ static int samples(vi_sim *s, double t)
     if (ts > t || ts > s->t_end) return VI_OK;
     if ((s->smp_k & 4095) == 4095 && vi_sim_cancelled(s)) return VI_CANCELLED;
     s->smp_k++;
-    if (s->stop) continue;
+    if (vi_sim_user_stopped(s)) continue;
     /* at the current time the state itself, not the interpolant (which
      * CVODE has not built before its first step) */
     const double *zs = s->z;
@@ -652,7 +657,7 @@ static int samples(vi_sim *s, double t)
 
 static void monitor(vi_sim *s)
 {
-  if (!s->mon_fn || s->t < s->mon_next || s->stop) return;
+  if (!s->mon_fn || s->t < s->mon_next || vi_sim_user_stopped(s)) return;
   vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_get_stat(s, VI_STAT_STEPS),
                    s->stats[VI_STAT_IMPACTS]};
   if (s->mon_fn(&p, s->mon_user)) s->stop = 1;
@@ -780,4 +785,29 @@ int vi_sim_run(vi_sim *s, double t_end)
     return VI_CANCELLED;
   }
   return s->stop ? VI_STOPPED : VI_OK;
+}
+
+int vi_sim_setup(vi_sim *s)
+{
+  if (!s) return VI_ERR_ARG;
+  if (s->started) return VI_OK;
+  note_method(s);
+  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  return s->be->start(s); /* allocates; vi_sim_run restarts it cheaply */
+}
+
+int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
+{
+  if (!s || !kind) return VI_ERR_ARG;
+  *kind = -1;
+  s->event_stop = 1;
+  s->last_event = -1;
+  int st = vi_sim_run(s, t_end);
+  int by_event = s->event_stop && st == VI_STOPPED;
+  s->event_stop = 0;
+  if (by_event) {
+    *kind = s->last_event;
+    return VI_OK;
+  }
+  return st;
 }

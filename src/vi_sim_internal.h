@@ -66,6 +66,8 @@ struct vi_sim {
   vi_monitor_fn mon_fn; void *mon_user;  double mon_every, mon_next;
   double run_t0;
   int stop;       /* a callback asked to stop */
+  int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
+  int last_event; /* kind of the last event emitted */
 
   int64_t stats[VI_STAT_COUNT]; /* driver-owned counters */
   int64_t nevents[3];
@@ -100,6 +102,13 @@ static inline int vi_sim_sync(vi_sim *s)
   int st = s->be->sync(s);
   if (!st) s->z_stale = 0;
   return st;
+}
+
+/* A callback asked to stop (not merely vi_sim_run_to_event's pause): later
+ * callbacks of the step are not called. */
+static inline int vi_sim_user_stopped(const vi_sim *s)
+{
+  return s->stop && !s->event_stop;
 }
 
 /* The host's cancellation poll; backends call it inside long loops. */
