@@ -109,8 +109,7 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
     vi_sim_accel(s, t, z, 0, s->vp);
     Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
   }
-  vi_ledger_modal_velocity(s, z, s->qdw);
-  vi_ledger_rates(s, t, s->qdw, Lambda, N_VGetArrayPointer(yQd));
+  vi_ledger_rates_state(s->led, t, z, Lambda, N_VGetArrayPointer(yQd));
   return 0;
 }
 
@@ -206,9 +205,9 @@ static int cv_create(vi_sim *s)
     VI_CHECK(d->NLS, s->errmsg, VI_ERR_NOMEM, "fixed-point solver failed");
     CV_TRY(CVodeSetNonlinearSolver(d->mem, d->NLS));
   }
-  if (s->ledger_on) {
+  if (s->led) {
     /* under the state's error control, so the ledger closes to tolerance */
-    d->yQ = N_VMake_Serial(4 * s->n, s->Q, d->ctx);
+    d->yQ = N_VMake_Serial(4 * s->n, vi_ledger_integrals(s->led), d->ctx);
     VI_CHECK(d->yQ, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
     if (s->fast_nvector) vi_nvector_fast_ops(d->yQ);
     CV_TRY(CVodeQuadInit(d->mem, qrhs, d->yQ));
@@ -280,7 +279,9 @@ static void save_prev(vi_sim *s, cv_data *d)
 {
   d->t_prev = s->t;
   memcpy(d->zprev, s->z, sizeof(double) * 2 * (size_t)s->n);
-  if (d->yQ) memcpy(d->zprev + 2 * s->n, s->Q, sizeof(double) * 4 * (size_t)s->n);
+  if (d->yQ)
+    memcpy(d->zprev + 2 * s->n, vi_ledger_integrals(s->led),
+           sizeof(double) * 4 * (size_t)s->n);
 }
 
 /* Near grazing the approach speed v_n is small and a position error dx of
@@ -302,7 +303,9 @@ static int cv_polish(vi_sim *s)
   if (!(gd > 0.0) || p * dx <= 100.0 * s->rtol * gd * gd || !(tc > t))
     return VI_OK;
   memcpy(s->z, d->zprev, sizeof(double) * 2 * (size_t)n);
-  if (d->yQ) memcpy(s->Q, d->zprev + 2 * n, sizeof(double) * 4 * (size_t)n);
+  if (d->yQ)
+    memcpy(vi_ledger_integrals(s->led), d->zprev + 2 * n,
+           sizeof(double) * 4 * (size_t)n);
   CV_TRY(CVodeReInit(d->mem, t, d->y));
   if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));
   s->stats[VI_STAT_POLISHES]++;

@@ -7,6 +7,7 @@
 #include <gsl/gsl_roots.h>
 
 #include "vi_internal.h"
+#include "vi_ledger_internal.h"
 
 /* What a backend step ended on.  HANDOVER: the backend cannot go on
  * accurately from s->t (the closed form lost its conditioning); s->t and the
@@ -83,14 +84,9 @@ struct vi_sim {
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */
   double *w1, *w2, *w3;    /* scratch of the chatter map: n each */
 
-  /* energy ledger (vi_ledger.c); all NULL unless enabled */
-  int ledger_on;
-  double *Q;           /* cumulative FE, DE, XE, CE at s->t [4n] */
-  double *QA, *EA, *KA, *EB, *KB, *dE, *dEtot, *qd; /* 4n, then n each */
-  double *qdw;         /* scratch for the quadrature right-hand side [n] */
-  double led_ta, led_ie, led_maxres, led_emax;
+  /* energy ledger (vi_ledger.c); NULL unless enabled */
+  vi_ledger *led;
   vi_ledger_fn led_fn; void *led_user;
-  double *led_block;
 
   char errmsg[VI_MSG_LEN];
 };
@@ -116,18 +112,6 @@ static inline int vi_sim_cancelled(const vi_sim *s)
 {
   return s->cancel_fn && s->cancel_fn(s->cancel_user);
 }
-
-/* Ledger hooks for the driver (vi_ledger.c). */
-void vi_ledger_begin(vi_sim *s);           /* an interval starts at s->t */
-void vi_ledger_pre_jump(vi_sim *s);        /* state at s->t before a jump */
-void vi_ledger_close(vi_sim *s, int jump, double ie); /* after the jump */
-void vi_ledger_free(vi_sim *s);
-/* Modal velocities q' = Psi^T M v of an interleaved state. */
-void vi_ledger_modal_velocity(const vi_sim *s, const double *z, double *qd);
-/* Rates of FE, DE, XE, CE [4n] at t from modal velocities; Lambda is the
- * contact force magnitude (0 in free flight). */
-void vi_ledger_rates(const vi_sim *s, double t, const double *qd,
-                     double Lambda, double *rates);
 
 /* Free acceleration M^-1 (f - C v - K x) at t for interleaved z; in a
  * sticking phase the component along M^-1 w is removed so that w.x'' = 0.
