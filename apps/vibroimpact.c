@@ -330,9 +330,16 @@ int main(int argc, char **argv)
     fprintf(stderr, "vibroimpact: unexpected argument '%s'\n", argv[optind]);
     return 2;
   }
-  if (o.out && check_output(o.out, o.out_target)) return 1;
-  if (o.csv && strcmp(o.csv, "-") && check_output(o.csv, o.csv_target))
-    return 1;
+  /* the check creates and removes PATH.part: no signal in between */
+  sigset_t block, old;
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  sigprocmask(SIG_BLOCK, &block, &old);
+  int bad = (o.out && check_output(o.out, o.out_target)) ||
+            (o.csv && strcmp(o.csv, "-") && check_output(o.csv, o.csv_target));
+  sigprocmask(SIG_SETMASK, &old, NULL);
+  if (bad) return 1;
   if (o.out && o.csv && strcmp(o.csv, "-") &&
       !strcmp(o.out_target, o.csv_target)) {
     fprintf(stderr, "vibroimpact: -o and --impacts-csv name the same file "

@@ -34,8 +34,9 @@ typedef struct vi_writer vi_writer;
  *  target (written into target[len]); refuses (VI_ERR_IO, reason in diag)
  *  a target that is not a regular file, a target or folder that is not
  *  writable, and a TARGET.part that exists but is not a regular file.
- *  Creates nothing.  @return VI_OK, VI_ERR_ARG, VI_ERR_IO, VI_ERR_LIMIT
- *  (path longer than len). */
+ *  Tries the folder by creating and removing TARGET.part (a stale one is
+ *  removed), so nothing is left behind.  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_IO, VI_ERR_LIMIT (path longer than len). */
 VI_API int vi_output_resolve(const char *path, char *target, int len,
                              vi_diag *diag);
 

@@ -4,6 +4,7 @@
  * the checks run before anything is computed.  The file itself is written
  * as TARGET.part and renamed, so a failed run never touches TARGET. */
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <stdio.h>
 #include <string.h>
@@ -124,6 +125,15 @@ int vi_output_resolve(const char *path, char *target, int len, vi_diag *d)
     return refuse(d, path, VI_ERR_IO,
                   "refusing to write %.200s: it exists and is %.200s", part,
                   S_ISLNK(st.st_mode) ? "a symbolic link" : kind(st.st_mode));
+  /* the real test of the folder (access() says yes to root even where the
+   * file system will not take a file): create PATH.part and remove it */
+  remove(part);
+  int fd = open(part, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0)
+    return refuse(d, path, VI_ERR_IO, "cannot write %.200s: %.200s", cur,
+                  strerror(errno));
+  close(fd);
+  unlink(part);
   if ((int)strlen(cur) >= len)
     return refuse(d, path, VI_ERR_LIMIT, "%.200s%.200s",
                   "output path longer than the buffer", "");
