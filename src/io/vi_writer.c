@@ -61,6 +61,18 @@ static int werr(vi_writer *w, int code, const char *fmt, ...)
   return code;
 }
 
+/* A misuse: the message, but the file is not broken. */
+static int warg(vi_writer *w, int code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static int warg(vi_writer *w, int code, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(w->errmsg, sizeof w->errmsg, fmt, ap);
+  va_end(ap);
+  return code;
+}
+
 const char *vi_writer_errmsg(const vi_writer *w) { return w ? w->errmsg : ""; }
 
 /* ---- space before HDF5 needs it ------------------------------------------
@@ -451,11 +463,11 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
   if (!w) return VI_ERR_ARG;
   if (w->failed) return VI_ERR_IO;
   if (scene && vi_scene_n(scene) != w->n)
-    return werr(w, VI_ERR_DIM, "the scene has n = %d, the writer's model "
+    return warg(w, VI_ERR_DIM, "the scene has n = %d, the writer's model "
                 "n = %d", vi_scene_n(scene), w->n);
   const char *mname = vi_method_name(method);
   if (!mname || !(rtol > 0) || !(atol > 0))
-    return werr(w, VI_ERR_ARG, "vi_writer_write_header: method %d, rtol %g, "
+    return warg(w, VI_ERR_ARG, "vi_writer_write_header: method %d, rtol %g, "
                 "atol %g", method, rtol, atol);
   const vi_model *m = w->m;
   int n = w->n, bad = 0, ld;
@@ -533,7 +545,7 @@ int vi_writer_event(vi_writer *w, const vi_event *ev)
 {
   if (!w || !ev || !ev->x || !ev->v_minus || !ev->v_plus) return VI_ERR_ARG;
   if (ev->n != w->n)
-    return werr(w, VI_ERR_DIM, "event of n = %d for a writer of n = %d",
+    return warg(w, VI_ERR_DIM, "event of n = %d for a writer of n = %d",
                 ev->n, w->n);
   double kind = ev->kind;
   const double *vals[7] = {&ev->t, &kind,       &ev->vn,   &ev->ie,
@@ -562,7 +574,7 @@ int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv)
       !iv->CE)
     return VI_ERR_ARG;
   if (iv->n != w->n)
-    return werr(w, VI_ERR_DIM, "ledger interval of n = %d for a writer of "
+    return warg(w, VI_ERR_DIM, "ledger interval of n = %d for a writer of "
                 "n = %d", iv->n, w->n);
   double imp = iv->dE ? 1.0 : 0.0;
   const double *dE = iv->dE ? iv->dE : w->q; /* zeros when no jump */
@@ -705,7 +717,7 @@ static void free_writer(vi_writer *w)
 int vi_writer_finish(vi_writer *w, int complete)
 {
   if (!w) return VI_ERR_ARG;
-  if (!w->file) return werr(w, VI_ERR_STATE, "the writer is already closed");
+  if (!w->file) return warg(w, VI_ERR_STATE, "the writer is already closed");
   int st = w->failed ? VI_ERR_IO : VI_OK;
   if (!st)
     st = reserve(w, 1.1 * (row_bytes(&w->imp) * w->imp.used +

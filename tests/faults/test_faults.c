@@ -33,14 +33,19 @@ static double now(void)
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* dir/name, kept for the whole run (a few dozen small strings) */
+/* dir/name, kept for the whole run (freed at the end of main) */
+static char *paths[256];
+static int npaths;
 static char *path(const char *name)
 {
+  for (int k = 0; k < npaths; k++)
+    if (!strcmp(paths[k] + strlen(dir) + 1, name)) return paths[k];
   char buf[600];
   snprintf(buf, sizeof buf, "%s/%s", dir, name);
+  assert_true(npaths < 256);
   char *p = strdup(buf);
   assert_non_null(p);
-  return p;
+  return paths[npaths++] = p;
 }
 
 static int exists(const char *p)
@@ -468,6 +473,12 @@ int main(int argc, char **argv)
   }
   app = argv[1];
   hook = argv[2];
+  /* a sanitized program accepts the preloaded hook before its runtime */
+  char asan[1024];
+  const char *prev = getenv("ASAN_OPTIONS");
+  snprintf(asan, sizeof asan, "%s%sverify_asan_link_order=0", prev ? prev : "",
+           prev && *prev ? ":" : "");
+  setenv("ASAN_OPTIONS", asan, 1);
   if (!mkdtemp(dir)) return 2;
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_full_disk),
@@ -482,5 +493,6 @@ int main(int argc, char **argv)
   remove(path("stdout"));
   remove(path("stderr"));
   rmdir(dir);
+  for (int k = 0; k < npaths; k++) free(paths[k]);
   return rc;
 }
