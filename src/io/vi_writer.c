@@ -17,7 +17,7 @@
 #include "vibroimpact/vi_writer.h"
 
 #define MAXCOL 12
-#define FORMAT_VERSION 1
+#define FORMAT_VERSION 2
 
 typedef struct col {
   const char *name, *units, *meaning;
