@@ -59,6 +59,11 @@ int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model);
 /* Print "vibroimpact: file:line:col: key = value: message". */
 void vi_app_print_diag(const vi_diag *d, int st);
 
+/* Parse the command line into *o and the command; -1 to go on, else the
+ * exit status (after --help, --version or a usage error).  No files are
+ * touched (the output checks come after, in main). */
+int vi_app_parse(int argc, char **argv, app_opts *o, const app_cmd **cmd);
+
 int vi_cmd_run(const app_opts *o);
 int vi_cmd_energy(const app_opts *o);
 

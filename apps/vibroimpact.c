@@ -221,22 +221,10 @@ static int close_stdout(int rc)
   return rc;
 }
 
-int main(int argc, char **argv)
+int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
 {
-  gsl_set_error_handler_off();
-  if (vi_version_number() != VI_VERSION_NUMBER) {
-    fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
-            VI_VERSION_STRING, vi_version_string());
-    return 1;
-  }
-  /* signals first: from here on every phase answers them */
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
-
-  static app_opts o;
+  app_opts o;
+  memset(&o, 0, sizeof o);
   o.method = -1;
   o.re = o.ke = NAN;
   const app_cmd *cmd = &cmds[0];
@@ -268,8 +256,13 @@ int main(int argc, char **argv)
       {0, 0, 0, 0}};
   int c;
   double v;
-  optind = first;
+  optind = 0; /* 0: glibc starts afresh (a second call, the fuzz target) */
   opterr = 0;
+  /* "+": stop at the first non-option, as POSIX; then skip the command */
+  if (first == 2) {
+    argv++;
+    argc--;
+  }
   while ((c = getopt_long(argc, argv, "o:", lo, NULL)) != -1) {
     switch (c) {
     case 'o': o.out = optarg; break;
@@ -317,10 +310,11 @@ int main(int argc, char **argv)
       break;
     case 'V':
       printf("vibroimpact %s (SUNDIALS %s)\n", vi_version_string(), vi_sundials_version());
-      return close_stdout(0);
-    case 'h': usage(stdout); return close_stdout(0);
+      return 0;
+    case 'h': usage(stdout); return 0;
     default:
-      fprintf(stderr, "vibroimpact: unknown or incomplete option '%s'\n", argv[optind - 1]);
+      fprintf(stderr, "vibroimpact: unknown or incomplete option '%s'\n",
+              optind > 0 && optind <= argc ? argv[optind - 1] : "?");
       usage(stderr);
       return 2;
     }
@@ -330,6 +324,30 @@ int main(int argc, char **argv)
     fprintf(stderr, "vibroimpact: unexpected argument '%s'\n", argv[optind]);
     return 2;
   }
+  *op = o;
+  *cmdp = cmd;
+  return -1;
+}
+
+int main(int argc, char **argv)
+{
+  gsl_set_error_handler_off();
+  if (vi_version_number() != VI_VERSION_NUMBER) {
+    fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
+            VI_VERSION_STRING, vi_version_string());
+    return 1;
+  }
+  /* signals first: from here on every phase answers them */
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+
+  static app_opts o;
+  const app_cmd *cmd = NULL;
+  int rc = vi_app_parse(argc, argv, &o, &cmd);
+  if (rc >= 0) return close_stdout(rc);
   /* the check creates and removes PATH.part: no signal in between */
   sigset_t block, old;
   sigemptyset(&block);
