@@ -34,6 +34,22 @@ static int reduced_check(const vi_model *m, int k, double rS, double *vN,
 }
 
 
+/* A JSON string: the scene's name is the user's text. */
+static void json_str(const char *s)
+{
+  putchar('"');
+  for (; *s; s++) {
+    unsigned char ch = (unsigned char)*s;
+    if (ch == '"' || ch == '\\')
+      printf("\\%c", ch);
+    else if (ch < 0x20)
+      printf("\\u%04x", ch);
+    else
+      putchar(ch);
+  }
+  putchar('"');
+}
+
 /* The analysis to OUT.h5 (/model, /modal, /orbits); no file on failure. */
 static int write_orbit(const app_opts *o, const vi_scene *sc, const vi_model *m,
                        const vi_orbit *orb)
@@ -125,13 +141,15 @@ int vi_cmd_energy(const app_opts *o)
                 !reduced_check(m, 1, rS[0], &cv, &cg, &cp, &cpn, &cpm);
   vi_orbit_min_gap(orb, &gmin);
   if (o->json) {
-    printf("{\"scene\": \"%s\", \"period\": %.17g, \"impact_phase\": %.17g, "
+    printf("{\"scene\": ");
+    json_str(vi_scene_name(sc));
+    printf(", \"period\": %.17g, \"impact_phase\": %.17g, "
            "\"impact_phase_fraction\": %.17g, "
            "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
            "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, "
            "\"min_gap\": %.17g, "
            "\"modes\": [",
-           vi_scene_name(sc), T, ph, ph / T, vN, KE, RE, IE, vi_model_restitution(m),
+           T, ph, ph / T, vN, KE, RE, IE, vi_model_restitution(m),
            rr, cl, gmin);
     for (int j = 0; j < n; j++)
       printf(
