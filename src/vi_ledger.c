@@ -28,7 +28,7 @@ void vi_ledger_rates(const vi_sim *s, double t, const double *qd,
     c = cos(m->omega_f * t);
     sn = sin(m->omega_f * t);
   }
-  double *FE = rates, *DE = rates + n, *XE = rates + 2 * n, *CE = rates + 3 * n;
+  double *FE = rates, *DE = rates + n, *XE = rates + 2 * (size_t)n, *CE = rates + 3 * (size_t)n;
   for (int j = 0; j < n; j++) {
     double F = m->Fa[j] * c + m->Fb[j] * sn + m->F0[j];
     FE[j] = qd[j] * F;                                /* WB 7 */
@@ -53,8 +53,8 @@ static void modal_energy(const vi_sim *s, const double *z, double *E, double *K)
     double q = 0.0, qd = 0.0;
     for (int i = 0; i < n; i++) {
       double p = m->PsiTM[j + (size_t)i * n];
-      q += p * z[2 * i];
-      qd += p * z[2 * i + 1];
+      q += p * z[2 * (size_t)i];
+      qd += p * z[2 * (size_t)i + 1];
     }
     if (K) K[j] = 0.5 * qd * qd;
     E[j] = 0.5 * qd * qd + 0.5 * m->lambda[j] * q * q;
@@ -71,8 +71,8 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
     if (!s->led_block)
       return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory for the ledger");
     double *p = s->led_block;
-    s->Q = p; p += 4 * n;
-    s->QA = p; p += 4 * n;
+    s->Q = p; p += 4 * (size_t)n;
+    s->QA = p; p += 4 * (size_t)n;
     s->EA = p; p += n;
     s->KA = p; p += n;
     s->EB = p; p += n;
@@ -134,7 +134,7 @@ void vi_ledger_close(vi_sim *s, int jump, double ie)
   for (int k = 0; k < 4 * n; k++) I[k] = s->Q[k] - I[k];
   double scale = DBL_MIN, sum = 0.0, ea = 0.0, eb = 0.0;
   for (int j = 0; j < n; j++) {
-    double FE = I[j], DE = I[n + j], XE = I[2 * n + j], CE = I[3 * n + j];
+    double FE = I[j], DE = I[n + j], XE = I[2 * (size_t)n + j], CE = I[3 * (size_t)n + j];
     sum += s->EB[j] - s->EA[j] - FE + DE + XE - CE;
     ea += s->EA[j];
     eb += s->EB[j];
@@ -157,7 +157,7 @@ void vi_ledger_close(vi_sim *s, int jump, double ie)
   }
   if (s->led_fn && !s->stop) {
     vi_ledger_interval iv = {n, s->led_ta, s->t, s->EA, s->EB, s->KA, s->KB,
-                             I, I + n, I + 2 * n, I + 3 * n,
+                             I, I + n, I + 2 * (size_t)n, I + 3 * (size_t)n,
                              jump ? s->dE : NULL, jump ? ie : 0.0, res};
     if (s->led_fn(&iv, s->led_user)) s->stop = 1;
   }
@@ -175,8 +175,8 @@ int vi_sim_get_ledger(const vi_sim *s, double *E, double *FE, double *DE,
   if (E) modal_energy(s, s->z, E, NULL);
   if (FE) memcpy(FE, s->Q, b);
   if (DE) memcpy(DE, s->Q + n, b);
-  if (XE) memcpy(XE, s->Q + 2 * n, b);
-  if (CE) memcpy(CE, s->Q + 3 * n, b);
+  if (XE) memcpy(XE, s->Q + 2 * (size_t)n, b);
+  if (CE) memcpy(CE, s->Q + 3 * (size_t)n, b);
   if (dE) memcpy(dE, s->dEtot, b);
   if (ie) *ie = s->led_ie;
   return VI_OK;
