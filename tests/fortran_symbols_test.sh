@@ -2,8 +2,9 @@
 # The Fortran modules bind the whole public API: every vi_ function that
 # libvibroimpact and libvibroimpact_io export has a bind(C, name="...")
 # interface in src/fortran/*.f90, every such interface names an exported
-# function, and every enumerator of the public headers is a generated
-# Fortran constant.  Fails listing what is missing.
+# function and matches its C prototype (fortran_signatures.py: arguments,
+# by value or by reference, result), and every enumerator of the public
+# headers is a generated Fortran constant.  Fails listing what is wrong.
 #   fortran_symbols_test.sh SRC BUILD LIB IOLIB
 set -euo pipefail
 src=$1 build=$2 lib=$3 iolib=$4
@@ -42,6 +43,9 @@ if [ -n "$nomiss" ]; then
   printf '  %s\n' $nomiss
   fail=1
 fi
+
+# ... and each binding's arguments and result match the C prototype
+python3 "$src/tests/fortran_signatures.py" "$src" || fail=1
 
 echo "C exports: $(wc -l < "$tmp/c"), Fortran bindings: $(wc -l < "$tmp/f"), \
 enumerators: $(wc -l < "$tmp/enum"), Fortran constants: $(wc -l < "$tmp/const")"
