@@ -12,8 +12,7 @@ import os
 import re
 import sys
 
-HANDLES = r"vi_(model|sim|orbit|scene|writer)"
-STRUCTS = ("vi_event", "vi_progress", "vi_ledger_interval", "vi_diag")
+OPAQUE = set()  # handles: typedef struct vi_x vi_x; (filled from the headers)
 
 
 def c_kind(decl, result=False):
@@ -38,9 +37,9 @@ def c_kind(decl, result=False):
     if re.fullmatch(r"vi_\w+_fn", base):
         return "funptr:value"
     if stars == 1:
-        if re.fullmatch(HANDLES, base):
+        if base in OPAQUE:
             return "ptr:value"
-        if base in STRUCTS:
+        if re.fullmatch(r"vi_\w+", base):  # a struct: type(vi_x) by reference
             return base + ":ref"
         if base == "void":
             return "ptr:value"
@@ -55,6 +54,7 @@ def c_prototypes(src):
         text += open(h).read() + "\n"
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     text = re.sub(r"//[^\n]*", " ", text)
+    OPAQUE.update(m.group(1) for m in re.finditer(r"typedef\s+struct\s+(\w+)\s+\1\s*;", text))
     protos = {}
     for m in re.finditer(r"VI_API\s+([^;{}()]*?)\b(vi_\w+)\s*\(([^;]*?)\)\s*;", text, re.S):
         ret, name, args = m.group(1), m.group(2), m.group(3)
@@ -68,15 +68,15 @@ def c_prototypes(src):
 F_BASE = [(r"type\(c_ptr\)", "ptr"), (r"type\(c_funptr\)", "funptr"),
           (r"real\(c_double\)", "double"), (r"integer\(c_int\)", "int"),
           (r"integer\(c_int64_t\)", "int64"), (r"integer\(c_long\)", "long"),
-          (r"character\(kind=c_char\)", "char")] + \
-         [(r"type\(%s\)" % s, s) for s in STRUCTS]
+          (r"character\(kind=c_char\)", "char")]
 
 
 def f_base(spec):
     for pat, kind in F_BASE:
         if re.match(pat + r"\s*$", spec.strip(), re.I):
             return kind
-    return "?" + spec.strip()
+    m = re.match(r"type\((vi_\w+)\)\s*$", spec.strip(), re.I)
+    return m.group(1).lower() if m else "?" + spec.strip()
 
 
 def split_top(s):
