@@ -7,7 +7,9 @@
 ! SIGINT handler would set it, and then resumed to the end: a cancelled
 ! vi_sim_run keeps the state of its last completed step, so the two halves
 ! give the same impacts as one uninterrupted run (one per forcing period on
-! Fig. 2's P(1,1) orbit: 100 in 100 periods).  It also checks that the
+! Fig. 2's P(1,1) orbit: 100 in 100 periods).  A second simulation is
+! then driven impact by impact (vi_sim_run_to_event), as a host code
+! would, and meets the same first impacts.  It also checks that the
 ! bind(C) types have the C layout and that a bad scene comes back with a
 ! diagnostic naming the key.  Exits 1 on any failure.
 module cancel_callbacks
@@ -16,6 +18,7 @@ module cancel_callbacks
   implicit none
   integer :: impacts = 0, polls = 0, monitor_calls = 0, cancel_after = 50
   logical :: stop_flag = .false.
+  real(c_double) :: t_impact(10) = 0  ! the first impact times
 contains
   integer(c_int) function on_event(ev, user) bind(C)
     type(vi_event), intent(in) :: ev
@@ -23,6 +26,7 @@ contains
     on_event = merge(1, 0, c_associated(user))
     if (ev%kind /= VI_EVENT_IMPACT) return
     impacts = impacts + 1
+    if (impacts <= size(t_impact)) t_impact(impacts) = ev%t
     if (impacts == cancel_after) stop_flag = .true.  ! as a signal handler would
   end function
   ! polled at every step: cheap, reads the flag only
@@ -54,7 +58,7 @@ program cancel
   type(vi_ledger_interval) :: iv
   character(len=512) :: path
   character(kind=c_char) :: buf(1024)
-  integer(c_int) :: st, j
+  integer(c_int) :: st, j, kind
   real(c_double) :: t, t_end, period
   integer :: failures = 0
 
@@ -123,6 +127,22 @@ program cancel
   do j = 0, VI_STAT_COUNT - 1
     print '(3x,a18,i10)', vi_string(vi_stat_name(j)), vi_sim_get_stat(sim, j)
   end do
+
+  ! impact by impact: the host drives, the same impacts come out
+  call vi_sim_destroy(sim)
+  st = vi_sim_create(model, sim)
+  if (st == VI_OK) st = vi_scene_configure_sim(scene, sim, diag)
+  if (st == VI_OK) st = vi_sim_setup(sim)  ! allocation errors surface here
+  call check(st == VI_OK, 'second sim set up')
+  do j = 1, size(t_impact)
+    st = vi_sim_run_to_event(sim, t_end, kind)
+    if (st /= VI_OK .or. kind /= VI_EVENT_IMPACT) exit
+    if (vi_sim_get_state(sim, t) /= VI_OK) stop 1
+    ! the state after the event has the event's time; same integrator, same steps
+    call check(abs(t - t_impact(j)) <= 1e-9_c_double * t_impact(j), 'stepped impact time')
+  end do
+  print '(a,i0,a,f12.8)', ' stepped: ', j - 1, ' impacts one call each, the last at t = ', t
+  call check(j - 1 == size(t_impact), 'ten impacts stepped')
 
   call vi_sim_destroy(sim)
   call vi_model_destroy(model)

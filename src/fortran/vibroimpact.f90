@@ -72,7 +72,8 @@ module vibroimpact
             vi_sim_set_sampling, vi_sim_set_monitor, vi_sim_run, vi_sim_get_state, &
             vi_sim_get_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops, &
             vi_sim_set_chatter_threshold, vi_sim_set_restart_step, vi_sim_set_max_step, &
-            vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note
+            vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note, &
+            vi_sim_setup, vi_sim_run_to_event
   public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_orbit_create, vi_orbit_destroy, vi_orbit_errmsg, vi_orbit_set_method, &
@@ -437,6 +438,17 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double), value :: t_end
+    end function
+    integer(c_int) function vi_sim_setup(sim) bind(C, name="vi_sim_setup")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+    end function
+    !> kind: the VI_EVENT_* that ended the step, -1 at t_end
+    integer(c_int) function vi_sim_run_to_event(sim, t_end, kind) bind(C, name="vi_sim_run_to_event")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: t_end
+      integer(c_int) :: kind
     end function
     integer(c_int) function vi_sim_get_state(sim, t, x, v) bind(C, name="vi_sim_get_state")
       import :: c_int, c_ptr, c_double
