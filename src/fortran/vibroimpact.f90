@@ -7,16 +7,19 @@
 ! by vi_*_create and released by vi_*_destroy, which also nullify them.
 ! Matrices are Fortran arrays passed straight through, column-major with
 ! their leading dimension: no copies.  Indices that the C API counts from 0
-! (mode numbers in vi_orbit_reduced_restitution, vi_event%index) stay
-! 0-based here.  Callbacks are bind(C) functions passed with c_funloc; they
+! (mode numbers in vi_orbit_reduced_restitution, vi_model_create_reduced
+! and vi_cantilever_*, vi_event%index) stay 0-based here.  Callbacks are bind(C) functions passed with c_funloc; they
 ! return 0 to go on and non-zero to stop the run.  Messages come back as
 ! Fortran strings through vi_string.  Arguments the C API lets be NULL are
-! optional here (an absent one is passed as NULL); strings going into C end
+! optional here (an absent one is passed as NULL: Fortran 2018, TS 29113,
+! in gfortran since 4.9; the rest is Fortran 2003); strings going into C end
 ! with c_null_char ('exact'//c_null_char).  The scene and HDF5 functions of
 ! the companion library are in module vibroimpact_io (vibroimpact_io.f90).
 !
 ! tests/fortran_symbols_test.sh fails when an exported C function has no
-! bind(C) interface here or in vibroimpact_io.f90.
+! bind(C) interface here or in vibroimpact_io.f90, when an interface's
+! arguments or result differ from the C prototype, and when a header's
+! enumerator is not among the constants (src/fortran/vi_gen_constants.c).
 module vibroimpact
   use, intrinsic :: iso_c_binding
   implicit none
