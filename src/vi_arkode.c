@@ -26,7 +26,8 @@ typedef struct ark_data {
   SUNContext ctx;
   void *mem;
   ARKodeButcherTable B; /* our copy of the table, for polishing steps */
-  int N;          /* 2n state, then 4n ledger integrals if the ledger is on */
+  int N;          /* 2n state, then nq ledger integrals */
+  int nq;         /* 0 without the ledger, 4n, or 5n with nonlinear forces */
   double *ze;     /* extended state [N]: y wraps it */
   double *zd;     /* extended dense output [N]: yd wraps it */
   double *y0, *yt, *yo, *K; /* polishing: step start, stage input, output
@@ -40,7 +41,7 @@ typedef struct ark_data {
 } ark_data;
 
 /* The extended right-hand side: state rates, then (ledger) FE', DE', XE',
- * CE' as vi_cvode.c's quadratures compute them. */
+ * CE' (and NE') as vi_cvode.c's quadratures compute them. */
 static void erk_f(vi_sim *s, double t, const double *z, double *zd)
 {
   int n = s->n;
@@ -49,21 +50,25 @@ static void erk_f(vi_sim *s, double t, const double *z, double *zd)
     zd[2 * i] = z[2 * i + 1];
     zd[2 * i + 1] = s->vp[i];
   }
-  if (s->ledger_on) {
-    double Lambda = 0.0;
+  if (s->led) {
+    double Lambda = 0.0, *gq = NULL;
     if (s->sticking) {
       vi_sim_accel(s, t, z, 0, s->vp);
       Lambda = vi_dot(n, s->m->w, s->vp) / s->m->wMw;
     }
-    vi_ledger_modal_velocity(s, z, s->qdw);
-    vi_ledger_rates(s, t, s->qdw, Lambda, zd + 2 * n);
+    if (s->nforces) {
+      gq = s->fbuf + 3 * n;
+      vi_force_modal(s, t, z, gq);
+    }
+    vi_ledger_rates_state(s->led, t, z, Lambda, gq, zd + 2 * n);
   }
 }
 
 static int rhs(double t, N_Vector y, N_Vector yd, void *user)
 {
-  erk_f(user, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yd));
-  return 0;
+  vi_sim *s = user;
+  erk_f(s, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yd));
+  return s->force_failed ? -1 : 0; /* the host's force failed: stop */
 }
 
 /* As vi_cvode.c: contact (g rising), gap maxima (g' falling), and while
@@ -89,6 +94,8 @@ static void err_handler(int code, const char *module, const char *function,
     vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s %s (%d): %s", module, function,
             code, msg);
 }
+
+static void get_state(vi_sim *s, ark_data *d);
 
 static void ark_destroy(vi_sim *s)
 {
@@ -123,7 +130,8 @@ static int ark_create(vi_sim *s)
   if (!d) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
   s->be_data = d;
   s->errmsg[0] = '\0';
-  d->N = (s->ledger_on ? 6 : 2) * n;
+  d->nq = s->led ? (s->nforces ? 5 : 4) * n : 0;
+  d->N = 2 * n + d->nq;
   d->B = ARKodeButcherTable_LoadERK(VI_ERK_TABLE);
   VI_CHECK(d->B, s->errmsg, VI_ERR_NOMEM, "ARKODE Butcher table unavailable");
   d->ze = calloc((size_t)d->N * (5 + (size_t)d->B->stages), sizeof(double));
@@ -139,8 +147,7 @@ static int ark_create(vi_sim *s)
   d->yd = N_VMake_Serial(d->N, d->zd, d->ctx);
   VI_CHECK(d->y && d->yd, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
   if (s->fast_nvector) vi_nvector_fast_ops(d->y); /* before ARKODE clones it */
-  memcpy(d->ze, s->z, sizeof(double) * 2 * n);
-  if (s->ledger_on) memcpy(d->ze + 2 * n, s->Q, sizeof(double) * 4 * n);
+  get_state(s, d);
   d->mem = ERKStepCreate(rhs, s->t, d->y, d->ctx);
   VI_CHECK(d->mem, s->errmsg, VI_ERR_NOMEM, "ERKStepCreate failed");
   ARK_TRY(ERKStepSetErrHandlerFn(d->mem, err_handler, s));
@@ -170,11 +177,19 @@ static int64_t ark_stat(const void *data, int which)
   return v;
 }
 
-/* Copy the extended state out to the driver's s->z (and ledger s->Q). */
+/* Copy the extended state out to the driver's s->z (and the ledger's
+ * integrals), or in from them. */
 static void put_state(vi_sim *s, const double *ze)
 {
+  ark_data *d = s->be_data;
   memcpy(s->z, ze, sizeof(double) * 2 * s->n);
-  if (s->ledger_on) memcpy(s->Q, ze + 2 * s->n, sizeof(double) * 4 * s->n);
+  if (d->nq) memcpy(vi_ledger_integrals(s->led), ze + 2 * s->n, sizeof(double) * d->nq);
+}
+
+static void get_state(vi_sim *s, ark_data *d)
+{
+  memcpy(d->ze, s->z, sizeof(double) * 2 * s->n);
+  if (d->nq) memcpy(d->ze + 2 * s->n, vi_ledger_integrals(s->led), sizeof(double) * d->nq);
 }
 
 /* A restart keeps ARKODE's counters and, unlike a multistep method's, its
@@ -188,8 +203,7 @@ static int ark_start(vi_sim *s)
     if ((st = ark_create(s))) return st;
   } else {
     ark_data *d = s->be_data;
-    memcpy(d->ze, s->z, sizeof(double) * 2 * s->n);
-    if (s->ledger_on) memcpy(d->ze + 2 * s->n, s->Q, sizeof(double) * 4 * s->n);
+    get_state(s, d);
     ARK_TRY(ERKStepReset(d->mem, s->t, d->y));
   }
   ark_data *d = s->be_data;
@@ -256,6 +270,7 @@ static int polish(vi_sim *s, ark_data *d, double tc, double lo, double hi)
   for (int it = 0; it < 8; it++) {
     double g, gd;
     rk_step(s, d, t0, t - t0);
+    if (s->force_failed) return 0;
     vi_sim_gap(s, d->yo, &g, &gd);
     if (!(gd > 0.0)) return 0;
     double dt = -g / gd;
@@ -337,6 +352,9 @@ static int ark_step(vi_sim *s, double t_end, int *event)
   }
   d->continued = 0;
   d->fresh = 0;
+  if (flag < 0 && s->force_failed)
+    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
+                   "failed at t = %.17g", s->force_fail_t);
   if (flag < 0) {
     if (!s->errmsg[0])
       vi_fail(s->errmsg, VI_ERR_INTEGRATOR,

@@ -80,7 +80,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over;
+         s->m->flow_ok && !s->handed_over && !s->nforces;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -99,8 +99,9 @@ static void note_method(vi_sim *s)
   if (s->method == VI_METHOD_AUTO)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
-             s->m->flow_ok ? "closed-form flow available"
-                           : s->m->flow_why);
+             s->nforces     ? "nonlinear forces have no closed form"
+             : s->m->flow_ok ? "closed-form flow available"
+                             : s->m->flow_why);
   else
     snprintf(s->method_note, sizeof s->method_note, "%s",
              method_names[s->method_used]);
@@ -139,7 +140,8 @@ void vi_sim_destroy(vi_sim **sim)
   if (!sim || !*sim) return;
   vi_sim *s = *sim;
   backend_destroy(s);
-  vi_ledger_free(s);
+  vi_ledger_destroy(s->led);
+  vi_force_free(s);
   gsl_root_fsolver_free(s->brent);
   free(s->z);
   free(s);
@@ -158,6 +160,9 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && !s->m->flow_ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->m->flow_why);
+  if (method == VI_METHOD_EXACT && s->nforces)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "exact method unavailable: "
+                   "nonlinear forces have no closed form");
   s->method = method;
   s->handed_over = 0;
   backend_destroy(s);
@@ -172,6 +177,9 @@ int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "tolerances rtol = %g, atol = %g must be positive and "
                    "finite", rtol, atol);
+  if (rtol >= 1.0)
+    return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
+                   "rtol = %g must be below 1 (a relative accuracy)", rtol);
   if (rtol < 2.0 * DBL_EPSILON)
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "rtol = %g is below twice the machine epsilon", rtol);
@@ -188,28 +196,31 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
   int n = s->n;
   if (!isfinite(t0))
     return vi_fail(s->errmsg, VI_ERR_NONFINITE, "t0 = %g is not finite", t0);
+  /* validate in scratch: a refused state leaves the sim as it was */
   for (int i = 0; i < n; i++) {
     double xi = x0 ? x0[i] : 0.0, vi = v0 ? v0[i] : 0.0;
     if (!isfinite(xi) || !isfinite(vi))
       return vi_fail(s->errmsg, VI_ERR_NONFINITE,
                      "initial state x(%d) = %g, v(%d) = %g is not finite",
                      i + 1, xi, i + 1, vi);
-    s->z[2 * i] = xi;
-    s->z[2 * i + 1] = vi;
+    s->zs[2 * i] = xi;
+    s->zs[2 * i + 1] = vi;
   }
   double g, gd;
-  vi_sim_gap(s, s->z, &g, &gd);
+  vi_sim_gap(s, s->zs, &g, &gd);
   /* allow round-off of a state handed over from an earlier contact */
   if (g > 1e-13 * fmax(1.0, fabs(m->xs)))
     return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE,
                    "initial state violates the stop: w.x0 = %.17g > x_s = "
                    "%.17g", g + m->xs, m->xs);
+  memcpy(s->z, s->zs, sizeof(double) * 2 * (size_t)n);
+  s->z_stale = 0;
   s->t = t0;
   s->sticking = 0;
   s->started = 0;
   s->stick_pending = 0;
   s->t_last_contact = -HUGE_VAL;
-  vi_ledger_begin(s);
+  if (s->led) vi_ledger_begin(s->led, s->t, s->z);
   return VI_OK;
 }
 
@@ -290,9 +301,10 @@ int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user)
 int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user)
 {
   if (!s) return VI_ERR_ARG;
-  if (!isfinite(dt))
-    return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g", dt);
-  s->smp_fn = dt > 0.0 ? fn : NULL;
+  if (fn && !(dt > 0.0 && isfinite(dt)))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g must be "
+                   "positive and finite", dt);
+  s->smp_fn = fn;
   s->smp_user = user;
   s->smp_dt = dt;
   s->smp_t0 = s->t;
@@ -373,9 +385,14 @@ static void split(vi_sim *s, const double *z)
 static void emit(vi_sim *s, int kind, double vn, double ie)
 {
   int64_t idx = s->nevents[kind]++;
-  if (!s->ev_fn || s->stop) return;
+  s->last_event = kind;
+  if (s->event_stop) s->stop = 1;
+  if (!s->ev_fn || (s->stop && !s->event_stop)) return;
   vi_event ev = {kind, s->n, idx, s->t, vn, ie, s->x, s->v, s->vp};
-  if (s->ev_fn(&ev, s->ev_user)) s->stop = 1;
+  if (s->ev_fn(&ev, s->ev_user)) {
+    s->stop = 1;
+    s->event_stop = 0; /* the user's request: the run returns VI_STOPPED */
+  }
 }
 
 /* out = M^-1 (f^(k)(t) - K u - C ud): the k-th time derivative (k = 1, 2)
@@ -476,13 +493,24 @@ static void emit_pending_stick(vi_sim *s)
   emit(s, VI_EVENT_STICK, s->stick_vn, s->stick_ie);
 }
 
+/* End the ledger's open interval at s->t (vi_ledger_pre_jump saw the state
+ * before any jump; s->z is the state after it). */
+static void close_interval(vi_sim *s, int jump, double ie)
+{
+  if (s->led &&
+      vi_ledger_close(s->led, s->t, s->z, jump, ie, vi_sim_user_stopped(s))) {
+    s->stop = 1;
+    s->event_stop = 0;
+  }
+}
+
 /* A contact located at s->t: impact, start of sticking, or a tangential
  * touch that needs nothing but a restart past it. */
 static int on_contact(vi_sim *s)
 {
   const vi_model *m = s->m;
   int n = s->n;
-  vi_ledger_pre_jump(s);
+  if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
   double vn = vi_dot(n, m->w, s->v);
   vi_sim_accel(s, s->t, s->z, 0, s->vp);
@@ -564,7 +592,7 @@ static int on_contact(vi_sim *s)
     s->z[2 * i] = s->x[i];
     s->z[2 * i + 1] = s->vp[i];
   }
-  vi_ledger_close(s, vn > 0.0 || stick, ie + ie_tail);
+  close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   if (stick && s->stick_at <= s->t) emit_pending_stick(s);
   s->stats[VI_STAT_REINITS]++;
   if (stick) use_backend(s, &vi_backend_cvode);
@@ -574,8 +602,8 @@ static int on_contact(vi_sim *s)
 static int on_release(vi_sim *s)
 {
   emit_pending_stick(s); /* released before the tail's end: stick was brief */
-  vi_ledger_pre_jump(s);
-  vi_ledger_close(s, 0, 0.0);
+  if (s->led) vi_ledger_pre_jump(s->led, s->z);
+  close_interval(s, 0, 0.0);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * s->n);
   s->sticking = 0;
@@ -599,6 +627,13 @@ static int initial_contact(vi_sim *s)
   return gd == 0.0 && push > 0.0 && s->m->r < 1.0;
 }
 
+/* How far beyond the stop a state may sit: the integration error. */
+static double gap_tolerance(const vi_sim *s)
+{
+  return 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
+         1e-12 * fabs(s->m->xs);
+}
+
 /* Deliver the uniform samples that fall in (t_prev, t] from the backend's
  * interpolant; nothing here forces the integrator's steps. */
 static int samples(vi_sim *s, double t)
@@ -609,25 +644,35 @@ static int samples(vi_sim *s, double t)
     if (ts > s->t_end && ts - s->t_end <= 8 * DBL_EPSILON * fabs(s->t_end))
       ts = s->t_end;
     if (ts > t || ts > s->t_end) return VI_OK;
+    if ((s->smp_k & 4095) == 4095 && vi_sim_cancelled(s)) return VI_CANCELLED;
     s->smp_k++;
-    if (s->stop) continue;
+    if (vi_sim_user_stopped(s)) continue;
     /* at the current time the state itself, not the interpolant (which
      * CVODE has not built before its first step) */
     const double *zs = s->z;
     int st = ts == s->t ? vi_sim_sync(s) : s->be->dense(s, ts);
     if (st) return st;
     if (ts != s->t) zs = s->zs;
+    double g = -s->m->xs;
     for (int i = 0; i < s->n; i++) {
       s->x[i] = zs[2 * i];
       s->v[i] = zs[2 * i + 1];
+      g += s->m->w[i] * s->x[i];
+      if (!isfinite(s->x[i]) || !isfinite(s->v[i]))
+        return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g "
+                       "not finite: x(%d) = %g, v(%d) = %g", ts, i + 1,
+                       s->x[i], i + 1, s->v[i]);
     }
+    if (!(g <= gap_tolerance(s)))
+      return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g lies "
+                     "beyond the stop: w.x - x_s = %.3g", ts, g);
     if (s->smp_fn(ts, s->n, s->x, s->v, s->smp_user)) s->stop = 1;
   }
 }
 
 static void monitor(vi_sim *s)
 {
-  if (!s->mon_fn || s->t < s->mon_next || s->stop) return;
+  if (!s->mon_fn || s->t < s->mon_next || vi_sim_user_stopped(s)) return;
   vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_get_stat(s, VI_STAT_STEPS),
                    s->stats[VI_STAT_IMPACTS]};
   if (s->mon_fn(&p, s->mon_user)) s->stop = 1;
@@ -660,8 +705,7 @@ static int check_invariants(vi_sim *s)
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state not finite at t = %.17g (%s method): w.x - x_s = %g",
                    s->t, method_names[s->method_used], g);
-  double tol = 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
-               1e-12 * fabs(s->m->xs);
+  double tol = gap_tolerance(s);
   if (!(g <= tol))
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state beyond the stop at t = %.17g (%s method): w.x - x_s "
@@ -688,7 +732,17 @@ int vi_sim_run(vi_sim *s, double t_end)
     return vi_fail(s->errmsg, VI_ERR_TIME,
                    "end time %.17g is not after the current time %.17g", t_end,
                    s->t);
+  if (s->smp_fn) {
+    /* refuse a sampling interval whose samples could never all be made */
+    double span = t_end - fmax(s->t, s->smp_t0), ts = fmax(fabs(t_end), fabs(s->smp_t0));
+    if (s->smp_dt <= 4.0 * DBL_EPSILON * ts || span / s->smp_dt > 1e10)
+      return vi_fail(s->errmsg, VI_ERR_LIMIT,
+                     "sampling interval %g would need %.3g samples up to t = "
+                     "%g (limit 1e10, and dt above the time's round-off)",
+                     s->smp_dt, span / s->smp_dt, t_end);
+  }
   int st = VI_OK, cancelled = 0;
+  s->force_failed = 0;
   s->t_end = t_end;
   s->run_t0 = s->t;
   s->stop = 0;
@@ -719,7 +773,10 @@ int vi_sim_run(vi_sim *s, double t_end)
       if ((st = hand_over(s))) return st;
       continue;
     }
-    if (s->smp_fn && (st = samples(s, s->t))) return st;
+    if (s->smp_fn && (st = samples(s, s->t))) {
+      if (st != VI_CANCELLED) return st;
+      cancelled = 1; /* the step is complete: its events are applied below */
+    }
     if (event != VI_STEP_NONE && (st = vi_sim_sync(s))) return st;
     if (event == VI_STEP_CONTACT && s->be->refine && (st = s->be->refine(s)))
       return st;
@@ -732,15 +789,93 @@ int vi_sim_run(vi_sim *s, double t_end)
     }
     if ((st = check_invariants(s))) return st;
     monitor(s);
+    if (cancelled) break;
   }
   if ((st = vi_sim_sync(s)) || (st = check_finite_state(s))) return st;
-  if (s->ledger_on && s->t > s->led_ta) {
-    vi_ledger_pre_jump(s);
-    vi_ledger_close(s, 0, 0.0);
+  if (s->led && s->t > vi_ledger_open_since(s->led)) {
+    vi_ledger_pre_jump(s->led, s->z);
+    close_interval(s, 0, 0.0);
   }
   if (cancelled) {
     vi_fail(s->errmsg, VI_CANCELLED, "cancelled at t = %.17g", s->t);
     return VI_CANCELLED;
   }
   return s->stop ? VI_STOPPED : VI_OK;
+}
+
+int vi_sim_setup(vi_sim *s)
+{
+  if (!s) return VI_ERR_ARG;
+  if (s->started) return VI_OK;
+  note_method(s);
+  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  return s->be->start(s); /* allocates; vi_sim_run restarts it cheaply */
+}
+
+int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
+{
+  if (!s || !kind) return VI_ERR_ARG;
+  *kind = -1;
+  s->event_stop = 1;
+  s->last_event = -1;
+  int st = vi_sim_run(s, t_end);
+  int by_event = s->event_stop && st == VI_STOPPED;
+  s->event_stop = 0;
+  if (by_event) {
+    *kind = s->last_event;
+    return VI_OK;
+  }
+  return st;
+}
+
+/* ---- the energy ledger's public face (the bookkeeping: vi_ledger.c) ---- */
+int vi_sim_enable_ledger(vi_sim *s, int on)
+{
+  if (!s) return VI_ERR_ARG;
+  if (on != 0 && on != 1)
+    return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
+  vi_ledger_destroy(s->led);
+  s->led = NULL;
+  if (on) {
+    if (!(s->led = vi_ledger_create(s->m)))
+      return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory for the ledger");
+    vi_ledger_set_callback(s->led, s->led_fn, s->led_user);
+    if (vi_sim_sync(s) == VI_OK)
+      vi_ledger_begin(s->led, s->t, s->z);
+  }
+  /* the integrator must be rebuilt with (or without) the quadratures */
+  if (s->be_data) s->be->destroy(s);
+  s->started = 0;
+  return VI_OK;
+}
+
+int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user)
+{
+  if (!s) return VI_ERR_ARG;
+  s->led_fn = fn;
+  s->led_user = user;
+  if (s->led) vi_ledger_set_callback(s->led, fn, user);
+  return VI_OK;
+}
+
+int vi_sim_get_ledger(const vi_sim *s, double *E, double *FE, double *DE,
+                      double *XE, double *CE, double *dE, double *ie)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!s->led) return VI_ERR_STATE;
+  vi_ledger_totals(s->led, s->z, E, FE, DE, XE, CE, dE, ie);
+  return VI_OK;
+}
+
+double vi_sim_ledger_max_residual(const vi_sim *s)
+{
+  return s && s->led ? vi_ledger_max_residual(s->led) : 0.0;
+}
+
+int vi_sim_get_ledger_force(const vi_sim *s, double *NE)
+{
+  if (!s || !NE) return VI_ERR_ARG;
+  if (!s->led) return VI_ERR_STATE;
+  vi_ledger_force_totals(s->led, NE);
+  return VI_OK;
 }

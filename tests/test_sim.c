@@ -307,6 +307,80 @@ static void test_callback_stop_and_resume(void **state)
   vi_model_destroy(&m);
 }
 
+/* Cancellation: the poll is asked at every step; a cancelled run returns
+ * VI_CANCELLED at a consistent state, and resuming gives the same motion as
+ * a run that was never interrupted. */
+static int cancel_after(void *u)
+{
+  int *polls = u;
+  return ++*polls == 200;
+}
+
+static void test_cancel_and_resume(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  for (int k = 0; k < 3; k++) {
+    double xa[2], va[2], xb[2], vb[2], t;
+    vi_sim *a = vi_test_sim(m, methods[k], 1e-10, 1e-12, NULL, NULL, NULL);
+    vi_sim *b = vi_test_sim(m, methods[k], 1e-10, 1e-12, NULL, NULL, NULL);
+    int polls = 0;
+    assert_int_equal(vi_sim_set_cancel(b, cancel_after, &polls), VI_OK);
+    assert_int_equal(vi_sim_run(b, 300.0), VI_CANCELLED);
+    vi_sim_get_state(b, &t, xb, vb);
+    assert_true(t < 300.0);
+    assert_int_equal(polls, 200);
+    assert_true(strstr(vi_sim_errmsg(b), "cancelled") != NULL);
+    assert_int_equal(vi_sim_run(b, 300.0), VI_OK);
+    assert_int_equal(vi_sim_run(a, 300.0), VI_OK);
+    vi_sim_get_state(a, NULL, xa, va);
+    vi_sim_get_state(b, &t, xb, vb);
+    assert_close(t, 300.0, 0);
+    assert_int_equal(vi_sim_get_stat(a, VI_STAT_IMPACTS),
+                     vi_sim_get_stat(b, VI_STAT_IMPACTS));
+    for (int i = 0; i < 2; i++) {
+      assert_close(xb[i], xa[i], 1e-12);
+      assert_close(vb[i], va[i], 1e-12);
+    }
+    vi_sim_destroy(&a);
+    vi_sim_destroy(&b);
+  }
+  vi_model_destroy(&m);
+}
+
+/* A host drives the run impact by impact: the same impacts, at the same
+ * times, as one uninterrupted run. */
+static void test_run_to_event(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double t_end = 100 * 2 * M_PI / 0.9;
+  for (int k = 0; k < 3; k++) {
+    vi_test_events ref = {0};
+    assert_int_equal(vi_test_run(m, methods[k], 1e-10, 1e-12, NULL, NULL,
+                                 t_end, &ref), VI_OK);
+    vi_sim *s = vi_test_sim(m, methods[k], 1e-10, 1e-12, NULL, NULL, NULL);
+    assert_int_equal(vi_sim_setup(s), VI_OK);
+    int kind = 0, count = 0;
+    double t = 0.0;
+    while (kind >= 0) {
+      assert_int_equal(vi_sim_run_to_event(s, t_end, &kind), VI_OK);
+      vi_sim_get_state(s, &t, NULL, NULL);
+      if (kind < 0) break;
+      assert_int_equal(kind, VI_EVENT_IMPACT);
+      assert_true(count < ref.count);
+      assert_close(t, ref.t[count], 1e-12 * t_end);
+      count++;
+    }
+    assert_close(t, t_end, 0);
+    assert_int_equal(count, ref.count);
+    assert_true(count >= 99);
+    vi_sim_destroy(&s);
+    vi_test_events_free(&ref);
+  }
+  vi_model_destroy(&m);
+}
+
 /* Many modes (MODEL.md section 7): a 40-mass chain, omega_N / omega_1 = 51,
  * forced on mass 1 below its first mode, the free end impacting; BDF runs
  * with the band solver on the interleaved state (bandwidth 3 of 80).
@@ -381,6 +455,8 @@ int main(void)
       cmocka_unit_test(test_grazing_contact_found),
       cmocka_unit_test(test_chattering_accumulates_then_sticks),
       cmocka_unit_test(test_sticking_release_time),
+      cmocka_unit_test(test_cancel_and_resume),
+      cmocka_unit_test(test_run_to_event),
       cmocka_unit_test(test_callback_stop_and_resume),
       cmocka_unit_test(test_native_vector_ops_agree),
       cmocka_unit_test(test_stiff_chain_band),

@@ -202,6 +202,19 @@ VI_API const char *vi_sim_method_note(const vi_sim *sim);
  *  message says where), VI_ERR_NOMEM. */
 VI_API int vi_sim_run(vi_sim *sim, double t_end);
 
+/** Allocate the integrator now (it is otherwise built by the first run),
+ *  so that a host sees allocation and solver set-up errors before it
+ *  starts.  @return VI_OK, VI_ERR_ARG, VI_ERR_NOMEM, VI_ERR_INTEGRATOR. */
+VI_API int vi_sim_setup(vi_sim *sim);
+/** Integrate until the next event or t_end, whichever comes first, so that
+ *  a host code can drive the simulation impact by impact.  The event
+ *  callback still sees every event.  *kind receives the VI_EVENT_* of the
+ *  last event of the step that ended on one (an impact may be followed by
+ *  the start of sticking at the same instant), or -1 when t_end was
+ *  reached.  @return VI_OK, or as vi_sim_run (VI_STOPPED when the event
+ *  callback asked to stop). */
+VI_API int vi_sim_run_to_event(vi_sim *sim, double t_end, int *kind);
+
 /** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */
 VI_API int vi_sim_get_state(const vi_sim *sim, double *t, double *x,
                             double *v);
