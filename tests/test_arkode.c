@@ -5,6 +5,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <gsl/gsl_sf_ellint.h>
+
 #include "vi_testutil.h"
 
 /* Stop out of reach: samples of the dense output against the closed-form
@@ -263,6 +265,69 @@ static void test_fig2_ledger_closes(void **state)
   vi_model_destroy(&m);
 }
 
+/* Nonlinear forces: the free Duffing oscillator x'' + x + eps x^3 = 0 from
+ * x = A at rest returns to A after its period T = 4 K(m) / sqrt(w2),
+ * w2 = 1 + eps A^2, m = eps A^2 / (2 w2) (complete elliptic integral), and
+ * conserves H = v^2/2 + x^2/2 + eps x^4/4.  Built-in spring and host
+ * callback alike; a failing callback ends the run with VI_ERR_CALLBACK. */
+typedef struct duff { double eps, H0, err; int calls, fail_after; } duff;
+
+static int duff_energy(double t, int n, const double *x, const double *v, void *u)
+{
+  (void)t;
+  (void)n;
+  duff *c = u;
+  double H = 0.5 * v[0] * v[0] + 0.5 * x[0] * x[0] + 0.25 * c->eps * pow(x[0], 4);
+  c->err = fmax(c->err, fabs(H - c->H0));
+  return 0;
+}
+
+static int duff_force(double t, int n, const double *x, const double *v,
+                      double *g, void *user)
+{
+  (void)t;
+  (void)n;
+  (void)v;
+  duff *c = user;
+  g[0] = -c->eps * x[0] * x[0] * x[0];
+  return c->fail_after && ++c->calls > c->fail_after;
+}
+
+static void test_duffing_period(void **state)
+{
+  (void)state;
+  double eps = 0.8, A = 1.3, w2 = 1.0 + eps * A * A, mm = eps * A * A / (2.0 * w2);
+  double T = 4.0 * gsl_sf_ellint_Kcomp(sqrt(mm), GSL_PREC_DOUBLE) / sqrt(w2);
+  vi_model *m = vi_test_sdof(1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 10.0, 0.8);
+  for (int variant = 0; variant < 3; variant++) {
+    double x0 = A, v0 = 0.0, x, v, t;
+    duff c = {eps, 0.5 * A * A + 0.25 * eps * pow(A, 4), 0.0, 0, 0};
+    vi_sim *s = vi_test_sim(m, VI_METHOD_ERK, 1e-11, 1e-13, &x0, &v0, NULL);
+    if (variant == 0)
+      assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, eps, 0.0), VI_OK);
+    else
+      assert_int_equal(vi_sim_set_force(s, duff_force, NULL, &c), VI_OK);
+    if (variant == 2) { /* the host's force fails after 1000 calls */
+      c.fail_after = 1000;
+      assert_int_equal(vi_sim_run(s, 10.0 * T), VI_ERR_CALLBACK);
+      vi_sim_destroy(&s);
+      continue;
+    }
+    assert_int_equal(vi_sim_set_sampling(s, T / 64, duff_energy, &c), VI_OK);
+    assert_int_equal(vi_sim_run(s, 10.0 * T), VI_OK);
+    vi_sim_get_state(s, &t, &x, &v);
+    print_message("duffing erk %d: x(10 T) - A = %.2g, v = %.2g, energy drift %.2g\n",
+                  variant, x - A, v, c.err);
+    assert_close(x, A, 1e-8);
+    assert_close(v, 0.0, 1e-8);
+    /* the samples come from ARKODE's degree-5 interpolant, whose error at
+     * these 8th-order steps is above the step ends' (measured 1.8e-9) */
+    assert_true(c.err < 1e-8);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -273,6 +338,7 @@ int main(void)
       cmocka_unit_test(test_chattering_sticks),
       cmocka_unit_test(test_release_then_free_flight),
       cmocka_unit_test(test_fig2_ledger_closes),
+      cmocka_unit_test(test_duffing_period),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
