@@ -47,6 +47,7 @@ OUR_TOLS = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
 SCIPY_TOLS = [1e-6, 1e-8, 1e-10, 1e-12]  # slow: decades only
 ED_TOLS = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
 MJ_STEPS_PER_PERIOD = [100, 1000]
+ROUNDS = 3
 
 
 def log(*a):
@@ -61,7 +62,7 @@ class Ours:
     def model(self, scene):
         return json.loads(subprocess.check_output([self.wp, scene, "model"]))
 
-    def run(self, scene, method, rtol, t_end, repeats=5):
+    def run(self, scene, method, rtol, t_end, repeats=10):
         out = subprocess.check_output(
             [self.wp, scene, method, repr(rtol), repr(rtol * 1e-2),
              repr(t_end), str(repeats)], text=True)
@@ -348,11 +349,19 @@ def main():
             if res["wall"] > 20.0:
                 slow.add(solver)
 
-        for m in ["exact", "auto"]:
-            add("ours " + m, "rtol 1e-10", ours.run(scene, m, 1e-10, t_end))
-        for m in ["adams", "bdf", "erk"]:
-            for tol in OUR_TOLS:
-                add("ours " + m, "rtol %.0e" % tol, ours.run(scene, m, tol, t_end))
+        # ours and Siconos event-driven are fast, and the machine is shared:
+        # ROUNDS interleaved rounds over all their settings, best time kept
+        cfg = [("ours " + m, "rtol 1e-10", m, 1e-10) for m in ["exact", "auto"]]
+        cfg += [("ours " + m, "rtol %.0e" % tol, m, tol)
+                for m in ["adams", "bdf", "erk"] for tol in OUR_TOLS]
+        got = {}
+        for _ in range(ROUNDS):
+            for solver, setting, m, tol in cfg:
+                r = ours.run(scene, m, tol, t_end)
+                if (solver, setting) not in got or r["wall"] < got[solver, setting]["wall"]:
+                    got[solver, setting] = r
+        for solver, setting, m, tol in cfg:
+            add(solver, setting, got[solver, setting])
         for m in ["DOP853", "LSODA"]:
             for tol in SCIPY_TOLS:
                 peer("SciPy " + m, "rtol %.0e" % tol,
@@ -360,7 +369,7 @@ def main():
         if sic:
             for tol in ED_TOLS:
                 peer("Siconos event-driven", "tol %.0e" % tol,
-                     lambda: sic.event_driven(mdl, tol, t_end), 3)
+                     lambda: sic.event_driven(mdl, tol, t_end), 2 * ROUNDS)
             period = 2 * math.pi / mdl["omega"]
             for spp in MJ_STEPS_PER_PERIOD:
                 h = period / spp
