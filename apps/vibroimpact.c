@@ -18,6 +18,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "vi_app.h"
+#include "vi_sweep.h"
 
 volatile sig_atomic_t vi_app_interrupted;
 static void on_signal(int sig) { (void)sig; vi_app_interrupted = 1; }
@@ -28,6 +29,9 @@ static void usage(FILE *f)
     "usage: vibroimpact [run] [SCENE.yaml] [options]   simulate a scene\n"
     "       vibroimpact energy [SCENE.yaml] [options]  P(1,1) energy balance (WB 11-13)\n"
     "       vibroimpact restitution --re RE --ke KE_I  r = sqrt(1 - RE/KE_i) (WB 13)\n"
+    "       vibroimpact sweep [SCENE.yaml] --param KEY --from A --to B --steps K ...\n"
+    "                                                  bifurcation diagram (sweep --help)\n"
+    "       vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json]  P(n,m) orbits by Newton\n"
     "With no scene: the embedded default, Wagg & Bishop (2000) Fig. 2.\n\n"
     "  -o, --output FILE   write the run to an HDF5 file (FILE.part until done)\n"
     "  --impacts-csv FILE  one line per impact, pre-impact state; '-' = stdout\n"
@@ -73,6 +77,8 @@ int main(int argc, char **argv)
             VI_VERSION_STRING, vi_version_string());
     return 1;
   }
+  if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_cmd_sweep_main(argc - 1, argv + 1);
+  if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
   app_opts o = {NULL, NULL, NULL, 0, 0, 0, -1, 0, 0, 0};
   const char *cmd = "run";
   int first = 1;
