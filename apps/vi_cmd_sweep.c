@@ -86,7 +86,8 @@ static void table(const vi_sweep *sw)
       int k = ln->dir > 0 ? p : K - 1 - p;
       const vi_sweep_point *pt = &ln->pt[k];
       char cls[32];
-      if (pt->n) snprintf(cls, sizeof cls, "P(%d,%d)", pt->n, pt->m);
+      if (pt->failed) snprintf(cls, sizeof cls, "failed");
+      else if (pt->n) snprintf(cls, sizeof cls, "P(%d,%d)", pt->n, pt->m);
       else snprintf(cls, sizeof cls, "-");
       printf("  %14.8g  %-9s ", sw->param[k], cls);
       int64_t a = pt->n ? pt->nimp - pt->m : (pt->nimp > 4 ? pt->nimp - 4 : 0);
@@ -196,6 +197,12 @@ int vi_cmd_sweep_main(int argc, char **argv)
     fprintf(stderr, "vibroimpact: sweep: %s\n", err);
     goto done;
   }
+  for (int l = 0; l < sw->nlines; l++)
+    for (int k = 0; k < sp.steps; k++)
+      if (sw->lines[l].pt[k].failed)
+        fprintf(stderr, "vibroimpact: sweep: warning: %s (marked failed; the "
+                "next value starts from the scene's initial state)\n",
+                sw->lines[l].pt[k].error ? sw->lines[l].pt[k].error : "");
   if (out && vi_sweep_write_h5(sw, out, err, sizeof err)) {
     fprintf(stderr, "vibroimpact: sweep: %s\n", err);
     rc = 1;

@@ -207,15 +207,26 @@ static void run_piece(piece *p)
                sizeof(double) * 2 * N);
       }
     }
-    if (st) {
+    if (st && (p->oom || st == VI_CANCELLED || st == VI_STOPPED)) {
       p->code = 1;
       if (p->oom) msg(p->err, sizeof p->err, "out of memory");
-      else if (st == VI_CANCELLED || st == VI_STOPPED)
-        msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
-      else
-        msg(p->err, sizeof p->err, "%s = %.17g: %s: %s", sw->spec.key, val,
-            vi_strerror(st), vi_sim_errmsg(s));
+      else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
       goto done;
+    }
+    if (st) {
+      /* one value's failure does not sink the diagram: it is marked, and
+       * the next value starts cold (from the scene's initial state) */
+      char e[1400];
+      msg(e, sizeof e, "%s = %.17g: %s: %s", sw->spec.key, val,
+          vi_strerror(st), vi_sim_errmsg(s));
+      pt->failed = 1;
+      pt->n = pt->m = 0;
+      pt->error = strdup(e);
+      have_state = 0;
+      vi_sim_destroy(&s);
+      vi_model_destroy(&m);
+      vi_scene_destroy(&sc);
+      continue;
     }
     classify(sw, pt, z, vi_model_clearance(m),
              t0 + (sw->spec.transient + R) * T);
@@ -244,6 +255,7 @@ void vi_sweep_free(vi_sweep **swp)
       free(ln->pt[k].t);
       free(ln->pt[k].phase);
       free(ln->pt[k].vn);
+      free(ln->pt[k].error);
     }
     free(ln->pt);
     free(ln->strobe);
@@ -429,6 +441,16 @@ static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
         json_nums(f, (w == 2 ? pt->vn : pt->phase) + a, pt->nimp - a);
       }
     }
+  }
+  fprintf(f, "], \"failed\": [");
+  for (int p = 0, first = 1; p < K; p++) {
+    const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+    if (!pt->failed) continue;
+    fprintf(f, "%s{\"param\": %.17g, \"error\": ", first ? "" : ", ",
+            sw->param[ln->dir > 0 ? p : K - 1 - p]);
+    json_str(f, pt->error ? pt->error : "");
+    fprintf(f, "}");
+    first = 0;
   }
   fprintf(f, "]");
 }

@@ -43,6 +43,9 @@ typedef struct vi_sweep_point {
   int64_t nimp;         /* impacts in the recorded periods */
   double *t, *phase, *vn; /* their times, times mod T, approach velocities */
   double T;             /* forcing period */
+  int failed;           /* 1: the simulation of this value failed (why:
+                           `error`); the next value starts cold */
+  char *error;
 } vi_sweep_point;
 
 typedef struct vi_sweep_line {

@@ -84,7 +84,7 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     for (int k = 0; k < K; k++) {
       const vi_sweep_point *pt = &ln->pt[k];
       size_t i = (size_t)l * K + k;
-      nn[i] = pt->n;
+      nn[i] = pt->failed ? -1 : pt->n;
       mm[i] = pt->n ? pt->m : 0;
       T[i] = pt->T;
       cnt[i] = pt->nimp;
