@@ -90,6 +90,60 @@ VI_API int vi_orbit_min_gap(const vi_orbit *o, double *gmin);
 VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
                                         int k, double *r_S);
 
+/* ---- P(n, m) orbits found directly (vi_orbit_pnm.c) ------------------- */
+/** An orbit is given by its m impacts in one orbit period n T (T = 2 pi /
+ *  Omega): times t[m], ascending, and the states just before them, x and v
+ *  [n x m] column-major with leading dimension ld (column j = impact j).
+ *  Between impacts the motion is the closed-form free flow, so these
+ *  functions need a model with the exact flow (VI_ERR_UNSUPPORTED
+ *  otherwise). */
+
+/** Newton's method on the impact conditions: for each impact j, the free
+ *  flow from (t_j, x_j, v_j+) reaches (x_{j+1}, v_{j+1}) at t_{j+1} (the
+ *  last one at t_0 + nT back to the first), and w.x_j = x_s; v+ from WB 2.
+ *  Exact derivatives (the flow is affine in the state; time derivatives
+ *  are the vector field).  t, x, v hold the seed and receive the orbit.
+ *  Converged when every residual is <= tol times the state scale (tol <= 0:
+ *  1e-12, what the closed-form flow delivers).  Admissibility is not
+ *  checked (see vi_orbit_pnm_admissible).  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_STATE, VI_ERR_UNSUPPORTED, VI_ERR_FREQUENCY, VI_ERR_NOMEM,
+ *  VI_ERR_NOT_CONVERGED (40 iterations, a singular Jacobian, or impacts
+ *  out of order); *iters (may be NULL) the iterations. */
+VI_API int vi_orbit_pnm_solve(const vi_model *m, int n, int mi, double *t,
+                              double *x, double *v, int ld, double tol,
+                              int *iters);
+/** Floquet multipliers [2 n_coords] (re, im) of the orbit: eigenvalues of
+ *  the monodromy matrix, the product over the impacts of the flow's state
+ *  transition matrix and the saltation matrix
+ *  S = R + (f+ - R f-) g^T / (g^T f-) (R the impact law's Jacobian, f-+
+ *  the vector field before and after, g = (w, 0)).  det = r^(2m)
+ *  exp(-tr(M^-1 C) nT).  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE,
+ *  VI_ERR_UNSUPPORTED, VI_ERR_NOMEM, VI_ERR_LAPACK. */
+VI_API int vi_orbit_pnm_multipliers(const vi_model *m, int n, int mi,
+                                    const double *t, const double *x,
+                                    const double *v, int ld, double *re,
+                                    double *im);
+/** Admissibility: *ok = 1 if every impact approaches the stop (w.v_j > 0)
+ *  and the gap w.x - x_s stays below the stop between impacts (sampled at
+ *  512 points per forcing period, maxima refined by golden section; 1e-10
+ *  of the state scale allowed); *gmax (may be NULL) the largest gap found
+ *  between impacts.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE,
+ *  VI_ERR_UNSUPPORTED, VI_ERR_NOMEM. */
+VI_API int vi_orbit_pnm_admissible(const vi_model *m, int n, int mi,
+                                   const double *t, const double *x,
+                                   const double *v, int ld, double *gmax,
+                                   int *ok);
+/** Every P(n, 1) orbit: for each impact phase phi the periodic motion
+ *  with one impact at phi per nT solves a linear system (the flow is
+ *  affine); its gap w.x - x_s is scanned over nphase (>= 8) phases in
+ *  [0, nT), sign changes refined by vi_orbit_pnm_solve, duplicates and
+ *  non-approaching ones dropped.  Admissible or not, stable or not.  Up to
+ *  cap orbits into t [cap] (impact time mod nT), x, v [n x cap]; *found
+ *  receives how many there are (may exceed cap).  @return as
+ *  vi_orbit_pnm_solve. */
+VI_API int vi_orbit_p1_scan(const vi_model *m, int n, int nphase, double *t,
+                            double *x, double *v, int ld, int cap, int *found);
+
 /** The reduced model itself, in the modal coordinates of `full`: M = I,
  * K = diag(omega_S^2), C = D_SS, forcing Psi_S^T (a, b, f0), stop psi_S
  * with the same x_s and restitution r.  A new, set-up model. */
