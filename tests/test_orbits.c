@@ -1,0 +1,154 @@
+/* test_orbits.c - P(n, m) orbits found directly (src/vi_orbit_pnm.c):
+ * the exhaustive impact-phase scan, Newton, admissibility and the Floquet
+ * multipliers from saltation matrices, against independent 40-50 digit
+ * references (tests/ref_fig2_p11.py, tests/ref_sdof_p11.py, python3-mpmath),
+ * Liouville's formula for the monodromy determinant, and simulation. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_testutil.h"
+
+static double modulus(double re, double im) { return hypot(re, im); }
+
+static int by_modulus(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* Fig. 2: one P(1,1) orbit, admissible and stable, at the reference. */
+static void fig2_scan(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double t[8], x[16], v[16], re[4], im[4], gmax;
+  int found = 0, ok = 0;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 2, 8, &found), VI_OK);
+  int adm = -1, count = 0;
+  for (int i = 0; i < found; i++) {
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + 2 * i, v + 2 * i, 2, &gmax, &ok), VI_OK);
+    if (ok) {
+      adm = i;
+      count++;
+    }
+  }
+  assert_int_equal(count, 1);
+  /* tests/ref_fig2_p11.py: the flow is exact, so round-off level */
+  assert_close(v[2 * adm + 1], 0.78766085255479729134, 1e-12);
+  assert_close(fmod(t[adm], 2 * M_PI / 0.9), 0.67857113423124466619, 1e-12);
+  assert_close(x[2 * adm + 1], 0.1, 1e-14);                  /* on the stop */
+  assert_close(x[2 * adm], 0.09621605903588743049, 1e-12);
+  assert_true(gmax < -1e-3);                                  /* clear of the stop */
+  /* multipliers: det of the monodromy = r^2 exp(-tr(M^-1 C) T) (det of a
+   * saltation matrix is r^2; Liouville for the flow), tr(M^-1 C) = 0.3 */
+  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[adm], x + 2 * adm, v + 2 * adm, 2, re, im), VI_OK);
+  double det = 1, mod[4];
+  for (int i = 0; i < 4; i++) {
+    mod[i] = modulus(re[i], im[i]);
+    det *= mod[i];
+  }
+  assert_close(det, 0.49 * exp(-0.3 * 2 * M_PI / 0.9), 1e-12);
+  qsort(mod, 4, sizeof(double), by_modulus);
+  assert_true(mod[3] < 1.0); /* stable: the transient settles on it */
+  /* the finite-difference multipliers of vi_orbit agree to their own
+   * error (central differences with h = 1e-6: ~1e-6 here) */
+  vi_orbit *o = NULL;
+  double fre[4], fim[4], fmod_[4];
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  assert_int_equal(vi_orbit_multipliers(o, fre, fim), VI_OK);
+  for (int i = 0; i < 4; i++) fmod_[i] = modulus(fre[i], fim[i]);
+  qsort(fmod_, 4, sizeof(double), by_modulus);
+  for (int i = 0; i < 4; i++) assert_close(mod[i], fmod_[i], 1e-5);
+  vi_orbit_destroy(&o);
+  vi_model_destroy(&m);
+}
+
+/* share/scenes/chatter.yaml: a stable and an unstable P(1,1) orbit; the
+ * transient only ever finds the stable one.  tests/ref_sdof_p11.py. */
+static void sdof_two_orbits(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_sdof(1.0, 0.02, 0.1, 0.6, 0.3, 1.0, 0.0, 0.5);
+  double t[8], x[8], v[8], re[2], im[2], gmax;
+  int found = 0, ok;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 1, 8, &found), VI_OK);
+  assert_int_equal(found, 2);
+  int u = fmod(t[0], 2 * M_PI) < 1.0 ? 0 : 1, s = 1 - u;
+  assert_close(fmod(t[u], 2 * M_PI), 0.68405233563160207582, 1e-11);
+  assert_close(v[u], 1.6134056745831746208, 1e-11);
+  assert_close(fmod(t[s], 2 * M_PI), 2.0694948525182891832, 1e-11);
+  assert_close(v[s], 2.1562495000219778789, 1e-11);
+  for (int i = 0; i < 2; i++) {
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], &x[i], &v[i], 1, &gmax, &ok), VI_OK);
+    assert_int_equal(ok, 1);
+  }
+  /* the unstable one: real multipliers 2.2128..., 0.0996...; the
+   * reference takes them by 50-digit finite differences of the impact map */
+  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[u], &x[u], &v[u], 1, re, im), VI_OK);
+  double hi = fmax(re[0], re[1]), lo = fmin(re[0], re[1]);
+  assert_close(hi, 2.21284535663875, 1e-10);
+  assert_close(lo, 0.099635450761658, 1e-10);
+  assert_close(im[0], 0.0, 1e-12);
+  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[s], &x[s], &v[s], 1, re, im), VI_OK);
+  assert_close(re[0], 0.201695343061645, 1e-10);
+  assert_close(fabs(im[0]), 0.424024566696069, 1e-10);
+  vi_model_destroy(&m);
+}
+
+/* Newton from a rough seed converges to the same orbit (quadratically: a
+ * handful of iterations), for P(1,1) and for a P(2,3) orbit of Fig. 2 at
+ * Omega = 0.85 seeded from a transient. */
+static void newton_from_seed(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double t = 0.6, x[2] = {0.05, 0.1}, v[2] = {0.3, 0.7};
+  int it = 0;
+  assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, &t, x, v, 2, 0.0, &it), VI_OK);
+  assert_true(it <= 12);
+  assert_close(v[1], 0.78766085255479729134, 1e-12);
+  assert_close(fmod(t, 2 * M_PI / 0.9), 0.67857113423124466619, 1e-12);
+  vi_model_destroy(&m);
+}
+
+/* An inadmissible P(1,1) of share/scenes/nonproportional.yaml: its gap
+ * rises above the stop between impacts, and a simulation from its
+ * post-impact state indeed meets the stop before one period is over. */
+static void inadmissible(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_nonprop3(0.05, NULL);
+  double t[8], x[24], v[24], gmax;
+  int found = 0, ok = 1;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 3, 8, &found), VI_OK);
+  assert_true(found >= 1);
+  int bad = -1;
+  for (int i = 0; i < found; i++) {
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + 3 * i, v + 3 * i, 3, &gmax, &ok), VI_OK);
+    if (!ok && gmax > 1e-3) bad = i;
+  }
+  assert_true(bad >= 0);
+  double vp[3];
+  assert_int_equal(vi_impact_apply(m, v + 3 * bad, vp, NULL, NULL), VI_OK);
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, t[bad], x + 3 * bad, vp), VI_OK);
+  assert_int_equal(vi_sim_run(s, t[bad] + 0.99 * 2 * M_PI / 0.8), VI_OK);
+  assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) >= 1);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(fig2_scan),
+      cmocka_unit_test(sdof_two_orbits),
+      cmocka_unit_test(newton_from_seed),
+      cmocka_unit_test(inadmissible),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
