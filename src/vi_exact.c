@@ -248,4 +248,4 @@ static int64_t ex_stat(const void *data, int which)
 }
 
 const vi_backend vi_backend_exact = {"exact", ex_start, ex_step, ex_dense,
-                                     ex_stat, ex_destroy, NULL};
+                                     ex_stat, ex_destroy, NULL, NULL};

@@ -77,4 +77,11 @@ void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x *
 void vi_matvec_t(int n, const double *A, const double *x, double *y); /* y = A^T x */
 double vi_dot(int n, const double *x, const double *y);
 
+/* 1 if the arrays [n] at a and b share memory (the API forbids it where an
+ * output would overwrite an input still being read). */
+static inline int vi_overlap(const double *a, const double *b, int n)
+{
+  return a && b && a < b + n && b < a + n;
+}
+
 #endif

@@ -64,6 +64,8 @@ static void modal_energy(const vi_sim *s, const double *z, double *E, double *K)
 int vi_sim_enable_ledger(vi_sim *s, int on)
 {
   if (!s) return VI_ERR_ARG;
+  if (on != 0 && on != 1)
+    return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
   int n = s->n;
   vi_ledger_free(s);
   if (on) {
@@ -155,7 +157,7 @@ void vi_ledger_close(vi_sim *s, int jump, double ie)
     }
     s->led_ie += ie;
   }
-  if (s->led_fn && !s->stop) {
+  if (s->led_fn && !vi_sim_user_stopped(s)) {
     vi_ledger_interval iv = {n, s->led_ta, s->t, s->EA, s->EB, s->KA, s->KB,
                              I, I + n, I + 2 * n, I + 3 * n,
                              jump ? s->dE : NULL, jump ? ie : 0.0, res};

@@ -29,6 +29,9 @@ typedef struct vi_backend {
    * A backend that builds physical states lazily sets s->z_stale after a
    * step; the driver calls vi_sim_sync() before it reads s->z. */
   int (*sync)(vi_sim *s);
+  /* After a contact step's samples went out: locate the contact (s->t,
+   * s->z) more accurately, or leave it (NULL: nothing to refine). */
+  int (*refine)(vi_sim *s);
 } vi_backend;
 
 extern const vi_backend vi_backend_cvode;
@@ -52,6 +55,10 @@ struct vi_sim {
   char handover_why[VI_MSG_LEN];   /* set by a backend with VI_STEP_HANDOVER */
   vi_cancel_fn cancel_fn; void *cancel_user;
   double vn_floor, dt_floor, t_last_contact;
+  /* a summed chattering tail: sticking began at its first impact, the
+   * STICK event is due at its accumulation point stick_at */
+  int stick_pending;
+  double stick_at, stick_vn, stick_ie;
   double t_end;   /* of the current vi_sim_run call */
 
   vi_event_fn ev_fn;    void *ev_user;
@@ -59,6 +66,8 @@ struct vi_sim {
   vi_monitor_fn mon_fn; void *mon_user;  double mon_every, mon_next;
   double run_t0;
   int stop;       /* a callback asked to stop */
+  int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
+  int last_event; /* kind of the last event emitted */
 
   int64_t stats[VI_STAT_COUNT]; /* driver-owned counters */
   int64_t nevents[3];
@@ -72,6 +81,7 @@ struct vi_sim {
   gsl_root_fsolver *brent;
 
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */
+  double *w1, *w2, *w3;    /* scratch of the chatter map: n each */
 
   /* energy ledger (vi_ledger.c); all NULL unless enabled */
   int ledger_on;
@@ -92,6 +102,13 @@ static inline int vi_sim_sync(vi_sim *s)
   int st = s->be->sync(s);
   if (!st) s->z_stale = 0;
   return st;
+}
+
+/* A callback asked to stop (not merely vi_sim_run_to_event's pause): later
+ * callbacks of the step are not called. */
+static inline int vi_sim_user_stopped(const vi_sim *s)
+{
+  return s->stop && !s->event_stop;
 }
 
 /* The host's cancellation poll; backends call it inside long loops. */
