@@ -15,6 +15,9 @@
 
 #include "vibroimpact.h"
 #include "vi_sweep.h"
+#ifdef VI_HAVE_MPI
+#include <mpi.h>
+#endif
 
 static volatile sig_atomic_t interrupted;
 static void on_signal(int sig) { (void)sig; interrupted = 1; }
@@ -190,12 +193,21 @@ int vi_cmd_sweep_main(int argc, char **argv)
   sigaction(SIGINT, &sa, NULL);
   sigaction(SIGTERM, &sa, NULL);
   vi_sweep *sw = NULL;
+#ifdef VI_HAVE_MPI
+  /* only when started by mpirun: a plain run never touches MPI */
+  int mpi = getenv("OMPI_COMM_WORLD_SIZE") != NULL;
+  if (mpi) MPI_Init(NULL, NULL);
+#endif
   rc = vi_sweep_run(text, scene ? scene : "<default scene: fig2>", sets, nsets,
                     &sp, &interrupted, &sw, err, sizeof err);
   free(text);
   if (rc) {
     fprintf(stderr, "vibroimpact: sweep: %s\n", err);
-    goto done;
+    goto finish;
+  }
+  if (sw->rank) { /* rank 0 reports and writes */
+    vi_sweep_free(&sw);
+    goto finish;
   }
   for (int l = 0; l < sw->nlines; l++)
     for (int k = 0; k < sp.steps; k++)
@@ -213,6 +225,14 @@ int vi_cmd_sweep_main(int argc, char **argv)
     if (out) printf("diagram written to %s\n", out);
   }
   vi_sweep_free(&sw);
+finish:
+#ifdef VI_HAVE_MPI
+  if (mpi) {
+    /* every rank leaves with rank 0's status */
+    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Finalize();
+  }
+#endif
 done:
   free(sets);
   return rc;

@@ -10,6 +10,9 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#ifdef VI_HAVE_MPI
+#include <mpi.h>
+#endif
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
@@ -295,6 +298,129 @@ static int trial(const vi_sweep *sw, const char *key, double val, char *err,
   return st;
 }
 
+#ifdef VI_HAVE_MPI
+/* ---- MPI: results of every piece to rank 0 -------------------------------- */
+typedef struct pbuf { char *b; size_t len, cap; int oom; } pbuf;
+
+static void put_bytes(pbuf *p, const void *x, size_t k)
+{
+  if (p->oom) return;
+  if (p->len + k > p->cap) {
+    size_t cap = 2 * (p->len + k) + 1024;
+    char *nb = realloc(p->b, cap);
+    if (!nb) { p->oom = 1; return; }
+    p->b = nb;
+    p->cap = cap;
+  }
+  memcpy(p->b + p->len, x, k);
+  p->len += k;
+}
+
+static void pack_piece(const vi_sweep *sw, const piece *pc, pbuf *p)
+{
+  int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
+  for (int pos = pc->pos0; pos < pc->pos1; pos++) {
+    int k = pc->ln->dir > 0 ? pos : K - 1 - pos;
+    const vi_sweep_point *pt = &pc->ln->pt[k];
+    int hdr[3] = {pt->n, pt->m, pt->failed};
+    int64_t ni = pt->nimp, el = pt->error ? (int64_t)strlen(pt->error) : -1;
+    put_bytes(p, hdr, sizeof hdr);
+    put_bytes(p, &pt->T, sizeof pt->T);
+    put_bytes(p, &ni, sizeof ni);
+    if (ni) {
+      put_bytes(p, pt->t, sizeof(double) * ni);
+      put_bytes(p, pt->phase, sizeof(double) * ni);
+      put_bytes(p, pt->vn, sizeof(double) * ni);
+    }
+    put_bytes(p, &el, sizeof el);
+    if (el > 0) put_bytes(p, pt->error, (size_t)el);
+    put_bytes(p, pc->ln->strobe + (size_t)k * R * n2, sizeof(double) * R * n2);
+  }
+}
+
+static int unpack_piece(const vi_sweep *sw, const piece *pc, const char *b,
+                        size_t len, size_t *off)
+{
+  int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
+#define TAKE(dst, k) do { if (*off + (k) > len) return 1; memcpy((dst), b + *off, (k)); *off += (k); } while (0)
+  for (int pos = pc->pos0; pos < pc->pos1; pos++) {
+    int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[3];
+    vi_sweep_point *pt = &pc->ln->pt[k];
+    int64_t ni, el;
+    TAKE(hdr, sizeof hdr);
+    pt->n = hdr[0];
+    pt->m = hdr[1];
+    pt->failed = hdr[2];
+    TAKE(&pt->T, sizeof pt->T);
+    TAKE(&ni, sizeof ni);
+    pt->nimp = ni;
+    if (ni) {
+      pt->t = malloc(sizeof(double) * ni);
+      pt->phase = malloc(sizeof(double) * ni);
+      pt->vn = malloc(sizeof(double) * ni);
+      if (!pt->t || !pt->phase || !pt->vn) return 1;
+      TAKE(pt->t, sizeof(double) * ni);
+      TAKE(pt->phase, sizeof(double) * ni);
+      TAKE(pt->vn, sizeof(double) * ni);
+    }
+    TAKE(&el, sizeof el);
+    if (el >= 0) {
+      pt->error = calloc((size_t)el + 1, 1);
+      if (!pt->error) return 1;
+      if (el > 0) TAKE(pt->error, (size_t)el);
+    }
+    TAKE(pc->ln->strobe + (size_t)k * R * n2, sizeof(double) * R * n2);
+  }
+#undef TAKE
+  return 0;
+}
+
+/* Every rank's code is agreed on first (an error anywhere fails the sweep
+ * everywhere); then ranks 1.. send their pieces' results to rank 0. */
+static int vi_sweep_gather(vi_sweep *sw, piece *ps, int ntask, int rank,
+                           int size, int code, char *err, int errlen)
+{
+  int all = 0;
+  MPI_Allreduce(&code, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (all) {
+    if (!code) msg(err, errlen, "another MPI rank failed (its message is on its stderr)");
+    else if (rank) fprintf(stderr, "vibroimpact: sweep (rank %d): %s\n", rank, err);
+    return all;
+  }
+  if (rank) {
+    pbuf p = {NULL, 0, 0, 0};
+    for (int i = rank; i < ntask; i += size) pack_piece(sw, &ps[i], &p);
+    long long len = p.oom ? -1 : (long long)p.len;
+    MPI_Send(&len, 1, MPI_LONG_LONG, 0, 1, MPI_COMM_WORLD);
+    if (len > 0) MPI_Send(p.b, (int)len, MPI_BYTE, 0, 2, MPI_COMM_WORLD);
+    free(p.b);
+    return len < 0 ? 1 : 0;
+  }
+  int bad = 0;
+  for (int r = 1; r < size; r++) {
+    long long len;
+    MPI_Recv(&len, 1, MPI_LONG_LONG, r, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (len <= 0) {
+      bad |= len < 0;
+      continue;
+    }
+    char *b = malloc((size_t)len);
+    if (!b) {
+      bad = 1;
+      MPI_Recv(NULL, 0, MPI_BYTE, r, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      continue;
+    }
+    MPI_Recv(b, (int)len, MPI_BYTE, r, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    size_t off = 0;
+    for (int i = r; i < ntask && !bad; i += size)
+      bad |= unpack_piece(sw, &ps[i], b, (size_t)len, &off);
+    free(b);
+  }
+  if (bad) msg(err, errlen, "gathering the results of the MPI ranks failed");
+  return bad;
+}
+#endif
+
 int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int nsets, const vi_sweep_spec *spec,
                  volatile sig_atomic_t *cancel, vi_sweep **out, char *err,
@@ -375,17 +501,33 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     ps[i].pos1 = (int)((int64_t)K * (i % C + 1) / C);
     ps[i].cancel = cancel;
   }
+  /* MPI ranks take pieces round-robin (rank r: pieces r, r + size, ...);
+   * each piece is computed the same way wherever it runs */
+  int rank = 0, size = 1;
+#ifdef VI_HAVE_MPI
+  int mpi_on = 0;
+  MPI_Initialized(&mpi_on);
+  if (mpi_on) {
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+  }
+#endif
+  int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
 #ifdef _OPENMP
   int nth = sp->threads > 0 ? sp->threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
 #endif
-  for (int i = 0; i < ntask; i++) run_piece(&ps[i]);
+  for (int q = 0; q < nmine; q++) run_piece(&ps[rank + q * size]);
   int code = 0;
   for (int i = 0; i < ntask && !code; i++)
     if (ps[i].code) {
       code = ps[i].code;
       msg(err, errlen, "%s", ps[i].err);
     }
+#ifdef VI_HAVE_MPI
+  if (size > 1) code = vi_sweep_gather(sw, ps, ntask, rank, size, code, err, errlen);
+  sw->rank = rank;
+#endif
   free(ps);
   if (code) {
     vi_sweep_free(&sw);

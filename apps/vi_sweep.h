@@ -13,7 +13,10 @@
  * second parameter) or, with `chunks` C > 1, one of C contiguous runs of
  * values of the line in its direction; the pieces are independent, so any
  * number of threads (or a serial run) gives bit-identical results for the
- * same C.
+ * same C.  Under MPI (`mpirun -np K vibroimpact sweep ...`, built with
+ * OpenMPI) the pieces are dealt round-robin to the ranks, each runs its
+ * own on its OpenMP threads, and rank 0 gathers the diagram: identical
+ * for any K.
  */
 #ifndef VI_SWEEP_H
 #define VI_SWEEP_H
@@ -64,6 +67,8 @@ typedef struct vi_sweep {
   vi_sweep_line *lines;   /* row-major: row r, then up before down */
   char *text, *name;      /* the base scene (after --set) and its file name */
   double wall;            /* seconds spent in vi_sweep_run */
+  int rank;               /* MPI rank (0 without MPI): only rank 0 holds
+                             the whole diagram */
 } vi_sweep;
 
 /* Run the sweep on the scene text (name: its file, for messages) after
