@@ -100,6 +100,13 @@ int vi_cmd_energy(const app_opts *o)
   int pn, pm;
   vi_orbit_classify(orb, &pn, &pm);
   if (pn != 1 || pm != 1) {
+    rc = 3; /* not P(1,1): a result, not a failure */
+    if (o->json) {
+      printf("{\"scene\": \"%s\", \"P11\": false, \"periodic\": %s, ",
+             vi_scene_name(sc), pn ? "true" : "false");
+      if (pn) printf("\"n\": %d, \"m\": %d}\n", pn, pm);
+      else printf("\"n\": null, \"m\": null, \"impacts_per_period\": %d}\n", pm);
+    }
     if (pn == 0)
       fprintf(
           stderr,
@@ -129,7 +136,7 @@ int vi_cmd_energy(const app_opts *o)
                 !reduced_check(m, 1, rS[0], &cv, &cg, &cp, &cpn, &cpm);
   vi_orbit_min_gap(orb, &gmin);
   if (o->json) {
-    printf("{\"scene\": \"%s\", \"period\": %.17g, \"impact_phase\": %.17g, "
+    printf("{\"scene\": \"%s\", \"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, \"period\": %.17g, \"impact_phase\": %.17g, "
            "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
            "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, "
            "\"min_gap\": %.17g, "

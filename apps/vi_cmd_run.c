@@ -7,14 +7,13 @@
 #include <time.h>
 
 #include "vi_app.h"
+#include "vi_sweep.h"
 
 int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model)
 {
   vi_diag d;
   char msg[1200];
-  int st = o->scene ? vi_scene_load(o->scene, scene, &d)
-                    : vi_scene_parse(vi_scene_default_text(), -1,
-                                     "<default scene: fig2>", scene, &d);
+  int st = vi_sets_load(o->scene, scene, &d); /* with --set (vi_sweep.h) */
   if (!st) st = vi_scene_set_run(*scene, o->rtol, o->atol, o->periods, o->method);
   if (!st) st = vi_scene_create_model(*scene, model, &d);
   if (st) {

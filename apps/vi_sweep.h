@@ -99,6 +99,15 @@ struct vi_scene;
 int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
                         struct vi_scene **out, char *err, int errlen);
 
+/* --set KEY=VALUE for run and energy: vi_sets_take removes every
+ * `--set KEY=VALUE` (or `--set=KEY=VALUE`) from argv and keeps them;
+ * returns the new argc, -1 for a --set without its value.  vi_sets_load
+ * then loads a scene (NULL: the default) as vi_scene_load does, with them
+ * applied (vi_scene_edit: errors keep the file:line of the key). */
+int vi_sets_take(int argc, char **argv);
+struct vi_diag;
+int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
+
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */
 int vi_cmd_sweep_main(int argc, char **argv);

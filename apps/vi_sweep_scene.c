@@ -73,3 +73,55 @@ int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
   }
   return 0;
 }
+
+/* ---- --set for the commands that share the app's option parser --------- */
+/* The program's own list, filled once by main() before any thread starts. */
+static const char **set_list;
+static int set_count;
+
+int vi_sets_take(int argc, char **argv)
+{
+  int k = 1;
+  set_list = calloc((size_t)argc + 1, sizeof *set_list);
+  if (!set_list) return -1;
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--set")) {
+      if (i + 1 >= argc) return -1;
+      set_list[set_count++] = argv[++i];
+    } else if (!strncmp(argv[i], "--set=", 6)) {
+      set_list[set_count++] = argv[i] + 6;
+    } else {
+      argv[k++] = argv[i];
+    }
+  }
+  argv[k] = NULL;
+  return k;
+}
+
+int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
+{
+  if (!set_count)
+    return path ? vi_scene_load(path, out, d)
+                : vi_scene_parse(vi_scene_default_text(), -1,
+                                 "<default scene: fig2>", out, d);
+  char err[512];
+  vi_scene_edit *ed = NULL;
+  if (d) memset(d, 0, sizeof *d);
+  *out = NULL;
+  char *text = vi_sweep_read_text(path, err, sizeof err);
+  if (!text) {
+    if (d) {
+      d->code = VI_ERR_IO;
+      snprintf(d->file, sizeof d->file, "%s", path ? path : "");
+      snprintf(d->message, sizeof d->message, "%s", err);
+    }
+    return VI_ERR_IO;
+  }
+  int st = vi_scene_edit_create(text, -1, path ? path : "<default scene: fig2>",
+                                &ed, d);
+  for (int i = 0; i < set_count && !st; i++) st = vi_scene_edit_assign(ed, set_list[i], d);
+  if (!st) st = vi_scene_edit_parse(ed, out, d);
+  free(text);
+  vi_scene_edit_destroy(&ed);
+  return st;
+}

@@ -39,6 +39,7 @@ static void usage(FILE *f)
     "  --rtol R, --atol A  tolerances (override the scene)\n"
     "  --method M          adams, bdf or exact (closed-form flow)\n"
     "  --json              (energy) print one JSON object\n"
+    "  --set KEY=VALUE     override a scene key, e.g. --set forcing.omega=0.95\n"
     "  --quiet             no summary and no progress bar\n"
     "  --version, --help\n\n"
     "Exit status: 0 success, 1 run-time error or interrupted, 2 usage or input error.\n");
@@ -79,6 +80,7 @@ int main(int argc, char **argv)
   }
   if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_cmd_sweep_main(argc - 1, argv + 1);
   if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
+  if ((argc = vi_sets_take(argc, argv)) < 0) { fprintf(stderr, "vibroimpact: --set needs KEY=VALUE\n"); return 2; }
   app_opts o = {NULL, NULL, NULL, 0, 0, 0, -1, 0, 0, 0};
   const char *cmd = "run";
   int first = 1;

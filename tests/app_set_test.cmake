@@ -1,0 +1,28 @@
+# --set through the program: run and energy take the override, a bad value
+# is reported at the file:line:column of the key it replaces, energy --json
+# classifies a motion that is not P(1,1) (exit status 3), orbits --json.
+function(expect rc_want out_re err_re)
+  execute_process(COMMAND "${APP}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL ${rc_want})
+    message(FATAL_ERROR "${ARGN}: exit ${rc}, expected ${rc_want}\n${out}\n${err}")
+  endif()
+  if(NOT out MATCHES "${out_re}")
+    message(FATAL_ERROR "${ARGN}: stdout does not match '${out_re}':\n${out}")
+  endif()
+  if(NOT err MATCHES "${err_re}")
+    message(FATAL_ERROR "${ARGN}: stderr does not match '${err_re}':\n${err}")
+  endif()
+endfunction()
+set(S ${SCENES}/fig2.yaml)
+expect(2 "^$" "fig2.yaml:10:29: stop.r = 1.5: restitution must lie in \\[0, 1\\] \\(a value set on the command line\\)"
+       ${S} --set stop.r=1.5)
+expect(2 "^$" "fig2.yaml:9:.*forcing.omgea = omgea: unknown key" ${S} --set forcing.omgea=2)
+expect(2 "^$" "forcing.a\\[3\\].*out of range" ${S} --set forcing.a[3]=1)
+# Omega = 0.95 is P(1,1) with v_N = 0.9189... (the sweep's diagram)
+expect(0 "impacts   200 .*v_n = 0\\.91890" "" ${S} --periods 200 --method exact --set forcing.omega=0.95)
+expect(3 "\"P11\": false, \"periodic\": true, \"n\": 2, \"m\": 3" "P\\(2,3\\)"
+       energy ${S} --json --method exact --set forcing.omega=0.85)
+expect(0 "\"P11\": true, .*\"vN\": 0\\.787660852554" "" energy ${S} --json --method exact)
+expect(0 "\"orbits\": \\[{\"n\": 1, \"m\": 1, \"vN\": \\[0\\.787660852554.*\"stable\": true, \"admissible\": true" ""
+       orbits ${S} --json)
+message(STATUS "--set, energy --json classification and orbits --json: ok")
