@@ -121,6 +121,8 @@ int vi_cmd_energy(const app_opts *o)
               pn, pm, pn, pm);
     goto done;
   }
+  int tn, tm, by_scan; /* found by the direct search (vi_orbit.h)? */
+  vi_orbit_search_info(orb, &tn, &tm, &by_scan);
   double T, ph, vN, KE, RE, IE, rr, cl;
   vi_orbit_balance(orb, &T, &ph, &vN, &KE, &RE, &IE, &rr, &cl);
   vi_orbit_modal_balance(orb, FE, DE, XE, reff);
@@ -136,12 +138,15 @@ int vi_cmd_energy(const app_opts *o)
                 !reduced_check(m, 1, rS[0], &cv, &cg, &cp, &cpn, &cpm);
   vi_orbit_min_gap(orb, &gmin);
   if (o->json) {
-    printf("{\"scene\": \"%s\", \"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, \"period\": %.17g, \"impact_phase\": %.17g, "
+    printf("{\"scene\": \"%s\", \"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, ", vi_scene_name(sc));
+    if (by_scan) printf("\"found_by\": \"scan\", \"transient_n\": %d, \"transient_m\": %d, ", tn, tm);
+    else printf("\"found_by\": \"transient\", ");
+    printf("\"period\": %.17g, \"impact_phase\": %.17g, "
            "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
            "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, "
            "\"min_gap\": %.17g, "
            "\"modes\": [",
-           vi_scene_name(sc), T, ph, vN, KE, RE, IE, vi_model_restitution(m),
+           T, ph, vN, KE, RE, IE, vi_model_restitution(m),
            rr, cl, gmin);
     for (int j = 0; j < n; j++)
       printf(
@@ -165,6 +170,9 @@ int vi_cmd_energy(const app_opts *o)
   } else {
     printf("P(1,1) energy balance, scene %s (Wagg & Bishop 2000, eqs. 11-13)\n",
            vi_scene_name(sc));
+    if (by_scan)
+      printf("  (the transient settled on %s; this stable P(1,1) orbit was "
+             "found by a scan of impact phases)\n", tn ? "another motion" : "no periodic motion");
     printf("  period %.10g, impact phase %.10g, v_N %.10g, deepest excursion "
            "%.6g\n",
            T, ph, vN, gmin);

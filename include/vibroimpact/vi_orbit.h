@@ -54,13 +54,27 @@ VI_API int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol);
  *  VI_STOPPED.  fn NULL removes it.  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user);
 
+/** Direct search (default on): when the transient does not settle on a
+ *  P(1,1) orbit and the model has the closed-form flow, look for one with
+ *  vi_orbit_p1_scan and analyse the most stable admissible one found, if
+ *  it is stable (another attractor the transient missed).
+ *  @return VI_OK, VI_ERR_ARG (on not 0 or 1). */
+VI_API int vi_orbit_set_direct_search(vi_orbit *o, int on);
+/** What vi_orbit_find did: *tn, *tm the classification of the transient
+ *  (as vi_orbit_classify would give without the direct search), *by_scan
+ *  1 if the analysed P(1,1) orbit came from the direct search.  Any
+ *  pointer may be NULL. */
+VI_API int vi_orbit_search_info(const vi_orbit *o, int *tn, int *tm,
+                                int *by_scan);
 /** Run, classify, and for P(1,1) refine and analyse.  VI_OK whatever the
  * motion turns out to be: ask vi_orbit_classify.  VI_STOPPED if the monitor
  * asked to stop; a negative code means the computation itself failed. */
 VI_API int vi_orbit_find(vi_orbit *o);
 /** *n periods of forcing, *m impacts per orbit period; n = 0 when no period
  * up to 8 was found within the transient (m is then the mean number of
- * impacts per forcing period over the last 8 periods, rounded). */
+ * impacts per forcing period over the last 8 periods, rounded).  (1, 1)
+ * also when the direct search found a stable P(1,1) orbit the transient
+ * missed (vi_orbit_search_info tells the two apart). */
 VI_API int vi_orbit_classify(const vi_orbit *o, int *n, int *m);
 
 /* ---- P(1,1) results: VI_ERR_STATE unless the orbit is P(1,1) ---------- */
@@ -77,7 +91,10 @@ VI_API int vi_orbit_modal_balance(const vi_orbit *o, double *FE, double *DE,
 /** The state just before the impact: t, x [n], v [n] (any may be NULL). */
 VI_API int vi_orbit_impact_state(const vi_orbit *o, double *t, double *x,
                                  double *v);
-/** Floquet multipliers of the stroboscopic map, re and im [2n]. */
+/** Floquet multipliers of the stroboscopic map, re and im [2n]: from the
+ *  monodromy matrix with saltation matrices (vi_orbit_pnm_multipliers)
+ *  when the model has the closed-form flow, else central differences of
+ *  the map. */
 VI_API int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im);
 /** Smallest value of the gap w.x - x_s over the period (the deepest
  * excursion from the stop, <= 0). */
