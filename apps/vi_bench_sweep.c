@@ -28,8 +28,18 @@ static double now(void)
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+static double cpu(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static double cpu_used; /* CPU seconds of the last sweep, all threads */
+
 static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
 {
+  double c0 = cpu();
   static const char *sets[] = {"run.method=exact"};
   vi_sweep *sw = NULL;
   char err[2048];
@@ -40,6 +50,7 @@ static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
     exit(1);
   }
   *wall = now() - t;
+  cpu_used = cpu() - c0;
   return sw;
 }
 
@@ -102,18 +113,20 @@ int main(int argc, char **argv)
          "%d recorded periods each (%.3g forcing periods), exact method; %d "
          "cores\n", K, P, R, periods, cores);
   vi_sweep *a = sweep(&sp, &w1);
-  printf("  (1) 1 sweep, 1 thread:         %8.3f s wall  (%.2f us per forcing period)\n",
-         w1, 1e6 * w1 / periods);
+  printf("  (1) 1 sweep, 1 thread:         %8.3f s wall, %8.3f s CPU  (%.2f us "
+         "CPU per forcing period)\n", w1, cpu_used, 1e6 * cpu_used / periods);
   census(a);
   vi_sweep_free(&a);
   if (T > 1) {
     sp.chunks = T;
     sp.threads = 1;
     vi_sweep *b = sweep(&sp, &w2);
-    printf("  (2) %d chunks, 1 thread:        %8.3f s wall\n", T, w2);
+    printf("  (2) %d chunks, 1 thread:        %8.3f s wall, %8.3f s CPU\n", T, w2, cpu_used);
     sp.threads = T;
     vi_sweep *c = sweep(&sp, &w3);
-    printf("  (3) %d chunks, %d threads:       %8.3f s wall\n", T, T, w3);
+    printf("  (3) %d chunks, %d threads:       %8.3f s wall, %8.3f s CPU  (CPU/wall "
+           "= %.2f: the cores this run got; other loads on the machine lower it)\n",
+           T, T, w3, cpu_used, cpu_used / w3);
     printf("  thread speed-up (2)/(3) = %.2f on %d threads (ideal %d); "
            "diagrams (2) and (3) bit-identical: %s\n", w2 / w3, T, T,
            identical(b, c) ? "yes" : "NO");
