@@ -54,10 +54,11 @@ def bifurcation(g, out, stem, coord):
     j = (coord if coord else N) - 1
     n, m, st = g["n"][:], g["m"][:], g["strobe"]
     fig, ax = plt.subplots(3, 1, figsize=(7.5, 8.5), sharex=True,
-                           gridspec_kw={"height_ratios": [3, 3, 0.6]})
+                           gridspec_kw={"height_ratios": [3, 3, 0.7]})
     style = {1: dict(c="k", s=0.6, label="sweep up"), -1: dict(c="tab:red", s=0.6, label="sweep down")}
     offs = {1: 0.0, -1: 0.0}
-    for l, d, _ in lines(g):
+    # down sweeps first (hollow red), up sweeps on top (black dots)
+    for l, d, _ in sorted(lines(g), key=lambda x: x[1]):
         xs, ys, sx, sy = [], [], [], []
         for k in range(len(p)):
             _, vn = points(g, l, k)
@@ -75,20 +76,28 @@ def bifurcation(g, out, stem, coord):
     if len(lines(g)) > 1:
         ax[0].legend(loc="upper left", markerscale=6, frameon=False)
     ax[1].set_ylabel(r"$x_{%d}(t_0 + kT)$ (stroboscopic)" % (j + 1))
-    # classification strip of the first line: P(n, m) as colour bands
-    cls = [f"P({a},{b})" if a > 0 else ("failed" if a < 0 else "none") for a, b in zip(n[0], m[0])]
-    kinds = sorted(set(cls), key=lambda s: (s == "none", s))
+    # classification strips, one row per line (up on top): P(n, m) colours
+    ls = sorted(lines(g), key=lambda x: -x[1])
+    cls = [[f"P({a},{b})" if a > 0 else ("failed" if a < 0 else "none")
+            for a, b in zip(n[l], m[l])] for l, _, _ in ls]
+    kinds = sorted({c for row in cls for c in row}, key=lambda s: (s in ("none", "failed"), s))
     cmap = plt.get_cmap("tab10")
+    colour = lambda c: "0.85" if c == "none" else ("k" if c == "failed" else cmap(kinds.index(c) % 10))
     step = (p[-1] - p[0]) / max(len(p) - 1, 1) if len(p) > 1 else 1.0
-    for k, c in enumerate(cls):
-        i = kinds.index(c)
-        ax[2].axvspan(p[k] - step / 2, p[k] + step / 2,
-                      color="0.85" if c == "none" else cmap(i % 10), lw=0)
-    handles = [plt.Rectangle((0, 0), 1, 1, color="0.85" if c == "none" else cmap(i % 10))
-               for i, c in enumerate(kinds)]
-    ax[2].legend(handles, kinds, ncol=min(len(kinds), 6), loc="upper center",
-                 bbox_to_anchor=(0.5, -1.3), frameon=False, fontsize=8)
-    ax[2].set_yticks([])
+    for row, (l, d, _) in enumerate(ls):
+        y0 = len(ls) - 1 - row
+        for k, c in enumerate(cls[row]):
+            ax[2].fill_between([p[k] - step / 2, p[k] + step / 2], y0, y0 + 0.9,
+                               color=colour(c), lw=0)
+    ax[2].set_ylim(0, len(ls))
+    handles = [plt.Rectangle((0, 0), 1, 1, color=colour(c)) for c in kinds]
+    ax[2].legend(handles, kinds, ncol=min(len(kinds), 7), loc="upper center",
+                 bbox_to_anchor=(0.5, -0.9), frameon=False, fontsize=8)
+    if len(ls) > 1:
+        ax[2].set_yticks([len(ls) - 1 - r + 0.45 for r in range(len(ls))])
+        ax[2].set_yticklabels(["up" if d > 0 else "down" for _, d, _ in ls], fontsize=8)
+    else:
+        ax[2].set_yticks([])
     ax[2].set_xlabel(label(key))
     ax[2].set_xlim(p[0] - step / 2, p[-1] + step / 2)
     fig.suptitle(f"{stem}: bifurcation diagram ({int(g.attrs['transient'])} transient + "
