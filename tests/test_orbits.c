@@ -155,6 +155,42 @@ static void direct_search(void **state)
   vi_model_destroy(&m);
 }
 
+/* The P(1,1) branch born at grazing of x'' + c x' + k x = a cos(Omega t):
+ * with the stop a distance delta inside the free amplitude A = a |H|, the
+ * orbit hits at v_N = s delta + O(delta^2), where (linearising the free
+ * response about its maximum, x_h = A - A Omega^2 tau^2 / 2, and solving
+ * the periodicity of the homogeneous correction over one period)
+ *   s = det(Phi(T) - I) / (Phi_12(T) (1 + r)),
+ * Phi the damped oscillator's transition matrix.  Two distances show the
+ * linear growth; the scan finds the branch near grazing.  s > 0 (the
+ * branch lies inside the free amplitude) because det(Phi - I) > 0 and
+ * sin(omega_d T) > 0 at Omega = 0.7. */
+static void grazing_branch(void **state)
+{
+  (void)state;
+  const double c = 0.1, k = 1.0, a = 0.3, Om = 0.7, r = 0.8;
+  double T = 2 * M_PI / Om, sg = c / 2, wd = sqrt(k - sg * sg), e = exp(-sg * T);
+  double p11 = e * (cos(wd * T) + sg / wd * sin(wd * T)), p12 = e * sin(wd * T) / wd,
+         p21 = -e * k * sin(wd * T) / wd, p22 = e * (cos(wd * T) - sg / wd * sin(wd * T));
+  double slope = ((p11 - 1) * (p22 - 1) - p12 * p21) / (p12 * (1 + r));
+  double A = a / hypot(k - Om * Om, c * Om);
+  assert_true(slope > 0);
+  for (int i = 1; i <= 2; i++) {
+    double delta = i * 1e-6;
+    vi_model *m = vi_test_sdof(1.0, c, k, a, 0.0, Om, A - delta, r);
+    double t[8], x[8], v[8];
+    int found = 0, best = -1;
+    assert_int_equal(vi_orbit_p1_scan(m, 1, 2000, t, x, v, 1, 8, &found), VI_OK);
+    for (int j = 0; j < found && j < 8; j++)
+      if (best < 0 || fabs(v[j] - slope * delta) < fabs(v[best] - slope * delta)) best = j;
+    assert_true(best >= 0);
+    print_message("delta %g: v_N %.10g, slope * delta %.10g\n", delta, v[best], slope * delta);
+    /* the next order is relative O(delta): 4e-6 here */
+    assert_close(v[best], slope * delta, 2e-5 * slope * delta);
+    vi_model_destroy(&m);
+  }
+}
+
 /* Newton from a rough seed converges to the same orbit (quadratically: a
  * handful of iterations), for P(1,1) and for a P(2,3) orbit of Fig. 2 at
  * Omega = 0.85 seeded from a transient. */
@@ -207,6 +243,7 @@ int main(void)
       cmocka_unit_test(sdof_two_orbits),
       cmocka_unit_test(newton_from_seed),
       cmocka_unit_test(direct_search),
+      cmocka_unit_test(grazing_branch),
       cmocka_unit_test(inadmissible),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
