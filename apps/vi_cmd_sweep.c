@@ -181,6 +181,18 @@ int vi_cmd_sweep_main(int argc, char **argv)
   }
   if (!sp.key2) sp.steps2 = 1;
   char err[2048];
+  if (out) { /* a path we cannot write fails now, not after the sweep */
+    char part[4096];
+    snprintf(part, sizeof part, "%s.part", out);
+    FILE *f = fopen(part, "wb");
+    if (!f) {
+      fprintf(stderr, "vibroimpact: sweep: cannot write '%s': %s\n", part, strerror(errno));
+      rc = 1;
+      goto done;
+    }
+    fclose(f);
+    remove(part);
+  }
   char *text = vi_sweep_read_text(scene, err, sizeof err);
   if (!text) {
     fprintf(stderr, "vibroimpact: %s\n", err);
@@ -202,7 +214,11 @@ int vi_cmd_sweep_main(int argc, char **argv)
                     &sp, &interrupted, &sw, err, sizeof err);
   free(text);
   if (rc) {
-    fprintf(stderr, "vibroimpact: sweep: %s\n", err);
+    int rank = 0;
+#ifdef VI_HAVE_MPI
+    if (mpi) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+#endif
+    if (!rank) fprintf(stderr, "vibroimpact: sweep: %s\n", err); /* once */
     goto finish;
   }
   if (sw->rank) { /* rank 0 reports and writes */
