@@ -108,6 +108,11 @@ int vi_sets_take(int argc, char **argv);
 struct vi_diag;
 int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
 
+/* `vibroimpact sweep ARGS`: replace this process by vibroimpact-sweep
+ * (beside the program) with argv = the subcommand's; returns only on
+ * failure (exit status 1, message printed). */
+int vi_sweep_exec(int argc, char **argv);
+
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */
 int vi_cmd_sweep_main(int argc, char **argv);

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
@@ -124,4 +125,24 @@ int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
   free(text);
   vi_scene_edit_destroy(&ed);
   return st;
+}
+
+/* ---- `vibroimpact sweep`: run vibroimpact-sweep in this process's place -- */
+int vi_sweep_exec(int argc, char **argv)
+{
+  (void)argc;
+  char self[4096];
+  ssize_t k = readlink("/proc/self/exe", self, sizeof self - 32);
+  if (k <= 0) {
+    fprintf(stderr, "vibroimpact: sweep: cannot locate the program: %s\n", strerror(errno));
+    return 1;
+  }
+  self[k] = '\0';
+  char *slash = strrchr(self, '/');
+  snprintf(slash ? slash + 1 : self, sizeof self - (size_t)(slash ? slash + 1 - self : 0),
+           "vibroimpact-sweep");
+  argv[0] = self;
+  execv(self, argv);
+  fprintf(stderr, "vibroimpact: sweep: cannot run %s: %s\n", self, strerror(errno));
+  return 1;
 }

@@ -78,7 +78,7 @@ int main(int argc, char **argv)
             VI_VERSION_STRING, vi_version_string());
     return 1;
   }
-  if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_cmd_sweep_main(argc - 1, argv + 1);
+  if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_sweep_exec(argc - 1, argv + 1);
   if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
   if ((argc = vi_sets_take(argc, argv)) < 0) { fprintf(stderr, "vibroimpact: --set needs KEY=VALUE\n"); return 2; }
   app_opts o = {NULL, NULL, NULL, 0, 0, 0, -1, 0, 0, 0};
