@@ -105,6 +105,8 @@ int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
  * then loads a scene (NULL: the default) as vi_scene_load does, with them
  * applied (vi_scene_edit: errors keep the file:line of the key). */
 int vi_sets_take(int argc, char **argv);
+/* Number of --set assignments taken (0: load scenes as usual). */
+int vi_sets_active(void);
 struct vi_diag;
 int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
 

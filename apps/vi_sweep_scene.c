@@ -99,6 +99,8 @@ int vi_sets_take(int argc, char **argv)
   return k;
 }
 
+int vi_sets_active(void) { return set_count; }
+
 int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
 {
   if (!set_count)

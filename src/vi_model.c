@@ -351,29 +351,6 @@ double vi_model_energy(const vi_model *m, const double *x, const double *v)
   return e;
 }
 
-/* ---- dense helpers ------------------------------------------------------ */
-void vi_matvec(int n, const double *A, const double *x, double *y)
-{
-  for (int i = 0; i < n; i++) y[i] = 0.0;
-  for (int j = 0; j < n; j++) {
-    double xj = x[j];
-    const double *col = A + (size_t)j * n;
-    for (int i = 0; i < n; i++) y[i] += col[i] * xj;
-  }
-}
-
-void vi_matvec_t(int n, const double *A, const double *x, double *y)
-{
-  for (int j = 0; j < n; j++) y[j] = vi_dot(n, A + (size_t)j * n, x);
-}
-
-double vi_dot(int n, const double *x, const double *y)
-{
-  double s = 0.0;
-  for (int i = 0; i < n; i++) s += x[i] * y[i];
-  return s;
-}
-
 /* ---- builders ----------------------------------------------------------- */
 int vi_build_chain(int n, const double *mass, const double *k,
                    const double *c, double *M, double *C, double *K, int ld)

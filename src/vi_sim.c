@@ -80,7 +80,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over;
+         s->m->flow_ok && !s->handed_over && !s->nforces;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -97,8 +97,9 @@ static void note_method(vi_sim *s)
   if (s->method == VI_METHOD_AUTO)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
-             s->m->flow_ok ? "closed-form flow available"
-                           : s->m->flow_why);
+             s->nforces     ? "nonlinear forces have no closed form"
+             : s->m->flow_ok ? "closed-form flow available"
+                             : s->m->flow_why);
   else
     snprintf(s->method_note, sizeof s->method_note, "%s",
              method_names[s->method_used]);
@@ -137,7 +138,8 @@ void vi_sim_destroy(vi_sim **sim)
   if (!sim || !*sim) return;
   vi_sim *s = *sim;
   backend_destroy(s);
-  vi_ledger_free(s);
+  vi_ledger_destroy(s->led);
+  vi_force_free(s);
   gsl_root_fsolver_free(s->brent);
   free(s->z);
   free(s);
@@ -156,6 +158,9 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && !s->m->flow_ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->m->flow_why);
+  if (method == VI_METHOD_EXACT && s->nforces)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "exact method unavailable: "
+                   "nonlinear forces have no closed form");
   if (method == VI_METHOD_ERK)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "method erk is not built into this library");
@@ -216,7 +221,7 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
   s->started = 0;
   s->stick_pending = 0;
   s->t_last_contact = -HUGE_VAL;
-  vi_ledger_begin(s);
+  if (s->led) vi_ledger_begin(s->led, s->t, s->z);
   return VI_OK;
 }
 
@@ -489,13 +494,24 @@ static void emit_pending_stick(vi_sim *s)
   emit(s, VI_EVENT_STICK, s->stick_vn, s->stick_ie);
 }
 
+/* End the ledger's open interval at s->t (vi_ledger_pre_jump saw the state
+ * before any jump; s->z is the state after it). */
+static void close_interval(vi_sim *s, int jump, double ie)
+{
+  if (s->led &&
+      vi_ledger_close(s->led, s->t, s->z, jump, ie, vi_sim_user_stopped(s))) {
+    s->stop = 1;
+    s->event_stop = 0;
+  }
+}
+
 /* A contact located at s->t: impact, start of sticking, or a tangential
  * touch that needs nothing but a restart past it. */
 static int on_contact(vi_sim *s)
 {
   const vi_model *m = s->m;
   int n = s->n;
-  vi_ledger_pre_jump(s);
+  if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
   double vn = vi_dot(n, m->w, s->v);
   vi_sim_accel(s, s->t, s->z, 0, s->vp);
@@ -577,7 +593,7 @@ static int on_contact(vi_sim *s)
     s->z[2 * i] = s->x[i];
     s->z[2 * i + 1] = s->vp[i];
   }
-  vi_ledger_close(s, vn > 0.0 || stick, ie + ie_tail);
+  close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   if (stick && s->stick_at <= s->t) emit_pending_stick(s);
   s->stats[VI_STAT_REINITS]++;
   if (stick) use_backend(s, &vi_backend_cvode);
@@ -587,8 +603,8 @@ static int on_contact(vi_sim *s)
 static int on_release(vi_sim *s)
 {
   emit_pending_stick(s); /* released before the tail's end: stick was brief */
-  vi_ledger_pre_jump(s);
-  vi_ledger_close(s, 0, 0.0);
+  if (s->led) vi_ledger_pre_jump(s->led, s->z);
+  close_interval(s, 0, 0.0);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * s->n);
   s->sticking = 0;
@@ -727,6 +743,7 @@ int vi_sim_run(vi_sim *s, double t_end)
                      s->smp_dt, span / s->smp_dt, t_end);
   }
   int st = VI_OK, cancelled = 0;
+  s->force_failed = 0;
   s->t_end = t_end;
   s->run_t0 = s->t;
   s->stop = 0;
@@ -776,9 +793,9 @@ int vi_sim_run(vi_sim *s, double t_end)
     if (cancelled) break;
   }
   if ((st = vi_sim_sync(s)) || (st = check_finite_state(s))) return st;
-  if (s->ledger_on && s->t > s->led_ta) {
-    vi_ledger_pre_jump(s);
-    vi_ledger_close(s, 0, 0.0);
+  if (s->led && s->t > vi_ledger_open_since(s->led)) {
+    vi_ledger_pre_jump(s->led, s->z);
+    close_interval(s, 0, 0.0);
   }
   if (cancelled) {
     vi_fail(s->errmsg, VI_CANCELLED, "cancelled at t = %.17g", s->t);
@@ -810,4 +827,56 @@ int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
     return VI_OK;
   }
   return st;
+}
+
+/* ---- the energy ledger's public face (the bookkeeping: vi_ledger.c) ---- */
+int vi_sim_enable_ledger(vi_sim *s, int on)
+{
+  if (!s) return VI_ERR_ARG;
+  if (on != 0 && on != 1)
+    return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
+  vi_ledger_destroy(s->led);
+  s->led = NULL;
+  if (on) {
+    if (!(s->led = vi_ledger_create(s->m)))
+      return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory for the ledger");
+    vi_ledger_set_callback(s->led, s->led_fn, s->led_user);
+    if (vi_sim_sync(s) == VI_OK)
+      vi_ledger_begin(s->led, s->t, s->z);
+  }
+  /* the integrator must be rebuilt with (or without) the quadratures */
+  if (s->be_data) s->be->destroy(s);
+  s->started = 0;
+  return VI_OK;
+}
+
+int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user)
+{
+  if (!s) return VI_ERR_ARG;
+  s->led_fn = fn;
+  s->led_user = user;
+  if (s->led) vi_ledger_set_callback(s->led, fn, user);
+  return VI_OK;
+}
+
+int vi_sim_get_ledger(const vi_sim *s, double *E, double *FE, double *DE,
+                      double *XE, double *CE, double *dE, double *ie)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!s->led) return VI_ERR_STATE;
+  vi_ledger_totals(s->led, s->z, E, FE, DE, XE, CE, dE, ie);
+  return VI_OK;
+}
+
+double vi_sim_ledger_max_residual(const vi_sim *s)
+{
+  return s && s->led ? vi_ledger_max_residual(s->led) : 0.0;
+}
+
+int vi_sim_get_ledger_force(const vi_sim *s, double *NE)
+{
+  if (!s || !NE) return VI_ERR_ARG;
+  if (!s->led) return VI_ERR_STATE;
+  vi_ledger_force_totals(s->led, NE);
+  return VI_OK;
 }
