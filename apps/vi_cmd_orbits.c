@@ -41,6 +41,15 @@ static void orbit_free(orbit *o)
   free(o->v);
   free(o->re);
   free(o->im);
+  memset(o, 0, sizeof *o);
+}
+
+/* A whole number in [lo, hi] or -1. */
+static int whole(const char *s, int lo, int hi)
+{
+  char *end;
+  long v = strtol(s, &end, 10);
+  return end != s && !*end && v >= lo && v <= hi ? (int)v : -1;
 }
 
 /* Same orbit: the same impacts up to a cyclic shift of their order and a
@@ -243,10 +252,10 @@ int vi_cmd_orbits_main(int argc, char **argv)
   opterr = 0;
   while ((c = getopt_long(argc, argv, "", lo, NULL)) != -1) {
     switch (c) {
-    case 'n': np = atoi(optarg); break;
-    case 'm': mi = atoi(optarg); break;
+    case 'n': np = whole(optarg, 1, 64); break;
+    case 'm': mi = whole(optarg, 1, 64); break;
     case 'j': json = 1; break;
-    case 'p': phases = atoi(optarg); break;
+    case 'p': phases = whole(optarg, 8, 1000000); break;
     case 's': sets[nsets++] = optarg; break;
     case 'h':
       printf("usage: vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json] "

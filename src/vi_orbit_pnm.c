@@ -303,7 +303,7 @@ int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
   int st = ws_init(&w, m), n = m->n;
   if (st) return st;
   double T = 2.0 * M_PI / m->omega_f, worst = -HUGE_VAL;
-  double *z = w.buf, *zp = z + 2 * n, *zz = zp + 2 * n;
+  double *z = w.buf, *zp = z + (size_t)2 * n, *zz = zp + (size_t)2 * n;
   double scale = fabs(m->xs);
   for (int j = 0; j < mi; j++) scale = fmax(scale, norm_inf(n, x + (size_t)j * ld));
   *ok = 1;

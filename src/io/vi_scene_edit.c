@@ -230,6 +230,9 @@ static int walk(const vi_scene_edit *e, yaml_document_t *doc, const tok *t, int 
                     "(indices are 1-based)", t[i].index, cnt);
       cur = yaml_document_get_node(doc,
                                    cur->data.sequence.items.start[t[i].index - 1]);
+      if (!cur)
+        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                    "malformed list");
     }
   }
   *nd = cur;
@@ -266,7 +269,7 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
   if (d) memset(d, 0, sizeof *d);
   if (!e || !key || !value) return VI_ERR_ARG;
   tok t[MAX_TOK];
-  int nt = 0, st, found;
+  int nt = 0, st, found = 0;
   if (!split_path(key, t, &nt))
     return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
                 "malformed key: expected words joined by '.', with 1-based "
@@ -375,7 +378,7 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
   if (!e || !key || !buf || len < 1) return VI_ERR_ARG;
   buf[0] = '\0';
   tok t[MAX_TOK];
-  int nt = 0, st, found;
+  int nt = 0, st, found = 0;
   if (!split_path(key, t, &nt))
     return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "malformed key");
   yaml_document_t doc;
@@ -383,10 +386,10 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
     return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "invalid YAML");
   yaml_node_t *nd = NULL;
   st = walk(e, &doc, t, nt, key, &nd, &found, d);
-  if (!st && (found < nt || nd->type != YAML_SCALAR_NODE))
+  if (!st && (found < nt || !nd || nd->type != YAML_SCALAR_NODE))
     st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "",
               found < nt ? "the scene has no such key" : "not a single value");
-  if (!st) snprintf(buf, (size_t)len, "%s", (const char *)nd->data.scalar.value);
+  if (!st && nd) snprintf(buf, (size_t)len, "%s", (const char *)nd->data.scalar.value);
   yaml_document_delete(&doc);
   return st;
 }
