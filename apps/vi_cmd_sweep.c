@@ -18,6 +18,9 @@
 #ifdef VI_HAVE_MPI
 #include <mpi.h>
 #endif
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 static volatile sig_atomic_t interrupted;
 static void on_signal(int sig) { (void)sig; interrupted = 1; }
@@ -209,6 +212,15 @@ int vi_cmd_sweep_main(int argc, char **argv)
   /* only when started by mpirun: a plain run never touches MPI */
   int mpi = getenv("OMPI_COMM_WORLD_SIZE") != NULL;
   if (mpi) MPI_Init(NULL, NULL);
+  /* ranks on one machine share its cores: without --threads, each takes
+   * its share rather than all of them */
+  const char *local = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (mpi && sp.threads <= 0 && local && atoi(local) > 1) {
+#ifdef _OPENMP
+    sp.threads = omp_get_num_procs() / atoi(local);
+#endif
+    if (sp.threads < 1) sp.threads = 1;
+  }
 #endif
   rc = vi_sweep_run(text, scene ? scene : "<default scene: fig2>", sets, nsets,
                     &sp, &interrupted, &sw, err, sizeof err);
