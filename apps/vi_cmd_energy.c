@@ -50,6 +50,26 @@ static void json_str(const char *s)
   putchar('"');
 }
 
+/* The orbit's Floquet multipliers: a JSON member or a line of text. */
+static void print_multipliers(const vi_orbit *orb, int n, int json)
+{
+  double *re = malloc(sizeof(double) * 4 * (size_t)n), *im = re ? re + 2 * n : NULL;
+  if (!re || vi_orbit_multipliers(orb, re, im)) {
+    free(re);
+    return;
+  }
+  double rho = 0;
+  for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
+  printf(json ? ", \"multipliers\": [" : "  Floquet multipliers:");
+  for (int j = 0; j < 2 * n; j++) {
+    if (json) printf("%s[%.17g, %.17g]", j ? ", " : "", re[j], im[j]);
+    else printf(" %.6g%+.6gi", re[j], im[j]);
+  }
+  if (json) printf("], \"stable\": %s", rho < 1 ? "true" : "false");
+  else printf("  (largest modulus %.6g: %s)\n", rho, rho < 1 ? "stable" : "unstable");
+  free(re);
+}
+
 /* The analysis to OUT.h5 (/model, /modal, /orbits); no file on failure. */
 static int write_orbit(const app_opts *o, const vi_scene *sc, const vi_model *m,
                        const vi_orbit *orb)
@@ -179,6 +199,7 @@ int vi_cmd_energy(const app_opts *o)
         first = 0;
       }
     printf("]");
+    print_multipliers(orb, n, 1); /* Floquet multipliers (vi_orbit.h) */
     if (checked)
       printf(
           ", \"reduced_check\": {\"modes\": 1, \"r_S\": %.17g, \"vN\": %.17g, "
@@ -205,6 +226,7 @@ int vi_cmd_energy(const app_opts *o)
     printf("  r recovered (WB 12) = %.12f   (scene r = %g)   closure "
            "|RE-IE|/KE_i = %.3g\n",
            rr, vi_model_restitution(m), cl);
+    print_multipliers(orb, n, 0);
     for (int k = 1; k <= kmax; k++) {
       if (ok[k - 1])
         printf("  reduced model, first %d mode%s: r_S = %.8f\n", k,

@@ -22,7 +22,7 @@ expect(2 "^$" "forcing.a\\[3\\].*out of range" ${S} --set forcing.a[3]=1)
 expect(0 "impacts   200 .*v_n = 0\\.91890" "" ${S} --periods 200 --method exact --set forcing.omega=0.95)
 expect(3 "\"P11\": false, \"periodic\": true, \"n\": 2, \"m\": 3" "P\\(2,3\\)"
        energy ${S} --json --method exact --set forcing.omega=0.85)
-expect(0 "\"P11\": true, .*\"vN\": 0\\.787660852554" "" energy ${S} --json --method exact)
+expect(0 "\"P11\": true, .*\"vN\": 0\\.787660852554.*\"multipliers\": \\[\\[0\\.1166861592.*\"stable\": true" "" energy ${S} --json --method exact)
 expect(0 "\"orbits\": \\[{\"n\": 1, \"m\": 1, \"vN\": \\[0\\.787660852554.*\"stable\": true, \"admissible\": true" ""
        orbits ${S} --json)
 message(STATUS "--set, energy --json classification and orbits --json: ok")
