@@ -107,7 +107,7 @@ int main(int argc, char **argv)
   T = 1;
 #endif
   vi_sweep_spec sp = {"forcing.omega", 0.5, 1.8, K, NULL, NAN, NAN, 1, 1, P, R,
-                      1, 1, 1e-6, 32};
+                      1, 1, 1e-6, 32, 0};
   double periods = (double)K * (P + R), w1, w2, w3;
   printf("vi_bench_sweep: Fig. 2, Omega 0.5..1.8 in %d values, %d transient + "
          "%d recorded periods each (%.3g forcing periods), exact method; %d "

@@ -44,6 +44,9 @@ static void usage(FILE *f)
     "  --tol TOL             classification tolerance, relative (default 1e-6)\n"
     "  --nmax N              longest period looked for (default 32)\n"
     "  --method M            adams, bdf, exact, auto, erk (sets run.method)\n"
+    "  --orbits[=K]          also every P(1,1) orbit at each value, stable or not,\n"
+    "                        by a scan of K impact phases (default 360; closed-form\n"
+    "                        flow needed): the diagram's unstable branches\n"
     "  --set KEY=VALUE       override a scene key (repeatable)\n"
     "  --json                print the diagram as one JSON object\n"
     "  -o, --output FILE     write the diagram to HDF5 (share/doc/sweep-layout.md)\n"
@@ -106,7 +109,7 @@ static void table(const vi_sweep *sw)
 
 int vi_cmd_sweep_main(int argc, char **argv)
 {
-  vi_sweep_spec sp = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0, 1e-6, 32};
+  vi_sweep_spec sp = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0, 1e-6, 32, 0};
   const char *out = NULL, *scene = NULL;
   const char **sets = calloc((size_t)argc + 2, sizeof *sets);
   char method_set[64];
@@ -124,6 +127,7 @@ int vi_cmd_sweep_main(int argc, char **argv)
       {"method", required_argument, 0, 'm'},  {"set", required_argument, 0, 'x'},
       {"json", no_argument, 0, 'J'},          {"output", required_argument, 0, 'o'},
       {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
+      {"orbits", optional_argument, 0, 'O'},
       {0, 0, 0, 0}};
   optind = 1;
   opterr = 0;
@@ -161,6 +165,10 @@ int vi_cmd_sweep_main(int argc, char **argv)
     case 'J': json = 1; break;
     case 'o': out = optarg; break;
     case 'q': quiet = 1; break;
+    case 'O':
+      sp.orbits = 360;
+      if (optarg && !inum("--orbits", optarg, 8, &sp.orbits)) goto done;
+      break;
     case 'h': usage(stdout); rc = 0; goto done;
     default:
       fprintf(stderr, "vibroimpact: sweep: unknown or incomplete option '%s'\n",

@@ -123,6 +123,51 @@ static void classify(const vi_sweep *sw, vi_sweep_point *pt, const double *z,
   }
 }
 
+/* Every P(1,1) orbit at this value (vi_orbit_pnm.c): for the diagram's
+ * unstable branches.  No closed-form flow: norb = -1. */
+static int p11_orbits(const vi_model *m, int nphase, vi_sweep_point *pt)
+{
+  enum { CAP = 16 };
+  int n = vi_model_n(m), found = 0, st;
+  const double *w = vi_model_stop_vector(m);
+  double *buf = malloc(sizeof(double) * ((size_t)CAP * (2 * n + 1) + 4 * (size_t)n));
+  if (!buf) return VI_ERR_NOMEM;
+  double *t = buf, *x = t + CAP, *v = x + (size_t)CAP * n, *re = v + (size_t)CAP * n,
+         *im = re + 2 * n;
+  st = vi_orbit_p1_scan(m, 1, nphase, t, x, v, n, CAP, &found);
+  if (st == VI_ERR_UNSUPPORTED) {
+    pt->norb = -1;
+    free(buf);
+    return VI_OK;
+  }
+  if (found > CAP) found = CAP;
+  pt->norb = 0;
+  if (!st && found) {
+    pt->ovn = malloc(sizeof(double) * found);
+    pt->ophase = malloc(sizeof(double) * found);
+    pt->ostable = malloc(sizeof(int) * found);
+    pt->oadm = malloc(sizeof(int) * found);
+    if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) st = VI_ERR_NOMEM;
+  }
+  for (int i = 0; !st && i < found; i++) {
+    const double *xi = x + (size_t)i * n, *vi = v + (size_t)i * n;
+    int ok = 0;
+    double rho = 0, vn = 0;
+    if (vi_orbit_pnm_admissible(m, 1, 1, &t[i], xi, vi, n, NULL, &ok) ||
+        vi_orbit_pnm_multipliers(m, 1, 1, &t[i], xi, vi, n, re, im))
+      continue;
+    for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
+    for (int j = 0; j < n; j++) vn += w[j] * vi[j];
+    pt->ovn[pt->norb] = vn;
+    pt->ophase[pt->norb] = fmod(t[i], pt->T);
+    pt->ostable[pt->norb] = rho < 1.0;
+    pt->oadm[pt->norb] = ok;
+    pt->norb++;
+  }
+  free(buf);
+  return st;
+}
+
 static void run_piece(piece *p)
 {
   const vi_sweep *sw = p->sw;
@@ -169,6 +214,12 @@ static void run_piece(piece *p)
       goto done;
     }
     pt->T = 2 * M_PI / omega;
+    if (sw->spec.orbits > 0 && (st = p11_orbits(m, sw->spec.orbits, pt))) {
+      p->code = 1;
+      msg(p->err, sizeof p->err, "%s = %.17g: P(1,1) orbits: %s", sw->spec.key,
+          val, vi_strerror(st));
+      goto done;
+    }
     if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
       p->code = 2;
       if (st == VI_ERR_NOMEM) msg(p->err, sizeof p->err, "out of memory");
@@ -259,6 +310,10 @@ void vi_sweep_free(vi_sweep **swp)
       free(ln->pt[k].phase);
       free(ln->pt[k].vn);
       free(ln->pt[k].error);
+      free(ln->pt[k].ovn);
+      free(ln->pt[k].ophase);
+      free(ln->pt[k].ostable);
+      free(ln->pt[k].oadm);
     }
     free(ln->pt);
     free(ln->strobe);
@@ -334,6 +389,13 @@ static void pack_piece(const vi_sweep *sw, const piece *pc, pbuf *p)
     }
     put_bytes(p, &el, sizeof el);
     if (el > 0) put_bytes(p, pt->error, (size_t)el);
+    put_bytes(p, &pt->norb, sizeof pt->norb);
+    if (pt->norb > 0) {
+      put_bytes(p, pt->ovn, sizeof(double) * pt->norb);
+      put_bytes(p, pt->ophase, sizeof(double) * pt->norb);
+      put_bytes(p, pt->ostable, sizeof(int) * pt->norb);
+      put_bytes(p, pt->oadm, sizeof(int) * pt->norb);
+    }
     put_bytes(p, pc->ln->strobe + (size_t)k * R * n2, sizeof(double) * R * n2);
   }
 }
@@ -368,6 +430,19 @@ static int unpack_piece(const vi_sweep *sw, const piece *pc, const char *b,
       pt->error = calloc((size_t)el + 1, 1);
       if (!pt->error) return 1;
       if (el > 0) TAKE(pt->error, (size_t)el);
+    }
+    TAKE(&pt->norb, sizeof pt->norb);
+    if (pt->norb > 0) {
+      size_t no = (size_t)pt->norb;
+      pt->ovn = malloc(sizeof(double) * no);
+      pt->ophase = malloc(sizeof(double) * no);
+      pt->ostable = malloc(sizeof(int) * no);
+      pt->oadm = malloc(sizeof(int) * no);
+      if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) return 1;
+      TAKE(pt->ovn, sizeof(double) * no);
+      TAKE(pt->ophase, sizeof(double) * no);
+      TAKE(pt->ostable, sizeof(int) * no);
+      TAKE(pt->oadm, sizeof(int) * no);
     }
     TAKE(pc->ln->strobe + (size_t)k * R * n2, sizeof(double) * R * n2);
   }
@@ -582,6 +657,18 @@ static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
         int64_t a = pt->n ? pt->nimp - pt->m : 0;
         json_nums(f, (w == 2 ? pt->vn : pt->phase) + a, pt->nimp - a);
       }
+    }
+  }
+  if (sw->spec.orbits > 0) {
+    fprintf(f, "], \"p11_orbits\": [");
+    for (int p = 0; p < K; p++) {
+      const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+      fprintf(f, "%s[", p ? ", " : "");
+      for (int i = 0; i < pt->norb; i++)
+        fprintf(f, "%s{\"vN\": %.17g, \"impact_time_mod_T\": %.17g, \"stable\": %s, "
+                "\"admissible\": %s}", i ? ", " : "", pt->ovn[i], pt->ophase[i],
+                pt->ostable[i] ? "true" : "false", pt->oadm[i] ? "true" : "false");
+      fprintf(f, "]");
     }
   }
   fprintf(f, "], \"failed\": [");

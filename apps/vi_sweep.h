@@ -38,6 +38,9 @@ typedef struct vi_sweep_spec {
   int threads;          /* <= 0: the OpenMP default */
   double tol;           /* classification tolerance, relative */
   int nmax;             /* longest orbit period looked for (forcing periods) */
+  int orbits;           /* > 0: also every P(1,1) orbit at each value, by a
+                           scan of this many impact phases (vi_orbit_p1_scan),
+                           unstable ones included; 0: off */
 } vi_sweep_spec;
 
 /* One parameter value of one line. */
@@ -49,6 +52,10 @@ typedef struct vi_sweep_point {
   int failed;           /* 1: the simulation of this value failed (why:
                            `error`); the next value starts cold */
   char *error;
+  /* spec.orbits: the P(1,1) orbits at this value (-1: no closed-form flow) */
+  int norb;
+  double *ovn, *ophase;  /* [norb] approach velocity w.v, impact time mod T */
+  int *ostable, *oadm;   /* [norb] stable (all |mu| < 1), admissible */
 } vi_sweep_point;
 
 typedef struct vi_sweep_line {

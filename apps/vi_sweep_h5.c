@@ -56,6 +56,57 @@ static int attr_num(hid_t loc, const char *name, hid_t type, const void *val)
   return bad;
 }
 
+/* /sweep/p11: every P(1,1) orbit at each value (sweep --orbits) */
+static int put_p11(hid_t g, const vi_sweep *sw)
+{
+  int K = sw->spec.steps, L = sw->nlines, bad = 0;
+  size_t LK = (size_t)L * K, J = 0;
+  for (size_t i = 0; i < LK; i++) {
+    int no = sw->lines[i / K].pt[i % K].norb;
+    J += no > 0 ? (size_t)no : 0;
+  }
+  int *cnt = malloc(sizeof(int) * (LK + 2 * J + 1));
+  int64_t *start = malloc(sizeof(int64_t) * LK);
+  double *d = malloc(sizeof(double) * (2 * J + 1));
+  if (!cnt || !start || !d) {
+    bad = 1;
+    goto done;
+  }
+  int *st = cnt + LK, *ad = st + J;
+  size_t off = 0;
+  for (size_t i = 0; i < LK; i++) {
+    const vi_sweep_point *pt = &sw->lines[i / K].pt[i % K];
+    cnt[i] = pt->norb;
+    start[i] = (int64_t)off;
+    for (int j = 0; j < pt->norb; j++, off++) {
+      d[off] = pt->ovn[j];
+      d[J + off] = pt->ophase[j];
+      st[off] = pt->ostable[j];
+      ad[off] = pt->oadm[j];
+    }
+  }
+  hid_t h = -1;
+  H5E_BEGIN_TRY { h = H5Gcreate2(g, "p11", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
+  if (h < 0) {
+    bad = 1;
+    goto done;
+  }
+  hsize_t dLK[2] = {(hsize_t)L, (hsize_t)K}, dJ[1] = {(hsize_t)J};
+  bad |= attr_num(h, "phases", H5T_NATIVE_INT, &sw->spec.orbits);
+  bad |= put(h, "count", H5T_NATIVE_INT, 2, dLK, cnt);
+  bad |= put(h, "start", H5T_NATIVE_INT64, 2, dLK, start);
+  bad |= put(h, "v_n", H5T_NATIVE_DOUBLE, 1, dJ, d);
+  bad |= put(h, "phase", H5T_NATIVE_DOUBLE, 1, dJ, d + J);
+  bad |= put(h, "stable", H5T_NATIVE_INT, 1, dJ, st);
+  bad |= put(h, "admissible", H5T_NATIVE_INT, 1, dJ, ad);
+  H5E_BEGIN_TRY { H5Gclose(h); } H5E_END_TRY;
+done:
+  free(cnt);
+  free(start);
+  free(d);
+  return bad;
+}
+
 int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errlen)
 {
   const vi_sweep_spec *sp = &sw->spec;
@@ -148,6 +199,7 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, flat);
     bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, flat + I);
     bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
+    if (sp->orbits > 0) bad |= put_p11(g, sw);
   }
   H5E_BEGIN_TRY {
     if (gi >= 0) H5Gclose(gi);

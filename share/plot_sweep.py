@@ -7,7 +7,9 @@
 Writes into DIR (default: beside the file):
   NAME_bifurcation.png  one-parameter sweep: impact velocity v_n of every
                         recorded impact against the parameter (up sweep in
-                        black, down sweep in red, so hysteresis shows), the
+                        black, down sweep in red, so hysteresis shows; with
+                        sweep --orbits also the P(1,1) orbits found by Newton,
+                        unstable ones as blue crosses), the
                         stroboscopic coordinate x_J at t0 + kT, and a strip
                         with the classification P(n, m)
   NAME_map.png          two-parameter map: the orbit period n and impacts
@@ -71,9 +73,24 @@ def bifurcation(g, out, stem, coord):
         ax[0].scatter(np.concatenate(xs) + offs[d], np.concatenate(ys), **kw)
         kw.pop("label", None)
         ax[1].scatter(np.concatenate(sx), np.concatenate(sy), **kw)
+    if "p11" in g:  # every P(1,1) orbit by Newton (sweep --orbits), first line
+        h = g["p11"]
+        l0 = lines(g)[0][0]
+        for stab, kw in ((0, dict(c="tab:blue", marker="x", s=6, linewidths=0.6,
+                                  label="unstable P(1,1) (Newton)")),
+                         (1, dict(c="tab:green", marker="_", s=10, linewidths=0.6,
+                                  label="stable P(1,1) (Newton)"))):
+            xs, ys = [], []
+            for k in range(len(p)):
+                s0, c = h["start"][l0, k], h["count"][l0, k]
+                for q in range(s0, s0 + max(c, 0)):
+                    if h["admissible"][q] and h["stable"][q] == stab:
+                        xs.append(p[k]); ys.append(h["v_n"][q])
+            if xs:
+                ax[0].scatter(xs, ys, zorder=3, **kw)
     ax[0].set_ylabel(r"impact velocity $v_n$")
     ax[0].set_ylim(bottom=0)
-    if len(lines(g)) > 1:
+    if len(lines(g)) > 1 or "p11" in g:
         ax[0].legend(loc="upper left", markerscale=6, frameon=False)
     ax[1].set_ylabel(r"$x_{%d}(t_0 + kT)$ (stroboscopic)" % (j + 1))
     # classification strips, one row per line (up on top): P(n, m) colours

@@ -1,7 +1,7 @@
 # The same sweep serially and under `mpirun -np 2`: the JSON diagrams must be
 # byte-identical, and rank 0 alone writes the HDF5 file.
 set(ARGS sweep --param forcing.omega --from 0.8 --to 1.2 --steps 9 --both
-    --chunks 3 --transient 100 --record 10 --method exact --json)
+    --chunks 3 --transient 100 --record 10 --method exact --orbits=60 --json)
 file(REMOVE "${DIR}/mpi_sweep.h5")
 execute_process(COMMAND "${APP}" ${ARGS} OUTPUT_VARIABLE serial RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)

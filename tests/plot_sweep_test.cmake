@@ -3,7 +3,7 @@
 file(REMOVE_RECURSE "${DIR}")
 file(MAKE_DIRECTORY "${DIR}")
 execute_process(COMMAND "${APP}" sweep --param forcing.omega --from 0.8 --to 1.0
-  --steps 12 --both --transient 100 --record 10 --method exact --quiet
+  --steps 12 --both --transient 100 --record 10 --method exact --orbits=90 --quiet
   -o "${DIR}/fig2sweep.h5" RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "vibroimpact sweep failed: ${rc}")

@@ -23,7 +23,7 @@ static const char *exact[] = {"run.method=exact"};
 
 static vi_sweep_spec spec(const char *key, double from, double to, int steps)
 {
-  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32};
+  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0};
   return s;
 }
 
@@ -191,6 +191,49 @@ static void two_parameter_map(void **state)
   vi_sweep_free(&sw);
 }
 
+/* --orbits: every P(1,1) orbit at each value.  Fig. 2 at 0.9: one, stable
+ * and admissible, the one the brute-force sweep settles on.  chatter.yaml
+ * (written out here): the stable one the sweep reaches and the unstable one
+ * no simulation shows (tests/ref_sdof_p11.py). */
+static void p11_orbits(void **state)
+{
+  (void)state;
+  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
+  sp.transient = 300;
+  sp.record = 10;
+  sp.orbits = 360;
+  vi_sweep *sw = run(&sp, exact, 1);
+  const vi_sweep_point *pt = &sw->lines[0].pt[0];
+  int adm = 0;
+  for (int i = 0; i < pt->norb; i++)
+    if (pt->oadm[i]) {
+      adm++;
+      assert_true(pt->ostable[i]);
+      assert_close(pt->ovn[i], FIG2_VN, 1e-12);
+      assert_close(pt->ovn[i], pt->vn[pt->nimp - 1], 1e-9);
+    }
+  assert_int_equal(adm, 1);
+  vi_sweep_free(&sw);
+  static const char *chatter =
+      "name: chatter\nmodel: {M: [[1.0]], C: [[0.02]], K: [[0.1]]}\n"
+      "forcing: {omega: 1.0, a: [0.6], f0: [0.3]}\n"
+      "stop: {w: [1.0], xs: 0.0, r: 0.5}\nrun: {method: exact}\n";
+  char err[2048];
+  sp = spec("forcing.omega", 1.0, 1.0, 1);
+  sp.transient = 10;
+  sp.record = 2;
+  sp.orbits = 360;
+  assert_int_equal(vi_sweep_run(chatter, "chatter.yaml", NULL, 0, &sp, NULL, &sw, err, sizeof err), 0);
+  pt = &sw->lines[0].pt[0];
+  assert_int_equal(pt->norb, 2);
+  int u = pt->ostable[0] ? 1 : 0;
+  assert_false(pt->ostable[u]);
+  assert_true(pt->ostable[1 - u]);
+  assert_close(pt->ovn[u], 1.6134056745831746208, 1e-11);
+  assert_close(pt->ovn[1 - u], 2.1562495000219778789, 1e-11);
+  vi_sweep_free(&sw);
+}
+
 /* JSON: the keys the issue names, null for an unclassified value. */
 static void json_form(void **state)
 {
@@ -282,7 +325,7 @@ int main(void)
       cmocka_unit_test(fig2_p11),         cmocka_unit_test(harmonic_response),
       cmocka_unit_test(up_down_agree),    cmocka_unit_test(warm_start),
       cmocka_unit_test(threads_identical), cmocka_unit_test(two_parameter_map),
-      cmocka_unit_test(json_form),        cmocka_unit_test(bad_input),
+      cmocka_unit_test(json_form),        cmocka_unit_test(p11_orbits),        cmocka_unit_test(bad_input),
       cmocka_unit_test(hdf5_layout),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
