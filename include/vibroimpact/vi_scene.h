@@ -133,7 +133,7 @@ VI_API double vi_scene_t_end(const vi_scene *sc);
 VI_API double vi_scene_rtol(const vi_scene *sc);
 /** Absolute tolerance (run.atol, default 1e-10). */
 VI_API double vi_scene_atol(const vi_scene *sc);
-/** Method, VI_METHOD_* (run.method, default adams). */
+/** Method, VI_METHOD_* (run.method, default auto). */
 VI_API int vi_scene_method(const vi_scene *sc);
 /** output.samples_per_period (0: no sampling). */
 VI_API int vi_scene_samples_per_period(const vi_scene *sc);

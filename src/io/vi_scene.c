@@ -864,7 +864,7 @@ int vi_scene_parse_limited(const char *text, long len, const char *name,
   s->text[len] = '\0';
   s->rtol = 1e-8;
   s->atol = 1e-10;
-  s->method = VI_METHOD_ADAMS;
+  s->method = VI_METHOD_AUTO;
   s->out_impacts = 1;
   s->compress = 1;
   ctx c = {.d = d, .file = s->file};
