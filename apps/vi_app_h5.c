@@ -5,6 +5,7 @@
  * and opens the I/O library with dlopen on the first -o. */
 #include <dlfcn.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "vi_app.h"
 
@@ -18,7 +19,21 @@ const app_writer_api *vi_app_writer(void)
   static int state; /* 0 not tried, 1 loaded, -1 failed */
   if (state) return state > 0 ? &api : NULL;
   state = -1;
-  void *h = dlopen(VI_IO_SONAME, RTLD_NOW | RTLD_LOCAL);
+  /* first beside libvibroimpact (installed side by side, and the build
+   * tree): a sanitizer's dlopen interceptor would not search our RUNPATH */
+  void *h = NULL;
+  Dl_info info;
+  union { int (*f)(void); void *p; } core = {vi_version_number};
+  if (dladdr(core.p, &info) && info.dli_fname) {
+    const char *slash = strrchr(info.dli_fname, '/');
+    if (slash) {
+      char lib[4096];
+      snprintf(lib, sizeof lib, "%.*s/%s", (int)(slash - info.dli_fname),
+               info.dli_fname, VI_IO_SONAME);
+      h = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
+    }
+  }
+  if (!h) h = dlopen(VI_IO_SONAME, RTLD_NOW | RTLD_LOCAL);
   if (!h) {
     fprintf(stderr, "vibroimpact: cannot load the HDF5 writer: %s\n",
             dlerror());
