@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <gsl/gsl_errno.h>
@@ -358,6 +359,19 @@ int main(int argc, char **argv)
             (o.csv && strcmp(o.csv, "-") && check_output(o.csv, o.csv_target));
   sigprocmask(SIG_SETMASK, &old, NULL);
   if (bad) return 1;
+  /* the scene is the user's, not ours to replace */
+  struct stat ss, os;
+  if (o.scene && stat(o.scene, &ss) == 0 && S_ISREG(ss.st_mode))
+    for (int k = 0; k < 2; k++) {
+      const char *t = k ? (o.csv && strcmp(o.csv, "-") ? o.csv_target : NULL)
+                        : (o.out ? o.out_target : NULL);
+      if (t && stat(t, &os) == 0 && os.st_dev == ss.st_dev &&
+          os.st_ino == ss.st_ino) {
+        fprintf(stderr, "vibroimpact: refusing to write the output over the "
+                "scene %s\n", o.scene);
+        return 2;
+      }
+    }
   if (o.out && o.csv && strcmp(o.csv, "-") &&
       !strcmp(o.out_target, o.csv_target)) {
     fprintf(stderr, "vibroimpact: -o and --impacts-csv name the same file "

@@ -463,6 +463,18 @@ static void test_command_line(void **state)
   expect(run(ARGV("--rtol", "10"), NULL), 2, "--rtol must lie in");
   expect(run(ARGV("--max-depth", "0"), NULL), 2, "--max-depth");
   expect(run(ARGV("--max-memory", "lots"), NULL), 2, "--max-memory");
+  /* the output never replaces the scene it was computed from */
+  char *scene = path("own.yaml"), *ln = path("own-link.h5");
+  char text[512];
+  snprintf(text, sizeof text, "%sforcing: {omega: 0.9, a: [0.5, 0]}\n", CHAIN2);
+  write_file(scene, text);
+  assert_int_equal(symlink("own.yaml", ln), 0);
+  expect(run(ARGV(scene, "-o", scene), NULL), 2, "over the scene");
+  expect(run(ARGV(scene, "-o", ln), NULL), 2, "over the scene");
+  expect(run(ARGV(scene, "--impacts-csv", scene), NULL), 2, "over the scene");
+  assert_string_equal(slurp(scene), text);
+  unlink(ln);
+  unlink(scene);
 }
 
 int main(int argc, char **argv)
