@@ -77,6 +77,7 @@ static char *slurp(const char *p)
 
 /* Start the app with argv; stdout to out_path (NULL: a file in dir),
  * stderr to dir/stderr; env_extra (NULL or "NAME=VALUE") added. */
+static const char *env_extra3; /* a third NAME=VALUE for the next start */
 static pid_t start(char *const argv[], const char *out_path,
                    const char *env_extra, const char *env_extra2)
 {
@@ -90,6 +91,7 @@ static pid_t start(char *const argv[], const char *out_path,
     dup2(e, 2);
     if (env_extra) putenv((char *)env_extra);
     if (env_extra2) putenv((char *)env_extra2);
+    if (env_extra3) putenv((char *)env_extra3);
     execv(app, argv);
     _exit(127);
   }
@@ -185,6 +187,23 @@ static void test_full_disk(void **state)
   char env[700];
   snprintf(env, sizeof env, "LD_PRELOAD=%s", hook);
   full_disk_case(path("hooked.h5"), env, "VI_FAULT_BUDGET=150000");
+  /* a file system without fallocate: the writer reserves with zeros */
+  env_extra3 = "VI_FAULT_NO_FALLOCATE=1";
+  full_disk_case(path("hooked.h5"), env, "VI_FAULT_BUDGET=150000");
+  int rc = finish(start(ARGV("--periods", "3", "-o", path("nofalloc.h5"), "--quiet"),
+                        NULL, env, NULL));
+  env_extra3 = NULL;
+  expect(rc, 0, NULL);
+  hid_t f = H5Fopen(path("nofalloc.h5"), H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0); /* a valid file, padding or not */
+  hid_t ds = H5Dopen2(f, "impacts/time", H5P_DEFAULT), sp = H5Dget_space(ds);
+  hsize_t ni = 0;
+  H5Sget_simple_extent_dims(sp, &ni, NULL);
+  H5Sclose(sp);
+  H5Dclose(ds);
+  H5Fclose(f);
+  assert_true(ni >= 3);
+  remove(path("nofalloc.h5"));
   rmdir(mnt);
   remove(path("hooked.h5"));
 }
