@@ -363,8 +363,15 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
     s->n = (int)(K->data.sequence.items.top - K->data.sequence.items.start);
     if (s->n < 1)
       return fail(c, K, VI_ERR_DIM, "model.K", "%s", "empty matrix");
-    /* every row must hold n numbers before n x n storage is allocated: the
-     * text then bounds the memory */
+    /* n x n numbers must be written out (an alias repeating a row would
+     * let a small file ask for a huge matrix), and every row must hold n
+     * of them, before n x n storage is allocated: the text then bounds the
+     * memory */
+    double nodes = (double)(c->doc.nodes.top - c->doc.nodes.start);
+    if ((double)s->n * s->n > nodes)
+      return fail(c, K, VI_ERR_LIMIT, "model.K", "%s",
+                  "an n x n matrix needs its n^2 numbers written out "
+                  "(aliased rows are not expanded)");
     for (int i = 0; i < s->n; i++) {
       yaml_node_t *row = node(c, K->data.sequence.items.start[i]);
       char k[64];

@@ -407,6 +407,16 @@ static void test_limits(void **state)
   char fig2[600];
   snprintf(fig2, sizeof fig2, "%s/fig2.yaml", VI_SCENE_DIR);
   expect(run(ARGV(fig2, "--max-memory", "1K"), NULL), 2, "model.chain.n = 2");
+  /* an alias bomb: 140 kB asking for a 20000 x 20000 K by repeating one
+   * row (9.6 GB): refused before any n x n storage exists */
+  f = fopen(chain, "w");
+  fputs("initial: {x: &r [1", f);
+  for (int k = 1; k < 20000; k++) fputs(", 0", f);
+  fputs("]}\nmodel:\n  K: [*r", f);
+  for (int k = 1; k < 20000; k++) fputs(", *r", f);
+  fputs("]\nstop: {mass: 1, xs: 0.1, r: 0.5}\nrun: {t_end: 1}\n", f);
+  fclose(f);
+  expect(run(ARGV(chain), NULL), 2, "model.K: an n x n matrix needs its n^2 numbers");
   remove(deep);
   remove(chain);
 }
