@@ -8,6 +8,7 @@
  * Exit status: 0 success, 1 run-time error, 2 usage or input error,
  * 128 + signal when interrupted (130 SIGINT, 143 SIGTERM). */
 #include <errno.h>
+#include <fcntl.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -332,6 +333,18 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
 
 int main(int argc, char **argv)
 {
+  /* a closed standard descriptor would be reused by the first file we
+   * open (the HDF5 output), and the summary would be written into it:
+   * hold 0, 1, 2 with /dev/null opened read-only, so that writes to a
+   * closed stdout fail and are reported instead */
+  for (int fd = 0; fd <= 2; fd++)
+    if (fcntl(fd, F_GETFD) == -1 && errno == EBADF) {
+      int k = open("/dev/null", O_RDONLY);
+      if (k >= 0 && k != fd) {
+        dup2(k, fd);
+        close(k);
+      }
+    }
   gsl_set_error_handler_off();
   if (vi_version_number() != VI_VERSION_NUMBER) {
     fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
