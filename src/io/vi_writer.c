@@ -16,7 +16,7 @@
 #include "vibroimpact.h"
 #include "vibroimpact/vi_writer.h"
 
-#define MAXCOL 12
+#define MAXCOL 13
 #define FORMAT_VERSION 2
 
 typedef struct col {
@@ -454,7 +454,7 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
   w->traj.c[2] = VEC("v", n, F64, "length/time", "physical velocities");
   w->traj.c[3] = VEC("q", n, F64, "modal", "modal coordinates q = Psi^T M x");
   w->traj.c[4] = VEC("qd", n, F64, "modal/time", "modal velocities");
-  w->led.ncol = 12;
+  w->led.ncol = 13;
   w->led.c[0] = COL("t_a", 1, F64, "time", "interval start");
   w->led.c[1] = COL("t_b", 1, F64, "time", "interval end (before the event)");
   w->led.c[2] = VEC("E_a", n, F64, "energy", "modal energy at t_a");
@@ -471,6 +471,8 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
       COL("residual", 1, F64, "1", "closure residual / energy scale");
   w->led.c[11] =
       COL("impact", 1, I32, "1", "1 when the interval ends in a jump");
+  w->led.c[12] = VEC("NE", n, F64, "energy",
+                     "work of the nonlinear forces on each mode (0 without)");
   if ((st = table_init(w, &w->imp, "impacts", 0)) == VI_OK &&
       (st = table_init(w, &w->traj, "trajectory", compress)) == VI_OK)
     st = table_init(w, &w->led, "ledger", 0);
@@ -605,9 +607,11 @@ int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv)
   double imp = iv->dE ? 1.0 : 0.0;
   const double *dE = iv->dE ? iv->dE : w->q; /* zeros when no jump */
   if (!iv->dE) memset(w->q, 0, sizeof(double) * w->n);
-  const double *vals[12] = {&iv->t_a, &iv->t_b, iv->Ea,        iv->Eb,
+  const double *NE = iv->NE ? iv->NE : w->q; /* zeros without forces */
+  if (!iv->NE) memset(w->q, 0, sizeof(double) * w->n);
+  const double *vals[13] = {&iv->t_a, &iv->t_b, iv->Ea,        iv->Eb,
                             iv->FE,   iv->DE,   iv->XE,        iv->CE,
-                            dE,       &iv->ie,  &iv->residual, &imp};
+                            dE,       &iv->ie,  &iv->residual, &imp, NE};
   int st;
   H5E_BEGIN_TRY { st = table_row(w, &w->led, vals); }
   H5E_END_TRY;
