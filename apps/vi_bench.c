@@ -263,7 +263,7 @@ static void scaling_section(int repeats)
          "adams_us/per", "adams/ex", "imp_ex", "imp_ad");
   for (int i = 0; i < 5; i++) {
     int n = ns[i];
-    double periods = n >= 1000 ? 10 : n >= 200 ? 20 : 50;
+    double periods = n >= 1000 ? 100 : 50;
     vi_model *m = chain(n, 0.1);
     double t_end = periods * 2.0 * M_PI / 0.9;
     int rep = n >= 1000 ? 1 : repeats;
