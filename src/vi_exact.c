@@ -6,7 +6,7 @@
  * relative to its start (vi_flow_basis), so that static offsets and rigid
  * or very soft modes cost no accuracy.  The gap
  *   g(t) = sum_j psi_j w_j(t) + GA cos(Omega t) + GB sin(Omega t) - x_s
- * is followed on a uniform grid of step h = h0 2^-p (8 steps per period of
+ * is followed on a uniform grid of step h = h0 2^-p (4 steps per period of
  * the fastest mode in g): each active mode (psi_j != 0) advances by a fixed
  * 2 x 2 map per step, re-anchored on the direct formula every EX_ANCHOR
  * steps.  A grid interval is skipped when a rigorous upper bound of g on it
@@ -34,7 +34,7 @@
 #define EX_DEPTH 44   /* bisection levels below the grid's */
 #define EX_ANCHOR 64  /* grid steps between direct evaluations */
 #define EX_BATCH 512  /* grid steps per call of step() at most */
-#define EX_GRID 0.7853981633974483 /* grid step in radians of the fastest rate */
+#define EX_GRID 1.5707963267948966 /* grid step in radians of the fastest rate */
 
 typedef struct ex_data {
   int kind;                         /* EX_KIND_FAST (vi_exact_internal.h) */
@@ -44,6 +44,7 @@ typedef struct ex_data {
   double GA, GB, GH;                /* harmonic part of g, its amplitude */
   double Om, h0, hq;                /* forcing, grid and quadrature steps */
   double *lev[EX_LEVELS];           /* B, Bp, phi for h0 2^-l [3 na] */
+  double lc[EX_LEVELS], ls[EX_LEVELS]; /* cos, sin of Omega h0 2^-l */
   /* the flight */
   double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
   double goff, skip;                /* g offset at t0; no contact before */
@@ -85,6 +86,8 @@ static const double *ex_level(ex_data *d, int l)
   double *t = malloc(sizeof(double) * 3 * (size_t)(d->na ? d->na : 1));
   if (!t) return NULL;
   double dt = ldexp(d->h0, -l);
+  d->lc[l] = cos(d->Om * dt);
+  d->ls[l] = sin(d->Om * dt);
   for (int i = 0; i < d->na; i++)
     vi_flow_basis(d->lam[i], d->dmp[i], dt, t + i, t + d->na + i,
                   t + 2 * d->na + i);
@@ -209,6 +212,25 @@ static void ex_bounds(ex_data *d, const double *w, const double *wd)
   d->B4 = (b4 + d->GH * O2 * O2) * (1.0 + 1e-9);
 }
 
+/* fmax without the library call (no NaN reaches these) */
+static inline double mx(double a, double b) { return a > b ? a : b; }
+
+/* B4 w^4 / 384: how far g may rise above its cubic Hermite on a piece. */
+static inline double herm_err(const ex_data *d, double w)
+{
+  double w2 = w * w;
+  return d->B4 * w2 * w2 / 384.0;
+}
+
+/* A cheap upper bound of the cubic Hermite on a piece: the weights of the
+ * end slopes, s (1 - s)^2 and -s^2 (1 - s), lie within [0, 4/27] and
+ * [-4/27, 0]. */
+static inline double herm_quick(double ga, double gda, double gb, double gdb,
+                                double w)
+{
+  return mx(ga, gb) + w * (4.0 / 27.0) * (mx(gda, 0.0) + mx(-gdb, 0.0));
+}
+
 /* Maximum on [0, 1] of the cubic Hermite through (ga, w gda) at 0 and
  * (gb, w gdb) at 1, and its coefficients c[4] in s = (t - a) / w. */
 static double herm_max(double ga, double gda, double gb, double gdb, double w,
@@ -218,7 +240,7 @@ static double herm_max(double ga, double gda, double gb, double gdb, double w,
   c[1] = w * gda;
   c[2] = 3.0 * (gb - ga) - w * (2.0 * gda + gdb);
   c[3] = 2.0 * (ga - gb) + w * (gda + gdb);
-  double mx = fmax(ga, gb);
+  double top = mx(ga, gb);
   /* stationary points: c1 + 2 c2 s + 3 c3 s^2 = 0 */
   double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1], r[2];
   int nr = 0;
@@ -236,9 +258,9 @@ static double herm_max(double ga, double gda, double gb, double gdb, double w,
   for (int i = 0; i < nr; i++)
     if (r[i] > 0.0 && r[i] < 1.0) {
       double s = r[i];
-      mx = fmax(mx, c[0] + s * (c[1] + s * (c[2] + s * c[3])));
+      top = mx(top, c[0] + s * (c[1] + s * (c[2] + s * c[3])));
     }
-  return mx;
+  return top;
 }
 
 /* Root of g on a piece [a, a + h0 2^-l] where g' > 0 is proven, ga < 0 <=
@@ -246,22 +268,25 @@ static double herm_max(double ga, double gda, double gb, double gdb, double w,
  * is exact to round-off, then Newton on the cubic, safeguarded by its
  * bracket. */
 static int ex_polish(ex_data *d, int l, double a, const double *w,
-                     const double *wd, double ga, double gda, double gb,
-                     double gdb, double gdlo, double *tc)
+                     const double *wd, double ca, double sa, double ga,
+                     double gda, double gb, double gdb, double gdlo,
+                     double *tc)
 {
   const double eps = DBL_EPSILON;
   double wdt = ldexp(d->h0, -l);
   for (;;) {
     double scale = 0.25 * eps * fmax(fabs(a), d->h0) * gdlo;
-    if (l >= d->lmax || d->B4 * pow(wdt, 4) / 384.0 <= scale) break;
+    if (l >= d->lmax || herm_err(d, wdt) <= scale) break;
     double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
-    double m = a + 0.5 * wdt, gm, gdm, c = 1.0, sn = 0.0;
-    if (d->GH != 0.0) {
-      c = cos(d->Om * m);
-      sn = sin(d->Om * m);
-    }
-    int st = ex_advance(d, l + 1, w, wd, wm, wdm, c, sn, &gm, &gdm);
+    double m = a + 0.5 * wdt, gm, gdm;
+    int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, &gm, &gdm);
     if (st) return st;
+    /* the harmonic part by rotation from a (the tables are built now) */
+    double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
+    double sn = sa * d->lc[l + 1] + ca * d->ls[l + 1], hg, hgd;
+    ex_harm(d, c, sn, &hg, &hgd);
+    gm += hg;
+    gdm += hgd;
     l++;
     wdt *= 0.5;
     if (gm >= 0.0) {
@@ -271,6 +296,8 @@ static int ex_polish(ex_data *d, int l, double a, const double *w,
       a = m;
       w = wm;
       wd = wdm;
+      ca = c;
+      sa = sn;
       ga = gm;
       gda = gdm;
     }
@@ -295,12 +322,13 @@ static int ex_polish(ex_data *d, int l, double a, const double *w,
 /* First t in (a, a + h0 2^-l] with g(t) >= 0, left first; state (w, wd) at
  * a.  1 with *tc: found; 0: none; < 0: error. */
 static int ex_search(ex_data *d, int l, double a, const double *w,
-                     const double *wd, double ga, double gda, double gb,
-                     double gdb, double *tc)
+                     const double *wd, double ca, double sa, double ga,
+                     double gda, double gb, double gdb, double *tc)
 {
-  double wdt = ldexp(d->h0, -l), b = a + wdt, cf[4];
+  double wdt = ldexp(d->h0, -l), b = a + wdt, cf[4], e4 = herm_err(d, wdt);
   if (b <= d->skip) return 0;
-  if (herm_max(ga, gda, gb, gdb, wdt, cf) + d->B4 * pow(wdt, 4) / 384.0 < 0.0)
+  if (herm_quick(ga, gda, gb, gdb, wdt) + e4 < 0.0 ||
+      herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < 0.0)
     return 0;
   /* g' on [a, b] lies within the two lines of slope B2 through the ends */
   double gdlo = 0.5 * (gda + gdb - d->B2 * wdt);
@@ -308,7 +336,7 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
   if (gdhi < 0.0 && ga <= 0.0) return 0; /* decreasing */
   if (gdlo > 0.0 && ga < 0.0) {          /* increasing */
     if (gb < 0.0) return 0;
-    return ex_polish(d, l, a, w, wd, ga, gda, gb, gdb, gdlo, tc);
+    return ex_polish(d, l, a, w, wd, ca, sa, ga, gda, gb, gdb, gdlo, tc);
   }
   if (l >= d->lmax) { /* at round-off in t: the sign decides */
     if (gb < 0.0) return 0;
@@ -317,16 +345,17 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
   }
   d->s->stats[VI_STAT_GRAZE_CHECKS] += gda > 0.0 && gdb < 0.0;
   double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
-  double m = a + 0.5 * wdt, gm, gdm, c = 1.0, sn = 0.0;
-  if (d->GH != 0.0) {
-    c = cos(d->Om * m);
-    sn = sin(d->Om * m);
-  }
-  int st = ex_advance(d, l + 1, w, wd, wm, wdm, c, sn, &gm, &gdm);
+  double m = a + 0.5 * wdt, gm, gdm;
+  int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, &gm, &gdm);
   if (st) return st;
-  st = ex_search(d, l + 1, a, w, wd, ga, gda, gm, gdm, tc);
+  double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
+  double sn = sa * d->lc[l + 1] + ca * d->ls[l + 1], hg, hgd;
+  ex_harm(d, c, sn, &hg, &hgd);
+  gm += hg;
+  gdm += hgd;
+  st = ex_search(d, l + 1, a, w, wd, ca, sa, ga, gda, gm, gdm, tc);
   if (st) return st;
-  return ex_search(d, l + 1, m, wm, wdm, gm, gdm, gb, gdb, tc);
+  return ex_search(d, l + 1, m, wm, wdm, c, sn, gm, gdm, gb, gdb, tc);
 }
 
 static int ex_alloc(vi_sim *s, ex_data **out)
@@ -619,10 +648,12 @@ static int ex_step(vi_sim *s, double t_end, int *event)
     if (!d->srch) {
       double tc, cf[4];
       int hit = 0;
-      if (herm_max(d->gk, d->gdk, d->gn, d->gdn, d->hp, cf) +
-              d->B4 * pow(d->hp, 4) / 384.0 >= 0.0 || tb <= d->skip) {
-        hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->gk, d->gdk, d->gn,
-                        d->gdn, &tc);
+      double e4 = herm_err(d, d->hp);
+      if (tb <= d->skip ||
+          (herm_quick(d->gk, d->gdk, d->gn, d->gdn, d->hp) + e4 >= 0.0 &&
+           herm_max(d->gk, d->gdk, d->gn, d->gdn, d->hp, cf) + e4 >= 0.0)) {
+        hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, d->gk,
+                        d->gdk, d->gn, d->gdn, &tc);
         if (hit < 0) return hit;
       }
       d->srch = hit ? 2 : 1;
