@@ -9,6 +9,7 @@
  * monotone piece, also located by Brent to round-off.  Checking the maxima
  * is what catches grazing contacts that a sign test at step ends misses. */
 #include <float.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,6 +25,7 @@ typedef struct ex_data {
   double ta, ga, gda; /* left end of the next scan step */
   double *rates;      /* ledger integrands [4n] */
   vi_gflow *gf;       /* non-proportional damping: the first-order flow */
+  int handover;       /* the flow would cancel a far larger particular part */
   double *zfull;      /* its state at the last full evaluation [2n] */
   int64_t steps, evals;
 } ex_data;
@@ -148,6 +150,20 @@ static int ex_start(vi_sim *s)
   if (d->gf) {
     vi_gflow_start(d->gf, m, s->t, s->z);
     ex_eval(d, d->ta, &d->ga, &d->gda, 0);
+    s->gap = d->ga;
+    s->z_stale = 0;
+    /* The gap is the sum of a particular part and a transient that cancel
+     * when a static offset or a resonant response dwarfs the motion (a
+     * very soft structure under load): hand over to CVODE rather than lose
+     * those digits (issue 9). */
+    double hsc = vi_general_particular_scale(m), msc = fabs(m->xs);
+    for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * i]);
+    d->handover = hsc > 1e6 * (msc + s->atol * s->wnorm);
+    if (d->handover)
+      snprintf(s->handover_why, sizeof s->handover_why,
+               "the particular solution (%.3g) is %.2g times the gap's scale "
+               "at t = %.9g: the closed form would cancel it", hsc,
+               hsc / (msc + s->atol * s->wnorm), s->t);
     return VI_OK;
   }
   /* modal state now, minus the particular solution: the homogeneous part */
@@ -214,6 +230,10 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
 static int ex_step(vi_sim *s, double t_end, int *event)
 {
   ex_data *d = s->be_data;
+  if (d->handover) {
+    *event = VI_STEP_HANDOVER;
+    return VI_OK;
+  }
   double b = fmin(d->ta + d->h, t_end), gb, gdb, tc;
   ex_eval(d, b, &gb, &gdb, 0);
   d->steps++;

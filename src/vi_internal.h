@@ -68,6 +68,9 @@ typedef struct vi_gflow vi_gflow;
 int vi_general_setup(vi_model *m);
 void vi_general_free(vi_model *m);
 double vi_general_top_frequency(const vi_model *m);
+/* sum_k |w.V_k| (|P_k| + |Q_k| + |R_k|): the size of the particular
+ * solution as the gap sees it, against which the flow cancels */
+double vi_general_particular_scale(const vi_model *m);
 vi_gflow *vi_gflow_create(const vi_model *m);
 void vi_gflow_free(vi_gflow *f);
 /* z: interleaved state (x_1, v_1, ...) at t0 */
