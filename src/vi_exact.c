@@ -48,6 +48,7 @@ typedef struct ex_data {
   /* the flight */
   double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
   double goff, skip;                /* g offset at t0; no contact before */
+  double gnoise;                    /* round-off of g at t0 */
   int p, lmax, since, handover;
   double hp, tg, cr, sr;            /* grid start, step, rotation by Om hp */
   int64_t k;                        /* grid index: t_k = tg + k hp */
@@ -339,7 +340,9 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
     return ex_polish(d, l, a, w, wd, ca, sa, ga, gda, gb, gdb, gdlo, tc);
   }
   if (l >= d->lmax) { /* at round-off in t: the sign decides */
-    if (gb < 0.0) return 0;
+    /* next to a start on the stop, only beyond g's round-off: a tangential
+     * departure (a release) must not read as a new contact */
+    if (gb < 0.0 || (a <= d->t0 && gb <= d->gnoise)) return 0;
     *tc = b;
     return 1;
   }
@@ -529,7 +532,8 @@ static int ex_start(vi_sim *s)
   double scale = fabs(m->xs) + 1e-300;
   for (int i = 0; i < n; i++) scale += fabs(m->w[i] * s->z[2 * i]);
   double tr = 0.0;
-  if (fabs(g) <= 64.0 * DBL_EPSILON * scale) {
+  d->gnoise = 64.0 * DBL_EPSILON * scale;
+  if (fabs(g) <= d->gnoise) {
     d->goff = g;
     double A = d->B3 / 6.0, B = 0.5 * gdd, C = gd;
     if (C < 0.0) {
@@ -544,7 +548,8 @@ static int ex_start(vi_sim *s)
   /* grid: fine enough to see the end of a short flight */
   d->p = 0;
   while (tr > 0.0 && d->p < EX_LEVELS - EX_DEPTH - 1 &&
-         ldexp(d->h0, -d->p) > 4.0 * tr)
+         ldexp(d->h0, -d->p) > 4.0 * tr &&
+         ldexp(d->h0, -d->p - 1) >= 64.0 * DBL_EPSILON * fabs(s->t))
     d->p++;
   d->lmax = d->p + EX_DEPTH;
   d->hp = ldexp(d->h0, -d->p);
