@@ -328,8 +328,11 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
 {
   double wdt = ldexp(d->h0, -l), b = a + wdt, cf[4], e4 = herm_err(d, wdt);
   if (b <= d->skip) return 0;
-  if (herm_quick(ga, gda, gb, gdb, wdt) + e4 < 0.0 ||
-      herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < 0.0)
+  /* below the stop by more than g's round-off: nothing here (a touch
+   * within round-off is no contact, and a motion resting on the stop must
+   * not send the bisection into every leaf) */
+  if (herm_quick(ga, gda, gb, gdb, wdt) + e4 < d->gnoise ||
+      herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < d->gnoise)
     return 0;
   /* g' on [a, b] lies within the two lines of slope B2 through the ends */
   double gdlo = 0.5 * (gda + gdb - d->B2 * wdt);
@@ -529,7 +532,7 @@ static int ex_start(vi_sim *s)
   /* On the stop (after an impact, or a start there): measure g from here,
    * and skip the time in which g provably recedes, g' tau + g'' tau^2 / 2
    * + B3 tau^3 / 6 < 0. */
-  double scale = fabs(m->xs) + 1e-300;
+  double scale = fabs(m->xs) + d->GH + 1e-3 * s->atol * s->wnorm;
   for (int i = 0; i < n; i++) scale += fabs(m->w[i] * s->z[2 * i]);
   double tr = 0.0;
   d->gnoise = 64.0 * DBL_EPSILON * scale;
@@ -655,8 +658,8 @@ static int ex_step(vi_sim *s, double t_end, int *event)
       int hit = 0;
       double e4 = herm_err(d, d->hp);
       if (tb <= d->skip ||
-          (herm_quick(d->gk, d->gdk, d->gn, d->gdn, d->hp) + e4 >= 0.0 &&
-           herm_max(d->gk, d->gdk, d->gn, d->gdn, d->hp, cf) + e4 >= 0.0)) {
+          (herm_quick(d->gk, d->gdk, d->gn, d->gdn, d->hp) + e4 >= d->gnoise &&
+           herm_max(d->gk, d->gdk, d->gn, d->gdn, d->hp, cf) + e4 >= d->gnoise)) {
         hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, d->gk,
                         d->gdk, d->gn, d->gdn, &tc);
         if (hit < 0) return hit;

@@ -497,6 +497,21 @@ static void test_nonproportional_soft(void **state)
   vi_model_destroy(&m);
 }
 
+/* A free mass at rest on the stop (no force at all): g = 0 for ever.  No
+ * contact, no hang: the search must not bisect a motion that lies on the
+ * stop within round-off. */
+static void test_resting_on_stop(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_sdof(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.8);
+  vi_test_events ev = {0};
+  assert_int_equal(vi_test_run(m, VI_METHOD_EXACT, 1e-10, 1e-12, NULL, NULL, 100.0, &ev),
+                   VI_OK);
+  assert_int_equal(ev.count, 0);
+  vi_test_events_free(&ev);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -512,6 +527,7 @@ int main(void)
       cmocka_unit_test(test_handover_near_resonance),
       cmocka_unit_test(test_cancel),
       cmocka_unit_test(test_nonproportional_soft),
+      cmocka_unit_test(test_resting_on_stop),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
