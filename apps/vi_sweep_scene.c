@@ -28,6 +28,13 @@ char *vi_sweep_read_text(const char *path, char *err, int errlen)
   size_t got;
   while (buf && (got = fread(buf + len, 1, cap - len - 1, f)) > 0) {
     len += got;
+    if (len > VI_SCENE_MAX_BYTES) { /* the reader's own limit */
+      fclose(f);
+      free(buf);
+      snprintf(err, (size_t)errlen, "%s: larger than %d bytes: not a scene", path,
+               VI_SCENE_MAX_BYTES);
+      return NULL;
+    }
     if (cap - len < 2) {
       char *nb = realloc(buf, 2 * cap);
       if (!nb) {
@@ -116,7 +123,9 @@ int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
     if (d) {
       d->code = VI_ERR_IO;
       snprintf(d->file, sizeof d->file, "%s", path ? path : "");
-      snprintf(d->message, sizeof d->message, "%s", err);
+      size_t k = path ? strlen(path) : 0; /* err starts "path: " */
+      snprintf(d->message, sizeof d->message, "%s",
+               k && !strncmp(err, path, k) && err[k] == ':' ? err + k + 2 : err);
     }
     return VI_ERR_IO;
   }
