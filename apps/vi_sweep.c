@@ -565,6 +565,8 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     ln->pt = calloc((size_t)K, sizeof *ln->pt);
     ln->strobe = malloc(sizeof(double) * (size_t)K * sp->record * 2 * sw->N);
     if (!ln->pt || !ln->strobe) goto oom;
+    /* a value that fails leaves NaN, not garbage, in the file */
+    for (size_t i = 0; i < (size_t)K * sp->record * 2 * sw->N; i++) ln->strobe[i] = NAN;
   }
   int C = sw->spec.chunks, ntask = sw->nlines * C;
   piece *ps = calloc((size_t)ntask, sizeof *ps);
