@@ -1,7 +1,7 @@
 /* vi_cmd_orbits.c - `vibroimpact orbits`: P(n, m) orbits found directly.
  *
  *   vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json] [--phases K]
- *                      [--set KEY=VALUE]...
+ *                      [--set KEY=VALUE]... [--continue KEY --to B [--steps K]]
  *
  * Seeds: for m = 1 an exhaustive scan of impact phases (vi_orbit_p1_scan:
  * every P(n,1) orbit, unstable and inadmissible ones included); for any m
@@ -17,6 +17,7 @@
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_scene_edit.h"
 #include "vi_sweep.h"
 
 #define MAXORB 64
@@ -239,14 +240,17 @@ static void print_text(const list *L, const char *name)
 
 int vi_cmd_orbits_main(int argc, char **argv)
 {
-  int np = 1, mi = 1, json = 0, phases = 720, nsets = 0, c, rc = 2;
-  const char *scene = NULL;
+  int np = 1, mi = 1, json = 0, phases = 720, nsets = 0, c, rc = 2, csteps = 50;
+  const char *scene = NULL, *ckey = NULL;
+  double cto = NAN;
   const char **sets = calloc((size_t)argc + 1, sizeof *sets);
   if (!sets) return 1;
   static const struct option lo[] = {
       {"n", required_argument, 0, 'n'},      {"m", required_argument, 0, 'm'},
       {"json", no_argument, 0, 'j'},         {"phases", required_argument, 0, 'p'},
       {"set", required_argument, 0, 's'},    {"help", no_argument, 0, 'h'},
+      {"continue", required_argument, 0, 'C'}, {"to", required_argument, 0, 'T'},
+      {"steps", required_argument, 0, 'S'},
       {0, 0, 0, 0}};
   optind = 1;
   opterr = 0;
@@ -257,13 +261,24 @@ int vi_cmd_orbits_main(int argc, char **argv)
     case 'j': json = 1; break;
     case 'p': phases = whole(optarg, 8, 1000000); break;
     case 's': sets[nsets++] = optarg; break;
+    case 'C': ckey = optarg; break;
+    case 'T': {
+      char *end;
+      cto = strtod(optarg, &end);
+      if (end == optarg || *end || !isfinite(cto)) cto = NAN, np = -1;
+      break;
+    }
+    case 'S': csteps = whole(optarg, 1, 1000000); break;
     case 'h':
       printf("usage: vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json] "
              "[--phases K] [--set KEY=VALUE]...\n"
              "Every P(n,m) orbit found (default P(1,1)): by an exhaustive scan of "
              "K impact phases\n(m = 1) and from transients, refined by Newton; "
              "stability from the Floquet\nmultipliers (monodromy with saltation "
-             "matrices), admissibility checked.\n");
+             "matrices), admissibility checked.\n"
+             "--continue KEY --to B [--steps K]: follow each admissible P(n,1) orbit in KEY\n"
+             "to B (K steps, default 50), locating where it loses stability (period\n"
+             "doubling, fold, Neimark-Sacker) or grazes.\n");
       rc = 0;
       goto out;
     default:
@@ -273,9 +288,11 @@ int vi_cmd_orbits_main(int argc, char **argv)
     }
   }
   if (optind < argc) scene = argv[optind++];
-  if (optind < argc || np < 1 || np > 64 || mi < 1 || mi > 64 || phases < 8) {
+  if (optind < argc || np < 1 || np > 64 || mi < 1 || mi > 64 || phases < 8 ||
+      csteps < 1 || (ckey && (isnan(cto) || mi != 1))) {
     fprintf(stderr, "vibroimpact: orbits: bad arguments (need 1 <= n, m <= 64, "
-            "--phases >= 8, one scene)\n");
+            "--phases >= 8, one scene; --continue KEY needs --to B, --steps K >= 1 "
+            "and m = 1)\n");
     goto out;
   }
   char err[2048];
@@ -337,8 +354,38 @@ int vi_cmd_orbits_main(int argc, char **argv)
     for (int k = 0; k < 8; k++) transient_seed(L, sc, k * T / 8, x0, x0 + N, 2000);
     free(x0);
   }
-  if (json) print_json(L);
-  else print_text(L, scene ? scene : "the default scene (Fig. 2)");
+  if (ckey) {
+    /* follow every admissible orbit found in the key (vi_sweep_cont.c) */
+    char *text = vi_sweep_read_text(scene, err, sizeof err);
+    vi_scene_edit *ed = NULL;
+    int bad = !text || vi_scene_edit_create(text, -1, scene ? scene : "<default scene: fig2>", &ed, &d);
+    for (int i = 0; i < nsets && !bad; i++) bad = vi_scene_edit_assign(ed, sets[i], &d) != 0;
+    if (bad) {
+      if (text) vi_diag_format(&d, err, sizeof err);
+      fprintf(stderr, "vibroimpact: %s\n", err);
+      rc = 2;
+    }
+    if (json && !bad) printf("{\"branches\": [");
+    for (int i = 0, k = 0; !bad && i < L->count; i++) {
+      if (!L->o[i].admissible) continue;
+      if (json && k++) printf(", ");
+      int r = vi_sweep_continue(vi_scene_edit_text(ed), scene ? scene : "<default scene: fig2>",
+                                ckey, cto, csteps, np, L->o[i].t, L->o[i].x, L->o[i].v, N,
+                                json, err, sizeof err);
+      if (r) {
+        fprintf(stderr, "vibroimpact: orbits: --continue: %s\n", err);
+        rc = r;
+        break;
+      }
+    }
+    if (json && !bad) printf("]}\n");
+    vi_scene_edit_destroy(&ed);
+    free(text);
+  } else if (json) {
+    print_json(L);
+  } else {
+    print_text(L, scene ? scene : "the default scene (Fig. 2)");
+  }
 fin:
   for (int i = 0; i < L->count; i++) orbit_free(&L->o[i]);
   free(L);

@@ -122,6 +122,16 @@ int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
  * failure (exit status 1, message printed). */
 int vi_sweep_exec(int argc, char **argv);
 
+/* Follow the P(n,1) orbit (t0, x0, v0 [N]: an impact and the state before
+ * it) of the scene in its key from the scene's value to `to` in `steps`
+ * steps (vi_sweep_cont.c), printing the branch and the points where it
+ * loses stability or grazes (text, or JSON {key, n, m, branch, events}).
+ * Returns 0, 2 for bad input (err), 1 otherwise. */
+int vi_sweep_continue(const char *text, const char *name, const char *key,
+                      double to, int steps, int np, const double *t0,
+                      const double *x0, const double *v0, int N, int json,
+                      char *err, int errlen);
+
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */
 int vi_cmd_sweep_main(int argc, char **argv);

@@ -25,4 +25,15 @@ expect(3 "\"P11\": false, \"periodic\": true, \"n\": 2, \"m\": 3" "P\\(2,3\\)"
 expect(0 "\"P11\": true, .*\"vN\": 0\\.787660852554.*\"multipliers\": \\[\\[0\\.1166861592.*\"stable\": true" "" energy ${S} --json --method exact)
 expect(0 "\"orbits\": \\[{\"n\": 1, \"m\": 1, \"vN\": \\[0\\.787660852554.*\"stable\": true, \"admissible\": true" ""
        orbits ${S} --json)
-message(STATUS "--set, energy --json classification and orbits --json: ok")
+# Continuation of the Fig. 2 orbit in Omega: it loses stability in a period
+# doubling (a multiplier through -1) at Omega* = 1.6130454...; the brute-force
+# sweep, a different method (simulation), agrees: P(1,1) just below Omega*,
+# P(2,2) just above.
+expect(0 "\"type\": \"period_doubling\", \"param\": 1\\.613045409[0-9]*, \"multiplier\": \\[-0\\.99999999" ""
+       orbits ${S} --json --continue forcing.omega --to 1.7 --steps 16 --set forcing.omega=1.5)
+expect(0 "\"n\": \\[1, 2\\], \"m\": \\[1, 2\\]" ""
+       sweep ${S} --param forcing.omega --from 1.608045 --to 1.618045 --steps 2
+       --transient 800 --record 20 --method exact --json)
+# a fold ends natural continuation: reported, not an error
+expect(0 "the branch is lost after stop.xs = 1\\.19" "" orbits ${S} --continue stop.xs --to 2.5 --steps 24)
+message(STATUS "--set, energy --json classification, orbits --json and --continue: ok")
