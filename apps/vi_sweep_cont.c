@@ -127,10 +127,15 @@ int vi_sweep_continue(const char *text, const char *name, const char *key,
     if (npts++) {
       /* a crossing between prev and c: bisection on p, each point solved
        * from the orbit at c */
-      int stab = (prev.rho < 1) != (c.rho < 1), graze = (prev.gmax < 0) != (c.gmax < 0);
-      for (int e = 0; e < 2; e++) {
-        if (!(e ? graze : stab)) continue;
-        double a = prev.p, b = c.p, fa = e ? prev.gmax : prev.rho - 1;
+      /* e = 0: stability; 1: an interior maximum of the gap touches the
+       * stop; 2: the impact velocity goes through 0 (grazing impact) */
+      int cross[3] = {(prev.rho < 1) != (c.rho < 1), (prev.gmax < 0) != (c.gmax < 0),
+                      (prev.vn > 0) != (c.vn > 0)};
+      if (prev.vn <= 0 && c.vn <= 0) cross[1] = 0; /* no impact: no contact */
+      for (int e = 0; e < 3; e++) {
+        if (!cross[e]) continue;
+        double a = prev.p, b = c.p;
+        double fa = e == 0 ? prev.rho - 1 : e == 1 ? prev.gmax : prev.vn;
         cstate mid = c;
         for (int it = 0; it < 60 && fabs(b - a) > 1e-13 * fmax(1.0, fabs(b)); it++) {
           double pm = 0.5 * (a + b);
@@ -138,7 +143,7 @@ int vi_sweep_continue(const char *text, const char *name, const char *key,
           memcpy(vs, v, sizeof(double) * N);
           ts = t;
           if (solve_at(ed, key, np, N, pm, &ts, xs, vs, &mid, err, errlen)) break;
-          double fm = e ? mid.gmax : mid.rho - 1;
+          double fm = e == 0 ? mid.rho - 1 : e == 1 ? mid.gmax : mid.vn;
           if ((fm < 0) == (fa < 0)) {
             a = pm;
             fa = fm;
@@ -149,15 +154,19 @@ int vi_sweep_continue(const char *text, const char *name, const char *key,
         int k = (int)strlen(events);
         if (e)
           snprintf(events + k, sizeof events - (size_t)k,
-                   "%s{\"type\": \"grazing\", \"param\": %.17g, \"vN\": %.17g}",
-                   nev++ ? ", " : "", mid.p, mid.vn);
+                   "%s{\"type\": \"%s\", \"param\": %.17g, \"vN\": %.17g}",
+                   nev++ ? ", " : "", e == 1 ? "grazing" : "grazing_impact", mid.p, mid.vn);
         else
           snprintf(events + k, sizeof events - (size_t)k,
                    "%s{\"type\": \"%s\", \"param\": %.17g, \"multiplier\": [%.17g, %.17g]}",
                    nev++ ? ", " : "", event_name(mid.kind), mid.p, mid.re, mid.im);
         if (!json)
-          printf("    -> %s at %s = %.12g%s\n", e ? "grazing" : event_name(mid.kind), key,
-                 mid.p, e ? "" : " (a multiplier on the unit circle)");
+          printf("    -> %s at %s = %.12g%s\n",
+                 e == 0 ? event_name(mid.kind) : e == 1 ? "grazing" : "grazing impact",
+                 key, mid.p,
+                 e == 0 ? " (a multiplier on the unit circle)"
+                 : e == 1 ? " (the gap between impacts touches the stop)"
+                          : " (v_N = 0)");
       }
     }
     if ((to - c.p) * h <= 1e-12 * fabs(h)) break; /* reached the end */

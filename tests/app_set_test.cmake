@@ -36,4 +36,10 @@ expect(0 "\"n\": \\[1, 2\\], \"m\": \\[1, 2\\]" ""
        --transient 800 --record 20 --method exact --json)
 # a fold ends natural continuation: reported, not an error
 expect(0 "the branch is lost after stop.xs = 1\\.19" "" orbits ${S} --continue stop.xs --to 2.5 --steps 24)
+# The P(1,1) orbit of x'' + 0.1 x' + x = 0.3 cos(0.7 t) ends in a grazing
+# impact (v_N = 0) where the stop reaches the free amplitude
+# A = 0.3 / |1 - 0.49 + 0.07 i| = 0.58277151741436
+file(WRITE ${DIR}/sdof.yaml "model: {M: [[1.0]], C: [[0.1]], K: [[1.0]]}\nforcing: {omega: 0.7, a: [0.3]}\nstop: {w: [1.0], xs: 0.57, r: 0.8}\n")
+expect(0 "\"type\": \"grazing_impact\", \"param\": 0\\.5827715174[0-9]*" ""
+       orbits ${DIR}/sdof.yaml --json --continue stop.xs --to 0.59 --steps 10)
 message(STATUS "--set, energy --json classification, orbits --json and --continue: ok")
