@@ -19,7 +19,9 @@ static int reduced_check(const vi_model *m, int k, double rS, double *vN,
   for (int j = 0; j < k; j++)
     modes[j] = j;
   if (vi_model_create_reduced(m, modes, k, rS, &red) ||
-      vi_orbit_create(red, &o) || vi_orbit_find(o))
+      vi_orbit_create(red, &o) ||
+      vi_orbit_set_direct_search(o, 0) || /* what the simulation settles on */
+      vi_orbit_find(o))
     ok = 0;
   if (ok) {
     vi_orbit_classify(o, pn, pm);
