@@ -321,6 +321,7 @@ void vi_sweep_free(vi_sweep **swp)
   free(sw->lines);
   free(sw->param);
   free(sw->param2);
+  free(sw->piece_cpu);
   free(sw->text);
   free(sw->name);
   free(sw);
@@ -592,9 +593,23 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
 #ifdef _OPENMP
   int nth = sp->threads > 0 ? sp->threads : omp_get_max_threads();
+#endif
+  sw->npieces = ntask;
+  sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
+  if (!sw->piece_cpu) {
+    free(ps);
+    goto oom;
+  }
+#ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
 #endif
-  for (int q = 0; q < nmine; q++) run_piece(&ps[rank + q * size]);
+  for (int q = 0; q < nmine; q++) {
+    struct timespec a, b;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+    run_piece(&ps[rank + q * size]);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+    sw->piece_cpu[rank + q * size] = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+  }
   int code = 0;
   for (int i = 0; i < ntask && !code; i++)
     if (ps[i].code) {

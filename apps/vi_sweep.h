@@ -76,6 +76,9 @@ typedef struct vi_sweep {
   double wall;            /* seconds spent in vi_sweep_run */
   int rank;               /* MPI rank (0 without MPI): only rank 0 holds
                              the whole diagram */
+  int npieces;            /* lines x chunks */
+  double *piece_cpu;      /* [npieces] CPU seconds of each piece (its
+                             thread's clock; this rank's pieces only) */
 } vi_sweep;
 
 /* Run the sweep on the scene text (name: its file, for messages) after
