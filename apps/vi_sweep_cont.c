@@ -185,12 +185,37 @@ int vi_sweep_continue(const char *text, const char *name, const char *key,
       if (!got) step /= 2;
     }
     if (!got) {
+      /* where Newton stops finding the orbit: bisection between the last
+       * success and the smallest failed step, each try seeded from the
+       * latest success (at a fold a multiplier approaches +1) */
+      double a = prev.p, b = prev.p + 2 * step;
+      cstate ca = prev, cm;
+      t = tp;
+      memcpy(x, xp, sizeof(double) * N);
+      memcpy(v, vp, sizeof(double) * N);
+      for (int it = 0; it < 50 && fabs(b - a) > 1e-12 * fmax(1.0, fabs(a)); it++) {
+        double pm = 0.5 * (a + b);
+        memcpy(xs, x, sizeof(double) * N);
+        memcpy(vs, v, sizeof(double) * N);
+        ts = t;
+        if (!solve_at(ed, key, np, N, pm, &ts, xs, vs, &cm, err, errlen)) {
+          a = pm;
+          ca = cm;
+          t = ts;
+          memcpy(x, xs, sizeof(double) * N);
+          memcpy(v, vs, sizeof(double) * N);
+        } else {
+          b = pm;
+        }
+      }
       if (!json)
-        printf("  the branch is lost after %s = %.12g (Newton fails: a fold, or the "
-               "orbit stops impacting)\n", key, prev.p);
+        printf("  the branch ends at %s = %.12g (v_N %.10g, largest multiplier "
+               "%.6g%+.6gi): a fold, or the orbit stops impacting\n", key, a,
+               ca.vn, ca.re, ca.im);
       int k = (int)strlen(events);
       snprintf(events + k, sizeof events - (size_t)k,
-               "%s{\"type\": \"lost\", \"param\": %.17g}", nev++ ? ", " : "", prev.p);
+               "%s{\"type\": \"lost\", \"param\": %.17g, \"vN\": %.17g, "
+               "\"multiplier\": [%.17g, %.17g]}", nev++ ? ", " : "", a, ca.vn, ca.re, ca.im);
       break;
     }
     step = fabs(2 * step) < fabs(h) ? 2 * step : h;

@@ -35,7 +35,9 @@ expect(0 "\"n\": \\[1, 2\\], \"m\": \\[1, 2\\]" ""
        sweep ${S} --param forcing.omega --from 1.608045 --to 1.618045 --steps 2
        --transient 800 --record 20 --method exact --json)
 # a fold ends natural continuation: reported, not an error
-expect(0 "the branch is lost after stop.xs = 1\\.19" "" orbits ${S} --continue stop.xs --to 2.5 --steps 24)
+# ... and where the branch ends in x_s, a multiplier is +1: a fold
+expect(0 "\"type\": \"lost\", \"param\": 1\\.1935[0-9]*, \"vN\": [0-9.]*, \"multiplier\": \\[(1\\.00000|0\\.99999)" ""
+       orbits ${S} --json --continue stop.xs --to 2.5 --steps 24)
 # The P(1,1) orbit of x'' + 0.1 x' + x = 0.3 cos(0.7 t) ends in a grazing
 # impact (v_N = 0) where the stop reaches the free amplitude
 # A = 0.3 / |1 - 0.49 + 0.07 i| = 0.58277151741436
