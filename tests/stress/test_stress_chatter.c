@@ -142,8 +142,8 @@ static void test_ball_tight(void **state)
     if (st_method_ok(m, meth))
       run_ball(m, meth, 1e-12, 1e-14, 30, 1e-10, 1e-10 * T_ACC,
                1e-14 + 1e-12 * V0 * V0 / (2 * G));
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 /* Default tolerances (rtol 1e-8, atol 1e-10): position error
@@ -165,8 +165,8 @@ static void test_ball_default_tolerances(void **state)
     if (!st_method_ok(m, meth)) continue;
     run_ball(m, meth, 1e-8, 1e-10, 30, 0.0, tol_stick, dx);
   }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 /* The impacts skipped in the jump and the energy they absorb are recorded:
@@ -193,8 +193,8 @@ static void test_ball_energy_bookkeeping(void **state)
     st_check(r.ledger_gap <= 1e-9 * 0.5 * V0 * V0);
     st_check(r.skipped > 0);
   }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 /* Release from sticking.  x'' + x = f0 + A cos(W t), stop x <= xs = 0.2,
@@ -247,8 +247,8 @@ static void test_release_instant(void **state)
       vi_sim_destroy(&s);
     }
   }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 int main(void)

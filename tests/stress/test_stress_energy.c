@@ -62,8 +62,8 @@ static void test_plastic_pressed_sticks(void **state)
     st_log_free(&log);
     vi_sim_destroy(&s);
   }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 /* r = 0 not pressed: x'' + x = 0, stop x <= 1/2, from x = 0, v = 1
@@ -111,8 +111,8 @@ static void test_plastic_not_pressed_leaves(void **state)
     st_log_free(&log);
     vi_sim_destroy(&s);
   }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 /* r = 1, C = 0: the Fig. 2 chain without its dampers (N = 2, m = k = 1,

@@ -63,8 +63,8 @@ static void test_floors_terminate(void **state)
         vi_sim_destroy(&s);
       }
     }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 /* Bad floors are rejected. */

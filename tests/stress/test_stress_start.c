@@ -48,8 +48,8 @@ static void test_start_moving_into_stop(void **state)
     st_log_free(&log);
     vi_sim_destroy(&s);
   }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 static void test_start_at_rest_on_stop(void **state)
@@ -111,8 +111,8 @@ static void test_default_state_beyond_stop(void **state)
     st_check(st == VI_ERR_INITIAL_STATE || st == VI_ERR_INVARIANT);
     vi_sim_destroy(&s);
   }
-  st_end();
   vi_model_destroy(&m);
+  st_end();
 }
 
 int main(void)
