@@ -1,6 +1,7 @@
 /* vi_cvode.c - CVODE(S) backend: Adams/fixed-point or BDF/Newton with the
  * analytic (constant) Jacobian, root functions for contact, maxima of the
  * gap (grazing) and release from sticking. */
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,6 +27,7 @@ typedef struct cv_data {
   int nroots;     /* 2 in free flight, 1 while sticking */
   long base[4];   /* steps, rhs, jac, root evals before the last ReInit */
   double t_prev;  /* time of the previous return */
+  double *zprev;  /* state [2n] and ledger integrals [4n] at t_prev */
   int continued;  /* the last step ended on a root we integrated through */
 } cv_data;
 
@@ -107,8 +109,7 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
     vi_sim_accel(s, t, z, 0, s->vp);
     Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
   }
-  vi_ledger_modal_velocity(s, z, s->qdw);
-  vi_ledger_rates(s, t, s->qdw, Lambda, N_VGetArrayPointer(yQd));
+  vi_ledger_rates_state(s->led, t, z, Lambda, N_VGetArrayPointer(yQd));
   return 0;
 }
 
@@ -134,6 +135,7 @@ static void cv_destroy(vi_sim *s)
   N_VDestroy(d->ys);
   N_VDestroy(d->yQ);
   SUNContext_Free(&d->ctx);
+  free(d->zprev);
   free(d);
   s->be_data = NULL;
 }
@@ -171,6 +173,8 @@ static int cv_create(vi_sim *s)
   if (!d) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
   s->be_data = d;
   s->errmsg[0] = '\0';
+  d->zprev = malloc(sizeof(double) * 6 * (size_t)s->n);
+  VI_CHECK(d->zprev, s->errmsg, VI_ERR_NOMEM, "out of memory");
   VI_CHECK(SUNContext_Create(NULL, &d->ctx) == 0, s->errmsg, VI_ERR_NOMEM,
            "SUNContext_Create failed");
   d->y = N_VMake_Serial(N, s->z, d->ctx);
@@ -201,9 +205,9 @@ static int cv_create(vi_sim *s)
     VI_CHECK(d->NLS, s->errmsg, VI_ERR_NOMEM, "fixed-point solver failed");
     CV_TRY(CVodeSetNonlinearSolver(d->mem, d->NLS));
   }
-  if (s->ledger_on) {
+  if (s->led) {
     /* under the state's error control, so the ledger closes to tolerance */
-    d->yQ = N_VMake_Serial(4 * s->n, s->Q, d->ctx);
+    d->yQ = N_VMake_Serial(4 * s->n, vi_ledger_integrals(s->led), d->ctx);
     VI_CHECK(d->yQ, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
     if (s->fast_nvector) vi_nvector_fast_ops(d->yQ);
     CV_TRY(CVodeQuadInit(d->mem, qrhs, d->yQ));
@@ -236,6 +240,8 @@ static int64_t cv_stat(const void *data, int which)
   return d->base[which] + cv_live(d, which);
 }
 
+static void save_prev(vi_sim *s, cv_data *d);
+
 static int cv_start(vi_sim *s)
 {
   int st = VI_OK;
@@ -262,7 +268,68 @@ static int cv_start(vi_sim *s)
     hmax = hmax > 0.0 ? fmin(hmax, h) : h;
   }
   CV_TRY(CVodeSetMaxStep(d->mem, hmax));
+  save_prev(s, d);
+cleanup:
+  return st;
+}
+
+/* Keep the state of the last return: a contact located on the interpolant
+ * can be re-integrated from it (cv_polish). */
+static void save_prev(vi_sim *s, cv_data *d)
+{
   d->t_prev = s->t;
+  memcpy(d->zprev, s->z, sizeof(double) * 2 * (size_t)s->n);
+  if (d->yQ)
+    memcpy(d->zprev + 2 * s->n, vi_ledger_integrals(s->led),
+           sizeof(double) * 4 * (size_t)s->n);
+}
+
+/* Near grazing the approach speed v_n is small and a position error dx of
+ * the located contact becomes a speed error g'' dx / v_n.  CVODE's root
+ * lies on the interpolant of its last (large) step, whose error exceeds
+ * that of the step ends, so when the amplification matters the piece from
+ * the previous return is integrated again with the root found on its own,
+ * short steps, and a contact time still short of the stop is polished by
+ * Newton steps on the gap, landing each on a step end (CVODE's stop time). */
+static int cv_polish(vi_sim *s)
+{
+  cv_data *d = s->be_data;
+  int st = VI_OK, n = s->n;
+  double tc = s->t, t = d->t_prev, g, gd;
+  vi_sim_gap(s, s->z, &g, &gd);
+  vi_sim_accel(s, s->t, s->z, 0, s->vp);
+  double p = fabs(vi_dot(n, s->m->w, s->vp));
+  double dx = s->atol * s->wnorm + s->rtol * fabs(s->m->xs);
+  if (!(gd > 0.0) || p * dx <= 100.0 * s->rtol * gd * gd || !(tc > t))
+    return VI_OK;
+  memcpy(s->z, d->zprev, sizeof(double) * 2 * (size_t)n);
+  if (d->yQ)
+    memcpy(vi_ledger_integrals(s->led), d->zprev + 2 * n,
+           sizeof(double) * 4 * (size_t)n);
+  CV_TRY(CVodeReInit(d->mem, t, d->y));
+  if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));
+  s->stats[VI_STAT_POLISHES]++;
+  double tstop = tc;
+  for (int it = 0; it < 8; it++) {
+    CV_TRY(CVodeSetStopTime(d->mem, tstop));
+    int flag = CVode(d->mem, tstop, d->y, &t, CV_NORMAL);
+    if (flag < 0) {
+      st = VI_ERR_INTEGRATOR;
+      goto cleanup;
+    }
+    if (d->yQ) CV_TRY(CVodeGetQuad(d->mem, &t, d->yQ));
+    vi_sim_gap(s, s->z, &g, &gd);
+    if (flag == CV_ROOT_RETURN) {
+      int info[2] = {0, 0};
+      CVodeGetRootInfo(d->mem, info);
+      if (info[0]) break; /* the contact, on the short steps' interpolant */
+      continue;
+    }
+    /* at the stop time, a step end: done once on the stop to round-off */
+    if (g >= -4.0 * DBL_EPSILON * fabs(s->m->xs) || !(gd > 0.0)) break;
+    tstop = t - g / gd;
+  }
+  s->t = t;
 cleanup:
   return st;
 }
@@ -310,6 +377,7 @@ static int cv_step(vi_sim *s, double t_end, int *event)
   cv_data *d = s->be_data;
   int st = VI_OK;
   *event = VI_STEP_NONE;
+  save_prev(s, d);
   CV_TRY(CVodeSetStopTime(d->mem, t_end));
   double t;
   int flag = CVode(d->mem, t_end, d->y, &t, CV_ONE_STEP);
@@ -339,7 +407,6 @@ static int cv_step(vi_sim *s, double t_end, int *event)
     else if (info[1]) st = graze_check(s, d, event);
     d->continued = *event == VI_STEP_NONE;
   }
-  d->t_prev = s->t;
 cleanup:
   return st;
 }
@@ -354,4 +421,4 @@ static int cv_dense(vi_sim *s, double t)
 }
 
 const vi_backend vi_backend_cvode = {"cvode", cv_start, cv_step, cv_dense,
-                                     cv_stat, cv_destroy, NULL};
+                                     cv_stat, cv_destroy, NULL, cv_polish};

@@ -200,13 +200,11 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
                                0.7966664774136267, 0.9602898564975363};
   static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
                                0.2223810344533745, 0.1012285362903763};
-  int n4 = 4 * s->n;
   double h = 0.5 * (b - a), mid = 0.5 * (a + b), g, gd;
   for (int k = 0; k < 8; k++) {
     double t = mid + (k < 4 ? -gx[k] : gx[k - 4]) * h;
     ex_eval(d, t, &g, &gd, 1);
-    vi_ledger_rates(s, t, d->qd, 0.0, d->rates);
-    for (int i = 0; i < n4; i++) s->Q[i] += gw[k % 4] * h * d->rates[i];
+    vi_ledger_accumulate(s->led, t, d->qd, 0.0, gw[k % 4] * h);
   }
 }
 
@@ -220,7 +218,7 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   if (hit < 0) return hit;
   *event = hit ? VI_STEP_CONTACT : VI_STEP_NONE;
   s->t = hit ? tc : b;
-  if (s->ledger_on) ex_quadrature(s, d, d->ta, s->t);
+  if (s->led) ex_quadrature(s, d, d->ta, s->t);
   double g, gd;
   ex_eval(d, s->t, &g, &gd, 1);
   to_state(s->m, d, s->z);
@@ -248,4 +246,4 @@ static int64_t ex_stat(const void *data, int which)
 }
 
 const vi_backend vi_backend_exact = {"exact", ex_start, ex_step, ex_dense,
-                                     ex_stat, ex_destroy, NULL};
+                                     ex_stat, ex_destroy, NULL, NULL};

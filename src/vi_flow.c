@@ -88,6 +88,10 @@ int vi_flow_modal(const vi_model *m, double t0, const double *q0,
                   const double *qd0, double t, double *q, double *qd)
 {
   if (!m || !q0 || !qd0 || !q || !qd) return VI_ERR_ARG;
+  if (m->frozen && (vi_overlap(q, qd, m->n) || vi_overlap(q, q0, m->n) ||
+                    vi_overlap(q, qd0, m->n) || vi_overlap(qd, q0, m->n) ||
+                    vi_overlap(qd, qd0, m->n)))
+    return VI_ERR_ARG; /* outputs would overwrite inputs still being read */
   if (!m->frozen) return VI_ERR_STATE;
   if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(t >= t0)) return VI_ERR_TIME;
@@ -121,6 +125,10 @@ int vi_flow_physical(const vi_model *m, double t0, const double *x0,
                      const double *v0, double t, double *x, double *v)
 {
   if (!m || !x0 || !v0 || !x || !v) return VI_ERR_ARG;
+  if (m->frozen && (vi_overlap(x, v, m->n) || vi_overlap(x, x0, m->n) ||
+                    vi_overlap(x, v0, m->n) || vi_overlap(v, x0, m->n) ||
+                    vi_overlap(v, v0, m->n)))
+    return VI_ERR_ARG; /* outputs would overwrite inputs still being read */
   if (!m->frozen) return VI_ERR_STATE;
   if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(t >= t0)) return VI_ERR_TIME;

@@ -72,9 +72,20 @@ void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z);
 void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
                    double *rate, double *z);
 
-/* Dense helpers, column-major with leading dimension n. */
+/* Dense helpers, column-major with leading dimension n (vi_dense.c). */
 void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x */
 void vi_matvec_t(int n, const double *A, const double *x, double *y); /* y = A^T x */
 double vi_dot(int n, const double *x, const double *y);
+/* Modal coordinates q = Psi^T M x and velocities qd = Psi^T M v of an
+ * interleaved state z = (x_1, v_1, ...); q or qd may be NULL. */
+void vi_modal_project(const vi_model *m, const double *z, double *q,
+                      double *qd);
+
+/* 1 if the arrays [n] at a and b share memory (the API forbids it where an
+ * output would overwrite an input still being read). */
+static inline int vi_overlap(const double *a, const double *b, int n)
+{
+  return a && b && a < b + n && b < a + n;
+}
 
 #endif

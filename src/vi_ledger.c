@@ -1,188 +1,181 @@
-/* vi_ledger.c - per-mode energy ledger bookkeeping (MODEL.md section 4).
- * The integrals themselves are the backends' quadratures; this file turns
- * them into intervals, impact jumps and closure residuals. */
+/* vi_ledger.c - the per-mode energy ledger (MODEL.md section 4): intervals,
+ * impact jumps and closure residuals.  The integrals themselves are the
+ * backends' (CVODES quadratures, Gauss-Legendre on the closed form); they
+ * reach this file only through the rates below. */
 #include <float.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_sim_internal.h"
+#include "vi_ledger_internal.h"
 
-void vi_ledger_modal_velocity(const vi_sim *s, const double *z, double *qd)
+struct vi_ledger {
+  const vi_model *m;
+  int n, harmonic;
+  double *Q;            /* cumulative FE, DE, XE, CE [4n] */
+  double *QA;           /* Q at the interval's start; then its integrals [4n] */
+  double *EA, *KA;      /* modal energy and its kinetic part at t_a [n] */
+  double *EB, *KB, *qd; /* the same and q' before the jump [n] */
+  double *dE, *dEtot;   /* this jump, all jumps [n] */
+  double *R, *qs, *qds; /* scratch: rates [4n], q and q' [n] */
+  double ta, ie, maxres, emax;
+  vi_ledger_fn fn;
+  void *user;
+};
+
+vi_ledger *vi_ledger_create(const vi_model *m)
 {
-  const vi_model *m = s->m;
-  int n = s->n;
-  for (int j = 0; j < n; j++) {
-    double a = 0.0;
-    for (int i = 0; i < n; i++) a += m->PsiTM[j + (size_t)i * n] * z[2 * i + 1];
-    qd[j] = a;
-  }
+  int n = m->n;
+  vi_ledger *L = calloc(1, sizeof *L + 22 * (size_t)n * sizeof(double));
+  if (!L) return NULL;
+  double *p = (double *)(L + 1);
+  L->Q = p; p += 4 * (size_t)n;
+  L->QA = p; p += 4 * (size_t)n;
+  L->EA = p; p += n;
+  L->KA = p; p += n;
+  L->EB = p; p += n;
+  L->KB = p; p += n;
+  L->qd = p; p += n;
+  L->dE = p; p += n;
+  L->dEtot = p; p += n;
+  L->R = p; p += 4 * (size_t)n;
+  L->qs = p; p += n;
+  L->qds = p;
+  L->m = m;
+  L->n = n;
+  for (int i = 0; i < n && !L->harmonic; i++)
+    L->harmonic = m->a[i] != 0.0 || m->b[i] != 0.0;
+  return L;
 }
 
-void vi_ledger_rates(const vi_sim *s, double t, const double *qd,
-                     double Lambda, double *rates)
+void vi_ledger_destroy(vi_ledger *L) { free(L); }
+
+void vi_ledger_set_callback(vi_ledger *L, vi_ledger_fn fn, void *user)
 {
-  const vi_model *m = s->m;
-  int n = s->n;
+  L->fn = fn;
+  L->user = user;
+}
+
+double *vi_ledger_integrals(vi_ledger *L) { return L->Q; }
+
+double vi_ledger_open_since(const vi_ledger *L) { return L->ta; }
+
+double vi_ledger_max_residual(const vi_ledger *L) { return L->maxres; }
+
+void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
+                     double *rates)
+{
+  const vi_model *m = L->m;
+  int n = L->n;
   double c = 1.0, sn = 0.0;
-  if (s->harmonic) {
+  if (L->harmonic) {
     c = cos(m->omega_f * t);
     sn = sin(m->omega_f * t);
   }
   double *FE = rates, *DE = rates + n, *XE = rates + 2 * n, *CE = rates + 3 * n;
   for (int j = 0; j < n; j++) {
     double F = m->Fa[j] * c + m->Fb[j] * sn + m->F0[j];
-    FE[j] = qd[j] * F;                                /* WB 7 */
-    DE[j] = m->D[j + (size_t)j * n] * qd[j] * qd[j]; /* WB 8 */
+    FE[j] = qd[j] * F;                                           /* WB 7 */
+    DE[j] = m->D[j + (size_t)j * (size_t)n] * qd[j] * qd[j];     /* WB 8 */
     CE[j] = -Lambda * m->psi[j] * qd[j];
     XE[j] = 0.0;
     if (!m->proportional) {
       double x = 0.0;
       for (int k = 0; k < n; k++)
-        if (k != j) x += m->D[j + (size_t)k * n] * qd[k];
+        if (k != j) x += m->D[j + (size_t)k * (size_t)n] * qd[k];
       XE[j] = qd[j] * x;
     }
   }
 }
 
-/* Modal energies and (K != NULL) their kinetic parts of a state. */
-static void modal_energy(const vi_sim *s, const double *z, double *E, double *K)
+void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
+                           double Lambda, double *rates)
 {
-  const vi_model *m = s->m;
-  int n = s->n;
-  for (int j = 0; j < n; j++) {
-    double q = 0.0, qd = 0.0;
-    for (int i = 0; i < n; i++) {
-      double p = m->PsiTM[j + (size_t)i * n];
-      q += p * z[2 * i];
-      qd += p * z[2 * i + 1];
-    }
-    if (K) K[j] = 0.5 * qd * qd;
-    E[j] = 0.5 * qd * qd + 0.5 * m->lambda[j] * q * q;
+  vi_modal_project(L->m, z, NULL, L->qds);
+  vi_ledger_rates(L, t, L->qds, Lambda, rates);
+}
+
+void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,
+                          double Lambda, double weight)
+{
+  vi_ledger_rates(L, t, qd, Lambda, L->R);
+  for (int k = 0; k < 4 * L->n; k++) L->Q[k] += weight * L->R[k];
+}
+
+/* Modal energies (and, K != NULL, their kinetic parts) of a state. */
+static void modal_energy(const vi_model *m, const double *z, double *q,
+                         double *qd, double *E, double *K)
+{
+  vi_modal_project(m, z, q, qd);
+  for (int j = 0; j < m->n; j++) {
+    if (K) K[j] = 0.5 * qd[j] * qd[j];
+    E[j] = 0.5 * qd[j] * qd[j] + 0.5 * m->lambda[j] * q[j] * q[j];
   }
 }
 
-int vi_sim_enable_ledger(vi_sim *s, int on)
+void vi_ledger_begin(vi_ledger *L, double t, const double *z)
 {
-  if (!s) return VI_ERR_ARG;
-  int n = s->n;
-  vi_ledger_free(s);
-  if (on) {
-    s->led_block = calloc(16 * (size_t)n, sizeof(double));
-    if (!s->led_block)
-      return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory for the ledger");
-    double *p = s->led_block;
-    s->Q = p; p += 4 * n;
-    s->QA = p; p += 4 * n;
-    s->EA = p; p += n;
-    s->KA = p; p += n;
-    s->EB = p; p += n;
-    s->KB = p; p += n;
-    s->dE = p; p += n;
-    s->dEtot = p; p += n;
-    s->qd = p; p += n;
-    s->qdw = p;
-    s->ledger_on = 1;
-    s->led_ie = 0.0;
-    s->led_maxres = 0.0;
-    s->led_emax = 0.0;
-    vi_ledger_begin(s);
-  }
-  /* the integrator must be rebuilt with (or without) the quadratures */
-  if (s->be_data) s->be->destroy(s);
-  s->started = 0;
-  return VI_OK;
+  memcpy(L->QA, L->Q, sizeof(double) * 4 * (size_t)L->n);
+  modal_energy(L->m, z, L->qs, L->qds, L->EA, L->KA);
+  L->ta = t;
 }
 
-void vi_ledger_free(vi_sim *s)
+void vi_ledger_pre_jump(vi_ledger *L, const double *z)
 {
-  free(s->led_block);
-  s->led_block = s->Q = s->QA = s->EA = s->KA = s->EB = s->KB = s->dE =
-      s->dEtot = s->qd = s->qdw = NULL;
-  s->ledger_on = 0;
+  modal_energy(L->m, z, L->qs, L->qd, L->EB, L->KB); /* and q'(t-) */
 }
 
-int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user)
+int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
+                    double ie, int quiet)
 {
-  if (!s) return VI_ERR_ARG;
-  s->led_fn = fn;
-  s->led_user = user;
-  return VI_OK;
-}
-
-void vi_ledger_begin(vi_sim *s)
-{
-  if (!s->ledger_on) return;
-  memcpy(s->QA, s->Q, sizeof(double) * 4 * s->n);
-  modal_energy(s, s->z, s->EA, s->KA);
-  s->led_ta = s->t;
-}
-
-void vi_ledger_pre_jump(vi_sim *s)
-{
-  if (!s->ledger_on) return;
-  modal_energy(s, s->z, s->EB, s->KB);
-  vi_ledger_modal_velocity(s, s->z, s->qd); /* q'(t-) */
-}
-
-/* Close the interval [t_a, s->t]: s->EB/KB and s->qd hold the state before
- * the jump (vi_ledger_pre_jump), s->z the state after it. */
-void vi_ledger_close(vi_sim *s, int jump, double ie)
-{
-  if (!s->ledger_on) return;
-  int n = s->n;
-  double *I = s->QA; /* becomes the interval's integrals, FE DE XE CE */
-  for (int k = 0; k < 4 * n; k++) I[k] = s->Q[k] - I[k];
+  int n = L->n, stop = 0;
+  double *I = L->QA; /* becomes the interval's integrals, FE DE XE CE */
+  for (int k = 0; k < 4 * n; k++) I[k] = L->Q[k] - I[k];
   double scale = DBL_MIN, sum = 0.0, ea = 0.0, eb = 0.0;
   for (int j = 0; j < n; j++) {
     double FE = I[j], DE = I[n + j], XE = I[2 * n + j], CE = I[3 * n + j];
-    sum += s->EB[j] - s->EA[j] - FE + DE + XE - CE;
-    ea += s->EA[j];
-    eb += s->EB[j];
+    sum += L->EB[j] - L->EA[j] - FE + DE + XE - CE;
+    ea += L->EA[j];
+    eb += L->EB[j];
     scale = fmax(scale, fabs(FE) + fabs(DE) + fabs(XE) + fabs(CE));
   }
   /* relative to the energy scale of the run so far: the micro-bounces at
    * the end of a chattering sequence carry 1e-11 of it, and their own
    * energy would turn the quadrature's absolute error into a large ratio */
-  s->led_emax = fmax(s->led_emax, fmax(ea, eb));
-  scale = fmax(scale, s->led_emax);
+  L->emax = fmax(L->emax, fmax(ea, eb));
+  scale = fmax(scale, L->emax);
   double res = fabs(sum) / scale;
-  if (res > s->led_maxres) s->led_maxres = res;
+  /* a NaN residual must show, not vanish in a comparison */
+  if (res > L->maxres || isnan(res)) L->maxres = res;
   if (jump) {
-    vi_ledger_modal_velocity(s, s->z, s->qdw); /* q'(t+) */
+    vi_modal_project(L->m, z, NULL, L->qds); /* q'(t+) */
     for (int j = 0; j < n; j++) {
-      s->dE[j] = 0.5 * (s->qdw[j] * s->qdw[j] - s->qd[j] * s->qd[j]);
-      s->dEtot[j] += s->dE[j];
+      L->dE[j] = 0.5 * (L->qds[j] * L->qds[j] - L->qd[j] * L->qd[j]);
+      L->dEtot[j] += L->dE[j];
     }
-    s->led_ie += ie;
+    L->ie += ie;
   }
-  if (s->led_fn && !s->stop) {
-    vi_ledger_interval iv = {n, s->led_ta, s->t, s->EA, s->EB, s->KA, s->KB,
+  if (L->fn && !quiet) {
+    vi_ledger_interval iv = {n, L->ta, t, L->EA, L->EB, L->KA, L->KB,
                              I, I + n, I + 2 * n, I + 3 * n,
-                             jump ? s->dE : NULL, jump ? ie : 0.0, res};
-    if (s->led_fn(&iv, s->led_user)) s->stop = 1;
+                             jump ? L->dE : NULL, jump ? ie : 0.0, res};
+    stop = L->fn(&iv, L->user) != 0;
   }
-  vi_ledger_begin(s);
+  vi_ledger_begin(L, t, z);
+  return stop;
 }
 
-int vi_sim_get_ledger(const vi_sim *s, double *E, double *FE, double *DE,
-                      double *XE, double *CE, double *dE, double *ie)
+void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
+                      double *DE, double *XE, double *CE, double *dE,
+                      double *ie)
 {
-  if (!s) return VI_ERR_ARG;
-  if (!s->ledger_on)
-    return VI_ERR_STATE;
-  int n = s->n;
-  size_t b = sizeof(double) * n;
-  if (E) modal_energy(s, s->z, E, NULL);
-  if (FE) memcpy(FE, s->Q, b);
-  if (DE) memcpy(DE, s->Q + n, b);
-  if (XE) memcpy(XE, s->Q + 2 * n, b);
-  if (CE) memcpy(CE, s->Q + 3 * n, b);
-  if (dE) memcpy(dE, s->dEtot, b);
-  if (ie) *ie = s->led_ie;
-  return VI_OK;
-}
-
-double vi_sim_ledger_max_residual(const vi_sim *s)
-{
-  return s && s->ledger_on ? s->led_maxres : 0.0;
+  int n = L->n;
+  size_t b = sizeof(double) * (size_t)n;
+  if (E) modal_energy(L->m, z, L->qs, L->qds, E, NULL);
+  if (FE) memcpy(FE, L->Q, b);
+  if (DE) memcpy(DE, L->Q + n, b);
+  if (XE) memcpy(XE, L->Q + 2 * n, b);
+  if (CE) memcpy(CE, L->Q + 3 * n, b);
+  if (dE) memcpy(dE, L->dEtot, b);
+  if (ie) *ie = L->ie;
 }

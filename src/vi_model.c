@@ -167,6 +167,9 @@ int vi_model_set_forcing(vi_model *m, double omega, const double *a,
   if (!isfinite(omega))
     return vi_fail(m->errmsg, VI_ERR_NONFINITE,
                    "forcing frequency Omega = %g is not finite", omega);
+  if (omega < 0.0)
+    return vi_fail(m->errmsg, VI_ERR_FREQUENCY,
+                   "forcing frequency Omega = %g must not be negative", omega);
   if (harmonic && omega <= 0.0)
     return vi_fail(m->errmsg, VI_ERR_FREQUENCY,
                    "forcing frequency Omega = %g must be > 0 when a or b is "
@@ -322,6 +325,7 @@ int vi_model_to_modal(const vi_model *m, const double *x, double *q)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (vi_overlap(x, q, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->PsiTM, x, q);
   return VI_OK;
 }
@@ -330,6 +334,7 @@ int vi_model_from_modal(const vi_model *m, const double *q, double *x)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (vi_overlap(q, x, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->Psi, q, x);
   return VI_OK;
 }
@@ -346,35 +351,19 @@ double vi_model_energy(const vi_model *m, const double *x, const double *v)
   return e;
 }
 
-/* ---- dense helpers ------------------------------------------------------ */
-void vi_matvec(int n, const double *A, const double *x, double *y)
-{
-  for (int i = 0; i < n; i++) y[i] = 0.0;
-  for (int j = 0; j < n; j++) {
-    double xj = x[j];
-    const double *col = A + (size_t)j * n;
-    for (int i = 0; i < n; i++) y[i] += col[i] * xj;
-  }
-}
-
-void vi_matvec_t(int n, const double *A, const double *x, double *y)
-{
-  for (int j = 0; j < n; j++) y[j] = vi_dot(n, A + (size_t)j * n, x);
-}
-
-double vi_dot(int n, const double *x, const double *y)
-{
-  double s = 0.0;
-  for (int i = 0; i < n; i++) s += x[i] * y[i];
-  return s;
-}
-
 /* ---- builders ----------------------------------------------------------- */
 int vi_build_chain(int n, const double *mass, const double *k,
                    const double *c, double *M, double *C, double *K, int ld)
 {
   if (n < 1 || ld < n) return VI_ERR_DIM;
   if (!mass || !k || !M || !C || !K) return VI_ERR_ARG;
+  /* a chain needs positive masses and non-negative springs and dampers */
+  for (int j = 0; j < n; j++) {
+    double cj = c ? c[j] : 0.0;
+    if (!isfinite(mass[j]) || !isfinite(k[j]) || !isfinite(cj))
+      return VI_ERR_NONFINITE;
+    if (!(mass[j] > 0.0) || k[j] < 0.0 || cj < 0.0) return VI_ERR_ARG;
+  }
   for (int j = 0; j < n; j++)
     for (int i = 0; i < n; i++)
       M[i + (size_t)j * ld] = C[i + (size_t)j * ld] = K[i + (size_t)j * ld] = 0;

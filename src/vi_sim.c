@@ -8,6 +8,7 @@
 #include "vi_sim_internal.h"
 
 static void note_method(vi_sim *s);
+static const vi_backend *method_backend(const vi_sim *s);
 
 int vi_sim_create(const vi_model *model, vi_sim **out)
 {
@@ -18,7 +19,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   vi_sim *s = calloc(1, sizeof *s);
   if (!s) return VI_ERR_NOMEM;
   int n = model->n;
-  s->z = calloc(7 * (size_t)n, sizeof(double));
+  s->z = calloc(10 * (size_t)n, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
   if (!s->z || !s->brent) {
     gsl_root_fsolver_free(s->brent);
@@ -29,15 +30,19 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->x = s->z + 2 * n;
   s->v = s->x + n;
   s->vp = s->v + n;
-  s->zs = s->vp + n; /* 2n: ends at 7n */
+  s->zs = s->vp + n; /* 2n */
+  s->w1 = s->zs + 2 * n;
+  s->w2 = s->w1 + n;
+  s->w3 = s->w2 + n; /* ends at 10n */
   s->m = model;
   s->n = n;
-  s->method = VI_METHOD_ADAMS;
-  s->be = &vi_backend_cvode;
+  s->method = VI_METHOD_AUTO;
+  s->be = method_backend(s);
   note_method(s);
   s->rtol = 1e-8;
   s->atol = 1e-10;
   s->vchat = 1e-7;
+  s->t_last_contact = -HUGE_VAL;
   s->fast_nvector = 1;
   s->wnorm = sqrt(vi_dot(n, model->w, model->w));
   for (int i = 0; i < n && !s->harmonic; i++)
@@ -132,7 +137,7 @@ void vi_sim_destroy(vi_sim **sim)
   if (!sim || !*sim) return;
   vi_sim *s = *sim;
   backend_destroy(s);
-  vi_ledger_free(s);
+  vi_ledger_destroy(s->led);
   gsl_root_fsolver_free(s->brent);
   free(s->z);
   free(s);
@@ -168,6 +173,9 @@ int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "tolerances rtol = %g, atol = %g must be positive and "
                    "finite", rtol, atol);
+  if (rtol >= 1.0)
+    return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
+                   "rtol = %g must be below 1 (a relative accuracy)", rtol);
   if (rtol < 2.0 * DBL_EPSILON)
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "rtol = %g is below twice the machine epsilon", rtol);
@@ -184,26 +192,31 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
   int n = s->n;
   if (!isfinite(t0))
     return vi_fail(s->errmsg, VI_ERR_NONFINITE, "t0 = %g is not finite", t0);
+  /* validate in scratch: a refused state leaves the sim as it was */
   for (int i = 0; i < n; i++) {
     double xi = x0 ? x0[i] : 0.0, vi = v0 ? v0[i] : 0.0;
     if (!isfinite(xi) || !isfinite(vi))
       return vi_fail(s->errmsg, VI_ERR_NONFINITE,
                      "initial state x(%d) = %g, v(%d) = %g is not finite",
                      i + 1, xi, i + 1, vi);
-    s->z[2 * i] = xi;
-    s->z[2 * i + 1] = vi;
+    s->zs[2 * i] = xi;
+    s->zs[2 * i + 1] = vi;
   }
   double g, gd;
-  vi_sim_gap(s, s->z, &g, &gd);
+  vi_sim_gap(s, s->zs, &g, &gd);
   /* allow round-off of a state handed over from an earlier contact */
   if (g > 1e-13 * fmax(1.0, fabs(m->xs)))
     return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE,
                    "initial state violates the stop: w.x0 = %.17g > x_s = "
                    "%.17g", g + m->xs, m->xs);
+  memcpy(s->z, s->zs, sizeof(double) * 2 * (size_t)n);
+  s->z_stale = 0;
   s->t = t0;
   s->sticking = 0;
   s->started = 0;
-  vi_ledger_begin(s);
+  s->stick_pending = 0;
+  s->t_last_contact = -HUGE_VAL;
+  if (s->led) vi_ledger_begin(s->led, s->t, s->z);
   return VI_OK;
 }
 
@@ -284,9 +297,10 @@ int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user)
 int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user)
 {
   if (!s) return VI_ERR_ARG;
-  if (!isfinite(dt))
-    return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g", dt);
-  s->smp_fn = dt > 0.0 ? fn : NULL;
+  if (fn && !(dt > 0.0 && isfinite(dt)))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g must be "
+                   "positive and finite", dt);
+  s->smp_fn = fn;
   s->smp_user = user;
   s->smp_dt = dt;
   s->smp_t0 = s->t;
@@ -367,9 +381,123 @@ static void split(vi_sim *s, const double *z)
 static void emit(vi_sim *s, int kind, double vn, double ie)
 {
   int64_t idx = s->nevents[kind]++;
-  if (!s->ev_fn || s->stop) return;
+  s->last_event = kind;
+  if (s->event_stop) s->stop = 1;
+  if (!s->ev_fn || (s->stop && !s->event_stop)) return;
   vi_event ev = {kind, s->n, idx, s->t, vn, ie, s->x, s->v, s->vp};
-  if (s->ev_fn(&ev, s->ev_user)) s->stop = 1;
+  if (s->ev_fn(&ev, s->ev_user)) {
+    s->stop = 1;
+    s->event_stop = 0; /* the user's request: the run returns VI_STOPPED */
+  }
+}
+
+/* out = M^-1 (f^(k)(t) - K u - C ud): the k-th time derivative (k = 1, 2)
+ * of the free acceleration M^-1 (f - K x - C v) along a motion whose k-th
+ * and (k+1)-th derivatives of x are u and ud. */
+static void accel_rate(const vi_sim *s, double t, int k, const double *u,
+                       const double *ud, double *out)
+{
+  const vi_model *m = s->m;
+  int n = s->n, bw = m->bw;
+  double W = m->omega_f, c = 0.0, sn = 0.0;
+  if (s->harmonic) {
+    c = cos(W * t);
+    sn = sin(W * t);
+  }
+  for (int i = 0; i < n; i++) {
+    double f = k == 1 ? W * (m->Minv_b[i] * c - m->Minv_a[i] * sn)
+                      : -W * W * (m->Minv_a[i] * c + m->Minv_b[i] * sn);
+    int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
+    for (int j = j0; j <= j1; j++) {
+      size_t ij = (size_t)i + (size_t)j * (size_t)n;
+      f -= m->MinvK[ij] * u[j] + m->MinvC[ij] * ud[j];
+    }
+    out[i] = f;
+  }
+}
+
+/* Remove the component along M^-1 w so that w.a = 0 (the constraint). */
+static void constrain(const vi_sim *s, double *a)
+{
+  double lam = vi_dot(s->n, s->m->w, a) / s->m->wMw;
+  for (int i = 0; i < s->n; i++) a[i] -= lam * s->m->Minv_w[i];
+}
+
+/* The gap's free acceleration p = w.M^-1 (f - C v - K x) and its first two
+ * rates along the constrained (sticking) motion from x, v at t. */
+static void contact_push(vi_sim *s, double t, const double *x, const double *v,
+                         double *p)
+{
+  int n = s->n;
+  double *zz = s->zs, *acc = s->w1, *jerk = s->w2, *snap = s->w3;
+  for (int i = 0; i < n; i++) {
+    zz[2 * i] = x[i];
+    zz[2 * i + 1] = v[i];
+  }
+  vi_sim_accel(s, t, zz, 0, acc);
+  p[0] = vi_dot(n, s->m->w, acc);
+  constrain(s, acc);
+  accel_rate(s, t, 1, v, acc, jerk);
+  p[1] = vi_dot(n, s->m->w, jerk);
+  constrain(s, jerk);
+  accel_rate(s, t, 2, acc, jerk, snap);
+  p[2] = vi_dot(n, s->m->w, snap);
+}
+
+/* Sum a chattering tail in closed form (the chatter map of Nordmark &
+ * Piiroinen 2009, to the first order in the rate of the contact force):
+ * after a rebound at gap rate -u the gap follows g'' = p0 + p1 t, so each
+ * flight lasts the root tau of -u + p tau/2 + p1 tau^2/6 and ends at the
+ * approach speed u - p1 tau^2/6 ...  The bounces are summed until their
+ * speed is round-off of the first; for a constant load (p1 = 0) this is
+ * the exact accumulation time 2 u / (p0 (1 - r)).  Returns the duration,
+ * or -1 if the model says the sequence does not accumulate (the mass
+ * leaves before the bounces die out). */
+static double chatter_tail(double u, double r, double p0, double p1,
+                           int64_t *count)
+{
+  double T = 0.0, u0 = u;
+  int64_t k = 0;
+  while (u > 1e-17 * u0) {
+    double p = p0 + p1 * T;
+    if (!(p > 0.0) || k > 1000000) return -1.0;
+    double tau = 2.0 * u / p;
+    for (int it = 0; it < 4; it++) { /* Newton on the quadratic */
+      double F = -u + 0.5 * p * tau + p1 * tau * tau / 6.0;
+      double dF = 0.5 * p + p1 * tau / 3.0;
+      if (!(dF > 0.0)) return -1.0;
+      tau -= F / dF;
+    }
+    if (!(tau > 0.0)) return -1.0;
+    double vret = -u + p * tau + 0.5 * p1 * tau * tau;
+    T += tau;
+    k++;
+    u = r * vret;
+  }
+  *count = k;
+  return T;
+}
+
+/* Sticking after a summed chattering tail begins at its accumulation point:
+ * the STICK event is due when the run reaches s->stick_at. */
+static void emit_pending_stick(vi_sim *s)
+{
+  if (!s->stick_pending) return;
+  s->stick_pending = 0;
+  split(s, s->z);
+  memcpy(s->vp, s->v, sizeof(double) * (size_t)s->n);
+  emit(s, VI_EVENT_STICK, s->stick_vn, s->stick_ie);
+}
+
+/* End the ledger's open interval at s->t (vi_ledger_pre_jump saw the state
+ * before any jump; s->z is the state after it). */
+static void close_interval(vi_sim *s, int jump, double ie)
+{
+  if (s->led &&
+      vi_ledger_close(s->led, s->t, s->z, jump, ie, vi_sim_user_stopped(s))) {
+    s->stop = 1;
+    s->event_stop = 0;
+  }
 }
 
 /* A contact located at s->t: impact, start of sticking, or a tangential
@@ -378,37 +506,76 @@ static int on_contact(vi_sim *s)
 {
   const vi_model *m = s->m;
   int n = s->n;
-  vi_ledger_pre_jump(s);
+  if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
   double vn = vi_dot(n, m->w, s->v);
   vi_sim_accel(s, s->t, s->z, 0, s->vp);
   double push = vi_dot(n, m->w, s->vp); /* > 0: pressed into the stop */
+  double dt_prev = s->t - s->t_last_contact;
+  s->t_last_contact = s->t;
   /* Chattering (Budd & Dux 1994): with r < 1 and the stop pressed on,
-   * impacts accumulate at a finite time; jump to the accumulation point and
-   * stick (Nordmark & Piiroinen 2009) once v_n is below the threshold, or
-   * once the next bounce's apex (r v_n)^2 / (2 w.a) lies within a few atol
-   * of the stop: below that the integrator's position error dx turns into
-   * an approach-velocity error w.a dx / v_n as large as v_n itself, and the
-   * sequence is no longer resolved. */
+   * impacts accumulate at a finite time.  Once the next bounce's apex
+   * (r v_n)^2 / (2 w.a) lies within a few atol of the stop, further impacts
+   * are no longer resolved (a position error dx turns into an approach
+   * speed error w.a dx / v_n as large as v_n itself); below the chatter
+   * threshold or a floor they are not wanted.  Then the rest of the
+   * sequence is summed in closed form and sticking begins at its
+   * accumulation point (Nordmark & Piiroinen 2009). */
   double apex = push > 0.0 ? 0.5 * m->r * m->r * vn * vn / push : HUGE_VAL;
+  int floor_hit = push > 0.0 && vn > 0.0 &&
+                  ((s->vn_floor > 0.0 && vn < s->vn_floor) ||
+                   (s->dt_floor > 0.0 && dt_prev < s->dt_floor));
   int chatter = m->r < 1.0 && push > 0.0 &&
-                (vn < s->vchat || apex < 10.0 * s->atol * s->wnorm);
+                (vn <= 0.0 || vn < s->vchat ||
+                 apex < 10.0 * s->atol * s->wnorm || floor_hit);
+  if (!chatter && m->r < 1.0 && push > 0.0) {
+    /* Sum the tail as soon as resolving the next impact costs more
+     * accuracy than the closed-form tail: the next contact time is only
+     * known to dx / (r v_n), with dx the integrator's position error along
+     * w, while the chatter map neglects the contact force's second rate,
+     * an error of about |p''| / p Delta^3 over the tail's duration Delta. */
+    double p[3];
+    contact_push(s, s->t, s->x, s->v, p);
+    double dx = s->be == &vi_backend_exact
+                    ? 16.0 * DBL_EPSILON * (fabs(m->xs) + s->wnorm)
+                    : s->atol * s->wnorm + s->rtol * fabs(m->xs);
+    double delta = 2.0 * m->r * vn / (p[0] * (1.0 - m->r));
+    double e_res = dx / (m->r * vn), e_model = fabs(p[2]) / p[0] * pow(delta, 3);
+    double tol_t = s->rtol * fmax(fabs(s->t), 2.0 * vn / p[0]);
+    chatter = p[0] > 0.0 && e_res > tol_t && e_model <= e_res;
+  }
+  if (floor_hit) s->stats[VI_STAT_FLOORS]++;
   double ie = 0.0;
   if (vn > 0.0) {
-    vi_impact_apply_r(m, chatter ? 0.0 : m->r, s->v, s->vp, &vn, &ie);
-    s->stats[VI_STAT_IMPACTS] += !chatter;
+    vi_impact_apply_r(m, m->r, s->v, s->vp, &vn, &ie);
+    s->stats[VI_STAT_IMPACTS]++;
+    emit(s, VI_EVENT_IMPACT, vn, ie);
   } else {
-    memcpy(s->vp, s->v, sizeof(double) * n);
+    memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
   }
   int stick = chatter || (vn > 0.0 && m->r == 0.0 && push > 0.0);
-  if (vn > 0.0 && !chatter) emit(s, VI_EVENT_IMPACT, vn, ie);
+  double ie_tail = 0.0;
   if (stick) {
-    /* remove any residual normal velocity: the constraint holds exactly */
+    /* remove the rebound's normal velocity: the tail's impacts absorb its
+     * kinetic energy, and the constraint holds exactly from here on */
     double u = vi_dot(n, m->w, s->vp) / m->wMw;
+    ie_tail = 0.5 * u * u * m->wMw;
     for (int i = 0; i < n; i++) s->vp[i] -= u * m->Minv_w[i];
+    double tail = 0.0;
+    int64_t count = 0;
+    if (u < 0.0) {
+      double p[3];
+      contact_push(s, s->t, s->x, s->vp, p);
+      tail = chatter_tail(-u * m->wMw, m->r, p[0], p[1], &count);
+      if (tail < 0.0) tail = 0.0; /* not accumulating by the model: stick */
+    }
     s->sticking = 1;
     s->stats[VI_STAT_STICKS]++;
-    emit(s, VI_EVENT_STICK, vn, chatter ? ie : 0.0);
+    s->stats[VI_STAT_CHATTER_SKIPPED] += count;
+    s->stick_pending = 1;
+    s->stick_at = s->t + tail;
+    s->stick_vn = -u * m->wMw;
+    s->stick_ie = ie_tail;
   }
   /* The contact is at g = 0 by definition, but the located state carries
    * the integrator's position error along w.  Near grazing that error is
@@ -421,7 +588,8 @@ static int on_contact(vi_sim *s)
     s->z[2 * i] = s->x[i];
     s->z[2 * i + 1] = s->vp[i];
   }
-  vi_ledger_close(s, vn > 0.0 || stick, ie);
+  close_interval(s, vn > 0.0 || stick, ie + ie_tail);
+  if (stick && s->stick_at <= s->t) emit_pending_stick(s);
   s->stats[VI_STAT_REINITS]++;
   if (stick) use_backend(s, &vi_backend_cvode);
   return s->be->start(s);
@@ -429,8 +597,9 @@ static int on_contact(vi_sim *s)
 
 static int on_release(vi_sim *s)
 {
-  vi_ledger_pre_jump(s);
-  vi_ledger_close(s, 0, 0.0);
+  emit_pending_stick(s); /* released before the tail's end: stick was brief */
+  if (s->led) vi_ledger_pre_jump(s->led, s->z);
+  close_interval(s, 0, 0.0);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * s->n);
   s->sticking = 0;
@@ -454,6 +623,13 @@ static int initial_contact(vi_sim *s)
   return gd == 0.0 && push > 0.0 && s->m->r < 1.0;
 }
 
+/* How far beyond the stop a state may sit: the integration error. */
+static double gap_tolerance(const vi_sim *s)
+{
+  return 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
+         1e-12 * fabs(s->m->xs);
+}
+
 /* Deliver the uniform samples that fall in (t_prev, t] from the backend's
  * interpolant; nothing here forces the integrator's steps. */
 static int samples(vi_sim *s, double t)
@@ -464,21 +640,35 @@ static int samples(vi_sim *s, double t)
     if (ts > s->t_end && ts - s->t_end <= 8 * DBL_EPSILON * fabs(s->t_end))
       ts = s->t_end;
     if (ts > t || ts > s->t_end) return VI_OK;
+    if ((s->smp_k & 4095) == 4095 && vi_sim_cancelled(s)) return VI_CANCELLED;
     s->smp_k++;
-    if (s->stop) continue;
-    int st = s->be->dense(s, ts);
+    if (vi_sim_user_stopped(s)) continue;
+    /* at the current time the state itself, not the interpolant (which
+     * CVODE has not built before its first step) */
+    const double *zs = s->z;
+    int st = ts == s->t ? vi_sim_sync(s) : s->be->dense(s, ts);
     if (st) return st;
+    if (ts != s->t) zs = s->zs;
+    double g = -s->m->xs;
     for (int i = 0; i < s->n; i++) {
-      s->x[i] = s->zs[2 * i];
-      s->v[i] = s->zs[2 * i + 1];
+      s->x[i] = zs[2 * i];
+      s->v[i] = zs[2 * i + 1];
+      g += s->m->w[i] * s->x[i];
+      if (!isfinite(s->x[i]) || !isfinite(s->v[i]))
+        return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g "
+                       "not finite: x(%d) = %g, v(%d) = %g", ts, i + 1,
+                       s->x[i], i + 1, s->v[i]);
     }
+    if (!(g <= gap_tolerance(s)))
+      return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g lies "
+                     "beyond the stop: w.x - x_s = %.3g", ts, g);
     if (s->smp_fn(ts, s->n, s->x, s->v, s->smp_user)) s->stop = 1;
   }
 }
 
 static void monitor(vi_sim *s)
 {
-  if (!s->mon_fn || s->t < s->mon_next || s->stop) return;
+  if (!s->mon_fn || s->t < s->mon_next || vi_sim_user_stopped(s)) return;
   vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_get_stat(s, VI_STAT_STEPS),
                    s->stats[VI_STAT_IMPACTS]};
   if (s->mon_fn(&p, s->mon_user)) s->stop = 1;
@@ -511,8 +701,7 @@ static int check_invariants(vi_sim *s)
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state not finite at t = %.17g (%s method): w.x - x_s = %g",
                    s->t, method_names[s->method_used], g);
-  double tol = 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
-               1e-12 * fabs(s->m->xs);
+  double tol = gap_tolerance(s);
   if (!(g <= tol))
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state beyond the stop at t = %.17g (%s method): w.x - x_s "
@@ -539,6 +728,15 @@ int vi_sim_run(vi_sim *s, double t_end)
     return vi_fail(s->errmsg, VI_ERR_TIME,
                    "end time %.17g is not after the current time %.17g", t_end,
                    s->t);
+  if (s->smp_fn) {
+    /* refuse a sampling interval whose samples could never all be made */
+    double span = t_end - fmax(s->t, s->smp_t0), ts = fmax(fabs(t_end), fabs(s->smp_t0));
+    if (s->smp_dt <= 4.0 * DBL_EPSILON * ts || span / s->smp_dt > 1e10)
+      return vi_fail(s->errmsg, VI_ERR_LIMIT,
+                     "sampling interval %g would need %.3g samples up to t = "
+                     "%g (limit 1e10, and dt above the time's round-off)",
+                     s->smp_dt, span / s->smp_dt, t_end);
+  }
   int st = VI_OK, cancelled = 0;
   s->t_end = t_end;
   s->run_t0 = s->t;
@@ -558,7 +756,8 @@ int vi_sim_run(vi_sim *s, double t_end)
       break;
     }
     int event = VI_STEP_NONE;
-    if ((st = s->be->step(s, t_end, &event))) {
+    double t_to = s->stick_pending && s->stick_at < t_end ? s->stick_at : t_end;
+    if ((st = s->be->step(s, t_to, &event))) {
       if (st == VI_CANCELLED) {
         cancelled = 1;
         break;
@@ -569,22 +768,101 @@ int vi_sim_run(vi_sim *s, double t_end)
       if ((st = hand_over(s))) return st;
       continue;
     }
-    if (s->smp_fn && (st = samples(s, s->t))) return st;
+    if (s->smp_fn && (st = samples(s, s->t))) {
+      if (st != VI_CANCELLED) return st;
+      cancelled = 1; /* the step is complete: its events are applied below */
+    }
     if (event != VI_STEP_NONE && (st = vi_sim_sync(s))) return st;
+    if (event == VI_STEP_CONTACT && s->be->refine && (st = s->be->refine(s)))
+      return st;
     if (event == VI_STEP_CONTACT) st = on_contact(s);
     else if (event == VI_STEP_RELEASE) st = on_release(s);
     if (st) return st;
+    if (s->stick_pending && s->t >= s->stick_at) {
+      if ((st = vi_sim_sync(s))) return st;
+      emit_pending_stick(s);
+    }
     if ((st = check_invariants(s))) return st;
     monitor(s);
+    if (cancelled) break;
   }
   if ((st = vi_sim_sync(s)) || (st = check_finite_state(s))) return st;
-  if (s->ledger_on && s->t > s->led_ta) {
-    vi_ledger_pre_jump(s);
-    vi_ledger_close(s, 0, 0.0);
+  if (s->led && s->t > vi_ledger_open_since(s->led)) {
+    vi_ledger_pre_jump(s->led, s->z);
+    close_interval(s, 0, 0.0);
   }
   if (cancelled) {
     vi_fail(s->errmsg, VI_CANCELLED, "cancelled at t = %.17g", s->t);
     return VI_CANCELLED;
   }
   return s->stop ? VI_STOPPED : VI_OK;
+}
+
+int vi_sim_setup(vi_sim *s)
+{
+  if (!s) return VI_ERR_ARG;
+  if (s->started) return VI_OK;
+  note_method(s);
+  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  return s->be->start(s); /* allocates; vi_sim_run restarts it cheaply */
+}
+
+int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
+{
+  if (!s || !kind) return VI_ERR_ARG;
+  *kind = -1;
+  s->event_stop = 1;
+  s->last_event = -1;
+  int st = vi_sim_run(s, t_end);
+  int by_event = s->event_stop && st == VI_STOPPED;
+  s->event_stop = 0;
+  if (by_event) {
+    *kind = s->last_event;
+    return VI_OK;
+  }
+  return st;
+}
+
+/* ---- the energy ledger's public face (the bookkeeping: vi_ledger.c) ---- */
+int vi_sim_enable_ledger(vi_sim *s, int on)
+{
+  if (!s) return VI_ERR_ARG;
+  if (on != 0 && on != 1)
+    return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
+  vi_ledger_destroy(s->led);
+  s->led = NULL;
+  if (on) {
+    if (!(s->led = vi_ledger_create(s->m)))
+      return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory for the ledger");
+    vi_ledger_set_callback(s->led, s->led_fn, s->led_user);
+    if (vi_sim_sync(s) == VI_OK)
+      vi_ledger_begin(s->led, s->t, s->z);
+  }
+  /* the integrator must be rebuilt with (or without) the quadratures */
+  if (s->be_data) s->be->destroy(s);
+  s->started = 0;
+  return VI_OK;
+}
+
+int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user)
+{
+  if (!s) return VI_ERR_ARG;
+  s->led_fn = fn;
+  s->led_user = user;
+  if (s->led) vi_ledger_set_callback(s->led, fn, user);
+  return VI_OK;
+}
+
+int vi_sim_get_ledger(const vi_sim *s, double *E, double *FE, double *DE,
+                      double *XE, double *CE, double *dE, double *ie)
+{
+  if (!s) return VI_ERR_ARG;
+  if (!s->led) return VI_ERR_STATE;
+  vi_ledger_totals(s->led, s->z, E, FE, DE, XE, CE, dE, ie);
+  return VI_OK;
+}
+
+double vi_sim_ledger_max_residual(const vi_sim *s)
+{
+  return s && s->led ? vi_ledger_max_residual(s->led) : 0.0;
 }

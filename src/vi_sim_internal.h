@@ -7,6 +7,7 @@
 #include <gsl/gsl_roots.h>
 
 #include "vi_internal.h"
+#include "vi_ledger_internal.h"
 
 /* What a backend step ended on.  HANDOVER: the backend cannot go on
  * accurately from s->t (the closed form lost its conditioning); s->t and the
@@ -29,6 +30,9 @@ typedef struct vi_backend {
    * A backend that builds physical states lazily sets s->z_stale after a
    * step; the driver calls vi_sim_sync() before it reads s->z. */
   int (*sync)(vi_sim *s);
+  /* After a contact step's samples went out: locate the contact (s->t,
+   * s->z) more accurately, or leave it (NULL: nothing to refine). */
+  int (*refine)(vi_sim *s);
 } vi_backend;
 
 extern const vi_backend vi_backend_cvode;
@@ -52,6 +56,10 @@ struct vi_sim {
   char handover_why[VI_MSG_LEN];   /* set by a backend with VI_STEP_HANDOVER */
   vi_cancel_fn cancel_fn; void *cancel_user;
   double vn_floor, dt_floor, t_last_contact;
+  /* a summed chattering tail: sticking began at its first impact, the
+   * STICK event is due at its accumulation point stick_at */
+  int stick_pending;
+  double stick_at, stick_vn, stick_ie;
   double t_end;   /* of the current vi_sim_run call */
 
   vi_event_fn ev_fn;    void *ev_user;
@@ -59,6 +67,8 @@ struct vi_sim {
   vi_monitor_fn mon_fn; void *mon_user;  double mon_every, mon_next;
   double run_t0;
   int stop;       /* a callback asked to stop */
+  int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
+  int last_event; /* kind of the last event emitted */
 
   int64_t stats[VI_STAT_COUNT]; /* driver-owned counters */
   int64_t nevents[3];
@@ -72,15 +82,11 @@ struct vi_sim {
   gsl_root_fsolver *brent;
 
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */
+  double *w1, *w2, *w3;    /* scratch of the chatter map: n each */
 
-  /* energy ledger (vi_ledger.c); all NULL unless enabled */
-  int ledger_on;
-  double *Q;           /* cumulative FE, DE, XE, CE at s->t [4n] */
-  double *QA, *EA, *KA, *EB, *KB, *dE, *dEtot, *qd; /* 4n, then n each */
-  double *qdw;         /* scratch for the quadrature right-hand side [n] */
-  double led_ta, led_ie, led_maxres, led_emax;
+  /* energy ledger (vi_ledger.c); NULL unless enabled */
+  vi_ledger *led;
   vi_ledger_fn led_fn; void *led_user;
-  double *led_block;
 
   char errmsg[VI_MSG_LEN];
 };
@@ -94,23 +100,18 @@ static inline int vi_sim_sync(vi_sim *s)
   return st;
 }
 
+/* A callback asked to stop (not merely vi_sim_run_to_event's pause): later
+ * callbacks of the step are not called. */
+static inline int vi_sim_user_stopped(const vi_sim *s)
+{
+  return s->stop && !s->event_stop;
+}
+
 /* The host's cancellation poll; backends call it inside long loops. */
 static inline int vi_sim_cancelled(const vi_sim *s)
 {
   return s->cancel_fn && s->cancel_fn(s->cancel_user);
 }
-
-/* Ledger hooks for the driver (vi_ledger.c). */
-void vi_ledger_begin(vi_sim *s);           /* an interval starts at s->t */
-void vi_ledger_pre_jump(vi_sim *s);        /* state at s->t before a jump */
-void vi_ledger_close(vi_sim *s, int jump, double ie); /* after the jump */
-void vi_ledger_free(vi_sim *s);
-/* Modal velocities q' = Psi^T M v of an interleaved state. */
-void vi_ledger_modal_velocity(const vi_sim *s, const double *z, double *qd);
-/* Rates of FE, DE, XE, CE [4n] at t from modal velocities; Lambda is the
- * contact force magnitude (0 in free flight). */
-void vi_ledger_rates(const vi_sim *s, double t, const double *qd,
-                     double Lambda, double *rates);
 
 /* Free acceleration M^-1 (f - C v - K x) at t for interleaved z; in a
  * sticking phase the component along M^-1 w is removed so that w.x'' = 0.

@@ -157,8 +157,8 @@ static void test_sim_inputs(void **state)
   assert_int_equal(vi_sim_create(np, &s), VI_OK);
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_ERR_UNSUPPORTED);
   assert_non_null(strstr(vi_sim_errmsg(s), "not safely diagonalisable"));
-  double x[3] = {0}, v[3] = {0};
-  assert_int_equal(vi_flow_physical(np, 0, x, v, 1, x, v), VI_ERR_UNSUPPORTED);
+  double x[3] = {0}, v[3] = {0}, x1[3], v1[3];
+  assert_int_equal(vi_flow_physical(np, 0, x, v, 1, x1, v1), VI_ERR_UNSUPPORTED);
   vi_sim_destroy(&s);
   vi_model_destroy(&np);
 }

@@ -30,15 +30,15 @@ typedef struct vi_sim vi_sim;
 
 /** Integration methods (vi_sim_set_method). */
 enum {
-  VI_METHOD_ADAMS = 0, /**< CVODE Adams-Moulton, fixed-point iteration (default:
-                            fastest at every tolerance, see the README) */
+  VI_METHOD_ADAMS = 0, /**< CVODE Adams-Moulton, fixed-point iteration (the
+                            fastest CVODE method on these scenes) */
   VI_METHOD_BDF = 1,   /**< CVODE BDF, Newton with the analytic Jacobian and a
                             dense or (banded models) band linear solver */
   VI_METHOD_EXACT = 2, /**< closed-form flow (vi_flow.h) with root bracketing:
                             any damping whose first-order system is
                             diagonalisable; sticking phases (which have no
                             closed form here) run on CVODE Adams */
-  VI_METHOD_AUTO = 3,  /**< the exact method where it applies and is well
+  VI_METHOD_AUTO = 3,  /**< (default) the exact method where it applies and is well
                             conditioned, CVODE Adams otherwise (and from any
                             point where the closed form loses accuracy);
                             vi_sim_method_note() says which ran and why */
@@ -120,7 +120,7 @@ typedef int (*vi_monitor_fn)(const vi_progress *p, void *user);
 typedef int (*vi_cancel_fn)(void *user);
 
 /** Create a simulation of a set-up model (borrowed: it must outlive the
- *  sim).  Defaults: Adams, rtol 1e-8, atol 1e-10, rest at t = 0.
+ *  sim).  Defaults: auto, rtol 1e-8, atol 1e-10, rest at t = 0.
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (model not set up), VI_ERR_NOMEM. */
 VI_API int vi_sim_create(const vi_model *model, vi_sim **out);
 /** Destroy a simulation and set *sim to NULL; NULL-safe. */
@@ -201,6 +201,19 @@ VI_API const char *vi_sim_method_note(const vi_sim *sim);
  *  VI_ERR_ROOT, VI_ERR_INVARIANT (a state beyond the stop or not finite: the
  *  message says where), VI_ERR_NOMEM. */
 VI_API int vi_sim_run(vi_sim *sim, double t_end);
+
+/** Allocate the integrator now (it is otherwise built by the first run),
+ *  so that a host sees allocation and solver set-up errors before it
+ *  starts.  @return VI_OK, VI_ERR_ARG, VI_ERR_NOMEM, VI_ERR_INTEGRATOR. */
+VI_API int vi_sim_setup(vi_sim *sim);
+/** Integrate until the next event or t_end, whichever comes first, so that
+ *  a host code can drive the simulation impact by impact.  The event
+ *  callback still sees every event.  *kind receives the VI_EVENT_* of the
+ *  last event of the step that ended on one (an impact may be followed by
+ *  the start of sticking at the same instant), or -1 when t_end was
+ *  reached.  @return VI_OK, or as vi_sim_run (VI_STOPPED when the event
+ *  callback asked to stop). */
+VI_API int vi_sim_run_to_event(vi_sim *sim, double t_end, int *kind);
 
 /** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */
 VI_API int vi_sim_get_state(const vi_sim *sim, double *t, double *x,

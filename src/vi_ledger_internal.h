@@ -1,0 +1,52 @@
+/* vi_ledger_internal.h - the per-mode energy ledger as an object of its own
+ * (MODEL.md section 4): the simulation owns one when the ledger is enabled
+ * and tells it where intervals begin and end; the integrator backends only
+ * feed it integrand rates (vi_ledger_rates*) and hold its running integrals
+ * (vi_ledger_integrals) under their own error control or quadrature. */
+#ifndef VI_LEDGER_INTERNAL_H
+#define VI_LEDGER_INTERNAL_H
+
+#include "vi_internal.h"
+
+typedef struct vi_ledger vi_ledger;
+
+vi_ledger *vi_ledger_create(const vi_model *m);
+void vi_ledger_destroy(vi_ledger *L);
+void vi_ledger_set_callback(vi_ledger *L, vi_ledger_fn fn, void *user);
+
+/* Cumulative FE, DE, XE, CE [4n] since the ledger was created: the array
+ * the backends integrate into. */
+double *vi_ledger_integrals(vi_ledger *L);
+
+/* Rates of FE, DE, XE, CE [4n] at t from modal velocities qd [n], or from
+ * an interleaved state z [2n]; Lambda is the contact force magnitude while
+ * sticking (0 in free flight). */
+void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
+                     double *rates);
+void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
+                           double Lambda, double *rates);
+/* Q += weight * rates(t, qd): one node of a quadrature rule. */
+void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,
+                          double Lambda, double weight);
+
+/* An interval starts at t in state z. */
+void vi_ledger_begin(vi_ledger *L, double t, const double *z);
+/* The open interval ends in state z: record its energies before any jump. */
+void vi_ledger_pre_jump(vi_ledger *L, const double *z);
+/* Close it at t, the state having jumped to z (an impact: jump = 1 with the
+ * energy ie lost; else z is the state vi_ledger_pre_jump saw), and begin the
+ * next.  Calls the callback unless `quiet`; returns non-zero when the
+ * callback asks to stop. */
+int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
+                    double ie, int quiet);
+/* Start time of the open interval. */
+double vi_ledger_open_since(const vi_ledger *L);
+
+/* Totals for vi_sim_get_ledger: E [n] of the state z, cumulative FE, DE,
+ * XE, CE, jumps dE [n] and ie (any may be NULL). */
+void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
+                      double *DE, double *XE, double *CE, double *dE,
+                      double *ie);
+double vi_ledger_max_residual(const vi_ledger *L);
+
+#endif
