@@ -18,6 +18,7 @@
 #include "vibroimpact/vi_flow.h"
 #include "vibroimpact/vi_sim.h"
 #include "vibroimpact/vi_ledger.h"
+#include "vibroimpact/vi_force.h"
 #include "vibroimpact/vi_orbit.h"
 
 #endif

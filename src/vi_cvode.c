@@ -27,7 +27,7 @@ typedef struct cv_data {
   int nroots;     /* 2 in free flight, 1 while sticking */
   long base[4];   /* steps, rhs, jac, root evals before the last ReInit */
   double t_prev;  /* time of the previous return */
-  double *zprev;  /* state [2n] and ledger integrals [4n] at t_prev */
+  double *zprev;  /* state [2n] and ledger integrals [5n] at t_prev */
   int continued;  /* the last step ended on a root we integrated through */
 } cv_data;
 
@@ -44,7 +44,7 @@ static int rhs(double t, N_Vector y, N_Vector yd, void *user)
     zd[2 * i] = z[2 * i + 1];
     zd[2 * i + 1] = s->vp[i];
   }
-  return 0;
+  return s->force_failed ? -1 : 0; /* the host's force failed: stop */
 }
 
 /* Free flight: g0 = w.x - x_s rising (contact), g1 = w.x' falling (a maximum
@@ -90,16 +90,49 @@ static void jac_entries(vi_sim *s, SUNMatrix J, int band)
   }
 }
 
-static int jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void *user,
-               N_Vector t1, N_Vector t2, N_Vector t3)
+/* With nonlinear forces the Jacobian depends on the state: the linear part
+ * plus d(M^-1 g)/dx, d(M^-1 g)/dv (vi_force.c), dense, projected while
+ * sticking like the right-hand side. */
+static int jac_forced(vi_sim *s, double t, const double *z, SUNMatrix J)
 {
-  (void)t; (void)y; (void)fy; (void)t1; (void)t2; (void)t3;
-  SUNMatZero(J);
-  jac_entries(user, J, SUNMatGetID(J) == SUNMATRIX_BAND);
+  const vi_model *m = s->m;
+  int n = s->n;
+  size_t nn = (size_t)n * (size_t)n;
+  double *A = malloc(sizeof(double) * 2 * nn);
+  if (!A) return -1;
+  if (vi_force_jacobian(s, t, z, A, A + nn)) {
+    free(A);
+    return -1;
+  }
+  double *col = s->zs;
+  for (int jz = 0; jz < 2 * n; jz++) {
+    int j = jz / 2;
+    const double *lin = (jz % 2 ? m->MinvC : m->MinvK) + (size_t)j * n;
+    const double *nl = A + (jz % 2 ? nn : 0) + (size_t)j * n;
+    for (int i = 0; i < n; i++) col[i] = nl[i] - lin[i];
+    if (s->sticking) {
+      double lam = vi_dot(n, m->w, col) / m->wMw;
+      for (int i = 0; i < n; i++) col[i] -= lam * m->Minv_w[i];
+    }
+    for (int i = 0; i < n; i++) SM_ELEMENT_D(J, 2 * i + 1, jz) = col[i];
+    if (jz % 2) SM_ELEMENT_D(J, jz - 1, jz) = 1.0;
+  }
+  free(A);
   return 0;
 }
 
-/* Ledger integrands FE', DE', XE', CE' (vi_ledger.c). */
+static int jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void *user,
+               N_Vector t1, N_Vector t2, N_Vector t3)
+{
+  (void)fy; (void)t1; (void)t2; (void)t3;
+  vi_sim *s = user;
+  SUNMatZero(J);
+  if (s->nforces) return jac_forced(s, t, N_VGetArrayPointer(y), J);
+  jac_entries(s, J, SUNMatGetID(J) == SUNMATRIX_BAND);
+  return 0;
+}
+
+/* Ledger integrands FE', DE', XE', CE', NE' (vi_ledger.c). */
 static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
 {
   vi_sim *s = user;
@@ -109,7 +142,12 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
     vi_sim_accel(s, t, z, 0, s->vp);
     Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
   }
-  vi_ledger_rates_state(s->led, t, z, Lambda, N_VGetArrayPointer(yQd));
+  double *gq = NULL;
+  if (s->nforces) { /* the modal force, for the NE column */
+    gq = s->fbuf + 3 * s->n;
+    vi_force_modal(s, t, z, gq);
+  }
+  vi_ledger_rates_state(s->led, t, z, Lambda, gq, N_VGetArrayPointer(yQd));
   return 0;
 }
 
@@ -147,6 +185,7 @@ static int use_band(const vi_sim *s)
 {
   const vi_model *m = s->m;
   int n = s->n, nz = 0;
+  if (s->nforces) return 0; /* a force may couple any coordinates */
   for (int i = 0; i < n; i++) {
     if (m->Minv_w[i] != 0.0) nz++;
     if ((m->Minv_w[i] != 0.0) != (m->w[i] != 0.0)) return 0;
@@ -173,7 +212,7 @@ static int cv_create(vi_sim *s)
   if (!d) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
   s->be_data = d;
   s->errmsg[0] = '\0';
-  d->zprev = malloc(sizeof(double) * 6 * (size_t)s->n);
+  d->zprev = malloc(sizeof(double) * (2 + VI_LEDGER_BLOCKS) * (size_t)s->n);
   VI_CHECK(d->zprev, s->errmsg, VI_ERR_NOMEM, "out of memory");
   VI_CHECK(SUNContext_Create(NULL, &d->ctx) == 0, s->errmsg, VI_ERR_NOMEM,
            "SUNContext_Create failed");
@@ -207,7 +246,8 @@ static int cv_create(vi_sim *s)
   }
   if (s->led) {
     /* under the state's error control, so the ledger closes to tolerance */
-    d->yQ = N_VMake_Serial(4 * s->n, vi_ledger_integrals(s->led), d->ctx);
+    d->yQ = N_VMake_Serial((s->nforces ? 5 : 4) * s->n,
+                           vi_ledger_integrals(s->led), d->ctx);
     VI_CHECK(d->yQ, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
     if (s->fast_nvector) vi_nvector_fast_ops(d->yQ);
     CV_TRY(CVodeQuadInit(d->mem, qrhs, d->yQ));
@@ -281,7 +321,7 @@ static void save_prev(vi_sim *s, cv_data *d)
   memcpy(d->zprev, s->z, sizeof(double) * 2 * (size_t)s->n);
   if (d->yQ)
     memcpy(d->zprev + 2 * s->n, vi_ledger_integrals(s->led),
-           sizeof(double) * 4 * (size_t)s->n);
+           sizeof(double) * VI_LEDGER_BLOCKS * (size_t)s->n);
 }
 
 /* Near grazing the approach speed v_n is small and a position error dx of
@@ -305,7 +345,7 @@ static int cv_polish(vi_sim *s)
   memcpy(s->z, d->zprev, sizeof(double) * 2 * (size_t)n);
   if (d->yQ)
     memcpy(vi_ledger_integrals(s->led), d->zprev + 2 * n,
-           sizeof(double) * 4 * (size_t)n);
+           sizeof(double) * VI_LEDGER_BLOCKS * (size_t)n);
   CV_TRY(CVodeReInit(d->mem, t, d->y));
   if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));
   s->stats[VI_STAT_POLISHES]++;
@@ -391,6 +431,9 @@ static int cv_step(vi_sim *s, double t_end, int *event)
     flag = CVode(d->mem, t_end, d->y, &t, CV_ONE_STEP);
   }
   d->continued = 0;
+  if (flag < 0 && s->force_failed)
+    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
+                   "failed at t = %.17g", s->force_fail_t);
   if (flag < 0) {
     if (!s->errmsg[0])
       vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVode failed (flag %d) at t = %g",

@@ -12,12 +12,12 @@
 struct vi_ledger {
   const vi_model *m;
   int n, harmonic;
-  double *Q;            /* cumulative FE, DE, XE, CE [4n] */
-  double *QA;           /* Q at the interval's start; then its integrals [4n] */
+  double *Q;            /* cumulative FE, DE, XE, CE, NE [5n] */
+  double *QA;           /* Q at the interval's start; then its integrals [5n] */
   double *EA, *KA;      /* modal energy and its kinetic part at t_a [n] */
   double *EB, *KB, *qd; /* the same and q' before the jump [n] */
   double *dE, *dEtot;   /* this jump, all jumps [n] */
-  double *R, *qs, *qds; /* scratch: rates [4n], q and q' [n] */
+  double *R, *qs, *qds; /* scratch: rates [5n], q and q' [n] */
   double ta, ie, maxres, emax;
   vi_ledger_fn fn;
   void *user;
@@ -26,11 +26,11 @@ struct vi_ledger {
 vi_ledger *vi_ledger_create(const vi_model *m)
 {
   int n = m->n;
-  vi_ledger *L = calloc(1, sizeof *L + 22 * (size_t)n * sizeof(double));
+  vi_ledger *L = calloc(1, sizeof *L + 25 * (size_t)n * sizeof(double));
   if (!L) return NULL;
   double *p = (double *)(L + 1);
-  L->Q = p; p += 4 * (size_t)n;
-  L->QA = p; p += 4 * (size_t)n;
+  L->Q = p; p += VI_LEDGER_BLOCKS * (size_t)n;
+  L->QA = p; p += VI_LEDGER_BLOCKS * (size_t)n;
   L->EA = p; p += n;
   L->KA = p; p += n;
   L->EB = p; p += n;
@@ -38,7 +38,7 @@ vi_ledger *vi_ledger_create(const vi_model *m)
   L->qd = p; p += n;
   L->dE = p; p += n;
   L->dEtot = p; p += n;
-  L->R = p; p += 4 * (size_t)n;
+  L->R = p; p += VI_LEDGER_BLOCKS * (size_t)n;
   L->qs = p; p += n;
   L->qds = p;
   L->m = m;
@@ -63,7 +63,7 @@ double vi_ledger_open_since(const vi_ledger *L) { return L->ta; }
 double vi_ledger_max_residual(const vi_ledger *L) { return L->maxres; }
 
 void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
-                     double *rates)
+                     const double *gq, double *rates)
 {
   const vi_model *m = L->m;
   int n = L->n;
@@ -73,11 +73,13 @@ void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
     sn = sin(m->omega_f * t);
   }
   double *FE = rates, *DE = rates + n, *XE = rates + 2 * n, *CE = rates + 3 * n;
+  double *NE = gq ? rates + 4 * n : NULL;
   for (int j = 0; j < n; j++) {
     double F = m->Fa[j] * c + m->Fb[j] * sn + m->F0[j];
     FE[j] = qd[j] * F;                                           /* WB 7 */
     DE[j] = m->D[j + (size_t)j * (size_t)n] * qd[j] * qd[j];     /* WB 8 */
     CE[j] = -Lambda * m->psi[j] * qd[j];
+    if (NE) NE[j] = qd[j] * gq[j];
     XE[j] = 0.0;
     if (!m->proportional) {
       double x = 0.0;
@@ -89,16 +91,16 @@ void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
 }
 
 void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
-                           double Lambda, double *rates)
+                           double Lambda, const double *gq, double *rates)
 {
   vi_modal_project(L->m, z, NULL, L->qds);
-  vi_ledger_rates(L, t, L->qds, Lambda, rates);
+  vi_ledger_rates(L, t, L->qds, Lambda, gq, rates);
 }
 
 void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,
                           double Lambda, double weight)
 {
-  vi_ledger_rates(L, t, qd, Lambda, L->R);
+  vi_ledger_rates(L, t, qd, Lambda, NULL, L->R);
   for (int k = 0; k < 4 * L->n; k++) L->Q[k] += weight * L->R[k];
 }
 
@@ -115,7 +117,7 @@ static void modal_energy(const vi_model *m, const double *z, double *q,
 
 void vi_ledger_begin(vi_ledger *L, double t, const double *z)
 {
-  memcpy(L->QA, L->Q, sizeof(double) * 4 * (size_t)L->n);
+  memcpy(L->QA, L->Q, sizeof(double) * VI_LEDGER_BLOCKS * (size_t)L->n);
   modal_energy(L->m, z, L->qs, L->qds, L->EA, L->KA);
   L->ta = t;
 }
@@ -129,15 +131,16 @@ int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
                     double ie, int quiet)
 {
   int n = L->n, stop = 0;
-  double *I = L->QA; /* becomes the interval's integrals, FE DE XE CE */
-  for (int k = 0; k < 4 * n; k++) I[k] = L->Q[k] - I[k];
+  double *I = L->QA; /* becomes the interval's integrals, FE DE XE CE NE */
+  for (int k = 0; k < VI_LEDGER_BLOCKS * n; k++) I[k] = L->Q[k] - I[k];
   double scale = DBL_MIN, sum = 0.0, ea = 0.0, eb = 0.0;
   for (int j = 0; j < n; j++) {
     double FE = I[j], DE = I[n + j], XE = I[2 * n + j], CE = I[3 * n + j];
-    sum += L->EB[j] - L->EA[j] - FE + DE + XE - CE;
+    double NE = I[4 * n + j];
+    sum += L->EB[j] - L->EA[j] - FE + DE + XE - CE - NE;
     ea += L->EA[j];
     eb += L->EB[j];
-    scale = fmax(scale, fabs(FE) + fabs(DE) + fabs(XE) + fabs(CE));
+    scale = fmax(scale, fabs(FE) + fabs(DE) + fabs(XE) + fabs(CE) + fabs(NE));
   }
   /* relative to the energy scale of the run so far: the micro-bounces at
    * the end of a chattering sequence carry 1e-11 of it, and their own
@@ -158,7 +161,8 @@ int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
   if (L->fn && !quiet) {
     vi_ledger_interval iv = {n, L->ta, t, L->EA, L->EB, L->KA, L->KB,
                              I, I + n, I + 2 * n, I + 3 * n,
-                             jump ? L->dE : NULL, jump ? ie : 0.0, res};
+                             jump ? L->dE : NULL, jump ? ie : 0.0, res,
+                             I + 4 * n};
     stop = L->fn(&iv, L->user) != 0;
   }
   vi_ledger_begin(L, t, z);
@@ -178,4 +182,9 @@ void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
   if (CE) memcpy(CE, L->Q + 3 * n, b);
   if (dE) memcpy(dE, L->dEtot, b);
   if (ie) *ie = L->ie;
+}
+
+void vi_ledger_force_totals(const vi_ledger *L, double *NE)
+{
+  memcpy(NE, L->Q + 4 * L->n, sizeof(double) * (size_t)L->n);
 }

@@ -10,22 +10,28 @@
 
 typedef struct vi_ledger vi_ledger;
 
+/* The integrals, n each: FE, DE, XE, CE and NE (work of the nonlinear
+ * forces, vi_force.h). */
+enum { VI_LEDGER_BLOCKS = 5 };
+
 vi_ledger *vi_ledger_create(const vi_model *m);
 void vi_ledger_destroy(vi_ledger *L);
 void vi_ledger_set_callback(vi_ledger *L, vi_ledger_fn fn, void *user);
 
-/* Cumulative FE, DE, XE, CE [4n] since the ledger was created: the array
+/* Cumulative FE, DE, XE, CE, NE [5n] since the ledger was created: the array
  * the backends integrate into. */
 double *vi_ledger_integrals(vi_ledger *L);
 
 /* Rates of FE, DE, XE, CE [4n] at t from modal velocities qd [n], or from
  * an interleaved state z [2n]; Lambda is the contact force magnitude while
- * sticking (0 in free flight). */
+ * sticking (0 in free flight).  With the modal nonlinear force gq = Psi^T g
+ * also NE (rates [5n]); gq = NULL leaves NE out (and at zero), so that a
+ * run without nonlinear forces integrates 4n quadratures, as it always did. */
 void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
-                     double *rates);
+                     const double *gq, double *rates);
 void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
-                           double Lambda, double *rates);
-/* Q += weight * rates(t, qd): one node of a quadrature rule. */
+                           double Lambda, const double *gq, double *rates);
+/* Q += weight * rates(t, qd) (no NE): one node of a quadrature rule. */
 void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,
                           double Lambda, double weight);
 
@@ -48,5 +54,6 @@ void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
                       double *DE, double *XE, double *CE, double *dE,
                       double *ie);
 double vi_ledger_max_residual(const vi_ledger *L);
+void vi_ledger_force_totals(const vi_ledger *L, double *NE);
 
 #endif

@@ -80,7 +80,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over;
+         s->m->flow_ok && !s->handed_over && !s->nforces;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -97,8 +97,9 @@ static void note_method(vi_sim *s)
   if (s->method == VI_METHOD_AUTO)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
-             s->m->flow_ok ? "closed-form flow available"
-                           : s->m->flow_why);
+             s->nforces     ? "nonlinear forces have no closed form"
+             : s->m->flow_ok ? "closed-form flow available"
+                             : s->m->flow_why);
   else
     snprintf(s->method_note, sizeof s->method_note, "%s",
              method_names[s->method_used]);
@@ -138,6 +139,7 @@ void vi_sim_destroy(vi_sim **sim)
   vi_sim *s = *sim;
   backend_destroy(s);
   vi_ledger_destroy(s->led);
+  vi_force_free(s);
   gsl_root_fsolver_free(s->brent);
   free(s->z);
   free(s);
@@ -156,6 +158,9 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && !s->m->flow_ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->m->flow_why);
+  if (method == VI_METHOD_EXACT && s->nforces)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "exact method unavailable: "
+                   "nonlinear forces have no closed form");
   if (method == VI_METHOD_ERK)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "method erk is not built into this library");
@@ -738,6 +743,7 @@ int vi_sim_run(vi_sim *s, double t_end)
                      s->smp_dt, span / s->smp_dt, t_end);
   }
   int st = VI_OK, cancelled = 0;
+  s->force_failed = 0;
   s->t_end = t_end;
   s->run_t0 = s->t;
   s->stop = 0;
@@ -865,4 +871,12 @@ int vi_sim_get_ledger(const vi_sim *s, double *E, double *FE, double *DE,
 double vi_sim_ledger_max_residual(const vi_sim *s)
 {
   return s && s->led ? vi_ledger_max_residual(s->led) : 0.0;
+}
+
+int vi_sim_get_ledger_force(const vi_sim *s, double *NE)
+{
+  if (!s || !NE) return VI_ERR_ARG;
+  if (!s->led) return VI_ERR_STATE;
+  vi_ledger_force_totals(s->led, NE);
+  return VI_OK;
 }

@@ -84,6 +84,14 @@ struct vi_sim {
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */
   double *w1, *w2, *w3;    /* scratch of the chatter map: n each */
 
+  /* nonlinear forces (vi_force.c): the host's callback and built-in springs */
+  vi_force_fn force_fn; vi_force_jac_fn force_jac; void *force_user;
+  struct vi_spring *springs;
+  int nsprings, nforces;  /* nforces: springs plus the callback, if any */
+  double *fbuf;           /* scratch [4n]: x, v, g, Psi^T g */
+  int force_failed;       /* the callback failed: the run stops */
+  double force_fail_t;
+
   /* energy ledger (vi_ledger.c); NULL unless enabled */
   vi_ledger *led;
   vi_ledger_fn led_fn; void *led_user;
@@ -113,10 +121,20 @@ static inline int vi_sim_cancelled(const vi_sim *s)
   return s->cancel_fn && s->cancel_fn(s->cancel_user);
 }
 
+/* Nonlinear forces (vi_force.c).  acc += M^-1 g(t, x, v) for an
+ * interleaved state z; with gq != NULL the modal force Psi^T g too. */
+void vi_force_add_accel(vi_sim *s, double t, const double *z, double *acc);
+/* The modal force Psi^T g [n] at (t, z) into gq: for the ledger. */
+void vi_force_modal(vi_sim *s, double t, const double *z, double *gq);
+/* d(M^-1 g)/dx and d(M^-1 g)/dv [n x n], column-major, at (t, z). */
+int vi_force_jacobian(vi_sim *s, double t, const double *z, double *Ax,
+                      double *Av);
+void vi_force_free(vi_sim *s);
+
 /* Free acceleration M^-1 (f - C v - K x) at t for interleaved z; in a
  * sticking phase the component along M^-1 w is removed so that w.x'' = 0.
  * This is the right-hand side's hot loop, hence inline. */
-static inline void vi_sim_accel(const vi_sim *s, double t, const double *z,
+static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
                                 int sticking, double *acc)
 {
   const vi_model *m = s->m;
@@ -135,6 +153,7 @@ static inline void vi_sim_accel(const vi_sim *s, double t, const double *z,
     }
     acc[i] = a;
   }
+  if (s->nforces) vi_force_add_accel(s, t, z, acc);
   if (sticking) {
     double lam = vi_dot(n, m->w, acc) / m->wMw;
     for (int i = 0; i < n; i++) acc[i] -= lam * m->Minv_w[i];

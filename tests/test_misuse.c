@@ -132,6 +132,13 @@ static void test_sim_misuse(void **state)
   assert_err(vi_sim_set_monitor(NULL, NULL, NULL, 1.0));
   assert_err(vi_sim_set_cancel(NULL, NULL, NULL));
   assert_err(vi_sim_set_floors(NULL, 0, 0));
+  assert_err(vi_sim_set_force(NULL, NULL, NULL, NULL));
+  assert_err(vi_sim_add_spring(NULL, VI_SPRING_CUBIC, 1, 0, 1, 0));
+  assert_err(vi_sim_clear_springs(NULL));
+  assert_err(vi_sim_get_ledger_force(NULL, NULL));
+  assert_err(vi_sim_setup(NULL));
+  int kind;
+  assert_err(vi_sim_run_to_event(NULL, 1.0, &kind));
   assert_err(vi_sim_run(NULL, 1.0));
   assert_err(vi_sim_get_state(NULL, NULL, NULL, NULL));
   assert_err(vi_sim_enable_ledger(NULL, 1));

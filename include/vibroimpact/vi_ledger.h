@@ -2,13 +2,15 @@
  * the per-mode energy ledger (MODEL.md section 4; WB 7, 8).
  *
  * Modal energy E_j = 1/2 q_j'^2 + 1/2 omega_j^2 q_j^2.  Between impacts
- *   E_j(t_b) - E_j(t_a) = FE_j - DE_j - XE_j + CE_j
+ *   E_j(t_b) - E_j(t_a) = FE_j - DE_j - XE_j + CE_j + NE_j
  *   FE_j = int q_j' F_j dt                 forcing work into mode j
  *   DE_j = int D_jj q_j'^2 dt              damping loss of mode j
  *   XE_j = int q_j' sum_{k!=j} D_jk q_k'   damping coupling (0, and not
  *                                          computed, for proportional damping)
  *   CE_j = int lambda psi_j q_j' dt        work of the contact force while
  *                                          sticking (sums to 0 over modes)
+ *   NE_j = int q_j' (Psi^T g)_j dt         work of the nonlinear forces g
+ *                                          (vi_force.h; 0 without them)
  * and at an impact E_j jumps by dE_j = 1/2 (q_j'(t+)^2 - q_j'(t-)^2), the
  * jumps summing to -IE (WB 10).
  *
@@ -42,9 +44,12 @@ typedef struct vi_ledger_interval {
   const double *CE;  /**< contact-force work while sticking */
   const double *dE;                /**< impact jumps at t_b, or NULL */
   double ie;                       /**< energy lost at t_b (WB 10) */
-  double residual;  /**< |sum_j (Eb - Ea - FE + DE + XE - CE)| divided by the
-                       energy scale: the largest total energy at any interval
-                       end so far, or this interval's summed |work| if larger */
+  double residual;  /**< |sum_j (Eb - Ea - FE + DE + XE - CE - NE)| divided
+                       by the energy scale: the largest total energy at any
+                       interval end so far, or this interval's summed |work|
+                       if larger */
+  const double *NE; /**< work of the nonlinear forces (vi_force.h) on each
+                       mode; 0 without them */
 } vi_ledger_interval;
 
 /** Ledger callback: return 0 to go on, non-zero to stop the run. */

@@ -43,7 +43,8 @@ extern "C" {
   X(VI_ERR_PARSE,           -21, "malformed input file")                    \
   X(VI_ERR_INVARIANT,       -22, "physical invariant violated (state beyond " \
                                  "the stop or not finite)")                  \
-  X(VI_ERR_LIMIT,           -23, "size or resource limit exceeded")
+  X(VI_ERR_LIMIT,           -23, "size or resource limit exceeded")        \
+  X(VI_ERR_CALLBACK,        -24, "a host callback reported a failure")
 
 /// @cond INTERNAL
 #define VI_STATUS_ENUM_(name, value, msg) name = value,
