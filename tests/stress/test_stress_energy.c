@@ -49,7 +49,8 @@ static void test_plastic_pressed_sticks(void **state)
     double dt = 10.0 * (1e-12 + 1e-10 * V0 * V0 / (2 * G)) / V0;
     for (int i = 0; i < log.count; i++) {
       st_check(fabs(log.t[i] - t1) <= dt);
-      st_check(fabs(log.vn[i] - V0) <= G * dt);
+      /* the impact sees v_n = 5 (the stick event's vn is the rebound's, 0) */
+      if (log.kind[i] == VI_EVENT_IMPACT) st_check(fabs(log.vn[i] - V0) <= G * dt);
     }
     st_check(fabs(st_log_ie(&log) - 0.5 * V0 * V0) <= 1e-9 * 0.5 * V0 * V0);
     double x, v;
