@@ -115,12 +115,52 @@ static void test_default_state_beyond_stop(void **state)
   st_end();
 }
 
+/* Defect 4 of the issue: the first sample of a run is the initial state
+ * (it was NaN with CVODE).  The ball from x = -1, v = 2 (K = 0, f0 = g,
+ * stop x <= 0): samples every 0.05 are x = -1 + 2 t + g t^2 / 2 until the
+ * first contact at t = (-2 + sqrt(4 + 2 g)) / g. */
+typedef struct first_samples { int n; double err; } first_samples;
+
+static int sample_ball(double t, int n, const double *x, const double *v, void *u)
+{
+  (void)n;
+  first_samples *f = u;
+  double xe = -1.0 + 2.0 * t + 0.5 * G * t * t, ve = 2.0 + G * t;
+  double e = fmax(fabs(x[0] - xe), fabs(v[0] - ve));
+  if (!(e <= f->err)) f->err = e; /* a NaN sticks */
+  f->n++;
+  return 0;
+}
+
+static void test_first_sample_is_initial_state(void **state)
+{
+  (void)state;
+  vi_model *m = st_sdof(1.0, 0.0, 0.0, 0.0, 0.0, 0.0, G, 0.0, 0.8);
+  double t1 = (-2.0 + sqrt(4.0 + 2.0 * G)) / G;
+  for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
+    if (!st_method_ok(m, meth)) continue;
+    first_samples f = {0, 0.0};
+    const double x0 = -1.0, v0 = 2.0;
+    vi_sim *s = st_sim(m, meth, 1e-10, 1e-12, 0.0, &x0, &v0, NULL, NULL);
+    assert_int_equal(vi_sim_set_sampling(s, 0.05, sample_ball, &f), VI_OK);
+    st_check(vi_sim_run(s, 0.05 * floor(t1 / 0.05)) == VI_OK);
+    st_check(f.n == (int)floor(t1 / 0.05) + 1);
+    st_check(f.err <= 1e-9); /* 10 (atol + rtol |x|), |x|, |v| <= 4 */
+    print_message("  samples before the first contact, %-5s: %d, max error %.3g\n",
+                  vi_method_name(meth), f.n, f.err);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+  st_end();
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_start_moving_into_stop),
       cmocka_unit_test(test_start_at_rest_on_stop),
       cmocka_unit_test(test_default_state_beyond_stop),
+      cmocka_unit_test(test_first_sample_is_initial_state),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
