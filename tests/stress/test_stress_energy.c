@@ -8,7 +8,7 @@
  * total energy equals the forcing work, E(t) - E(0) = sum_j FE_j (MODEL.md
  * section 4), and the events' ie are all zero.  E is computed here from the
  * state (vi_model_energy), FE from the ledger.  The short version runs 1e3
- * forcing periods; `test_stress_energy long` (target stress_long, ctest label
+ * forcing periods of an SDOF oscillator; `test_stress_energy long` (target stress_long, ctest label
  * stress_long with VI_STRESS_LONG=ON) runs 1e6 and also checks that memory
  * stays flat: the peak resident size (VmHWM) after the run is within 1 MiB of
  * its value after a warm-up run of the same scene. */
@@ -116,19 +116,22 @@ static void test_plastic_not_pressed_leaves(void **state)
   st_end();
 }
 
-/* r = 1, C = 0: the Fig. 2 chain without its dampers (N = 2, m = k = 1,
- * x_s = 0.1, a = (0.5, 0), W = 0.9, stop on mass 2), from rest.  Energy
- * change against forcing work over n_periods forcing periods. */
+/* r = 1, C = 0: x'' + x = 0.5 cos(2.5 t), stop x <= 0.1, from rest.
+ * Energy change against forcing work over `periods` forcing periods.  A
+ * one-degree-of-freedom oscillator forced away from resonance: its energy
+ * stays bounded (below 0.33 over 1e5 periods), so the tolerances keep their
+ * meaning over 1e6 periods.  (The undamped Fig. 2 chain with r = 1 gains
+ * energy without bound, 1.7e5 after 1e6 periods, and a relative tolerance
+ * becomes a large absolute one.) */
 static void run_elastic(int method, double rtol, double atol, long periods,
                         int check_memory)
 {
-  const double a[2] = {0.5, 0.0};
-  vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.0, 0.1, 1.0, 0.9, a);
+  vi_model *m = st_sdof(1.0, 0.0, 1.0, 2.5, 0.5, 0.0, 0.0, 0.1, 1.0);
   if (!st_method_ok(m, method)) {
     vi_model_destroy(&m);
     return;
   }
-  double T = 2.0 * M_PI / 0.9;
+  double T = 2.0 * M_PI / 2.5;
   long hwm0 = -1;
 #ifdef __SANITIZE_ADDRESS__
   check_memory = 0; /* ASan's quarantine and shadow memory blur VmHWM */
@@ -143,7 +146,7 @@ static void run_elastic(int method, double rtol, double atol, long periods,
   vi_sim *s = st_sim(m, method, rtol, atol, 0.0, NULL, NULL, NULL, NULL);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   /* run in pieces, as a long study would, and track the largest energy */
-  double emax = 0.0, x[2], v[2];
+  double emax = 0.0, x[1], v[1];
   long pieces = periods < 100 ? 1 : 100;
   for (long p = 1; p <= pieces; p++) {
     int st = vi_sim_run(s, (double)periods * T * (double)p / (double)pieces);
@@ -152,16 +155,16 @@ static void run_elastic(int method, double rtol, double atol, long periods,
     vi_sim_get_state(s, NULL, x, v);
     emax = fmax(emax, vi_model_energy(m, x, v));
   }
-  double E[2], FE[2], DE[2], XE[2], CE[2], dE[2], ie;
+  double E[1], FE[1], DE[1], XE[1], CE[1], dE[1], ie;
   assert_int_equal(vi_sim_get_ledger(s, E, FE, DE, XE, CE, dE, &ie), VI_OK);
   double e_end = vi_model_energy(m, x, v);
-  double work = FE[0] + FE[1];
+  double work = FE[0];
   double impacts = (double)vi_sim_get_stat(s, VI_STAT_IMPACTS);
   /* each impact-free interval closes to ~ tolerance x energy scale under
    * CVODE's (or the quadrature's) error control; independent errors add up
    * like a random walk over the intervals, a systematic drift linearly: the
-   * bound takes the linear sum, 10 (rtol + atol) emax per interval */
-  double bound = 10.0 * (rtol + atol) * fmax(emax, 1.0) * (impacts + 1.0);
+   * bound takes the linear sum, 10 (rtol emax + atol) per interval */
+  double bound = 10.0 * (rtol * emax + atol) * (impacts + 1.0);
   double gap = fabs(e_end - work);
   long hwm1 = st_vmhwm_kib();
   print_message("  %-5s rtol %.0e, %ld periods: %.0f impacts, E_end %.9g, "
@@ -170,9 +173,10 @@ static void run_elastic(int method, double rtol, double atol, long periods,
                 vi_method_name(method), rtol, periods, impacts, e_end, work, gap,
                 bound, ie, vi_sim_ledger_max_residual(s), hwm0, hwm1);
   st_check(impacts > periods / 2);
+  st_check(emax < 1.0); /* bounded, as above */
   st_check(gap <= bound);
   st_check(ie == 0.0); /* 1 - r^2 = 0 exactly */
-  st_check(DE[0] == 0.0 && DE[1] == 0.0);
+  st_check(DE[0] == 0.0);
   if (check_memory && hwm0 > 0) st_check(hwm1 - hwm0 <= 1024);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
