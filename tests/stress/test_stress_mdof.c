@@ -45,28 +45,30 @@
 /* psi[j][i]; S_j the static modal load, or for a rigid-body mode (w = 0)
  * its constant modal acceleration; ws the frequency of mass 1 while mass 2
  * sticks (K_11) */
-typedef struct two { double w[2], psi[2][2], S[2], ws; } two;
+typedef struct two { double w[2], psi[2][2], S[2], ws, kappa; } two;
 
-static void two_init(two *m, int free_free)
+/* kappa scales every spring (K -> kappa K): frequencies by sqrt(kappa) */
+static void two_init(two *m, int free_free, double kappa)
 {
+  m->kappa = kappa;
   if (free_free) { /* K = [1 -1; -1 1]: rigid mode (1, 1)/sqrt2, w^2 = 2 */
     const double h = sqrt(0.5);
     m->w[0] = 0.0;
-    m->w[1] = sqrt(2.0);
+    m->w[1] = sqrt(2.0 * kappa);
     m->psi[0][0] = h; m->psi[0][1] = h;
     m->psi[1][0] = h; m->psi[1][1] = -h;
     m->S[0] = F * h;
-    m->S[1] = F * -h / 2.0;
-    m->ws = 1.0;
+    m->S[1] = F * -h / (2.0 * kappa);
+    m->ws = sqrt(kappa);
     return;
   }
   for (int j = 0; j < 2; j++) {
     double th = (2.0 * j + 1.0) * M_PI / 5.0;
-    m->w[j] = 2.0 * sin(0.5 * th);
+    m->w[j] = 2.0 * sin(0.5 * th) * sqrt(kappa);
     for (int i = 0; i < 2; i++) m->psi[j][i] = 2.0 * sin((i + 1) * th) / sqrt(5.0);
     m->S[j] = F * m->psi[j][1] / (m->w[j] * m->w[j]);
   }
-  m->ws = sqrt(2.0);
+  m->ws = sqrt(2.0 * kappa);
 }
 
 /* free flight from (x0, v0) over tau */
@@ -82,9 +84,12 @@ static void two_free(const two *m, const double *x0, const double *v0,
       q = q0 + qd0 * tau + 0.5 * m->S[j] * tau * tau;
       qd = qd0 + m->S[j] * tau;
     } else {
+      /* S (1 - cos w tau) as 2 S sin^2(w tau / 2): no cancellation when the
+       * static offset S is huge (soft springs) */
       double c = cos(m->w[j] * tau), s = sin(m->w[j] * tau);
-      q = m->S[j] + (q0 - m->S[j]) * c + qd0 / m->w[j] * s;
-      qd = -(q0 - m->S[j]) * m->w[j] * s + qd0 * c;
+      double h = sin(0.5 * m->w[j] * tau);
+      q = q0 * c + qd0 / m->w[j] * s + 2.0 * m->S[j] * h * h;
+      qd = -q0 * m->w[j] * s + qd0 * c + m->S[j] * m->w[j] * s;
     }
     for (int i = 0; i < 2; i++) {
       xs[i] += m->psi[j][i] * q;
@@ -114,7 +119,7 @@ typedef struct two_ref {
 static double two_next_impact(const two *m, double t0, const double *x0,
                               const double *v0, double *x, double *v)
 {
-  double a = F + x0[0] - x0[1];
+  double a = F + m->kappa * (x0[0] - x0[1]);
   double u = fabs(v0[1]);
   double h = (a > 0.0 && u > 0.0) ? fmin(1e-3, 0.05 * 2.0 * u / a) : 1e-3;
   double lo = 0.0, hi = h;
@@ -135,10 +140,10 @@ static double two_next_impact(const two *m, double t0, const double *x0,
   return t0 + lo;
 }
 
-static void two_reference(two_ref *R, int free_free, double v10)
+static void two_reference(two_ref *R, int free_free, double kappa, double v10)
 {
   two m;
-  two_init(&m, free_free);
+  two_init(&m, free_free, kappa);
   double t = 0.0, x[2] = {0.0, 0.0}, v[2] = {v10, -0.3}, xn[2], vn[2];
   R->n = 0;
   for (;;) {
@@ -146,7 +151,7 @@ static void two_reference(two_ref *R, int free_free, double v10)
     assert_true(R->n < 400);
     R->t[R->n] = t;
     R->vn[R->n++] = vn[1];
-    double a = F + xn[0];
+    double a = F + kappa * xn[0];
     assert_true(a > 0.0); /* pressed: the sequence can only accumulate */
     if (vn[1] < 1e-5) {
       double dt = 2.0 * RR * vn[1] / (a * (1.0 - RR));
@@ -158,19 +163,23 @@ static void two_reference(two_ref *R, int free_free, double v10)
     v[0] = vn[0];
     v[1] = -RR * vn[1];
   }
-  /* sticking until lambda = F + x_1 falls through zero */
+  /* sticking until lambda = F + kappa x_1 falls through zero, if within
+   * 20 time units (else no release: t_release = NaN) */
   double lo = 0.0, hi = 0.0, x1, v1;
   for (;;) {
     hi += 1e-3;
     two_stick(m.ws, x[0], v[0], hi, &x1, &v1);
-    if (F + x1 < 0.0) break;
+    if (F + kappa * x1 < 0.0) break;
     lo = hi;
-    assert_true(hi < 100.0);
+    if (hi > 20.0) {
+      R->t_release = R->t_next = R->vn_next = NAN;
+      return;
+    }
   }
   for (int it = 0; it < 200; it++) {
     double mid = 0.5 * (lo + hi);
     two_stick(m.ws, x[0], v[0], mid, &x1, &v1);
-    if (F + x1 < 0.0) hi = mid; else lo = mid;
+    if (F + kappa * x1 < 0.0) hi = mid; else lo = mid;
   }
   two_stick(m.ws, x[0], v[0], lo, &x1, &v1);
   R->t_release = R->t_stick + lo;
@@ -179,15 +188,16 @@ static void two_reference(two_ref *R, int free_free, double v10)
   R->vn_next = vn[1];
 }
 
-static void run_two(int free_free, double v10)
+static void run_two(int free_free, double kappa, double v10)
 {
   static two_ref R;
-  two_reference(&R, free_free, v10);
+  two_reference(&R, free_free, kappa, v10);
+  int release = !isnan(R.t_release);
   print_message("  reference: %d impacts to v_n = 1e-5, stick %.15g, release "
                 "%.15g, next impact %.15g (v_n %.12g)\n", R.n, R.t_stick,
                 R.t_release, R.t_next, R.vn_next);
   const double M[4] = {1, 0, 0, 1}, f0[2] = {0, F};
-  const double K[4] = {free_free ? 1 : 2, -1, -1, 1};
+  const double K[4] = {kappa * (free_free ? 1 : 2), -kappa, -kappa, kappa};
   const double w[2] = {0, 1};
   vi_model *m = vi_test_model(2, M, NULL, K, 0.0, NULL, f0, w, 0.0, RR);
   for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
@@ -196,7 +206,7 @@ static void run_two(int free_free, double v10)
     st_guard guard = {0, 10000000};
     const double x0[2] = {0, 0}, v0[2] = {v10, -0.3};
     vi_sim *s = st_sim(m, meth, 1e-12, 1e-14, 0.0, x0, v0, &log, &guard);
-    int st = vi_sim_run(s, R.t_next + 0.5);
+    int st = vi_sim_run(s, release ? R.t_next + 0.5 : R.t_stick + 5.0);
     if (st != VI_OK) print_error("%s\n", vi_sim_errmsg(s));
     st_check(st == VI_OK);
     int nimp = st_log_count(&log, VI_EVENT_IMPACT);
@@ -205,16 +215,16 @@ static void run_two(int free_free, double v10)
     double et = 0.0;
     int ncmp = 0;
     /* impacts before the stick, against the reference: dx / (v_k (1 - r))
-     * with dx = atol + rtol (scale 1), times 10 */
+     * with dx = atol + rtol X, X = 10 (mass 1 travels up to ~10), times 10 */
     for (int k = 0; k < R.n && (is < 0 || k < is); k++) {
       int i = st_log_find(&log, VI_EVENT_IMPACT, k);
       if (i < 0 || (is >= 0 && i > is)) break;
-      double b = 10.0 * (1e-14 + 1e-12) / (R.vn[k] * (1.0 - RR));
+      double b = 10.0 * (1e-14 + 1e-12 * 10.0) / (R.vn[k] * (1.0 - RR));
       st_check(fabs(log.t[i] - R.t[k]) <= fmax(b, 1e-12));
       et = fmax(et, fabs(log.t[i] - R.t[k]));
       ncmp++;
     }
-    st_check(is >= 0 && ir > is);
+    st_check(is >= 0 && (release ? ir > is : ir < 0));
     double es = is >= 0 ? log.t[is] - R.t_stick : NAN;
     double er = ir >= 0 ? log.t[ir] - R.t_release : NAN;
     int inx = -1;
@@ -222,11 +232,13 @@ static void run_two(int free_free, double v10)
       if (log.kind[i] == VI_EVENT_IMPACT) { inx = i; break; }
     double en = inx >= 0 ? log.t[inx] - R.t_next : NAN;
     st_check(fabs(es) <= 1e-8);
-    st_check(fabs(er) <= 1e-8);
-    st_check(fabs(en) <= 1e-7);
-    print_message("  %-5s: %d impacts, first %d within %.3g of the reference; "
+    if (release) {
+      st_check(fabs(er) <= 1e-8);
+      st_check(fabs(en) <= 1e-7);
+    }
+    print_message("  kappa %g %-5s: %d impacts, first %d within %.3g of the reference; "
                   "stick error %.3g, release error %.3g, next impact error "
-                  "%.3g\n", vi_method_name(meth), nimp, ncmp, et, es, er, en);
+                  "%.3g\n", kappa, vi_method_name(meth), nimp, ncmp, et, es, er, en);
     st_log_free(&log);
     vi_sim_destroy(&s);
   }
@@ -236,7 +248,7 @@ static void run_two(int free_free, double v10)
 static void test_mdof_chatter_stick_release(void **state)
 {
   (void)state;
-  run_two(0, V10);
+  run_two(0, 1.0, V10);
   st_end();
 }
 
@@ -246,7 +258,20 @@ static void test_mdof_chatter_stick_release(void **state)
 static void test_mdof_rigid_body_mode(void **state)
 {
   (void)state;
-  run_two(1, V10_FREE);
+  run_two(1, 1.0, V10_FREE);
+  st_end();
+}
+
+/* Very soft springs (K -> kappa K, kappa = 1e-4, 1e-8: static offsets of
+ * the load 1e4 and 1e8 beyond the stop): the chatter is then nearly the
+ * ball's, mass 1 drifts, the contact force F + kappa x_1 stays positive and
+ * there is no release (none may be reported). */
+static void test_mdof_very_soft(void **state)
+{
+  (void)state;
+  run_two(0, 1e-4, V10);
+  run_two(0, 1e-8, V10);
+  run_two(1, 1e-8, V10);
   st_end();
 }
 
@@ -255,6 +280,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_mdof_chatter_stick_release),
       cmocka_unit_test(test_mdof_rigid_body_mode),
+      cmocka_unit_test(test_mdof_very_soft),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
