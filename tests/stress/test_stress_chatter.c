@@ -257,6 +257,102 @@ static void test_release_instant(void **state)
   st_end();
 }
 
+/* Chatter under a time-varying load: x'' + x = 1 + 0.5 cos 3t, stop x <= 0,
+ * r = 0.8, leaving the stop at speed 1 at t = 0.  The contact force
+ * 1 + 0.5 cos 3t stays positive, so the impacts accumulate and the mass
+ * sticks for good; the flights are not the ball's (the load changes by ~1.5
+ * per unit time).  Reference, independent of the library: the closed-form
+ * free motion x = 1 + P cos 3t + c1 cos t + c2 sin t (P = 0.5/(1 - 9)),
+ * contacts by a scan in steps of 1/20 of the expected flight and bisection
+ * to round-off, down to v_n = 5e-6, then the tail 2 r v_n / (a (1 - r))
+ * with the contact acceleration a at that impact.  The tail's model error
+ * (the load's rate over its 4e-5 time units) shrinks like v_n^2 and the
+ * brute force's round-off (1e-16 in position, amplified by a / v_n into the
+ * speeds) grows like 1/v_n: halving the cut from 1e-5 to 5e-6 moves the
+ * result by 1.9e-9, from 5e-6 to 2.5e-6 by 3e-10, so the reference is good
+ * to ~1e-9.  Stick time to 1e-8 with every method (tight tolerances), first
+ * impacts within 10 dx / (v_k (1 - r)). */
+#define HW 3.0
+#define HA 0.5
+static void harm_free(double t0, double x0, double v0, double t, double *x,
+                      double *v)
+{
+  double P = HA / (1.0 - HW * HW);
+  double c1 = x0 - 1.0 - P * cos(HW * t0), c2 = v0 + P * HW * sin(HW * t0);
+  double tau = t - t0;
+  *x = 1.0 + P * cos(HW * t) + c1 * cos(tau) + c2 * sin(tau);
+  *v = -P * HW * sin(HW * t) - c1 * sin(tau) + c2 * cos(tau);
+}
+
+static void test_chatter_harmonic_load(void **state)
+{
+  (void)state;
+  /* the reference */
+  static double tr[400], vr[400];
+  int nr = 0;
+  double t = 0.0, x = 0.0, v = -1.0, t_acc = NAN;
+  for (;;) {
+    double a0 = 1.0 - x + HA * cos(HW * t), u = fabs(v);
+    double h = fmin(1e-3, 0.05 * 2.0 * u / a0), lo = 0.0, hi = h, xe, ve;
+    for (;;) {
+      harm_free(t, x, v, t + hi, &xe, &ve);
+      if (xe > 0.0) break;
+      lo = hi;
+      hi += h;
+      assert_true(hi < 50.0);
+    }
+    for (int it = 0; it < 200 && hi - lo > 4e-16 * (t + hi); it++) {
+      double mid = 0.5 * (lo + hi);
+      harm_free(t, x, v, t + mid, &xe, &ve);
+      if (xe > 0.0) hi = mid; else lo = mid;
+    }
+    harm_free(t, x, v, t + lo, &xe, &ve);
+    t += lo;
+    assert_true(nr < 400);
+    tr[nr] = t;
+    vr[nr++] = ve;
+    double a = 1.0 + HA * cos(HW * t);
+    assert_true(a > 0.0);
+    if (ve < 5e-6) {
+      t_acc = t + 2.0 * R * ve / (a * (1.0 - R));
+      break;
+    }
+    x = 0.0;
+    v = -R * ve;
+  }
+  print_message("  reference: %d impacts to v_n = 5e-6, accumulation at %.15g\n",
+                nr, t_acc);
+  vi_model *m = st_sdof(1.0, 0.0, 1.0, HW, HA, 0.0, 1.0, 0.0, R);
+  for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
+    if (!st_method_ok(m, meth)) continue;
+    st_log log = {0};
+    st_guard guard = {0, 10000000};
+    const double x0 = 0.0, v0 = -1.0;
+    vi_sim *s = st_sim(m, meth, 1e-12, 1e-14, 0.0, &x0, &v0, &log, &guard);
+    int st = vi_sim_run(s, t_acc + 2.0);
+    if (st != VI_OK) print_error("%s\n", vi_sim_errmsg(s));
+    st_check(st == VI_OK);
+    int is = st_log_find(&log, VI_EVENT_STICK, 0);
+    double et = 0.0;
+    int nimp = st_log_count(&log, VI_EVENT_IMPACT);
+    for (int k = 0; k < nimp && k < nr; k++) {
+      int i = st_log_find(&log, VI_EVENT_IMPACT, k);
+      double b = 10.0 * (1e-14 + 1e-12 * 1.0) / (vr[k] * (1.0 - R));
+      st_check(fabs(log.t[i] - tr[k]) <= fmax(b, 1e-12));
+      et = fmax(et, fabs(log.t[i] - tr[k]));
+    }
+    double es = is >= 0 ? log.t[is] - t_acc : NAN;
+    st_check(is >= 0 && fabs(es) <= 1e-8);
+    st_check(st_log_count(&log, VI_EVENT_RELEASE) == 0 && vi_sim_is_sticking(s));
+    print_message("  %-5s: %d impacts within %.3g of the reference, stick "
+                  "error %.3g\n", vi_method_name(meth), nimp, et, es);
+    st_log_free(&log);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+  st_end();
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -265,6 +361,7 @@ int main(void)
       cmocka_unit_test(test_ball_default_tolerances),
       cmocka_unit_test(test_ball_energy_bookkeeping),
       cmocka_unit_test(test_release_instant),
+      cmocka_unit_test(test_chatter_harmonic_load),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
