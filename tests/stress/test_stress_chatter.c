@@ -54,7 +54,11 @@ static ball_result run_ball(const vi_model *m, int method, double rtol,
   const double x0 = 0.0, v0 = -V0;
   vi_sim *s = st_sim(m, method, rtol, atol, 0.0, &x0, &v0, &log, &guard);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+  st_gap gap = {NULL, 0.0, -HUGE_VAL, 0};
+  assert_int_equal(vi_sim_set_sampling(s, 6.0 / 6000.0, st_gap_sample, &gap), VI_OK);
   int st = vi_sim_run(s, 6.0);
+  /* no sample beyond the stop by more than the position error */
+  st_check(gap.gmax <= 10.0 * dx);
   st_check(st == VI_OK);
   if (st != VI_OK) {
     print_error("%s: %s\n", vi_method_name(method), vi_sim_errmsg(s));

@@ -54,7 +54,12 @@ static void run_graze(double c, int method, double rtol, double atol,
     st_guard guard = {0, 10000000};
     const double x0 = -XAMP, v0 = 0.0;
     vi_sim *s = st_sim(m, method, rtol, atol, 0.0, &x0, &v0, &log, &guard);
+    /* samples through the cap and the rebound: none beyond the stop by
+     * more than the position error */
+    st_gap gap = {NULL, xs, -HUGE_VAL, 0};
+    assert_int_equal(vi_sim_set_sampling(s, (ti + 0.5) / 4000.0, st_gap_sample, &gap), VI_OK);
     int st = vi_sim_run(s, ti + 0.5);
+    st_check(gap.gmax <= 10.0 * (atol + rtol * XAMP));
     if (st != VI_OK) print_error("%s\n", vi_sim_errmsg(s));
     st_check(st == VI_OK);
     int i = st_log_find(&log, VI_EVENT_IMPACT, 0);
@@ -70,10 +75,10 @@ static void run_graze(double c, int method, double rtol, double atol,
       (*checked)++;
     }
     print_message("  c = %.1f %-5s rtol %.0e mu = %.0e: v_n rel error %.3g "
-                  "(bound %.3g), t_i error %.3g (bound %.3g)%s\n", c,
+                  "(bound %.3g), t_i error %.3g (bound %.3g), max gap %.2g%s\n", c,
                   vi_method_name(method), rtol, mu_set,
                   i >= 0 ? fabs(log.vn[i] - vn) / vn : NAN, bv,
-                  i >= 0 ? fabs(log.t[i] - ti) : NAN, bt,
+                  i >= 0 ? fabs(log.t[i] - ti) : NAN, bt, gap.gmax,
                   st_failures > f0 ? "  <-- FAIL" : bv < 0.5 ? "" : "  (not asserted)");
     st_log_free(&log);
     vi_sim_destroy(&s);
