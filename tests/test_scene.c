@@ -8,6 +8,8 @@
 
 #include <gsl/gsl_errno.h>
 
+#include <gsl/gsl_sf_ellint.h>
+
 #include "vi_testutil.h"
 #include "vibroimpact/vi_scene.h"
 
@@ -98,6 +100,39 @@ static void test_malformed_scenes(void **state)
   }
 }
 
+/* A scene's built-in springs reach the simulation: the free Duffing
+ * oscillator x'' + x + eps x^3 = 0 from rest at A returns to A after the
+ * period 4 K(m) / sqrt(1 + eps A^2), m = eps A^2 / (2 (1 + eps A^2)). */
+static void test_scene_springs(void **state)
+{
+  (void)state;
+  const char *t = "model: {M: [[1.0]], K: [[1.0]]}\n"
+                  "stop: {mass: 1, xs: 10.0, r: 0.8}\n"
+                  "springs:\n  - {type: cubic, i: 1, k3: 0.8}\n"
+                  "initial: {x: [1.3]}\n"
+                  "run: {t_end: 100, rtol: 1.0e-11, atol: 1.0e-13}\n";
+  double eps = 0.8, A = 1.3, w2 = 1 + eps * A * A, mm = eps * A * A / (2 * w2);
+  double T = 4 * gsl_sf_ellint_Kcomp(sqrt(mm), GSL_PREC_DOUBLE) / sqrt(w2);
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(t, -1, "duffing.yaml", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK); /* idempotent */
+  assert_int_equal(vi_sim_run(s, 3 * T), VI_OK);
+  double x, v;
+  vi_sim_get_state(s, NULL, &x, &v);
+  assert_close(x, A, 1e-8);
+  assert_close(v, 0.0, 1e-8);
+  assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+}
+
 static void test_overrides_and_builders(void **state)
 {
   (void)state;
@@ -137,6 +172,109 @@ static void test_overrides_and_builders(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* Every io function of the scene reader with NULL, zero, negative and
+ * mismatched arguments: a code, never a crash or a read out of bounds
+ * (run under ASan/UBSan in the sanitizer build). */
+static void test_misuse(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL, *sc3 = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  char buf[64];
+  assert_int_equal(vi_scene_parse(NULL, -1, "x", &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_parse("a: 1", -1, "x", NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_parse("", 0, NULL, &sc, NULL), VI_ERR_PARSE);
+  assert_null(sc);
+  assert_int_equal(vi_scene_parse_limited("a: [[1]]", -1, "x", 2, &sc, &d), VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_load(NULL, &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_load("x.yaml", NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_load("/nonexistent/x.yaml", &sc, NULL), VI_ERR_IO);
+  assert_int_equal(vi_scene_load_limited(VI_SCENE_DIR "/fig2.yaml", 10, 0, &sc, &d),
+                   VI_ERR_LIMIT);
+  assert_non_null(strstr(d.message, "larger than 10 bytes"));
+  assert_int_equal(vi_scene_load_limited(VI_SCENE_DIR "/fig2.yaml", -5, -5, &sc, &d),
+                   VI_OK); /* <= 0: the defaults */
+  vi_scene_destroy(&sc);
+  vi_scene_destroy(&sc);
+  vi_scene_destroy(NULL);
+  /* getters on NULL */
+  assert_string_equal(vi_scene_name(NULL), "");
+  assert_string_equal(vi_scene_text(NULL), "");
+  assert_int_equal(vi_scene_n(NULL), 0);
+  assert_true(vi_scene_t0(NULL) == 0 && vi_scene_t_end(NULL) == 0);
+  assert_true(vi_scene_rtol(NULL) == 0 && vi_scene_atol(NULL) == 0);
+  assert_int_equal(vi_scene_method(NULL), 0);
+  assert_int_equal(vi_scene_samples_per_period(NULL), 0);
+  assert_int_equal(vi_scene_wants(NULL, "ledger"), 0);
+  assert_true(vi_scene_memory_estimate(NULL) == 0);
+  assert_int_equal(vi_scene_check_memory(NULL, 0, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(NULL, 0, 0, 0, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_create_model(NULL, &m, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_configure_sim(NULL, NULL, &d), VI_ERR_ARG);
+  vi_diag_format(NULL, buf, sizeof buf);
+  assert_string_equal(buf, "");
+  vi_diag_format(&d, NULL, 10);
+  vi_diag_format(&d, buf, 0);
+  vi_diag_format(&d, buf, -3);
+  /* a valid scene with bad overrides */
+  assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "fig2", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_wants(sc, NULL), 0);
+  assert_int_equal(vi_scene_wants(sc, "nonsense"), 0);
+  assert_int_equal(vi_scene_set_run(sc, NAN, 0, 0, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, INFINITY, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, 0, 99), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 10, 0, 0, -1), VI_ERR_TOLERANCE);
+  assert_int_equal(vi_scene_set_run(sc, 1e-17, 0, 0, -1), VI_ERR_TOLERANCE);
+  assert_int_equal(vi_scene_set_run(sc, 0, INFINITY, 0, -1), VI_ERR_TOLERANCE);
+  assert_int_equal(vi_scene_set_run(sc, -1, -1, -1, -1), VI_OK); /* keep all */
+  assert_close(vi_scene_rtol(sc), 1e-8, 0);
+  assert_int_equal(vi_scene_create_model(sc, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_check_memory(sc, 1.0, &d), VI_ERR_LIMIT);
+  assert_string_equal(d.key, "model.chain.n");
+  assert_int_equal(vi_scene_check_memory(sc, 1e12, NULL), VI_OK);
+  /* a sim of another size: refused, no read past the scene's arrays */
+  assert_int_equal(vi_scene_parse("model:\n  chain: {n: 3, m: 1, k: 1}\n"
+                                  "stop: {mass: 3, xs: 0.1, r: 0.5}\n"
+                                  "run: {t_end: 10}\n", -1, "three", &sc3, &d), VI_OK);
+  vi_model *m5 = vi_test_chain(5, 1, 1, 0.1, 0.1, 0.7, 0.9, NULL);
+  assert_int_equal(vi_sim_create(m5, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc3, s, &d), VI_ERR_DIM);
+  assert_non_null(strstr(d.message, "n = 3"));
+  assert_int_equal(vi_scene_configure_sim(sc3, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_configure_sim(sc3, s, NULL), VI_ERR_DIM);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m5);
+  vi_scene_destroy(&sc3);
+  vi_scene_destroy(&sc);
+}
+
+/* Text is not a number: quoted or !!str-tagged scalars; aliases resolve
+ * only to complete nodes; a second document is refused. */
+static void test_yaml_strictness(void **state)
+{
+  (void)state;
+  static const struct { const char *text, *key; int code; } c[] = {
+    {CHAIN GOOD_STOP "forcing: {omega: \"0.9\"}\n", "forcing.omega", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: {omega: !!str 0.9}\n", "forcing.omega", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: {omega: !!float 0.9}\nrun: {periods: 1}\n", "", VI_OK},
+    {CHAIN GOOD_STOP "forcing: {omega: 0.9}\n---\n", "", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: &f {omega: 0.9, a: *f}\n", "", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: {omega: 0.9, a: &v [0.5, 0], b: *v}\nrun: {periods: 1}\n", "", VI_OK},
+    {"name: {a: 1}\n" CHAIN GOOD_STOP, "name", VI_ERR_PARSE},
+  };
+  for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
+    vi_scene *sc = NULL;
+    vi_diag d;
+    int st = vi_scene_parse(c[k].text, -1, "strict", &sc, &d);
+    if (st != c[k].code) print_error("case %zu: %s\n", k, d.message);
+    assert_int_equal(st, c[k].code);
+    if (st) assert_string_equal(d.key, c[k].key);
+    vi_scene_destroy(&sc);
+  }
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
@@ -144,7 +282,10 @@ int main(void)
       cmocka_unit_test(test_shipped_scenes_run),
       cmocka_unit_test(test_default_is_fig2),
       cmocka_unit_test(test_malformed_scenes),
+      cmocka_unit_test(test_scene_springs),
       cmocka_unit_test(test_overrides_and_builders),
+      cmocka_unit_test(test_misuse),
+      cmocka_unit_test(test_yaml_strictness),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
