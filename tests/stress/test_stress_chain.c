@@ -178,7 +178,7 @@ static void test_chain_impacts(void **state)
   for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
     if (!st_method_ok(m, meth)) continue;
     st_log log = {0};
-    st_guard guard = {0, 10000000};
+    st_guard guard = {0, 1000000};
     vi_sim *s = st_sim(m, meth, rtol, atol, 0.0, NULL, NULL, &log, &guard);
     int st = vi_sim_run(s, t_end);
     if (st != VI_OK) print_error("%s\n", vi_sim_errmsg(s));

@@ -51,7 +51,7 @@ static void run_graze(double c, int method, double rtol, double atol,
       bt = fmax(bt, 1e-9 * ti);
     }
     st_log log = {0};
-    st_guard guard = {0, 10000000};
+    st_guard guard = {0, 1000000};
     const double x0 = -XAMP, v0 = 0.0;
     vi_sim *s = st_sim(m, method, rtol, atol, 0.0, &x0, &v0, &log, &guard);
     /* samples through the cap and the rebound: none beyond the stop by

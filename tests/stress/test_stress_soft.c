@@ -73,7 +73,7 @@ static int run_spring(int e, int method, double rtol, double atol,
   }
   double T = t_acc_ref[e];
   st_log log = {0};
-  st_guard guard = {0, 50000000};
+  st_guard guard = {0, 1000000};
   st_gap gap = {NULL, 0.0, -HUGE_VAL, 0};
   const double x0 = 0.0, v0 = -V0;
   vi_sim *s = st_sim(m, method, rtol, atol, 0.0, &x0, &v0, &log, &guard);

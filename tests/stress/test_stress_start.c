@@ -25,7 +25,7 @@ static void test_start_moving_into_stop(void **state)
   for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
     if (!st_method_ok(m, meth)) continue;
     st_log log = {0};
-    st_guard guard = {0, 10000000};
+    st_guard guard = {0, 1000000};
     const double x0 = 0.0;
     vi_sim *s = st_sim(m, meth, 1e-12, 1e-14, 0.0, &x0, &v0, &log, &guard);
     int st = vi_sim_run(s, 2.0);
@@ -61,7 +61,7 @@ static void test_start_at_rest_on_stop(void **state)
     for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
       if (!st_method_ok(m, meth)) continue;
       st_log log = {0};
-      st_guard guard = {0, 10000000};
+      st_guard guard = {0, 1000000};
       const double x0 = 0.0, v0 = 0.0;
       vi_sim *s = st_sim(m, meth, 1e-12, 1e-14, 0.0, &x0, &v0, &log, &guard);
       int st = vi_sim_run(s, 1.0);
