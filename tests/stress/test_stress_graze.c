@@ -86,14 +86,23 @@ static void run_graze(double c, int method, double rtol, double atol,
   }
 }
 
-/* The references: the rewritten closed forms against the direct ones where
- * those are still accurate (mu = 1e-2). */
+/* The closed forms in double against mpmath (ref/stress_ref.py, the direct
+ * acos(1 - mu/X) form at 40 digits) for mu = 1e-2, 1e-6, 1e-10. */
 static void test_graze_reference(void **state)
 {
   (void)state;
-  double mu = 1e-2;
-  assert_close(2.0 * asin(sqrt(mu / 2.0)), acos(1.0 - mu), 1e-14);
-  assert_close(W * sin(acos(1.0 - mu)), W * sqrt(mu * (2.0 - mu)), 1e-15);
+  const double mu[3] = {1e-2, 1e-6, 1e-10};
+  const double ti_ref[3] = {6.00010636053073203943370805261,
+                            6.28035687981913797339914317501,
+                            6.28315702290833877932205033197};
+  const double vn_ref[3] = {0.0705336798983294221261608184544,
+                            0.000707106604409830130671526908829,
+                            0.00000707106781168869854870959703126};
+  for (int k = 0; k < 3; k++) {
+    double th = 2.0 * asin(sqrt(mu[k] / (2.0 * XAMP)));
+    assert_close((M_PI - th) / W, ti_ref[k], 1e-15 * ti_ref[k]);
+    assert_close(W * sqrt(mu[k] * (2.0 * XAMP - mu[k])), vn_ref[k], 1e-15 * vn_ref[k]);
+  }
 }
 
 static void test_graze_undamped(void **state)

@@ -73,3 +73,13 @@ for e in range(-8, 9, 2):
     w = sqrt(K)
     tacc = nsum(lambda j: 2 / w * atan(r**j * V * w / g), [0, inf])
     show("spring K=1e%d T_acc" % e, tacc)
+
+# ---- 3. The grazing family (test_stress_graze.c) --------------------------
+# x_p = -X cos(W t), X = 1, W = 1/2, stop at X - mu: first contact at
+# W t_i = pi - acos(1 - mu/X), approach speed X W sin(acos(1 - mu/X)).
+X, Wg = mpf(1), mpf(1) / 2
+for e in (2, 6, 10):
+    mu = mpf(10) ** (-e)
+    th = acos(1 - mu / X)
+    show("graze mu=1e-%d t_i" % e, (pi - th) / Wg)
+    show("graze mu=1e-%d v_n" % e, X * Wg * sin(th))
