@@ -8,16 +8,19 @@
  * Exit status: 0 success, 1 run-time error, 2 usage or input error,
  * 128 + signal when interrupted (130 SIGINT, 143 SIGTERM). */
 #include <errno.h>
+#include <fcntl.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <gsl/gsl_errno.h>
 
 #include "vi_app.h"
+#include "vi_sweep.h" /* sweep, orbits, --set */
 
 static int cmd_restitution(const app_opts *o);
 
@@ -76,6 +79,10 @@ static void usage(FILE *f)
   for (int k = 0; k < NCMD; k++)
     fprintf(f, "%s vibroimpact %s %s\n%*s%s\n", k ? "      " : "usage:",
             cmds[k].name, cmds[k].synopsis, 9, "", cmds[k].what);
+  fprintf(f, "       vibroimpact sweep [SCENE.yaml] --param KEY --from A --to B --steps K ...\n"
+             "         bifurcation diagram (vibroimpact sweep --help)\n"
+             "       vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json]\n"
+             "         P(n,m) orbits by Newton, stable or not (--help)\n");
   fprintf(f,
     "With no scene: the embedded default, Wagg & Bishop (2000) Fig. 2.\n\n"
     "  -o, --output FILE   write the run to an HDF5 file (FILE.part until "
@@ -89,6 +96,7 @@ static void usage(FILE *f)
     fprintf(f, "%s%s", m ? ", " : "", vi_method_name(m));
   fprintf(f, "\n"
     "  --json              (energy) print one JSON object\n"
+    "  --set KEY=VALUE     override a scene key, e.g. --set forcing.omega=0.95\n"
     "  --quiet             no summary and no progress bar\n"
     "  --max-scene-size B  largest scene file read (default %lld bytes)\n"
     "  --max-depth D       deepest YAML nesting (default %d)\n"
@@ -331,11 +339,30 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
 
 int main(int argc, char **argv)
 {
+  /* a closed standard descriptor would be reused by the first file we
+   * open (the HDF5 output), and the summary would be written into it:
+   * hold 0, 1, 2 with /dev/null opened read-only, so that writes to a
+   * closed stdout fail and are reported instead */
+  for (int fd = 0; fd <= 2; fd++)
+    if (fcntl(fd, F_GETFD) == -1 && errno == EBADF) {
+      int k = open("/dev/null", O_RDONLY);
+      if (k >= 0 && k != fd) {
+        dup2(k, fd);
+        close(k);
+      }
+    }
   gsl_set_error_handler_off();
   if (vi_version_number() != VI_VERSION_NUMBER) {
     fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
             VI_VERSION_STRING, vi_version_string());
     return 1;
+  }
+  /* sweep and orbits parse their own arguments (apps/vi_sweep.h) */
+  if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_sweep_exec(argc - 1, argv + 1);
+  if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
+  if ((argc = vi_sets_take(argc, argv)) < 0) {
+    fprintf(stderr, "vibroimpact: --set needs KEY=VALUE\n");
+    return 2;
   }
   /* signals first: from here on every phase answers them */
   struct sigaction sa;
@@ -358,6 +385,19 @@ int main(int argc, char **argv)
             (o.csv && strcmp(o.csv, "-") && check_output(o.csv, o.csv_target));
   sigprocmask(SIG_SETMASK, &old, NULL);
   if (bad) return 1;
+  /* the scene is the user's, not ours to replace */
+  struct stat ss, os;
+  if (o.scene && stat(o.scene, &ss) == 0 && S_ISREG(ss.st_mode))
+    for (int k = 0; k < 2; k++) {
+      const char *t = k ? (o.csv && strcmp(o.csv, "-") ? o.csv_target : NULL)
+                        : (o.out ? o.out_target : NULL);
+      if (t && stat(t, &os) == 0 && os.st_dev == ss.st_dev &&
+          os.st_ino == ss.st_ino) {
+        fprintf(stderr, "vibroimpact: refusing to write the output over the "
+                "scene %s\n", o.scene);
+        return 2;
+      }
+    }
   if (o.out && o.csv && strcmp(o.csv, "-") &&
       !strcmp(o.out_target, o.csv_target)) {
     fprintf(stderr, "vibroimpact: -o and --impacts-csv name the same file "
