@@ -135,6 +135,13 @@ int vi_sweep_continue(const char *text, const char *name, const char *key,
                       const double *x0, const double *v0, int N, int json,
                       char *err, int errlen);
 
+/* The same by pseudo-arclength (around folds; dF/dp by central
+ * differences): vi_sweep_cont.c. */
+int vi_sweep_arclength(const char *text, const char *name, const char *key,
+                       double to, int steps, int np, const double *t0,
+                       const double *x0, const double *v0, int N, int json,
+                       char *err, int errlen);
+
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */
 int vi_cmd_sweep_main(int argc, char **argv);
