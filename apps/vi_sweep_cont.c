@@ -358,7 +358,7 @@ int vi_sweep_arclength(const char *text, const char *name, const char *key,
   double ds = fabs(to - p0) / steps, dsmax = ds, s = 0;
   double hs[3] = {0, 0, 0}, hp[3] = {p0, p0, p0}; /* last 3 points (s, p) */
   int nev = 0, npts = 0, prev_stable = -1;
-  double prev_p = p0, prev_rho = 0;
+  double prev_p = p0, prev_rho = 0, prev_vn = 0, prev_g = 0;
   char events[4096] = "";
   if (json) printf("{\"key\": \"%s\", \"n\": %d, \"m\": 1, \"method\": \"pseudo-arclength\", \"branch\": [", key, np);
   else printf("P(%d,1) orbit followed in %s from %.10g towards %.10g by pseudo-arclength\n"
@@ -385,9 +385,22 @@ int vi_sweep_arclength(const char *text, const char *name, const char *key,
       if (!json) printf("    -> %s near %s = %.10g%s\n", event_name(c.kind), key, pe,
                         c.ok ? "" : " (not admissible)");
     }
+    if (prev_stable >= 0 && ((prev_vn > 0) != (c.vn > 0) ||
+                             ((prev_g < 0) != (c.gmax < 0) && (prev_vn > 0 || c.vn > 0)))) {
+      int imp = (prev_vn > 0) != (c.vn > 0); /* v_N through 0, else the gap */
+      double f0 = imp ? prev_vn : prev_g, f1 = imp ? c.vn : c.gmax;
+      double pe = prev_p + (c.p - prev_p) * f0 / (f0 - f1);
+      int k = (int)strlen(events);
+      snprintf(events + k, sizeof events - (size_t)k,
+               "%s{\"type\": \"%s\", \"param\": %.17g}", nev++ ? ", " : "",
+               imp ? "grazing_impact" : "grazing", pe);
+      if (!json) printf("    -> %s near %s = %.10g\n", imp ? "grazing impact" : "grazing", key, pe);
+    }
     prev_stable = c.rho < 1;
     prev_p = c.p;
     prev_rho = c.rho;
+    prev_vn = c.vn;
+    prev_g = c.gmax;
     hs[0] = hs[1]; hs[1] = hs[2]; hs[2] = s;
     hp[0] = hp[1]; hp[1] = hp[2]; hp[2] = U[D];
     npts++;
