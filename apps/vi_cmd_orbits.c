@@ -306,6 +306,13 @@ int vi_cmd_orbits_main(int argc, char **argv)
     fprintf(stderr, "vibroimpact: %s\n", err);
     goto out;
   }
+  if (vi_sweep_text_nonlinear(vi_scene_text(sc))) {
+    fprintf(stderr, "vibroimpact: orbits: %s has nonlinear springs; orbits are "
+            "found with the linear closed-form flow, which would ignore them\n",
+            scene ? scene : "the scene");
+    rc = 2;
+    goto done;
+  }
   int st = vi_scene_create_model(sc, &mdl, &d);
   if (st) {
     vi_diag_format(&d, err, sizeof err);

@@ -120,6 +120,10 @@ int vi_sets_active(void);
 struct vi_diag;
 int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
 
+/* 1 if the scene text has nonlinear springs (`springs:`): the closed-form
+ * orbit machinery (orbits, sweep --orbits) covers linear scenes only. */
+int vi_sweep_text_nonlinear(const char *text);
+
 /* `vibroimpact sweep ARGS`: replace this process by vibroimpact-sweep
  * (beside the program) with argv = the subcommand's; returns only on
  * failure (exit status 1, message printed). */

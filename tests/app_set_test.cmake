@@ -46,6 +46,8 @@ expect(0 "\"type\": \"fold\", \"param\": 1\\.193[45][0-9]*, \"admissible\": true
        orbits ${S} --json --continue stop.xs --to 2.5 --steps 24 --arclength)
 expect(0 "\"stable\": true, \"admissible\": true.*\"stable\": false, \"admissible\": true" ""
        orbits ${S} --json --set stop.xs=1.19)
+# orbits use the linear closed-form flow: scenes with nonlinear springs refused
+expect(2 "^$" "duffing.yaml has nonlinear springs" orbits ${SCENES}/duffing.yaml)
 # The P(1,1) orbit of x'' + 0.1 x' + x = 0.3 cos(0.7 t) ends in a grazing
 # impact (v_N = 0) where the stop reaches the free amplitude
 # A = 0.3 / |1 - 0.49 + 0.07 i| = 0.58277151741436
