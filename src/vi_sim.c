@@ -660,7 +660,7 @@ static int on_contact(vi_sim *s)
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   if (stick && s->stick_at <= s->t) emit_pending_stick(s);
   s->stats[VI_STAT_REINITS]++;
-  if (stick) use_backend(s, &vi_backend_cvode);
+  use_backend(s, stick ? &vi_backend_cvode : method_backend(s));
   return s->be->start(s);
 }
 
@@ -674,7 +674,11 @@ static int on_release(vi_sim *s)
   s->sticking = 0;
   emit(s, VI_EVENT_RELEASE, 0.0, 0.0);
   s->stats[VI_STAT_REINITS]++;
-  use_backend(s, method_backend(s));
+  /* At release the gap and its first two rates vanish together, so the
+   * closed form's contact search cannot tell the departing motion from
+   * round-off for a while; CVODE (already running the sticking phase)
+   * carries the flight that follows and the closed form takes over again
+   * at its next contact. */
   return s->be->start(s);
 }
 
