@@ -512,9 +512,89 @@ static void test_resting_on_stop(void **state)
   vi_model_destroy(&m);
 }
 
+/* ---- the relative closed form of one mode, in every regime ------------- */
+/* x'' + d x' + lambda x = F from (x0, v0) after tau, by the exponential of
+ * the augmented matrix [[0, 1, 0], [-lambda, -d, F], [0, 0, 0]] tau: Taylor
+ * series in long double after scaling by 2^-s, then s squarings.  An
+ * independent way to the same numbers. */
+static void expm_ref(double lam, double d, double F, double x0, double v0,
+                     double tau, long double *x, long double *v)
+{
+  /* balanced: (x, y = v / sg), sg = sqrt(lambda) for a stiff mode */
+  long double sg = lam > 1.0 ? sqrtl((long double)lam) : 1.0L, T0 = tau;
+  long double A[9] = {0, -lam / sg * T0, 0, sg * T0, -d * T0, 0,
+                      0, F / sg * T0, 0}; /* column-major */
+  long double nrm = fabsl(A[1]) + fabsl(A[3]) + fabsl(A[4]) + fabsl(A[7]);
+  int sq = 0;
+  while (nrm > 0.5L) {
+    nrm *= 0.5L;
+    sq++;
+  }
+  for (int i = 0; i < 9; i++) A[i] = ldexpl(A[i], -sq);
+  long double E[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, T[9], P[9];
+  memcpy(T, E, sizeof T);
+  for (int k = 1; k < 30; k++) { /* T = T A / k; E += T */
+    for (int c = 0; c < 3; c++)
+      for (int r = 0; r < 3; r++) {
+        long double acc = 0.0L;
+        for (int j = 0; j < 3; j++) acc += T[r + 3 * j] * A[j + 3 * c];
+        P[r + 3 * c] = acc / k;
+      }
+    memcpy(T, P, sizeof T);
+    for (int i = 0; i < 9; i++) E[i] += T[i];
+  }
+  for (int q = 0; q < sq; q++) {
+    for (int c = 0; c < 3; c++)
+      for (int r = 0; r < 3; r++) {
+        long double acc = 0.0L;
+        for (int j = 0; j < 3; j++) acc += E[r + 3 * j] * E[j + 3 * c];
+        P[r + 3 * c] = acc;
+      }
+    memcpy(E, P, sizeof E);
+  }
+  *x = E[0] * x0 + E[3] * (v0 / sg) + E[6];
+  *v = sg * (E[1] * x0 + E[4] * (v0 / sg) + E[7]);
+}
+
+static void test_mode_regimes(void **state)
+{
+  (void)state;
+  /* lambda, d, tau: Taylor branch; underdamped; soft (static offset 1e6)
+   * short and long; critical, just over and just under; overdamped with
+   * small and large lambda tau^2; rigid damped and free; stiff */
+  const double cs[][3] = {{1, 0.1, 0.5},   {1, 0.1, 3},      {1e-6, 0, 1},
+                          {1e-6, 0, 3000}, {1e-8, 0.01, 50}, {1, 2, 3},
+                          {1, 2.0000001, 3}, {1, 1.9999999, 3}, {1e-4, 5, 2},
+                          {1, 5, 2},       {0, 0.5, 10},     {0, 0, 10},
+                          {1e8, 0, 1e-3},  {1e8, 1e3, 1e-3}, {4, 4, 0.7},
+                          {0.3, 1.1, 1.2}};
+  double worst = 0.0;
+  for (size_t i = 0; i < sizeof cs / sizeof cs[0]; i++) {
+    /* the time step as the flow sees it: (2 + tau) - 2, exact in double */
+    double lam = cs[i][0], d = cs[i][1], t1 = 2.0 + cs[i][2], tau = t1 - 2.0, F = -9.81;
+    const double M = 1.0, w = 1.0, x0 = 0.3, v0 = -0.7;
+    vi_model *m = vi_test_model(1, &M, &d, &lam, 1.0, NULL, &F, &w, 1e12, 0.5);
+    double q, qd;
+    assert_int_equal(vi_flow_modal(m, 2.0, &x0, &v0, t1, &q, &qd), VI_OK);
+    long double xr, vr;
+    expm_ref(lam, d, F, x0, v0, tau, &xr, &vr);
+    /* relative to the size of the motion: position, and speed times tau */
+    long double sc = fabsl(xr) + fabsl(x0) + tau * (fabsl(vr) + fabsl(v0)) + fabsl(F) * tau * tau;
+    double ex = (double)(fabsl(q - xr) / sc), ev = (double)(fabsl(qd - vr) * tau / sc);
+    if (!(ex <= 1e-14 && ev <= 1e-14))
+      print_error("lambda %g d %g tau %g: x %.17g vs %.17Lg, v %.17g vs %.17Lg\n",
+                  lam, d, tau, q, xr, qd, vr);
+    assert_true(ex <= 1e-14 && ev <= 1e-14);
+    worst = fmax(worst, fmax(ex, ev));
+    vi_model_destroy(&m);
+  }
+  print_message("one mode in every regime: worst relative error %.3g\n", worst);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_mode_regimes),
       cmocka_unit_test(test_ball_rigid),
       cmocka_unit_test(test_ball_soft_1e8),
       cmocka_unit_test(test_ball_soft_1e7),
