@@ -445,6 +445,16 @@ static void test_handover_near_resonance(void **state)
   vi_sim_destroy(&s);
   vi_test_events_free(&ev);
   vi_model_destroy(&m);
+  /* but an ordinary forced response from rest, on a stop at the origin
+   * and at the tightest tolerance, stays on the closed form */
+  const double a[2] = {0.5, 0.0};
+  m = vi_test_chain(2, 1.0, 1.0, 0.1, 0.0, 0.7, 0.9, a);
+  s = vi_test_sim(m, VI_METHOD_EXACT, 1e-14, 1e-16, NULL, NULL, NULL);
+  assert_int_equal(vi_sim_run(s, 100.0), VI_OK);
+  assert_int_equal(vi_sim_get_stat(s, VI_STAT_HANDOVERS), 0);
+  assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) > 5);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
 }
 
 /* ---- cancellation inside a long step ----------------------------------- */
@@ -514,7 +524,12 @@ static void test_free_free_chain_gravity(void **state)
   vi_test_events ex = {0}, ad = {0};
   assert_int_equal(vi_test_run(m, VI_METHOD_EXACT, 1e-12, 1e-14, x0, v0, 6.0, &ex), VI_OK);
   assert_int_equal(vi_test_run(m, VI_METHOD_ADAMS, 1e-12, 1e-14, x0, v0, 6.0, &ad), VI_OK);
-  int nc = ex.count < 20 ? ex.count : 20;
+  /* the impacts both resolved one by one (the driver may sum a chattering
+   * tail earlier for one method than for the other) */
+  int nc = 0;
+  while (nc < 20 && nc < ex.count && nc < ad.count && ex.kind[nc] == VI_EVENT_IMPACT &&
+         ad.kind[nc] == VI_EVENT_IMPACT)
+    nc++;
   double et = 0.0;
   if (getenv("VI_TEST_VERBOSE"))
     for (int i = 0; i < ex.count || i < ad.count; i++)
@@ -525,8 +540,7 @@ static void test_free_free_chain_gravity(void **state)
   for (int i = 0; i < nc && i < ad.count; i++) et = fmax(et, fabs(ex.t[i] - ad.t[i]));
   print_message("free-free chain under gravity: %d / %d events, first %d times "
                 "agree to %.3g\n", ex.count, ad.count, nc, et);
-  assert_true(nc >= 5);
-  assert_true(ad.count >= nc);
+  assert_true(nc >= 10);
   /* Adams at rtol 1e-12 locates impacts to ~1e-10 here */
   assert_true(et <= 1e-8);
   vi_test_events_free(&ex);
