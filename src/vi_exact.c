@@ -542,8 +542,10 @@ static int ex_start(vi_sim *s)
   /* On the stop (after an impact, or a start there): measure g from here,
    * and skip the time in which g provably recedes, g' tau + g'' tau^2 / 2
    * + B3 tau^3 / 6 < 0. */
+  /* the round-off of g: of its terms, physical and modal */
   double scale = fabs(m->xs) + d->GH + 1e-3 * s->atol * s->wnorm;
   for (int i = 0; i < n; i++) scale += fabs(m->w[i] * s->z[2 * i]);
+  for (int i = 0; i < na; i++) scale += fabs(d->psi[i] * d->wk[i]);
   double tr = 0.0;
   d->gnoise = 64.0 * DBL_EPSILON * scale;
   if (fabs(g) <= d->gnoise) {

@@ -548,6 +548,36 @@ static void test_free_free_chain_gravity(void **state)
   vi_model_destroy(&m);
 }
 
+/* Two unit masses, springs 1 (ground-mass 1) and 1 (between), a load 1
+ * pressing mass 2 on a stop at x_2 = 0 (so the stop coordinate itself is 0
+ * at every contact while mass 1 swings): each rebound must start a new
+ * flight, never a second contact at the same instant (a round-off of g
+ * measured against x_2 alone once read as one). */
+static void test_two_mass_stop_at_origin(void **state)
+{
+  (void)state;
+  const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1}, C[4] = {0, 0, 0, 0};
+  const double f0[2] = {0, 1.0}, w[2] = {0, 1}, x0[2] = {0, 0}, v0[2] = {2.0, -0.3};
+  vi_model *m = vi_test_model(2, M, C, K, 0.0, NULL, f0, w, 0.0, 0.8);
+  vi_test_events ex = {0}, ad = {0};
+  assert_int_equal(vi_test_run(m, VI_METHOD_EXACT, 1e-12, 1e-14, x0, v0, 1.85, &ex), VI_OK);
+  assert_int_equal(vi_test_run(m, VI_METHOD_ADAMS, 1e-12, 1e-14, x0, v0, 1.85, &ad), VI_OK);
+  double et = 0.0;
+  for (int i = 0; i < ex.count && i < ad.count; i++) {
+    assert_int_equal(ex.kind[i], VI_EVENT_IMPACT);
+    assert_true(ex.vn[i] > 0.0);
+    et = fmax(et, fabs(ex.t[i] - ad.t[i]));
+  }
+  print_message("two masses, stop at the origin: %d / %d impacts to t = 1.85, "
+                "times agree to %.3g\n", ex.count, ad.count, et);
+  assert_int_equal(ex.count, ad.count);
+  assert_true(ex.count >= 15);
+  assert_true(et <= 1e-9);
+  vi_test_events_free(&ex);
+  vi_test_events_free(&ad);
+  vi_model_destroy(&m);
+}
+
 /* A free mass at rest on the stop (no force at all): g = 0 for ever.  No
  * contact, no hang: the search must not bisect a motion that lies on the
  * stop within round-off. */
@@ -659,6 +689,7 @@ int main(void)
       cmocka_unit_test(test_cancel),
       cmocka_unit_test(test_nonproportional_soft),
       cmocka_unit_test(test_resting_on_stop),
+      cmocka_unit_test(test_two_mass_stop_at_origin),
       cmocka_unit_test(test_free_free_chain_gravity),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
