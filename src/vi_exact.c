@@ -494,25 +494,35 @@ static int ex_start(vi_sim *s)
   d->z_ok = 0;
   d->t0 = s->t;
   double Om = d->Om, c = cos(Om * s->t), sn = sin(Om * s->t);
-  double hsc = 0.0, msc = fabs(m->xs);
+  /* A mode forced near its resonance with little damping has a harmonic
+   * particular solution amplified by A = max(lambda, Omega^2) / |lambda -
+   * Omega^2 + i d Omega| over its static scale, which q = H + w cancels
+   * while the motion builds up: where A > 1e6 and the round-off of that
+   * part exceeds the tolerance, CVODE goes on instead. */
+  double worst = 0.0;
+  int jw = -1;
   for (int j = 0; j < n; j++) {
     double H = m->pA[j] * c + m->pB[j] * sn;
     double Hd = Om * (m->pB[j] * c - m->pA[j] * sn);
     d->w0[j] = d->q[j] - H;
     d->wd0[j] = d->qd[j] - Hd;
-    double ap = fabs(m->psi[j]), rate = fmax(sqrt(m->lambda[j]), Om);
-    hsc += ap * hypot(m->pA[j], m->pB[j]);
-    msc += ap * (fabs(d->q[j]) + (rate > 0.0 ? fabs(d->qd[j]) / rate : 0.0));
+    double lam = m->lambda[j], dm = m->D[j + (size_t)j * n];
+    double amp = fmax(lam, Om * Om) / hypot(lam - Om * Om, dm * Om);
+    double hs = fabs(m->psi[j]) * hypot(m->pA[j], m->pB[j]);
+    if (amp > 1e6 && 4.0 * DBL_EPSILON * hs > s->atol * s->wnorm && hs > worst) {
+      worst = hs;
+      jw = j;
+    }
   }
-  /* A harmonic particular solution far larger than the motion itself (a
-   * lightly damped mode forced near resonance) cancels in q = H + w: the
-   * closed form would lose that many digits; CVODE goes on instead. */
-  d->handover = hsc > 1e7 * (msc + s->atol * s->wnorm);
+  d->handover = jw >= 0;
   if (d->handover)
     snprintf(s->handover_why, sizeof s->handover_why,
-             "the harmonic particular solution (%.3g) is %.2g times the "
-             "motion at t = %.9g: the closed form would cancel it", hsc,
-             hsc / msc, s->t);
+             "mode %d is forced %.3g times above its static response (near "
+             "resonance, little damping): the closed form would cancel its "
+             "particular solution %.3g", jw + 1,
+             fmax(m->lambda[jw], Om * Om) /
+                 hypot(m->lambda[jw] - Om * Om, m->D[jw + (size_t)jw * n] * Om),
+             worst);
   /* g, g', g'' now */
   double a = 0.0, b = 0.0, b2 = 0.0, hg, hgd;
   for (int i = 0; i < na; i++) {
@@ -532,8 +542,10 @@ static int ex_start(vi_sim *s)
   /* On the stop (after an impact, or a start there): measure g from here,
    * and skip the time in which g provably recedes, g' tau + g'' tau^2 / 2
    * + B3 tau^3 / 6 < 0. */
+  /* the round-off of g: of its terms, physical and modal */
   double scale = fabs(m->xs) + d->GH + 1e-3 * s->atol * s->wnorm;
   for (int i = 0; i < n; i++) scale += fabs(m->w[i] * s->z[2 * i]);
+  for (int i = 0; i < na; i++) scale += fabs(d->psi[i] * d->wk[i]);
   double tr = 0.0;
   d->gnoise = 64.0 * DBL_EPSILON * scale;
   if (fabs(g) <= d->gnoise) {
@@ -548,10 +560,12 @@ static int ex_start(vi_sim *s)
     tr *= 1.0 - 1e-6;
   }
   d->skip = s->t + tr;
-  /* grid: fine enough to see the end of a short flight */
+  /* grid: fine enough to see the end of a short flight, whose length is
+   * about 2 |g'| / g'' when g'' > 0 (a bounce); a tangential departure
+   * (g' ~ 0 and g'' <= 0, a release) starts no short flight */
+  double tf = gdd > 0.0 && gd < 0.0 ? fmax(tr, -2.0 * gd / gdd) : HUGE_VAL;
   d->p = 0;
-  while (tr > 0.0 && d->p < EX_LEVELS - EX_DEPTH - 1 &&
-         ldexp(d->h0, -d->p) > 4.0 * tr &&
+  while (d->p < EX_LEVELS - EX_DEPTH - 1 && ldexp(d->h0, -d->p) > 4.0 * tf &&
          ldexp(d->h0, -d->p - 1) >= 64.0 * DBL_EPSILON * fabs(s->t))
     d->p++;
   d->lmax = d->p + EX_DEPTH;
