@@ -4,6 +4,13 @@
  *   M x'' + C x' + K x = a cos(Omega t) + b sin(Omega t) + f0      (WB 1)
  *   w.x <= x_s, Newton impact with restitution r                     (WB 2)
  *
+ * Several stops w_k.x <= x_k (restitution r_k, k = 0, 1, ...) are allowed:
+ * two-sided clearances (a pair with opposite normals), stops on different
+ * coordinates.  Simultaneous contacts follow Newton's law for multiple
+ * contacts (vi_impact.h).  Stop 0 is "the stop" of the single-stop getters
+ * (vi_model_stop_vector, vi_model_clearance, ...), of orbits and of the
+ * exact method, which needs a model with one stop.
+ *
  * Life cycle: vi_model_create -> vi_model_set_* -> vi_model_setup ->
  * (getters, vi_sim_create) -> vi_model_destroy.  Every array is copied when
  * it is set; matrices are column-major with a leading dimension (LAPACK),
@@ -52,6 +59,27 @@ VI_API int vi_model_set_forcing(vi_model *m, double omega, const double *a,
  *  VI_ERR_NONFINITE, VI_ERR_ARG (w NULL). */
 VI_API int vi_model_set_stop(vi_model *m, const double *w, double x_s,
                              double r);
+/** Add a further stop w.x <= x_s with restitution r (appended: the first
+ *  stop added to a model without one is stop 0, as vi_model_set_stop
+ *  makes it; vi_model_set_stop later replaces stop 0 only).  Validation
+ *  and errors as vi_model_set_stop, the message naming the stop (1-based).
+ *  Stops should be independent where they can touch at once (the Delassus
+ *  matrix G of the touching stops positive definite); a stop whose
+ *  constraint cannot hold together with the others is not detected here,
+ *  but by vi_sim_set_initial.  @return as vi_model_set_stop, and
+ *  VI_ERR_NOMEM, VI_ERR_LIMIT. */
+VI_API int vi_model_add_stop(vi_model *m, const double *w, double x_s,
+                             double r);
+/** Number of stops set so far (also before setup). */
+VI_API int vi_model_num_stops(const vi_model *m);
+/** Stop k (0-based, below vi_model_num_stops): w [n], *x_s, *r receive it
+ *  (each may be NULL).  Also before setup.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_model_get_stop(const vi_model *m, int k, double *w,
+                             double *x_s, double *r);
+/** Delassus matrix G = W^T M^-1 W [ns x ns] of the stops (W = [w_0 ...]),
+ *  column-major, *ld receives ns; G_kk is stop k's compliance w_k^T M^-1
+ *  w_k.  NULL before setup. */
+VI_API const double *vi_model_delassus(const vi_model *m, int *ld);
 /** Validate everything, factor M, solve the modal problem, freeze.
  *  @return VI_OK, VI_ERR_STOP_VECTOR (no stop set), VI_ERR_NOT_SPD (M),
  *  VI_ERR_NOT_PSD (C or K), VI_ERR_LAPACK, VI_ERR_NOMEM, VI_ERR_STATE. */

@@ -95,6 +95,10 @@ typedef struct vi_event {
   const double *x;       /**< positions [n] at the event */
   const double *v_minus; /**< velocities [n] just before */
   const double *v_plus;  /**< velocities [n] just after */
+  int stop;        /**< the stop (0-based, vi_model_add_stop order): the one
+                        hit, stuck on or released; simultaneous contacts give
+                        one IMPACT event per stop that takes an impulse, in
+                        stop order, all with the same x, v_minus, v_plus */
 } vi_event;
 
 /** Progress as the monitor sees it. */
@@ -220,6 +224,11 @@ VI_API int vi_sim_get_state(const vi_sim *sim, double *t, double *x,
                             double *v);
 /** 1 while in a sticking phase, else 0. */
 VI_API int vi_sim_is_sticking(const vi_sim *sim);
+/** Kinetic energy lost at each stop since the sim was created: ie [ns]
+ *  (vi_model_num_stops) receives, per stop, the impacts' losses and those
+ *  of the chattering tails summed into sticking; their sum is the ledger's
+ *  total impact loss.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_sim_get_stop_losses(const vi_sim *sim, double *ie);
 /** Value of a statistic (VI_STAT_*); -1 for an unknown one. */
 VI_API int64_t vi_sim_get_stat(const vi_sim *sim, int which);
 
