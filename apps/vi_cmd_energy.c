@@ -33,11 +33,21 @@ static int reduced_check(const vi_model *m, int k, double rS, double *vN,
   return !ok;
 }
 
-static int on_monitor(const vi_progress *p, void *user)
+
+/* A JSON string: the scene's name is the user's text. */
+static void json_str(const char *s)
 {
-  (void)p;
-  (void)user;
-  return vi_app_interrupted;
+  putchar('"');
+  for (; *s; s++) {
+    unsigned char ch = (unsigned char)*s;
+    if (ch == '"' || ch == '\\')
+      printf("\\%c", ch);
+    else if (ch < 0x20)
+      printf("\\u%04x", ch);
+    else
+      putchar(ch);
+  }
+  putchar('"');
 }
 
 /* The analysis to OUT.h5 (/model, /modal, /orbits); no file on failure. */
@@ -46,17 +56,21 @@ static int write_orbit(const app_opts *o, const vi_scene *sc, const vi_model *m,
 {
   vi_writer *w = NULL;
   vi_diag d;
-  if (vi_writer_create(o->out, m, 0, &w, &d)) {
+  char part[VI_APP_PATH + 8];
+  snprintf(part, sizeof part, "%s.part", o->out_target);
+  vi_app_arm_parts(part, NULL); /* a signal now removes it and exits */
+  if (vi_writer_create(o->out_target, m, 0, &w, &d)) {
     fprintf(stderr, "vibroimpact: %s\n", d.message);
     return 1;
   }
   if (vi_writer_write_header(w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
                              vi_scene_method(sc)) ||
-      vi_writer_orbit(w, orb) || vi_writer_close(&w, 1)) {
+      vi_writer_orbit(w, orb) || vi_writer_finish(w, 1)) {
     fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(w));
     vi_writer_abort(&w);
     return 1;
   }
+  vi_writer_abort(&w); /* frees; the file is already in place */
   return 0;
 }
 
@@ -86,13 +100,11 @@ int vi_cmd_energy(const app_opts *o)
        (st = vi_orbit_set_tolerances(
             orb, o->rtol, o->atol > 0 ? o->atol : o->rtol * 1e-2))) ||
       (st = vi_orbit_set_initial(orb, NULL, NULL)) ||
-      (st = vi_orbit_set_monitor(orb, on_monitor, NULL)) ||
       (st = vi_orbit_find(orb))) {
-    if (st == VI_STOPPED || vi_app_interrupted)
-      fprintf(stderr, "vibroimpact: energy: interrupted\n");
-    else
-      fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st),
-              vi_orbit_errmsg(orb));
+    /* no file exists while the orbit is sought: SIGINT/SIGTERM end the
+     * process at once (vi_app_arm_parts) */
+    fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st),
+            vi_orbit_errmsg(orb));
     goto done;
   }
   /* the file holds what was found, P(1,1) or not */
@@ -129,12 +141,15 @@ int vi_cmd_energy(const app_opts *o)
                 !reduced_check(m, 1, rS[0], &cv, &cg, &cp, &cpn, &cpm);
   vi_orbit_min_gap(orb, &gmin);
   if (o->json) {
-    printf("{\"scene\": \"%s\", \"period\": %.17g, \"impact_phase\": %.17g, "
+    printf("{\"scene\": ");
+    json_str(vi_scene_name(sc));
+    printf(", \"period\": %.17g, \"impact_phase\": %.17g, "
+           "\"impact_phase_fraction\": %.17g, "
            "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
            "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, "
            "\"min_gap\": %.17g, "
            "\"modes\": [",
-           vi_scene_name(sc), T, ph, vN, KE, RE, IE, vi_model_restitution(m),
+           T, ph, ph / T, vN, KE, RE, IE, vi_model_restitution(m),
            rr, cl, gmin);
     for (int j = 0; j < n; j++)
       printf(
@@ -158,9 +173,10 @@ int vi_cmd_energy(const app_opts *o)
   } else {
     printf("P(1,1) energy balance, scene %s (Wagg & Bishop 2000, eqs. 11-13)\n",
            vi_scene_name(sc));
-    printf("  period %.10g, impact phase %.10g, v_N %.10g, deepest excursion "
+    printf("  period T = %.10g; impact time mod T = %.10g (%.6f T); v_N %.10g\n"
+           "  deepest excursion from the stop min(w.x - x_s) over a period "
            "%.6g\n",
-           T, ph, vN, gmin);
+           T, ph, ph / T, vN, gmin);
     printf("  %4s %12s %10s %14s %14s %14s %14s %10s\n", "mode", "omega",
            "zeta", "FE", "DE", "XE", "FE-DE-XE", "r_eff");
     for (int j = 0; j < n; j++)
@@ -182,8 +198,8 @@ int vi_cmd_energy(const app_opts *o)
     if (checked)
       printf("  1-mode model run with r_S: v_N %.8g (full %.8g), deepest "
              "excursion %.6g "
-             "(full %.6g), phase %.6g (full %.6g)\n",
-             cv, vN, cg, gmin, cp, ph);
+             "(full %.6g), impact time mod T %.6g T (full %.6g T)\n",
+             cv, vN, cg, gmin, cp / T, ph / T);
     else if (n > 1 && ok[0])
       printf("  1-mode model run with r_S: not P(1,1) (P(%d,%d))\n", cpn, cpm);
   }

@@ -8,24 +8,44 @@
 
 #include "vi_app.h"
 
+void vi_app_print_diag(const vi_diag *d, int st)
+{
+  vi_diag dd = *d;
+  char msg[1200];
+  if (!dd.code) {
+    dd.code = st;
+    if (!dd.message[0])
+      snprintf(dd.message, sizeof dd.message, "%s", vi_strerror(st));
+  }
+  vi_diag_format(&dd, msg, sizeof msg);
+  fprintf(stderr, "vibroimpact: %s\n", msg);
+}
+
 int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model)
 {
   vi_diag d;
-  char msg[1200];
-  int st = o->scene ? vi_scene_load(o->scene, scene, &d)
+  memset(&d, 0, sizeof d);
+  int st = o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
+                                            o->max_depth, scene, &d)
                     : vi_scene_parse(vi_scene_default_text(), -1,
                                      "<default scene: fig2>", scene, &d);
-  if (!st) st = vi_scene_set_run(*scene, o->rtol, o->atol, o->periods, o->method);
+  if (!st && (st = vi_scene_set_run(*scene, o->rtol, o->atol, o->periods,
+                                    o->method)))
+    snprintf(d.message, sizeof d.message, "%s",
+             st == VI_ERR_FREQUENCY
+                 ? "--periods needs a forcing frequency (forcing.omega)"
+             : st == VI_ERR_TOLERANCE
+                 ? "--rtol must lie in [4.4e-16, 0.1] (run.rtol's range)"
+                 : "cannot apply the command-line overrides");
+  /* the memory the model will need, before any of it is allocated */
+  if (!st) st = vi_scene_check_memory(*scene, o->max_memory, &d);
   if (!st) st = vi_scene_create_model(*scene, model, &d);
   if (st) {
-    if (!d.code) {
-      d.code = st;
-      snprintf(d.message, sizeof d.message, "%s", vi_strerror(st));
-    }
-    vi_diag_format(&d, msg, sizeof msg);
-    fprintf(stderr, "vibroimpact: %s\n", msg);
+    vi_app_print_diag(&d, st);
     vi_scene_destroy(scene);
-    return st == VI_ERR_IO || st == VI_ERR_NOMEM ? 1 : 2;
+    /* a scene that cannot be read is an input error too; only running out
+     * of memory is the machine's */
+    return st == VI_ERR_NOMEM ? 1 : 2;
   }
   return 0;
 }
@@ -57,7 +77,7 @@ static int on_event(const vi_event *ev, void *user)
     fprintf(c->csv, "%lld,%.17g,%.17g", (long long)c->impacts, ev->t, ev->vn);
     for (int i = 0; i < ev->n; i++) fprintf(c->csv, ",%.17g", ev->x[i]);
     for (int i = 0; i < ev->n; i++) fprintf(c->csv, ",%.17g", ev->v_minus[i]);
-    if (fputc('\n', c->csv) == EOF) c->io_err = 1;
+    if (fputc('\n', c->csv) == EOF || ferror(c->csv)) c->io_err = 2;
   }
   c->impacts++;
   return c->io_err;
@@ -84,11 +104,61 @@ static int on_monitor(const vi_progress *p, void *user)
   if (c->o->progress) {
     double frac = (p->t - c->t0) / (c->t_end - c->t0), el = now() - c->wall0;
     int bar = (int)(30 * frac);
+    bar = bar < 0 ? 0 : bar > 30 ? 30 : bar;
     fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %lld impacts  %.3g time units/s ",
             bar, "##############################", 30 - bar, "", 100 * frac,
             (long long)p->impacts, el > 0 ? (p->t - c->t0) / el : 0.0);
   }
-  return vi_app_interrupted;
+  return 0;
+}
+
+static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
+                    const vi_model *m, const vi_sim *s, const run_ctx *c,
+                    double period, int ledger, double wall, const long *rows)
+{
+  int n = c->n;
+  const double *om = vi_model_omega(m);
+  const char *used = vi_method_name(vi_sim_method_used(s)),
+             *note = vi_sim_method_note(s);
+  fprintf(f, "vibroimpact %s: scene %s (n = %d)\n", vi_version_string(),
+          vi_scene_name(sc), n);
+  fprintf(f, "  modes     omega =");
+  for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);
+  fprintf(f, "%s\n", n > 8 ? " ..." : "");
+  fprintf(f, "  run       t = %g .. %g (%.6g forcing periods), method %s, "
+          "rtol %g, atol %g\n", c->t0, c->t_end, (c->t_end - c->t0) / period,
+          used ? used : "?", vi_scene_rtol(sc), vi_scene_atol(sc));
+  if (note && note[0]) fprintf(f, "  method    %s\n", note);
+  fprintf(f, "  impacts   %lld (%.4f per forcing period)", (long long)c->impacts,
+          c->impacts / ((c->t_end - c->t0) / period));
+  if (c->impacts)
+    fprintf(f, "; last at t = %.10g, v_n = %.10g", c->t_last, c->vn_last);
+  fputc('\n', f);
+  if (ledger) {
+    double ie;
+    vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL, &ie);
+    fprintf(f, "  ledger    energy lost at impacts %.10g; largest closure "
+            "residual %.3g\n", ie, vi_sim_ledger_max_residual(s));
+  }
+  /* every statistic the library keeps, by its own name */
+  fprintf(f, "  stats    ");
+  for (int k = 0, col = 11; k < VI_STAT_COUNT; k++) {
+    const char *name = vi_stat_name(k);
+    if (!name) continue;
+    char item[96];
+    int len = snprintf(item, sizeof item, " %s %lld", name,
+                       (long long)vi_sim_get_stat(s, k));
+    if (col + len > 78) {
+      fprintf(f, "\n           ");
+      col = 11;
+    }
+    fputs(item, f);
+    col += len;
+  }
+  fprintf(f, "\n  cost      %.3f ms\n", 1e3 * wall);
+  if (o->out)
+    fprintf(f, "  output    %s: %ld events, %ld samples, %ld ledger rows\n",
+            o->out, rows[0], rows[1], rows[2]);
 }
 
 int vi_cmd_run(const app_opts *o)
@@ -97,8 +167,9 @@ int vi_cmd_run(const app_opts *o)
   vi_model *m = NULL;
   vi_sim *s = NULL;
   run_ctx c = {o, NULL, NULL, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-  char part[4096] = "";
+  char part[VI_APP_PATH + 8] = "", h5part[VI_APP_PATH + 8] = "";
   vi_diag d;
+  memset(&d, 0, sizeof d);
   int rc = vi_app_load(o, &sc, &m), st;
   if (rc) return rc;
   rc = 1;
@@ -106,20 +177,25 @@ int vi_cmd_run(const app_opts *o)
   c.n = n;
   c.t0 = vi_scene_t0(sc);
   c.t_end = vi_scene_t_end(sc);
-  int ledger = vi_scene_wants(sc, "ledger");
+  /* only what something consumes: the ledger feeds the file and the
+   * summary; samples go only into a file */
+  int ledger = vi_scene_wants(sc, "ledger") && (o->out || !o->quiet);
   c.store_events = vi_scene_wants(sc, "impacts");
-  /* nothing the scene did not ask for: samples only into a file */
   int spp = o->out ? vi_scene_samples_per_period(sc) : 0;
   if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
-    char msg[1200];
-    if (!d.code) snprintf(d.message, sizeof d.message, "%s", vi_sim_errmsg(s));
-    vi_diag_format(&d, msg, sizeof msg);
-    fprintf(stderr, "vibroimpact: %s\n", msg);
-    rc = 2;
+    if (!d.message[0]) snprintf(d.message, sizeof d.message, "%s", vi_sim_errmsg(s));
+    vi_app_print_diag(&d, st);
+    rc = st == VI_ERR_NOMEM ? 1 : 2;
     goto done;
   }
+  /* from here files exist: a signal before the run polls removes them */
+  if (o->out) snprintf(h5part, sizeof h5part, "%s.part", o->out_target);
+  if (o->csv && strcmp(o->csv, "-"))
+    snprintf(part, sizeof part, "%s.part", o->csv_target);
+  vi_app_arm_parts(h5part, part);
   if (o->out) {
-    if (vi_writer_create(o->out, m, vi_scene_wants(sc, "compress"), &c.w, &d)) {
+    if (vi_writer_create(o->out_target, m, vi_scene_wants(sc, "compress"),
+                         &c.w, &d)) {
       fprintf(stderr, "vibroimpact: %s\n", d.message);
       goto done;
     }
@@ -133,8 +209,8 @@ int vi_cmd_run(const app_opts *o)
     if (!strcmp(o->csv, "-")) {
       c.csv = stdout;
     } else {
-      snprintf(part, sizeof part, "%s.part", o->csv);
-      if (!(c.csv = fopen(part, "w"))) {
+      remove(part); /* a stale one of ours (vi_output_resolve checked it) */
+      if (!(c.csv = fopen(part, "wx"))) {
         fprintf(stderr, "vibroimpact: cannot write '%s': %s\n", part, strerror(errno));
         part[0] = '\0';
         goto done;
@@ -148,38 +224,45 @@ int vi_cmd_run(const app_opts *o)
   double omega = vi_model_omega_forcing(m);
   double period = omega > 0 ? 2 * M_PI / omega : (c.t_end - c.t0) / 100;
   vi_sim_set_event_callback(s, on_event, &c);
-  vi_sim_set_monitor(s, on_monitor, &c, period);
+  if (o->progress) vi_sim_set_monitor(s, on_monitor, &c, period);
+  vi_sim_set_cancel(s, vi_app_cancel, NULL);
   if (spp > 0) vi_sim_set_sampling(s, period / spp, on_sample, &c);
   if (ledger) {
     vi_sim_enable_ledger(s, 1);
     vi_sim_set_ledger_callback(s, on_ledger, &c);
   }
   c.wall0 = now();
+  vi_app_set_polling(1);
   st = vi_sim_run(s, c.t_end);
   double wall = now() - c.wall0;
   if (o->progress) fputc('\n', stderr);
   if (st < 0) {
+    /* VI_ERR_INVARIANT: a non-finite or penetrating state, said where */
     fprintf(stderr, "vibroimpact: %s: %s\n", vi_strerror(st), vi_sim_errmsg(s));
     goto done;
   }
   if (c.io_err) {
     fprintf(stderr, "vibroimpact: writing output failed: %s\n",
-            c.w ? vi_writer_errmsg(c.w) : "CSV write error");
+            c.io_err == 1 && c.w ? vi_writer_errmsg(c.w)
+            : c.csv == stdout    ? "cannot write the standard output"
+                                 : "cannot write the impacts CSV (disk full?)");
     goto done;
   }
   int complete = st == VI_OK;
   long rows[3] = {0, 0, 0};
   static const char *tables[3] = {"impacts", "trajectory", "ledger"};
   for (int k = 0; k < 3 && c.w; k++) rows[k] = vi_writer_rows(c.w, tables[k]);
-  if (c.w && vi_writer_close(&c.w, complete)) {
+  if (c.w && (vi_writer_run_info(c.w, s) || vi_writer_finish(c.w, complete))) {
     fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(c.w));
     goto done;
   }
   if (c.csv && c.csv != stdout) {
-    int bad = ferror(c.csv) | fclose(c.csv);
+    int bad = ferror(c.csv) | fflush(c.csv) | fsync(fileno(c.csv));
+    bad |= fclose(c.csv);
     c.csv = NULL;
-    if (bad || rename(part, o->csv)) {
-      fprintf(stderr, "vibroimpact: cannot write '%s': %s\n", o->csv, strerror(errno));
+    if (bad || rename(part, o->csv_target)) {
+      fprintf(stderr, "vibroimpact: cannot write '%s': %s\n", o->csv_target,
+              strerror(errno));
       goto done;
     }
     part[0] = '\0';
@@ -187,42 +270,19 @@ int vi_cmd_run(const app_opts *o)
   if (!complete) {
     double t;
     vi_sim_get_state(s, &t, NULL, NULL);
-    fprintf(stderr, "vibroimpact: interrupted at t = %g%s\n", t,
+    fprintf(stderr, "vibroimpact: interrupted (%s) at t = %g%s\n",
+            vi_app_signal == SIGTERM ? "SIGTERM" : "SIGINT", t,
             o->out ? "; the output file is valid and marked incomplete" : "");
+    rc = vi_app_interrupt_status();
     goto done;
   }
-  if (!o->quiet) {
-    FILE *f = c.csv == stdout ? stderr : stdout;
-    static const char *mn[] = {"adams", "bdf", "exact"};
-    const double *om = vi_model_omega(m);
-    fprintf(f, "vibroimpact %s: scene %s (n = %d)\n", vi_version_string(),
-            vi_scene_name(sc), n);
-    fprintf(f, "  modes     omega =");
-    for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);
-    fprintf(f, "%s\n", n > 8 ? " ..." : "");
-    fprintf(f, "  run       t = %g .. %g (%.6g forcing periods), method %s, rtol %g, atol %g\n",
-            c.t0, c.t_end, (c.t_end - c.t0) / period, mn[vi_scene_method(sc)],
-            vi_scene_rtol(sc), vi_scene_atol(sc));
-    fprintf(f, "  impacts   %lld (%.4f per forcing period)", (long long)c.impacts,
-            c.impacts / ((c.t_end - c.t0) / period));
-    if (c.impacts)
-      fprintf(f, "; last at t = %.10g, v_n = %.10g", c.t_last, c.vn_last);
-    fprintf(f, "\n  events    %lld sticking phases, %lld graze checks\n",
-            (long long)vi_sim_get_stat(s, VI_STAT_STICKS),
-            (long long)vi_sim_get_stat(s, VI_STAT_GRAZE_CHECKS));
-    if (ledger) {
-      double ie;
-      vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL, &ie);
-      fprintf(f, "  ledger    energy lost at impacts %.10g; largest closure "
-              "residual %.3g\n", ie, vi_sim_ledger_max_residual(s));
-    }
-    fprintf(f, "  cost      %lld steps, %lld RHS evaluations, %.3f ms\n",
-            (long long)vi_sim_get_stat(s, VI_STAT_STEPS),
-            (long long)vi_sim_get_stat(s, VI_STAT_RHS_EVALS), 1e3 * wall);
-    if (o->out)
-      fprintf(f, "  output    %s: %ld events, %ld samples, %ld ledger rows\n",
-              o->out, rows[0], rows[1], rows[2]);
+  if (vi_app_signal) { /* after the run had finished: the file is whole */
+    rc = vi_app_interrupt_status();
+    goto done;
   }
+  if (!o->quiet)
+    summary(c.csv == stdout ? stderr : stdout, o, sc, m, s, &c, period, ledger,
+            wall, rows);
   rc = 0;
 done:
   if (c.csv && c.csv != stdout) fclose(c.csv);

@@ -5,8 +5,8 @@
  *   vibroimpact restitution --re RE --ke KE_i
  *
  * With no scene it runs the embedded default: the paper's Fig. 2.
- * Exit status: 0 success, 1 run-time error (or interrupted), 2 usage or
- * input error. */
+ * Exit status: 0 success, 1 run-time error, 2 usage or input error,
+ * 128 + signal when interrupted (130 SIGINT, 143 SIGTERM). */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -19,25 +19,85 @@
 
 #include "vi_app.h"
 
-volatile sig_atomic_t vi_app_interrupted;
-static void on_signal(int sig) { (void)sig; vi_app_interrupted = 1; }
+static int cmd_restitution(const app_opts *o);
 
+/* The subcommands; the first is the default.  Add a row to add one. */
+static const app_cmd cmds[] = {
+    {"run", vi_cmd_run, "[SCENE.yaml] [options]", "simulate a scene"},
+    {"energy", vi_cmd_energy, "[SCENE.yaml] [options]",
+     "P(1,1) energy balance (WB 11-13)"},
+    {"restitution", cmd_restitution, "--re RE --ke KE_I",
+     "r = sqrt(1 - RE/KE_i) (WB 13)"},
+};
+enum { NCMD = sizeof cmds / sizeof cmds[0] };
+
+/* ---- signals ------------------------------------------------------------- */
+volatile sig_atomic_t vi_app_signal;
+static volatile sig_atomic_t polling, armed;
+static char part_a[VI_APP_PATH + 8], part_b[VI_APP_PATH + 8];
+
+static void on_signal(int sig)
+{
+  vi_app_signal = sig;
+  if (polling) return; /* the run sees the flag within a step */
+  /* nothing polls: parsing, model building, eigen-solves, writing a
+   * header.  Leave nothing on disk and go (async-signal-safe calls only). */
+  if (armed) {
+    if (part_a[0]) unlink(part_a);
+    if (part_b[0]) unlink(part_b);
+  }
+  _exit(128 + sig);
+}
+
+void vi_app_arm_parts(const char *p1, const char *p2)
+{
+  armed = 0;
+  snprintf(part_a, sizeof part_a, "%s", p1 ? p1 : "");
+  snprintf(part_b, sizeof part_b, "%s", p2 ? p2 : "");
+  armed = 1;
+}
+
+void vi_app_set_polling(int on) { polling = on; }
+
+int vi_app_cancel(void *user)
+{
+  (void)user;
+  return vi_app_signal != 0;
+}
+
+int vi_app_interrupt_status(void)
+{
+  return vi_app_signal ? 128 + vi_app_signal : 130;
+}
+
+/* ---- usage and arguments ------------------------------------------------- */
 static void usage(FILE *f)
 {
+  for (int k = 0; k < NCMD; k++)
+    fprintf(f, "%s vibroimpact %s %s\n%*s%s\n", k ? "      " : "usage:",
+            cmds[k].name, cmds[k].synopsis, 9, "", cmds[k].what);
   fprintf(f,
-    "usage: vibroimpact [run] [SCENE.yaml] [options]   simulate a scene\n"
-    "       vibroimpact energy [SCENE.yaml] [options]  P(1,1) energy balance (WB 11-13)\n"
-    "       vibroimpact restitution --re RE --ke KE_I  r = sqrt(1 - RE/KE_i) (WB 13)\n"
     "With no scene: the embedded default, Wagg & Bishop (2000) Fig. 2.\n\n"
-    "  -o, --output FILE   write the run to an HDF5 file (FILE.part until done)\n"
+    "  -o, --output FILE   write the run to an HDF5 file (FILE.part until "
+    "done;\n"
+    "                      regular files only, symbolic links followed)\n"
     "  --impacts-csv FILE  one line per impact, pre-impact state; '-' = stdout\n"
     "  --periods P         forcing periods to simulate (overrides the scene)\n"
     "  --rtol R, --atol A  tolerances (override the scene)\n"
-    "  --method M          adams, bdf or exact (closed-form flow)\n"
+    "  --method M          ");
+  for (int m = 0; vi_method_name(m); m++)
+    fprintf(f, "%s%s", m ? ", " : "", vi_method_name(m));
+  fprintf(f, "\n"
     "  --json              (energy) print one JSON object\n"
     "  --quiet             no summary and no progress bar\n"
+    "  --max-scene-size B  largest scene file read (default %lld bytes)\n"
+    "  --max-depth D       deepest YAML nesting (default %d)\n"
+    "  --max-memory B      memory a model may need (default: the machine's\n"
+    "                      MemAvailable); B may end in K, M or G\n"
     "  --version, --help\n\n"
-    "Exit status: 0 success, 1 run-time error or interrupted, 2 usage or input error.\n");
+    "Exit status: 0 success, 1 run-time error, 2 usage or input error,\n"
+    "128 + signal when interrupted (130 SIGINT, 143 SIGTERM).\n",
+    (long long)VI_SCENE_MAX_BYTES, VI_SCENE_MAX_DEPTH);
 }
 
 static int num(const char *opt, const char *s, double *out)
@@ -53,46 +113,156 @@ static int num(const char *opt, const char *s, double *out)
   return 1;
 }
 
-static int restitution(double re, double ke)
+/* A size in bytes with an optional K, M or G suffix (powers of 1024). */
+static int bytes(const char *opt, const char *s, double *out)
+{
+  char *end;
+  errno = 0;
+  double v = strtod(s, &end);
+  double mul = 1;
+  if (end != s && *end && !end[1]) {
+    mul = *end == 'K' || *end == 'k'   ? 1024.0
+          : *end == 'M' || *end == 'm' ? 1048576.0
+          : *end == 'G' || *end == 'g' ? 1073741824.0
+                                       : 0;
+    if (mul > 0) end++;
+  }
+  if (errno || end == s || *end || !isfinite(v) || !(v > 0) || !(mul > 0)) {
+    fprintf(stderr, "vibroimpact: %s: '%s' is not a size > 0 (bytes, or "
+            "with K, M, G)\n", opt, s);
+    return 0;
+  }
+  *out = v * mul;
+  return 1;
+}
+
+static int cmd_restitution(const app_opts *o)
 {
   double r;
-  if (vi_restitution_from_energy(re, ke, &r) != VI_OK) {
+  if (isnan(o->re) || isnan(o->ke)) {
+    fprintf(stderr, "vibroimpact: restitution needs --re and --ke\n");
+    return 2;
+  }
+  if (vi_restitution_from_energy(o->re, o->ke, &r) != VI_OK) {
     fprintf(stderr, "vibroimpact: restitution: need KE_i > 0 and 0 <= RE <= "
-            "KE_i (got RE = %g, KE_i = %g)\n", re, ke);
+            "KE_i (got RE = %g, KE_i = %g)\n", o->re, o->ke);
     return 2;
   }
   printf("%.17g\n", r);
   return 0;
 }
 
-int main(int argc, char **argv)
+/* Edit distance (insertions, deletions, substitutions), capped at 9. */
+static int distance(const char *a, const char *b)
 {
-  gsl_set_error_handler_off();
-  if (vi_version_number() != VI_VERSION_NUMBER) {
-    fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
-            VI_VERSION_STRING, vi_version_string());
+  size_t la = strlen(a), lb = strlen(b);
+  if (la > 30 || lb > 30) return 9;
+  int row[32];
+  for (size_t j = 0; j <= lb; j++) row[j] = (int)j;
+  for (size_t i = 1; i <= la; i++) {
+    int diag = row[0];
+    row[0] = (int)i;
+    for (size_t j = 1; j <= lb; j++) {
+      int up = row[j], best = diag + (a[i - 1] != b[j - 1]);
+      if (up + 1 < best) best = up + 1;
+      if (row[j - 1] + 1 < best) best = row[j - 1] + 1;
+      diag = up;
+      row[j] = best;
+    }
+  }
+  return row[lb] < 9 ? row[lb] : 9;
+}
+
+/* A first argument that is neither a command nor an existing file but
+ * looks like a command: the command meant, else NULL. */
+static const char *suggest(const char *arg)
+{
+  if (!arg[0] || arg[0] == '-' || strchr(arg, '/') || strchr(arg, '.') ||
+      access(arg, F_OK) == 0)
+    return NULL;
+  const char *best = NULL;
+  int bd = 3;
+  for (int k = 0; k < NCMD; k++) {
+    const char *nm = cmds[k].name;
+    int d = strncmp(nm, arg, strlen(arg)) == 0 ? 0 : distance(arg, nm);
+    if (d < bd) {
+      bd = d;
+      best = nm;
+    }
+  }
+  return best;
+}
+
+/* Output paths are checked before anything is computed. */
+static int check_output(const char *path, char *target)
+{
+  vi_diag d;
+  if (vi_output_resolve(path, target, VI_APP_PATH, &d)) {
+    fprintf(stderr, "vibroimpact: %s\n", d.message);
     return 1;
   }
-  app_opts o = {NULL, NULL, NULL, 0, 0, 0, -1, 0, 0, 0};
-  const char *cmd = "run";
-  int first = 1;
-  if (argc > 1 && (!strcmp(argv[1], "run") || !strcmp(argv[1], "energy") ||
-                   !strcmp(argv[1], "restitution"))) {
-    cmd = argv[1];
-    first = 2;
+  return 0;
+}
+
+/* Standard output is checked like a file: a lost summary is an error. */
+static int close_stdout(int rc)
+{
+  int bad = fflush(stdout) != 0 || ferror(stdout);
+  int e = errno;
+  if (fclose(stdout) != 0 && !bad) {
+    bad = 1;
+    e = errno;
   }
+  if (bad) {
+    fprintf(stderr, "vibroimpact: cannot write the standard output: %s\n",
+            strerror(e ? e : EIO));
+    return rc ? rc : 1;
+  }
+  return rc;
+}
+
+int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
+{
+  app_opts o;
+  memset(&o, 0, sizeof o);
+  o.method = -1;
+  o.re = o.ke = NAN;
+  const app_cmd *cmd = &cmds[0];
+  int first = 1;
+  if (argc > 1) {
+    for (int k = 0; k < NCMD; k++)
+      if (!strcmp(argv[1], cmds[k].name)) {
+        cmd = &cmds[k];
+        first = 2;
+      }
+    const char *s = first == 1 ? suggest(argv[1]) : NULL;
+    if (s) {
+      fprintf(stderr, "vibroimpact: '%s' is neither a command nor a file; "
+              "did you mean 'vibroimpact %s'?\n", argv[1], s);
+      return 2;
+    }
+  }
+  enum { O_MAXSIZE = 256, O_MAXDEPTH, O_MAXMEM };
   static const struct option lo[] = {
       {"output", required_argument, 0, 'o'}, {"impacts-csv", required_argument, 0, 'c'},
       {"periods", required_argument, 0, 'p'}, {"rtol", required_argument, 0, 'r'},
       {"atol", required_argument, 0, 'a'},   {"method", required_argument, 0, 'm'},
       {"json", no_argument, 0, 'j'},         {"quiet", no_argument, 0, 'q'},
       {"re", required_argument, 0, 'R'},     {"ke", required_argument, 0, 'K'},
+      {"max-scene-size", required_argument, 0, O_MAXSIZE},
+      {"max-depth", required_argument, 0, O_MAXDEPTH},
+      {"max-memory", required_argument, 0, O_MAXMEM},
       {"version", no_argument, 0, 'V'},      {"help", no_argument, 0, 'h'},
       {0, 0, 0, 0}};
-  double re = NAN, ke = NAN;
   int c;
-  optind = first;
+  double v;
+  optind = 0; /* 0: glibc starts afresh (a second call, the fuzz target) */
   opterr = 0;
+  /* "+": stop at the first non-option, as POSIX; then skip the command */
+  if (first == 2) {
+    argv++;
+    argc--;
+  }
   while ((c = getopt_long(argc, argv, "o:", lo, NULL)) != -1) {
     switch (c) {
     case 'o': o.out = optarg; break;
@@ -110,24 +280,41 @@ int main(int argc, char **argv)
       if (!(o.atol > 0)) { fprintf(stderr, "vibroimpact: --atol must be > 0\n"); return 2; }
       break;
     case 'm':
-      if (!strcmp(optarg, "adams")) o.method = VI_METHOD_ADAMS;
-      else if (!strcmp(optarg, "bdf")) o.method = VI_METHOD_BDF;
-      else if (!strcmp(optarg, "exact")) o.method = VI_METHOD_EXACT;
-      else {
-        fprintf(stderr, "vibroimpact: --method: '%s' is not adams, bdf or exact\n", optarg);
+      if ((o.method = vi_method_from_name(optarg)) < 0) {
+        fprintf(stderr, "vibroimpact: --method: '%s' is not one of", optarg);
+        for (int m = 0; vi_method_name(m); m++)
+          fprintf(stderr, "%s %s", m ? "," : "", vi_method_name(m));
+        fputc('\n', stderr);
         return 2;
       }
       break;
     case 'j': o.json = 1; break;
     case 'q': o.quiet = 1; break;
-    case 'R': if (!num("--re", optarg, &re)) return 2; break;
-    case 'K': if (!num("--ke", optarg, &ke)) return 2; break;
+    case 'R': if (!num("--re", optarg, &o.re)) return 2; break;
+    case 'K': if (!num("--ke", optarg, &o.ke)) return 2; break;
+    case O_MAXSIZE:
+      if (!bytes("--max-scene-size", optarg, &v)) return 2;
+      o.max_scene_bytes = v > 9e18 ? INT64_MAX : (int64_t)v;
+      break;
+    case O_MAXDEPTH:
+      if (!num("--max-depth", optarg, &v)) return 2;
+      if (!(v >= 1 && v <= 1e6) || v != floor(v)) {
+        fprintf(stderr, "vibroimpact: --max-depth must be a whole number in "
+                "[1, 1000000]\n");
+        return 2;
+      }
+      o.max_depth = (int)v;
+      break;
+    case O_MAXMEM:
+      if (!bytes("--max-memory", optarg, &o.max_memory)) return 2;
+      break;
     case 'V':
       printf("vibroimpact %s (SUNDIALS %s)\n", vi_version_string(), vi_sundials_version());
       return 0;
     case 'h': usage(stdout); return 0;
     default:
-      fprintf(stderr, "vibroimpact: unknown or incomplete option '%s'\n", argv[optind - 1]);
+      fprintf(stderr, "vibroimpact: unknown or incomplete option '%s'\n",
+              optind > 0 && optind <= argc ? argv[optind - 1] : "?");
       usage(stderr);
       return 2;
     }
@@ -137,18 +324,46 @@ int main(int argc, char **argv)
     fprintf(stderr, "vibroimpact: unexpected argument '%s'\n", argv[optind]);
     return 2;
   }
-  if (!strcmp(cmd, "restitution")) {
-    if (isnan(re) || isnan(ke)) {
-      fprintf(stderr, "vibroimpact: restitution needs --re and --ke\n");
-      return 2;
-    }
-    return restitution(re, ke);
+  *op = o;
+  *cmdp = cmd;
+  return -1;
+}
+
+int main(int argc, char **argv)
+{
+  gsl_set_error_handler_off();
+  if (vi_version_number() != VI_VERSION_NUMBER) {
+    fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
+            VI_VERSION_STRING, vi_version_string());
+    return 1;
   }
-  o.progress = !o.quiet && isatty(STDERR_FILENO);
+  /* signals first: from here on every phase answers them */
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, NULL);
   sigaction(SIGTERM, &sa, NULL);
-  return !strcmp(cmd, "energy") ? vi_cmd_energy(&o) : vi_cmd_run(&o);
+
+  static app_opts o;
+  const app_cmd *cmd = NULL;
+  int rc = vi_app_parse(argc, argv, &o, &cmd);
+  if (rc >= 0) return close_stdout(rc);
+  /* the check creates and removes PATH.part: no signal in between */
+  sigset_t block, old;
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  sigprocmask(SIG_BLOCK, &block, &old);
+  int bad = (o.out && check_output(o.out, o.out_target)) ||
+            (o.csv && strcmp(o.csv, "-") && check_output(o.csv, o.csv_target));
+  sigprocmask(SIG_SETMASK, &old, NULL);
+  if (bad) return 1;
+  if (o.out && o.csv && strcmp(o.csv, "-") &&
+      !strcmp(o.out_target, o.csv_target)) {
+    fprintf(stderr, "vibroimpact: -o and --impacts-csv name the same file "
+            "%s\n", o.out_target);
+    return 2;
+  }
+  o.progress = !o.quiet && isatty(STDERR_FILENO);
+  return close_stdout(cmd->fn(&o));
 }

@@ -8,7 +8,10 @@ Writes PNGs into DIR (default: beside the file):
                         (Wagg & Bishop 2000, Fig. 2)
   NAME_gap.png          the impacting coordinate w.x against time (Fig. 5)
   NAME_ledger.png       per-mode energy ledger over the last part of the run
-  NAME_restitution.png  r = sqrt(1 - RE/KE_i) (WB 13, Fig. 3)
+  NAME_restitution.png  r = sqrt(1 - RE/KE_i) (WB 13, Fig. 3), with the run's
+                        (RE, KE_i) marked when the file has /orbits/P1_1
+Impact states (/impacts) are merged into the phase portraits, so each jump
+in velocity is drawn on the stop.  Axes are in the units of the scene.
 Needs Debian's python3-h5py and python3-matplotlib.
 """
 import argparse
@@ -26,23 +29,85 @@ def text(v):
     return v.decode() if isinstance(v, bytes) else str(v)
 
 
+def rows(ds, k0=0):
+    """A [rows][n] dataset from row k0 as a 2-D array, also when a one-mass
+    (n = 1) file stores it 1-D."""
+    a = np.asarray(ds[k0:], dtype=float)
+    return a.reshape(-1, 1) if a.ndim == 1 else a
+
+
+def unit(ds, default=""):
+    """The dataset's `units` attribute, read as units of the scene."""
+    u = text(ds.attrs.get("units", default))
+    return f"{u} units of the scene" if u in ("time", "length") else u
+
+
+def modal_map(f, x, q):
+    """T with q = T x (T = Psi^T M): from /modal when written, else fitted to
+    the trajectory's own (x, q) pairs, an exact linear relation."""
+    if "modal/Psi" in f:
+        return f["modal/Psi"][:].reshape(x.shape[1], -1).T @ f["model/M"][:].reshape(x.shape[1], -1)
+    return np.linalg.lstsq(x, q, rcond=None)[0].T
+
+
+def with_impacts(f, t, x, v, q, qd):
+    """The samples with every event state inside their time span merged in:
+    at an impact time the state before (v_minus) then after (v_plus), so
+    that the line draws the velocity jump on the stop instead of joining
+    the samples across it.  A sample at an event time holds the state before
+    the event, so it sorts first."""
+    imp = f.get("impacts")
+    if imp is None or imp["time"].shape[0] == 0:
+        return t, x, v, q, qd
+    ti = imp["time"][:]
+    sel = (ti >= t[0]) & (ti <= t[-1])
+    if not sel.any():
+        return t, x, v, q, qd
+    ti, xi = ti[sel], rows(imp["x"])[sel]
+    vm, vp = rows(imp["v_minus"])[sel], rows(imp["v_plus"])[sel]
+    T = modal_map(f, x, q)
+    tt = np.concatenate([t, ti, ti])
+    order = np.concatenate([np.zeros(len(t)), np.ones(len(ti)), 2 * np.ones(len(ti))])
+    k = np.lexsort((order, tt))
+    xx = np.concatenate([x, xi, xi])[k]
+    vv = np.concatenate([v, vm, vp])[k]
+    qq = np.concatenate([q, xi @ T.T, xi @ T.T])[k]
+    qqd = np.concatenate([qd, vm @ T.T, vp @ T.T])[k]
+    return tt[k], xx, vv, qq, qqd
+
+
+def samples(tr, k0):
+    """time, x, v, q, qd of the trajectory from row k0, rows that are not
+    finite left out (and reported)."""
+    t = np.asarray(tr["time"][k0:], dtype=float)
+    x, v, q, qd = (rows(tr[k], k0) for k in ("x", "v", "q", "qd"))
+    ok = np.isfinite(t) & np.all(np.isfinite(np.hstack([x, v, q, qd])), axis=1)
+    if not ok.all():
+        print(f"plot: note: {np.count_nonzero(~ok)} trajectory rows not finite, left out "
+              f"(first at t = {t[~ok][0]:.6g})", file=sys.stderr)
+    return t[ok], x[ok], v[ok], q[ok], qd[ok]
+
+
 def phase(f, out, last):
     tr = f.get("trajectory")
     if tr is None or tr["time"].shape[0] < 2:
         print("plot: no /trajectory (set output.samples_per_period)", file=sys.stderr)
         return
     k0 = int((1 - last) * tr["time"].shape[0])
-    x, v, q, qd = (tr[k][k0:] for k in ("x", "v", "q", "qd"))
+    t, x, v, q, qd = with_impacts(f, *samples(tr, k0))
     n = x.shape[1]
     m = min(n, 2)
     fig, ax = plt.subplots(2, m, figsize=(5 * m, 8), squeeze=False)
+    ux, uv = unit(tr["x"], "length"), unit(tr["v"], "length/time")
     for j in range(m):
         ax[0, j].plot(q[:, j], qd[:, j], lw=0.8)
-        ax[0, j].set(xlabel=f"$q_{j+1}$", ylabel=f"$\\dot q_{j+1}$", title=f"mode {j+1}")
+        ax[0, j].set(xlabel=f"$q_{j+1}$ (modal: length $\\sqrt{{mass}}$)",
+                     ylabel=f"$\\dot q_{j+1}$ (modal: length $\\sqrt{{mass}}$ / time)", title=f"mode {j+1}")
         i = n - m + j  # physical: the last coordinates, where the stop usually is
         ax[1, j].plot(x[:, i], v[:, i], lw=0.8, color="C1")
-        ax[1, j].set(xlabel=f"$x_{i+1}$", ylabel=f"$\\dot x_{i+1}$", title=f"coordinate {i+1}")
-    w = f["model/w"][:]
+        ax[1, j].set(xlabel=f"$x_{i+1}$ ({ux})", ylabel=f"$\\dot x_{i+1}$ ({uv})",
+                     title=f"coordinate {i+1}")
+    w = np.ravel(f["model/w"][:])
     xs = f["model"].attrs["x_s"]
     for j in range(m):
         i = n - m + j
@@ -61,18 +126,20 @@ def gap(f, out, last):
     if tr is None or tr["time"].shape[0] < 2:
         return
     k0 = int((1 - last) * tr["time"].shape[0])
-    t, x = tr["time"][k0:], tr["x"][k0:]
-    w, xs = f["model/w"][:], f["model"].attrs["x_s"]
-    fig, ax = plt.subplots(figsize=(9, 3.5))
+    t, x = samples(tr, k0)[:2]
+    w, xs = np.ravel(f["model/w"][:]), f["model"].attrs["x_s"]
+    fig, ax = plt.subplots(figsize=(10, 3.8))
     ax.plot(t, x @ w, lw=0.8, label="$w \\cdot x$")
-    ax.axhline(xs, color="k", ls="--", lw=1, label="$x_s$")
-    imp = f["impacts"]
-    if imp["time"].shape[0]:
+    ax.axhline(xs, color="k", ls="--", lw=1, label="stop $x_s$")
+    imp = f.get("impacts")
+    if imp is not None and imp["time"].shape[0]:
         ti = imp["time"][:]
         sel = ti >= t[0]
-        ax.plot(ti[sel], (imp["x"][:][sel] @ w), "r.", ms=4, label="impacts")
-    ax.set(xlabel="t", ylabel="$w \\cdot x$", title="impacting coordinate")
-    ax.legend(loc="lower right")
+        ax.plot(ti[sel], rows(imp["x"])[sel] @ w, "r.", ms=4, label="impacts")
+    ax.set(xlabel=f"$t$ ({unit(tr['time'], 'time')})",
+           ylabel=f"$w \\cdot x$ ({unit(tr['x'], 'length')})", title="impacting coordinate")
+    # beside the axes, where it cannot cover the data
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
@@ -86,7 +153,7 @@ def ledger(f, out, last):
         return
     L = lg["FE"].shape[0]
     k0 = int((1 - last) * L)
-    sums = {k: lg[k][k0:].sum(axis=0) for k in ("FE", "DE", "XE", "CE", "dE")}
+    sums = {k: rows(lg[k], k0).sum(axis=0) for k in ("FE", "DE", "XE", "CE", "dE")}
     n = sums["FE"].shape[0]
     idx = np.arange(n)
     wdt = 0.16
@@ -97,7 +164,7 @@ def ledger(f, out, last):
         ax.bar(idx + (s - 2) * wdt, sums[k], wdt, label=lab)
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xticks(idx, [f"mode {j+1}" for j in idx])
-    ax.set(ylabel="energy", title=f"ledger, last {L - k0} intervals "
+    ax.set(ylabel="energy (units of the scene)", title=f"ledger, last {L - k0} intervals "
            f"(closure {lg['residual'][k0:].max():.0e})")
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -106,20 +173,36 @@ def ledger(f, out, last):
     print(out)
 
 
-def restitution(out):
+def restitution(f, out):
+    """WB 13 as in the paper's Fig. 3; with /orbits/P1_1 (vibroimpact energy
+    -o) the run's own (RE, KE_i) and the r it recovers are marked."""
+    orbit = f.get("orbits/P1_1") if f is not None else None
+    run = None
+    if orbit is not None and all(k in orbit.attrs for k in ("RE", "KE_i", "r_recovered")):
+        run = tuple(float(orbit.attrs[k]) for k in ("RE", "KE_i", "r_recovered"))
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     re = np.linspace(0, 1, 400)
     ax[0].plot(re, np.sqrt(1 - re))
-    ax[0].set(xlabel="RE", ylabel="r", title="$r = \\sqrt{1 - RE/KE_i}$, $KE_i = 1$ (WB Fig. 3)")
-    RE, KE = np.meshgrid(np.linspace(0, 2, 300), np.linspace(0.01, 2, 300))
+    ax[0].set(xlabel="$RE / KE_i$", ylabel="r",
+              title="$r = \\sqrt{1 - RE/KE_i}$ (WB 13, Fig. 3)")
+    top = 2.0 if run is None else max(2.0, 1.25 * max(run[0], run[1]))
+    RE, KE = np.meshgrid(np.linspace(0, top, 300), np.linspace(0.01 * top, top, 300))
     R = np.where(RE <= KE, np.sqrt(np.clip(1 - RE / KE, 0, 1)), np.nan)
     cs = ax[1].contourf(RE, KE, R, levels=20)
     fig.colorbar(cs, ax=ax[1], label="r")
-    ax[1].set(xlabel="RE", ylabel="$KE_i$", title="r over (RE, $KE_i$); blank: RE > $KE_i$")
+    ax[1].set(xlabel="RE (energy units of the scene)", ylabel="$KE_i$ (energy units of the scene)",
+              title="r over (RE, $KE_i$); blank: RE > $KE_i$")
+    if run is not None:
+        lab = f"this run: RE = {run[0]:.4g}, $KE_i$ = {run[1]:.4g}, r = {run[2]:.4g}"
+        ax[0].plot(run[0] / run[1], run[2], "o", color="C3", ms=7, label=lab)
+        ax[0].legend(loc="lower left", fontsize=8)
+        ax[1].plot(run[0], run[1], "o", color="C3", mec="w", ms=8, label="this run")
+        ax[1].legend(loc="upper left", fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
     print(out)
+    return run
 
 
 def main():
@@ -145,7 +228,7 @@ def main():
         phase(f, stem + "_phase.png", a.last)
         gap(f, stem + "_gap.png", a.last)
         ledger(f, stem + "_ledger.png", a.last)
-    restitution(stem + "_restitution.png")
+        restitution(f, stem + "_restitution.png")
     return 0
 
 

@@ -34,8 +34,8 @@ void vi_modal_project(const vi_model *m, const double *z, double *q,
     double a = 0.0, b = 0.0;
     for (int i = 0; i < n; i++) {
       double p = row[(size_t)i * (size_t)n];
-      a += p * z[2 * i];
-      b += p * z[2 * i + 1];
+      a += p * z[2 * (size_t)i];
+      b += p * z[2 * (size_t)i + 1];
     }
     if (q) q[j] = a;
     if (qd) qd[j] = b;

@@ -117,8 +117,8 @@ static int force_eval(vi_sim *s, double t, const double *z, double *g)
   int n = s->n;
   double *x = s->fbuf, *v = x + n;
   for (int i = 0; i < n; i++) {
-    x[i] = z[2 * i];
-    v[i] = z[2 * i + 1];
+    x[i] = z[2 * (size_t)i];
+    v[i] = z[2 * (size_t)i + 1];
     g[i] = 0.0;
   }
   for (int k = 0; k < s->nsprings; k++) {
@@ -129,7 +129,7 @@ static int force_eval(vi_sim *s, double t, const double *z, double *g)
     if (sp->j >= 0) g[sp->j] -= f;
   }
   if (s->force_fn) {
-    double *h = v + 2 * n; /* Psi^T g slot, free until projected */
+    double *h = v + 2 * (size_t)n; /* Psi^T g slot, free until projected */
     memset(h, 0, sizeof(double) * (size_t)n);
     if (s->force_fn(t, n, x, v, h, s->force_user) != 0) {
       if (!s->force_failed) s->force_fail_t = t;
@@ -144,7 +144,7 @@ static int force_eval(vi_sim *s, double t, const double *z, double *g)
 void vi_force_add_accel(vi_sim *s, double t, const double *z, double *acc)
 {
   int n = s->n;
-  double *g = s->fbuf + 2 * n, *gq = g + n;
+  double *g = s->fbuf + 2 * (size_t)n, *gq = g + n;
   if (force_eval(s, t, z, g)) return; /* the backend stops the run */
   const vi_model *m = s->m;
   vi_matvec_t(n, m->Psi, g, gq); /* Psi^T g */
@@ -156,7 +156,7 @@ void vi_force_add_accel(vi_sim *s, double t, const double *z, double *acc)
 
 void vi_force_modal(vi_sim *s, double t, const double *z, double *gq)
 {
-  double *g = s->fbuf + 2 * s->n;
+  double *g = s->fbuf + 2 * (size_t)s->n;
   if (force_eval(s, t, z, g)) {
     memset(gq, 0, sizeof(double) * (size_t)s->n);
     return;
@@ -176,7 +176,7 @@ int vi_force_jacobian(vi_sim *s, double t, const double *z, double *Ax,
   double *Gv = Gx + nn, *g0 = Gv + nn, *g1 = g0 + n, *zz = g1 + n;
   for (int k = 0; k < s->nsprings; k++) {
     const struct vi_spring *sp = &s->springs[k];
-    double d = z[2 * sp->i] - (sp->j >= 0 ? z[2 * sp->j] : 0.0), dfd;
+    double d = z[2 * (size_t)sp->i] - (sp->j >= 0 ? z[2 * (size_t)sp->j] : 0.0), dfd;
     spring_force(sp, d, &dfd);
     Gx[sp->i + (size_t)sp->i * n] += dfd;
     if (sp->j >= 0) {
@@ -193,8 +193,8 @@ int vi_force_jacobian(vi_sim *s, double t, const double *z, double *Ax,
     const double *x = s->fbuf, *v = x + n;
     if (s->force_jac) {
       for (int i = 0; i < n; i++) {
-        s->fbuf[i] = z[2 * i];
-        s->fbuf[n + i] = z[2 * i + 1];
+        s->fbuf[i] = z[2 * (size_t)i];
+        s->fbuf[n + i] = z[2 * (size_t)i + 1];
       }
       if (s->force_jac(t, n, x, v, Hx, Hv, n, s->force_user) != 0) {
         s->force_failed = 1;

@@ -72,8 +72,8 @@ void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
     c = cos(m->omega_f * t);
     sn = sin(m->omega_f * t);
   }
-  double *FE = rates, *DE = rates + n, *XE = rates + 2 * n, *CE = rates + 3 * n;
-  double *NE = gq ? rates + 4 * n : NULL;
+  double *FE = rates, *DE = rates + n, *XE = rates + 2 * (size_t)n;
+  double *CE = rates + 3 * (size_t)n, *NE = gq ? rates + 4 * (size_t)n : NULL;
   for (int j = 0; j < n; j++) {
     double F = m->Fa[j] * c + m->Fb[j] * sn + m->F0[j];
     FE[j] = qd[j] * F;                                           /* WB 7 */
@@ -160,9 +160,9 @@ int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
   }
   if (L->fn && !quiet) {
     vi_ledger_interval iv = {n, L->ta, t, L->EA, L->EB, L->KA, L->KB,
-                             I, I + n, I + 2 * n, I + 3 * n,
+                             I, I + n, I + 2 * (size_t)n, I + 3 * (size_t)n,
                              jump ? L->dE : NULL, jump ? ie : 0.0, res,
-                             I + 4 * n};
+                             I + 4 * (size_t)n};
     stop = L->fn(&iv, L->user) != 0;
   }
   vi_ledger_begin(L, t, z);
@@ -178,13 +178,13 @@ void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
   if (E) modal_energy(L->m, z, L->qs, L->qds, E, NULL);
   if (FE) memcpy(FE, L->Q, b);
   if (DE) memcpy(DE, L->Q + n, b);
-  if (XE) memcpy(XE, L->Q + 2 * n, b);
-  if (CE) memcpy(CE, L->Q + 3 * n, b);
+  if (XE) memcpy(XE, L->Q + 2 * (size_t)n, b);
+  if (CE) memcpy(CE, L->Q + 3 * (size_t)n, b);
   if (dE) memcpy(dE, L->dEtot, b);
   if (ie) *ie = L->ie;
 }
 
 void vi_ledger_force_totals(const vi_ledger *L, double *NE)
 {
-  memcpy(NE, L->Q + 4 * L->n, sizeof(double) * (size_t)L->n);
+  memcpy(NE, L->Q + 4 * (size_t)L->n, sizeof(double) * (size_t)L->n);
 }

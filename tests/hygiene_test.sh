@@ -18,6 +18,15 @@ printf '#include <vibroimpact.h>\nint main() { return vi_version_number() == VI_
   > "$build/hygiene.cpp"
 g++ -std=c++11 "${inc[@]}" "$build/hygiene.cpp" -o "$build/hygiene_cpp" -L"$(dirname "$lib")" \
   -lvibroimpact -Wl,-rpath,"$(dirname "$lib")" && "$build/hygiene_cpp" || { echo "FAIL: C++ link"; fail=1; }
+# VI_DEPRECATED (from vi_export.h) warns the callers of a retired function
+printf '#include <vibroimpact.h>\nVI_API VI_DEPRECATED int vi_old(void);\nint f(void);\nint f(void) { return vi_old(); }\n' \
+  > "$build/hygiene_dep.c"
+for lang in c c++; do
+  if gcc -x $lang -Wall -Werror=deprecated-declarations -fsyntax-only "${inc[@]}" \
+       "$build/hygiene_dep.c" 2>/dev/null; then
+    echo "FAIL: VI_DEPRECATED does not warn ($lang)"; fail=1
+  fi
+done
 for l in "$lib" "$iolib"; do
   bad=$(nm -D --defined-only "$l" | awk '{print $3}' | grep -Ev '^(vi_|_init$|_fini$)' || true)
   if [ -n "$bad" ]; then echo "FAIL: $l exports: $bad"; fail=1; fi

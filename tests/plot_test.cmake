@@ -1,21 +1,71 @@
-# Run the default scene into an HDF5 file and make every figure from it.
+# Make every figure from runs of the default scene (two masses) and of
+# chatter.yaml (one mass: 1-D or [T][1] datasets), the restitution chart of
+# an `energy -o` file, and check what the figures draw (plot_check.py).
 file(REMOVE_RECURSE "${DIR}")
 file(MAKE_DIRECTORY "${DIR}")
-execute_process(COMMAND "${APP}" --periods 30 --quiet -o "${DIR}/fig2.h5" RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "vibroimpact failed: ${rc}")
-endif()
-execute_process(COMMAND /usr/bin/python3 "${SCRIPT}" "${DIR}/fig2.h5" --out "${DIR}" RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "plot.py failed: ${rc}")
-endif()
-foreach(f phase gap ledger restitution)
-  if(NOT EXISTS "${DIR}/fig2_${f}.png")
-    message(FATAL_ERROR "missing fig2_${f}.png")
+get_filename_component(SHARE "${SCRIPT}" DIRECTORY)
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}")
   endif()
-  file(SIZE "${DIR}/fig2_${f}.png" size)
+endfunction()
+run("${APP}" --periods 30 --quiet -o "${DIR}/fig2.h5")
+run("${APP}" "${SHARE}/scenes/chatter.yaml" --periods 10 --quiet -o "${DIR}/chatter.h5")
+run("${APP}" energy -o "${DIR}/orbit.h5")
+foreach(stem fig2 chatter orbit)
+  run(/usr/bin/python3 "${SCRIPT}" "${DIR}/${stem}.h5" --out "${DIR}")
+endforeach()
+foreach(f fig2_phase fig2_gap fig2_ledger fig2_restitution chatter_phase chatter_gap
+          chatter_ledger orbit_restitution)
+  if(NOT EXISTS "${DIR}/${f}.png")
+    message(FATAL_ERROR "missing ${f}.png")
+  endif()
+  file(SIZE "${DIR}/${f}.png" size)
   if(size LESS 10000)
-    message(FATAL_ERROR "fig2_${f}.png is only ${size} bytes")
+    message(FATAL_ERROR "${f}.png is only ${size} bytes")
   endif()
 endforeach()
-message(STATUS "4 figures written to ${DIR}")
+
+# What the figures draw, checked on the data plot.py plots:
+# - the phase portrait's series holds each impact of its window twice, at
+#   the impact time, before (v_minus) then after (v_plus), on the stop:
+#   w.x = x_s to the event location's accuracy (1e-7 at rtol 1e-8);
+# - the restitution chart marks the orbit's (RE, KE_i), and the r it
+#   recovers by WB 12 is the model's r = 0.7 (energy balance, 1e-6).
+file(WRITE "${DIR}/plot_check.py" "
+import sys
+import h5py
+import numpy as np
+sys.path.insert(0, '${SHARE}')
+import plot
+bad = 0
+for stem in ('fig2', 'chatter'):
+    f = h5py.File('${DIR}/' + stem + '.h5', 'r')
+    t, x, v, q, qd = plot.samples(f['trajectory'], 0)
+    tt, xx, vv, qq, qqd = plot.with_impacts(f, t, x, v, q, qd)
+    w, xs = np.ravel(f['model/w'][:]), f['model'].attrs['x_s']
+    ti = f['impacts/time'][:]
+    inside = (ti >= t[0]) & (ti <= t[-1])
+    ti = ti[inside]
+    vm, vp = plot.rows(f['impacts/v_minus'])[inside], plot.rows(f['impacts/v_plus'])[inside]
+    ok = len(tt) == len(t) + 2 * len(ti) and np.all(np.diff(tt) >= 0)
+    for i in range(len(ti)):
+        k = np.flatnonzero(tt == ti[i])
+        k = k[-2:]  # a sample at the impact time comes first
+        ok &= len(k) == 2 and k[1] == k[0] + 1
+        ok &= np.allclose(vv[k[0]], vm[i], 0, 0) and np.allclose(vv[k[1]], vp[i], 0, 0)
+        ok &= bool(np.all(np.abs(xx[k] @ w - xs) < 1e-7))
+        ok &= np.allclose(qq[k[0]], qq[k[1]], 0, 1e-12)  # positions do not jump
+    print(stem, 'n =', x.shape[1], ':', len(t), 'samples,', len(ti), 'impacts merged:', 'ok' if ok else 'FAIL')
+    bad += not ok
+f = h5py.File('${DIR}/orbit.h5', 'r')
+run = plot.restitution(f, '${DIR}/orbit_check.png')
+r = f['model'].attrs['r']
+ok = run is not None and abs(run[2] - r) < 1e-6 and 0 < run[0] < run[1]
+print('restitution chart marks RE, KE_i, r =', run, 'ok' if ok else 'FAIL')
+bad += not ok
+sys.exit(bad)
+")
+run(/usr/bin/python3 "${DIR}/plot_check.py")
+message(STATUS "figures and their data checked in ${DIR}")

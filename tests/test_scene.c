@@ -137,6 +137,109 @@ static void test_overrides_and_builders(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* Every io function of the scene reader with NULL, zero, negative and
+ * mismatched arguments: a code, never a crash or a read out of bounds
+ * (run under ASan/UBSan in the sanitizer build). */
+static void test_misuse(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL, *sc3 = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  char buf[64];
+  assert_int_equal(vi_scene_parse(NULL, -1, "x", &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_parse("a: 1", -1, "x", NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_parse("", 0, NULL, &sc, NULL), VI_ERR_PARSE);
+  assert_null(sc);
+  assert_int_equal(vi_scene_parse_limited("a: [[1]]", -1, "x", 2, &sc, &d), VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_load(NULL, &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_load("x.yaml", NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_load("/nonexistent/x.yaml", &sc, NULL), VI_ERR_IO);
+  assert_int_equal(vi_scene_load_limited(VI_SCENE_DIR "/fig2.yaml", 10, 0, &sc, &d),
+                   VI_ERR_LIMIT);
+  assert_non_null(strstr(d.message, "larger than 10 bytes"));
+  assert_int_equal(vi_scene_load_limited(VI_SCENE_DIR "/fig2.yaml", -5, -5, &sc, &d),
+                   VI_OK); /* <= 0: the defaults */
+  vi_scene_destroy(&sc);
+  vi_scene_destroy(&sc);
+  vi_scene_destroy(NULL);
+  /* getters on NULL */
+  assert_string_equal(vi_scene_name(NULL), "");
+  assert_string_equal(vi_scene_text(NULL), "");
+  assert_int_equal(vi_scene_n(NULL), 0);
+  assert_true(vi_scene_t0(NULL) == 0 && vi_scene_t_end(NULL) == 0);
+  assert_true(vi_scene_rtol(NULL) == 0 && vi_scene_atol(NULL) == 0);
+  assert_int_equal(vi_scene_method(NULL), 0);
+  assert_int_equal(vi_scene_samples_per_period(NULL), 0);
+  assert_int_equal(vi_scene_wants(NULL, "ledger"), 0);
+  assert_true(vi_scene_memory_estimate(NULL) == 0);
+  assert_int_equal(vi_scene_check_memory(NULL, 0, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(NULL, 0, 0, 0, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_create_model(NULL, &m, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_configure_sim(NULL, NULL, &d), VI_ERR_ARG);
+  vi_diag_format(NULL, buf, sizeof buf);
+  assert_string_equal(buf, "");
+  vi_diag_format(&d, NULL, 10);
+  vi_diag_format(&d, buf, 0);
+  vi_diag_format(&d, buf, -3);
+  /* a valid scene with bad overrides */
+  assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "fig2", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_wants(sc, NULL), 0);
+  assert_int_equal(vi_scene_wants(sc, "nonsense"), 0);
+  assert_int_equal(vi_scene_set_run(sc, NAN, 0, 0, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, INFINITY, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, 0, 99), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 10, 0, 0, -1), VI_ERR_TOLERANCE);
+  assert_int_equal(vi_scene_set_run(sc, 1e-17, 0, 0, -1), VI_ERR_TOLERANCE);
+  assert_int_equal(vi_scene_set_run(sc, 0, INFINITY, 0, -1), VI_ERR_TOLERANCE);
+  assert_int_equal(vi_scene_set_run(sc, -1, -1, -1, -1), VI_OK); /* keep all */
+  assert_close(vi_scene_rtol(sc), 1e-8, 0);
+  assert_int_equal(vi_scene_create_model(sc, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_check_memory(sc, 1.0, &d), VI_ERR_LIMIT);
+  assert_string_equal(d.key, "model.chain.n");
+  assert_int_equal(vi_scene_check_memory(sc, 1e12, NULL), VI_OK);
+  /* a sim of another size: refused, no read past the scene's arrays */
+  assert_int_equal(vi_scene_parse("model:\n  chain: {n: 3, m: 1, k: 1}\n"
+                                  "stop: {mass: 3, xs: 0.1, r: 0.5}\n"
+                                  "run: {t_end: 10}\n", -1, "three", &sc3, &d), VI_OK);
+  vi_model *m5 = vi_test_chain(5, 1, 1, 0.1, 0.1, 0.7, 0.9, NULL);
+  assert_int_equal(vi_sim_create(m5, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc3, s, &d), VI_ERR_DIM);
+  assert_non_null(strstr(d.message, "n = 3"));
+  assert_int_equal(vi_scene_configure_sim(sc3, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_configure_sim(sc3, s, NULL), VI_ERR_DIM);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m5);
+  vi_scene_destroy(&sc3);
+  vi_scene_destroy(&sc);
+}
+
+/* Text is not a number: quoted or !!str-tagged scalars; aliases resolve
+ * only to complete nodes; a second document is refused. */
+static void test_yaml_strictness(void **state)
+{
+  (void)state;
+  static const struct { const char *text, *key; int code; } c[] = {
+    {CHAIN GOOD_STOP "forcing: {omega: \"0.9\"}\n", "forcing.omega", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: {omega: !!str 0.9}\n", "forcing.omega", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: {omega: !!float 0.9}\nrun: {periods: 1}\n", "", VI_OK},
+    {CHAIN GOOD_STOP "forcing: {omega: 0.9}\n---\n", "", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: &f {omega: 0.9, a: *f}\n", "", VI_ERR_PARSE},
+    {CHAIN GOOD_STOP "forcing: {omega: 0.9, a: &v [0.5, 0], b: *v}\nrun: {periods: 1}\n", "", VI_OK},
+    {"name: {a: 1}\n" CHAIN GOOD_STOP, "name", VI_ERR_PARSE},
+  };
+  for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
+    vi_scene *sc = NULL;
+    vi_diag d;
+    int st = vi_scene_parse(c[k].text, -1, "strict", &sc, &d);
+    if (st != c[k].code) print_error("case %zu: %s\n", k, d.message);
+    assert_int_equal(st, c[k].code);
+    if (st) assert_string_equal(d.key, c[k].key);
+    vi_scene_destroy(&sc);
+  }
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
@@ -145,6 +248,8 @@ int main(void)
       cmocka_unit_test(test_default_is_fig2),
       cmocka_unit_test(test_malformed_scenes),
       cmocka_unit_test(test_overrides_and_builders),
+      cmocka_unit_test(test_misuse),
+      cmocka_unit_test(test_yaml_strictness),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

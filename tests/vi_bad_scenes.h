@@ -33,10 +33,20 @@ static const bad cases[] = {
   {"boolean expected", CHAIN GOOD_STOP "forcing: {omega: 0.9}\noutput: {ledger: maybe}\n", VI_ERR_PARSE, 5, "output.ledger"},
   {"no frequency, no end time", CHAIN GOOD_STOP, VI_ERR_TIME, 1, "run.t_end"},
   {"empty file", "", VI_ERR_PARSE, 1, ""},
+  {"rtol out of range", CHAIN GOOD_STOP "run: {rtol: 10}\n", VI_ERR_TOLERANCE, 4, "run.rtol"},
+  {"quoted number", CHAIN "forcing: {omega: '0.9'}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.omega"},
+  {"!!str number", CHAIN "forcing: {omega: !!str 0.9}\n" GOOD_STOP, VI_ERR_PARSE, 3, "forcing.omega"},
+  {"second document", CHAIN GOOD_STOP "run: {t_end: 10}\n---\nname: x\n", VI_ERR_PARSE, 5, ""},
+  {"name is a list", "name: [1, 2]\n" CHAIN GOOD_STOP, VI_ERR_PARSE, 1, "name"},
+  {"masses 1e30 apart", "model:\n  chain: {n: 2, m: [1, 1.0e-30], k: 1}\n" GOOD_STOP "run: {t_end: 10}\n", VI_ERR_LIMIT, 2, "model.chain.m"},
   /* rejected when the model is built: the model's own validation */
   {"non-symmetric K", "model:\n  K: [[2, -1], [-0.5, 1]]\nstop: {w: [0, 1], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_NOT_SYMMETRIC, 2, "model.K"},
   {"non-SPD M", "model:\n  M: [[1, 2], [2, 1]]\n  K: [[2, -1], [-1, 1]]\nstop: {w: [0, 1], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_NOT_SPD, 2, "model"},
   {"zero stop vector", "model:\n  K: [[2, -1], [-1, 1]]\nstop: {w: [0, 0], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_STOP_VECTOR, 3, "stop"},
+  /* ranges that need the model's frequencies and scales */
+  {"Omega 1e-300", CHAIN "forcing: {omega: 1.0e-300, a: [0.5, 0]}\n" GOOD_STOP, VI_ERR_LIMIT, 3, "forcing.omega"},
+  {"atol 1e10", CHAIN GOOD_STOP "forcing: {omega: 0.9}\nrun: {atol: 1.0e10}\n", VI_ERR_LIMIT, 5, "run.atol"},
+  {"initial velocity 1e30", CHAIN GOOD_STOP "forcing: {omega: 0.9}\ninitial: {v: [1.0e30, 0]}\n", VI_ERR_LIMIT, 5, "initial.v"},
   /* rejected when the run is configured */
   {"initial state beyond the stop", CHAIN GOOD_STOP "initial: {x: [0.0, 0.5]}\nrun: {t_end: 10}\n", VI_ERR_INITIAL_STATE, 4, "initial"},
 };

@@ -16,13 +16,28 @@
  *            or, for a cantilever, {omega, base: A} (base acceleration)
  *   stop:    {w: [...] | mass: j (1-based), xs, r}
  *   initial: {t0, x, v}
- *   run:     {t_end | periods, rtol, atol, method: adams|bdf|exact}
+ *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
  *   output:  {impacts: bool (default true), samples_per_period: int
  *             (default 0), ledger: bool (false), modes: bool (false: no
  *             /modal group), compress: bool (true: deflate the trajectory)}
+ *
+ * Numbers are plain scalars ("0.1" quoted or `!!str 0.1` is text) of
+ * magnitude at most 1e100.  Ranges checked (VI_ERR_LIMIT or the key's own
+ * code, naming the key): rtol in [VI_SCENE_RTOL_MIN, VI_SCENE_RTOL_MAX];
+ * atol at most 0.01 of the problem's length scale (the clearance, the
+ * static response to the loads, the initial state); forcing.omega within
+ * 1e-8 .. 1e8 times the highest natural frequency; masses and stiffnesses
+ * within a factor 1e12 of each other; modal damping ratios up to 1e6; an
+ * initial state within 1e8 times the length scale (velocities: times the
+ * highest frequency); a run whose times double precision resolves.
+ * Limits (each overridable): VI_SCENE_MAX_BYTES of text, VI_SCENE_MAX_DEPTH
+ * levels of nesting, one YAML document, and the model's memory
+ * (vi_scene_check_memory).
  */
 #ifndef VI_SCENE_H
 #define VI_SCENE_H
+
+#include <stdint.h>
 
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_model.h"
@@ -31,6 +46,19 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/** Default limits and ranges of scene values (see the file comment). */
+#define VI_SCENE_MAX_BYTES (16 * 1024 * 1024) /**< largest scene text */
+#define VI_SCENE_MAX_DEPTH 32                  /**< deepest YAML nesting */
+#define VI_SCENE_NUM_MAX 1e100           /**< largest magnitude of a number */
+#define VI_SCENE_RATIO_MAX 1e12          /**< spread of masses, stiffnesses */
+#define VI_SCENE_RTOL_MIN 4.4408920985006262e-16 /**< 2 DBL_EPSILON */
+#define VI_SCENE_RTOL_MAX 0.1            /**< loosest relative tolerance */
+#define VI_SCENE_ATOL_RATIO 0.01         /**< atol / length scale, at most */
+#define VI_SCENE_FREQ_RATIO_MIN 1e-8     /**< Omega / highest omega, at least */
+#define VI_SCENE_FREQ_RATIO_MAX 1e8      /**< Omega / highest omega, at most */
+#define VI_SCENE_ZETA_MAX 1e6            /**< largest modal damping ratio */
+#define VI_SCENE_STATE_RATIO 1e8         /**< initial state / length scale */
 
 /** Where and why a scene (or a step before a handle exists) failed.  Fixed
  * arrays only, so Fortran can read it. */
@@ -57,6 +85,16 @@ VI_API int vi_scene_load(const char *path, vi_scene **out, vi_diag *diag);
  *  name in messages.  Returns as vi_scene_load. */
 VI_API int vi_scene_parse(const char *text, long len, const char *name,
                           vi_scene **out, vi_diag *diag);
+/** vi_scene_load with limits: at most max_bytes of text (<= 0:
+ *  VI_SCENE_MAX_BYTES) and max_depth levels of nesting (<= 0:
+ *  VI_SCENE_MAX_DEPTH); VI_ERR_LIMIT when one is exceeded, found before
+ *  the whole file is read or parsed. */
+VI_API int vi_scene_load_limited(const char *path, int64_t max_bytes,
+                                 int max_depth, vi_scene **out, vi_diag *diag);
+/** vi_scene_parse with a nesting limit (<= 0: VI_SCENE_MAX_DEPTH). */
+VI_API int vi_scene_parse_limited(const char *text, long len, const char *name,
+                                  int max_depth, vi_scene **out,
+                                  vi_diag *diag);
 /** Destroy and set *scene to NULL; NULL-safe. */
 VI_API void vi_scene_destroy(vi_scene **scene);
 
@@ -65,9 +103,19 @@ VI_API void vi_scene_destroy(vi_scene **scene);
  *  back in diag with the scene's key and line. */
 VI_API int vi_scene_create_model(const vi_scene *sc, vi_model **out,
                                  vi_diag *diag);
+/** Bytes the scene's model and a simulation of it need (an estimate
+ *  measured on chains, dense storage); 0 for NULL. */
+VI_API double vi_scene_memory_estimate(const vi_scene *sc);
+/** Compare vi_scene_memory_estimate with max_bytes (<= 0: MemAvailable of
+ *  /proc/meminfo; no check when that is unknown), before anything is
+ *  allocated.  @return VI_OK, VI_ERR_LIMIT (diag names the key giving the
+ *  size and both figures), VI_ERR_ARG. */
+VI_API int vi_scene_check_memory(const vi_scene *sc, double max_bytes,
+                                 vi_diag *diag);
 /** Apply the scene's method, tolerances and initial state to a sim of its
- *  model.  @return VI_OK or the sim setter's error (e.g.
- *  VI_ERR_INITIAL_STATE) with the scene's key and line in diag. */
+ *  model.  @return VI_OK, VI_ERR_DIM (a sim of another n), or the sim
+ *  setter's error (e.g. VI_ERR_INITIAL_STATE) with the scene's key and
+ *  line in diag. */
 VI_API int vi_scene_configure_sim(const vi_scene *sc, vi_sim *sim,
                                   vi_diag *diag);
 
@@ -85,7 +133,7 @@ VI_API double vi_scene_t_end(const vi_scene *sc);
 VI_API double vi_scene_rtol(const vi_scene *sc);
 /** Absolute tolerance (run.atol, default 1e-10). */
 VI_API double vi_scene_atol(const vi_scene *sc);
-/** Method, VI_METHOD_* (run.method, default adams). */
+/** Method, VI_METHOD_* (run.method, default auto). */
 VI_API int vi_scene_method(const vi_scene *sc);
 /** output.samples_per_period (0: no sampling). */
 VI_API int vi_scene_samples_per_period(const vi_scene *sc);
@@ -93,8 +141,10 @@ VI_API int vi_scene_samples_per_period(const vi_scene *sc);
  *  "compress"; else 0. */
 VI_API int vi_scene_wants(const vi_scene *sc, const char *what);
 /** Override the run from the command line (code overrides scene): values
- *  <= 0 (method < 0) keep the scene's.  @return VI_OK, VI_ERR_ARG,
- *  VI_ERR_FREQUENCY (periods without a forcing frequency). */
+ *  <= 0 (method < 0) keep the scene's.  @return VI_OK, VI_ERR_ARG (NaN, an
+ *  unknown method), VI_ERR_TOLERANCE (rtol outside [VI_SCENE_RTOL_MIN,
+ *  VI_SCENE_RTOL_MAX]), VI_ERR_FREQUENCY (periods without a forcing
+ *  frequency).  The other ranges are checked by vi_scene_create_model. */
 VI_API int vi_scene_set_run(vi_scene *sc, double rtol, double atol,
                             double periods, int method);
 

@@ -47,7 +47,7 @@ extern "C" {
   X(VI_ERR_CALLBACK,        -24, "a host callback reported a failure")
 
 /// @cond INTERNAL
-#define VI_STATUS_ENUM_(name, value, msg) name = value,
+#define VI_STATUS_ENUM_(name, value, msg) name = (value),
 /// @endcond
 /** Status of every call (values and messages: VI_STATUS_LIST). */
 typedef enum vi_status { VI_STATUS_LIST(VI_STATUS_ENUM_) } vi_status;

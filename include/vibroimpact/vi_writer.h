@@ -2,10 +2,15 @@
  * HDF5 output of a run (companion library vibroimpact_io).
  * The layout is documented in share/doc/hdf5-layout.md.
  *
- * The file is written as PATH.part and renamed to PATH by vi_writer_close:
- * complete = 1 for a finished run, 0 for an interrupted one (the file is
- * valid and its root attribute `complete` says 0).  vi_writer_abort removes
- * the partial file: after an error no output file exists.  Rows are
+ * Output goes to regular files only: a symbolic link is followed to its
+ * target, devices, FIFOs, sockets and directories are refused
+ * (vi_output_resolve, which a program can call before computing anything).
+ * The file is written as TARGET.part and renamed to TARGET by
+ * vi_writer_finish / vi_writer_close: complete = 1 for a finished run, 0
+ * for an interrupted one (the file is valid and its root attribute
+ * `complete` says 0).  On any failure (a full disk included) the partial
+ * file is removed and TARGET keeps what it held before.  vi_writer_abort
+ * removes the partial file: after an error no output file exists.  Rows are
  * buffered and appended to chunked, extendible datasets, so memory does not
  * grow with the run. */
 #ifndef VI_WRITER_H
@@ -25,14 +30,27 @@ extern "C" {
 /** Opaque HDF5 writer handle. */
 typedef struct vi_writer vi_writer;
 
-/** Create PATH.part for the model's run (the model is borrowed); compress
- *  != 0 puts shuffle + deflate(4) on the trajectory.  @return VI_OK,
- *  VI_ERR_IO (with the reason in diag), VI_ERR_ARG, VI_ERR_NOMEM. */
+/** Where output for `path` will go: symbolic links followed to the final
+ *  target (written into target[len]); refuses (VI_ERR_IO, reason in diag)
+ *  a target that is not a regular file, a target or folder that is not
+ *  writable, and a TARGET.part that exists but is not a regular file.
+ *  Tries the folder by creating and removing TARGET.part (a stale one is
+ *  removed), so nothing is left behind.  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_IO, VI_ERR_LIMIT (path longer than len). */
+VI_API int vi_output_resolve(const char *path, char *target, int len,
+                             vi_diag *diag);
+
+/** Create TARGET.part for the model's run (the model is borrowed and must
+ *  be set up); path is resolved as by vi_output_resolve; compress != 0
+ *  puts shuffle + deflate(4) on the trajectory.  @return VI_OK, VI_ERR_IO
+ *  (with the reason in diag), VI_ERR_ARG, VI_ERR_STATE (model not set up),
+ *  VI_ERR_NOMEM. */
 VI_API int vi_writer_create(const char *path, const vi_model *model,
                             int compress, vi_writer **out, vi_diag *diag);
-/** Write the root attributes (creator, scene text, tolerances, method),
- *  /model and, when the scene's output.modes is true or scene is NULL,
- *  /modal.  @return VI_OK, VI_ERR_IO. */
+/** Write the root attributes (creator, tolerances, method), the scene text
+ *  (dataset /scene), /model and, when the scene's output.modes is true or
+ *  scene is NULL, /modal.  @return VI_OK, VI_ERR_IO, VI_ERR_ARG (unknown
+ *  method, tolerances not > 0), VI_ERR_DIM (a scene of another n). */
 VI_API int vi_writer_write_header(vi_writer *w, const vi_scene *scene,
                                   double rtol, double atol, int method);
 /** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...). */
@@ -49,16 +67,26 @@ VI_API int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv);
  *  per-mode FE, DE, XE, r_eff and the reduced-model r_S of the first 1..4
  *  modes (NaN where none exists).  @return VI_OK, VI_ERR_IO. */
 VI_API int vi_writer_orbit(vi_writer *w, const vi_orbit *orbit);
+/** Write group /run: the method that ran and why (vi_sim_method_used,
+ *  vi_sim_method_note) and every statistic (vi_stat_name: value) as
+ *  attributes.  @return VI_OK, VI_ERR_ARG, VI_ERR_IO. */
+VI_API int vi_writer_run_info(vi_writer *w, const vi_sim *sim);
 /** Rows written so far to "impacts", "trajectory" or "ledger" (-1 for
  *  another name). */
 VI_API long vi_writer_rows(const vi_writer *w, const char *what);
 /** Flush, mark the file complete (1) or interrupted (0), close it and
- *  rename PATH.part to PATH; *w becomes NULL.  On failure the partial file
- *  is removed, *w stays for vi_writer_errmsg and must go to
- *  vi_writer_abort.  @return VI_OK, VI_ERR_IO. */
+ *  rename TARGET.part to TARGET.  On failure (or after an earlier write
+ *  error) the partial file is removed and TARGET is untouched; the handle
+ *  stays valid for vi_writer_errmsg until vi_writer_abort frees it.
+ *  @return VI_OK, VI_ERR_IO, VI_ERR_STATE (already finished). */
+VI_API int vi_writer_finish(vi_writer *w, int complete);
+/** vi_writer_finish, then free the handle: *w is NULL afterwards whatever
+ *  the outcome (use vi_writer_finish to read the reason of a failure).
+ *  @return VI_OK, VI_ERR_IO, VI_ERR_ARG. */
 VI_API int vi_writer_close(vi_writer **w, int complete);
-/** Close and delete the partial file (after an error: no output file at
- *  all); *w becomes NULL.  NULL-safe. */
+/** Close and free; deletes the partial file unless vi_writer_finish
+ *  already renamed it (after an error: no output file at all); *w becomes
+ *  NULL.  NULL-safe. */
 VI_API void vi_writer_abort(vi_writer **w);
 /** Detail of the last error ("" if none), owned by the writer. */
 VI_API const char *vi_writer_errmsg(const vi_writer *w);

@@ -7,10 +7,19 @@
 ! by vi_*_create and released by vi_*_destroy, which also nullify them.
 ! Matrices are Fortran arrays passed straight through, column-major with
 ! their leading dimension: no copies.  Indices that the C API counts from 0
-! (mode numbers in vi_orbit_reduced_restitution, vi_event%index) stay
-! 0-based here.  Callbacks are bind(C) functions passed with c_funloc; they
+! (mode numbers in vi_orbit_reduced_restitution, vi_model_create_reduced
+! and vi_cantilever_*, vi_event%index) stay 0-based here.  Callbacks are bind(C) functions passed with c_funloc; they
 ! return 0 to go on and non-zero to stop the run.  Messages come back as
-! Fortran strings through vi_string.
+! Fortran strings through vi_string.  Arguments the C API lets be NULL are
+! optional here (an absent one is passed as NULL: Fortran 2018, TS 29113,
+! in gfortran since 4.9; the rest is Fortran 2003); strings going into C end
+! with c_null_char ('exact'//c_null_char).  The scene and HDF5 functions of
+! the companion library are in module vibroimpact_io (vibroimpact_io.f90).
+!
+! tests/fortran_symbols_test.sh fails when an exported C function has no
+! bind(C) interface here or in vibroimpact_io.f90, when an interface's
+! arguments or result differ from the C prototype, and when a header's
+! enumerator is not among the constants (src/fortran/vi_gen_constants.c).
 module vibroimpact
   use, intrinsic :: iso_c_binding
   implicit none
@@ -39,27 +48,45 @@ module vibroimpact
     real(c_double) :: t_a, t_b
     type(c_ptr) :: Ea, Eb, Ka, Kb, FE, DE, XE, CE, jumps  ! jumps: C dE (may be null)
     real(c_double) :: ie, residual
+    type(c_ptr) :: NE  ! work of the nonlinear forces (vi_force.h)
   end type
 
   public :: vi_string
-  public :: vi_status_name, vi_strerror, vi_version_number, vi_version_string
+  public :: vi_status_name, vi_strerror, vi_version_number, vi_version_string, &
+            vi_sundials_version
   public :: vi_model_create, vi_model_destroy, vi_model_set_mass, &
             vi_model_set_damping, vi_model_set_stiffness, vi_model_set_forcing, &
             vi_model_set_stop, vi_model_setup, vi_model_errmsg, vi_model_n, &
             vi_model_omega, vi_model_zeta, vi_model_modal_shapes, &
             vi_model_modal_stop, vi_model_is_proportional, vi_model_to_modal, &
-            vi_model_from_modal, vi_model_energy, vi_model_stop_compliance
-  public :: vi_build_chain, vi_build_cantilever
-  public :: vi_impact_apply, vi_restitution_from_energy, vi_flow_physical
+            vi_model_from_modal, vi_model_energy, vi_model_stop_compliance, &
+            vi_model_omega_forcing, vi_model_clearance, vi_model_restitution, &
+            vi_model_mass, vi_model_damping, vi_model_stiffness, vi_model_stop_vector, &
+            vi_model_forcing_cos, vi_model_forcing_sin, vi_model_forcing_const, &
+            vi_model_modal_damping, vi_model_modal_forcing_cos, &
+            vi_model_modal_forcing_sin, vi_model_modal_forcing_const, &
+            vi_model_create_reduced
+  public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
+            vi_cantilever_shape, vi_cantilever_participation
+  public :: vi_impact_apply, vi_impact_apply_r, vi_restitution_from_energy, &
+            vi_flow_physical, vi_flow_modal
+  public :: vi_method_name, vi_method_from_name, vi_stat_name
   public :: vi_sim_create, vi_sim_destroy, vi_sim_errmsg, vi_sim_set_method, &
             vi_sim_set_tolerances, vi_sim_set_initial, vi_sim_set_event_callback, &
             vi_sim_set_sampling, vi_sim_set_monitor, vi_sim_run, vi_sim_get_state, &
-            vi_sim_get_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops
+            vi_sim_get_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops, &
+            vi_sim_set_chatter_threshold, vi_sim_set_restart_step, vi_sim_set_max_step, &
+            vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note, &
+            vi_sim_setup, vi_sim_run_to_event
   public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
+  public :: vi_sim_set_force, vi_sim_add_spring, vi_sim_clear_springs, &
+            vi_sim_get_ledger_force
   public :: vi_orbit_create, vi_orbit_destroy, vi_orbit_errmsg, vi_orbit_set_method, &
             vi_orbit_set_tolerances, vi_orbit_find, vi_orbit_classify, &
-            vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution
+            vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution, &
+            vi_orbit_set_initial, vi_orbit_set_transient, vi_orbit_set_monitor, &
+            vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -75,6 +102,9 @@ module vibroimpact
       import :: c_int
     end function
     type(c_ptr) function vi_version_string() bind(C, name="vi_version_string")
+      import :: c_ptr
+    end function
+    type(c_ptr) function vi_sundials_version() bind(C, name="vi_sundials_version")
       import :: c_ptr
     end function
 
@@ -98,7 +128,7 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: model
       integer(c_int), value :: ldc
-      real(c_double), intent(in) :: C(ldc, *)
+      real(c_double), intent(in), optional :: C(ldc, *)  ! absent: C = 0
     end function
     integer(c_int) function vi_model_set_stiffness(model, K, ldk) bind(C, name="vi_model_set_stiffness")
       import :: c_int, c_ptr, c_double
@@ -111,7 +141,7 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: model
       real(c_double), value :: omega
-      real(c_double), intent(in) :: a(*), b(*), f0(*)
+      real(c_double), intent(in), optional :: a(*), b(*), f0(*)  ! absent: 0
     end function
     integer(c_int) function vi_model_set_stop(model, w, x_s, r) bind(C, name="vi_model_set_stop")
       import :: c_int, c_ptr, c_double
@@ -173,10 +203,80 @@ module vibroimpact
       import :: c_ptr, c_double
       type(c_ptr), value :: model
     end function
+    !> Read-only views owned by the model (c_f_pointer them: matrices are
+    !> [n, n], vectors [n]); null before vi_model_setup.
+    real(c_double) function vi_model_omega_forcing(model) bind(C, name="vi_model_omega_forcing")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: model
+    end function
+    real(c_double) function vi_model_clearance(model) bind(C, name="vi_model_clearance")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: model
+    end function
+    real(c_double) function vi_model_restitution(model) bind(C, name="vi_model_restitution")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_mass(model) bind(C, name="vi_model_mass")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_damping(model) bind(C, name="vi_model_damping")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_stiffness(model) bind(C, name="vi_model_stiffness")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_stop_vector(model) bind(C, name="vi_model_stop_vector")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_forcing_cos(model) bind(C, name="vi_model_forcing_cos")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_forcing_sin(model) bind(C, name="vi_model_forcing_sin")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_forcing_const(model) bind(C, name="vi_model_forcing_const")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_modal_forcing_cos(model) bind(C, name="vi_model_modal_forcing_cos")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_modal_forcing_sin(model) bind(C, name="vi_model_modal_forcing_sin")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_modal_forcing_const(model) bind(C, name="vi_model_modal_forcing_const")
+      import :: c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_modal_damping(model, ld) bind(C, name="vi_model_modal_damping")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: ld
+    end function
+    !> The reduced model of the modes modes(1:k) (0-based mode numbers).
+    integer(c_int) function vi_model_create_reduced(full, modes, k, r, model) &
+        bind(C, name="vi_model_create_reduced")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: full
+      integer(c_int), intent(in) :: modes(*)
+      integer(c_int), value :: k
+      real(c_double), value :: r
+      type(c_ptr) :: model
+    end function
     integer(c_int) function vi_build_chain(n, mass, k, c, M, Cm, Km, ld) bind(C, name="vi_build_chain")
       import :: c_int, c_double
       integer(c_int), value :: n, ld
-      real(c_double), intent(in) :: mass(*), k(*), c(*)
+      real(c_double), intent(in) :: mass(*), k(*)
+      real(c_double), intent(in), optional :: c(*)  ! absent: no damping
       real(c_double) :: M(ld, *), Cm(ld, *), Km(ld, *)
     end function
     integer(c_int) function vi_build_cantilever(modes, omega1, zeta, xi_stop, M, Cm, Km, ld, w, gamma) &
@@ -186,13 +286,37 @@ module vibroimpact
       real(c_double), value :: omega1, zeta, xi_stop
       real(c_double) :: M(ld, *), Cm(ld, *), Km(ld, *), w(*), gamma(*)
     end function
+    !> beta_j and phi_j(xi) of the cantilever, j counted from 0 (as in C).
+    real(c_double) function vi_cantilever_beta(j) bind(C, name="vi_cantilever_beta")
+      import :: c_int, c_double
+      integer(c_int), value :: j
+    end function
+    real(c_double) function vi_cantilever_shape(j, xi) bind(C, name="vi_cantilever_shape")
+      import :: c_int, c_double
+      integer(c_int), value :: j
+      real(c_double), value :: xi
+    end function
+    real(c_double) function vi_cantilever_participation(j) bind(C, name="vi_cantilever_participation")
+      import :: c_int, c_double
+      integer(c_int), value :: j
+    end function
 
     ! ---- impact law and exact flow --------------------------------------------
     integer(c_int) function vi_impact_apply(model, v_minus, v_plus, vn, ie) bind(C, name="vi_impact_apply")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: model
       real(c_double), intent(in) :: v_minus(*)
-      real(c_double) :: v_plus(*), vn, ie
+      real(c_double) :: v_plus(*)
+      real(c_double), optional :: vn, ie
+    end function
+    integer(c_int) function vi_impact_apply_r(model, r, v_minus, v_plus, vn, ie) &
+        bind(C, name="vi_impact_apply_r")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), value :: r
+      real(c_double), intent(in) :: v_minus(*)
+      real(c_double) :: v_plus(*)
+      real(c_double), optional :: vn, ie
     end function
     integer(c_int) function vi_restitution_from_energy(re, ke_i, r) bind(C, name="vi_restitution_from_energy")
       import :: c_int, c_double
@@ -206,8 +330,29 @@ module vibroimpact
       real(c_double), intent(in) :: x0(*), v0(*)
       real(c_double) :: x(*), v(*)
     end function
+    integer(c_int) function vi_flow_modal(model, t0, q0, qd0, t, q, qd) bind(C, name="vi_flow_modal")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), value :: t0, t
+      real(c_double), intent(in) :: q0(*), qd0(*)
+      real(c_double) :: q(*), qd(*)
+    end function
 
     ! ---- simulation -----------------------------------------------------------
+    !> Names of methods and statistics: C strings (vi_string), null if unknown.
+    type(c_ptr) function vi_method_name(method) bind(C, name="vi_method_name")
+      import :: c_ptr, c_int
+      integer(c_int), value :: method
+    end function
+    !> name: a C string, e.g. 'exact'//c_null_char; -1 if unknown.
+    integer(c_int) function vi_method_from_name(name) bind(C, name="vi_method_from_name")
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: name(*)
+    end function
+    type(c_ptr) function vi_stat_name(which) bind(C, name="vi_stat_name")
+      import :: c_ptr, c_int
+      integer(c_int), value :: which
+    end function
     integer(c_int) function vi_sim_create(model, sim) bind(C, name="vi_sim_create")
       import :: c_int, c_ptr
       type(c_ptr), value :: model
@@ -235,7 +380,7 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double), value :: t0
-      real(c_double), intent(in) :: x0(*), v0(*)
+      real(c_double), intent(in), optional :: x0(*), v0(*)  ! absent: 0
     end function
     !> fn: integer(c_int) function f(ev, user) bind(C); type(vi_event), intent(in) :: ev
     integer(c_int) function vi_sim_set_event_callback(sim, fn, user) bind(C, name="vi_sim_set_event_callback")
@@ -256,6 +401,40 @@ module vibroimpact
       type(c_funptr), value :: fn
       real(c_double), value :: every
     end function
+    !> fn: integer(c_int) function f(user) bind(C) with user by value; non-zero cancels
+    integer(c_int) function vi_sim_set_cancel(sim, fn, user) bind(C, name="vi_sim_set_cancel")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: sim, user
+      type(c_funptr), value :: fn
+    end function
+    integer(c_int) function vi_sim_set_floors(sim, vn_min, dt_min) bind(C, name="vi_sim_set_floors")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: vn_min, dt_min
+    end function
+    integer(c_int) function vi_sim_set_chatter_threshold(sim, vmin) bind(C, name="vi_sim_set_chatter_threshold")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: vmin
+    end function
+    integer(c_int) function vi_sim_set_restart_step(sim, h) bind(C, name="vi_sim_set_restart_step")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: h
+    end function
+    integer(c_int) function vi_sim_set_max_step(sim, hmax) bind(C, name="vi_sim_set_max_step")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: hmax
+    end function
+    integer(c_int) function vi_sim_method_used(sim) bind(C, name="vi_sim_method_used")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+    end function
+    type(c_ptr) function vi_sim_method_note(sim) bind(C, name="vi_sim_method_note")
+      import :: c_ptr
+      type(c_ptr), value :: sim
+    end function
     integer(c_int) function vi_sim_set_native_vector_ops(sim, on) bind(C, name="vi_sim_set_native_vector_ops")
       import :: c_int, c_ptr
       type(c_ptr), value :: sim
@@ -266,10 +445,21 @@ module vibroimpact
       type(c_ptr), value :: sim
       real(c_double), value :: t_end
     end function
+    integer(c_int) function vi_sim_setup(sim) bind(C, name="vi_sim_setup")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+    end function
+    !> kind: the VI_EVENT_* that ended the step, -1 at t_end
+    integer(c_int) function vi_sim_run_to_event(sim, t_end, kind) bind(C, name="vi_sim_run_to_event")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: t_end
+      integer(c_int) :: kind
+    end function
     integer(c_int) function vi_sim_get_state(sim, t, x, v) bind(C, name="vi_sim_get_state")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
-      real(c_double) :: t, x(*), v(*)
+      real(c_double), optional :: t, x(*), v(*)
     end function
     integer(c_int64_t) function vi_sim_get_stat(sim, which) bind(C, name="vi_sim_get_stat")
       import :: c_int64_t, c_ptr, c_int
@@ -290,13 +480,37 @@ module vibroimpact
     integer(c_int) function vi_sim_get_ledger(sim, E, FE, DE, XE, CE, jumps, ie) bind(C, name="vi_sim_get_ledger")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
-      real(c_double) :: E(*), FE(*), DE(*), XE(*), CE(*), jumps(*), ie  ! jumps: C dE
+      real(c_double), optional :: E(*), FE(*), DE(*), XE(*), CE(*), jumps(*), ie  ! jumps: C dE
     end function
     !> fn: integer(c_int) function f(iv, user) bind(C); type(vi_ledger_interval), intent(in) :: iv
     integer(c_int) function vi_sim_set_ledger_callback(sim, fn, user) bind(C, name="vi_sim_set_ledger_callback")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: sim, user
       type(c_funptr), value :: fn
+    end function
+    ! ---- nonlinear forces (vi_force.h) ---------------------------------------
+    !> fn: integer(c_int) function g(t, n, x, v, f, user) bind(C) with t, n, user
+    !> by value and x(n), v(n), f(n) real(c_double) arrays; jac: integer(c_int)
+    !> function j(t, n, x, v, dgdx, dgdv, ld, user) bind(C), or c_null_funptr
+    integer(c_int) function vi_sim_set_force(sim, fn, jac, user) bind(C, name="vi_sim_set_force")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: sim, user
+      type(c_funptr), value :: fn, jac
+    end function
+    integer(c_int) function vi_sim_add_spring(sim, type, i, j, k, gap) bind(C, name="vi_sim_add_spring")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      integer(c_int), value :: type, i, j
+      real(c_double), value :: k, gap
+    end function
+    integer(c_int) function vi_sim_clear_springs(sim) bind(C, name="vi_sim_clear_springs")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+    end function
+    integer(c_int) function vi_sim_get_ledger_force(sim, NE) bind(C, name="vi_sim_get_ledger_force")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double) :: NE(*)
     end function
     real(c_double) function vi_sim_ledger_max_residual(sim) bind(C, name="vi_sim_ledger_max_residual")
       import :: c_double, c_ptr
@@ -327,6 +541,23 @@ module vibroimpact
       type(c_ptr), value :: orbit
       real(c_double), value :: rtol, atol
     end function
+    integer(c_int) function vi_orbit_set_initial(orbit, x0, v0) bind(C, name="vi_orbit_set_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double), intent(in), optional :: x0(*), v0(*)  ! absent: 0
+    end function
+    integer(c_int) function vi_orbit_set_transient(orbit, max_periods, tol) &
+        bind(C, name="vi_orbit_set_transient")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double), value :: max_periods, tol
+    end function
+    !> fn as for vi_sim_set_monitor
+    integer(c_int) function vi_orbit_set_monitor(orbit, fn, user) bind(C, name="vi_orbit_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: orbit, user
+      type(c_funptr), value :: fn
+    end function
     integer(c_int) function vi_orbit_find(orbit) bind(C, name="vi_orbit_find")
       import :: c_int, c_ptr
       type(c_ptr), value :: orbit
@@ -340,12 +571,28 @@ module vibroimpact
         bind(C, name="vi_orbit_balance")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: orbit
-      real(c_double) :: period, phase, vN, KE_i, RE, IE, r_rec, closure
+      real(c_double), optional :: period, phase, vN, KE_i, RE, IE, r_rec, closure
     end function
     integer(c_int) function vi_orbit_modal_balance(orbit, FE, DE, XE, r_eff) bind(C, name="vi_orbit_modal_balance")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: orbit
-      real(c_double) :: FE(*), DE(*), XE(*), r_eff(*)
+      real(c_double), optional :: FE(*), DE(*), XE(*), r_eff(*)
+    end function
+    integer(c_int) function vi_orbit_impact_state(orbit, t, x, v) bind(C, name="vi_orbit_impact_state")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double), optional :: t, x(*), v(*)
+    end function
+    !> re, im: [2n]
+    integer(c_int) function vi_orbit_multipliers(orbit, re, im) bind(C, name="vi_orbit_multipliers")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double) :: re(*), im(*)
+    end function
+    integer(c_int) function vi_orbit_min_gap(orbit, gmin) bind(C, name="vi_orbit_min_gap")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double) :: gmin
     end function
     integer(c_int) function vi_orbit_reduced_restitution(orbit, modes, k, r_S) &
         bind(C, name="vi_orbit_reduced_restitution")

@@ -1,6 +1,8 @@
 /* vi_scene.c - scene files read with libyaml's document API.  Only this file
  * knows YAML; it does no numerics beyond assembling the model's matrices. */
 #include <errno.h>
+#include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -11,6 +13,8 @@
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
+/* the sim's n, to refuse a scene of another size (no public getter yet) */
+#include "vi_sim_internal.h"
 
 enum { MODEL_EXPLICIT, MODEL_CHAIN, MODEL_CANTILEVER };
 
@@ -28,7 +32,7 @@ struct vi_scene {
   int has_w;
   double xs, r, t0, t_end, periods, rtol, atol;
   int method, samples, out_impacts, out_ledger, out_modes, compress;
-  int line_model, line_stop, line_initial, line_run;
+  int line_model, line_stop, line_initial, line_run, line_forcing;
 };
 
 /* ---- diagnostics -------------------------------------------------------- */
@@ -146,10 +150,25 @@ static yaml_node_t *find(ctx *c, yaml_node_t *map, const char *key)
   return NULL;
 }
 
+/* Tags the composer gives untagged scalars: "?" plain, "!" quoted (YAML's
+ * non-specific tags).  A number must be plain, or tagged !!int / !!float:
+ * `!!str 0.1` and "0.1" are text. */
+#define TAG_PLAIN "?"
+#define TAG_QUOTED "!"
+static int numeric_tag(const yaml_node_t *nd)
+{
+  const char *t = (const char *)nd->tag;
+  return t && (!strcmp(t, TAG_PLAIN) || !strcmp(t, YAML_INT_TAG) ||
+               !strcmp(t, YAML_FLOAT_TAG));
+}
+
 static int number(ctx *c, yaml_node_t *nd, const char *key, double *out)
 {
   if (!nd || nd->type != YAML_SCALAR_NODE)
     return fail(c, nd, VI_ERR_PARSE, key, "%s", "expected a number");
+  if (!numeric_tag(nd))
+    return fail(c, nd, VI_ERR_PARSE, key, "%s",
+                "expected a number, got text (quoted or tagged)");
   const char *s = (const char *)nd->data.scalar.value;
   char *end;
   errno = 0;
@@ -158,14 +177,28 @@ static int number(ctx *c, yaml_node_t *nd, const char *key, double *out)
     return fail(c, nd, VI_ERR_PARSE, key, "%s", "expected a number");
   if (!isfinite(v))
     return fail(c, nd, VI_ERR_NONFINITE, key, "%s", "must be finite");
+  if (fabs(v) > VI_SCENE_NUM_MAX)
+    return fail(c, nd, VI_ERR_LIMIT, key, "%s",
+                "magnitude above 1e100: outside the range where the "
+                "energies stay finite");
   *out = v;
   return VI_OK;
+}
+
+/* v within [lo, hi], else an error naming the key and the range. */
+static int in_range(ctx *c, yaml_node_t *nd, const char *key, double v,
+                    double lo, double hi, int code)
+{
+  if (v >= lo && v <= hi) return VI_OK;
+  char why[160];
+  snprintf(why, sizeof why, "must lie in [%.3g, %.3g]", lo, hi);
+  return fail(c, nd, code, key, "%s", why);
 }
 
 static int integer(ctx *c, yaml_node_t *nd, const char *key, int lo, int hi,
                    int *out)
 {
-  double v;
+  double v = 0;
   int st = number(c, nd, key, &v);
   if (st) return st;
   if (v != floor(v) || v < lo || v > hi) {
@@ -179,7 +212,9 @@ static int integer(ctx *c, yaml_node_t *nd, const char *key, int lo, int hi,
 
 static int boolean(ctx *c, yaml_node_t *nd, const char *key, int *out)
 {
-  const char *s = nd && nd->type == YAML_SCALAR_NODE
+  const char *s = nd && nd->type == YAML_SCALAR_NODE && nd->tag &&
+                          (!strcmp((const char *)nd->tag, TAG_PLAIN) ||
+                           !strcmp((const char *)nd->tag, YAML_BOOL_TAG))
                       ? (const char *)nd->data.scalar.value
                       : "";
   if (!strcmp(s, "true"))
@@ -279,6 +314,35 @@ static double *alloc_n(vi_scene *s, int count)
   return calloc((size_t)count * s->n, sizeof(double));
 }
 
+/* Largest over smallest of the non-zero |v[i*stride]|: the spread of masses
+ * or stiffnesses, which bounds how stiff the equations get. */
+static double spread(const double *v, int n, size_t stride)
+{
+  double lo = INFINITY, hi = 0;
+  for (int i = 0; i < n; i++) {
+    double a = fabs(v[(size_t)i * stride]);
+    if (a > 0) {
+      lo = a < lo ? a : lo;
+      hi = a > hi ? a : hi;
+    }
+  }
+  return hi > 0 ? hi / lo : 1.0;
+}
+
+static int check_spread(ctx *c, yaml_node_t *nd, const char *key,
+                        const char *what, const double *v, int n,
+                        size_t stride)
+{
+  double sp = spread(v, n, stride);
+  if (sp <= VI_SCENE_RATIO_MAX) return VI_OK;
+  char why[200];
+  snprintf(why, sizeof why,
+           "the largest %s is %.3g times the smallest (limit 1e12: beyond "
+           "it the equations are too stiff for double precision)",
+           what, sp);
+  return fail(c, nd, VI_ERR_LIMIT, key, "%s", why);
+}
+
 static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
 {
   static const char *const keys[] = {"M",          "C",        "K", "chain",
@@ -299,6 +363,24 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
     s->n = (int)(K->data.sequence.items.top - K->data.sequence.items.start);
     if (s->n < 1)
       return fail(c, K, VI_ERR_DIM, "model.K", "%s", "empty matrix");
+    /* every row must hold n numbers before n x n storage is allocated: the
+     * text then bounds the memory */
+    for (int i = 0; i < s->n; i++) {
+      yaml_node_t *row = node(c, K->data.sequence.items.start[i]);
+      char k[64];
+      snprintf(k, sizeof k, "model.K row %d", i + 1);
+      if (!row || row->type != YAML_SEQUENCE_NODE)
+        return fail(c, row, VI_ERR_PARSE, k, "%s", "expected a list of numbers");
+      if (row->data.sequence.items.top - row->data.sequence.items.start !=
+          s->n) {
+        char why[96];
+        snprintf(why, sizeof why, "expected %d numbers (K has %d rows), got %d",
+                 s->n, s->n,
+                 (int)(row->data.sequence.items.top -
+                       row->data.sequence.items.start));
+        return fail(c, row, VI_ERR_DIM, k, "%s", why);
+      }
+    }
     s->M = alloc_n(s, 3 * s->n);
     if (!s->M) return fail(c, K, VI_ERR_NOMEM, "model", "%s", "out of memory");
     s->C = s->M + (size_t)s->n * s->n;
@@ -311,6 +393,11 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
       for (int i = 0; i < s->n; i++)
         s->M[i + (size_t)i * s->n] = 1.0;
     if (C && (st = matrix(c, C, "model.C", s->n, s->C))) return st;
+    if ((st = check_spread(c, M ? M : K, M ? "model.M" : "model.K",
+                           "diagonal mass", s->M, s->n, (size_t)s->n + 1)) ||
+        (st = check_spread(c, K, "model.K", "diagonal stiffness", s->K, s->n,
+                           (size_t)s->n + 1)))
+      return st;
   } else if (ch) {
     static const char *const ck[] = {"n", "m", "k", "c", NULL};
     s->kind = MODEL_CHAIN;
@@ -325,7 +412,11 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
     yaml_node_t *cn = find(c, ch, "c");
     if ((st = vector(c, find(c, ch, "m"), "model.chain.m", s->n, 1, s->cm)) ||
         (st = vector(c, find(c, ch, "k"), "model.chain.k", s->n, 1, s->ck)) ||
-        (cn && (st = vector(c, cn, "model.chain.c", s->n, 1, s->cc))))
+        (cn && (st = vector(c, cn, "model.chain.c", s->n, 1, s->cc))) ||
+        (st = check_spread(c, find(c, ch, "m"), "model.chain.m", "mass",
+                           s->cm, s->n, 1)) ||
+        (st = check_spread(c, find(c, ch, "k"), "model.chain.k", "stiffness",
+                           s->ck, s->n, 1)))
       return st;
   } else {
     static const char *const bk[] = {"modes", "omega1", "zeta", "xi_stop",
@@ -367,11 +458,15 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
                                      "on",    "amplitude", "base", NULL};
   int st = check_map(c, f, "forcing", keys);
   if (st) return st;
+  s->line_forcing = LINE(f);
   if ((st = opt_number(c, f, "forcing", "omega", &s->omega)) ||
       (st = opt_vector(c, f, "forcing", "a", s->n, s->a)) ||
       (st = opt_vector(c, f, "forcing", "b", s->n, s->b)) ||
       (st = opt_vector(c, f, "forcing", "f0", s->n, s->f0)))
     return st;
+  if (s->omega < 0)
+    return fail(c, find(c, f, "omega"), VI_ERR_FREQUENCY, "forcing.omega",
+                "%s", "must be >= 0 (0: no harmonic forcing)");
   yaml_node_t *on = find(c, f, "on"), *amp = find(c, f, "amplitude"),
               *base = find(c, f, "base");
   if ((on != NULL) != (amp != NULL))
@@ -476,8 +571,9 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
                   "must be after initial.t0");
     if ((v = find(c, run, "rtol"))) {
       if ((st = number(c, v, "run.rtol", &s->rtol))) return st;
-      if (!(s->rtol > 0))
-        return fail(c, v, VI_ERR_TOLERANCE, "run.rtol", "%s", "must be > 0");
+      if ((st = in_range(c, v, "run.rtol", s->rtol, VI_SCENE_RTOL_MIN,
+                         VI_SCENE_RTOL_MAX, VI_ERR_TOLERANCE)))
+        return st;
     }
     if ((v = find(c, run, "atol"))) {
       if ((st = number(c, v, "run.atol", &s->atol))) return st;
@@ -487,15 +583,13 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
     if ((v = find(c, run, "method"))) {
       const char *m =
           v->type == YAML_SCALAR_NODE ? (const char *)v->data.scalar.value : "";
-      if (!strcmp(m, "adams"))
-        s->method = VI_METHOD_ADAMS;
-      else if (!strcmp(m, "bdf"))
-        s->method = VI_METHOD_BDF;
-      else if (!strcmp(m, "exact"))
-        s->method = VI_METHOD_EXACT;
-      else
-        return fail(c, v, VI_ERR_PARSE, "run.method", "%s",
-                    "expected adams, bdf or exact");
+      if ((s->method = vi_method_from_name(m)) < 0) {
+        char list[160] = "expected one of";
+        for (int k = 0; vi_method_name(k); k++)
+          snprintf(list + strlen(list), sizeof list - strlen(list), "%s %s",
+                   k ? "," : "", vi_method_name(k));
+        return fail(c, v, VI_ERR_PARSE, "run.method", "%s", list);
+      }
     }
   }
   if (!(s->t_end > 0) && !(s->periods > 0) && !(s->omega > 0))
@@ -529,8 +623,16 @@ static int parse_root(ctx *c, vi_scene *s)
   int st = check_map(c, root, "", keys);
   if (st) return st;
   yaml_node_t *v;
-  if ((v = find(c, root, "name")) && v->type == YAML_SCALAR_NODE)
+  if ((v = find(c, root, "name"))) {
+    if (v->type != YAML_SCALAR_NODE)
+      return fail(c, v, VI_ERR_PARSE, "name", "%s", "expected one line of text");
+    if (v->data.scalar.length > 256 ||
+        strlen((const char *)v->data.scalar.value) != v->data.scalar.length)
+      return fail(c, v, VI_ERR_LIMIT, "name", "%s",
+                  "at most 256 characters, no NUL");
     s->name = strdup((const char *)v->data.scalar.value);
+    if (!s->name) return fail(c, v, VI_ERR_NOMEM, "name", "%s", "out of memory");
+  }
   yaml_node_t *mod = find(c, root, "model"), *stop = find(c, root, "stop");
   if (!mod)
     return fail(c, root, VI_ERR_PARSE, "model", "%s", "missing section");
@@ -550,50 +652,235 @@ static int parse_root(ctx *c, vi_scene *s)
   return parse_run(c, s, root);
 }
 
-int vi_scene_parse(const char *text, long len, const char *name, vi_scene **out,
-                   vi_diag *d)
+/* ---- reading YAML ----------------------------------------------------------
+ * Our own composer over libyaml's events instead of yaml_parser_load: it
+ * stops at the nesting limit as soon as it is crossed (the scanner's work
+ * per token grows with the depth, so a deep file would cost quadratic
+ * time), rejects a second document, keeps whether a scalar was plain,
+ * quoted or tagged (libyaml's loader tags all three alike) and resolves an
+ * alias only to a node that is complete (no cycles). */
+typedef struct anchor {
+  char *name;
+  int id;
+} anchor;
+
+typedef struct level {
+  int id, key;       /* node, and a mapping's pending key (0: none) */
+  char *anchor;      /* anchor of this collection, registered at its end */
+} level;
+
+static int syntax(ctx *c, yaml_parser_t *p)
+{
+  return diag(c->d, c->file, VI_ERR_PARSE, (int)p->problem_mark.line + 1,
+              (int)p->problem_mark.column + 1, "", "", "YAML syntax: %s%s%s",
+              p->problem ? p->problem : "error", p->context ? " " : "",
+              p->context ? p->context : "");
+}
+
+static int ev_fail(ctx *c, const yaml_event_t *e, int code, const char *msg)
+{
+  return diag(c->d, c->file, code, (int)e->start_mark.line + 1,
+              (int)e->start_mark.column + 1, "", "", "%s", msg);
+}
+
+static int attach(ctx *c, level *top, int id)
+{
+  yaml_node_t *parent = node(c, top->id);
+  if (parent->type == YAML_SEQUENCE_NODE)
+    return yaml_document_append_sequence_item(&c->doc, top->id, id);
+  if (!top->key) {
+    top->key = id;
+    return 1;
+  }
+  int ok = yaml_document_append_mapping_pair(&c->doc, top->id, top->key, id);
+  top->key = 0;
+  return ok;
+}
+
+static int add_anchor(anchor **list, int *count, int *cap, char *name, int id)
+{
+  if (*count == *cap) {
+    int nc = *cap ? 2 * *cap : 16;
+    anchor *nl = realloc(*list, sizeof(anchor) * (size_t)nc);
+    if (!nl) return 0;
+    *list = nl;
+    *cap = nc;
+  }
+  (*list)[*count].name = name;
+  (*list)[*count].id = id;
+  (*count)++;
+  return 1;
+}
+
+static int compose(ctx *c, const char *text, size_t len, int max_depth)
+{
+  yaml_parser_t p;
+  yaml_event_t e;
+  level *stack = calloc((size_t)max_depth + 1, sizeof(level));
+  anchor *anchors = NULL;
+  int depth = 0, docs = 0, nanch = 0, canch = 0, st = VI_OK, done = 0,
+      have_doc = 0;
+  if (!stack)
+    return diag(c->d, c->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+  yaml_parser_initialize(&p);
+  yaml_parser_set_input_string(&p, (const unsigned char *)text, len);
+  while (!done && st == VI_OK) {
+    if (!yaml_parser_parse(&p, &e)) {
+      st = syntax(c, &p);
+      break;
+    }
+    int id = 0, nest = 0;
+    char *anc = NULL;
+    switch (e.type) {
+    case YAML_STREAM_END_EVENT: done = 1; break;
+    case YAML_DOCUMENT_START_EVENT:
+      if (++docs > 1) {
+        st = ev_fail(c, &e, VI_ERR_PARSE,
+                     "a second YAML document: a scene is one document");
+        break;
+      }
+      if (!yaml_document_initialize(&c->doc, NULL, NULL, NULL, 1, 1))
+        st = ev_fail(c, &e, VI_ERR_NOMEM, "out of memory");
+      else
+        have_doc = 1;
+      break;
+    case YAML_SCALAR_EVENT: {
+      const char *tag =
+          e.data.scalar.tag ? (const char *)e.data.scalar.tag
+          : e.data.scalar.style == YAML_PLAIN_SCALAR_STYLE ? TAG_PLAIN
+                                                            : TAG_QUOTED;
+      id = yaml_document_add_scalar(&c->doc, (yaml_char_t *)tag,
+                                    e.data.scalar.value,
+                                    (int)e.data.scalar.length,
+                                    e.data.scalar.style);
+      anc = (char *)e.data.scalar.anchor;
+      break;
+    }
+    case YAML_SEQUENCE_START_EVENT:
+    case YAML_MAPPING_START_EVENT:
+      if (depth >= max_depth) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "nesting deeper than %d levels (the limit; "
+                 "a scene needs 5)", max_depth);
+        st = ev_fail(c, &e, VI_ERR_LIMIT, msg);
+        break;
+      }
+      id = e.type == YAML_SEQUENCE_START_EVENT
+               ? yaml_document_add_sequence(&c->doc, NULL,
+                                            e.data.sequence_start.style)
+               : yaml_document_add_mapping(&c->doc, NULL,
+                                           e.data.mapping_start.style);
+      anc = (char *)(e.type == YAML_SEQUENCE_START_EVENT
+                         ? e.data.sequence_start.anchor
+                         : e.data.mapping_start.anchor);
+      nest = 1;
+      break;
+    case YAML_SEQUENCE_END_EVENT:
+    case YAML_MAPPING_END_EVENT:
+      if (depth < 1) break;
+      depth--;
+      if (stack[depth].anchor) {
+        if (!add_anchor(&anchors, &nanch, &canch, stack[depth].anchor,
+                        stack[depth].id))
+          st = ev_fail(c, &e, VI_ERR_NOMEM, "out of memory");
+        else
+          stack[depth].anchor = NULL;
+      }
+      break;
+    case YAML_ALIAS_EVENT: {
+      const char *nm = (const char *)e.data.alias.anchor;
+      for (int k = nanch - 1; k >= 0 && !id; k--)
+        if (!strcmp(anchors[k].name, nm)) id = anchors[k].id;
+      if (!id) st = ev_fail(c, &e, VI_ERR_PARSE, "alias to an unknown anchor");
+      break;
+    }
+    default: break;
+    }
+    if (st == VI_OK && id) {
+      yaml_node_t *nd = node(c, id);
+      if (e.type != YAML_ALIAS_EVENT) {
+        nd->start_mark = e.start_mark;
+        nd->end_mark = e.end_mark;
+      }
+      if (depth > 0 && !attach(c, &stack[depth - 1], id))
+        st = ev_fail(c, &e, VI_ERR_NOMEM, "out of memory");
+      if (anc && st == VI_OK) {
+        char *cp = strdup(anc);
+        if (!cp)
+          st = ev_fail(c, &e, VI_ERR_NOMEM, "out of memory");
+        else if (nest)
+          stack[depth].anchor = cp; /* usable once the collection is done */
+        else if (!add_anchor(&anchors, &nanch, &canch, cp, id)) {
+          free(cp);
+          st = ev_fail(c, &e, VI_ERR_NOMEM, "out of memory");
+        }
+      }
+      if (nest && st == VI_OK) {
+        stack[depth].id = id;
+        stack[depth].key = 0;
+        depth++;
+      }
+    } else if (st == VI_OK && !id &&
+               (e.type == YAML_SCALAR_EVENT ||
+                e.type == YAML_SEQUENCE_START_EVENT ||
+                e.type == YAML_MAPPING_START_EVENT))
+      st = ev_fail(c, &e, VI_ERR_NOMEM, "out of memory");
+    yaml_event_delete(&e);
+  }
+  yaml_parser_delete(&p);
+  for (int k = 0; k <= max_depth; k++) free(stack[k].anchor);
+  free(stack);
+  for (int k = 0; k < nanch; k++) free(anchors[k].name);
+  free(anchors);
+  if (!have_doc && st == VI_OK) {
+    /* an empty stream: an empty document, reported by parse_root */
+    if (!yaml_document_initialize(&c->doc, NULL, NULL, NULL, 1, 1))
+      return diag(c->d, c->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+    have_doc = 1;
+  }
+  if (st && have_doc) yaml_document_delete(&c->doc);
+  return st;
+}
+
+int vi_scene_parse_limited(const char *text, long len, const char *name,
+                           int max_depth, vi_scene **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
-  if (!out || !text) return VI_ERR_ARG;
-  *out = NULL;
+  if (out) *out = NULL;
+  if (!out || !text)
+    return diag(d, name, VI_ERR_ARG, 0, 0, "", "", "%s",
+                "vi_scene_parse: text and out are required");
   if (len < 0) len = (long)strlen(text);
+  if (max_depth <= 0) max_depth = VI_SCENE_MAX_DEPTH;
   vi_scene *s = calloc(1, sizeof *s);
-  if (!s) return VI_ERR_NOMEM;
+  if (!s) return diag(d, name, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
   s->text = malloc((size_t)len + 1);
   s->file = strdup(name ? name : "<input>");
   if (!s->text || !s->file) {
     vi_scene_destroy(&s);
-    return VI_ERR_NOMEM;
+    return diag(d, name, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
   }
   memcpy(s->text, text, (size_t)len);
   s->text[len] = '\0';
   s->rtol = 1e-8;
   s->atol = 1e-10;
-  s->method = VI_METHOD_ADAMS;
+  s->method = VI_METHOD_AUTO;
   s->out_impacts = 1;
   s->compress = 1;
   ctx c = {.d = d, .file = s->file};
-  yaml_parser_t p;
-  yaml_parser_initialize(&p);
-  yaml_parser_set_input_string(&p, (const unsigned char *)s->text, (size_t)len);
-  int st;
-  if (!yaml_parser_load(&p, &c.doc)) {
-    st = diag(d, s->file, VI_ERR_PARSE, (int)p.problem_mark.line + 1,
-              (int)p.problem_mark.column + 1, "", "", "YAML syntax: %s%s%s",
-              p.problem ? p.problem : "error", p.context ? " " : "",
-              p.context ? p.context : "");
-    yaml_parser_delete(&p);
-    vi_scene_destroy(&s);
-    return st;
-  }
-  yaml_parser_delete(&p);
-  st = parse_root(&c, s);
-  yaml_document_delete(&c.doc);
+  int st = compose(&c, s->text, (size_t)len, max_depth);
   if (st) {
     vi_scene_destroy(&s);
     return st;
   }
-  if (!s->name) s->name = strdup(s->file);
+  st = parse_root(&c, s);
+  yaml_document_delete(&c.doc);
+  if (!st && !s->name && !(s->name = strdup(s->file)))
+    st = diag(d, s->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+  if (st) {
+    vi_scene_destroy(&s);
+    return st;
+  }
   if (s->periods > 0 || !(s->t_end > 0))
     s->t_end =
         s->t0 + (s->periods > 0 ? s->periods : 100.0) * 2 * M_PI / s->omega;
@@ -601,11 +888,22 @@ int vi_scene_parse(const char *text, long len, const char *name, vi_scene **out,
   return VI_OK;
 }
 
-int vi_scene_load(const char *path, vi_scene **out, vi_diag *d)
+int vi_scene_parse(const char *text, long len, const char *name, vi_scene **out,
+                   vi_diag *d)
+{
+  return vi_scene_parse_limited(text, len, name, 0, out, d);
+}
+
+int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
+                          vi_scene **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
-  if (!path || !out) return VI_ERR_ARG;
-  *out = NULL;
+  if (out) *out = NULL;
+  if (!path || !out)
+    return diag(d, path, VI_ERR_ARG, 0, 0, "", "", "%s",
+                "vi_scene_load: path and out are required");
+  if (max_bytes <= 0) max_bytes = VI_SCENE_MAX_BYTES;
+  if (max_bytes > LONG_MAX - 1) max_bytes = LONG_MAX - 1;
   FILE *f = fopen(path, "rb");
   if (!f)
     return diag(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
@@ -614,9 +912,19 @@ int vi_scene_load(const char *path, vi_scene **out, vi_diag *d)
   long len = 0, cap = 0;
   size_t got;
   char chunk[8192];
+  /* read at most max_bytes + 1: a larger file (or /dev/zero) is refused
+   * without reading it all */
   while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) {
+    if (len + (long)got > max_bytes) {
+      free(buf);
+      fclose(f);
+      return diag(d, path, VI_ERR_LIMIT, 0, 0, "", "",
+                  "the scene is larger than %lld bytes (the limit; "
+                  "--max-scene-size raises it)", (long long)max_bytes);
+    }
     if (len + (long)got > cap) {
       cap = 2 * (len + (long)got);
+      if (cap > max_bytes + 1) cap = (long)max_bytes + 1;
       char *nb = realloc(buf, (size_t)cap);
       if (!nb) {
         free(buf);
@@ -629,14 +937,21 @@ int vi_scene_load(const char *path, vi_scene **out, vi_diag *d)
     len += (long)got;
   }
   int bad = ferror(f);
+  int e = errno;
   fclose(f);
   if (bad) {
     free(buf);
-    return diag(d, path, VI_ERR_IO, 0, 0, "", "", "read error");
+    return diag(d, path, VI_ERR_IO, 0, 0, "", "", "cannot read: %s",
+                strerror(e));
   }
-  int st = vi_scene_parse(buf ? buf : "", len, path, out, d);
+  int st = vi_scene_parse_limited(buf ? buf : "", len, path, max_depth, out, d);
   free(buf);
   return st;
+}
+
+int vi_scene_load(const char *path, vi_scene **out, vi_diag *d)
+{
+  return vi_scene_load_limited(path, 0, 0, out, d);
 }
 
 void vi_scene_destroy(vi_scene **scene)
@@ -653,12 +968,165 @@ void vi_scene_destroy(vi_scene **scene)
   *scene = NULL;
 }
 
+/* ---- ranges that need the model's frequencies ---------------------------
+ * Scales: omega_hi, the fastest of the natural frequencies and the forcing;
+ * L, a length (the clearance, or the static response to the loads).  The
+ * run must be resolvable in double precision and the state within a few
+ * orders of magnitude of the problem's own scales. */
+static int range_fail(vi_diag *d, const vi_scene *s, int line, const char *key,
+                      double v, const char *fmt, double a, double b)
+{
+  char val[64], msg[256];
+  snprintf(val, sizeof val, "%.6g", v);
+  snprintf(msg, sizeof msg, fmt, a, b);
+  return diag(d, s->file, VI_ERR_LIMIT, line, line ? 1 : 0, key, val, "%s",
+              msg);
+}
+
+static double maxabs(const double *v, int n)
+{
+  double m = 0;
+  for (int i = 0; i < n; i++) m = fabs(v[i]) > m ? fabs(v[i]) : m;
+  return m;
+}
+
+static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
+{
+  int n = s->n;
+  const double *om = vi_model_omega(m), *ze = vi_model_zeta(m),
+               *K = vi_model_stiffness(m);
+  double wmax = 0, zmax = 0, kmax = 0;
+  for (int j = 0; j < n; j++) {
+    wmax = om[j] > wmax ? om[j] : wmax;
+    zmax = isfinite(ze[j]) && ze[j] > zmax ? ze[j] : zmax;
+    kmax = fabs(K[j + (size_t)j * n]) > kmax ? fabs(K[j + (size_t)j * n]) : kmax;
+  }
+  double W = s->omega > wmax ? s->omega : wmax;
+  if (s->omega > 0 && wmax > 0 &&
+      (s->omega < VI_SCENE_FREQ_RATIO_MIN * wmax ||
+       s->omega > VI_SCENE_FREQ_RATIO_MAX * wmax))
+    return range_fail(d, s, s->line_forcing, "forcing.omega", s->omega,
+                      "must lie in [%.3g, %.3g]: within 1e-8 .. 1e8 times "
+                      "the highest natural frequency",
+                      VI_SCENE_FREQ_RATIO_MIN * wmax,
+                      VI_SCENE_FREQ_RATIO_MAX * wmax);
+  if (zmax > VI_SCENE_ZETA_MAX)
+    return range_fail(d, s, s->line_model, "model", zmax,
+                      "a modal damping ratio above %.3g (limit; got %.3g): "
+                      "the damping is out of proportion to the stiffness",
+                      VI_SCENE_ZETA_MAX, zmax);
+  /* time: t must resolve the fastest motion: |t| eps omega_hi <= 1e-3 */
+  if (W > 0) {
+    double tmax = 1e-3 / (DBL_EPSILON * W),
+           span = fabs(s->t_end) > fabs(s->t0) ? fabs(s->t_end) : fabs(s->t0);
+    const char *key = s->periods > 0 ? "run.periods" : "run.t_end";
+    if (span > tmax)
+      return range_fail(d, s, s->line_run, key,
+                        s->periods > 0 ? s->periods : s->t_end,
+                        "the run reaches |t| = %.3g; above %.3g double "
+                        "precision no longer resolves the fastest motion",
+                        span, tmax);
+    if (!(s->t_end - s->t0 >= 1e-9 / W))
+      return range_fail(d, s, s->line_run, key,
+                        s->periods > 0 ? s->periods : s->t_end,
+                        "the run spans %.3g time units, less than %.3g "
+                        "(1e-9 of the fastest period)",
+                        s->t_end - s->t0, 1e-9 / W);
+  }
+  /* lengths: the clearance or the static response to the loads */
+  double F = 0;
+  for (int i = 0; i < n; i++) {
+    double f = fabs(s->a[i]) + fabs(s->b[i]) + fabs(s->f0[i]) +
+               (s->has_base ? fabs(s->base) : 0);
+    F = f > F ? f : F;
+  }
+  double L = fabs(s->xs), Ls = kmax > 0 ? F / kmax : 0;
+  L = Ls > L ? Ls : L;
+  double x0 = maxabs(s->x0, n), v0 = maxabs(s->v0, n);
+  if (L > 0 && x0 > VI_SCENE_STATE_RATIO * L)
+    return range_fail(d, s, s->line_initial, "initial.x", x0,
+                      "|x0| above %.3g: 1e8 times the problem's length "
+                      "scale %.3g (clearance or static response)",
+                      VI_SCENE_STATE_RATIO * L, L);
+  if (L > 0 && W > 0 && v0 > VI_SCENE_STATE_RATIO * L * W)
+    return range_fail(d, s, s->line_initial, "initial.v", v0,
+                      "|v0| above %.3g: 1e8 times the length scale %.3g "
+                      "times the highest frequency",
+                      VI_SCENE_STATE_RATIO * L * W, L);
+  double La = L;
+  La = x0 > La ? x0 : La;
+  La = W > 0 && v0 / W > La ? v0 / W : La;
+  if (La > 0 && s->atol > VI_SCENE_ATOL_RATIO * La)
+    return range_fail(d, s, s->line_run, "run.atol", s->atol,
+                      "must be at most %.3g: 0.01 of the problem's length "
+                      "scale %.3g",
+                      VI_SCENE_ATOL_RATIO * La, La);
+  if (!(s->atol >= DBL_MIN))
+    return range_fail(d, s, s->line_run, "run.atol", s->atol,
+                      "must be at least %.3g%.0g", DBL_MIN, 0);
+  if (!(s->rtol >= VI_SCENE_RTOL_MIN && s->rtol <= VI_SCENE_RTOL_MAX))
+    return range_fail(d, s, s->line_run, "run.rtol", s->rtol,
+                      "must lie in [%.3g, %.3g]", VI_SCENE_RTOL_MIN,
+                      VI_SCENE_RTOL_MAX);
+  return VI_OK;
+}
+
+/* Bytes a model of n coordinates and its simulation take, measured on
+ * chains (max RSS of `vibroimpact -o` less the empty process: 14 n^2
+ * doubles at n = 1000 for adams, bdf and exact alike): about
+ * VI_MEM_N2 n^2 + VI_MEM_N n doubles. */
+#define VI_MEM_N2 16.0
+#define VI_MEM_N 400.0
+double vi_scene_memory_estimate(const vi_scene *s)
+{
+  if (!s) return 0;
+  double n = s->n;
+  return 8.0 * (VI_MEM_N2 * n * n + VI_MEM_N * n);
+}
+
+/* MemAvailable from /proc/meminfo in bytes; 0 when unknown. */
+static double mem_available(void)
+{
+  FILE *f = fopen("/proc/meminfo", "r");
+  if (!f) return 0;
+  char line[256];
+  double kb = 0;
+  while (fgets(line, sizeof line, f))
+    if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
+  fclose(f);
+  return kb * 1024.0;
+}
+
+int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (!s) return VI_ERR_ARG;
+  int from_machine = !(max_bytes > 0);
+  if (from_machine) max_bytes = mem_available();
+  if (!(max_bytes > 0)) return VI_OK; /* not known: nothing to compare */
+  double need = vi_scene_memory_estimate(s);
+  if (need <= max_bytes) return VI_OK;
+  const char *key = s->kind == MODEL_CHAIN        ? "model.chain.n"
+                    : s->kind == MODEL_CANTILEVER ? "model.cantilever.modes"
+                                                  : "model.K";
+  char val[32];
+  snprintf(val, sizeof val, "%d", s->n);
+  return diag(d, s->file, VI_ERR_LIMIT, s->line_model, s->line_model ? 1 : 0,
+              key, val,
+              "the model would need about %.3g MB, more than the %.3g MB %s "
+              "(--max-memory raises the limit)",
+              need / 1048576.0, max_bytes / 1048576.0,
+              from_machine ? "available on this machine" : "allowed");
+}
+
 /* ---- building the model ------------------------------------------------- */
 int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
-  if (!s || !out) return VI_ERR_ARG;
-  *out = NULL;
+  if (out) *out = NULL;
+  if (!s || !out)
+    return diag(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
+                "vi_scene_create_model: scene and out are required");
   int n = s->n, st;
   size_t nn = (size_t)n * n;
   double *buf = calloc(3 * nn + 2 * (size_t)n, sizeof(double));
@@ -726,6 +1194,10 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
     vi_model_destroy(&m);
     return st;
   }
+  if ((st = check_ranges(s, m, d))) {
+    vi_model_destroy(&m);
+    return st;
+  }
   *out = m;
   return VI_OK;
 }
@@ -733,7 +1205,12 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
 int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
-  if (!s || !sim) return VI_ERR_ARG;
+  if (!s || !sim)
+    return diag(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
+                "vi_scene_configure_sim: scene and sim are required");
+  if (sim->n != s->n)
+    return diag(d, s->file, VI_ERR_DIM, s->line_model, 0, "model", "",
+                "the scene has n = %d, the simulation n = %d", s->n, sim->n);
   int st = vi_sim_set_method(sim, s->method);
   if (st)
     return diag(d, s->file, st, s->line_run, 1, "run.method", "", "%s",
@@ -750,6 +1227,7 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
 /* ---- getters and overrides ---------------------------------------------- */
 const char *vi_scene_name(const vi_scene *s) { return s ? s->name : ""; }
 const char *vi_scene_text(const vi_scene *s) { return s ? s->text : ""; }
+
 int vi_scene_n(const vi_scene *s) { return s ? s->n : 0; }
 double vi_scene_t0(const vi_scene *s) { return s ? s->t0 : 0.0; }
 double vi_scene_t_end(const vi_scene *s) { return s ? s->t_end : 0.0; }
@@ -774,7 +1252,12 @@ int vi_scene_wants(const vi_scene *s, const char *what)
 int vi_scene_set_run(vi_scene *s, double rtol, double atol, double periods,
                      int method)
 {
-  if (!s) return VI_ERR_ARG;
+  if (!s || isnan(rtol) || isnan(atol) || isnan(periods) ||
+      !(periods < INFINITY) || (method >= 0 && !vi_method_name(method)))
+    return VI_ERR_ARG;
+  if (rtol > 0 && !(rtol >= VI_SCENE_RTOL_MIN && rtol <= VI_SCENE_RTOL_MAX))
+    return VI_ERR_TOLERANCE;
+  if (atol > 0 && !(atol < INFINITY)) return VI_ERR_TOLERANCE;
   if (rtol > 0) s->rtol = rtol;
   if (atol > 0) s->atol = atol;
   if (method >= 0) s->method = method;

@@ -6,7 +6,10 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <fcntl.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <hdf5.h>
 
@@ -14,25 +17,30 @@
 #include "vibroimpact/vi_writer.h"
 
 #define MAXCOL 12
-#define FORMAT_VERSION 1
+#define FORMAT_VERSION 2
 
 typedef struct col {
   const char *name, *units, *meaning;
-  int width;   /* 1: dataset [rows]; w > 1 or n: [rows][w] */
+  int width;   /* values per row */
+  int rank;    /* 1: dataset [rows]; 2: [rows][width], also when width = 1 */
   hid_t ftype; /* file type */
   hid_t dset;
   double *buf; /* cap x width */
 } col;
 
 typedef struct table {
+  const char *gname;
   hid_t group;
-  int ncol, cap, used;
+  int ncol, cap, used, compress, made; /* made: datasets exist */
   hsize_t rows;
   col c[MAXCOL];
 } table;
 
 struct vi_writer {
   hid_t file;
+  int fd;           /* our own descriptor of PATH.part, for the reserve */
+  int no_reserve;   /* the file system cannot preallocate */
+  int64_t reserved; /* blocks allocated up to this offset */
   char *path, *part;
   const vi_model *m;
   int n, compress, failed;
@@ -53,7 +61,67 @@ static int werr(vi_writer *w, int code, const char *fmt, ...)
   return code;
 }
 
+/* A misuse: the message, but the file is not broken. */
+static int warg(vi_writer *w, int code, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static int warg(vi_writer *w, int code, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(w->errmsg, sizeof w->errmsg, fmt, ap);
+  va_end(ap);
+  return code;
+}
+
 const char *vi_writer_errmsg(const vi_writer *w) { return w ? w->errmsg : ""; }
+
+/* ---- space before HDF5 needs it ------------------------------------------
+ * HDF5 1.10 does not survive a failed write: after ENOSPC the file stays
+ * half-closed in its tables and H5Fclose, H5close or the exit-time clean-up
+ * crash on it.  So HDF5 must never meet a full disk: before each batch of
+ * writes the blocks past the end of PATH.part are allocated (fallocate,
+ * keeping the size) for the batch plus a margin for metadata, and a full
+ * disk is found here, while HDF5 is still healthy and can close cleanly. */
+#define RESERVE_MARGIN (32 * 1024)
+
+static int reserve(vi_writer *w, double bytes)
+{
+  if (w->no_reserve || w->fd < 0) return VI_OK;
+  struct stat st;
+  hsize_t eoa = 0;
+  if (fstat(w->fd, &st) != 0) return VI_OK;
+  /* from HDF5's end of allocation, which runs ahead of what is on disk
+   * (metadata is allocated at once and written at the flush) */
+  H5E_BEGIN_TRY { if (H5Fget_filesize(w->file, &eoa) < 0) eoa = 0; }
+  H5E_END_TRY;
+  double end = (double)eoa > (double)st.st_size ? (double)eoa
+                                                : (double)st.st_size;
+  double need = end + bytes + RESERVE_MARGIN;
+  if (need <= (double)w->reserved) return VI_OK;
+  /* grow in steps of at least 1/8 of the file, not one batch at a time */
+  double more = need - (double)st.st_size;
+  if (more < (double)st.st_size / 8) more = (double)st.st_size / 8;
+  if (more > 9e18) return werr(w, VI_ERR_IO, "output too large");
+  int e = fallocate(w->fd, FALLOC_FL_KEEP_SIZE, st.st_size, (off_t)more);
+  if (e != 0) {
+    e = errno;
+    if (e == EOPNOTSUPP || e == ENOSYS || e == EINVAL) {
+      w->no_reserve = 1; /* best effort where it cannot be done */
+      return VI_OK;
+    }
+    return werr(w, VI_ERR_IO, "cannot write %s: %s (%.0f more bytes "
+                "needed)", w->part, strerror(e), bytes);
+  }
+  w->reserved = (int64_t)((double)st.st_size + more);
+  return VI_OK;
+}
+
+static double row_bytes(const table *t)
+{
+  double b = 0;
+  for (int k = 0; k < t->ncol; k++) b += 8.0 * t->c[k].width;
+  return b;
+}
 
 /* ---- attributes and fixed datasets -------------------------------------- */
 static int attr_str(hid_t obj, const char *name, const char *val)
@@ -84,6 +152,30 @@ static int attr_int(hid_t obj, const char *name, int v)
   hid_t a = H5Acreate2(obj, name, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT);
   herr_t e = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_INT, &v);
   if (a >= 0) H5Aclose(a);
+  H5Sclose(sp);
+  return e < 0;
+}
+
+/* Text of any length as a scalar string dataset. */
+static int text_dataset(hid_t obj, const char *name, const char *val)
+{
+  hid_t t = H5Tcopy(H5T_C_S1), sp = H5Screate(H5S_SCALAR);
+  H5Tset_size(t, strlen(val) + 1);
+  hid_t d = H5Dcreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT,
+                       H5P_DEFAULT);
+  herr_t e = d < 0 ? -1 : H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, val);
+  if (d >= 0 && H5Dclose(d) < 0) e = -1;
+  H5Sclose(sp);
+  H5Tclose(t);
+  return e < 0;
+}
+
+static int attr_i64(hid_t obj, const char *name, int64_t v)
+{
+  hid_t sp = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name, H5T_STD_I64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
+  herr_t e = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_INT64, &v);
+  if (a >= 0 && H5Aclose(a) < 0) e = -1;
   H5Sclose(sp);
   return e < 0;
 }
@@ -119,65 +211,103 @@ static int put(hid_t g, const char *name, const double *A, int rows, int cols,
   return e < 0;
 }
 
-/* ---- growing tables ----------------------------------------------------- */
+/* ---- growing tables -----------------------------------------------------
+ * Rows are buffered (cap rows, ~64 KiB for the widest column) and the
+ * datasets are made at the first flush: a table that never fills its buffer
+ * gets chunks of exactly its rows, so short runs give small files; a long
+ * one gets chunks of cap whole rows along time. */
 static int table_init(vi_writer *w, table *t, const char *group, int compress)
 {
-  t->group = H5Gcreate2(w->file, group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  if (t->group < 0) return werr(w, VI_ERR_IO, "cannot create group %s", group);
-  /* chunks of ~64 KiB holding whole rows along time */
+  t->gname = group;
+  t->compress = compress;
   int widest = 1;
   for (int k = 0; k < t->ncol; k++)
     widest = t->c[k].width > widest ? t->c[k].width : widest;
   t->cap = 8192 / widest > 16 ? 8192 / widest : 16;
   for (int k = 0; k < t->ncol; k++) {
+    t->c[k].buf = malloc(sizeof(double) * (size_t)t->cap * t->c[k].width);
+    if (!t->c[k].buf) return werr(w, VI_ERR_NOMEM, "out of memory");
+  }
+  return VI_OK;
+}
+
+static int table_make(vi_writer *w, table *t, hsize_t chunk_rows)
+{
+  if (t->group <= 0) {
+    t->group = H5Gcreate2(w->file, t->gname, H5P_DEFAULT, H5P_DEFAULT,
+                          H5P_DEFAULT);
+    if (t->group < 0) {
+      t->group = 0;
+      return werr(w, VI_ERR_IO, "cannot create group /%s in %s (disk full?)",
+                  t->gname, w->part);
+    }
+  }
+  if (chunk_rows < 1) chunk_rows = 1;
+  for (int k = 0; k < t->ncol; k++) {
     col *c = &t->c[k];
-    int rank = c->width > 1 ? 2 : 1;
     hsize_t dims[2] = {0, (hsize_t)c->width},
             maxd[2] = {H5S_UNLIMITED, (hsize_t)c->width};
-    hsize_t chunk[2] = {(hsize_t)t->cap, (hsize_t)c->width};
-    hid_t sp = H5Screate_simple(rank, dims, maxd),
+    hsize_t chunk[2] = {chunk_rows, (hsize_t)c->width};
+    hid_t sp = H5Screate_simple(c->rank, dims, maxd),
           pl = H5Pcreate(H5P_DATASET_CREATE);
-    H5Pset_chunk(pl, rank, chunk);
-    if (compress) {
+    H5Pset_chunk(pl, c->rank, chunk);
+    if (t->compress) {
       H5Pset_shuffle(pl);
       H5Pset_deflate(pl, 4);
     }
     /* rows are flushed a whole chunk at a time, so HDF5's default 1 MiB
      * chunk cache per dataset would only grow the footprint */
     hid_t ap = H5Pcreate(H5P_DATASET_ACCESS);
-    H5Pset_chunk_cache(ap, 11, 2 * sizeof(double) * t->cap * c->width, 1.0);
+    H5Pset_chunk_cache(ap, 11, 2 * sizeof(double) * chunk_rows * c->width,
+                       1.0);
     c->dset = H5Dcreate2(t->group, c->name, c->ftype, sp, H5P_DEFAULT, pl, ap);
     H5Pclose(ap);
     H5Pclose(pl);
     H5Sclose(sp);
-    c->buf = malloc(sizeof(double) * t->cap * c->width);
-    if (c->dset < 0 || !c->buf)
-      return werr(w, VI_ERR_IO, "cannot create dataset %s/%s", group, c->name);
-    attr_str(c->dset, "units", c->units);
-    attr_str(c->dset, "meaning", c->meaning);
+    if (c->dset < 0) {
+      c->dset = 0;
+      return werr(w, VI_ERR_IO, "cannot create dataset /%s/%s in %s "
+                  "(disk full?)", t->gname, c->name, w->part);
+    }
+    if (attr_str(c->dset, "units", c->units) ||
+        attr_str(c->dset, "meaning", c->meaning))
+      return werr(w, VI_ERR_IO, "cannot write attributes of /%s/%s in %s "
+                  "(disk full?)", t->gname, c->name, w->part);
   }
+  t->made = 1;
   return VI_OK;
 }
 
 static int table_flush(vi_writer *w, table *t)
 {
+  int st;
+  /* compressed chunks can be a little larger than the raw data */
+  if ((st = reserve(w, 1.1 * row_bytes(t) * t->used + 4096.0 * t->ncol)))
+    return st;
+  if (!t->made &&
+      (st = table_make(w, t, t->used < t->cap ? (hsize_t)t->used
+                                              : (hsize_t)t->cap)))
+    return st;
   if (t->used == 0) return VI_OK;
   for (int k = 0; k < t->ncol; k++) {
     col *c = &t->c[k];
-    int rank = c->width > 1 ? 2 : 1;
     hsize_t size[2] = {t->rows + t->used, (hsize_t)c->width};
     hsize_t start[2] = {t->rows, 0},
             count[2] = {(hsize_t)t->used, (hsize_t)c->width};
     if (H5Dset_extent(c->dset, size) < 0)
-      return werr(w, VI_ERR_IO, "cannot extend %s (disk full?)", c->name);
-    hid_t fs = H5Dget_space(c->dset), ms = H5Screate_simple(rank, count, NULL);
-    H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL);
-    herr_t e =
-        H5Dwrite(c->dset, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, c->buf);
+      return werr(w, VI_ERR_IO, "cannot extend /%s/%s in %s (disk full?)",
+                  t->gname, c->name, w->part);
+    hid_t fs = H5Dget_space(c->dset),
+          ms = H5Screate_simple(c->rank, count, NULL);
+    herr_t e = H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count,
+                                   NULL);
+    if (e >= 0)
+      e = H5Dwrite(c->dset, H5T_NATIVE_DOUBLE, ms, fs, H5P_DEFAULT, c->buf);
     H5Sclose(ms);
     H5Sclose(fs);
     if (e < 0)
-      return werr(w, VI_ERR_IO, "cannot write %s (disk full?)", c->name);
+      return werr(w, VI_ERR_IO, "cannot write /%s/%s in %s (disk full?)",
+                  t->gname, c->name, w->part);
   }
   t->rows += t->used;
   t->used = 0;
@@ -187,6 +317,7 @@ static int table_flush(vi_writer *w, table *t)
 /* Append one row: vals[k] points at column k's width values. */
 static int table_row(vi_writer *w, table *t, const double *const *vals)
 {
+  if (w->failed) return VI_ERR_IO; /* the file is already broken */
   for (int k = 0; k < t->ncol; k++)
     memcpy(t->c[k].buf + (size_t)t->used * t->c[k].width, vals[k],
            sizeof(double) * t->c[k].width);
@@ -206,46 +337,81 @@ static void table_close(table *t)
   t->group = 0;
 }
 
-#define COL(nm, wd, ft, un, mn) ((col){nm, un, mn, wd, ft, 0, NULL})
+/* per-row scalars are [rows]; per-coordinate columns are [rows][n], for
+ * n = 1 too, so a reader never sees the rank change with the model */
+#define COL(nm, wd, ft, un, mn) ((col){nm, un, mn, wd, 1, ft, 0, NULL})
+#define VEC(nm, wd, ft, un, mn) ((col){nm, un, mn, wd, 2, ft, 0, NULL})
 
 /* ---- public ------------------------------------------------------------- */
+static int create_fail(vi_diag *diag, const char *path, int code,
+                       const char *msg)
+{
+  if (diag) {
+    memset(diag, 0, sizeof *diag);
+    diag->code = code;
+    snprintf(diag->file, sizeof diag->file, "%s", path ? path : "");
+    snprintf(diag->message, sizeof diag->message, "%.500s", msg);
+  }
+  return code;
+}
+
 int vi_writer_create(const char *path, const vi_model *model, int compress,
                      vi_writer **out, vi_diag *diag)
 {
   if (diag) memset(diag, 0, sizeof *diag);
-  if (!path || !model || !out) return VI_ERR_ARG;
-  *out = NULL;
-  vi_writer *w = calloc(1, sizeof *w);
-  if (!w) return VI_ERR_NOMEM;
+  if (out) *out = NULL;
+  if (!path || !model || !out)
+    return create_fail(diag, path, VI_ERR_ARG,
+                       "vi_writer_create: path, model and out are required");
   int n = vi_model_n(model), st = VI_OK;
+  if (n < 1 || !vi_model_omega(model))
+    return create_fail(diag, path, VI_ERR_STATE,
+                       "vi_writer_create: the model is not set up "
+                       "(vi_model_setup)");
+  char target[4096];
+  if ((st = vi_output_resolve(path, target, (int)sizeof target, diag)))
+    return st;
+  vi_writer *w = calloc(1, sizeof *w);
+  if (!w) return create_fail(diag, path, VI_ERR_NOMEM, "out of memory");
   w->m = model;
   w->n = n;
+  w->fd = -1;
   w->compress = compress;
-  w->path = strdup(path);
-  w->part = malloc(strlen(path) + 6);
-  w->q = malloc(sizeof(double) * 2 * n);
+  w->path = strdup(target);
+  w->part = malloc(strlen(target) + 6);
+  w->q = malloc(sizeof(double) * 2 * (size_t)n);
   if (!w->path || !w->part || !w->q) {
     vi_writer_abort(&w);
-    return VI_ERR_NOMEM;
+    return create_fail(diag, path, VI_ERR_NOMEM, "out of memory");
   }
   w->qd = w->q + n;
-  sprintf(w->part, "%s.part", path);
+  sprintf(w->part, "%s.part", target);
+  /* a stale PATH.part of an earlier crash is ours (vi_output_resolve made
+   * sure it is a plain file); EXCL then creates a fresh one and never
+   * follows a link planted in between */
+  remove(w->part);
+  errno = 0;
   H5E_BEGIN_TRY
   {
-    w->file = H5Fcreate(w->part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    w->file = H5Fcreate(w->part, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
   }
   H5E_END_TRY;
   if (w->file < 0) {
     int e = errno;
-    if (diag) {
-      diag->code = VI_ERR_IO;
-      snprintf(diag->file, sizeof diag->file, "%s", path);
-      snprintf(diag->message, sizeof diag->message, "cannot create %s: %s",
-               w->part, e ? strerror(e) : "HDF5 refused");
-    }
+    char msg[600];
+    snprintf(msg, sizeof msg, "cannot create %s: %s", w->part,
+             e ? strerror(e) : "HDF5 refused");
     w->file = 0;
     vi_writer_abort(&w);
-    return VI_ERR_IO;
+    return create_fail(diag, path, VI_ERR_IO, msg);
+  }
+  w->fd = open(w->part, O_WRONLY | O_CLOEXEC);
+  if (w->fd < 0 || (st = reserve(w, 0))) {
+    char msg[600];
+    snprintf(msg, sizeof msg, "%.500s", w->fd < 0 ? "cannot open the new "
+             "file again" : w->errmsg);
+    vi_writer_abort(&w);
+    return create_fail(diag, path, VI_ERR_IO, msg);
   }
   hid_t F64 = H5T_IEEE_F64LE, I32 = H5T_STD_I32LE;
   w->imp.ncol = 7;
@@ -253,45 +419,37 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
   w->imp.c[1] = COL("kind", 1, I32, "1", "0 impact, 1 stick, 2 release");
   w->imp.c[2] = COL("vn", 1, F64, "length/time", "approach velocity w.x'(t-)");
   w->imp.c[3] = COL("ie", 1, F64, "energy", "kinetic energy lost (WB 10)");
-  w->imp.c[4] = COL("x", n, F64, "length", "positions at the event");
-  w->imp.c[5] = COL("v_minus", n, F64, "length/time", "velocities before");
-  w->imp.c[6] = COL("v_plus", n, F64, "length/time", "velocities after");
+  w->imp.c[4] = VEC("x", n, F64, "length", "positions at the event");
+  w->imp.c[5] = VEC("v_minus", n, F64, "length/time", "velocities before");
+  w->imp.c[6] = VEC("v_plus", n, F64, "length/time", "velocities after");
   w->traj.ncol = 5;
   w->traj.c[0] = COL("time", 1, F64, "time", "uniform sample times");
-  w->traj.c[1] = COL("x", n, F64, "length", "physical positions");
-  w->traj.c[2] = COL("v", n, F64, "length/time", "physical velocities");
-  w->traj.c[3] = COL("q", n, F64, "modal", "modal coordinates q = Psi^T M x");
-  w->traj.c[4] = COL("qd", n, F64, "modal/time", "modal velocities");
+  w->traj.c[1] = VEC("x", n, F64, "length", "physical positions");
+  w->traj.c[2] = VEC("v", n, F64, "length/time", "physical velocities");
+  w->traj.c[3] = VEC("q", n, F64, "modal", "modal coordinates q = Psi^T M x");
+  w->traj.c[4] = VEC("qd", n, F64, "modal/time", "modal velocities");
   w->led.ncol = 12;
   w->led.c[0] = COL("t_a", 1, F64, "time", "interval start");
   w->led.c[1] = COL("t_b", 1, F64, "time", "interval end (before the event)");
-  w->led.c[2] = COL("E_a", n, F64, "energy", "modal energy at t_a");
-  w->led.c[3] = COL("E_b", n, F64, "energy", "modal energy at t_b");
+  w->led.c[2] = VEC("E_a", n, F64, "energy", "modal energy at t_a");
+  w->led.c[3] = VEC("E_b", n, F64, "energy", "modal energy at t_b");
   w->led.c[4] =
-      COL("FE", n, F64, "energy", "forcing work into each mode (WB 7)");
-  w->led.c[5] = COL("DE", n, F64, "energy", "damping loss of each mode (WB 8)");
-  w->led.c[6] = COL("XE", n, F64, "energy", "damping coupling work");
+      VEC("FE", n, F64, "energy", "forcing work into each mode (WB 7)");
+  w->led.c[5] = VEC("DE", n, F64, "energy", "damping loss of each mode (WB 8)");
+  w->led.c[6] = VEC("XE", n, F64, "energy", "damping coupling work");
   w->led.c[7] =
-      COL("CE", n, F64, "energy", "contact-force work while sticking");
-  w->led.c[8] = COL("dE", n, F64, "energy", "impact jump of each mode at t_b");
+      VEC("CE", n, F64, "energy", "contact-force work while sticking");
+  w->led.c[8] = VEC("dE", n, F64, "energy", "impact jump of each mode at t_b");
   w->led.c[9] = COL("ie", 1, F64, "energy", "energy lost at t_b (WB 10)");
   w->led.c[10] =
       COL("residual", 1, F64, "1", "closure residual / energy scale");
   w->led.c[11] =
       COL("impact", 1, I32, "1", "1 when the interval ends in a jump");
-  H5E_BEGIN_TRY
-  {
-    if ((st = table_init(w, &w->imp, "impacts", 0)) == VI_OK &&
-        (st = table_init(w, &w->traj, "trajectory", compress)) == VI_OK)
-      st = table_init(w, &w->led, "ledger", 0);
-  }
-  H5E_END_TRY;
+  if ((st = table_init(w, &w->imp, "impacts", 0)) == VI_OK &&
+      (st = table_init(w, &w->traj, "trajectory", compress)) == VI_OK)
+    st = table_init(w, &w->led, "ledger", 0);
   if (st) {
-    if (diag) {
-      diag->code = st;
-      snprintf(diag->file, sizeof diag->file, "%s", path);
-      snprintf(diag->message, sizeof diag->message, "%s", w->errmsg);
-    }
+    create_fail(diag, path, st, w->errmsg);
     vi_writer_abort(&w);
     return st;
   }
@@ -303,10 +461,21 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
                            double atol, int method)
 {
   if (!w) return VI_ERR_ARG;
+  if (w->failed) return VI_ERR_IO;
+  if (scene && vi_scene_n(scene) != w->n)
+    return warg(w, VI_ERR_DIM, "the scene has n = %d, the writer's model "
+                "n = %d", vi_scene_n(scene), w->n);
+  const char *mname = vi_method_name(method);
+  if (!mname || !(rtol > 0) || !(atol > 0))
+    return warg(w, VI_ERR_ARG, "vi_writer_write_header: method %d, rtol %g, "
+                "atol %g", method, rtol, atol);
   const vi_model *m = w->m;
   int n = w->n, bad = 0, ld;
-  static const char *mn[] = {"adams", "bdf", "exact"};
   char creator[64];
+  double nn = (double)n * n;
+  int st = reserve(w, 8.0 * (5 * nn + 10.0 * n) +
+                          (scene ? (double)strlen(vi_scene_text(scene)) : 0));
+  if (st) return st;
   snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
   H5E_BEGIN_TRY
   {
@@ -314,13 +483,13 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
     bad |= attr_int(w->file, "format_version", FORMAT_VERSION);
     bad |= attr_str(w->file, "sundials", vi_sundials_version());
     if (scene) {
-      bad |= attr_str(w->file, "scene", vi_scene_text(scene));
+      /* a dataset, not an attribute: attributes stop at 64 KiB */
+      bad |= text_dataset(w->file, "scene", vi_scene_text(scene));
       bad |= attr_str(w->file, "scene_name", vi_scene_name(scene));
     }
     bad |= attr_num(w->file, "rtol", &rtol, 1);
     bad |= attr_num(w->file, "atol", &atol, 1);
-    bad |= attr_str(w->file, "method",
-                    method >= 0 && method <= 2 ? mn[method] : "?");
+    bad |= attr_str(w->file, "method", mname);
     bad |= attr_int(w->file, "complete", 0);
     bad |= attr_str(w->file, "units",
                     "consistent model units: any length, mass and time");
@@ -374,7 +543,10 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
 
 int vi_writer_event(vi_writer *w, const vi_event *ev)
 {
-  if (!w || !ev) return VI_ERR_ARG;
+  if (!w || !ev || !ev->x || !ev->v_minus || !ev->v_plus) return VI_ERR_ARG;
+  if (ev->n != w->n)
+    return warg(w, VI_ERR_DIM, "event of n = %d for a writer of n = %d",
+                ev->n, w->n);
   double kind = ev->kind;
   const double *vals[7] = {&ev->t, &kind,       &ev->vn,   &ev->ie,
                            ev->x,  ev->v_minus, ev->v_plus};
@@ -398,7 +570,12 @@ int vi_writer_sample(vi_writer *w, double t, const double *x, const double *v)
 
 int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv)
 {
-  if (!w || !iv) return VI_ERR_ARG;
+  if (!w || !iv || !iv->Ea || !iv->Eb || !iv->FE || !iv->DE || !iv->XE ||
+      !iv->CE)
+    return VI_ERR_ARG;
+  if (iv->n != w->n)
+    return warg(w, VI_ERR_DIM, "ledger interval of n = %d for a writer of "
+                "n = %d", iv->n, w->n);
   double imp = iv->dE ? 1.0 : 0.0;
   const double *dE = iv->dE ? iv->dE : w->q; /* zeros when no jump */
   if (!iv->dE) memset(w->q, 0, sizeof(double) * w->n);
@@ -414,7 +591,9 @@ int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv)
 int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
 {
   if (!w || !o) return VI_ERR_ARG;
+  if (w->failed) return VI_ERR_IO;
   int n = w->n, pn, pm, bad = 0;
+  if (reserve(w, 8.0 * (12.0 * n + 64))) return VI_ERR_IO;
   vi_orbit_classify(o, &pn, &pm);
   double *buf = calloc(10 * (size_t)n + 8, sizeof(double));
   if (!buf) return werr(w, VI_ERR_NOMEM, "out of memory");
@@ -471,17 +650,60 @@ long vi_writer_rows(const vi_writer *w, const char *what)
   return t ? (long)(t->rows + t->used) : -1;
 }
 
-static void close_all(vi_writer *w)
+int vi_writer_run_info(vi_writer *w, const vi_sim *sim)
 {
+  if (!w || !sim) return VI_ERR_ARG;
+  if (w->failed) return VI_ERR_IO;
+  int bad = 0;
+  if (reserve(w, 4096.0 + 256.0 * VI_STAT_COUNT)) return VI_ERR_IO;
+  const char *used = vi_method_name(vi_sim_method_used(sim)),
+             *note = vi_sim_method_note(sim);
+  H5E_BEGIN_TRY
+  {
+    hid_t g = H5Gcreate2(w->file, "run", H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT);
+    bad |= g < 0;
+    if (g >= 0) {
+      bad |= attr_str(g, "method_used", used ? used : "none");
+      bad |= attr_str(g, "method_note", note ? note : "");
+      for (int k = 0; k < VI_STAT_COUNT; k++) {
+        const char *name = vi_stat_name(k);
+        if (name) bad |= attr_i64(g, name, vi_sim_get_stat(sim, k));
+      }
+      bad |= H5Gclose(g) < 0;
+    }
+  }
+  H5E_END_TRY;
+  return bad ? werr(w, VI_ERR_IO, "cannot write /run to %s (disk full?)",
+                    w->part)
+             : VI_OK;
+}
+
+/* Close every HDF5 object and our descriptor; 0 when the file closed
+ * cleanly (reserve() keeps HDF5 from meeting a full disk, so its close
+ * succeeds even after our own write error). */
+static int close_all(vi_writer *w)
+{
+  int bad = 0;
   H5E_BEGIN_TRY
   {
     table_close(&w->imp);
     table_close(&w->traj);
     table_close(&w->led);
-    if (w->file > 0) H5Fclose(w->file);
+    if (w->file > 0) bad = H5Fclose(w->file) < 0;
   }
   H5E_END_TRY;
   w->file = 0;
+  if (w->fd >= 0) {
+    /* give back the blocks reserved past the end */
+    struct stat st;
+    if (!bad && w->reserved > 0 && fstat(w->fd, &st) == 0 &&
+        ftruncate(w->fd, st.st_size) != 0)
+      bad = 1;
+    if (close(w->fd) != 0) bad = 1;
+    w->fd = -1;
+  }
+  return bad;
 }
 
 static void free_writer(vi_writer *w)
@@ -492,46 +714,61 @@ static void free_writer(vi_writer *w)
   free(w);
 }
 
-int vi_writer_close(vi_writer **wp, int complete)
+int vi_writer_finish(vi_writer *w, int complete)
 {
-  if (!wp || !*wp) return VI_ERR_ARG;
-  vi_writer *w = *wp;
-  int st = VI_OK;
-  H5E_BEGIN_TRY
-  {
-    if ((st = table_flush(w, &w->imp)) == VI_OK &&
-        (st = table_flush(w, &w->traj)) == VI_OK)
-      st = table_flush(w, &w->led);
-    if (st == VI_OK) {
-      hid_t a = H5Aopen(w->file, "complete", H5P_DEFAULT);
-      int c = complete ? 1 : 0;
-      if (a < 0 || H5Awrite(a, H5T_NATIVE_INT, &c) < 0)
-        st = werr(w, VI_ERR_IO, "cannot mark %s complete", w->part);
-      if (a >= 0) H5Aclose(a);
-      if (st == VI_OK && H5Fflush(w->file, H5F_SCOPE_GLOBAL) < 0)
-        st = werr(w, VI_ERR_IO, "cannot flush %s (disk full?)", w->part);
+  if (!w) return VI_ERR_ARG;
+  if (!w->file) return warg(w, VI_ERR_STATE, "the writer is already closed");
+  int st = w->failed ? VI_ERR_IO : VI_OK;
+  if (!st)
+    st = reserve(w, 1.1 * (row_bytes(&w->imp) * w->imp.used +
+                           row_bytes(&w->traj) * w->traj.used +
+                           row_bytes(&w->led) * w->led.used) + 65536.0);
+  if (st) {
+    /* keep the first error's message */
+  } else {
+    H5E_BEGIN_TRY
+    {
+      if ((st = table_flush(w, &w->imp)) == VI_OK &&
+          (st = table_flush(w, &w->traj)) == VI_OK &&
+          (w->led.rows + w->led.used > 0)) /* no empty /ledger */
+        st = table_flush(w, &w->led);
+      if (st == VI_OK) {
+        hid_t a = H5Aopen(w->file, "complete", H5P_DEFAULT);
+        int c = complete ? 1 : 0;
+        if (a < 0 || H5Awrite(a, H5T_NATIVE_INT, &c) < 0)
+          st = werr(w, VI_ERR_IO, "cannot mark %s complete (no header "
+                    "written?)", w->part);
+        if (a >= 0) H5Aclose(a);
+        if (st == VI_OK && H5Fflush(w->file, H5F_SCOPE_GLOBAL) < 0)
+          st = werr(w, VI_ERR_IO, "cannot flush %s (disk full?)", w->part);
+      }
     }
+    H5E_END_TRY;
   }
-  H5E_END_TRY;
-  close_all(w);
+  if (close_all(w) && st == VI_OK)
+    st = werr(w, VI_ERR_IO, "cannot close %s (disk full?)", w->part);
   if (st == VI_OK && rename(w->part, w->path) != 0)
     st = werr(w, VI_ERR_IO, "cannot rename %s to %s: %s", w->part, w->path,
               strerror(errno));
-  if (st) {
-    remove(w->part);
-    return st; /* the handle stays for vi_writer_errmsg; abort frees it */
-  }
-  free_writer(w);
-  *wp = NULL;
-  return VI_OK;
+  if (st) remove(w->part);
+  return st;
+}
+
+int vi_writer_close(vi_writer **wp, int complete)
+{
+  if (!wp || !*wp) return VI_ERR_ARG;
+  int st = vi_writer_finish(*wp, complete);
+  vi_writer_abort(wp);
+  return st;
 }
 
 void vi_writer_abort(vi_writer **wp)
 {
   if (!wp || !*wp) return;
   vi_writer *w = *wp;
+  int open = w->file > 0;
   close_all(w);
-  if (w->part) remove(w->part);
+  if (open && w->part) remove(w->part);
   free_writer(w);
   *wp = NULL;
 }

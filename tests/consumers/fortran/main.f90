@@ -3,13 +3,18 @@
 program consumer
   use, intrinsic :: iso_c_binding
   use vibroimpact
+  use vibroimpact_io, only: vi_diag, vi_chars  ! the installed .mod; no HDF5 needed
   implicit none
+  type(vi_diag) :: diag
   real(c_double) :: mass(2) = 1, k(2) = 1, c(2) = 0.1_c_double, M(2, 2), Cm(2, 2), Km(2, 2)
   real(c_double) :: a(2) = [0.5_c_double, 0.0_c_double], zero(2) = 0, w(2) = [0.0_c_double, 1.0_c_double]
   real(c_double), pointer :: omega(:)
   type(c_ptr) :: model = c_null_ptr, sim = c_null_ptr
   integer(c_int) :: st
   integer(c_int64_t) :: impacts
+  diag%key = c_null_char
+  diag%key(1:3) = ['a', 'b', c_null_char]
+  if (vi_chars(diag%key) /= 'ab') stop 1
   st = vi_build_chain(2, mass, k, c, M, Cm, Km, 2)
   st = vi_model_create(2, model)
   st = ior(st, vi_model_set_mass(model, M, 2))

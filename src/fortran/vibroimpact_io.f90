@@ -1,0 +1,255 @@
+! vibroimpact_io.f90 - Fortran 2003 interface to the companion library
+! vibroimpact_io: YAML scene files and HDF5 output (include/vibroimpact/
+! vi_scene.h, vi_writer.h).
+!
+!   use vibroimpact
+!   use vibroimpact_io        ! and link -lvibroimpact_io (vibroimpact::io)
+!
+! It holds interfaces (and vi_chars) only, so the Fortran library itself needs no HDF5 or
+! YAML: a program that uses none of these routines links as before.
+! Conventions as in module vibroimpact; strings into C end with c_null_char.
+module vibroimpact_io
+  use, intrinsic :: iso_c_binding
+  use vibroimpact, only: vi_event, vi_ledger_interval
+  implicit none
+  private
+
+  include 'vi_io_constants.inc'
+
+  !> Where and why a scene failed (vi_diag in vi_scene.h); the texts are
+  !> NUL-terminated character arrays: read them with vi_chars.
+  type, bind(C), public :: vi_diag
+    integer(c_int) :: code, line, column
+    character(kind=c_char) :: file(VI_DIAG_FILE_LEN)
+    character(kind=c_char) :: key(VI_DIAG_KEY_LEN)
+    character(kind=c_char) :: value(VI_DIAG_VALUE_LEN)
+    character(kind=c_char) :: message(VI_DIAG_MESSAGE_LEN)
+  end type
+
+  public :: vi_chars
+  public :: vi_scene_load, vi_scene_parse, vi_scene_destroy, vi_scene_create_model, &
+            vi_scene_configure_sim, vi_scene_name, vi_scene_text, vi_scene_n, &
+            vi_scene_t0, vi_scene_t_end, vi_scene_rtol, vi_scene_atol, &
+            vi_scene_method, vi_scene_samples_per_period, vi_scene_wants, &
+            vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
+            vi_scene_load_limited, vi_scene_parse_limited, &
+            vi_scene_memory_estimate, vi_scene_check_memory
+  public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
+            vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
+            vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
+            vi_output_resolve, vi_writer_run_info, vi_writer_finish
+
+  interface
+    ! ---- scenes ---------------------------------------------------------------
+    !> path: 'scene.yaml'//c_null_char; diag optional
+    integer(c_int) function vi_scene_load(path, scene, diag) bind(C, name="vi_scene_load")
+      import :: c_int, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr) :: scene
+      type(vi_diag), optional :: diag
+    end function
+    !> text: a C string (len < 0) or len characters; name: C string
+    integer(c_int) function vi_scene_parse(text, len, name, scene, diag) bind(C, name="vi_scene_parse")
+      import :: c_int, c_long, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: text(*), name(*)
+      integer(c_long), value :: len
+      type(c_ptr) :: scene
+      type(vi_diag), optional :: diag
+    end function
+    !> max_bytes <= 0, max_depth <= 0: the defaults (VI_SCENE_MAX_BYTES, _DEPTH)
+    integer(c_int) function vi_scene_load_limited(path, max_bytes, max_depth, scene, diag) &
+        bind(C, name="vi_scene_load_limited")
+      import :: c_int, c_int64_t, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int64_t), value :: max_bytes
+      integer(c_int), value :: max_depth
+      type(c_ptr) :: scene
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_scene_parse_limited(text, len, name, max_depth, scene, diag) &
+        bind(C, name="vi_scene_parse_limited")
+      import :: c_int, c_long, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: text(*), name(*)
+      integer(c_long), value :: len
+      integer(c_int), value :: max_depth
+      type(c_ptr) :: scene
+      type(vi_diag), optional :: diag
+    end function
+    real(c_double) function vi_scene_memory_estimate(scene) bind(C, name="vi_scene_memory_estimate")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    !> max_bytes <= 0: MemAvailable of /proc/meminfo
+    integer(c_int) function vi_scene_check_memory(scene, max_bytes, diag) bind(C, name="vi_scene_check_memory")
+      import :: c_int, c_double, c_ptr, vi_diag
+      type(c_ptr), value :: scene
+      real(c_double), value :: max_bytes
+      type(vi_diag), optional :: diag
+    end function
+    subroutine vi_scene_destroy(scene) bind(C, name="vi_scene_destroy")
+      import :: c_ptr
+      type(c_ptr) :: scene
+    end subroutine
+    integer(c_int) function vi_scene_create_model(scene, model, diag) bind(C, name="vi_scene_create_model")
+      import :: c_int, c_ptr, vi_diag
+      type(c_ptr), value :: scene
+      type(c_ptr) :: model
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_scene_configure_sim(scene, sim, diag) bind(C, name="vi_scene_configure_sim")
+      import :: c_int, c_ptr, vi_diag
+      type(c_ptr), value :: scene, sim
+      type(vi_diag), optional :: diag
+    end function
+    type(c_ptr) function vi_scene_name(scene) bind(C, name="vi_scene_name")
+      import :: c_ptr
+      type(c_ptr), value :: scene
+    end function
+    type(c_ptr) function vi_scene_text(scene) bind(C, name="vi_scene_text")
+      import :: c_ptr
+      type(c_ptr), value :: scene
+    end function
+    integer(c_int) function vi_scene_n(scene) bind(C, name="vi_scene_n")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    real(c_double) function vi_scene_t0(scene) bind(C, name="vi_scene_t0")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    real(c_double) function vi_scene_t_end(scene) bind(C, name="vi_scene_t_end")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    real(c_double) function vi_scene_rtol(scene) bind(C, name="vi_scene_rtol")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    real(c_double) function vi_scene_atol(scene) bind(C, name="vi_scene_atol")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    integer(c_int) function vi_scene_method(scene) bind(C, name="vi_scene_method")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    integer(c_int) function vi_scene_samples_per_period(scene) bind(C, name="vi_scene_samples_per_period")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    !> what: 'ledger'//c_null_char, ...
+    integer(c_int) function vi_scene_wants(scene, what) bind(C, name="vi_scene_wants")
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: scene
+      character(kind=c_char), intent(in) :: what(*)
+    end function
+    integer(c_int) function vi_scene_set_run(scene, rtol, atol, periods, method) &
+        bind(C, name="vi_scene_set_run")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: scene
+      real(c_double), value :: rtol, atol, periods
+      integer(c_int), value :: method
+    end function
+    !> buf: character(kind=c_char) :: buf(len), then vi_chars(buf)
+    subroutine vi_diag_format(diag, buf, len) bind(C, name="vi_diag_format")
+      import :: c_int, c_char, vi_diag
+      type(vi_diag), intent(in) :: diag
+      character(kind=c_char) :: buf(*)
+      integer(c_int), value :: len
+    end subroutine
+    type(c_ptr) function vi_scene_default_text() bind(C, name="vi_scene_default_text")
+      import :: c_ptr
+    end function
+
+    ! ---- HDF5 writer ------------------------------------------------------------
+    !> path: C string; scene of vi_writer_write_header may be c_null_ptr
+    integer(c_int) function vi_writer_create(path, model, compress, writer, diag) &
+        bind(C, name="vi_writer_create")
+      import :: c_int, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), value :: model
+      integer(c_int), value :: compress
+      type(c_ptr) :: writer
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_writer_write_header(writer, scene, rtol, atol, method) &
+        bind(C, name="vi_writer_write_header")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: writer, scene
+      real(c_double), value :: rtol, atol
+      integer(c_int), value :: method
+    end function
+    integer(c_int) function vi_writer_event(writer, ev) bind(C, name="vi_writer_event")
+      import :: c_int, c_ptr, vi_event
+      type(c_ptr), value :: writer
+      type(vi_event), intent(in) :: ev
+    end function
+    integer(c_int) function vi_writer_sample(writer, t, x, v) bind(C, name="vi_writer_sample")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: writer
+      real(c_double), value :: t
+      real(c_double), intent(in) :: x(*), v(*)
+    end function
+    integer(c_int) function vi_writer_ledger(writer, iv) bind(C, name="vi_writer_ledger")
+      import :: c_int, c_ptr, vi_ledger_interval
+      type(c_ptr), value :: writer
+      type(vi_ledger_interval), intent(in) :: iv
+    end function
+    integer(c_int) function vi_writer_orbit(writer, orbit) bind(C, name="vi_writer_orbit")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: writer, orbit
+    end function
+    !> what: 'impacts'//c_null_char, 'trajectory' or 'ledger'
+    integer(c_long) function vi_writer_rows(writer, what) bind(C, name="vi_writer_rows")
+      import :: c_long, c_ptr, c_char
+      type(c_ptr), value :: writer
+      character(kind=c_char), intent(in) :: what(*)
+    end function
+    !> path, target: character strings ending in c_null_char; target has len
+    integer(c_int) function vi_output_resolve(path, target, len, diag) bind(C, name="vi_output_resolve")
+      import :: c_int, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char) :: target(*)
+      integer(c_int), value :: len
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_writer_run_info(writer, sim) bind(C, name="vi_writer_run_info")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: writer, sim
+    end function
+    integer(c_int) function vi_writer_finish(writer, complete) bind(C, name="vi_writer_finish")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: writer
+      integer(c_int), value :: complete
+    end function
+    integer(c_int) function vi_writer_close(writer, complete) bind(C, name="vi_writer_close")
+      import :: c_int, c_ptr
+      type(c_ptr) :: writer
+      integer(c_int), value :: complete
+    end function
+    subroutine vi_writer_abort(writer) bind(C, name="vi_writer_abort")
+      import :: c_ptr
+      type(c_ptr) :: writer
+    end subroutine
+    type(c_ptr) function vi_writer_errmsg(writer) bind(C, name="vi_writer_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: writer
+    end function
+  end interface
+
+contains
+
+  !> A NUL-terminated character array (a vi_diag field) as a Fortran string.
+  function vi_chars(chars) result(s)
+    character(kind=c_char), intent(in) :: chars(:)
+    character(len=:), allocatable :: s
+    integer :: n
+    n = 0
+    do while (n < size(chars))
+      if (chars(n + 1) == c_null_char) exit
+      n = n + 1
+    end do
+    allocate(character(len=n) :: s)
+    s = transfer(chars(1:n), s)
+  end function
+end module vibroimpact_io

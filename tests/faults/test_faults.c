@@ -1,0 +1,498 @@
+/* test_faults.c - the program under faults and hostile input (ctest label
+ * `faults`): a full disk, unwritable and non-regular outputs, signals in
+ * every phase, standard output on /dev/full, huge and deep scenes, values
+ * outside the range where the numerics make sense.  Each case asserts the
+ * exit status, the message, and what is and is not on disk.
+ *
+ *   test_faults PATH-TO-vibroimpact PATH-TO-libvi_enospc.so */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mount.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <hdf5.h>
+
+#include "vi_testutil.h"
+
+static const char *app, *hook;
+static char dir[] = "/tmp/vi_test_faults_XXXXXX";
+static char errbuf[65536];
+
+static double now(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* dir/name, kept for the whole run (freed at the end of main) */
+static char *paths[256];
+static int npaths;
+static char *path(const char *name)
+{
+  for (int k = 0; k < npaths; k++)
+    if (!strcmp(paths[k] + strlen(dir) + 1, name)) return paths[k];
+  char buf[600];
+  snprintf(buf, sizeof buf, "%s/%s", dir, name);
+  assert_true(npaths < 256);
+  char *p = strdup(buf);
+  assert_non_null(p);
+  return paths[npaths++] = p;
+}
+
+static int exists(const char *p)
+{
+  struct stat st;
+  return lstat(p, &st) == 0;
+}
+
+static void write_file(const char *p, const char *text)
+{
+  FILE *f = fopen(p, "w");
+  assert_non_null(f);
+  fputs(text, f);
+  assert_int_equal(fclose(f), 0);
+}
+
+static char *slurp(const char *p)
+{
+  FILE *f = fopen(p, "rb");
+  if (!f) {
+    errbuf[0] = '\0';
+    return errbuf;
+  }
+  size_t n = fread(errbuf, 1, sizeof errbuf - 1, f);
+  errbuf[n] = '\0';
+  fclose(f);
+  return errbuf;
+}
+
+/* Start the app with argv; stdout to out_path (NULL: a file in dir),
+ * stderr to dir/stderr; env_extra (NULL or "NAME=VALUE") added. */
+static pid_t start(char *const argv[], const char *out_path,
+                   const char *env_extra, const char *env_extra2)
+{
+  pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    int o = open(out_path ? out_path : path("stdout"),
+                 O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    int e = open(path("stderr"), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(o, 1);
+    dup2(e, 2);
+    if (env_extra) putenv((char *)env_extra);
+    if (env_extra2) putenv((char *)env_extra2);
+    execv(app, argv);
+    _exit(127);
+  }
+  return pid;
+}
+
+/* Wait up to 120 s; exit status or 128 + signal. */
+static int finish(pid_t pid)
+{
+  int st;
+  for (int i = 0; i < 120000; i++) {
+    pid_t r = waitpid(pid, &st, WNOHANG);
+    if (r == pid) return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    usleep(1000);
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &st, 0);
+  fail_msg("the program did not end within 120 s");
+  return -1;
+}
+
+static int run(char *const argv[], const char *out_path)
+{
+  return finish(start(argv, out_path, NULL, NULL));
+}
+
+#define ARGV(...) ((char *const[]){(char *)app, __VA_ARGS__, NULL})
+
+static const char *CHAIN2 =
+    "model:\n  chain: {n: 2, m: 1, k: 1, c: 0.1}\n"
+    "stop: {mass: 2, xs: 0.1, r: 0.7}\n";
+
+static void expect(int rc, int want, const char *msg)
+{
+  char *err = slurp(path("stderr"));
+  if (rc != want || (msg && !strstr(err, msg)))
+    print_error("exit %d (want %d), stderr: %s\n", rc, want, err);
+  assert_int_equal(rc, want);
+  if (msg) assert_non_null(strstr(err, msg));
+}
+
+/* ---- full disk ------------------------------------------------------------ */
+/* The disk fills during the run: exit 1 with a message, no crash, the old
+ * file intact, no partial file. */
+static void full_disk_case(const char *out, const char *env, const char *env2)
+{
+  char part[600];
+  snprintf(part, sizeof part, "%s.part", out);
+  write_file(out, "old contents\n");
+  int rc = finish(start(ARGV("--periods", "100", "-o", (char *)out, "--quiet"),
+                        NULL, env, env2));
+  expect(rc, 1, "No space left on device");
+  assert_string_equal(slurp(out), "old contents\n");
+  assert_false(exists(part));
+}
+
+static void test_full_disk(void **state)
+{
+  (void)state;
+  char *mnt = path("small");
+  assert_int_equal(mkdir(mnt, 0755), 0);
+  int mounted = geteuid() == 0 &&
+                mount("tmpfs", mnt, "tmpfs", 0, "size=200k") == 0;
+  if (mounted) {
+    print_message("full disk: a 200 KiB tmpfs\n");
+    char out[600];
+    snprintf(out, sizeof out, "%s/out.h5", mnt);
+    for (int k = 0; k < 4; k++) full_disk_case(out, NULL, NULL);
+    /* the CSV too */
+    snprintf(out, sizeof out, "%s/imp.csv", mnt);
+    char big[600];
+    snprintf(big, sizeof big, "%s/filler", mnt);
+    int fd = open(big, O_WRONLY | O_CREAT, 0644);
+    char block[4096] = {0};
+    while (write(fd, block, sizeof block) > 0) {
+    }
+    close(fd);
+    unlink(big); /* free again: now a 4 KiB budget is what is left */
+    fd = open(big, O_WRONLY | O_CREAT, 0644);
+    for (int k = 0; k < 48 && write(fd, block, sizeof block) > 0; k++) {
+    }
+    close(fd);
+    write_file(out, "old\n");
+    int rc = run(ARGV("--periods", "2000", "--impacts-csv", out, "--quiet"), NULL);
+    expect(rc, 1, "cannot write");
+    assert_string_equal(slurp(out), "old\n");
+    assert_false(exists(path("small/imp.csv.part")));
+    assert_int_equal(umount(mnt), 0);
+  } else {
+    print_message("full disk: LD_PRELOAD hook (cannot mount here)\n");
+  }
+  /* the hook as well, so both paths are exercised where possible */
+  char env[700];
+  snprintf(env, sizeof env, "LD_PRELOAD=%s", hook);
+  full_disk_case(path("hooked.h5"), env, "VI_FAULT_BUDGET=150000");
+  rmdir(mnt);
+  remove(path("hooked.h5"));
+}
+
+/* ---- outputs that are not ours to replace ------------------------------- */
+static void test_non_regular_outputs(void **state)
+{
+  (void)state;
+  /* checked before anything else: the missing scene is never read */
+  char *fifo = path("fifo");
+  assert_int_equal(mkfifo(fifo, 0644), 0);
+  const char *targets[3] = {"/dev/null", fifo, dir};
+  const char *kinds[3] = {"a character device", "a FIFO", "a directory"};
+  for (int k = 0; k < 3; k++) {
+    int rc = run(ARGV("no-such-scene.yaml", "-o", (char *)targets[k]), NULL);
+    expect(rc, 1, kinds[k]);
+    rc = run(ARGV("no-such-scene.yaml", "--impacts-csv", (char *)targets[k]), NULL);
+    expect(rc, 1, kinds[k]);
+    char part[600];
+    snprintf(part, sizeof part, "%s.part", targets[k]);
+    assert_false(exists(part));
+  }
+  struct stat st;
+  assert_int_equal(stat("/dev/null", &st), 0);
+  assert_true(S_ISCHR(st.st_mode)); /* still a device */
+  assert_int_equal(lstat(fifo, &st), 0);
+  assert_true(S_ISFIFO(st.st_mode));
+  /* a link to a device is refused the same way */
+  char *ln = path("to-null.h5");
+  assert_int_equal(symlink("/dev/null", ln), 0);
+  expect(run(ARGV("--periods", "1", "-o", ln), NULL), 1, "a character device");
+  /* a link to a regular file is written through: the link stays */
+  char *real = path("real.h5"), *ln2 = path("link.h5");
+  assert_int_equal(symlink("real.h5", ln2), 0);
+  expect(run(ARGV("--periods", "1", "-o", ln2, "--quiet"), NULL), 0, NULL);
+  assert_int_equal(lstat(ln2, &st), 0);
+  assert_true(S_ISLNK(st.st_mode));
+  hid_t f = H5Fopen(real, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  H5Fclose(f);
+  /* a planted PATH.part link is not followed */
+  char *victim = path("victim"), *out = path("planted.h5");
+  write_file(victim, "precious\n");
+  char part[600];
+  snprintf(part, sizeof part, "%s.part", out);
+  assert_int_equal(symlink(victim, part), 0);
+  expect(run(ARGV("--periods", "1", "-o", out), NULL), 1, "symbolic link");
+  assert_string_equal(slurp(victim), "precious\n");
+  assert_false(exists(out));
+  /* an unwritable place: exit 1 before computing, nothing created */
+  expect(run(ARGV("no-such-scene.yaml", "-o", "/proc/vi_out.h5"), NULL), 1,
+         "/proc/vi_out.h5");
+  if (geteuid() == 0) {
+    char *ro = path("ro");
+    assert_int_equal(mkdir(ro, 0755), 0);
+    if (mount("tmpfs", ro, "tmpfs", MS_RDONLY, "size=64k") == 0) {
+      char o[600];
+      snprintf(o, sizeof o, "%s/x.h5", ro);
+      expect(run(ARGV("no-such-scene.yaml", "-o", o), NULL), 1,
+             "Read-only file system");
+      umount(ro);
+    }
+    rmdir(ro);
+  }
+  unlink(fifo);
+  unlink(ln);
+  unlink(ln2);
+  unlink(real);
+  unlink(part);
+  unlink(victim);
+}
+
+/* ---- standard output on a full device ----------------------------------- */
+static void test_stdout_full(void **state)
+{
+  (void)state;
+  if (access("/dev/full", W_OK) != 0) skip();
+  const char *msg = "cannot write the standard output";
+  expect(run(ARGV("--periods", "2"), "/dev/full"), 1, msg);
+  expect(run(ARGV("--periods", "2", "--impacts-csv", "-", "--quiet"), "/dev/full"), 1, msg);
+  expect(run(ARGV("energy", "--json"), "/dev/full"), 1, msg);
+  expect(run(ARGV("energy"), "/dev/full"), 1, msg);
+  expect(run(ARGV("restitution", "--re", "0.5", "--ke", "1"), "/dev/full"), 1, msg);
+  expect(run(ARGV("--help"), "/dev/full"), 1, msg);
+  expect(run(ARGV("--version"), "/dev/full"), 1, msg);
+}
+
+/* ---- signals in every phase ---------------------------------------------- */
+/* Start, wait `delay` s (the process must still be running: it is in the
+ * phase), signal, and return the exit status; prints the response time. */
+static int signal_in(const char *what, char *const argv[], double delay, int sig)
+{
+  pid_t pid = start(argv, NULL, NULL, NULL);
+  usleep((useconds_t)(delay * 1e6));
+  int st;
+  assert_int_equal(waitpid(pid, &st, WNOHANG), 0); /* still in the phase */
+  double t0 = now();
+  kill(pid, sig);
+  int rc = finish(pid);
+  print_message("%-34s %s answered in %.3f s, exit %d\n", what,
+                sig == SIGINT ? "SIGINT " : "SIGTERM", now() - t0, rc);
+  return rc;
+}
+
+static void test_signals(void **state)
+{
+  (void)state;
+  /* parsing: a deep file with the depth limit lifted (seconds of work) */
+  char *deep = path("deep.yaml");
+  FILE *f = fopen(deep, "w");
+  fputs("a: ", f);
+  for (int k = 0; k < 20000; k++) fputs("{a: ", f);
+  fputs("1", f);
+  for (int k = 0; k < 20000; k++) fputc('}', f);
+  fputc('\n', f);
+  fclose(f);
+  char *h5 = path("sig.h5"), part[600];
+  snprintf(part, sizeof part, "%s.part", h5);
+  int rc = signal_in("parsing (20000 levels)",
+                     ARGV(deep, "--max-depth", "1000000", "-o", h5), 0.3, SIGINT);
+  assert_int_equal(rc, 130);
+  assert_false(exists(h5));
+  assert_false(exists(part));
+  /* building the model: eigen-solve of a 2500-mass chain */
+  char *chain = path("chain.yaml");
+  write_file(chain, "model:\n  chain: {n: 2500, m: 1, k: 1, c: 0.1}\n"
+                    "stop: {mass: 1, xs: 0.1, r: 0.7}\n"
+                    "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\n"
+                    "run: {periods: 1}\n");
+  rc = signal_in("building the model (n = 2500)", ARGV(chain, "-o", h5), 0.5,
+                 SIGTERM);
+  assert_int_equal(rc, 143);
+  assert_false(exists(h5));
+  assert_false(exists(part));
+  /* running: Omega = 1e-6, one forcing period is 6.3e6 time units; the
+   * file is valid and marked incomplete */
+  char *slow = path("slow.yaml");
+  char text[512];
+  snprintf(text, sizeof text, "%sforcing: {omega: 1.0e-6, a: [0.5, 0]}\n"
+           "run: {periods: 10}\n", CHAIN2);
+  write_file(slow, text);
+  const char *methods[3] = {"adams", "exact", "auto"};
+  for (int k = 0; k < 3; k++) {
+    int sig = k == 1 ? SIGTERM : SIGINT;
+    char what[64];
+    snprintf(what, sizeof what, "running (Omega 1e-6, %s)", methods[k]);
+    rc = signal_in(what, ARGV(slow, "--method", (char *)methods[k], "-o", h5,
+                              "--quiet"), 0.5, sig);
+    assert_int_equal(rc, 128 + sig);
+    assert_non_null(strstr(slurp(path("stderr")), "marked incomplete"));
+    assert_false(exists(part));
+    hid_t fh = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+    assert_true(fh >= 0);
+    int complete = -1;
+    hid_t a = H5Aopen(fh, "complete", H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_INT, &complete);
+    H5Aclose(a);
+    H5Fclose(fh);
+    assert_int_equal(complete, 0);
+    remove(h5);
+  }
+  /* the energy analysis: no file until the orbit is found */
+  rc = signal_in("energy (Omega 1e-6)", ARGV("energy", slow, "-o", h5), 0.5,
+                 SIGINT);
+  assert_int_equal(rc, 130);
+  assert_false(exists(h5));
+  assert_false(exists(part));
+  remove(deep);
+  remove(chain);
+  remove(slow);
+}
+
+/* ---- huge and deep scenes, memory ---------------------------------------- */
+static void test_limits(void **state)
+{
+  (void)state;
+  char *h5 = path("lim.h5");
+  expect(run(ARGV("/dev/zero", "-o", h5), NULL), 2, "larger than 16777216 bytes");
+  assert_false(exists(h5));
+  expect(run(ARGV("/dev/zero", "--max-scene-size", "1K"), NULL), 2,
+         "larger than 1024 bytes");
+  /* nesting: refused at the limit, named */
+  char *deep = path("deep.yaml");
+  FILE *f = fopen(deep, "w");
+  fputs("a: ", f);
+  for (int k = 0; k < 100000; k++) fputc('[', f);
+  for (int k = 0; k < 100000; k++) fputc(']', f);
+  fputc('\n', f);
+  fclose(f);
+  expect(run(ARGV(deep), NULL), 2, "nesting deeper than 32 levels");
+  expect(run(ARGV(deep, "--max-depth", "40"), NULL), 2,
+         "nesting deeper than 40 levels");
+  /* memory: a 20000-mass chain needs ~51 GB dense; a tiny allowance
+   * refuses Fig. 2's chain, naming the key and both figures */
+  char *chain = path("chain.yaml");
+  write_file(chain, "model:\n  chain: {n: 20000, m: 1, k: 1, c: 0.1}\n"
+                    "stop: {mass: 1, xs: 0.1, r: 0.7}\n"
+                    "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\n");
+  expect(run(ARGV(chain, "--max-memory", "4G"), NULL), 2,
+         "model.chain.n = 20000: the model would need about");
+  char fig2[600];
+  snprintf(fig2, sizeof fig2, "%s/fig2.yaml", VI_SCENE_DIR);
+  expect(run(ARGV(fig2, "--max-memory", "1K"), NULL), 2, "model.chain.n = 2");
+  remove(deep);
+  remove(chain);
+}
+
+/* ---- values the numerics cannot honour: exit 2 naming the key ----------- */
+static void test_ranges(void **state)
+{
+  (void)state;
+  static const struct {
+    const char *yaml, *key;
+  } cases[] = {
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\nrun: {rtol: 10}\n", "run.rtol"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\nrun: {rtol: 1}\n", "run.rtol"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\nrun: {atol: 1e10}\n", "run.atol"},
+      {"forcing: {omega: 1e-300, a: [0.5, 0]}\n", "forcing.omega"},
+      {"forcing: {omega: 1e300, a: [0.5, 0]}\n", "forcing.omega"},
+      {"forcing: {omega: -0.9, a: [0.5, 0]}\n", "forcing.omega"},
+      {"forcing: {omega: 0.9, a: [1e300, 0]}\n", "forcing.a[1]"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\nrun: {periods: 1e-300}\n", "run.periods"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\nrun: {periods: 1e300}\n", "run.periods"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\ninitial: {v: [1e30, 0]}\n", "initial.v"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\ninitial: {x: [-1e300, 0]}\n", "initial.x[1]"},
+      {"forcing: {omega: !!str 0.9, a: [0.5, 0]}\n", "forcing.omega"},
+      {"forcing: {omega: '0.9', a: [0.5, 0]}\n", "forcing.omega"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\nname: [1, 2]\n", "name"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\n---\nname: second\n", "second YAML document"},
+      {"forcing: {omega: 0.9, a: [0.5, 0]}\noutput: {ledger: 'true'}\n", "output.ledger"},
+  };
+  char *scene = path("range.yaml"), *h5 = path("range.h5");
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    char text[1024];
+    snprintf(text, sizeof text, "%s%s", CHAIN2, cases[k].yaml);
+    write_file(scene, text);
+    expect(run(ARGV(scene, "--method", "exact", "-o", h5), NULL), 2, cases[k].key);
+    assert_false(exists(h5));
+  }
+  /* masses, stiffnesses and damping far apart */
+  static const char *models[][2] = {
+      {"model:\n  chain: {n: 2, m: [1, 1e-30], k: 1, c: 0.1}\n", "model.chain.m"},
+      {"model:\n  chain: {n: 2, m: 1, k: [1e30, 1], c: 0.1}\n", "model.chain.k"},
+      {"model:\n  chain: {n: 2, m: 1, k: 1, c: 1e300}\n", "model.chain.c"},
+      {"model:\n  chain: {n: 2, m: 1, k: 1, c: 1e20}\n", "damping ratio"},
+  };
+  for (size_t k = 0; k < sizeof models / sizeof models[0]; k++) {
+    char text[1024];
+    snprintf(text, sizeof text, "%sstop: {mass: 2, xs: 0.1, r: 0.7}\n"
+             "forcing: {omega: 0.9, a: [0.5, 0]}\n", models[k][0]);
+    write_file(scene, text);
+    expect(run(ARGV(scene, "--method", "exact", "-o", h5), NULL), 2, models[k][1]);
+    assert_false(exists(h5));
+  }
+  /* large but sane values run, and the summary holds no inf or nan */
+  char text[1024];
+  snprintf(text, sizeof text, "%sforcing: {omega: 0.9, a: [1e90, 0]}\n"
+           "run: {periods: 3, atol: 1e80}\n", CHAIN2);
+  write_file(scene, text);
+  int rc = run(ARGV(scene, "--method", "exact"), NULL);
+  char *out = slurp(path("stdout"));
+  assert_int_equal(rc, 0);
+  assert_null(strstr(out, "inf"));
+  assert_null(strstr(out, "nan"));
+  remove(scene);
+}
+
+/* ---- command line ---------------------------------------------------------- */
+static void test_command_line(void **state)
+{
+  (void)state;
+  expect(run(ARGV("ener"), NULL), 2, "did you mean 'vibroimpact energy'");
+  expect(run(ARGV("runn"), NULL), 2, "did you mean 'vibroimpact run'");
+  expect(run(ARGV("no-such-scene.yaml"), NULL), 2, "cannot open");
+  expect(run(ARGV("--method", "rk4"), NULL), 2, "is not one of adams");
+  expect(run(ARGV("--rtol", "10"), NULL), 2, "--rtol must lie in");
+  expect(run(ARGV("--max-depth", "0"), NULL), 2, "--max-depth");
+  expect(run(ARGV("--max-memory", "lots"), NULL), 2, "--max-memory");
+}
+
+int main(int argc, char **argv)
+{
+  if (argc < 3) {
+    fprintf(stderr, "usage: test_faults PATH-TO-vibroimpact PATH-TO-hook.so\n");
+    return 2;
+  }
+  app = argv[1];
+  hook = argv[2];
+  /* a sanitized program accepts the preloaded hook before its runtime */
+  char asan[1024];
+  const char *prev = getenv("ASAN_OPTIONS");
+  snprintf(asan, sizeof asan, "%s%sverify_asan_link_order=0", prev ? prev : "",
+           prev && *prev ? ":" : "");
+  setenv("ASAN_OPTIONS", asan, 1);
+  if (!mkdtemp(dir)) return 2;
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_full_disk),
+      cmocka_unit_test(test_non_regular_outputs),
+      cmocka_unit_test(test_stdout_full),
+      cmocka_unit_test(test_signals),
+      cmocka_unit_test(test_limits),
+      cmocka_unit_test(test_ranges),
+      cmocka_unit_test(test_command_line),
+  };
+  int rc = cmocka_run_group_tests(tests, NULL, NULL);
+  remove(path("stdout"));
+  remove(path("stderr"));
+  rmdir(dir);
+  for (int k = 0; k < npaths; k++) free(paths[k]);
+  return rc;
+}

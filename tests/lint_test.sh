@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Static analysis: clang-tidy (checks in .clang-tidy) and cppcheck
+# (warning, performance, portability) over the files known to be clean, so
+# that they stay clean.  Findings are reported per file.
+#   lint_test.sh SRC BUILD            the files listed below
+#   lint_test.sh SRC BUILD --all      every C file of the build, to see what
+#                                     remains (not a pass/fail criterion)
+# BUILD must have compile_commands.json (CMAKE_EXPORT_COMPILE_COMMANDS, on
+# by default).  Exits 77 (ctest: skipped) if clang-tidy or cppcheck is
+# missing (Debian packages clang-tidy, cppcheck).
+set -uo pipefail
+src=$(cd "$1" && pwd) build=$(cd "$2" && pwd)
+
+# The files kept clean; add a file here once it is (run with --all to see).
+files=(
+  src/vi_status.c src/vi_version.c src/vi_model.c src/vi_modal.c
+  src/vi_impact.c src/vi_beam.c src/vi_ledger.c src/vi_nvector.c src/vi_dense.c
+  src/vi_force.c
+  src/fortran/vi_gen_constants.c tests/test_fortran_compare.c
+)
+# Headers whose findings count (a finding in another header is silent until
+# the header joins this list): a regex for clang-tidy's --header-filter.
+headers='(include/vibroimpact/[^/]*|src/vi_internal|src/vi_ledger_internal)\.h$'
+
+for tool in clang-tidy cppcheck; do
+  if ! command -v "$tool" >/dev/null; then
+    echo "SKIP: $tool not found (apt-get install clang-tidy cppcheck)"; exit 77
+  fi
+done
+db=$build/compile_commands.json
+if [ ! -f "$db" ]; then
+  echo "FAIL: $db missing: configure with -DCMAKE_EXPORT_COMPILE_COMMANDS=ON"; exit 1
+fi
+if [ "${3:-}" = --all ]; then
+  mapfile -t files < <(sed -n 's|.*"file": "'"$src"'/\(.*\.c\)".*|\1|p' "$db" \
+                       | grep -v "^${build#"$src"/}/" | sort -u)
+  headers='(include|src|apps)/.*\.h$'
+fi
+
+cd "$src"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+bad=0 total=0
+for f in "${files[@]}"; do
+  clang-tidy -p "$build" --quiet --header-filter="$headers" "$f" > "$tmp/tidy" 2> /dev/null
+  cppcheck --project="$db" --file-filter="$f" --enable=warning,performance,portability \
+    --inline-suppr --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
+    2> "$tmp/cpp" > /dev/null
+  nt=$(grep -cE ': (warning|error): ' "$tmp/tidy")
+  nc=$(grep -cE ': (warning|error|performance|portability|style): ' "$tmp/cpp")
+  total=$((total + nt + nc))
+  if [ $((nt + nc)) -gt 0 ]; then
+    bad=$((bad + 1))
+    echo "FAIL $f: $nt clang-tidy, $nc cppcheck"
+    grep -E ': (warning|error): ' "$tmp/tidy" | sed "s|^$src/||; s|^|  |"
+    sed "s|^$src/||; s|^|  |" "$tmp/cpp"
+  else
+    echo "ok   $f"
+  fi
+done
+echo "$((${#files[@]} - bad)) of ${#files[@]} files clean, $total findings"
+[ $bad -eq 0 ]
