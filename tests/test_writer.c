@@ -222,7 +222,7 @@ static void test_misuse(void **state)
   assert_int_equal(vi_writer_write_header(w, NULL, -1, 1e-10, 0), VI_ERR_ARG);
   assert_int_equal(vi_writer_write_header(w, NULL, NAN, 1e-10, 0), VI_ERR_ARG);
   double x[3] = {0, 0, 0};
-  vi_event bad = {VI_EVENT_IMPACT, 3, 0, 1.0, -1.0, 0.1, x, x, x};
+  vi_event bad = {VI_EVENT_IMPACT, 3, 0, 1.0, -1.0, 0.1, x, x, x, 0};
   assert_int_equal(vi_writer_event(w, &bad), VI_ERR_DIM);
   bad.n = 2;
   bad.v_plus = NULL;
