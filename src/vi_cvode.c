@@ -356,7 +356,7 @@ static int cv_start(vi_sim *s)
       d->nroots = nr;
     }
   } else if (d->nroots == 0 || d->rstick[0] != s->nstick ||
-             memcmp(d->rstick + 1, s->stick_k, sizeof(int) * s->nstick)) {
+             memcmp(d->rstick + 1, s->stick_k, sizeof(int) * s->nstick) != 0) {
     /* the layout of roots() follows the sticking set */
     int nr = s->nstick + 2 * (s->ns - s->nstick), *dir = d->info;
     for (int i = 0; i < nr; i++)

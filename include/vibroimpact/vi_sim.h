@@ -8,6 +8,20 @@
  * r < 1) end in a sticking phase g = x_s, g' = 0 that is released when the
  * contact force falls through zero.
  *
+ * Several stops (vi_model_add_stop): every stop's gap and gap rate is
+ * watched (2 root functions per stop on CVODE); stops within the gap
+ * tolerance (10 (atol + rtol |x_k|) |w_k|) of a located contact, and the
+ * stops held by sticking, touch together and take Newton's law for
+ * simultaneous contacts (vi_impact.h), one IMPACT event per stop that takes
+ * an impulse.  Sticking may hold any set of stops at once (the motion is
+ * projected with their Delassus block G_SS; each is released when its
+ * multiplier, of G_SS^-1 W_S^T a_free, falls through zero) while the
+ * others are still watched.  A chattering tail is summed to its
+ * accumulation point (Nordmark & Piiroinen) only when one stop is involved
+ * and none is held; with several, a stop whose bounces die out (chatter
+ * threshold, apex within 10 atol, floors, or r = 0) sticks at once, an
+ * error of the order of the tail's duration.  Methods adams and bdf only.
+ *
  * Life cycle: vi_sim_create -> vi_sim_set_* -> vi_sim_run (repeatable; each
  * call continues from where the last stopped) -> vi_sim_get_* ->
  * vi_sim_destroy.  Results leave only through callbacks: the library keeps no
@@ -137,7 +151,9 @@ VI_API const char *vi_sim_errmsg(const vi_sim *sim);
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
  *  without a usable closed form: an undamped mode forced at resonance, or a
  *  defective first-order system such as an undamped rigid-body mode beside
- *  non-proportional damping; the message says which). */
+ *  non-proportional damping; nonlinear forces; exact or erk on a model with
+ *  several stops, whose contact searches handle one; the message says
+ *  which).  With several stops auto runs adams. */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
 /** Relative and absolute tolerances, both > 0 and finite, rtol at least
  *  twice the machine epsilon; atol applies to positions and velocities
