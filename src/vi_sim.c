@@ -764,7 +764,15 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
       if (P[k] > 0.0 || fabs(un) <= 1e-9 * vscale) hold[nh++] = j;
       continue;
     }
-    if (!(P[k] > 0.0 && u[k] > 0.0 && push > 0.0)) continue;
+    if (!(push > 0.0)) continue;
+    if (u[k] <= 0.0) {
+      /* resting on the stop, pressed (a touch at a gap maximum, or a start
+       * on the stop): sticking, as for one stop */
+      if (r < 1.0 && fabs(un) <= fmax(s->vchat, 1e-9 * vscale))
+        hold[nh++] = j;
+      continue;
+    }
+    if (!(P[k] > 0.0)) continue;
     double apex = 0.5 * r * r * u[k] * u[k] / push;
     int floor_hit = (s->vn_floor > 0.0 && u[k] < s->vn_floor) ||
                     (s->dt_floor > 0.0 && dt_prev < s->dt_floor);

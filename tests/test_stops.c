@@ -545,6 +545,54 @@ static void test_newton_coupled(void **state)
   assert_true(cases[0] > 0 && cases[1] > 0 && cases[2] > 0);
 }
 
+/* The coupled case in the integrator: a free particle in the plane (M = I,
+ * K = 0) heading with v = (1, 0.2) straight into the corner of the stops
+ * x1 <= 0.1 and cos th x1 + sin th x2 <= 0.1 (th = 60 degrees) meets both
+ * at t = 1.  With r = 0.5 both act (the closed form above): P = G^-1
+ * (1 + r) u and v+ = (-0.5, -0.1), after which it leaves both stops. */
+static void test_newton_corner(void **state)
+{
+  (void)state;
+  const double th = M_PI / 3.0, c = cos(th), sn = sin(th);
+  const double M[4] = {1.0, 0.0, 0.0, 1.0}, K[4] = {0.0, 0.0, 0.0, 0.0};
+  const double W[4] = {1.0, 0.0, c, sn}, xs[2] = {0.1, 0.1},
+               r[2] = {0.5, 0.5};
+  vi_model *m = build(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
+  const double v0[2] = {1.0, 0.2}, corner[2] = {0.1, (0.1 - c * 0.1) / sn};
+  const double x0[2] = {corner[0] - v0[0], corner[1] - v0[1]};
+  rec ev = {0};
+  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, x0, v0, &ev);
+  assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+  assert_int_equal(vi_sim_run(s, 5.0), VI_OK);
+  assert_int_equal(ev.count, 2);
+  double u[2] = {v0[0], c * v0[0] + sn * v0[1]}, ie = 0.0;
+  double P[2] = {(1.5 * u[0] - c * 1.5 * u[1]) / (1.0 - c * c),
+                 (1.5 * u[1] - c * 1.5 * u[0]) / (1.0 - c * c)};
+  for (int k = 0; k < 2; k++) {
+    assert_int_equal(ev.kind[k], VI_EVENT_IMPACT);
+    assert_int_equal(ev.stop[k], k);
+    assert_close(ev.t[k], 1.0, 1e-9);
+    assert_close(ev.vn[k], u[k], 1e-9);
+    assert_close(ev.vp[2 * k], -0.5, 1e-9);
+    assert_close(ev.vp[2 * k + 1], -0.1, 1e-9);
+    assert_close(ev.ie[k], 0.5 * P[k] * u[k] * 0.5, 1e-9);
+    ie += ev.ie[k];
+  }
+  double dKE = 0.5 * (1.0 + 0.04) - 0.5 * (0.25 + 0.01), ie_led;
+  assert_int_equal(vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
+                                     &ie_led), VI_OK);
+  print_message("corner: both stops at t = %.15f, v+ = (%.12f, %.12f), "
+                "loss %.15f (closed form %.15f), ledger residual %.3g\n",
+                ev.t[0], ev.vp[0], ev.vp[1], ie, dKE,
+                vi_sim_ledger_max_residual(s));
+  assert_close(ie, dKE, 1e-9);
+  assert_close(ie_led, dKE, 1e-9);
+  assert_true(vi_sim_ledger_max_residual(s) < 1e-9);
+  vi_sim_destroy(&s);
+  rec_free(&ev);
+  vi_model_destroy(&m);
+}
+
 /* More stops touching at once than the enumeration takes: VI_ERR_LIMIT;
  * dependent stop vectors with no solution: VI_ERR_NOT_CONVERGED, or the
  * one-stop solution when it fits. */
@@ -703,7 +751,7 @@ static void test_stick_while_other_hit(void **state)
     assert_true(hits >= 2);
     assert_true(et < 1e-8);
     assert_true(w.dev < 1e-9);
-    assert_close(t_rel, t_r, 1e-6);
+    assert_close(t_rel, t_r, 1e-9);
     assert_true(vi_sim_ledger_max_residual(s) < 1e-7);
     vi_sim_destroy(&s);
     rec_free(&ev);
@@ -752,6 +800,61 @@ static void test_stick_on_two(void **state)
   vi_model_destroy(&m);
 }
 
+/* Both masses start at rest on their stops (x = (0.1, 0.1)), pressed, r =
+ * 0.5: both stick at once.  Held on both (G = I), the contact forces are
+ * the free accelerations f - K x: stop 1's 0.5 + 0.625 cos(t / 2) falls
+ * through 0 at t_r = 2 acos(-0.8) and releases it, while stop 2's 0.45 +
+ * x1 / 2 stays positive and keeps mass 2 on its stop. */
+static void test_release_one_of_two(void **state)
+{
+  (void)state;
+  const double M[4] = {1.0, 0.0, 0.0, 1.0}, K[4] = {1.5, -0.5, -0.5, 1.5};
+  const double W[4] = {1.0, 0.0, 0.0, 1.0}, xs[2] = {0.1, 0.1},
+               r[2] = {0.5, 0.5};
+  const double a[2] = {0.625, 0.0}, f0[2] = {0.6, 0.6};
+  vi_model *m = build(2, M, NULL, K, 0.5, a, f0, 2, W, xs, r);
+  const double x0[2] = {0.1, 0.1};
+  double t_r = 2.0 * acos(-0.8);
+  for (int meth = 0; meth < 2; meth++) {
+    rec ev = {0};
+    vi_sim *s = make_sim(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10,
+                         1e-12, x0, NULL, &ev);
+    assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+    assert_int_equal(vi_sim_run(s, t_r + 1.0), VI_OK);
+    int stick[2] = {0, 0}, rel[2] = {0, 0};
+    double t_rel = -1.0;
+    for (int j = 0; j < ev.count; j++) {
+      assert_true(ev.kind[j] != VI_EVENT_IMPACT);
+      if (ev.kind[j] == VI_EVENT_STICK) {
+        stick[ev.stop[j]]++;
+        assert_close(ev.t[j], 0.0, 0.0);
+      }
+      if (ev.kind[j] == VI_EVENT_RELEASE) {
+        rel[ev.stop[j]]++;
+        t_rel = ev.t[j];
+      }
+    }
+    double x[2];
+    assert_int_equal(vi_sim_get_state(s, NULL, x, NULL), VI_OK);
+    print_message("release one of two (%s): release of stop 1 at %.12f "
+                  "(closed form %.12f), x = (%.6f, %.12f), ledger residual "
+                  "%.3g\n", meth ? "bdf" : "adams", t_rel, t_r, x[0], x[1],
+                  vi_sim_ledger_max_residual(s));
+    assert_int_equal(stick[0], 1);
+    assert_int_equal(stick[1], 1);
+    assert_int_equal(rel[0], 1);
+    assert_int_equal(rel[1], 0);
+    assert_close(t_rel, t_r, 1e-9);
+    assert_true(vi_sim_is_sticking(s));
+    assert_true(x[0] < 0.1 - 1e-3); /* mass 1 has left its stop */
+    assert_close(x[1], 0.1, 1e-9);
+    assert_true(vi_sim_ledger_max_residual(s) < 1e-7);
+    vi_sim_destroy(&s);
+    rec_free(&ev);
+  }
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -764,10 +867,12 @@ int main(void)
       cmocka_unit_test(test_mirror_symmetric_orbit),
       cmocka_unit_test(test_newton_uncoupled),
       cmocka_unit_test(test_newton_coupled),
+      cmocka_unit_test(test_newton_corner),
       cmocka_unit_test(test_newton_limits),
       cmocka_unit_test(test_stops_on_coordinates),
       cmocka_unit_test(test_stick_while_other_hit),
       cmocka_unit_test(test_stick_on_two),
+      cmocka_unit_test(test_release_one_of_two),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
