@@ -643,6 +643,17 @@ static int on_contact_one(vi_sim *s, int k)
     memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
   }
   int stick = chatter || (vn > 0.0 && r == 0.0 && push > 0.0);
+  if (!stick && vn > 0.0 && r == 0.0) {
+    /* a plastic impact leaves the mass on the stop at rest along w: it
+     * sticks if pressed with the velocity after the impact (damping), else
+     * a restart on g = g' = 0 would miss the contact root as it presses */
+    for (int i = 0; i < n; i++) {
+      s->zs[2 * i] = s->x[i];
+      s->zs[2 * i + 1] = s->vp[i];
+    }
+    vi_sim_accel(s, s->t, s->zs, 0, s->w1);
+    stick = vi_dot(n, w, s->w1) > 0.0;
+  }
   double ie_tail = 0.0;
   if (stick) {
     /* remove the rebound's normal velocity: the tail's impacts absorb its
