@@ -35,6 +35,26 @@ typedef struct app_cmd {
   const char *what;     /* one line */
 } app_cmd;
 
+/* ---- the HDF5 writer (vi_app_h5.c) -------------------------------------
+ * The vi_writer_* functions of libvibroimpact_io, opened with dlopen on
+ * first use so that a run without -o never loads HDF5. */
+typedef struct app_writer_api {
+  int (*create)(const char *, const vi_model *, int, vi_writer **, vi_diag *);
+  int (*write_header)(vi_writer *, const vi_scene *, double, double, int);
+  int (*event)(vi_writer *, const vi_event *);
+  int (*sample)(vi_writer *, double, const double *, const double *);
+  int (*ledger)(vi_writer *, const vi_ledger_interval *);
+  int (*orbit)(vi_writer *, const vi_orbit *);
+  int (*run_info)(vi_writer *, const vi_sim *);
+  long (*rows)(const vi_writer *, const char *);
+  int (*finish)(vi_writer *, int);
+  void (*abort)(vi_writer **);
+  const char *(*errmsg)(const vi_writer *);
+} app_writer_api;
+/* The writer's functions; NULL (with a message printed) if the library
+ * cannot be loaded. */
+const app_writer_api *vi_app_writer(void);
+
 /* ---- signals (vibroimpact.c) ---------------------------------------------
  * Until a run polls for cancellation, SIGINT/SIGTERM end the process at
  * once: the handler removes the armed partial files and _exits with

@@ -1,9 +1,11 @@
-/* vi_bench - run time against error on the paper's Fig. 2 scene.
+/* vi_bench - run time against error on the paper's Fig. 2 scene, the
+ * exact method's loop time against Adams (Fig. 2, a 20-mass chain) and its
+ * cost per forcing period against chain length N.
  *
  * 1000 forcing periods for each method and tolerance; the impact times are
  * compared with the closed-form event-driven run (VI_METHOD_EXACT, whose
  * contacts are located to round-off).  Wall times are the best of several
- * repeats and are also printed as ratios to the exact method measured in
+ * repeats (CPU time of the thread: the machine is shared) and are also printed as ratios to the exact method measured in
  * the same process, because absolute times on a shared machine are noise. */
 #include <link.h>
 #include <math.h>
@@ -42,7 +44,7 @@ static int collect(const vi_event *ev, void *u)
 static double now(void)
 {
   struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts); /* CPU: the machine is shared */
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
@@ -180,13 +182,110 @@ static void memory_section(void)
   remove(path);
 }
 
+/* ---- the exact method at the limit: loop time and N-scaling ------------ */
+/* Uniform fixed-free chain of n unit masses and springs, C = c E (so
+ * proportional), forced 0.5 cos(0.9 t) on the last mass, stop at 0.1 on
+ * the last mass with r = 0.7: Fig. 2's numbers on a chain of any length. */
+static vi_model *chain(int n, double c)
+{
+  double *mass = malloc(sizeof(double) * 3 * (size_t)n);
+  double *M = calloc(3 * (size_t)n * n, sizeof(double));
+  double *a = calloc((size_t)n, sizeof(double)), *w = calloc((size_t)n, sizeof(double));
+  vi_model *m = NULL;
+  if (!mass || !M || !a || !w) exit(1);
+  double *k = mass + n, *cv = k + n, *C = M + (size_t)n * n, *K = C + (size_t)n * n;
+  for (int i = 0; i < n; i++) {
+    mass[i] = 1.0;
+    k[i] = 1.0;
+    cv[i] = c;
+  }
+  a[n - 1] = 0.5;
+  w[n - 1] = 1.0;
+  vi_build_chain(n, mass, k, cv, M, C, K, n);
+  if (vi_model_create(n, &m) || vi_model_set_mass(m, M, n) ||
+      vi_model_set_damping(m, C, n) || vi_model_set_stiffness(m, K, n) ||
+      vi_model_set_forcing(m, 0.9, a, NULL, NULL) ||
+      vi_model_set_stop(m, w, 0.1, 0.7) || vi_model_setup(m)) {
+    fprintf(stderr, "vi_bench: chain model: %s\n", vi_model_errmsg(m));
+    exit(1);
+  }
+  free(mass);
+  free(M);
+  free(a);
+  free(w);
+  return m;
+}
+
+static double max_dt(const rec *a, const rec *b)
+{
+  double err = 0.0;
+  int nc = a->n < b->n ? a->n : b->n;
+  for (int k = 0; k < nc; k++) err = fmax(err, fabs(a->t[k] - b->t[k]));
+  return err;
+}
+
+/* Loop time of the exact method (rtol 1e-10) and of Adams at rtol 1e-10 on
+ * Fig. 2 and a 20-mass chain, 100 periods, best of `repeats`, interleaved. */
+static void limit_section(int repeats)
+{
+  printf("\nlimit: exact vs adams, 100 forcing periods, loop time only, best of %d\n",
+         repeats);
+  printf("%-10s %12s %8s %12s %8s %10s %12s\n", "scene", "exact_ms", "impacts",
+         "adams_ms", "impacts", "adams/exact", "max|dt_imp|");
+  for (int sc = 0; sc < 2; sc++) {
+    vi_model *m = sc == 0 ? fig2() : chain(20, 0.1);
+    double t_end = 100 * 2.0 * M_PI / 0.9;
+    result e = {HUGE_VAL, 0, 0, {0, 0, NULL, NULL}}, a = e;
+    for (int k = 0; k < repeats; k++) { /* interleave: fair under load */
+      result r1 = run(m, VI_METHOD_EXACT, 1e-10, 0.0, 1, t_end, 1);
+      result r2 = run(m, VI_METHOD_ADAMS, 1e-10, 0.0, 1, t_end, 1);
+      if (r1.wall < e.wall) { free(e.r.t); free(e.r.vn); e = r1; }
+      else { free(r1.r.t); free(r1.r.vn); }
+      if (r2.wall < a.wall) { free(a.r.t); free(a.r.vn); a = r2; }
+      else { free(r2.r.t); free(r2.r.vn); }
+    }
+    printf("%-10s %12.4f %8d %12.3f %8d %10.1f %12.3e%s\n",
+           sc == 0 ? "fig2" : "chain20", 1e3 * e.wall, e.r.n, 1e3 * a.wall,
+           a.r.n, a.wall / e.wall, max_dt(&e.r, &a.r),
+           e.r.n != a.r.n ? "  COUNT MISMATCH" : "");
+    free(e.r.t); free(e.r.vn); free(a.r.t); free(a.r.vn);
+    vi_model_destroy(&m);
+  }
+}
+
+/* Cost per forcing period against chain length, exact and Adams. */
+static void scaling_section(int repeats)
+{
+  const int ns[] = {2, 10, 50, 200, 1000};
+  printf("\nN-scaling: chain of N masses (c = 0.1, forced and stopped at the free "
+         "end), rtol 1e-10, best of %d\n", repeats);
+  printf("%6s %8s %14s %14s %10s %9s %9s\n", "N", "periods", "exact_us/per",
+         "adams_us/per", "adams/ex", "imp_ex", "imp_ad");
+  for (int i = 0; i < 5; i++) {
+    int n = ns[i];
+    double periods = n >= 1000 ? 100 : 50;
+    vi_model *m = chain(n, 0.1);
+    double t_end = periods * 2.0 * M_PI / 0.9;
+    int rep = n >= 1000 ? 1 : repeats;
+    result e = run(m, VI_METHOD_EXACT, 1e-10, 0.0, 1, t_end, rep);
+    result a = run(m, VI_METHOD_ADAMS, 1e-10, 0.0, 1, t_end, rep);
+    printf("%6d %8.0f %14.2f %14.2f %10.1f %9d %9d\n", n, periods,
+           1e6 * e.wall / periods, 1e6 * a.wall / periods, a.wall / e.wall,
+           e.r.n, a.r.n);
+    fflush(stdout);
+    free(e.r.t); free(e.r.vn); free(a.r.t); free(a.r.vn);
+    vi_model_destroy(&m);
+  }
+}
+
 int main(int argc, char **argv)
 {
   gsl_set_error_handler_off();
   double periods = argc > 1 ? atof(argv[1]) : 1000.0;
   int repeats = argc > 2 ? atoi(argv[2]) : 3;
+  const char *only = argc > 3 ? argv[3] : "all";
   if (!(periods > 0) || repeats < 1) {
-    fprintf(stderr, "usage: vi_bench [PERIODS [REPEATS]]\n");
+    fprintf(stderr, "usage: vi_bench [PERIODS [REPEATS [all|table|limit|scaling|memory]]]\n");
     return 2;
   }
   char lib[512] = "(not found)";
@@ -195,6 +294,13 @@ int main(int argc, char **argv)
          vi_version_string(), vi_sundials_version(), lib);
   printf("scene: Wagg & Bishop Fig. 2, %g forcing periods, best of %d; "
          "atol = rtol / 100\n\n", periods, repeats);
+  if (!strcmp(only, "limit") || !strcmp(only, "all")) limit_section(5);
+  if (!strcmp(only, "scaling") || !strcmp(only, "all")) scaling_section(repeats);
+  if (!strcmp(only, "memory")) {
+    memory_section();
+    return 0;
+  }
+  if (strcmp(only, "table") && strcmp(only, "all")) return 0;
   vi_model *m = fig2();
   double t_end = periods * 2.0 * M_PI / 0.9;
   result ref = run(m, VI_METHOD_EXACT, 1e-12, 0.0, 1, t_end, repeats);
@@ -231,6 +337,6 @@ int main(int argc, char **argv)
   free(ref.r.t);
   free(ref.r.vn);
   vi_model_destroy(&m);
-  memory_section();
+  if (!strcmp(only, "memory") || !strcmp(only, "all")) memory_section();
   return 0;
 }

@@ -59,18 +59,20 @@ static int write_orbit(const app_opts *o, const vi_scene *sc, const vi_model *m,
   char part[VI_APP_PATH + 8];
   snprintf(part, sizeof part, "%s.part", o->out_target);
   vi_app_arm_parts(part, NULL); /* a signal now removes it and exits */
-  if (vi_writer_create(o->out_target, m, 0, &w, &d)) {
+  const app_writer_api *wa = vi_app_writer();
+  if (!wa) return 1;
+  if (wa->create(o->out_target, m, 0, &w, &d)) {
     fprintf(stderr, "vibroimpact: %s\n", d.message);
     return 1;
   }
-  if (vi_writer_write_header(w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
-                             vi_scene_method(sc)) ||
-      vi_writer_orbit(w, orb) || vi_writer_finish(w, 1)) {
-    fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(w));
-    vi_writer_abort(&w);
+  if (wa->write_header(w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
+                       vi_scene_method(sc)) ||
+      wa->orbit(w, orb) || wa->finish(w, 1)) {
+    fprintf(stderr, "vibroimpact: %s\n", wa->errmsg(w));
+    wa->abort(&w);
     return 1;
   }
-  vi_writer_abort(&w); /* frees; the file is already in place */
+  wa->abort(&w); /* frees; the file is already in place */
   return 0;
 }
 

@@ -54,6 +54,7 @@ typedef struct run_ctx {
   const app_opts *o;
   FILE *csv;
   vi_writer *w;
+  const app_writer_api *wa; /* loaded with -o only */
   int n, io_err, store_events;
   int64_t impacts;
   double t_last, vn_last, t0, t_end, wall0;
@@ -69,7 +70,7 @@ static double now(void)
 static int on_event(const vi_event *ev, void *user)
 {
   run_ctx *c = user;
-  if (c->w && c->store_events && vi_writer_event(c->w, ev)) c->io_err = 1;
+  if (c->w && c->store_events && c->wa->event(c->w, ev)) c->io_err = 1;
   if (ev->kind != VI_EVENT_IMPACT) return c->io_err;
   c->t_last = ev->t;
   c->vn_last = ev->vn;
@@ -87,14 +88,14 @@ static int on_sample(double t, int n, const double *x, const double *v, void *us
 {
   (void)n;
   run_ctx *c = user;
-  if (vi_writer_sample(c->w, t, x, v)) c->io_err = 1;
+  if (c->wa->sample(c->w, t, x, v)) c->io_err = 1;
   return c->io_err;
 }
 
 static int on_ledger(const vi_ledger_interval *iv, void *user)
 {
   run_ctx *c = user;
-  if (c->w && vi_writer_ledger(c->w, iv)) c->io_err = 1;
+  if (c->w && c->wa->ledger(c->w, iv)) c->io_err = 1;
   return c->io_err;
 }
 
@@ -166,7 +167,9 @@ int vi_cmd_run(const app_opts *o)
   vi_scene *sc = NULL;
   vi_model *m = NULL;
   vi_sim *s = NULL;
-  run_ctx c = {o, NULL, NULL, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  run_ctx c;
+  memset(&c, 0, sizeof c);
+  c.o = o;
   char part[VI_APP_PATH + 8] = "", h5part[VI_APP_PATH + 8] = "";
   vi_diag d;
   memset(&d, 0, sizeof d);
@@ -194,14 +197,15 @@ int vi_cmd_run(const app_opts *o)
     snprintf(part, sizeof part, "%s.part", o->csv_target);
   vi_app_arm_parts(h5part, part);
   if (o->out) {
-    if (vi_writer_create(o->out_target, m, vi_scene_wants(sc, "compress"),
+    if (!(c.wa = vi_app_writer())) goto done;
+    if (c.wa->create(o->out_target, m, vi_scene_wants(sc, "compress"),
                          &c.w, &d)) {
       fprintf(stderr, "vibroimpact: %s\n", d.message);
       goto done;
     }
-    if (vi_writer_write_header(c.w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
-                               vi_scene_method(sc))) {
-      fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(c.w));
+    if (c.wa->write_header(c.w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
+                           vi_scene_method(sc))) {
+      fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
       goto done;
     }
   }
@@ -243,7 +247,7 @@ int vi_cmd_run(const app_opts *o)
   }
   if (c.io_err) {
     fprintf(stderr, "vibroimpact: writing output failed: %s\n",
-            c.io_err == 1 && c.w ? vi_writer_errmsg(c.w)
+            c.io_err == 1 && c.w ? c.wa->errmsg(c.w)
             : c.csv == stdout    ? "cannot write the standard output"
                                  : "cannot write the impacts CSV (disk full?)");
     goto done;
@@ -251,9 +255,9 @@ int vi_cmd_run(const app_opts *o)
   int complete = st == VI_OK;
   long rows[3] = {0, 0, 0};
   static const char *tables[3] = {"impacts", "trajectory", "ledger"};
-  for (int k = 0; k < 3 && c.w; k++) rows[k] = vi_writer_rows(c.w, tables[k]);
-  if (c.w && (vi_writer_run_info(c.w, s) || vi_writer_finish(c.w, complete))) {
-    fprintf(stderr, "vibroimpact: %s\n", vi_writer_errmsg(c.w));
+  for (int k = 0; k < 3 && c.w; k++) rows[k] = c.wa->rows(c.w, tables[k]);
+  if (c.w && (c.wa->run_info(c.w, s) || c.wa->finish(c.w, complete))) {
+    fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
     goto done;
   }
   if (c.csv && c.csv != stdout) {
@@ -287,7 +291,7 @@ int vi_cmd_run(const app_opts *o)
 done:
   if (c.csv && c.csv != stdout) fclose(c.csv);
   if (part[0]) remove(part);
-  vi_writer_abort(&c.w);
+  if (c.w) c.wa->abort(&c.w);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
   vi_scene_destroy(&sc);

@@ -8,11 +8,13 @@
  * Exit status: 0 success, 1 run-time error, 2 usage or input error,
  * 128 + signal when interrupted (130 SIGINT, 143 SIGTERM). */
 #include <errno.h>
+#include <fcntl.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <gsl/gsl_errno.h>
@@ -331,6 +333,18 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
 
 int main(int argc, char **argv)
 {
+  /* a closed standard descriptor would be reused by the first file we
+   * open (the HDF5 output), and the summary would be written into it:
+   * hold 0, 1, 2 with /dev/null opened read-only, so that writes to a
+   * closed stdout fail and are reported instead */
+  for (int fd = 0; fd <= 2; fd++)
+    if (fcntl(fd, F_GETFD) == -1 && errno == EBADF) {
+      int k = open("/dev/null", O_RDONLY);
+      if (k >= 0 && k != fd) {
+        dup2(k, fd);
+        close(k);
+      }
+    }
   gsl_set_error_handler_off();
   if (vi_version_number() != VI_VERSION_NUMBER) {
     fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
@@ -358,6 +372,19 @@ int main(int argc, char **argv)
             (o.csv && strcmp(o.csv, "-") && check_output(o.csv, o.csv_target));
   sigprocmask(SIG_SETMASK, &old, NULL);
   if (bad) return 1;
+  /* the scene is the user's, not ours to replace */
+  struct stat ss, os;
+  if (o.scene && stat(o.scene, &ss) == 0 && S_ISREG(ss.st_mode))
+    for (int k = 0; k < 2; k++) {
+      const char *t = k ? (o.csv && strcmp(o.csv, "-") ? o.csv_target : NULL)
+                        : (o.out ? o.out_target : NULL);
+      if (t && stat(t, &os) == 0 && os.st_dev == ss.st_dev &&
+          os.st_ino == ss.st_ino) {
+        fprintf(stderr, "vibroimpact: refusing to write the output over the "
+                "scene %s\n", o.scene);
+        return 2;
+      }
+    }
   if (o.out && o.csv && strcmp(o.csv, "-") &&
       !strcmp(o.out_target, o.csv_target)) {
     fprintf(stderr, "vibroimpact: -o and --impacts-csv name the same file "

@@ -1,249 +1,766 @@
-/* vi_exact.c - event-driven simulation on the closed-form flow (vi_flow.c
- * for proportional damping, vi_general.c for any other).
+/* vi_exact.c - event-driven simulation on the closed-form flow, for
+ * proportional damping (non-proportional damping: vi_exact_scan.c).
  *
- * Between impacts the motion is known exactly, so the gap g(t) = w.x(t) -
- * x_s is an explicit function.  It is scanned in steps of 1/16 of the
- * shortest period present in g; in each step the sign of g' splits the step
- * at an extremum (located by Brent), and a contact is a rising crossing of a
- * monotone piece, also located by Brent to round-off.  Checking the maxima
- * is what catches grazing contacts that a sign test at step ends misses. */
+ * Between impacts mode j is q_j = H_j(t) + w_j: H_j the harmonic particular
+ * solution, w_j the rest, obeying w'' + d w' + lambda w = F0 and written
+ * relative to its start (vi_flow_basis), so that static offsets and rigid
+ * or very soft modes cost no accuracy.  The gap
+ *   g(t) = sum_j psi_j w_j(t) + GA cos(Omega t) + GB sin(Omega t) - x_s
+ * is followed on a uniform grid of step h = h0 2^-p (4 steps per period of
+ * the fastest mode in g): each active mode (psi_j != 0) advances by a fixed
+ * 2 x 2 map per step, re-anchored on the direct formula every EX_ANCHOR
+ * steps.  A grid interval is skipped when a rigorous upper bound of g on it
+ * stays below the stop: the cubic Hermite through g, g' at its ends plus
+ * B4 h^4 / 384, with B4 >= |g''''|.  Bounds on |g''|, |g'''|, |g''''| come
+ * from the modes' energies: every derivative w^(k), k >= 1, is a free
+ * damped oscillation, whose energy (w^(k+1)^2 + lambda w^(k)^2) / 2 can
+ * only decrease.  Where the bound fails, a left-first bisection on dyadic
+ * sub-steps (tables of the same maps for h 2^-l) returns the first crossing
+ * - maxima that touch the stop between grid points included - once a piece
+ * is proven monotone (|g''| <= B2); the root is then refined by bisection
+ * until the Hermite cubic is exact to round-off and polished by Newton on
+ * it.  After an impact the time in which g provably recedes (a cubic bound
+ * from g', g'' and B3) is skipped.  Physical states are built only when the
+ * driver reads them, and an impact made by the driver is recognised as the
+ * rank-one change of the modal velocities that it is. */
 #include <float.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_sim_internal.h"
+#include "vi_exact_internal.h"
+
+#define EX_LEVELS 100 /* dyadic table levels h0 2^-l */
+#define EX_DEPTH 44   /* bisection levels below the grid's */
+#define EX_ANCHOR 64  /* grid steps between direct evaluations */
+#define EX_BATCH 512  /* grid steps per call of step() at most */
+#define EX_GRID 1.5707963267948966 /* grid step in radians of the fastest rate */
 
 typedef struct ex_data {
+  int kind;                         /* EX_KIND_FAST (vi_exact_internal.h) */
   vi_sim *s;
-  double t0;          /* start of the current flight */
-  double *u0, *v0;    /* homogeneous initial values per mode [n] */
-  double *q, *qd;     /* modal state of the last evaluation [n] */
-  double h;           /* scan step */
-  double ta, ga, gda; /* left end of the next scan step */
-  double *rates;      /* ledger integrands [4n] */
-  vi_gflow *gf;       /* non-proportional damping: the first-order flow */
-  double *zfull;      /* its state at the last full evaluation [2n] */
+  int n, na, *act;                  /* active modes: psi_j != 0 */
+  double *lam, *dmp, *F0, *psi;     /* of the active modes [na] */
+  double GA, GB, GH;                /* harmonic part of g, its amplitude */
+  double Om, h0, hq;                /* forcing, grid and quadrature steps */
+  double *lev[EX_LEVELS];           /* B, Bp, phi for h0 2^-l [3 na] */
+  double lc[EX_LEVELS], ls[EX_LEVELS]; /* cos, sin of Omega h0 2^-l */
+  /* the flight */
+  double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
+  double goff, skip;                /* g offset at t0; no contact before */
+  double gnoise;                    /* round-off of g at t0 */
+  int p, lmax, since, handover;
+  double hp, tg, cr, sr;            /* grid start, step, rotation by Om hp */
+  int64_t k;                        /* grid index: t_k = tg + k hp */
+  double *wk, *wdk, gk, gdk, ck, sk; /* at t_k [na] */
+  double *wn, *wdn, gn, gdn, cn, sn; /* at t_{k+1} [na] */
+  int next_ok, srch, anch;          /* t_{k+1} computed; search done */
+  double tstar;                     /* its first crossing (srch == 2) */
+  double B2, B3, B4;                /* bounds of |g''|, |g'''|, |g''''| */
+  double *stk;                      /* bisection states [(EX_DEPTH+2) 2 na] */
+  /* modal state at tq and the physical state handed out at tz */
+  double *q, *qd, tq, *z, tz, *qs, *qds;
+  int q_ok, z_ok;
   int64_t steps, evals;
 } ex_data;
-
-/* Gap and its rate at t; with full != 0 also the modal state in q, qd. */
-static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
-{
-  const vi_model *m = d->s->m;
-  int n = m->n;
-  if (d->gf) {
-    vi_gflow_eval(d->gf, m, t, g, gd, full ? d->zfull : NULL);
-    d->evals++;
-    if (full) /* modal velocities for the ledger */
-      for (int j = 0; j < n; j++) {
-        double q = 0.0, qd = 0.0;
-        for (int i = 0; i < n; i++) {
-          double p = m->PsiTM[j + (size_t)i * n];
-          q += p * d->zfull[2 * i];
-          qd += p * d->zfull[2 * i + 1];
-        }
-        d->q[j] = q;
-        d->qd[j] = qd;
-      }
-    return;
-  }
-  double tau = t - d->t0, c = cos(m->omega_f * t), sn = sin(m->omega_f * t);
-  double a = 0.0, b = 0.0;
-  for (int j = 0; j < n; j++) {
-    if (!full && m->psi[j] == 0.0) continue;
-    double qp, qpd, u, ud;
-    vi_flow_particular(m, j, c, sn, tau, &qp, &qpd);
-    vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], d->u0[j],
-                        d->v0[j], tau, &u, &ud);
-    d->q[j] = qp + u;
-    d->qd[j] = qpd + ud;
-    a += m->psi[j] * d->q[j];
-    b += m->psi[j] * d->qd[j];
-  }
-  d->evals++;
-  *g = a - m->xs;
-  *gd = b;
-}
-
-static double gap_fn(double t, void *p)
-{
-  double g, gd;
-  ex_eval(p, t, &g, &gd, 0);
-  return g;
-}
-
-static double rate_fn(double t, void *p)
-{
-  double g, gd;
-  ex_eval(p, t, &g, &gd, 0);
-  return gd;
-}
-
-/* x = Psi q, v = Psi q' into an interleaved state. */
-static void to_state(const vi_model *m, const ex_data *d, double *z)
-{
-  int n = m->n;
-  if (d->gf) {
-    memcpy(z, d->zfull, sizeof(double) * 2 * n);
-    return;
-  }
-  for (int i = 0; i < n; i++) {
-    double x = 0.0, v = 0.0;
-    for (int j = 0; j < n; j++) {
-      double p = m->Psi[i + (size_t)j * n];
-      x += p * d->q[j];
-      v += p * d->qd[j];
-    }
-    z[2 * i] = x;
-    z[2 * i + 1] = v;
-  }
-}
 
 static void ex_destroy(vi_sim *s)
 {
   ex_data *d = s->be_data;
+  if (d && d->kind != EX_KIND_FAST) { /* the scan backend's data */
+    vi_backend_exact_scan.destroy(s);
+    return;
+  }
   if (d) {
-    vi_gflow_free(d->gf);
-    free(d->u0);
+    for (int l = 0; l < EX_LEVELS; l++) free(d->lev[l]);
+    free(d->act);
+    free(d->lam);
   }
   free(d);
   s->be_data = NULL;
 }
 
-static int ex_start(vi_sim *s)
+/* Tables of level l: the maps of the active modes over h0 2^-l. */
+static const double *ex_level(ex_data *d, int l)
 {
-  const vi_model *m = s->m;
-  int n = s->n;
-  if (s->sticking) /* the driver runs sticking phases on CVODE */
-    return vi_fail(s->errmsg, VI_ERR_STATE, "internal: the closed form "
-                   "cannot start in a sticking phase (t = %.17g)", s->t);
-  ex_data *d = s->be_data;
-  if (!d) {
-    d = calloc(1, sizeof *d);
-    if (d) d->u0 = malloc(sizeof(double) * 10 * (size_t)n);
-    if (d && !m->proportional) d->gf = vi_gflow_create(m);
-    if (!d || !d->u0 || (!m->proportional && !d->gf)) {
-      if (d) free(d->u0);
-      free(d);
-      return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  if (d->lev[l]) return d->lev[l];
+  double *t = malloc(sizeof(double) * 3 * (size_t)(d->na ? d->na : 1));
+  if (!t) return NULL;
+  double dt = ldexp(d->h0, -l);
+  d->lc[l] = cos(d->Om * dt);
+  d->ls[l] = sin(d->Om * dt);
+  for (int i = 0; i < d->na; i++)
+    vi_flow_basis(d->lam[i], d->dmp[i], dt, t + i, t + d->na + i,
+                  t + 2 * d->na + i);
+  d->lev[l] = t;
+  return t;
+}
+
+/* Harmonic part of g and g' from cos, sin of Omega t. */
+static inline void ex_harm(const ex_data *d, double c, double sn, double *g,
+                           double *gd)
+{
+  *g = d->GA * c + d->GB * sn;
+  *gd = d->Om * (d->GB * c - d->GA * sn);
+}
+
+/* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and g, g'
+ * at the new time (cos, sin of Omega t there: c, sn). */
+static int ex_advance(ex_data *d, int l, const double *restrict w,
+                      const double *restrict wd, double *restrict wo,
+                      double *restrict wdo, double c, double sn, double *g,
+                      double *gd)
+{
+  const double *T = ex_level(d, l);
+  if (!T) return vi_fail(d->s->errmsg, VI_ERR_NOMEM, "out of memory");
+  const double *restrict B = T, *restrict Bp = T + d->na;
+  const double *restrict ph = T + 2 * d->na;
+  const double *restrict lam = d->lam, *restrict F0 = d->F0;
+  const double *restrict psi = d->psi;
+  /* four partial sums: the adds of one sum would chain otherwise */
+  double a[4] = {0.0, 0.0, 0.0, 0.0}, b[4] = {0.0, 0.0, 0.0, 0.0};
+  int na = d->na, i = 0;
+  for (; i + 4 <= na; i += 4)
+    for (int u = 0; u < 4; u++) {
+      double f = F0[i + u] - lam[i + u] * w[i + u];
+      double x = w[i + u] + B[i + u] * wd[i + u] + ph[i + u] * f;
+      double v = Bp[i + u] * wd[i + u] + B[i + u] * f;
+      wo[i + u] = x;
+      wdo[i + u] = v;
+      a[u] += psi[i + u] * x;
+      b[u] += psi[i + u] * v;
     }
-    d->v0 = d->u0 + n;
-    d->q = d->v0 + n;
-    d->qd = d->q + n;
-    d->rates = d->qd + n;
-    d->zfull = d->rates + 4 * n;
-    d->s = s;
-    double wtop = m->omega_f;
-    for (int j = 0; j < n; j++)
-      if (m->psi[j] != 0.0) wtop = fmax(wtop, m->omega[j]);
-    if (d->gf) wtop = vi_general_top_frequency(m);
-    d->h = wtop > 0.0 ? M_PI / (8.0 * wtop) : HUGE_VAL;
-    s->be_data = d;
+  for (; i < na; i++) {
+    double f = F0[i] - lam[i] * w[i];
+    double x = w[i] + B[i] * wd[i] + ph[i] * f;
+    double v = Bp[i] * wd[i] + B[i] * f;
+    wo[i] = x;
+    wdo[i] = v;
+    a[0] += psi[i] * x;
+    b[0] += psi[i] * v;
   }
-  d->t0 = s->t;
-  d->ta = s->t;
-  if (d->gf) {
-    vi_gflow_start(d->gf, m, s->t, s->z);
-    ex_eval(d, d->ta, &d->ga, &d->gda, 0);
-    return VI_OK;
-  }
-  /* modal state now, minus the particular solution: the homogeneous part */
-  double c = cos(m->omega_f * s->t), sn = sin(m->omega_f * s->t);
-  for (int j = 0; j < n; j++) {
-    double q = 0.0, qd = 0.0, qp, qpd;
-    for (int i = 0; i < n; i++) {
-      double p = m->PsiTM[j + (size_t)i * n];
-      q += p * s->z[2 * i];
-      qd += p * s->z[2 * i + 1];
-    }
-    vi_flow_particular(m, j, c, sn, 0.0, &qp, &qpd);
-    d->u0[j] = q - qp;
-    d->v0[j] = qd - qpd;
-  }
-  d->ta = s->t;
-  ex_eval(d, d->ta, &d->ga, &d->gda, 0);
+  double hg, hgd;
+  ex_harm(d, c, sn, &hg, &hgd);
+  *g = ((a[0] + a[1]) + (a[2] + a[3])) + hg - d->s->m->xs - d->goff;
+  *gd = ((b[0] + b[1]) + (b[2] + b[3])) + hgd;
+  d->evals++;
   return VI_OK;
 }
 
-/* First rising crossing of the gap in [a, b], or 0 if none.  g' changes sign
- * at most once in a scan step, at an extremum c; only rising pieces count. */
-static int find_contact(vi_sim *s, ex_data *d, double a, double ga,
-                        double gda, double b, double gb, double gdb,
-                        double *tc)
+/* w, w' of mode j (full index) at t from the flight's start. */
+static inline void ex_mode(const ex_data *d, int j, double t, double *w,
+                           double *wd)
 {
-  double lo = a, glo = ga, hi = b, ghi = gb;
-  if ((gda > 0.0) != (gdb > 0.0) && gda != 0.0 && gdb != 0.0) {
-    double c;
-    int st = vi_sim_bracket(s, rate_fn, d, a, b, &c);
-    if (st) return st;
-    double gc = gap_fn(c, d);
-    if (gda > 0.0) { /* maximum at c: rising piece [a, c] */
-      s->stats[VI_STAT_GRAZE_CHECKS]++;
-      hi = c;
-      ghi = gc;
-    } else {         /* minimum at c: rising piece [c, b] */
-      lo = c;
-      glo = gc;
-    }
-  }
-  if (!(glo < 0.0 && ghi >= 0.0)) return 0;
-  int st = vi_sim_bracket(s, gap_fn, d, lo, hi, tc);
-  return st ? st : 1;
+  const vi_model *m = d->s->m;
+  double B, Bp, ph, lam = m->lambda[j];
+  vi_flow_basis(lam, m->D[j + (size_t)j * d->n], t - d->t0, &B, &Bp, &ph);
+  double f = m->F0[j] - lam * d->w0[j];
+  *w = d->w0[j] + B * d->wd0[j] + ph * f;
+  *wd = Bp * d->wd0[j] + B * f;
 }
 
-/* Ledger integrals over [a, b] by 8-point Gauss-Legendre: a scan step spans
- * at most pi/4 of the fastest phase in the integrands (products of modes,
- * frequency <= 2 omega_top), where the rule's error is below round-off. */
+/* Active modes at t directly (an anchor), with g, g'. */
+static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
+                      double *sn, double *g, double *gd)
+{
+  double a = 0.0, b = 0.0, hg, hgd;
+  for (int i = 0; i < d->na; i++) {
+    ex_mode(d, d->act[i], t, w + i, wd + i);
+    a += d->psi[i] * w[i];
+    b += d->psi[i] * wd[i];
+  }
+  *c = cos(d->Om * t);
+  *sn = sin(d->Om * t);
+  ex_harm(d, *c, *sn, &hg, &hgd);
+  *g = a + hg - d->s->m->xs - d->goff;
+  *gd = b + hgd;
+  d->evals++;
+}
+
+/* Every mode's q, q' at t. */
+static void ex_modes_at(ex_data *d, double t, double *q, double *qd)
+{
+  const vi_model *m = d->s->m;
+  double c = cos(d->Om * t), sn = sin(d->Om * t);
+  for (int j = 0; j < d->n; j++) {
+    double w, wd;
+    ex_mode(d, j, t, &w, &wd);
+    q[j] = w + m->pA[j] * c + m->pB[j] * sn;
+    qd[j] = wd + d->Om * (m->pB[j] * c - m->pA[j] * sn);
+  }
+  d->evals++;
+}
+
+/* Bounds of |g''|, |g'''|, |g''''| from time t on, from the active modes'
+ * (w, w') at t: |w^(k+1)| <= sqrt(w^(k+1)^2 + lambda w^(k)^2) at t, since
+ * that energy of the free oscillation w^(k) never grows (d >= 0). */
+static void ex_bounds(ex_data *d, const double *w, const double *wd)
+{
+  double b2 = 0.0, b3 = 0.0, b4 = 0.0;
+  for (int i = 0; i < d->na; i++) {
+    double l = d->lam[i], dm = d->dmp[i];
+    double w2 = d->F0[i] - dm * wd[i] - l * w[i];
+    double w3 = -dm * w2 - l * wd[i], w4 = -dm * w3 - l * w2;
+    double a = fabs(d->psi[i]);
+    b2 += a * sqrt(w2 * w2 + l * wd[i] * wd[i]);
+    b3 += a * sqrt(w3 * w3 + l * w2 * w2);
+    b4 += a * sqrt(w4 * w4 + l * w3 * w3);
+  }
+  double O2 = d->Om * d->Om;
+  /* a relative margin for the rounding of the sums */
+  d->B2 = (b2 + d->GH * O2) * (1.0 + 1e-9);
+  d->B3 = (b3 + d->GH * O2 * d->Om) * (1.0 + 1e-9);
+  d->B4 = (b4 + d->GH * O2 * O2) * (1.0 + 1e-9);
+}
+
+/* fmax without the library call (no NaN reaches these) */
+static inline double mx(double a, double b) { return a > b ? a : b; }
+
+/* B4 w^4 / 384: how far g may rise above its cubic Hermite on a piece. */
+static inline double herm_err(const ex_data *d, double w)
+{
+  double w2 = w * w;
+  return d->B4 * w2 * w2 / 384.0;
+}
+
+/* A cheap upper bound of the cubic Hermite on a piece: the weights of the
+ * end slopes, s (1 - s)^2 and -s^2 (1 - s), lie within [0, 4/27] and
+ * [-4/27, 0]. */
+static inline double herm_quick(double ga, double gda, double gb, double gdb,
+                                double w)
+{
+  return mx(ga, gb) + w * (4.0 / 27.0) * (mx(gda, 0.0) + mx(-gdb, 0.0));
+}
+
+/* Maximum on [0, 1] of the cubic Hermite through (ga, w gda) at 0 and
+ * (gb, w gdb) at 1, and its coefficients c[4] in s = (t - a) / w. */
+static double herm_max(double ga, double gda, double gb, double gdb, double w,
+                       double *c)
+{
+  c[0] = ga;
+  c[1] = w * gda;
+  c[2] = 3.0 * (gb - ga) - w * (2.0 * gda + gdb);
+  c[3] = 2.0 * (ga - gb) + w * (gda + gdb);
+  double top = mx(ga, gb);
+  /* stationary points: c1 + 2 c2 s + 3 c3 s^2 = 0 */
+  double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1], r[2];
+  int nr = 0;
+  if (A == 0.0) {
+    if (B != 0.0) r[nr++] = -C / B;
+  } else {
+    double disc = B * B - 4.0 * A * C;
+    if (disc >= 0.0) {
+      double qq = -0.5 * (B + copysign(sqrt(disc), B));
+      if (qq != 0.0) r[nr++] = qq / A;
+      if (qq != 0.0) r[nr++] = C / qq;
+      else r[nr++] = 0.0;
+    }
+  }
+  for (int i = 0; i < nr; i++)
+    if (r[i] > 0.0 && r[i] < 1.0) {
+      double s = r[i];
+      top = mx(top, c[0] + s * (c[1] + s * (c[2] + s * c[3])));
+    }
+  return top;
+}
+
+/* Root of g on a piece [a, a + h0 2^-l] where g' > 0 is proven, ga < 0 <=
+ * gb, from the active state (w, wd) at a: halve it until the Hermite cubic
+ * is exact to round-off, then Newton on the cubic, safeguarded by its
+ * bracket. */
+static int ex_polish(ex_data *d, int l, double a, const double *w,
+                     const double *wd, double ca, double sa, double ga,
+                     double gda, double gb, double gdb, double gdlo,
+                     double *tc)
+{
+  const double eps = DBL_EPSILON;
+  double wdt = ldexp(d->h0, -l);
+  for (;;) {
+    double scale = 0.25 * eps * fmax(fabs(a), d->h0) * gdlo;
+    if (l >= d->lmax || herm_err(d, wdt) <= scale) break;
+    double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
+    double m = a + 0.5 * wdt, gm, gdm;
+    int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, &gm, &gdm);
+    if (st) return st;
+    /* the harmonic part by rotation from a (the tables are built now) */
+    double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
+    double sn = sa * d->lc[l + 1] + ca * d->ls[l + 1], hg, hgd;
+    ex_harm(d, c, sn, &hg, &hgd);
+    gm += hg;
+    gdm += hgd;
+    l++;
+    wdt *= 0.5;
+    if (gm >= 0.0) {
+      gb = gm;
+      gdb = gdm;
+    } else {
+      a = m;
+      w = wm;
+      wd = wdm;
+      ca = c;
+      sa = sn;
+      ga = gm;
+      gda = gdm;
+    }
+  }
+  double cf[4];
+  herm_max(ga, gda, gb, gdb, wdt, cf);
+  double lo = 0.0, hi = 1.0, x = ga / (ga - gb);
+  for (int it = 0; it < 60; it++) {
+    double p = cf[0] + x * (cf[1] + x * (cf[2] + x * cf[3]));
+    double dp = cf[1] + x * (2.0 * cf[2] + x * 3.0 * cf[3]);
+    if (p < 0.0) lo = x; else hi = x;
+    double xn = dp > 0.0 ? x - p / dp : 0.5 * (lo + hi);
+    if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+    double dx = fabs(xn - x);
+    x = xn;
+    if (dx * wdt <= eps * fabs(a) || dx <= 4.0 * eps || hi - lo <= eps) break;
+  }
+  *tc = a + x * wdt;
+  return 1;
+}
+
+/* First t in (a, a + h0 2^-l] with g(t) >= 0, left first; state (w, wd) at
+ * a.  1 with *tc: found; 0: none; < 0: error. */
+static int ex_search(ex_data *d, int l, double a, const double *w,
+                     const double *wd, double ca, double sa, double ga,
+                     double gda, double gb, double gdb, double *tc)
+{
+  double wdt = ldexp(d->h0, -l), b = a + wdt, cf[4], e4 = herm_err(d, wdt);
+  if (b <= d->skip) return 0;
+  /* below the stop by more than g's round-off: nothing here (a touch
+   * within round-off is no contact, and a motion resting on the stop must
+   * not send the bisection into every leaf) */
+  if (herm_quick(ga, gda, gb, gdb, wdt) + e4 < d->gnoise ||
+      herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < d->gnoise)
+    return 0;
+  /* g' on [a, b] lies within the two lines of slope B2 through the ends */
+  double gdlo = 0.5 * (gda + gdb - d->B2 * wdt);
+  double gdhi = 0.5 * (gda + gdb + d->B2 * wdt);
+  if (gdhi < 0.0 && ga <= 0.0) return 0; /* decreasing */
+  if (gdlo > 0.0 && ga < 0.0) {          /* increasing */
+    if (gb < 0.0) return 0;
+    return ex_polish(d, l, a, w, wd, ca, sa, ga, gda, gb, gdb, gdlo, tc);
+  }
+  if (l >= d->lmax) { /* at round-off in t: the sign decides */
+    /* next to a start on the stop, only beyond g's round-off: a tangential
+     * departure (a release) must not read as a new contact */
+    if (gb < 0.0 || (a <= d->t0 && gb <= d->gnoise)) return 0;
+    *tc = b;
+    return 1;
+  }
+  d->s->stats[VI_STAT_GRAZE_CHECKS] += gda > 0.0 && gdb < 0.0;
+  double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
+  double m = a + 0.5 * wdt, gm, gdm;
+  int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, &gm, &gdm);
+  if (st) return st;
+  double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
+  double sn = sa * d->lc[l + 1] + ca * d->ls[l + 1], hg, hgd;
+  ex_harm(d, c, sn, &hg, &hgd);
+  gm += hg;
+  gdm += hgd;
+  st = ex_search(d, l + 1, a, w, wd, ca, sa, ga, gda, gm, gdm, tc);
+  if (st) return st;
+  return ex_search(d, l + 1, m, wm, wdm, c, sn, gm, gdm, gb, gdb, tc);
+}
+
+static int ex_alloc(vi_sim *s, ex_data **out)
+{
+  const vi_model *m = s->m;
+  int n = s->n, na = 0;
+  for (int j = 0; j < n; j++) na += m->psi[j] != 0.0;
+  ex_data *d = calloc(1, sizeof *d);
+  if (!d) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  size_t nd = 4 * (size_t)na + 6 * (size_t)na +
+              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 14 * (size_t)n + 8;
+  d->act = malloc(sizeof(int) * (size_t)(na + 1));
+  d->lam = malloc(sizeof(double) * nd);
+  if (!d->act || !d->lam) {
+    free(d->act);
+    free(d->lam);
+    free(d);
+    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  }
+  double *p = d->lam;
+  p += na;
+  d->dmp = p; p += na;
+  d->F0 = p; p += na;
+  d->psi = p; p += na;
+  d->wk = p; p += na;
+  d->wdk = p; p += na;
+  d->wn = p; p += na;
+  d->wdn = p; p += na;
+  p += 2 * (size_t)na; /* spare */
+  d->stk = p; p += (size_t)(EX_DEPTH + 2) * 2 * na;
+  d->w0 = p; p += n;
+  d->wd0 = p; p += n;
+  d->q = p; p += n;
+  d->qd = p; p += n;
+  d->qs = p; p += n;
+  d->qds = p; p += n;
+  d->z = p;
+  d->kind = EX_KIND_FAST;
+  d->s = s;
+  d->n = n;
+  d->na = na;
+  d->Om = m->omega_f;
+  double top = 0.0, all = d->Om;
+  for (int j = 0, i = 0; j < n; j++) {
+    double dm = m->D[j + (size_t)j * n], rate = fmax(sqrt(m->lambda[j]), dm);
+    all = fmax(all, rate);
+    if (m->psi[j] == 0.0) continue;
+    d->act[i] = j;
+    d->lam[i] = m->lambda[j];
+    d->dmp[i] = dm;
+    d->F0[i] = m->F0[j];
+    d->psi[i] = m->psi[j];
+    d->GA += m->psi[j] * m->pA[j];
+    d->GB += m->psi[j] * m->pB[j];
+    top = fmax(top, rate);
+    i++;
+  }
+  d->GH = hypot(d->GA, d->GB);
+  if (d->GH != 0.0) top = fmax(top, d->Om);
+  /* no rate at all (free rigid modes under a constant load): g is a
+   * quadratic, which the Hermite bound follows exactly at any step */
+  d->h0 = top > 0.0 ? EX_GRID / top : 1.0;
+  d->hq = all > 0.0 ? 0.7853981633974483 / all : HUGE_VAL;
+  *out = d;
+  return VI_OK;
+}
+
+/* Modal state of s->z: the driver's impact changed the state we handed
+ * out by dx = a M^-1 w, dv = b M^-1 w (WB 6 and the projection on the
+ * stop), which in modes is q += a psi, q' += b psi; anything else is
+ * converted in full. */
+static void ex_modal_from_z(ex_data *d)
+{
+  vi_sim *s = d->s;
+  const vi_model *m = s->m;
+  int n = d->n;
+  if (d->z_ok && d->q_ok && s->t == d->tz && s->t == d->tq) {
+    double a = 0.0, b = 0.0;
+    for (int i = 0; i < n; i++) {
+      a += m->w[i] * (s->z[2 * i] - d->z[2 * i]);
+      b += m->w[i] * (s->z[2 * i + 1] - d->z[2 * i + 1]);
+    }
+    a /= m->wMw;
+    b /= m->wMw;
+    int ok = 1;
+    for (int i = 0; i < n && ok; i++) {
+      double ex = s->z[2 * i] - d->z[2 * i] - a * m->Minv_w[i];
+      double ev = s->z[2 * i + 1] - d->z[2 * i + 1] - b * m->Minv_w[i];
+      double tx = 1e-13 * (fabs(s->z[2 * i]) + fabs(a * m->Minv_w[i])) + DBL_MIN;
+      double tv = 1e-13 * (fabs(s->z[2 * i + 1]) + fabs(b * m->Minv_w[i])) + DBL_MIN;
+      ok = fabs(ex) <= tx && fabs(ev) <= tv;
+    }
+    if (ok) {
+      for (int j = 0; j < n; j++) {
+        d->q[j] += a * m->psi[j];
+        d->qd[j] += b * m->psi[j];
+      }
+      return;
+    }
+  }
+  for (int j = 0; j < n; j++) {
+    double q = 0.0, qd = 0.0;
+    for (int i = 0; i < n; i++) {
+      double pm = m->PsiTM[j + (size_t)i * n];
+      q += pm * s->z[2 * i];
+      qd += pm * s->z[2 * i + 1];
+    }
+    d->q[j] = q;
+    d->qd[j] = qd;
+  }
+}
+
+static int ex_start(vi_sim *s)
+{
+  const vi_model *m = s->m;
+  if (s->sticking) /* the driver runs sticking phases on CVODE */
+    return vi_fail(s->errmsg, VI_ERR_STATE, "internal: the closed form "
+                   "cannot start in a sticking phase (t = %.17g)", s->t);
+  if (!m->proportional) return vi_backend_exact_scan.start(s);
+  ex_data *d = s->be_data;
+  if (!d) {
+    int st = ex_alloc(s, &d);
+    if (st) return st;
+    s->be_data = d;
+  }
+  int n = d->n, na = d->na;
+  ex_modal_from_z(d);
+  d->q_ok = 1;
+  d->tq = s->t;
+  d->z_ok = 0;
+  d->t0 = s->t;
+  double Om = d->Om, c = cos(Om * s->t), sn = sin(Om * s->t);
+  double hsc = 0.0, msc = fabs(m->xs);
+  for (int j = 0; j < n; j++) {
+    double H = m->pA[j] * c + m->pB[j] * sn;
+    double Hd = Om * (m->pB[j] * c - m->pA[j] * sn);
+    d->w0[j] = d->q[j] - H;
+    d->wd0[j] = d->qd[j] - Hd;
+    double ap = fabs(m->psi[j]), rate = fmax(sqrt(m->lambda[j]), Om);
+    hsc += ap * hypot(m->pA[j], m->pB[j]);
+    msc += ap * (fabs(d->q[j]) + (rate > 0.0 ? fabs(d->qd[j]) / rate : 0.0));
+  }
+  /* A harmonic particular solution far larger than the motion itself (a
+   * lightly damped mode forced near resonance) cancels in q = H + w: the
+   * closed form would lose that many digits; CVODE goes on instead. */
+  d->handover = hsc > 1e7 * (msc + s->atol * s->wnorm);
+  if (d->handover)
+    snprintf(s->handover_why, sizeof s->handover_why,
+             "the harmonic particular solution (%.3g) is %.2g times the "
+             "motion at t = %.9g: the closed form would cancel it", hsc,
+             hsc / msc, s->t);
+  /* g, g', g'' now */
+  double a = 0.0, b = 0.0, b2 = 0.0, hg, hgd;
+  for (int i = 0; i < na; i++) {
+    int j = d->act[i];
+    d->wk[i] = d->w0[j];
+    d->wdk[i] = d->wd0[j];
+    a += d->psi[i] * d->wk[i];
+    b += d->psi[i] * d->wdk[i];
+    b2 += d->psi[i] * (d->F0[i] - d->dmp[i] * d->wdk[i] - d->lam[i] * d->wk[i]);
+  }
+  d->goff = 0.0;
+  ex_harm(d, c, sn, &hg, &hgd);
+  double g = a + hg - m->xs, gd = b + hgd, gdd = b2 - Om * Om * hg;
+  s->gap = g;
+  s->z_stale = 0;
+  ex_bounds(d, d->wk, d->wdk);
+  /* On the stop (after an impact, or a start there): measure g from here,
+   * and skip the time in which g provably recedes, g' tau + g'' tau^2 / 2
+   * + B3 tau^3 / 6 < 0. */
+  double scale = fabs(m->xs) + d->GH + 1e-3 * s->atol * s->wnorm;
+  for (int i = 0; i < n; i++) scale += fabs(m->w[i] * s->z[2 * i]);
+  double tr = 0.0;
+  d->gnoise = 64.0 * DBL_EPSILON * scale;
+  if (fabs(g) <= d->gnoise) {
+    d->goff = g;
+    double A = d->B3 / 6.0, B = 0.5 * gdd, C = gd;
+    if (C < 0.0) {
+      if (A > 0.0) tr = 2.0 * -C / (B + sqrt(B * B - 4.0 * A * C));
+      else tr = B > 0.0 ? -C / B : HUGE_VAL;
+    } else if (C == 0.0 && B < 0.0) {
+      tr = A > 0.0 ? -B / A : HUGE_VAL;
+    }
+    tr *= 1.0 - 1e-6;
+  }
+  d->skip = s->t + tr;
+  /* grid: fine enough to see the end of a short flight */
+  d->p = 0;
+  while (tr > 0.0 && d->p < EX_LEVELS - EX_DEPTH - 1 &&
+         ldexp(d->h0, -d->p) > 4.0 * tr &&
+         ldexp(d->h0, -d->p - 1) >= 64.0 * DBL_EPSILON * fabs(s->t))
+    d->p++;
+  d->lmax = d->p + EX_DEPTH;
+  d->hp = ldexp(d->h0, -d->p);
+  d->tg = d->skip; /* +inf: g recedes for ever */
+  d->k = 0;
+  d->cr = cos(Om * d->hp);
+  d->sr = sin(Om * d->hp);
+  if (d->tg > s->t && isfinite(d->tg))
+    ex_anchor(d, d->tg, d->wk, d->wdk, &d->ck, &d->sk, &d->gk, &d->gdk);
+  else {
+    d->ck = c;
+    d->sk = sn;
+    d->gk = g - d->goff;
+    d->gdk = gd;
+  }
+  d->next_ok = 0;
+  d->srch = 0;
+  d->since = 0;
+  return VI_OK;
+}
+
+/* Ledger integrals over [a, b] by 8-point Gauss-Legendre in pieces of at
+ * most a quarter radian of the fastest rate: there the rule's error is
+ * below round-off for the products of modes that make the integrands. */
 static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
 {
   static const double gx[4] = {0.1834346424956498, 0.5255324099163290,
                                0.7966664774136267, 0.9602898564975363};
   static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
                                0.2223810344533745, 0.1012285362903763};
-  double h = 0.5 * (b - a), mid = 0.5 * (a + b), g, gd;
-  for (int k = 0; k < 8; k++) {
-    double t = mid + (k < 4 ? -gx[k] : gx[k - 4]) * h;
-    ex_eval(d, t, &g, &gd, 1);
-    vi_ledger_accumulate(s->led, t, d->qd, 0.0, gw[k % 4] * h);
+  if (!(b > a)) return;
+  double np = ceil((b - a) / d->hq);
+  if (!(np >= 1.0)) np = 1.0;
+  for (double k = 0; k < np; k++) {
+    double pa = a + (b - a) * k / np, pb = k + 1 == np ? b : a + (b - a) * (k + 1) / np;
+    double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
+    for (int i = 0; i < 8; i++) {
+      double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h;
+      ex_modes_at(d, t, d->qs, d->qds);
+      vi_ledger_accumulate(s->led, t, d->qds, 0.0, gw[i % 4] * h);
+    }
   }
+}
+
+/* g at t inside the flight, directly (an end time between grid points). */
+static double ex_gap_at(ex_data *d, double t)
+{
+  double w, wd, a = 0.0;
+  for (int i = 0; i < d->na; i++) {
+    ex_mode(d, d->act[i], t, &w, &wd);
+    a += d->psi[i] * w;
+  }
+  d->evals++;
+  return a + d->GA * cos(d->Om * t) + d->GB * sin(d->Om * t) - d->s->m->xs;
+}
+
+/* Move to t (no contact before it): time, gap, ledger. */
+static void ex_move(vi_sim *s, ex_data *d, double t, double g)
+{
+  if (s->led) ex_quadrature(s, d, s->t, t);
+  s->t = t;
+  s->gap = g;
+  s->z_stale = 1;
+  d->q_ok = 0;
 }
 
 static int ex_step(vi_sim *s, double t_end, int *event)
 {
+  if (!s->m->proportional) return vi_backend_exact_scan.step(s, t_end, event);
   ex_data *d = s->be_data;
-  double b = fmin(d->ta + d->h, t_end), gb, gdb, tc;
-  ex_eval(d, b, &gb, &gdb, 0);
-  d->steps++;
-  int hit = find_contact(s, d, d->ta, d->ga, d->gda, b, gb, gdb, &tc);
-  if (hit < 0) return hit;
-  *event = hit ? VI_STEP_CONTACT : VI_STEP_NONE;
-  s->t = hit ? tc : b;
-  if (s->led) ex_quadrature(s, d, d->ta, s->t);
-  double g, gd;
-  ex_eval(d, s->t, &g, &gd, 1);
-  to_state(s->m, d, s->z);
-  d->ta = b;
-  d->ga = gb;
-  d->gda = gdb;
+  *event = VI_STEP_NONE;
+  if (d->handover) {
+    *event = VI_STEP_HANDOVER;
+    return VI_OK;
+  }
+  if (s->t < d->tg) { /* provably receding from the stop */
+    if (t_end <= d->tg) {
+      ex_move(s, d, t_end, ex_gap_at(d, t_end));
+      return VI_OK;
+    }
+    ex_move(s, d, d->tg, d->gk + d->goff);
+  }
+  for (int it = 0; it < EX_BATCH; it++) {
+    /* the host's poll between grid steps: a pointer test without one */
+    if (it > 0 && vi_sim_cancelled(s)) return VI_CANCELLED;
+    double tk = d->tg + (double)d->k * d->hp, tb = d->tg + (double)(d->k + 1) * d->hp;
+    if (!d->next_ok) {
+      d->anch = ++d->since >= EX_ANCHOR;
+      if (d->anch) {
+        ex_anchor(d, tb, d->wn, d->wdn, &d->cn, &d->sn, &d->gn, &d->gdn);
+      } else {
+        d->cn = d->ck * d->cr - d->sk * d->sr;
+        d->sn = d->sk * d->cr + d->ck * d->sr;
+        int st = ex_advance(d, d->p, d->wk, d->wdk, d->wn, d->wdn, d->cn,
+                            d->sn, &d->gn, &d->gdn);
+        if (st) return st;
+      }
+      d->next_ok = 1;
+      d->srch = 0;
+    }
+    if (!d->srch) {
+      double tc, cf[4];
+      int hit = 0;
+      double e4 = herm_err(d, d->hp);
+      if (tb <= d->skip ||
+          (herm_quick(d->gk, d->gdk, d->gn, d->gdn, d->hp) + e4 >= d->gnoise &&
+           herm_max(d->gk, d->gdk, d->gn, d->gdn, d->hp, cf) + e4 >= d->gnoise)) {
+        hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, d->gk,
+                        d->gdk, d->gn, d->gdn, &tc);
+        if (hit < 0) return hit;
+      }
+      d->srch = hit ? 2 : 1;
+      d->tstar = hit ? tc : HUGE_VAL;
+    }
+    if (d->srch == 2 && d->tstar <= t_end) { /* contact */
+      double tc = fmax(d->tstar, s->t);
+      if (s->led) ex_quadrature(s, d, s->t, tc);
+      s->t = tc;
+      ex_modes_at(d, tc, d->q, d->qd);
+      d->tq = tc;
+      d->q_ok = 1;
+      double g = -s->m->xs;
+      for (int j = 0; j < d->n; j++) g += s->m->psi[j] * d->q[j];
+      s->gap = g;
+      s->z_stale = 1;
+      d->steps++;
+      *event = VI_STEP_CONTACT;
+      return VI_OK;
+    }
+    if (t_end < tb) { /* the run ends inside this interval */
+      ex_move(s, d, t_end, ex_gap_at(d, t_end));
+      return VI_OK;
+    }
+    ex_move(s, d, tb, d->gn + d->goff);
+    /* commit t_{k+1} */
+    double *t1 = d->wk, *t2 = d->wdk;
+    d->wk = d->wn;
+    d->wdk = d->wdn;
+    d->wn = t1;
+    d->wdn = t2;
+    d->gk = d->gn;
+    d->gdk = d->gdn;
+    d->ck = d->cn;
+    d->sk = d->sn;
+    d->k++;
+    d->steps++;
+    d->next_ok = 0;
+    if (d->anch) {
+      d->since = 0;
+      ex_bounds(d, d->wk, d->wdk);
+    }
+    if (s->t >= t_end) return VI_OK;
+  }
+  return VI_OK;
+}
+
+/* Physical state x = Psi q, v = Psi q' of the modal state (q, qd). */
+static void ex_physical(const vi_model *m, const double *q, const double *qd,
+                        double *z)
+{
+  int n = m->n;
+  for (int i = 0; i < n; i++) {
+    z[2 * i] = 0.0;
+    z[2 * i + 1] = 0.0;
+  }
+  for (int j = 0; j < n; j++) { /* column order: Psi is column-major */
+    const double *col = m->Psi + (size_t)j * n;
+    double a = q[j], b = qd[j];
+    for (int i = 0; i < n; i++) {
+      z[2 * i] += col[i] * a;
+      z[2 * i + 1] += col[i] * b;
+    }
+  }
+}
+
+static int ex_sync(vi_sim *s)
+{
+  if (!s->m->proportional) return VI_OK;
+  ex_data *d = s->be_data;
+  if (!d->q_ok || d->tq != s->t) {
+    ex_modes_at(d, s->t, d->q, d->qd);
+    d->tq = s->t;
+    d->q_ok = 1;
+  }
+  ex_physical(s->m, d->q, d->qd, s->z);
+  memcpy(d->z, s->z, sizeof(double) * 2 * (size_t)d->n);
+  d->tz = s->t;
+  d->z_ok = 1;
   return VI_OK;
 }
 
 static int ex_dense(vi_sim *s, double t)
 {
+  if (!s->m->proportional) return vi_backend_exact_scan.dense(s, t);
   ex_data *d = s->be_data;
-  double g, gd;
-  ex_eval(d, t, &g, &gd, 1);
-  to_state(s->m, d, s->zs);
+  ex_modes_at(d, t, d->qs, d->qds);
+  ex_physical(s->m, d->qs, d->qds, s->zs);
   return VI_OK;
 }
 
 static int64_t ex_stat(const void *data, int which)
 {
   const ex_data *d = data;
+  if (d->kind != EX_KIND_FAST) return vi_backend_exact_scan.stat(data, which);
   if (which == VI_STAT_STEPS) return d->steps;
   if (which == VI_STAT_ROOT_EVALS) return d->evals;
   return 0;
 }
 
 const vi_backend vi_backend_exact = {"exact", ex_start, ex_step, ex_dense,
-                                     ex_stat, ex_destroy, NULL, NULL};
+                                     ex_stat, ex_destroy, ex_sync, NULL};

@@ -35,6 +35,79 @@ void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
   *ud = v0 * eC - (h * v0 + lambda * u0) * eS;
 }
 
+/* Basis of the mode u'' + d u' + lambda u = F (d, lambda >= 0) after tau:
+ * B = response from (u, u') = (0, 1), Bp = B', and phi = response to F = 1
+ * from rest, so that from (u0, v0) with f = F - lambda u0
+ *   u = u0 + B v0 + phi f,   u' = Bp v0 + B f.
+ * Written relative to the start, a static offset F/lambda of any size (a
+ * very soft structure, lambda -> 0, a rigid-body mode) never enters: there
+ * is nothing to cancel (issue 9).  phi is the second divided difference of
+ * e^{r tau} over the roots (0, r1, r2); for short times (d tau, lambda
+ * tau^2 <= 1) its Taylor series from the ODE, else the closed forms, each
+ * evaluated where it has no cancellation. */
+void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
+                   double *phi)
+{
+  double D = d * tau, L = lambda * tau * tau;
+  if (tau == 0.0) {
+    *B = *phi = 0.0;
+    *Bp = 1.0;
+    return;
+  }
+  if (D <= 1.0 && L <= 1.0) {
+    /* phi = sum T_k, T_{k+2} = -(D (k+1) T_{k+1} + L T_k) / ((k+2)(k+1)) */
+    double Tm = 0.0, T = 0.5 * tau * tau, ph = T, b = 2.0 * T;
+    for (int k = 1; k < 60; k++) {
+      double Tn = -(D * (k + 1) * T + L * Tm) / ((k + 2.0) * (k + 1.0));
+      ph += Tn;
+      b += (k + 2) * Tn;
+      Tm = T;
+      T = Tn;
+      if (fabs(T) + fabs(Tm) <= 1e-18 * fabs(ph)) break;
+    }
+    *phi = ph;
+    *B = b / tau;
+    *Bp = 1.0 - d * *B - lambda * ph;
+    return;
+  }
+  double h = 0.5 * d, mu2 = lambda - h * h, A;
+  if (mu2 > 0.0) {
+    double mu = sqrt(mu2), e = exp(-h * tau), c = cos(mu * tau);
+    double sn = sin(mu * tau), sh = sin(0.5 * mu * tau);
+    *B = e * sn / mu;
+    *Bp = e * (c - h * sn / mu);
+    /* 1 - A = (1 - e) + e (1 - cos) - h B */
+    *phi = (-expm1(-h * tau) + 2.0 * e * sh * sh - h * *B) / lambda;
+    return;
+  }
+  if (mu2 < 0.0) {
+    double ka = sqrt(-mu2), r1 = -lambda / (h + ka), r2 = -(h + ka);
+    double e1 = exp(r1 * tau), e2 = exp(r2 * tau);
+    if (ka * tau < 0.5) {
+      double e = exp(-h * tau);
+      *B = e * sinh(ka * tau) / ka;
+      A = e * (cosh(ka * tau) + h * sinh(ka * tau) / ka);
+    } else {
+      *B = (e1 - e2) / (2.0 * ka);
+      A = (r1 * e2 - r2 * e1) / (2.0 * ka);
+    }
+    *Bp = (r1 * e1 - r2 * e2) / (2.0 * ka);
+    if (L >= 0.1) {
+      *phi = (1.0 - A) / lambda;
+    } else { /* (E(r1) - E(r2)) / (r1 - r2), E(r) = expm1(r tau) / r */
+      double E1 = r1 != 0.0 ? expm1(r1 * tau) / r1 : tau;
+      double E2 = expm1(r2 * tau) / r2;
+      *phi = (E1 - E2) / (2.0 * ka);
+    }
+    return;
+  }
+  double e = exp(-h * tau); /* critical damping, lambda = h^2 > 0 */
+  *B = tau * e;
+  *Bp = e * (1.0 - h * tau);
+  A = e * (1.0 + h * tau);
+  *phi = (1.0 - A) / lambda;
+}
+
 void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
                         double tau, double *qp, double *qpd)
 {
@@ -107,16 +180,18 @@ int vi_flow_modal(const vi_model *m, double t0, const double *q0,
     free(buf);
     return st;
   }
+  /* q = H(t) + w: H the harmonic particular solution, w the rest, which
+   * obeys w'' + d w' + lambda w = F0 and runs relative to its start */
   double tau = t - t0, Om = m->omega_f;
   double c0 = cos(Om * t0), s0 = sin(Om * t0), c1 = cos(Om * t), s1 = sin(Om * t);
   for (int j = 0; j < m->n; j++) {
-    double p0, pd0, p1, pd1, u, ud;
-    vi_flow_particular(m, j, c0, s0, 0.0, &p0, &pd0);
-    vi_flow_particular(m, j, c1, s1, tau, &p1, &pd1);
-    vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * m->n], q0[j] - p0,
-                        qd0[j] - pd0, tau, &u, &ud);
-    q[j] = p1 + u;
-    qd[j] = pd1 + ud;
+    double lam = m->lambda[j], d = m->D[j + (size_t)j * m->n], B, Bp, phi;
+    double w0 = q0[j] - (m->pA[j] * c0 + m->pB[j] * s0);
+    double wd0 = qd0[j] - Om * (m->pB[j] * c0 - m->pA[j] * s0);
+    double f = m->F0[j] - lam * w0;
+    vi_flow_basis(lam, d, tau, &B, &Bp, &phi);
+    q[j] = m->pA[j] * c1 + m->pB[j] * s1 + (w0 + B * wd0 + phi * f);
+    qd[j] = Om * (m->pB[j] * c1 - m->pA[j] * s1) + (Bp * wd0 + B * f);
   }
   return VI_OK;
 }

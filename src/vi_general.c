@@ -155,6 +155,15 @@ double vi_general_top_frequency(const vi_model *m)
   return top;
 }
 
+double vi_general_particular_scale(const vi_model *m)
+{
+  double sc = 0.0;
+  for (int k = 0; m->gen && k < m->gen->n2; k++)
+    sc += cabs(m->gen->cw[k]) *
+          (cabs(m->gen->P[k]) + cabs(m->gen->Q[k]) + cabs(m->gen->R[k]));
+  return sc;
+}
+
 vi_gflow *vi_gflow_create(const vi_model *m)
 {
   vi_gflow *f = calloc(1, sizeof *f);

@@ -93,6 +93,10 @@ void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
                         double tau, double *qp, double *qpd);
 void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
                          double tau, double *u, double *ud);
+/* Mode u'' + d u' + lambda u = F relative to its start (vi_flow.c):
+ * u = u0 + B v0 + phi (F - lambda u0), u' = Bp v0 + B (F - lambda u0). */
+void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
+                   double *phi);
 
 /* Exact flow for any damping (vi_general.c): set up at vi_model_setup when
  * the damping is not proportional; a vi_gflow is the flow from one start. */
@@ -100,6 +104,9 @@ typedef struct vi_gflow vi_gflow;
 int vi_general_setup(vi_model *m);
 void vi_general_free(vi_model *m);
 double vi_general_top_frequency(const vi_model *m);
+/* sum_k |w.V_k| (|P_k| + |Q_k| + |R_k|): the size of the particular
+ * solution as the gap sees it, against which the flow cancels */
+double vi_general_particular_scale(const vi_model *m);
 vi_gflow *vi_gflow_create(const vi_model *m);
 void vi_gflow_free(vi_gflow *f);
 /* z: interleaved state (x_1, v_1, ...) at t0 */

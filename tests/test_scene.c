@@ -8,6 +8,8 @@
 
 #include <gsl/gsl_errno.h>
 
+#include <gsl/gsl_sf_ellint.h>
+
 #include "vi_testutil.h"
 #include "vibroimpact/vi_scene.h"
 
@@ -96,6 +98,39 @@ static void test_malformed_scenes(void **state)
     vi_scene_destroy(&sc);
     assert_null(sc);
   }
+}
+
+/* A scene's built-in springs reach the simulation: the free Duffing
+ * oscillator x'' + x + eps x^3 = 0 from rest at A returns to A after the
+ * period 4 K(m) / sqrt(1 + eps A^2), m = eps A^2 / (2 (1 + eps A^2)). */
+static void test_scene_springs(void **state)
+{
+  (void)state;
+  const char *t = "model: {M: [[1.0]], K: [[1.0]]}\n"
+                  "stop: {mass: 1, xs: 10.0, r: 0.8}\n"
+                  "springs:\n  - {type: cubic, i: 1, k3: 0.8}\n"
+                  "initial: {x: [1.3]}\n"
+                  "run: {t_end: 100, rtol: 1.0e-11, atol: 1.0e-13}\n";
+  double eps = 0.8, A = 1.3, w2 = 1 + eps * A * A, mm = eps * A * A / (2 * w2);
+  double T = 4 * gsl_sf_ellint_Kcomp(sqrt(mm), GSL_PREC_DOUBLE) / sqrt(w2);
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(t, -1, "duffing.yaml", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK); /* idempotent */
+  assert_int_equal(vi_sim_run(s, 3 * T), VI_OK);
+  double x, v;
+  vi_sim_get_state(s, NULL, &x, &v);
+  assert_close(x, A, 1e-8);
+  assert_close(v, 0.0, 1e-8);
+  assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
 }
 
 static void test_overrides_and_builders(void **state)
@@ -247,6 +282,7 @@ int main(void)
       cmocka_unit_test(test_shipped_scenes_run),
       cmocka_unit_test(test_default_is_fig2),
       cmocka_unit_test(test_malformed_scenes),
+      cmocka_unit_test(test_scene_springs),
       cmocka_unit_test(test_overrides_and_builders),
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_yaml_strictness),

@@ -47,6 +47,13 @@ static const bad cases[] = {
   {"Omega 1e-300", CHAIN "forcing: {omega: 1.0e-300, a: [0.5, 0]}\n" GOOD_STOP, VI_ERR_LIMIT, 3, "forcing.omega"},
   {"atol 1e10", CHAIN GOOD_STOP "forcing: {omega: 0.9}\nrun: {atol: 1.0e10}\n", VI_ERR_LIMIT, 5, "run.atol"},
   {"initial velocity 1e30", CHAIN GOOD_STOP "forcing: {omega: 0.9}\ninitial: {v: [1.0e30, 0]}\n", VI_ERR_LIMIT, 5, "initial.v"},
+  /* built-in springs */
+  {"spring type", CHAIN GOOD_STOP "springs:\n  - {type: quartic, i: 1, k3: 1}\n", VI_ERR_PARSE, 5, "springs[1].type"},
+  {"spring coordinate", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 3, k3: 1}\n", VI_ERR_PARSE, 5, "springs[1].i"},
+  {"spring to itself", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 1, j: 1, k3: 1}\n", VI_ERR_PARSE, 5, "springs[1].j"},
+  {"bilinear without gap", CHAIN GOOD_STOP "springs:\n  - {type: bilinear, i: 2, k: 3}\n", VI_ERR_PARSE, 5, "springs[1].gap"},
+  {"cubic with k", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 2, k: 3}\n", VI_ERR_PARSE, 5, "springs[1].k"},
+  {"springs with exact", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 2, k3: 3}\nrun: {t_end: 10, method: exact}\n", VI_ERR_UNSUPPORTED, 5, "springs[1]"},
   /* rejected when the run is configured */
   {"initial state beyond the stop", CHAIN GOOD_STOP "initial: {x: [0.0, 0.5]}\nrun: {t_end: 10}\n", VI_ERR_INITIAL_STATE, 4, "initial"},
 };

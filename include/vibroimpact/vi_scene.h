@@ -20,6 +20,10 @@
  *   output:  {impacts: bool (default true), samples_per_period: int
  *             (default 0), ledger: bool (false), modes: bool (false: no
  *             /modal group), compress: bool (true: deflate the trajectory)}
+ *   springs: a list of built-in nonlinear springs (vi_force.h) between
+ *            coordinates i and j (1-based; j = 0, the default, is the
+ *            ground): {type: cubic, i, j, k3} (force k3 (x_i - x_j)^3) or
+ *            {type: bilinear, i, j, k, gap} (a soft stop past the gap)
  *
  * Numbers are plain scalars ("0.1" quoted or `!!str 0.1` is text) of
  * magnitude at most 1e100.  Ranges checked (VI_ERR_LIMIT or the key's own

@@ -33,6 +33,12 @@ struct vi_scene {
   double xs, r, t0, t_end, periods, rtol, atol;
   int method, samples, out_impacts, out_ledger, out_modes, compress;
   int line_model, line_stop, line_initial, line_run, line_forcing;
+  /* built-in nonlinear springs (vi_force.h), applied to the sim */
+  struct scene_spring {
+    int type, i, j, line;
+    double k, gap;
+  } *springs;
+  int nsprings;
 };
 
 /* ---- diagnostics -------------------------------------------------------- */
@@ -363,8 +369,15 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
     s->n = (int)(K->data.sequence.items.top - K->data.sequence.items.start);
     if (s->n < 1)
       return fail(c, K, VI_ERR_DIM, "model.K", "%s", "empty matrix");
-    /* every row must hold n numbers before n x n storage is allocated: the
-     * text then bounds the memory */
+    /* n x n numbers must be written out (an alias repeating a row would
+     * let a small file ask for a huge matrix), and every row must hold n
+     * of them, before n x n storage is allocated: the text then bounds the
+     * memory */
+    double nodes = (double)(c->doc.nodes.top - c->doc.nodes.start);
+    if ((double)s->n * s->n > nodes)
+      return fail(c, K, VI_ERR_LIMIT, "model.K", "%s",
+                  "an n x n matrix needs its n^2 numbers written out "
+                  "(aliased rows are not expanded)");
     for (int i = 0; i < s->n; i++) {
       yaml_node_t *row = node(c, K->data.sequence.items.start[i]);
       char k[64];
@@ -534,6 +547,66 @@ static int parse_stop(ctx *c, vi_scene *s, yaml_node_t *sp)
   return VI_OK;
 }
 
+/* springs: a list of {type: cubic, i, j, k3} (force k3 (x_i - x_j)^3) and
+ * {type: bilinear, i, j, k, gap} (a soft stop past a gap); j = 0 is the
+ * ground and may be left out. */
+static int parse_springs(ctx *c, vi_scene *s, yaml_node_t *list)
+{
+  static const char *const cubic[] = {"type", "i", "j", "k3", NULL};
+  static const char *const bilinear[] = {"type", "i", "j", "k", "gap", NULL};
+  if (list->type != YAML_SEQUENCE_NODE)
+    return fail(c, list, VI_ERR_PARSE, "springs", "%s",
+                "expected a list of springs");
+  size_t count = (size_t)(list->data.sequence.items.top -
+                          list->data.sequence.items.start);
+  if (count > 10000)
+    return fail(c, list, VI_ERR_LIMIT, "springs", "%s", "more than 10000");
+  s->springs = calloc(count ? count : 1, sizeof *s->springs);
+  if (!s->springs)
+    return fail(c, list, VI_ERR_NOMEM, "springs", "%s", "out of memory");
+  for (size_t k = 0; k < count; k++) {
+    yaml_node_t *sp = node(c, list->data.sequence.items.start[k]);
+    char path[64], key[128];
+    snprintf(path, sizeof path, "springs[%zu]", k + 1);
+    yaml_node_t *ty = find(c, sp, "type");
+    const char *tname = ty && ty->type == YAML_SCALAR_NODE
+                            ? (const char *)ty->data.scalar.value : "";
+    int bil = !strcmp(tname, "bilinear");
+    if (!bil && strcmp(tname, "cubic")) {
+      join(key, path, "type");
+      return fail(c, ty ? ty : sp, VI_ERR_PARSE, key, "%s",
+                  "expected type: cubic or bilinear");
+    }
+    int st = check_map(c, sp, path, bil ? bilinear : cubic);
+    if (st) return st;
+    struct scene_spring *q = &s->springs[k];
+    q->type = bil ? VI_SPRING_BILINEAR : VI_SPRING_CUBIC;
+    q->line = LINE(sp);
+    yaml_node_t *i = find(c, sp, "i"), *j = find(c, sp, "j");
+    yaml_node_t *kk = find(c, sp, bil ? "k" : "k3"), *gap = find(c, sp, "gap");
+    join(key, path, "i");
+    if (!i) return fail(c, sp, VI_ERR_PARSE, key, "%s", "missing coordinate i");
+    if ((st = integer(c, i, key, 1, s->n, &q->i))) return st;
+    join(key, path, "j");
+    if (j && (st = integer(c, j, key, 0, s->n, &q->j))) return st;
+    if (q->i == q->j)
+      return fail(c, j, VI_ERR_PARSE, key, "%s", "a spring needs i != j");
+    join(key, path, bil ? "k" : "k3");
+    if (!kk) return fail(c, sp, VI_ERR_PARSE, key, "%s", "missing stiffness");
+    if ((st = number(c, kk, key, &q->k))) return st;
+    if (bil) {
+      join(key, path, "gap");
+      if (!gap) return fail(c, sp, VI_ERR_PARSE, key, "%s", "missing gap");
+      if ((st = number(c, gap, key, &q->gap))) return st;
+      if (q->k < 0)
+        return fail(c, kk, VI_ERR_PARSE, key, "%s",
+                    "a soft stop's stiffness must be >= 0");
+    }
+  }
+  s->nsprings = (int)count;
+  return VI_OK;
+}
+
 static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
 {
   static const char *const ik[] = {"t0", "x", "v", NULL};
@@ -616,7 +689,8 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
 static int parse_root(ctx *c, vi_scene *s)
 {
   static const char *const keys[] = {"name",    "model", "forcing", "stop",
-                                     "initial", "run",   "output",  NULL};
+                                     "initial", "run",   "output",  "springs",
+                                     NULL};
   yaml_node_t *root = yaml_document_get_root_node(&c->doc);
   if (!root)
     return diag(c->d, c->file, VI_ERR_PARSE, 1, 1, "", "", "empty scene");
@@ -649,6 +723,8 @@ static int parse_root(ctx *c, vi_scene *s)
   if ((v = find(c, root, "forcing")) && (st = parse_forcing(c, s, v)))
     return st;
   if ((st = parse_stop(c, s, stop))) return st;
+  if ((v = find(c, root, "springs")) && (st = parse_springs(c, s, v)))
+    return st;
   return parse_run(c, s, root);
 }
 
@@ -964,6 +1040,7 @@ void vi_scene_destroy(vi_scene **scene)
   free(s->M);
   free(s->cm);
   free(s->a);
+  free(s->springs);
   free(s);
   *scene = NULL;
 }
@@ -1221,6 +1298,16 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
   if ((st = vi_sim_set_initial(sim, s->t0, s->x0, s->v0)))
     return diag(d, s->file, st, s->line_initial, 1, "initial", "", "%s",
                 vi_sim_errmsg(sim));
+  vi_sim_clear_springs(sim);
+  for (int k = 0; k < s->nsprings; k++) {
+    const struct scene_spring *q = &s->springs[k];
+    if ((st = vi_sim_add_spring(sim, q->type, q->i, q->j, q->k, q->gap))) {
+      char key[32];
+      snprintf(key, sizeof key, "springs[%d]", k + 1);
+      return diag(d, s->file, st, q->line, 1, key, "", "%s",
+                  vi_sim_errmsg(sim));
+    }
+  }
   return VI_OK;
 }
 

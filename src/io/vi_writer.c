@@ -16,7 +16,7 @@
 #include "vibroimpact.h"
 #include "vibroimpact/vi_writer.h"
 
-#define MAXCOL 12
+#define MAXCOL 13
 #define FORMAT_VERSION 2
 
 typedef struct col {
@@ -40,6 +40,7 @@ struct vi_writer {
   hid_t file;
   int fd;           /* our own descriptor of PATH.part, for the reserve */
   int no_reserve;   /* the file system cannot preallocate */
+  int zero_fill;    /* preallocate by writing zeros (no fallocate) */
   int64_t reserved; /* blocks allocated up to this offset */
   char *path, *part;
   const vi_model *m;
@@ -84,6 +85,20 @@ const char *vi_writer_errmsg(const vi_writer *w) { return w ? w->errmsg : ""; }
  * disk is found here, while HDF5 is still healthy and can close cleanly. */
 #define RESERVE_MARGIN (32 * 1024)
 
+static int zero_fill(int fd, off_t from, off_t to)
+{
+  static const char zeros[16384];
+  while (from < to) {
+    size_t n = to - from < (off_t)sizeof zeros ? (size_t)(to - from)
+                                                 : sizeof zeros;
+    ssize_t k = pwrite(fd, zeros, n, from);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return k < 0 ? errno : EIO;
+    from += k;
+  }
+  return 0;
+}
+
 static int reserve(vi_writer *w, double bytes)
 {
   if (w->no_reserve || w->fd < 0) return VI_OK;
@@ -102,15 +117,26 @@ static int reserve(vi_writer *w, double bytes)
   double more = need - (double)st.st_size;
   if (more < (double)st.st_size / 8) more = (double)st.st_size / 8;
   if (more > 9e18) return werr(w, VI_ERR_IO, "output too large");
-  int e = fallocate(w->fd, FALLOC_FL_KEEP_SIZE, st.st_size, (off_t)more);
+  int e = w->zero_fill ? -1
+                       : fallocate(w->fd, FALLOC_FL_KEEP_SIZE, st.st_size,
+                                   (off_t)more);
   if (e != 0) {
-    e = errno;
-    if (e == EOPNOTSUPP || e == ENOSYS || e == EINVAL) {
-      w->no_reserve = 1; /* best effort where it cannot be done */
-      return VI_OK;
+    e = w->zero_fill ? EOPNOTSUPP : errno;
+    if (e == EOPNOTSUPP || e == ENOSYS) {
+      /* no preallocation on this file system: write zeros past the end
+       * instead (HDF5 overwrites them, or they stay as harmless padding
+       * past its end of allocation) */
+      w->zero_fill = 1;
+      e = zero_fill(w->fd, st.st_size, st.st_size + (off_t)more);
     }
-    return werr(w, VI_ERR_IO, "cannot write %s: %s (%.0f more bytes "
-                "needed)", w->part, strerror(e), bytes);
+    if (e) {
+      if (e == EINVAL) {
+        w->no_reserve = 1; /* best effort where it cannot be done */
+        return VI_OK;
+      }
+      return werr(w, VI_ERR_IO, "cannot write %s: %s (%.0f more bytes "
+                  "needed)", w->part, strerror(e), bytes);
+    }
   }
   w->reserved = (int64_t)((double)st.st_size + more);
   return VI_OK;
@@ -428,7 +454,7 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
   w->traj.c[2] = VEC("v", n, F64, "length/time", "physical velocities");
   w->traj.c[3] = VEC("q", n, F64, "modal", "modal coordinates q = Psi^T M x");
   w->traj.c[4] = VEC("qd", n, F64, "modal/time", "modal velocities");
-  w->led.ncol = 12;
+  w->led.ncol = 13;
   w->led.c[0] = COL("t_a", 1, F64, "time", "interval start");
   w->led.c[1] = COL("t_b", 1, F64, "time", "interval end (before the event)");
   w->led.c[2] = VEC("E_a", n, F64, "energy", "modal energy at t_a");
@@ -445,6 +471,8 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
       COL("residual", 1, F64, "1", "closure residual / energy scale");
   w->led.c[11] =
       COL("impact", 1, I32, "1", "1 when the interval ends in a jump");
+  w->led.c[12] = VEC("NE", n, F64, "energy",
+                     "work of the nonlinear forces on each mode (0 without)");
   if ((st = table_init(w, &w->imp, "impacts", 0)) == VI_OK &&
       (st = table_init(w, &w->traj, "trajectory", compress)) == VI_OK)
     st = table_init(w, &w->led, "ledger", 0);
@@ -579,9 +607,11 @@ int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv)
   double imp = iv->dE ? 1.0 : 0.0;
   const double *dE = iv->dE ? iv->dE : w->q; /* zeros when no jump */
   if (!iv->dE) memset(w->q, 0, sizeof(double) * w->n);
-  const double *vals[12] = {&iv->t_a, &iv->t_b, iv->Ea,        iv->Eb,
+  const double *NE = iv->NE ? iv->NE : w->q; /* zeros without forces */
+  if (!iv->NE) memset(w->q, 0, sizeof(double) * w->n);
+  const double *vals[13] = {&iv->t_a, &iv->t_b, iv->Ea,        iv->Eb,
                             iv->FE,   iv->DE,   iv->XE,        iv->CE,
-                            dE,       &iv->ie,  &iv->residual, &imp};
+                            dE,       &iv->ie,  &iv->residual, &imp, NE};
   int st;
   H5E_BEGIN_TRY { st = table_row(w, &w->led, vals); }
   H5E_END_TRY;
@@ -685,20 +715,28 @@ int vi_writer_run_info(vi_writer *w, const vi_sim *sim)
 static int close_all(vi_writer *w)
 {
   int bad = 0;
+  haddr_t eoa = 0;
   H5E_BEGIN_TRY
   {
     table_close(&w->imp);
     table_close(&w->traj);
     table_close(&w->led);
+    /* zero padding ends where HDF5's allocation ends */
+    if (w->file > 0 && w->zero_fill &&
+        (H5Fflush(w->file, H5F_SCOPE_LOCAL) < 0 ||
+         H5Fget_eoa(w->file, &eoa) < 0))
+      eoa = 0;
     if (w->file > 0) bad = H5Fclose(w->file) < 0;
   }
   H5E_END_TRY;
+  if (!bad && w->fd >= 0 && eoa > 0 && ftruncate(w->fd, (off_t)eoa) != 0)
+    bad = 1;
   w->file = 0;
   if (w->fd >= 0) {
     /* give back the blocks reserved past the end */
     struct stat st;
-    if (!bad && w->reserved > 0 && fstat(w->fd, &st) == 0 &&
-        ftruncate(w->fd, st.st_size) != 0)
+    if (!bad && !w->zero_fill && w->reserved > 0 &&
+        fstat(w->fd, &st) == 0 && ftruncate(w->fd, st.st_size) != 0)
       bad = 1;
     if (close(w->fd) != 0) bad = 1;
     w->fd = -1;

@@ -77,19 +77,27 @@ static char *slurp(const char *p)
 
 /* Start the app with argv; stdout to out_path (NULL: a file in dir),
  * stderr to dir/stderr; env_extra (NULL or "NAME=VALUE") added. */
+static const char *env_extra3; /* a third NAME=VALUE for the next start */
 static pid_t start(char *const argv[], const char *out_path,
                    const char *env_extra, const char *env_extra2)
 {
   pid_t pid = fork();
   assert_true(pid >= 0);
   if (pid == 0) {
-    int o = open(out_path ? out_path : path("stdout"),
-                 O_WRONLY | O_CREAT | O_TRUNC, 0644);
     int e = open(path("stderr"), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(o, 1);
+    if (out_path && !strcmp(out_path, "closed")) {
+      close(1); /* `>&-` */
+    } else {
+      int o = open(out_path ? out_path : path("stdout"),
+                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      dup2(o, 1);
+      close(o);
+    }
     dup2(e, 2);
+    close(e);
     if (env_extra) putenv((char *)env_extra);
     if (env_extra2) putenv((char *)env_extra2);
+    if (env_extra3) putenv((char *)env_extra3);
     execv(app, argv);
     _exit(127);
   }
@@ -185,6 +193,23 @@ static void test_full_disk(void **state)
   char env[700];
   snprintf(env, sizeof env, "LD_PRELOAD=%s", hook);
   full_disk_case(path("hooked.h5"), env, "VI_FAULT_BUDGET=150000");
+  /* a file system without fallocate: the writer reserves with zeros */
+  env_extra3 = "VI_FAULT_NO_FALLOCATE=1";
+  full_disk_case(path("hooked.h5"), env, "VI_FAULT_BUDGET=150000");
+  int rc = finish(start(ARGV("--periods", "3", "-o", path("nofalloc.h5"), "--quiet"),
+                        NULL, env, NULL));
+  env_extra3 = NULL;
+  expect(rc, 0, NULL);
+  hid_t f = H5Fopen(path("nofalloc.h5"), H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0); /* a valid file, padding or not */
+  hid_t ds = H5Dopen2(f, "impacts/time", H5P_DEFAULT), sp = H5Dget_space(ds);
+  hsize_t ni = 0;
+  H5Sget_simple_extent_dims(sp, &ni, NULL);
+  H5Sclose(sp);
+  H5Dclose(ds);
+  H5Fclose(f);
+  assert_true(ni >= 3);
+  remove(path("nofalloc.h5"));
   rmdir(mnt);
   remove(path("hooked.h5"));
 }
@@ -270,6 +295,23 @@ static void test_stdout_full(void **state)
   expect(run(ARGV("restitution", "--re", "0.5", "--ke", "1"), "/dev/full"), 1, msg);
   expect(run(ARGV("--help"), "/dev/full"), 1, msg);
   expect(run(ARGV("--version"), "/dev/full"), 1, msg);
+  /* stdout closed: the output file does not inherit descriptor 1, so the
+   * summary cannot land in it; its loss is reported */
+  char *h5 = path("closed.h5");
+  for (int quiet = 0; quiet < 2; quiet++) {
+    expect(run(ARGV("--periods", "2", "-o", h5, quiet ? "--quiet" : "--rtol",
+                    quiet ? "--quiet" : "1e-8"), "closed"),
+           quiet ? 0 : 1, quiet ? NULL : msg);
+    hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT); /* whole, valid */
+    assert_true(f >= 0);
+    int complete = -1;
+    hid_t a = H5Aopen(f, "complete", H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_INT, &complete);
+    H5Aclose(a);
+    H5Fclose(f);
+    assert_int_equal(complete, 1);
+    remove(h5);
+  }
 }
 
 /* ---- signals in every phase ---------------------------------------------- */
@@ -388,6 +430,16 @@ static void test_limits(void **state)
   char fig2[600];
   snprintf(fig2, sizeof fig2, "%s/fig2.yaml", VI_SCENE_DIR);
   expect(run(ARGV(fig2, "--max-memory", "1K"), NULL), 2, "model.chain.n = 2");
+  /* an alias bomb: 140 kB asking for a 20000 x 20000 K by repeating one
+   * row (9.6 GB): refused before any n x n storage exists */
+  f = fopen(chain, "w");
+  fputs("initial: {x: &r [1", f);
+  for (int k = 1; k < 20000; k++) fputs(", 0", f);
+  fputs("]}\nmodel:\n  K: [*r", f);
+  for (int k = 1; k < 20000; k++) fputs(", *r", f);
+  fputs("]\nstop: {mass: 1, xs: 0.1, r: 0.5}\nrun: {t_end: 1}\n", f);
+  fclose(f);
+  expect(run(ARGV(chain), NULL), 2, "model.K: an n x n matrix needs its n^2 numbers");
   remove(deep);
   remove(chain);
 }
@@ -463,6 +515,18 @@ static void test_command_line(void **state)
   expect(run(ARGV("--rtol", "10"), NULL), 2, "--rtol must lie in");
   expect(run(ARGV("--max-depth", "0"), NULL), 2, "--max-depth");
   expect(run(ARGV("--max-memory", "lots"), NULL), 2, "--max-memory");
+  /* the output never replaces the scene it was computed from */
+  char *scene = path("own.yaml"), *ln = path("own-link.h5");
+  char text[512];
+  snprintf(text, sizeof text, "%sforcing: {omega: 0.9, a: [0.5, 0]}\n", CHAIN2);
+  write_file(scene, text);
+  assert_int_equal(symlink("own.yaml", ln), 0);
+  expect(run(ARGV(scene, "-o", scene), NULL), 2, "over the scene");
+  expect(run(ARGV(scene, "-o", ln), NULL), 2, "over the scene");
+  expect(run(ARGV(scene, "--impacts-csv", scene), NULL), 2, "over the scene");
+  assert_string_equal(slurp(scene), text);
+  unlink(ln);
+  unlink(scene);
 }
 
 int main(int argc, char **argv)

@@ -1,6 +1,7 @@
 /* vi_enospc.c - an LD_PRELOAD hook that makes the disk look full for files
  * named *.part once VI_FAULT_BUDGET bytes have been written to them (or
- * reserved with fallocate).  The fault suite uses it where it cannot mount
+ * reserved with fallocate); with VI_FAULT_NO_FALLOCATE set, fallocate on
+ * them fails as on a file system without preallocation.  The fault suite uses it where it cannot mount
  * a small tmpfs (not root, or no mount in the container). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
@@ -74,6 +75,10 @@ ssize_t pwrite64(int fd, const void *buf, size_t n, off_t off)
 int fallocate(int fd, int mode, off_t off, off_t len)
 {
   long long b = budget();
+  if (getenv("VI_FAULT_NO_FALLOCATE") && is_part(fd)) {
+    errno = EOPNOTSUPP; /* a file system without preallocation */
+    return -1;
+  }
   if (b >= 0 && is_part(fd) && (long long)off + (long long)len > b) {
     errno = ENOSPC;
     return -1;

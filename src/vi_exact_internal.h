@@ -1,0 +1,14 @@
+/* vi_exact_internal.h - the pieces of the exact method (vi_exact*.c). */
+#ifndef VI_EXACT_INTERNAL_H
+#define VI_EXACT_INTERNAL_H
+
+#include "vi_sim_internal.h"
+
+/* The step-by-step scan of the closed form (vi_exact_scan.c): the exact
+ * method for non-proportional damping. */
+extern const vi_backend vi_backend_exact_scan;
+
+/* The first member of either backend's data says which it is. */
+enum { EX_KIND_SCAN = 1, EX_KIND_FAST = 2 };
+
+#endif

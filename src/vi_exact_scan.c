@@ -1,0 +1,275 @@
+/* vi_exact_scan.c - the closed-form flow scanned step by step, for
+ * non-proportional damping (vi_general.c): vi_exact.c hands such models to
+ * this backend.
+ *
+ * Between impacts the motion is known exactly, so the gap g(t) = w.x(t) -
+ * x_s is an explicit function.  It is scanned in steps of 1/16 of the
+ * shortest period present in g; in each step the sign of g' splits the step
+ * at an extremum (located by Brent), and a contact is a rising crossing of a
+ * monotone piece, also located by Brent to round-off.  Checking the maxima
+ * is what catches grazing contacts that a sign test at step ends misses. */
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_exact_internal.h"
+
+typedef struct ex_data {
+  int kind; /* EX_KIND_SCAN */
+  vi_sim *s;
+  double t0;          /* start of the current flight */
+  double *u0, *v0;    /* homogeneous initial values per mode [n] */
+  double *q, *qd;     /* modal state of the last evaluation [n] */
+  double h;           /* scan step */
+  double ta, ga, gda; /* left end of the next scan step */
+  double *rates;      /* ledger integrands [4n] */
+  vi_gflow *gf;       /* non-proportional damping: the first-order flow */
+  int handover;       /* the flow would cancel a far larger particular part */
+  double *zfull;      /* its state at the last full evaluation [2n] */
+  int64_t steps, evals;
+} ex_data;
+
+/* Gap and its rate at t; with full != 0 also the modal state in q, qd. */
+static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
+{
+  const vi_model *m = d->s->m;
+  int n = m->n;
+  if (d->gf) {
+    vi_gflow_eval(d->gf, m, t, g, gd, full ? d->zfull : NULL);
+    d->evals++;
+    if (full) /* modal velocities for the ledger */
+      for (int j = 0; j < n; j++) {
+        double q = 0.0, qd = 0.0;
+        for (int i = 0; i < n; i++) {
+          double p = m->PsiTM[j + (size_t)i * n];
+          q += p * d->zfull[2 * i];
+          qd += p * d->zfull[2 * i + 1];
+        }
+        d->q[j] = q;
+        d->qd[j] = qd;
+      }
+    return;
+  }
+  double tau = t - d->t0, c = cos(m->omega_f * t), sn = sin(m->omega_f * t);
+  double a = 0.0, b = 0.0;
+  for (int j = 0; j < n; j++) {
+    if (!full && m->psi[j] == 0.0) continue;
+    double qp, qpd, u, ud;
+    vi_flow_particular(m, j, c, sn, tau, &qp, &qpd);
+    vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], d->u0[j],
+                        d->v0[j], tau, &u, &ud);
+    d->q[j] = qp + u;
+    d->qd[j] = qpd + ud;
+    a += m->psi[j] * d->q[j];
+    b += m->psi[j] * d->qd[j];
+  }
+  d->evals++;
+  *g = a - m->xs;
+  *gd = b;
+}
+
+static double gap_fn(double t, void *p)
+{
+  double g, gd;
+  ex_eval(p, t, &g, &gd, 0);
+  return g;
+}
+
+static double rate_fn(double t, void *p)
+{
+  double g, gd;
+  ex_eval(p, t, &g, &gd, 0);
+  return gd;
+}
+
+/* x = Psi q, v = Psi q' into an interleaved state. */
+static void to_state(const vi_model *m, const ex_data *d, double *z)
+{
+  int n = m->n;
+  if (d->gf) {
+    memcpy(z, d->zfull, sizeof(double) * 2 * n);
+    return;
+  }
+  for (int i = 0; i < n; i++) {
+    double x = 0.0, v = 0.0;
+    for (int j = 0; j < n; j++) {
+      double p = m->Psi[i + (size_t)j * n];
+      x += p * d->q[j];
+      v += p * d->qd[j];
+    }
+    z[2 * i] = x;
+    z[2 * i + 1] = v;
+  }
+}
+
+static void ex_destroy(vi_sim *s)
+{
+  ex_data *d = s->be_data;
+  if (d) {
+    vi_gflow_free(d->gf);
+    free(d->u0);
+  }
+  free(d);
+  s->be_data = NULL;
+}
+
+static int ex_start(vi_sim *s)
+{
+  const vi_model *m = s->m;
+  int n = s->n;
+  if (s->sticking) /* the driver runs sticking phases on CVODE */
+    return vi_fail(s->errmsg, VI_ERR_STATE, "internal: the closed form "
+                   "cannot start in a sticking phase (t = %.17g)", s->t);
+  ex_data *d = s->be_data;
+  if (!d) {
+    d = calloc(1, sizeof *d);
+    if (d) d->u0 = malloc(sizeof(double) * 10 * (size_t)n);
+    if (d && !m->proportional) d->gf = vi_gflow_create(m);
+    if (!d || !d->u0 || (!m->proportional && !d->gf)) {
+      if (d) free(d->u0);
+      free(d);
+      return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+    }
+    d->v0 = d->u0 + n;
+    d->q = d->v0 + n;
+    d->qd = d->q + n;
+    d->rates = d->qd + n;
+    d->zfull = d->rates + 4 * n;
+    d->kind = EX_KIND_SCAN;
+    d->s = s;
+    double wtop = m->omega_f;
+    for (int j = 0; j < n; j++)
+      if (m->psi[j] != 0.0) wtop = fmax(wtop, m->omega[j]);
+    if (d->gf) wtop = vi_general_top_frequency(m);
+    d->h = wtop > 0.0 ? M_PI / (8.0 * wtop) : HUGE_VAL;
+    s->be_data = d;
+  }
+  d->t0 = s->t;
+  d->ta = s->t;
+  if (d->gf) {
+    vi_gflow_start(d->gf, m, s->t, s->z);
+    ex_eval(d, d->ta, &d->ga, &d->gda, 0);
+    s->gap = d->ga;
+    s->z_stale = 0;
+    /* The gap is the sum of a particular part and a transient that cancel
+     * when a static offset or a resonant response dwarfs the motion (a
+     * very soft structure under load): hand over to CVODE rather than lose
+     * those digits (issue 9). */
+    double hsc = vi_general_particular_scale(m), msc = fabs(m->xs);
+    for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * i]);
+    d->handover = hsc > 1e6 * (msc + s->atol * s->wnorm);
+    if (d->handover)
+      snprintf(s->handover_why, sizeof s->handover_why,
+               "the particular solution (%.3g) is %.2g times the gap's scale "
+               "at t = %.9g: the closed form would cancel it", hsc,
+               hsc / (msc + s->atol * s->wnorm), s->t);
+    return VI_OK;
+  }
+  /* modal state now, minus the particular solution: the homogeneous part */
+  double c = cos(m->omega_f * s->t), sn = sin(m->omega_f * s->t);
+  for (int j = 0; j < n; j++) {
+    double q = 0.0, qd = 0.0, qp, qpd;
+    for (int i = 0; i < n; i++) {
+      double p = m->PsiTM[j + (size_t)i * n];
+      q += p * s->z[2 * i];
+      qd += p * s->z[2 * i + 1];
+    }
+    vi_flow_particular(m, j, c, sn, 0.0, &qp, &qpd);
+    d->u0[j] = q - qp;
+    d->v0[j] = qd - qpd;
+  }
+  d->ta = s->t;
+  ex_eval(d, d->ta, &d->ga, &d->gda, 0);
+  return VI_OK;
+}
+
+/* First rising crossing of the gap in [a, b], or 0 if none.  g' changes sign
+ * at most once in a scan step, at an extremum c; only rising pieces count. */
+static int find_contact(vi_sim *s, ex_data *d, double a, double ga,
+                        double gda, double b, double gb, double gdb,
+                        double *tc)
+{
+  double lo = a, glo = ga, hi = b, ghi = gb;
+  if ((gda > 0.0) != (gdb > 0.0) && gda != 0.0 && gdb != 0.0) {
+    double c;
+    int st = vi_sim_bracket(s, rate_fn, d, a, b, &c);
+    if (st) return st;
+    double gc = gap_fn(c, d);
+    if (gda > 0.0) { /* maximum at c: rising piece [a, c] */
+      s->stats[VI_STAT_GRAZE_CHECKS]++;
+      hi = c;
+      ghi = gc;
+    } else {         /* minimum at c: rising piece [c, b] */
+      lo = c;
+      glo = gc;
+    }
+  }
+  if (!(glo < 0.0 && ghi >= 0.0)) return 0;
+  int st = vi_sim_bracket(s, gap_fn, d, lo, hi, tc);
+  return st ? st : 1;
+}
+
+/* Ledger integrals over [a, b] by 8-point Gauss-Legendre: a scan step spans
+ * at most pi/4 of the fastest phase in the integrands (products of modes,
+ * frequency <= 2 omega_top), where the rule's error is below round-off. */
+static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
+{
+  static const double gx[4] = {0.1834346424956498, 0.5255324099163290,
+                               0.7966664774136267, 0.9602898564975363};
+  static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
+                               0.2223810344533745, 0.1012285362903763};
+  double h = 0.5 * (b - a), mid = 0.5 * (a + b), g, gd;
+  for (int k = 0; k < 8; k++) {
+    double t = mid + (k < 4 ? -gx[k] : gx[k - 4]) * h;
+    ex_eval(d, t, &g, &gd, 1);
+    vi_ledger_accumulate(s->led, t, d->qd, 0.0, gw[k % 4] * h);
+  }
+}
+
+static int ex_step(vi_sim *s, double t_end, int *event)
+{
+  ex_data *d = s->be_data;
+  if (d->handover) {
+    *event = VI_STEP_HANDOVER;
+    return VI_OK;
+  }
+  double b = fmin(d->ta + d->h, t_end), gb, gdb, tc;
+  ex_eval(d, b, &gb, &gdb, 0);
+  d->steps++;
+  int hit = find_contact(s, d, d->ta, d->ga, d->gda, b, gb, gdb, &tc);
+  if (hit < 0) return hit;
+  *event = hit ? VI_STEP_CONTACT : VI_STEP_NONE;
+  s->t = hit ? tc : b;
+  if (s->led) ex_quadrature(s, d, d->ta, s->t);
+  double g, gd;
+  ex_eval(d, s->t, &g, &gd, 1);
+  to_state(s->m, d, s->z);
+  s->gap = g;
+  s->z_stale = 0;
+  d->ta = b;
+  d->ga = gb;
+  d->gda = gdb;
+  return VI_OK;
+}
+
+static int ex_dense(vi_sim *s, double t)
+{
+  ex_data *d = s->be_data;
+  double g, gd;
+  ex_eval(d, t, &g, &gd, 1);
+  to_state(s->m, d, s->zs);
+  return VI_OK;
+}
+
+static int64_t ex_stat(const void *data, int which)
+{
+  const ex_data *d = data;
+  if (which == VI_STAT_STEPS) return d->steps;
+  if (which == VI_STAT_ROOT_EVALS) return d->evals;
+  return 0;
+}
+
+const vi_backend vi_backend_exact_scan = {"exact", ex_start, ex_step,
+                                          ex_dense, ex_stat, ex_destroy, NULL,
+                                          NULL};
