@@ -42,6 +42,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!model) return VI_ERR_ARG;
   if (!model->frozen) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
+  if (model->ns > 1) return VI_ERR_UNSUPPORTED; /* WB 11-13: one stop */
   vi_orbit *o = calloc(1, sizeof *o);
   if (!o) return VI_ERR_NOMEM;
   int n = model->n;

@@ -374,6 +374,10 @@ static void test_mirror_equivariance(void **state)
   assert_true(hits[0] > 5 && hits[1] > 5);
   assert_true(et < 1e-7);
   assert_true(ex < 1e-7);
+  /* the orbit analysis (WB 11-13, one stop) refuses the model */
+  vi_orbit *o = NULL;
+  assert_int_equal(vi_orbit_create(m, &o), VI_ERR_UNSUPPORTED);
+  assert_null(o);
   vi_sim_destroy(&a);
   vi_sim_destroy(&b);
   free(pa);

@@ -28,7 +28,8 @@ typedef struct vi_orbit vi_orbit;
 /** Create an orbit analysis of a set-up model with harmonic forcing (the
  *  model is borrowed and must outlive the orbit).  @return VI_OK, VI_ERR_ARG,
  *  VI_ERR_STATE (model not set up), VI_ERR_FREQUENCY (Omega = 0),
- *  VI_ERR_NOMEM. */
+ *  VI_ERR_UNSUPPORTED (a model with several stops: the balance of WB 11-13
+ *  is that of one stop), VI_ERR_NOMEM. */
 VI_API int vi_orbit_create(const vi_model *model, vi_orbit **out);
 /** Destroy and set *orbit to NULL; NULL-safe. */
 VI_API void vi_orbit_destroy(vi_orbit **orbit);
