@@ -897,6 +897,61 @@ static void test_plastic_pressed_after(void **state)
   vi_model_destroy(&m);
 }
 
+/* Rattling in a clearance: a free mass (K = 0, c = 0.02) between walls at
+ * +-0.1 (r = 0.6), driven by f = 0.2 + 1.5 cos(0.7 t), chatters into
+ * sticking on each wall in turn (tails summed).  Stuck on a wall at rest,
+ * the contact force is +-f(t) (no spring, no damping force at v = 0), so
+ * every release of wall 1 falls where f falls through 0 and every release
+ * of wall 2 where f rises through 0; the per-stop losses add up to the
+ * ledger's. */
+static void test_rattle_stick_release(void **state)
+{
+  (void)state;
+  const double M = 1.0, K = 0.0, C = 0.02, a = 1.5, f0 = 0.2, W = 0.7;
+  const double Ws[2] = {1.0, -1.0}, xs[2] = {0.1, 0.1}, r[2] = {0.6, 0.6};
+  vi_model *m = build(1, &M, &C, &K, W, &a, &f0, 2, Ws, xs, r);
+  rec ev = {0};
+  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, NULL, &ev);
+  assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+  assert_int_equal(vi_sim_run(s, 200.0), VI_OK);
+  int rel[2] = {0, 0}, stick[2] = {0, 0}, held = -1;
+  double ef = 0.0;
+  for (int j = 0; j < ev.count; j++) {
+    int k = ev.stop[j];
+    if (ev.kind[j] == VI_EVENT_STICK) {
+      assert_int_equal(held, -1); /* one wall at a time */
+      held = k;
+      stick[k]++;
+    } else if (ev.kind[j] == VI_EVENT_RELEASE) {
+      assert_int_equal(held, k);
+      held = -1;
+      rel[k]++;
+      double t = ev.t[j], f = f0 + a * cos(W * t), fd = -a * W * sin(W * t);
+      ef = fmax(ef, fabs(f));
+      assert_true(k == 0 ? fd < 0.0 : fd > 0.0);
+    } else {
+      assert_int_equal(held, -1); /* no impact while stuck here */
+    }
+  }
+  double ie[2], ie_led;
+  assert_int_equal(vi_sim_get_stop_losses(s, ie), VI_OK);
+  assert_int_equal(vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
+                                     &ie_led), VI_OK);
+  print_message("rattle: sticks (%d, %d), releases (%d, %d), |f| at release "
+                "<= %.3g, %lld bounces summed, losses %.9g + %.9g = %.9g "
+                "(ledger %.9g), residual %.3g\n", stick[0], stick[1], rel[0],
+                rel[1], ef,
+                (long long)vi_sim_get_stat(s, VI_STAT_CHATTER_SKIPPED), ie[0],
+                ie[1], ie[0] + ie[1], ie_led, vi_sim_ledger_max_residual(s));
+  assert_true(rel[0] >= 5 && rel[1] >= 5);
+  assert_true(ef < 1e-8);
+  assert_close(ie[0] + ie[1], ie_led, 1e-12 * ie_led);
+  assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
+  vi_sim_destroy(&s);
+  rec_free(&ev);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -916,6 +971,7 @@ int main(void)
       cmocka_unit_test(test_stick_on_two),
       cmocka_unit_test(test_release_one_of_two),
       cmocka_unit_test(test_plastic_pressed_after),
+      cmocka_unit_test(test_rattle_stick_release),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
