@@ -97,9 +97,9 @@ VI_API const char *vi_model_errmsg(const vi_model *m);
 VI_API int vi_model_n(const vi_model *m);
 /** Forcing frequency Omega (rad per time unit; 0 without harmonic forcing). */
 VI_API double vi_model_omega_forcing(const vi_model *m);
-/** Clearance x_s of the stop. */
+/** Clearance x_s of the stop (stop 0 with several). */
 VI_API double vi_model_clearance(const vi_model *m);
-/** Coefficient of restitution r. */
+/** Coefficient of restitution r (of stop 0 with several). */
 VI_API double vi_model_restitution(const vi_model *m);
 /** Mass matrix as set (exactly symmetric), column-major, leading dimension n. */
 VI_API const double *vi_model_mass(const vi_model *m);
@@ -107,7 +107,7 @@ VI_API const double *vi_model_mass(const vi_model *m);
 VI_API const double *vi_model_damping(const vi_model *m);
 /** Stiffness matrix as set, column-major, leading dimension n. */
 VI_API const double *vi_model_stiffness(const vi_model *m);
-/** Stop vector w [n]. */
+/** Stop vector w [n] (stop 0's with several: vi_model_get_stop). */
 VI_API const double *vi_model_stop_vector(const vi_model *m);
 /** Forcing amplitude a [n] of a cos(Omega t). */
 VI_API const double *vi_model_forcing_cos(const vi_model *m);
@@ -129,7 +129,7 @@ VI_API const double *vi_model_zeta(const vi_model *m);
 /** 1 if D is diagonal to 1e-10 relative (proportional damping: the modes
  *  decouple between impacts, WB 4, and XE = 0), else 0. */
 VI_API int vi_model_is_proportional(const vi_model *m);
-/** Modal impact vector psi = Psi^T w [n]; psi.psi = w^T M^-1 w. */
+/** Modal impact vector psi = Psi^T w [n] (stop 0); psi.psi = w^T M^-1 w. */
 VI_API const double *vi_model_modal_stop(const vi_model *m);
 /** Modal forcing Psi^T a [n]. */
 VI_API const double *vi_model_modal_forcing_cos(const vi_model *m);
@@ -137,7 +137,8 @@ VI_API const double *vi_model_modal_forcing_cos(const vi_model *m);
 VI_API const double *vi_model_modal_forcing_sin(const vi_model *m);
 /** Modal constant load Psi^T f0 [n]. */
 VI_API const double *vi_model_modal_forcing_const(const vi_model *m);
-/** w^T M^-1 w: the inverse of the stop's effective mass (WB 10). */
+/** w^T M^-1 w: the inverse of the stop's effective mass (WB 10; stop 0,
+ *  the others' are the diagonal of vi_model_delassus). */
 VI_API double vi_model_stop_compliance(const vi_model *m);
 /** @} */
 
