@@ -113,8 +113,8 @@ VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
  *  Omega): times t[m], ascending, and the states just before them, x and v
  *  [n x m] column-major with leading dimension ld (column j = impact j).
  *  Between impacts the motion is the closed-form free flow, so these
- *  functions need a model with the exact flow (VI_ERR_UNSUPPORTED
- *  otherwise). */
+ *  functions need a model with the exact flow and one stop
+ *  (VI_ERR_UNSUPPORTED otherwise). */
 
 /** Newton's method on the impact conditions: for each impact j, the free
  *  flow from (t_j, x_j, v_j+) reaches (x_{j+1}, v_{j+1}) at t_{j+1} (the
