@@ -383,6 +383,11 @@ static void test_mirror_equivariance(void **state)
   double t1 = 0.0, x1[2] = {0.15, 0.0}, v1[2] = {0.1, 0.0};
   assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, &t1, x1, v1, 2, 1e-10, NULL),
                    VI_ERR_UNSUPPORTED);
+  vi_model *red = NULL;
+  const int mode0 = 0;
+  assert_int_equal(vi_model_create_reduced(m, &mode0, 1, 0.8, &red),
+                   VI_ERR_UNSUPPORTED);
+  assert_null(red);
   vi_sim_destroy(&a);
   vi_sim_destroy(&b);
   free(pa);

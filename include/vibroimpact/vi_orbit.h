@@ -174,7 +174,8 @@ VI_API int vi_orbit_p1_scan(const vi_model *m, int n, int nphase, double *t,
 
 /** The reduced model itself, in the modal coordinates of `full`: M = I,
  * K = diag(omega_S^2), C = D_SS, forcing Psi_S^T (a, b, f0), stop psi_S
- * with the same x_s and restitution r.  A new, set-up model. */
+ * with the same x_s and restitution r.  A new, set-up model; a model with
+ * several stops is refused (VI_ERR_UNSUPPORTED). */
 VI_API int vi_model_create_reduced(const vi_model *full, const int *modes,
                                    int k, double r, vi_model **out);
 
