@@ -45,6 +45,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!model) return VI_ERR_ARG;
   if (!model->frozen) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
+  if (model->ns > 1) return VI_ERR_UNSUPPORTED; /* WB 11-13: one stop */
   vi_orbit *o = calloc(1, sizeof *o);
   if (!o) return VI_ERR_NOMEM;
   int n = model->n;
@@ -612,6 +613,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   *out = NULL;
   if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
   if (!full->frozen) return VI_ERR_STATE;
+  if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;

@@ -15,6 +15,9 @@
  *            or {omega, on: [mass indices, 1-based], amplitude}
  *            or, for a cantilever, {omega, base: A} (base acceleration)
  *   stop:    {w: [...] | mass: j (1-based), xs, r}
+ *   stops:   a list of stops as stop: takes one, instead of stop: (several
+ *            stops, vi_model_add_stop order: the first is stop 0; on a
+ *            cantilever a stop without w or mass is at the tip)
  *   initial: {t0, x, v}
  *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
  *   output:  {impacts: bool (default true), samples_per_period: int
