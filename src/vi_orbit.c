@@ -366,10 +366,14 @@ static int balance(vi_orbit *o)
       (st = vi_sim_set_sampling(o->sim, o->T / 4096, bal_sample, o)) ||
       (st = vi_sim_run(o->sim, o->t_s + o->T)) ||
       (st = vi_sim_get_ledger(o->sim, NULL, o->FE, o->DE, o->XE, NULL, dE, NULL)))
-    return vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "balance run: %s",
-                   vi_sim_errmsg(o->sim));
+    vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "balance run: %s",
+            vi_sim_errmsg(o->sim));
+  /* whatever happened, the sim keeps no pointer to this frame's context
+   * and no ledger or sampling it did not have before */
+  vi_sim_set_event_callback(o->sim, NULL, NULL);
   vi_sim_set_sampling(o->sim, 0.0, NULL, NULL);
   vi_sim_enable_ledger(o->sim, 0);
+  if (st) return st < 0 ? st : VI_ERR_STATE;
   if (c.seen != 1)
     return vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED,
                    "balance run: %d impacts in the period of a P(1,1) orbit",
