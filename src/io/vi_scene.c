@@ -982,7 +982,7 @@ static int compose(ctx *c, const char *text, size_t len, int max_depth)
   return st;
 }
 
-int vi_scene_parse_limited(const char *text, long len, const char *name,
+int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
                            int max_depth, vi_scene **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
@@ -1028,7 +1028,7 @@ int vi_scene_parse_limited(const char *text, long len, const char *name,
   return VI_OK;
 }
 
-int vi_scene_parse(const char *text, long len, const char *name, vi_scene **out,
+int vi_scene_parse(const char *text, int64_t len, const char *name, vi_scene **out,
                    vi_diag *d)
 {
   return vi_scene_parse_limited(text, len, name, 0, out, d);

@@ -690,7 +690,7 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
   return bad ? werr(w, VI_ERR_IO, "cannot write /orbits to %s", w->part) : VI_OK;
 }
 
-long vi_writer_rows(const vi_writer *w, const char *what)
+int64_t vi_writer_rows(const vi_writer *w, const char *what)
 {
   if (!w || !what) return -1;
   const table *t = !strcmp(what, "impacts")      ? &w->imp
