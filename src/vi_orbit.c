@@ -53,10 +53,11 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->rt = malloc(sizeof(double) * RING);
   o->rz = malloc(sizeof(double) * RING * 2 * (size_t)n);
   o->pz = malloc(sizeof(double) * (3 * MAX_N + 1) * 2 * (size_t)n);
-  if (!o->block || !o->rt || !o->rz || !o->pz ||
-      vi_sim_create(model, &o->sim)) {
+  int st = o->block && o->rt && o->rz && o->pz ? vi_sim_create(model, &o->sim)
+                                               : VI_ERR_NOMEM;
+  if (st) { /* vi_sim_create's own code, not a blanket NOMEM */
     vi_orbit_destroy(&o);
-    return VI_ERR_NOMEM;
+    return st;
   }
   double *p = o->block;
   o->x0 = p; p += n;
