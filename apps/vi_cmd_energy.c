@@ -19,7 +19,9 @@ static int reduced_check(const vi_model *m, int k, double rS, double *vN,
   for (int j = 0; j < k; j++)
     modes[j] = j;
   if (vi_model_create_reduced(m, modes, k, rS, &red) ||
-      vi_orbit_create(red, &o) || vi_orbit_find(o))
+      vi_orbit_create(red, &o) ||
+      vi_orbit_set_direct_search(o, 0) || /* what the simulation settles on */
+      vi_orbit_find(o))
     ok = 0;
   if (ok) {
     vi_orbit_classify(o, pn, pm);
@@ -48,6 +50,26 @@ static void json_str(const char *s)
       putchar(ch);
   }
   putchar('"');
+}
+
+/* The orbit's Floquet multipliers: a JSON member or a line of text. */
+static void print_multipliers(const vi_orbit *orb, int n, int json)
+{
+  double *re = malloc(sizeof(double) * 4 * (size_t)n), *im = re ? re + 2 * n : NULL;
+  if (!re || vi_orbit_multipliers(orb, re, im)) {
+    free(re);
+    return;
+  }
+  double rho = 0;
+  for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
+  printf(json ? ", \"multipliers\": [" : "  Floquet multipliers:");
+  for (int j = 0; j < 2 * n; j++) {
+    if (json) printf("%s[%.17g, %.17g]", j ? ", " : "", re[j], im[j]);
+    else printf(" %.6g%+.6gi", re[j], im[j]);
+  }
+  if (json) printf("], \"stable\": %s", rho < 1 ? "true" : "false");
+  else printf("  (largest modulus %.6g: %s)\n", rho, rho < 1 ? "stable" : "unstable");
+  free(re);
 }
 
 /* The analysis to OUT.h5 (/model, /modal, /orbits); no file on failure. */
@@ -114,6 +136,14 @@ int vi_cmd_energy(const app_opts *o)
   int pn, pm;
   vi_orbit_classify(orb, &pn, &pm);
   if (pn != 1 || pm != 1) {
+    rc = 3; /* not P(1,1): a result, not a failure */
+    if (o->json) {
+      printf("{\"scene\": ");
+      json_str(vi_scene_name(sc));
+      printf(", \"P11\": false, \"periodic\": %s, ", pn ? "true" : "false");
+      if (pn) printf("\"n\": %d, \"m\": %d}\n", pn, pm);
+      else printf("\"n\": null, \"m\": null, \"impacts_per_period\": %d}\n", pm);
+    }
     if (pn == 0)
       fprintf(
           stderr,
@@ -128,6 +158,8 @@ int vi_cmd_energy(const app_opts *o)
               pn, pm, pn, pm);
     goto done;
   }
+  int tn, tm, by_scan; /* found by the direct search (vi_orbit.h)? */
+  vi_orbit_search_info(orb, &tn, &tm, &by_scan);
   double T, ph, vN, KE, RE, IE, rr, cl;
   vi_orbit_balance(orb, &T, &ph, &vN, &KE, &RE, &IE, &rr, &cl);
   vi_orbit_modal_balance(orb, FE, DE, XE, reff);
@@ -145,6 +177,11 @@ int vi_cmd_energy(const app_opts *o)
   if (o->json) {
     printf("{\"scene\": ");
     json_str(vi_scene_name(sc));
+    printf(", \"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, ");
+    if (by_scan)
+      printf("\"found_by\": \"scan\", \"transient_n\": %d, \"transient_m\": %d", tn, tm);
+    else
+      printf("\"found_by\": \"transient\"");
     printf(", \"period\": %.17g, \"impact_phase\": %.17g, "
            "\"impact_phase_fraction\": %.17g, "
            "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
@@ -166,6 +203,7 @@ int vi_cmd_energy(const app_opts *o)
         first = 0;
       }
     printf("]");
+    print_multipliers(orb, n, 1); /* Floquet multipliers (vi_orbit.h) */
     if (checked)
       printf(
           ", \"reduced_check\": {\"modes\": 1, \"r_S\": %.17g, \"vN\": %.17g, "
@@ -175,6 +213,10 @@ int vi_cmd_energy(const app_opts *o)
   } else {
     printf("P(1,1) energy balance, scene %s (Wagg & Bishop 2000, eqs. 11-13)\n",
            vi_scene_name(sc));
+    if (by_scan)
+      printf("  (the transient settled on %s; this stable P(1,1) orbit was "
+             "found by a scan of impact phases)\n",
+             tn ? "another motion" : "no periodic motion");
     printf("  period T = %.10g; impact time mod T = %.10g (%.6f T); v_N %.10g\n"
            "  deepest excursion from the stop min(w.x - x_s) over a period "
            "%.6g\n",
@@ -188,6 +230,7 @@ int vi_cmd_energy(const app_opts *o)
     printf("  r recovered (WB 12) = %.12f   (scene r = %g)   closure "
            "|RE-IE|/KE_i = %.3g\n",
            rr, vi_model_restitution(m), cl);
+    print_multipliers(orb, n, 0);
     for (int k = 1; k <= kmax; k++) {
       if (ok[k - 1])
         printf("  reduced model, first %d mode%s: r_S = %.8f\n", k,

@@ -20,6 +20,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "vi_app.h"
+#include "vi_sweep.h" /* sweep, orbits, --set */
 
 static int cmd_restitution(const app_opts *o);
 
@@ -78,6 +79,10 @@ static void usage(FILE *f)
   for (int k = 0; k < NCMD; k++)
     fprintf(f, "%s vibroimpact %s %s\n%*s%s\n", k ? "      " : "usage:",
             cmds[k].name, cmds[k].synopsis, 9, "", cmds[k].what);
+  fprintf(f, "       vibroimpact sweep [SCENE.yaml] --param KEY --from A --to B --steps K ...\n"
+             "         bifurcation diagram (vibroimpact sweep --help)\n"
+             "       vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json]\n"
+             "         P(n,m) orbits by Newton, stable or not (--help)\n");
   fprintf(f,
     "With no scene: the embedded default, Wagg & Bishop (2000) Fig. 2.\n\n"
     "  -o, --output FILE   write the run to an HDF5 file (FILE.part until "
@@ -91,6 +96,7 @@ static void usage(FILE *f)
     fprintf(f, "%s%s", m ? ", " : "", vi_method_name(m));
   fprintf(f, "\n"
     "  --json              (energy) print one JSON object\n"
+    "  --set KEY=VALUE     override a scene key, e.g. --set forcing.omega=0.95\n"
     "  --quiet             no summary and no progress bar\n"
     "  --max-scene-size B  largest scene file read (default %lld bytes)\n"
     "  --max-depth D       deepest YAML nesting (default %d)\n"
@@ -350,6 +356,13 @@ int main(int argc, char **argv)
     fprintf(stderr, "vibroimpact: header %s and library %s differ\n",
             VI_VERSION_STRING, vi_version_string());
     return 1;
+  }
+  /* sweep and orbits parse their own arguments (apps/vi_sweep.h) */
+  if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_sweep_exec(argc - 1, argv + 1);
+  if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
+  if ((argc = vi_sets_take(argc, argv)) < 0) {
+    fprintf(stderr, "vibroimpact: --set needs KEY=VALUE\n");
+    return 2;
   }
   /* signals first: from here on every phase answers them */
   struct sigaction sa;

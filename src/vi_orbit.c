@@ -32,6 +32,9 @@ struct vi_orbit {
   double *scr, *dE; /* scratch: map output [2n], impact jumps [n] */
   double *block;
   int map_impacts;
+  /* direct search: the transient's own classification, and whether the
+   * analysed orbit came from the impact-phase scan */
+  int direct, tn, tm, by_scan;
   char errmsg[VI_MSG_LEN];
 };
 
@@ -77,6 +80,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->max_periods = 3000;
   o->tol = 1e-6;
   o->T = 2.0 * M_PI / model->omega_f;
+  o->direct = 1;
   if (vi_sim_set_method(o->sim, o->method) ||
       vi_sim_set_tolerances(o->sim, o->rtol, o->atol)) {
     vi_orbit_destroy(&o);
@@ -386,6 +390,57 @@ static int balance(vi_orbit *o)
   return VI_OK;
 }
 
+/* The most stable admissible P(1,1) orbit of the impact-phase scan
+ * (vi_orbit_pnm.c), as the state half a period after its impact: 1 if one
+ * exists, 0 if none, < 0 on failure. */
+static int direct_p11(vi_orbit *o)
+{
+  int n = o->n, cap = 32, found = 0, best = -1, ok, st;
+  double *t = malloc(sizeof(double) * ((size_t)cap * (2 * n + 1) + 5 * (size_t)n));
+  if (!t) return VI_ERR_NOMEM;
+  double *x = t + cap, *v = x + (size_t)cap * n, *re = v + (size_t)cap * n,
+         *im = re + 2 * n, *vp = im + 2 * n, rho_best = 1.0;
+  st = vi_orbit_p1_scan(o->m, 1, 720, t, x, v, n, cap, &found);
+  for (int i = 0; !st && i < found && i < cap; i++) {
+    if (vi_orbit_pnm_admissible(o->m, 1, 1, &t[i], x + (size_t)i * n,
+                                v + (size_t)i * n, n, NULL, &ok) || !ok ||
+        vi_orbit_pnm_multipliers(o->m, 1, 1, &t[i], x + (size_t)i * n,
+                                 v + (size_t)i * n, n, re, im))
+      continue;
+    double rho = 0.0;
+    for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
+    if (rho < rho_best) {
+      rho_best = rho;
+      best = i;
+    }
+  }
+  if (!st && best >= 0) {
+    o->t_s = t[best] + 0.5 * o->T;
+    st = vi_impact_apply(o->m, v + (size_t)best * n, vp, NULL, NULL);
+    if (!st)
+      st = vi_flow_physical(o->m, t[best], x + (size_t)best * n, vp, o->t_s,
+                            o->zfix, o->zfix + n);
+  }
+  free(t);
+  return st ? (st < 0 ? st : -st) : best >= 0;
+}
+
+int vi_orbit_set_direct_search(vi_orbit *o, int on)
+{
+  if (!o || (on != 0 && on != 1)) return VI_ERR_ARG;
+  o->direct = on;
+  return VI_OK;
+}
+
+int vi_orbit_search_info(const vi_orbit *o, int *tn, int *tm, int *by_scan)
+{
+  if (!o) return VI_ERR_ARG;
+  if (tn) *tn = o->tn;
+  if (tm) *tm = o->tm;
+  if (by_scan) *by_scan = o->by_scan;
+  return VI_OK;
+}
+
 int vi_orbit_find(vi_orbit *o)
 {
   if (!o) return VI_ERR_ARG;
@@ -393,6 +448,8 @@ int vi_orbit_find(vi_orbit *o)
   double t;
   o->analysed = 0;
   o->pn = o->pm = 0;
+  o->tn = o->tm = 0;
+  o->by_scan = 0;
   o->nimp = 0;
   if ((st = vi_sim_set_initial(o->sim, 0.0, o->x0, o->v0)) ||
       (st = vi_sim_set_event_callback(o->sim, record, o)))
@@ -418,22 +475,44 @@ int vi_orbit_find(vi_orbit *o)
   if (!o->pn) { /* not periodic: report the recent impact rate */
     double tn = kmax * o->T;
     o->pm = (int)lround((o->nimp - first_after(o, tn - 8 * o->T)) / 8.0);
-    return VI_OK;
   }
-  if (o->pn != 1 || o->pm != 1) return VI_OK;
-
-  /* P(1,1): section half a period after the last impact, away from it */
-  vi_sim_get_state(o->sim, &t, NULL, NULL);
-  double ti = o->rt[(o->nimp - 1) % RING];
-  o->t_s = ti + 0.5 * o->T;
-  while (o->t_s <= t) o->t_s += o->T;
-  if ((st = vi_sim_set_event_callback(o->sim, count_map, o)) ||
-      (st = vi_sim_run(o->sim, o->t_s)))
-    return vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "%s",
-                   vi_sim_errmsg(o->sim));
-  vi_sim_get_state(o->sim, NULL, o->zfix, o->zfix + n);
-  if ((st = refine(o)) || (st = multipliers(o)) || (st = balance(o)))
+  o->tn = o->pn;
+  o->tm = o->pm;
+  if (o->pn != 1 || o->pm != 1) {
+    /* the transient went elsewhere; a stable P(1,1) orbit may still
+     * exist (another attractor): look for it directly */
+    if (!o->direct || !o->m->flow_ok) return VI_OK;
+    int got = direct_p11(o);
+    if (got < 0)
+      return vi_fail(o->errmsg, got, "direct P(1,1) search: %s",
+                     vi_strerror(got));
+    if (!got) return VI_OK;
+    o->pn = o->pm = 1;
+    o->by_scan = 1;
+    if ((st = vi_sim_set_event_callback(o->sim, count_map, o)))
+      return vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim));
+  } else {
+    /* P(1,1): section half a period after the last impact, away from it */
+    vi_sim_get_state(o->sim, &t, NULL, NULL);
+    double ti = o->rt[(o->nimp - 1) % RING];
+    o->t_s = ti + 0.5 * o->T;
+    while (o->t_s <= t) o->t_s += o->T;
+    if ((st = vi_sim_set_event_callback(o->sim, count_map, o)) ||
+        (st = vi_sim_run(o->sim, o->t_s)))
+      return vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "%s",
+                     vi_sim_errmsg(o->sim));
+    vi_sim_get_state(o->sim, NULL, o->zfix, o->zfix + n);
+  }
+  if ((st = refine(o)) || (st = balance(o))) return st;
+  /* multipliers: exact (saltation matrices, vi_orbit_pnm.c) where the
+   * closed-form flow exists, central differences of the map otherwise */
+  if (o->m->flow_ok) {
+    st = vi_orbit_pnm_multipliers(o->m, 1, 1, &o->t_imp, o->x_imp, o->v_imp,
+                                  n, o->mre, o->mim);
+    if (st) return vi_fail(o->errmsg, st, "multipliers: %s", vi_strerror(st));
+  } else if ((st = multipliers(o))) {
     return st;
+  }
   o->analysed = 1;
   return VI_OK;
 }

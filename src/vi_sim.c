@@ -85,13 +85,15 @@ static int uses_exact(const vi_sim *s)
 
 static const vi_backend *method_backend(const vi_sim *s)
 {
-  return uses_exact(s) ? &vi_backend_exact : &vi_backend_cvode;
+  if (uses_exact(s)) return &vi_backend_exact;
+  return s->method == VI_METHOD_ERK ? &vi_backend_arkode : &vi_backend_cvode;
 }
 
 static void note_method(vi_sim *s)
 {
   s->method_used = uses_exact(s)                  ? VI_METHOD_EXACT
                    : s->method == VI_METHOD_BDF   ? VI_METHOD_BDF
+                   : s->method == VI_METHOD_ERK   ? VI_METHOD_ERK
                                                   : VI_METHOD_ADAMS;
   if (s->handed_over) return; /* the hand-over wrote its own note */
   if (s->method == VI_METHOD_AUTO)
@@ -161,9 +163,6 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && s->nforces)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "exact method unavailable: "
                    "nonlinear forces have no closed form");
-  if (method == VI_METHOD_ERK)
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
-                   "method erk is not built into this library");
   s->method = method;
   s->handed_over = 0;
   backend_destroy(s);

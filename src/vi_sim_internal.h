@@ -37,6 +37,7 @@ typedef struct vi_backend {
 
 extern const vi_backend vi_backend_cvode;
 extern const vi_backend vi_backend_exact;
+extern const vi_backend vi_backend_arkode;
 
 struct vi_sim {
   const vi_model *m;

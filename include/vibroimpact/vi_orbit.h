@@ -54,13 +54,27 @@ VI_API int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol);
  *  VI_STOPPED.  fn NULL removes it.  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user);
 
+/** Direct search (default on): when the transient does not settle on a
+ *  P(1,1) orbit and the model has the closed-form flow, look for one with
+ *  vi_orbit_p1_scan and analyse the most stable admissible one found, if
+ *  it is stable (another attractor the transient missed).
+ *  @return VI_OK, VI_ERR_ARG (on not 0 or 1). */
+VI_API int vi_orbit_set_direct_search(vi_orbit *o, int on);
+/** What vi_orbit_find did: *tn, *tm the classification of the transient
+ *  (as vi_orbit_classify would give without the direct search), *by_scan
+ *  1 if the analysed P(1,1) orbit came from the direct search.  Any
+ *  pointer may be NULL. */
+VI_API int vi_orbit_search_info(const vi_orbit *o, int *tn, int *tm,
+                                int *by_scan);
 /** Run, classify, and for P(1,1) refine and analyse.  VI_OK whatever the
  * motion turns out to be: ask vi_orbit_classify.  VI_STOPPED if the monitor
  * asked to stop; a negative code means the computation itself failed. */
 VI_API int vi_orbit_find(vi_orbit *o);
 /** *n periods of forcing, *m impacts per orbit period; n = 0 when no period
  * up to 8 was found within the transient (m is then the mean number of
- * impacts per forcing period over the last 8 periods, rounded). */
+ * impacts per forcing period over the last 8 periods, rounded).  (1, 1)
+ * also when the direct search found a stable P(1,1) orbit the transient
+ * missed (vi_orbit_search_info tells the two apart). */
 VI_API int vi_orbit_classify(const vi_orbit *o, int *n, int *m);
 
 /* ---- P(1,1) results: VI_ERR_STATE unless the orbit is P(1,1) ---------- */
@@ -77,7 +91,10 @@ VI_API int vi_orbit_modal_balance(const vi_orbit *o, double *FE, double *DE,
 /** The state just before the impact: t, x [n], v [n] (any may be NULL). */
 VI_API int vi_orbit_impact_state(const vi_orbit *o, double *t, double *x,
                                  double *v);
-/** Floquet multipliers of the stroboscopic map, re and im [2n]. */
+/** Floquet multipliers of the stroboscopic map, re and im [2n]: from the
+ *  monodromy matrix with saltation matrices (vi_orbit_pnm_multipliers)
+ *  when the model has the closed-form flow, else central differences of
+ *  the map. */
 VI_API int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im);
 /** Smallest value of the gap w.x - x_s over the period (the deepest
  * excursion from the stop, <= 0). */
@@ -89,6 +106,60 @@ VI_API int vi_orbit_min_gap(const vi_orbit *o, double *gmin);
  * or RE_S is outside [0, KE_S] (no real r_S). */
 VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
                                         int k, double *r_S);
+
+/* ---- P(n, m) orbits found directly (vi_orbit_pnm.c) ------------------- */
+/** An orbit is given by its m impacts in one orbit period n T (T = 2 pi /
+ *  Omega): times t[m], ascending, and the states just before them, x and v
+ *  [n x m] column-major with leading dimension ld (column j = impact j).
+ *  Between impacts the motion is the closed-form free flow, so these
+ *  functions need a model with the exact flow (VI_ERR_UNSUPPORTED
+ *  otherwise). */
+
+/** Newton's method on the impact conditions: for each impact j, the free
+ *  flow from (t_j, x_j, v_j+) reaches (x_{j+1}, v_{j+1}) at t_{j+1} (the
+ *  last one at t_0 + nT back to the first), and w.x_j = x_s; v+ from WB 2.
+ *  Exact derivatives (the flow is affine in the state; time derivatives
+ *  are the vector field).  t, x, v hold the seed and receive the orbit.
+ *  Converged when every residual is <= tol times the state scale (tol <= 0:
+ *  1e-12, what the closed-form flow delivers).  Admissibility is not
+ *  checked (see vi_orbit_pnm_admissible).  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_STATE, VI_ERR_UNSUPPORTED, VI_ERR_FREQUENCY, VI_ERR_NOMEM,
+ *  VI_ERR_NOT_CONVERGED (40 iterations, a singular Jacobian, or impacts
+ *  out of order); *iters (may be NULL) the iterations. */
+VI_API int vi_orbit_pnm_solve(const vi_model *m, int n, int mi, double *t,
+                              double *x, double *v, int ld, double tol,
+                              int *iters);
+/** Floquet multipliers [2 n_coords] (re, im) of the orbit: eigenvalues of
+ *  the monodromy matrix, the product over the impacts of the flow's state
+ *  transition matrix and the saltation matrix
+ *  S = R + (f+ - R f-) g^T / (g^T f-) (R the impact law's Jacobian, f-+
+ *  the vector field before and after, g = (w, 0)).  det = r^(2m)
+ *  exp(-tr(M^-1 C) nT).  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE,
+ *  VI_ERR_UNSUPPORTED, VI_ERR_NOMEM, VI_ERR_LAPACK. */
+VI_API int vi_orbit_pnm_multipliers(const vi_model *m, int n, int mi,
+                                    const double *t, const double *x,
+                                    const double *v, int ld, double *re,
+                                    double *im);
+/** Admissibility: *ok = 1 if every impact approaches the stop (w.v_j > 0)
+ *  and the gap w.x - x_s stays below the stop between impacts (sampled at
+ *  512 points per forcing period, maxima refined by golden section; 1e-10
+ *  of the state scale allowed); *gmax (may be NULL) the largest gap found
+ *  between impacts.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE,
+ *  VI_ERR_UNSUPPORTED, VI_ERR_NOMEM. */
+VI_API int vi_orbit_pnm_admissible(const vi_model *m, int n, int mi,
+                                   const double *t, const double *x,
+                                   const double *v, int ld, double *gmax,
+                                   int *ok);
+/** Every P(n, 1) orbit: for each impact phase phi the periodic motion
+ *  with one impact at phi per nT solves a linear system (the flow is
+ *  affine); its gap w.x - x_s is scanned over nphase (>= 8) phases in
+ *  [0, nT), sign changes refined by vi_orbit_pnm_solve, duplicates and
+ *  non-approaching ones dropped.  Admissible or not, stable or not.  Up to
+ *  cap orbits into t [cap] (impact time mod nT), x, v [n x cap]; *found
+ *  receives how many there are (may exceed cap).  @return as
+ *  vi_orbit_pnm_solve. */
+VI_API int vi_orbit_p1_scan(const vi_model *m, int n, int nphase, double *t,
+                            double *x, double *v, int ld, int cap, int *found);
 
 /** The reduced model itself, in the modal coordinates of `full`: M = I,
  * K = diag(omega_S^2), C = D_SS, forcing Psi_S^T (a, b, f0), stop psi_S

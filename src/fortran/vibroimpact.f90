@@ -87,6 +87,8 @@ module vibroimpact
             vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution, &
             vi_orbit_set_initial, vi_orbit_set_transient, vi_orbit_set_monitor, &
             vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
+  public :: vi_orbit_set_direct_search, vi_orbit_search_info, vi_orbit_pnm_solve, &
+            vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -601,6 +603,56 @@ module vibroimpact
       integer(c_int), intent(in) :: modes(*)
       integer(c_int), value :: k
       real(c_double) :: r_S
+    end function
+    ! ---- P(n, m) orbits found directly (vi_orbit_pnm.c) --------------------
+    integer(c_int) function vi_orbit_set_direct_search(orbit, on) &
+        bind(C, name="vi_orbit_set_direct_search")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: on
+    end function
+    integer(c_int) function vi_orbit_search_info(orbit, tn, tm, by_scan) &
+        bind(C, name="vi_orbit_search_info")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: orbit
+      integer(c_int), optional :: tn, tm, by_scan
+    end function
+    !> t [mi]; x, v [ld x mi]: the seed in, the orbit out
+    integer(c_int) function vi_orbit_pnm_solve(model, n, mi, t, x, v, ld, tol, iters) &
+        bind(C, name="vi_orbit_pnm_solve")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      real(c_double) :: t(*), x(*), v(*)
+      real(c_double), value :: tol
+      integer(c_int), optional :: iters
+    end function
+    !> re, im: [2 n_coords]
+    integer(c_int) function vi_orbit_pnm_multipliers(model, n, mi, t, x, v, ld, re, im) &
+        bind(C, name="vi_orbit_pnm_multipliers")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: re(*), im(*)
+    end function
+    integer(c_int) function vi_orbit_pnm_admissible(model, n, mi, t, x, v, ld, gmax, ok) &
+        bind(C, name="vi_orbit_pnm_admissible")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double), optional :: gmax
+      integer(c_int) :: ok
+    end function
+    !> t [cap]; x, v [ld x cap]; found may exceed cap
+    integer(c_int) function vi_orbit_p1_scan(model, n, nphase, t, x, v, ld, cap, found) &
+        bind(C, name="vi_orbit_p1_scan")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, nphase, ld, cap
+      real(c_double) :: t(*), x(*), v(*)
+      integer(c_int) :: found
     end function
   end interface
 

@@ -34,6 +34,9 @@ module vibroimpact_io
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
             vi_scene_memory_estimate, vi_scene_check_memory
+  public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
+            vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
+            vi_scene_edit_text, vi_scene_edit_parse
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
@@ -84,6 +87,58 @@ module vibroimpact_io
       import :: c_int, c_double, c_ptr, vi_diag
       type(c_ptr), value :: scene
       real(c_double), value :: max_bytes
+      type(vi_diag), optional :: diag
+    end function
+    ! ---- --set overrides (vi_scene_edit.h); keys and values end in c_null_char
+    integer(c_int) function vi_scene_edit_create(text, len, name, edit, diag) &
+        bind(C, name="vi_scene_edit_create")
+      import :: c_int, c_long, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: text(*), name(*)
+      integer(c_long), value :: len
+      type(c_ptr) :: edit
+      type(vi_diag), optional :: diag
+    end function
+    subroutine vi_scene_edit_destroy(edit) bind(C, name="vi_scene_edit_destroy")
+      import :: c_ptr
+      type(c_ptr) :: edit
+    end subroutine
+    integer(c_int) function vi_scene_edit_set(edit, key, val, diag) bind(C, name="vi_scene_edit_set")
+      import :: c_int, c_ptr, c_char, vi_diag
+      type(c_ptr), value :: edit
+      character(kind=c_char), intent(in) :: key(*), val(*)
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_scene_edit_assign(edit, assignment, diag) &
+        bind(C, name="vi_scene_edit_assign")
+      import :: c_int, c_ptr, c_char, vi_diag
+      type(c_ptr), value :: edit
+      character(kind=c_char), intent(in) :: assignment(*)
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_scene_edit_set_number(edit, key, val, diag) &
+        bind(C, name="vi_scene_edit_set_number")
+      import :: c_int, c_ptr, c_char, c_double, vi_diag
+      type(c_ptr), value :: edit
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), value :: val
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_scene_edit_get(edit, key, buf, len, diag) bind(C, name="vi_scene_edit_get")
+      import :: c_int, c_ptr, c_char, vi_diag
+      type(c_ptr), value :: edit
+      character(kind=c_char), intent(in) :: key(*)
+      character(kind=c_char) :: buf(*)
+      integer(c_int), value :: len
+      type(vi_diag), optional :: diag
+    end function
+    type(c_ptr) function vi_scene_edit_text(edit) bind(C, name="vi_scene_edit_text")
+      import :: c_ptr
+      type(c_ptr), value :: edit
+    end function
+    integer(c_int) function vi_scene_edit_parse(edit, scene, diag) bind(C, name="vi_scene_edit_parse")
+      import :: c_int, c_ptr, vi_diag
+      type(c_ptr), value :: edit
+      type(c_ptr) :: scene
       type(vi_diag), optional :: diag
     end function
     subroutine vi_scene_destroy(scene) bind(C, name="vi_scene_destroy")

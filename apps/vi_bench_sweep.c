@@ -1,0 +1,158 @@
+/* vi_bench_sweep.c - the speed target of the parameter-space issue: the
+ * Fig. 2 scene swept over 1000 values of Omega with 500 transient + 100
+ * recorded periods each (6e5 forcing periods) on the exact method, and the
+ * speed-up with threads, measured as ratios within this one run.
+ *
+ *   vi_bench_sweep [--values K] [--transient P] [--record R] [--threads T]
+ *
+ * Runs: (1) one warm-started sweep, serial; (2) the same split into 4 T
+ * chunks, serial; (3) the same 4 T chunks on T threads.  (2) and (3) give
+ * bit-identical diagrams, checked here; (2)/(3) is the thread speed-up.
+ * Four chunks per thread because the cost per value is uneven (low Omega
+ * costs more: Omega 0.5-1.15 takes 60 % of the time), and dynamic
+ * scheduling of smaller pieces evens the threads' loads. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "vibroimpact.h"
+#include "vibroimpact/vi_scene.h"
+#include "vi_sweep.h"
+
+static double now(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static double cpu(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static double cpu_used; /* CPU seconds of the last sweep, all threads */
+
+static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
+{
+  double c0 = cpu();
+  static const char *sets[] = {"run.method=exact"};
+  vi_sweep *sw = NULL;
+  char err[2048];
+  double t = now();
+  if (vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, 1, sp, NULL,
+                   &sw, err, sizeof err)) {
+    fprintf(stderr, "vi_bench_sweep: %s\n", err);
+    exit(1);
+  }
+  *wall = now() - t;
+  cpu_used = cpu() - c0;
+  return sw;
+}
+
+static int identical(const vi_sweep *a, const vi_sweep *b)
+{
+  int K = a->spec.steps, R = a->spec.record;
+  if (memcmp(a->lines[0].strobe, b->lines[0].strobe, sizeof(double) * K * R * 2 * a->N))
+    return 0;
+  for (int k = 0; k < K; k++) {
+    const vi_sweep_point *p = &a->lines[0].pt[k], *q = &b->lines[0].pt[k];
+    if (p->n != q->n || p->m != q->m || p->nimp != q->nimp ||
+        (p->nimp && memcmp(p->vn, q->vn, sizeof(double) * p->nimp)))
+      return 0;
+  }
+  return 1;
+}
+
+static void census(const vi_sweep *sw)
+{
+  int K = sw->spec.steps, p11 = 0, per = 0, failed = 0;
+  int64_t imp = 0;
+  for (int k = 0; k < K; k++) {
+    const vi_sweep_point *p = &sw->lines[0].pt[k];
+    p11 += p->n == 1 && p->m == 1;
+    per += p->n > 0;
+    failed += p->failed;
+    imp += p->nimp;
+  }
+  printf("  diagram: %d values periodic (%d P(1,1)), %d unclassified, %d "
+         "failed; %lld recorded impacts\n", per, p11, K - per - failed, failed,
+         (long long)imp);
+}
+
+int main(int argc, char **argv)
+{
+  int K = 1000, P = 500, R = 100, T = 2;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    int v = atoi(argv[i + 1]);
+    if (!strcmp(argv[i], "--values")) K = v;
+    else if (!strcmp(argv[i], "--transient")) P = v;
+    else if (!strcmp(argv[i], "--record")) R = v;
+    else if (!strcmp(argv[i], "--threads")) T = v;
+    else {
+      fprintf(stderr, "usage: vi_bench_sweep [--values K] [--transient P] "
+              "[--record R] [--threads T]\n");
+      return 2;
+    }
+  }
+  if (K < 2 || P < 0 || R < 2 || T < 1) return 2;
+#ifdef _OPENMP
+  int cores = omp_get_num_procs();
+#else
+  int cores = 1;
+  T = 1;
+#endif
+  vi_sweep_spec sp = {"forcing.omega", 0.5, 1.8, K, NULL, NAN, NAN, 1, 1, P, R,
+                      1, 1, 1e-6, 32, 0};
+  double periods = (double)K * (P + R), w1, w2, w3;
+  printf("vi_bench_sweep: Fig. 2, Omega 0.5..1.8 in %d values, %d transient + "
+         "%d recorded periods each (%.3g forcing periods), exact method; %d "
+         "cores\n", K, P, R, periods, cores);
+  vi_sweep *a = sweep(&sp, &w1);
+  printf("  (1) 1 sweep, 1 thread:         %8.3f s wall, %8.3f s CPU  (%.2f us "
+         "CPU per forcing period)\n", w1, cpu_used, 1e6 * cpu_used / periods);
+  census(a);
+  vi_sweep_free(&a);
+  if (T > 1) {
+    sp.chunks = 4 * T;
+    sp.threads = 1;
+    vi_sweep *b = sweep(&sp, &w2);
+    printf("  (2) %d chunks, 1 thread:        %8.3f s wall, %8.3f s CPU\n", 4 * T, w2, cpu_used);
+    sp.threads = T;
+    vi_sweep *c = sweep(&sp, &w3);
+    printf("  (3) %d chunks, %d threads:      %8.3f s wall, %8.3f s CPU  (CPU/wall "
+           "= %.2f: the cores this run got; other loads on the machine lower it)\n",
+           4 * T, T, w3, cpu_used, cpu_used / w3);
+    printf("  thread speed-up (2)/(3) = %.2f on %d threads (ideal %d); "
+           "diagrams (2) and (3) bit-identical: %s\n", w2 / w3, T, T,
+           identical(b, c) ? "yes" : "NO");
+    /* independent of what else runs on the machine: the pieces' own CPU
+     * times (serial run), dealt to T threads as schedule(dynamic, 1) deals
+     * them (in order, each to the first thread free) */
+    double tot = 0, load[64] = {0}, span = 0;
+    int TT = T < 64 ? T : 64;
+    for (int i = 0; i < b->npieces; i++) {
+      int f = 0;
+      for (int k = 1; k < TT; k++)
+        if (load[k] < load[f]) f = k;
+      load[f] += b->piece_cpu[i];
+      tot += b->piece_cpu[i];
+    }
+    for (int k = 0; k < TT; k++) span = fmax(span, load[k]);
+    printf("  from the pieces' CPU times (load-independent): %d threads "
+           "would take %.3f s for %.3f s of work: speed-up %.2f\n", T, span,
+           tot, tot / span);
+    printf("  target: <= 1.5 s wall for the 1000 x 600-period diagram; "
+           "best here %.3f s\n", fmin(w1, w3) * 6e5 / periods);
+    vi_sweep_free(&b);
+    vi_sweep_free(&c);
+  }
+  return 0;
+}

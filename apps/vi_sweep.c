@@ -1,0 +1,735 @@
+/* vi_sweep.c - brute-force bifurcation diagrams: the sweep itself (warm
+ * start, stroboscopic sampling, impact map, P(n, m) classification) and
+ * its JSON form.  The HDF5 form is in vi_sweep_h5.c. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#ifdef VI_HAVE_MPI
+#include <mpi.h>
+#endif
+
+#include "vibroimpact.h"
+#include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_scene_edit.h"
+#include "vi_sweep.h"
+
+static double now(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static void msg(char *err, int len, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static void msg(char *err, int len, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(err, (size_t)len, fmt, ap);
+  va_end(ap);
+}
+
+static void diag_msg(const vi_diag *d, int st, char *err, int len)
+{
+  vi_diag dd = *d;
+  if (!dd.code) {
+    dd.code = st;
+    snprintf(dd.message, sizeof dd.message, "%s", vi_strerror(st));
+  }
+  vi_diag_format(&dd, err, len);
+}
+
+/* ---- one piece: consecutive values with warm start ---------------------- */
+typedef struct piece {
+  const vi_sweep *sw;
+  vi_sweep_line *ln;
+  int pos0, pos1; /* positions in the line's sweep order */
+  volatile sig_atomic_t *cancel;
+  /* current value */
+  vi_sweep_point *pt;
+  double t_rec;
+  int oom;
+  int code; /* 0, 1 run-time, 2 input */
+  char err[1400];
+} piece;
+
+static int on_event(const vi_event *ev, void *user)
+{
+  piece *p = user;
+  vi_sweep_point *pt = p->pt;
+  if (ev->kind != VI_EVENT_IMPACT || ev->t < p->t_rec) return 0;
+  if ((pt->nimp & (pt->nimp - 1)) == 0 && pt->nimp >= 16) { /* grow x2 */
+    size_t cap = 2 * (size_t)pt->nimp;
+    double *t = realloc(pt->t, cap * sizeof *t);
+    if (t) pt->t = t;
+    double *ph = t ? realloc(pt->phase, cap * sizeof *ph) : NULL;
+    if (ph) pt->phase = ph;
+    double *vn = ph ? realloc(pt->vn, cap * sizeof *vn) : NULL;
+    if (!vn) {
+      p->oom = 1;
+      return 1;
+    }
+    pt->vn = vn;
+  } else if (pt->nimp == 0) {
+    pt->t = malloc(16 * sizeof(double));
+    pt->phase = malloc(16 * sizeof(double));
+    pt->vn = malloc(16 * sizeof(double));
+    if (!pt->t || !pt->phase || !pt->vn) {
+      p->oom = 1;
+      return 1;
+    }
+  }
+  pt->t[pt->nimp] = ev->t;
+  pt->phase[pt->nimp] = fmod(ev->t, pt->T);
+  pt->vn[pt->nimp] = ev->vn;
+  pt->nimp++;
+  return 0;
+}
+
+static int on_cancel(void *user)
+{
+  return *(volatile sig_atomic_t *)user != 0;
+}
+
+/* Smallest n <= nmax with z[k + n] = z[k] (to tol relative) for every k of
+ * the recorded states z[0..R]; m = impacts in the last n periods. */
+static void classify(const vi_sweep *sw, vi_sweep_point *pt, const double *z,
+                     double xs, double t_end)
+{
+  int R = sw->spec.record, n2 = 2 * sw->N;
+  double scale = fabs(xs);
+  for (size_t i = 0; i < (size_t)(R + 1) * n2; i++) scale = fmax(scale, fabs(z[i]));
+  double tol = sw->spec.tol * scale;
+  pt->n = pt->m = 0;
+  for (int n = 1; n <= sw->spec.nmax && n <= R; n++) {
+    int ok = 1;
+    for (int k = 0; ok && k + n <= R; k++)
+      for (int i = 0; ok && i < n2; i++)
+        ok = fabs(z[(size_t)(k + n) * n2 + i] - z[(size_t)k * n2 + i]) <= tol;
+    if (!ok) continue;
+    int m = 0;
+    double t1 = t_end - n * pt->T - 1e-9 * pt->T;
+    for (int64_t j = 0; j < pt->nimp; j++) m += pt->t[j] >= t1;
+    pt->n = n;
+    pt->m = m;
+    return;
+  }
+}
+
+/* Every P(1,1) orbit at this value (vi_orbit_pnm.c): for the diagram's
+ * unstable branches.  No closed-form flow: norb = -1. */
+static int p11_orbits(const vi_model *m, int nphase, vi_sweep_point *pt)
+{
+  enum { CAP = 16 };
+  int n = vi_model_n(m), found = 0, st;
+  const double *w = vi_model_stop_vector(m);
+  double *buf = malloc(sizeof(double) * ((size_t)CAP * (2 * n + 1) + 4 * (size_t)n));
+  if (!buf) return VI_ERR_NOMEM;
+  double *t = buf, *x = t + CAP, *v = x + (size_t)CAP * n, *re = v + (size_t)CAP * n,
+         *im = re + 2 * n;
+  st = vi_orbit_p1_scan(m, 1, nphase, t, x, v, n, CAP, &found);
+  if (st == VI_ERR_UNSUPPORTED) {
+    pt->norb = -1;
+    free(buf);
+    return VI_OK;
+  }
+  if (found > CAP) found = CAP;
+  pt->norb = 0;
+  if (!st && found) {
+    pt->ovn = malloc(sizeof(double) * found);
+    pt->ophase = malloc(sizeof(double) * found);
+    pt->ostable = malloc(sizeof(int) * found);
+    pt->oadm = malloc(sizeof(int) * found);
+    if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) st = VI_ERR_NOMEM;
+  }
+  for (int i = 0; !st && i < found; i++) {
+    const double *xi = x + (size_t)i * n, *vi = v + (size_t)i * n;
+    int ok = 0;
+    double rho = 0, vn = 0;
+    if (vi_orbit_pnm_admissible(m, 1, 1, &t[i], xi, vi, n, NULL, &ok) ||
+        vi_orbit_pnm_multipliers(m, 1, 1, &t[i], xi, vi, n, re, im))
+      continue;
+    for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
+    for (int j = 0; j < n; j++) vn += w[j] * vi[j];
+    pt->ovn[pt->norb] = vn;
+    pt->ophase[pt->norb] = fmod(t[i], pt->T);
+    pt->ostable[pt->norb] = rho < 1.0;
+    pt->oadm[pt->norb] = ok;
+    pt->norb++;
+  }
+  free(buf);
+  return st;
+}
+
+static void run_piece(piece *p)
+{
+  const vi_sweep *sw = p->sw;
+  vi_sweep_line *ln = p->ln;
+  int K = sw->spec.steps, N = sw->N, R = sw->spec.record, st;
+  vi_scene_edit *ed = NULL;
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  double *buf = malloc(sizeof(double) * ((size_t)(R + 1) * 2 * N + 2 * N));
+  int have_state = 0;
+  if (!buf) {
+    p->code = 1;
+    msg(p->err, sizeof p->err, "out of memory");
+    return;
+  }
+  double *z = buf, *x = z + (size_t)(R + 1) * 2 * N, *v = x + N;
+  memset(&d, 0, sizeof d);
+  if ((st = vi_scene_edit_create(sw->text, -1, sw->name, &ed, &d)) ||
+      (sw->spec.key2 &&
+       (st = vi_scene_edit_set_number(ed, sw->spec.key2, sw->param2[ln->row], &d)))) {
+    p->code = 2;
+    diag_msg(&d, st, p->err, sizeof p->err);
+    goto done;
+  }
+  for (int pos = p->pos0; pos < p->pos1; pos++) {
+    int k = ln->dir > 0 ? pos : K - 1 - pos;
+    double val = sw->param[k];
+    vi_sweep_point *pt = &ln->pt[k];
+    p->pt = pt;
+    if ((st = vi_scene_edit_set_number(ed, sw->spec.key, val, &d)) ||
+        (st = vi_scene_edit_parse(ed, &sc, &d)) ||
+        (st = vi_scene_create_model(sc, &m, &d))) {
+      p->code = 2;
+      diag_msg(&d, st, p->err, sizeof p->err);
+      goto done;
+    }
+    double omega = vi_model_omega_forcing(m);
+    if (!(omega > 0)) {
+      p->code = 2;
+      msg(p->err, sizeof p->err, "%s = %.17g: the scene has no harmonic "
+          "forcing, so no forcing period to sample", sw->spec.key, val);
+      goto done;
+    }
+    pt->T = 2 * M_PI / omega;
+    if (sw->spec.orbits > 0 && (st = p11_orbits(m, sw->spec.orbits, pt))) {
+      p->code = 1;
+      msg(p->err, sizeof p->err, "%s = %.17g: P(1,1) orbits: %s", sw->spec.key,
+          val, vi_strerror(st));
+      goto done;
+    }
+    if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
+      p->code = 2;
+      if (st == VI_ERR_NOMEM) msg(p->err, sizeof p->err, "out of memory");
+      else diag_msg(&d, st, p->err, sizeof p->err);
+      goto done;
+    }
+    if (have_state) {
+      /* the stop may have moved past the carried state: put it back on the
+       * stop along w (positions only), the smallest change that is legal */
+      const double *w = vi_model_stop_vector(m);
+      double xs = vi_model_clearance(m), gx = 0, ww = 0;
+      for (int i = 0; i < N; i++) {
+        gx += w[i] * x[i];
+        ww += w[i] * w[i];
+      }
+      if (gx > xs) {
+        double sft = (gx - xs + 1e-14 * fmax(1.0, fabs(xs))) / ww;
+        for (int i = 0; i < N; i++) x[i] -= sft * w[i];
+      }
+      if ((st = vi_sim_set_initial(s, sw->t0, x, v))) {
+        p->code = 1;
+        msg(p->err, sizeof p->err, "%s = %.17g: warm start: %s", sw->spec.key,
+            val, vi_sim_errmsg(s));
+        goto done;
+      }
+    }
+    vi_sim_set_event_callback(s, on_event, p);
+    if (p->cancel) vi_sim_set_cancel(s, on_cancel, (void *)p->cancel);
+    double t0 = sw->t0, T = pt->T;
+    p->t_rec = t0 + sw->spec.transient * T;
+    st = sw->spec.transient > 0 ? vi_sim_run(s, p->t_rec) : VI_OK;
+    if (!st) vi_sim_get_state(s, NULL, z, z + N);
+    for (int j = 1; j <= R && !st; j++) {
+      st = vi_sim_run(s, t0 + (sw->spec.transient + j) * T);
+      if (!st) {
+        double *zz = z + (size_t)j * 2 * N;
+        vi_sim_get_state(s, NULL, zz, zz + N);
+        memcpy(ln->strobe + ((size_t)k * R + (j - 1)) * 2 * N, zz,
+               sizeof(double) * 2 * N);
+      }
+    }
+    if (st && (p->oom || st == VI_CANCELLED || st == VI_STOPPED)) {
+      p->code = 1;
+      if (p->oom) msg(p->err, sizeof p->err, "out of memory");
+      else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
+      goto done;
+    }
+    if (st) {
+      /* one value's failure does not sink the diagram: it is marked, and
+       * the next value starts cold (from the scene's initial state) */
+      char e[1400];
+      msg(e, sizeof e, "%s = %.17g: %s: %s", sw->spec.key, val,
+          vi_strerror(st), vi_sim_errmsg(s));
+      pt->failed = 1;
+      pt->n = pt->m = 0;
+      pt->error = strdup(e);
+      have_state = 0;
+      vi_sim_destroy(&s);
+      vi_model_destroy(&m);
+      vi_scene_destroy(&sc);
+      continue;
+    }
+    classify(sw, pt, z, vi_model_clearance(m),
+             t0 + (sw->spec.transient + R) * T);
+    vi_sim_get_state(s, NULL, x, v);
+    have_state = 1;
+    vi_sim_destroy(&s);
+    vi_model_destroy(&m);
+    vi_scene_destroy(&sc);
+  }
+done:
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+  vi_scene_edit_destroy(&ed);
+  free(buf);
+}
+
+/* ---- the whole sweep ------------------------------------------------------ */
+void vi_sweep_free(vi_sweep **swp)
+{
+  if (!swp || !*swp) return;
+  vi_sweep *sw = *swp;
+  for (int l = 0; l < sw->nlines && sw->lines; l++) {
+    vi_sweep_line *ln = &sw->lines[l];
+    for (int k = 0; k < sw->spec.steps && ln->pt; k++) {
+      free(ln->pt[k].t);
+      free(ln->pt[k].phase);
+      free(ln->pt[k].vn);
+      free(ln->pt[k].error);
+      free(ln->pt[k].ovn);
+      free(ln->pt[k].ophase);
+      free(ln->pt[k].ostable);
+      free(ln->pt[k].oadm);
+    }
+    free(ln->pt);
+    free(ln->strobe);
+  }
+  free(sw->lines);
+  free(sw->param);
+  free(sw->param2);
+  free(sw->piece_cpu);
+  free(sw->text);
+  free(sw->name);
+  free(sw);
+  *swp = NULL;
+}
+
+/* Set the key to a value and build the model: catches an unknown key or a
+ * bad value before any simulation. */
+static int trial(const vi_sweep *sw, const char *key, double val, char *err,
+                 int len)
+{
+  vi_scene_edit *ed = NULL;
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  int st = vi_scene_edit_create(sw->text, -1, sw->name, &ed, &d);
+  if (!st) st = vi_scene_edit_set_number(ed, key, val, &d);
+  if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
+  if (!st) st = vi_scene_create_model(sc, &m, &d);
+  if (st) diag_msg(&d, st, err, len);
+  else if (!(vi_model_omega_forcing(m) > 0)) {
+    st = VI_ERR_FREQUENCY;
+    msg(err, len, "%s: %s = %.17g leaves no harmonic forcing (forcing.omega "
+        "must be > 0 for a sweep)", sw->name, key, val);
+  }
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+  vi_scene_edit_destroy(&ed);
+  return st;
+}
+
+#ifdef VI_HAVE_MPI
+/* ---- MPI: results of every piece to rank 0 -------------------------------- */
+typedef struct pbuf { char *b; size_t len, cap; int oom; } pbuf;
+
+static void put_bytes(pbuf *p, const void *x, size_t k)
+{
+  if (p->oom) return;
+  if (p->len + k > p->cap) {
+    size_t cap = 2 * (p->len + k) + 1024;
+    char *nb = realloc(p->b, cap);
+    if (!nb) { p->oom = 1; return; }
+    p->b = nb;
+    p->cap = cap;
+  }
+  memcpy(p->b + p->len, x, k);
+  p->len += k;
+}
+
+static void pack_piece(const vi_sweep *sw, const piece *pc, pbuf *p)
+{
+  int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
+  for (int pos = pc->pos0; pos < pc->pos1; pos++) {
+    int k = pc->ln->dir > 0 ? pos : K - 1 - pos;
+    const vi_sweep_point *pt = &pc->ln->pt[k];
+    int hdr[3] = {pt->n, pt->m, pt->failed};
+    int64_t ni = pt->nimp, el = pt->error ? (int64_t)strlen(pt->error) : -1;
+    put_bytes(p, hdr, sizeof hdr);
+    put_bytes(p, &pt->T, sizeof pt->T);
+    put_bytes(p, &ni, sizeof ni);
+    if (ni) {
+      put_bytes(p, pt->t, sizeof(double) * ni);
+      put_bytes(p, pt->phase, sizeof(double) * ni);
+      put_bytes(p, pt->vn, sizeof(double) * ni);
+    }
+    put_bytes(p, &el, sizeof el);
+    if (el > 0) put_bytes(p, pt->error, (size_t)el);
+    put_bytes(p, &pt->norb, sizeof pt->norb);
+    if (pt->norb > 0) {
+      put_bytes(p, pt->ovn, sizeof(double) * pt->norb);
+      put_bytes(p, pt->ophase, sizeof(double) * pt->norb);
+      put_bytes(p, pt->ostable, sizeof(int) * pt->norb);
+      put_bytes(p, pt->oadm, sizeof(int) * pt->norb);
+    }
+    put_bytes(p, pc->ln->strobe + (size_t)k * R * n2, sizeof(double) * R * n2);
+  }
+}
+
+static int unpack_piece(const vi_sweep *sw, const piece *pc, const char *b,
+                        size_t len, size_t *off)
+{
+  int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
+#define TAKE(dst, k) do { if (*off + (k) > len) return 1; memcpy((dst), b + *off, (k)); *off += (k); } while (0)
+  for (int pos = pc->pos0; pos < pc->pos1; pos++) {
+    int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[3];
+    vi_sweep_point *pt = &pc->ln->pt[k];
+    int64_t ni, el;
+    TAKE(hdr, sizeof hdr);
+    pt->n = hdr[0];
+    pt->m = hdr[1];
+    pt->failed = hdr[2];
+    TAKE(&pt->T, sizeof pt->T);
+    TAKE(&ni, sizeof ni);
+    pt->nimp = ni;
+    if (ni) {
+      pt->t = malloc(sizeof(double) * ni);
+      pt->phase = malloc(sizeof(double) * ni);
+      pt->vn = malloc(sizeof(double) * ni);
+      if (!pt->t || !pt->phase || !pt->vn) return 1;
+      TAKE(pt->t, sizeof(double) * ni);
+      TAKE(pt->phase, sizeof(double) * ni);
+      TAKE(pt->vn, sizeof(double) * ni);
+    }
+    TAKE(&el, sizeof el);
+    if (el >= 0) {
+      pt->error = calloc((size_t)el + 1, 1);
+      if (!pt->error) return 1;
+      if (el > 0) TAKE(pt->error, (size_t)el);
+    }
+    TAKE(&pt->norb, sizeof pt->norb);
+    if (pt->norb > 0) {
+      size_t no = (size_t)pt->norb;
+      pt->ovn = malloc(sizeof(double) * no);
+      pt->ophase = malloc(sizeof(double) * no);
+      pt->ostable = malloc(sizeof(int) * no);
+      pt->oadm = malloc(sizeof(int) * no);
+      if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) return 1;
+      TAKE(pt->ovn, sizeof(double) * no);
+      TAKE(pt->ophase, sizeof(double) * no);
+      TAKE(pt->ostable, sizeof(int) * no);
+      TAKE(pt->oadm, sizeof(int) * no);
+    }
+    TAKE(pc->ln->strobe + (size_t)k * R * n2, sizeof(double) * R * n2);
+  }
+#undef TAKE
+  return 0;
+}
+
+/* Every rank's code is agreed on first (an error anywhere fails the sweep
+ * everywhere); then ranks 1.. send their pieces' results to rank 0. */
+static int vi_sweep_gather(vi_sweep *sw, piece *ps, int ntask, int rank,
+                           int size, int code, char *err, int errlen)
+{
+  int all = 0;
+  MPI_Allreduce(&code, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (all) {
+    if (!code) msg(err, errlen, "another MPI rank failed (its message is on its stderr)");
+    else if (rank) fprintf(stderr, "vibroimpact: sweep (rank %d): %s\n", rank, err);
+    return all;
+  }
+  if (rank) {
+    pbuf p = {NULL, 0, 0, 0};
+    for (int i = rank; i < ntask; i += size) pack_piece(sw, &ps[i], &p);
+    long long len = p.oom ? -1 : (long long)p.len;
+    MPI_Send(&len, 1, MPI_LONG_LONG, 0, 1, MPI_COMM_WORLD);
+    if (len > 0) MPI_Send(p.b, (int)len, MPI_BYTE, 0, 2, MPI_COMM_WORLD);
+    free(p.b);
+    return len < 0 ? 1 : 0;
+  }
+  int bad = 0;
+  for (int r = 1; r < size; r++) {
+    long long len;
+    MPI_Recv(&len, 1, MPI_LONG_LONG, r, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (len <= 0) {
+      bad |= len < 0;
+      continue;
+    }
+    char *b = malloc((size_t)len);
+    if (!b) {
+      bad = 1;
+      MPI_Recv(NULL, 0, MPI_BYTE, r, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      continue;
+    }
+    MPI_Recv(b, (int)len, MPI_BYTE, r, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    size_t off = 0;
+    for (int i = r; i < ntask && !bad; i += size)
+      bad |= unpack_piece(sw, &ps[i], b, (size_t)len, &off);
+    free(b);
+  }
+  if (bad) msg(err, errlen, "gathering the results of the MPI ranks failed");
+  return bad;
+}
+#endif
+
+int vi_sweep_run(const char *text, const char *name, const char *const *sets,
+                 int nsets, const vi_sweep_spec *spec,
+                 volatile sig_atomic_t *cancel, vi_sweep **out, char *err,
+                 int errlen)
+{
+  double w0 = now();
+  *out = NULL;
+  err[0] = '\0';
+  const vi_sweep_spec *sp = spec;
+  if (!sp->key || sp->steps < 1 || sp->record < 2 || sp->transient < 0 ||
+      sp->chunks < 1 || sp->dirs < 1 || sp->dirs > 3 || !(sp->tol > 0) ||
+      sp->nmax < 1 || (sp->key2 && sp->steps2 < 1)) {
+    msg(err, errlen, "sweep: need --param, --steps >= 1, --record >= 2, "
+        "--transient >= 0, --chunks >= 1, --tol > 0");
+    return 2;
+  }
+  vi_sweep *sw = calloc(1, sizeof *sw);
+  if (!sw) goto oom;
+  sw->spec = *sp;
+  if (!sw->spec.key2) sw->spec.steps2 = 1;
+  int K = sw->spec.steps, rows = sw->spec.steps2;
+  if (sw->spec.chunks > K) sw->spec.chunks = K;
+  /* the base text: the scene with the --set assignments */
+  vi_scene_edit *ed = NULL;
+  vi_scene *sc = NULL;
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  int st = vi_scene_edit_create(text, -1, name, &ed, &d);
+  for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
+  if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
+  if (st) {
+    diag_msg(&d, st, err, errlen);
+    vi_scene_edit_destroy(&ed);
+    vi_sweep_free(&sw);
+    return st == VI_ERR_NOMEM ? 1 : 2;
+  }
+  sw->N = vi_scene_n(sc);
+  sw->t0 = vi_scene_t0(sc);
+  sw->text = strdup(vi_scene_edit_text(ed));
+  sw->name = strdup(name);
+  vi_scene_destroy(&sc);
+  vi_scene_edit_destroy(&ed);
+  sw->param = malloc(sizeof(double) * K);
+  sw->param2 = malloc(sizeof(double) * rows);
+  if (!sw->text || !sw->name || !sw->param || !sw->param2) goto oom;
+  for (int k = 0; k < K; k++)
+    sw->param[k] = K > 1 ? sp->from + (sp->to - sp->from) * k / (K - 1) : sp->from;
+  for (int r = 0; r < rows; r++)
+    sw->param2[r] = rows > 1 ? sp->from2 + (sp->to2 - sp->from2) * r / (rows - 1)
+                             : sp->from2;
+  /* bad keys and values show up here, before any simulation */
+  if (trial(sw, sp->key, sp->from, err, errlen) ||
+      trial(sw, sp->key, sp->to, err, errlen) ||
+      (sp->key2 && (trial(sw, sp->key2, sp->from2, err, errlen) ||
+                    trial(sw, sp->key2, sp->to2, err, errlen)))) {
+    vi_sweep_free(&sw);
+    return 2;
+  }
+  int ndir = sp->dirs == 3 ? 2 : 1;
+  sw->nlines = rows * ndir;
+  sw->lines = calloc((size_t)sw->nlines, sizeof *sw->lines);
+  if (!sw->lines) goto oom;
+  for (int l = 0; l < sw->nlines; l++) {
+    vi_sweep_line *ln = &sw->lines[l];
+    ln->row = l / ndir;
+    ln->dir = sp->dirs == 2 || (sp->dirs == 3 && l % ndir) ? -1 : 1;
+    ln->pt = calloc((size_t)K, sizeof *ln->pt);
+    ln->strobe = malloc(sizeof(double) * (size_t)K * sp->record * 2 * sw->N);
+    if (!ln->pt || !ln->strobe) goto oom;
+    /* a value that fails leaves NaN, not garbage, in the file */
+    for (size_t i = 0; i < (size_t)K * sp->record * 2 * sw->N; i++) ln->strobe[i] = NAN;
+  }
+  int C = sw->spec.chunks, ntask = sw->nlines * C;
+  piece *ps = calloc((size_t)ntask, sizeof *ps);
+  if (!ps) goto oom;
+  for (int i = 0; i < ntask; i++) {
+    ps[i].sw = sw;
+    ps[i].ln = &sw->lines[i / C];
+    ps[i].pos0 = (int)((int64_t)K * (i % C) / C);
+    ps[i].pos1 = (int)((int64_t)K * (i % C + 1) / C);
+    ps[i].cancel = cancel;
+  }
+  /* MPI ranks take pieces round-robin (rank r: pieces r, r + size, ...);
+   * each piece is computed the same way wherever it runs */
+  int rank = 0, size = 1;
+#ifdef VI_HAVE_MPI
+  int mpi_on = 0;
+  MPI_Initialized(&mpi_on);
+  if (mpi_on) {
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+  }
+#endif
+  int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
+#ifdef _OPENMP
+  int nth = sp->threads > 0 ? sp->threads : omp_get_max_threads();
+#endif
+  sw->npieces = ntask;
+  sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
+  if (!sw->piece_cpu) {
+    free(ps);
+    goto oom;
+  }
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
+#endif
+  for (int q = 0; q < nmine; q++) {
+    struct timespec a, b;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+    run_piece(&ps[rank + q * size]);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+    sw->piece_cpu[rank + q * size] = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+  }
+  int code = 0;
+  for (int i = 0; i < ntask && !code; i++)
+    if (ps[i].code) {
+      code = ps[i].code;
+      msg(err, errlen, "%s", ps[i].err);
+    }
+#ifdef VI_HAVE_MPI
+  if (size > 1) code = vi_sweep_gather(sw, ps, ntask, rank, size, code, err, errlen);
+  sw->rank = rank;
+#endif
+  free(ps);
+  if (code) {
+    vi_sweep_free(&sw);
+    return code;
+  }
+  sw->wall = now() - w0;
+  *out = sw;
+  return 0;
+oom:
+  vi_sweep_free(&sw);
+  msg(err, errlen, "out of memory");
+  return 1;
+}
+
+/* ---- JSON ------------------------------------------------------------------ */
+static void json_str(FILE *f, const char *s)
+{
+  fputc('"', f);
+  for (; *s; s++) {
+    if (*s == '"' || *s == '\\') fprintf(f, "\\%c", *s);
+    else if ((unsigned char)*s < 0x20) fprintf(f, "\\u%04x", *s);
+    else fputc(*s, f);
+  }
+  fputc('"', f);
+}
+
+static void json_nums(FILE *f, const double *x, int64_t n)
+{
+  fputc('[', f);
+  for (int64_t i = 0; i < n; i++) fprintf(f, "%s%.17g", i ? ", " : "", x[i]);
+  fputc(']', f);
+}
+
+/* One line: param in sweep order, and per value n, m, vn, phase. */
+static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
+{
+  int K = sw->spec.steps;
+  fprintf(f, "\"direction\": \"%s\", \"param\": [", ln->dir > 0 ? "up" : "down");
+  for (int p = 0; p < K; p++)
+    fprintf(f, "%s%.17g", p ? ", " : "", sw->param[ln->dir > 0 ? p : K - 1 - p]);
+  static const char *what[] = {"n", "m", "vn", "impact_time_mod_T"};
+  for (int w = 0; w < 4; w++) {
+    fprintf(f, "], \"%s\": [", what[w]);
+    for (int p = 0; p < K; p++) {
+      const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+      if (p) fprintf(f, ", ");
+      if (w < 2) {
+        if (pt->n) fprintf(f, "%d", w ? pt->m : pt->n);
+        else fprintf(f, "null");
+      } else {
+        /* one period of a periodic motion, else all recorded impacts */
+        int64_t a = pt->n ? pt->nimp - pt->m : 0;
+        json_nums(f, (w == 2 ? pt->vn : pt->phase) + a, pt->nimp - a);
+      }
+    }
+  }
+  if (sw->spec.orbits > 0) {
+    fprintf(f, "], \"p11_orbits\": [");
+    for (int p = 0; p < K; p++) {
+      const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+      fprintf(f, "%s[", p ? ", " : "");
+      for (int i = 0; i < pt->norb; i++)
+        fprintf(f, "%s{\"vN\": %.17g, \"impact_time_mod_T\": %.17g, \"stable\": %s, "
+                "\"admissible\": %s}", i ? ", " : "", pt->ovn[i], pt->ophase[i],
+                pt->ostable[i] ? "true" : "false", pt->oadm[i] ? "true" : "false");
+      fprintf(f, "]");
+    }
+  }
+  fprintf(f, "], \"failed\": [");
+  for (int p = 0, first = 1; p < K; p++) {
+    const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+    if (!pt->failed) continue;
+    fprintf(f, "%s{\"param\": %.17g, \"error\": ", first ? "" : ", ",
+            sw->param[ln->dir > 0 ? p : K - 1 - p]);
+    json_str(f, pt->error ? pt->error : "");
+    fprintf(f, "}");
+    first = 0;
+  }
+  fprintf(f, "]");
+}
+
+void vi_sweep_print_json(const vi_sweep *sw, FILE *f)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  fprintf(f, "{\"scene\": ");
+  json_str(f, sw->name);
+  fprintf(f, ", \"key\": ");
+  json_str(f, sp->key);
+  fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, ",
+          sp->transient, sp->record, sp->chunks);
+  if (!sp->key2) {
+    json_line(sw, &sw->lines[0], f);
+    if (sw->nlines > 1) {
+      fprintf(f, ", \"down\": {");
+      json_line(sw, &sw->lines[1], f);
+      fprintf(f, "}");
+    }
+  } else {
+    fprintf(f, "\"key2\": ");
+    json_str(f, sp->key2);
+    fprintf(f, ", \"param2\": ");
+    json_nums(f, sw->param2, sp->steps2);
+    fprintf(f, ", \"lines\": [");
+    for (int l = 0; l < sw->nlines; l++) {
+      fprintf(f, "%s{\"param2\": %.17g, ", l ? ", " : "",
+              sw->param2[sw->lines[l].row]);
+      json_line(sw, &sw->lines[l], f);
+      fprintf(f, "}");
+    }
+    fprintf(f, "]");
+  }
+  fprintf(f, "}\n");
+}

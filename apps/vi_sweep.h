@@ -1,0 +1,143 @@
+/* vi_sweep.h - brute-force bifurcation diagrams (`vibroimpact sweep`).
+ *
+ * One scene key (any numeric one, e.g. forcing.omega, stop.xs, forcing.a[1])
+ * takes K values from..to; at each value the scene is re-parsed with the
+ * key set (vi_scene_edit), simulated for `transient` forcing periods and
+ * then `record` more, whose impacts (time mod T, v_n) and stroboscopic
+ * states (at t0 + k T) are kept, and the motion is classified P(n, m).
+ *
+ * Warm start: each value starts from the state the previous value ended in
+ * (at the same forcing phase, t0 mod T), so sweeps up and down show
+ * hysteresis.  The first value of a piece starts from the scene's
+ * `initial:`.  A piece is a whole line (one direction at one value of the
+ * second parameter) or, with `chunks` C > 1, one of C contiguous runs of
+ * values of the line in its direction; the pieces are independent, so any
+ * number of threads (or a serial run) gives bit-identical results for the
+ * same C.  Under MPI (`mpirun -np K vibroimpact sweep ...`, built with
+ * OpenMPI) the pieces are dealt round-robin to the ranks, each runs its
+ * own on its OpenMP threads, and rank 0 gathers the diagram: identical
+ * for any K.
+ */
+#ifndef VI_SWEEP_H
+#define VI_SWEEP_H
+
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+
+typedef struct vi_sweep_spec {
+  const char *key;      /* swept scene key */
+  double from, to;
+  int steps;            /* K >= 1 */
+  const char *key2;     /* second parameter (two-parameter map) or NULL */
+  double from2, to2;
+  int steps2;           /* rows of the map (1 without key2) */
+  int dirs;             /* 1 up (from -> to), 2 down, 3 both */
+  int transient, record;/* forcing periods per value */
+  int chunks;           /* pieces per line (warm start inside a piece) */
+  int threads;          /* <= 0: the OpenMP default */
+  double tol;           /* classification tolerance, relative */
+  int nmax;             /* longest orbit period looked for (forcing periods) */
+  int orbits;           /* > 0: also every P(1,1) orbit at each value, by a
+                           scan of this many impact phases (vi_orbit_p1_scan),
+                           unstable ones included; 0: off */
+} vi_sweep_spec;
+
+/* One parameter value of one line. */
+typedef struct vi_sweep_point {
+  int n, m;             /* P(n, m); n = 0: none within the recorded periods */
+  int64_t nimp;         /* impacts in the recorded periods */
+  double *t, *phase, *vn; /* their times, times mod T, approach velocities */
+  double T;             /* forcing period */
+  int failed;           /* 1: the simulation of this value failed (why:
+                           `error`); the next value starts cold */
+  char *error;
+  /* spec.orbits: the P(1,1) orbits at this value (-1: no closed-form flow) */
+  int norb;
+  double *ovn, *ophase;  /* [norb] approach velocity w.v, impact time mod T */
+  int *ostable, *oadm;   /* [norb] stable (all |mu| < 1), admissible */
+} vi_sweep_point;
+
+typedef struct vi_sweep_line {
+  int dir;              /* +1 up, -1 down */
+  int row;              /* index of the second parameter's value */
+  vi_sweep_point *pt;   /* [K], by value index (ascending from..to) */
+  double *strobe;       /* [K][record][2N]: x then v at t0 + (P + k) T */
+} vi_sweep_line;
+
+typedef struct vi_sweep {
+  vi_sweep_spec spec;
+  int N;                /* coordinates */
+  double t0;
+  double *param, *param2; /* [K], [steps2] */
+  int nlines;
+  vi_sweep_line *lines;   /* row-major: row r, then up before down */
+  char *text, *name;      /* the base scene (after --set) and its file name */
+  double wall;            /* seconds spent in vi_sweep_run */
+  int rank;               /* MPI rank (0 without MPI): only rank 0 holds
+                             the whole diagram */
+  int npieces;            /* lines x chunks */
+  double *piece_cpu;      /* [npieces] CPU seconds of each piece (its
+                             thread's clock; this rank's pieces only) */
+} vi_sweep;
+
+/* Run the sweep on the scene text (name: its file, for messages) after
+ * the KEY=VALUE assignments sets[nsets].  Returns 0, or 2 for bad input
+ * (message in err, naming file:line:key where known), 1 for a run-time
+ * failure or cancellation (*cancel set non-zero by a signal handler). */
+int vi_sweep_run(const char *text, const char *name, const char *const *sets,
+                 int nsets, const vi_sweep_spec *spec,
+                 volatile sig_atomic_t *cancel, vi_sweep **out, char *err,
+                 int errlen);
+void vi_sweep_free(vi_sweep **sw);
+
+/* The diagram as one JSON object (see share/doc/sweep-layout.md). */
+void vi_sweep_print_json(const vi_sweep *sw, FILE *f);
+/* The diagram to HDF5 (share/doc/sweep-layout.md): written to path.part,
+ * renamed on success.  Returns 0, or 1 with a message in err. */
+int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err,
+                      int errlen);
+
+
+/* The scene file's text (path NULL: the embedded default), malloc'ed; NULL
+ * with a message in err. */
+char *vi_sweep_read_text(const char *path, char *err, int errlen);
+/* Read a scene file (NULL: the default) with KEY=VALUE overrides applied
+ * (vi_scene_edit) and parse it.  Returns 0, 2 for bad input, 1 for I/O;
+ * err names file:line:key. */
+struct vi_scene;
+int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
+                        struct vi_scene **out, char *err, int errlen);
+
+/* --set KEY=VALUE for run and energy: vi_sets_take removes every
+ * `--set KEY=VALUE` (or `--set=KEY=VALUE`) from argv and keeps them;
+ * returns the new argc, -1 for a --set without its value.  vi_sets_load
+ * then loads a scene (NULL: the default) as vi_scene_load does, with them
+ * applied (vi_scene_edit: errors keep the file:line of the key). */
+int vi_sets_take(int argc, char **argv);
+/* Number of --set assignments taken (0: load scenes as usual). */
+int vi_sets_active(void);
+struct vi_diag;
+int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
+
+/* `vibroimpact sweep ARGS`: replace this process by vibroimpact-sweep
+ * (beside the program) with argv = the subcommand's; returns only on
+ * failure (exit status 1, message printed). */
+int vi_sweep_exec(int argc, char **argv);
+
+/* Follow the P(n,1) orbit (t0, x0, v0 [N]: an impact and the state before
+ * it) of the scene in its key from the scene's value to `to` in `steps`
+ * steps (vi_sweep_cont.c), printing the branch and the points where it
+ * loses stability or grazes (text, or JSON {key, n, m, branch, events}).
+ * Returns 0, 2 for bad input (err), 1 otherwise. */
+int vi_sweep_continue(const char *text, const char *name, const char *key,
+                      double to, int steps, int np, const double *t0,
+                      const double *x0, const double *v0, int N, int json,
+                      char *err, int errlen);
+
+/* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
+ * subcommand; returns the exit status. */
+int vi_cmd_sweep_main(int argc, char **argv);
+int vi_cmd_orbits_main(int argc, char **argv);
+
+#endif

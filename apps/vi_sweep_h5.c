@@ -1,0 +1,222 @@
+/* vi_sweep_h5.c - a sweep to HDF5 (layout: share/doc/sweep-layout.md).
+ * Whole arrays are known when the sweep ends, so each is one contiguous
+ * dataset written at once; the file is FILE.part until it is complete. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <hdf5.h>
+
+#include "vibroimpact.h"
+#include "vi_sweep.h"
+
+static int put(hid_t loc, const char *name, hid_t type, int rank,
+               const hsize_t *dims, const void *data)
+{
+  int bad = 1;
+  hid_t sp = -1, ds = -1;
+  H5E_BEGIN_TRY {
+    sp = H5Screate_simple(rank, dims, NULL);
+    if (sp >= 0) ds = H5Dcreate2(loc, name, type, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    bad = ds < 0 || H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
+    if (ds >= 0) H5Dclose(ds);
+    if (sp >= 0) H5Sclose(sp);
+  } H5E_END_TRY;
+  return bad;
+}
+
+static int attr_str(hid_t loc, const char *name, const char *val)
+{
+  int bad = 1;
+  hid_t t = -1, sp = -1, a = -1;
+  H5E_BEGIN_TRY {
+    t = H5Tcopy(H5T_C_S1);
+    if (t >= 0 && H5Tset_size(t, strlen(val) + 1) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
+      sp = H5Screate(H5S_SCALAR);
+    if (sp >= 0) a = H5Acreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    bad = a < 0 || H5Awrite(a, t, val) < 0;
+    if (a >= 0) H5Aclose(a);
+    if (sp >= 0) H5Sclose(sp);
+    if (t >= 0) H5Tclose(t);
+  } H5E_END_TRY;
+  return bad;
+}
+
+static int attr_num(hid_t loc, const char *name, hid_t type, const void *val)
+{
+  int bad = 1;
+  hid_t sp = -1, a = -1;
+  H5E_BEGIN_TRY {
+    sp = H5Screate(H5S_SCALAR);
+    if (sp >= 0) a = H5Acreate2(loc, name, type, sp, H5P_DEFAULT, H5P_DEFAULT);
+    bad = a < 0 || H5Awrite(a, type, val) < 0;
+    if (a >= 0) H5Aclose(a);
+    if (sp >= 0) H5Sclose(sp);
+  } H5E_END_TRY;
+  return bad;
+}
+
+/* /sweep/p11: every P(1,1) orbit at each value (sweep --orbits) */
+static int put_p11(hid_t g, const vi_sweep *sw)
+{
+  int K = sw->spec.steps, L = sw->nlines, bad = 0;
+  size_t LK = (size_t)L * K, J = 0;
+  for (size_t i = 0; i < LK; i++) {
+    int no = sw->lines[i / K].pt[i % K].norb;
+    J += no > 0 ? (size_t)no : 0;
+  }
+  int *cnt = malloc(sizeof(int) * (LK + 2 * J + 1));
+  int64_t *start = malloc(sizeof(int64_t) * LK);
+  double *d = malloc(sizeof(double) * (2 * J + 1));
+  if (!cnt || !start || !d) {
+    bad = 1;
+    goto done;
+  }
+  int *st = cnt + LK, *ad = st + J;
+  size_t off = 0;
+  for (size_t i = 0; i < LK; i++) {
+    const vi_sweep_point *pt = &sw->lines[i / K].pt[i % K];
+    cnt[i] = pt->norb;
+    start[i] = (int64_t)off;
+    for (int j = 0; j < pt->norb; j++, off++) {
+      d[off] = pt->ovn[j];
+      d[J + off] = pt->ophase[j];
+      st[off] = pt->ostable[j];
+      ad[off] = pt->oadm[j];
+    }
+  }
+  hid_t h = -1;
+  H5E_BEGIN_TRY { h = H5Gcreate2(g, "p11", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
+  if (h < 0) {
+    bad = 1;
+    goto done;
+  }
+  hsize_t dLK[2] = {(hsize_t)L, (hsize_t)K}, dJ[1] = {(hsize_t)J};
+  bad |= attr_num(h, "phases", H5T_NATIVE_INT, &sw->spec.orbits);
+  bad |= put(h, "count", H5T_NATIVE_INT, 2, dLK, cnt);
+  bad |= put(h, "start", H5T_NATIVE_INT64, 2, dLK, start);
+  bad |= put(h, "v_n", H5T_NATIVE_DOUBLE, 1, dJ, d);
+  bad |= put(h, "phase", H5T_NATIVE_DOUBLE, 1, dJ, d + J);
+  bad |= put(h, "stable", H5T_NATIVE_INT, 1, dJ, st);
+  bad |= put(h, "admissible", H5T_NATIVE_INT, 1, dJ, ad);
+  H5E_BEGIN_TRY { H5Gclose(h); } H5E_END_TRY;
+done:
+  free(cnt);
+  free(start);
+  free(d);
+  return bad;
+}
+
+int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errlen)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
+  char part[4096];
+  snprintf(part, sizeof part, "%s.part", path);
+  int64_t I = 0;
+  for (int l = 0; l < L; l++)
+    for (int k = 0; k < K; k++) I += sw->lines[l].pt[k].nimp;
+  size_t LK = (size_t)L * K;
+  int *ni = malloc(sizeof(int) * (LK * 2 + 2 * (size_t)L));
+  int64_t *cnt = malloc(sizeof(int64_t) * LK * 2);
+  double *T = malloc(sizeof(double) * LK);
+  double *flat = malloc(sizeof(double) * (size_t)(3 * I + 1));
+  double *strobe = malloc(sizeof(double) * LK * R * n2 + 1);
+  if (!ni || !cnt || !T || !flat || !strobe) {
+    snprintf(err, (size_t)errlen, "out of memory");
+    bad = 1;
+    goto done;
+  }
+  int *nn = ni, *mm = ni + LK, *lin = ni + 2 * LK;
+  int64_t *start = cnt + LK, off = 0;
+  for (int l = 0; l < L; l++) {
+    const vi_sweep_line *ln = &sw->lines[l];
+    memcpy(strobe + (size_t)l * K * R * n2, ln->strobe, sizeof(double) * K * R * n2);
+    for (int k = 0; k < K; k++) {
+      const vi_sweep_point *pt = &ln->pt[k];
+      size_t i = (size_t)l * K + k;
+      nn[i] = pt->failed ? -1 : pt->n;
+      mm[i] = pt->n ? pt->m : 0;
+      T[i] = pt->T;
+      cnt[i] = pt->nimp;
+      start[i] = off;
+      for (int64_t j = 0; j < pt->nimp; j++, off++) {
+        flat[off] = pt->t[j];
+        flat[I + off] = pt->phase[j];
+        flat[2 * I + off] = pt->vn[j];
+      }
+    }
+  }
+  int *dir = lin, *row = lin + L;
+  for (int l = 0; l < L; l++) {
+    dir[l] = sw->lines[l].dir;
+    row[l] = sw->lines[l].row;
+  }
+  hid_t f = -1, g = -1, gi = -1;
+  H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
+  if (f < 0) {
+    snprintf(err, (size_t)errlen, "cannot create '%s'", part);
+    bad = 1;
+    goto done;
+  }
+  char creator[64];
+  snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
+  int fmt = 1;
+  bad |= attr_str(f, "creator", creator);
+  bad |= attr_str(f, "kind", "sweep");
+  bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
+  bad |= attr_str(f, "scene", sw->text);
+  bad |= attr_str(f, "scene_file", sw->name);
+  H5E_BEGIN_TRY {
+    g = H5Gcreate2(f, "sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g >= 0) gi = H5Gcreate2(g, "impacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  } H5E_END_TRY;
+  bad |= g < 0 || gi < 0;
+  if (!bad) {
+    hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
+            dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
+            dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
+            dI[1] = {(hsize_t)I};
+    bad |= attr_str(g, "key", sp->key);
+    if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
+    bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
+    bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
+    bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
+    bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
+    bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
+    bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
+    bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
+    bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
+    if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
+    bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, dir);
+    bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, row);
+    bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, nn);
+    bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, mm);
+    bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, T);
+    bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, strobe);
+    bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, cnt);
+    bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, start);
+    bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, flat);
+    bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, flat + I);
+    bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
+    if (sp->orbits > 0) bad |= put_p11(g, sw);
+  }
+  H5E_BEGIN_TRY {
+    if (gi >= 0) H5Gclose(gi);
+    if (g >= 0) H5Gclose(g);
+    bad |= H5Fclose(f) < 0;
+  } H5E_END_TRY;
+  if (bad) snprintf(err, (size_t)errlen, "writing '%s' failed", part);
+  else if (rename(part, path)) {
+    snprintf(err, (size_t)errlen, "cannot rename '%s' to '%s'", part, path);
+    bad = 1;
+  }
+  if (bad) remove(part);
+done:
+  free(ni);
+  free(cnt);
+  free(T);
+  free(flat);
+  free(strobe);
+  return bad;
+}

@@ -1,0 +1,159 @@
+/* vi_sweep_scene.c - reading a scene file with `--set KEY=VALUE` overrides
+ * applied (shared by sweep, orbits, and the run / energy commands). */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "vibroimpact.h"
+#include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_scene_edit.h"
+#include "vi_sweep.h"
+
+char *vi_sweep_read_text(const char *path, char *err, int errlen)
+{
+  if (!path) {
+    char *t = strdup(vi_scene_default_text());
+    if (!t) snprintf(err, (size_t)errlen, "out of memory");
+    return t;
+  }
+  FILE *f = fopen(path, "rb");
+  if (!f) {
+    snprintf(err, (size_t)errlen, "%s: cannot open: %s", path, strerror(errno));
+    return NULL;
+  }
+  size_t len = 0, cap = 8192;
+  char *buf = malloc(cap);
+  size_t got;
+  while (buf && (got = fread(buf + len, 1, cap - len - 1, f)) > 0) {
+    len += got;
+    if (len > VI_SCENE_MAX_BYTES) { /* the reader's own limit */
+      fclose(f);
+      free(buf);
+      snprintf(err, (size_t)errlen, "%s: larger than %d bytes: not a scene", path,
+               VI_SCENE_MAX_BYTES);
+      return NULL;
+    }
+    if (cap - len < 2) {
+      char *nb = realloc(buf, 2 * cap);
+      if (!nb) {
+        free(buf);
+        buf = NULL;
+      }
+      buf = nb;
+      cap *= 2;
+    }
+  }
+  int bad = ferror(f);
+  fclose(f);
+  if (!buf || bad) {
+    free(buf);
+    snprintf(err, (size_t)errlen, "%s: %s", path, buf ? "read error" : "out of memory");
+    return NULL;
+  }
+  buf[len] = '\0';
+  return buf;
+}
+
+int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
+                        vi_scene **out, char *err, int errlen)
+{
+  vi_scene_edit *ed = NULL;
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  *out = NULL;
+  char *text = vi_sweep_read_text(path, err, errlen);
+  if (!text) return 1;
+  int st = vi_scene_edit_create(text, -1, path ? path : "<default scene: fig2>",
+                                &ed, &d);
+  for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
+  if (!st) st = vi_scene_edit_parse(ed, out, &d);
+  free(text);
+  vi_scene_edit_destroy(&ed);
+  if (st) {
+    if (!d.code) {
+      d.code = st;
+      snprintf(d.message, sizeof d.message, "%s", vi_strerror(st));
+    }
+    vi_diag_format(&d, err, errlen);
+    return st == VI_ERR_NOMEM || st == VI_ERR_IO ? 1 : 2;
+  }
+  return 0;
+}
+
+/* ---- --set for the commands that share the app's option parser --------- */
+/* The program's own list, filled once by main() before any thread starts. */
+static const char **set_list;
+static int set_count;
+
+int vi_sets_take(int argc, char **argv)
+{
+  int k = 1;
+  set_list = calloc((size_t)argc + 1, sizeof *set_list);
+  if (!set_list) return -1;
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--set")) {
+      if (i + 1 >= argc) return -1;
+      set_list[set_count++] = argv[++i];
+    } else if (!strncmp(argv[i], "--set=", 6)) {
+      set_list[set_count++] = argv[i] + 6;
+    } else {
+      argv[k++] = argv[i];
+    }
+  }
+  argv[k] = NULL;
+  return k;
+}
+
+int vi_sets_active(void) { return set_count; }
+
+int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
+{
+  if (!set_count)
+    return path ? vi_scene_load(path, out, d)
+                : vi_scene_parse(vi_scene_default_text(), -1,
+                                 "<default scene: fig2>", out, d);
+  char err[512];
+  vi_scene_edit *ed = NULL;
+  if (d) memset(d, 0, sizeof *d);
+  *out = NULL;
+  char *text = vi_sweep_read_text(path, err, sizeof err);
+  if (!text) {
+    if (d) {
+      d->code = VI_ERR_IO;
+      snprintf(d->file, sizeof d->file, "%s", path ? path : "");
+      size_t k = path ? strlen(path) : 0; /* err starts "path: " */
+      snprintf(d->message, sizeof d->message, "%s",
+               k && !strncmp(err, path, k) && err[k] == ':' ? err + k + 2 : err);
+    }
+    return VI_ERR_IO;
+  }
+  int st = vi_scene_edit_create(text, -1, path ? path : "<default scene: fig2>",
+                                &ed, d);
+  for (int i = 0; i < set_count && !st; i++) st = vi_scene_edit_assign(ed, set_list[i], d);
+  if (!st) st = vi_scene_edit_parse(ed, out, d);
+  free(text);
+  vi_scene_edit_destroy(&ed);
+  return st;
+}
+
+/* ---- `vibroimpact sweep`: run vibroimpact-sweep in this process's place -- */
+int vi_sweep_exec(int argc, char **argv)
+{
+  (void)argc;
+  char self[4096];
+  ssize_t k = readlink("/proc/self/exe", self, sizeof self - 32);
+  if (k <= 0) {
+    fprintf(stderr, "vibroimpact: sweep: cannot locate the program: %s\n", strerror(errno));
+    return 1;
+  }
+  self[k] = '\0';
+  char *slash = strrchr(self, '/');
+  snprintf(slash ? slash + 1 : self, sizeof self - (size_t)(slash ? slash + 1 - self : 0),
+           "vibroimpact-sweep");
+  argv[0] = self;
+  execv(self, argv);
+  fprintf(stderr, "vibroimpact: sweep: cannot run %s: %s\n", self, strerror(errno));
+  return 1;
+}

@@ -1,0 +1,410 @@
+/* vi_scene_edit.c - `--set KEY=VALUE` overrides spliced into the scene text.
+ *
+ * Why a splice and not a re-emitted document: yaml_emitter drops comments
+ * and re-flows every line, so a bad value would be reported at a line of a
+ * text the user never saw.  libyaml still does the locating: the document
+ * is loaded, the path walked node by node, and the node's marks give the
+ * span to replace. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <yaml.h>
+
+#include "vibroimpact/vi_scene_edit.h"
+#include "vibroimpact/vi_status.h"
+
+#define MAX_TOK 16   /* path components */
+#define MAX_EDITS 64 /* lines remembered for messages */
+
+struct vi_scene_edit {
+  char *text, *name;
+  size_t len;
+  int nedits, lines[MAX_EDITS];
+};
+
+typedef struct tok {
+  int index; /* 0: a key; else a 1-based list index */
+  char key[64];
+} tok;
+
+static int fail(vi_diag *d, const char *file, int code, int line, int col,
+                const char *key, const char *value, const char *fmt, ...)
+    __attribute__((format(printf, 8, 9)));
+
+static int fail(vi_diag *d, const char *file, int code, int line, int col,
+                const char *key, const char *value, const char *fmt, ...)
+{
+  if (!d) return code;
+  memset(d, 0, sizeof *d);
+  d->code = code;
+  d->line = line;
+  d->column = col;
+  snprintf(d->file, sizeof d->file, "%s", file ? file : "");
+  snprintf(d->key, sizeof d->key, "%s", key ? key : "");
+  snprintf(d->value, sizeof d->value, "%s", value ? value : "");
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(d->message, sizeof d->message, fmt, ap);
+  va_end(ap);
+  return code;
+}
+
+/* "a.b[2].c" -> tokens; 0 on a malformed path. */
+static int split_path(const char *key, tok *t, int *nt)
+{
+  int n = 0;
+  const char *s = key;
+  if (!*s) return 0;
+  while (*s) {
+    if (n == MAX_TOK) return 0;
+    if (*s == '[') {
+      char *end;
+      long i = strtol(s + 1, &end, 10);
+      if (end == s + 1 || *end != ']' || i < 1 || i > 1000000) return 0;
+      t[n].index = (int)i;
+      t[n++].key[0] = '\0';
+      s = end + 1;
+      if (*s == '.') {
+        s++;
+        if (!*s || *s == '.' || *s == '[') return 0;
+      }
+      continue;
+    }
+    size_t k = strcspn(s, ".[");
+    if (k == 0 || k >= sizeof t[n].key) return 0;
+    memcpy(t[n].key, s, k);
+    t[n].key[k] = '\0';
+    t[n++].index = 0;
+    s += k;
+    if (*s == '.') {
+      s++;
+      if (!*s || *s == '.' || *s == '[') return 0;
+    }
+  }
+  *nt = n;
+  return 1;
+}
+
+/* libyaml marks count characters; the splice needs bytes (UTF-8 comments). */
+static size_t byte_of(const char *text, size_t len, size_t chars)
+{
+  size_t b = 0, c = 0;
+  while (b < len && c < chars) {
+    b++;
+    while (b < len && ((unsigned char)text[b] & 0xC0) == 0x80) b++;
+    c++;
+  }
+  return b;
+}
+
+static int load(const char *text, size_t len, yaml_document_t *doc,
+                yaml_mark_t *where, const char **problem)
+{
+  yaml_parser_t p;
+  if (!yaml_parser_initialize(&p)) return 0;
+  yaml_parser_set_input_string(&p, (const unsigned char *)text, len);
+  int ok = yaml_parser_load(&p, doc);
+  if (!ok) {
+    if (where) *where = p.problem_mark;
+    if (problem) *problem = p.problem ? p.problem : "error";
+  }
+  yaml_parser_delete(&p);
+  return ok;
+}
+
+int vi_scene_edit_create(const char *text, long len, const char *name,
+                         vi_scene_edit **out, vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (!out || !text) return VI_ERR_ARG;
+  *out = NULL;
+  if (len < 0) len = (long)strlen(text);
+  vi_scene_edit *e = calloc(1, sizeof *e);
+  if (!e) return VI_ERR_NOMEM;
+  e->text = malloc((size_t)len + 1);
+  e->name = strdup(name ? name : "<input>");
+  if (!e->text || !e->name) {
+    vi_scene_edit_destroy(&e);
+    return VI_ERR_NOMEM;
+  }
+  memcpy(e->text, text, (size_t)len);
+  e->text[len] = '\0';
+  e->len = (size_t)len;
+  yaml_document_t doc;
+  yaml_mark_t mk = {0, 0, 0};
+  const char *why = "";
+  if (!load(e->text, e->len, &doc, &mk, &why)) {
+    int st = fail(d, e->name, VI_ERR_PARSE, (int)mk.line + 1,
+                  (int)mk.column + 1, "", "", "YAML syntax: %s", why);
+    vi_scene_edit_destroy(&e);
+    return st;
+  }
+  yaml_document_delete(&doc);
+  *out = e;
+  return VI_OK;
+}
+
+void vi_scene_edit_destroy(vi_scene_edit **ep)
+{
+  if (!ep || !*ep) return;
+  free((*ep)->text);
+  free((*ep)->name);
+  free(*ep);
+  *ep = NULL;
+}
+
+const char *vi_scene_edit_text(const vi_scene_edit *e)
+{
+  return e ? e->text : "";
+}
+
+/* Replace bytes [a, b) of the text with s. */
+static int splice(vi_scene_edit *e, size_t a, size_t b, const char *s)
+{
+  size_t k = strlen(s), nl = e->len - (b - a) + k;
+  char *t = malloc(nl + 1);
+  if (!t) return VI_ERR_NOMEM;
+  memcpy(t, e->text, a);
+  memcpy(t + a, s, k);
+  memcpy(t + a + k, e->text + b, e->len - b);
+  t[nl] = '\0';
+  free(e->text);
+  e->text = t;
+  e->len = nl;
+  return VI_OK;
+}
+
+static void remember(vi_scene_edit *e, int line)
+{
+  for (int i = 0; i < e->nedits; i++)
+    if (e->lines[i] == line) return;
+  if (e->nedits < MAX_EDITS) e->lines[e->nedits++] = line;
+}
+
+static yaml_node_t *child(yaml_document_t *doc, yaml_node_t *map,
+                          const char *key, yaml_node_t **keynode)
+{
+  for (yaml_node_pair_t *p = map->data.mapping.pairs.start;
+       p < map->data.mapping.pairs.top; p++) {
+    yaml_node_t *k = yaml_document_get_node(doc, p->key);
+    if (k && k->type == YAML_SCALAR_NODE &&
+        !strcmp((const char *)k->data.scalar.value, key)) {
+      if (keynode) *keynode = k;
+      return yaml_document_get_node(doc, p->value);
+    }
+  }
+  return NULL;
+}
+
+/* Walk the path as far as it exists: *found = number of tokens matched,
+ * *nd = the last node reached. */
+static int walk(const vi_scene_edit *e, yaml_document_t *doc, const tok *t, int nt,
+                const char *key, yaml_node_t **nd, int *found, vi_diag *d)
+{
+  yaml_node_t *cur = yaml_document_get_root_node(doc);
+  if (!cur)
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "",
+                "the scene is empty");
+  int i;
+  for (i = 0; i < nt; i++) {
+    int line = (int)cur->start_mark.line + 1, col = (int)cur->start_mark.column + 1;
+    if (!t[i].index) {
+      if (cur->type != YAML_MAPPING_NODE)
+        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                    "'%s' is looked up in something that is not a mapping",
+                    t[i].key);
+      yaml_node_t *c = child(doc, cur, t[i].key, NULL);
+      if (!c) break;
+      cur = c;
+    } else {
+      if (cur->type != YAML_SEQUENCE_NODE)
+        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                    "index [%d] applied to something that is not a list",
+                    t[i].index);
+      long cnt = cur->data.sequence.items.top - cur->data.sequence.items.start;
+      if (t[i].index > cnt)
+        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                    "index [%d] out of range: the list has %ld entries "
+                    "(indices are 1-based)", t[i].index, cnt);
+      cur = yaml_document_get_node(doc,
+                                   cur->data.sequence.items.start[t[i].index - 1]);
+      if (!cur)
+        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                    "malformed list");
+    }
+  }
+  *nd = cur;
+  *found = i;
+  return VI_OK;
+}
+
+/* VALUE must be a single YAML node on a single line. */
+static int check_value(const vi_scene_edit *e, const char *key,
+                       const char *value, vi_diag *d)
+{
+  if (!*value || strpbrk(value, "\n\r#"))
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                "the value must be one YAML value on one line (no comment)");
+  yaml_document_t doc;
+  if (!load(value, strlen(value), &doc, NULL, NULL))
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                "the value is not valid YAML");
+  yaml_node_t *r = yaml_document_get_root_node(&doc);
+  int ok = r && (r->type != YAML_MAPPING_NODE ||
+                 r->data.mapping.style == YAML_FLOW_MAPPING_STYLE) &&
+           (r->type != YAML_SEQUENCE_NODE ||
+            r->data.sequence.style == YAML_FLOW_SEQUENCE_STYLE);
+  yaml_document_delete(&doc);
+  if (!ok)
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                "the value must be a number, a word or a flow list [..]");
+  return VI_OK;
+}
+
+int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
+                      vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (!e || !key || !value) return VI_ERR_ARG;
+  tok t[MAX_TOK];
+  int nt = 0, st, found = 0;
+  if (!split_path(key, t, &nt))
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                "malformed key: expected words joined by '.', with 1-based "
+                "list indices such as forcing.a[1]");
+  if ((st = check_value(e, key, value, d))) return st;
+  yaml_document_t doc;
+  if (!load(e->text, e->len, &doc, NULL, NULL))
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                "the scene is no longer valid YAML");
+  yaml_node_t *nd = NULL;
+  if ((st = walk(e, &doc, t, nt, key, &nd, &found, d))) goto done;
+  if (found == nt) {
+    /* replace the node's own text */
+    size_t a = byte_of(e->text, e->len, nd->start_mark.index);
+    size_t b = byte_of(e->text, e->len, nd->end_mark.index);
+    int line = (int)nd->start_mark.line + 1;
+    if ((st = splice(e, a, b, value))) goto done;
+    remember(e, line);
+    goto done;
+  }
+  /* add the missing keys to the innermost mapping that exists */
+  for (int i = found; i < nt; i++)
+    if (t[i].index) {
+      st = fail(d, e->name, VI_ERR_PARSE, (int)nd->start_mark.line + 1,
+                (int)nd->start_mark.column + 1, key, value,
+                "'%s' is not in the scene, and list entries cannot be added",
+                t[found].key);
+      goto done;
+    }
+  char ins[1024] = "";
+  int k = 0;
+  for (int i = found; i < nt; i++)
+    k += snprintf(ins + k, sizeof ins - (size_t)k, "%s: %s", t[i].key,
+                  i + 1 < nt ? "{" : "");
+  k += snprintf(ins + k, sizeof ins - (size_t)k, "%s", value);
+  for (int i = found; i + 1 < nt; i++)
+    k += snprintf(ins + k, sizeof ins - (size_t)k, "}");
+  if (k >= (int)sizeof ins - 8) {
+    st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value, "value too long");
+    goto done;
+  }
+  long npairs = nd->data.mapping.pairs.top - nd->data.mapping.pairs.start;
+  char buf[1200];
+  if (nd->data.mapping.style == YAML_FLOW_MAPPING_STYLE) {
+    size_t b = byte_of(e->text, e->len, nd->end_mark.index);
+    while (b > 0 && e->text[b - 1] != '}') b--;
+    if (b == 0) {
+      st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                "cannot find the end of the mapping");
+      goto done;
+    }
+    snprintf(buf, sizeof buf, "%s%s", npairs ? ", " : "", ins);
+    if ((st = splice(e, b - 1, b - 1, buf))) goto done;
+    remember(e, (int)nd->end_mark.line + 1);
+  } else {
+    if (!npairs) {
+      st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                "cannot add a key to an empty mapping");
+      goto done;
+    }
+    yaml_node_t *k0 = yaml_document_get_node(&doc, nd->data.mapping.pairs.start->key);
+    yaml_node_t *vl = yaml_document_get_node(&doc, (nd->data.mapping.pairs.top - 1)->value);
+    size_t b = byte_of(e->text, e->len, vl->end_mark.index);
+    /* a block value ends at the start of the next line: step back */
+    if (vl->end_mark.column == 0 && b > 0) b--;
+    while (b < e->len && e->text[b] != '\n') b++;
+    int ind = (int)k0->start_mark.column;
+    snprintf(buf, sizeof buf, "\n%*s%s", ind, "", ins);
+    /* the new line is counted from the line b sits on */
+    int line = 1;
+    for (size_t i = 0; i < b; i++) line += e->text[i] == '\n';
+    if ((st = splice(e, b, b, buf))) goto done;
+    remember(e, line + 1);
+  }
+done:
+  yaml_document_delete(&doc);
+  return st;
+}
+
+int vi_scene_edit_assign(vi_scene_edit *e, const char *assignment, vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (!e || !assignment) return VI_ERR_ARG;
+  const char *eq = strchr(assignment, '=');
+  char key[256];
+  if (!eq || eq == assignment || (size_t)(eq - assignment) >= sizeof key)
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, assignment, "",
+                "expected KEY=VALUE, e.g. forcing.omega=0.9");
+  memcpy(key, assignment, (size_t)(eq - assignment));
+  key[eq - assignment] = '\0';
+  return vi_scene_edit_set(e, key, eq + 1, d);
+}
+
+int vi_scene_edit_set_number(vi_scene_edit *e, const char *key, double value,
+                             vi_diag *d)
+{
+  char buf[40];
+  snprintf(buf, sizeof buf, "%.17g", value);
+  return vi_scene_edit_set(e, key, buf, d);
+}
+
+int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
+                      int len, vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (!e || !key || !buf || len < 1) return VI_ERR_ARG;
+  buf[0] = '\0';
+  tok t[MAX_TOK];
+  int nt = 0, st, found = 0;
+  if (!split_path(key, t, &nt))
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "malformed key");
+  yaml_document_t doc;
+  if (!load(e->text, e->len, &doc, NULL, NULL))
+    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "invalid YAML");
+  yaml_node_t *nd = NULL;
+  st = walk(e, &doc, t, nt, key, &nd, &found, d);
+  if (!st && (found < nt || !nd || nd->type != YAML_SCALAR_NODE))
+    st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "",
+              found < nt ? "the scene has no such key" : "not a single value");
+  if (!st && nd) snprintf(buf, (size_t)len, "%s", (const char *)nd->data.scalar.value);
+  yaml_document_delete(&doc);
+  return st;
+}
+
+int vi_scene_edit_parse(const vi_scene_edit *e, vi_scene **out, vi_diag *d)
+{
+  if (!e || !out) return VI_ERR_ARG;
+  int st = vi_scene_parse(e->text, (long)e->len, e->name, out, d);
+  if (st && d)
+    for (int i = 0; i < e->nedits; i++)
+      if (d->line == e->lines[i]) {
+        size_t k = strlen(d->message);
+        snprintf(d->message + k, sizeof d->message - k,
+                 " (a value set on the command line)");
+        break;
+      }
+  return st;
+}
