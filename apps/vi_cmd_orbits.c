@@ -243,6 +243,7 @@ int vi_cmd_orbits_main(int argc, char **argv)
   int np = 1, mi = 1, json = 0, phases = 720, nsets = 0, c, rc = 2, csteps = 50;
   const char *scene = NULL, *ckey = NULL;
   double cto = NAN;
+  int arclength = 0;
   const char **sets = calloc((size_t)argc + 1, sizeof *sets);
   if (!sets) return 1;
   static const struct option lo[] = {
@@ -250,7 +251,7 @@ int vi_cmd_orbits_main(int argc, char **argv)
       {"json", no_argument, 0, 'j'},         {"phases", required_argument, 0, 'p'},
       {"set", required_argument, 0, 's'},    {"help", no_argument, 0, 'h'},
       {"continue", required_argument, 0, 'C'}, {"to", required_argument, 0, 'T'},
-      {"steps", required_argument, 0, 'S'},
+      {"steps", required_argument, 0, 'S'},  {"arclength", no_argument, 0, 'A'},
       {0, 0, 0, 0}};
   optind = 1;
   opterr = 0;
@@ -262,6 +263,7 @@ int vi_cmd_orbits_main(int argc, char **argv)
     case 'p': phases = whole(optarg, 8, 1000000); break;
     case 's': sets[nsets++] = optarg; break;
     case 'C': ckey = optarg; break;
+    case 'A': arclength = 1; break;
     case 'T': {
       char *end;
       cto = strtod(optarg, &end);
@@ -278,7 +280,8 @@ int vi_cmd_orbits_main(int argc, char **argv)
              "matrices), admissibility checked.\n"
              "--continue KEY --to B [--steps K]: follow each admissible P(n,1) orbit in KEY\n"
              "to B (K steps, default 50), locating where it loses stability (period\n"
-             "doubling, fold, Neimark-Sacker) or grazes.\n");
+             "doubling, fold, Neimark-Sacker) or grazes; --arclength: pseudo-arclength,\n"
+             "around folds.\n");
       rc = 0;
       goto out;
     default:
@@ -302,6 +305,13 @@ int vi_cmd_orbits_main(int argc, char **argv)
   if ((rc = vi_sweep_load_scene(scene, sets, nsets, &sc, err, sizeof err))) {
     fprintf(stderr, "vibroimpact: %s\n", err);
     goto out;
+  }
+  if (vi_sweep_text_nonlinear(vi_scene_text(sc))) {
+    fprintf(stderr, "vibroimpact: orbits: %s has nonlinear springs; orbits are "
+            "found with the linear closed-form flow, which would ignore them\n",
+            scene ? scene : "the scene");
+    rc = 2;
+    goto done;
   }
   int st = vi_scene_create_model(sc, &mdl, &d);
   if (st) {
@@ -369,7 +379,7 @@ int vi_cmd_orbits_main(int argc, char **argv)
     for (int i = 0, k = 0; !bad && i < L->count; i++) {
       if (!L->o[i].admissible) continue;
       if (json && k++) printf(", ");
-      int r = vi_sweep_continue(vi_scene_edit_text(ed), scene ? scene : "<default scene: fig2>",
+      int r = (arclength ? vi_sweep_arclength : vi_sweep_continue)(vi_scene_edit_text(ed), scene ? scene : "<default scene: fig2>",
                                 ckey, cto, csteps, np, L->o[i].t, L->o[i].x, L->o[i].v, N,
                                 json, err, sizeof err);
       if (r) {

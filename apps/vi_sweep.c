@@ -547,6 +547,12 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   for (int r = 0; r < rows; r++)
     sw->param2[r] = rows > 1 ? sp->from2 + (sp->to2 - sp->from2) * r / (rows - 1)
                              : sp->from2;
+  if (sp->orbits > 0 && vi_sweep_text_nonlinear(sw->text)) {
+    msg(err, errlen, "%s: --orbits: the scene has nonlinear springs, and the "
+        "P(1,1) orbits are found with the linear closed-form flow", sw->name);
+    vi_sweep_free(&sw);
+    return 2;
+  }
   /* bad keys and values show up here, before any simulation */
   if (trial(sw, sp->key, sp->from, err, errlen) ||
       trial(sw, sp->key, sp->to, err, errlen) ||

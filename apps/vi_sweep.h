@@ -120,6 +120,10 @@ int vi_sets_active(void);
 struct vi_diag;
 int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
 
+/* 1 if the scene text has nonlinear springs (`springs:`): the closed-form
+ * orbit machinery (orbits, sweep --orbits) covers linear scenes only. */
+int vi_sweep_text_nonlinear(const char *text);
+
 /* `vibroimpact sweep ARGS`: replace this process by vibroimpact-sweep
  * (beside the program) with argv = the subcommand's; returns only on
  * failure (exit status 1, message printed). */
@@ -134,6 +138,13 @@ int vi_sweep_continue(const char *text, const char *name, const char *key,
                       double to, int steps, int np, const double *t0,
                       const double *x0, const double *v0, int N, int json,
                       char *err, int errlen);
+
+/* The same by pseudo-arclength (around folds; dF/dp by central
+ * differences): vi_sweep_cont.c. */
+int vi_sweep_arclength(const char *text, const char *name, const char *key,
+                       double to, int steps, int np, const double *t0,
+                       const double *x0, const double *v0, int N, int json,
+                       char *err, int errlen);
 
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */

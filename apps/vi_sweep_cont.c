@@ -226,3 +226,252 @@ done:
   vi_scene_edit_destroy(&ed);
   return rc;
 }
+
+/* ---- pseudo-arclength: around folds --------------------------------------- */
+/* Dense solve A y = b (A [k x k] column-major, overwritten), partial
+ * pivoting; 0 or 1 if singular. */
+static int gauss(int k, double *A, double *b)
+{
+  for (int c = 0; c < k; c++) {
+    int p = c;
+    for (int r = c + 1; r < k; r++)
+      if (fabs(A[r + (size_t)c * k]) > fabs(A[p + (size_t)c * k])) p = r;
+    if (!(fabs(A[p + (size_t)c * k]) > 0)) return 1;
+    if (p != c) {
+      for (int j = 0; j < k; j++) {
+        double tmp = A[c + (size_t)j * k];
+        A[c + (size_t)j * k] = A[p + (size_t)j * k];
+        A[p + (size_t)j * k] = tmp;
+      }
+      double tmp = b[c];
+      b[c] = b[p];
+      b[p] = tmp;
+    }
+    for (int r = c + 1; r < k; r++) {
+      double f = A[r + (size_t)c * k] / A[c + (size_t)c * k];
+      if (f == 0) continue;
+      for (int j = c; j < k; j++) A[r + (size_t)j * k] -= f * A[c + (size_t)j * k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (int c = k - 1; c >= 0; c--) {
+    double s = b[c];
+    for (int j = c + 1; j < k; j++) s -= A[c + (size_t)j * k] * b[j];
+    b[c] = s / A[c + (size_t)c * k];
+  }
+  return 0;
+}
+
+/* F(u; p) [D] and, with Ja, the extended Jacobian's first D rows
+ * [J_u | dF/dp] (Ja [(D+1) x (D+1)], leading dimension D+1): J_u exact,
+ * dF/dp by central differences in p (the model is rebuilt at p +- dp). */
+static int ext_residual(vi_scene_edit *ed, const char *key, int np, int N,
+                        const double *U, double *F, double *Ja, char *err, int len)
+{
+  int D = 2 * N + 1, K = D + 1, st;
+  double p = U[D];
+  vi_model *m = model_at(ed, key, p, err, len);
+  if (!m) return -1;
+  double *J = Ja ? malloc(sizeof(double) * (size_t)D * D + sizeof(double) * 2 * D) : NULL;
+  if (Ja && !J) {
+    vi_model_destroy(&m);
+    return VI_ERR_NOMEM;
+  }
+  st = vi_orbit_pnm_residual(m, np, 1, U, U + 1, U + 1 + N, N, F, J);
+  vi_model_destroy(&m);
+  if (st || !Ja) {
+    free(J);
+    return st;
+  }
+  for (int c = 0; c < D; c++)
+    for (int r = 0; r < D; r++) Ja[r + (size_t)c * K] = J[r + (size_t)c * D];
+  double dp = 1e-6 * fmax(1.0, fabs(p)), *Fp = J + (size_t)D * D, *Fm = Fp + D;
+  vi_model *mp = model_at(ed, key, p + dp, err, len), *mm = model_at(ed, key, p - dp, err, len);
+  st = !mp || !mm ? -1 : vi_orbit_pnm_residual(mp, np, 1, U, U + 1, U + 1 + N, N, Fp, NULL);
+  if (!st) st = vi_orbit_pnm_residual(mm, np, 1, U, U + 1, U + 1 + N, N, Fm, NULL);
+  for (int r = 0; r < D && !st; r++) Ja[r + (size_t)D * K] = (Fp[r] - Fm[r]) / (2 * dp);
+  vi_model_destroy(&mp);
+  vi_model_destroy(&mm);
+  free(J);
+  return st;
+}
+
+/* Tangent of the branch at U: the null vector of [J_u | F_p], normalised,
+ * oriented along `dir` (the previous tangent). */
+static int tangent(vi_scene_edit *ed, const char *key, int np, int N,
+                   const double *U, const double *dir, double *tau, char *err, int len)
+{
+  int D = 2 * N + 1, K = D + 1;
+  double *A = malloc(sizeof(double) * ((size_t)K * K + D));
+  if (!A) return VI_ERR_NOMEM;
+  int st = ext_residual(ed, key, np, N, U, A + (size_t)K * K, A, err, len);
+  if (!st) {
+    for (int c = 0; c < K; c++) A[D + (size_t)c * K] = dir[c];
+    for (int r = 0; r < K; r++) tau[r] = r == D;
+    st = gauss(K, A, tau) ? VI_ERR_NOT_CONVERGED : VI_OK;
+  }
+  if (!st) {
+    double nrm = 0, dot = 0;
+    for (int r = 0; r < K; r++) nrm += tau[r] * tau[r];
+    nrm = sqrt(nrm);
+    for (int r = 0; r < K; r++) {
+      tau[r] /= nrm;
+      dot += tau[r] * dir[r];
+    }
+    if (dot < 0)
+      for (int r = 0; r < K; r++) tau[r] = -tau[r];
+  }
+  free(A);
+  return st;
+}
+
+int vi_sweep_arclength(const char *text, const char *name, const char *key,
+                       double to, int steps, int np, const double *t0,
+                       const double *x0, const double *v0, int N, int json,
+                       char *err, int errlen)
+{
+  vi_scene_edit *ed = NULL;
+  vi_diag d;
+  char buf[64];
+  if (vi_scene_edit_create(text, -1, name, &ed, &d) ||
+      vi_scene_edit_get(ed, key, buf, sizeof buf, &d)) {
+    vi_diag_format(&d, err, errlen);
+    vi_scene_edit_destroy(&ed);
+    return 2;
+  }
+  int D = 2 * N + 1, K = D + 1, rc = 1;
+  double p0 = strtod(buf, NULL);
+  double *U = malloc(sizeof(double) * (7 * (size_t)K + (size_t)K * K));
+  if (!U) {
+    vi_scene_edit_destroy(&ed);
+    return 1;
+  }
+  double *tau = U + K, *Un = tau + K, *F = Un + K, *dir = F + K, *Up = dir + K, *U0 = Up + K,
+         *A = U0 + K;
+  U[0] = *t0;
+  memcpy(U + 1, x0, sizeof(double) * N);
+  memcpy(U + 1 + N, v0, sizeof(double) * N);
+  U[D] = p0;
+  memcpy(U0, U, sizeof(double) * K);
+  for (int r = 0; r < K; r++) dir[r] = r == D ? (to > p0 ? 1 : -1) : 0;
+  /* arclength step in the scaled space: the whole range in `steps` */
+  double ds = fabs(to - p0) / steps, dsmax = ds, s = 0;
+  double hs[3] = {0, 0, 0}, hp[3] = {p0, p0, p0}; /* last 3 points (s, p) */
+  int nev = 0, npts = 0, prev_stable = -1;
+  double prev_p = p0, prev_rho = 0, prev_vn = 0, prev_g = 0;
+  char events[4096] = "";
+  if (json) printf("{\"key\": \"%s\", \"n\": %d, \"m\": 1, \"method\": \"pseudo-arclength\", \"branch\": [", key, np);
+  else printf("P(%d,1) orbit followed in %s from %.10g towards %.10g by pseudo-arclength\n"
+              "  %14s %14s %12s %8s %s\n", np, key, p0, to, key, "v_N", "max|mu|", "stable", "admissible");
+  for (int step = 0; step < 10 * steps; step++) {
+    /* the orbit at U: multipliers, admissibility */
+    cstate c;
+    double tt = U[0];
+    memcpy(Un, U + 1, sizeof(double) * 2 * N);
+    if (solve_at(ed, key, np, N, U[D], &tt, Un, Un + N, &c, err, errlen)) break;
+    if (json)
+      printf("%s{\"param\": %.17g, \"vN\": %.17g, \"impact_time\": %.17g, \"max_multiplier\": %.17g, "
+             "\"stable\": %s, \"admissible\": %s}", npts ? ", " : "", c.p, c.vn, c.t, c.rho,
+             c.rho < 1 ? "true" : "false", c.ok ? "true" : "false");
+    else
+      printf("  %14.10g %14.10g %12.8g %8s %s\n", c.p, c.vn, c.rho, c.rho < 1 ? "yes" : "no",
+             c.ok ? "yes" : "no");
+    if (prev_stable >= 0 && prev_stable != (c.rho < 1)) {
+      double pe = prev_p + (c.p - prev_p) * (1 - prev_rho) / (c.rho - prev_rho);
+      int k = (int)strlen(events);
+      snprintf(events + k, sizeof events - (size_t)k,
+               "%s{\"type\": \"%s\", \"param\": %.17g, \"admissible\": %s}", nev++ ? ", " : "",
+               event_name(c.kind), pe, c.ok ? "true" : "false");
+      if (!json) printf("    -> %s near %s = %.10g%s\n", event_name(c.kind), key, pe,
+                        c.ok ? "" : " (not admissible)");
+    }
+    if (prev_stable >= 0 && ((prev_vn > 0) != (c.vn > 0) ||
+                             ((prev_g < 0) != (c.gmax < 0) && (prev_vn > 0 || c.vn > 0)))) {
+      int imp = (prev_vn > 0) != (c.vn > 0); /* v_N through 0, else the gap */
+      double f0 = imp ? prev_vn : prev_g, f1 = imp ? c.vn : c.gmax;
+      double pe = prev_p + (c.p - prev_p) * f0 / (f0 - f1);
+      int k = (int)strlen(events);
+      snprintf(events + k, sizeof events - (size_t)k,
+               "%s{\"type\": \"%s\", \"param\": %.17g}", nev++ ? ", " : "",
+               imp ? "grazing_impact" : "grazing", pe);
+      if (!json) printf("    -> %s near %s = %.10g\n", imp ? "grazing impact" : "grazing", key, pe);
+    }
+    prev_stable = c.rho < 1;
+    prev_p = c.p;
+    prev_rho = c.rho;
+    prev_vn = c.vn;
+    prev_g = c.gmax;
+    hs[0] = hs[1]; hs[1] = hs[2]; hs[2] = s;
+    hp[0] = hp[1]; hp[1] = hp[2]; hp[2] = U[D];
+    npts++;
+    if (npts > 1 && (U[D] - to) * (p0 < to ? 1 : -1) >= 0) {
+      rc = 0;
+      break;
+    }
+    /* a closed branch (an isola) is done once it comes back to its start */
+    if (npts > 3 && fabs(U[D] - p0) < 0.5 * dsmax) {
+      /* impact times compare modulo the forcing period */
+      vi_model *m = model_at(ed, key, U[D], err, errlen);
+      double T = m ? 2 * M_PI / vi_model_omega_forcing(m) : HUGE_VAL;
+      vi_model_destroy(&m);
+      double dt = fmod(fabs(U[0] - U0[0]), T), dist = fmin(dt, T - dt);
+      for (int r = 1; r < K; r++) dist = fmax(dist, fabs(U[r] - U0[r]));
+      if (dist < 0.5 * dsmax) {
+        int k = (int)strlen(events);
+        snprintf(events + k, sizeof events - (size_t)k,
+                 "%s{\"type\": \"closed\", \"param\": %.17g}", nev++ ? ", " : "", U[D]);
+        if (!json) printf("  the branch closes on itself at %s = %.10g\n", key, U[D]);
+        rc = 0;
+        break;
+      }
+    }
+    if (tangent(ed, key, np, N, U, dir, tau, err, errlen)) break;
+    /* a fold: dp/ds changes sign; its parameter from the parabola through
+     * the last three points */
+    if (npts >= 3 && tau[D] * dir[D] < 0) {
+      double a1 = (hp[1] - hp[0]) / (hs[1] - hs[0]), a2 = (hp[2] - hp[1]) / (hs[2] - hs[1]);
+      double c2 = (a2 - a1) / (hs[2] - hs[0]), sv = 0.5 * (hs[0] + hs[1]) - a1 / (2 * c2);
+      double pf = hp[0] + a1 * (sv - hs[0]) + c2 * (sv - hs[0]) * (sv - hs[1]);
+      int k = (int)strlen(events);
+      snprintf(events + k, sizeof events - (size_t)k,
+               "%s{\"type\": \"fold\", \"param\": %.17g, \"admissible\": %s}", nev++ ? ", " : "",
+               pf, c.ok ? "true" : "false");
+      if (!json) printf("    -> fold at %s = %.12g (the branch turns back)%s\n", key, pf,
+                        c.ok ? "" : " (not admissible)");
+    }
+    memcpy(dir, tau, sizeof(double) * K);
+    /* predictor-corrector: Newton on F = 0, tau.(U - Up) = 0 */
+    int ok = 0;
+    while (!ok && ds > dsmax / 1024) {
+      for (int r = 0; r < K; r++) Up[r] = U[r] + ds * tau[r];
+      memcpy(Un, Up, sizeof(double) * K);
+      for (int it = 0; it < 20; it++) {
+        if (ext_residual(ed, key, np, N, Un, F, A, err, errlen)) break;
+        double fn = 0, sc = 1e-12;
+        for (int r = 0; r < D; r++) fn = fmax(fn, fabs(F[r]));
+        for (int r = 1; r < D; r++) sc = fmax(sc, fabs(Un[r]));
+        F[D] = 0;
+        for (int r = 0; r < K; r++) F[D] += tau[r] * (Un[r] - Up[r]);
+        if (fn <= 1e-11 * sc && fabs(F[D]) <= 1e-11 * (1 + ds)) {
+          ok = 1;
+          break;
+        }
+        for (int c2 = 0; c2 < K; c2++) A[D + (size_t)c2 * K] = tau[c2];
+        if (gauss(K, A, F)) break;
+        for (int r = 0; r < K; r++) Un[r] -= F[r];
+      }
+      if (!ok) ds /= 2;
+    }
+    if (!ok) {
+      if (!json) printf("  the corrector fails after %s = %.12g\n", key, U[D]);
+      break;
+    }
+    s += ds;
+    memcpy(U, Un, sizeof(double) * K);
+    ds = fmin(dsmax, 1.5 * ds);
+  }
+  if (json) printf("], \"events\": [%s]}\n", events);
+  free(U);
+  vi_scene_edit_destroy(&ed);
+  return rc == 1 && npts ? 0 : rc;
+}

@@ -157,3 +157,14 @@ int vi_sweep_exec(int argc, char **argv)
   fprintf(stderr, "vibroimpact: sweep: cannot run %s: %s\n", self, strerror(errno));
   return 1;
 }
+
+int vi_sweep_text_nonlinear(const char *text)
+{
+  vi_scene_edit *ed = NULL;
+  char buf[64];
+  int has = 0;
+  if (!vi_scene_edit_create(text, -1, "", &ed, NULL))
+    has = vi_scene_edit_get(ed, "springs[1].type", buf, sizeof buf, NULL) == VI_OK;
+  vi_scene_edit_destroy(&ed);
+  return has;
+}

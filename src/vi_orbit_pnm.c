@@ -222,6 +222,34 @@ cleanup:
   return st;
 }
 
+int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
+                          const double *x, const double *v, int ld, double *F,
+                          double *J)
+{
+  if (!m || !t || !x || !v || !F || np < 1 || mi < 1 || ld < (m ? m->n : 1))
+    return VI_ERR_ARG;
+  if (!m->frozen) return VI_ERR_STATE;
+  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
+  ws w;
+  int st = ws_init(&w, m), n = m->n, B = 2 * n + 1, D = mi * B;
+  if (st) return st;
+  double *u = malloc(sizeof(double) * (size_t)D);
+  if (!u) {
+    ws_free(&w);
+    return VI_ERR_NOMEM;
+  }
+  for (int j = 0; j < mi; j++) {
+    u[(size_t)j * B] = t[j];
+    memcpy(u + (size_t)j * B + 1, x + (size_t)j * ld, sizeof(double) * n);
+    memcpy(u + (size_t)j * B + 1 + n, v + (size_t)j * ld, sizeof(double) * n);
+  }
+  st = residual(&w, np, mi, u, F, J, J != NULL);
+  free(u);
+  ws_free(&w);
+  return st;
+}
+
 int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
                              const double *t, const double *x, const double *v,
                              int ld, double *re, double *im)

@@ -38,6 +38,16 @@ expect(0 "\"n\": \\[1, 2\\], \"m\": \\[1, 2\\]" ""
 # ... and where the branch ends in x_s, a multiplier is +1: a fold
 expect(0 "\"type\": \"lost\", \"param\": 1\\.1935[0-9]*, \"vN\": [0-9.]*, \"multiplier\": \\[(1\\.00000|0\\.99999)" ""
        orbits ${S} --json --continue stop.xs --to 2.5 --steps 24)
+# Pseudo-arclength goes around that fold (at 1.19353, from a parabola
+# through the last three points: within 1e-4 of the bisection above) onto
+# the unstable branch and round the closed branch back to its start; the
+# impact-phase scan, another method, finds both orbits just below the fold.
+expect(0 "\"type\": \"fold\", \"param\": 1\\.193[45][0-9]*, \"admissible\": true.*\"type\": \"closed\"" ""
+       orbits ${S} --json --continue stop.xs --to 2.5 --steps 24 --arclength)
+expect(0 "\"stable\": true, \"admissible\": true.*\"stable\": false, \"admissible\": true" ""
+       orbits ${S} --json --set stop.xs=1.19)
+# orbits use the linear closed-form flow: scenes with nonlinear springs refused
+expect(2 "^$" "duffing.yaml has nonlinear springs" orbits ${SCENES}/duffing.yaml)
 # The P(1,1) orbit of x'' + 0.1 x' + x = 0.3 cos(0.7 t) ends in a grazing
 # impact (v_N = 0) where the stop reaches the free amplitude
 # A = 0.3 / |1 - 0.49 + 0.07 i| = 0.58277151741436

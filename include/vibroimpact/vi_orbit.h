@@ -129,6 +129,16 @@ VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
 VI_API int vi_orbit_pnm_solve(const vi_model *m, int n, int mi, double *t,
                               double *x, double *v, int ld, double tol,
                               int *iters);
+/** The conditions vi_orbit_pnm_solve zeroes, for a caller's own Newton
+ *  (continuation): F [D], D = mi (2 n_coords + 1), ordered per impact j as
+ *  (state mismatch [2 n_coords], w.x_j - x_s); with J non-NULL also their
+ *  exact Jacobian J [D x D] (column-major, leading dimension D) with respect
+ *  to (t_j, x_j, v_j) in the same order.  @return as vi_orbit_pnm_solve
+ *  (VI_ERR_NOT_CONVERGED: impacts out of order). */
+VI_API int vi_orbit_pnm_residual(const vi_model *m, int n, int mi,
+                                 const double *t, const double *x,
+                                 const double *v, int ld, double *F,
+                                 double *J);
 /** Floquet multipliers [2 n_coords] (re, im) of the orbit: eigenvalues of
  *  the monodromy matrix, the product over the impacts of the flow's state
  *  transition matrix and the saltation matrix

@@ -88,7 +88,8 @@ module vibroimpact
             vi_orbit_set_initial, vi_orbit_set_transient, vi_orbit_set_monitor, &
             vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
   public :: vi_orbit_set_direct_search, vi_orbit_search_info, vi_orbit_pnm_solve, &
-            vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan
+            vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
+            vi_orbit_pnm_residual
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -626,6 +627,16 @@ module vibroimpact
       real(c_double) :: t(*), x(*), v(*)
       real(c_double), value :: tol
       integer(c_int), optional :: iters
+    end function
+    !> F [D], J [D x D] (optional), D = mi (2 n_coords + 1)
+    integer(c_int) function vi_orbit_pnm_residual(model, n, mi, t, x, v, ld, F, J) &
+        bind(C, name="vi_orbit_pnm_residual")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: F(*)
+      real(c_double), optional :: J(*)
     end function
     !> re, im: [2 n_coords]
     integer(c_int) function vi_orbit_pnm_multipliers(model, n, mi, t, x, v, ld, re, im) &
