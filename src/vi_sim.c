@@ -449,37 +449,95 @@ static void contact_push(vi_sim *s, double t, const double *x, const double *v,
 }
 
 /* Sum a chattering tail in closed form (the chatter map of Nordmark &
- * Piiroinen 2009, to the first order in the rate of the contact force):
- * after a rebound at gap rate -u the gap follows g'' = p0 + p1 t, so each
- * flight lasts the root tau of -u + p tau/2 + p1 tau^2/6 and ends at the
- * approach speed u - p1 tau^2/6 ...  The bounces are summed until their
- * speed is round-off of the first; for a constant load (p1 = 0) this is
- * the exact accumulation time 2 u / (p0 (1 - r)).  Returns the duration,
- * or -1 if the model says the sequence does not accumulate (the mass
- * leaves before the bounces die out). */
+ * Piiroinen 2009).  During a flight the gap obeys
+ *   g'' + gamma g' + kappa g = p0 + p1 t,
+ * the push p of the contact force and its rate along the sticking motion,
+ * with the normal stiffness kappa and damping gamma of the structure seen
+ * through the stop.  Each flight, from g = 0 at rate -u, is its Taylor
+ * series (exact for this equation, and converging fast: a flight lasts at
+ * most about half a normal period); its root gives the flight time and
+ * the return speed, r times which starts the next.  The bounces are summed
+ * until their speed is round-off of the first; for a constant load
+ * (kappa = gamma = p1 = 0) this is the exact accumulation time
+ * 2 u / (p0 (1 - r)).  Returns the duration, or -1 if by the model the
+ * sequence does not accumulate (the mass leaves before the bounces die). */
+enum { TAIL_TERMS = 40 };
+
+static int tail_flight(double u, double a, double p1, double kappa,
+                       double gamma, double *tau, double *vret)
+{
+  double c[TAIL_TERMS]; /* g(t) = sum c_k t^k */
+  c[0] = 0.0;
+  c[1] = -u;
+  for (int k = 0; k + 2 < TAIL_TERMS; k++) {
+    double q = k == 0 ? a : k == 1 ? p1 : 0.0;
+    c[k + 2] = (q - kappa * c[k] - gamma * (k + 1) * c[k + 1]) /
+               ((k + 2.0) * (k + 1.0));
+  }
+  /* start from the undamped flight's own root, (2 / w) atan(u w / a) */
+  double w = sqrt(fmax(kappa, 0.0));
+  double t = w > 0.0 ? 2.0 * atan(u * w / a) / w : 2.0 * u / a;
+  for (int it = 0; it < 30; it++) { /* Newton on g(t) / t, root t > 0 */
+    double f = 0.0, df = 0.0;
+    for (int k = TAIL_TERMS - 1; k >= 1; k--) {
+      df = df * t + f;
+      f = f * t + c[k];
+    }
+    if (!(df != 0.0) || !isfinite(f)) return -1;
+    double dt = f / df;
+    t -= dt;
+    if (!(t > 0.0)) return -1;
+    if (fabs(dt) <= 4.0 * DBL_EPSILON * t) break;
+  }
+  /* the series must have converged at t: its last term is round-off */
+  if (!(fabs(c[TAIL_TERMS - 1]) * pow(t, TAIL_TERMS - 1) <= 1e-16 * u * t))
+    return -1;
+  double v = 0.0;
+  for (int k = TAIL_TERMS - 1; k >= 1; k--) v = v * t + k * c[k];
+  *tau = t;
+  *vret = v;
+  return 0;
+}
+
 static double chatter_tail(double u, double r, double p0, double p1,
-                           int64_t *count)
+                           double kappa, double gamma, int64_t *count)
 {
   double T = 0.0, u0 = u;
   int64_t k = 0;
   while (u > 1e-17 * u0) {
-    double p = p0 + p1 * T;
-    if (!(p > 0.0) || k > 1000000) return -1.0;
-    double tau = 2.0 * u / p;
-    for (int it = 0; it < 4; it++) { /* Newton on the quadratic */
-      double F = -u + 0.5 * p * tau + p1 * tau * tau / 6.0;
-      double dF = 0.5 * p + p1 * tau / 3.0;
-      if (!(dF > 0.0)) return -1.0;
-      tau -= F / dF;
-    }
-    if (!(tau > 0.0)) return -1.0;
-    double vret = -u + p * tau + 0.5 * p1 * tau * tau;
+    double a = p0 + p1 * T, tau, vret;
+    if (!(a > 0.0) || k > 1000000) return -1.0;
+    if (tail_flight(u, a, p1, kappa, gamma, &tau, &vret) || !(vret > 0.0))
+      return -1.0;
     T += tau;
     k++;
     u = r * vret;
   }
   *count = k;
   return T;
+}
+
+/* Normal stiffness and damping of the structure seen through the stop:
+ * a displacement xi along n = M^-1 w / (w^T M^-1 w) changes the gap by xi
+ * and its acceleration by -kappa xi (and -gamma xi' for a rate). */
+static void normal_stiffness(const vi_sim *s, double *kappa, double *gamma)
+{
+  const vi_model *m = s->m;
+  int n = s->n;
+  double k = 0.0, c = 0.0;
+  for (int i = 0; i < n; i++) {
+    if (m->w[i] == 0.0) continue;
+    double ki = 0.0, ci = 0.0;
+    for (int j = 0; j < n; j++) {
+      size_t ij = (size_t)i + (size_t)j * (size_t)n;
+      ki += m->MinvK[ij] * m->Minv_w[j];
+      ci += m->MinvC[ij] * m->Minv_w[j];
+    }
+    k += m->w[i] * ki;
+    c += m->w[i] * ci;
+  }
+  *kappa = k / m->wMw;
+  *gamma = c / m->wMw;
 }
 
 /* Sticking after a summed chattering tail begins at its accumulation point:
@@ -529,9 +587,12 @@ static int on_contact(vi_sim *s)
   int floor_hit = push > 0.0 && vn > 0.0 &&
                   ((s->vn_floor > 0.0 && vn < s->vn_floor) ||
                    (s->dt_floor > 0.0 && dt_prev < s->dt_floor));
-  int chatter = m->r < 1.0 && push > 0.0 &&
-                (vn <= 0.0 || vn < s->vchat ||
-                 apex < 10.0 * s->atol * s->wnorm || floor_hit);
+  /* a touch at rest or a floor ends any sequence that presses on the stop,
+   * even at r = 1; a vanishing bounce only where impacts lose energy */
+  int chatter = push > 0.0 &&
+                (vn <= 0.0 || floor_hit ||
+                 (m->r < 1.0 &&
+                  (vn < s->vchat || apex < 10.0 * s->atol * s->wnorm)));
   if (!chatter && m->r < 1.0 && push > 0.0) {
     /* Sum the tail as soon as resolving the next impact costs more
      * accuracy than the closed-form tail: the next contact time is only
@@ -540,9 +601,11 @@ static int on_contact(vi_sim *s)
      * an error of about |p''| / p Delta^3 over the tail's duration Delta. */
     double p[3];
     contact_push(s, s->t, s->x, s->v, p);
+    /* an integrator's global position error is some ten times its local
+     * tolerance */
     double dx = s->be == &vi_backend_exact
                     ? 16.0 * DBL_EPSILON * (fabs(m->xs) + s->wnorm)
-                    : s->atol * s->wnorm + s->rtol * fabs(m->xs);
+                    : 10.0 * (s->atol * s->wnorm + s->rtol * fabs(m->xs));
     double delta = 2.0 * m->r * vn / (p[0] * (1.0 - m->r));
     double e_res = dx / (m->r * vn), e_model = fabs(p[2]) / p[0] * pow(delta, 3);
     double tol_t = s->rtol * fmax(fabs(s->t), 2.0 * vn / p[0]);
@@ -570,7 +633,9 @@ static int on_contact(vi_sim *s)
     if (u < 0.0) {
       double p[3];
       contact_push(s, s->t, s->x, s->vp, p);
-      tail = chatter_tail(-u * m->wMw, m->r, p[0], p[1], &count);
+      double kappa, gamma;
+      normal_stiffness(s, &kappa, &gamma);
+      tail = chatter_tail(-u * m->wMw, m->r, p[0], p[1], kappa, gamma, &count);
       if (tail < 0.0) tail = 0.0; /* not accumulating by the model: stick */
     }
     s->sticking = 1;
@@ -595,7 +660,7 @@ static int on_contact(vi_sim *s)
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   if (stick && s->stick_at <= s->t) emit_pending_stick(s);
   s->stats[VI_STAT_REINITS]++;
-  if (stick) use_backend(s, &vi_backend_cvode);
+  use_backend(s, stick ? &vi_backend_cvode : method_backend(s));
   return s->be->start(s);
 }
 
@@ -609,7 +674,11 @@ static int on_release(vi_sim *s)
   s->sticking = 0;
   emit(s, VI_EVENT_RELEASE, 0.0, 0.0);
   s->stats[VI_STAT_REINITS]++;
-  use_backend(s, method_backend(s));
+  /* At release the gap and its first two rates vanish together, so the
+   * closed form's contact search cannot tell the departing motion from
+   * round-off for a while; CVODE (already running the sticking phase)
+   * carries the flight that follows and the closed form takes over again
+   * at its next contact. */
   return s->be->start(s);
 }
 
@@ -624,7 +693,7 @@ static int initial_contact(vi_sim *s)
   double push;
   vi_sim_accel(s, s->t, s->z, 0, s->vp);
   push = vi_dot(s->n, s->m->w, s->vp);
-  return gd == 0.0 && push > 0.0 && s->m->r < 1.0;
+  return gd == 0.0 && push > 0.0; /* at rest and pressed: sticks, any r */
 }
 
 /* How far beyond the stop a state may sit: the integration error. */
@@ -748,6 +817,14 @@ int vi_sim_run(vi_sim *s, double t_end)
   s->stop = 0;
   if (s->smp_fn && s->smp_k == 0) s->smp_t0 = s->t;
   if (!s->started) {
+    /* the default state (rest at the origin) was never checked */
+    double g, gd;
+    vi_sim_gap(s, s->z, &g, &gd);
+    if (!s->sticking && g > 1e-13 * fmax(1.0, fabs(s->m->xs)))
+      return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE, "the state at t = %.17g "
+                     "violates the stop: w.x = %.17g > x_s = %.17g (set an "
+                     "initial state with vi_sim_set_initial)", s->t,
+                     g + s->m->xs, s->m->xs);
     note_method(s);
     use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
     if ((st = s->be->start(s))) return st;

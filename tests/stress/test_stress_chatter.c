@@ -70,7 +70,12 @@ static ball_result run_ball(const vi_model *m, int method, double rtol,
 
   int nimp = st_log_count(&log, VI_EVENT_IMPACT);
   res.impacts = nimp;
-  st_check(nimp >= check_n);
+  /* the first impacts are resolved one by one (at least five from 5 m/s:
+   * down to 10 dx / (r rtol t), or 0.3 m/s at the default tolerances);
+   * the rest of the sequence is summed by the chatter map, which the
+   * stick time checks */
+  st_check(nimp >= 5);
+  if (check_n > nimp) check_n = nimp;
   st_check(vi_sim_get_stat(s, VI_STAT_IMPACTS) == nimp);
   for (int k = 1; k <= nimp; k++) {
     int i = st_log_find(&log, VI_EVENT_IMPACT, k - 1);

@@ -47,7 +47,8 @@ static void test_floors_terminate(void **state)
         int f0 = st_failures;
         if (floors) {
           st_check(st == VI_OK);
-          st_check(nf > 0);
+          /* at rest and pressed the mass sticks at once, floor or not */
+          st_check(nf > 0 || sc[k].v0 == 0.0);
           st_check(vi_sim_is_sticking(s) == 1);
           st_check(fabs(x) <= 1e-12 && fabs(v) <= 1e-9);
           /* energy: at most the initial 1/2 v0^2 can have been taken */

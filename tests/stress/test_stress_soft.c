@@ -85,8 +85,13 @@ static int run_spring(int e, int method, double rtol, double atol,
   st_check(st == VI_OK);
   int nimp = st_log_count(&log, VI_EVENT_IMPACT);
   double et = 0.0, evn = 0.0;
+  /* impacts are resolved one by one while each can be timed to rtol and
+   * the chatter map would be less accurate (from v_n = 5 down to about
+   * 10 dx / (r rtol t) = 0.04 at rtol 1e-12 on soft springs: some 20; on
+   * stiff ones the map, exact for the flight's linear dynamics, takes over
+   * sooner), then the tail is summed: the stick time checks the sum */
   int nchk = nimp < 30 ? nimp : 30;
-  st_check(nimp >= 30);
+  st_check(nimp >= 8);
   for (int k = 1; k <= nchk; k++) {
     int i = st_log_find(&log, VI_EVENT_IMPACT, k - 1);
     double vk = V0 * pow(R, k - 1), tk = t_impact(w, k);
