@@ -44,8 +44,8 @@ static int rhs(double t, N_Vector y, N_Vector yd, void *user)
    * velocities are read from z, so zd can be filled in either order */
   vi_sim_accel(s, t, z, s->sticking, s->vp);
   for (int i = 0; i < n; i++) {
-    zd[2 * i] = z[2 * i + 1];
-    zd[2 * i + 1] = s->vp[i];
+    zd[2 * (size_t)i] = z[2 * (size_t)i + 1];
+    zd[2 * (size_t)i + 1] = s->vp[i];
   }
   return s->force_failed ? -1 : 0; /* the host's force failed: stop */
 }
@@ -179,7 +179,7 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
   }
   double *gq = NULL;
   if (s->nforces) { /* the modal force, for the NE column */
-    gq = s->fbuf + 3 * s->n;
+    gq = s->fbuf + 3 * (size_t)s->n;
     vi_force_modal(s, t, z, gq);
   }
   double *R = N_VGetArrayPointer(yQd);
@@ -187,7 +187,7 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
   if (s->sticking && !own_stop) {
     /* other stops held: CE_j = -sum_k lambda_k psi_kj q_j' */
     int n = s->n;
-    double lam[VI_CONTACT_MAX], *qd = s->sbuf + 3 * n;
+    double lam[VI_CONTACT_MAX], *qd = s->sbuf + 3 * (size_t)n;
     vi_sim_accel(s, t, z, 0, s->vp);
     vi_sim_constrain(s, s->vp, lam);
     vi_modal_project(s->m, z, NULL, qd);
@@ -302,7 +302,7 @@ static int cv_create(vi_sim *s)
   }
   if (s->led) {
     /* under the state's error control, so the ledger closes to tolerance */
-    d->yQ = N_VMake_Serial((s->nforces ? 5 : 4) * s->n,
+    d->yQ = N_VMake_Serial((sunindextype)(s->nforces ? 5 : 4) * s->n,
                            vi_ledger_integrals(s->led), d->ctx);
     VI_CHECK(d->yQ, s->errmsg, VI_ERR_NOMEM, "N_VMake_Serial failed");
     if (s->fast_nvector) vi_nvector_fast_ops(d->yQ);
@@ -389,7 +389,7 @@ static void save_prev(vi_sim *s, cv_data *d)
   d->t_prev = s->t;
   memcpy(d->zprev, s->z, sizeof(double) * 2 * (size_t)s->n);
   if (d->yQ)
-    memcpy(d->zprev + 2 * s->n, vi_ledger_integrals(s->led),
+    memcpy(d->zprev + 2 * (size_t)s->n, vi_ledger_integrals(s->led),
            sizeof(double) * VI_LEDGER_BLOCKS * (size_t)s->n);
 }
 
@@ -414,7 +414,7 @@ static int cv_polish(vi_sim *s)
     return VI_OK;
   memcpy(s->z, d->zprev, sizeof(double) * 2 * (size_t)n);
   if (d->yQ)
-    memcpy(vi_ledger_integrals(s->led), d->zprev + 2 * n,
+    memcpy(vi_ledger_integrals(s->led), d->zprev + 2 * (size_t)n,
            sizeof(double) * VI_LEDGER_BLOCKS * (size_t)n);
   CV_TRY(CVodeReInit(d->mem, t, d->y));
   if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));

@@ -29,11 +29,11 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
     free(s);
     return VI_ERR_NOMEM;
   }
-  s->x = s->z + 2 * n;
+  s->x = s->z + 2 * (size_t)n;
   s->v = s->x + n;
   s->vp = s->v + n;
   s->zs = s->vp + n; /* 2n */
-  s->w1 = s->zs + 2 * n;
+  s->w1 = s->zs + 2 * (size_t)n;
   s->w2 = s->w1 + n;
   s->w3 = s->w2 + n; /* ends at 10n */
   s->m = model;
@@ -48,7 +48,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->fast_nvector = 1;
   s->wnorm = sqrt(vi_dot(n, model->w, model->w));
   s->ns = model->ns;
-  s->wnorms = s->sbuf + 4 * n;
+  s->wnorms = s->sbuf + 4 * (size_t)n;
   s->ie_stop = s->wnorms + s->ns;
   for (int k = 0; k < s->ns; k++) {
     const double *w = vi_stop_w(model, k);
@@ -219,8 +219,8 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
       return vi_fail(s->errmsg, VI_ERR_NONFINITE,
                      "initial state x(%d) = %g, v(%d) = %g is not finite",
                      i + 1, xi, i + 1, vi);
-    s->zs[2 * i] = xi;
-    s->zs[2 * i + 1] = vi;
+    s->zs[2 * (size_t)i] = xi;
+    s->zs[2 * (size_t)i + 1] = vi;
   }
   for (int k = 0; k < s->ns; k++) {
     double g, gd, xs = m->xsv[k];
@@ -354,8 +354,8 @@ int vi_sim_get_state(const vi_sim *s, double *t, double *x, double *v)
   if (!s) return VI_ERR_ARG;
   if (t) *t = s->t;
   for (int i = 0; i < s->n; i++) {
-    if (x) x[i] = s->z[2 * i];
-    if (v) v[i] = s->z[2 * i + 1];
+    if (x) x[i] = s->z[2 * (size_t)i];
+    if (v) v[i] = s->z[2 * (size_t)i + 1];
   }
   return VI_OK;
 }
@@ -408,8 +408,8 @@ int vi_sim_bracket(vi_sim *s, double (*f)(double, void *), void *params,
 static void split(vi_sim *s, const double *z)
 {
   for (int i = 0; i < s->n; i++) {
-    s->x[i] = z[2 * i];
-    s->v[i] = z[2 * i + 1];
+    s->x[i] = z[2 * (size_t)i];
+    s->v[i] = z[2 * (size_t)i + 1];
   }
 }
 
@@ -514,8 +514,8 @@ static void contact_push(vi_sim *s, int k, double t, const double *x,
   const double *w = vi_stop_w(s->m, k);
   double *zz = s->zs, *acc = s->w1, *jerk = s->w2, *snap = s->w3;
   for (int i = 0; i < n; i++) {
-    zz[2 * i] = x[i];
-    zz[2 * i + 1] = v[i];
+    zz[2 * (size_t)i] = x[i];
+    zz[2 * (size_t)i + 1] = v[i];
   }
   vi_sim_accel(s, t, zz, 0, acc);
   p[0] = vi_dot(n, w, acc);
@@ -712,8 +712,8 @@ static int on_contact_one(vi_sim *s, int k)
      * sticks if pressed with the velocity after the impact (damping), else
      * a restart on g = g' = 0 would miss the contact root as it presses */
     for (int i = 0; i < n; i++) {
-      s->zs[2 * i] = s->x[i];
-      s->zs[2 * i + 1] = s->vp[i];
+      s->zs[2 * (size_t)i] = s->x[i];
+      s->zs[2 * (size_t)i + 1] = s->vp[i];
     }
     vi_sim_accel(s, s->t, s->zs, 0, s->w1);
     stick = vi_dot(n, w, s->w1) > 0.0;
@@ -754,8 +754,8 @@ static int on_contact_one(vi_sim *s, int k)
   double g = vi_dot(n, w, s->x) - xs;
   for (int i = 0; i < n; i++) s->x[i] -= g * mw[i] / wmw;
   for (int i = 0; i < n; i++) {
-    s->z[2 * i] = s->x[i];
-    s->z[2 * i + 1] = s->vp[i];
+    s->z[2 * (size_t)i] = s->x[i];
+    s->z[2 * (size_t)i + 1] = s->vp[i];
   }
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   if (stick && s->stick_at <= s->t) emit_pending_stick(s);
@@ -823,10 +823,10 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
     }
   }
   /* free acceleration after the jump (damping sees the new velocity) */
-  double *zz = s->sbuf, *acc = zz + 2 * n, *a2 = acc + n;
+  double *zz = s->sbuf, *acc = zz + 2 * (size_t)n, *a2 = acc + n;
   for (int i = 0; i < n; i++) {
-    zz[2 * i] = s->x[i];
-    zz[2 * i + 1] = s->vp[i];
+    zz[2 * (size_t)i] = s->x[i];
+    zz[2 * (size_t)i + 1] = s->vp[i];
   }
   vi_sim_accel(s, s->t, zz, 0, acc);
   int hold[VI_CONTACT_MAX] = {0}, was[VI_CONTACT_MAX], nh = 0;
@@ -889,8 +889,8 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
     if (P[k] > 0.0 || in_stick_set(s, idx[k])) on[non++] = idx[k];
   project_on_stops(s, on, non, s->x);
   for (int i = 0; i < n; i++) {
-    s->z[2 * i] = s->x[i];
-    s->z[2 * i + 1] = s->vp[i];
+    s->z[2 * (size_t)i] = s->x[i];
+    s->z[2 * (size_t)i + 1] = s->vp[i];
   }
   close_interval(s, impacted || nh > 0, ie_sum + ie_tail);
   split(s, s->z);
@@ -1018,8 +1018,8 @@ static int samples(vi_sim *s, double t)
     if (st) return st;
     if (ts != s->t) zs = s->zs;
     for (int i = 0; i < s->n; i++) {
-      s->x[i] = zs[2 * i];
-      s->v[i] = zs[2 * i + 1];
+      s->x[i] = zs[2 * (size_t)i];
+      s->v[i] = zs[2 * (size_t)i + 1];
       if (!isfinite(s->x[i]) || !isfinite(s->v[i]))
         return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g "
                        "not finite: x(%d) = %g, v(%d) = %g", ts, i + 1,

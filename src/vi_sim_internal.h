@@ -179,7 +179,7 @@ static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
     int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
     for (int j = j0; j <= j1; j++) {
       size_t ij = (size_t)i + (size_t)j * n;
-      a -= m->MinvK[ij] * z[2 * j] + m->MinvC[ij] * z[2 * j + 1];
+      a -= m->MinvK[ij] * z[2 * (size_t)j] + m->MinvC[ij] * z[2 * (size_t)j + 1];
     }
     acc[i] = a;
   }
@@ -193,8 +193,8 @@ static inline void vi_sim_gap(const vi_sim *s, const double *z, double *g,
 {
   double a = 0.0, b = 0.0;
   for (int i = 0; i < s->n; i++) {
-    a += s->m->w[i] * z[2 * i];
-    b += s->m->w[i] * z[2 * i + 1];
+    a += s->m->w[i] * z[2 * (size_t)i];
+    b += s->m->w[i] * z[2 * (size_t)i + 1];
   }
   *g = a - s->m->xs;
   *gd = b;
@@ -207,8 +207,8 @@ static inline void vi_sim_gap_k(const vi_sim *s, int k, const double *z,
   const double *w = vi_stop_w(s->m, k);
   double a = 0.0, b = 0.0;
   for (int i = 0; i < s->n; i++) {
-    a += w[i] * z[2 * i];
-    b += w[i] * z[2 * i + 1];
+    a += w[i] * z[2 * (size_t)i];
+    b += w[i] * z[2 * (size_t)i + 1];
   }
   *g = a - s->m->xsv[k];
   *gd = b;
