@@ -3,6 +3,9 @@
 !   vi_fig2_fortran            prints the first impacts and a summary
 !   vi_fig2_fortran FILE.csv   also writes every impact as the program's
 !                              --impacts-csv does (k,t,vn,x_1,x_2,v_1,v_2)
+!   vi_fig2_fortran FILE.csv duffing
+!                              the same with a host force from Fortran: a
+!                              cubic spring -0.5 x_2^3 on mass 2 (issue 13)
 !
 ! N = 2 chain, m = k = 1, c = 0.1, x_s = 0.1, r = 0.7, a = (0.5, 0),
 ! Omega = 0.9, stop on mass 2, from rest, 100 forcing periods, Adams with
@@ -35,6 +38,18 @@ contains
     on_interval = merge(1, 0, c_associated(user))
     intervals = intervals + 1
     worst = max(worst, iv%residual)
+  end function
+  ! a nonlinear force from the host code: g = -0.5 x_2^3 on mass 2; a NaN
+  ! state is reported as a failure (the run stops with VI_ERR_CALLBACK)
+  integer(c_int) function cubic(t, n, x, v, g, user) bind(C)
+    real(c_double), value :: t
+    integer(c_int), value :: n
+    real(c_double), intent(in) :: x(n), v(n)
+    real(c_double), intent(out) :: g(n)
+    type(c_ptr), value :: user
+    g = 0
+    g(2) = -0.5_c_double * x(2) * x(2) * x(2)
+    cubic = merge(1, 0, c_associated(user) .or. t /= t .or. any(v /= v))
   end function
 end module fig2_callbacks
 
@@ -79,6 +94,11 @@ program fig2
   st = vi_sim_create(model, sim)
   if (st == VI_OK) st = vi_sim_set_tolerances(sim, 1.0e-8_c_double, 1.0e-10_c_double)
   if (st == VI_OK) st = vi_sim_set_event_callback(sim, c_funloc(on_event), c_null_ptr)
+  if (command_argument_count() >= 2) then
+    call get_command_argument(2, path)
+    if (trim(path) == 'duffing' .and. st == VI_OK) &
+        st = vi_sim_set_force(sim, c_funloc(cubic), c_null_funptr, c_null_ptr)
+  end if
   if (command_argument_count() == 0) then  ! the ledger changes CVODE's steps: not in the CSV run
     if (st == VI_OK) st = vi_sim_enable_ledger(sim, 1_c_int)
     if (st == VI_OK) st = vi_sim_set_ledger_callback(sim, c_funloc(on_interval), c_null_ptr)
