@@ -127,8 +127,14 @@ int vi_cmd_energy(const app_opts *o)
       (st = vi_orbit_find(orb))) {
     /* no file exists while the orbit is sought: SIGINT/SIGTERM end the
      * process at once (vi_app_arm_parts) */
-    fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st),
-            vi_orbit_errmsg(orb));
+    /* without a handle the code is all there is: say what it needs */
+    const char *why = orb ? vi_orbit_errmsg(orb)
+                    : vi_model_num_stops(m) > 1
+                        ? "the WB 11-13 analysis is for one stop; this scene has several"
+                    : st == VI_ERR_FREQUENCY
+                        ? "the analysis needs harmonic forcing (forcing.omega)"
+                        : "the orbit analysis could not start";
+    fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st), why);
     goto done;
   }
   /* the file holds what was found, P(1,1) or not */

@@ -120,7 +120,8 @@ int main(int argc, char **argv)
     rec r = {0, 0, NULL, NULL};
     if (vi_sim_create(m, &s) || vi_scene_configure_sim(sc, s, &dg) ||
         vi_sim_set_method(s, method) || vi_sim_set_tolerances(s, rtol, atol) ||
-        vi_sim_set_event_callback(s, collect, &r)) {
+        vi_sim_set_event_callback(s, collect, &r) ||
+        vi_sim_setup(s)) { /* the integrator's set-up is not the loop */
       fprintf(stderr, "vi_wp: set-up: %s\n", vi_sim_errmsg(s));
       return 1;
     }

@@ -153,15 +153,19 @@ def ledger(f, out, last):
         return
     L = lg["FE"].shape[0]
     k0 = int((1 - last) * L)
-    sums = {k: rows(lg[k], k0).sum(axis=0) for k in ("FE", "DE", "XE", "CE", "dE")}
+    cols = [("FE", "forcing work FE"), ("DE", "damping loss DE"), ("XE", "coupling XE"),
+            ("CE", "contact work CE"), ("NE", "nonlinear force work NE"),
+            ("dE", "impact jumps dE")]
+    sums = {k: rows(lg[k], k0).sum(axis=0) for k, _ in cols if k in lg}
+    if not np.any(sums.get("NE", 0)):  # no nonlinear forces in this run
+        sums.pop("NE", None)
+    cols = [c for c in cols if c[0] in sums]
     n = sums["FE"].shape[0]
     idx = np.arange(n)
-    wdt = 0.16
+    wdt = 0.8 / len(cols)
     fig, ax = plt.subplots(figsize=(max(6, 1.5 * n + 3), 4))
-    for s, (k, lab) in enumerate((("FE", "forcing work FE"), ("DE", "damping loss DE"),
-                                  ("XE", "coupling XE"), ("CE", "contact work CE"),
-                                  ("dE", "impact jumps dE"))):
-        ax.bar(idx + (s - 2) * wdt, sums[k], wdt, label=lab)
+    for s, (k, lab) in enumerate(cols):
+        ax.bar(idx + (s - (len(cols) - 1) / 2) * wdt, sums[k], wdt, label=lab)
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xticks(idx, [f"mode {j+1}" for j in idx])
     ax.set(ylabel="energy (units of the scene)", title=f"ledger, last {L - k0} intervals "

@@ -44,9 +44,9 @@ typedef struct ark_data {
  * CE' (and NE') as vi_cvode.c's quadratures compute them. */
 static void erk_f(vi_sim *s, double t, const double *z, double *zd)
 {
-  int n = s->n;
+  size_t n = (size_t)s->n;
   vi_sim_accel(s, t, z, s->sticking, s->vp);
-  for (int i = 0; i < n; i++) {
+  for (size_t i = 0; i < n; i++) {
     zd[2 * i] = z[2 * i + 1];
     zd[2 * i + 1] = s->vp[i];
   }
@@ -54,7 +54,7 @@ static void erk_f(vi_sim *s, double t, const double *z, double *zd)
     double Lambda = 0.0, *gq = NULL;
     if (s->sticking) {
       vi_sim_accel(s, t, z, 0, s->vp);
-      Lambda = vi_dot(n, s->m->w, s->vp) / s->m->wMw;
+      Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
     }
     if (s->nforces) {
       gq = s->fbuf + 3 * n;
@@ -183,13 +183,15 @@ static void put_state(vi_sim *s, const double *ze)
 {
   ark_data *d = s->be_data;
   memcpy(s->z, ze, sizeof(double) * 2 * s->n);
-  if (d->nq) memcpy(vi_ledger_integrals(s->led), ze + 2 * s->n, sizeof(double) * d->nq);
+  if (d->nq)
+    memcpy(vi_ledger_integrals(s->led), ze + 2 * (size_t)s->n, sizeof(double) * d->nq);
 }
 
 static void get_state(vi_sim *s, ark_data *d)
 {
   memcpy(d->ze, s->z, sizeof(double) * 2 * s->n);
-  if (d->nq) memcpy(d->ze + 2 * s->n, vi_ledger_integrals(s->led), sizeof(double) * d->nq);
+  if (d->nq)
+    memcpy(d->ze + 2 * (size_t)s->n, vi_ledger_integrals(s->led), sizeof(double) * d->nq);
 }
 
 /* A restart keeps ARKODE's counters and, unlike a multistep method's, its
@@ -232,7 +234,7 @@ cleanup:
 /* One step of the Runge-Kutta method from (t0, y0) of length h into d->yo. */
 static void rk_step(vi_sim *s, ark_data *d, double t0, double h)
 {
-  const ARKodeButcherTable B = d->B;
+  const struct ARKodeButcherTableMem *B = d->B;
   int N = d->N, S = B->stages;
   for (int i = 0; i < S; i++) {
     memcpy(d->yt, d->y0, sizeof(double) * N);

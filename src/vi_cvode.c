@@ -24,7 +24,10 @@ typedef struct cv_data {
   SUNMatrix A;
   SUNLinearSolver LS;
   SUNNonlinearSolver NLS;
-  int nroots;     /* 2 in free flight, 1 while sticking */
+  int nroots;     /* 2 in free flight, 1 while sticking (one stop) */
+  int rstick[VI_CONTACT_MAX + 1]; /* the sticking set the roots were set
+                                     for: count, then the stops */
+  int *info;      /* root info [2 ns] */
   long base[4];   /* steps, rhs, jac, root evals before the last ReInit */
   double t_prev;  /* time of the previous return */
   double *zprev;  /* state [2n] and ledger integrals [5n] at t_prev */
@@ -49,18 +52,54 @@ static int rhs(double t, N_Vector y, N_Vector yd, void *user)
 
 /* Free flight: g0 = w.x - x_s rising (contact), g1 = w.x' falling (a maximum
  * of the gap, where a grazing contact inside one step is looked for).
- * Sticking: g0 = w.a_free falling (the contact force lambda through zero). */
+ * Sticking: g0 = w.a_free falling (the contact force lambda through zero).
+ * Several stops: first the contact force of each sticking stop (its
+ * multiplier lambda_k of G_SS^-1 W_S^T a_free, falling), then the pair
+ * (gap rising, rate falling) of every other stop in order. */
 static int roots(double t, N_Vector y, double *g, void *user)
 {
   vi_sim *s = user;
   const double *z = N_VGetArrayPointer(y);
+  if (s->ns == 1) {
+    if (s->sticking) {
+      vi_sim_accel(s, t, z, 0, s->vp);
+      g[0] = vi_dot(s->n, s->m->w, s->vp);
+    } else {
+      vi_sim_gap(s, z, &g[0], &g[1]);
+    }
+    return 0;
+  }
+  int i = 0;
   if (s->sticking) {
     vi_sim_accel(s, t, z, 0, s->vp);
-    g[0] = vi_dot(s->n, s->m->w, s->vp);
-  } else {
-    vi_sim_gap(s, z, &g[0], &g[1]);
+    vi_sim_constrain(s, s->vp, g);
+    i = s->nstick;
+  }
+  for (int k = 0; k < s->ns; k++) {
+    int held = 0;
+    for (int j = 0; j < s->nstick; j++) held |= s->stick_k[j] == k;
+    if (held) continue;
+    vi_sim_gap_k(s, k, z, &g[i], &g[i + 1]);
+    i += 2;
   }
   return 0;
+}
+
+/* Root slot of stop k's gap in the layout of roots(), or -1 (held). */
+static int gap_root(const vi_sim *s, int k)
+{
+  int i = s->nstick;
+  for (int j = 0; j < s->ns; j++) {
+    int held = 0;
+    for (int q = 0; q < s->nstick; q++) held |= s->stick_k[q] == j;
+    if (held) {
+      if (j == k) return -1;
+      continue;
+    }
+    if (j == k) return i;
+    i += 2;
+  }
+  return -1;
 }
 
 /* J = [[0, I], [-M^-1 K, -M^-1 C]] in interleaved order; while sticking the
@@ -74,10 +113,7 @@ static void jac_entries(vi_sim *s, SUNMatrix J, int band)
     int j = jz / 2;
     const double *src = (jz % 2 ? m->MinvC : m->MinvK) + (size_t)j * n;
     for (int i = 0; i < n; i++) col[i] = -src[i];
-    if (s->sticking) {
-      double lam = vi_dot(n, m->w, col) / m->wMw;
-      for (int i = 0; i < n; i++) col[i] -= lam * m->Minv_w[i];
-    }
+    if (s->sticking) vi_sim_constrain(s, col, NULL);
     int i0 = j - bw < 0 ? 0 : j - bw, i1 = j + bw >= n ? n - 1 : j + bw;
     for (int i = i0; i <= i1; i++) {
       if (band) SM_ELEMENT_B(J, 2 * i + 1, jz) = col[i];
@@ -110,10 +146,7 @@ static int jac_forced(vi_sim *s, double t, const double *z, SUNMatrix J)
     const double *lin = (jz % 2 ? m->MinvC : m->MinvK) + (size_t)j * n;
     const double *nl = A + (jz % 2 ? nn : 0) + (size_t)j * n;
     for (int i = 0; i < n; i++) col[i] = nl[i] - lin[i];
-    if (s->sticking) {
-      double lam = vi_dot(n, m->w, col) / m->wMw;
-      for (int i = 0; i < n; i++) col[i] -= lam * m->Minv_w[i];
-    }
+    if (s->sticking) vi_sim_constrain(s, col, NULL);
     for (int i = 0; i < n; i++) SM_ELEMENT_D(J, 2 * i + 1, jz) = col[i];
     if (jz % 2) SM_ELEMENT_D(J, jz - 1, jz) = 1.0;
   }
@@ -138,7 +171,9 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
   vi_sim *s = user;
   const double *z = N_VGetArrayPointer(y);
   double Lambda = 0.0;
-  if (s->sticking) { /* contact force magnitude, pressing into the stop */
+  int own_stop = s->nstick == 1 && s->stick_k[0] == 0;
+  if (s->sticking && own_stop) { /* contact force magnitude, pressing into
+                                    the stop */
     vi_sim_accel(s, t, z, 0, s->vp);
     Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
   }
@@ -147,7 +182,20 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
     gq = s->fbuf + 3 * s->n;
     vi_force_modal(s, t, z, gq);
   }
-  vi_ledger_rates_state(s->led, t, z, Lambda, gq, N_VGetArrayPointer(yQd));
+  double *R = N_VGetArrayPointer(yQd);
+  vi_ledger_rates_state(s->led, t, z, Lambda, gq, R);
+  if (s->sticking && !own_stop) {
+    /* other stops held: CE_j = -sum_k lambda_k psi_kj q_j' */
+    int n = s->n;
+    double lam[VI_CONTACT_MAX], *qd = s->sbuf + 3 * n;
+    vi_sim_accel(s, t, z, 0, s->vp);
+    vi_sim_constrain(s, s->vp, lam);
+    vi_modal_project(s->m, z, NULL, qd);
+    for (int i = 0; i < s->nstick; i++) {
+      const double *psi = vi_stop_psi(s->m, s->stick_k[i]);
+      for (int j = 0; j < n; j++) R[3 * n + j] -= lam[i] * psi[j] * qd[j];
+    }
+  }
   return 0;
 }
 
@@ -174,6 +222,7 @@ static void cv_destroy(vi_sim *s)
   N_VDestroy(d->yQ);
   SUNContext_Free(&d->ctx);
   free(d->zprev);
+  free(d->info);
   free(d);
   s->be_data = NULL;
 }
@@ -184,13 +233,19 @@ static void cv_destroy(vi_sim *s)
 static int use_band(const vi_sim *s)
 {
   const vi_model *m = s->m;
-  int n = s->n, nz = 0;
+  int n = s->n;
   if (s->nforces) return 0; /* a force may couple any coordinates */
-  for (int i = 0; i < n; i++) {
-    if (m->Minv_w[i] != 0.0) nz++;
-    if ((m->Minv_w[i] != 0.0) != (m->w[i] != 0.0)) return 0;
+  /* each stop on one coordinate: the projection touches only its rows */
+  for (int k = 0; k < m->ns; k++) {
+    const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
+    int nz = 0;
+    for (int i = 0; i < n; i++) {
+      if (mw[i] != 0.0) nz++;
+      if ((mw[i] != 0.0) != (w[i] != 0.0)) return 0;
+    }
+    if (nz != 1) return 0;
   }
-  return nz == 1 && 4 * m->bw + 2 < n;
+  return 4 * m->bw + 2 < n;
 }
 
 #define CV_TRY(call)                                                   \
@@ -213,7 +268,8 @@ static int cv_create(vi_sim *s)
   s->be_data = d;
   s->errmsg[0] = '\0';
   d->zprev = malloc(sizeof(double) * (2 + VI_LEDGER_BLOCKS) * (size_t)s->n);
-  VI_CHECK(d->zprev, s->errmsg, VI_ERR_NOMEM, "out of memory");
+  d->info = calloc(2 * (size_t)s->ns, sizeof(int));
+  VI_CHECK(d->zprev && d->info, s->errmsg, VI_ERR_NOMEM, "out of memory");
   VI_CHECK(SUNContext_Create(NULL, &d->ctx) == 0, s->errmsg, VI_ERR_NOMEM,
            "SUNContext_Create failed");
   d->y = N_VMake_Serial(N, s->z, d->ctx);
@@ -291,12 +347,25 @@ static int cv_start(vi_sim *s)
   for (int k = 0; k <= VI_STAT_ROOT_EVALS; k++) d->base[k] += cv_live(d, k);
   CV_TRY(CVodeReInit(d->mem, s->t, d->y));
   if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));
-  int nr = s->sticking ? 1 : 2;
-  if (nr != d->nroots) {
-    int dir[2] = {s->sticking ? -1 : 1, -1};
+  if (s->ns == 1) {
+    int nr = s->sticking ? 1 : 2;
+    if (nr != d->nroots) {
+      int dir[2] = {s->sticking ? -1 : 1, -1};
+      CV_TRY(CVodeRootInit(d->mem, nr, roots));
+      CV_TRY(CVodeSetRootDirection(d->mem, dir));
+      d->nroots = nr;
+    }
+  } else if (d->nroots == 0 || d->rstick[0] != s->nstick ||
+             memcmp(d->rstick + 1, s->stick_k, sizeof(int) * s->nstick) != 0) {
+    /* the layout of roots() follows the sticking set */
+    int nr = s->nstick + 2 * (s->ns - s->nstick), *dir = d->info;
+    for (int i = 0; i < nr; i++)
+      dir[i] = i < s->nstick ? -1 : (i - s->nstick) % 2 ? -1 : 1;
     CV_TRY(CVodeRootInit(d->mem, nr, roots));
     CV_TRY(CVodeSetRootDirection(d->mem, dir));
     d->nroots = nr;
+    d->rstick[0] = s->nstick;
+    memcpy(d->rstick + 1, s->stick_k, sizeof(int) * s->nstick);
   }
   if (s->h_restart > 0.0) CV_TRY(CVodeSetInitStep(d->mem, s->h_restart));
   /* While sticking the state barely moves, so CVODE's error control lets
@@ -334,12 +403,13 @@ static void save_prev(vi_sim *s, cv_data *d)
 static int cv_polish(vi_sim *s)
 {
   cv_data *d = s->be_data;
-  int st = VI_OK, n = s->n;
-  double tc = s->t, t = d->t_prev, g, gd;
-  vi_sim_gap(s, s->z, &g, &gd);
-  vi_sim_accel(s, s->t, s->z, 0, s->vp);
-  double p = fabs(vi_dot(n, s->m->w, s->vp));
-  double dx = s->atol * s->wnorm + s->rtol * fabs(s->m->xs);
+  int st = VI_OK, n = s->n, k = s->contact_stop, groot = gap_root(s, k);
+  double tc = s->t, t = d->t_prev, g, gd, xs = s->m->xsv[k];
+  if (groot < 0) return VI_OK;
+  vi_sim_gap_k(s, k, s->z, &g, &gd);
+  vi_sim_accel(s, s->t, s->z, s->sticking, s->vp);
+  double p = fabs(vi_dot(n, vi_stop_w(s->m, k), s->vp));
+  double dx = s->atol * s->wnorms[k] + s->rtol * fabs(xs);
   if (!(gd > 0.0) || p * dx <= 100.0 * s->rtol * gd * gd || !(tc > t))
     return VI_OK;
   memcpy(s->z, d->zprev, sizeof(double) * 2 * (size_t)n);
@@ -358,15 +428,15 @@ static int cv_polish(vi_sim *s)
       goto cleanup;
     }
     if (d->yQ) CV_TRY(CVodeGetQuad(d->mem, &t, d->yQ));
-    vi_sim_gap(s, s->z, &g, &gd);
+    vi_sim_gap_k(s, k, s->z, &g, &gd);
     if (flag == CV_ROOT_RETURN) {
-      int info[2] = {0, 0};
-      CVodeGetRootInfo(d->mem, info);
-      if (info[0]) break; /* the contact, on the short steps' interpolant */
+      CVodeGetRootInfo(d->mem, d->info);
+      if (d->info[groot]) break; /* the contact, on the short steps'
+                                    interpolant */
       continue;
     }
     /* at the stop time, a step end: done once on the stop to round-off */
-    if (g >= -4.0 * DBL_EPSILON * fabs(s->m->xs) || !(gd > 0.0)) break;
+    if (g >= -4.0 * DBL_EPSILON * fabs(xs) || !(gd > 0.0)) break;
     tstop = t - g / gd;
   }
   s->t = t;
@@ -374,31 +444,31 @@ cleanup:
   return st;
 }
 
-typedef struct gap_ctx { vi_sim *s; cv_data *d; } gap_ctx;
+typedef struct gap_ctx { vi_sim *s; cv_data *d; int k; } gap_ctx;
 
 static double gap_at(double t, void *p)
 {
   gap_ctx *c = p;
   double g, gd;
   CVodeGetDky(c->d->mem, t, 0, c->d->ys);
-  vi_sim_gap(c->s, c->s->zs, &g, &gd);
+  vi_sim_gap_k(c->s, c->k, c->s->zs, &g, &gd);
   return g;
 }
 
 /* A maximum of the gap was found at s->t.  If the gap is positive there, the
  * contact was stepped over (two crossings inside one step: grazing); locate
  * the first crossing on the interpolant and report it as the contact. */
-static int graze_check(vi_sim *s, cv_data *d, int *event)
+static int graze_check(vi_sim *s, cv_data *d, int k, int *event)
 {
   double g, gd;
-  vi_sim_gap(s, s->z, &g, &gd);
+  vi_sim_gap_k(s, k, s->z, &g, &gd);
   s->stats[VI_STAT_GRAZE_CHECKS]++;
   if (g <= 0.0) return VI_OK;
   double tn, hu, lo;
   CVodeGetCurrentTime(d->mem, &tn);
   CVodeGetLastStep(d->mem, &hu);
   lo = fmax(d->t_prev, tn - hu);
-  gap_ctx c = {s, d};
+  gap_ctx c = {s, d, k};
   double tc = lo;
   if (gap_at(lo, &c) < 0.0) {
     int st = vi_sim_bracket(s, gap_at, &c, lo, s->t, &tc);
@@ -408,6 +478,7 @@ static int graze_check(vi_sim *s, cv_data *d, int *event)
       (d->yQ && CVodeGetQuadDky(d->mem, tc, 0, d->yQ) < 0))
     return vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVodeGetDky failed");
   s->t = tc;
+  s->contact_stop = k;
   *event = VI_STEP_CONTACT;
   return VI_OK;
 }
@@ -442,12 +513,35 @@ static int cv_step(vi_sim *s, double t_end, int *event)
   }
   s->t = t;
   if (d->yQ) CV_TRY(CVodeGetQuad(d->mem, &t, d->yQ));
-  if (flag == CV_ROOT_RETURN) {
+  if (flag == CV_ROOT_RETURN && s->ns == 1) {
     int info[2] = {0, 0};
     CVodeGetRootInfo(d->mem, info);
     if (s->sticking) *event = info[0] ? VI_STEP_RELEASE : VI_STEP_NONE;
     else if (info[0]) *event = VI_STEP_CONTACT;
-    else if (info[1]) st = graze_check(s, d, event);
+    else if (info[1]) st = graze_check(s, d, 0, event);
+    d->continued = *event == VI_STEP_NONE;
+  } else if (flag == CV_ROOT_RETURN) {
+    /* several stops (layout of roots()): a contact first, then a release,
+     * then the gap maxima's grazing checks */
+    int *info = d->info, nst = s->nstick, rel = -1;
+    CVodeGetRootInfo(d->mem, info);
+    for (int i = 0; i < nst; i++)
+      if (info[i] && rel < 0) rel = s->stick_k[i];
+    for (int k = 0; k < s->ns && *event == VI_STEP_NONE; k++) {
+      int i = gap_root(s, k);
+      if (i >= 0 && info[i]) {
+        *event = VI_STEP_CONTACT;
+        s->contact_stop = k;
+      }
+    }
+    if (*event == VI_STEP_NONE && rel >= 0) {
+      *event = VI_STEP_RELEASE;
+      s->contact_stop = rel;
+    }
+    for (int k = 0; k < s->ns && *event == VI_STEP_NONE && !st; k++) {
+      int i = gap_root(s, k);
+      if (i >= 0 && info[i + 1]) st = graze_check(s, d, k, event);
+    }
     d->continued = *event == VI_STEP_NONE;
   }
 cleanup:

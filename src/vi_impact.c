@@ -31,6 +31,22 @@ int vi_impact_apply(const vi_model *m, const double *v_minus, double *v_plus,
   return vi_impact_apply_r(m, m->r, v_minus, v_plus, vn, ie);
 }
 
+int vi_impact_apply_multi(const vi_model *m, int nc, const int *stops,
+                          const double *v_minus, double *v_plus, double *P,
+                          double *ie)
+{
+  if (!m || !stops || !v_minus || !v_plus || nc < 1) return VI_ERR_ARG;
+  if (!m->frozen) return VI_ERR_STATE;
+  if (nc > VI_CONTACT_MAX) return VI_ERR_LIMIT;
+  for (int k = 0; k < nc; k++) {
+    if (stops[k] < 0 || stops[k] >= m->ns) return VI_ERR_ARG;
+    for (int j = 0; j < k; j++)
+      if (stops[j] == stops[k]) return VI_ERR_ARG;
+  }
+  if (v_plus != v_minus && vi_overlap(v_minus, v_plus, m->n)) return VI_ERR_ARG;
+  return vi_contact_solve(m, nc, stops, v_minus, v_plus, P, NULL, ie);
+}
+
 int vi_restitution_from_energy(double re, double ke_i, double *r)
 {
   if (!r) return VI_ERR_ARG;

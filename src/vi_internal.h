@@ -35,6 +35,12 @@ struct vi_model {
   double *MinvK, *MinvC;          /* M^-1 K, M^-1 C */
   double *Minv_a, *Minv_b, *Minv_f0, *Minv_w;
   double wMw;                     /* w^T M^-1 w */
+  /* every stop w_k.x <= xs_k (restitution r_k); stop 0 is mirrored in w,
+   * xs, r, Minv_w, wMw and psi above for the single-stop code paths */
+  int ns, ns_cap;
+  double *Ws, *xsv, *rv;          /* W [n x ns], x_s [ns], r [ns] as set */
+  double *MinvW, *G, *PsiW;       /* M^-1 W [n x ns], W^T M^-1 W [ns x ns],
+                                     Psi^T W [n x ns]: at setup */
   int bw;                         /* half-bandwidth of M^-1 K and M^-1 C */
   double *omega, *lambda, *Psi, *PsiTM, *D, *zeta, *psi;
   double *Fa, *Fb, *F0;           /* Psi^T a, Psi^T b, Psi^T f0 */
@@ -46,6 +52,36 @@ struct vi_model {
   double *block;                  /* single allocation behind the arrays */
   char errmsg[VI_MSG_LEN];
 };
+
+/* Stop k's vector w_k [n], its M^-1 w_k [n] and its modal psi_k [n]. */
+static inline const double *vi_stop_w(const vi_model *m, int k)
+{
+  return m->Ws + (size_t)k * (size_t)m->n;
+}
+static inline const double *vi_stop_minvw(const vi_model *m, int k)
+{
+  return m->MinvW + (size_t)k * (size_t)m->n;
+}
+static inline const double *vi_stop_psi(const vi_model *m, int k)
+{
+  return m->PsiW + (size_t)k * (size_t)m->n;
+}
+
+/* Newton's law for several simultaneous contacts (vi_contact.c; the rule
+ * is in vi_impact.h): the impulses P [nc] >= 0 on the stops idx [nc] for
+ * the velocity v [n] before; vp [n] receives the velocity after (may be v),
+ * vn [nc] the approach velocities w_k.v, ie [nc] the kinetic energy each
+ * contact takes (they sum to the total loss); P, vn, ie may be NULL.
+ * Returns VI_OK, VI_ERR_LIMIT (nc above VI_CONTACT_MAX),
+ * VI_ERR_NOT_CONVERGED (no active set fits: G singular on the contacts). */
+#define VI_CONTACT_MAX 12
+/* Cholesky of a small SPD k x k matrix in place (0, or -1 if a pivot is
+ * lost to round-off) and the solve with its factor (vi_contact.c). */
+int vi_small_cholesky(int k, double *A);
+void vi_small_solve(int k, const double *L, double *b);
+int vi_contact_solve(const vi_model *m, int nc, const int *idx,
+                     const double *v, double *vp, double *P, double *vn,
+                     double *ie);
 
 /* Modal analysis (vi_modal.c), called by vi_model_setup. */
 int vi_modal_setup(vi_model *m);

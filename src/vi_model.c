@@ -1,5 +1,6 @@
 /* vi_model.c - store, validate and freeze M, C, K, the forcing and the stop. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,6 +64,8 @@ void vi_model_destroy(vi_model **model)
 {
   if (!model || !*model) return;
   vi_general_free(*model);
+  free((*model)->Ws);
+  free((*model)->MinvW);
   free((*model)->block);
   free(*model);
   *model = NULL;
@@ -182,28 +185,134 @@ int vi_model_set_forcing(vi_model *m, double omega, const double *a,
   return VI_OK;
 }
 
-int vi_model_set_stop(vi_model *m, const double *w, double x_s, double r)
+/* Validate a stop's data (w [n], x_s, r); `what` ("" or "stop 2: ")
+ * prefixes the messages. */
+static int check_stop(vi_model *m, const char *what, const double *w,
+                      double x_s, double r)
 {
   int st = check_open(m);
   if (st) return st;
-  if (!w) return vi_fail(m->errmsg, VI_ERR_ARG, "stop vector w is NULL");
-  if ((st = check_vector(m, "w", w))) return st;
+  if (!w) return vi_fail(m->errmsg, VI_ERR_ARG, "%sstop vector w is NULL",
+                         what);
+  for (int i = 0; i < m->n; i++)
+    if (!isfinite(w[i]))
+      return vi_fail(m->errmsg, VI_ERR_NONFINITE, "%sw(%d) = %g is not "
+                     "finite", what, i + 1, w[i]);
   if (!isfinite(x_s))
-    return vi_fail(m->errmsg, VI_ERR_NONFINITE, "clearance x_s = %g is not "
-                   "finite", x_s);
+    return vi_fail(m->errmsg, VI_ERR_NONFINITE, "%sclearance x_s = %g is "
+                   "not finite", what, x_s);
   if (!isfinite(r))
     return vi_fail(m->errmsg, VI_ERR_NONFINITE,
-                   "restitution r = %g is not finite", r);
+                   "%srestitution r = %g is not finite", what, r);
   if (r < 0.0 || r > 1.0)
     return vi_fail(m->errmsg, VI_ERR_RESTITUTION,
-                   "restitution r = %g is outside [0, 1]", r);
+                   "%srestitution r = %g is outside [0, 1]", what, r);
   if (is_zero(m->n, w))
     return vi_fail(m->errmsg, VI_ERR_STOP_VECTOR,
-                   "stop vector w is zero: no coordinate meets the stop");
-  memcpy(m->w, w, sizeof(double) * (size_t)m->n);
-  m->xs = x_s;
-  m->r = r;
+                   "%sstop vector w is zero: no coordinate meets the stop",
+                   what);
+  return VI_OK;
+}
+
+/* Store stop k (k <= ns: k == ns appends), growing the arrays. */
+static int store_stop(vi_model *m, int k, const double *w, double x_s,
+                      double r)
+{
+  int n = m->n;
+  if (k >= m->ns_cap) {
+    int cap = m->ns_cap ? 2 * m->ns_cap : 2;
+    if (cap > (1 << 20))
+      return vi_fail(m->errmsg, VI_ERR_LIMIT, "too many stops (%d)", k + 1);
+    double *p = realloc(m->Ws, sizeof(double) * (size_t)cap * (size_t)(n + 2));
+    if (!p) return vi_fail(m->errmsg, VI_ERR_NOMEM, "out of memory for stops");
+    /* the layout is [W | x_s | r]: move x_s and r up to the new capacity */
+    memmove(p + (size_t)cap * n + cap, p + (size_t)m->ns_cap * n + m->ns_cap,
+            sizeof(double) * (size_t)m->ns_cap);
+    memmove(p + (size_t)cap * n, p + (size_t)m->ns_cap * n,
+            sizeof(double) * (size_t)m->ns_cap);
+    m->Ws = p;
+    m->xsv = p + (size_t)cap * n;
+    m->rv = m->xsv + cap;
+    m->ns_cap = cap;
+  }
+  memcpy(m->Ws + (size_t)k * n, w, sizeof(double) * (size_t)n);
+  m->xsv[k] = x_s;
+  m->rv[k] = r;
+  if (k == m->ns) m->ns++;
+  if (k == 0) { /* stop 0 is mirrored for the single-stop code paths */
+    memcpy(m->w, w, sizeof(double) * (size_t)n);
+    m->xs = x_s;
+    m->r = r;
+  }
   m->has_stop = 1;
+  return VI_OK;
+}
+
+int vi_model_set_stop(vi_model *m, const double *w, double x_s, double r)
+{
+  int st = check_stop(m, "", w, x_s, r);
+  return st ? st : store_stop(m, 0, w, x_s, r);
+}
+
+int vi_model_add_stop(vi_model *m, const double *w, double x_s, double r)
+{
+  char what[32];
+  snprintf(what, sizeof what, "stop %d: ", m ? m->ns + 1 : 0);
+  int st = check_stop(m, what, w, x_s, r);
+  return st ? st : store_stop(m, m->ns, w, x_s, r);
+}
+
+int vi_model_num_stops(const vi_model *m) { return m ? m->ns : 0; }
+
+int vi_model_get_stop(const vi_model *m, int k, double *w, double *x_s,
+                      double *r)
+{
+  if (!m || k < 0 || k >= m->ns) return VI_ERR_ARG;
+  if (w) memcpy(w, m->Ws + (size_t)k * m->n, sizeof(double) * (size_t)m->n);
+  if (x_s) *x_s = m->xsv[k];
+  if (r) *r = m->rv[k];
+  return VI_OK;
+}
+
+const double *vi_model_delassus(const vi_model *m, int *ld)
+{
+  if (ld) *ld = m ? m->ns : 0;
+  return m && m->frozen ? m->G : NULL;
+}
+
+/* M^-1 w_k for every stop (reusing the Cholesky factor L of M), the
+ * Delassus matrix G = W^T M^-1 W of Newton's law for simultaneous contacts,
+ * and the modal stop vectors Psi^T w_k (after the modal setup). */
+static int setup_stops(vi_model *m, const double *L)
+{
+  int n = m->n, ns = m->ns;
+  size_t nS = (size_t)n * ns;
+  free(m->MinvW);
+  m->MinvW = malloc(sizeof(double) * (2 * nS + (size_t)ns * ns));
+  if (!m->MinvW) return vi_fail(m->errmsg, VI_ERR_NOMEM, "out of memory");
+  m->PsiW = m->MinvW + nS;
+  m->G = m->PsiW + nS;
+  memcpy(m->MinvW, m->Minv_w, sizeof(double) * (size_t)n);
+  if (ns > 1) {
+    memcpy(m->MinvW + n, m->Ws + n, sizeof(double) * (nS - n));
+    lapack_int info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n,
+                                     (lapack_int)(ns - 1), L, n,
+                                     m->MinvW + n, n);
+    if (info != 0)
+      return vi_fail(m->errmsg, VI_ERR_LAPACK, "dpotrs failed on the stops "
+                     "(info %d)", (int)info);
+  }
+  for (int k = 0; k < ns; k++)
+    for (int j = 0; j < ns; j++)
+      m->G[j + (size_t)k * ns] =
+          j == k && k == 0 ? m->wMw
+                           : vi_dot(n, m->Ws + (size_t)j * n,
+                                    m->MinvW + (size_t)k * n);
+  /* exactly symmetric, as the LCP's Cholesky factorisations expect */
+  for (int k = 0; k < ns; k++)
+    for (int j = k + 1; j < ns; j++)
+      m->G[j + (size_t)k * ns] = m->G[k + (size_t)j * ns] =
+          0.5 * (m->G[j + (size_t)k * ns] + m->G[k + (size_t)j * ns]);
   return VI_OK;
 }
 
@@ -270,6 +379,7 @@ int vi_model_setup(vi_model *m)
     memcpy(outs[k], rhs + 2 * nn + (size_t)k * n, sizeof(double) * n);
   free(rhs);
   m->wMw = vi_dot(n, m->w, m->Minv_w);
+  if ((st = setup_stops(m, L))) return st;
 
   /* half-bandwidth of the RHS matrices: a chain with diagonal M is
    * tridiagonal, and the RHS and band Jacobian exploit it */
@@ -281,6 +391,9 @@ int vi_model_setup(vi_model *m)
         m->bw = abs(i - j);
 
   if ((st = vi_modal_setup(m))) return st;
+  memcpy(m->PsiW, m->psi, sizeof(double) * (size_t)n);
+  for (int k = 1; k < m->ns; k++)
+    vi_matvec_t(n, m->Psi, m->Ws + (size_t)k * n, m->PsiW + (size_t)k * n);
   m->frozen = 1;
   m->errmsg[0] = '\0';
   return VI_OK;

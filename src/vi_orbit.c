@@ -45,6 +45,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!model) return VI_ERR_ARG;
   if (!model->frozen) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
+  if (model->ns > 1) return VI_ERR_UNSUPPORTED; /* WB 11-13: one stop */
   vi_orbit *o = calloc(1, sizeof *o);
   if (!o) return VI_ERR_NOMEM;
   int n = model->n;
@@ -52,10 +53,11 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->rt = malloc(sizeof(double) * RING);
   o->rz = malloc(sizeof(double) * RING * 2 * (size_t)n);
   o->pz = malloc(sizeof(double) * (3 * MAX_N + 1) * 2 * (size_t)n);
-  if (!o->block || !o->rt || !o->rz || !o->pz ||
-      vi_sim_create(model, &o->sim)) {
+  int st = o->block && o->rt && o->rz && o->pz ? vi_sim_create(model, &o->sim)
+                                               : VI_ERR_NOMEM;
+  if (st) { /* vi_sim_create's own code, not a blanket NOMEM */
     vi_orbit_destroy(&o);
-    return VI_ERR_NOMEM;
+    return st;
   }
   double *p = o->block;
   o->x0 = p; p += n;
@@ -365,10 +367,14 @@ static int balance(vi_orbit *o)
       (st = vi_sim_set_sampling(o->sim, o->T / 4096, bal_sample, o)) ||
       (st = vi_sim_run(o->sim, o->t_s + o->T)) ||
       (st = vi_sim_get_ledger(o->sim, NULL, o->FE, o->DE, o->XE, NULL, dE, NULL)))
-    return vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "balance run: %s",
-                   vi_sim_errmsg(o->sim));
+    vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "balance run: %s",
+            vi_sim_errmsg(o->sim));
+  /* whatever happened, the sim keeps no pointer to this frame's context
+   * and no ledger or sampling it did not have before */
+  vi_sim_set_event_callback(o->sim, NULL, NULL);
   vi_sim_set_sampling(o->sim, 0.0, NULL, NULL);
   vi_sim_enable_ledger(o->sim, 0);
+  if (st) return st < 0 ? st : VI_ERR_STATE;
   if (c.seen != 1)
     return vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED,
                    "balance run: %d impacts in the period of a P(1,1) orbit",
@@ -612,6 +618,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   *out = NULL;
   if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
   if (!full->frozen) return VI_ERR_STATE;
+  if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;

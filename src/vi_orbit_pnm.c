@@ -162,6 +162,7 @@ int vi_orbit_pnm_solve(const vi_model *m, int np, int mi, double *t,
   if (!m || !t || !x || !v || np < 1 || mi < 1 || ld < (m ? m->n : 1))
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
   if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   ws w;
@@ -229,6 +230,7 @@ int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
   if (!m || !t || !x || !v || !F || np < 1 || mi < 1 || ld < (m ? m->n : 1))
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
   if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   ws w;
@@ -257,6 +259,7 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
   if (!m || !t || !x || !v || !re || !im || np < 1 || mi < 1 || ld < (m ? m->n : 1))
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
   if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   ws w;
   int st = ws_init(&w, m), n = m->n, n2 = 2 * n;
@@ -327,6 +330,7 @@ int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
   if (!m || !t || !x || !v || !ok || np < 1 || mi < 1 || ld < (m ? m->n : 1))
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
   ws w;
   int st = ws_init(&w, m), n = m->n;
   if (st) return st;
@@ -380,6 +384,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
       ld < (m ? m->n : 1))
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
   if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   *found = 0;

@@ -20,9 +20,11 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   if (!s) return VI_ERR_NOMEM;
   int n = model->n;
   s->z = calloc(10 * (size_t)n, sizeof(double));
+  s->sbuf = calloc(4 * (size_t)n + 4 * (size_t)model->ns, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-  if (!s->z || !s->brent) {
+  if (!s->z || !s->sbuf || !s->brent) {
     gsl_root_fsolver_free(s->brent);
+    free(s->sbuf);
     free(s->z);
     free(s);
     return VI_ERR_NOMEM;
@@ -45,6 +47,13 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->t_last_contact = -HUGE_VAL;
   s->fast_nvector = 1;
   s->wnorm = sqrt(vi_dot(n, model->w, model->w));
+  s->ns = model->ns;
+  s->wnorms = s->sbuf + 4 * n;
+  s->ie_stop = s->wnorms + s->ns;
+  for (int k = 0; k < s->ns; k++) {
+    const double *w = vi_stop_w(model, k);
+    s->wnorms[k] = k ? sqrt(vi_dot(n, w, w)) : s->wnorm;
+  }
   for (int i = 0; i < n && !s->harmonic; i++)
     s->harmonic = model->a[i] != 0.0 || model->b[i] != 0.0;
   *out = s;
@@ -80,7 +89,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over && !s->nforces;
+         s->m->flow_ok && !s->handed_over && !s->nforces && s->ns == 1;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -100,6 +109,8 @@ static void note_method(vi_sim *s)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
              s->nforces     ? "nonlinear forces have no closed form"
+             : s->ns > 1     ? "the closed form handles one stop, the model "
+                               "has several"
              : s->m->flow_ok ? "closed-form flow available"
                              : s->m->flow_why);
   else
@@ -143,6 +154,7 @@ void vi_sim_destroy(vi_sim **sim)
   vi_ledger_destroy(s->led);
   vi_force_free(s);
   gsl_root_fsolver_free(s->brent);
+  free(s->sbuf);
   free(s->z);
   free(s);
   *sim = NULL;
@@ -160,6 +172,10 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && !s->m->flow_ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->m->flow_why);
+  if ((method == VI_METHOD_EXACT || method == VI_METHOD_ERK) && s->ns > 1)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "%s method unavailable: "
+                   "the model has %d stops and its contact search handles "
+                   "one (use adams or bdf)", method_names[method], s->ns);
   if (method == VI_METHOD_EXACT && s->nforces)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "exact method unavailable: "
                    "nonlinear forces have no closed form");
@@ -206,17 +222,25 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
     s->zs[2 * i] = xi;
     s->zs[2 * i + 1] = vi;
   }
-  double g, gd;
-  vi_sim_gap(s, s->zs, &g, &gd);
-  /* allow round-off of a state handed over from an earlier contact */
-  if (g > 1e-13 * fmax(1.0, fabs(m->xs)))
-    return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE,
-                   "initial state violates the stop: w.x0 = %.17g > x_s = "
-                   "%.17g", g + m->xs, m->xs);
+  for (int k = 0; k < s->ns; k++) {
+    double g, gd, xs = m->xsv[k];
+    vi_sim_gap_k(s, k, s->zs, &g, &gd);
+    /* allow round-off of a state handed over from an earlier contact */
+    if (g > 1e-13 * fmax(1.0, fabs(xs))) {
+      if (s->ns == 1)
+        return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE,
+                       "initial state violates the stop: w.x0 = %.17g > x_s "
+                       "= %.17g", g + xs, xs);
+      return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE,
+                     "initial state violates stop %d: w.x0 = %.17g > x_s = "
+                     "%.17g", k + 1, g + xs, xs);
+    }
+  }
   memcpy(s->z, s->zs, sizeof(double) * 2 * (size_t)n);
   s->z_stale = 0;
   s->t = t0;
   s->sticking = 0;
+  s->nstick = 0;
   s->started = 0;
   s->stick_pending = 0;
   s->t_last_contact = -HUGE_VAL;
@@ -338,6 +362,13 @@ int vi_sim_get_state(const vi_sim *s, double *t, double *x, double *v)
 
 int vi_sim_is_sticking(const vi_sim *s) { return s ? s->sticking : 0; }
 
+int vi_sim_get_stop_losses(const vi_sim *s, double *ie)
+{
+  if (!s || !ie) return VI_ERR_ARG;
+  memcpy(ie, s->ie_stop, sizeof(double) * (size_t)s->ns);
+  return VI_OK;
+}
+
 int64_t vi_sim_get_stat(const vi_sim *s, int which)
 {
   if (!s || which < 0 || which >= VI_STAT_COUNT) return -1;
@@ -382,13 +413,13 @@ static void split(vi_sim *s, const double *z)
   }
 }
 
-static void emit(vi_sim *s, int kind, double vn, double ie)
+static void emit(vi_sim *s, int kind, int stop, double vn, double ie)
 {
   int64_t idx = s->nevents[kind]++;
   s->last_event = kind;
   if (s->event_stop) s->stop = 1;
   if (!s->ev_fn || (s->stop && !s->event_stop)) return;
-  vi_event ev = {kind, s->n, idx, s->t, vn, ie, s->x, s->v, s->vp};
+  vi_event ev = {kind, s->n, idx, s->t, vn, ie, s->x, s->v, s->vp, stop};
   if (s->ev_fn(&ev, s->ev_user)) {
     s->stop = 1;
     s->event_stop = 0; /* the user's request: the run returns VI_STOPPED */
@@ -420,32 +451,80 @@ static void accel_rate(const vi_sim *s, double t, int k, const double *u,
   }
 }
 
-/* Remove the component along M^-1 w so that w.a = 0 (the constraint). */
-static void constrain(const vi_sim *s, double *a)
+/* Remove the component along M^-1 w_k so that w_k.a = 0 (stop k's
+ * constraint). */
+static void constrain(const vi_sim *s, int k, double *a)
 {
-  double lam = vi_dot(s->n, s->m->w, a) / s->m->wMw;
-  for (int i = 0; i < s->n; i++) a[i] -= lam * s->m->Minv_w[i];
+  const vi_model *m = s->m;
+  const double *mw = vi_stop_minvw(m, k);
+  double lam = vi_dot(s->n, vi_stop_w(m, k), a) / m->G[k + (size_t)k * m->ns];
+  for (int i = 0; i < s->n; i++) a[i] -= lam * mw[i];
 }
 
-/* The gap's free acceleration p = w.M^-1 (f - C v - K x) and its first two
- * rates along the constrained (sticking) motion from x, v at t. */
-static void contact_push(vi_sim *s, double t, const double *x, const double *v,
-                         double *p)
+void vi_sim_constrain_set(const vi_sim *s, double *a, double *lam)
+{
+  const vi_model *m = s->m;
+  int n = s->n, ns = s->nstick;
+  double b[VI_CONTACT_MAX];
+  for (int i = 0; i < ns; i++) b[i] = vi_dot(n, vi_stop_w(m, s->stick_k[i]), a);
+  vi_small_solve(ns, s->stick_L, b);
+  for (int i = 0; i < ns; i++) {
+    const double *mw = vi_stop_minvw(m, s->stick_k[i]);
+    for (int j = 0; j < n; j++) a[j] -= b[i] * mw[j];
+    if (lam) lam[i] = b[i];
+  }
+}
+
+/* Make the stops list [cnt] the sticking set: the projection of the
+ * right-hand side needs the factor of their Delassus block. */
+static int set_sticking(vi_sim *s, const int *list, int cnt)
+{
+  const vi_model *m = s->m;
+  for (int i = 0; i < cnt; i++) {
+    s->stick_k[i] = list[i];
+    for (int j = 0; j < cnt; j++)
+      s->stick_L[i + j * cnt] = m->G[list[i] + (size_t)list[j] * m->ns];
+  }
+  s->nstick = cnt;
+  s->sticking = cnt > 0;
+  if (cnt > 1 && vi_small_cholesky(cnt, s->stick_L)) {
+    s->nstick = 0;
+    s->sticking = 0;
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "sticking on %d stops at "
+                   "once at t = %.17g, whose stop vectors are dependent "
+                   "(Delassus block singular)", cnt, s->t);
+  }
+  return VI_OK;
+}
+
+static int in_stick_set(const vi_sim *s, int k)
+{
+  for (int i = 0; i < s->nstick; i++)
+    if (s->stick_k[i] == k) return 1;
+  return 0;
+}
+
+/* The gap's free acceleration p = w_k.M^-1 (f - C v - K x) of stop k and
+ * its first two rates along the constrained (sticking) motion from x, v
+ * at t. */
+static void contact_push(vi_sim *s, int k, double t, const double *x,
+                         const double *v, double *p)
 {
   int n = s->n;
+  const double *w = vi_stop_w(s->m, k);
   double *zz = s->zs, *acc = s->w1, *jerk = s->w2, *snap = s->w3;
   for (int i = 0; i < n; i++) {
     zz[2 * i] = x[i];
     zz[2 * i + 1] = v[i];
   }
   vi_sim_accel(s, t, zz, 0, acc);
-  p[0] = vi_dot(n, s->m->w, acc);
-  constrain(s, acc);
+  p[0] = vi_dot(n, w, acc);
+  constrain(s, k, acc);
   accel_rate(s, t, 1, v, acc, jerk);
-  p[1] = vi_dot(n, s->m->w, jerk);
-  constrain(s, jerk);
+  p[1] = vi_dot(n, w, jerk);
+  constrain(s, k, jerk);
   accel_rate(s, t, 2, acc, jerk, snap);
-  p[2] = vi_dot(n, s->m->w, snap);
+  p[2] = vi_dot(n, w, snap);
 }
 
 /* Sum a chattering tail in closed form (the chatter map of Nordmark &
@@ -517,27 +596,30 @@ static double chatter_tail(double u, double r, double p0, double p1,
   return T;
 }
 
-/* Normal stiffness and damping of the structure seen through the stop:
+/* Normal stiffness and damping of the structure seen through stop k:
  * a displacement xi along n = M^-1 w / (w^T M^-1 w) changes the gap by xi
  * and its acceleration by -kappa xi (and -gamma xi' for a rate). */
-static void normal_stiffness(const vi_sim *s, double *kappa, double *gamma)
+static void normal_stiffness(const vi_sim *s, int k, double *kappa,
+                             double *gamma)
 {
   const vi_model *m = s->m;
+  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
   int n = s->n;
-  double k = 0.0, c = 0.0;
+  double kk = 0.0, c = 0.0;
   for (int i = 0; i < n; i++) {
-    if (m->w[i] == 0.0) continue;
+    if (w[i] == 0.0) continue;
     double ki = 0.0, ci = 0.0;
     for (int j = 0; j < n; j++) {
       size_t ij = (size_t)i + (size_t)j * (size_t)n;
-      ki += m->MinvK[ij] * m->Minv_w[j];
-      ci += m->MinvC[ij] * m->Minv_w[j];
+      ki += m->MinvK[ij] * mw[j];
+      ci += m->MinvC[ij] * mw[j];
     }
-    k += m->w[i] * ki;
-    c += m->w[i] * ci;
+    kk += w[i] * ki;
+    c += w[i] * ci;
   }
-  *kappa = k / m->wMw;
-  *gamma = c / m->wMw;
+  double wmw = m->G[k + (size_t)k * m->ns];
+  *kappa = kk / wmw;
+  *gamma = c / wmw;
 }
 
 /* Sticking after a summed chattering tail begins at its accumulation point:
@@ -548,7 +630,7 @@ static void emit_pending_stick(vi_sim *s)
   s->stick_pending = 0;
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * (size_t)s->n);
-  emit(s, VI_EVENT_STICK, s->stick_vn, s->stick_ie);
+  emit(s, VI_EVENT_STICK, s->stick_stop, s->stick_vn, s->stick_ie);
 }
 
 /* End the ledger's open interval at s->t (vi_ledger_pre_jump saw the state
@@ -562,17 +644,21 @@ static void close_interval(vi_sim *s, int jump, double ie)
   }
 }
 
-/* A contact located at s->t: impact, start of sticking, or a tangential
- * touch that needs nothing but a restart past it. */
-static int on_contact(vi_sim *s)
+/* A contact with stop k alone, located at s->t: impact, start of sticking,
+ * or a tangential touch that needs nothing but a restart past it.  (With
+ * one stop, the arithmetic of the single-stop simulator.) */
+static int on_contact_one(vi_sim *s, int k)
 {
   const vi_model *m = s->m;
   int n = s->n;
+  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
+  double r = m->rv[k], wmw = m->G[k + (size_t)k * m->ns], xs = m->xsv[k];
+  double wnorm = s->wnorms[k];
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
-  double vn = vi_dot(n, m->w, s->v);
+  double vn = vi_dot(n, w, s->v);
   vi_sim_accel(s, s->t, s->z, 0, s->vp);
-  double push = vi_dot(n, m->w, s->vp); /* > 0: pressed into the stop */
+  double push = vi_dot(n, w, s->vp); /* > 0: pressed into the stop */
   double dt_prev = s->t - s->t_last_contact;
   s->t_last_contact = s->t;
   /* Chattering (Budd & Dux 1994): with r < 1 and the stop pressed on,
@@ -583,7 +669,7 @@ static int on_contact(vi_sim *s)
    * threshold or a floor they are not wanted.  Then the rest of the
    * sequence is summed in closed form and sticking begins at its
    * accumulation point (Nordmark & Piiroinen 2009). */
-  double apex = push > 0.0 ? 0.5 * m->r * m->r * vn * vn / push : HUGE_VAL;
+  double apex = push > 0.0 ? 0.5 * r * r * vn * vn / push : HUGE_VAL;
   int floor_hit = push > 0.0 && vn > 0.0 &&
                   ((s->vn_floor > 0.0 && vn < s->vn_floor) ||
                    (s->dt_floor > 0.0 && dt_prev < s->dt_floor));
@@ -591,68 +677,82 @@ static int on_contact(vi_sim *s)
    * even at r = 1; a vanishing bounce only where impacts lose energy */
   int chatter = push > 0.0 &&
                 (vn <= 0.0 || floor_hit ||
-                 (m->r < 1.0 &&
-                  (vn < s->vchat || apex < 10.0 * s->atol * s->wnorm)));
-  if (!chatter && m->r < 1.0 && push > 0.0) {
+                 (r < 1.0 && (vn < s->vchat || apex < 10.0 * s->atol * wnorm)));
+  if (!chatter && r < 1.0 && push > 0.0) {
     /* Sum the tail as soon as resolving the next impact costs more
      * accuracy than the closed-form tail: the next contact time is only
      * known to dx / (r v_n), with dx the integrator's position error along
      * w, while the chatter map neglects the contact force's second rate,
      * an error of about |p''| / p Delta^3 over the tail's duration Delta. */
     double p[3];
-    contact_push(s, s->t, s->x, s->v, p);
+    contact_push(s, k, s->t, s->x, s->v, p);
     /* an integrator's global position error is some ten times its local
      * tolerance */
     double dx = s->be == &vi_backend_exact
-                    ? 16.0 * DBL_EPSILON * (fabs(m->xs) + s->wnorm)
-                    : 10.0 * (s->atol * s->wnorm + s->rtol * fabs(m->xs));
-    double delta = 2.0 * m->r * vn / (p[0] * (1.0 - m->r));
-    double e_res = dx / (m->r * vn), e_model = fabs(p[2]) / p[0] * pow(delta, 3);
+                    ? 16.0 * DBL_EPSILON * (fabs(xs) + wnorm)
+                    : 10.0 * (s->atol * wnorm + s->rtol * fabs(xs));
+    double delta = 2.0 * r * vn / (p[0] * (1.0 - r));
+    double e_res = dx / (r * vn), e_model = fabs(p[2]) / p[0] * pow(delta, 3);
     double tol_t = s->rtol * fmax(fabs(s->t), 2.0 * vn / p[0]);
     chatter = p[0] > 0.0 && e_res > tol_t && e_model <= e_res;
   }
   if (floor_hit) s->stats[VI_STAT_FLOORS]++;
   double ie = 0.0;
   if (vn > 0.0) {
-    vi_impact_apply_r(m, m->r, s->v, s->vp, &vn, &ie);
+    int st = vi_contact_solve(m, 1, &k, s->v, s->vp, NULL, &vn, &ie);
+    if (st) return st; /* one contact: always solvable */
     s->stats[VI_STAT_IMPACTS]++;
-    emit(s, VI_EVENT_IMPACT, vn, ie);
+    emit(s, VI_EVENT_IMPACT, k, vn, ie);
   } else {
     memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
   }
-  int stick = chatter || (vn > 0.0 && m->r == 0.0 && push > 0.0);
+  int stick = chatter || (vn > 0.0 && r == 0.0 && push > 0.0);
+  if (!stick && vn > 0.0 && r == 0.0) {
+    /* a plastic impact leaves the mass on the stop at rest along w: it
+     * sticks if pressed with the velocity after the impact (damping), else
+     * a restart on g = g' = 0 would miss the contact root as it presses */
+    for (int i = 0; i < n; i++) {
+      s->zs[2 * i] = s->x[i];
+      s->zs[2 * i + 1] = s->vp[i];
+    }
+    vi_sim_accel(s, s->t, s->zs, 0, s->w1);
+    stick = vi_dot(n, w, s->w1) > 0.0;
+  }
   double ie_tail = 0.0;
   if (stick) {
     /* remove the rebound's normal velocity: the tail's impacts absorb its
      * kinetic energy, and the constraint holds exactly from here on */
-    double u = vi_dot(n, m->w, s->vp) / m->wMw;
-    ie_tail = 0.5 * u * u * m->wMw;
-    for (int i = 0; i < n; i++) s->vp[i] -= u * m->Minv_w[i];
+    double u = vi_dot(n, w, s->vp) / wmw;
+    ie_tail = 0.5 * u * u * wmw;
+    for (int i = 0; i < n; i++) s->vp[i] -= u * mw[i];
     double tail = 0.0;
     int64_t count = 0;
     if (u < 0.0) {
       double p[3];
-      contact_push(s, s->t, s->x, s->vp, p);
+      contact_push(s, k, s->t, s->x, s->vp, p);
       double kappa, gamma;
-      normal_stiffness(s, &kappa, &gamma);
-      tail = chatter_tail(-u * m->wMw, m->r, p[0], p[1], kappa, gamma, &count);
+      normal_stiffness(s, k, &kappa, &gamma);
+      tail = chatter_tail(-u * wmw, r, p[0], p[1], kappa, gamma, &count);
       if (tail < 0.0) tail = 0.0; /* not accumulating by the model: stick */
     }
-    s->sticking = 1;
+    emit_pending_stick(s); /* an earlier stop's tail, if any, ends here */
+    set_sticking(s, &k, 1);
     s->stats[VI_STAT_STICKS]++;
     s->stats[VI_STAT_CHATTER_SKIPPED] += count;
     s->stick_pending = 1;
+    s->stick_stop = k;
     s->stick_at = s->t + tail;
-    s->stick_vn = -u * m->wMw;
+    s->stick_vn = -u * wmw;
     s->stick_ie = ie_tail;
   }
+  s->ie_stop[k] += ie + ie_tail;
   /* The contact is at g = 0 by definition, but the located state carries
    * the integrator's position error along w.  Near grazing that error is
    * amplified into the next approach velocity as dv ~ g'' dx / v (the
    * square-root singularity), so put the state back on the stop: the
    * M-orthogonal projection, the smallest change in kinetic-energy norm. */
-  double g = vi_dot(n, m->w, s->x) - m->xs;
-  for (int i = 0; i < n; i++) s->x[i] -= g * m->Minv_w[i] / m->wMw;
+  double g = vi_dot(n, w, s->x) - xs;
+  for (int i = 0; i < n; i++) s->x[i] -= g * mw[i] / wmw;
   for (int i = 0; i < n; i++) {
     s->z[2 * i] = s->x[i];
     s->z[2 * i + 1] = s->vp[i];
@@ -664,15 +764,189 @@ static int on_contact(vi_sim *s)
   return s->be->start(s);
 }
 
+/* Put x on the stops list [cnt] (w_k.x = x_k): the M-orthogonal projection
+ * x -= M^-1 W G^-1 (W^T x - x_s), as in on_contact_one for one stop.  Left
+ * as it is if their Delassus block is singular. */
+static void project_on_stops(vi_sim *s, const int *list, int cnt, double *x)
+{
+  const vi_model *m = s->m;
+  double L[VI_CONTACT_MAX * VI_CONTACT_MAX], g[VI_CONTACT_MAX];
+  for (int i = 0; i < cnt; i++) {
+    g[i] = vi_dot(s->n, vi_stop_w(m, list[i]), x) - m->xsv[list[i]];
+    for (int j = 0; j < cnt; j++)
+      L[i + j * cnt] = m->G[list[i] + (size_t)list[j] * m->ns];
+  }
+  if (!cnt || vi_small_cholesky(cnt, L)) return;
+  vi_small_solve(cnt, L, g);
+  for (int i = 0; i < cnt; i++) {
+    const double *mw = vi_stop_minvw(m, list[i]);
+    for (int j = 0; j < s->n; j++) x[j] -= g[i] * mw[j];
+  }
+}
+
+/* Several stops touch at s->t (idx [nc]: those within the gap tolerance,
+ * and every stop held while sticking): Newton's law for simultaneous
+ * contacts (vi_contact.c).  Then the stops that hold from here on: a
+ * sticking stop that the impulses keep on its stop, and a stop whose
+ * bounces would die out (its chatter criteria, or r = 0, pressed on), as
+ * long as its contact force pushes (lambda_S = G_SS^-1 W_S^T a_free > 0).
+ * Such a stop sticks at once: with several stops involved the chattering
+ * tail is not summed (its duration is the error). */
+static int on_contact_multi(vi_sim *s, int nc, int *idx)
+{
+  const vi_model *m = s->m;
+  int n = s->n, st;
+  double P[VI_CONTACT_MAX], u[VI_CONTACT_MAX], ie[VI_CONTACT_MAX];
+  emit_pending_stick(s);
+  if (s->led) vi_ledger_pre_jump(s->led, s->z);
+  split(s, s->z);
+  st = vi_contact_solve(m, nc, idx, s->v, s->vp, P, u, ie);
+  if (st == VI_ERR_LIMIT)
+    return vi_fail(s->errmsg, st, "%d stops touch at once at t = %.17g: "
+                   "Newton's law for simultaneous contacts is solved by "
+                   "enumeration for at most %d", nc, s->t, VI_CONTACT_MAX);
+  if (st)
+    return vi_fail(s->errmsg, VI_ERR_NOT_CONVERGED, "no impulses satisfy "
+                   "Newton's law for the %d stops touching at t = %.17g "
+                   "(dependent stop vectors?)", nc, s->t);
+  double dt_prev = s->t - s->t_last_contact;
+  s->t_last_contact = s->t;
+  double ie_sum = 0.0;
+  int impacted = 0;
+  for (int k = 0; k < nc; k++) {
+    ie_sum += ie[k];
+    s->ie_stop[idx[k]] += ie[k];
+    if (u[k] > 0.0 && P[k] > 0.0) {
+      impacted = 1;
+      s->stats[VI_STAT_IMPACTS]++;
+      emit(s, VI_EVENT_IMPACT, idx[k], u[k], ie[k]);
+    }
+  }
+  /* free acceleration after the jump (damping sees the new velocity) */
+  double *zz = s->sbuf, *acc = zz + 2 * n, *a2 = acc + n;
+  for (int i = 0; i < n; i++) {
+    zz[2 * i] = s->x[i];
+    zz[2 * i + 1] = s->vp[i];
+  }
+  vi_sim_accel(s, s->t, zz, 0, acc);
+  int hold[VI_CONTACT_MAX] = {0}, was[VI_CONTACT_MAX], nh = 0;
+  int nwas = s->nstick;
+  memcpy(was, s->stick_k, sizeof(int) * (size_t)nwas);
+  for (int k = 0; k < nc; k++) {
+    int j = idx[k];
+    const double *w = vi_stop_w(m, j);
+    double r = m->rv[j], un = vi_dot(n, w, s->vp), push = vi_dot(n, w, acc);
+    double vscale = fmax(fabs(u[k]), s->atol);
+    if (in_stick_set(s, j)) {
+      if (P[k] > 0.0 || fabs(un) <= 1e-9 * vscale) hold[nh++] = j;
+      continue;
+    }
+    if (!(push > 0.0)) continue;
+    if (u[k] <= 0.0) {
+      /* resting on the stop, pressed (a touch at a gap maximum, or a start
+       * on the stop): sticking at any r, as for one stop */
+      if (fabs(un) <= fmax(s->vchat, 1e-9 * vscale)) hold[nh++] = j;
+      continue;
+    }
+    if (!(P[k] > 0.0)) continue;
+    double apex = 0.5 * r * r * u[k] * u[k] / push;
+    int floor_hit = (s->vn_floor > 0.0 && u[k] < s->vn_floor) ||
+                    (s->dt_floor > 0.0 && dt_prev < s->dt_floor);
+    if (floor_hit) s->stats[VI_STAT_FLOORS]++;
+    /* a floor ends any sequence, a vanishing bounce one that loses energy */
+    if (r == 0.0 || floor_hit ||
+        (r < 1.0 && (u[k] < s->vchat || apex < 10.0 * s->atol * s->wnorms[j])))
+      hold[nh++] = j;
+  }
+  /* drop the stops that would pull (lambda <= 0) until the rest push */
+  for (int pass = 0; pass <= VI_CONTACT_MAX && nh > 0; pass++) {
+    double lam[VI_CONTACT_MAX];
+    if ((st = set_sticking(s, hold, nh))) return st;
+    memcpy(a2, acc, sizeof(double) * (size_t)n);
+    vi_sim_constrain(s, a2, lam);
+    int keep = 0;
+    for (int i = 0; i < nh; i++)
+      if (lam[i] > 0.0) hold[keep++] = hold[i];
+    if (keep == nh) break;
+    nh = keep;
+  }
+  if ((st = set_sticking(s, hold, nh))) return st;
+  /* the held stops' normal velocities go: their bounces' energy */
+  double ie_tail = 0.0;
+  if (nh) {
+    double b[VI_CONTACT_MAX], lam[VI_CONTACT_MAX];
+    for (int i = 0; i < nh; i++) b[i] = vi_dot(n, vi_stop_w(m, hold[i]), s->vp);
+    vi_sim_constrain(s, s->vp, lam);
+    for (int i = 0; i < nh; i++) {
+      double e = 0.5 * lam[i] * b[i];
+      ie_tail += e;
+      s->ie_stop[hold[i]] += e;
+    }
+  }
+  /* back on the stops that took an impulse or hold */
+  int on[VI_CONTACT_MAX], non = 0;
+  for (int k = 0; k < nc; k++)
+    if (P[k] > 0.0 || in_stick_set(s, idx[k])) on[non++] = idx[k];
+  project_on_stops(s, on, non, s->x);
+  for (int i = 0; i < n; i++) {
+    s->z[2 * i] = s->x[i];
+    s->z[2 * i + 1] = s->vp[i];
+  }
+  close_interval(s, impacted || nh > 0, ie_sum + ie_tail);
+  split(s, s->z);
+  memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
+  for (int i = 0; i < nwas; i++)
+    if (!in_stick_set(s, was[i])) emit(s, VI_EVENT_RELEASE, was[i], 0.0, 0.0);
+  for (int i = 0; i < nh; i++) {
+    int old = 0;
+    for (int j = 0; j < nwas; j++) old |= was[j] == hold[i];
+    if (old) continue;
+    s->stats[VI_STAT_STICKS]++;
+    emit(s, VI_EVENT_STICK, hold[i], 0.0, 0.0);
+  }
+  s->stats[VI_STAT_REINITS]++;
+  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  return s->be->start(s);
+}
+
+/* A contact located at s->t (with stop s->contact_stop): stop k alone, or
+ * several at once (within the gap tolerance, or while sticking). */
+static int on_contact(vi_sim *s)
+{
+  int k0 = s->contact_stop;
+  if (s->ns == 1 && !s->sticking) return on_contact_one(s, 0);
+  int idx[VI_CONTACT_MAX], nc = 0;
+  for (int k = 0; k < s->ns; k++) {
+    double g, gd;
+    vi_sim_gap_k(s, k, s->z, &g, &gd);
+    /* a stop within a few integration errors touches too */
+    double tol = 10.0 * (s->atol + s->rtol * fabs(s->m->xsv[k])) * s->wnorms[k];
+    if (k != k0 && !in_stick_set(s, k) && g < -tol) continue;
+    if (nc == VI_CONTACT_MAX)
+      return vi_fail(s->errmsg, VI_ERR_LIMIT, "more than %d stops touch at "
+                     "once at t = %.17g: Newton's law for simultaneous "
+                     "contacts is solved by enumeration for at most %d",
+                     VI_CONTACT_MAX, s->t, VI_CONTACT_MAX);
+    idx[nc++] = k;
+  }
+  if (nc == 1 && !s->sticking) return on_contact_one(s, idx[0]);
+  return on_contact_multi(s, nc, idx);
+}
+
+/* The contact force of sticking stop s->contact_stop fell through zero. */
 static int on_release(vi_sim *s)
 {
+  int k = s->contact_stop, keep[VI_CONTACT_MAX], nk = 0, st;
+  for (int i = 0; i < s->nstick; i++)
+    if (s->stick_k[i] != k) keep[nk++] = s->stick_k[i];
+  if (nk == s->nstick) k = s->stick_k[--nk]; /* not held: the last one */
   emit_pending_stick(s); /* released before the tail's end: stick was brief */
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   close_interval(s, 0, 0.0);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * s->n);
-  s->sticking = 0;
-  emit(s, VI_EVENT_RELEASE, 0.0, 0.0);
+  if ((st = set_sticking(s, keep, nk))) return st;
+  emit(s, VI_EVENT_RELEASE, k, 0.0, 0.0);
   s->stats[VI_STAT_REINITS]++;
   /* At release the gap and its first two rates vanish together, so the
    * closed form's contact search cannot tell the departing motion from
@@ -682,25 +956,46 @@ static int on_release(vi_sim *s)
   return s->be->start(s);
 }
 
-/* At the start of a run the state may already sit on the stop: moving into
+/* At the start of a run the state may already sit on a stop: moving into
  * it is an impact now, resting on it and pressed is sticking. */
 static int initial_contact(vi_sim *s)
 {
-  double g, gd;
-  vi_sim_gap(s, s->z, &g, &gd);
-  if (s->sticking || g < -1e-13 * fmax(1.0, fabs(s->m->xs))) return 0;
-  if (gd > 0.0) return 1;
-  double push;
-  vi_sim_accel(s, s->t, s->z, 0, s->vp);
-  push = vi_dot(s->n, s->m->w, s->vp);
-  return gd == 0.0 && push > 0.0; /* at rest and pressed: sticks, any r */
+  if (s->sticking) return 0;
+  for (int k = 0; k < s->ns; k++) {
+    double g, gd, xs = s->m->xsv[k];
+    vi_sim_gap_k(s, k, s->z, &g, &gd);
+    if (g < -1e-13 * fmax(1.0, fabs(xs))) continue;
+    s->contact_stop = k;
+    if (gd > 0.0) return 1;
+    double push;
+    vi_sim_accel(s, s->t, s->z, 0, s->vp);
+    push = vi_dot(s->n, vi_stop_w(s->m, k), s->vp);
+    if (gd == 0.0 && push > 0.0) return 1; /* at rest and pressed: sticks,
+                                              any r */
+  }
+  return 0;
 }
 
-/* How far beyond the stop a state may sit: the integration error. */
-static double gap_tolerance(const vi_sim *s)
+/* The stop a state is deepest beyond, relative to its tolerance, and its
+ * gap: the integration error's check on samples and steps. */
+static int worst_gap(const vi_sim *s, const double *z, double *g,
+                     double *tol)
 {
-  return 100.0 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm +
-         1e-12 * fabs(s->m->xs);
+  int kw = 0;
+  double worst = -HUGE_VAL;
+  for (int k = 0; k < s->ns; k++) {
+    double gk, gd, tk = vi_sim_gap_tol(s, k);
+    vi_sim_gap_k(s, k, z, &gk, &gd);
+    /* written so that a NaN gap is the worst */
+    if (!(gk - tk <= worst)) {
+      worst = gk - tk;
+      kw = k;
+      *g = gk;
+      *tol = tk;
+      if (isnan(worst)) break;
+    }
+  }
+  return kw;
 }
 
 /* Deliver the uniform samples that fall in (t_prev, t] from the backend's
@@ -722,19 +1017,22 @@ static int samples(vi_sim *s, double t)
     int st = ts == s->t ? vi_sim_sync(s) : s->be->dense(s, ts);
     if (st) return st;
     if (ts != s->t) zs = s->zs;
-    double g = -s->m->xs;
     for (int i = 0; i < s->n; i++) {
       s->x[i] = zs[2 * i];
       s->v[i] = zs[2 * i + 1];
-      g += s->m->w[i] * s->x[i];
       if (!isfinite(s->x[i]) || !isfinite(s->v[i]))
         return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g "
                        "not finite: x(%d) = %g, v(%d) = %g", ts, i + 1,
                        s->x[i], i + 1, s->v[i]);
     }
-    if (!(g <= gap_tolerance(s)))
+    double g = 0.0, tol = 0.0;
+    int k = worst_gap(s, zs, &g, &tol);
+    if (!(g <= tol) && s->ns == 1)
       return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g lies "
                      "beyond the stop: w.x - x_s = %.3g", ts, g);
+    if (!(g <= tol))
+      return vi_fail(s->errmsg, VI_ERR_INVARIANT, "sample at t = %.17g lies "
+                     "beyond stop %d: w.x - x_s = %.3g", ts, k + 1, g);
     if (s->smp_fn(ts, s->n, s->x, s->v, s->smp_user)) s->stop = 1;
   }
 }
@@ -768,13 +1066,18 @@ static int hand_over(vi_sim *s)
  * Written so that a NaN fails every test. */
 static int check_invariants(vi_sim *s)
 {
-  double g = s->gap, gd = 0.0;
-  if (!s->be->sync) vi_sim_gap(s, s->z, &g, &gd);
+  double g = s->gap, tol = vi_sim_gap_tol(s, 0);
+  int k = 0;
+  if (!s->be->sync) k = worst_gap(s, s->z, &g, &tol);
   if (!isfinite(g) || !isfinite(s->t))
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state not finite at t = %.17g (%s method): w.x - x_s = %g",
                    s->t, method_names[s->method_used], g);
-  double tol = gap_tolerance(s);
+  if (!(g <= tol) && s->ns > 1)
+    return vi_fail(s->errmsg, VI_ERR_INVARIANT,
+                   "state beyond stop %d at t = %.17g (%s method): w.x - x_s "
+                   "= %.3g exceeds the tolerance %.3g", k + 1, s->t,
+                   method_names[s->method_used], g, tol);
   if (!(g <= tol))
     return vi_fail(s->errmsg, VI_ERR_INVARIANT,
                    "state beyond the stop at t = %.17g (%s method): w.x - x_s "
@@ -818,13 +1121,20 @@ int vi_sim_run(vi_sim *s, double t_end)
   if (s->smp_fn && s->smp_k == 0) s->smp_t0 = s->t;
   if (!s->started) {
     /* the default state (rest at the origin) was never checked */
-    double g, gd;
-    vi_sim_gap(s, s->z, &g, &gd);
-    if (!s->sticking && g > 1e-13 * fmax(1.0, fabs(s->m->xs)))
-      return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE, "the state at t = %.17g "
-                     "violates the stop: w.x = %.17g > x_s = %.17g (set an "
-                     "initial state with vi_sim_set_initial)", s->t,
-                     g + s->m->xs, s->m->xs);
+    for (int k = 0; k < s->ns && !s->sticking; k++) {
+      double g, gd, xs = s->m->xsv[k];
+      vi_sim_gap_k(s, k, s->z, &g, &gd);
+      if (g > 1e-13 * fmax(1.0, fabs(xs)) && s->ns == 1)
+        return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE, "the state at t = "
+                       "%.17g violates the stop: w.x = %.17g > x_s = %.17g "
+                       "(set an initial state with vi_sim_set_initial)", s->t,
+                       g + xs, xs);
+      if (g > 1e-13 * fmax(1.0, fabs(xs)))
+        return vi_fail(s->errmsg, VI_ERR_INITIAL_STATE, "the state at t = "
+                       "%.17g violates stop %d: w.x = %.17g > x_s = %.17g "
+                       "(set an initial state with vi_sim_set_initial)", s->t,
+                       k + 1, g + xs, xs);
+    }
     note_method(s);
     use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
     if ((st = s->be->start(s))) return st;
@@ -838,6 +1148,7 @@ int vi_sim_run(vi_sim *s, double t_end)
       break;
     }
     int event = VI_STEP_NONE;
+    s->contact_stop = 0; /* a multi-stop backend says which */
     double t_to = s->stick_pending && s->stick_at < t_end ? s->stick_at : t_end;
     if ((st = s->be->step(s, t_to, &event))) {
       if (st == VI_CANCELLED) {

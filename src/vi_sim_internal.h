@@ -45,6 +45,16 @@ struct vi_sim {
   double rtol, atol, vchat, h_restart, hmax;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
   double wnorm;  /* |w|, the scale of gap tolerances */
+  int ns;        /* number of stops (vi_model_add_stop) */
+  double *wnorms, *ie_stop; /* |w_k| and the energy lost at stop k [ns] */
+  double *sbuf;  /* scratch of the several-stop code [4n + 4 ns] */
+  /* Sticking holds the stops stick_k [nstick] (nstick = 0 in free flight,
+   * sticking = nstick > 0); for more than one, stick_L is the Cholesky
+   * factor of their Delassus block G_SS. */
+  int nstick, stick_k[VI_CONTACT_MAX];
+  double stick_L[VI_CONTACT_MAX * VI_CONTACT_MAX];
+  int contact_stop; /* set by the backend with VI_STEP_CONTACT/RELEASE */
+  int stick_stop;   /* stop of a pending STICK event */
   int fast_nvector; /* our vector ops instead of Debian's -O0 ones */
 
   double t, *z;   /* current time and state [2n] */
@@ -132,9 +142,28 @@ int vi_force_jacobian(vi_sim *s, double t, const double *z, double *Ax,
                       double *Av);
 void vi_force_free(vi_sim *s);
 
+/* Remove from a [n] the components along M^-1 w_k of the sticking stops
+ * so that w_k.a = 0 for each: a -= M^-1 W_S G_SS^-1 W_S^T a; lam [nstick]
+ * (may be NULL) receives the multipliers G_SS^-1 W_S^T a. */
+void vi_sim_constrain_set(const vi_sim *s, double *a, double *lam);
+static inline void vi_sim_constrain(const vi_sim *s, double *a, double *lam)
+{
+  if (s->nstick != 1) {
+    vi_sim_constrain_set(s, a, lam);
+    return;
+  }
+  const vi_model *m = s->m;
+  int k = s->stick_k[0];
+  const double *mw = vi_stop_minvw(m, k);
+  double l = vi_dot(s->n, vi_stop_w(m, k), a) / m->G[k + (size_t)k * m->ns];
+  for (int i = 0; i < s->n; i++) a[i] -= l * mw[i];
+  if (lam) lam[0] = l;
+}
+
 /* Free acceleration M^-1 (f - C v - K x) at t for interleaved z; in a
- * sticking phase the component along M^-1 w is removed so that w.x'' = 0.
- * This is the right-hand side's hot loop, hence inline. */
+ * sticking phase the components along M^-1 w_k of the sticking stops are
+ * removed so that w_k.x'' = 0.  This is the right-hand side's hot loop,
+ * hence inline. */
 static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
                                 int sticking, double *acc)
 {
@@ -155,10 +184,7 @@ static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
     acc[i] = a;
   }
   if (s->nforces) vi_force_add_accel(s, t, z, acc);
-  if (sticking) {
-    double lam = vi_dot(n, m->w, acc) / m->wMw;
-    for (int i = 0; i < n; i++) acc[i] -= lam * m->Minv_w[i];
-  }
+  if (sticking) vi_sim_constrain(s, acc, NULL);
 }
 
 /* Gap g = w.x - x_s and its rate w.x' of an interleaved state. */
@@ -172,6 +198,28 @@ static inline void vi_sim_gap(const vi_sim *s, const double *z, double *g,
   }
   *g = a - s->m->xs;
   *gd = b;
+}
+
+/* Gap g = w_k.x - x_k and its rate w_k.x' of stop k. */
+static inline void vi_sim_gap_k(const vi_sim *s, int k, const double *z,
+                                double *g, double *gd)
+{
+  const double *w = vi_stop_w(s->m, k);
+  double a = 0.0, b = 0.0;
+  for (int i = 0; i < s->n; i++) {
+    a += w[i] * z[2 * i];
+    b += w[i] * z[2 * i + 1];
+  }
+  *g = a - s->m->xsv[k];
+  *gd = b;
+}
+
+/* How far beyond stop k a state may sit: the integration error. */
+static inline double vi_sim_gap_tol(const vi_sim *s, int k)
+{
+  double xs = s->m->xsv[k];
+  return 100.0 * (s->atol + s->rtol * fabs(xs)) * s->wnorms[k] +
+         1e-12 * fabs(xs);
 }
 
 /* Replace the hot operations of a SUNDIALS serial vector (and of its future

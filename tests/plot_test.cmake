@@ -1,5 +1,6 @@
-# Make every figure from runs of the default scene (two masses) and of
-# chatter.yaml (one mass: 1-D or [T][1] datasets), the restitution chart of
+# Make every figure from runs of the default scene (two masses), of
+# chatter.yaml (one mass: 1-D or [T][1] datasets) and of duffing.yaml (the
+# ledger's nonlinear-force column NE), the restitution chart of
 # an `energy -o` file, and check what the figures draw (plot_check.py).
 file(REMOVE_RECURSE "${DIR}")
 file(MAKE_DIRECTORY "${DIR}")
@@ -12,12 +13,13 @@ function(run)
 endfunction()
 run("${APP}" --periods 30 --quiet -o "${DIR}/fig2.h5")
 run("${APP}" "${SHARE}/scenes/chatter.yaml" --periods 10 --quiet -o "${DIR}/chatter.h5")
+run("${APP}" "${SHARE}/scenes/duffing.yaml" --periods 20 --quiet -o "${DIR}/duffing.h5")
 run("${APP}" energy -o "${DIR}/orbit.h5")
-foreach(stem fig2 chatter orbit)
+foreach(stem fig2 chatter duffing orbit)
   run(/usr/bin/python3 "${SCRIPT}" "${DIR}/${stem}.h5" --out "${DIR}")
 endforeach()
 foreach(f fig2_phase fig2_gap fig2_ledger fig2_restitution chatter_phase chatter_gap
-          chatter_ledger orbit_restitution)
+          chatter_ledger duffing_ledger orbit_restitution)
   if(NOT EXISTS "${DIR}/${f}.png")
     message(FATAL_ERROR "missing ${f}.png")
   endif()

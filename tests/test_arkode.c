@@ -22,7 +22,7 @@ static int sample_check(double t, int n, const double *x, const double *v, void 
   flow_check *c = u;
   double xe[2], ve[2];
   vi_flow_physical(c->m, 0.0, c->x0, c->v0, t, xe, ve);
-  for (int i = 0; i < n; i++) {
+  for (size_t i = 0; i < (size_t)n; i++) {
     c->nonfinite += !isfinite(x[i]) || !isfinite(v[i]); /* fmax drops NaN */
     c->err = fmax(c->err, fmax(fabs(x[i] - xe[i]), fabs(v[i] - ve[i])));
     if (c->n == 0) {
@@ -51,7 +51,7 @@ static void test_free_flight_matches_closed_form(void **state)
                 c.err, c.n, (long long)vi_sim_get_stat(s, VI_STAT_STEPS));
   assert_int_equal(c.n, 801); /* t = 0, 0.25, ..., 200 */
   assert_int_equal(c.nonfinite, 0);
-  for (int i = 0; i < 2; i++) { /* the sample at t0 is the initial state */
+  for (size_t i = 0; i < 2; i++) { /* the sample at t0 is the initial state */
     assert_true(c.first[2 * i] == c.x0[i]);
     assert_true(c.first[2 * i + 1] == c.v0[i]);
   }
@@ -82,7 +82,7 @@ static void test_fig2_erk_vs_exact(void **state)
   assert_int_equal(vi_sim_run(s, t_end), VI_OK);
   assert_int_equal(ev.count, ref.count);
   double et = 0, evn = 0;
-  for (int i = 0; i < ev.count; i++) {
+  for (size_t i = 0; i < (size_t)ev.count; i++) {
     et = fmax(et, fabs(ev.t[i] - ref.t[i]));
     evn = fmax(evn, fabs(ev.vn[i] - ref.vn[i]));
     assert_close(ev.x[2 * i + 1], 0.1, 1e-10); /* contact at x_s */

@@ -133,6 +133,73 @@ static void test_scene_springs(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* stops: a two-sided clearance from a scene: a free particle between walls
+ * at +-0.5 (w = 1 at 0.5, w = -1 at 0.5, r = 1) from x = 0 at speed 1.3
+ * hits them alternately every 2 x_s / v = 1 / 1.3, the first at 0.5 / 1.3;
+ * the events name the stop, in list order. */
+typedef struct wall_hits {
+  int count, bad_stop;
+  double et;
+} wall_hits;
+
+static int on_wall(const vi_event *ev, void *user)
+{
+  wall_hits *h = user;
+  double t = (0.5 + h->count) / 1.3;
+  h->et = fmax(h->et, fabs(ev->t - t));
+  h->bad_stop += ev->stop != h->count % 2;
+  h->count++;
+  return 0;
+}
+
+static void test_scene_stops(void **state)
+{
+  (void)state;
+  const char *t = "model: {M: [[1.0]], K: [[0.0]]}\n"
+                  "stops:\n"
+                  "  - {mass: 1, xs: 0.5, r: 1.0}\n"
+                  "  - {w: [-1.0], xs: 0.5, r: 1.0}\n"
+                  "initial: {v: [1.3]}\n"
+                  "run: {t_end: 20, rtol: 1.0e-10, atol: 1.0e-12}\n";
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(t, -1, "walls.yaml", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  assert_int_equal(vi_model_num_stops(m), 2);
+  double w, xs, r;
+  assert_int_equal(vi_model_get_stop(m, 1, &w, &xs, &r), VI_OK);
+  assert_true(w == -1.0 && xs == 0.5 && r == 1.0);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
+  wall_hits h = {0, 0, 0.0};
+  assert_int_equal(vi_sim_set_event_callback(s, on_wall, &h), VI_OK);
+  assert_int_equal(vi_sim_run(s, vi_scene_t_end(sc)), VI_OK);
+  print_message("walls from a scene: %d impacts, times within %.3g\n",
+                h.count, h.et);
+  assert_int_equal(h.count, 26); /* (0.5 + j) / 1.3 < 20: j = 0 .. 25 */
+  assert_int_equal(h.bad_stop, 0);
+  assert_true(h.et < 1e-10);
+  /* method auto runs adams on several stops; exact is refused, naming the
+   * key */
+  assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
+  vi_sim_destroy(&s);
+  vi_scene_destroy(&sc);
+  const char *te = "model: {M: [[1.0]], K: [[0.0]]}\n"
+                   "stops:\n"
+                   "  - {mass: 1, xs: 0.5, r: 1.0}\n"
+                   "  - {w: [-1.0], xs: 0.5, r: 1.0}\n"
+                   "run: {t_end: 20, method: exact}\n";
+  assert_int_equal(vi_scene_parse(te, -1, "walls.yaml", &sc, &d), VI_OK);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_ERR_UNSUPPORTED);
+  assert_string_equal(d.key, "run.method");
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+}
+
 static void test_overrides_and_builders(void **state)
 {
   (void)state;
@@ -283,6 +350,7 @@ int main(void)
       cmocka_unit_test(test_default_is_fig2),
       cmocka_unit_test(test_malformed_scenes),
       cmocka_unit_test(test_scene_springs),
+      cmocka_unit_test(test_scene_stops),
       cmocka_unit_test(test_overrides_and_builders),
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_yaml_strictness),

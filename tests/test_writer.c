@@ -222,7 +222,7 @@ static void test_misuse(void **state)
   assert_int_equal(vi_writer_write_header(w, NULL, -1, 1e-10, 0), VI_ERR_ARG);
   assert_int_equal(vi_writer_write_header(w, NULL, NAN, 1e-10, 0), VI_ERR_ARG);
   double x[3] = {0, 0, 0};
-  vi_event bad = {VI_EVENT_IMPACT, 3, 0, 1.0, -1.0, 0.1, x, x, x};
+  vi_event bad = {VI_EVENT_IMPACT, 3, 0, 1.0, -1.0, 0.1, x, x, x, 0};
   assert_int_equal(vi_writer_event(w, &bad), VI_ERR_DIM);
   bad.n = 2;
   bad.v_plus = NULL;
@@ -353,11 +353,83 @@ static void test_large_scene_text(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* A two-sided clearance (as share/scenes/clearance.yaml): /impacts/stop holds
+ * each event's stop, bit for bit, and /model the stops as rows. */
+typedef struct stops_rec { vi_writer *w; int count, stop[4096]; } stops_rec;
+
+static int on_stop_ev(const vi_event *e, void *u)
+{
+  stops_rec *r = u;
+  if (r->count < 4096) r->stop[r->count] = e->stop;
+  r->count++;
+  return vi_writer_event(r->w, e);
+}
+
+static void test_stops_round_trip(void **state)
+{
+  (void)state;
+  char path[] = "/tmp/vi_test_writer_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  vi_diag d;
+  const char *text = "model:\n  chain: {n: 2, m: 1.0, k: 1.0, c: 0.05}\n"
+                     "forcing: {omega: 0.9, a: [0.5, 0.0]}\n"
+                     "stops:\n  - {mass: 2, xs: 0.1, r: 0.8}\n"
+                     "  - {w: [0.0, -1.0], xs: 0.1, r: 0.8}\n";
+  assert_int_equal(vi_scene_parse(text, -1, "clearance", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, 20, -1), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  stops_rec *r = calloc(1, sizeof *r);
+  assert_non_null(r);
+  assert_int_equal(vi_writer_create(path, m, 1, &r->w, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(r->w, sc, 1e-8, 1e-10, 0), VI_OK);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
+  vi_sim_set_event_callback(s, on_stop_ev, r);
+  assert_int_equal(vi_sim_run(s, vi_scene_t_end(sc)), VI_OK);
+  assert_int_equal(vi_writer_close(&r->w, 1), VI_OK);
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  int rank;
+  hsize_t cols, ni = rows(f, "impacts/stop", &rank, &cols);
+  assert_int_equal((int)ni, r->count);
+  assert_true(r->count <= 4096);
+  double *st = read_all(f, "impacts/stop", ni);
+  int hits[2] = {0, 0};
+  for (hsize_t i = 0; i < ni; i++) {
+    assert_close(st[i], r->stop[i], 0);
+    hits[r->stop[i]]++;
+  }
+  print_message("clearance: %d events, %d on the upper stop, %d on the "
+                "lower\n", r->count, hits[0], hits[1]);
+  assert_true(hits[0] > 0 && hits[1] > 0);
+  assert_int_equal((int)rows(f, "model/stops_w", &rank, &cols), 2);
+  assert_int_equal((int)cols, 2);
+  double *sw = read_all(f, "model/stops_w", 4), *sx = read_all(f, "model/stops_x_s", 2);
+  /* row k = w_k: (0, 1) then (0, -1) */
+  assert_true(sw[0] == 0.0 && sw[1] == 1.0 && sw[2] == 0.0 && sw[3] == -1.0);
+  assert_true(sx[0] == 0.1 && sx[1] == 0.1);
+  H5Fclose(f);
+  free(st);
+  free(sw);
+  free(sx);
+  free(r);
+  unlink(path);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_fig2_round_trip),
+      cmocka_unit_test(test_stops_round_trip),
       cmocka_unit_test(test_unwritable_and_abort),
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_rank_and_size),

@@ -54,6 +54,13 @@ static const bad cases[] = {
   {"bilinear without gap", CHAIN GOOD_STOP "springs:\n  - {type: bilinear, i: 2, k: 3}\n", VI_ERR_PARSE, 5, "springs[1].gap"},
   {"cubic with k", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 2, k: 3}\n", VI_ERR_PARSE, 5, "springs[1].k"},
   {"springs with exact", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 2, k3: 3}\nrun: {t_end: 10, method: exact}\n", VI_ERR_UNSUPPORTED, 5, "springs[1]"},
+  /* stops: a list */
+  {"stops not a list", CHAIN "stops: {mass: 2, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stops"},
+  {"empty stops", CHAIN "stops: []\n", VI_ERR_PARSE, 3, "stops"},
+  {"stop and stops", CHAIN GOOD_STOP "stops:\n  - {mass: 2, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 5, "stops"},
+  {"second stop's r", CHAIN "stops:\n  - {mass: 2, xs: 0.1, r: 0.7}\n  - {mass: 1, xs: 0.1, r: 2}\n", VI_ERR_RESTITUTION, 5, "stops[2].r"},
+  {"second stop's mass", CHAIN "stops:\n  - {mass: 2, xs: 0.1, r: 0.7}\n  - {mass: 3, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 5, "stops[2].mass"},
+  {"second stop zero", "model:\n  K: [[2, -1], [-1, 1]]\nstops:\n  - {w: [0, 1], xs: 0.1, r: 0.7}\n  - {w: [0, 0], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_STOP_VECTOR, 5, "stops[2]"},
   /* rejected when the run is configured */
   {"initial state beyond the stop", CHAIN GOOD_STOP "initial: {x: [0.0, 0.5]}\nrun: {t_end: 10}\n", VI_ERR_INITIAL_STATE, 4, "initial"},
 };

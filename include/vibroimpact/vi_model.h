@@ -4,6 +4,13 @@
  *   M x'' + C x' + K x = a cos(Omega t) + b sin(Omega t) + f0      (WB 1)
  *   w.x <= x_s, Newton impact with restitution r                     (WB 2)
  *
+ * Several stops w_k.x <= x_k (restitution r_k, k = 0, 1, ...) are allowed:
+ * two-sided clearances (a pair with opposite normals), stops on different
+ * coordinates.  Simultaneous contacts follow Newton's law for multiple
+ * contacts (vi_impact.h).  Stop 0 is "the stop" of the single-stop getters
+ * (vi_model_stop_vector, vi_model_clearance, ...), of orbits and of the
+ * exact method, which needs a model with one stop.
+ *
  * Life cycle: vi_model_create -> vi_model_set_* -> vi_model_setup ->
  * (getters, vi_sim_create) -> vi_model_destroy.  Every array is copied when
  * it is set; matrices are column-major with a leading dimension (LAPACK),
@@ -52,6 +59,27 @@ VI_API int vi_model_set_forcing(vi_model *m, double omega, const double *a,
  *  VI_ERR_NONFINITE, VI_ERR_ARG (w NULL). */
 VI_API int vi_model_set_stop(vi_model *m, const double *w, double x_s,
                              double r);
+/** Add a further stop w.x <= x_s with restitution r (appended: the first
+ *  stop added to a model without one is stop 0, as vi_model_set_stop
+ *  makes it; vi_model_set_stop later replaces stop 0 only).  Validation
+ *  and errors as vi_model_set_stop, the message naming the stop (1-based).
+ *  Stops should be independent where they can touch at once (the Delassus
+ *  matrix G of the touching stops positive definite); a stop whose
+ *  constraint cannot hold together with the others is not detected here,
+ *  but by vi_sim_set_initial.  @return as vi_model_set_stop, and
+ *  VI_ERR_NOMEM, VI_ERR_LIMIT. */
+VI_API int vi_model_add_stop(vi_model *m, const double *w, double x_s,
+                             double r);
+/** Number of stops set so far (also before setup). */
+VI_API int vi_model_num_stops(const vi_model *m);
+/** Stop k (0-based, below vi_model_num_stops): w [n], *x_s, *r receive it
+ *  (each may be NULL).  Also before setup.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_model_get_stop(const vi_model *m, int k, double *w,
+                             double *x_s, double *r);
+/** Delassus matrix G = W^T M^-1 W [ns x ns] of the stops (W = [w_0 ...]),
+ *  column-major, *ld receives ns; G_kk is stop k's compliance w_k^T M^-1
+ *  w_k.  NULL before setup. */
+VI_API const double *vi_model_delassus(const vi_model *m, int *ld);
 /** Validate everything, factor M, solve the modal problem, freeze.
  *  @return VI_OK, VI_ERR_STOP_VECTOR (no stop set), VI_ERR_NOT_SPD (M),
  *  VI_ERR_NOT_PSD (C or K), VI_ERR_LAPACK, VI_ERR_NOMEM, VI_ERR_STATE. */
@@ -69,9 +97,9 @@ VI_API const char *vi_model_errmsg(const vi_model *m);
 VI_API int vi_model_n(const vi_model *m);
 /** Forcing frequency Omega (rad per time unit; 0 without harmonic forcing). */
 VI_API double vi_model_omega_forcing(const vi_model *m);
-/** Clearance x_s of the stop. */
+/** Clearance x_s of the stop (stop 0 with several). */
 VI_API double vi_model_clearance(const vi_model *m);
-/** Coefficient of restitution r. */
+/** Coefficient of restitution r (of stop 0 with several). */
 VI_API double vi_model_restitution(const vi_model *m);
 /** Mass matrix as set (exactly symmetric), column-major, leading dimension n. */
 VI_API const double *vi_model_mass(const vi_model *m);
@@ -79,7 +107,7 @@ VI_API const double *vi_model_mass(const vi_model *m);
 VI_API const double *vi_model_damping(const vi_model *m);
 /** Stiffness matrix as set, column-major, leading dimension n. */
 VI_API const double *vi_model_stiffness(const vi_model *m);
-/** Stop vector w [n]. */
+/** Stop vector w [n] (stop 0's with several: vi_model_get_stop). */
 VI_API const double *vi_model_stop_vector(const vi_model *m);
 /** Forcing amplitude a [n] of a cos(Omega t). */
 VI_API const double *vi_model_forcing_cos(const vi_model *m);
@@ -101,7 +129,7 @@ VI_API const double *vi_model_zeta(const vi_model *m);
 /** 1 if D is diagonal to 1e-10 relative (proportional damping: the modes
  *  decouple between impacts, WB 4, and XE = 0), else 0. */
 VI_API int vi_model_is_proportional(const vi_model *m);
-/** Modal impact vector psi = Psi^T w [n]; psi.psi = w^T M^-1 w. */
+/** Modal impact vector psi = Psi^T w [n] (stop 0); psi.psi = w^T M^-1 w. */
 VI_API const double *vi_model_modal_stop(const vi_model *m);
 /** Modal forcing Psi^T a [n]. */
 VI_API const double *vi_model_modal_forcing_cos(const vi_model *m);
@@ -109,7 +137,8 @@ VI_API const double *vi_model_modal_forcing_cos(const vi_model *m);
 VI_API const double *vi_model_modal_forcing_sin(const vi_model *m);
 /** Modal constant load Psi^T f0 [n]. */
 VI_API const double *vi_model_modal_forcing_const(const vi_model *m);
-/** w^T M^-1 w: the inverse of the stop's effective mass (WB 10). */
+/** w^T M^-1 w: the inverse of the stop's effective mass (WB 10; stop 0,
+ *  the others' are the diagonal of vi_model_delassus). */
 VI_API double vi_model_stop_compliance(const vi_model *m);
 /** @} */
 

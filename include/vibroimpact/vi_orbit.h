@@ -28,7 +28,8 @@ typedef struct vi_orbit vi_orbit;
 /** Create an orbit analysis of a set-up model with harmonic forcing (the
  *  model is borrowed and must outlive the orbit).  @return VI_OK, VI_ERR_ARG,
  *  VI_ERR_STATE (model not set up), VI_ERR_FREQUENCY (Omega = 0),
- *  VI_ERR_NOMEM. */
+ *  VI_ERR_UNSUPPORTED (a model with several stops: the balance of WB 11-13
+ *  is that of one stop), VI_ERR_NOMEM. */
 VI_API int vi_orbit_create(const vi_model *model, vi_orbit **out);
 /** Destroy and set *orbit to NULL; NULL-safe. */
 VI_API void vi_orbit_destroy(vi_orbit **orbit);
@@ -112,8 +113,8 @@ VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
  *  Omega): times t[m], ascending, and the states just before them, x and v
  *  [n x m] column-major with leading dimension ld (column j = impact j).
  *  Between impacts the motion is the closed-form free flow, so these
- *  functions need a model with the exact flow (VI_ERR_UNSUPPORTED
- *  otherwise). */
+ *  functions need a model with the exact flow and one stop
+ *  (VI_ERR_UNSUPPORTED otherwise). */
 
 /** Newton's method on the impact conditions: for each impact j, the free
  *  flow from (t_j, x_j, v_j+) reaches (x_{j+1}, v_{j+1}) at t_{j+1} (the
@@ -173,7 +174,8 @@ VI_API int vi_orbit_p1_scan(const vi_model *m, int n, int nphase, double *t,
 
 /** The reduced model itself, in the modal coordinates of `full`: M = I,
  * K = diag(omega_S^2), C = D_SS, forcing Psi_S^T (a, b, f0), stop psi_S
- * with the same x_s and restitution r.  A new, set-up model. */
+ * with the same x_s and restitution r.  A new, set-up model; a model with
+ * several stops is refused (VI_ERR_UNSUPPORTED). */
 VI_API int vi_model_create_reduced(const vi_model *full, const int *modes,
                                    int k, double r, vi_model **out);
 

@@ -15,6 +15,9 @@
  *            or {omega, on: [mass indices, 1-based], amplitude}
  *            or, for a cantilever, {omega, base: A} (base acceleration)
  *   stop:    {w: [...] | mass: j (1-based), xs, r}
+ *   stops:   a list of stops as stop: takes one, instead of stop: (several
+ *            stops, vi_model_add_stop order: the first is stop 0; on a
+ *            cantilever a stop without w or mass is at the tip)
  *   initial: {t0, x, v}
  *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
  *   output:  {impacts: bool (default true), samples_per_period: int
@@ -87,7 +90,7 @@ typedef struct vi_scene vi_scene;
 VI_API int vi_scene_load(const char *path, vi_scene **out, vi_diag *diag);
 /** Parse from memory (len < 0: NUL-terminated); `name` stands for the file
  *  name in messages.  Returns as vi_scene_load. */
-VI_API int vi_scene_parse(const char *text, long len, const char *name,
+VI_API int vi_scene_parse(const char *text, int64_t len, const char *name,
                           vi_scene **out, vi_diag *diag);
 /** vi_scene_load with limits: at most max_bytes of text (<= 0:
  *  VI_SCENE_MAX_BYTES) and max_depth levels of nesting (<= 0:
@@ -96,7 +99,7 @@ VI_API int vi_scene_parse(const char *text, long len, const char *name,
 VI_API int vi_scene_load_limited(const char *path, int64_t max_bytes,
                                  int max_depth, vi_scene **out, vi_diag *diag);
 /** vi_scene_parse with a nesting limit (<= 0: VI_SCENE_MAX_DEPTH). */
-VI_API int vi_scene_parse_limited(const char *text, long len, const char *name,
+VI_API int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
                                   int max_depth, vi_scene **out,
                                   vi_diag *diag);
 /** Destroy and set *scene to NULL; NULL-safe. */

@@ -20,6 +20,8 @@
 #ifndef VI_SCENE_EDIT_H
 #define VI_SCENE_EDIT_H
 
+#include <stdint.h>
+
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_scene.h"
 
@@ -34,7 +36,7 @@ typedef struct vi_scene_edit vi_scene_edit;
  *  `name` is the file name used in messages.  The text must be valid YAML
  *  (not necessarily a valid scene).  @return VI_OK, VI_ERR_ARG, VI_ERR_PARSE
  *  (YAML syntax, at its line in diag), VI_ERR_NOMEM. */
-VI_API int vi_scene_edit_create(const char *text, long len, const char *name,
+VI_API int vi_scene_edit_create(const char *text, int64_t len, const char *name,
                                 vi_scene_edit **out, vi_diag *diag);
 /** Destroy and set *e to NULL; NULL-safe. */
 VI_API void vi_scene_edit_destroy(vi_scene_edit **e);

@@ -8,6 +8,20 @@
  * r < 1) end in a sticking phase g = x_s, g' = 0 that is released when the
  * contact force falls through zero.
  *
+ * Several stops (vi_model_add_stop): every stop's gap and gap rate is
+ * watched (2 root functions per stop on CVODE); stops within the gap
+ * tolerance (10 (atol + rtol |x_k|) |w_k|) of a located contact, and the
+ * stops held by sticking, touch together and take Newton's law for
+ * simultaneous contacts (vi_impact.h), one IMPACT event per stop that takes
+ * an impulse.  Sticking may hold any set of stops at once (the motion is
+ * projected with their Delassus block G_SS; each is released when its
+ * multiplier, of G_SS^-1 W_S^T a_free, falls through zero) while the
+ * others are still watched.  A chattering tail is summed to its
+ * accumulation point (Nordmark & Piiroinen) only when one stop is involved
+ * and none is held; with several, a stop whose bounces die out (chatter
+ * threshold, apex within 10 atol, floors, or r = 0) sticks at once, an
+ * error of the order of the tail's duration.  Methods adams and bdf only.
+ *
  * Life cycle: vi_sim_create -> vi_sim_set_* -> vi_sim_run (repeatable; each
  * call continues from where the last stopped) -> vi_sim_get_* ->
  * vi_sim_destroy.  Results leave only through callbacks: the library keeps no
@@ -95,6 +109,10 @@ typedef struct vi_event {
   const double *x;       /**< positions [n] at the event */
   const double *v_minus; /**< velocities [n] just before */
   const double *v_plus;  /**< velocities [n] just after */
+  int stop;        /**< the stop (0-based, vi_model_add_stop order): the one
+                        hit, stuck on or released; simultaneous contacts give
+                        one IMPACT event per stop that takes an impulse, in
+                        stop order, all with the same x, v_minus, v_plus */
 } vi_event;
 
 /** Progress as the monitor sees it. */
@@ -133,7 +151,9 @@ VI_API const char *vi_sim_errmsg(const vi_sim *sim);
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
  *  without a usable closed form: an undamped mode forced at resonance, or a
  *  defective first-order system such as an undamped rigid-body mode beside
- *  non-proportional damping; the message says which). */
+ *  non-proportional damping; nonlinear forces; exact or erk on a model with
+ *  several stops, whose contact searches handle one; the message says
+ *  which).  With several stops auto runs adams. */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
 /** Relative and absolute tolerances, both > 0 and finite, rtol at least
  *  twice the machine epsilon; atol applies to positions and velocities
@@ -220,6 +240,11 @@ VI_API int vi_sim_get_state(const vi_sim *sim, double *t, double *x,
                             double *v);
 /** 1 while in a sticking phase, else 0. */
 VI_API int vi_sim_is_sticking(const vi_sim *sim);
+/** Kinetic energy lost at each stop since the sim was created: ie [ns]
+ *  (vi_model_num_stops) receives, per stop, the impacts' losses and those
+ *  of the chattering tails summed into sticking; their sum is the ledger's
+ *  total impact loss.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_sim_get_stop_losses(const vi_sim *sim, double *ie);
 /** Value of a statistic (VI_STAT_*); -1 for an unknown one. */
 VI_API int64_t vi_sim_get_stat(const vi_sim *sim, int which);
 

@@ -16,6 +16,8 @@
 #ifndef VI_WRITER_H
 #define VI_WRITER_H
 
+#include <stdint.h>
+
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_ledger.h"
 #include "vibroimpact/vi_model.h"
@@ -73,7 +75,7 @@ VI_API int vi_writer_orbit(vi_writer *w, const vi_orbit *orbit);
 VI_API int vi_writer_run_info(vi_writer *w, const vi_sim *sim);
 /** Rows written so far to "impacts", "trajectory" or "ledger" (-1 for
  *  another name). */
-VI_API long vi_writer_rows(const vi_writer *w, const char *what);
+VI_API int64_t vi_writer_rows(const vi_writer *w, const char *what);
 /** Flush, mark the file complete (1) or interrupted (0), close it and
  *  rename TARGET.part to TARGET.  On failure (or after an earlier write
  *  error) the partial file is removed and TARGET is untouched; the handle

@@ -33,6 +33,7 @@ module vibroimpact
     integer(c_int64_t) :: index
     real(c_double) :: t, vn, ie
     type(c_ptr) :: x, v_minus, v_plus   ! real(c_double) [n]: use c_f_pointer
+    integer(c_int) :: stop               ! 0-based stop index (vi_model_add_stop)
   end type
 
   !> Progress as the monitor sees it (vi_progress in vi_sim.h).
@@ -56,7 +57,8 @@ module vibroimpact
             vi_sundials_version
   public :: vi_model_create, vi_model_destroy, vi_model_set_mass, &
             vi_model_set_damping, vi_model_set_stiffness, vi_model_set_forcing, &
-            vi_model_set_stop, vi_model_setup, vi_model_errmsg, vi_model_n, &
+            vi_model_set_stop, vi_model_add_stop, vi_model_num_stops, &
+            vi_model_get_stop, vi_model_delassus, vi_model_setup, vi_model_errmsg, vi_model_n, &
             vi_model_omega, vi_model_zeta, vi_model_modal_shapes, &
             vi_model_modal_stop, vi_model_is_proportional, vi_model_to_modal, &
             vi_model_from_modal, vi_model_energy, vi_model_stop_compliance, &
@@ -68,7 +70,7 @@ module vibroimpact
             vi_model_create_reduced
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
             vi_cantilever_shape, vi_cantilever_participation
-  public :: vi_impact_apply, vi_impact_apply_r, vi_restitution_from_energy, &
+  public :: vi_impact_apply, vi_impact_apply_r, vi_impact_apply_multi, vi_restitution_from_energy, &
             vi_flow_physical, vi_flow_modal
   public :: vi_method_name, vi_method_from_name, vi_stat_name
   public :: vi_sim_create, vi_sim_destroy, vi_sim_errmsg, vi_sim_set_method, &
@@ -81,7 +83,7 @@ module vibroimpact
   public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_sim_set_force, vi_sim_add_spring, vi_sim_clear_springs, &
-            vi_sim_get_ledger_force
+            vi_sim_get_ledger_force, vi_sim_get_stop_losses
   public :: vi_orbit_create, vi_orbit_destroy, vi_orbit_errmsg, vi_orbit_set_method, &
             vi_orbit_set_tolerances, vi_orbit_find, vi_orbit_classify, &
             vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution, &
@@ -151,6 +153,28 @@ module vibroimpact
       type(c_ptr), value :: model
       real(c_double), intent(in) :: w(*)
       real(c_double), value :: x_s, r
+    end function
+    integer(c_int) function vi_model_add_stop(model, w, x_s, r) bind(C, name="vi_model_add_stop")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      real(c_double), intent(in) :: w(*)
+      real(c_double), value :: x_s, r
+    end function
+    integer(c_int) function vi_model_num_stops(model) bind(C, name="vi_model_num_stops")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+    end function
+    !> k is 0-based
+    integer(c_int) function vi_model_get_stop(model, k, w, x_s, r) bind(C, name="vi_model_get_stop")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: k
+      real(c_double), optional :: w(*), x_s, r
+    end function
+    type(c_ptr) function vi_model_delassus(model, ld) bind(C, name="vi_model_delassus")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: ld
     end function
     integer(c_int) function vi_model_setup(model) bind(C, name="vi_model_setup")
       import :: c_int, c_ptr
@@ -311,6 +335,17 @@ module vibroimpact
       real(c_double), intent(in) :: v_minus(*)
       real(c_double) :: v_plus(*)
       real(c_double), optional :: vn, ie
+    end function
+    !> stops(nc) are 0-based stop indices
+    integer(c_int) function vi_impact_apply_multi(model, nc, stops, v_minus, v_plus, P, ie) &
+        bind(C, name="vi_impact_apply_multi")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: nc
+      integer(c_int), intent(in) :: stops(*)
+      real(c_double), intent(in) :: v_minus(*)
+      real(c_double) :: v_plus(*)
+      real(c_double), optional :: P(*), ie(*)
     end function
     integer(c_int) function vi_impact_apply_r(model, r, v_minus, v_plus, vn, ie) &
         bind(C, name="vi_impact_apply_r")
@@ -514,6 +549,11 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double) :: NE(*)
+    end function
+    integer(c_int) function vi_sim_get_stop_losses(sim, ie) bind(C, name="vi_sim_get_stop_losses")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double) :: ie(*)
     end function
     real(c_double) function vi_sim_ledger_max_residual(sim) bind(C, name="vi_sim_ledger_max_residual")
       import :: c_double, c_ptr

@@ -53,9 +53,9 @@ module vibroimpact_io
     end function
     !> text: a C string (len < 0) or len characters; name: C string
     integer(c_int) function vi_scene_parse(text, len, name, scene, diag) bind(C, name="vi_scene_parse")
-      import :: c_int, c_long, c_ptr, c_char, vi_diag
+      import :: c_int, c_int64_t, c_ptr, c_char, vi_diag
       character(kind=c_char), intent(in) :: text(*), name(*)
-      integer(c_long), value :: len
+      integer(c_int64_t), value :: len
       type(c_ptr) :: scene
       type(vi_diag), optional :: diag
     end function
@@ -71,9 +71,9 @@ module vibroimpact_io
     end function
     integer(c_int) function vi_scene_parse_limited(text, len, name, max_depth, scene, diag) &
         bind(C, name="vi_scene_parse_limited")
-      import :: c_int, c_long, c_ptr, c_char, vi_diag
+      import :: c_int, c_int64_t, c_ptr, c_char, vi_diag
       character(kind=c_char), intent(in) :: text(*), name(*)
-      integer(c_long), value :: len
+      integer(c_int64_t), value :: len
       integer(c_int), value :: max_depth
       type(c_ptr) :: scene
       type(vi_diag), optional :: diag
@@ -92,9 +92,9 @@ module vibroimpact_io
     ! ---- --set overrides (vi_scene_edit.h); keys and values end in c_null_char
     integer(c_int) function vi_scene_edit_create(text, len, name, edit, diag) &
         bind(C, name="vi_scene_edit_create")
-      import :: c_int, c_long, c_ptr, c_char, vi_diag
+      import :: c_int, c_int64_t, c_ptr, c_char, vi_diag
       character(kind=c_char), intent(in) :: text(*), name(*)
-      integer(c_long), value :: len
+      integer(c_int64_t), value :: len
       type(c_ptr) :: edit
       type(vi_diag), optional :: diag
     end function
@@ -255,8 +255,8 @@ module vibroimpact_io
       type(c_ptr), value :: writer, orbit
     end function
     !> what: 'impacts'//c_null_char, 'trajectory' or 'ledger'
-    integer(c_long) function vi_writer_rows(writer, what) bind(C, name="vi_writer_rows")
-      import :: c_long, c_ptr, c_char
+    integer(c_int64_t) function vi_writer_rows(writer, what) bind(C, name="vi_writer_rows")
+      import :: c_int64_t, c_ptr, c_char
       type(c_ptr), value :: writer
       character(kind=c_char), intent(in) :: what(*)
     end function

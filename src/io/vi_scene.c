@@ -39,6 +39,11 @@ struct vi_scene {
     double k, gap;
   } *springs;
   int nsprings;
+  /* stops: the first is w, xs, r above; the others here: xw [n x nx],
+   * xxs, xr [nx]; xint [2 nx]: has_w, then the entry's line */
+  int nx, stop_list;
+  double *xw, *xxs, *xr;
+  int *xint;
 };
 
 /* ---- diagnostics -------------------------------------------------------- */
@@ -511,39 +516,93 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
   return VI_OK;
 }
 
-static int parse_stop(ctx *c, vi_scene *s, yaml_node_t *sp)
+/* One stop {w: [...] | mass: j, xs, r} at `path` ("stop", "stops[2]")
+ * into w [n] (zeroed), *has_w, *xs, *r. */
+static int parse_stop_at(ctx *c, vi_scene *s, yaml_node_t *sp,
+                         const char *path, double *w, int *has_w, double *xs,
+                         double *r)
 {
   static const char *const keys[] = {"w", "mass", "xs", "r", NULL};
-  int st = check_map(c, sp, "stop", keys);
+  char key[128];
+  int st = check_map(c, sp, path, keys);
   if (st) return st;
-  s->line_stop = LINE(sp);
-  yaml_node_t *w = find(c, sp, "w"), *mass = find(c, sp, "mass");
-  if (w && mass)
-    return fail(c, mass, VI_ERR_PARSE, "stop.mass", "%s",
-                "give w or mass, not both");
-  if (w) {
-    if ((st = vector(c, w, "stop.w", s->n, 0, s->w))) return st;
-    s->has_w = 1;
+  yaml_node_t *wn = find(c, sp, "w"), *mass = find(c, sp, "mass");
+  join(key, path, "mass");
+  if (wn && mass)
+    return fail(c, mass, VI_ERR_PARSE, key, "%s", "give w or mass, not both");
+  if (wn) {
+    join(key, path, "w");
+    if ((st = vector(c, wn, key, s->n, 0, w))) return st;
+    *has_w = 1;
   }
   if (mass) {
     int j;
-    if ((st = integer(c, mass, "stop.mass", 1, s->n, &j))) return st;
-    s->w[j - 1] = 1.0;
-    s->has_w = 1;
+    if ((st = integer(c, mass, key, 1, s->n, &j))) return st;
+    w[j - 1] = 1.0;
+    *has_w = 1;
   }
-  if (!s->has_w && s->kind != MODEL_CANTILEVER)
-    return fail(c, sp, VI_ERR_PARSE, "stop", "%s", "missing w or mass");
-  yaml_node_t *xs = find(c, sp, "xs"), *r = find(c, sp, "r");
-  if (!xs)
-    return fail(c, sp, VI_ERR_PARSE, "stop.xs", "%s", "missing clearance xs");
-  if (!r)
-    return fail(c, sp, VI_ERR_PARSE, "stop.r", "%s", "missing restitution r");
-  if ((st = number(c, xs, "stop.xs", &s->xs)) ||
-      (st = number(c, r, "stop.r", &s->r)))
-    return st;
-  if (s->r < 0 || s->r > 1)
-    return fail(c, r, VI_ERR_RESTITUTION, "stop.r", "%s",
+  if (!*has_w && s->kind != MODEL_CANTILEVER)
+    return fail(c, sp, VI_ERR_PARSE, path, "%s", "missing w or mass");
+  yaml_node_t *xn = find(c, sp, "xs"), *rn = find(c, sp, "r");
+  join(key, path, "xs");
+  if (!xn)
+    return fail(c, sp, VI_ERR_PARSE, key, "%s", "missing clearance xs");
+  join(key, path, "r");
+  if (!rn)
+    return fail(c, sp, VI_ERR_PARSE, key, "%s", "missing restitution r");
+  join(key, path, "xs");
+  if ((st = number(c, xn, key, xs))) return st;
+  join(key, path, "r");
+  if ((st = number(c, rn, key, r))) return st;
+  if (*r < 0 || *r > 1)
+    return fail(c, rn, VI_ERR_RESTITUTION, key, "%s",
                 "restitution must lie in [0, 1]");
+  return VI_OK;
+}
+
+static int parse_stop(ctx *c, vi_scene *s, yaml_node_t *sp)
+{
+  s->line_stop = LINE(sp);
+  return parse_stop_at(c, s, sp, "stop", s->w, &s->has_w, &s->xs, &s->r);
+}
+
+/* stops: a list of stops as stop: takes one (vi_model_add_stop order);
+ * the first is the model's stop 0. */
+static int parse_stops(ctx *c, vi_scene *s, yaml_node_t *list)
+{
+  if (list->type != YAML_SEQUENCE_NODE)
+    return fail(c, list, VI_ERR_PARSE, "stops", "%s",
+                "expected a list of stops");
+  size_t count = (size_t)(list->data.sequence.items.top -
+                          list->data.sequence.items.start);
+  if (count < 1)
+    return fail(c, list, VI_ERR_PARSE, "stops", "%s", "an empty list");
+  if (count > 10000)
+    return fail(c, list, VI_ERR_LIMIT, "stops", "%s", "more than 10000");
+  size_t nx = count - 1, n = (size_t)s->n;
+  s->xw = calloc(nx * (n + 2) + 1, sizeof(double));
+  s->xint = calloc(2 * nx + 1, sizeof(int));
+  if (!s->xw || !s->xint)
+    return fail(c, list, VI_ERR_NOMEM, "stops", "%s", "out of memory");
+  s->xxs = s->xw + nx * n;
+  s->xr = s->xxs + nx;
+  for (size_t k = 0; k < count; k++) {
+    yaml_node_t *sp = node(c, list->data.sequence.items.start[k]);
+    char path[64];
+    snprintf(path, sizeof path, "stops[%zu]", k + 1);
+    int st;
+    if (k == 0) {
+      s->line_stop = LINE(sp);
+      st = parse_stop_at(c, s, sp, path, s->w, &s->has_w, &s->xs, &s->r);
+    } else {
+      s->xint[nx + k - 1] = LINE(sp);
+      st = parse_stop_at(c, s, sp, path, s->xw + (k - 1) * n,
+                         &s->xint[k - 1], &s->xxs[k - 1], &s->xr[k - 1]);
+    }
+    if (st) return st;
+  }
+  s->nx = (int)nx;
+  s->stop_list = 1;
   return VI_OK;
 }
 
@@ -690,7 +749,7 @@ static int parse_root(ctx *c, vi_scene *s)
 {
   static const char *const keys[] = {"name",    "model", "forcing", "stop",
                                      "initial", "run",   "output",  "springs",
-                                     NULL};
+                                     "stops",   NULL};
   yaml_node_t *root = yaml_document_get_root_node(&c->doc);
   if (!root)
     return diag(c->d, c->file, VI_ERR_PARSE, 1, 1, "", "", "empty scene");
@@ -708,9 +767,13 @@ static int parse_root(ctx *c, vi_scene *s)
     if (!s->name) return fail(c, v, VI_ERR_NOMEM, "name", "%s", "out of memory");
   }
   yaml_node_t *mod = find(c, root, "model"), *stop = find(c, root, "stop");
+  yaml_node_t *stops = find(c, root, "stops");
   if (!mod)
     return fail(c, root, VI_ERR_PARSE, "model", "%s", "missing section");
-  if (!stop)
+  if (stop && stops)
+    return fail(c, stops, VI_ERR_PARSE, "stops", "%s",
+                "give stop or stops, not both");
+  if (!stop && !stops)
     return fail(c, root, VI_ERR_PARSE, "stop", "%s", "missing section");
   if ((st = parse_model(c, s, mod))) return st;
   s->a = alloc_n(s, 7);
@@ -722,7 +785,8 @@ static int parse_root(ctx *c, vi_scene *s)
   s->v0 = s->x0 + s->n;
   if ((v = find(c, root, "forcing")) && (st = parse_forcing(c, s, v)))
     return st;
-  if ((st = parse_stop(c, s, stop))) return st;
+  if ((st = stop ? parse_stop(c, s, stop) : parse_stops(c, s, stops)))
+    return st;
   if ((v = find(c, root, "springs")) && (st = parse_springs(c, s, v)))
     return st;
   return parse_run(c, s, root);
@@ -918,7 +982,7 @@ static int compose(ctx *c, const char *text, size_t len, int max_depth)
   return st;
 }
 
-int vi_scene_parse_limited(const char *text, long len, const char *name,
+int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
                            int max_depth, vi_scene **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
@@ -964,7 +1028,7 @@ int vi_scene_parse_limited(const char *text, long len, const char *name,
   return VI_OK;
 }
 
-int vi_scene_parse(const char *text, long len, const char *name, vi_scene **out,
+int vi_scene_parse(const char *text, int64_t len, const char *name, vi_scene **out,
                    vi_diag *d)
 {
   return vi_scene_parse_limited(text, len, name, 0, out, d);
@@ -1041,6 +1105,8 @@ void vi_scene_destroy(vi_scene **scene)
   free(s->cm);
   free(s->a);
   free(s->springs);
+  free(s->xw);
+  free(s->xint);
   free(s);
   *scene = NULL;
 }
@@ -1206,10 +1272,11 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
                 "vi_scene_create_model: scene and out are required");
   int n = s->n, st;
   size_t nn = (size_t)n * n;
-  double *buf = calloc(3 * nn + 2 * (size_t)n, sizeof(double));
+  double *buf = calloc(3 * nn + 3 * (size_t)n, sizeof(double));
   if (!buf)
     return diag(d, s->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
   double *M = buf, *C = M + nn, *K = C + nn, *w = K + nn, *a = w + n;
+  double *tip = a + n; /* a cantilever's tip: the stops that give no w */
   memcpy(w, s->w, sizeof(double) * n);
   memcpy(a, s->a, sizeof(double) * n);
   const char *where = "model";
@@ -1225,6 +1292,7 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
     }
     vi_build_cantilever(n, s->omega1, s->zeta, s->xi_stop, M, C, K, n, w,
                         gamma);
+    memcpy(tip, w, sizeof(double) * n);
     if (s->has_w)
       memcpy(w, s->w, sizeof(double) * n); /* an explicit stop wins */
     if (s->has_base)
@@ -1256,8 +1324,17 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
     st = vi_model_set_forcing(m, s->omega, a, s->b, s->f0);
   }
   if (!st) {
-    where = "stop";
+    where = s->stop_list ? "stops[1]" : "stop";
     st = vi_model_set_stop(m, w, s->xs, s->r);
+  }
+  char xkey[32] = "";
+  int xline = 0;
+  for (int k = 0; k < s->nx && !st; k++) {
+    snprintf(xkey, sizeof xkey, "stops[%d]", k + 2);
+    where = xkey;
+    xline = s->xint[s->nx + k];
+    st = vi_model_add_stop(m, s->xint[k] ? s->xw + (size_t)k * n : tip,
+                           s->xxs[k], s->xr[k]);
   }
   if (!st) {
     where = "model";
@@ -1265,7 +1342,9 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
   }
   free(buf);
   if (st) {
-    int line = !strcmp(where, "stop") ? s->line_stop : s->line_model;
+    int line = where == xkey                 ? xline
+               : !strncmp(where, "stop", 4) ? s->line_stop
+                                             : s->line_model;
     diag(d, s->file, st, line, line ? 1 : 0, where, "", "%s",
          m ? vi_model_errmsg(m) : vi_strerror(st));
     vi_model_destroy(&m);

@@ -114,7 +114,7 @@ static int load(const char *text, size_t len, yaml_document_t *doc,
   return ok;
 }
 
-int vi_scene_edit_create(const char *text, long len, const char *name,
+int vi_scene_edit_create(const char *text, int64_t len, const char *name,
                          vi_scene_edit **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);

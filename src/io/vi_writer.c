@@ -440,7 +440,7 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
     return create_fail(diag, path, VI_ERR_IO, msg);
   }
   hid_t F64 = H5T_IEEE_F64LE, I32 = H5T_STD_I32LE;
-  w->imp.ncol = 7;
+  w->imp.ncol = 8;
   w->imp.c[0] = COL("time", 1, F64, "time", "instant of the event");
   w->imp.c[1] = COL("kind", 1, I32, "1", "0 impact, 1 stick, 2 release");
   w->imp.c[2] = COL("vn", 1, F64, "length/time", "approach velocity w.x'(t-)");
@@ -448,6 +448,8 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
   w->imp.c[4] = VEC("x", n, F64, "length", "positions at the event");
   w->imp.c[5] = VEC("v_minus", n, F64, "length/time", "velocities before");
   w->imp.c[6] = VEC("v_plus", n, F64, "length/time", "velocities after");
+  w->imp.c[7] = COL("stop", 1, I32, "1",
+                    "the stop hit, stuck on or released (0-based)");
   w->traj.ncol = 5;
   w->traj.c[0] = COL("time", 1, F64, "time", "uniform sample times");
   w->traj.c[1] = VEC("x", n, F64, "length", "physical positions");
@@ -542,6 +544,24 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
       bad |= attr_num(g, "r", &v, 1);
       v = vi_model_omega_forcing(m);
       bad |= attr_num(g, "Omega", &v, 1);
+      int ns = vi_model_num_stops(m);
+      if (ns > 1) { /* several stops: all of them, row k = stop k */
+        double *sw = malloc(sizeof(double) * ((size_t)ns * (n + 2) + n));
+        bad |= !sw;
+        if (sw) {
+          /* column-major ns x n for put(): element (k, j) = w_k(j) */
+          double *sx = sw + (size_t)ns * n, *sr = sx + ns, *wk = sr + ns;
+          for (int k = 0; k < ns; k++) {
+            vi_model_get_stop(m, k, wk, sx + k, sr + k);
+            for (int j = 0; j < n; j++) sw[k + (size_t)j * ns] = wk[j];
+          }
+          bad |= put(g, "stops_w", sw, ns, n, "stop vectors, row k: w_k.x <= "
+                     "x_s_k");
+          bad |= put(g, "stops_x_s", sx, ns, 0, "clearance of each stop");
+          bad |= put(g, "stops_r", sr, ns, 0, "restitution of each stop");
+          free(sw);
+        }
+      }
       H5Gclose(g);
     }
     /* the modes only when the scene asks for them (always without a scene) */
@@ -575,9 +595,9 @@ int vi_writer_event(vi_writer *w, const vi_event *ev)
   if (ev->n != w->n)
     return warg(w, VI_ERR_DIM, "event of n = %d for a writer of n = %d",
                 ev->n, w->n);
-  double kind = ev->kind;
-  const double *vals[7] = {&ev->t, &kind,       &ev->vn,   &ev->ie,
-                           ev->x,  ev->v_minus, ev->v_plus};
+  double kind = ev->kind, stop = ev->stop;
+  const double *vals[8] = {&ev->t, &kind,       &ev->vn,   &ev->ie,
+                           ev->x,  ev->v_minus, ev->v_plus, &stop};
   int st;
   H5E_BEGIN_TRY { st = table_row(w, &w->imp, vals); }
   H5E_END_TRY;
@@ -670,7 +690,7 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
   return bad ? werr(w, VI_ERR_IO, "cannot write /orbits to %s", w->part) : VI_OK;
 }
 
-long vi_writer_rows(const vi_writer *w, const char *what)
+int64_t vi_writer_rows(const vi_writer *w, const char *what)
 {
   if (!w || !what) return -1;
   const table *t = !strcmp(what, "impacts")      ? &w->imp

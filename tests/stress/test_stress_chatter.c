@@ -50,7 +50,7 @@ static ball_result run_ball(const vi_model *m, int method, double rtol,
   ball_result res;
   memset(&res, 0, sizeof res);
   st_log log = {0};
-  st_guard guard = {0, 1000000};
+  st_guard guard = {0, 200000};
   const double x0 = 0.0, v0 = -V0;
   vi_sim *s = st_sim(m, method, rtol, atol, 0.0, &x0, &v0, &log, &guard);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
@@ -234,7 +234,7 @@ static void test_release_instant(void **state)
     if (!st_method_ok(m, meth)) continue;
     for (int it = 0; it < 2; it++) {
       st_log log = {0};
-      st_guard guard = {0, 1000000};
+      st_guard guard = {0, 200000};
       const double x0 = 0.2, v0 = 0.0;
       vi_sim *s = st_sim(m, meth, tols[it][0], tols[it][1], 0.0, &x0, &v0,
                          &log, &guard);
@@ -335,7 +335,7 @@ static void test_chatter_harmonic_load(void **state)
   for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
     if (!st_method_ok(m, meth)) continue;
     st_log log = {0};
-    st_guard guard = {0, 1000000};
+    st_guard guard = {0, 200000};
     const double x0 = 0.0, v0 = -1.0;
     vi_sim *s = st_sim(m, meth, 1e-12, 1e-14, 0.0, &x0, &v0, &log, &guard);
     int st = vi_sim_run(s, t_acc + 2.0);

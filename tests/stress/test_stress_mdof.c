@@ -210,7 +210,7 @@ static void run_two(int free_free, double kappa, double v10)
   for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
     if (!st_method_ok(m, meth)) continue;
     st_log log = {0};
-    st_guard guard = {0, 1000000};
+    st_guard guard = {0, 100000};
     const double x0[2] = {0, 0}, v0[2] = {v10, -0.3};
     vi_sim *s = st_sim(m, meth, 1e-12, 1e-14, 0.0, x0, v0, &log, &guard);
     int st = vi_sim_run(s, release ? R.t_next + 0.5 : R.t_stick + 5.0);

@@ -1,0 +1,135 @@
+/* vi_contact.c - Newton's law for several simultaneous contacts: a small
+ * linear complementarity problem solved by enumerating active sets. */
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#include "vi_internal.h"
+
+/* In-place Cholesky of the k x k matrix A (column-major, leading dimension
+ * k); 0 if positive definite to round-off relative to its diagonal. */
+int vi_small_cholesky(int k, double *A)
+{
+  double dmax = 0.0;
+  for (int i = 0; i < k; i++) dmax = fmax(dmax, A[i + i * k]);
+  for (int j = 0; j < k; j++) {
+    double d = A[j + j * k];
+    for (int p = 0; p < j; p++) d -= A[j + p * k] * A[j + p * k];
+    /* a pivot lost to cancellation: G singular on this set (dependent
+     * stop vectors), no unique impulses */
+    if (!(d > 1e-12 * dmax)) return -1;
+    d = sqrt(d);
+    A[j + j * k] = d;
+    for (int i = j + 1; i < k; i++) {
+      double a = A[i + j * k];
+      for (int p = 0; p < j; p++) a -= A[i + p * k] * A[j + p * k];
+      A[i + j * k] = a / d;
+    }
+  }
+  return 0;
+}
+
+void vi_small_solve(int k, const double *L, double *b)
+{
+  for (int i = 0; i < k; i++) {
+    double a = b[i];
+    for (int p = 0; p < i; p++) a -= L[i + p * k] * b[p];
+    b[i] = a / L[i + i * k];
+  }
+  for (int i = k - 1; i >= 0; i--) {
+    double a = b[i];
+    for (int p = i + 1; p < k; p++) a -= L[p + i * k] * b[p];
+    b[i] = a / L[i + i * k];
+  }
+}
+
+static int popcount(unsigned v)
+{
+  int c = 0;
+  for (; v; v &= v - 1) c++;
+  return c;
+}
+
+int vi_contact_solve(const vi_model *m, int nc, const int *idx,
+                     const double *v, double *vp, double *P, double *vn,
+                     double *ie)
+{
+  int n = m->n, ns = m->ns;
+  if (nc > VI_CONTACT_MAX) return VI_ERR_LIMIT;
+  double u[VI_CONTACT_MAX], e[VI_CONTACT_MAX], p[VI_CONTACT_MAX];
+  double A[VI_CONTACT_MAX * VI_CONTACT_MAX], ps[VI_CONTACT_MAX];
+  int act[VI_CONTACT_MAX];
+  double emax = 0.0;
+  for (int k = 0; k < nc; k++) {
+    u[k] = vi_dot(n, vi_stop_w(m, idx[k]), v);
+    /* Newton: w_k.v+ <= -r_k w_k.v- on an approaching contact; a closed
+     * contact that is not approaching must not start to (plastic rule) */
+    e[k] = u[k] > 0.0 ? (1.0 + m->rv[idx[k]]) * u[k] : u[k];
+    emax = fmax(emax, fabs(e[k]));
+    p[k] = 0.0;
+  }
+  if (nc == 1 && u[0] > 0.0) {
+    /* one contact: WB 2 and WB 10 exactly as vi_impact_apply computes them */
+    int k = idx[0];
+    double g = m->G[k + (size_t)k * ns], r = m->rv[k];
+    p[0] = (1.0 + r) * u[0] / g;
+    const double *mw = vi_stop_minvw(m, k);
+    for (int i = 0; i < n; i++) vp[i] = v[i] - p[0] * mw[i];
+    if (P) P[0] = p[0];
+    if (vn) vn[0] = u[0];
+    if (ie) ie[0] = 0.5 * u[0] * u[0] * (1.0 - r * r) / g;
+    return VI_OK;
+  }
+  /* Enumerate active sets S by increasing size: on S the impulses make
+   * (G P)_S = e_S, and the set fits if P_S >= 0 and y_k = (G P)_k - e_k >= 0
+   * off S.  G positive definite (independent stop vectors) makes the
+   * solution unique, so the first set that fits is it; the empty set
+   * (nothing approaching) comes first.  2^nc sets of at most nc x nc
+   * solves: hence the limit VI_CONTACT_MAX. */
+  double tol = 1e-11 * emax;
+  int found = 0;
+  for (int size = 0; size <= nc && !found; size++) {
+    for (unsigned mask = 0; mask < (1u << nc) && !found; mask++) {
+      if (popcount(mask) != size) continue;
+      int k = 0;
+      for (int j = 0; j < nc; j++)
+        if (mask & (1u << j)) act[k++] = j;
+      for (int a = 0; a < k; a++) {
+        for (int b = 0; b < k; b++)
+          A[a + b * k] = m->G[idx[act[a]] + (size_t)idx[act[b]] * ns];
+        ps[a] = e[act[a]];
+      }
+      if (k && vi_small_cholesky(k, A)) continue;
+      if (k) vi_small_solve(k, A, ps);
+      int ok = 1;
+      for (int a = 0; a < k && ok; a++)
+        ok = ps[a] * m->G[idx[act[a]] + (size_t)idx[act[a]] * ns] >= -tol;
+      for (int j = 0; j < nc && ok; j++) {
+        if (mask & (1u << j)) continue;
+        double y = -e[j];
+        for (int a = 0; a < k; a++)
+          y += m->G[idx[j] + (size_t)idx[act[a]] * ns] * ps[a];
+        ok = y >= -tol;
+      }
+      if (!ok) continue;
+      found = 1;
+      for (int a = 0; a < k; a++) p[act[a]] = fmax(ps[a], 0.0);
+    }
+  }
+  if (!found) return VI_ERR_NOT_CONVERGED;
+  if (vp != v) memcpy(vp, v, sizeof(double) * (size_t)n);
+  for (int k = 0; k < nc; k++) {
+    if (p[k] == 0.0) continue;
+    const double *mw = vi_stop_minvw(m, idx[k]);
+    for (int i = 0; i < n; i++) vp[i] -= p[k] * mw[i];
+  }
+  for (int k = 0; k < nc; k++) {
+    if (P) P[k] = p[k];
+    if (vn) vn[k] = u[k];
+    /* KE- - KE+ = P.u - P.G P / 2 and (G P)_k = e_k on the active set:
+     * each contact takes P_k (u_k - e_k / 2), 1/2 P_k u_k (1 - r_k) for an
+     * approaching one */
+    if (ie) ie[k] = p[k] * (u[k] - 0.5 * e[k]);
+  }
+  return VI_OK;
+}
