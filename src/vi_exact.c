@@ -563,9 +563,10 @@ static int ex_start(vi_sim *s)
   /* grid: fine enough to see the end of a short flight, whose length is
    * about 2 |g'| / g'' when g'' > 0 (a bounce); a tangential departure
    * (g' ~ 0 and g'' <= 0, a release) starts no short flight */
-  double tf = gdd > 0.0 && gd < 0.0 ? fmax(tr, -2.0 * gd / gdd) : HUGE_VAL;
+  double tf = tr > 0.0 && gdd > 0.0 && gd < 0.0 ? fmax(tr, -2.0 * gd / gdd)
+                                                : HUGE_VAL;
   d->p = 0;
-  while (d->p < EX_LEVELS - EX_DEPTH - 1 && ldexp(d->h0, -d->p) > 4.0 * tf &&
+  while (d->p < 40 && ldexp(d->h0, -d->p) > 4.0 * tf &&
          ldexp(d->h0, -d->p - 1) >= 64.0 * DBL_EPSILON * fabs(s->t))
     d->p++;
   d->lmax = d->p + EX_DEPTH;
