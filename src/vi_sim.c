@@ -948,11 +948,9 @@ static int on_release(vi_sim *s)
   if ((st = set_sticking(s, keep, nk))) return st;
   emit(s, VI_EVENT_RELEASE, k, 0.0, 0.0);
   s->stats[VI_STAT_REINITS]++;
-  /* At release the gap and its first two rates vanish together, so the
-   * closed form's contact search cannot tell the departing motion from
-   * round-off for a while; CVODE (already running the sticking phase)
-   * carries the flight that follows and the closed form takes over again
-   * at its next contact. */
+  /* free again: back to the method's own integrator (the closed form's
+   * search starts from gap, rate and acceleration all zero here) */
+  if (!s->sticking) use_backend(s, method_backend(s));
   return s->be->start(s);
 }
 

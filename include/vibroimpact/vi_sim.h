@@ -48,7 +48,8 @@ enum {
                             fastest CVODE method on these scenes) */
   VI_METHOD_BDF = 1,   /**< CVODE BDF, Newton with the analytic Jacobian and a
                             dense or (banded models) band linear solver */
-  VI_METHOD_EXACT = 2, /**< closed-form flow (vi_flow.h) with root bracketing:
+  VI_METHOD_EXACT = 2, /**< closed-form flow (vi_flow.h), contacts found by a
+                            bounded grid search and polished to round-off:
                             any damping whose first-order system is
                             diagonalisable; sticking phases (which have no
                             closed form here) run on CVODE Adams */
