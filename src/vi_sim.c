@@ -360,6 +360,8 @@ int vi_sim_get_state(const vi_sim *s, double *t, double *x, double *v)
   return VI_OK;
 }
 
+int vi_sim_n(const vi_sim *s) { return s ? s->n : 0; }
+
 int vi_sim_is_sticking(const vi_sim *s) { return s ? s->sticking : 0; }
 
 int vi_sim_get_stop_losses(const vi_sim *s, double *ie)

@@ -147,6 +147,7 @@ static void test_sim_misuse(void **state)
   assert_int_equal(vi_sim_get_stat(NULL, VI_STAT_STEPS), -1);
   assert_int_equal(vi_sim_is_sticking(NULL), 0);
   assert_int_equal(vi_sim_method_used(NULL), -1);
+  assert_int_equal(vi_sim_n(NULL), 0);
   assert_string_equal(vi_sim_errmsg(NULL), "");
   assert_string_equal(vi_sim_method_note(NULL), "");
   assert_true(vi_sim_ledger_max_residual(NULL) == 0.0);

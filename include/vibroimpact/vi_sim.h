@@ -239,6 +239,8 @@ VI_API int vi_sim_run_to_event(vi_sim *sim, double t_end, int *kind);
 /** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */
 VI_API int vi_sim_get_state(const vi_sim *sim, double *t, double *x,
                             double *v);
+/** Number of coordinates n of the sim's model; 0 for NULL. */
+VI_API int vi_sim_n(const vi_sim *sim);
 /** 1 while in a sticking phase, else 0. */
 VI_API int vi_sim_is_sticking(const vi_sim *sim);
 /** Kinetic energy lost at each stop since the sim was created: ie [ns]

@@ -79,7 +79,7 @@ module vibroimpact
             vi_sim_get_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops, &
             vi_sim_set_chatter_threshold, vi_sim_set_restart_step, vi_sim_set_max_step, &
             vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note, &
-            vi_sim_setup, vi_sim_run_to_event
+            vi_sim_setup, vi_sim_run_to_event, vi_sim_n
   public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_sim_set_force, vi_sim_add_spring, vi_sim_clear_springs, &
@@ -444,6 +444,10 @@ module vibroimpact
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: sim, user
       type(c_funptr), value :: fn
+    end function
+    integer(c_int) function vi_sim_n(sim) bind(C, name="vi_sim_n")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
     end function
     integer(c_int) function vi_sim_set_floors(sim, vn_min, dt_min) bind(C, name="vi_sim_set_floors")
       import :: c_int, c_ptr, c_double

@@ -13,8 +13,6 @@
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
-/* the sim's n, to refuse a scene of another size (no public getter yet) */
-#include "vi_sim_internal.h"
 
 enum { MODEL_EXPLICIT, MODEL_CHAIN, MODEL_CANTILEVER };
 
@@ -1364,9 +1362,10 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
   if (!s || !sim)
     return diag(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
                 "vi_scene_configure_sim: scene and sim are required");
-  if (sim->n != s->n)
+  if (vi_sim_n(sim) != s->n)
     return diag(d, s->file, VI_ERR_DIM, s->line_model, 0, "model", "",
-                "the scene has n = %d, the simulation n = %d", s->n, sim->n);
+                "the scene has n = %d, the simulation n = %d", s->n,
+                vi_sim_n(sim));
   int st = vi_sim_set_method(sim, s->method);
   if (st)
     return diag(d, s->file, st, s->line_run, 1, "run.method", "", "%s",
