@@ -111,17 +111,7 @@ static void ark_destroy(vi_sim *s)
   s->be_data = NULL;
 }
 
-#define ARK_TRY(call)                                                  \
-  do {                                                                 \
-    int flag_ = (call);                                                \
-    if (flag_ < 0) {                                                   \
-      if (!s->errmsg[0] || st == VI_OK)                                \
-        vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s failed (flag %d)",   \
-                #call, flag_);                                         \
-      st = VI_ERR_INTEGRATOR;                                          \
-      goto cleanup;                                                    \
-    }                                                                  \
-  } while (0)
+#define ARK_TRY(call) VI_SUN_TRY(call)
 
 static int ark_create(vi_sim *s)
 {

@@ -133,24 +133,18 @@ static int jac_forced(vi_sim *s, double t, const double *z, SUNMatrix J)
 {
   const vi_model *m = s->m;
   int n = s->n;
-  size_t nn = (size_t)n * (size_t)n;
-  double *A = malloc(sizeof(double) * 2 * nn);
-  if (!A) return -1;
-  if (vi_force_jacobian(s, t, z, A, A + nn)) {
-    free(A);
-    return -1;
-  }
+  double *Ax, *Av;
+  if (vi_force_jacobian(s, t, z, &Ax, &Av)) return -1;
   double *col = s->zs;
   for (int jz = 0; jz < 2 * n; jz++) {
     int j = jz / 2;
     const double *lin = (jz % 2 ? m->MinvC : m->MinvK) + (size_t)j * n;
-    const double *nl = A + (jz % 2 ? nn : 0) + (size_t)j * n;
+    const double *nl = (jz % 2 ? Av : Ax) + (size_t)j * n;
     for (int i = 0; i < n; i++) col[i] = nl[i] - lin[i];
     if (s->sticking) vi_sim_constrain(s, col, NULL);
     for (int i = 0; i < n; i++) SM_ELEMENT_D(J, 2 * i + 1, jz) = col[i];
     if (jz % 2) SM_ELEMENT_D(J, jz - 1, jz) = 1.0;
   }
-  free(A);
   return 0;
 }
 
@@ -248,17 +242,7 @@ static int use_band(const vi_sim *s)
   return 4 * m->bw + 2 < n;
 }
 
-#define CV_TRY(call)                                                   \
-  do {                                                                 \
-    int flag_ = (call);                                                \
-    if (flag_ < 0) {                                                   \
-      if (!s->errmsg[0] || st == VI_OK)                                \
-        vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s failed (flag %d)",   \
-                #call, flag_);                                         \
-      st = VI_ERR_INTEGRATOR;                                          \
-      goto cleanup;                                                    \
-    }                                                                  \
-  } while (0)
+#define CV_TRY(call) VI_SUN_TRY(call)
 
 static int cv_create(vi_sim *s)
 {

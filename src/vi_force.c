@@ -91,8 +91,10 @@ void vi_force_free(vi_sim *s)
 {
   free(s->springs);
   free(s->fbuf);
+  free(s->fjac);
   s->springs = NULL;
   s->fbuf = NULL;
+  s->fjac = NULL;
 }
 
 /* Force of spring sp at relative displacement d (> 0: i beyond j) and its
@@ -166,14 +168,20 @@ void vi_force_modal(vi_sim *s, double t, const double *z, double *gq)
 
 /* Ax = M^-1 dg/dx, Av = M^-1 dg/dv at (t, z): the springs analytically,
  * the host force by its Jacobian or by forward differences. */
-int vi_force_jacobian(vi_sim *s, double t, const double *z, double *Ax,
-                      double *Av)
+int vi_force_jacobian(vi_sim *s, double t, const double *z, double **pAx,
+                      double **pAv)
 {
   int n = s->n;
   size_t nn = (size_t)n * (size_t)n;
-  double *Gx = calloc(2 * nn + 2 * (size_t)n + 2 * (size_t)n, sizeof(double));
-  if (!Gx) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
-  double *Gv = Gx + nn, *g0 = Gv + nn, *g1 = g0 + n, *zz = g1 + n;
+  /* one workspace per sim, made at the first Jacobian: outputs Ax, Av and
+   * the force's own Gx, Gv [n x n each], then g0, g1 [n], zz [2n] */
+  if (!s->fjac && !(s->fjac = malloc(sizeof(double) * (4 * nn + 4 * (size_t)n))))
+    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  double *Ax = s->fjac, *Av = Ax + nn, *Gx = Av + nn, *Gv = Gx + nn;
+  double *g0 = Gv + nn, *g1 = g0 + n, *zz = g1 + n;
+  memset(Gx, 0, sizeof(double) * 2 * nn);
+  *pAx = Ax;
+  *pAv = Av;
   for (int k = 0; k < s->nsprings; k++) {
     const struct vi_spring *sp = &s->springs[k];
     double d = z[2 * (size_t)sp->i] - (sp->j >= 0 ? z[2 * (size_t)sp->j] : 0.0), dfd;
@@ -229,6 +237,5 @@ int vi_force_jacobian(vi_sim *s, double t, const double *z, double *Ax,
     vi_matvec_t(n, Psi, Gv + (size_t)c * n, g0);
     vi_matvec(n, Psi, g0, Av + (size_t)c * n);
   }
-  free(Gx);
   return st;
 }

@@ -100,6 +100,7 @@ struct vi_sim {
   struct vi_spring *springs;
   int nsprings, nforces;  /* nforces: springs plus the callback, if any */
   double *fbuf;           /* scratch [4n]: x, v, g, Psi^T g */
+  double *fjac;           /* Jacobian workspace, made at first use */
   int force_failed;       /* the callback failed: the run stops */
   double force_fail_t;
 
@@ -109,6 +110,22 @@ struct vi_sim {
 
   char errmsg[VI_MSG_LEN];
 };
+
+/* A SUNDIALS call in a backend function with `int st` and a `cleanup`
+ * label: a negative flag records the call in s->errmsg (unless SUNDIALS'
+ * error handler already left a message) and leaves with
+ * VI_ERR_INTEGRATOR. */
+#define VI_SUN_TRY(call)                                               \
+  do {                                                                 \
+    int flag_ = (call);                                                \
+    if (flag_ < 0) {                                                   \
+      if (!s->errmsg[0] || st == VI_OK)                                \
+        vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s failed (flag %d)",   \
+                #call, flag_);                                         \
+      st = VI_ERR_INTEGRATOR;                                          \
+      goto cleanup;                                                    \
+    }                                                                  \
+  } while (0)
 
 /* Bring s->z up to s->t (see vi_backend.sync). */
 static inline int vi_sim_sync(vi_sim *s)
@@ -138,8 +155,8 @@ void vi_force_add_accel(vi_sim *s, double t, const double *z, double *acc);
 /* The modal force Psi^T g [n] at (t, z) into gq: for the ledger. */
 void vi_force_modal(vi_sim *s, double t, const double *z, double *gq);
 /* d(M^-1 g)/dx and d(M^-1 g)/dv [n x n], column-major, at (t, z). */
-int vi_force_jacobian(vi_sim *s, double t, const double *z, double *Ax,
-                      double *Av);
+int vi_force_jacobian(vi_sim *s, double t, const double *z, double **Ax,
+                      double **Av); /* into the sim's workspace */
 void vi_force_free(vi_sim *s);
 
 /* Remove from a [n] the components along M^-1 w_k of the sticking stops
