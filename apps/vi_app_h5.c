@@ -10,7 +10,7 @@
 #include "vi_app.h"
 
 #ifndef VI_IO_SONAME
-#define VI_IO_SONAME "libvibroimpact_io.so.0"
+#define VI_IO_SONAME "libvibroimpact_io.so.1"
 #endif
 
 const app_writer_api *vi_app_writer(void)

@@ -88,7 +88,7 @@ static result run(const vi_model *m, int method, double rtol, double hrestart,
         vi_sim_set_tolerances(s, rtol, rtol * 1e-2) ||
         vi_sim_set_restart_step(s, hrestart) ||
         vi_sim_set_native_vector_ops(s, native_ops) ||
-        vi_sim_set_event_callback(s, collect, &r)) {
+        vi_sim_set_event_callback(s, collect, &r, NULL)) {
       fprintf(stderr, "vi_bench: set-up: %s\n", vi_sim_errmsg(s));
       exit(1);
     }
@@ -103,8 +103,8 @@ static result run(const vi_model *m, int method, double rtol, double hrestart,
       free(best.r.t);
       free(best.r.vn);
       best.wall = wall;
-      best.rhs = vi_sim_get_stat(s, VI_STAT_RHS_EVALS);
-      best.steps = vi_sim_get_stat(s, VI_STAT_STEPS);
+      best.rhs = vi_sim_stat(s, VI_STAT_RHS_EVALS);
+      best.steps = vi_sim_stat(s, VI_STAT_STEPS);
       best.r = r;
     } else {
       free(r.t);
@@ -144,8 +144,8 @@ static long child_rss(double periods, const char *path)
         !vi_scene_create_model(sc, &m, &d) && !vi_sim_create(m, &s) &&
         !vi_scene_configure_sim(sc, s, &d) && !vi_writer_create(path, m, 1, &w, &d) &&
         !vi_writer_write_header(w, sc, 1e-8, 1e-10, VI_METHOD_EXACT) &&
-        !vi_sim_set_event_callback(s, wr_event, w) &&
-        !vi_sim_set_sampling(s, T / 16, wr_sample, w) &&
+        !vi_sim_set_event_callback(s, wr_event, w, NULL) &&
+        !vi_sim_set_sampling(s, T / 16, wr_sample, w, NULL) &&
         !vi_sim_run(s, vi_scene_t_end(sc)) && !vi_writer_close(&w, 1)) {
       struct rusage ru;
       getrusage(RUSAGE_SELF, &ru);

@@ -150,13 +150,13 @@ static void transient_seed(list *L, const vi_scene *sc, double t0,
   if (!r->z || vi_sim_create(L->mdl, &s) || vi_scene_configure_sim(sc, s, NULL) ||
       vi_sim_set_method(s, VI_METHOD_EXACT) || vi_sim_set_initial(s, t0, x0, v0))
     goto done;
-  vi_sim_set_event_callback(s, on_impact, r);
+  vi_sim_set_event_callback(s, on_impact, r, NULL);
   T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
   int W = 3 * n + 1;
   for (int k = 1; k <= maxp; k++) {
     if (vi_sim_run(s, t0 + k * T)) goto done;
     double *zk = z + (size_t)(k % W) * 2 * N;
-    vi_sim_get_state(s, NULL, zk, zk + N);
+    vi_sim_state(s, NULL, zk, zk + N);
     if (k < W || r->k < m) continue;
     double scl = 1e-9;
     for (int i = 0; i < 2 * N; i++) scl = fmax(scl, fabs(zk[i]));
@@ -356,7 +356,7 @@ int vi_cmd_orbits_main(int argc, char **argv)
     /* the scene's initial state, then rest at 8 forcing phases */
     if (!vi_sim_create(mdl, &s0) && !vi_scene_configure_sim(sc, s0, NULL)) {
       double t0, *xs = malloc(sizeof(double) * 2 * N);
-      if (xs && !vi_sim_get_state(s0, &t0, xs, xs + N))
+      if (xs && !vi_sim_state(s0, &t0, xs, xs + N))
         transient_seed(L, sc, t0, xs, xs + N, 2000);
       free(xs);
     }

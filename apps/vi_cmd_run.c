@@ -139,7 +139,7 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
   fputc('\n', f);
   if (ledger) {
     double ie;
-    vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL, &ie);
+    vi_sim_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL, &ie);
     fprintf(f, "  ledger    energy lost at impacts %.10g; largest closure "
             "residual %.3g\n", ie, vi_sim_ledger_max_residual(s));
   }
@@ -150,7 +150,7 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
     if (!name) continue;
     char item[96];
     int len = snprintf(item, sizeof item, " %s %lld", name,
-                       (long long)vi_sim_get_stat(s, k));
+                       (long long)vi_sim_stat(s, k));
     if (col + len > 78) {
       fprintf(f, "\n           ");
       col = 11;
@@ -229,13 +229,13 @@ int vi_cmd_run(const app_opts *o)
   }
   double omega = vi_model_omega_forcing(m);
   double period = omega > 0 ? 2 * M_PI / omega : (c.t_end - c.t0) / 100;
-  vi_sim_set_event_callback(s, on_event, &c);
-  if (o->progress) vi_sim_set_monitor(s, on_monitor, &c, period);
-  vi_sim_set_cancel(s, vi_app_cancel, NULL);
-  if (spp > 0) vi_sim_set_sampling(s, period / spp, on_sample, &c);
+  vi_sim_set_event_callback(s, on_event, &c, NULL);
+  if (o->progress) vi_sim_set_monitor(s, period, on_monitor, &c, NULL);
+  vi_sim_set_cancel(s, vi_app_cancel, NULL, NULL);
+  if (spp > 0) vi_sim_set_sampling(s, period / spp, on_sample, &c, NULL);
   if (ledger) {
     vi_sim_enable_ledger(s, 1);
-    vi_sim_set_ledger_callback(s, on_ledger, &c);
+    vi_sim_set_ledger_callback(s, on_ledger, &c, NULL);
   }
   c.wall0 = now();
   vi_app_set_polling(1);
@@ -275,7 +275,7 @@ int vi_cmd_run(const app_opts *o)
   }
   if (!complete) {
     double t;
-    vi_sim_get_state(s, &t, NULL, NULL);
+    vi_sim_state(s, &t, NULL, NULL);
     fprintf(stderr, "vibroimpact: interrupted (%s) at t = %g%s\n",
             vi_app_signal == SIGTERM ? "SIGTERM" : "SIGINT", t,
             o->out ? "; the output file is valid and marked incomplete" : "");

@@ -246,17 +246,17 @@ static void run_piece(piece *p)
         goto done;
       }
     }
-    vi_sim_set_event_callback(s, on_event, p);
-    if (p->cancel) vi_sim_set_cancel(s, on_cancel, (void *)p->cancel);
+    vi_sim_set_event_callback(s, on_event, p, NULL);
+    if (p->cancel) vi_sim_set_cancel(s, on_cancel, (void *)p->cancel, NULL);
     double t0 = sw->t0, T = pt->T;
     p->t_rec = t0 + sw->spec.transient * T;
     st = sw->spec.transient > 0 ? vi_sim_run(s, p->t_rec) : VI_OK;
-    if (!st) vi_sim_get_state(s, NULL, z, z + N);
+    if (!st) vi_sim_state(s, NULL, z, z + N);
     for (int j = 1; j <= R && !st; j++) {
       st = vi_sim_run(s, t0 + (sw->spec.transient + j) * T);
       if (!st) {
         double *zz = z + (size_t)j * 2 * N;
-        vi_sim_get_state(s, NULL, zz, zz + N);
+        vi_sim_state(s, NULL, zz, zz + N);
         memcpy(ln->strobe + ((size_t)k * R + (j - 1)) * 2 * N, zz,
                sizeof(double) * 2 * N);
       }
@@ -284,7 +284,7 @@ static void run_piece(piece *p)
     }
     classify(sw, pt, z, vi_model_clearance(m),
              t0 + (sw->spec.transient + R) * T);
-    vi_sim_get_state(s, NULL, x, v);
+    vi_sim_state(s, NULL, x, v);
     have_state = 1;
     vi_sim_destroy(&s);
     vi_model_destroy(&m);

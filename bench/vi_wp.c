@@ -50,7 +50,7 @@ static int dump_model(const vi_scene *sc, const vi_model *m)
   vi_diag dg;
   double t0, *x0 = calloc(2 * (size_t)n, sizeof(double)), *v0 = x0 + n;
   if (!x0 || vi_sim_create(m, &s) || vi_scene_configure_sim(sc, s, &dg) ||
-      vi_sim_get_state(s, &t0, x0, v0))
+      vi_sim_state(s, &t0, x0, v0))
     return 1;
   printf("{\"n\": %d, \"omega\": %.17g, \"xs\": %.17g, \"r\": %.17g, "
          "\"t0\": %.17g,\n", n, vi_model_omega_forcing(m), vi_model_clearance(m),
@@ -120,7 +120,7 @@ int main(int argc, char **argv)
     rec r = {0, 0, NULL, NULL};
     if (vi_sim_create(m, &s) || vi_scene_configure_sim(sc, s, &dg) ||
         vi_sim_set_method(s, method) || vi_sim_set_tolerances(s, rtol, atol) ||
-        vi_sim_set_event_callback(s, collect, &r) ||
+        vi_sim_set_event_callback(s, collect, &r, NULL) ||
         vi_sim_setup(s)) { /* the integrator's set-up is not the loop */
       fprintf(stderr, "vi_wp: set-up: %s\n", vi_sim_errmsg(s));
       return 1;
@@ -134,7 +134,7 @@ int main(int argc, char **argv)
     }
     if (wall < best) {
       best = wall;
-      for (int j = 0; j < VI_STAT_COUNT; j++) st_best[j] = vi_sim_get_stat(s, j);
+      for (int j = 0; j < VI_STAT_COUNT; j++) st_best[j] = vi_sim_stat(s, j);
       snprintf(note, sizeof note, "%s", vi_sim_method_note(s));
     }
     free(keep.t);

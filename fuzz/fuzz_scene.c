@@ -47,7 +47,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   if (!st) st = vi_scene_configure_sim(sc, s, &d);
   if (!st) {
     polls = 0;
-    vi_sim_set_cancel(s, cancel_after, NULL);
+    vi_sim_set_cancel(s, cancel_after, NULL, NULL);
     double t0 = vi_scene_t0(sc), t1 = vi_scene_t_end(sc);
     vi_sim_run(s, t0 + (t1 - t0 < 1.0 ? t1 - t0 : 1.0));
   }

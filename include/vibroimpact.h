@@ -7,7 +7,22 @@
  *
  * The library never prints and never exits.  It uses GSL but leaves GSL's
  * process-wide error handler alone; it never passes GSL invalid input, but a
- * host program should still call gsl_set_error_handler_off() once. */
+ * host program should still call gsl_set_error_handler_off() once.
+ *
+ * Conventions of the whole API:
+ * - Handles are opaque, made by vi_OBJ_create(..., &out) and released by
+ *   vi_OBJ_destroy(&h) (NULL-safe).  Every function that can fail returns
+ *   a vi_status code and leaves a message in vi_OBJ_errmsg().
+ * - Queries are named vi_OBJ_NOUN, without "get": one returning a single
+ *   value returns it (vi_model_n, vi_sim_stat); one filling caller-owned
+ *   arrays returns a status (vi_sim_state, vi_sim_ledger, vi_model_stop).
+ *   Settings are vi_OBJ_set_NOUN.
+ * - Arrays are the caller's, column-major, with a leading dimension where
+ *   they are matrices (LAPACK's convention).
+ * - A callback setter takes its settings first, then the callback(s), the
+ *   user pointer and a vi_destroy_fn for the user data (NULL: the host keeps
+ *   it):  vi_sim_set_sampling(sim, dt, fn, user, destroy).  On an error
+ *   nothing is taken over. */
 #ifndef VIBROIMPACT_H
 #define VIBROIMPACT_H
 

@@ -32,7 +32,7 @@ static void count_forces(vi_sim *s)
 }
 
 int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
-                     void *user)
+                     void *user, vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
   if (fn && exact_in_use(s))
@@ -45,7 +45,8 @@ int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
   if (st) return st;
   s->force_fn = fn;
   s->force_jac = fn ? jac : NULL;
-  s->force_user = fn ? user : NULL;
+  vi_user_set(&s->force_user, &s->force_free, fn ? user : NULL,
+              fn ? destroy : NULL);
   count_forces(s);
   return VI_OK;
 }

@@ -124,6 +124,17 @@ double vi_dot(int n, const double *x, const double *y);
 void vi_modal_project(const vi_model *m, const double *z, double *q,
                       double *qd);
 
+/* Hand a callback's user data over: the data it replaces is destroyed
+ * (unless it is the same pointer), the new one is kept with its destroy
+ * function.  vi_user_set(&p, &f, NULL, NULL) at destroy time frees it. */
+static inline void vi_user_set(void **slot, vi_destroy_fn *fslot, void *user,
+                               vi_destroy_fn destroy)
+{
+  if (*fslot && *slot != user) (*fslot)(*slot);
+  *slot = user;
+  *fslot = destroy;
+}
+
 /* 1 if the arrays [n] at a and b share memory (the API forbids it where an
  * output would overwrite an input still being read). */
 static inline int vi_overlap(const double *a, const double *b, int n)

@@ -48,7 +48,7 @@ int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
 /* Start time of the open interval. */
 double vi_ledger_open_since(const vi_ledger *L);
 
-/* Totals for vi_sim_get_ledger: E [n] of the state z, cumulative FE, DE,
+/* Totals for vi_sim_ledger: E [n] of the state z, cumulative FE, DE,
  * XE, CE, jumps dE [n] and ie (any may be NULL). */
 void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
                       double *DE, double *XE, double *CE, double *dE,

@@ -264,7 +264,7 @@ int vi_model_add_stop(vi_model *m, const double *w, double x_s, double r)
 
 int vi_model_num_stops(const vi_model *m) { return m ? m->ns : 0; }
 
-int vi_model_get_stop(const vi_model *m, int k, double *w, double *x_s,
+int vi_model_stop(const vi_model *m, int k, double *w, double *x_s,
                       double *r)
 {
   if (!m || k < 0 || k >= m->ns) return VI_ERR_ARG;

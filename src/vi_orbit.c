@@ -138,10 +138,11 @@ int vi_orbit_set_initial(vi_orbit *o, const double *x0, const double *v0)
   return VI_OK;
 }
 
-int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user)
+int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user,
+                         vi_destroy_fn destroy)
 {
   if (!o) return VI_ERR_ARG;
-  int st = vi_sim_set_monitor(o->sim, fn, user, o->T);
+  int st = vi_sim_set_monitor(o->sim, o->T, fn, user, destroy);
   return st ? vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim)) : VI_OK;
 }
 
@@ -232,7 +233,7 @@ static int flow_map(vi_orbit *o, const double *z, double *out)
   if ((st = vi_sim_set_initial(o->sim, o->t_s, z, z + n)) ||
       (st = vi_sim_run(o->sim, o->t_s + o->T)))
     return vi_fail(o->errmsg, st, "map: %s", vi_sim_errmsg(o->sim));
-  vi_sim_get_state(o->sim, NULL, out, out + n);
+  vi_sim_state(o->sim, NULL, out, out + n);
   return VI_OK;
 }
 
@@ -362,17 +363,17 @@ static int balance(vi_orbit *o)
   double *dE = o->dE;
   o->gmin = HUGE_VAL;
   if ((st = vi_sim_enable_ledger(o->sim, 1)) ||
-      (st = vi_sim_set_event_callback(o->sim, bal_event, &c)) ||
+      (st = vi_sim_set_event_callback(o->sim, bal_event, &c, NULL)) ||
       (st = vi_sim_set_initial(o->sim, o->t_s, o->zfix, o->zfix + n)) ||
-      (st = vi_sim_set_sampling(o->sim, o->T / 4096, bal_sample, o)) ||
+      (st = vi_sim_set_sampling(o->sim, o->T / 4096, bal_sample, o, NULL)) ||
       (st = vi_sim_run(o->sim, o->t_s + o->T)) ||
-      (st = vi_sim_get_ledger(o->sim, NULL, o->FE, o->DE, o->XE, NULL, dE, NULL)))
+      (st = vi_sim_ledger(o->sim, NULL, o->FE, o->DE, o->XE, NULL, dE, NULL)))
     vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "balance run: %s",
             vi_sim_errmsg(o->sim));
   /* whatever happened, the sim keeps no pointer to this frame's context
    * and no ledger or sampling it did not have before */
-  vi_sim_set_event_callback(o->sim, NULL, NULL);
-  vi_sim_set_sampling(o->sim, 0.0, NULL, NULL);
+  vi_sim_set_event_callback(o->sim, NULL, NULL, NULL);
+  vi_sim_set_sampling(o->sim, 0.0, NULL, NULL, NULL);
   vi_sim_enable_ledger(o->sim, 0);
   if (st) return st < 0 ? st : VI_ERR_STATE;
   if (c.seen != 1)
@@ -458,7 +459,7 @@ int vi_orbit_find(vi_orbit *o)
   o->by_scan = 0;
   o->nimp = 0;
   if ((st = vi_sim_set_initial(o->sim, 0.0, o->x0, o->v0)) ||
-      (st = vi_sim_set_event_callback(o->sim, record, o)))
+      (st = vi_sim_set_event_callback(o->sim, record, o, NULL)))
     return vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim));
   int64_t kmax = (int64_t)o->max_periods;
   for (int64_t k = 1; k <= kmax && !o->pn; k++) {
@@ -468,7 +469,7 @@ int vi_orbit_find(vi_orbit *o)
     if (st)
       return vi_fail(o->errmsg, st, "transient: %s", vi_sim_errmsg(o->sim));
     double *z = strobe(o, k);
-    vi_sim_get_state(o->sim, NULL, z, z + n);
+    vi_sim_state(o->sim, NULL, z, z + n);
     for (int p = 1; p <= MAX_N && k >= 3 * p + 16; p++) {
       int mm;
       if (repeats(o, k, p, &mm)) {
@@ -495,19 +496,19 @@ int vi_orbit_find(vi_orbit *o)
     if (!got) return VI_OK;
     o->pn = o->pm = 1;
     o->by_scan = 1;
-    if ((st = vi_sim_set_event_callback(o->sim, count_map, o)))
+    if ((st = vi_sim_set_event_callback(o->sim, count_map, o, NULL)))
       return vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim));
   } else {
     /* P(1,1): section half a period after the last impact, away from it */
-    vi_sim_get_state(o->sim, &t, NULL, NULL);
+    vi_sim_state(o->sim, &t, NULL, NULL);
     double ti = o->rt[(o->nimp - 1) % RING];
     o->t_s = ti + 0.5 * o->T;
     while (o->t_s <= t) o->t_s += o->T;
-    if ((st = vi_sim_set_event_callback(o->sim, count_map, o)) ||
+    if ((st = vi_sim_set_event_callback(o->sim, count_map, o, NULL)) ||
         (st = vi_sim_run(o->sim, o->t_s)))
       return vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "%s",
                      vi_sim_errmsg(o->sim));
-    vi_sim_get_state(o->sim, NULL, o->zfix, o->zfix + n);
+    vi_sim_state(o->sim, NULL, o->zfix, o->zfix + n);
   }
   if ((st = refine(o)) || (st = balance(o))) return st;
   /* multipliers: exact (saltation matrices, vi_orbit_pnm.c) where the

@@ -150,6 +150,13 @@ void vi_sim_destroy(vi_sim **sim)
 {
   if (!sim || !*sim) return;
   vi_sim *s = *sim;
+  /* the host's user data handed over with a destroy function */
+  vi_user_set(&s->cancel_user, &s->cancel_free, NULL, NULL);
+  vi_user_set(&s->ev_user, &s->ev_free, NULL, NULL);
+  vi_user_set(&s->smp_user, &s->smp_free, NULL, NULL);
+  vi_user_set(&s->mon_user, &s->mon_free, NULL, NULL);
+  vi_user_set(&s->force_user, &s->force_free, NULL, NULL);
+  vi_user_set(&s->led_user, &s->led_free, NULL, NULL);
   backend_destroy(s);
   vi_ledger_destroy(s->led);
   vi_force_free(s);
@@ -287,11 +294,12 @@ int vi_sim_set_native_vector_ops(vi_sim *s, int on)
   return VI_OK;
 }
 
-int vi_sim_set_cancel(vi_sim *s, vi_cancel_fn fn, void *user)
+int vi_sim_set_cancel(vi_sim *s, vi_cancel_fn fn, void *user,
+                      vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
   s->cancel_fn = fn;
-  s->cancel_user = user;
+  vi_user_set(&s->cancel_user, &s->cancel_free, user, destroy);
   return VI_OK;
 }
 
@@ -314,42 +322,45 @@ const char *vi_sim_method_note(const vi_sim *s)
   return s ? s->method_note : "";
 }
 
-int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user)
+int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user,
+                              vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
   s->ev_fn = fn;
-  s->ev_user = user;
+  vi_user_set(&s->ev_user, &s->ev_free, user, destroy);
   return VI_OK;
 }
 
-int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user)
+int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user,
+                        vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
   if (fn && !(dt > 0.0 && isfinite(dt)))
     return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g must be "
                    "positive and finite", dt);
   s->smp_fn = fn;
-  s->smp_user = user;
+  vi_user_set(&s->smp_user, &s->smp_free, user, destroy);
   s->smp_dt = dt;
   s->smp_t0 = s->t;
   s->smp_k = 0;
   return VI_OK;
 }
 
-int vi_sim_set_monitor(vi_sim *s, vi_monitor_fn fn, void *user, double every)
+int vi_sim_set_monitor(vi_sim *s, double every, vi_monitor_fn fn, void *user,
+                       vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
   if (fn && !(every > 0.0))
     return vi_fail(s->errmsg, VI_ERR_ARG, "monitor interval %g must be > 0",
                    every);
   s->mon_fn = fn;
-  s->mon_user = user;
+  vi_user_set(&s->mon_user, &s->mon_free, user, destroy);
   s->mon_every = every;
   s->mon_next = s->t;
   return VI_OK;
 }
 
-int vi_sim_get_state(const vi_sim *s, double *t, double *x, double *v)
+int vi_sim_state(const vi_sim *s, double *t, double *x, double *v)
 {
   if (!s) return VI_ERR_ARG;
   if (t) *t = s->t;
@@ -364,14 +375,14 @@ int vi_sim_n(const vi_sim *s) { return s ? s->n : 0; }
 
 int vi_sim_is_sticking(const vi_sim *s) { return s ? s->sticking : 0; }
 
-int vi_sim_get_stop_losses(const vi_sim *s, double *ie)
+int vi_sim_stop_losses(const vi_sim *s, double *ie)
 {
   if (!s || !ie) return VI_ERR_ARG;
   memcpy(ie, s->ie_stop, sizeof(double) * (size_t)s->ns);
   return VI_OK;
 }
 
-int64_t vi_sim_get_stat(const vi_sim *s, int which)
+int64_t vi_sim_stat(const vi_sim *s, int which)
 {
   if (!s || which < 0 || which >= VI_STAT_COUNT) return -1;
   int64_t v = s->stats[which];
@@ -1040,7 +1051,7 @@ static int samples(vi_sim *s, double t)
 static void monitor(vi_sim *s)
 {
   if (!s->mon_fn || s->t < s->mon_next || vi_sim_user_stopped(s)) return;
-  vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_get_stat(s, VI_STAT_STEPS),
+  vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_stat(s, VI_STAT_STEPS),
                    s->stats[VI_STAT_IMPACTS]};
   if (s->mon_fn(&p, s->mon_user)) s->stop = 1;
   while (s->mon_next <= s->t) s->mon_next += s->mon_every;
@@ -1237,16 +1248,17 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
   return VI_OK;
 }
 
-int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user)
+int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user,
+                               vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
   s->led_fn = fn;
-  s->led_user = user;
+  vi_user_set(&s->led_user, &s->led_free, user, destroy);
   if (s->led) vi_ledger_set_callback(s->led, fn, user);
   return VI_OK;
 }
 
-int vi_sim_get_ledger(const vi_sim *s, double *E, double *FE, double *DE,
+int vi_sim_ledger(const vi_sim *s, double *E, double *FE, double *DE,
                       double *XE, double *CE, double *dE, double *ie)
 {
   if (!s) return VI_ERR_ARG;
@@ -1260,7 +1272,7 @@ double vi_sim_ledger_max_residual(const vi_sim *s)
   return s && s->led ? vi_ledger_max_residual(s->led) : 0.0;
 }
 
-int vi_sim_get_ledger_force(const vi_sim *s, double *NE)
+int vi_sim_ledger_force(const vi_sim *s, double *NE)
 {
   if (!s || !NE) return VI_ERR_ARG;
   if (!s->led) return VI_ERR_STATE;

@@ -65,7 +65,7 @@ struct vi_sim {
   int handed_over;                 /* the closed form gave up: CVODE from now */
   char method_note[VI_MSG_LEN];    /* which ran and why */
   char handover_why[VI_MSG_LEN];   /* set by a backend with VI_STEP_HANDOVER */
-  vi_cancel_fn cancel_fn; void *cancel_user;
+  vi_cancel_fn cancel_fn; void *cancel_user; vi_destroy_fn cancel_free;
   double vn_floor, dt_floor, t_last_contact;
   /* a summed chattering tail: sticking began at its first impact, the
    * STICK event is due at its accumulation point stick_at */
@@ -73,9 +73,11 @@ struct vi_sim {
   double stick_at, stick_vn, stick_ie;
   double t_end;   /* of the current vi_sim_run call */
 
-  vi_event_fn ev_fn;    void *ev_user;
-  vi_sample_fn smp_fn;  void *smp_user;  double smp_dt, smp_t0;  int64_t smp_k;
-  vi_monitor_fn mon_fn; void *mon_user;  double mon_every, mon_next;
+  vi_event_fn ev_fn;    void *ev_user;   vi_destroy_fn ev_free;
+  vi_sample_fn smp_fn;  void *smp_user;  vi_destroy_fn smp_free;
+  double smp_dt, smp_t0;  int64_t smp_k;
+  vi_monitor_fn mon_fn; void *mon_user;  vi_destroy_fn mon_free;
+  double mon_every, mon_next;
   double run_t0;
   int stop;       /* a callback asked to stop */
   int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
@@ -97,6 +99,7 @@ struct vi_sim {
 
   /* nonlinear forces (vi_force.c): the host's callback and built-in springs */
   vi_force_fn force_fn; vi_force_jac_fn force_jac; void *force_user;
+  vi_destroy_fn force_free;
   struct vi_spring *springs;
   int nsprings, nforces;  /* nforces: springs plus the callback, if any */
   double *fbuf;           /* scratch [4n]: x, v, g, Psi^T g */
@@ -106,7 +109,7 @@ struct vi_sim {
 
   /* energy ledger (vi_ledger.c); NULL unless enabled */
   vi_ledger *led;
-  vi_ledger_fn led_fn; void *led_user;
+  vi_ledger_fn led_fn; void *led_user; vi_destroy_fn led_free;
 
   char errmsg[VI_MSG_LEN];
 };

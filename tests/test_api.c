@@ -21,6 +21,55 @@ static void test_destroy_null_and_twice(void **state)
   vi_model_destroy(&m);
 }
 
+/* User data handed over with a destroy function is destroyed exactly once:
+ * when another pointer replaces it or the handle goes, never while in use. */
+static int n_destroyed;
+static void count_destroy(void *user)
+{
+  n_destroyed++;
+  *(int *)user = -1;
+}
+static int never(const vi_event *ev, void *user)
+{
+  (void)ev;
+  (void)user;
+  return 0;
+}
+static int never_mon(const vi_progress *p, void *user)
+{
+  (void)p;
+  (void)user;
+  return 0;
+}
+
+static void test_user_data_destroy(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_sim *s = NULL;
+  int a = 1, b = 2, c = 3;
+  n_destroyed = 0;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, never, &a, count_destroy), VI_OK);
+  /* the same pointer again: still in use, not destroyed */
+  assert_int_equal(vi_sim_set_event_callback(s, never, &a, count_destroy), VI_OK);
+  assert_int_equal(n_destroyed, 0);
+  assert_int_equal(vi_sim_set_event_callback(s, never, &b, count_destroy), VI_OK);
+  assert_int_equal(n_destroyed, 1);
+  assert_int_equal(a, -1);
+  /* a refused setting takes nothing over */
+  assert_int_equal(vi_sim_set_sampling(s, -1.0, NULL, &c, count_destroy), VI_OK);
+  assert_int_equal(vi_sim_set_monitor(s, -1.0, never_mon, &c,
+                                      count_destroy), VI_ERR_ARG);
+  assert_int_equal(c, 3);
+  vi_sim_destroy(&s);
+  /* b at destroy, c once (sampling, set with fn NULL, kept until destroy) */
+  assert_int_equal(n_destroyed, 3);
+  assert_int_equal(b, -1);
+  assert_int_equal(c, -1);
+  vi_model_destroy(&m);
+}
+
 static void test_status_table(void **state)
 {
   (void)state;
@@ -64,8 +113,8 @@ static void test_stats_and_getters_before_setup(void **state)
   vi_model_destroy(&m);
   m = vi_test_fig2();
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_COUNT), -1);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 0);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_COUNT), -1);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_IMPACTS), 0);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
@@ -74,6 +123,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_destroy_null_and_twice),
+      cmocka_unit_test(test_user_data_destroy),
       cmocka_unit_test(test_status_table),
       cmocka_unit_test(test_versions_agree),
       cmocka_unit_test(test_stats_and_getters_before_setup),

@@ -45,10 +45,10 @@ static void test_free_flight_matches_closed_form(void **state)
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_ERK), VI_OK);
   assert_int_equal(vi_sim_set_tolerances(s, 1e-11, 1e-13), VI_OK);
   assert_int_equal(vi_sim_set_initial(s, 0.0, c.x0, c.v0), VI_OK);
-  assert_int_equal(vi_sim_set_sampling(s, 0.25, sample_check, &c), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, 0.25, sample_check, &c, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 200.0), VI_OK);
   print_message("free flight erk: max error %.3g over %d samples, %lld steps\n",
-                c.err, c.n, (long long)vi_sim_get_stat(s, VI_STAT_STEPS));
+                c.err, c.n, (long long)vi_sim_stat(s, VI_STAT_STEPS));
   assert_int_equal(c.n, 801); /* t = 0, 0.25, ..., 200 */
   assert_int_equal(c.nonfinite, 0);
   for (size_t i = 0; i < 2; i++) { /* the sample at t0 is the initial state */
@@ -58,7 +58,7 @@ static void test_free_flight_matches_closed_form(void **state)
   /* global error to the tolerance; the samples come from ARKODE's degree-5
    * Hermite interpolant, which adds less than that at these steps */
   assert_true(c.err < 1e-9);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 0);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_IMPACTS), 0);
   assert_int_equal(vi_sim_method_used(s), VI_METHOD_ERK);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
@@ -90,12 +90,12 @@ static void test_fig2_erk_vs_exact(void **state)
   }
   print_message("fig2 erk: %d impacts, max |dt| %.3g, max |dvn| %.3g, %lld steps, "
                 "%lld rhs, %lld polished\n", ev.count, et, evn,
-                (long long)vi_sim_get_stat(s, VI_STAT_STEPS),
-                (long long)vi_sim_get_stat(s, VI_STAT_RHS_EVALS),
-                (long long)vi_sim_get_stat(s, VI_STAT_POLISHES));
+                (long long)vi_sim_stat(s, VI_STAT_STEPS),
+                (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS),
+                (long long)vi_sim_stat(s, VI_STAT_POLISHES));
   assert_true(et < 1e-8);
   assert_true(evn < 1e-8);
-  assert_true(vi_sim_get_stat(s, VI_STAT_POLISHES) >= ev.count);
+  assert_true(vi_sim_stat(s, VI_STAT_POLISHES) >= ev.count);
   assert_string_equal(vi_method_name(vi_sim_method_used(s)), "erk");
   vi_sim_destroy(&s);
   vi_test_events_free(&ref);
@@ -149,7 +149,7 @@ static void test_grazing_contact_found(void **state)
   assert_int_equal(vi_sim_run(s, 6.0), VI_OK);
   print_message("graze erk: %d events, t = %.10g (exact %.10g), %lld graze checks\n",
                 ev.count, ev.count ? ev.t[0] : -1.0, tc,
-                (long long)vi_sim_get_stat(s, VI_STAT_GRAZE_CHECKS));
+                (long long)vi_sim_stat(s, VI_STAT_GRAZE_CHECKS));
   assert_int_equal(ev.count, 1);
   /* near grazing a position error d moves the crossing by d / g' */
   assert_close(ev.t[0], tc, 3e-3);
@@ -190,7 +190,7 @@ static void test_chattering_sticks(void **state)
                 ev.t[last], Tacc);
   assert_close(ev.t[last], Tacc, 1e-10);
   double t, x, v;
-  vi_sim_get_state(s, &t, &x, &v);
+  vi_sim_state(s, &t, &x, &v);
   assert_close(x, 0.0, 1e-12);
   assert_close(v, 0.0, 1e-12);
   assert_int_equal(vi_sim_is_sticking(s), 1);
@@ -216,7 +216,7 @@ static void test_release_then_free_flight(void **state)
   assert_int_equal(ev.kind[1], VI_EVENT_RELEASE);
   assert_close(ev.t[1], trel, 1e-9);
   double t, x, v, tau = 0.1;
-  vi_sim_get_state(s, &t, &x, &v);
+  vi_sim_state(s, &t, &x, &v);
   double ve = g * tau + a / W * (sin(W * t) - sin(W * trel));
   double xe = 0.5 * g * tau * tau - a / (W * W) * (cos(W * t) - cos(W * trel))
               - a / W * sin(W * trel) * tau;
@@ -254,7 +254,7 @@ static void test_fig2_ledger_closes(void **state)
   led st = {0};
   vi_sim *s = vi_test_sim(m, VI_METHOD_ERK, 1e-10, 1e-12, NULL, NULL, NULL);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
-  assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st), VI_OK);
+  assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 100 * 2 * M_PI / 0.9), VI_OK);
   print_message("fig2 erk ledger: %d intervals, %d impacts, max residual %.3g\n",
                 st.intervals, st.impacts, st.maxres);
@@ -306,16 +306,16 @@ static void test_duffing_period(void **state)
     if (variant == 0)
       assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, eps, 0.0), VI_OK);
     else
-      assert_int_equal(vi_sim_set_force(s, duff_force, NULL, &c), VI_OK);
+      assert_int_equal(vi_sim_set_force(s, duff_force, NULL, &c, NULL), VI_OK);
     if (variant == 2) { /* the host's force fails after 1000 calls */
       c.fail_after = 1000;
       assert_int_equal(vi_sim_run(s, 10.0 * T), VI_ERR_CALLBACK);
       vi_sim_destroy(&s);
       continue;
     }
-    assert_int_equal(vi_sim_set_sampling(s, T / 64, duff_energy, &c), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, T / 64, duff_energy, &c, NULL), VI_OK);
     assert_int_equal(vi_sim_run(s, 10.0 * T), VI_OK);
-    vi_sim_get_state(s, &t, &x, &v);
+    vi_sim_state(s, &t, &x, &v);
     print_message("duffing erk %d: x(10 T) - A = %.2g, v = %.2g, energy drift %.2g\n",
                   variant, x - A, v, c.err);
     assert_close(x, A, 1e-8);

@@ -56,7 +56,7 @@ static void check_ball(double K)
     k++;
   }
   double tx, x, v;
-  vi_sim_get_state(s, &tx, &x, &v);
+  vi_sim_state(s, &tx, &x, &v);
   print_message("ball K = %g: %d events, first 40 impact times max rel err "
                 "%.3g, speeds %.3g (%d checked); end x = %.3g, %s; %s\n", K, ev.count, et,
                 ev_n, k, x, vi_sim_is_sticking(s) ? "sticking" : "free",
@@ -71,7 +71,7 @@ static void check_ball(double K)
   assert_true(x >= -1e-10);
   assert_true(x <= 1e-6);
   assert_true(vi_sim_is_sticking(s));
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_HANDOVERS), 0);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_HANDOVERS), 0);
   vi_sim_destroy(&s);
   vi_test_events_free(&ev);
   vi_model_destroy(&m);
@@ -235,7 +235,7 @@ static double exact_first(const vi_model *m, const rcase *c, double t_end)
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
   assert_int_equal(vi_sim_set_tolerances(s, 1e-12, 1e-14), VI_OK);
   assert_int_equal(vi_sim_set_initial(s, 0.0, c->x0, c->v0), VI_OK);
-  assert_int_equal(vi_sim_set_event_callback(s, first_event, &tc), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, first_event, &tc, NULL), VI_OK);
   int st = vi_sim_run(s, t_end);
   assert_true(st == VI_OK || st == VI_STOPPED);
   vi_sim_destroy(&s);
@@ -409,14 +409,14 @@ static void test_long_free_flight(void **state)
   ref_init(&r, m, x0, v0);
   flight_chk c = {&r, 0.0, 0};
   vi_sim *s = vi_test_sim(m, VI_METHOD_EXACT, 1e-12, 1e-14, x0, v0, NULL);
-  assert_int_equal(vi_sim_set_sampling(s, 7.0, flight_sample, &c), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, 7.0, flight_sample, &c, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 7e4), VI_OK);
   double t, x[2], v[2];
-  vi_sim_get_state(s, &t, x, v);
+  vi_sim_state(s, &t, x, v);
   long double g, gd;
   ref_gap(&r, t, &g, &gd, NULL);
   print_message("free flight to t = 7e4 (%lld steps): samples max err %.3g, "
-                "end %.3g\n", (long long)vi_sim_get_stat(s, VI_STAT_STEPS),
+                "end %.3g\n", (long long)vi_sim_stat(s, VI_STAT_STEPS),
                 c.err, fabs((double)(g + r.xs) - x[1]));
   /* ~1e4 periods: phase round-off eps * Omega t ~ 1e-11 is the floor */
   assert_true(c.err <= 1e-10);
@@ -437,7 +437,7 @@ static void test_handover_near_resonance(void **state)
   vi_sim *s = vi_test_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, NULL, NULL, &ev);
   assert_int_equal(vi_sim_run(s, 100.0), VI_OK);
   print_message("near resonance: %s; %d impacts\n", vi_sim_method_note(s), ev.count);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_HANDOVERS), 1);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_HANDOVERS), 1);
   assert_non_null(strstr(vi_sim_method_note(s), "adams"));
   /* x = (0.1 / 2) t sin t reaches 1 first near t = 20.1 */
   assert_true(ev.count > 0);
@@ -451,8 +451,8 @@ static void test_handover_near_resonance(void **state)
   m = vi_test_chain(2, 1.0, 1.0, 0.1, 0.0, 0.7, 0.9, a);
   s = vi_test_sim(m, VI_METHOD_EXACT, 1e-14, 1e-16, NULL, NULL, NULL);
   assert_int_equal(vi_sim_run(s, 100.0), VI_OK);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_HANDOVERS), 0);
-  assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) > 5);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_HANDOVERS), 0);
+  assert_true(vi_sim_stat(s, VI_STAT_IMPACTS) > 5);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
@@ -470,10 +470,10 @@ static void test_cancel(void **state)
   vi_model *m = vi_test_fig2();
   vi_sim *s = vi_test_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, NULL, NULL, NULL);
   int k = 0;
-  assert_int_equal(vi_sim_set_cancel(s, cancel_after, &k), VI_OK);
+  assert_int_equal(vi_sim_set_cancel(s, cancel_after, &k, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 1e6), VI_CANCELLED);
   double t, x[2], v[2];
-  vi_sim_get_state(s, &t, x, v);
+  vi_sim_state(s, &t, x, v);
   assert_true(t > 0.0 && t < 1e6);
   assert_true(isfinite(x[0]) && isfinite(v[1]) && x[1] <= 0.1 + 1e-12);
   vi_sim_destroy(&s);

@@ -76,24 +76,22 @@ static void test_duffing_period_and_energy(void **state)
       assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, eps, 0.0),
                        VI_OK);
     else /* the host callback: with its Jacobian for BDF, without for Adams */
-      assert_int_equal(vi_sim_set_force(s, cubic_force,
-                                        meth == VI_METHOD_BDF ? cubic_jac : NULL,
-                                        &eps), VI_OK);
+      assert_int_equal(vi_sim_set_force(s, cubic_force, meth == VI_METHOD_BDF ? cubic_jac : NULL, &eps, NULL), VI_OK);
     energy_check c = {eps, 0.5 * A * A + 0.25 * eps * A * A * A * A, 0.0};
-    assert_int_equal(vi_sim_set_sampling(s, T / 64, check_energy, &c), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, T / 64, check_energy, &c, NULL), VI_OK);
     /* half a period: the other turning point; ten periods: back at A */
     assert_int_equal(vi_sim_run(s, 0.5 * T), VI_OK);
-    vi_sim_get_state(s, &t, &x, &v);
+    vi_sim_state(s, &t, &x, &v);
     assert_close(x, -A, 1e-8);
     assert_close(v, 0.0, 1e-8);
     assert_int_equal(vi_sim_run(s, 10.0 * T), VI_OK);
-    vi_sim_get_state(s, &t, &x, &v);
+    vi_sim_state(s, &t, &x, &v);
     print_message("duffing variant %d: T = %.12f, x(10 T) - A = %.2g, "
                   "v = %.2g, energy drift %.2g\n", variant, T, x - A, v, c.err);
     assert_close(x, A, 1e-7);
     assert_close(v, 0.0, 1e-7);
     assert_true(c.err < 1e-8);
-    assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 0);
+    assert_int_equal(vi_sim_stat(s, VI_STAT_IMPACTS), 0);
     vi_sim_destroy(&s);
   }
   /* auto picks CVODE: the closed form has no nonlinear springs */
@@ -127,7 +125,7 @@ static void test_bilinear_period(void **state)
     assert_int_equal(vi_sim_add_spring(s, VI_SPRING_BILINEAR, 1, 0, k, d),
                      VI_OK);
     assert_int_equal(vi_sim_run(s, 5.0 * T), VI_OK);
-    vi_sim_get_state(s, &t, &x, &v);
+    vi_sim_state(s, &t, &x, &v);
     print_message("bilinear %d: T = %.12f, x(5 T) + X = %.2g, v = %.2g\n", k2,
                   T, x + X, v);
     /* the kink at d is integrated through, not located: a few 1e-8 */
@@ -153,17 +151,17 @@ static void test_ledger_force_column(void **state)
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   assert_int_equal(vi_sim_run(s, 200.0), VI_OK);
   double FE[2], NE[2], x[2], v[2], ie;
-  assert_int_equal(vi_sim_get_ledger(s, NULL, FE, NULL, NULL, NULL, NULL, &ie),
+  assert_int_equal(vi_sim_ledger(s, NULL, FE, NULL, NULL, NULL, NULL, &ie),
                    VI_OK);
-  assert_int_equal(vi_sim_get_ledger_force(s, NE), VI_OK);
-  vi_sim_get_state(s, NULL, x, v);
+  assert_int_equal(vi_sim_ledger_force(s, NE), VI_OK);
+  vi_sim_state(s, NULL, x, v);
   double d0 = x0[0] - x0[1], d1 = x[0] - x[1];
   double dV = 0.25 * eps * (pow(d1, 4) - pow(d0, 4));
   double dE = vi_model_energy(m, x, v) - vi_model_energy(m, x0, v0);
   print_message("ledger: %lld impacts, sum NE = %.12g, -dV = %.12g, residual "
-                "%.2g\n", (long long)vi_sim_get_stat(s, VI_STAT_IMPACTS),
+                "%.2g\n", (long long)vi_sim_stat(s, VI_STAT_IMPACTS),
                 NE[0] + NE[1], -dV, vi_sim_ledger_max_residual(s));
-  assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) > 10);
+  assert_true(vi_sim_stat(s, VI_STAT_IMPACTS) > 10);
   assert_close(ie, 0.0, 0.0);
   /* quadratures under rtol 1e-11 over 25 intervals of unit energy scale */
   assert_close(NE[0] + NE[1], -dV, 1e-9);
@@ -193,15 +191,15 @@ static void test_force_refusals(void **state)
   assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 2, 0, 1.0, 0.0), VI_ERR_DIM);
   assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 1, 1.0, 0.0), VI_ERR_DIM);
   assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, NAN, 0.0), VI_ERR_NONFINITE);
-  assert_int_equal(vi_sim_set_force(s, NULL, cubic_jac, NULL), VI_ERR_ARG);
-  assert_int_equal(vi_sim_set_force(s, failing_force, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sim_set_force(s, NULL, cubic_jac, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_sim_set_force(s, failing_force, NULL, NULL, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 5.0), VI_ERR_CALLBACK);
   assert_non_null(strstr(vi_sim_errmsg(s), "force callback"));
   vi_sim_destroy(&s);
   s = vi_test_sim(m, VI_METHOD_EXACT, 1e-8, 1e-10, NULL, NULL, NULL);
   assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, 1.0, 0.0),
                    VI_ERR_UNSUPPORTED);
-  assert_int_equal(vi_sim_set_force(s, cubic_force, NULL, NULL),
+  assert_int_equal(vi_sim_set_force(s, cubic_force, NULL, NULL, NULL),
                    VI_ERR_UNSUPPORTED);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);

@@ -39,7 +39,7 @@ static led_stats run_ledger(const vi_model *m, int method, double rtol,
   led_stats st = {0};
   vi_sim *s = vi_test_sim(m, method, rtol, rtol * 1e-2, x0, v0, NULL);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
-  assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st), VI_OK);
+  assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, t_end), VI_OK);
   assert_close(vi_sim_ledger_max_residual(s), st.maxres, 0);
   vi_sim_destroy(&s);
@@ -101,8 +101,8 @@ static void test_conservative_run(void **state)
     assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
     assert_int_equal(vi_sim_run(s, 2000.0), VI_OK);
     double E[2], FE[2], DE[2], dE[2], ie, x[2], v[2];
-    assert_int_equal(vi_sim_get_ledger(s, E, FE, DE, NULL, NULL, dE, &ie), VI_OK);
-    vi_sim_get_state(s, NULL, x, v);
+    assert_int_equal(vi_sim_ledger(s, E, FE, DE, NULL, NULL, dE, &ie), VI_OK);
+    vi_sim_state(s, NULL, x, v);
     double etot = vi_model_energy(m, x, v);
     assert_close(E[0] + E[1], etot, 1e-13);
     assert_close(ie, 0.0, 0.0);
@@ -111,9 +111,9 @@ static void test_conservative_run(void **state)
     double scale = fabs(FE[0]) + fabs(FE[1]);
     print_message("conservative method %d: %lld impacts, E = %.12g, sum FE = "
                   "%.12g, |FE| scale %.3g\n", meth,
-                  (long long)vi_sim_get_stat(s, VI_STAT_IMPACTS), etot,
+                  (long long)vi_sim_stat(s, VI_STAT_IMPACTS), etot,
                   FE[0] + FE[1], scale);
-    assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) > 100);
+    assert_true(vi_sim_stat(s, VI_STAT_IMPACTS) > 100);
     /* the drift is integration error: round-off for the exact flow; at
      * rtol 1e-10 over 2000 time units measured 4e-9 (Adams), 1.1e-6 (BDF) */
     double tol = meth == VI_METHOD_EXACT ? 1e-11 : meth == VI_METHOD_ADAMS ? 1e-8 : 1e-5;
@@ -136,14 +136,14 @@ static void test_sticking_ledger(void **state)
   led_stats st = {0};
   vi_sim *s = vi_test_sim(m, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, NULL, NULL);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
-  assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st), VI_OK);
+  assert_int_equal(vi_sim_set_ledger_callback(s, on_interval, &st, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 300.0), VI_OK);
   double CE[2];
-  vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, CE, NULL, NULL);
+  vi_sim_ledger(s, NULL, NULL, NULL, NULL, CE, NULL, NULL);
   print_message("sticking: %lld sticks, %d intervals, residual %.3g, CE = "
-                "(%.6g, %.6g)\n", (long long)vi_sim_get_stat(s, VI_STAT_STICKS),
+                "(%.6g, %.6g)\n", (long long)vi_sim_stat(s, VI_STAT_STICKS),
                 st.intervals, st.maxres, CE[0], CE[1]);
-  assert_true(vi_sim_get_stat(s, VI_STAT_STICKS) > 5);
+  assert_true(vi_sim_stat(s, VI_STAT_STICKS) > 5);
   assert_true(fabs(CE[0]) > 1e-4);               /* work moved between modes */
   assert_close(CE[0] + CE[1], 0.0, 1e-8 * fabs(CE[0]));
   assert_true(st.maxres <= 1e-8);
@@ -161,11 +161,11 @@ static void test_window_totals(void **state)
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   double T = 2 * M_PI / 0.9, E1[2], F1[2], D1[2], J1[2], ie1, E2[2], F2[2], D2[2], J2[2], ie2;
   assert_int_equal(vi_sim_run(s, 50.3 * T), VI_OK);
-  assert_int_equal(vi_sim_get_ledger(s, E1, F1, D1, NULL, NULL, J1, &ie1), VI_OK);
-  int64_t i1 = vi_sim_get_stat(s, VI_STAT_IMPACTS);
+  assert_int_equal(vi_sim_ledger(s, E1, F1, D1, NULL, NULL, J1, &ie1), VI_OK);
+  int64_t i1 = vi_sim_stat(s, VI_STAT_IMPACTS);
   assert_int_equal(vi_sim_run(s, 57.3 * T), VI_OK); /* seven periods */
-  assert_int_equal(vi_sim_get_ledger(s, E2, F2, D2, NULL, NULL, J2, &ie2), VI_OK);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS) - i1, 7);
+  assert_int_equal(vi_sim_ledger(s, E2, F2, D2, NULL, NULL, J2, &ie2), VI_OK);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_IMPACTS) - i1, 7);
   double lhs = E2[0] + E2[1] - E1[0] - E1[1], rhs = 0.0, jumps = 0.0;
   for (int j = 0; j < 2; j++) {
     rhs += (F2[j] - F1[j]) - (D2[j] - D1[j]) + (J2[j] - J1[j]);

@@ -127,24 +127,24 @@ static void test_sim_misuse(void **state)
   assert_err(vi_sim_set_restart_step(NULL, 0));
   assert_err(vi_sim_set_max_step(NULL, 0));
   assert_err(vi_sim_set_native_vector_ops(NULL, 1));
-  assert_err(vi_sim_set_event_callback(NULL, never, NULL));
-  assert_err(vi_sim_set_sampling(NULL, 1.0, sample_count, NULL));
-  assert_err(vi_sim_set_monitor(NULL, NULL, NULL, 1.0));
-  assert_err(vi_sim_set_cancel(NULL, NULL, NULL));
+  assert_err(vi_sim_set_event_callback(NULL, never, NULL, NULL));
+  assert_err(vi_sim_set_sampling(NULL, 1.0, sample_count, NULL, NULL));
+  assert_err(vi_sim_set_monitor(NULL, 1.0, NULL, NULL, NULL));
+  assert_err(vi_sim_set_cancel(NULL, NULL, NULL, NULL));
   assert_err(vi_sim_set_floors(NULL, 0, 0));
-  assert_err(vi_sim_set_force(NULL, NULL, NULL, NULL));
+  assert_err(vi_sim_set_force(NULL, NULL, NULL, NULL, NULL));
   assert_err(vi_sim_add_spring(NULL, VI_SPRING_CUBIC, 1, 0, 1, 0));
   assert_err(vi_sim_clear_springs(NULL));
-  assert_err(vi_sim_get_ledger_force(NULL, NULL));
+  assert_err(vi_sim_ledger_force(NULL, NULL));
   assert_err(vi_sim_setup(NULL));
   int kind;
   assert_err(vi_sim_run_to_event(NULL, 1.0, &kind));
   assert_err(vi_sim_run(NULL, 1.0));
-  assert_err(vi_sim_get_state(NULL, NULL, NULL, NULL));
+  assert_err(vi_sim_state(NULL, NULL, NULL, NULL));
   assert_err(vi_sim_enable_ledger(NULL, 1));
-  assert_err(vi_sim_set_ledger_callback(NULL, NULL, NULL));
-  assert_err(vi_sim_get_ledger(NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
-  assert_int_equal(vi_sim_get_stat(NULL, VI_STAT_STEPS), -1);
+  assert_err(vi_sim_set_ledger_callback(NULL, NULL, NULL, NULL));
+  assert_err(vi_sim_ledger(NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  assert_int_equal(vi_sim_stat(NULL, VI_STAT_STEPS), -1);
   assert_int_equal(vi_sim_is_sticking(NULL), 0);
   assert_int_equal(vi_sim_method_used(NULL), -1);
   assert_int_equal(vi_sim_n(NULL), 0);
@@ -171,30 +171,30 @@ static void test_sim_misuse(void **state)
   assert_err_msg(vi_sim_set_max_step(s, -1), msg);
   assert_err_msg(vi_sim_set_native_vector_ops(s, 2), msg);
   int count = 0;
-  assert_err_msg(vi_sim_set_sampling(s, 0.0, sample_count, &count), msg);
-  assert_err_msg(vi_sim_set_sampling(s, -1.0, sample_count, &count), msg);
-  assert_err_msg(vi_sim_set_sampling(s, NAN, sample_count, &count), msg);
-  assert_err_msg(vi_sim_set_monitor(s, never_mon, NULL, -1.0), msg);
+  assert_err_msg(vi_sim_set_sampling(s, 0.0, sample_count, &count, NULL), msg);
+  assert_err_msg(vi_sim_set_sampling(s, -1.0, sample_count, &count, NULL), msg);
+  assert_err_msg(vi_sim_set_sampling(s, NAN, sample_count, &count, NULL), msg);
+  assert_err_msg(vi_sim_set_monitor(s, -1.0, never_mon, NULL, NULL), msg);
   assert_err_msg(vi_sim_set_floors(s, -1, 0), msg);
   assert_err_msg(vi_sim_set_floors(s, 0, NAN), msg);
   assert_err_msg(vi_sim_enable_ledger(s, 2), msg);
-  assert_err_msg(vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
+  assert_err_msg(vi_sim_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
                                    NULL), msg); /* ledger not enabled */
   assert_err_msg(vi_sim_run(s, -1.0), msg);
   assert_err_msg(vi_sim_run(s, NAN), msg);
-  assert_int_equal(vi_sim_get_stat(s, -1), -1);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_COUNT), -1);
+  assert_int_equal(vi_sim_stat(s, -1), -1);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_COUNT), -1);
   assert_null(vi_method_name(-1));
   assert_null(vi_method_name(VI_METHOD_COUNT));
   assert_int_equal(vi_method_from_name(NULL), -1);
   assert_int_equal(vi_method_from_name("rk4"), -1);
   assert_null(vi_stat_name(VI_STAT_COUNT));
   /* a sampling interval so small that the run would never end */
-  assert_int_equal(vi_sim_set_sampling(s, 1e-300, sample_count, &count), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, 1e-300, sample_count, &count, NULL), VI_OK);
   assert_err_msg(vi_sim_run(s, 10.0), msg);
   assert_int_equal(count, 0);
   /* the refusals left the sim usable */
-  assert_int_equal(vi_sim_set_sampling(s, 1.0, sample_count, &count), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, 1.0, sample_count, &count, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 10.0), VI_OK);
   assert_int_equal(count, 11);
   vi_sim_destroy(&s);

@@ -142,7 +142,7 @@ static void test_sim_inputs(void **state)
   assert_int_equal(vi_sim_set_tolerances(s, 1e-20, 1e-10), VI_ERR_TOLERANCE);
   assert_int_equal(vi_sim_set_method(s, 42), VI_ERR_ARG);
   assert_int_equal(vi_sim_set_chatter_threshold(s, -1.0), VI_ERR_ARG);
-  assert_int_equal(vi_sim_set_monitor(s, (vi_monitor_fn)1, NULL, 0.0), VI_ERR_ARG);
+  assert_int_equal(vi_sim_set_monitor(s, 0.0, (vi_monitor_fn)1, NULL, NULL), VI_ERR_ARG);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 

@@ -68,7 +68,7 @@ static void fig2_scan(void **state)
       zs[j] += sg * h;
       assert_int_equal(vi_sim_set_initial(s, t[adm] + T / 2, zs, zs + 2), VI_OK);
       assert_int_equal(vi_sim_run(s, t[adm] + 1.5 * T), VI_OK);
-      vi_sim_get_state(s, NULL, sg > 0 ? zp : zm, (sg > 0 ? zp : zm) + 2);
+      vi_sim_state(s, NULL, sg > 0 ? zp : zm, (sg > 0 ? zp : zm) + 2);
     }
     for (int i = 0; i < 4; i++) Jm[i + 4 * j] = (zp[i] - zm[i]) / (2 * h);
   }
@@ -231,7 +231,7 @@ static void inadmissible(void **state)
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
   assert_int_equal(vi_sim_set_initial(s, t[bad], x + 3 * bad, vp), VI_OK);
   assert_int_equal(vi_sim_run(s, t[bad] + 0.99 * 2 * M_PI / 0.8), VI_OK);
-  assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) >= 1);
+  assert_true(vi_sim_stat(s, VI_STAT_IMPACTS) >= 1);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }

@@ -43,7 +43,7 @@ static void test_shipped_scenes_run(void **state)
     assert_int_equal(st, VI_OK);
     if (vi_scene_wants(sc, "ledger")) assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
     print_message("%-22s n = %d, %lld impacts in 5 periods\n", e->d_name,
-                  vi_model_n(m), (long long)vi_sim_get_stat(s, VI_STAT_IMPACTS));
+                  vi_model_n(m), (long long)vi_sim_stat(s, VI_STAT_IMPACTS));
     vi_sim_destroy(&s);
     vi_model_destroy(&m);
     vi_scene_destroy(&sc);
@@ -124,7 +124,7 @@ static void test_scene_springs(void **state)
   assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK); /* idempotent */
   assert_int_equal(vi_sim_run(s, 3 * T), VI_OK);
   double x, v;
-  vi_sim_get_state(s, NULL, &x, &v);
+  vi_sim_state(s, NULL, &x, &v);
   assert_close(x, A, 1e-8);
   assert_close(v, 0.0, 1e-8);
   assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
@@ -169,12 +169,12 @@ static void test_scene_stops(void **state)
   assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
   assert_int_equal(vi_model_num_stops(m), 2);
   double w, xs, r;
-  assert_int_equal(vi_model_get_stop(m, 1, &w, &xs, &r), VI_OK);
+  assert_int_equal(vi_model_stop(m, 1, &w, &xs, &r), VI_OK);
   assert_true(w == -1.0 && xs == 0.5 && r == 1.0);
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
   assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
   wall_hits h = {0, 0, 0.0};
-  assert_int_equal(vi_sim_set_event_callback(s, on_wall, &h), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, on_wall, &h, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, vi_scene_t_end(sc)), VI_OK);
   print_message("walls from a scene: %d impacts, times within %.3g\n",
                 h.count, h.et);

@@ -45,7 +45,7 @@ static void test_free_flight_matches_closed_form(void **state)
     assert_int_equal(vi_sim_set_method(s, methods[k]), VI_OK);
     assert_int_equal(vi_sim_set_tolerances(s, 1e-11, 1e-13), VI_OK);
     assert_int_equal(vi_sim_set_initial(s, 0.0, c.x0, c.v0), VI_OK);
-    assert_int_equal(vi_sim_set_sampling(s, 0.25, sample_check, &c), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, 0.25, sample_check, &c, NULL), VI_OK);
     assert_int_equal(vi_sim_run(s, 200.0), VI_OK);
     print_message("free flight %s: max error %.3g over %d samples\n", mname[k],
                   c.err, c.n);
@@ -57,7 +57,7 @@ static void test_free_flight_matches_closed_form(void **state)
       assert_true(c.first[2 * i + 1] == c.v0[i]);
     }
     assert_true(c.err < 1e-9);
-    assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 0);
+    assert_int_equal(vi_sim_stat(s, VI_STAT_IMPACTS), 0);
     vi_sim_destroy(&s);
   }
   vi_model_destroy(&m);
@@ -177,7 +177,7 @@ static void test_grazing_contact_found(void **state)
     assert_int_equal(vi_sim_run(s, 6.0), VI_OK);
     print_message("graze %s: %d events, t = %.10g (exact %.10g), %lld graze "
                   "checks\n", mname[k], ev.count, ev.count ? ev.t[0] : -1.0,
-                  tc, (long long)vi_sim_get_stat(s, VI_STAT_GRAZE_CHECKS));
+                  tc, (long long)vi_sim_stat(s, VI_STAT_GRAZE_CHECKS));
     assert_int_equal(ev.count, 1);
     assert_close(ev.t[0], tc, k == 2 ? 1e-12 : 3e-3);
     assert_close(ev.vn[0], vc, k == 2 ? 1e-10 : 1e-3);
@@ -227,9 +227,9 @@ static void test_chattering_accumulates_then_sticks(void **state)
      * summed tail absorbed, all of its kinetic energy */
     assert_close(ev.vn[last], r * ev.vn[last - 1], 1e-12);
     assert_close(ev.t[last], Tacc, 1e-10);
-    assert_true(vi_sim_get_stat(s, VI_STAT_CHATTER_SKIPPED) > 10);
+    assert_true(vi_sim_stat(s, VI_STAT_CHATTER_SKIPPED) > 10);
     double t, x, v;
-    vi_sim_get_state(s, &t, &x, &v);
+    vi_sim_state(s, &t, &x, &v);
     assert_close(t, 5.0, 0);
     assert_close(x, 0.0, 1e-12);
     assert_close(v, 0.0, 1e-12);
@@ -263,7 +263,7 @@ static void test_sticking_release_time(void **state)
     assert_close(ev.t[1], trel, 1e-9);
     /* after release: x = int int (g + a cos W t) from trel */
     double t, x, v, tau = 0.1;
-    vi_sim_get_state(s, &t, &x, &v);
+    vi_sim_state(s, &t, &x, &v);
     double ve = g * tau + a / W * (sin(W * t) - sin(W * trel));
     double xe = 0.5 * g * tau * tau - a / (W * W) * (cos(W * t) - cos(W * trel))
                 - a / W * sin(W * trel) * tau;
@@ -289,21 +289,21 @@ static void test_callback_stop_and_resume(void **state)
   vi_model *m = vi_test_fig2();
   vi_sim *s = NULL;
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_event_callback(s, stop_after_three, NULL), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, stop_after_three, NULL, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 500.0), VI_STOPPED);
-  assert_int_equal(vi_sim_get_stat(s, VI_STAT_IMPACTS), 3);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_IMPACTS), 3);
   double t;
-  vi_sim_get_state(s, &t, NULL, NULL);
+  vi_sim_state(s, &t, NULL, NULL);
   assert_true(t < 500.0);
-  assert_int_equal(vi_sim_set_event_callback(s, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, NULL, NULL, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 500.0), VI_OK);
-  vi_sim_get_state(s, &t, NULL, NULL);
+  vi_sim_state(s, &t, NULL, NULL);
   assert_close(t, 500.0, 0);
-  assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) > 60);
+  assert_true(vi_sim_stat(s, VI_STAT_IMPACTS) > 60);
   /* the default method, auto, ran the closed form on this scene */
   assert_int_equal(vi_sim_method_used(s), VI_METHOD_EXACT);
   assert_true(strstr(vi_sim_method_note(s), "auto") != NULL);
-  assert_true(vi_sim_get_stat(s, VI_STAT_STEPS) > 0);
+  assert_true(vi_sim_stat(s, VI_STAT_STEPS) > 0);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
@@ -326,19 +326,19 @@ static void test_cancel_and_resume(void **state)
     vi_sim *a = vi_test_sim(m, methods[k], 1e-10, 1e-12, NULL, NULL, NULL);
     vi_sim *b = vi_test_sim(m, methods[k], 1e-10, 1e-12, NULL, NULL, NULL);
     int polls = 0;
-    assert_int_equal(vi_sim_set_cancel(b, cancel_after, &polls), VI_OK);
+    assert_int_equal(vi_sim_set_cancel(b, cancel_after, &polls, NULL), VI_OK);
     assert_int_equal(vi_sim_run(b, 300.0), VI_CANCELLED);
-    vi_sim_get_state(b, &t, xb, vb);
+    vi_sim_state(b, &t, xb, vb);
     assert_true(t < 300.0);
     assert_int_equal(polls, 200);
     assert_true(strstr(vi_sim_errmsg(b), "cancelled") != NULL);
     assert_int_equal(vi_sim_run(b, 300.0), VI_OK);
     assert_int_equal(vi_sim_run(a, 300.0), VI_OK);
-    vi_sim_get_state(a, NULL, xa, va);
-    vi_sim_get_state(b, &t, xb, vb);
+    vi_sim_state(a, NULL, xa, va);
+    vi_sim_state(b, &t, xb, vb);
     assert_close(t, 300.0, 0);
-    assert_int_equal(vi_sim_get_stat(a, VI_STAT_IMPACTS),
-                     vi_sim_get_stat(b, VI_STAT_IMPACTS));
+    assert_int_equal(vi_sim_stat(a, VI_STAT_IMPACTS),
+                     vi_sim_stat(b, VI_STAT_IMPACTS));
     for (int i = 0; i < 2; i++) {
       assert_close(xb[i], xa[i], 1e-12);
       assert_close(vb[i], va[i], 1e-12);
@@ -366,7 +366,7 @@ static void test_run_to_event(void **state)
     double t = 0.0;
     while (kind >= 0) {
       assert_int_equal(vi_sim_run_to_event(s, t_end, &kind), VI_OK);
-      vi_sim_get_state(s, &t, NULL, NULL);
+      vi_sim_state(s, &t, NULL, NULL);
       if (kind < 0) break;
       assert_int_equal(kind, VI_EVENT_IMPACT);
       assert_true(count < ref.count);
@@ -401,8 +401,8 @@ static void test_stiff_chain_band(void **state)
   assert_int_equal(vi_sim_run(s, t_end), VI_OK);
   print_message("stiff chain: omega_N/omega_1 = %.1f, %d impacts (exact %d), BDF %lld "
                 "steps, %lld Jacobians\n", om[N - 1] / om[0], ev.count, ref.count,
-                (long long)vi_sim_get_stat(s, VI_STAT_STEPS),
-                (long long)vi_sim_get_stat(s, VI_STAT_JAC_EVALS));
+                (long long)vi_sim_stat(s, VI_STAT_STEPS),
+                (long long)vi_sim_stat(s, VI_STAT_JAC_EVALS));
   assert_true(ref.count >= 10);
   assert_int_equal(ev.count, ref.count);
   double et = 0.0, evn = 0.0;

@@ -78,7 +78,7 @@ static vi_sim *make_sim(const vi_model *m, int method, double rtol, double atol,
   assert_int_equal(vi_sim_set_method(s, method), VI_OK);
   assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
   assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
-  if (ev) assert_int_equal(vi_sim_set_event_callback(s, record, ev), VI_OK);
+  if (ev) assert_int_equal(vi_sim_set_event_callback(s, record, ev, NULL), VI_OK);
   return s;
 }
 
@@ -108,12 +108,12 @@ static void test_model_api(void **state)
   assert_int_equal(vi_model_set_stop(m, w0b, 0.75, 0.6), VI_OK);
   assert_int_equal(vi_model_num_stops(m), 2);
   double w[2], xs, r;
-  assert_int_equal(vi_model_get_stop(m, 0, w, &xs, &r), VI_OK);
+  assert_int_equal(vi_model_stop(m, 0, w, &xs, &r), VI_OK);
   assert_true(w[0] == 0.0 && w[1] == -1.0 && xs == 0.75 && r == 0.6);
-  assert_int_equal(vi_model_get_stop(m, 1, w, &xs, &r), VI_OK);
+  assert_int_equal(vi_model_stop(m, 1, w, &xs, &r), VI_OK);
   assert_true(w[0] == -1.0 && w[1] == 1.0 && xs == 0.25 && r == 0.4);
-  assert_int_equal(vi_model_get_stop(m, 2, w, &xs, &r), VI_ERR_ARG);
-  assert_int_equal(vi_model_get_stop(m, -1, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_model_stop(m, 2, w, &xs, &r), VI_ERR_ARG);
+  assert_int_equal(vi_model_stop(m, -1, NULL, NULL, NULL), VI_ERR_ARG);
   int ld = 0;
   assert_null(vi_model_delassus(m, &ld)); /* before setup */
   assert_int_equal(vi_model_setup(m), VI_OK);
@@ -216,7 +216,7 @@ static void test_clearance_free_particle(void **state)
     assert_true(ef < 1.0);
     assert_true(ev_ < 1e-10);
     double ie[2];
-    assert_int_equal(vi_sim_get_stop_losses(s, ie), VI_OK);
+    assert_int_equal(vi_sim_stop_losses(s, ie), VI_OK);
     assert_true(ie[0] == 0.0 && ie[1] == 0.0);
     vi_sim_destroy(&s);
     rec_free(&ev);
@@ -250,8 +250,8 @@ static void test_clearance_restitution(void **state)
   }
   assert_int_equal(ev.count, j);
   double ie[2], ie_led;
-  assert_int_equal(vi_sim_get_stop_losses(s, ie), VI_OK);
-  assert_int_equal(vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
+  assert_int_equal(vi_sim_stop_losses(s, ie), VI_OK);
+  assert_int_equal(vi_sim_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
                                      &ie_led), VI_OK);
   print_message("walls r = 0.9: %d impacts, relative time error %.3g, losses "
                 "%.12g + %.12g (closed form %.12g + %.12g)\n", j, et, ie[0],
@@ -288,7 +288,7 @@ static void test_clearance_energy(void **state)
     rec ev = {0};
     vi_sim *s = make_sim(m, meths[q], rtols[q], 1e-2 * rtols[q], x0, v0, &ev);
     energy_watch e = {m, vi_model_energy(m, x0, v0), 0.0, 0};
-    assert_int_equal(vi_sim_set_sampling(s, 0.05, watch_energy, &e), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, 0.05, watch_energy, &e, NULL), VI_OK);
     assert_int_equal(vi_sim_run(s, 500.0), VI_OK);
     int hits[2] = {0, 0};
     for (int j = 0; j < ev.count; j++) hits[ev.stop[j]]++;
@@ -353,8 +353,8 @@ static void test_mirror_equivariance(void **state)
   assert_non_null(pb);
   vi_sim *a = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, xa, va, &ea);
   vi_sim *b = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, xb, vb, &eb);
-  assert_int_equal(vi_sim_set_sampling(a, 0.025, keep, pa), VI_OK);
-  assert_int_equal(vi_sim_set_sampling(b, 0.025, keep, pb), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(a, 0.025, keep, pa, NULL), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(b, 0.025, keep, pb, NULL), VI_OK);
   assert_int_equal(vi_sim_run(a, 100.0), VI_OK);
   assert_int_equal(vi_sim_run(b, 100.0), VI_OK);
   assert_int_equal(ea.count, eb.count);
@@ -409,7 +409,7 @@ static void test_mirror_symmetric_orbit(void **state)
   traj *p = calloc(1, sizeof *p);
   assert_non_null(p);
   vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, x0, v0, &ev);
-  assert_int_equal(vi_sim_set_sampling(s, 0.025, keep, p), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, 0.025, keep, p, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 100.0), VI_OK);
   double asym = 0.0, et = 0.0, evn = 0.0;
   for (int i = 0; i < p->n && i < 4001; i++)
@@ -593,7 +593,7 @@ static void test_newton_corner(void **state)
     ie += ev.ie[k];
   }
   double dKE = 0.5 * (1.0 + 0.04) - 0.5 * (0.25 + 0.01), ie_led;
-  assert_int_equal(vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
+  assert_int_equal(vi_sim_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
                                      &ie_led), VI_OK);
   print_message("corner: both stops at t = %.15f, v+ = (%.12f, %.12f), "
                 "loss %.15f (closed form %.15f), ledger residual %.3g\n",
@@ -735,7 +735,7 @@ static void test_stick_while_other_hit(void **state)
                          1e-12, x0, v0, &ev);
     stick_watch w = {0.1, 0.0, t_r};
     assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
-    assert_int_equal(vi_sim_set_sampling(s, 0.01, watch_stick, &w), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, 0.01, watch_stick, &w, NULL), VI_OK);
     assert_int_equal(vi_sim_run(s, t_r + 0.5), VI_OK);
     int hits = 0, sticks = 0, releases = 0;
     double et = 0.0, t_rel = -1.0;
@@ -796,7 +796,7 @@ static void test_stick_on_two(void **state)
     if (ev.kind[j] == VI_EVENT_RELEASE) rel++;
   }
   double x[2], v[2];
-  assert_int_equal(vi_sim_get_state(s, NULL, x, v), VI_OK);
+  assert_int_equal(vi_sim_state(s, NULL, x, v), VI_OK);
   print_message("two stops held: %d events, sticks (%d, %d), x = (%.12g, "
                 "%.12g), v = (%.3g, %.3g), ledger residual %.3g\n", ev.count,
                 stuck[0], stuck[1], x[0], x[1], v[0], v[1],
@@ -849,7 +849,7 @@ static void test_release_one_of_two(void **state)
       }
     }
     double x[2];
-    assert_int_equal(vi_sim_get_state(s, NULL, x, NULL), VI_OK);
+    assert_int_equal(vi_sim_state(s, NULL, x, NULL), VI_OK);
     print_message("release one of two (%s): release of stop 1 at %.12f "
                   "(closed form %.12f), x = (%.6f, %.12f), ledger residual "
                   "%.3g\n", meth ? "bdf" : "adams", t_rel, t_r, x[0], x[1],
@@ -944,14 +944,14 @@ static void test_rattle_stick_release(void **state)
     }
   }
   double ie[2], ie_led;
-  assert_int_equal(vi_sim_get_stop_losses(s, ie), VI_OK);
-  assert_int_equal(vi_sim_get_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
+  assert_int_equal(vi_sim_stop_losses(s, ie), VI_OK);
+  assert_int_equal(vi_sim_ledger(s, NULL, NULL, NULL, NULL, NULL, NULL,
                                      &ie_led), VI_OK);
   print_message("rattle: sticks (%d, %d), releases (%d, %d), |f| at release "
                 "<= %.3g, %lld bounces summed, losses %.9g + %.9g = %.9g "
                 "(ledger %.9g), residual %.3g\n", stick[0], stick[1], rel[0],
                 rel[1], ef,
-                (long long)vi_sim_get_stat(s, VI_STAT_CHATTER_SKIPPED), ie[0],
+                (long long)vi_sim_stat(s, VI_STAT_CHATTER_SKIPPED), ie[0],
                 ie[1], ie[0] + ie[1], ie_led, vi_sim_ledger_max_residual(s));
   assert_true(rel[0] >= 5 && rel[1] >= 5);
   assert_true(ef < 1e-8);
@@ -992,7 +992,7 @@ static void test_band_vs_adams(void **state)
     vi_sim *s = make_sim(m, q ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10,
                          1e-12, NULL, NULL, &ev[q]);
     assert_int_equal(vi_sim_run(s, 300.0), VI_OK);
-    if (q) assert_true(vi_sim_get_stat(s, VI_STAT_JAC_EVALS) > 0);
+    if (q) assert_true(vi_sim_stat(s, VI_STAT_JAC_EVALS) > 0);
     vi_sim_destroy(&s);
   }
   assert_int_equal(ev[0].count, ev[1].count);

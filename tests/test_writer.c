@@ -78,10 +78,10 @@ static void test_fig2_round_trip(void **state)
   double T = 2 * M_PI / 0.9;
   int spp = vi_scene_samples_per_period(sc);
   assert_int_equal(spp, 64);
-  vi_sim_set_event_callback(s, on_ev, &b);
-  vi_sim_set_sampling(s, T / spp, on_smp, &b);
+  vi_sim_set_event_callback(s, on_ev, &b, NULL);
+  vi_sim_set_sampling(s, T / spp, on_smp, &b, NULL);
   vi_sim_enable_ledger(s, 1);
-  vi_sim_set_ledger_callback(s, on_led, &b);
+  vi_sim_set_ledger_callback(s, on_led, &b, NULL);
   assert_int_equal(vi_sim_run(s, vi_scene_t_end(sc)), VI_OK);
   assert_int_equal(vi_writer_close(&b.w, 1), VI_OK);
   assert_null(b.w);
@@ -272,8 +272,8 @@ static void test_rank_and_size(void **state)
   b.w = w;
   assert_int_equal(vi_writer_write_header(w, NULL, 1e-8, 1e-10, 0), VI_OK);
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  vi_sim_set_event_callback(s, on_ev, &b);
-  vi_sim_set_sampling(s, 0.1, on_smp, &b);
+  vi_sim_set_event_callback(s, on_ev, &b, NULL);
+  vi_sim_set_sampling(s, 0.1, on_smp, &b, NULL);
   assert_int_equal(vi_sim_run(s, 50.0), VI_OK);
   assert_int_equal(vi_writer_run_info(w, s), VI_OK);
   assert_int_equal(vi_writer_close(&w, 1), VI_OK);
@@ -298,7 +298,7 @@ static void test_rank_and_size(void **state)
   assert_true(a >= 0);
   H5Aread(a, H5T_NATIVE_INT64, &steps);
   H5Aclose(a);
-  assert_int_equal(steps, vi_sim_get_stat(s, VI_STAT_STEPS));
+  assert_int_equal(steps, vi_sim_stat(s, VI_STAT_STEPS));
   for (int k = 0; k < VI_STAT_COUNT; k++)
     assert_true(H5Aexists_by_name(f, "run", vi_stat_name(k), H5P_DEFAULT) > 0);
   assert_true(H5Aexists_by_name(f, "run", "method_note", H5P_DEFAULT) > 0);
@@ -389,7 +389,7 @@ static void test_stops_round_trip(void **state)
   assert_int_equal(vi_writer_write_header(r->w, sc, 1e-8, 1e-10, 0), VI_OK);
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
   assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
-  vi_sim_set_event_callback(s, on_stop_ev, r);
+  vi_sim_set_event_callback(s, on_stop_ev, r, NULL);
   assert_int_equal(vi_sim_run(s, vi_scene_t_end(sc)), VI_OK);
   assert_int_equal(vi_writer_close(&r->w, 1), VI_OK);
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -86,7 +86,7 @@ vi_sim *vi_test_sim(const vi_model *m, int method, double rtol, double atol,
   assert_int_equal(vi_sim_set_method(s, method), VI_OK);
   assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
   assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
-  if (ev) assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, ev), VI_OK);
+  if (ev) assert_int_equal(vi_sim_set_event_callback(s, vi_test_collect, ev, NULL), VI_OK);
   return s;
 }
 

@@ -98,13 +98,14 @@ program cancel
   print '(a,a,a,i0,a,f9.4)', ' scene ', vi_string(vi_scene_name(scene)), ': n = ', &
       vi_scene_n(scene), ', t_end = ', t_end
 
-  st = vi_sim_set_event_callback(sim, c_funloc(on_event), c_null_ptr)
-  if (st == VI_OK) st = vi_sim_set_cancel(sim, c_funloc(on_cancel), c_null_ptr)
-  if (st == VI_OK) st = vi_sim_set_monitor(sim, c_funloc(on_progress), c_null_ptr, period)
+  st = vi_sim_set_event_callback(sim, c_funloc(on_event), c_null_ptr, c_null_funptr)
+  if (st == VI_OK) st = vi_sim_set_cancel(sim, c_funloc(on_cancel), c_null_ptr, c_null_funptr)
+  if (st == VI_OK) st = vi_sim_set_monitor(sim, period, c_funloc(on_progress), c_null_ptr, &
+                                           c_null_funptr)
   call check(st == VI_OK, 'callbacks set')
 
   st = vi_sim_run(sim, t_end)
-  if (vi_sim_get_state(sim, t) /= VI_OK) stop 1
+  if (vi_sim_state(sim, t) /= VI_OK) stop 1
   print '(a,a,a,f9.4,a,i0,a)', ' first run: ', vi_string(vi_status_name(st)), ' at t = ', t, &
       ' after ', impacts, ' impacts'
   call check(st == VI_CANCELLED, 'the flag cancels the run')
@@ -113,11 +114,11 @@ program cancel
 
   stop_flag = .false.
   st = vi_sim_run(sim, t_end)
-  if (vi_sim_get_state(sim, t) /= VI_OK) stop 1
+  if (vi_sim_state(sim, t) /= VI_OK) stop 1
   print '(a,a,a,f9.4,a,i0,a,i0,a)', ' resumed: ', vi_string(vi_status_name(st)), ' at t = ', t, &
       ', ', impacts, ' impacts, ', polls, ' cancellation polls'
   call check(st == VI_OK .and. abs(t - t_end) <= 1e-9_c_double * t_end, 'resumed to the end')
-  call check(vi_sim_get_stat(sim, VI_STAT_IMPACTS) == impacts, 'impacts counted once')
+  call check(vi_sim_stat(sim, VI_STAT_IMPACTS) == impacts, 'impacts counted once')
   if (command_argument_count() == 0) call check(impacts == 100, 'Fig. 2: 100 impacts')
   call check(monitor_calls >= int(t_end / period) - 1, 'monitor once per period')
 
@@ -125,7 +126,7 @@ program cancel
       vi_string(vi_sim_method_note(sim))
   call check(vi_method_from_name('exact'//c_null_char) == VI_METHOD_EXACT, 'method names')
   do j = 0, VI_STAT_COUNT - 1
-    print '(3x,a18,i10)', vi_string(vi_stat_name(j)), vi_sim_get_stat(sim, j)
+    print '(3x,a18,i10)', vi_string(vi_stat_name(j)), vi_sim_stat(sim, j)
   end do
 
   ! impact by impact: the host drives, the same impacts come out
@@ -137,7 +138,7 @@ program cancel
   do j = 1, size(t_impact)
     st = vi_sim_run_to_event(sim, t_end, kind)
     if (st /= VI_OK .or. kind /= VI_EVENT_IMPACT) exit
-    if (vi_sim_get_state(sim, t) /= VI_OK) stop 1
+    if (vi_sim_state(sim, t) /= VI_OK) stop 1
     ! the state after the event has the event's time; same integrator, same steps
     call check(abs(t - t_impact(j)) <= 1e-9_c_double * t_impact(j), 'stepped impact time')
   end do

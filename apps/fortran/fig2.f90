@@ -93,24 +93,25 @@ program fig2
 
   st = vi_sim_create(model, sim)
   if (st == VI_OK) st = vi_sim_set_tolerances(sim, 1.0e-8_c_double, 1.0e-10_c_double)
-  if (st == VI_OK) st = vi_sim_set_event_callback(sim, c_funloc(on_event), c_null_ptr)
+  if (st == VI_OK) st = vi_sim_set_event_callback(sim, c_funloc(on_event), c_null_ptr, c_null_funptr)
   if (command_argument_count() >= 2) then
     call get_command_argument(2, path)
     if (trim(path) == 'duffing' .and. st == VI_OK) &
-        st = vi_sim_set_force(sim, c_funloc(cubic), c_null_funptr, c_null_ptr)
+        st = vi_sim_set_force(sim, c_funloc(cubic), c_null_funptr, c_null_ptr, c_null_funptr)
   end if
   if (command_argument_count() == 0) then  ! the ledger changes CVODE's steps: not in the CSV run
     if (st == VI_OK) st = vi_sim_enable_ledger(sim, 1_c_int)
-    if (st == VI_OK) st = vi_sim_set_ledger_callback(sim, c_funloc(on_interval), c_null_ptr)
+    if (st == VI_OK) st = vi_sim_set_ledger_callback(sim, c_funloc(on_interval), c_null_ptr, &
+                                                          c_null_funptr)
   end if
   if (st == VI_OK) st = vi_sim_run(sim, 100 * 2 * pi / 0.9_c_double)
   if (st /= VI_OK) then
     print '(a)', 'run: '//vi_string(vi_strerror(st))//': '//vi_string(vi_sim_errmsg(sim))
     stop 1
   end if
-  st = vi_sim_get_state(sim, t, x, v)
+  st = vi_sim_state(sim, t, x, v)
   print '(a,i0,a,f10.4,a,i0,a)', ' ', count, ' impacts up to t = ', t, ' (', &
-      vi_sim_get_stat(sim, VI_STAT_STEPS), ' steps)'
+      vi_sim_stat(sim, VI_STAT_STEPS), ' steps)'
   if (intervals > 0) print '(a,i0,a,es9.2)', ' ledger: ', intervals, &
       ' intervals, largest closure residual ', worst
   if (csv) close(unit_csv)

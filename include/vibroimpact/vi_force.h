@@ -42,7 +42,7 @@ enum {
  *  differences the force).  Takes effect at the next run.
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (the method is exact). */
 VI_API int vi_sim_set_force(vi_sim *sim, vi_force_fn fn, vi_force_jac_fn jac,
-                            void *user);
+                            void *user, vi_destroy_fn destroy);
 /** Add a built-in spring (VI_SPRING_*) between coordinates i and j (1-based,
  *  j = 0 the ground, i != j) with stiffness k and, for a bilinear spring,
  *  the gap; gap is ignored for a cubic one.  @return VI_OK, VI_ERR_ARG,
@@ -54,7 +54,7 @@ VI_API int vi_sim_add_spring(vi_sim *sim, int type, int i, int j, double k,
 VI_API int vi_sim_clear_springs(vi_sim *sim);
 /** Cumulative work NE [n] of the nonlinear forces on each mode since the
  *  ledger was enabled.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (no ledger). */
-VI_API int vi_sim_get_ledger_force(const vi_sim *sim, double *NE);
+VI_API int vi_sim_ledger_force(const vi_sim *sim, double *NE);
 
 #ifdef __cplusplus
 }

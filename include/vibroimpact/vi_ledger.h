@@ -61,14 +61,14 @@ VI_API int vi_sim_enable_ledger(vi_sim *sim, int on);
 /** Called at the end of each interval: at every impact, stick, release, and
  * at the end of each vi_sim_run call. */
 VI_API int vi_sim_set_ledger_callback(vi_sim *sim, vi_ledger_fn fn,
-                                      void *user);
+                                      void *user, vi_destroy_fn destroy);
 /** Cumulative totals since the ledger was enabled, at the current time:
  * E [n] modal energies now; FE, DE, XE, CE, dE [n]; *ie the summed impact
  * losses.  Any pointer may be NULL.  A window's ledger is the difference of
  * two calls, E excepted. */
-VI_API int vi_sim_get_ledger(const vi_sim *sim, double *E, double *FE,
-                             double *DE, double *XE, double *CE, double *dE,
-                             double *ie);
+VI_API int vi_sim_ledger(const vi_sim *sim, double *E, double *FE,
+                         double *DE, double *XE, double *CE, double *dE,
+                         double *ie);
 /** Largest closure residual of any interval so far (0 before any). */
 VI_API double vi_sim_ledger_max_residual(const vi_sim *sim);
 

@@ -74,8 +74,8 @@ VI_API int vi_model_add_stop(vi_model *m, const double *w, double x_s,
 VI_API int vi_model_num_stops(const vi_model *m);
 /** Stop k (0-based, below vi_model_num_stops): w [n], *x_s, *r receive it
  *  (each may be NULL).  Also before setup.  @return VI_OK, VI_ERR_ARG. */
-VI_API int vi_model_get_stop(const vi_model *m, int k, double *w,
-                             double *x_s, double *r);
+VI_API int vi_model_stop(const vi_model *m, int k, double *w, double *x_s,
+                         double *r);
 /** Delassus matrix G = W^T M^-1 W [ns x ns] of the stops (W = [w_0 ...]),
  *  column-major, *ld receives ns; G_kk is stop k's compliance w_k^T M^-1
  *  w_k.  NULL before setup. */
@@ -107,7 +107,7 @@ VI_API const double *vi_model_mass(const vi_model *m);
 VI_API const double *vi_model_damping(const vi_model *m);
 /** Stiffness matrix as set, column-major, leading dimension n. */
 VI_API const double *vi_model_stiffness(const vi_model *m);
-/** Stop vector w [n] (stop 0's with several: vi_model_get_stop). */
+/** Stop vector w [n] (stop 0's with several: vi_model_stop). */
 VI_API const double *vi_model_stop_vector(const vi_model *m);
 /** Forcing amplitude a [n] of a cos(Omega t). */
 VI_API const double *vi_model_forcing_cos(const vi_model *m);

@@ -53,7 +53,8 @@ VI_API int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol);
 /** Monitor of the transient run, called once per forcing period (see
  *  vi_sim_set_monitor); a non-zero return stops vi_orbit_find with
  *  VI_STOPPED.  fn NULL removes it.  @return VI_OK, VI_ERR_ARG. */
-VI_API int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user);
+VI_API int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user,
+                                vi_destroy_fn destroy);
 
 /** Direct search (default on): when the transient does not settle on a
  *  P(1,1) orbit and the model has the closed-form flow, look for one with

@@ -23,7 +23,7 @@
  * error of the order of the tail's duration.  Methods adams and bdf only.
  *
  * Life cycle: vi_sim_create -> vi_sim_set_* -> vi_sim_run (repeatable; each
- * call continues from where the last stopped) -> vi_sim_get_* ->
+ * call continues from where the last stopped) -> queries ->
  * vi_sim_destroy.  Results leave only through callbacks: the library keeps no
  * storage that grows with the run.  One vi_sim per thread.
  */
@@ -75,7 +75,7 @@ enum {
   VI_EVENT_RELEASE = 2  /**< contact force fell through zero: sticking ends */
 };
 
-/** Statistics, read with vi_sim_get_stat(); totals over all vi_sim_run calls. */
+/** Statistics, read with vi_sim_stat(); totals over all vi_sim_run calls. */
 enum {
   VI_STAT_STEPS = 0,      /**< integrator steps (exact method: scan steps) */
   VI_STAT_RHS_EVALS = 1,  /**< right-hand side evaluations */
@@ -137,6 +137,10 @@ typedef int (*vi_monitor_fn)(const vi_progress *p, void *user);
  *  integrator step and inside long scans), so it must be cheap, e.g. read a
  *  flag that a signal handler sets. */
 typedef int (*vi_cancel_fn)(void *user);
+/** Destroy function of a callback's user data: the library calls it with
+ *  the user pointer when the callback is replaced by another user pointer
+ *  or the handle is destroyed; NULL when the host keeps ownership. */
+typedef void (*vi_destroy_fn)(void *user);
 
 /** Create a simulation of a set-up model (borrowed: it must outlive the
  *  sim).  Defaults: auto, rtol 1e-8, atol 1e-10, rest at t = 0.
@@ -184,22 +188,24 @@ VI_API int vi_sim_set_max_step(vi_sim *sim, double hmax);
 VI_API int vi_sim_set_native_vector_ops(vi_sim *sim, int on);
 
 /** Call fn at every event (impact, stick, release); NULL turns it off. */
-VI_API int vi_sim_set_event_callback(vi_sim *sim, vi_event_fn fn, void *user);
+VI_API int vi_sim_set_event_callback(vi_sim *sim, vi_event_fn fn, void *user,
+                                     vi_destroy_fn destroy);
 /** Call fn at t0 + k dt (k = 0, 1, ...), states taken from the integrator's
  *  interpolant without forcing steps on it; a sample at an impact time sees
  *  the state before the impact.  dt <= 0 or fn NULL turns sampling off.
  *  @return VI_OK, VI_ERR_ARG (dt not finite). */
 VI_API int vi_sim_set_sampling(vi_sim *sim, double dt, vi_sample_fn fn,
-                               void *user);
+                               void *user, vi_destroy_fn destroy);
 /** Call fn after the step that passes each multiple of `every` (> 0) units
  *  of simulated time.  @return VI_OK, VI_ERR_ARG. */
-VI_API int vi_sim_set_monitor(vi_sim *sim, vi_monitor_fn fn, void *user,
-                              double every);
+VI_API int vi_sim_set_monitor(vi_sim *sim, double every, vi_monitor_fn fn,
+                              void *user, vi_destroy_fn destroy);
 
 /** Poll fn for cancellation during vi_sim_run; a cancelled run returns
  *  VI_CANCELLED with the state of the last completed step (consistent: a
  *  later run continues from it).  NULL turns it off.  @return VI_OK. */
-VI_API int vi_sim_set_cancel(vi_sim *sim, vi_cancel_fn fn, void *user);
+VI_API int vi_sim_set_cancel(vi_sim *sim, vi_cancel_fn fn, void *user,
+                             vi_destroy_fn destroy);
 /** Floors that keep a run from stalling: an approach velocity below vn_min
  *  (> 0) or a contact less than dt_min (> 0) after the previous one, with
  *  the stop pressed on, ends the impact sequence in sticking.  0 leaves a
@@ -237,8 +243,7 @@ VI_API int vi_sim_setup(vi_sim *sim);
 VI_API int vi_sim_run_to_event(vi_sim *sim, double t_end, int *kind);
 
 /** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */
-VI_API int vi_sim_get_state(const vi_sim *sim, double *t, double *x,
-                            double *v);
+VI_API int vi_sim_state(const vi_sim *sim, double *t, double *x, double *v);
 /** Number of coordinates n of the sim's model; 0 for NULL. */
 VI_API int vi_sim_n(const vi_sim *sim);
 /** 1 while in a sticking phase, else 0. */
@@ -247,9 +252,23 @@ VI_API int vi_sim_is_sticking(const vi_sim *sim);
  *  (vi_model_num_stops) receives, per stop, the impacts' losses and those
  *  of the chattering tails summed into sticking; their sum is the ledger's
  *  total impact loss.  @return VI_OK, VI_ERR_ARG. */
-VI_API int vi_sim_get_stop_losses(const vi_sim *sim, double *ie);
+VI_API int vi_sim_stop_losses(const vi_sim *sim, double *ie);
 /** Value of a statistic (VI_STAT_*); -1 for an unknown one. */
-VI_API int64_t vi_sim_get_stat(const vi_sim *sim, int which);
+VI_API int64_t vi_sim_stat(const vi_sim *sim, int which);
+
+/* Names before the 0.2 API revision (one query scheme, without "get"). */
+/** @deprecated use vi_sim_stat */
+VI_DEPRECATED static inline int64_t vi_sim_get_stat(const vi_sim *sim,
+                                                    int which)
+{
+  return vi_sim_stat(sim, which);
+}
+/** @deprecated use vi_sim_state */
+VI_DEPRECATED static inline int vi_sim_get_state(const vi_sim *sim, double *t,
+                                                 double *x, double *v)
+{
+  return vi_sim_state(sim, t, x, v);
+}
 
 #ifdef __cplusplus
 }

@@ -58,7 +58,7 @@ module vibroimpact
   public :: vi_model_create, vi_model_destroy, vi_model_set_mass, &
             vi_model_set_damping, vi_model_set_stiffness, vi_model_set_forcing, &
             vi_model_set_stop, vi_model_add_stop, vi_model_num_stops, &
-            vi_model_get_stop, vi_model_delassus, vi_model_setup, vi_model_errmsg, vi_model_n, &
+            vi_model_stop, vi_model_delassus, vi_model_setup, vi_model_errmsg, vi_model_n, &
             vi_model_omega, vi_model_zeta, vi_model_modal_shapes, &
             vi_model_modal_stop, vi_model_is_proportional, vi_model_to_modal, &
             vi_model_from_modal, vi_model_energy, vi_model_stop_compliance, &
@@ -75,15 +75,15 @@ module vibroimpact
   public :: vi_method_name, vi_method_from_name, vi_stat_name
   public :: vi_sim_create, vi_sim_destroy, vi_sim_errmsg, vi_sim_set_method, &
             vi_sim_set_tolerances, vi_sim_set_initial, vi_sim_set_event_callback, &
-            vi_sim_set_sampling, vi_sim_set_monitor, vi_sim_run, vi_sim_get_state, &
-            vi_sim_get_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops, &
+            vi_sim_set_sampling, vi_sim_set_monitor, vi_sim_run, vi_sim_state, &
+            vi_sim_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops, &
             vi_sim_set_chatter_threshold, vi_sim_set_restart_step, vi_sim_set_max_step, &
             vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note, &
             vi_sim_setup, vi_sim_run_to_event, vi_sim_n
-  public :: vi_sim_enable_ledger, vi_sim_get_ledger, vi_sim_ledger_max_residual, &
+  public :: vi_sim_enable_ledger, vi_sim_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_sim_set_force, vi_sim_add_spring, vi_sim_clear_springs, &
-            vi_sim_get_ledger_force, vi_sim_get_stop_losses
+            vi_sim_ledger_force, vi_sim_stop_losses
   public :: vi_orbit_create, vi_orbit_destroy, vi_orbit_errmsg, vi_orbit_set_method, &
             vi_orbit_set_tolerances, vi_orbit_find, vi_orbit_classify, &
             vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution, &
@@ -165,7 +165,7 @@ module vibroimpact
       type(c_ptr), value :: model
     end function
     !> k is 0-based
-    integer(c_int) function vi_model_get_stop(model, k, w, x_s, r) bind(C, name="vi_model_get_stop")
+    integer(c_int) function vi_model_stop(model, k, w, x_s, r) bind(C, name="vi_model_stop")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: model
       integer(c_int), value :: k
@@ -421,29 +421,32 @@ module vibroimpact
       real(c_double), intent(in), optional :: x0(*), v0(*)  ! absent: 0
     end function
     !> fn: integer(c_int) function f(ev, user) bind(C); type(vi_event), intent(in) :: ev
-    integer(c_int) function vi_sim_set_event_callback(sim, fn, user) bind(C, name="vi_sim_set_event_callback")
+    !> destroy (every callback setter): subroutine d(user) bind(C) with user by
+    !> value, called when the user data is replaced or the sim destroyed; or
+    !> c_null_funptr to keep ownership
+    integer(c_int) function vi_sim_set_event_callback(sim, fn, user, destroy) bind(C, name="vi_sim_set_event_callback")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: sim, user
-      type(c_funptr), value :: fn
+      type(c_funptr), value :: fn, destroy
     end function
     !> fn: integer(c_int) function f(t, n, x, v, user) bind(C) with t, n by value
-    integer(c_int) function vi_sim_set_sampling(sim, dt, fn, user) bind(C, name="vi_sim_set_sampling")
+    integer(c_int) function vi_sim_set_sampling(sim, dt, fn, user, destroy) bind(C, name="vi_sim_set_sampling")
       import :: c_int, c_ptr, c_funptr, c_double
       type(c_ptr), value :: sim, user
       real(c_double), value :: dt
-      type(c_funptr), value :: fn
+      type(c_funptr), value :: fn, destroy
     end function
-    integer(c_int) function vi_sim_set_monitor(sim, fn, user, every) bind(C, name="vi_sim_set_monitor")
+    integer(c_int) function vi_sim_set_monitor(sim, every, fn, user, destroy) bind(C, name="vi_sim_set_monitor")
       import :: c_int, c_ptr, c_funptr, c_double
       type(c_ptr), value :: sim, user
-      type(c_funptr), value :: fn
       real(c_double), value :: every
+      type(c_funptr), value :: fn, destroy
     end function
     !> fn: integer(c_int) function f(user) bind(C) with user by value; non-zero cancels
-    integer(c_int) function vi_sim_set_cancel(sim, fn, user) bind(C, name="vi_sim_set_cancel")
+    integer(c_int) function vi_sim_set_cancel(sim, fn, user, destroy) bind(C, name="vi_sim_set_cancel")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: sim, user
-      type(c_funptr), value :: fn
+      type(c_funptr), value :: fn, destroy
     end function
     integer(c_int) function vi_sim_n(sim) bind(C, name="vi_sim_n")
       import :: c_int, c_ptr
@@ -498,12 +501,12 @@ module vibroimpact
       real(c_double), value :: t_end
       integer(c_int) :: kind
     end function
-    integer(c_int) function vi_sim_get_state(sim, t, x, v) bind(C, name="vi_sim_get_state")
+    integer(c_int) function vi_sim_state(sim, t, x, v) bind(C, name="vi_sim_state")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double), optional :: t, x(*), v(*)
     end function
-    integer(c_int64_t) function vi_sim_get_stat(sim, which) bind(C, name="vi_sim_get_stat")
+    integer(c_int64_t) function vi_sim_stat(sim, which) bind(C, name="vi_sim_stat")
       import :: c_int64_t, c_ptr, c_int
       type(c_ptr), value :: sim
       integer(c_int), value :: which
@@ -519,25 +522,25 @@ module vibroimpact
       type(c_ptr), value :: sim
       integer(c_int), value :: on
     end function
-    integer(c_int) function vi_sim_get_ledger(sim, E, FE, DE, XE, CE, jumps, ie) bind(C, name="vi_sim_get_ledger")
+    integer(c_int) function vi_sim_ledger(sim, E, FE, DE, XE, CE, jumps, ie) bind(C, name="vi_sim_ledger")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double), optional :: E(*), FE(*), DE(*), XE(*), CE(*), jumps(*), ie  ! jumps: C dE
     end function
     !> fn: integer(c_int) function f(iv, user) bind(C); type(vi_ledger_interval), intent(in) :: iv
-    integer(c_int) function vi_sim_set_ledger_callback(sim, fn, user) bind(C, name="vi_sim_set_ledger_callback")
+    integer(c_int) function vi_sim_set_ledger_callback(sim, fn, user, destroy) bind(C, name="vi_sim_set_ledger_callback")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: sim, user
-      type(c_funptr), value :: fn
+      type(c_funptr), value :: fn, destroy
     end function
     ! ---- nonlinear forces (vi_force.h) ---------------------------------------
     !> fn: integer(c_int) function g(t, n, x, v, f, user) bind(C) with t, n, user
     !> by value and x(n), v(n), f(n) real(c_double) arrays; jac: integer(c_int)
     !> function j(t, n, x, v, dgdx, dgdv, ld, user) bind(C), or c_null_funptr
-    integer(c_int) function vi_sim_set_force(sim, fn, jac, user) bind(C, name="vi_sim_set_force")
+    integer(c_int) function vi_sim_set_force(sim, fn, jac, user, destroy) bind(C, name="vi_sim_set_force")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: sim, user
-      type(c_funptr), value :: fn, jac
+      type(c_funptr), value :: fn, jac, destroy
     end function
     integer(c_int) function vi_sim_add_spring(sim, type, i, j, k, gap) bind(C, name="vi_sim_add_spring")
       import :: c_int, c_ptr, c_double
@@ -549,12 +552,12 @@ module vibroimpact
       import :: c_int, c_ptr
       type(c_ptr), value :: sim
     end function
-    integer(c_int) function vi_sim_get_ledger_force(sim, NE) bind(C, name="vi_sim_get_ledger_force")
+    integer(c_int) function vi_sim_ledger_force(sim, NE) bind(C, name="vi_sim_ledger_force")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double) :: NE(*)
     end function
-    integer(c_int) function vi_sim_get_stop_losses(sim, ie) bind(C, name="vi_sim_get_stop_losses")
+    integer(c_int) function vi_sim_stop_losses(sim, ie) bind(C, name="vi_sim_stop_losses")
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double) :: ie(*)
@@ -600,10 +603,10 @@ module vibroimpact
       real(c_double), value :: max_periods, tol
     end function
     !> fn as for vi_sim_set_monitor
-    integer(c_int) function vi_orbit_set_monitor(orbit, fn, user) bind(C, name="vi_orbit_set_monitor")
+    integer(c_int) function vi_orbit_set_monitor(orbit, fn, user, destroy) bind(C, name="vi_orbit_set_monitor")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: orbit, user
-      type(c_funptr), value :: fn
+      type(c_funptr), value :: fn, destroy
     end function
     integer(c_int) function vi_orbit_find(orbit) bind(C, name="vi_orbit_find")
       import :: c_int, c_ptr

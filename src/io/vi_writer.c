@@ -552,7 +552,7 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
           /* column-major ns x n for put(): element (k, j) = w_k(j) */
           double *sx = sw + (size_t)ns * n, *sr = sx + ns, *wk = sr + ns;
           for (int k = 0; k < ns; k++) {
-            vi_model_get_stop(m, k, wk, sx + k, sr + k);
+            vi_model_stop(m, k, wk, sx + k, sr + k);
             for (int j = 0; j < n; j++) sw[k + (size_t)j * ns] = wk[j];
           }
           bad |= put(g, "stops_w", sw, ns, n, "stop vectors, row k: w_k.x <= "
@@ -718,7 +718,7 @@ int vi_writer_run_info(vi_writer *w, const vi_sim *sim)
       bad |= attr_str(g, "method_note", note ? note : "");
       for (int k = 0; k < VI_STAT_COUNT; k++) {
         const char *name = vi_stat_name(k);
-        if (name) bad |= attr_i64(g, name, vi_sim_get_stat(sim, k));
+        if (name) bad |= attr_i64(g, name, vi_sim_stat(sim, k));
       }
       bad |= H5Gclose(g) < 0;
     }

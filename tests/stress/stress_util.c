@@ -117,9 +117,9 @@ vi_sim *st_sim(const vi_model *m, int method, double rtol, double atol,
   if (log) {
     log->w = vi_model_stop_vector(m);
     log->xs = vi_model_clearance(m);
-    assert_int_equal(vi_sim_set_event_callback(s, st_log_event, log), VI_OK);
+    assert_int_equal(vi_sim_set_event_callback(s, st_log_event, log, NULL), VI_OK);
   }
-  if (guard) assert_int_equal(vi_sim_set_cancel(s, st_guard_poll, guard), VI_OK);
+  if (guard) assert_int_equal(vi_sim_set_cancel(s, st_guard_poll, guard, NULL), VI_OK);
   return s;
 }
 

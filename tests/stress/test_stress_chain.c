@@ -148,7 +148,7 @@ static void test_chain_free_closed_form(void **state)
     if (meth == VI_METHOD_AUTO || !st_method_ok(m, meth)) continue;
     chain_check c = {&ref, 0.0, 0.0, 0};
     vi_sim *s = st_sim(m, meth, rtol, atol, 0.0, NULL, NULL, NULL, NULL);
-    assert_int_equal(vi_sim_set_sampling(s, 0.25, chain_sample, &c), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, 0.25, chain_sample, &c, NULL), VI_OK);
     int st = vi_sim_run(s, t_end);
     st_check(st == VI_OK);
     st_check(c.n == 21);

@@ -55,7 +55,7 @@ static ball_result run_ball(const vi_model *m, int method, double rtol,
   vi_sim *s = st_sim(m, method, rtol, atol, 0.0, &x0, &v0, &log, &guard);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   st_gap gap = {NULL, 0.0, -HUGE_VAL, 0};
-  assert_int_equal(vi_sim_set_sampling(s, 6.0 / 6000.0, st_gap_sample, &gap), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, 6.0 / 6000.0, st_gap_sample, &gap, NULL), VI_OK);
   int st = vi_sim_run(s, 6.0);
   /* no sample beyond the stop by more than the position error */
   st_check(gap.gmax <= 10.0 * dx);
@@ -76,7 +76,7 @@ static ball_result run_ball(const vi_model *m, int method, double rtol,
    * stick time checks */
   st_check(nimp >= 5);
   if (check_n > nimp) check_n = nimp;
-  st_check(vi_sim_get_stat(s, VI_STAT_IMPACTS) == nimp);
+  st_check(vi_sim_stat(s, VI_STAT_IMPACTS) == nimp);
   for (int k = 1; k <= nimp; k++) {
     int i = st_log_find(&log, VI_EVENT_IMPACT, k - 1);
     double vk = V0 * pow(R, k - 1);
@@ -100,10 +100,10 @@ static ball_result run_ball(const vi_model *m, int method, double rtol,
                 "(bound %.3g)\n", vi_method_name(method), rtol, nimp, check_n,
                 res.et, res.evn, is >= 0 ? log.t[is] : NAN, res.estick, tol_stick);
   st_check(res.estick <= tol_stick);
-  st_check(vi_sim_get_stat(s, VI_STAT_STICKS) == 1);
+  st_check(vi_sim_stat(s, VI_STAT_STICKS) == 1);
   st_check(vi_sim_is_sticking(s) == 1);
   double x, v;
-  assert_int_equal(vi_sim_get_state(s, NULL, &x, &v), VI_OK);
+  assert_int_equal(vi_sim_state(s, NULL, &x, &v), VI_OK);
   st_check(fabs(x) <= 10.0 * dx);
   st_check(fabs(v) <= 10.0 * dx);
 
@@ -113,9 +113,9 @@ static ball_result run_ball(const vi_model *m, int method, double rtol,
   int il = st_log_find(&log, VI_EVENT_IMPACT, nimp - 1);
   res.stick_ie = is >= 0 ? log.ie[is] : NAN;
   res.stick_ie_ref = il >= 0 ? 0.5 * R * R * log.vn[il] * log.vn[il] : NAN;
-  res.skipped = vi_sim_get_stat(s, VI_STAT_CHATTER_SKIPPED);
+  res.skipped = vi_sim_stat(s, VI_STAT_CHATTER_SKIPPED);
   double E[1], FE[1], DE[1], XE[1], CE[1], dE[1], ie;
-  assert_int_equal(vi_sim_get_ledger(s, E, FE, DE, XE, CE, dE, &ie), VI_OK);
+  assert_int_equal(vi_sim_ledger(s, E, FE, DE, XE, CE, dE, &ie), VI_OK);
   res.ledger_res = vi_sim_ledger_max_residual(s);
   /* the ledger's own totals against the energies known in closed form:
    * nothing left (E = 0), all of 1/2 V^2 lost, the jumps summing to -ie */

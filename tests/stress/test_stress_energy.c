@@ -54,7 +54,7 @@ static void test_plastic_pressed_sticks(void **state)
     }
     st_check(fabs(st_log_ie(&log) - 0.5 * V0 * V0) <= 1e-9 * 0.5 * V0 * V0);
     double x, v;
-    vi_sim_get_state(s, NULL, &x, &v);
+    vi_sim_state(s, NULL, &x, &v);
     st_check(vi_sim_is_sticking(s) == 1 && fabs(x) <= 1e-10 && fabs(v) <= 1e-10);
     print_message("  %-5s: %d events, stick at %.15g (error %.3g), sum ie "
                   "%.15g\n", vi_method_name(meth), log.count,
@@ -102,7 +102,7 @@ static void test_plastic_not_pressed_leaves(void **state)
     }
     st_check(st_log_count(&log, VI_EVENT_STICK) == 0 || !vi_sim_is_sticking(s));
     double x, v;
-    vi_sim_get_state(s, NULL, &x, &v);
+    vi_sim_state(s, NULL, &x, &v);
     double xe = 0.5 * cos(t_end - M_PI / 6.0), ve = -0.5 * sin(t_end - M_PI / 6.0);
     st_check(fabs(x - xe) <= 1e-8 && fabs(v - ve) <= 1e-8);
     print_message("  %-5s: %d events (%d impacts), sum ie %.15g, state error "
@@ -159,7 +159,7 @@ static void run_elastic(int method, double rtol, double atol, long periods,
   /* run in pieces, as a long study would; the energy scale is the largest
    * energy seen by samples four times a forcing period */
   emax_track et = {m, 0.0};
-  assert_int_equal(vi_sim_set_sampling(s, 0.25 * T, track_energy, &et), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, 0.25 * T, track_energy, &et, NULL), VI_OK);
   double x[1], v[1];
   long pieces = periods < 100 ? 1 : 100;
   for (long p = 1; p <= pieces; p++) {
@@ -172,13 +172,13 @@ static void run_elastic(int method, double rtol, double atol, long periods,
       return;
     }
   }
-  vi_sim_get_state(s, NULL, x, v);
+  vi_sim_state(s, NULL, x, v);
   double emax = et.emax;
   double E[1], FE[1], DE[1], XE[1], CE[1], dE[1], ie;
-  assert_int_equal(vi_sim_get_ledger(s, E, FE, DE, XE, CE, dE, &ie), VI_OK);
+  assert_int_equal(vi_sim_ledger(s, E, FE, DE, XE, CE, dE, &ie), VI_OK);
   double e_end = vi_model_energy(m, x, v);
   double work = FE[0];
-  double impacts = (double)vi_sim_get_stat(s, VI_STAT_IMPACTS);
+  double impacts = (double)vi_sim_stat(s, VI_STAT_IMPACTS);
   /* each impact-free interval closes to ~ tolerance x energy scale under
    * CVODE's (or the quadrature's) error control; independent errors add up
    * like a random walk over the intervals, a systematic drift linearly: the

@@ -42,8 +42,8 @@ static void test_floors_terminate(void **state)
           assert_int_equal(vi_sim_set_floors(s, sc[k].vn_min, sc[k].dt_min), VI_OK);
         int st = vi_sim_run(s, 1.0);
         double t = NAN, x = NAN, v = NAN;
-        vi_sim_get_state(s, &t, &x, &v);
-        int64_t nf = vi_sim_get_stat(s, VI_STAT_FLOORS);
+        vi_sim_state(s, &t, &x, &v);
+        int64_t nf = vi_sim_stat(s, VI_STAT_FLOORS);
         int f0 = st_failures;
         if (floors) {
           st_check(st == VI_OK);
@@ -58,7 +58,7 @@ static void test_floors_terminate(void **state)
                       "%lld steps, floors %lld, sticking %d%s\n", sc[k].what,
                       vi_method_name(meth), floors ? "on " : "off",
                       vi_status_name(st), t, log.count,
-                      (long long)vi_sim_get_stat(s, VI_STAT_STEPS), (long long)nf,
+                      (long long)vi_sim_stat(s, VI_STAT_STEPS), (long long)nf,
                       vi_sim_is_sticking(s), st_failures > f0 ? "  <-- FAIL" : "");
         st_log_free(&log);
         vi_sim_destroy(&s);
@@ -91,9 +91,9 @@ static void test_floor_before_chatter(void **state)
     int st = vi_sim_run(s, 3.0);
     int is = st_log_find(&log, VI_EVENT_STICK, 0);
     int nimp = st_log_count(&log, VI_EVENT_IMPACT);
-    int64_t nf = vi_sim_get_stat(s, VI_STAT_FLOORS);
+    int64_t nf = vi_sim_stat(s, VI_STAT_FLOORS);
     double x = NAN, v = NAN;
-    vi_sim_get_state(s, NULL, &x, &v);
+    vi_sim_state(s, NULL, &x, &v);
     int f0 = st_failures;
     st_check(st == VI_OK);
     st_check(nf > 0);

@@ -75,8 +75,7 @@ static void run_graze(double c, int method, double rtol, double atol,
     /* samples through the cap and the rebound: none beyond the stop by
      * more than the position error */
     graze_probe gp = {{NULL, xs, -HUGE_VAL, 0}, 0.5 * ti, ti - 1e-3, 0.0};
-    assert_int_equal(vi_sim_set_sampling(s, (ti + 0.5) / 4000.0, graze_sample,
-                                         &gp), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, (ti + 0.5) / 4000.0, graze_sample, &gp, NULL), VI_OK);
     int st = vi_sim_run(s, ti + 0.5);
     st_gap gap = gp.gap;
     if (!exact) {

@@ -77,7 +77,7 @@ static int run_spring(int e, int method, double rtol, double atol,
   st_gap gap = {NULL, 0.0, -HUGE_VAL, 0};
   const double x0 = 0.0, v0 = -V0;
   vi_sim *s = st_sim(m, method, rtol, atol, 0.0, &x0, &v0, &log, &guard);
-  assert_int_equal(vi_sim_set_sampling(s, T / 4000.0, st_gap_sample, &gap), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, T / 4000.0, st_gap_sample, &gap, NULL), VI_OK);
   int st = vi_sim_run(s, 1.2 * T);
   int fails0 = st_failures;
   if (st != VI_OK) print_error("K = %g %s: %s: %s\n", K, vi_method_name(method),
@@ -114,7 +114,7 @@ static int run_spring(int e, int method, double rtol, double atol,
   double estick = is >= 0 ? fabs(log.t[is] - T) : HUGE_VAL;
   st_check(is >= 0 && estick <= tol_stick);
   double x = NAN;
-  vi_sim_get_state(s, NULL, &x, NULL);
+  vi_sim_state(s, NULL, &x, NULL);
   st_check(vi_sim_is_sticking(s) == 1 && fabs(x) <= 10.0 * dx);
   /* the invariant: no sample beyond the stop by more than the position
    * error (the interpolant's error is of the same order) */

@@ -68,7 +68,7 @@ static void test_start_at_rest_on_stop(void **state)
       if (st != VI_OK) print_error("%s\n", vi_sim_errmsg(s));
       st_check(st == VI_OK);
       double x = NAN, v = NAN;
-      vi_sim_get_state(s, NULL, &x, &v);
+      vi_sim_state(s, NULL, &x, &v);
       st_check(st_log_count(&log, VI_EVENT_IMPACT) == 0);
       st_check(st_log_count(&log, VI_EVENT_RELEASE) == 0);
       if (pressed) {
@@ -105,7 +105,7 @@ static void test_default_state_beyond_stop(void **state)
     assert_int_equal(vi_sim_set_method(s, meth), VI_OK);
     int st = vi_sim_run(s, 10.0);
     double x = NAN;
-    vi_sim_get_state(s, NULL, &x, NULL);
+    vi_sim_state(s, NULL, &x, NULL);
     print_message("  default state, x_s = -1, %-5s: %s, x(end) = %.6g (%s)\n",
                   vi_method_name(meth), vi_status_name(st), x, vi_sim_errmsg(s));
     st_check(st == VI_ERR_INITIAL_STATE || st == VI_ERR_INVARIANT);
@@ -142,7 +142,7 @@ static void test_first_sample_is_initial_state(void **state)
     first_samples f = {0, 0.0};
     const double x0 = -1.0, v0 = 2.0;
     vi_sim *s = st_sim(m, meth, 1e-10, 1e-12, 0.0, &x0, &v0, NULL, NULL);
-    assert_int_equal(vi_sim_set_sampling(s, 0.05, sample_ball, &f), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, 0.05, sample_ball, &f, NULL), VI_OK);
     st_check(vi_sim_run(s, 0.05 * floor(t1 / 0.05)) == VI_OK);
     st_check(f.n == (int)floor(t1 / 0.05) + 1);
     st_check(f.err <= 1e-9); /* 10 (atol + rtol |x|), |x|, |v| <= 4 */

@@ -28,7 +28,7 @@ int main(void)
     return 1;
   double w1 = vi_model_omega(m)[0];
   if (fabs(w1 - (sqrt(5.0) - 1) / 2) > 1e-14) return 1;
-  if (vi_sim_create(m, &s) || vi_sim_set_event_callback(s, count, &impacts) ||
+  if (vi_sim_create(m, &s) || vi_sim_set_event_callback(s, count, &impacts, NULL) ||
       vi_sim_run(s, 100 * 2 * acos(-1.0) / 0.9))
     return 1;
   vi_sim_destroy(&s);

@@ -27,7 +27,7 @@ program consumer
   call c_f_pointer(vi_model_omega(model), omega, [2])
   st = vi_sim_create(model, sim)
   st = ior(st, vi_sim_run(sim, 100 * 2 * acos(-1.0_c_double) / 0.9_c_double))
-  impacts = vi_sim_get_stat(sim, VI_STAT_IMPACTS)
+  impacts = vi_sim_stat(sim, VI_STAT_IMPACTS)
   if (st /= VI_OK .or. impacts /= 100 .or. abs(omega(2) - (sqrt(5.0_c_double) + 1) / 2) > 1e-14) then
     print '(a)', 'FAIL: '//vi_string(vi_sim_errmsg(sim))
     stop 1
