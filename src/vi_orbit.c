@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include <gsl/gsl_blas.h>
-#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_multiroots.h>
 
 #include "vi_internal.h"
@@ -290,44 +289,6 @@ done:
   return status;
 }
 
-/* Floquet multipliers: eigenvalues of D Phi_T by central differences. */
-static int multipliers(vi_orbit *o)
-{
-  int n2 = 2 * o->n, st = VI_OK;
-  gsl_matrix *J = gsl_matrix_alloc(n2, n2);
-  gsl_vector_complex *ev = gsl_vector_complex_alloc(n2);
-  gsl_eigen_nonsymm_workspace *w = gsl_eigen_nonsymm_alloc(n2);
-  double *zp = malloc(sizeof(double) * 4 * n2);
-  if (!J || !ev || !w || !zp) {
-    st = vi_fail(o->errmsg, VI_ERR_NOMEM, "out of memory");
-    goto done;
-  }
-  double *zm = zp + n2, *fp = zm + n2, *fm = fp + n2;
-  for (int j = 0; j < n2; j++) {
-    double h = 1e-6 * fmax(fabs(o->zfix[j]), fabs(o->m->xs));
-    memcpy(zp, o->zfix, sizeof(double) * n2);
-    memcpy(zm, o->zfix, sizeof(double) * n2);
-    zp[j] += h;
-    zm[j] -= h;
-    if ((st = flow_map(o, zp, fp)) || (st = flow_map(o, zm, fm))) goto done;
-    for (int i = 0; i < n2; i++) gsl_matrix_set(J, i, j, (fp[i] - fm[i]) / (2 * h));
-  }
-  if (gsl_eigen_nonsymm(J, ev, w) != GSL_SUCCESS) {
-    st = vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED, "eigenvalues of the map");
-    goto done;
-  }
-  for (int i = 0; i < n2; i++) {
-    o->mre[i] = GSL_REAL(gsl_vector_complex_get(ev, i));
-    o->mim[i] = GSL_IMAG(gsl_vector_complex_get(ev, i));
-  }
-done:
-  free(zp);
-  gsl_eigen_nonsymm_free(w);
-  gsl_vector_complex_free(ev);
-  gsl_matrix_free(J);
-  return st;
-}
-
 typedef struct bal_ctx { vi_orbit *o; int seen; } bal_ctx;
 
 static int bal_event(const vi_event *ev, void *user)
@@ -510,15 +471,12 @@ int vi_orbit_find(vi_orbit *o)
     vi_sim_get_state(o->sim, NULL, o->zfix, o->zfix + n);
   }
   if ((st = refine(o)) || (st = balance(o))) return st;
-  /* multipliers: exact (saltation matrices, vi_orbit_pnm.c) where the
-   * closed-form flow exists, central differences of the map otherwise */
-  if (o->m->flow_ok) {
-    st = vi_orbit_pnm_multipliers(o->m, 1, 1, &o->t_imp, o->x_imp, o->v_imp,
-                                  n, o->mre, o->mim);
-    if (st) return vi_fail(o->errmsg, st, "multipliers: %s", vi_strerror(st));
-  } else if ((st = multipliers(o))) {
-    return st;
-  }
+  /* multipliers from exact derivatives (closed-form state-transition and
+   * saltation matrices, vi_orbit_pnm.c) at the impact of the refined orbit,
+   * whichever method integrated it */
+  st = vi_orbit_pnm_multipliers(o->m, 1, 1, &o->t_imp, o->x_imp, o->v_imp, n,
+                                o->mre, o->mim);
+  if (st) return vi_fail(o->errmsg, st, "multipliers: %s", vi_strerror(st));
   o->analysed = 1;
   return VI_OK;
 }

@@ -93,9 +93,10 @@ VI_API int vi_orbit_modal_balance(const vi_orbit *o, double *FE, double *DE,
 VI_API int vi_orbit_impact_state(const vi_orbit *o, double *t, double *x,
                                  double *v);
 /** Floquet multipliers of the stroboscopic map, re and im [2n]: from the
- *  monodromy matrix with saltation matrices (vi_orbit_pnm_multipliers)
- *  when the model has the closed-form flow, else central differences of
- *  the map. */
+ *  monodromy matrix of exact derivatives (vi_orbit_pnm_multipliers) at the
+ *  refined orbit's impact.  With the exact method the orbit is exact to
+ *  round-off; with CVODE the derivatives are still exact but the orbit
+ *  carries the integration tolerance. */
 VI_API int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im);
 /** Smallest value of the gap w.x - x_s over the period (the deepest
  * excursion from the stop, <= 0). */
@@ -112,9 +113,13 @@ VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
 /** An orbit is given by its m impacts in one orbit period n T (T = 2 pi /
  *  Omega): times t[m], ascending, and the states just before them, x and v
  *  [n x m] column-major with leading dimension ld (column j = impact j).
- *  Between impacts the motion is the closed-form free flow, so these
- *  functions need a model with the exact flow and one stop
- *  (VI_ERR_UNSUPPORTED otherwise). */
+ *  The *_stops variants also take the stop each impact hits, stop[m]
+ *  (0-based, vi_model_add_stop order; NULL = every impact on stop 0, which
+ *  is what the functions without the suffix do).  Between impacts the
+ *  motion is the closed-form free flow, so solve, residual and the scan
+ *  need a model with the exact flow (VI_ERR_UNSUPPORTED otherwise); the
+ *  multipliers and admissibility need only the linear model.  A model with
+ *  several stops: admissibility watches every stop's gap. */
 
 /** Newton's method on the impact conditions: for each impact j, the free
  *  flow from (t_j, x_j, v_j+) reaches (x_{j+1}, v_{j+1}) at t_{j+1} (the
@@ -141,16 +146,29 @@ VI_API int vi_orbit_pnm_residual(const vi_model *m, int n, int mi,
                                  const double *v, int ld, double *F,
                                  double *J);
 /** Floquet multipliers [2 n_coords] (re, im) of the orbit: eigenvalues of
- *  the monodromy matrix, the product over the impacts of the flow's state
- *  transition matrix and the saltation matrix
- *  S = R + (f+ - R f-) g^T / (g^T f-) (R the impact law's Jacobian, f-+
- *  the vector field before and after, g = (w, 0)).  det = r^(2m)
+ *  the monodromy matrix (vi_orbit_pnm_monodromy).  det = prod_j r_{s_j}^2
  *  exp(-tr(M^-1 C) nT).  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE,
- *  VI_ERR_UNSUPPORTED, VI_ERR_NOMEM, VI_ERR_LAPACK. */
+ *  VI_ERR_NOMEM, VI_ERR_LAPACK. */
 VI_API int vi_orbit_pnm_multipliers(const vi_model *m, int n, int mi,
                                     const double *t, const double *x,
                                     const double *v, int ld, double *re,
                                     double *im);
+/** The monodromy matrix Mo [2n x 2n] (column-major, leading dimension 2n,
+ *  state z = (x, v)) from just before impact 0 to one orbit period later:
+ *  the product over the impacts of the saltation matrix
+ *  S = R + (f+ - R f-) g^T / (g^T f-) (R = diag(I, Q) the impact law's
+ *  Jacobian, f-+ the vector field before and after, g = (w, 0); the
+ *  derivation is in vi_orbit_var.c) and the state-transition matrix to the
+ *  next impact, e^{A tau}, in closed form (per mode for proportional
+ *  damping, Pade scaling and squaring otherwise).  Exact derivatives: no
+ *  differences, no integration; valid for any linear model, whatever
+ *  computed the orbit.  @return VI_OK, VI_ERR_ARG (also an impact with no
+ *  approach velocity: S is singular at grazing), VI_ERR_STATE,
+ *  VI_ERR_FREQUENCY, VI_ERR_NOMEM, VI_ERR_LAPACK. */
+VI_API int vi_orbit_pnm_monodromy(const vi_model *m, int n, int mi,
+                                  const int *stop, const double *t,
+                                  const double *x, const double *v, int ld,
+                                  double *Mo);
 /** Admissibility: *ok = 1 if every impact approaches the stop (w.v_j > 0)
  *  and the gap w.x - x_s stays below the stop between impacts (sampled at
  *  512 points per forcing period, maxima refined by golden section; 1e-10
@@ -161,6 +179,22 @@ VI_API int vi_orbit_pnm_admissible(const vi_model *m, int n, int mi,
                                    const double *t, const double *x,
                                    const double *v, int ld, double *gmax,
                                    int *ok);
+/** The four functions above with the stop of each impact, stop[mi]. */
+VI_API int vi_orbit_pnm_solve_stops(const vi_model *m, int n, int mi,
+                                    const int *stop, double *t, double *x,
+                                    double *v, int ld, double tol, int *iters);
+VI_API int vi_orbit_pnm_residual_stops(const vi_model *m, int n, int mi,
+                                       const int *stop, const double *t,
+                                       const double *x, const double *v,
+                                       int ld, double *F, double *J);
+VI_API int vi_orbit_pnm_multipliers_stops(const vi_model *m, int n, int mi,
+                                          const int *stop, const double *t,
+                                          const double *x, const double *v,
+                                          int ld, double *re, double *im);
+VI_API int vi_orbit_pnm_admissible_stops(const vi_model *m, int n, int mi,
+                                         const int *stop, const double *t,
+                                         const double *x, const double *v,
+                                         int ld, double *gmax, int *ok);
 /** Every P(n, 1) orbit: for each impact phase phi the periodic motion
  *  with one impact at phi per nT solves a linear system (the flow is
  *  affine); its gap w.x - x_s is scanned over nphase (>= 8) phases in
