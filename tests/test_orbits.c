@@ -1,7 +1,9 @@
 /* test_orbits.c - P(n, m) orbits found directly (src/vi_orbit_pnm.c):
  * the exhaustive impact-phase scan, Newton, admissibility and the Floquet
- * multipliers from saltation matrices, against independent 40-50 digit
- * references (tests/ref_fig2_p11.py, tests/ref_sdof_p11.py, python3-mpmath),
+ * multipliers from exact derivatives (closed-form transition and saltation
+ * matrices), against independent 40-60 digit references
+ * (tests/ref_fig2_p11.py, tests/ref_sdof_p11.py, tests/ref_fig2_floquet.py,
+ * python3-mpmath), the SDOF oscillator's closed-form multipliers,
  * Liouville's formula for the monodromy determinant, and simulation. */
 #include <math.h>
 #include <stdlib.h>
@@ -236,6 +238,213 @@ static void inadmissible(void **state)
   vi_model_destroy(&m);
 }
 
+/* Floquet multipliers of Fig. 2 P(1,1) orbits against
+ * tests/ref_fig2_floquet.py (60 digits, central differences of the
+ * stroboscopic map at h = 1e-25 with the impact time found anew: no
+ * saltation matrix): the paper's x_s = 0.1 and x_s = 0.6413, just past the
+ * grazing of the free response (v_N = 1.5e-4, a multiplier of 6052).  The
+ * derivatives are exact, so the multipliers carry only round-off
+ * (amplified by 1 / v_N near grazing).  Then the same through vi_orbit
+ * with CVODE (Adams): the derivatives are still exact, the orbit carries
+ * the integration tolerance. */
+static void fig2_floquet_reference(void **state)
+{
+  (void)state;
+  const double T = 2 * M_PI / 0.9;
+  static const struct {
+    double xs, ti, vN, x1, v1, mre[4], mim[4];
+  } ref[2] = {
+      {0.1, 0.6785711342312446661871593, 0.7876608525547972913352433,
+       0.09621605903588743048985405, 0.350895028519530632997108,
+       {0.116686159216583746482, 0.116686159216583746482,
+        0.02338564662802082552921, 0.02338564662802082552921},
+       {0.7375326321473639436344, -0.7375326321473639436344,
+        0.3281376664482915451069, -0.3281376664482915451069}},
+      {0.6413, 3.445743526779776863914692, 0.0001474647115564261984697974,
+       0.1260350962595802072312218, -0.04167070576716502107283747,
+       {6052.272968775146976849, 0.0751998434823551904546,
+        0.0751998434823551904546, 0.00004972512811868649049441},
+       {0.0, -0.4414140813655959127781, 0.4414140813655959127781, 0.0}},
+  };
+  for (int c = 0; c < 2; c++) {
+    const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1},
+                 C[4] = {0.2, -0.1, -0.1, 0.1}, a[2] = {0.5, 0}, w[2] = {0, 1};
+    vi_model *m = vi_test_model(2, M, C, K, 0.9, a, NULL, w, ref[c].xs, 0.7);
+    double t[8], x[16], v[16], re[4], im[4];
+    int found = 0, k = -1;
+    assert_int_equal(vi_orbit_p1_scan(m, 1, 2000, t, x, v, 2, 8, &found), VI_OK);
+    for (int i = 0; i < found && i < 8; i++)
+      if (fabs(v[2 * i + 1] - ref[c].vN) < 1e-3 * ref[c].vN) k = i;
+    assert_true(k >= 0);
+    assert_close(fmod(t[k], T), ref[c].ti, 1e-12);
+    assert_close(v[2 * k + 1], ref[c].vN, 1e-13);
+    /* the derivatives alone: at the reference orbit (rounded to double),
+     * then at the orbit the library found (its round-off, relative
+     * 1e-16 / v_N in v_N, is amplified as 1 / v_N) */
+    double tr_ = ref[c].ti, xr[2] = {ref[c].x1, ref[c].xs}, vr[2] = {ref[c].v1, ref[c].vN};
+    for (int pass = 0; pass < 2; pass++) {
+      if (pass == 0)
+        assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &tr_, xr, vr, 2, re, im), VI_OK);
+      else
+        assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[k], x + 2 * k, v + 2 * k, 2, re, im), VI_OK);
+      double worst = 0.0;
+      for (int j = 0; j < 4; j++) { /* match each reference to the nearest */
+        double d = HUGE_VAL;
+        for (int i = 0; i < 4; i++)
+          d = fmin(d, hypot(re[i] - ref[c].mre[j], im[i] - ref[c].mim[j]));
+        /* relative to the multiplier, absolute below 1 */
+        worst = fmax(worst, d / fmax(1.0, hypot(ref[c].mre[j], ref[c].mim[j])));
+      }
+      print_message("x_s %g, %s orbit: exact multipliers' largest error %.2e\n",
+                    ref[c].xs, pass ? "library's" : "reference", worst);
+      assert_true(worst < (pass ? 1e-13 / ref[c].vN : 1e-11));
+    }
+    if (c == 0) { /* vi_orbit through CVODE */
+      vi_orbit *o = NULL;
+      double fre[4], fim[4];
+      assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+      assert_int_equal(vi_orbit_set_method(o, VI_METHOD_ADAMS), VI_OK);
+      assert_int_equal(vi_orbit_set_tolerances(o, 1e-12, 1e-14), VI_OK);
+      assert_int_equal(vi_orbit_find(o), VI_OK);
+      assert_int_equal(vi_orbit_multipliers(o, fre, fim), VI_OK);
+      double wc = 0.0;
+      for (int j = 0; j < 4; j++) {
+        double d = HUGE_VAL;
+        for (int i = 0; i < 4; i++)
+          d = fmin(d, hypot(fre[i] - ref[c].mre[j], fim[i] - ref[c].mim[j]));
+        wc = fmax(wc, d);
+      }
+      print_message("x_s %g: CVODE (rtol 1e-12) orbit's multipliers' error %.2e\n",
+                    ref[c].xs, wc);
+      assert_true(wc < 1e-8);
+      vi_orbit_destroy(&o);
+    }
+    vi_model_destroy(&m);
+  }
+}
+
+/* The SDOF impact oscillator x'' + c x' + k x = F(t) = a cos(Omega t) + f0,
+ * stop x <= x_s, has closed-form P(1,1) multipliers.  With the impact at
+ * t_i, approach velocity V > 0, h = c/2, mu = sqrt(k - h^2):
+ *  - the saltation matrix (g = (1, 0), R = diag(1, -r),
+ *    f- = (V, A0 - cV), f+ = (-rV, A0 + crV), A0 = F(t_i) - k x_s) is
+ *      S = R + (f+ - R f-) g^T / V = [[-r, 0], [(1 + r) A0 / V, -r]]
+ *    (the damping terms cancel: a+ + r a- = (1 + r) A0);
+ *  - Phi(T) = e^{-hT} [[cos + h sin/mu, sin/mu], [-k sin/mu, cos - h sin/mu]]
+ *    (arguments mu T);
+ * so the monodromy Phi(T) S has
+ *   tr  = e^{-hT} (-2 r cos(mu T) + (1 + r) (A0 / V) sin(mu T) / mu),
+ *   det = r^2 e^{-cT},
+ * and the multipliers are the roots of l^2 - tr l + det.  Checked on
+ * chatter.yaml's two orbits and on the branch born at grazing (V = s delta,
+ * delta = 1e-6 and 1e-4 past grazing: multipliers ~ 1 / V, up to 1e6),
+ * where finite differences of the map lose everything. */
+static void sdof_floquet_closed_form(void **state)
+{
+  (void)state;
+  static const struct {
+    double c, k, a, f0, Om, xs, r;
+  } sc[3] = {
+      {0.02, 0.1, 0.6, 0.3, 1.0, 0.0, 0.5},                    /* chatter */
+      {0.1, 1.0, 0.3, 0.0, 0.7, -1e-6, 0.8},                   /* grazing - 1e-6 */
+      {0.1, 1.0, 0.3, 0.0, 0.7, -1e-4, 0.8},                   /* grazing - 1e-4 */
+  };
+  int checked = 0;
+  for (int q = 0; q < 3; q++) {
+    double c = sc[q].c, k = sc[q].k, Om = sc[q].Om, r = sc[q].r;
+    double xs = sc[q].xs;
+    if (q > 0) xs += sc[q].a / hypot(k - Om * Om, c * Om); /* free amplitude */
+    vi_model *m = vi_test_sdof(1.0, c, k, sc[q].a, sc[q].f0, Om, xs, r);
+    double t[8], x[8], v[8], Mo[4], T = 2 * M_PI / Om;
+    int found = 0;
+    assert_int_equal(vi_orbit_p1_scan(m, 1, 2000, t, x, v, 1, 8, &found), VI_OK);
+    assert_true(found >= 1);
+    for (int i = 0; i < found && i < 8; i++) {
+      double h = c / 2, mu = sqrt(k - h * h), e = exp(-h * T);
+      double A0 = sc[q].a * cos(Om * t[i]) + sc[q].f0 - k * xs;
+      double tr = e * (-2 * r * cos(mu * T) + (1 + r) * A0 / v[i] * sin(mu * T) / mu);
+      double det = r * r * exp(-c * T);
+      assert_int_equal(vi_orbit_pnm_monodromy(m, 1, 1, NULL, &t[i], &x[i], &v[i], 1, Mo), VI_OK);
+      double trm = Mo[0] + Mo[3], detm = Mo[0] * Mo[3] - Mo[1] * Mo[2];
+      double disc = tr * tr - 4 * det, big = disc > 0 ? 0.5 * (fabs(tr) + sqrt(disc)) : sqrt(det);
+      print_message("case %d orbit %d: V %.3e, |tr| %.3e, largest |multiplier| %.6g, "
+                    "tr error %.1e, det error %.1e (relative)\n", q, i, v[i], fabs(tr),
+                    big, fabs(trm - tr) / fmax(1.0, fabs(tr)), fabs(detm - det) / det);
+      /* round-off of Phi S: eps times the largest entry of S (~1/V) */
+      assert_close(trm, tr, 1e-12 * fmax(1.0, fabs(tr)));
+      assert_close(detm, det, 1e-12 * det * fmax(1.0, fabs(tr)));
+      checked++;
+    }
+    vi_model_destroy(&m);
+  }
+  assert_true(checked >= 4);
+}
+
+/* Non-proportional damping: the state-transition matrix comes from Pade
+ * scaling and squaring, not from the modes.  The Fig. 2 chain with a
+ * damper on mass 1 only (C = diag(0.2, 0)).  Liouville: det of the
+ * monodromy = r^2 exp(-tr(M^-1 C) T); and the multipliers agree with
+ * central differences of the exact simulation's stroboscopic map (which
+ * integrates with vi_general.c's eigen-solution; h = 1e-6: error ~1e-9). */
+static void nonprop_floquet(void **state)
+{
+  (void)state;
+  const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1}, C[4] = {0.2, 0, 0, 0},
+               a[2] = {0.5, 0}, w[2] = {0, 1};
+  vi_model *m = vi_test_model(2, M, C, K, 0.9, a, NULL, w, 0.1, 0.7);
+  assert_int_equal(vi_model_is_proportional(m), 0);
+  double t[8], x[16], v[16], Mo[16], T = 2 * M_PI / 0.9, re[4], im[4];
+  int found = 0, k = -1, ok;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 2, 8, &found), VI_OK);
+  for (int i = 0; i < found && i < 8 && k < 0; i++) {
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + 2 * i, v + 2 * i, 2, NULL, &ok), VI_OK);
+    if (ok) k = i;
+  }
+  assert_true(k >= 0);
+  assert_int_equal(vi_orbit_pnm_monodromy(m, 1, 1, NULL, &t[k], x + 2 * k, v + 2 * k, 2, Mo), VI_OK);
+  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[k], x + 2 * k, v + 2 * k, 2, re, im), VI_OK);
+  double det = 1.0;
+  for (int i = 0; i < 4; i++) det *= hypot(re[i], im[i]);
+  assert_close(det, 0.49 * exp(-0.2 * T), 1e-13);
+  /* central differences of the exact simulation's map, section half a
+   * period after the impact */
+  double vp[2], z0[4], J[16], zp[4], zm[4];
+  assert_int_equal(vi_impact_apply(m, v + 2 * k, vp, NULL, NULL), VI_OK);
+  assert_int_equal(vi_flow_physical(m, t[k], x + 2 * k, vp, t[k] + T / 2, z0, z0 + 2), VI_OK);
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
+  for (int j = 0; j < 4; j++) {
+    double h = 1e-6;
+    for (int sg = -1; sg <= 1; sg += 2) {
+      double zs[4];
+      memcpy(zs, z0, sizeof zs);
+      zs[j] += sg * h;
+      assert_int_equal(vi_sim_set_initial(s, t[k] + T / 2, zs, zs + 2), VI_OK);
+      assert_int_equal(vi_sim_run(s, t[k] + 1.5 * T), VI_OK);
+      vi_sim_get_state(s, NULL, sg > 0 ? zp : zm, (sg > 0 ? zp : zm) + 2);
+    }
+    for (int i = 0; i < 4; i++) J[i + 4 * j] = (zp[i] - zm[i]) / (2 * h);
+  }
+  vi_sim_destroy(&s);
+  /* trace and the sum of principal 2 x 2 minors: the first two
+   * coefficients of the characteristic polynomial */
+  double tr = 0, trx = 0, m2 = 0, m2x = 0;
+  for (int i = 0; i < 4; i++) {
+    tr += J[i + 4 * i];
+    trx += Mo[i + 4 * i];
+    for (int j = i + 1; j < 4; j++) {
+      m2 += J[i + 4 * i] * J[j + 4 * j] - J[i + 4 * j] * J[j + 4 * i];
+      m2x += Mo[i + 4 * i] * Mo[j + 4 * j] - Mo[i + 4 * j] * Mo[j + 4 * i];
+    }
+  }
+  print_message("non-proportional: tr %.15g (differenced map %.15g), minors %.15g (%.15g)\n",
+                trx, tr, m2x, m2);
+  assert_close(tr, trx, 1e-8);
+  assert_close(m2, m2x, 1e-8);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -245,6 +454,9 @@ int main(void)
       cmocka_unit_test(direct_search),
       cmocka_unit_test(grazing_branch),
       cmocka_unit_test(inadmissible),
+      cmocka_unit_test(fig2_floquet_reference),
+      cmocka_unit_test(sdof_floquet_closed_form),
+      cmocka_unit_test(nonprop_floquet),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -179,18 +179,24 @@ VI_API int vi_orbit_pnm_admissible(const vi_model *m, int n, int mi,
                                    const double *t, const double *x,
                                    const double *v, int ld, double *gmax,
                                    int *ok);
-/** The four functions above with the stop of each impact, stop[mi]. */
+/** vi_orbit_pnm_solve with the stop of each impact, stop [mi] (0-based;
+ *  VI_ERR_ARG if one is out of range); each impact obeys its own stop's
+ *  w_k, x_k and r_k. */
 VI_API int vi_orbit_pnm_solve_stops(const vi_model *m, int n, int mi,
                                     const int *stop, double *t, double *x,
                                     double *v, int ld, double tol, int *iters);
+/** vi_orbit_pnm_residual with the stop of each impact, stop [mi]. */
 VI_API int vi_orbit_pnm_residual_stops(const vi_model *m, int n, int mi,
                                        const int *stop, const double *t,
                                        const double *x, const double *v,
                                        int ld, double *F, double *J);
+/** vi_orbit_pnm_multipliers with the stop of each impact, stop [mi]. */
 VI_API int vi_orbit_pnm_multipliers_stops(const vi_model *m, int n, int mi,
                                           const int *stop, const double *t,
                                           const double *x, const double *v,
                                           int ld, double *re, double *im);
+/** vi_orbit_pnm_admissible with the stop of each impact, stop [mi]: the
+ *  approach is to that stop; every stop's gap stays below between impacts. */
 VI_API int vi_orbit_pnm_admissible_stops(const vi_model *m, int n, int mi,
                                          const int *stop, const double *t,
                                          const double *x, const double *v,

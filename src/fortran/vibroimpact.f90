@@ -91,7 +91,9 @@ module vibroimpact
             vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
   public :: vi_orbit_set_direct_search, vi_orbit_search_info, vi_orbit_pnm_solve, &
             vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
-            vi_orbit_pnm_residual
+            vi_orbit_pnm_residual, vi_orbit_pnm_monodromy, vi_orbit_pnm_solve_stops, &
+            vi_orbit_pnm_residual_stops, vi_orbit_pnm_multipliers_stops, &
+            vi_orbit_pnm_admissible_stops
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -696,6 +698,56 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: model
       integer(c_int), value :: n, mi, ld
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double), optional :: gmax
+      integer(c_int) :: ok
+    end function
+    !> Mo [2 n_coords x 2 n_coords]; stop [mi] 0-based or omitted (all on stop 0)
+    integer(c_int) function vi_orbit_pnm_monodromy(model, n, mi, stop, t, x, v, ld, Mo) &
+        bind(C, name="vi_orbit_pnm_monodromy")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: Mo(*)
+    end function
+    !> the P(n, m) functions with the stop (0-based) of each impact, stop [mi]
+    integer(c_int) function vi_orbit_pnm_solve_stops(model, n, mi, stop, t, x, v, ld, tol, &
+        iters) bind(C, name="vi_orbit_pnm_solve_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double) :: t(*), x(*), v(*)
+      real(c_double), value :: tol
+      integer(c_int), optional :: iters
+    end function
+    integer(c_int) function vi_orbit_pnm_residual_stops(model, n, mi, stop, t, x, v, ld, F, &
+        J) bind(C, name="vi_orbit_pnm_residual_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: F(*)
+      real(c_double), optional :: J(*)
+    end function
+    integer(c_int) function vi_orbit_pnm_multipliers_stops(model, n, mi, stop, t, x, v, ld, &
+        re, im) bind(C, name="vi_orbit_pnm_multipliers_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: re(*), im(*)
+    end function
+    integer(c_int) function vi_orbit_pnm_admissible_stops(model, n, mi, stop, t, x, v, ld, &
+        gmax, ok) bind(C, name="vi_orbit_pnm_admissible_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
       real(c_double), intent(in) :: t(*), x(*), v(*)
       real(c_double), optional :: gmax
       integer(c_int) :: ok
