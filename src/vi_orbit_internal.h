@@ -19,5 +19,9 @@ void vi_var_impact(const vi_model *m, int k, const double *z, double *zp);
  * z [2n] just before it; work [8n]. */
 void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
                       double *S, double *work);
+/* d/dOmega of the harmonic particular solution z_p = (x_p, v_p) at the
+ * times t [nt] into dz [2n x nt].  VI_OK, VI_ERR_NOMEM, VI_ERR_UNSUPPORTED
+ * (an undamped mode forced at resonance), VI_ERR_LAPACK. */
+int vi_var_dpart_domega(const vi_model *m, int nt, const double *t, double *dz);
 
 #endif

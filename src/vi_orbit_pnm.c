@@ -236,6 +236,71 @@ int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
   return vi_orbit_pnm_residual_stops(m, np, mi, NULL, t, x, v, ld, F, J);
 }
 
+/* dF/dp of the conditions of residual(): for each segment j,
+ *   F_j = Phi(t1 - t0) (z_j+ - z_p(t0)) + z_p(t1) - z_{j+1}-,
+ *   z_j+ = (x_j, v_j - (1 + r_s) (w_s.v_j) M^-1 w_s / G_ss),
+ *   last row w_s.x_j - x_s;
+ * Omega enters z_p and, for the last segment, t1 = t_0 + nT (dt1/dOmega =
+ * -nT / Omega, times the field f1); x_s enters only the impact rows; r_s
+ * only z_j+. */
+int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
+                        const double *t, const double *x, const double *v,
+                        int ld, int param, int k, double *dF)
+{
+  if (!m || !t || !x || !v || !dF || ld < m->n) return VI_ERR_ARG;
+  int st = pnm_check(m, np, mi, stop, 1), n = m->n, n2 = 2 * n, B = n2 + 1;
+  if (st) return st;
+  if (param != VI_ORBIT_PARAM_OMEGA && param != VI_ORBIT_PARAM_XS &&
+      param != VI_ORBIT_PARAM_R)
+    return VI_ERR_ARG;
+  if (param != VI_ORBIT_PARAM_OMEGA && (k < 0 || k >= m->ns)) return VI_ERR_ARG;
+  ws w;
+  if ((st = ws_init(&w, m, stop))) return st;
+  double T = 2.0 * M_PI / m->omega_f;
+  double *Phi = malloc(sizeof(double) * ((size_t)n2 * n2 + 6 * (size_t)n2));
+  if (!Phi) {
+    ws_free(&w);
+    return VI_ERR_NOMEM;
+  }
+  double *d = Phi + (size_t)n2 * n2, *dp = d + 2 * n2, *zp = dp + n2, *ze = zp + n2,
+         *f1 = ze + n2;
+  memset(dF, 0, sizeof(double) * (size_t)mi * B);
+  for (int j = 0; j < mi && !st; j++) {
+    int s = stop_of(&w, j), kk = (j + 1) % mi;
+    double t0 = t[j], t1 = t[kk] + (j + 1 == mi ? np * T : 0.0), *Fj = dF + (size_t)j * B;
+    if (param == VI_ORBIT_PARAM_XS) {
+      if (s == k) Fj[n2] = -1.0;
+      continue;
+    }
+    if ((st = vi_var_stm(m, t1 - t0, Phi))) break;
+    memset(dp, 0, sizeof(double) * n2);
+    if (param == VI_ORBIT_PARAM_R) {
+      if (s != k) continue;
+      const double *Mw = vi_stop_minvw(m, s);
+      double c = -vi_dot(n, vi_stop_w(m, s), v + (size_t)j * ld) / m->G[s + (size_t)s * m->ns];
+      for (int i = 0; i < n; i++) dp[n + i] = c * Mw[i];
+    } else {
+      double tt[2] = {t0, t1};
+      if ((st = vi_var_dpart_domega(m, 2, tt, d))) break;
+      for (int i = 0; i < n2; i++) dp[i] = -d[i];
+      for (int i = 0; i < n2; i++) Fj[i] += d[n2 + i];
+      if (j + 1 == mi) { /* the period itself */
+        memcpy(zp, x + (size_t)j * ld, sizeof(double) * n);
+        memcpy(zp + n, v + (size_t)j * ld, sizeof(double) * n);
+        vi_var_impact(m, s, zp, zp);
+        if ((st = flow(m, t0, zp, t1, ze))) break;
+        vi_var_field(m, t1, ze, f1);
+        for (int i = 0; i < n2; i++) Fj[i] += f1[i] * (-np * T / m->omega_f);
+      }
+    }
+    for (int i = 0; i < n2; i++)
+      for (int q = 0; q < n2; q++) Fj[i] += Phi[i + (size_t)q * n2] * dp[q];
+  }
+  free(Phi);
+  ws_free(&w);
+  return st;
+}
+
 int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
                            const double *t, const double *x, const double *v,
                            int ld, double *Mo)

@@ -14,6 +14,8 @@
  *    (2005) 1179), accurate to a few ulps of ||e^{A tau}||.
  * Both need only M, C, K: the exact derivative exists for every linear
  * model, also where the trajectory itself comes from CVODE. */
+#define LAPACK_COMPLEX_C99
+#include <complex.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -193,4 +195,53 @@ void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
       double g = b < n ? w[b] : 0.0;
       S[a + (size_t)b * n2] = R + (fp[a] - Rf[a]) * g / gf;
     }
+}
+
+/* The harmonic particular solution x_p = Re(X e^{i Omega t}) solves
+ * H X = a - i b with H = K - Omega^2 M + i Omega C, so
+ *   dX/dOmega = -H^-1 (-2 Omega M + i C) X,
+ *   dx_p/dOmega = Re((X' + i t X) e^{i Omega t}),
+ *   dv_p/dOmega = Re((i X + i Omega X' - Omega t X) e^{i Omega t});
+ * the static response to f0 does not depend on Omega. */
+int vi_var_dpart_domega(const vi_model *m, int nt, const double *t, double *dz)
+{
+  int n = m->n, st = VI_OK;
+  double Om = m->omega_f;
+  size_t nn = (size_t)n * n;
+  double complex *H = malloc(sizeof(double complex) * (nn + 2 * (size_t)n));
+  lapack_int *piv = malloc(sizeof(lapack_int) * (size_t)n);
+  if (!H || !piv) {
+    st = VI_ERR_NOMEM;
+    goto cleanup;
+  }
+  double complex *X = H + nn, *dX = X + n;
+  for (size_t i = 0; i < nn; i++) H[i] = m->K[i] - Om * Om * m->M[i] + I * Om * m->C[i];
+  for (int i = 0; i < n; i++) X[i] = m->a[i] - I * m->b[i];
+  if (LAPACKE_zgesv(LAPACK_COL_MAJOR, n, 1, H, n, piv, X, n) != 0) {
+    st = VI_ERR_UNSUPPORTED; /* undamped resonance: no harmonic solution */
+    goto cleanup;
+  }
+  for (int i = 0; i < n; i++) {
+    double complex s = 0;
+    for (int k = 0; k < n; k++)
+      s -= (-2.0 * Om * m->M[i + (size_t)k * n] + I * m->C[i + (size_t)k * n]) * X[k];
+    dX[i] = s;
+  }
+  /* H is factored in place: solve with the factors */
+  if (LAPACKE_zgetrs(LAPACK_COL_MAJOR, 'N', n, 1, H, n, piv, dX, n) != 0) {
+    st = VI_ERR_LAPACK;
+    goto cleanup;
+  }
+  for (int j = 0; j < nt; j++) {
+    double complex e = cexp(I * Om * t[j]);
+    double *d = dz + (size_t)j * 2 * n;
+    for (int i = 0; i < n; i++) {
+      d[i] = creal((dX[i] + I * t[j] * X[i]) * e);
+      d[n + i] = creal((I * X[i] + I * Om * dX[i] - Om * t[j] * X[i]) * e);
+    }
+  }
+cleanup:
+  free(piv);
+  free(H);
+  return st;
 }

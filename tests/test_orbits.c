@@ -445,6 +445,43 @@ static void nonprop_floquet(void **state)
   vi_model_destroy(&m);
 }
 
+/* The parameter derivative of the orbit conditions (continuation's last
+ * column): exact for Omega, x_s and r, against central differences of the
+ * residual over rebuilt models (h = 1e-6: truncation ~1e-12, round-off
+ * ~1e-10).  At a point off the orbit too, so that nothing vanishes by
+ * periodicity. */
+static void dparam_exact(void **state)
+{
+  (void)state;
+  const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1},
+               C[4] = {0.2, -0.1, -0.1, 0.1}, a[2] = {0.5, 0}, w[2] = {0, 1};
+  const double p0[3] = {0.9, 0.1, 0.7}; /* Omega, x_s, r */
+  double t = 0.7, x[2] = {0.09, 0.1}, v[2] = {0.35, 0.8};
+  for (int par = 0; par < 3; par++) {
+    double dF[5], Fp[5], Fm[5], h = 1e-6;
+    vi_model *m = vi_test_model(2, M, C, K, p0[0], a, NULL, w, p0[1], p0[2]);
+    assert_int_equal(vi_orbit_pnm_dparam(m, 1, 1, NULL, &t, x, v, 2, par, 0, dF), VI_OK);
+    vi_model_destroy(&m);
+    for (int sg = -1; sg <= 1; sg += 2) {
+      double p[3] = {p0[0], p0[1], p0[2]};
+      p[par] += sg * h;
+      m = vi_test_model(2, M, C, K, p[0], a, NULL, w, p[1], p[2]);
+      assert_int_equal(vi_orbit_pnm_residual(m, 1, 1, &t, x, v, 2, sg > 0 ? Fp : Fm, NULL), VI_OK);
+      vi_model_destroy(&m);
+    }
+    double worst = 0;
+    for (int i = 0; i < 5; i++) worst = fmax(worst, fabs(dF[i] - (Fp[i] - Fm[i]) / (2 * h)));
+    print_message("parameter %d: |dF - central difference| %.2e\n", par, worst);
+    assert_true(worst < 1e-8);
+  }
+  /* an unknown parameter or stop is refused */
+  vi_model *m = vi_test_fig2();
+  double dF[5];
+  assert_int_equal(vi_orbit_pnm_dparam(m, 1, 1, NULL, &t, x, v, 2, 7, 0, dF), VI_ERR_ARG);
+  assert_int_equal(vi_orbit_pnm_dparam(m, 1, 1, NULL, &t, x, v, 2, VI_ORBIT_PARAM_R, 1, dF), VI_ERR_ARG);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -457,6 +494,7 @@ int main(void)
       cmocka_unit_test(fig2_floquet_reference),
       cmocka_unit_test(sdof_floquet_closed_form),
       cmocka_unit_test(nonprop_floquet),
+      cmocka_unit_test(dparam_exact),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

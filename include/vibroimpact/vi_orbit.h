@@ -201,6 +201,23 @@ VI_API int vi_orbit_pnm_admissible_stops(const vi_model *m, int n, int mi,
                                          const int *stop, const double *t,
                                          const double *x, const double *v,
                                          int ld, double *gmax, int *ok);
+/** Parameters of vi_orbit_pnm_dparam. */
+enum {
+  VI_ORBIT_PARAM_OMEGA = 0, /**< the forcing frequency Omega */
+  VI_ORBIT_PARAM_XS = 1,    /**< stop k's position x_k */
+  VI_ORBIT_PARAM_R = 2      /**< stop k's restitution r_k */
+};
+/** Exact derivative dF [D] of the conditions of vi_orbit_pnm_residual_stops
+ *  with respect to a parameter (VI_ORBIT_PARAM_*; k the stop for XS and R,
+ *  ignored for OMEGA), at fixed (t_j, x_j, v_j): what pseudo-arclength
+ *  continuation needs beside the Jacobian.  Omega enters through the
+ *  harmonic particular solution (its phasor's derivative in closed form)
+ *  and the orbit period nT.  stop may be NULL.  @return as
+ *  vi_orbit_pnm_residual, VI_ERR_ARG also for an unknown parameter or k. */
+VI_API int vi_orbit_pnm_dparam(const vi_model *m, int n, int mi,
+                               const int *stop, const double *t,
+                               const double *x, const double *v, int ld,
+                               int param, int k, double *dF);
 /** Every P(n, 1) orbit: for each impact phase phi the periodic motion
  *  with one impact at phi per nT solves a linear system (the flow is
  *  affine); its gap w.x - x_s is scanned over nphase (>= 8) phases in

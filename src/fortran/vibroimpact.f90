@@ -93,7 +93,7 @@ module vibroimpact
             vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
             vi_orbit_pnm_residual, vi_orbit_pnm_monodromy, vi_orbit_pnm_solve_stops, &
             vi_orbit_pnm_residual_stops, vi_orbit_pnm_multipliers_stops, &
-            vi_orbit_pnm_admissible_stops
+            vi_orbit_pnm_admissible_stops, vi_orbit_pnm_dparam
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -751,6 +751,16 @@ module vibroimpact
       real(c_double), intent(in) :: t(*), x(*), v(*)
       real(c_double), optional :: gmax
       integer(c_int) :: ok
+    end function
+    !> dF [mi (2 n_coords + 1)]; param VI_ORBIT_PARAM_*, k the stop (0-based)
+    integer(c_int) function vi_orbit_pnm_dparam(model, n, mi, stop, t, x, v, ld, param, k, &
+        dF) bind(C, name="vi_orbit_pnm_dparam")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld, param, k
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: dF(*)
     end function
     !> t [cap]; x, v [ld x cap]; found may exceed cap
     integer(c_int) function vi_orbit_p1_scan(model, n, nphase, t, x, v, ld, cap, found) &
