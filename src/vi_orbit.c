@@ -12,22 +12,34 @@
 #define RING 4096 /* impacts remembered for classification */
 #define MAX_N 8   /* longest orbit period looked for, in forcing periods */
 
+#define MAX_M 8 /* most impacts per period analysed (several stops) */
+
 struct vi_orbit {
   const vi_model *m;
-  int n, method;
+  int n, ns, method;
   double rtol, atol, max_periods, tol, T;
   double *x0, *v0;
   vi_sim *sim;
   /* classification */
   int pn, pm, analysed;
-  /* impact ring: t, then x, v per impact */
+  /* impact ring: t, stop, then x, v per impact */
   int64_t nimp;
   double *rt, *rz;
+  int *rs;
   /* states at the last 3 MAX_N + 1 forcing-period ends (stroboscopic) */
   double *pz;
-  /* P(1,1) results */
-  double t_s, t_imp, vN, KEi, RE, IE, r_rec, closure, gmin;
-  double *zfix, *x_imp, *v_imp, *vp_imp, *FE, *DE, *XE, *reff, *mre, *mim;
+  /* the analysed P(1, m) orbit: section time, its mi impacts in the period
+   * from t_s (time, stop, x, v-, v+ [n x MAX_M], v_n, energy lost) and the
+   * ledger of the interval ending at each (its approach: FE, DE, XE
+   * [n x MAX_M]) */
+  double t_s, KEi, RE, IE, r_rec, closure, gmin;
+  int mi, istop[MAX_M];
+  double it[MAX_M], ivn[MAX_M], iie[MAX_M];
+  double *ix, *iv, *ivp, *aFE, *aDE, *aXE;
+  /* totals over the period [n] and per stop [n x ns], [ns] */
+  double *zfix, *FE, *DE, *XE, *reff, *mre, *mim, *kFE, *kDE, *kXE;
+  double *kKE, *kRE, *kIE, *kr, *kcl;
+  int *kcnt;
   double *scr, *dE; /* scratch: map output [2n], impact jumps [n] */
   double *block;
   int map_impacts;
@@ -44,16 +56,19 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!model) return VI_ERR_ARG;
   if (!model->frozen) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
-  if (model->ns > 1) return VI_ERR_UNSUPPORTED; /* WB 11-13: one stop */
+  if (model->ns < 1) return VI_ERR_STATE; /* nothing to impact */
   vi_orbit *o = calloc(1, sizeof *o);
   if (!o) return VI_ERR_NOMEM;
-  int n = model->n;
-  o->block = calloc(23 * (size_t)n, sizeof(double));
+  int n = model->n, ns = model->ns;
+  size_t nM = (size_t)n * MAX_M, nS = (size_t)n * ns;
+  o->block = calloc(19 * (size_t)n + 6 * nM + 3 * nS + 5 * (size_t)ns, sizeof(double));
   o->rt = malloc(sizeof(double) * RING);
+  o->rs = malloc(sizeof(int) * RING);
+  o->kcnt = calloc((size_t)ns, sizeof(int));
   o->rz = malloc(sizeof(double) * RING * 2 * (size_t)n);
   o->pz = malloc(sizeof(double) * (3 * MAX_N + 1) * 2 * (size_t)n);
-  int st = o->block && o->rt && o->rz && o->pz ? vi_sim_create(model, &o->sim)
-                                               : VI_ERR_NOMEM;
+  int st = o->block && o->rt && o->rs && o->kcnt && o->rz && o->pz
+               ? vi_sim_create(model, &o->sim) : VI_ERR_NOMEM;
   if (st) { /* vi_sim_create's own code, not a blanket NOMEM */
     vi_orbit_destroy(&o);
     return st;
@@ -62,9 +77,6 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->x0 = p; p += n;
   o->v0 = p; p += n;
   o->zfix = p; p += 2 * n;
-  o->x_imp = p; p += n;
-  o->v_imp = p; p += n;
-  o->vp_imp = p; p += n;
   o->FE = p; p += n;
   o->DE = p; p += n;
   o->XE = p; p += n;
@@ -72,7 +84,22 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->mre = p; p += 2 * n;
   o->mim = p; p += 2 * n;
   o->scr = p; p += 2 * n;
-  o->dE = p;
+  o->dE = p; p += n;
+  o->ix = p; p += nM;
+  o->iv = p; p += nM;
+  o->ivp = p; p += nM;
+  o->aFE = p; p += nM;
+  o->aDE = p; p += nM;
+  o->aXE = p; p += nM;
+  o->kFE = p; p += nS;
+  o->kDE = p; p += nS;
+  o->kXE = p; p += nS;
+  o->kKE = p; p += ns;
+  o->kRE = p; p += ns;
+  o->kIE = p; p += ns;
+  o->kr = p; p += ns;
+  o->kcl = p;
+  o->ns = ns;
   o->m = model;
   o->n = n;
   o->method = model->flow_ok ? VI_METHOD_EXACT : VI_METHOD_ADAMS;
@@ -82,6 +109,9 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->tol = 1e-6;
   o->T = 2.0 * M_PI / model->omega_f;
   o->direct = 1;
+  /* the exact method where the simulation offers it for this model */
+  if (o->method == VI_METHOD_EXACT && vi_sim_set_method(o->sim, o->method))
+    o->method = VI_METHOD_ADAMS;
   if (vi_sim_set_method(o->sim, o->method) ||
       vi_sim_set_tolerances(o->sim, o->rtol, o->atol)) {
     vi_orbit_destroy(&o);
@@ -98,6 +128,8 @@ void vi_orbit_destroy(vi_orbit **orbit)
   vi_sim_destroy(&o->sim);
   free(o->block);
   free(o->rt);
+  free(o->rs);
+  free(o->kcnt);
   free(o->rz);
   free(o->pz);
   free(o);
@@ -162,6 +194,7 @@ static int record(const vi_event *ev, void *user)
   if (ev->kind != VI_EVENT_IMPACT) return 0;
   int k = (int)(o->nimp % RING), n = o->n;
   o->rt[k] = ev->t;
+  o->rs[k] = ev->stop;
   memcpy(o->rz + (size_t)k * 2 * n, ev->x, sizeof(double) * n);
   memcpy(o->rz + (size_t)k * 2 * n + n, ev->v_minus, sizeof(double) * n);
   o->nimp++;
@@ -207,6 +240,7 @@ static int repeats(const vi_orbit *o, int64_t kp, int n, int *m)
   for (int64_t k = k0; k + c < k3; k++) {
     size_t a = (size_t)(k % RING), b = (size_t)((k + c) % RING);
     if (fabs(o->rt[b] - o->rt[a] - nT) > o->tol * o->T) return 0;
+    if (o->rs[b] != o->rs[a]) return 0;
     for (int i = 0; i < 2 * o->n; i++)
       if (fabs(o->rz[b * 2 * o->n + i] - o->rz[a * 2 * o->n + i]) > o->tol * scale)
         return 0;
@@ -240,7 +274,7 @@ static int shoot_f(const gsl_vector *z, void *params, gsl_vector *f)
   vi_orbit *o = params;
   int n2 = 2 * o->n;
   double *out = o->scr;
-  if (flow_map(o, z->data, out) || o->map_impacts != 1) return GSL_EDOM;
+  if (flow_map(o, z->data, out) || o->map_impacts != o->pm) return GSL_EDOM;
   for (int i = 0; i < n2; i++) gsl_vector_set(f, i, out[i] - gsl_vector_get(z, i));
   return GSL_SUCCESS;
 }
@@ -265,7 +299,7 @@ static int refine(vi_orbit *o)
   double eps = (o->method == VI_METHOD_EXACT ? 1e-13 : 100.0 * o->rtol) * scale;
   if (gsl_multiroot_fsolver_set(sv, &F, z) != GSL_SUCCESS) {
     status = vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED,
-                     "shooting: the map left P(1,1) at the start");
+                     "shooting: the map left P(1,%d) at the start", o->pm);
     goto done;
   }
   int it, gs = GSL_CONTINUE;
@@ -289,20 +323,50 @@ done:
   return status;
 }
 
-typedef struct bal_ctx { vi_orbit *o; int seen; } bal_ctx;
+typedef struct bal_ctx {
+  vi_orbit *o;
+  int seen, closed, bad; /* impacts, ledger intervals ended by one */
+  double *pFE, *pDE, *pXE; /* work since the last impact [n] */
+} bal_ctx;
 
 static int bal_event(const vi_event *ev, void *user)
 {
   bal_ctx *c = user;
   vi_orbit *o = c->o;
   if (ev->kind != VI_EVENT_IMPACT) return 0;
-  c->seen++;
-  o->t_imp = ev->t;
-  o->vN = ev->vn;
-  o->IE = ev->ie;
-  memcpy(o->x_imp, ev->x, sizeof(double) * o->n);
-  memcpy(o->v_imp, ev->v_minus, sizeof(double) * o->n);
-  memcpy(o->vp_imp, ev->v_plus, sizeof(double) * o->n);
+  int j = c->seen++, n = o->n;
+  if (j >= MAX_M) return 0;
+  if (j > 0 && ev->t == o->it[j - 1]) c->bad = 1; /* simultaneous contacts */
+  o->it[j] = ev->t;
+  o->istop[j] = ev->stop;
+  o->ivn[j] = ev->vn;
+  o->iie[j] = ev->ie;
+  memcpy(o->ix + (size_t)j * n, ev->x, sizeof(double) * n);
+  memcpy(o->iv + (size_t)j * n, ev->v_minus, sizeof(double) * n);
+  memcpy(o->ivp + (size_t)j * n, ev->v_plus, sizeof(double) * n);
+  return 0;
+}
+
+/* the work of each interval goes to the impact that ends it (its
+ * approach); what follows the last impact of the period is the approach of
+ * the first one, one period later */
+static int bal_ledger(const vi_ledger_interval *iv, void *user)
+{
+  bal_ctx *c = user;
+  vi_orbit *o = c->o;
+  int n = o->n;
+  for (int i = 0; i < n; i++) {
+    c->pFE[i] += iv->FE[i];
+    c->pDE[i] += iv->DE[i];
+    c->pXE[i] += iv->XE[i];
+  }
+  if (!iv->dE) return 0;
+  int j = c->closed++;
+  if (j >= MAX_M) return 0;
+  memcpy(o->aFE + (size_t)j * n, c->pFE, sizeof(double) * n);
+  memcpy(o->aDE + (size_t)j * n, c->pDE, sizeof(double) * n);
+  memcpy(o->aXE + (size_t)j * n, c->pXE, sizeof(double) * n);
+  memset(c->pFE, 0, sizeof(double) * 3 * n);
   return 0;
 }
 
@@ -310,47 +374,94 @@ static int bal_sample(double t, int n, const double *x, const double *v, void *u
 {
   (void)t; (void)v;
   vi_orbit *o = u;
-  o->gmin = fmin(o->gmin, vi_dot(n, o->m->w, x) - o->m->xs);
+  double g = -HUGE_VAL; /* the nearest stop */
+  for (int k = 0; k < o->ns; k++)
+    g = fmax(g, vi_dot(n, vi_stop_w(o->m, k), x) - o->m->xsv[k]);
+  o->gmin = fmin(o->gmin, g);
   return 0;
 }
 
-/* One period from the fixed point with the ledger: WB 11-13. */
+/* One period from the fixed point with the ledger: WB 11-13, in total and
+ * per stop. */
 static int balance(vi_orbit *o)
 {
   const vi_model *m = o->m;
-  int n = o->n, st;
-  bal_ctx c = {o, 0};
-  double *dE = o->dE;
+  int n = o->n, ns = o->ns, st;
+  double *pw = calloc(3 * (size_t)n, sizeof(double));
+  if (!pw) return vi_fail(o->errmsg, VI_ERR_NOMEM, "out of memory");
+  bal_ctx c = {o, 0, 0, 0, pw, pw + n, pw + 2 * n};
   o->gmin = HUGE_VAL;
   if ((st = vi_sim_enable_ledger(o->sim, 1)) ||
       (st = vi_sim_set_event_callback(o->sim, bal_event, &c)) ||
+      (st = vi_sim_set_ledger_callback(o->sim, bal_ledger, &c)) ||
       (st = vi_sim_set_initial(o->sim, o->t_s, o->zfix, o->zfix + n)) ||
       (st = vi_sim_set_sampling(o->sim, o->T / 4096, bal_sample, o)) ||
-      (st = vi_sim_run(o->sim, o->t_s + o->T)) ||
-      (st = vi_sim_get_ledger(o->sim, NULL, o->FE, o->DE, o->XE, NULL, dE, NULL)))
+      (st = vi_sim_run(o->sim, o->t_s + o->T)))
     vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "balance run: %s",
             vi_sim_errmsg(o->sim));
   /* whatever happened, the sim keeps no pointer to this frame's context
    * and no ledger or sampling it did not have before */
   vi_sim_set_event_callback(o->sim, NULL, NULL);
+  vi_sim_set_ledger_callback(o->sim, NULL, NULL);
   vi_sim_set_sampling(o->sim, 0.0, NULL, NULL);
   vi_sim_enable_ledger(o->sim, 0);
+  if (!st && c.closed >= 1 && c.closed <= MAX_M)
+    for (int i = 0; i < n; i++) { /* the tail: the first impact's approach */
+      o->aFE[i] += pw[i];
+      o->aDE[i] += pw[n + i];
+      o->aXE[i] += pw[2 * n + i];
+    }
+  free(pw);
   if (st) return st < 0 ? st : VI_ERR_STATE;
-  if (c.seen != 1)
+  if (c.seen != o->pm || c.closed != o->pm || c.bad)
     return vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED,
-                   "balance run: %d impacts in the period of a P(1,1) orbit",
-                   c.seen);
-  o->RE = 0.0;
-  for (int j = 0; j < n; j++) o->RE += o->FE[j] - o->DE[j] - o->XE[j];
-  o->KEi = 0.5 * o->vN * o->vN / m->wMw;                  /* WB 12 */
-  double x = 1.0 - o->RE / o->KEi;
-  o->r_rec = x >= 0.0 ? sqrt(x) : NAN;                    /* WB 13 */
-  o->closure = fabs(o->RE - o->IE) / o->KEi;              /* WB 11 */
-  for (int j = 0; j < n; j++) {
+                   "balance run: %d impacts in the period of a P(1,%d) orbit%s",
+                   c.seen, o->pm, c.bad ? " (simultaneous contacts)" : "");
+  o->mi = o->pm;
+  /* totals over the period (WB 11) and per stop (the approaches to its
+   * impacts): RE_k = sum of the approach work, KE_k = sum 1/2 v_n^2 / G_kk
+   * (WB 12), r_k = sqrt(1 - RE_k / KE_k) (WB 13); the stops' RE_k - IE_k
+   * are the energy the motion carries from one stop to the next and sum to
+   * zero: one stop, or a symmetric orbit, closes each */
+  memset(o->FE, 0, sizeof(double) * 3 * (size_t)n); /* FE, DE, XE */
+  memset(o->kFE, 0, sizeof(double) * 3 * (size_t)n * ns);
+  memset(o->kKE, 0, sizeof(double) * 3 * (size_t)ns); /* kKE, kRE, kIE */
+  memset(o->kcnt, 0, sizeof(int) * (size_t)ns);
+  o->RE = o->IE = o->KEi = 0.0;
+  for (int j = 0; j < o->mi; j++) {
+    int k = o->istop[j];
+    double G = m->G[k + (size_t)k * ns], ke = 0.5 * o->ivn[j] * o->ivn[j] / G;
+    o->kcnt[k]++;
+    o->kKE[k] += ke;
+    o->kIE[k] += o->iie[j];
+    o->KEi += ke;
+    o->IE += o->iie[j];
+    for (int i = 0; i < n; i++) {
+      size_t a = (size_t)j * n + i, b = (size_t)k * n + i;
+      o->FE[i] += o->aFE[a];
+      o->DE[i] += o->aDE[a];
+      o->XE[i] += o->aXE[a];
+      o->kFE[b] += o->aFE[a];
+      o->kDE[b] += o->aDE[a];
+      o->kXE[b] += o->aXE[a];
+      double w = o->aFE[a] - o->aDE[a] - o->aXE[a];
+      o->kRE[k] += w;
+      o->RE += w;
+    }
+  }
+  for (int k = 0; k < ns; k++) {
+    double x = o->kKE[k] > 0.0 ? 1.0 - o->kRE[k] / o->kKE[k] : NAN;
+    o->kr[k] = x >= 0.0 ? sqrt(x) : NAN;
+    o->kcl[k] = o->kKE[k] > 0.0 ? fabs(o->kRE[k] - o->kIE[k]) / o->kKE[k] : NAN;
+  }
+  double x = 1.0 - o->RE / o->KEi;                      /* WB 12, 13 */
+  o->r_rec = x >= 0.0 ? sqrt(x) : NAN;
+  o->closure = fabs(o->RE - o->IE) / o->KEi;             /* WB 11 */
+  for (int j = 0; j < n; j++) { /* r_eff of the first impact */
     double qm = 0.0, qp = 0.0;
     for (int i = 0; i < n; i++) {
-      qm += m->PsiTM[j + (size_t)i * n] * o->v_imp[i];
-      qp += m->PsiTM[j + (size_t)i * n] * o->vp_imp[i];
+      qm += m->PsiTM[j + (size_t)i * n] * o->iv[i];
+      qp += m->PsiTM[j + (size_t)i * n] * o->ivp[i];
     }
     o->reff[j] = qm != 0.0 ? -qp / qm : NAN;
   }
@@ -445,10 +556,13 @@ int vi_orbit_find(vi_orbit *o)
   }
   o->tn = o->pn;
   o->tm = o->pm;
-  if (o->pn != 1 || o->pm != 1) {
+  /* analysed: P(1,1), and P(1, m) of a model with several stops (the
+   * impacts alternate between them) */
+  int several = o->pn == 1 && o->pm > 1 && o->pm <= MAX_M && o->ns > 1;
+  if ((o->pn != 1 || o->pm != 1) && !several) {
     /* the transient went elsewhere; a stable P(1,1) orbit may still
      * exist (another attractor): look for it directly */
-    if (!o->direct || !o->m->flow_ok) return VI_OK;
+    if (!o->direct || !o->m->flow_ok || o->ns > 1) return VI_OK;
     int got = direct_p11(o);
     if (got < 0)
       return vi_fail(o->errmsg, got, "direct P(1,1) search: %s",
@@ -459,10 +573,20 @@ int vi_orbit_find(vi_orbit *o)
     if ((st = vi_sim_set_event_callback(o->sim, count_map, o)))
       return vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim));
   } else {
-    /* P(1,1): section half a period after the last impact, away from it */
+    /* the section: mid-way in the longest impact-free stretch of the last
+     * period, away from every impact */
     vi_sim_get_state(o->sim, &t, NULL, NULL);
-    double ti = o->rt[(o->nimp - 1) % RING];
-    o->t_s = ti + 0.5 * o->T;
+    double best = -1.0, ti = 0.0;
+    for (int j = 0; j < o->pm; j++) {
+      double a = o->rt[(o->nimp - 1 - j) % RING];
+      double b = j == 0 ? o->rt[(o->nimp - o->pm) % RING] + o->T
+                        : o->rt[(o->nimp - j) % RING];
+      if (b - a > best) {
+        best = b - a;
+        ti = a + 0.5 * (b - a);
+      }
+    }
+    o->t_s = ti;
     while (o->t_s <= t) o->t_s += o->T;
     if ((st = vi_sim_set_event_callback(o->sim, count_map, o)) ||
         (st = vi_sim_run(o->sim, o->t_s)))
@@ -472,10 +596,10 @@ int vi_orbit_find(vi_orbit *o)
   }
   if ((st = refine(o)) || (st = balance(o))) return st;
   /* multipliers from exact derivatives (closed-form state-transition and
-   * saltation matrices, vi_orbit_pnm.c) at the impact of the refined orbit,
-   * whichever method integrated it */
-  st = vi_orbit_pnm_multipliers(o->m, 1, 1, &o->t_imp, o->x_imp, o->v_imp, n,
-                                o->mre, o->mim);
+   * saltation matrices, vi_orbit_pnm.c) at the impacts of the refined
+   * orbit, whichever method integrated it */
+  st = vi_orbit_pnm_multipliers_stops(o->m, 1, o->mi, o->istop, o->it, o->ix,
+                                      o->iv, n, o->mre, o->mim);
   if (st) return vi_fail(o->errmsg, st, "multipliers: %s", vi_strerror(st));
   o->analysed = 1;
   return VI_OK;
@@ -490,8 +614,11 @@ int vi_orbit_classify(const vi_orbit *o, int *n, int *m)
   return VI_OK;
 }
 
-#define NEED_P11(o) \
+/* the P(1,1) getters: one impact per period; the rest: any analysed orbit */
+#define NEED_ORBIT(o) \
   do { if (!(o)) return VI_ERR_ARG; if (!(o)->analysed) return VI_ERR_STATE; } while (0)
+#define NEED_P11(o) \
+  do { NEED_ORBIT(o); if ((o)->mi != 1) return VI_ERR_STATE; } while (0)
 
 int vi_orbit_balance(const vi_orbit *o, double *period, double *phase,
                      double *vN, double *KE_i, double *RE, double *IE,
@@ -499,8 +626,8 @@ int vi_orbit_balance(const vi_orbit *o, double *period, double *phase,
 {
   NEED_P11(o);
   if (period) *period = o->T;
-  if (phase) *phase = fmod(o->t_imp, o->T);
-  if (vN) *vN = o->vN;
+  if (phase) *phase = fmod(o->it[0], o->T);
+  if (vN) *vN = o->ivn[0];
   if (KE_i) *KE_i = o->KEi;
   if (RE) *RE = o->RE;
   if (IE) *IE = o->IE;
@@ -524,15 +651,58 @@ int vi_orbit_modal_balance(const vi_orbit *o, double *FE, double *DE,
 int vi_orbit_impact_state(const vi_orbit *o, double *t, double *x, double *v)
 {
   NEED_P11(o);
-  if (t) *t = o->t_imp;
-  if (x) memcpy(x, o->x_imp, sizeof(double) * o->n);
-  if (v) memcpy(v, o->v_imp, sizeof(double) * o->n);
+  if (t) *t = o->it[0];
+  if (x) memcpy(x, o->ix, sizeof(double) * o->n);
+  if (v) memcpy(v, o->iv, sizeof(double) * o->n);
+  return VI_OK;
+}
+
+int vi_orbit_impacts(const vi_orbit *o, int *count, double *t, int *stop,
+                     double *vn, double *x, double *v, int ld)
+{
+  NEED_ORBIT(o);
+  if ((x || v) && ld < o->n) return VI_ERR_ARG;
+  if (count) *count = o->mi;
+  for (int j = 0; j < o->mi; j++) {
+    if (t) t[j] = o->it[j];
+    if (stop) stop[j] = o->istop[j];
+    if (vn) vn[j] = o->ivn[j];
+    if (x) memcpy(x + (size_t)j * ld, o->ix + (size_t)j * o->n, sizeof(double) * o->n);
+    if (v) memcpy(v + (size_t)j * ld, o->iv + (size_t)j * o->n, sizeof(double) * o->n);
+  }
+  return VI_OK;
+}
+
+int vi_orbit_stop_balance(const vi_orbit *o, int k, int *count, double *KE_i,
+                          double *RE, double *IE, double *r_rec,
+                          double *closure)
+{
+  NEED_ORBIT(o);
+  if (k < 0 || k >= o->ns) return VI_ERR_ARG;
+  if (count) *count = o->kcnt[k];
+  if (KE_i) *KE_i = o->kKE[k];
+  if (RE) *RE = o->kRE[k];
+  if (IE) *IE = o->kIE[k];
+  if (r_rec) *r_rec = o->kr[k];
+  if (closure) *closure = o->kcl[k];
+  return VI_OK;
+}
+
+int vi_orbit_stop_modal_balance(const vi_orbit *o, int k, double *FE,
+                                double *DE, double *XE)
+{
+  NEED_ORBIT(o);
+  if (k < 0 || k >= o->ns) return VI_ERR_ARG;
+  size_t b = sizeof(double) * o->n, off = (size_t)k * o->n;
+  if (FE) memcpy(FE, o->kFE + off, b);
+  if (DE) memcpy(DE, o->kDE + off, b);
+  if (XE) memcpy(XE, o->kXE + off, b);
   return VI_OK;
 }
 
 int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im)
 {
-  NEED_P11(o);
+  NEED_ORBIT(o);
   if (re) memcpy(re, o->mre, sizeof(double) * 2 * o->n);
   if (im) memcpy(im, o->mim, sizeof(double) * 2 * o->n);
   return VI_OK;
@@ -540,7 +710,7 @@ int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im)
 
 int vi_orbit_min_gap(const vi_orbit *o, double *gmin)
 {
-  NEED_P11(o);
+  NEED_ORBIT(o);
   if (gmin) *gmin = o->gmin;
   return VI_OK;
 }
@@ -552,15 +722,16 @@ int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes, int k,
   if (!modes || !r_S || k < 1 || k > o->n) return VI_ERR_ARG;
   const vi_model *m = o->m;
   int n = o->n;
+  const double *psi = vi_stop_psi(m, o->istop[0]);
   double pq = 0.0, pp = 0.0, re = 0.0;
   *r_S = NAN;
   for (int a = 0; a < k; a++) {
     int j = modes[a];
     if (j < 0 || j >= n) return VI_ERR_ARG; /* a getter: o stays const */
     double qd = 0.0;
-    for (int i = 0; i < n; i++) qd += m->PsiTM[j + (size_t)i * n] * o->v_imp[i];
-    pq += m->psi[j] * qd;
-    pp += m->psi[j] * m->psi[j];
+    for (int i = 0; i < n; i++) qd += m->PsiTM[j + (size_t)i * n] * o->iv[i];
+    pq += psi[j] * qd;
+    pp += psi[j] * psi[j];
     re += o->FE[j] - o->DE[j] - o->XE[j];
   }
   double ke = 0.5 * pq * pq / pp; /* KE_S */

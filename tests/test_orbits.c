@@ -482,6 +482,146 @@ static void dparam_exact(void **state)
   vi_model_destroy(&m);
 }
 
+/* x'' + c x' + x = a cos(Omega t) between two stops x <= d and -x <= d. */
+static vi_model *clearance_sdof(double c, double a, double Om, double d,
+                                double r0, double r1)
+{
+  const double M = 1, K = 1, b = 0, f0 = 0, w0 = 1, w1 = -1;
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(1, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, &M, 1), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, &K, 1), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, &c, 1), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, Om, &a, &b, &f0), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, &w0, d, r0), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, &w1, d, r1), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  return m;
+}
+
+/* The test's own closed-form flow of x'' + c x' + x = a cos(Omega t)
+ * (underdamped), from (x0, v0) at t0 to t1. */
+static void sdof_flow(double c, double a, double Om, double t0, double x0,
+                      double v0, double t1, double *x1, double *v1)
+{
+  double h = c / 2, mu = sqrt(1 - h * h), den = (1 - Om * Om) * (1 - Om * Om) + c * c * Om * Om;
+  double P = a * (1 - Om * Om) / den, Q = a * c * Om / den; /* xp = P cos + Q sin */
+  double xp0 = P * cos(Om * t0) + Q * sin(Om * t0), vp0 = Om * (Q * cos(Om * t0) - P * sin(Om * t0));
+  double u = x0 - xp0, ud = v0 - vp0, tau = t1 - t0, e = exp(-h * tau);
+  double cs = cos(mu * tau), sn = sin(mu * tau);
+  double uu = e * (u * cs + (ud + h * u) * sn / mu);
+  double uud = e * (ud * cs - (h * ud + u) * sn / mu);
+  *x1 = P * cos(Om * t1) + Q * sin(Om * t1) + uu;
+  *v1 = Om * (Q * cos(Om * t1) - P * sin(Om * t1)) + uud;
+}
+
+/* Issue 13: orbits with several stops.  A symmetric two-sided clearance
+ * (SDOF, stops at +-0.3, r = 0.8 on both) settles on a symmetric P(1,2)
+ * orbit: one impact on each stop, half a period apart, equal approach
+ * speeds, mirrored states.  It is checked against the test's own closed
+ * form: from the impact on stop 0 the free flow over T/2 lands on the
+ * mirror image (-d, -V) (the forcing changes sign over T/2).  The energy
+ * balance closes per stop (WB 11 for each: by symmetry the approach work
+ * to each stop equals what it takes) and r_rec = r per stop (WB 13);
+ * det of the monodromy = r^4 e^{-cT}.  Newton over the impact sequence
+ * (vi_orbit_pnm_solve_stops) from a rough seed finds the same orbit to
+ * round-off.  With unequal restitutions (0.8, 0.6) the orbit is not
+ * symmetric: each stop's RE - IE is the energy carried between the stops,
+ * and they sum to zero. */
+static void two_sided_clearance(void **state)
+{
+  (void)state;
+  const double c = 0.1, a = 0.5, Om = 0.9, d = 0.3, r = 0.8, T = 2 * M_PI / Om;
+  vi_model *m = clearance_sdof(c, a, Om, d, r, r);
+  vi_orbit *o = NULL;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  int pn, pm, cnt, sp[8];
+  assert_int_equal(vi_orbit_classify(o, &pn, &pm), VI_OK);
+  assert_int_equal(pn, 1);
+  assert_int_equal(pm, 2);
+  double t[8], vn[8], x[8], v[8];
+  assert_int_equal(vi_orbit_impacts(o, &cnt, t, sp, vn, x, v, 1), VI_OK);
+  assert_int_equal(cnt, 2);
+  assert_int_equal(sp[0] + sp[1], 1); /* one on each stop */
+  /* the integrator (CVODE: several stops) delivers ~1e-10 */
+  assert_close(t[1] - t[0], T / 2, 1e-8);
+  assert_close(vn[0], vn[1], 1e-8);
+  assert_close(x[0], -x[1], 1e-9);
+  int k0 = sp[0] == 0 ? 0 : 1; /* the impact on stop 0: x = d, v = V */
+  double V = vn[k0], x1, v1;
+  sdof_flow(c, a, Om, t[k0], d, -r * V, t[k0] + T / 2, &x1, &v1);
+  print_message("symmetric P(1,2): V = %.12f, half-period image (%.3g, %.3g) off "
+                "the mirror\n", V, x1 + d, v1 + V);
+  assert_close(x1, -d, 1e-8);
+  assert_close(v1, -V, 1e-8);
+  for (int k = 0; k < 2; k++) {
+    int n1;
+    double KE, RE, IE, rr, cl;
+    assert_int_equal(vi_orbit_stop_balance(o, k, &n1, &KE, &RE, &IE, &rr, &cl), VI_OK);
+    print_message("stop %d: RE %.12f IE %.12f r_rec %.12f closure %.2e\n", k, RE, IE, rr, cl);
+    assert_int_equal(n1, 1);
+    assert_close(KE, 0.5 * V * V, 1e-8);
+    assert_close(IE, 0.5 * V * V * (1 - r * r), 1e-8);
+    assert_true(cl < 1e-8);
+    assert_close(rr, r, 1e-8);
+  }
+  assert_int_equal(vi_orbit_stop_balance(o, 2, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_orbit_balance(o, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL),
+                   VI_ERR_STATE); /* the P(1,1) getters */
+  double re[2], im[2];
+  assert_int_equal(vi_orbit_multipliers(o, re, im), VI_OK);
+  double det = hypot(re[0], im[0]) * hypot(re[1], im[1]);
+  assert_close(det, pow(r, 4) * exp(-c * T), 1e-12);
+  /* Newton over the impact sequence, closed-form flow, from a rough seed */
+  double ts[2] = {t[0] + 0.05, t[1] - 0.03}, xs_[2] = {x[0], x[1]},
+         vs[2] = {v[0] * 1.1, v[1] * 0.9}, re2[2], im2[2], gmax;
+  int ok, it;
+  assert_int_equal(vi_orbit_pnm_solve_stops(m, 1, 2, sp, ts, xs_, vs, 1, 0.0, &it), VI_OK);
+  print_message("Newton over the impact sequence: %d iterations, |t - t_orbit| %.2e, "
+                "|vn - V| %.2e\n", it, fabs(ts[0] - t[0]), fabs(sp[0] ? -vs[0] - V : vs[0] - V));
+  assert_close(ts[1] - ts[0], T / 2, 1e-12);
+  assert_close(vs[0], -vs[1], 1e-12);
+  assert_close(ts[0], t[0], 1e-8);
+  assert_int_equal(vi_orbit_pnm_admissible_stops(m, 1, 2, sp, ts, xs_, vs, 1, &gmax, &ok), VI_OK);
+  assert_int_equal(ok, 1);
+  assert_int_equal(vi_orbit_pnm_multipliers_stops(m, 1, 2, sp, ts, xs_, vs, 1, re2, im2), VI_OK);
+  for (int i = 0; i < 2; i++) /* a conjugate pair: compare the set */
+    assert_close(hypot(re2[i], im2[i]), hypot(re[i], im[i]), 1e-7);
+  assert_close(fmax(re2[0], re2[1]), fmax(re[0], re[1]), 1e-7);
+  /* the wrong stop sequence is refused (no approach) or not admissible */
+  int bad[2] = {sp[0], sp[0]};
+  assert_int_equal(vi_orbit_pnm_admissible_stops(m, 1, 2, bad, ts, xs_, vs, 1, NULL, &ok), VI_OK);
+  assert_int_equal(ok, 0);
+  bad[0] = 2;
+  assert_int_equal(vi_orbit_pnm_solve_stops(m, 1, 2, bad, ts, xs_, vs, 1, 0.0, NULL), VI_ERR_ARG);
+  vi_orbit_destroy(&o);
+  vi_model_destroy(&m);
+
+  /* unequal restitutions: per-stop balances shift, their sum closes */
+  m = clearance_sdof(c, a, Om, d, 0.8, 0.6);
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  assert_int_equal(vi_orbit_classify(o, &pn, &pm), VI_OK);
+  assert_int_equal(pm, 2);
+  double sum = 0, kes = 0, shift = 0;
+  for (int k = 0; k < 2; k++) {
+    double KE, RE, IE, FE, DE, XE;
+    assert_int_equal(vi_orbit_stop_balance(o, k, NULL, &KE, &RE, &IE, NULL, NULL), VI_OK);
+    assert_int_equal(vi_orbit_stop_modal_balance(o, k, &FE, &DE, &XE), VI_OK);
+    assert_close(FE - DE - XE, RE, 1e-14);
+    sum += RE - IE;
+    kes += KE;
+    shift = fmax(shift, fabs(RE - IE) / KE);
+  }
+  print_message("r = (0.8, 0.6): per-stop |RE - IE| / KE up to %.3f, their sum %.2e\n",
+                shift, sum / kes);
+  assert_true(shift > 0.1);
+  assert_true(fabs(sum) < 1e-8 * kes);
+  vi_orbit_destroy(&o);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -495,6 +635,7 @@ int main(void)
       cmocka_unit_test(sdof_floquet_closed_form),
       cmocka_unit_test(nonprop_floquet),
       cmocka_unit_test(dparam_exact),
+      cmocka_unit_test(two_sided_clearance),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

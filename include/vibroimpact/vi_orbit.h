@@ -10,7 +10,12 @@
  *   IE = 1/2 v_N^2 (1 - r^2) / psi.psi = sum_j (FE_j - DE_j - XE_j) = RE (WB 11)
  *   r  = sqrt(1 - RE / KE_i),  KE_i = 1/2 v_N^2 / psi.psi            (WB 12, 13)
  * and the restitution r_S a reduced model keeping only the modes in S needs
- * to reproduce the orbit. */
+ * to reproduce the orbit.
+ *
+ * Several stops: a P(1, m) orbit whose impacts go to several stops (a
+ * two-sided clearance: m = 2, one impact on each) is analysed too, with the
+ * balance per stop (vi_orbit_stop_balance): the work fed in on the
+ * approach to each of its impacts against the energy they take. */
 #ifndef VI_ORBIT_H
 #define VI_ORBIT_H
 
@@ -25,11 +30,10 @@ extern "C" {
 /** Opaque periodic-orbit analysis handle. */
 typedef struct vi_orbit vi_orbit;
 
-/** Create an orbit analysis of a set-up model with harmonic forcing (the
- *  model is borrowed and must outlive the orbit).  @return VI_OK, VI_ERR_ARG,
- *  VI_ERR_STATE (model not set up), VI_ERR_FREQUENCY (Omega = 0),
- *  VI_ERR_UNSUPPORTED (a model with several stops: the balance of WB 11-13
- *  is that of one stop), VI_ERR_NOMEM. */
+/** Create an orbit analysis of a set-up model with harmonic forcing and at
+ *  least one stop (the model is borrowed and must outlive the orbit).
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (model not set up, or no stop),
+ *  VI_ERR_FREQUENCY (Omega = 0), VI_ERR_NOMEM. */
 VI_API int vi_orbit_create(const vi_model *model, vi_orbit **out);
 /** Destroy and set *orbit to NULL; NULL-safe. */
 VI_API void vi_orbit_destroy(vi_orbit **orbit);
@@ -67,9 +71,11 @@ VI_API int vi_orbit_set_direct_search(vi_orbit *o, int on);
  *  pointer may be NULL. */
 VI_API int vi_orbit_search_info(const vi_orbit *o, int *tn, int *tm,
                                 int *by_scan);
-/** Run, classify, and for P(1,1) refine and analyse.  VI_OK whatever the
- * motion turns out to be: ask vi_orbit_classify.  VI_STOPPED if the monitor
- * asked to stop; a negative code means the computation itself failed. */
+/** Run, classify, and for P(1,1) (and, with several stops, P(1, m), m <= 8)
+ * refine and analyse.  VI_OK whatever the motion turns out to be: ask
+ * vi_orbit_classify.  VI_STOPPED if the monitor asked to stop; a negative
+ * code means the computation itself failed.  The direct search is for
+ * models with one stop. */
 VI_API int vi_orbit_find(vi_orbit *o);
 /** *n periods of forcing, *m impacts per orbit period; n = 0 when no period
  * up to 8 was found within the transient (m is then the mean number of
@@ -78,7 +84,7 @@ VI_API int vi_orbit_find(vi_orbit *o);
  * missed (vi_orbit_search_info tells the two apart). */
 VI_API int vi_orbit_classify(const vi_orbit *o, int *n, int *m);
 
-/* ---- P(1,1) results: VI_ERR_STATE unless the orbit is P(1,1) ---------- */
+/* ---- P(1,1) results: VI_ERR_STATE unless the analysed orbit is P(1,1) - */
 /** period = 2 pi / Omega; phase = impact time modulo the period (time
  * units); vN = approach velocity w.x'(t-); KE_i, RE, IE as in WB 11-13;
  * r_rec from WB 12; closure = |RE - IE| / KE_i.  Any pointer may be NULL. */
@@ -92,14 +98,40 @@ VI_API int vi_orbit_modal_balance(const vi_orbit *o, double *FE, double *DE,
 /** The state just before the impact: t, x [n], v [n] (any may be NULL). */
 VI_API int vi_orbit_impact_state(const vi_orbit *o, double *t, double *x,
                                  double *v);
+/* ---- any analysed orbit (VI_ERR_STATE if none) ---------------------------- */
+/** The analysed orbit's impacts in one period from the section: *count (at
+ *  most 8), and per impact j the time t [count], the stop hit stop [count],
+ *  the approach velocity vn [count], the state just before, x and v
+ *  [n x count] with leading dimension ld.  Any pointer may be NULL.
+ *  @return VI_OK, VI_ERR_ARG (ld < n with x or v), VI_ERR_STATE. */
+VI_API int vi_orbit_impacts(const vi_orbit *o, int *count, double *t,
+                            int *stop, double *vn, double *x, double *v,
+                            int ld);
+/** WB 11-13 for stop k's impacts (0-based): *count impacts per period,
+ *  KE_i = sum 1/2 v_n^2 / (w_k^T M^-1 w_k), IE the energy they take (WB 10),
+ *  RE the residual work sum_j (FE_j - DE_j - XE_j) fed in on the approach
+ *  to each of them (from the impact before), r_rec = sqrt(1 - RE / KE_i)
+ *  (WB 13), closure = |RE - IE| / KE_i.  The stops' RE - IE are the energy
+ *  the motion carries from one stop to the next: they sum to zero, and each
+ *  vanishes for one stop or a symmetric orbit.  NaN for a stop with no
+ *  impact.  Any pointer may be NULL.  @return VI_OK, VI_ERR_ARG (k out of
+ *  range), VI_ERR_STATE. */
+VI_API int vi_orbit_stop_balance(const vi_orbit *o, int k, int *count,
+                                 double *KE_i, double *RE, double *IE,
+                                 double *r_rec, double *closure);
+/** Per mode [n], the approach work to stop k's impacts: FE, DE, XE (their
+ *  sums over the stops are vi_orbit_modal_balance's).  Any pointer may be
+ *  NULL.  @return as vi_orbit_stop_balance. */
+VI_API int vi_orbit_stop_modal_balance(const vi_orbit *o, int k, double *FE,
+                                       double *DE, double *XE);
 /** Floquet multipliers of the stroboscopic map, re and im [2n]: from the
  *  monodromy matrix of exact derivatives (vi_orbit_pnm_multipliers) at the
  *  refined orbit's impact.  With the exact method the orbit is exact to
  *  round-off; with CVODE the derivatives are still exact but the orbit
  *  carries the integration tolerance. */
 VI_API int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im);
-/** Smallest value of the gap w.x - x_s over the period (the deepest
- * excursion from the stop, <= 0). */
+/** Smallest value over the period of the gap to the nearest stop,
+ * max_k (w_k.x - x_k) (the deepest excursion from the stops, <= 0). */
 VI_API int vi_orbit_min_gap(const vi_orbit *o, double *gmin);
 /** Equivalent restitution of a reduced model keeping the modes modes[0..k)
  * (0-based, ascending omega): r_S = sqrt(1 - RE_S / KE_S) with

@@ -93,7 +93,8 @@ module vibroimpact
             vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
             vi_orbit_pnm_residual, vi_orbit_pnm_monodromy, vi_orbit_pnm_solve_stops, &
             vi_orbit_pnm_residual_stops, vi_orbit_pnm_multipliers_stops, &
-            vi_orbit_pnm_admissible_stops, vi_orbit_pnm_dparam
+            vi_orbit_pnm_admissible_stops, vi_orbit_pnm_dparam, vi_orbit_impacts, &
+            vi_orbit_stop_balance, vi_orbit_stop_modal_balance
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -650,6 +651,33 @@ module vibroimpact
       integer(c_int), intent(in) :: modes(*)
       integer(c_int), value :: k
       real(c_double) :: r_S
+    end function
+    !> the analysed orbit's impacts: t, stop, vn [count]; x, v [ld x count]
+    integer(c_int) function vi_orbit_impacts(orbit, count, t, stop, vn, x, v, ld) &
+        bind(C, name="vi_orbit_impacts")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), optional :: count
+      real(c_double), optional :: t(*), vn(*), x(*), v(*)
+      integer(c_int), optional :: stop(*)
+      integer(c_int), value :: ld
+    end function
+    !> WB 11-13 for stop k (0-based)
+    integer(c_int) function vi_orbit_stop_balance(orbit, k, count, KE_i, RE, IE, r_rec, &
+        closure) bind(C, name="vi_orbit_stop_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: k
+      integer(c_int), optional :: count
+      real(c_double), optional :: KE_i, RE, IE, r_rec, closure
+    end function
+    !> FE, DE, XE [n] of stop k's approaches
+    integer(c_int) function vi_orbit_stop_modal_balance(orbit, k, FE, DE, XE) &
+        bind(C, name="vi_orbit_stop_modal_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: k
+      real(c_double), optional :: FE(*), DE(*), XE(*)
     end function
     ! ---- P(n, m) orbits found directly (vi_orbit_pnm.c) --------------------
     integer(c_int) function vi_orbit_set_direct_search(orbit, on) &
