@@ -89,7 +89,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over && !s->nforces && s->ns == 1;
+         s->m->flow_ok && !s->handed_over && !s->nforces;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -109,8 +109,6 @@ static void note_method(vi_sim *s)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
              s->nforces     ? "nonlinear forces have no closed form"
-             : s->ns > 1     ? "the closed form handles one stop, the model "
-                               "has several"
              : s->m->flow_ok ? "closed-form flow available"
                              : s->m->flow_why);
   else
@@ -172,7 +170,7 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && !s->m->flow_ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->m->flow_why);
-  if ((method == VI_METHOD_EXACT || method == VI_METHOD_ERK) && s->ns > 1)
+  if (method == VI_METHOD_ERK && s->ns > 1)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "%s method unavailable: "
                    "the model has %d stops and its contact search handles "
                    "one (use adams or bdf)", method_names[method], s->ns);
