@@ -383,6 +383,13 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
     if (gb < 0.0) return 0;
     return ex_polish(d, l, a, w, wd, ca, sa, ga, gda, gb, gdb, gdlo, tc);
   }
+  if (gdlo > 0.0 && a > d->t0) {
+    /* increasing from g(a) >= 0, below the round-off that the pieces
+     * before it found: the crossing is at a (a grid point on the root),
+     * not at the end of the first leaf of a bisection */
+    *tc = a;
+    return 1;
+  }
   if (l >= d->lmax) { /* at round-off in t: the sign decides */
     /* next to a start on the stop, only beyond g's round-off: a tangential
      * departure (a release) must not read as a new contact */
