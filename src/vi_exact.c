@@ -61,6 +61,7 @@ typedef struct ex_data {
   int ns, hit;                      /* stops; the stop of tstar */
   ex_stop *st, *cs;                 /* the stops [ns]; the one searched */
   int cur;                          /* its index: cs = st + cur */
+  const double *pA, *pB;            /* harmonic particular solution [n] */
   double *lam, *dmp, *F0, *psi;     /* of the active modes [na]; psi: stop
                                        0's, then the others' [ns na] */
   double Om, h0, hq;                /* forcing, grid and quadrature steps */
@@ -217,13 +218,12 @@ static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
 /* Every mode's q, q' at t. */
 static void ex_modes_at(ex_data *d, double t, double *q, double *qd)
 {
-  const vi_model *m = d->s->m;
   double c = cos(d->Om * t), sn = sin(d->Om * t);
   for (int j = 0; j < d->n; j++) {
     double w, wd;
     ex_mode(d, j, t, &w, &wd);
-    q[j] = w + m->pA[j] * c + m->pB[j] * sn;
-    qd[j] = wd + d->Om * (m->pB[j] * c - m->pA[j] * sn);
+    q[j] = w + d->pA[j] * c + d->pB[j] * sn;
+    qd[j] = wd + d->Om * (d->pB[j] * c - d->pA[j] * sn);
   }
   d->evals++;
 }
@@ -469,6 +469,8 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->na = na;
   d->ns = ns;
   d->cs = d->st;
+  d->pA = s->flow->pA;
+  d->pB = s->flow->pB;
   d->Om = m->omega_f;
   double top = 0.0, all = d->Om;
   int harm = 0;
@@ -488,8 +490,8 @@ static int ex_alloc(vi_sim *s, ex_data **out)
       ex_stop *e = d->st + k;
       double pk = vi_stop_psi(m, k)[j];
       d->psi[(size_t)k * na + i] = pk;
-      e->GA += pk * m->pA[j];
-      e->GB += pk * m->pB[j];
+      e->GA += pk * d->pA[j];
+      e->GB += pk * d->pB[j];
     }
     top = fmax(top, rate);
     i++;
@@ -598,14 +600,14 @@ static int ex_start(vi_sim *s)
   double worst = 0.0;
   int jw = -1;
   for (int j = 0; j < n; j++) {
-    double H = m->pA[j] * c + m->pB[j] * sn;
-    double Hd = Om * (m->pB[j] * c - m->pA[j] * sn);
+    double H = d->pA[j] * c + d->pB[j] * sn;
+    double Hd = Om * (d->pB[j] * c - d->pA[j] * sn);
     d->w0[j] = d->q[j] - H;
     d->wd0[j] = d->qd[j] - Hd;
     double lam = m->lambda[j], dm = m->D[j + (size_t)j * n];
     double amp = fmax(lam, Om * Om) / hypot(lam - Om * Om, dm * Om);
     for (int k = 0; k < d->ns && amp > 1e6; k++) {
-      double hs = fabs(vi_stop_psi(m, k)[j]) * hypot(m->pA[j], m->pB[j]);
+      double hs = fabs(vi_stop_psi(m, k)[j]) * hypot(d->pA[j], d->pB[j]);
       if (4.0 * DBL_EPSILON * hs > s->atol * s->wnorms[k] && hs > worst) {
         worst = hs;
         jw = j;

@@ -61,7 +61,7 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
   for (int j = 0; j < n; j++) {
     if (!full && m->psi[j] == 0.0) continue;
     double qp, qpd, u, ud;
-    vi_flow_particular(m, j, c, sn, tau, &qp, &qpd);
+    vi_flow_particular(m, d->s->flow, j, c, sn, tau, &qp, &qpd);
     vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], d->u0[j],
                         d->v0[j], tau, &u, &ud);
     d->q[j] = qp + u;
@@ -180,7 +180,7 @@ static int ex_start(vi_sim *s)
   if (!d) {
     d = calloc(1, sizeof *d);
     if (d) d->u0 = malloc(sizeof(double) * (10 * (size_t)n + 4 * (size_t)m->ns));
-    if (d && !m->proportional) d->gf = vi_gflow_create(m);
+    if (d && !m->proportional) d->gf = vi_gflow_create(s->flow->gen);
     if (!d || !d->u0 || (!m->proportional && !d->gf)) {
       if (d) free(d->u0);
       free(d);
@@ -202,7 +202,7 @@ static int ex_start(vi_sim *s)
     for (int k = 0; k < m->ns; k++)
       for (int j = 0; j < n; j++)
         if (vi_stop_psi(m, k)[j] != 0.0) wtop = fmax(wtop, m->omega[j]);
-    if (d->gf) wtop = vi_general_top_frequency(m);
+    if (d->gf) wtop = vi_general_top_frequency(s->flow->gen, m->omega_f);
     d->h = wtop > 0.0 ? M_PI / (8.0 * wtop) : HUGE_VAL;
     s->be_data = d;
   }
@@ -217,7 +217,7 @@ static int ex_start(vi_sim *s)
      * when a static offset or a resonant response dwarfs the motion (a
      * very soft structure under load): hand over to CVODE rather than lose
      * those digits (issue 9). */
-    double hsc = vi_general_particular_scale(m), msc = fabs(m->xs);
+    double hsc = vi_general_particular_scale(s->flow->gen), msc = fabs(m->xs);
     for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * i]);
     d->handover = hsc > 1e6 * (msc + s->atol * s->wnorm);
     if (d->handover)
@@ -236,7 +236,7 @@ static int ex_start(vi_sim *s)
       q += p * s->z[2 * i];
       qd += p * s->z[2 * i + 1];
     }
-    vi_flow_particular(m, j, c, sn, 0.0, &qp, &qpd);
+    vi_flow_particular(m, d->s->flow, j, c, sn, 0.0, &qp, &qpd);
     d->u0[j] = q - qp;
     d->v0[j] = qd - qpd;
   }

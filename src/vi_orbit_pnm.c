@@ -16,7 +16,7 @@
 
 #include <lapacke.h>
 
-#include "vi_internal.h"
+#include "vi_flow_internal.h"
 
 typedef struct ws {
   const vi_model *m;
@@ -163,7 +163,7 @@ int vi_orbit_pnm_solve(const vi_model *m, int np, int mi, double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   ws w;
   int st = ws_init(&w, m), n = m->n, B = 2 * n + 1, D = mi * B, it = 0;
@@ -231,7 +231,7 @@ int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   ws w;
   int st = ws_init(&w, m), n = m->n, B = 2 * n + 1, D = mi * B;
@@ -260,7 +260,7 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   ws w;
   int st = ws_init(&w, m), n = m->n, n2 = 2 * n;
   if (st) return st;
@@ -385,7 +385,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   *found = 0;
   ws w;
