@@ -113,7 +113,7 @@ static const double *ex_level(ex_data *d, int l)
   d->ls[l] = sin(d->Om * dt);
   for (int i = 0; i < d->na; i++)
     vi_flow_basis(d->lam[i], d->dmp[i], dt, t + i, t + d->na + i,
-                  t + 2 * d->na + i);
+                  t + 2 * (size_t)d->na + i);
   d->lev[l] = t;
   return t;
 }
@@ -137,7 +137,7 @@ static int ex_advance(ex_data *d, int l, const double *restrict w,
   const double *T = ex_level(d, l);
   if (!T) return vi_fail(d->s->errmsg, VI_ERR_NOMEM, "out of memory");
   const double *restrict B = T, *restrict Bp = T + d->na;
-  const double *restrict ph = T + 2 * d->na;
+  const double *restrict ph = T + 2 * (size_t)d->na;
   const double *restrict lam = d->lam, *restrict F0 = d->F0;
   const ex_stop *e = d->st + (one < 0 ? 0 : one);
   const double *restrict psi = e->psi;
@@ -320,7 +320,7 @@ static int ex_polish(ex_data *d, int l, double a, const double *w,
     double scale = 0.25 * eps * fmax(fabs(a), d->h0) * gdlo;
     if (l >= d->lmax || herm_err(d->cs, wdt) <= scale) break;
     double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
-    double m = a + 0.5 * wdt, gm, gdm;
+    double m = a + 0.5 * wdt, gm = 0.0, gdm = 0.0;
     int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cur, &gm, &gdm);
     if (st) return st;
     /* the harmonic part by rotation from a (the tables are built now) */
@@ -399,7 +399,7 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
   }
   d->s->stats[VI_STAT_GRAZE_CHECKS] += gda > 0.0 && gdb < 0.0;
   double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
-  double m = a + 0.5 * wdt, gm, gdm;
+  double m = a + 0.5 * wdt, gm = 0.0, gdm = 0.0;
   int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cur, &gm, &gdm);
   if (st) return st;
   double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
@@ -425,8 +425,12 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   const vi_model *m = s->m;
   int n = s->n, na = 0, ns = m->ns;
   for (int j = 0; j < n; j++) na += ex_active(m, j);
+  *out = NULL;
   ex_data *d = calloc(1, sizeof *d);
-  if (!d) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  if (!d) {
+    vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+    return VI_ERR_NOMEM;
+  }
   size_t nd = (3 + (size_t)ns) * (size_t)na + 6 * (size_t)na +
               (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 14 * (size_t)n +
               5 * (size_t)ns + 8;
@@ -438,7 +442,8 @@ static int ex_alloc(vi_sim *s, ex_data **out)
     free(d->lam);
     free(d->st);
     free(d);
-    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+    vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+    return VI_ERR_NOMEM;
   }
   double *p = d->lam;
   p += na;
@@ -524,17 +529,17 @@ static void ex_modal_from_z(ex_data *d)
     const double *psi = vi_stop_psi(m, k);
     double a = 0.0, b = 0.0, wmw = m->G[k + (size_t)k * m->ns];
     for (int i = 0; i < n; i++) {
-      a += w[i] * (s->z[2 * i] - d->z[2 * i]);
-      b += w[i] * (s->z[2 * i + 1] - d->z[2 * i + 1]);
+      a += w[i] * (s->z[2 * (size_t)i] - d->z[2 * (size_t)i]);
+      b += w[i] * (s->z[2 * (size_t)i + 1] - d->z[2 * (size_t)i + 1]);
     }
     a /= wmw;
     b /= wmw;
     int ok = 1;
     for (int i = 0; i < n && ok; i++) {
-      double ex = s->z[2 * i] - d->z[2 * i] - a * mw[i];
-      double ev = s->z[2 * i + 1] - d->z[2 * i + 1] - b * mw[i];
-      double tx = 1e-13 * (fabs(s->z[2 * i]) + fabs(a * mw[i])) + DBL_MIN;
-      double tv = 1e-13 * (fabs(s->z[2 * i + 1]) + fabs(b * mw[i])) + DBL_MIN;
+      double ex = s->z[2 * (size_t)i] - d->z[2 * (size_t)i] - a * mw[i];
+      double ev = s->z[2 * (size_t)i + 1] - d->z[2 * (size_t)i + 1] - b * mw[i];
+      double tx = 1e-13 * (fabs(s->z[2 * (size_t)i]) + fabs(a * mw[i])) + DBL_MIN;
+      double tv = 1e-13 * (fabs(s->z[2 * (size_t)i + 1]) + fabs(b * mw[i])) + DBL_MIN;
       ok = fabs(ex) <= tx && fabs(ev) <= tv;
     }
     if (ok) {
@@ -549,8 +554,8 @@ static void ex_modal_from_z(ex_data *d)
     double q = 0.0, qd = 0.0;
     for (int i = 0; i < n; i++) {
       double pm = m->PsiTM[j + (size_t)i * n];
-      q += pm * s->z[2 * i];
-      qd += pm * s->z[2 * i + 1];
+      q += pm * s->z[2 * (size_t)i];
+      qd += pm * s->z[2 * (size_t)i + 1];
     }
     d->q[j] = q;
     d->qd[j] = qd;
@@ -652,7 +657,7 @@ static int ex_start(vi_sim *s)
     d->gdk[k] = gd;
     /* the round-off of g: of its terms, physical and modal */
     double scale = fabs(e->xs) + e->GH + 1e-3 * s->atol * s->wnorms[k];
-    for (int i = 0; i < n; i++) scale += fabs(w[i] * s->z[2 * i]);
+    for (int i = 0; i < n; i++) scale += fabs(w[i] * s->z[2 * (size_t)i]);
     for (int i = 0; i < na; i++) scale += fabs(e->psi[i] * d->wk[i]);
     double tr = 0.0;
     e->gnoise = 64.0 * DBL_EPSILON * scale;
@@ -710,10 +715,11 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
   static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
                                0.2223810344533745, 0.1012285362903763};
   if (!(b > a)) return;
-  double np = ceil((b - a) / d->hq);
-  if (!(np >= 1.0)) np = 1.0;
-  for (double k = 0; k < np; k++) {
-    double pa = a + (b - a) * k / np, pb = k + 1 == np ? b : a + (b - a) * (k + 1) / np;
+  double npf = ceil((b - a) / d->hq);
+  int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
+  for (int64_t k = 0; k < np; k++) {
+    double pa = a + (b - a) * (double)k / (double)np;
+    double pb = k + 1 == np ? b : a + (b - a) * (double)(k + 1) / (double)np;
     double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
     for (int i = 0; i < 8; i++) {
       double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h;
@@ -864,15 +870,15 @@ static void ex_physical(const vi_model *m, const double *q, const double *qd,
 {
   int n = m->n;
   for (int i = 0; i < n; i++) {
-    z[2 * i] = 0.0;
-    z[2 * i + 1] = 0.0;
+    z[2 * (size_t)i] = 0.0;
+    z[2 * (size_t)i + 1] = 0.0;
   }
   for (int j = 0; j < n; j++) { /* column order: Psi is column-major */
     const double *col = m->Psi + (size_t)j * n;
     double a = q[j], b = qd[j];
     for (int i = 0; i < n; i++) {
-      z[2 * i] += col[i] * a;
-      z[2 * i + 1] += col[i] * b;
+      z[2 * (size_t)i] += col[i] * a;
+      z[2 * (size_t)i + 1] += col[i] * b;
     }
   }
 }

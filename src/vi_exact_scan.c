@@ -48,8 +48,8 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
         double q = 0.0, qd = 0.0;
         for (int i = 0; i < n; i++) {
           double p = m->PsiTM[j + (size_t)i * n];
-          q += p * d->zfull[2 * i];
-          qd += p * d->zfull[2 * i + 1];
+          q += p * d->zfull[2 * (size_t)i];
+          qd += p * d->zfull[2 * (size_t)i + 1];
         }
         d->q[j] = q;
         d->qd[j] = qd;
@@ -89,8 +89,8 @@ static void ex_eval_k(ex_data *d, double t, int k, double *g, double *gd)
   double a = 0.0, b = 0.0;
   for (int i = 0; i < n; i++) {
     if (d->gf) {
-      a += w[i] * d->zfull[2 * i];
-      b += w[i] * d->zfull[2 * i + 1];
+      a += w[i] * d->zfull[2 * (size_t)i];
+      b += w[i] * d->zfull[2 * (size_t)i + 1];
     } else {
       a += psi[i] * d->q[i];
       b += psi[i] * d->qd[i];
@@ -110,8 +110,8 @@ static void ex_eval_all(ex_data *d, double t, double *g, double *gd)
     double a = 0.0, b = 0.0;
     for (int i = 0; i < m->n; i++) {
       if (d->gf) {
-        a += w[i] * d->zfull[2 * i];
-        b += w[i] * d->zfull[2 * i + 1];
+        a += w[i] * d->zfull[2 * (size_t)i];
+        b += w[i] * d->zfull[2 * (size_t)i + 1];
       } else {
         a += psi[i] * d->q[i];
         b += psi[i] * d->qd[i];
@@ -153,8 +153,8 @@ static void to_state(const vi_model *m, const ex_data *d, double *z)
       x += p * d->q[j];
       v += p * d->qd[j];
     }
-    z[2 * i] = x;
-    z[2 * i + 1] = v;
+    z[2 * (size_t)i] = x;
+    z[2 * (size_t)i + 1] = v;
   }
 }
 
@@ -190,8 +190,8 @@ static int ex_start(vi_sim *s)
     d->q = d->v0 + n;
     d->qd = d->q + n;
     d->rates = d->qd + n;
-    d->zfull = d->rates + 4 * n;
-    d->ga = d->zfull + 2 * n;
+    d->zfull = d->rates + 4 * (size_t)n;
+    d->ga = d->zfull + 2 * (size_t)n;
     d->gda = d->ga + m->ns;
     d->gb = d->gda + m->ns;
     d->gdb = d->gb + m->ns;
@@ -218,7 +218,7 @@ static int ex_start(vi_sim *s)
      * very soft structure under load): hand over to CVODE rather than lose
      * those digits (issue 9). */
     double hsc = vi_general_particular_scale(s->flow->gen), msc = fabs(m->xs);
-    for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * i]);
+    for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * (size_t)i]);
     d->handover = hsc > 1e6 * (msc + s->atol * s->wnorm);
     if (d->handover)
       snprintf(s->handover_why, sizeof s->handover_why,
@@ -233,8 +233,8 @@ static int ex_start(vi_sim *s)
     double q = 0.0, qd = 0.0, qp, qpd;
     for (int i = 0; i < n; i++) {
       double p = m->PsiTM[j + (size_t)i * n];
-      q += p * s->z[2 * i];
-      qd += p * s->z[2 * i + 1];
+      q += p * s->z[2 * (size_t)i];
+      qd += p * s->z[2 * (size_t)i + 1];
     }
     vi_flow_particular(m, d->s->flow, j, c, sn, 0.0, &qp, &qpd);
     d->u0[j] = q - qp;
@@ -301,7 +301,7 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   ex_eval_all(d, b, gb, gdb);
   d->steps++;
   for (int k = 0; k < d->ns; k++) {
-    double t1;
+    double t1 = HUGE_VAL;
     d->stop = k;
     int h = find_contact(s, d, d->ta, d->ga[k], d->gda[k], b, gb[k], gdb[k],
                          &t1);

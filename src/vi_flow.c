@@ -216,14 +216,14 @@ static int flow_general(const vi_general *gen, const vi_model *m, double t0,
     return VI_ERR_NOMEM;
   }
   for (int i = 0; i < n; i++) {
-    z[2 * i] = x0[i];
-    z[2 * i + 1] = v0[i];
+    z[2 * (size_t)i] = x0[i];
+    z[2 * (size_t)i + 1] = v0[i];
   }
   vi_gflow_start(f, m, t0, z);
   vi_gflow_eval(f, m, t, &g, &gd, z);
   for (int i = 0; i < n; i++) {
-    x[i] = z[2 * i];
-    v[i] = z[2 * i + 1];
+    x[i] = z[2 * (size_t)i];
+    v[i] = z[2 * (size_t)i + 1];
   }
   vi_gflow_free(f);
   free(z);
@@ -241,10 +241,10 @@ int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
     if (!buf) return VI_ERR_NOMEM;
     vi_matvec(n, m->Psi, q0, buf);
     vi_matvec(n, m->Psi, qd0, buf + n);
-    int st = flow_general(fl->gen, m, t0, buf, buf + n, t, buf + 2 * n,
-                          buf + 3 * n);
-    vi_matvec(n, m->PsiTM, buf + 2 * n, q);
-    vi_matvec(n, m->PsiTM, buf + 3 * n, qd);
+    int st = flow_general(fl->gen, m, t0, buf, buf + n, t,
+                          buf + 2 * (size_t)n, buf + 3 * (size_t)n);
+    vi_matvec(n, m->PsiTM, buf + 2 * (size_t)n, q);
+    vi_matvec(n, m->PsiTM, buf + 3 * (size_t)n, qd);
     free(buf);
     return st;
   }

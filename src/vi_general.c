@@ -201,8 +201,8 @@ void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z)
   for (int k = 0; k < n2; k++) {
     cplx y = 0;
     for (int i = 0; i < n; i++)
-      y += g->Vinv[k + (size_t)i * n2] * z[2 * i] +
-           g->Vinv[k + (size_t)(n + i) * n2] * z[2 * i + 1];
+      y += g->Vinv[k + (size_t)i * n2] * z[2 * (size_t)i] +
+           g->Vinv[k + (size_t)(n + i) * n2] * z[2 * (size_t)i + 1];
     f->u[k] = y - particular(g, k, c, s);
   }
 }
@@ -228,7 +228,7 @@ void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
       x += g->V[i + (size_t)k * n2] * f->y[k];
       v += g->V[(n + i) + (size_t)k * n2] * f->y[k];
     }
-    z[2 * i] = creal(x);
-    z[2 * i + 1] = creal(v);
+    z[2 * (size_t)i] = creal(x);
+    z[2 * (size_t)i + 1] = creal(v);
   }
 }
