@@ -340,7 +340,11 @@ int vi_cmd_orbits_main(int argc, char **argv)
     double *x = t + MAXORB, *v = x + (size_t)MAXORB * N;
     st = vi_orbit_p1_scan(mdl, np, phases, t, x, v, N, MAXORB, &found);
     if (st) {
-      fprintf(stderr, "vibroimpact: orbits: %s\n", vi_strerror(st));
+      fprintf(stderr, "vibroimpact: orbits: %s%s\n", vi_strerror(st),
+              vi_model_num_stops(mdl) > 1
+                  ? " (the impact-phase scan is for one stop; `energy` analyses "
+                    "the P(1,m) orbit a scene with several stops settles on)"
+                  : "");
       free(t);
       rc = st == VI_ERR_UNSUPPORTED ? 2 : 1;
       goto fin;

@@ -7,7 +7,7 @@
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_multiroots.h>
 
-#include "vi_internal.h"
+#include "vi_orbit_internal.h"
 
 #define RING 4096 /* impacts remembered for classification */
 #define MAX_N 8   /* longest orbit period looked for, in forcing periods */
@@ -102,7 +102,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->ns = ns;
   o->m = model;
   o->n = n;
-  o->method = model->flow_ok ? VI_METHOD_EXACT : VI_METHOD_ADAMS;
+  o->method = vi_xflow_available(model) ? VI_METHOD_EXACT : VI_METHOD_ADAMS;
   o->rtol = 1e-11;
   o->atol = 1e-13;
   o->max_periods = 3000;
@@ -562,7 +562,7 @@ int vi_orbit_find(vi_orbit *o)
   if ((o->pn != 1 || o->pm != 1) && !several) {
     /* the transient went elsewhere; a stable P(1,1) orbit may still
      * exist (another attractor): look for it directly */
-    if (!o->direct || !o->m->flow_ok || o->ns > 1) return VI_OK;
+    if (!o->direct || o->ns > 1 || !vi_xflow_available(o->m)) return VI_OK;
     int got = direct_p11(o);
     if (got < 0)
       return vi_fail(o->errmsg, got, "direct P(1,1) search: %s",

@@ -3,7 +3,7 @@
 #ifndef VI_ORBIT_INTERNAL_H
 #define VI_ORBIT_INTERNAL_H
 
-#include "vi_internal.h"
+#include "vi_flow_internal.h"
 
 /* State-transition matrix e^{A tau} [2n x 2n] (z = (x, v), column-major,
  * leading dimension 2n) of the free motion: closed form per mode for

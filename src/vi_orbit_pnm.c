@@ -15,27 +15,44 @@
 
 #include <lapacke.h>
 
-#include "vi_internal.h"
 #include "vi_orbit_internal.h"
 
 typedef struct ws {
   const vi_model *m;
   int n, n2;
   const int *stop; /* stop of each impact (NULL: all on stop 0) */
+  vi_xflow *xf;    /* the closed-form flow, built once per call */
   double *buf;     /* scratch [16n] */
 } ws;
 
-static int ws_init(ws *w, const vi_model *m, const int *stop)
+/* need_flow: the closed-form flow must exist (VI_ERR_UNSUPPORTED) */
+static int ws_init(ws *w, const vi_model *m, const int *stop, int need_flow)
 {
   w->m = m;
   w->n = m->n;
   w->n2 = 2 * m->n;
   w->stop = stop;
+  w->xf = NULL;
   w->buf = malloc(sizeof(double) * 16 * (size_t)m->n);
-  return w->buf ? VI_OK : VI_ERR_NOMEM;
+  if (!w->buf || vi_xflow_create(m, &w->xf)) {
+    free(w->buf);
+    w->buf = NULL;
+    return VI_ERR_NOMEM;
+  }
+  if (need_flow && !w->xf->ok) {
+    vi_xflow_destroy(&w->xf);
+    free(w->buf);
+    w->buf = NULL;
+    return VI_ERR_UNSUPPORTED;
+  }
+  return VI_OK;
 }
 
-static void ws_free(ws *w) { free(w->buf); }
+static void ws_free(ws *w)
+{
+  vi_xflow_destroy(&w->xf);
+  free(w->buf);
+}
 
 static int stop_of(const ws *w, int j) { return w->stop ? w->stop[j] : 0; }
 
@@ -47,11 +64,13 @@ static int stops_ok(const vi_model *m, int mi, const int *stop)
   return 1;
 }
 
-static int flow(const vi_model *m, double t0, const double *z0, double t1,
+static int flow(const ws *w, double t0, const double *z0, double t1,
                 double *z1)
 {
-  int n = m->n;
-  return vi_flow_physical(m, t0, z0, z0 + n, t1, z1, z1 + n);
+  int n = w->n;
+  if (!w->xf->ok) return VI_ERR_UNSUPPORTED;
+  if (!(t1 >= t0)) return VI_ERR_TIME;
+  return vi_xflow_physical(w->xf, w->m, t0, z0, z0 + n, t1, z1, z1 + n);
 }
 
 /* unknowns u = [t_j, x_j, v_j] for j = 0..m-1 (2n + 1 each) */
@@ -75,7 +94,7 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
       return VI_ERR_NOT_CONVERGED; /* impacts out of order */
     }
     vi_var_impact(m, s, uj + 1, zp);
-    if ((st = flow(m, t0, zp, t1, ze))) {
+    if ((st = flow(w, t0, zp, t1, ze))) {
       free(zp);
       return st;
     }
@@ -121,13 +140,11 @@ static double norm_inf(int k, const double *x)
 }
 
 /* common checks of the P(n, m) entry points */
-static int pnm_check(const vi_model *m, int np, int mi, const int *stop,
-                     int need_flow)
+static int pnm_check(const vi_model *m, int np, int mi, const int *stop)
 {
   if (!m->frozen) return VI_ERR_STATE;
   if (!stops_ok(m, mi, stop) || np < 1 || mi < 1) return VI_ERR_ARG;
   if (m->ns < 1) return VI_ERR_STATE; /* no stop: nothing to impact */
-  if (need_flow && !m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   return VI_OK;
 }
@@ -137,10 +154,10 @@ int vi_orbit_pnm_solve_stops(const vi_model *m, int np, int mi,
                              int ld, double tol, int *iters)
 {
   if (!m || !t || !x || !v || ld < m->n) return VI_ERR_ARG;
-  int st = pnm_check(m, np, mi, stop, 1), n = m->n, B = 2 * n + 1, D = mi * B, it = 0;
+  int st = pnm_check(m, np, mi, stop), n = m->n, B = 2 * n + 1, D = mi * B, it = 0;
   if (st) return st;
   ws w;
-  if ((st = ws_init(&w, m, stop))) return st;
+  if ((st = ws_init(&w, m, stop, 1))) return st;
   double *u = malloc(sizeof(double) * ((size_t)D * D + 3 * (size_t)D));
   lapack_int *piv = malloc(sizeof(lapack_int) * (size_t)D);
   if (!u || !piv) {
@@ -209,10 +226,10 @@ int vi_orbit_pnm_residual_stops(const vi_model *m, int np, int mi,
                                 double *F, double *J)
 {
   if (!m || !t || !x || !v || !F || ld < m->n) return VI_ERR_ARG;
-  int st = pnm_check(m, np, mi, stop, 1), n = m->n, B = 2 * n + 1, D = mi * B;
+  int st = pnm_check(m, np, mi, stop), n = m->n, B = 2 * n + 1, D = mi * B;
   if (st) return st;
   ws w;
-  if ((st = ws_init(&w, m, stop))) return st;
+  if ((st = ws_init(&w, m, stop, 1))) return st;
   double *u = malloc(sizeof(double) * (size_t)D);
   if (!u) {
     ws_free(&w);
@@ -248,21 +265,21 @@ int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
                         int ld, int param, int k, double *dF)
 {
   if (!m || !t || !x || !v || !dF || ld < m->n) return VI_ERR_ARG;
-  int st = pnm_check(m, np, mi, stop, 1), n = m->n, n2 = 2 * n, B = n2 + 1;
+  int st = pnm_check(m, np, mi, stop), n = m->n, n2 = 2 * n, B = n2 + 1;
   if (st) return st;
   if (param != VI_ORBIT_PARAM_OMEGA && param != VI_ORBIT_PARAM_XS &&
       param != VI_ORBIT_PARAM_R)
     return VI_ERR_ARG;
   if (param != VI_ORBIT_PARAM_OMEGA && (k < 0 || k >= m->ns)) return VI_ERR_ARG;
   ws w;
-  if ((st = ws_init(&w, m, stop))) return st;
+  if ((st = ws_init(&w, m, stop, 1))) return st;
   double T = 2.0 * M_PI / m->omega_f;
   double *Phi = malloc(sizeof(double) * ((size_t)n2 * n2 + 6 * (size_t)n2));
   if (!Phi) {
     ws_free(&w);
     return VI_ERR_NOMEM;
   }
-  double *d = Phi + (size_t)n2 * n2, *dp = d + 2 * n2, *zp = dp + n2, *ze = zp + n2,
+  double *d = Phi + (size_t)n2 * n2, *dp = d + (size_t)2 * n2, *zp = dp + n2, *ze = zp + n2,
          *f1 = ze + n2;
   memset(dF, 0, sizeof(double) * (size_t)mi * B);
   for (int j = 0; j < mi && !st; j++) {
@@ -288,7 +305,7 @@ int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
         memcpy(zp, x + (size_t)j * ld, sizeof(double) * n);
         memcpy(zp + n, v + (size_t)j * ld, sizeof(double) * n);
         vi_var_impact(m, s, zp, zp);
-        if ((st = flow(m, t0, zp, t1, ze))) break;
+        if ((st = flow(&w, t0, zp, t1, ze))) break;
         vi_var_field(m, t1, ze, f1);
         for (int i = 0; i < n2; i++) Fj[i] += f1[i] * (-np * T / m->omega_f);
       }
@@ -306,10 +323,10 @@ int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
                            int ld, double *Mo)
 {
   if (!m || !t || !x || !v || !Mo || ld < m->n) return VI_ERR_ARG;
-  int st = pnm_check(m, np, mi, stop, 0), n = m->n, n2 = 2 * n;
+  int st = pnm_check(m, np, mi, stop), n = m->n, n2 = 2 * n;
   if (st) return st;
   ws w;
-  if ((st = ws_init(&w, m, stop))) return st;
+  if ((st = ws_init(&w, m, stop, 0))) return st;
   double T = 2.0 * M_PI / m->omega_f;
   size_t nn = (size_t)n2 * n2;
   double *S = malloc(sizeof(double) * (3 * nn + (size_t)n2));
@@ -373,10 +390,11 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
 
 /* the largest gap max_k (w_k.x - x_k) over the stops of the free flow
  * from (t0, zp) at t */
-static double gap_at(const vi_model *m, double t0, const double *zp, double t,
+static double gap_at(const ws *w, double t0, const double *zp, double t,
                      double *z)
 {
-  if (flow(m, t0, zp, t, z)) return NAN;
+  const vi_model *m = w->m;
+  if (flow(w, t0, zp, t, z)) return NAN;
   double g = -HUGE_VAL;
   for (int k = 0; k < m->ns; k++)
     g = fmax(g, vi_dot(m->n, vi_stop_w(m, k), z) - m->xsv[k]);
@@ -389,10 +407,10 @@ int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
                                   double *gmax, int *ok)
 {
   if (!m || !t || !x || !v || !ok || ld < m->n) return VI_ERR_ARG;
-  int st = pnm_check(m, np, mi, stop, 0), n = m->n;
+  int st = pnm_check(m, np, mi, stop), n = m->n;
   if (st) return st;
   ws w;
-  if ((st = ws_init(&w, m, stop))) return st;
+  if ((st = ws_init(&w, m, stop, 0))) return st;
   double T = 2.0 * M_PI / m->omega_f, worst = -HUGE_VAL;
   double *z = w.buf, *zp = z + (size_t)2 * n, *zz = zp + (size_t)2 * n;
   double scale = 0.0;
@@ -410,18 +428,18 @@ int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
     /* 512 samples per forcing period, then golden-section on each
      * interior local maximum of the gap */
     int K = (int)fmax(64.0, 512.0 * (t1 - t0) / T);
-    double h = (t1 - t0) / K, gp = -HUGE_VAL, gc = gap_at(m, t0, zp, t0 + h, zz);
+    double h = (t1 - t0) / K, gp = -HUGE_VAL, gc = gap_at(&w, t0, zp, t0 + h, zz);
     for (int k = 1; k < K; k++) {
-      double gn = gap_at(m, t0, zp, t0 + (k + 1) * h, zz);
+      double gn = gap_at(&w, t0, zp, t0 + (k + 1) * h, zz);
       /* interior maxima only: the gap rises to 0 at the next impact */
       if (k > 1 && k + 1 < K - 1 && gc >= gp && gc >= gn) {
         double a = t0 + (k - 1) * h, b = t0 + (k + 1) * h;
         const double gr = 0.6180339887498949;
         double c1 = b - gr * (b - a), c2 = a + gr * (b - a);
-        double g1 = gap_at(m, t0, zp, c1, zz), g2 = gap_at(m, t0, zp, c2, zz);
+        double g1 = gap_at(&w, t0, zp, c1, zz), g2 = gap_at(&w, t0, zp, c2, zz);
         for (int it = 0; it < 40; it++) {
-          if (g1 > g2) { b = c2; c2 = c1; g2 = g1; c1 = b - gr * (b - a); g1 = gap_at(m, t0, zp, c1, zz); }
-          else { a = c1; c1 = c2; g1 = g2; c2 = a + gr * (b - a); g2 = gap_at(m, t0, zp, c2, zz); }
+          if (g1 > g2) { b = c2; c2 = c1; g2 = g1; c1 = b - gr * (b - a); g1 = gap_at(&w, t0, zp, c1, zz); }
+          else { a = c1; c1 = c2; g1 = g2; c2 = a + gr * (b - a); g2 = gap_at(&w, t0, zp, c2, zz); }
         }
         worst = fmax(worst, fmax(fmax(g1, g2), gc));
       }
@@ -453,11 +471,10 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   *found = 0;
   ws w;
-  int st = ws_init(&w, m, NULL), n = m->n, n2 = 2 * n;
+  int st = ws_init(&w, m, NULL, 1), n = m->n, n2 = 2 * n;
   if (st) return st;
   size_t nn = (size_t)n2 * n2;
   double T = 2.0 * M_PI / m->omega_f, P = np * T;
@@ -479,7 +496,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
    * P(np,1) orbit where its gap h(phi) = w.x - x_s vanishes. */
   for (int k = 0; k <= nphase && !st; k++) {
     double phi = P * k / nphase;
-    if ((st = vi_var_stm(m, P, Phi)) || (st = flow(m, phi, e, phi + P, c))) break;
+    if ((st = vi_var_stm(m, P, Phi)) || (st = flow(&w, phi, e, phi + P, c))) break;
     /* A = I - Phi J, J = diag(I, Q) */
     for (int b = 0; b < n2; b++)
       for (int a = 0; a < n2; a++) {
@@ -505,7 +522,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     /* linear interpolation of the root, then Newton on the full system */
     double s = h[k] / (h[k] - h[k + 1]), phi = P * (k + s) / nphase;
     if (!(vn[k] > 0.0 || vn[k + 1] > 0.0)) continue;
-    if ((st = vi_var_stm(m, P, Phi)) || (st = flow(m, phi, e, phi + P, c))) break;
+    if ((st = vi_var_stm(m, P, Phi)) || (st = flow(&w, phi, e, phi + P, c))) break;
     for (int b = 0; b < n2; b++)
       for (int a = 0; a < n2; a++) {
         double sm = 0.0;

@@ -22,7 +22,6 @@
 
 #include <lapacke.h>
 
-#include "vi_internal.h"
 #include "vi_orbit_internal.h"
 
 /* C = A B, all n x n column-major */

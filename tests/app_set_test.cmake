@@ -58,6 +58,6 @@ expect(0 "\"type\": \"grazing_impact\", \"param\": 0\\.5827715174[0-9]*" ""
 expect(2 "^$" "duffing has nonlinear springs" energy ${SCENES}/duffing.yaml)
 # several stops: the symmetric P(1,2) orbit of rattle.yaml, WB 11-13 per stop
 # (one impact each, r recovered 0.8 on both, balance closed per stop)
-expect(3 "\"m\": 2, \"impacts\": .*\"stops\": \\[{\"stop\": 0, \"impacts\": 1, .*\"r_recovered\": 0\\.8000000.*{\"stop\": 1, \"impacts\": 1, .*\"r_recovered\": 0\\.8000000.*\"stable\": true" ""
+expect(3 "\"m\": 2, \"impacts\": .*\"stops\": \\[{\"stop\": 0, \"impacts\": 1, .*\"r_recovered\": 0\\.(8000000|7999999).*{\"stop\": 1, \"impacts\": 1, .*\"r_recovered\": 0\\.(8000000|7999999).*\"stable\": true" ""
        energy ${SCENES}/rattle.yaml --json)
 message(STATUS "--set, energy --json classification, orbits --json and --continue: ok")
