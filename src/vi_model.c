@@ -460,35 +460,3 @@ double vi_model_energy(const vi_model *m, const double *x, const double *v)
                   x[i] * m->K[i + (size_t)j * n] * x[j]);
   return e;
 }
-
-/* ---- builders ----------------------------------------------------------- */
-int vi_build_chain(int n, const double *mass, const double *k,
-                   const double *c, double *M, double *C, double *K, int ld)
-{
-  if (n < 1 || ld < n) return VI_ERR_DIM;
-  if (!mass || !k || !M || !C || !K) return VI_ERR_ARG;
-  /* a chain needs positive masses and non-negative springs and dampers */
-  for (int j = 0; j < n; j++) {
-    double cj = c ? c[j] : 0.0;
-    if (!isfinite(mass[j]) || !isfinite(k[j]) || !isfinite(cj))
-      return VI_ERR_NONFINITE;
-    if (!(mass[j] > 0.0) || k[j] < 0.0 || cj < 0.0) return VI_ERR_ARG;
-  }
-  for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++)
-      M[i + (size_t)j * ld] = C[i + (size_t)j * ld] = K[i + (size_t)j * ld] = 0;
-  for (int j = 0; j < n; j++) {
-    double cj = c ? c[j] : 0.0;
-    M[j + (size_t)j * ld] = mass[j];
-    /* element j joins mass j-1 (the ground for j = 0) to mass j */
-    K[j + (size_t)j * ld] += k[j];
-    C[j + (size_t)j * ld] += cj;
-    if (j > 0) {
-      K[(j - 1) + (size_t)(j - 1) * ld] += k[j];
-      C[(j - 1) + (size_t)(j - 1) * ld] += cj;
-      K[(j - 1) + (size_t)j * ld] = K[j + (size_t)(j - 1) * ld] = -k[j];
-      C[(j - 1) + (size_t)j * ld] = C[j + (size_t)(j - 1) * ld] = -cj;
-    }
-  }
-  return VI_OK;
-}

@@ -1,5 +1,8 @@
-/* vi_orbit.c - P(n, m) classification, P(1,1) refinement by shooting, Floquet
- * multipliers and the energy balance of WB 11-13. */
+/* vi_orbit.c - the orbit analysis handle: a transient classified P(n, m)
+ * (vi_classify.c), the P(1,1) orbit (or, with several stops, P(1, m))
+ * refined by shooting or found by the direct search, its Floquet
+ * multipliers from exact derivatives (vi_orbit_pnm.c), and its energy
+ * balance (vi_balance.c). */
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,45 +12,6 @@
 
 #include "vi_orbit_internal.h"
 
-#define RING 4096 /* impacts remembered for classification */
-#define MAX_N 8   /* longest orbit period looked for, in forcing periods */
-
-#define MAX_M 8 /* most impacts per period analysed (several stops) */
-
-struct vi_orbit {
-  const vi_model *m;
-  int n, ns, method;
-  double rtol, atol, max_periods, tol, T;
-  double *x0, *v0;
-  vi_sim *sim;
-  /* classification */
-  int pn, pm, analysed;
-  /* impact ring: t, stop, then x, v per impact */
-  int64_t nimp;
-  double *rt, *rz;
-  int *rs;
-  /* states at the last 3 MAX_N + 1 forcing-period ends (stroboscopic) */
-  double *pz;
-  /* the analysed P(1, m) orbit: section time, its mi impacts in the period
-   * from t_s (time, stop, x, v-, v+ [n x MAX_M], v_n, energy lost) and the
-   * ledger of the interval ending at each (its approach: FE, DE, XE
-   * [n x MAX_M]) */
-  double t_s, KEi, RE, IE, r_rec, closure, gmin;
-  int mi, istop[MAX_M];
-  double it[MAX_M], ivn[MAX_M], iie[MAX_M];
-  double *ix, *iv, *ivp, *aFE, *aDE, *aXE;
-  /* totals over the period [n] and per stop [n x ns], [ns] */
-  double *zfix, *FE, *DE, *XE, *reff, *mre, *mim, *kFE, *kDE, *kXE;
-  double *kKE, *kRE, *kIE, *kr, *kcl;
-  int *kcnt;
-  double *scr, *dE; /* scratch: map output [2n], impact jumps [n] */
-  double *block;
-  int map_impacts;
-  /* direct search: the transient's own classification, and whether the
-   * analysed orbit came from the impact-phase scan */
-  int direct, tn, tm, by_scan;
-  char errmsg[VI_MSG_LEN];
-};
 
 int vi_orbit_create(const vi_model *model, vi_orbit **out)
 {
@@ -187,67 +151,6 @@ int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol)
   return VI_OK;
 }
 
-/* ---- transient and classification ------------------------------------- */
-static int record(const vi_event *ev, void *user)
-{
-  vi_orbit *o = user;
-  if (ev->kind != VI_EVENT_IMPACT) return 0;
-  int k = (int)(o->nimp % RING), n = o->n;
-  o->rt[k] = ev->t;
-  o->rs[k] = ev->stop;
-  memcpy(o->rz + (size_t)k * 2 * n, ev->x, sizeof(double) * n);
-  memcpy(o->rz + (size_t)k * 2 * n + n, ev->v_minus, sizeof(double) * n);
-  o->nimp++;
-  return 0;
-}
-
-/* Ring index of the first impact at or after time t (nimp if none). */
-static int64_t first_after(const vi_orbit *o, double t)
-{
-  int64_t k = o->nimp;
-  while (k > 0 && k > o->nimp - RING && o->rt[(k - 1) % RING] >= t) k--;
-  return k;
-}
-
-/* Stroboscopic state at the end of forcing period k (kept for the last
- * 3 MAX_N + 1 periods). */
-static double *strobe(const vi_orbit *o, int64_t k)
-{
-  return o->pz + (size_t)(k % (3 * MAX_N + 1)) * 2 * o->n;
-}
-
-/* Period n needs the states at the ends of periods k, k - n, k - 2n, k - 3n
- * to agree (a run of impact-free periods is not yet periodic: the motion
- * may still be creeping towards the stop), and the impacts of the three
- * windows between them to repeat, shifted by n T. */
-static int repeats(const vi_orbit *o, int64_t kp, int n, int *m)
-{
-  double nT = n * o->T, t_now = kp * o->T, zscale = fabs(o->m->xs);
-  const double *zk = strobe(o, kp);
-  for (int i = 0; i < 2 * o->n; i++) zscale = fmax(zscale, fabs(zk[i]));
-  for (int j = 1; j <= 3; j++)
-    for (int i = 0; i < 2 * o->n; i++)
-      if (fabs(strobe(o, kp - j * n)[i] - zk[i]) > o->tol * zscale) return 0;
-  int64_t k0 = first_after(o, t_now - 3 * nT), k1 = first_after(o, t_now - 2 * nT),
-          k2 = first_after(o, t_now - nT), k3 = o->nimp;
-  if (k0 <= o->nimp - RING) return 0; /* the ring no longer holds them */
-  int64_t c = k3 - k2;
-  if (k2 - k1 != c || k1 - k0 != c) return 0;
-  double scale = fabs(o->m->xs);
-  for (int64_t k = k0; k < k3; k++)
-    for (int i = 0; i < 2 * o->n; i++)
-      scale = fmax(scale, fabs(o->rz[(size_t)(k % RING) * 2 * o->n + i]));
-  for (int64_t k = k0; k + c < k3; k++) {
-    size_t a = (size_t)(k % RING), b = (size_t)((k + c) % RING);
-    if (fabs(o->rt[b] - o->rt[a] - nT) > o->tol * o->T) return 0;
-    if (o->rs[b] != o->rs[a]) return 0;
-    for (int i = 0; i < 2 * o->n; i++)
-      if (fabs(o->rz[b * 2 * o->n + i] - o->rz[a * 2 * o->n + i]) > o->tol * scale)
-        return 0;
-  }
-  *m = (int)c;
-  return 1;
-}
 
 /* ---- shooting on the stroboscopic map --------------------------------- */
 static int count_map(const vi_event *ev, void *user)
@@ -323,151 +226,6 @@ done:
   return status;
 }
 
-typedef struct bal_ctx {
-  vi_orbit *o;
-  int seen, closed, bad; /* impacts, ledger intervals ended by one */
-  double *pFE, *pDE, *pXE; /* work since the last impact [n] */
-} bal_ctx;
-
-static int bal_event(const vi_event *ev, void *user)
-{
-  bal_ctx *c = user;
-  vi_orbit *o = c->o;
-  if (ev->kind != VI_EVENT_IMPACT) return 0;
-  int j = c->seen++, n = o->n;
-  if (j >= MAX_M) return 0;
-  if (j > 0 && ev->t == o->it[j - 1]) c->bad = 1; /* simultaneous contacts */
-  o->it[j] = ev->t;
-  o->istop[j] = ev->stop;
-  o->ivn[j] = ev->vn;
-  o->iie[j] = ev->ie;
-  memcpy(o->ix + (size_t)j * n, ev->x, sizeof(double) * n);
-  memcpy(o->iv + (size_t)j * n, ev->v_minus, sizeof(double) * n);
-  memcpy(o->ivp + (size_t)j * n, ev->v_plus, sizeof(double) * n);
-  return 0;
-}
-
-/* the work of each interval goes to the impact that ends it (its
- * approach); what follows the last impact of the period is the approach of
- * the first one, one period later */
-static int bal_ledger(const vi_ledger_interval *iv, void *user)
-{
-  bal_ctx *c = user;
-  vi_orbit *o = c->o;
-  int n = o->n;
-  for (int i = 0; i < n; i++) {
-    c->pFE[i] += iv->FE[i];
-    c->pDE[i] += iv->DE[i];
-    c->pXE[i] += iv->XE[i];
-  }
-  if (!iv->dE) return 0;
-  int j = c->closed++;
-  if (j >= MAX_M) return 0;
-  memcpy(o->aFE + (size_t)j * n, c->pFE, sizeof(double) * n);
-  memcpy(o->aDE + (size_t)j * n, c->pDE, sizeof(double) * n);
-  memcpy(o->aXE + (size_t)j * n, c->pXE, sizeof(double) * n);
-  memset(c->pFE, 0, sizeof(double) * 3 * n);
-  return 0;
-}
-
-static int bal_sample(double t, int n, const double *x, const double *v, void *u)
-{
-  (void)t; (void)v;
-  vi_orbit *o = u;
-  double g = -HUGE_VAL; /* the nearest stop */
-  for (int k = 0; k < o->ns; k++)
-    g = fmax(g, vi_dot(n, vi_stop_w(o->m, k), x) - o->m->xsv[k]);
-  o->gmin = fmin(o->gmin, g);
-  return 0;
-}
-
-/* One period from the fixed point with the ledger: WB 11-13, in total and
- * per stop. */
-static int balance(vi_orbit *o)
-{
-  const vi_model *m = o->m;
-  int n = o->n, ns = o->ns, st;
-  double *pw = calloc(3 * (size_t)n, sizeof(double));
-  if (!pw) return vi_fail(o->errmsg, VI_ERR_NOMEM, "out of memory");
-  bal_ctx c = {o, 0, 0, 0, pw, pw + n, pw + 2 * n};
-  o->gmin = HUGE_VAL;
-  if ((st = vi_sim_enable_ledger(o->sim, 1)) ||
-      (st = vi_sim_set_event_callback(o->sim, bal_event, &c)) ||
-      (st = vi_sim_set_ledger_callback(o->sim, bal_ledger, &c)) ||
-      (st = vi_sim_set_initial(o->sim, o->t_s, o->zfix, o->zfix + n)) ||
-      (st = vi_sim_set_sampling(o->sim, o->T / 4096, bal_sample, o)) ||
-      (st = vi_sim_run(o->sim, o->t_s + o->T)))
-    vi_fail(o->errmsg, st < 0 ? st : VI_ERR_STATE, "balance run: %s",
-            vi_sim_errmsg(o->sim));
-  /* whatever happened, the sim keeps no pointer to this frame's context
-   * and no ledger or sampling it did not have before */
-  vi_sim_set_event_callback(o->sim, NULL, NULL);
-  vi_sim_set_ledger_callback(o->sim, NULL, NULL);
-  vi_sim_set_sampling(o->sim, 0.0, NULL, NULL);
-  vi_sim_enable_ledger(o->sim, 0);
-  if (!st && c.closed >= 1 && c.closed <= MAX_M)
-    for (int i = 0; i < n; i++) { /* the tail: the first impact's approach */
-      o->aFE[i] += pw[i];
-      o->aDE[i] += pw[n + i];
-      o->aXE[i] += pw[2 * n + i];
-    }
-  free(pw);
-  if (st) return st < 0 ? st : VI_ERR_STATE;
-  if (c.seen != o->pm || c.closed != o->pm || c.bad)
-    return vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED,
-                   "balance run: %d impacts in the period of a P(1,%d) orbit%s",
-                   c.seen, o->pm, c.bad ? " (simultaneous contacts)" : "");
-  o->mi = o->pm;
-  /* totals over the period (WB 11) and per stop (the approaches to its
-   * impacts): RE_k = sum of the approach work, KE_k = sum 1/2 v_n^2 / G_kk
-   * (WB 12), r_k = sqrt(1 - RE_k / KE_k) (WB 13); the stops' RE_k - IE_k
-   * are the energy the motion carries from one stop to the next and sum to
-   * zero: one stop, or a symmetric orbit, closes each */
-  memset(o->FE, 0, sizeof(double) * 3 * (size_t)n); /* FE, DE, XE */
-  memset(o->kFE, 0, sizeof(double) * 3 * (size_t)n * ns);
-  memset(o->kKE, 0, sizeof(double) * 3 * (size_t)ns); /* kKE, kRE, kIE */
-  memset(o->kcnt, 0, sizeof(int) * (size_t)ns);
-  o->RE = o->IE = o->KEi = 0.0;
-  for (int j = 0; j < o->mi; j++) {
-    int k = o->istop[j];
-    double G = m->G[k + (size_t)k * ns], ke = 0.5 * o->ivn[j] * o->ivn[j] / G;
-    o->kcnt[k]++;
-    o->kKE[k] += ke;
-    o->kIE[k] += o->iie[j];
-    o->KEi += ke;
-    o->IE += o->iie[j];
-    for (int i = 0; i < n; i++) {
-      size_t a = (size_t)j * n + i, b = (size_t)k * n + i;
-      o->FE[i] += o->aFE[a];
-      o->DE[i] += o->aDE[a];
-      o->XE[i] += o->aXE[a];
-      o->kFE[b] += o->aFE[a];
-      o->kDE[b] += o->aDE[a];
-      o->kXE[b] += o->aXE[a];
-      double w = o->aFE[a] - o->aDE[a] - o->aXE[a];
-      o->kRE[k] += w;
-      o->RE += w;
-    }
-  }
-  for (int k = 0; k < ns; k++) {
-    double x = o->kKE[k] > 0.0 ? 1.0 - o->kRE[k] / o->kKE[k] : NAN;
-    o->kr[k] = x >= 0.0 ? sqrt(x) : NAN;
-    o->kcl[k] = o->kKE[k] > 0.0 ? fabs(o->kRE[k] - o->kIE[k]) / o->kKE[k] : NAN;
-  }
-  double x = 1.0 - o->RE / o->KEi;                      /* WB 12, 13 */
-  o->r_rec = x >= 0.0 ? sqrt(x) : NAN;
-  o->closure = fabs(o->RE - o->IE) / o->KEi;             /* WB 11 */
-  for (int j = 0; j < n; j++) { /* r_eff of the first impact */
-    double qm = 0.0, qp = 0.0;
-    for (int i = 0; i < n; i++) {
-      qm += m->PsiTM[j + (size_t)i * n] * o->iv[i];
-      qp += m->PsiTM[j + (size_t)i * n] * o->ivp[i];
-    }
-    o->reff[j] = qm != 0.0 ? -qp / qm : NAN;
-  }
-  return VI_OK;
-}
-
 /* The most stable admissible P(1,1) orbit of the impact-phase scan
  * (vi_orbit_pnm.c), as the state half a period after its impact: 1 if one
  * exists, 0 if none, < 0 on failure. */
@@ -530,7 +288,7 @@ int vi_orbit_find(vi_orbit *o)
   o->by_scan = 0;
   o->nimp = 0;
   if ((st = vi_sim_set_initial(o->sim, 0.0, o->x0, o->v0)) ||
-      (st = vi_sim_set_event_callback(o->sim, record, o)))
+      (st = vi_sim_set_event_callback(o->sim, vi_classify_record, o)))
     return vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim));
   int64_t kmax = (int64_t)o->max_periods;
   for (int64_t k = 1; k <= kmax && !o->pn; k++) {
@@ -539,11 +297,11 @@ int vi_orbit_find(vi_orbit *o)
                      k * o->T);
     if (st)
       return vi_fail(o->errmsg, st, "transient: %s", vi_sim_errmsg(o->sim));
-    double *z = strobe(o, k);
+    double *z = vi_classify_strobe(o, k);
     vi_sim_get_state(o->sim, NULL, z, z + n);
     for (int p = 1; p <= MAX_N && k >= 3 * p + 16; p++) {
       int mm;
-      if (repeats(o, k, p, &mm)) {
+      if (vi_classify_repeats(o, k, p, &mm)) {
         o->pn = p;
         o->pm = mm;
         break;
@@ -552,7 +310,7 @@ int vi_orbit_find(vi_orbit *o)
   }
   if (!o->pn) { /* not periodic: report the recent impact rate */
     double tn = kmax * o->T;
-    o->pm = (int)lround((o->nimp - first_after(o, tn - 8 * o->T)) / 8.0);
+    o->pm = (int)lround((o->nimp - vi_classify_first_after(o, tn - 8 * o->T)) / 8.0);
   }
   o->tn = o->pn;
   o->tm = o->pm;
@@ -594,7 +352,7 @@ int vi_orbit_find(vi_orbit *o)
                      vi_sim_errmsg(o->sim));
     vi_sim_get_state(o->sim, NULL, o->zfix, o->zfix + n);
   }
-  if ((st = refine(o)) || (st = balance(o))) return st;
+  if ((st = refine(o)) || (st = vi_balance_run(o))) return st;
   /* multipliers from exact derivatives (closed-form state-transition and
    * saltation matrices, vi_orbit_pnm.c) at the impacts of the refined
    * orbit, whichever method integrated it */
@@ -614,92 +372,6 @@ int vi_orbit_classify(const vi_orbit *o, int *n, int *m)
   return VI_OK;
 }
 
-/* the P(1,1) getters: one impact per period; the rest: any analysed orbit */
-#define NEED_ORBIT(o) \
-  do { if (!(o)) return VI_ERR_ARG; if (!(o)->analysed) return VI_ERR_STATE; } while (0)
-#define NEED_P11(o) \
-  do { NEED_ORBIT(o); if ((o)->mi != 1) return VI_ERR_STATE; } while (0)
-
-int vi_orbit_balance(const vi_orbit *o, double *period, double *phase,
-                     double *vN, double *KE_i, double *RE, double *IE,
-                     double *r_rec, double *closure)
-{
-  NEED_P11(o);
-  if (period) *period = o->T;
-  if (phase) *phase = fmod(o->it[0], o->T);
-  if (vN) *vN = o->ivn[0];
-  if (KE_i) *KE_i = o->KEi;
-  if (RE) *RE = o->RE;
-  if (IE) *IE = o->IE;
-  if (r_rec) *r_rec = o->r_rec;
-  if (closure) *closure = o->closure;
-  return VI_OK;
-}
-
-int vi_orbit_modal_balance(const vi_orbit *o, double *FE, double *DE,
-                           double *XE, double *r_eff)
-{
-  NEED_P11(o);
-  size_t b = sizeof(double) * o->n;
-  if (FE) memcpy(FE, o->FE, b);
-  if (DE) memcpy(DE, o->DE, b);
-  if (XE) memcpy(XE, o->XE, b);
-  if (r_eff) memcpy(r_eff, o->reff, b);
-  return VI_OK;
-}
-
-int vi_orbit_impact_state(const vi_orbit *o, double *t, double *x, double *v)
-{
-  NEED_P11(o);
-  if (t) *t = o->it[0];
-  if (x) memcpy(x, o->ix, sizeof(double) * o->n);
-  if (v) memcpy(v, o->iv, sizeof(double) * o->n);
-  return VI_OK;
-}
-
-int vi_orbit_impacts(const vi_orbit *o, int *count, double *t, int *stop,
-                     double *vn, double *x, double *v, int ld)
-{
-  NEED_ORBIT(o);
-  if ((x || v) && ld < o->n) return VI_ERR_ARG;
-  if (count) *count = o->mi;
-  for (int j = 0; j < o->mi; j++) {
-    if (t) t[j] = o->it[j];
-    if (stop) stop[j] = o->istop[j];
-    if (vn) vn[j] = o->ivn[j];
-    if (x) memcpy(x + (size_t)j * ld, o->ix + (size_t)j * o->n, sizeof(double) * o->n);
-    if (v) memcpy(v + (size_t)j * ld, o->iv + (size_t)j * o->n, sizeof(double) * o->n);
-  }
-  return VI_OK;
-}
-
-int vi_orbit_stop_balance(const vi_orbit *o, int k, int *count, double *KE_i,
-                          double *RE, double *IE, double *r_rec,
-                          double *closure)
-{
-  NEED_ORBIT(o);
-  if (k < 0 || k >= o->ns) return VI_ERR_ARG;
-  if (count) *count = o->kcnt[k];
-  if (KE_i) *KE_i = o->kKE[k];
-  if (RE) *RE = o->kRE[k];
-  if (IE) *IE = o->kIE[k];
-  if (r_rec) *r_rec = o->kr[k];
-  if (closure) *closure = o->kcl[k];
-  return VI_OK;
-}
-
-int vi_orbit_stop_modal_balance(const vi_orbit *o, int k, double *FE,
-                                double *DE, double *XE)
-{
-  NEED_ORBIT(o);
-  if (k < 0 || k >= o->ns) return VI_ERR_ARG;
-  size_t b = sizeof(double) * o->n, off = (size_t)k * o->n;
-  if (FE) memcpy(FE, o->kFE + off, b);
-  if (DE) memcpy(DE, o->kDE + off, b);
-  if (XE) memcpy(XE, o->kXE + off, b);
-  return VI_OK;
-}
-
 int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im)
 {
   NEED_ORBIT(o);
@@ -708,72 +380,3 @@ int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im)
   return VI_OK;
 }
 
-int vi_orbit_min_gap(const vi_orbit *o, double *gmin)
-{
-  NEED_ORBIT(o);
-  if (gmin) *gmin = o->gmin;
-  return VI_OK;
-}
-
-int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes, int k,
-                                 double *r_S)
-{
-  NEED_P11(o);
-  if (!modes || !r_S || k < 1 || k > o->n) return VI_ERR_ARG;
-  const vi_model *m = o->m;
-  int n = o->n;
-  const double *psi = vi_stop_psi(m, o->istop[0]);
-  double pq = 0.0, pp = 0.0, re = 0.0;
-  *r_S = NAN;
-  for (int a = 0; a < k; a++) {
-    int j = modes[a];
-    if (j < 0 || j >= n) return VI_ERR_ARG; /* a getter: o stays const */
-    double qd = 0.0;
-    for (int i = 0; i < n; i++) qd += m->PsiTM[j + (size_t)i * n] * o->iv[i];
-    pq += psi[j] * qd;
-    pp += psi[j] * psi[j];
-    re += o->FE[j] - o->DE[j] - o->XE[j];
-  }
-  double ke = 0.5 * pq * pq / pp; /* KE_S */
-  if (!(pp > 0.0) || !(re >= 0.0) || re > ke) return VI_ERR_ARG;
-  *r_S = sqrt(1.0 - re / ke);
-  return VI_OK;
-}
-
-int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
-                            double r, vi_model **out)
-{
-  if (!out) return VI_ERR_ARG;
-  *out = NULL;
-  if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
-  if (!full->frozen) return VI_ERR_STATE;
-  if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
-  int n = full->n, st;
-  double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
-  if (!buf) return VI_ERR_NOMEM;
-  double *M = buf, *K = M + k * k, *C = K + k * k, *w = C + k * k;
-  double *a = w + k, *b = a + k, *f0 = b + k;
-  for (int p = 0; p < k; p++) {
-    int j = modes[p];
-    if (j < 0 || j >= n) { free(buf); return VI_ERR_ARG; }
-    M[p + p * k] = 1.0;
-    K[p + p * k] = full->lambda[j];
-    for (int q = 0; q < k; q++) C[p + q * k] = full->D[j + (size_t)modes[q] * n];
-    w[p] = full->psi[j];
-    a[p] = full->Fa[j];
-    b[p] = full->Fb[j];
-    f0[p] = full->F0[j];
-  }
-  vi_model *m = NULL;
-  st = vi_model_create(k, &m);
-  if (!st) st = vi_model_set_mass(m, M, k);
-  if (!st) st = vi_model_set_stiffness(m, K, k);
-  if (!st) st = vi_model_set_damping(m, C, k);
-  if (!st) st = vi_model_set_forcing(m, full->omega_f, a, b, f0);
-  if (!st) st = vi_model_set_stop(m, w, full->xs, r);
-  if (!st) st = vi_model_setup(m);
-  free(buf);
-  if (st) vi_model_destroy(&m);
-  *out = m;
-  return st;
-}

@@ -153,15 +153,6 @@ VI_API int vi_model_from_modal(const vi_model *m, const double *q, double *x);
 VI_API double vi_model_energy(const vi_model *m, const double *x,
                               const double *v);
 
-/** The paper's fixed-free chain (MODEL.md section 1), into caller arrays:
- *  element j joins mass j-1 (mass 0 to the ground) to mass j with spring k_j
- *  and dashpot c_j.  mass, k, c [n] (c may be NULL: no damping); M, C, K are
- *  written n x n column-major with leading dimension ld >= n.
- *  @return VI_OK, VI_ERR_DIM, VI_ERR_ARG. */
-VI_API int vi_build_chain(int n, const double *mass, const double *k,
-                          const double *c, double *M, double *C, double *K,
-                          int ld);
-
 #ifdef __cplusplus
 }
 #endif
