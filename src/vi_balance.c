@@ -74,7 +74,7 @@ int vi_balance_run(vi_orbit *o)
   int n = o->n, ns = o->ns, st;
   double *pw = calloc(3 * (size_t)n, sizeof(double));
   if (!pw) return vi_fail(o->errmsg, VI_ERR_NOMEM, "out of memory");
-  bal_ctx c = {o, 0, 0, 0, pw, pw + n, pw + 2 * n};
+  bal_ctx c = {o, 0, 0, 0, pw, pw + n, pw + (size_t)2 * n};
   o->gmin = HUGE_VAL;
   if ((st = vi_sim_enable_ledger(o->sim, 1)) ||
       (st = vi_sim_set_event_callback(o->sim, bal_event, &c)) ||

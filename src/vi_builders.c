@@ -120,7 +120,8 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;
-  double *M = buf, *K = M + k * k, *C = K + k * k, *w = C + k * k;
+  size_t kk = (size_t)k * k;
+  double *M = buf, *K = M + kk, *C = K + kk, *w = C + kk;
   double *a = w + k, *b = a + k, *f0 = b + k;
   for (int p = 0; p < k; p++) {
     int j = modes[p];

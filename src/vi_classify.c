@@ -46,7 +46,7 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
   for (int i = 0; i < 2 * o->n; i++) zscale = fmax(zscale, fabs(zk[i]));
   for (int j = 1; j <= 3; j++)
     for (int i = 0; i < 2 * o->n; i++)
-      if (fabs(vi_classify_strobe(o, kp - j * n)[i] - zk[i]) > o->tol * zscale) return 0;
+      if (fabs(vi_classify_strobe(o, kp - (int64_t)j * n)[i] - zk[i]) > o->tol * zscale) return 0;
   int64_t k0 = vi_classify_first_after(o, t_now - 3 * nT), k1 = vi_classify_first_after(o, t_now - 2 * nT),
           k2 = vi_classify_first_after(o, t_now - nT), k3 = o->nimp;
   if (k0 <= o->nimp - RING) return 0; /* the ring no longer holds them */

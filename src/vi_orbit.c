@@ -40,14 +40,14 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   double *p = o->block;
   o->x0 = p; p += n;
   o->v0 = p; p += n;
-  o->zfix = p; p += 2 * n;
+  o->zfix = p; p += (size_t)2 * n;
   o->FE = p; p += n;
   o->DE = p; p += n;
   o->XE = p; p += n;
   o->reff = p; p += n;
-  o->mre = p; p += 2 * n;
-  o->mim = p; p += 2 * n;
-  o->scr = p; p += 2 * n;
+  o->mre = p; p += (size_t)2 * n;
+  o->mim = p; p += (size_t)2 * n;
+  o->scr = p; p += (size_t)2 * n;
   o->dE = p; p += n;
   o->ix = p; p += nM;
   o->iv = p; p += nM;
@@ -205,12 +205,9 @@ static int refine(vi_orbit *o)
                      "shooting: the map left P(1,%d) at the start", o->pm);
     goto done;
   }
-  int it, gs = GSL_CONTINUE;
-  for (it = 0; it < 50 && gs == GSL_CONTINUE; it++) {
-    if (gsl_multiroot_test_residual(sv->f, eps) == GSL_SUCCESS) {
-      gs = GSL_SUCCESS;
-      break;
-    }
+  int it;
+  for (it = 0; it < 50; it++) {
+    if (gsl_multiroot_test_residual(sv->f, eps) == GSL_SUCCESS) break;
     if (gsl_multiroot_fsolver_iterate(sv)) break;
   }
   if (gsl_multiroot_test_residual(sv->f, eps) != GSL_SUCCESS) {
@@ -235,7 +232,7 @@ static int direct_p11(vi_orbit *o)
   double *t = malloc(sizeof(double) * ((size_t)cap * (2 * n + 1) + 5 * (size_t)n));
   if (!t) return VI_ERR_NOMEM;
   double *x = t + cap, *v = x + (size_t)cap * n, *re = v + (size_t)cap * n,
-         *im = re + 2 * n, *vp = im + 2 * n, rho_best = 1.0;
+         *im = re + (size_t)2 * n, *vp = im + (size_t)2 * n, rho_best = 1.0;
   st = vi_orbit_p1_scan(o->m, 1, 720, t, x, v, n, cap, &found);
   for (int i = 0; !st && i < found && i < cap; i++) {
     if (vi_orbit_pnm_admissible(o->m, 1, 1, &t[i], x + (size_t)i * n,
