@@ -25,7 +25,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!o) return VI_ERR_NOMEM;
   int n = model->n, ns = model->ns;
   size_t nM = (size_t)n * MAX_M, nS = (size_t)n * ns;
-  o->block = calloc(19 * (size_t)n + 6 * nM + 3 * nS + 5 * (size_t)ns, sizeof(double));
+  o->block = calloc(19 * (size_t)n + 8 * nM + 3 * nS + 5 * (size_t)ns, sizeof(double));
   o->rt = malloc(sizeof(double) * RING);
   o->rs = malloc(sizeof(int) * RING);
   o->kcnt = calloc((size_t)ns, sizeof(int));
@@ -50,6 +50,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->scr = p; p += (size_t)2 * n;
   o->dE = p; p += n;
   o->ix = p; p += nM;
+  o->mz = p; p += 2 * nM;
   o->iv = p; p += nM;
   o->ivp = p; p += nM;
   o->aFE = p; p += nM;
@@ -153,10 +154,19 @@ int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol)
 
 
 /* ---- shooting on the stroboscopic map --------------------------------- */
+/* impacts of a map run: counted, and the first MAX_M kept (time, stop,
+ * pre-impact state) for the map's exact Jacobian */
 static int count_map(const vi_event *ev, void *user)
 {
   vi_orbit *o = user;
-  if (ev->kind == VI_EVENT_IMPACT) o->map_impacts++;
+  if (ev->kind != VI_EVENT_IMPACT) return 0;
+  int j = o->map_impacts++, n = o->n;
+  if (j < MAX_M) {
+    o->it[j] = ev->t;
+    o->istop[j] = ev->stop;
+    memcpy(o->mz + (size_t)j * 2 * n, ev->x, sizeof(double) * n);
+    memcpy(o->mz + (size_t)j * 2 * n + n, ev->v_minus, sizeof(double) * n);
+  }
   return 0;
 }
 
@@ -172,23 +182,49 @@ static int flow_map(vi_orbit *o, const double *z, double *out)
   return VI_OK;
 }
 
-static int shoot_f(const gsl_vector *z, void *params, gsl_vector *f)
+/* F(z) = Phi_T(z) - z and its exact Jacobian D Phi_T - I: the variational
+ * flow through the impacts of this run (vi_var_map_jacobian); the map's
+ * impacts are kept in o->it, o->istop (which the balance run overwrites
+ * afterwards) and o->mz */
+static int shoot_fdf(const gsl_vector *z, void *params, gsl_vector *f,
+                     gsl_matrix *J)
 {
   vi_orbit *o = params;
   int n2 = 2 * o->n;
   double *out = o->scr;
   if (flow_map(o, z->data, out) || o->map_impacts != o->pm) return GSL_EDOM;
-  for (int i = 0; i < n2; i++) gsl_vector_set(f, i, out[i] - gsl_vector_get(z, i));
+  for (int i = 0; f && i < n2; i++) gsl_vector_set(f, i, out[i] - gsl_vector_get(z, i));
+  if (!J) return GSL_SUCCESS;
+  double *Jm = malloc(sizeof(double) * (size_t)n2 * n2);
+  if (!Jm || vi_var_map_jacobian(o->m, o->t_s, o->t_s + o->T, o->pm, o->istop,
+                                 o->it, o->mz, Jm)) {
+    free(Jm);
+    return GSL_EDOM;
+  }
+  for (int i = 0; i < n2; i++) /* gsl_matrix is row-major */
+    for (int j = 0; j < n2; j++) gsl_matrix_set(J, i, j, Jm[i + (size_t)j * n2] - (i == j));
+  free(Jm);
   return GSL_SUCCESS;
 }
 
+static int shoot_f(const gsl_vector *z, void *params, gsl_vector *f)
+{
+  return shoot_fdf(z, params, f, NULL);
+}
+
+static int shoot_df(const gsl_vector *z, void *params, gsl_matrix *J)
+{
+  return shoot_fdf(z, params, NULL, J);
+}
+
+/* Newton (GSL hybridsj) on Phi_T(z) = z with the exact Jacobian */
 static int refine(vi_orbit *o)
 {
   int n2 = 2 * o->n, status = VI_OK;
-  gsl_multiroot_function F = {shoot_f, (size_t)n2, o};
+  gsl_multiroot_function_fdf F = {shoot_f, shoot_df, shoot_fdf, (size_t)n2, o};
   gsl_vector *z = gsl_vector_alloc(n2);
-  gsl_multiroot_fsolver *sv =
-      gsl_multiroot_fsolver_alloc(gsl_multiroot_fsolver_hybrids, n2);
+  gsl_multiroot_fdfsolver *sv =
+      gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, n2);
   if (!z || !sv) {
     status = vi_fail(o->errmsg, VI_ERR_NOMEM, "out of memory");
     goto done;
@@ -200,7 +236,7 @@ static int refine(vi_orbit *o)
   }
   /* the map is exact to round-off (exact flow) or to the tolerance */
   double eps = (o->method == VI_METHOD_EXACT ? 1e-13 : 100.0 * o->rtol) * scale;
-  if (gsl_multiroot_fsolver_set(sv, &F, z) != GSL_SUCCESS) {
+  if (gsl_multiroot_fdfsolver_set(sv, &F, z) != GSL_SUCCESS) {
     status = vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED,
                      "shooting: the map left P(1,%d) at the start", o->pm);
     goto done;
@@ -208,7 +244,7 @@ static int refine(vi_orbit *o)
   int it;
   for (it = 0; it < 50; it++) {
     if (gsl_multiroot_test_residual(sv->f, eps) == GSL_SUCCESS) break;
-    if (gsl_multiroot_fsolver_iterate(sv)) break;
+    if (gsl_multiroot_fdfsolver_iterate(sv)) break;
   }
   if (gsl_multiroot_test_residual(sv->f, eps) != GSL_SUCCESS) {
     status = vi_fail(o->errmsg, VI_ERR_NOT_CONVERGED,
@@ -218,7 +254,7 @@ static int refine(vi_orbit *o)
   }
   for (int i = 0; i < n2; i++) o->zfix[i] = gsl_vector_get(sv->x, i);
 done:
-  gsl_multiroot_fsolver_free(sv);
+  gsl_multiroot_fdfsolver_free(sv);
   gsl_vector_free(z);
   return status;
 }

@@ -22,6 +22,12 @@ void vi_var_impact(const vi_model *m, int k, const double *z, double *zp);
  * z [2n] just before it; work [8n]. */
 void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
                       double *S, double *work);
+/* D z(tb) / D z(ta) [2n x 2n] of the motion from ta to tb through mi
+ * impacts at t [mi] on stop [mi], pre-impact states z [2n x mi] (stacked
+ * x, v per impact): the exact derivative of a shooting map. */
+int vi_var_map_jacobian(const vi_model *m, double ta, double tb, int mi,
+                        const int *stop, const double *t, const double *z,
+                        double *J);
 /* d/dOmega of the harmonic particular solution z_p = (x_p, v_p) at the
  * times t [nt] into dz [2n x nt].  VI_OK, VI_ERR_NOMEM, VI_ERR_UNSUPPORTED
  * (an undamped mode forced at resonance), VI_ERR_LAPACK. */
@@ -54,6 +60,7 @@ struct vi_orbit {
   int mi, istop[MAX_M];
   double it[MAX_M], ivn[MAX_M], iie[MAX_M];
   double *ix, *iv, *ivp, *aFE, *aDE, *aXE;
+  double *mz; /* a shooting map's pre-impact states, stacked [2n x MAX_M] */
   /* totals over the period [n] and per stop [n x ns], [ns] */
   double *zfix, *FE, *DE, *XE, *reff, *mre, *mim, *kFE, *kDE, *kXE;
   double *kKE, *kRE, *kIE, *kr, *kcl;

@@ -196,6 +196,31 @@ void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
     }
 }
 
+/* D z(tb) / D z(ta) of the motion from ta to tb through mi impacts at
+ * t [mi] on the stops stop [mi] with pre-impact states z [2n x mi]:
+ * Phi(tb - t_last) S_last ... S_0 Phi(t_0 - ta). */
+int vi_var_map_jacobian(const vi_model *m, double ta, double tb, int mi,
+                        const int *stop, const double *t, const double *z,
+                        double *J)
+{
+  int n2 = 2 * m->n, st = VI_OK;
+  size_t nn = (size_t)n2 * n2;
+  double *P = malloc(sizeof(double) * (3 * nn + 4 * (size_t)n2));
+  if (!P) return VI_ERR_NOMEM;
+  double *S = P + nn, *W = S + nn, *work = W + nn;
+  if ((st = vi_var_stm(m, (mi ? t[0] : tb) - ta, J))) goto cleanup;
+  for (int j = 0; j < mi; j++) {
+    double t1 = j + 1 < mi ? t[j + 1] : tb;
+    vi_var_saltation(m, stop[j], t[j], z + (size_t)j * n2, S, work);
+    mul(n2, S, J, W);
+    if ((st = vi_var_stm(m, t1 - t[j], P))) goto cleanup;
+    mul(n2, P, W, J);
+  }
+cleanup:
+  free(P);
+  return st;
+}
+
 /* The harmonic particular solution x_p = Re(X e^{i Omega t}) solves
  * H X = a - i b with H = K - Omega^2 M + i Omega C, so
  *   dX/dOmega = -H^-1 (-2 Omega M + i C) X,
