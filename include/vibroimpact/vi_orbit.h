@@ -6,8 +6,8 @@
  * (period n forcing periods, m impacts in it) or not periodic, and for a
  * P(1,1) orbit refines it by Newton shooting on the stroboscopic map (GSL
  * hybridsj with the map's exact Jacobian: the closed-form variational flow
- * and the saltation matrix of each impact), computes its Floquet multipliers and the energy balance over one
- * period:
+ * and the saltation matrix of each impact), computes its Floquet
+ * multipliers and the energy balance over one period:
  *   IE = 1/2 v_N^2 (1 - r^2) / psi.psi = sum_j (FE_j - DE_j - XE_j) = RE (WB 11)
  *   r  = sqrt(1 - RE / KE_i),  KE_i = 1/2 v_N^2 / psi.psi            (WB 12, 13)
  * and the restitution r_S a reduced model keeping only the modes in S needs
