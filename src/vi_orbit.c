@@ -1,5 +1,5 @@
 /* vi_orbit.c - the orbit analysis handle: a transient classified P(n, m)
- * (vi_classify.c), the P(1,1) orbit (or, with several stops, P(1, m))
+ * (vi_classify.c), the P(1,1) orbit (or P(1, m), one stop or several)
  * refined by shooting or found by the direct search, its Floquet
  * multipliers from exact derivatives (vi_orbit_pnm.c), and its energy
  * balance (vi_balance.c). */
@@ -347,18 +347,22 @@ int vi_orbit_find(vi_orbit *o)
   }
   o->tn = o->pn;
   o->tm = o->pm;
-  /* analysed: P(1,1), and P(1, m) of a model with several stops (the
-   * impacts alternate between them) */
-  int several = o->pn == 1 && o->pm > 1 && o->pm <= MAX_M && o->ns > 1;
-  if ((o->pn != 1 || o->pm != 1) && !several) {
+  /* analysed: P(1,1), else (one stop) a stable P(1,1) orbit the transient
+   * missed, else P(1, m), m <= MAX_M (the impacts of a period, on one stop
+   * or alternating between several) */
+  int multi = o->pn == 1 && o->pm > 1 && o->pm <= MAX_M, got = 0;
+  if (o->pn != 1 || o->pm != 1) {
     /* the transient went elsewhere; a stable P(1,1) orbit may still
      * exist (another attractor): look for it directly */
-    if (!o->direct || o->ns > 1 || !vi_xflow_available(o->m)) return VI_OK;
-    int got = direct_p11(o);
-    if (got < 0)
-      return vi_fail(o->errmsg, got, "direct P(1,1) search: %s",
-                     vi_strerror(got));
-    if (!got) return VI_OK;
+    if (o->direct && o->ns == 1 && vi_xflow_available(o->m)) {
+      got = direct_p11(o);
+      if (got < 0)
+        return vi_fail(o->errmsg, got, "direct P(1,1) search: %s",
+                       vi_strerror(got));
+    }
+    if (!got && !multi) return VI_OK;
+  }
+  if (got) {
     o->pn = o->pm = 1;
     o->by_scan = 1;
     if ((st = vi_sim_set_event_callback(o->sim, count_map, o)))
@@ -385,7 +389,11 @@ int vi_orbit_find(vi_orbit *o)
                      vi_sim_errmsg(o->sim));
     vi_sim_get_state(o->sim, NULL, o->zfix, o->zfix + n);
   }
-  if ((st = refine(o)) || (st = vi_balance_run(o))) return st;
+  if ((st = refine(o)) || (st = vi_balance_run(o))) {
+    /* a P(1, m) orbit that shooting cannot hold stays classified only */
+    if (o->pm > 1 && st == VI_ERR_NOT_CONVERGED) return VI_OK;
+    return st;
+  }
   /* multipliers from exact derivatives (closed-form state-transition and
    * saltation matrices, vi_orbit_pnm.c) at the impacts of the refined
    * orbit, whichever method integrated it */

@@ -623,6 +623,57 @@ static void two_sided_clearance(void **state)
   vi_model_destroy(&m);
 }
 
+/* Where the closed-form flow does not apply, vi_orbit integrates with
+ * CVODE and still takes exact derivatives (the transition matrix by Pade
+ * scaling and squaring needs only M, C, K).  The undamped oscillator forced
+ * at its resonance (x'' + x = a cos t: secular growth, the closed form
+ * refuses it) against a stop at x_s = 0 settles on a P(1,2) orbit (also a
+ * one-stop P(1, m) the analysis now covers).  Checks from physics: the
+ * monodromy's determinant is r^4 (Liouville with C = 0: each saltation
+ * matrix has det r^2); with x_s = 0 the equations are homogeneous in
+ * (x, a), so the orbit scales with a and its multipliers do not change;
+ * the balance closes over the period (RE = IE) and recovers r (WB 13 with
+ * both impacts). */
+static void resonant_cvode_floquet(void **state)
+{
+  (void)state;
+  const double r = 0.8, amp[2] = {0.05, 0.5};
+  double mre[2][2], mim[2][2];
+  for (int c = 0; c < 2; c++) {
+    vi_model *m = vi_test_sdof(1.0, 0.0, 1.0, amp[c], 0.0, 1.0, 0.0, r);
+    vi_orbit *o = NULL;
+    int pn, pm, cnt, sp[8];
+    assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+    assert_int_equal(vi_orbit_set_direct_search(o, 0), VI_OK);
+    assert_int_equal(vi_orbit_find(o), VI_OK);
+    assert_int_equal(vi_orbit_classify(o, &pn, &pm), VI_OK);
+    assert_int_equal(pn, 1);
+    assert_int_equal(pm, 2);
+    assert_int_equal(vi_orbit_impacts(o, &cnt, NULL, sp, NULL, NULL, NULL, 1), VI_OK);
+    assert_int_equal(cnt, 2);
+    assert_int_equal(sp[0] + sp[1], 0);
+    assert_int_equal(vi_orbit_multipliers(o, mre[c], mim[c]), VI_OK);
+    double det = hypot(mre[c][0], mim[c][0]) * hypot(mre[c][1], mim[c][1]);
+    double KE, RE, IE, rr, cl;
+    assert_int_equal(vi_orbit_stop_balance(o, 0, &cnt, &KE, &RE, &IE, &rr, &cl), VI_OK);
+    print_message("a = %g, CVODE orbit: multipliers %.10g%+.10gi, %.10g%+.10gi; "
+                  "det - r^4 %.2e; closure %.2e, r recovered %.10f\n", amp[c],
+                  mre[c][0], mim[c][0], mre[c][1], mim[c][1], det - pow(r, 4), cl, rr);
+    assert_int_equal(cnt, 2);
+    assert_close(det, pow(r, 4), 1e-9);
+    assert_true(cl < 1e-7);
+    assert_close(rr, r, 1e-7);
+    vi_orbit_destroy(&o);
+    vi_model_destroy(&m);
+  }
+  for (int i = 0; i < 2; i++) { /* the same multipliers, as a set */
+    double best = HUGE_VAL;
+    for (int j = 0; j < 2; j++)
+      best = fmin(best, hypot(mre[0][i] - mre[1][j], mim[0][i] - mim[1][j]));
+    assert_true(best < 1e-8);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -637,6 +688,7 @@ int main(void)
       cmocka_unit_test(nonprop_floquet),
       cmocka_unit_test(dparam_exact),
       cmocka_unit_test(two_sided_clearance),
+      cmocka_unit_test(resonant_cvode_floquet),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,10 +13,10 @@
  * and the restitution r_S a reduced model keeping only the modes in S needs
  * to reproduce the orbit.
  *
- * Several stops: a P(1, m) orbit whose impacts go to several stops (a
- * two-sided clearance: m = 2, one impact on each) is analysed too, with the
+ * P(1, m) orbits are analysed too, also when the impacts go to several
+ * stops (a two-sided clearance: m = 2, one impact on each), with the
  * balance per stop (vi_orbit_stop_balance): the work fed in on the
- * approach to each of its impacts against the energy they take. */
+ * approach to each stop's impacts against the energy they take. */
 #ifndef VI_ORBIT_H
 #define VI_ORBIT_H
 
@@ -73,11 +73,14 @@ VI_API int vi_orbit_set_direct_search(vi_orbit *o, int on);
  *  pointer may be NULL. */
 VI_API int vi_orbit_search_info(const vi_orbit *o, int *tn, int *tm,
                                 int *by_scan);
-/** Run, classify, and for P(1,1) (and, with several stops, P(1, m), m <= 8)
- * refine and analyse.  VI_OK whatever the motion turns out to be: ask
- * vi_orbit_classify.  VI_STOPPED if the monitor asked to stop; a negative
- * code means the computation itself failed.  The direct search is for
- * models with one stop. */
+/** Run, classify, and for P(1,1) refine and analyse; for P(1, m), m <= 8,
+ * the same unless (one stop) the direct search finds a stable P(1,1)
+ * orbit, which takes precedence.  VI_OK whatever the motion turns out to
+ * be: ask vi_orbit_classify (and vi_orbit_impacts, VI_ERR_STATE if no orbit
+ * was analysed: a P(1, m) orbit that shooting cannot hold stays only
+ * classified).  VI_STOPPED if the monitor asked to stop; a negative code
+ * means the computation itself failed.  The direct search is for models
+ * with one stop. */
 VI_API int vi_orbit_find(vi_orbit *o);
 /** *n periods of forcing, *m impacts per orbit period; n = 0 when no period
  * up to 8 was found within the transient (m is then the mean number of
