@@ -565,7 +565,7 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
       H5Gclose(g);
     }
     /* the modes only when the scene asks for them (always without a scene) */
-    g = scene && !vi_scene_wants(scene, "modes")
+    g = scene && !(vi_scene_outputs(scene) & VI_SCENE_OUT_MODES)
             ? 0
             : H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT,
                          H5P_DEFAULT);
