@@ -196,7 +196,7 @@ int vi_cmd_run(const app_opts *o)
   }
   /* from here files exist: a signal before the run polls removes them */
   if (o->out) snprintf(h5part, sizeof h5part, "%s.part", o->out_target);
-  if (o->csv && strcmp(o->csv, "-"))
+  if (o->csv && strcmp(o->csv, "-") != 0)
     snprintf(part, sizeof part, "%s.part", o->csv_target);
   vi_app_arm_parts(h5part, part);
   if (o->out) {

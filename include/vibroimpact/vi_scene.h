@@ -55,7 +55,7 @@ extern "C" {
 #endif
 
 /** Default limits and ranges of scene values (see the file comment). */
-#define VI_SCENE_MAX_BYTES (16 * 1024 * 1024) /**< largest scene text */
+#define VI_SCENE_MAX_BYTES 16777216 /**< largest scene text (16 MiB) */
 #define VI_SCENE_MAX_DEPTH 32                  /**< deepest YAML nesting */
 #define VI_SCENE_NUM_MAX 1e100           /**< largest magnitude of a number */
 #define VI_SCENE_RATIO_MAX 1e12          /**< spread of masses, stiffnesses */

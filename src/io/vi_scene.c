@@ -448,7 +448,7 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
     return fail(c, on ? on : amp, VI_ERR_PARSE, "forcing", "%s",
                 "'on' and 'amplitude' go together");
   if (on) {
-    double A;
+    double A = 0;
     if (find(c, f, "a"))
       return fail(c, on, VI_ERR_PARSE, "forcing.on", "%s",
                   "give 'a' or 'on', not both");
@@ -458,7 +458,7 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
                   "expected a list of mass indices");
     for (yaml_node_item_t *it = on->data.sequence.items.start;
          it < on->data.sequence.items.top; it++) {
-      int j;
+      int j = 1;
       if ((st = integer(c, node(c, *it), "forcing.on", 1, s->n, &j))) return st;
       s->a[j - 1] = A;
     }
@@ -493,7 +493,7 @@ static int parse_stop_at(ctx *c, vi_scene *s, yaml_node_t *sp,
     *has_w = 1;
   }
   if (mass) {
-    int j;
+    int j = 1;
     if ((st = integer(c, mass, key, 1, s->n, &j))) return st;
     w[j - 1] = 1.0;
     *has_w = 1;
@@ -588,7 +588,7 @@ static int parse_springs(ctx *c, vi_scene *s, yaml_node_t *list)
     const char *tname = ty && ty->type == YAML_SCALAR_NODE
                             ? (const char *)ty->data.scalar.value : "";
     int bil = !strcmp(tname, "bilinear");
-    if (!bil && strcmp(tname, "cubic")) {
+    if (!bil && strcmp(tname, "cubic") != 0) {
       join(key, path, "type");
       return fail(c, ty ? ty : sp, VI_ERR_PARSE, key, "%s",
                   "expected type: cubic or bilinear");
