@@ -191,7 +191,8 @@ static int walk(const vi_scene_edit *e, yaml_document_t *doc, const tok *t, int 
     if (!t[i].index) {
       if (cur->type != YAML_MAPPING_NODE)
         return vi_diag_set(d, e->name, VI_ERR_PARSE, line, col, key, "",
-                           "'%s' is looked up in something that is not a mapping",
+                           "'%s' is looked up in something that is not a "
+                           "mapping",
                            t[i].key);
       yaml_node_t *c = child(doc, cur, t[i].key, NULL);
       if (!c) break;
@@ -224,7 +225,8 @@ static int check_value(const vi_scene_edit *e, const char *key,
 {
   if (!*value || strpbrk(value, "\n\r#"))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                       "the value must be one YAML value on one line (no comment)");
+                       "the value must be one YAML value on one line "
+                       "(no comment)");
   yaml_document_t doc;
   if (!load(value, strlen(value), &doc, NULL, NULL))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
@@ -237,7 +239,8 @@ static int check_value(const vi_scene_edit *e, const char *key,
   yaml_document_delete(&doc);
   if (!ok)
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                       "the value must be a number, a word or a flow list [..]");
+                       "the value must be a number, a word or a flow list "
+                       "[..]");
   return VI_OK;
 }
 
@@ -250,8 +253,8 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
   int nt = 0, st, found = 0;
   if (!split_path(key, t, &nt))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                       "malformed key: expected words joined by '.', with 1-based "
-                       "list indices such as forcing.a[1]");
+                       "malformed key: expected words joined by '.', with "
+                       "1-based list indices such as forcing.a[1]");
   if ((st = check_value(e, key, value, d))) return st;
   yaml_document_t doc;
   if (!load(e->text, e->len, &doc, NULL, NULL))
@@ -273,7 +276,8 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
     if (t[i].index) {
       st = vi_diag_set(d, e->name, VI_ERR_PARSE, (int)nd->start_mark.line + 1,
                        (int)nd->start_mark.column + 1, key, value,
-                       "'%s' is not in the scene, and list entries cannot be added",
+                       "'%s' is not in the scene, and list entries cannot "
+                       "be added",
                        t[found].key);
       goto done;
     }
@@ -286,7 +290,8 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
   for (int i = found; i + 1 < nt; i++)
     k += snprintf(ins + k, sizeof ins - (size_t)k, "}");
   if (k >= (int)sizeof ins - 8) {
-    st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value, "value too long");
+    st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value, "%s",
+                     "value too long");
     goto done;
   }
   long npairs = nd->data.mapping.pairs.top - nd->data.mapping.pairs.start;
@@ -358,15 +363,17 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
   tok t[MAX_TOK];
   int nt = 0, st, found = 0;
   if (!split_path(key, t, &nt))
-    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "malformed key");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "%s",
+                       "malformed key");
   yaml_document_t doc;
   if (!load(e->text, e->len, &doc, NULL, NULL))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "invalid YAML");
   yaml_node_t *nd = NULL;
   st = walk(e, &doc, t, nt, key, &nd, &found, d);
   if (!st && (found < nt || !nd || nd->type != YAML_SCALAR_NODE))
-    st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "",
-                     found < nt ? "the scene has no such key" : "not a single value");
+    st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "%s",
+                     found < nt ? "the scene has no such key"
+                                : "not a single value");
   if (!st && nd) snprintf(buf, (size_t)len, "%s", (const char *)nd->data.scalar.value);
   yaml_document_delete(&doc);
   return st;

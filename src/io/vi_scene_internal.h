@@ -29,7 +29,7 @@ struct vi_scene {
   char *name, *text, *file;
   /* ---- the model ---- */
   int n, kind;                  /* kind: VI_SCENE_EXPLICIT, ... */
-  double *M, *C, *K;            /* explicit matrices [n*n] (one block), or NULL */
+  double *M, *C, *K;            /* explicit [n*n] (one block), or NULL */
   double *cm, *ck, *cc;         /* chain parameters [n] (one block) */
   double omega1, zeta, xi_stop; /* cantilever */
   int has_rayleigh;
