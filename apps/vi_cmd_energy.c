@@ -202,8 +202,9 @@ int vi_cmd_energy(const app_opts *o)
       }
       printf("}\n");
     } else if (ana) {
-      printf("P(1,%d) orbit over %d stops, scene %s: WB 11-13 per stop\n", pm,
-             vi_model_num_stops(m), vi_scene_name(sc));
+      printf("P(1,%d) orbit, scene %s: WB 11-13 per stop (%d; numbered from 1 "
+             "in the scene's order, from 0 in JSON and HDF5)\n", pm,
+             vi_scene_name(sc), vi_model_num_stops(m));
       print_stops(orb, m, 0);
       print_multipliers(orb, n, 0);
     }

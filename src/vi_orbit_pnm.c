@@ -25,7 +25,8 @@ typedef struct ws {
   double *buf;     /* scratch [16n] */
 } ws;
 
-/* need_flow: the closed-form flow must exist (VI_ERR_UNSUPPORTED) */
+/* need_flow 1: the closed-form flow must exist (VI_ERR_UNSUPPORTED);
+ * 0: built if it exists; -1: not built (derivatives only) */
 static int ws_init(ws *w, const vi_model *m, const int *stop, int need_flow)
 {
   w->m = m;
@@ -34,6 +35,7 @@ static int ws_init(ws *w, const vi_model *m, const int *stop, int need_flow)
   w->stop = stop;
   w->xf = NULL;
   w->buf = malloc(sizeof(double) * 16 * (size_t)m->n);
+  if (w->buf && need_flow < 0) return VI_OK;
   if (!w->buf || vi_xflow_create(m, &w->xf)) {
     free(w->buf);
     w->buf = NULL;
@@ -68,7 +70,7 @@ static int flow(const ws *w, double t0, const double *z0, double t1,
                 double *z1)
 {
   int n = w->n;
-  if (!w->xf->ok) return VI_ERR_UNSUPPORTED;
+  if (!w->xf || !w->xf->ok) return VI_ERR_UNSUPPORTED;
   if (!(t1 >= t0)) return VI_ERR_TIME;
   return vi_xflow_physical(w->xf, w->m, t0, z0, z0 + n, t1, z1, z1 + n);
 }
@@ -326,7 +328,7 @@ int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
   int st = pnm_check(m, np, mi, stop), n = m->n, n2 = 2 * n;
   if (st) return st;
   ws w;
-  if ((st = ws_init(&w, m, stop, 0))) return st;
+  if ((st = ws_init(&w, m, stop, -1))) return st;
   double T = 2.0 * M_PI / m->omega_f;
   size_t nn = (size_t)n2 * n2;
   double *S = malloc(sizeof(double) * (3 * nn + (size_t)n2));
