@@ -56,7 +56,7 @@ static void json_str(const char *s)
 /* The orbit's Floquet multipliers: a JSON member or a line of text. */
 static void print_multipliers(const vi_orbit *orb, int n, int json)
 {
-  double *re = malloc(sizeof(double) * 4 * (size_t)n), *im = re ? re + 2 * n : NULL;
+  double *re = malloc(sizeof(double) * 4 * (size_t)n), *im = re ? re + (size_t)2 * n : NULL;
   if (!re || vi_orbit_multipliers(orb, re, im)) {
     free(re);
     return;

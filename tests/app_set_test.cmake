@@ -60,4 +60,8 @@ expect(2 "^$" "duffing has nonlinear springs" energy ${SCENES}/duffing.yaml)
 # (one impact each, r recovered 0.8 on both, balance closed per stop)
 expect(3 "\"m\": 2, \"impacts\": .*\"stops\": \\[{\"stop\": 0, \"impacts\": 1, .*\"r_recovered\": 0\\.(8000000|7999999).*{\"stop\": 1, \"impacts\": 1, .*\"r_recovered\": 0\\.(8000000|7999999).*\"stable\": true" ""
        energy ${SCENES}/rattle.yaml --json)
+# orbits with several stops: the same orbit by Newton over its impact
+# sequence (stops 0 and 1, half a period apart)
+expect(0 "{\"n\": 1, \"m\": 2, \"vN\": \\[0\\.4504816660[0-9]*, 0\\.4504816660[0-9]*\\], \"stop\": \\[0, 1\\].*\"stable\": true, \"admissible\": true" ""
+       orbits ${SCENES}/rattle.yaml --m 2 --json)
 message(STATUS "--set, energy --json classification, orbits --json and --continue: ok")

@@ -31,7 +31,7 @@ files=(
   tests/stress/test_stress_energy.c apps/vi_app_h5.c apps/vi_cmd_orbits.c
   apps/vi_sweep_cont.c apps/vi_sweep_h5.c apps/vi_sweep_main.c apps/vi_bench_sweep.c
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
-  src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c
+  src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c apps/vi_cmd_energy.c
 )
 # Headers whose findings count (a finding in another header is silent until
 # the header joins this list): a regex for clang-tidy's --header-filter.
