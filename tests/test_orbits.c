@@ -29,7 +29,7 @@ static void fig2_scan(void **state)
   assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 2, 8, &found), VI_OK);
   int adm = -1, count = 0;
   for (int i = 0; i < found; i++) {
-    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + 2 * i, v + 2 * i, 2, &gmax, &ok), VI_OK);
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + (size_t)2 * i, v + (size_t)2 * i, 2, &gmax, &ok), VI_OK);
     if (ok) {
       adm = i;
       count++;
@@ -44,7 +44,7 @@ static void fig2_scan(void **state)
   assert_true(gmax < -1e-3);                                  /* clear of the stop */
   /* multipliers: det of the monodromy = r^2 exp(-tr(M^-1 C) T) (det of a
    * saltation matrix is r^2; Liouville for the flow), tr(M^-1 C) = 0.3 */
-  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[adm], x + 2 * adm, v + 2 * adm, 2, re, im), VI_OK);
+  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[adm], x + (size_t)2 * adm, v + (size_t)2 * adm, 2, re, im), VI_OK);
   double det = 1, mod[4];
   for (int i = 0; i < 4; i++) {
     mod[i] = modulus(re[i], im[i]);
@@ -57,8 +57,8 @@ static void fig2_scan(void **state)
    * method, h = 1e-6) agree to their own error, ~1e-6 here; the section
    * is half a period after the impact */
   double T = 2 * M_PI / 0.9, vp[2], z0[4], zp[4], zm[4], Jm[16];
-  assert_int_equal(vi_impact_apply(m, v + 2 * adm, vp, NULL, NULL), VI_OK);
-  assert_int_equal(vi_flow_physical(m, t[adm], x + 2 * adm, vp, t[adm] + T / 2, z0, z0 + 2), VI_OK);
+  assert_int_equal(vi_impact_apply(m, v + (size_t)2 * adm, vp, NULL, NULL), VI_OK);
+  assert_int_equal(vi_flow_physical(m, t[adm], x + (size_t)2 * adm, vp, t[adm] + T / 2, z0, z0 + 2), VI_OK);
   vi_sim *s = NULL;
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
@@ -222,16 +222,16 @@ static void inadmissible(void **state)
   assert_true(found >= 1);
   int bad = -1;
   for (int i = 0; i < found; i++) {
-    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + 3 * i, v + 3 * i, 3, &gmax, &ok), VI_OK);
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + (size_t)3 * i, v + (size_t)3 * i, 3, &gmax, &ok), VI_OK);
     if (!ok && gmax > 1e-3) bad = i;
   }
   assert_true(bad >= 0);
   double vp[3];
-  assert_int_equal(vi_impact_apply(m, v + 3 * bad, vp, NULL, NULL), VI_OK);
+  assert_int_equal(vi_impact_apply(m, v + (size_t)3 * bad, vp, NULL, NULL), VI_OK);
   vi_sim *s = NULL;
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
-  assert_int_equal(vi_sim_set_initial(s, t[bad], x + 3 * bad, vp), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, t[bad], x + (size_t)3 * bad, vp), VI_OK);
   assert_int_equal(vi_sim_run(s, t[bad] + 0.99 * 2 * M_PI / 0.8), VI_OK);
   assert_true(vi_sim_get_stat(s, VI_STAT_IMPACTS) >= 1);
   vi_sim_destroy(&s);
@@ -286,7 +286,7 @@ static void fig2_floquet_reference(void **state)
       if (pass == 0)
         assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &tr_, xr, vr, 2, re, im), VI_OK);
       else
-        assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[k], x + 2 * k, v + 2 * k, 2, re, im), VI_OK);
+        assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[k], x + (size_t)2 * k, v + (size_t)2 * k, 2, re, im), VI_OK);
       double worst = 0.0;
       for (int j = 0; j < 4; j++) { /* match each reference to the nearest */
         double d = HUGE_VAL;
@@ -397,20 +397,20 @@ static void nonprop_floquet(void **state)
   int found = 0, k = -1, ok;
   assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 2, 8, &found), VI_OK);
   for (int i = 0; i < found && i < 8 && k < 0; i++) {
-    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + 2 * i, v + 2 * i, 2, NULL, &ok), VI_OK);
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[i], x + (size_t)2 * i, v + (size_t)2 * i, 2, NULL, &ok), VI_OK);
     if (ok) k = i;
   }
   assert_true(k >= 0);
-  assert_int_equal(vi_orbit_pnm_monodromy(m, 1, 1, NULL, &t[k], x + 2 * k, v + 2 * k, 2, Mo), VI_OK);
-  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[k], x + 2 * k, v + 2 * k, 2, re, im), VI_OK);
+  assert_int_equal(vi_orbit_pnm_monodromy(m, 1, 1, NULL, &t[k], x + (size_t)2 * k, v + (size_t)2 * k, 2, Mo), VI_OK);
+  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[k], x + (size_t)2 * k, v + (size_t)2 * k, 2, re, im), VI_OK);
   double det = 1.0;
   for (int i = 0; i < 4; i++) det *= hypot(re[i], im[i]);
   assert_close(det, 0.49 * exp(-0.2 * T), 1e-13);
   /* central differences of the exact simulation's map, section half a
    * period after the impact */
   double vp[2], z0[4], J[16], zp[4], zm[4];
-  assert_int_equal(vi_impact_apply(m, v + 2 * k, vp, NULL, NULL), VI_OK);
-  assert_int_equal(vi_flow_physical(m, t[k], x + 2 * k, vp, t[k] + T / 2, z0, z0 + 2), VI_OK);
+  assert_int_equal(vi_impact_apply(m, v + (size_t)2 * k, vp, NULL, NULL), VI_OK);
+  assert_int_equal(vi_flow_physical(m, t[k], x + (size_t)2 * k, vp, t[k] + T / 2, z0, z0 + 2), VI_OK);
   vi_sim *s = NULL;
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
