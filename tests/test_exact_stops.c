@@ -287,6 +287,47 @@ static void test_two_coordinates(void **state)
   vi_model_destroy(&m);
 }
 
+/* The same scene with damping that is not proportional (C = [[0.15,
+ * -0.05], [-0.05, 0.05]]): the exact method runs on the first-order
+ * eigen-solution, scanning both gaps; it must agree impact for impact with
+ * Adams at rtol 1e-12, within Adams' error (1e-8 as above). */
+static void test_two_coordinates_nonproportional(void **state)
+{
+  (void)state;
+  const double M[4] = {1.0, 0.0, 0.0, 1.0}, K[4] = {2.0, -1.0, -1.0, 2.0};
+  const double C[4] = {0.15, -0.05, -0.05, 0.05}, a[2] = {1.0, 0.0};
+  const double W[4] = {1.0, 0.0, 0.0, -1.0}, xs[2] = {0.3, 0.25}, r[2] = {0.8, 0.6};
+  vi_model *m = build(2, M, C, K, 1.3, a, 2, W, xs, r);
+  rec e[2] = {{0}, {0}};
+  const int meth[2] = {VI_METHOD_EXACT, VI_METHOD_ADAMS};
+  for (int q = 0; q < 2; q++) {
+    vi_sim *s = make_sim(m, meth[q], 1e-12, 1e-14, 0.0, NULL, NULL, &e[q]);
+    assert_int_equal(vi_sim_run(s, 60.0), VI_OK);
+    assert_int_equal(vi_sim_method_used(s), meth[q]);
+    vi_sim_destroy(&s);
+  }
+  assert_int_equal(e[0].count, e[1].count);
+  assert_true(e[0].count >= 20);
+  double et = 0.0, ev_ = 0.0;
+  int hits[2] = {0, 0};
+  for (int i = 0; i < e[0].count; i++) {
+    assert_int_equal(e[0].kind[i], e[1].kind[i]);
+    assert_int_equal(e[0].stop[i], e[1].stop[i]);
+    hits[e[0].stop[i]]++;
+    et = fmax(et, fabs(e[0].t[i] - e[1].t[i]));
+    ev_ = fmax(ev_, fabs(e[0].vn[i] - e[1].vn[i]));
+  }
+  print_message("two coordinates, non-proportional damping: %d + %d impacts, "
+                "exact and adams agree within %.2g in time, %.2g in speed\n",
+                hits[0], hits[1], et, ev_);
+  assert_true(hits[0] > 5 && hits[1] > 5);
+  assert_true(et <= 1e-8);
+  assert_true(ev_ <= 1e-8);
+  rec_free(&e[0]);
+  rec_free(&e[1]);
+  vi_model_destroy(&m);
+}
+
 /* ---- two stops at the same instant ------------------------------------------- */
 /* Free masses M = diag(1, 2) (K = C = 0) from the origin at v = (1, 0.25);
  * stop 0: x_1 <= 1, stop 1: x_1 + x_2 <= 1.25, r = 0.5 each: both gaps
@@ -371,6 +412,7 @@ int main(void)
       cmocka_unit_test(test_mirror),
       cmocka_unit_test(test_symmetric_orbit),
       cmocka_unit_test(test_two_coordinates),
+      cmocka_unit_test(test_two_coordinates_nonproportional),
       cmocka_unit_test(test_simultaneous),
       cmocka_unit_test(test_graze_second_stop),
   };
