@@ -19,6 +19,7 @@ files=(
   src/vi_sim.c src/vi_cvode.c src/vi_arkode.c src/io/vi_output.c
   src/fortran/vi_gen_constants.c tests/test_fortran_compare.c
   src/vi_exact.c src/vi_exact_scan.c src/vi_flow.c src/vi_general.c
+  tests/test_exact_stops.c
   tests/test_api.c tests/test_sim.c tests/test_ledger.c tests/test_model.c
   tests/test_modal.c tests/test_impact.c tests/test_force.c tests/test_misuse.c
   tests/vi_testutil.c tests/test_arkode.c tests/test_exact.c tests/test_orbit.c

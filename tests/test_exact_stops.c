@@ -163,8 +163,8 @@ static void test_mirror(void **state)
     assert_int_equal(ea.stop[i], 1 - eb.stop[i]);
     dt = fmax(dt, fabs(ea.t[i] - eb.t[i]));
     for (int j = 0; j < 2; j++)
-      dx = fmax(dx, fabs(ea.vp[2 * i + j] + eb.vp[2 * i + j]) +
-                        fabs(ea.x[2 * i + j] + eb.x[2 * i + j]));
+      dx = fmax(dx, fabs(ea.vp[2 * (size_t)i + j] + eb.vp[2 * (size_t)i + j]) +
+                        fabs(ea.x[2 * (size_t)i + j] + eb.x[2 * (size_t)i + j]));
   }
   print_message("mirror (exact): %d events, times differ by %.2g, states by "
                 "%.2g\n", ea.count, dt, dx);
@@ -273,8 +273,8 @@ static void test_two_coordinates(void **state)
       assert_int_equal(ev.stop[i], (int)ref2[i][1]);
       et = fmax(et, fabs(ev.t[i] - ref2[i][0]));
       ev_ = fmax(ev_, fabs(ev.vn[i] - ref2[i][2]));
-      ev_ = fmax(ev_, fabs(ev.vp[2 * i] - ref2[i][3]));
-      ev_ = fmax(ev_, fabs(ev.vp[2 * i + 1] - ref2[i][4]));
+      ev_ = fmax(ev_, fabs(ev.vp[2 * (size_t)i] - ref2[i][3]));
+      ev_ = fmax(ev_, fabs(ev.vp[2 * (size_t)i + 1] - ref2[i][4]));
     }
     print_message("two coordinates (%s): %d impacts against the 30-digit "
                   "reference: times within %.2g, velocities within %.2g\n",
@@ -354,8 +354,8 @@ static void test_simultaneous(void **state)
     assert_int_equal(ev.stop[i], i);
     assert_close(ev.t[i], 1.0, 8.0 * DBL_EPSILON);
     assert_close(ev.vn[i], i ? 1.25 : 1.0, 8.0 * DBL_EPSILON);
-    assert_close(ev.vp[2 * i], -0.5, 8.0 * DBL_EPSILON);
-    assert_close(ev.vp[2 * i + 1], -0.125, 8.0 * DBL_EPSILON);
+    assert_close(ev.vp[2 * (size_t)i], -0.5, 8.0 * DBL_EPSILON);
+    assert_close(ev.vp[2 * (size_t)i + 1], -0.125, 8.0 * DBL_EPSILON);
     loss += ev.ie[i];
   }
   assert_close(loss, 0.421875, 8.0 * DBL_EPSILON);
