@@ -60,7 +60,6 @@ typedef struct ex_data {
   int n, na, *act;                  /* active modes: some psi_kj != 0 */
   int ns, hit;                      /* stops; the stop of tstar */
   ex_stop *st, *cs;                 /* the stops [ns]; the one searched */
-  int cur;                          /* its index: cs = st + cur */
   const double *pA, *pB;            /* harmonic particular solution [n] */
   double *lam, *dmp, *F0, *psi;     /* of the active modes [na]; psi: stop
                                        0's, then the others' [ns na] */
@@ -126,20 +125,18 @@ static inline void ex_harm(const ex_data *d, const ex_stop *e, double c,
   *gd = d->Om * (e->GB * c - e->GA * sn);
 }
 
-/* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and g, g'
- * at the new time (cos, sin of Omega t there: c, sn): of stop `one` into
- * g[0], gd[0], or with one < 0 of every stop into g[k], gd[k]. */
+/* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and stop
+ * e's g, g' at the new time (cos, sin of Omega t there: c, sn). */
 static int ex_advance(ex_data *d, int l, const double *restrict w,
                       const double *restrict wd, double *restrict wo,
-                      double *restrict wdo, double c, double sn, int one,
-                      double *g, double *gd)
+                      double *restrict wdo, double c, double sn,
+                      const ex_stop *e, double *g, double *gd)
 {
   const double *T = ex_level(d, l);
   if (!T) return vi_fail(d->s->errmsg, VI_ERR_NOMEM, "out of memory");
   const double *restrict B = T, *restrict Bp = T + d->na;
   const double *restrict ph = T + 2 * (size_t)d->na;
   const double *restrict lam = d->lam, *restrict F0 = d->F0;
-  const ex_stop *e = d->st + (one < 0 ? 0 : one);
   const double *restrict psi = e->psi;
   /* four partial sums: the adds of one sum would chain otherwise */
   double a[4] = {0.0, 0.0, 0.0, 0.0}, b[4] = {0.0, 0.0, 0.0, 0.0};
@@ -165,21 +162,28 @@ static int ex_advance(ex_data *d, int l, const double *restrict w,
   }
   double hg, hgd;
   ex_harm(d, e, c, sn, &hg, &hgd);
-  g[0] = ((a[0] + a[1]) + (a[2] + a[3])) + hg - e->xs - e->goff;
-  gd[0] = ((b[0] + b[1]) + (b[2] + b[3])) + hgd;
-  for (int k = 1; one < 0 && k < d->ns; k++) { /* the other stops */
-    const ex_stop *f = d->st + k;
-    double x = 0.0, v = 0.0;
-    for (int j = 0; j < na; j++) {
-      x += f->psi[j] * wo[j];
-      v += f->psi[j] * wdo[j];
-    }
-    ex_harm(d, f, c, sn, &hg, &hgd);
-    g[k] = x + hg - f->xs - f->goff;
-    gd[k] = v + hgd;
-  }
+  *g = ((a[0] + a[1]) + (a[2] + a[3])) + hg - e->xs - e->goff;
+  *gd = ((b[0] + b[1]) + (b[2] + b[3])) + hgd;
   d->evals++;
   return VI_OK;
+}
+
+/* g, g' of stops 1, 2, ... into g[k], gd[k] from the active modes (w, wd)
+ * (stop 0's come with ex_advance). */
+static void ex_other_gaps(const ex_data *d, const double *w, const double *wd,
+                          double c, double sn, double *g, double *gd)
+{
+  for (int k = 1; k < d->ns; k++) {
+    const ex_stop *e = d->st + k;
+    double x = 0.0, v = 0.0, hg, hgd;
+    for (int j = 0; j < d->na; j++) {
+      x += e->psi[j] * w[j];
+      v += e->psi[j] * wd[j];
+    }
+    ex_harm(d, e, c, sn, &hg, &hgd);
+    g[k] = x + hg - e->xs - e->goff;
+    gd[k] = v + hgd;
+  }
 }
 
 /* w, w' of mode j (full index) at t from the flight's start. */
@@ -321,7 +325,7 @@ static int ex_polish(ex_data *d, int l, double a, const double *w,
     if (l >= d->lmax || herm_err(d->cs, wdt) <= scale) break;
     double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
     double m = a + 0.5 * wdt, gm = 0.0, gdm = 0.0;
-    int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cur, &gm, &gdm);
+    int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cs, &gm, &gdm);
     if (st) return st;
     /* the harmonic part by rotation from a (the tables are built now) */
     double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
@@ -400,7 +404,7 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
   d->s->stats[VI_STAT_GRAZE_CHECKS] += gda > 0.0 && gdb < 0.0;
   double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
   double m = a + 0.5 * wdt, gm = 0.0, gdm = 0.0;
-  int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cur, &gm, &gdm);
+  int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cs, &gm, &gdm);
   if (st) return st;
   double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
   double sn = sa * d->lc[l + 1] + ca * d->ls[l + 1], hg, hgd;
@@ -661,7 +665,10 @@ static int ex_start(vi_sim *s)
     for (int i = 0; i < na; i++) scale += fabs(e->psi[i] * d->wk[i]);
     double tr = 0.0;
     e->gnoise = 64.0 * DBL_EPSILON * scale;
-    if (fabs(g) <= e->gnoise) {
+    /* on the stop: within round-off, or beyond it by no more than the
+     * driver accepts (a state handed over from CVODE after sticking),
+     * which read as a contact would restart here for ever */
+    if (fabs(g) <= e->gnoise || (g > 0.0 && g <= e->tol)) {
       e->goff = g;
       d->gk[k] = 0.0;
       double A = e->B3 / 6.0, B = 0.5 * gdd, C = gd;
@@ -784,34 +791,41 @@ static int ex_step(vi_sim *s, double t_end, int *event)
         d->cn = d->ck * d->cr - d->sk * d->sr;
         d->sn = d->sk * d->cr + d->ck * d->sr;
         int st = ex_advance(d, d->p, d->wk, d->wdk, d->wn, d->wdn, d->cn,
-                            d->sn, -1, d->gn, d->gdn);
+                            d->sn, d->st, d->gn, d->gdn);
         if (st) return st;
+        if (d->ns > 1)
+          ex_other_gaps(d, d->wn, d->wdn, d->cn, d->sn, d->gn, d->gdn);
       }
       d->next_ok = 1;
       d->srch = 0;
     }
     if (!d->srch) {
       /* stop by stop: the earliest crossing over all of them */
-      d->tstar = HUGE_VAL;
-      for (int k = 0; k < d->ns; k++) {
-        const ex_stop *e = d->st + k;
-        double tc, cf[4], e4 = herm_err(e, d->hp);
-        double ga = d->gk[k], gda = d->gdk[k], gb = d->gn[k], gdb = d->gdn[k];
+      double best = HUGE_VAL, hp = d->hp;
+      const double *gk = d->gk, *gdk = d->gdk, *gn = d->gn, *gdn = d->gdn;
+      int found = -1;
+      for (int k = 0, ns = d->ns; k < ns; k++) {
+        ex_stop *e = d->st + k;
+        double tc, cf[4], e4 = herm_err(e, hp);
         if (tb <= e->skip ||
-            herm_quick(ga, gda, gb, gdb, d->hp) + e4 < e->gnoise ||
-            herm_max(ga, gda, gb, gdb, d->hp, cf) + e4 < e->gnoise)
+            herm_quick(gk[k], gdk[k], gn[k], gdn[k], hp) + e4 < e->gnoise ||
+            herm_max(gk[k], gdk[k], gn[k], gdn[k], hp, cf) + e4 < e->gnoise)
           continue;
-        d->cs = d->st + k;
-        d->cur = k;
-        int hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, ga, gda,
-                            gb, gdb, &tc);
+        d->cs = e;
+        int hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, gk[k],
+                            gdk[k], gn[k], gdn[k], &tc);
         if (hit < 0) return hit;
-        if (hit && tc < d->tstar) {
-          d->tstar = tc;
-          d->hit = k;
+        if (hit && tc < best) {
+          best = tc;
+          found = k;
         }
       }
-      d->srch = d->tstar < HUGE_VAL ? 2 : 1;
+      d->tstar = best;
+      d->srch = 1;
+      if (found >= 0) {
+        d->hit = found;
+        d->srch = 2;
+      }
     }
     if (d->srch == 2 && d->tstar <= t_end) { /* contact */
       double tc = fmax(d->tstar, s->t);

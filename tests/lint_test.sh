@@ -20,6 +20,7 @@ files=(
   src/fortran/vi_gen_constants.c tests/test_fortran_compare.c
   src/vi_orbit.c src/vi_classify.c src/vi_balance.c src/vi_orbit_var.c
   src/vi_exact.c src/vi_exact_scan.c src/vi_flow.c src/vi_general.c
+  tests/test_exact_stops.c
   tests/test_api.c tests/test_sim.c tests/test_ledger.c tests/test_model.c
   tests/test_modal.c tests/test_impact.c tests/test_force.c tests/test_misuse.c
   tests/vi_testutil.c tests/test_arkode.c tests/test_exact.c tests/test_orbit.c
