@@ -512,22 +512,26 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
   memset(e, 0, sizeof(double) * n2);
   /* the affine map z -> flow(phi, J z, phi + P) has one fixed point for
    * each phase phi: the periodic motion with an impact at phi.  It is a
-   * P(np,1) orbit where its gap h(phi) = w.x - x_s vanishes. */
+   * P(np,1) orbit where its gap h(phi) = w.x - x_s vanishes.  The
+   * transition matrix over one orbit period is the same for every phase. */
+  if ((st = vi_var_stm(m, P, Phi))) goto cleanup;
+  /* A = I - Phi J, J = diag(I, Q): factored once (a singular A, a
+   * resonance of the impact map, leaves no isolated fixed points) */
+  for (int b = 0; b < n2; b++)
+    for (int a = 0; a < n2; a++) {
+      double s = 0.0;
+      if (b < n) s = Phi[a + (size_t)b * n2];
+      else
+        for (int p = 0; p < n; p++)
+          s += Phi[a + (size_t)(n + p) * n2] * Q[p + (size_t)(b - n) * n];
+      A[a + (size_t)b * n2] = (a == b) - s;
+    }
+  if (LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, A, n2, piv) != 0) goto cleanup;
   for (int k = 0; k <= nphase && !st; k++) {
     double phi = P * k / nphase;
-    if ((st = vi_var_stm(m, P, Phi)) || (st = flow(&w, phi, e, phi + P, c))) break;
-    /* A = I - Phi J, J = diag(I, Q) */
-    for (int b = 0; b < n2; b++)
-      for (int a = 0; a < n2; a++) {
-        double s = 0.0;
-        if (b < n) s = Phi[a + (size_t)b * n2];
-        else
-          for (int p = 0; p < n; p++)
-            s += Phi[a + (size_t)(n + p) * n2] * Q[p + (size_t)(b - n) * n];
-        A[a + (size_t)b * n2] = (a == b) - s;
-      }
+    if ((st = flow(&w, phi, e, phi + P, c))) break;
     memcpy(zs, c, sizeof(double) * n2);
-    if (LAPACKE_dgesv(LAPACK_COL_MAJOR, n2, 1, A, n2, piv, zs, n2) != 0) {
+    if (LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n2, 1, A, n2, piv, zs, n2) != 0) {
       h[k] = NAN;
       vn[k] = NAN;
       continue;
@@ -541,18 +545,9 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     /* linear interpolation of the root, then Newton on the full system */
     double s = h[k] / (h[k] - h[k + 1]), phi = P * (k + s) / nphase;
     if (!(vn[k] > 0.0 || vn[k + 1] > 0.0)) continue;
-    if ((st = vi_var_stm(m, P, Phi)) || (st = flow(&w, phi, e, phi + P, c))) break;
-    for (int b = 0; b < n2; b++)
-      for (int a = 0; a < n2; a++) {
-        double sm = 0.0;
-        if (b < n) sm = Phi[a + (size_t)b * n2];
-        else
-          for (int p = 0; p < n; p++)
-            sm += Phi[a + (size_t)(n + p) * n2] * Q[p + (size_t)(b - n) * n];
-        A[a + (size_t)b * n2] = (a == b) - sm;
-      }
+    if ((st = flow(&w, phi, e, phi + P, c))) break;
     memcpy(zs, c, sizeof(double) * n2);
-    if (LAPACKE_dgesv(LAPACK_COL_MAJOR, n2, 1, A, n2, piv, zs, n2) != 0) continue;
+    if (LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n2, 1, A, n2, piv, zs, n2) != 0) continue;
     double tt = phi, *xx = w.buf, *vv = xx + n;
     memcpy(xx, zs, sizeof(double) * n);
     memcpy(vv, zs + n, sizeof(double) * n);
