@@ -1,0 +1,405 @@
+/* test_band.c - models in band storage (vi_model_create_band) against
+ * physics and against the same model in dense storage: the impacts of a
+ * band chain and of the dense one agree to the integration tolerance (a
+ * diagonal and a banded, consistent mass; Adams, BDF with SUNDIALS' band
+ * solver, ERK; impacts, chattering, sticking and release); an undamped,
+ * unforced 20000-mass chain with r = 1 conserves its total energy
+ * 1/2 v^T M v + 1/2 x^T K x, computed here from the masses and springs,
+ * across its impacts; the model's memory is linear in n; what needs the
+ * modes is refused with a message. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_testutil.h"
+
+/* Uniform chain data: masses m, springs k, dampers c [n]. */
+static void chain_data(int n, double m, double k, double c, double **mass,
+                       double **kk, double **cc)
+{
+  *mass = malloc(sizeof(double) * n);
+  *kk = malloc(sizeof(double) * n);
+  *cc = malloc(sizeof(double) * n);
+  assert_true(*mass && *kk && *cc);
+  for (int j = 0; j < n; j++) {
+    (*mass)[j] = m * (1.0 + 0.1 * (j % 3)); /* not uniform: rows differ */
+    (*kk)[j] = k;
+    (*cc)[j] = c;
+  }
+}
+
+/* The chain in band storage (vi_model_create_chain) or dense
+ * (vi_build_chain), forcing a cos(omega t) on mass 1 plus f0 on the last,
+ * stop on the last mass at xs with r; set up. */
+static vi_model *chain(int n, int band, double c, double amp, double omega,
+                       double f0last, double xs, double r)
+{
+  double *mass, *k, *cd;
+  chain_data(n, 1.0, 1.0, c, &mass, &k, &cd);
+  vi_model *m = NULL;
+  if (band) {
+    assert_int_equal(vi_model_create_chain(n, mass, k, cd, &m), VI_OK);
+    assert_int_equal(vi_model_bandwidth(m), 1);
+  } else {
+    double *M = malloc(sizeof(double) * 3 * n * n);
+    assert_non_null(M);
+    assert_int_equal(vi_build_chain(n, mass, k, cd, M, M + n * n,
+                                    M + 2 * n * n, n), VI_OK);
+    assert_int_equal(vi_model_create(n, &m), VI_OK);
+    assert_int_equal(vi_model_bandwidth(m), -1);
+    assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
+    assert_int_equal(vi_model_set_damping(m, M + n * n, n), VI_OK);
+    assert_int_equal(vi_model_set_stiffness(m, M + 2 * n * n, n), VI_OK);
+    free(M);
+  }
+  double *a = calloc(n, sizeof(double)), *f0 = calloc(n, sizeof(double)),
+         *w = calloc(n, sizeof(double));
+  assert_true(a && f0 && w);
+  a[0] = amp;
+  f0[n - 1] = f0last;
+  w[n - 1] = 1.0;
+  assert_int_equal(vi_model_set_forcing(m, omega, a, NULL, f0), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w, xs, r), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  free(a); free(f0); free(w); free(mass); free(k); free(cd);
+  return m;
+}
+
+/* Events of both models agree: kinds, times and approach speeds.  A
+ * grazing contact (v_n below 1e-9: the gap's maximum touches the stop to
+ * round-off) may be seen by one evaluation order and not the other, so
+ * those are left out of the comparison. */
+static int next_event(const vi_test_events *e, int i)
+{
+  while (i < e->count && e->kind[i] == VI_EVENT_IMPACT && e->vn[i] < 1e-9) i++;
+  return i;
+}
+
+static void same_events(const vi_test_events *d, const vi_test_events *b,
+                        double tol)
+{
+  assert_true(d->count > 0);
+  int i = next_event(d, 0), j = next_event(b, 0), matched = 0;
+  while (i < d->count && j < b->count) {
+    assert_int_equal(d->kind[i], b->kind[j]);
+    assert_close(b->t[j], d->t[i], tol);
+    assert_close(b->vn[j], d->vn[i], tol);
+    i = next_event(d, i + 1);
+    j = next_event(b, j + 1);
+    matched++;
+  }
+  assert_int_equal(i, d->count);
+  assert_int_equal(j, b->count);
+  assert_true(matched > 0);
+}
+
+/* A forced, damped 12-mass chain with its stop on the last mass: the band
+ * model's impacts are the dense model's to the integration tolerance (the
+ * two evaluate the same ODE in a different order, so they differ by
+ * round-off amplified along the run: 1e-6 against rtol 1e-10). */
+static void band_equals_dense(void **state)
+{
+  (void)state;
+  const int methods[3] = {VI_METHOD_ADAMS, VI_METHOD_BDF, VI_METHOD_ERK};
+  vi_model *md = chain(12, 0, 0.05, 0.5, 0.6, 0.0, 0.1, 0.7);
+  vi_model *mb = chain(12, 1, 0.05, 0.5, 0.6, 0.0, 0.1, 0.7);
+  /* the stop's compliance w^T M^-1 w = 1/m_12 (m_12 = 1.2) in both */
+  assert_close(vi_model_stop_compliance(mb), 1.0 / 1.2, 1e-15);
+  assert_close(vi_model_stop_compliance(md), 1.0 / 1.2, 1e-15);
+  double t_end = 20 * 2 * M_PI / 0.6;
+  for (int k = 0; k < 3; k++) {
+    vi_test_events ed = {0}, eb = {0};
+    assert_int_equal(vi_test_run(md, methods[k], 1e-10, 1e-12, NULL, NULL,
+                                 t_end, &ed), VI_OK);
+    assert_int_equal(vi_test_run(mb, methods[k], 1e-10, 1e-12, NULL, NULL,
+                                 t_end, &eb), VI_OK);
+    same_events(&ed, &eb, 1e-6);
+    vi_test_events_free(&ed);
+    vi_test_events_free(&eb);
+  }
+  vi_model_destroy(&md);
+  vi_model_destroy(&mb);
+}
+
+/* With r = 0.5 and a constant load into the stop the last mass chatters,
+ * sticks and is released by the forcing: the band Jacobian's projection
+ * (BDF) and the band right-hand side (Adams) give the dense model's
+ * events. */
+static void band_sticking(void **state)
+{
+  (void)state;
+  const int methods[2] = {VI_METHOD_ADAMS, VI_METHOD_BDF};
+  vi_model *md = chain(12, 0, 0.05, 0.5, 0.6, 0.3, 0.1, 0.5);
+  vi_model *mb = chain(12, 1, 0.05, 0.5, 0.6, 0.3, 0.1, 0.5);
+  double t_end = 8 * 2 * M_PI / 0.6;
+  for (int k = 0; k < 2; k++) {
+    vi_test_events ed = {0}, eb = {0};
+    assert_int_equal(vi_test_run(md, methods[k], 1e-10, 1e-12, NULL, NULL,
+                                 t_end, &ed), VI_OK);
+    assert_int_equal(vi_test_run(mb, methods[k], 1e-10, 1e-12, NULL, NULL,
+                                 t_end, &eb), VI_OK);
+    int sticks = 0;
+    for (int i = 0; i < ed.count; i++) sticks += ed.kind[i] == VI_EVENT_STICK;
+    assert_true(sticks > 0);
+    same_events(&ed, &eb, 1e-5);
+    vi_test_events_free(&ed);
+    vi_test_events_free(&eb);
+  }
+  vi_model_destroy(&md);
+  vi_model_destroy(&mb);
+}
+
+/* A consistent (banded, not diagonal) mass matrix M = m/6 tridiag(1, 4, 1)
+ * given in band form to a band model and to a dense one: the band model
+ * applies M^-1 by band Cholesky solves; same impacts, same compliance. */
+static void banded_mass(void **state)
+{
+  (void)state;
+  int n = 8, ld = 2;
+  double MB[16], KB[16], CB[16];
+  for (int j = 0; j < n; j++) {
+    MB[1 + j * ld] = 4.0 / 6.0;
+    MB[j * ld] = j ? 1.0 / 6.0 : 0.0;
+    KB[1 + j * ld] = j == n - 1 ? 1.0 : 2.0;
+    KB[j * ld] = j ? -1.0 : 0.0;
+    CB[1 + j * ld] = 0.02 * KB[1 + j * ld];
+    CB[j * ld] = 0.02 * KB[j * ld];
+  }
+  double a[8] = {0.4}, w[8] = {0};
+  w[n - 1] = 1.0;
+  vi_model *m[2];
+  assert_int_equal(vi_model_create(n, &m[0]), VI_OK);
+  assert_int_equal(vi_model_create_band(n, 1, &m[1]), VI_OK);
+  for (int i = 0; i < 2; i++) {
+    assert_int_equal(vi_model_set_mass_band(m[i], 1, MB, ld), VI_OK);
+    assert_int_equal(vi_model_set_damping_band(m[i], 1, CB, ld), VI_OK);
+    assert_int_equal(vi_model_set_stiffness_band(m[i], 1, KB, ld), VI_OK);
+    assert_int_equal(vi_model_set_forcing(m[i], 0.5, a, NULL, NULL), VI_OK);
+    assert_int_equal(vi_model_set_stop(m[i], w, 0.2, 0.8), VI_OK);
+    assert_int_equal(vi_model_setup(m[i]), VI_OK);
+  }
+  assert_close(vi_model_stop_compliance(m[1]), vi_model_stop_compliance(m[0]),
+               1e-14);
+  /* the band view returns what was set */
+  int kd, ldab;
+  const double *mb = vi_model_mass_band(m[1], &kd, &ldab);
+  assert_non_null(mb);
+  assert_int_equal(kd, 1);
+  assert_int_equal(ldab, 2);
+  assert_true(mb[1 + 3 * ldab] == 4.0 / 6.0 && mb[3 * ldab] == 1.0 / 6.0);
+  assert_null(vi_model_mass_band(m[0], &kd, &ldab));
+  vi_test_events e[2] = {{0}, {0}};
+  for (int i = 0; i < 2; i++)
+    assert_int_equal(vi_test_run(m[i], VI_METHOD_ADAMS, 1e-10, 1e-12, NULL,
+                                 NULL, 15 * 2 * M_PI / 0.5, &e[i]), VI_OK);
+  same_events(&e[0], &e[1], 1e-6);
+  for (int i = 0; i < 2; i++) {
+    vi_test_events_free(&e[i]);
+    vi_model_destroy(&m[i]);
+  }
+}
+
+typedef struct energy_ctx {
+  int n, impacts;
+  const double *mass, *k;
+  double e0, worst, ie;
+} energy_ctx;
+
+/* 1/2 sum m_j v_j^2 + 1/2 sum k_j (x_j - x_{j-1})^2 (x_0 the ground) */
+static double chain_energy(const energy_ctx *c, const double *x,
+                           const double *v)
+{
+  double e = 0.0;
+  for (int j = 0; j < c->n; j++) {
+    double s = x[j] - (j ? x[j - 1] : 0.0);
+    e += 0.5 * c->mass[j] * v[j] * v[j] + 0.5 * c->k[j] * s * s;
+  }
+  return e;
+}
+
+static int on_impact(const vi_event *ev, void *user)
+{
+  energy_ctx *c = user;
+  if (ev->kind != VI_EVENT_IMPACT) return 0;
+  c->impacts++;
+  c->ie += ev->ie;
+  /* r = 1: the impact keeps the kinetic energy; the state's energy is
+   * the initial one to the integration error */
+  double e = chain_energy(c, ev->x, ev->v_plus);
+  c->worst = fmax(c->worst, fabs(e - c->e0) / c->e0);
+  return 0;
+}
+
+/* 20000 masses, no damping, no forcing, r = 1: the last 100 masses start
+ * at speed 1 towards the stop 0.01 away from the last; it rebounds off the
+ * stop and off its neighbours, back and forth.  Total energy is
+ * conserved (MODEL.md section 7, long runs): to 100 rtol relative (rtol
+ * 1e-9; measured 1e-8 over 13 impacts), at every impact and at the end. */
+static void long_chain_energy(void **state)
+{
+  (void)state;
+  int n = 20000;
+  double *mass, *k, *c;
+  chain_data(n, 1.0, 1.0, 0.0, &mass, &k, &c);
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create_chain(n, mass, k, NULL, &m), VI_OK);
+  double *w = calloc(n, sizeof(double)), *v0 = calloc(n, sizeof(double)),
+         *x = calloc(n, sizeof(double)), *v = calloc(n, sizeof(double));
+  assert_true(w && v0 && x && v);
+  w[n - 1] = 1.0;
+  for (int j = n - 100; j < n; j++) v0[j] = 1.0;
+  assert_int_equal(vi_model_set_stop(m, w, 0.01, 1.0), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  energy_ctx ctx = {n, 0, mass, k, 0.0, 0.0, 0.0};
+  ctx.e0 = chain_energy(&ctx, x, v0);
+  double e0 = 0.0;
+  for (int j = n - 100; j < n; j++) e0 += 0.5 * mass[j];
+  assert_close(ctx.e0, e0, 1e-12);
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, 1e-9, 1e-12), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, 0.0, NULL, v0), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, on_impact, &ctx), VI_OK);
+  assert_int_equal(vi_sim_run(s, 30.0), VI_OK);
+  assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS); /* auto */
+  double t;
+  assert_int_equal(vi_sim_get_state(s, &t, x, v), VI_OK);
+  assert_true(ctx.impacts >= 2);
+  assert_close(ctx.ie, 0.0, 1e-15); /* r = 1: no loss (WB 10) */
+  double e = chain_energy(&ctx, x, v);
+  assert_close(e / ctx.e0, 1.0, 1e-7);
+  assert_true(ctx.worst < 1e-7);
+  /* the model's energy (band form) is the chain's */
+  assert_close(vi_model_energy(m, x, v), e, 1e-12 * e);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  free(w); free(v0); free(x); free(v); free(mass); free(k); free(c);
+}
+
+/* The memory of a band chain is linear in n (a few (kd + 1) n arrays),
+ * within the estimate made before allocating; dense storage of the same
+ * chain would need 12 n^2 doubles. */
+static void memory_linear(void **state)
+{
+  (void)state;
+  int64_t b[2], est, dense;
+  for (int i = 0; i < 2; i++) {
+    int n = i ? 20000 : 10000;
+    double *mass, *k, *c;
+    chain_data(n, 1.0, 1.0, 0.01, &mass, &k, &c);
+    vi_model *m = NULL;
+    assert_int_equal(vi_model_create_chain(n, mass, k, c, &m), VI_OK);
+    double *w = calloc(n, sizeof(double));
+    assert_non_null(w);
+    w[n - 1] = 1.0;
+    assert_int_equal(vi_model_set_stop(m, w, 0.01, 1.0), VI_OK);
+    assert_int_equal(vi_model_setup(m), VI_OK);
+    b[i] = vi_model_memory(m);
+    /* M, C, K, factor: 2 n each (kd = 1); rows KR, CR: 3 n each; eight
+     * vectors; the stop: 2 n + 4, M^-1 w: n; the struct: under 4 KiB */
+    int64_t formula = (int64_t)sizeof(double) * (4 * 2 + 2 * 3 + 8 + 3) * n +
+                      4096;
+    assert_true(b[i] > (int64_t)sizeof(double) * 20 * n);
+    assert_true(b[i] <= formula);
+    assert_int_equal(vi_model_memory_estimate(n, 1, 1, VI_METHOD_ADAMS, 0,
+                                              &est), VI_OK);
+    assert_true(est >= b[i]);
+    assert_true(est <= (int64_t)sizeof(double) * 200 * n); /* with the sim */
+    assert_int_equal(vi_model_memory_estimate(n, -1, 1, VI_METHOD_ADAMS, 0,
+                                              &dense), VI_OK);
+    assert_true(dense >= (int64_t)sizeof(double) * 12 * n * (int64_t)n);
+    vi_model_destroy(&m);
+    free(w); free(mass); free(k); free(c);
+  }
+  assert_close((double)b[1] / (double)b[0], 2.0, 0.01); /* linear in n */
+  /* what the band form cannot do */
+  assert_int_equal(vi_model_memory_estimate(100, 1, 1, VI_METHOD_ADAMS, 1,
+                                            &est), VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_model_memory_estimate(100, 1, 1, VI_METHOD_EXACT, 0,
+                                            &est), VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_model_memory_estimate(0, 1, 1, VI_METHOD_ADAMS, 0,
+                                            &est), VI_ERR_DIM);
+  assert_int_equal(vi_model_memory_estimate(10, 1, 1, 99, 0, &est),
+                   VI_ERR_ARG);
+  /* BDF's band Jacobian: O(n kd) too */
+  int64_t bdf;
+  assert_int_equal(vi_model_memory_estimate(20000, 1, 1, VI_METHOD_BDF, 0,
+                                            &bdf), VI_OK);
+  assert_true(bdf <= (int64_t)sizeof(double) * 250 * 20000);
+}
+
+/* What needs the modes says so; the dense getters return NULL. */
+static void refusals(void **state)
+{
+  (void)state;
+  vi_model *m = chain(10, 1, 0.05, 0.5, 0.6, 0.0, 0.1, 0.7);
+  assert_null(vi_model_mass(m));
+  assert_null(vi_model_stiffness(m));
+  assert_null(vi_model_damping(m));
+  assert_null(vi_model_omega(m));
+  assert_null(vi_model_zeta(m));
+  assert_null(vi_model_modal_stop(m));
+  int ld = -7;
+  assert_null(vi_model_modal_shapes(m, &ld));
+  assert_null(vi_model_modal_damping(m, &ld));
+  assert_non_null(vi_model_delassus(m, &ld));
+  assert_int_equal(ld, 1);
+  double x[10] = {0}, q[10];
+  assert_int_equal(vi_model_to_modal(m, x, q), VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_model_from_modal(m, q, x), VI_ERR_UNSUPPORTED);
+  vi_orbit *o = NULL;
+  assert_int_equal(vi_orbit_create(m, &o), VI_ERR_UNSUPPORTED);
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_ERR_UNSUPPORTED);
+  assert_non_null(strstr(vi_sim_errmsg(s), "band"));
+  assert_int_equal(vi_sim_enable_ledger(s, 1), VI_ERR_UNSUPPORTED);
+  assert_non_null(strstr(vi_sim_errmsg(s), "band"));
+  assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, 1.0, 0.0),
+                   VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_sim_set_method(s, VI_METHOD_AUTO), VI_OK);
+  assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+
+  /* a dense matrix with an entry outside the band is refused, naming it */
+  assert_int_equal(vi_model_create_band(4, 1, &m), VI_OK);
+  double K[16] = {0};
+  for (int i = 0; i < 4; i++) K[i + 4 * i] = 2.0;
+  K[0 + 4 * 2] = K[2 + 4 * 0] = -1.0;
+  assert_int_equal(vi_model_set_stiffness(m, K, 4), VI_ERR_DIM);
+  assert_non_null(strstr(vi_model_errmsg(m), "K(3,1)"));
+  /* a band wider than the model's, with a non-zero beyond it */
+  double AB[12] = {0, 0, 1, 0, -1, 1, 0, 0, 1, 0, 0, 1}; /* kd = 2 */
+  assert_int_equal(vi_model_set_stiffness_band(m, 2, AB, 3), VI_OK);
+  AB[6] = 0.5; /* K(1,3) */
+  assert_int_equal(vi_model_set_stiffness_band(m, 2, AB, 3), VI_ERR_DIM);
+  assert_int_equal(vi_model_set_stiffness_band(m, 1, AB, 1), VI_ERR_DIM);
+  assert_int_equal(vi_model_set_stiffness_band(m, -1, AB, 3), VI_ERR_DIM);
+  /* an indefinite K: the shifted band Cholesky fails */
+  double KB[8] = {0, 1, -2, 1, -2, 1, -2, 1}; /* tridiag(-2, 1, -2) */
+  assert_int_equal(vi_model_set_stiffness_band(m, 1, KB, 2), VI_OK);
+  double w[4] = {0, 0, 0, 1};
+  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_ERR_NOT_PSD);
+  vi_model_destroy(&m);
+  /* a mass that is not positive */
+  double mass[3] = {1, -1, 1}, k[3] = {1, 1, 1};
+  assert_int_equal(vi_model_create_chain(3, mass, k, NULL, &m), VI_ERR_ARG);
+  assert_null(m);
+  assert_int_equal(vi_model_create_band(0, 1, &m), VI_ERR_DIM);
+  assert_int_equal(vi_model_create_band(3, -1, &m), VI_ERR_DIM);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(band_equals_dense),
+      cmocka_unit_test(band_sticking),
+      cmocka_unit_test(banded_mass),
+      cmocka_unit_test(long_chain_energy),
+      cmocka_unit_test(memory_linear),
+      cmocka_unit_test(refusals),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
