@@ -178,8 +178,9 @@ static void rows_apply(const vi_model *m, const double *x, int incx,
     int d0 = i - kd < 0 ? -i : -kd, d1 = i + kd >= n ? n - 1 - i : kd;
     double a = 0.0;
     for (int d = d0; d <= d1; d++) {
-      size_t j = (size_t)(i + d);
-      a += kr[d + kd] * x[j * incx] + cr[d + kd] * v[j * incv];
+      int j = i + d;
+      a += kr[d + kd] * x[(size_t)j * (size_t)incx] +
+           cr[d + kd] * v[(size_t)j * (size_t)incv];
     }
     y[i] = a;
   }

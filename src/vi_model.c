@@ -200,6 +200,7 @@ static int set_band(vi_model *m, const char *name, int which, int kd,
   int st = check_open(m);
   if (st) return st;
   int n = m->n;
+  if (!AB) return vi_fail(m->errmsg, VI_ERR_ARG, "%s: NULL array", name);
   if (kd < 0)
     return vi_fail(m->errmsg, VI_ERR_DIM, "%s: half-bandwidth %d is "
                    "negative", name, kd);
@@ -238,7 +239,6 @@ static int set_band(vi_model *m, const char *name, int which, int kd,
 
 int vi_model_set_mass_band(vi_model *m, int kd, const double *AB, int ldab)
 {
-  if (m && !AB) return vi_fail(m->errmsg, VI_ERR_ARG, "M: NULL array");
   return set_band(m, "M", 0, kd, AB, ldab);
 }
 
@@ -255,7 +255,6 @@ int vi_model_set_damping_band(vi_model *m, int kd, const double *AB, int ldab)
 int vi_model_set_stiffness_band(vi_model *m, int kd, const double *AB,
                                 int ldab)
 {
-  if (m && !AB) return vi_fail(m->errmsg, VI_ERR_ARG, "K: NULL array");
   return set_band(m, "K", 2, kd, AB, ldab);
 }
 
