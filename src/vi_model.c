@@ -658,6 +658,34 @@ const double *vi_model_stiffness_band(const vi_model *m, int *kd, int *ldab)
   return band_view(m, m ? m->KB : NULL, kd, ldab);
 }
 
+double vi_model_omega_bound(const vi_model *m)
+{
+  if (!m || !m->frozen) return 0.0;
+  if (!m->band) return m->omega[m->n - 1];
+  /* Gershgorin: lambda_max(M^-1 K) <= max row sum of |K| / lambda_min(M),
+   * with lambda_min(M) >= min_i (M_ii - sum_j!=i |M_ij|) */
+  int n = m->n, kd = m->kd, w = 2 * kd + 1;
+  double kmax = 0.0, mmin = HUGE_VAL;
+  for (int i = 0; i < n; i++) {
+    const double *kr = m->KR + (size_t)i * w;
+    double r = 0.0;
+    for (int d = 0; d < w; d++) r += fabs(kr[d]);
+    if (m->kdm == 0) { /* KR holds M^-1 K: its rows bound the spectrum */
+      kmax = fmax(kmax, r);
+      continue;
+    }
+    kmax = fmax(kmax, r);
+    double mi = m->MB[kd + (size_t)i * m->ldb], off = 0.0;
+    for (int j = i - kd < 0 ? 0 : i - kd; j <= (i + kd < n ? i + kd : n - 1); j++)
+      if (j != i)
+        off += fabs(j > i ? m->MB[kd + i - j + (size_t)j * m->ldb]
+                          : m->MB[kd + j - i + (size_t)i * m->ldb]);
+    mmin = fmin(mmin, mi - off);
+  }
+  if (m->kdm == 0) return sqrt(kmax);
+  return mmin > 0.0 ? sqrt(kmax / mmin) : HUGE_VAL;
+}
+
 int64_t vi_model_memory(const vi_model *m)
 {
   if (!m) return 0;

@@ -106,6 +106,11 @@ static void band_equals_dense(void **state)
   /* the stop's compliance w^T M^-1 w = 1/m_12 (m_12 = 1.2) in both */
   assert_close(vi_model_stop_compliance(mb), 1.0 / 1.2, 1e-15);
   assert_close(vi_model_stop_compliance(md), 1.0 / 1.2, 1e-15);
+  /* Gershgorin: omega_max^2 <= max_i sum_j |K_ij| / m_i = 4 (mass 1,
+   * springs 1 on both sides), above the dense model's omega_12 */
+  assert_close(vi_model_omega_bound(mb), 2.0, 1e-15);
+  assert_true(vi_model_omega_bound(md) < 2.0);
+  assert_true(vi_model_omega_bound(md) > 1.5);
   double t_end = 20 * 2 * M_PI / 0.6;
   for (int k = 0; k < 3; k++) {
     vi_test_events ed = {0}, eb = {0};
@@ -180,6 +185,10 @@ static void banded_mass(void **state)
   }
   assert_close(vi_model_stop_compliance(m[1]), vi_model_stop_compliance(m[0]),
                1e-14);
+  /* Gershgorin: rows of |K| sum to <= 4, M's smallest eigenvalue is
+   * >= 4/6 - 2/6 = 1/3: omega_max <= sqrt(12) */
+  assert_close(vi_model_omega_bound(m[1]), sqrt(12.0), 1e-14);
+  assert_true(vi_model_omega_bound(m[0]) <= sqrt(12.0));
   /* the band view returns what was set */
   int kd, ldab;
   const double *mb = vi_model_mass_band(m[1], &kd, &ldab);
@@ -391,6 +400,61 @@ static void refusals(void **state)
   assert_int_equal(vi_model_create_band(3, -1, &m), VI_ERR_DIM);
 }
 
+/* NULL, zero and negative arguments of the band functions. */
+static void misuse(void **state)
+{
+  (void)state;
+  double AB[4] = {0, 1, 0, 1}, mass[2] = {1, 1}, k[2] = {1, 1};
+  int64_t b = 5;
+  int kd = 9, ld = 9;
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create_band(2, 1, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_model_set_mass_band(NULL, 1, AB, 2), VI_ERR_ARG);
+  assert_int_equal(vi_model_set_damping_band(NULL, 1, AB, 2), VI_ERR_ARG);
+  assert_int_equal(vi_model_set_stiffness_band(NULL, 1, AB, 2), VI_ERR_ARG);
+  assert_int_equal(vi_model_create_chain(2, mass, k, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_model_create_chain(2, NULL, k, NULL, &m), VI_ERR_ARG);
+  assert_int_equal(vi_model_create_chain(0, mass, k, NULL, &m), VI_ERR_DIM);
+  assert_int_equal(vi_model_memory_estimate(2, 1, 1, 0, 0, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_model_memory_estimate(2, 1, -1, 0, 0, &b), VI_ERR_DIM);
+  assert_int_equal(vi_model_memory_estimate(2, 1, 1, 0, 2, &b), VI_ERR_ARG);
+  assert_true(vi_model_memory(NULL) == 0);
+  assert_int_equal(vi_model_bandwidth(NULL), -1);
+  assert_null(vi_model_mass_band(NULL, &kd, &ld));
+  assert_int_equal(kd, 0);
+  assert_null(vi_model_damping_band(NULL, NULL, NULL));
+  assert_null(vi_model_stiffness_band(NULL, NULL, NULL));
+  assert_true(vi_model_omega_bound(NULL) == 0.0);
+  double MB[4], CB[4], KB[4];
+  assert_int_equal(vi_build_chain_band(2, mass, k, NULL, MB, CB, KB, 1),
+                   VI_ERR_DIM);
+  assert_int_equal(vi_build_chain_band(2, mass, k, NULL, NULL, CB, KB, 2),
+                   VI_ERR_ARG);
+  assert_int_equal(vi_build_chain_band(2, mass, k, NULL, MB, CB, KB, 2), VI_OK);
+  /* chain of 2: K = [[2, -1], [-1, 1]] in 'U' form */
+  assert_true(KB[1] == 2.0 && KB[2] == -1.0 && KB[3] == 1.0);
+  assert_true(MB[1] == 1.0 && MB[2] == 0.0 && MB[3] == 1.0 && CB[3] == 0.0);
+  /* before setup: views NULL; after it the setters are refused */
+  assert_int_equal(vi_model_create_chain(2, mass, k, NULL, &m), VI_OK);
+  assert_null(vi_model_stiffness_band(m, &kd, &ld));
+  assert_true(vi_model_omega_bound(m) == 0.0);
+  assert_int_equal(vi_model_set_mass_band(m, 1, NULL, 2), VI_ERR_ARG);
+  double w[2] = {0, 1};
+  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  assert_int_equal(vi_model_set_stiffness_band(m, 1, KB, 2), VI_ERR_STATE);
+  assert_int_equal(vi_model_set_damping_band(m, 1, NULL, 2), VI_ERR_STATE);
+  assert_int_equal(vi_model_set_damping(m, NULL, 2), VI_ERR_STATE);
+  const double *kb = vi_model_stiffness_band(m, &kd, &ld);
+  assert_non_null(kb);
+  assert_true(kd == 1 && ld == 2 && kb[1] == 2.0 && kb[2] == -1.0);
+  vi_model_destroy(&m);
+  /* n = 1: the band is clamped to the diagonal */
+  assert_int_equal(vi_model_create_chain(1, mass, k, NULL, &m), VI_OK);
+  assert_int_equal(vi_model_bandwidth(m), 0);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -400,6 +464,7 @@ int main(void)
       cmocka_unit_test(long_chain_energy),
       cmocka_unit_test(memory_linear),
       cmocka_unit_test(refusals),
+      cmocka_unit_test(misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

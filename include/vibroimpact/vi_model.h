@@ -95,6 +95,12 @@ VI_API int vi_model_create_chain(int n, const double *mass, const double *k,
  *  which need the modes), VI_ERR_LIMIT (beyond int64). */
 VI_API int vi_model_memory_estimate(int n, int kd, int ns, int method,
                                     int ledger, int64_t *bytes);
+/** An upper bound of the highest natural frequency, for checks of the
+ *  forcing frequency against the model: omega_n itself for a dense model,
+ *  a Gershgorin bound for a band model (sqrt of the largest row sum of
+ *  |M^-1 K| for a diagonal M; HUGE_VAL if M's rows are not diagonally
+ *  dominant); 0 before setup. */
+VI_API double vi_model_omega_bound(const vi_model *m);
 /** Bytes the model holds now (its arrays and stops; 0 for NULL). */
 VI_API int64_t vi_model_memory(const vi_model *m);
 /** Half-bandwidth kd of a band model, -1 for dense storage (also before

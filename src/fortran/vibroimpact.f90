@@ -70,7 +70,7 @@ module vibroimpact
             vi_model_create_reduced
   public :: vi_model_create_band, vi_model_set_mass_band, vi_model_set_damping_band, &
             vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
-            vi_model_memory, vi_model_bandwidth, vi_model_mass_band, &
+            vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
             vi_model_damping_band, vi_model_stiffness_band, vi_build_chain_band
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
             vi_cantilever_shape, vi_cantilever_participation
@@ -160,6 +160,10 @@ module vibroimpact
       import :: c_int, c_int64_t
       integer(c_int), value :: n, kd, ns, method, ledger
       integer(c_int64_t) :: bytes
+    end function
+    real(c_double) function vi_model_omega_bound(model) bind(C, name="vi_model_omega_bound")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: model
     end function
     integer(c_int64_t) function vi_model_memory(model) bind(C, name="vi_model_memory")
       import :: c_int64_t, c_ptr
