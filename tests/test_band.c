@@ -17,15 +17,16 @@
 static void chain_data(int n, double m, double k, double c, double **mass,
                        double **kk, double **cc)
 {
-  *mass = malloc(sizeof(double) * n);
-  *kk = malloc(sizeof(double) * n);
-  *cc = malloc(sizeof(double) * n);
-  assert_true(*mass && *kk && *cc);
+  double *p = malloc(sizeof(double) * 3 * (size_t)n);
+  if (!p) abort();
   for (int j = 0; j < n; j++) {
-    (*mass)[j] = m * (1.0 + 0.1 * (j % 3)); /* not uniform: rows differ */
-    (*kk)[j] = k;
-    (*cc)[j] = c;
+    p[j] = m * (1.0 + 0.1 * (j % 3)); /* not uniform: rows differ */
+    p[n + j] = k;
+    p[2 * n + j] = c;
   }
+  *mass = p; /* one block: free(*mass) releases all three */
+  *kk = p + n;
+  *cc = p + 2 * (size_t)n;
 }
 
 /* The chain in band storage (vi_model_create_chain) or dense
@@ -41,15 +42,16 @@ static vi_model *chain(int n, int band, double c, double amp, double omega,
     assert_int_equal(vi_model_create_chain(n, mass, k, cd, &m), VI_OK);
     assert_int_equal(vi_model_bandwidth(m), 1);
   } else {
-    double *M = malloc(sizeof(double) * 3 * n * n);
-    assert_non_null(M);
-    assert_int_equal(vi_build_chain(n, mass, k, cd, M, M + n * n,
-                                    M + 2 * n * n, n), VI_OK);
+    size_t nn = (size_t)n * (size_t)n;
+    double *M = malloc(sizeof(double) * 3 * nn);
+    if (!M) abort();
+    assert_int_equal(vi_build_chain(n, mass, k, cd, M, M + nn, M + 2 * nn, n),
+                     VI_OK);
     assert_int_equal(vi_model_create(n, &m), VI_OK);
     assert_int_equal(vi_model_bandwidth(m), -1);
     assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
-    assert_int_equal(vi_model_set_damping(m, M + n * n, n), VI_OK);
-    assert_int_equal(vi_model_set_stiffness(m, M + 2 * n * n, n), VI_OK);
+    assert_int_equal(vi_model_set_damping(m, M + nn, n), VI_OK);
+    assert_int_equal(vi_model_set_stiffness(m, M + 2 * nn, n), VI_OK);
     free(M);
   }
   double *a = calloc(n, sizeof(double)), *f0 = calloc(n, sizeof(double)),
@@ -61,7 +63,7 @@ static vi_model *chain(int n, int band, double c, double amp, double omega,
   assert_int_equal(vi_model_set_forcing(m, omega, a, NULL, f0), VI_OK);
   assert_int_equal(vi_model_set_stop(m, w, xs, r), VI_OK);
   assert_int_equal(vi_model_setup(m), VI_OK);
-  free(a); free(f0); free(w); free(mass); free(k); free(cd);
+  free(a); free(f0); free(w); free(mass);
   return m;
 }
 
@@ -210,7 +212,7 @@ static void band_two_stops(void **state)
     assert_int_equal(vi_model_add_stop(m[b], w1, 0.1, 0.5), VI_OK);
     assert_int_equal(vi_model_add_stop(m[b], w2, 0.1, 0.5), VI_OK);
     assert_int_equal(vi_model_setup(m[b]), VI_OK);
-    free(mass); free(k); free(c);
+    free(mass);
   }
   double t_end = 12.0;
   for (int q = 0; q < 2; q++) {
@@ -246,13 +248,13 @@ static void banded_mass(void **state)
   (void)state;
   int n = 8, ld = 2;
   double MB[16], KB[16], CB[16];
-  for (int j = 0; j < n; j++) {
-    MB[1 + j * ld] = 4.0 / 6.0;
-    MB[j * ld] = j ? 1.0 / 6.0 : 0.0;
-    KB[1 + j * ld] = j == n - 1 ? 1.0 : 2.0;
-    KB[j * ld] = j ? -1.0 : 0.0;
-    CB[1 + j * ld] = 0.02 * KB[1 + j * ld];
-    CB[j * ld] = 0.02 * KB[j * ld];
+  for (size_t j = 0; j < 8; j++) {
+    MB[1 + 2 * j] = 4.0 / 6.0;
+    MB[2 * j] = j ? 1.0 / 6.0 : 0.0;
+    KB[1 + 2 * j] = j == 7 ? 1.0 : 2.0;
+    KB[2 * j] = j ? -1.0 : 0.0;
+    CB[1 + 2 * j] = 0.02 * KB[1 + 2 * j];
+    CB[2 * j] = 0.02 * KB[2 * j];
   }
   double a[8] = {0.4}, w[8] = {0};
   w[n - 1] = 1.0;
@@ -279,7 +281,8 @@ static void banded_mass(void **state)
   assert_non_null(mb);
   assert_int_equal(kd, 1);
   assert_int_equal(ldab, 2);
-  assert_true(mb[1 + 3 * ldab] == 4.0 / 6.0 && mb[3 * ldab] == 1.0 / 6.0);
+  assert_true(mb[1 + 3 * (size_t)ldab] == 4.0 / 6.0 &&
+              mb[3 * (size_t)ldab] == 1.0 / 6.0);
   assert_null(vi_model_mass_band(m[0], &kd, &ldab));
   vi_test_events e[2] = {{0}, {0}};
   for (int i = 0; i < 2; i++)
@@ -366,7 +369,7 @@ static void long_chain_energy(void **state)
   assert_close(vi_model_energy(m, x, v), e, 1e-12 * e);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
-  free(w); free(v0); free(x); free(v); free(mass); free(k); free(c);
+  free(w); free(v0); free(x); free(v); free(mass);
 }
 
 /* The memory of a band chain is linear in n (a few (kd + 1) n arrays),
@@ -402,7 +405,7 @@ static void memory_linear(void **state)
                                               &dense), VI_OK);
     assert_true(dense >= (int64_t)sizeof(double) * 12 * n * (int64_t)n);
     vi_model_destroy(&m);
-    free(w); free(mass); free(k); free(c);
+    free(w); free(mass);
   }
   assert_close((double)b[1] / (double)b[0], 2.0, 0.01); /* linear in n */
   /* what the band form cannot do */
