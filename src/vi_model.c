@@ -724,13 +724,16 @@ int vi_model_memory_estimate(int n, int kd, int ns, int method, int ledger,
     double k = kd > n - 1 ? n - 1 : kd, ldb = k + 1.0, w = 2.0 * k + 1.0;
     /* MB, CB, KB, LB, KR, CR, 8 vectors; the PSD check's copy at setup */
     d = 4.0 * ldb * dn + 2.0 * w * dn + 8.0 * dn + ldb * dn + stops;
-    if (method == VI_METHOD_BDF) { /* SUNBandMatrix with mu = ml = 2k, and
-                                      CVODE's saved copy */
-      double N = 2.0 * dn, mu = fmin(N - 1.0, 4.0 * k);
-      d += 2.0 * (mu + 2.0 * k + 1.0) * N + N;
+    if (method == VI_METHOD_BDF) { /* SUNBandMatrix(N, 2k, 2k + 1) stores
+                                      smu + ml + 1 rows (smu = mu + ml),
+                                      and CVODE keeps a saved copy */
+      double N = 2.0 * dn, ml = 2.0 * k + 1.0;
+      double smu = fmin(N - 1.0, 2.0 * k + ml);
+      d += 2.0 * (smu + ml + 1.0) * N + N;
     }
-  } else { /* dense: 10 n x n in the model, dsygvd's 2 n^2 at setup */
-    d = 12.0 * dn * dn + 23.0 * dn + stops;
+  } else { /* dense: 10 n x n in the model, dsygvd's 2 n^2 at setup and
+              LAPACK's workspaces: 14 n^2 measured (max RSS at n = 1000) */
+    d = 14.0 * dn * dn + 23.0 * dn + stops;
     if (method == VI_METHOD_BDF) d += 2.0 * 4.0 * dn * dn + 2.0 * dn;
     /* non-proportional damping: the complex 2n x 2n eigenvectors and their
      * inverse of the closed form (an upper bound: proportional needs none) */
