@@ -22,7 +22,7 @@ int vi_model_create(int n, vi_model **out)
   if (!m) return VI_ERR_NOMEM;
   size_t nn = (size_t)n * n;
   /* 10 n x n matrices and 17 vectors in one block */
-  m->block = calloc(10 * nn + 17 * (size_t)n, sizeof(double));
+  m->block = calloc(10 * nn + 15 * (size_t)n, sizeof(double));
   if (!m->block) {
     free(m);
     return VI_ERR_NOMEM;
@@ -51,9 +51,7 @@ int vi_model_create(int n, vi_model **out)
   m->psi = p; p += n;
   m->Fa = p; p += n;
   m->Fb = p; p += n;
-  m->F0 = p; p += n;
-  m->pA = p; p += n;
-  m->pB = p;
+  m->F0 = p;
   m->n = n;
   m->kd = -1;
   m->bytes = (int64_t)(sizeof *m +
@@ -108,7 +106,6 @@ int vi_model_create_band(int n, int kd, vi_model **out)
 void vi_model_destroy(vi_model **model)
 {
   if (!model || !*model) return;
-  vi_general_free(*model);
   free((*model)->Ws);
   free((*model)->MinvW);
   free((*model)->block);
@@ -472,8 +469,6 @@ int vi_model_setup(vi_model *m)
                    "no stop: call vi_model_set_stop before setup");
   if (m->band) { /* O(n kd): no modal analysis (vi_band.c) */
     if ((st = vi_band_setup(m))) return st;
-    vi_fail(m->flow_why, VI_ERR_UNSUPPORTED, "the model is in band storage: "
-            "it has no modes, so no closed-form flow");
     m->frozen = 1;
     m->errmsg[0] = '\0';
     return VI_OK;
