@@ -1,8 +1,9 @@
-/* vi_builders.c - model builders (vi_builders.h): the paper's fixed-free
- * chain, the clamped-free Euler-Bernoulli cantilever's modes and the
- * Galerkin model of the paper's beam example (MODEL.md section 6, WB
- * section 4), and the reduced model that keeps a subset of a model's modes
- * (MODEL.md section 5). */
+/* vi_builders.c - model builders (vi_builders.h): the clamped-free
+ * Euler-Bernoulli cantilever's modes and the Galerkin model of the paper's
+ * beam example (MODEL.md section 6, WB section 4), and the reduced model
+ * that keeps a subset of a model's modes (MODEL.md section 5).  The chain
+ * builders (dense, band, vi_model_create_chain) live in vi_model.c: the
+ * band chain is built into the model's own storage. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -76,38 +77,6 @@ int vi_build_cantilever(int modes, double omega1, double zeta, double xi_stop,
   return VI_OK;
 }
 
-/* ---- the chain ------------------------------------------------------------ */
-int vi_build_chain(int n, const double *mass, const double *k,
-                   const double *c, double *M, double *C, double *K, int ld)
-{
-  if (n < 1 || ld < n) return VI_ERR_DIM;
-  if (!mass || !k || !M || !C || !K) return VI_ERR_ARG;
-  /* a chain needs positive masses and non-negative springs and dampers */
-  for (int j = 0; j < n; j++) {
-    double cj = c ? c[j] : 0.0;
-    if (!isfinite(mass[j]) || !isfinite(k[j]) || !isfinite(cj))
-      return VI_ERR_NONFINITE;
-    if (!(mass[j] > 0.0) || k[j] < 0.0 || cj < 0.0) return VI_ERR_ARG;
-  }
-  for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++)
-      M[i + (size_t)j * ld] = C[i + (size_t)j * ld] = K[i + (size_t)j * ld] = 0;
-  for (int j = 0; j < n; j++) {
-    double cj = c ? c[j] : 0.0;
-    M[j + (size_t)j * ld] = mass[j];
-    /* element j joins mass j-1 (the ground for j = 0) to mass j */
-    K[j + (size_t)j * ld] += k[j];
-    C[j + (size_t)j * ld] += cj;
-    if (j > 0) {
-      K[(j - 1) + (size_t)(j - 1) * ld] += k[j];
-      C[(j - 1) + (size_t)(j - 1) * ld] += cj;
-      K[(j - 1) + (size_t)j * ld] = K[j + (size_t)(j - 1) * ld] = -k[j];
-      C[(j - 1) + (size_t)j * ld] = C[j + (size_t)(j - 1) * ld] = -cj;
-    }
-  }
-  return VI_OK;
-}
-
 /* ---- the reduced model --------------------------------------------------- */
 int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
                             double r, vi_model **out)
@@ -117,6 +86,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
   if (!full->frozen) return VI_ERR_STATE;
   if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
+  if (full->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;

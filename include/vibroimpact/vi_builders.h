@@ -1,7 +1,8 @@
 /** @file vi_builders.h
- * model builders: the paper's fixed-free chain and clamped-free cantilever
- * (MODEL.md sections 1 and 6) into caller arrays, and the reduced model
- * that keeps a subset of a set-up model's modes (MODEL.md section 5). */
+ * model builders: the paper's clamped-free cantilever (MODEL.md section 6)
+ * into caller arrays, and the reduced model that keeps a subset of a
+ * set-up model's modes (MODEL.md section 5).  The chain builders are in
+ * vi_model.h (vi_build_chain, vi_build_chain_band, vi_model_create_chain). */
 #ifndef VI_BUILDERS_H
 #define VI_BUILDERS_H
 
@@ -11,15 +12,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** The paper's fixed-free chain (MODEL.md section 1), into caller arrays:
- *  element j joins mass j-1 (mass 0 to the ground) to mass j with spring k_j
- *  and dashpot c_j.  mass, k, c [n] (c may be NULL: no damping); M, C, K are
- *  written n x n column-major with leading dimension ld >= n.
- *  @return VI_OK, VI_ERR_DIM, VI_ERR_ARG. */
-VI_API int vi_build_chain(int n, const double *mass, const double *k,
-                          const double *c, double *M, double *C, double *K,
-                          int ld);
 
 /** The reduced model itself, in the modal coordinates of `full`: M = I,
  * K = diag(omega_S^2), C = D_SS, forcing Psi_S^T (a, b, f0), stop psi_S
