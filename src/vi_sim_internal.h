@@ -159,6 +159,31 @@ int vi_force_jacobian(vi_sim *s, double t, const double *z, double **Ax,
                       double **Av); /* into the sim's workspace */
 void vi_force_free(vi_sim *s);
 
+/* The sticking set (vi_chatter.c): make the stops list [cnt] the stops
+ * held (the projection needs the Cholesky factor of their Delassus block;
+ * VI_ERR_UNSUPPORTED if it is singular), and whether stop k is held. */
+int vi_sim_set_sticking(vi_sim *s, const int *list, int cnt);
+int vi_sim_in_stick_set(const vi_sim *s, int k);
+
+/* out = M^-1 (f^(k)(t) - K u - C ud), k = 1, 2: the k-th time derivative
+ * of the free acceleration along a motion whose k-th and (k+1)-th
+ * derivatives of x are u and ud (vi_sim.c). */
+void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
+                       const double *ud, double *out);
+
+/* The chatter map (vi_chatter.c).  push: stop k's gap acceleration p [3]
+ * (the push of its contact force) and its first two rates along the motion
+ * sticking on stop k from x, v at t.  normal: the structure's stiffness
+ * kappa and damping gamma seen through stop k.  tail: the duration of the
+ * chattering sequence that starts at rebound speed u (restitution r) under
+ * g'' + gamma g' + kappa g = p0 + p1 t, its bounces counted in *count; -1
+ * if by the model it does not accumulate. */
+void vi_chatter_push(vi_sim *s, int k, double t, const double *x,
+                     const double *v, double *p);
+void vi_chatter_normal(const vi_sim *s, int k, double *kappa, double *gamma);
+double vi_chatter_tail(double u, double r, double p0, double p1, double kappa,
+                       double gamma, int64_t *count);
+
 /* Remove from a [n] the components along M^-1 w_k of the sticking stops
  * so that w_k.a = 0 for each: a -= M^-1 W_S G_SS^-1 W_S^T a; lam [nstick]
  * (may be NULL) receives the multipliers G_SS^-1 W_S^T a. */

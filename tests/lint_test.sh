@@ -16,7 +16,7 @@ files=(
   src/vi_status.c src/vi_version.c src/vi_model.c src/vi_modal.c
   src/vi_impact.c src/vi_beam.c src/vi_ledger.c src/vi_nvector.c src/vi_dense.c
   src/vi_force.c src/vi_orbit_pnm.c src/io/vi_scene_edit.c src/vi_contact.c
-  src/vi_sim.c src/vi_cvode.c src/vi_arkode.c src/io/vi_output.c
+  src/vi_sim.c src/vi_chatter.c src/vi_cvode.c src/vi_arkode.c src/io/vi_output.c
   src/fortran/vi_gen_constants.c tests/test_fortran_compare.c
 )
 # Headers whose findings count (a finding in another header is silent until
