@@ -22,8 +22,10 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->z = calloc(10 * (size_t)n, sizeof(double));
   s->sbuf = calloc(4 * (size_t)n + 4 * (size_t)model->ns, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-  if (!s->z || !s->sbuf || !s->brent) {
+  s->pend = calloc((size_t)model->ns, sizeof *s->pend);
+  if (!s->z || !s->sbuf || !s->brent || !s->pend) {
     gsl_root_fsolver_free(s->brent);
+    free(s->pend);
     free(s->sbuf);
     free(s->z);
     free(s);
@@ -45,6 +47,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->atol = 1e-10;
   s->vchat = 1e-7;
   s->t_last_contact = -HUGE_VAL;
+  s->stick_at = HUGE_VAL;
   s->fast_nvector = 1;
   s->wnorm = sqrt(vi_dot(n, model->w, model->w));
   s->ns = model->ns;
@@ -154,6 +157,7 @@ void vi_sim_destroy(vi_sim **sim)
   vi_ledger_destroy(s->led);
   vi_force_free(s);
   gsl_root_fsolver_free(s->brent);
+  free(s->pend);
   free(s->sbuf);
   free(s->z);
   free(s);
@@ -242,7 +246,7 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
   s->sticking = 0;
   s->nstick = 0;
   s->started = 0;
-  s->stick_pending = 0;
+  vi_chatter_unpend(s, -1);
   s->t_last_contact = -HUGE_VAL;
   if (s->led) vi_ledger_begin(s->led, s->t, s->z);
   return VI_OK;
@@ -463,14 +467,22 @@ static void accel_rate(const vi_sim *s, double t, int k, const double *u,
 }
 
 /* Sticking after a summed chattering tail begins at its accumulation point:
- * the STICK event is due when the run reaches s->stick_at. */
-static void emit_pending_stick(vi_sim *s)
+ * stop k's STICK event, pending until the run reaches it, goes out now (at
+ * its time, or earlier if the stop is let go before). */
+static void emit_stick(vi_sim *s, int k)
 {
-  if (!s->stick_pending) return;
-  s->stick_pending = 0;
+  if (!s->pend[k].on) return;
+  double vn = s->pend[k].vn, ie = s->pend[k].ie;
+  vi_chatter_unpend(s, k);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * (size_t)s->n);
-  emit(s, VI_EVENT_STICK, s->stick_stop, s->stick_vn, s->stick_ie);
+  emit(s, VI_EVENT_STICK, k, vn, ie);
+}
+
+/* Every pending STICK event due by t, the earliest first. */
+static void emit_sticks_due(vi_sim *s, double t)
+{
+  for (int k; (k = vi_chatter_due(s, t)) >= 0;) emit_stick(s, k);
 }
 
 /* End the ledger's open interval at s->t (vi_ledger_pre_jump saw the state
@@ -493,7 +505,7 @@ static int on_contact_one(vi_sim *s, int k)
   int n = s->n;
   const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
   double r = m->rv[k], wmw = m->G[k + (size_t)k * m->ns], xs = m->xsv[k];
-  double wnorm = s->wnorms[k];
+  emit_sticks_due(s, HUGE_VAL); /* an earlier stop's tail, if any, ends */
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
   double vn = vi_dot(n, w, s->v);
@@ -501,41 +513,9 @@ static int on_contact_one(vi_sim *s, int k)
   double push = vi_dot(n, w, s->vp); /* > 0: pressed into the stop */
   double dt_prev = s->t - s->t_last_contact;
   s->t_last_contact = s->t;
-  /* Chattering (Budd & Dux 1994): with r < 1 and the stop pressed on,
-   * impacts accumulate at a finite time.  Once the next bounce's apex
-   * (r v_n)^2 / (2 w.a) lies within a few atol of the stop, further impacts
-   * are no longer resolved (a position error dx turns into an approach
-   * speed error w.a dx / v_n as large as v_n itself); below the chatter
-   * threshold or a floor they are not wanted.  Then the rest of the
-   * sequence is summed in closed form and sticking begins at its
-   * accumulation point (Nordmark & Piiroinen 2009). */
-  double apex = push > 0.0 ? 0.5 * r * r * vn * vn / push : HUGE_VAL;
-  int floor_hit = push > 0.0 && vn > 0.0 &&
-                  ((s->vn_floor > 0.0 && vn < s->vn_floor) ||
-                   (s->dt_floor > 0.0 && dt_prev < s->dt_floor));
-  /* a touch at rest or a floor ends any sequence that presses on the stop,
-   * even at r = 1; a vanishing bounce only where impacts lose energy */
-  int chatter = push > 0.0 &&
-                (vn <= 0.0 || floor_hit ||
-                 (r < 1.0 && (vn < s->vchat || apex < 10.0 * s->atol * wnorm)));
-  if (!chatter && r < 1.0 && push > 0.0) {
-    /* Sum the tail as soon as resolving the next impact costs more
-     * accuracy than the closed-form tail: the next contact time is only
-     * known to dx / (r v_n), with dx the integrator's position error along
-     * w, while the chatter map neglects the contact force's second rate,
-     * an error of about |p''| / p Delta^3 over the tail's duration Delta. */
-    double p[3];
-    vi_chatter_push(s, k, s->t, s->x, s->v, p);
-    /* an integrator's global position error is some ten times its local
-     * tolerance */
-    double dx = s->be == &vi_backend_exact
-                    ? 16.0 * DBL_EPSILON * (fabs(xs) + wnorm)
-                    : 10.0 * (s->atol * wnorm + s->rtol * fabs(xs));
-    double delta = 2.0 * r * vn / (p[0] * (1.0 - r));
-    double e_res = dx / (r * vn), e_model = fabs(p[2]) / p[0] * pow(delta, 3);
-    double tol_t = s->rtol * fmax(fabs(s->t), 2.0 * vn / p[0]);
-    chatter = p[0] > 0.0 && e_res > tol_t && e_model <= e_res;
-  }
+  int floor_hit;
+  int chatter = vi_chatter_wanted(s, k, vn, push, dt_prev, s->x, s->v,
+                                  &floor_hit);
   if (floor_hit) s->stats[VI_STAT_FLOORS]++;
   double ie = 0.0;
   if (vn > 0.0) {
@@ -565,25 +545,12 @@ static int on_contact_one(vi_sim *s, int k)
     double u = vi_dot(n, w, s->vp) / wmw;
     ie_tail = 0.5 * u * u * wmw;
     for (int i = 0; i < n; i++) s->vp[i] -= u * mw[i];
-    double tail = 0.0;
-    int64_t count = 0;
-    if (u < 0.0) {
-      double p[3];
-      vi_chatter_push(s, k, s->t, s->x, s->vp, p);
-      double kappa, gamma;
-      vi_chatter_normal(s, k, &kappa, &gamma);
-      tail = vi_chatter_tail(-u * wmw, r, p[0], p[1], kappa, gamma, &count);
-      if (tail < 0.0) tail = 0.0; /* not accumulating by the model: stick */
-    }
-    emit_pending_stick(s); /* an earlier stop's tail, if any, ends here */
+    int64_t count;
+    double tail = vi_chatter_sum(s, k, -u * wmw, s->x, s->vp, &count);
     vi_sim_set_sticking(s, &k, 1);
     s->stats[VI_STAT_STICKS]++;
     s->stats[VI_STAT_CHATTER_SKIPPED] += count;
-    s->stick_pending = 1;
-    s->stick_stop = k;
-    s->stick_at = s->t + tail;
-    s->stick_vn = -u * wmw;
-    s->stick_ie = ie_tail;
+    vi_chatter_pend(s, k, s->t + tail, -u * wmw, ie_tail);
   }
   s->ie_stop[k] += ie + ie_tail;
   /* The contact is at g = 0 by definition, but the located state carries
@@ -598,7 +565,7 @@ static int on_contact_one(vi_sim *s, int k)
     s->z[2 * (size_t)i + 1] = s->vp[i];
   }
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
-  if (stick && s->stick_at <= s->t) emit_pending_stick(s);
+  emit_sticks_due(s, s->t); /* a tail of no duration */
   s->stats[VI_STAT_REINITS]++;
   use_backend(s, stick ? &vi_backend_cvode : method_backend(s));
   return s->be->start(s);
@@ -628,16 +595,17 @@ static void project_on_stops(vi_sim *s, const int *list, int cnt, double *x)
  * and every stop held while sticking): Newton's law for simultaneous
  * contacts (vi_contact.c).  Then the stops that hold from here on: a
  * sticking stop that the impulses keep on its stop, and a stop whose
- * bounces would die out (its chatter criteria, or r = 0, pressed on), as
- * long as its contact force pushes (lambda_S = G_SS^-1 W_S^T a_free > 0).
- * Such a stop sticks at once: with several stops involved the chattering
- * tail is not summed (its duration is the error). */
+ * bounces die out (vi_chatter_wanted with the other held stops on theirs,
+ * or r = 0, pressed on), as long as its contact force pushes (lambda_S =
+ * G_SS^-1 W_S^T a_free > 0).  A stop whose bounces die out holds from
+ * here; its STICK event waits for the accumulation point of its tail,
+ * summed with the other held stops' constraint forces in its normal
+ * dynamics (vi_chatter_sum). */
 static int on_contact_multi(vi_sim *s, int nc, int *idx)
 {
   const vi_model *m = s->m;
   int n = s->n, st;
   double P[VI_CONTACT_MAX], u[VI_CONTACT_MAX], ie[VI_CONTACT_MAX];
-  emit_pending_stick(s);
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
   st = vi_contact_solve(m, nc, idx, s->v, s->vp, P, u, ie);
@@ -662,20 +630,25 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
       emit(s, VI_EVENT_IMPACT, idx[k], u[k], ie[k]);
     }
   }
-  /* free acceleration after the jump (damping sees the new velocity) */
+  /* free acceleration after the jump (damping sees the new velocity), and
+   * a2: the same with the stops held so far on theirs, the push that a
+   * stop not held feels */
   double *zz = s->sbuf, *acc = zz + 2 * (size_t)n, *a2 = acc + n;
   for (int i = 0; i < n; i++) {
     zz[2 * (size_t)i] = s->x[i];
     zz[2 * (size_t)i + 1] = s->vp[i];
   }
   vi_sim_accel(s, s->t, zz, 0, acc);
+  memcpy(a2, acc, sizeof(double) * (size_t)n);
+  if (s->sticking) vi_sim_constrain(s, a2, NULL);
   int hold[VI_CONTACT_MAX] = {0}, was[VI_CONTACT_MAX], nh = 0;
+  int tailing[VI_CONTACT_MAX] = {0}; /* hold[i]'s bounces die out here */
   int nwas = s->nstick;
   memcpy(was, s->stick_k, sizeof(int) * (size_t)nwas);
   for (int k = 0; k < nc; k++) {
     int j = idx[k];
     const double *w = vi_stop_w(m, j);
-    double r = m->rv[j], un = vi_dot(n, w, s->vp), push = vi_dot(n, w, acc);
+    double un = vi_dot(n, w, s->vp), push = vi_dot(n, w, a2);
     double vscale = fmax(fabs(u[k]), s->atol);
     if (vi_sim_in_stick_set(s, j)) {
       if (P[k] > 0.0 || fabs(un) <= 1e-9 * vscale) hold[nh++] = j;
@@ -689,14 +662,14 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
       continue;
     }
     if (!(P[k] > 0.0)) continue;
-    double apex = 0.5 * r * r * u[k] * u[k] / push;
-    int floor_hit = (s->vn_floor > 0.0 && u[k] < s->vn_floor) ||
-                    (s->dt_floor > 0.0 && dt_prev < s->dt_floor);
+    int floor_hit;
+    int chatter = vi_chatter_wanted(s, j, u[k], push, dt_prev, s->x, s->v,
+                                    &floor_hit);
     if (floor_hit) s->stats[VI_STAT_FLOORS]++;
-    /* a floor ends any sequence, a vanishing bounce one that loses energy */
-    if (r == 0.0 || floor_hit ||
-        (r < 1.0 && (u[k] < s->vchat || apex < 10.0 * s->atol * s->wnorms[j])))
+    if (chatter || m->rv[j] == 0.0) {
+      tailing[nh] = 1;
       hold[nh++] = j;
+    }
   }
   /* drop the stops that would pull (lambda <= 0) until the rest push */
   for (int pass = 0; pass <= VI_CONTACT_MAX && nh > 0; pass++) {
@@ -706,21 +679,24 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
     vi_sim_constrain(s, a2, lam);
     int keep = 0;
     for (int i = 0; i < nh; i++)
-      if (lam[i] > 0.0) hold[keep++] = hold[i];
+      if (lam[i] > 0.0) {
+        tailing[keep] = tailing[i];
+        hold[keep++] = hold[i];
+      }
     if (keep == nh) break;
     nh = keep;
   }
   if ((st = vi_sim_set_sticking(s, hold, nh))) return st;
   /* the held stops' normal velocities go: their bounces' energy */
-  double ie_tail = 0.0;
+  double ie_tail = 0.0, b[VI_CONTACT_MAX], e[VI_CONTACT_MAX];
   if (nh) {
-    double b[VI_CONTACT_MAX], lam[VI_CONTACT_MAX];
+    double lam[VI_CONTACT_MAX];
     for (int i = 0; i < nh; i++) b[i] = vi_dot(n, vi_stop_w(m, hold[i]), s->vp);
     vi_sim_constrain(s, s->vp, lam);
     for (int i = 0; i < nh; i++) {
-      double e = 0.5 * lam[i] * b[i];
-      ie_tail += e;
-      s->ie_stop[hold[i]] += e;
+      e[i] = 0.5 * lam[i] * b[i];
+      ie_tail += e[i];
+      s->ie_stop[hold[i]] += e[i];
     }
   }
   /* back on the stops that took an impulse or hold */
@@ -732,19 +708,32 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
     s->z[2 * (size_t)i] = s->x[i];
     s->z[2 * (size_t)i + 1] = s->vp[i];
   }
+  /* a new hold's STICK event is due at the end of its tail (rebound speed
+   * -b) */
+  double due[VI_CONTACT_MAX];
+  for (int i = 0; i < nh; i++) {
+    int64_t count = 0;
+    due[i] = s->t;
+    if (tailing[i])
+      due[i] += vi_chatter_sum(s, hold[i], -b[i], s->x, s->vp, &count);
+    s->stats[VI_STAT_CHATTER_SKIPPED] += count;
+  }
   close_interval(s, impacted || nh > 0, ie_sum + ie_tail);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
   for (int i = 0; i < nwas; i++)
-    if (!vi_sim_in_stick_set(s, was[i]))
+    if (!vi_sim_in_stick_set(s, was[i])) {
+      emit_stick(s, was[i]); /* let go before its tail's end */
       emit(s, VI_EVENT_RELEASE, was[i], 0.0, 0.0);
+    }
   for (int i = 0; i < nh; i++) {
     int old = 0;
     for (int j = 0; j < nwas; j++) old |= was[j] == hold[i];
     if (old) continue;
     s->stats[VI_STAT_STICKS]++;
-    emit(s, VI_EVENT_STICK, hold[i], 0.0, 0.0);
+    vi_chatter_pend(s, hold[i], due[i], fmax(-b[i], 0.0), e[i]);
   }
+  emit_sticks_due(s, s->t);
   s->stats[VI_STAT_REINITS]++;
   use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
   return s->be->start(s);
@@ -781,7 +770,7 @@ static int on_release(vi_sim *s)
   for (int i = 0; i < s->nstick; i++)
     if (s->stick_k[i] != k) keep[nk++] = s->stick_k[i];
   if (nk == s->nstick) k = s->stick_k[--nk]; /* not held: the last one */
-  emit_pending_stick(s); /* released before the tail's end: stick was brief */
+  emit_stick(s, k); /* released before its tail's end: the stick was brief */
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   close_interval(s, 0, 0.0);
   split(s, s->z);
@@ -1012,7 +1001,7 @@ int vi_sim_run(vi_sim *s, double t_end)
     if (st) return st;
     if (s->stick_pending && s->t >= s->stick_at) {
       if ((st = vi_sim_sync(s))) return st;
-      emit_pending_stick(s);
+      emit_sticks_due(s, s->t);
     }
     if ((st = check_invariants(s))) return st;
     monitor(s);

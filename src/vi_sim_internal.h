@@ -54,7 +54,6 @@ struct vi_sim {
   int nstick, stick_k[VI_CONTACT_MAX];
   double stick_L[VI_CONTACT_MAX * VI_CONTACT_MAX];
   int contact_stop; /* set by the backend with VI_STEP_CONTACT/RELEASE */
-  int stick_stop;   /* stop of a pending STICK event */
   int fast_nvector; /* our vector ops instead of Debian's -O0 ones */
 
   double t, *z;   /* current time and state [2n] */
@@ -67,10 +66,13 @@ struct vi_sim {
   char handover_why[VI_MSG_LEN];   /* set by a backend with VI_STEP_HANDOVER */
   vi_cancel_fn cancel_fn; void *cancel_user;
   double vn_floor, dt_floor, t_last_contact;
-  /* a summed chattering tail: sticking began at its first impact, the
-   * STICK event is due at its accumulation point stick_at */
+  /* summed chattering tails: stop k sticks from its tail's first impact,
+   * its STICK event is due at the accumulation point pend[k].at (with the
+   * rebound speed vn and the tail's loss ie); stick_pending of them, the
+   * first due at stick_at (vi_chatter.c keeps both) */
+  struct vi_pending { int on; double at, vn, ie; } *pend; /* [ns] */
   int stick_pending;
-  double stick_at, stick_vn, stick_ie;
+  double stick_at;
   double t_end;   /* of the current vi_sim_run call */
 
   vi_event_fn ev_fn;    void *ev_user;
@@ -180,9 +182,23 @@ void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
  * if by the model it does not accumulate. */
 void vi_chatter_push(vi_sim *s, int k, double t, const double *x,
                      const double *v, double *p);
-void vi_chatter_normal(const vi_sim *s, int k, double *kappa, double *gamma);
+void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma);
 double vi_chatter_tail(double u, double r, double p0, double p1, double kappa,
                        double gamma, int64_t *count);
+/* Whether stop k's bounces end at this impact (see vi_chatter.c); *floor_hit
+ * says a floor of vi_sim_set_floors decided it. */
+int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
+                      double dt_prev, const double *x, const double *v,
+                      int *floor_hit);
+/* Stop k's tail from rebound speed u at s->t, with the other held stops
+ * on theirs: its duration (0: it holds at once), bounces in *count. */
+double vi_chatter_sum(vi_sim *s, int k, double u, const double *x,
+                      const double *v, int64_t *count);
+/* Pending STICK events: record stop k's (due at `at`), the stop whose
+ * event is due first by t (-1: none), and forget stop k's (-1: all). */
+void vi_chatter_pend(vi_sim *s, int k, double at, double vn, double ie);
+int vi_chatter_due(const vi_sim *s, double t);
+void vi_chatter_unpend(vi_sim *s, int k);
 
 /* Remove from a [n] the components along M^-1 w_k of the sticking stops
  * so that w_k.a = 0 for each: a -= M^-1 W_S G_SS^-1 W_S^T a; lam [nstick]
