@@ -624,7 +624,9 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
   for (int k = 0; k < nc; k++) {
     ie_sum += ie[k];
     s->ie_stop[idx[k]] += ie[k];
-    if (u[k] > 0.0 && P[k] > 0.0) {
+    /* a held stop takes a constraint impulse (its approach speed is
+     * round-off), not an impact */
+    if (u[k] > 0.0 && P[k] > 0.0 && !vi_sim_in_stick_set(s, idx[k])) {
       impacted = 1;
       s->stats[VI_STAT_IMPACTS]++;
       emit(s, VI_EVENT_IMPACT, idx[k], u[k], ie[k]);
@@ -651,7 +653,10 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
     double un = vi_dot(n, w, s->vp), push = vi_dot(n, w, a2);
     double vscale = fmax(fabs(u[k]), s->atol);
     if (vi_sim_in_stick_set(s, j)) {
-      if (P[k] > 0.0 || fabs(un) <= 1e-9 * vscale) hold[nh++] = j;
+      /* held on: pushed by its impulse, or left with a normal speed within
+       * the integration error (atol) of rest */
+      double vtol = fmax(1e-9 * fabs(u[k]), s->atol * s->wnorms[j]);
+      if (P[k] > 0.0 || fabs(un) <= vtol) hold[nh++] = j;
       continue;
     }
     if (!(push > 0.0)) continue;
@@ -771,9 +776,20 @@ static int on_release(vi_sim *s)
     if (s->stick_k[i] != k) keep[nk++] = s->stick_k[i];
   if (nk == s->nstick) k = s->stick_k[--nk]; /* not held: the last one */
   emit_stick(s, k); /* released before its tail's end: the stick was brief */
+  split(s, s->z);
+  if (s->ns > 1) {
+    /* leave from exactly on the stops at rest along their normals: a
+     * round-off normal speed into the released stop would be found again
+     * as a contact at the gap's first maximum */
+    project_on_stops(s, s->stick_k, s->nstick, s->x);
+    vi_sim_constrain(s, s->v, NULL);
+    for (int i = 0; i < s->n; i++) {
+      s->z[2 * (size_t)i] = s->x[i];
+      s->z[2 * (size_t)i + 1] = s->v[i];
+    }
+  }
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   close_interval(s, 0, 0.0);
-  split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * s->n);
   if ((st = vi_sim_set_sticking(s, keep, nk))) return st;
   emit(s, VI_EVENT_RELEASE, k, 0.0, 0.0);

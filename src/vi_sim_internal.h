@@ -173,18 +173,20 @@ int vi_sim_in_stick_set(const vi_sim *s, int k);
 void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
                        const double *ud, double *out);
 
-/* The chatter map (vi_chatter.c).  push: stop k's gap acceleration p [3]
- * (the push of its contact force) and its first two rates along the motion
- * sticking on stop k from x, v at t.  normal: the structure's stiffness
- * kappa and damping gamma seen through stop k.  tail: the duration of the
- * chattering sequence that starts at rebound speed u (restitution r) under
- * g'' + gamma g' + kappa g = p0 + p1 t, its bounces counted in *count; -1
- * if by the model it does not accumulate. */
+/* The chatter map (vi_chatter.c), for stop k while the other stops of the
+ * sticking set hold.  push: stop k's gap acceleration p [3] (the push of
+ * its contact force) and its first two rates along the motion sticking on
+ * stop k and the held ones from x, v at t.  normal: the structure's
+ * stiffness kappa and damping gamma seen through stop k with the held
+ * stops on theirs.  tail: the duration of the chattering sequence that
+ * starts at rebound speed u (restitution r) under g'' + gamma g' + kappa g
+ * = p0 + p1 t + p2 t^2 / 2, its bounces counted in *count; -1 if by the
+ * model it does not accumulate. */
 void vi_chatter_push(vi_sim *s, int k, double t, const double *x,
                      const double *v, double *p);
 void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma);
-double vi_chatter_tail(double u, double r, double p0, double p1, double kappa,
-                       double gamma, int64_t *count);
+double vi_chatter_tail(double u, double r, double p0, double p1, double p2,
+                       double kappa, double gamma, int64_t *count);
 /* Whether stop k's bounces end at this impact (see vi_chatter.c); *floor_hit
  * says a floor of vi_sim_set_floors decided it. */
 int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
