@@ -317,10 +317,15 @@ static void test_coupled_chatter(void **state)
     /* the stick time as accurate as the last resolved impact (approach
      * speed u_N): its time error 10 dx / (u_N (1 - r)) and the tail's
      * sensitivity 2 r / (p (1 - r)) to a speed error p dt (as in
-     * test_stress_chatter at default tolerances).  Summed without stop 1's
-     * constraint force the tail would take the free push 1.23 for the held
-     * 1.54 and end 4e-4 late; not summed at all, 1.7e-3 early. */
-    st_check(fabs(e_stick) <= stick_bound);
+     * test_stress_chatter at default tolerances).  The chatter map takes
+     * over near u_N ~ 1e-3 (vi_chatter_wanted), where an impact time is
+     * known to dx / (r u_N) ~ 5e-10 and the last flights' errors add up
+     * (5.6e-10 at the 14th impact with adams): 1e-8 also holds the bound
+     * to that regime.  Summed without stop 1's constraint force (the free
+     * push 1.23 for the held 1.54) the stick came 2.5e-4 late; stuck at
+     * once after resolving the bounces down to apex < 10 atol, as before
+     * the tails were summed on several stops, 1.6e-6 early. */
+    st_check(fabs(e_stick) <= fmin(stick_bound, 1e-8));
     /* the release root of lambda_2, a crossing at slope 0.9 W sin(W t_r)
      * = 0.26 located by CVODE's root finder */
     st_check(fabs(e_rel) <= 1e-9);
