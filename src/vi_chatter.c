@@ -193,29 +193,27 @@ double vi_chatter_tail(double u, double r, double p0, double p1, double p2,
  * nu = P_S M^-1 w / (w^T P_S M^-1 w) (P_S: the projection that keeps S's
  * gaps) changes the gap by xi and its acceleration by -kappa xi (and
  * -gamma xi' for a rate): kappa = w.P_S M^-1 K nu, as P_S M^-1 is
- * symmetric. */
+ * symmetric.  M^-1 K nu and M^-1 C nu are taken as differences of the free
+ * acceleration's rate (vi_sim_accel_rate), whatever the model's storage;
+ * at t = 0 the load's rate is W M^-1 b, zero for a cosine load. */
 void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma)
 {
   const vi_model *m = s->m;
-  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
-  int n = s->n, bw = m->bw;
+  const double *w = vi_stop_w(m, k);
+  int n = s->n;
   held h;
   held_around(s, k, &h);
-  double *nu = s->w1, *yk = s->w2, *yc = s->w3;
-  memcpy(nu, mw, sizeof(double) * (size_t)n);
+  double *nu = s->w1, *yk = s->w2, *yc = s->w3, *f1 = s->zs, *zero = s->zs + n;
+  memcpy(nu, vi_stop_minvw(m, k), sizeof(double) * (size_t)n);
   project(s, h.ns, h.list, h.LS, nu, NULL);
   double wnu = vi_dot(n, w, nu);
+  memset(zero, 0, sizeof(double) * (size_t)n);
+  vi_sim_accel_rate(s, 0.0, 1, zero, zero, f1);
+  vi_sim_accel_rate(s, 0.0, 1, nu, zero, yk);
+  vi_sim_accel_rate(s, 0.0, 1, zero, nu, yc);
   for (int i = 0; i < n; i++) {
-    double ki = 0.0, ci = 0.0;
-    int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
-    if (h.ns == 0 && w[i] == 0.0) j1 = j0 - 1; /* only w.y is needed */
-    for (int j = j0; j <= j1; j++) {
-      size_t ij = (size_t)i + (size_t)j * (size_t)n;
-      ki += m->MinvK[ij] * nu[j];
-      ci += m->MinvC[ij] * nu[j];
-    }
-    yk[i] = ki;
-    yc[i] = ci;
+    yk[i] = f1[i] - yk[i];
+    yc[i] = f1[i] - yc[i];
   }
   project(s, h.ns, h.list, h.LS, yk, NULL);
   project(s, h.ns, h.list, h.LS, yc, NULL);
