@@ -122,8 +122,8 @@ void vi_chatter_push(vi_sim *s, int k, double t, const double *x,
  * the push p of the contact force and its first two rates along the
  * sticking motion, with the normal stiffness kappa and damping gamma of the
  * structure seen through the stop.  (The second rate matters under a
- * harmonic load: leaving it out costs |p2| / p Delta^3 over a tail of
- * duration Delta, some 1e-9 when a tail is summed from v_n ~ 1e-3.)  Each flight, from g = 0 at rate -u, is its Taylor
+ * harmonic load: leaving it out costs about |p2| / p Delta^3 over a tail
+ * of duration Delta.)  Each flight, from g = 0 at rate -u, is its Taylor
  * series (exact for this equation, and converging fast: a flight lasts at
  * most about half a normal period); its root gives the flight time and
  * the return speed, r times which starts the next.  The bounces are summed
