@@ -22,7 +22,7 @@ int vi_model_create(int n, vi_model **out)
   if (!m) return VI_ERR_NOMEM;
   size_t nn = (size_t)n * n;
   /* 10 n x n matrices and 17 vectors in one block */
-  m->block = calloc(10 * nn + 17 * (size_t)n, sizeof(double));
+  m->block = calloc(10 * nn + 15 * (size_t)n, sizeof(double));
   if (!m->block) {
     free(m);
     return VI_ERR_NOMEM;
@@ -51,9 +51,7 @@ int vi_model_create(int n, vi_model **out)
   m->psi = p; p += n;
   m->Fa = p; p += n;
   m->Fb = p; p += n;
-  m->F0 = p; p += n;
-  m->pA = p; p += n;
-  m->pB = p;
+  m->F0 = p;
   m->n = n;
   for (int i = 0; i < n; i++) m->M[i + (size_t)i * n] = 1.0;
   *out = m;
@@ -63,7 +61,6 @@ int vi_model_create(int n, vi_model **out)
 void vi_model_destroy(vi_model **model)
 {
   if (!model || !*model) return;
-  vi_general_free(*model);
   free((*model)->Ws);
   free((*model)->MinvW);
   free((*model)->block);

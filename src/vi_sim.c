@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 
 static void note_method(vi_sim *s);
@@ -23,7 +24,10 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->sbuf = calloc(4 * (size_t)n + 4 * (size_t)model->ns, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
   s->pend = calloc((size_t)model->ns, sizeof *s->pend);
-  if (!s->z || !s->sbuf || !s->brent || !s->pend) {
+  /* each simulation builds its own exact flow (vi_flow_internal.h) */
+  int fst = vi_xflow_create(model, &s->flow);
+  if (!s->z || !s->sbuf || !s->brent || !s->pend || fst) {
+    vi_xflow_destroy(&s->flow);
     gsl_root_fsolver_free(s->brent);
     free(s->pend);
     free(s->sbuf);
@@ -92,7 +96,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over && !s->nforces && s->ns == 1;
+         s->flow->ok && !s->handed_over && !s->nforces;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -112,10 +116,8 @@ static void note_method(vi_sim *s)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
              s->nforces     ? "nonlinear forces have no closed form"
-             : s->ns > 1     ? "the closed form handles one stop, the model "
-                               "has several"
-             : s->m->flow_ok ? "closed-form flow available"
-                             : s->m->flow_why);
+             : s->flow->ok ? "closed-form flow available"
+                           : s->flow->why);
   else
     snprintf(s->method_note, sizeof s->method_note, "%s",
              method_names[s->method_used]);
@@ -156,6 +158,7 @@ void vi_sim_destroy(vi_sim **sim)
   backend_destroy(s);
   vi_ledger_destroy(s->led);
   vi_force_free(s);
+  vi_xflow_destroy(&s->flow);
   gsl_root_fsolver_free(s->brent);
   free(s->pend);
   free(s->sbuf);
@@ -173,10 +176,10 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (!s) return VI_ERR_ARG;
   if (!vi_method_name(method))
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
-  if (method == VI_METHOD_EXACT && !s->m->flow_ok)
+  if (method == VI_METHOD_EXACT && !s->flow->ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
-                   "exact method unavailable: %s", s->m->flow_why);
-  if ((method == VI_METHOD_EXACT || method == VI_METHOD_ERK) && s->ns > 1)
+                   "exact method unavailable: %s", s->flow->why);
+  if (method == VI_METHOD_ERK && s->ns > 1)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "%s method unavailable: "
                    "the model has %d stops and its contact search handles "
                    "one (use adams or bdf)", method_names[method], s->ns);

@@ -41,6 +41,7 @@ extern const vi_backend vi_backend_arkode;
 
 struct vi_sim {
   const vi_model *m;
+  struct vi_xflow *flow; /* the model's exact flow (vi_flow_internal.h) */
   int n, method;
   double rtol, atol, vchat, h_restart, hmax;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */

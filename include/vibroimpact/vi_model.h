@@ -8,8 +8,8 @@
  * two-sided clearances (a pair with opposite normals), stops on different
  * coordinates.  Simultaneous contacts follow Newton's law for multiple
  * contacts (vi_impact.h).  Stop 0 is "the stop" of the single-stop getters
- * (vi_model_stop_vector, vi_model_clearance, ...), of orbits and of the
- * exact method, which needs a model with one stop.
+ * (vi_model_stop_vector, vi_model_clearance, ...) and of orbits, which
+ * need a model with one stop; the exact method searches every stop.
  *
  * Life cycle: vi_model_create -> vi_model_set_* -> vi_model_setup ->
  * (getters, vi_sim_create) -> vi_model_destroy.  Every array is copied when

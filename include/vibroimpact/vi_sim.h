@@ -22,7 +22,7 @@
  * (Nordmark & Piiroinen), with the held stops' constraint forces in its
  * normal dynamics; it is held from the tail's first impact and its STICK
  * event comes at the accumulation point, each stop at its own.  Methods
- * adams and bdf only.
+ * adams, bdf and exact (ERK refuses several stops).
  *
  * Life cycle: vi_sim_create -> vi_sim_set_* -> vi_sim_run (repeatable; each
  * call continues from where the last stopped) -> vi_sim_get_* ->
@@ -154,9 +154,10 @@ VI_API const char *vi_sim_errmsg(const vi_sim *sim);
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
  *  without a usable closed form: an undamped mode forced at resonance, or a
  *  defective first-order system such as an undamped rigid-body mode beside
- *  non-proportional damping; nonlinear forces; exact or erk on a model with
- *  several stops, whose contact searches handle one; the message says
- *  which).  With several stops auto runs adams. */
+ *  non-proportional damping; nonlinear forces; erk on a model with
+ *  several stops, whose contact search handles one; the message says
+ *  which).  The exact method searches every stop's gap; with several stops
+ *  auto runs it where the closed form applies. */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
 /** Relative and absolute tolerances, both > 0 and finite, rtol at least
  *  twice the machine epsilon; atol applies to positions and velocities
