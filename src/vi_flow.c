@@ -34,6 +34,13 @@ int vi_xflow_create(const vi_model *m, vi_xflow **out)
   }
   f->pB = f->pA + n;
   f->ok = 1;
+  if (m->band) { /* vi_band.c */
+    f->ok = 0;
+    vi_fail(f->why, VI_ERR_UNSUPPORTED, "the model is in band storage: it "
+            "has no modes, so no closed-form flow");
+    *out = f;
+    return VI_OK;
+  }
   if (!m->proportional) {
     /* modes couple between impacts: the first-order eigen-solution; a
      * LAPACK failure only means no closed form (CVODE remains) */

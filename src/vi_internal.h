@@ -47,6 +47,18 @@ struct vi_model {
   int proportional;               /* modes decouple (the exact flow, built
                                      on the model: vi_flow_internal.h) */
   double *block;                  /* single allocation behind the arrays */
+  /* Band storage (vi_model_create_band): M, C, K in LAPACK symmetric-band
+   * 'U' form, entry (i, j), i <= j, at [kd + i - j + j ldb]; the dense n x n
+   * arrays and the modal ones are then NULL: a band model has no modes. */
+  int band;                       /* 1 for band storage */
+  int kd, ldb;                    /* storage half-bandwidth, ldb = kd + 1 */
+  int kdm;                        /* M's own half-bandwidth (0: diagonal) */
+  double *MB, *CB, *KB;           /* as set */
+  double *LB;                     /* band Cholesky of M, or 1/m_i (kdm 0) */
+  double *KR, *CR;                /* rows of K, C, scaled by 1/m_i when M is
+                                     diagonal (then rows of M^-1 K, M^-1 C):
+                                     row i, column j at [i (2kd+1) + j-i+kd] */
+  int64_t bytes;                  /* bytes the model holds (vi_model_memory) */
   char errmsg[VI_MSG_LEN];
 };
 
@@ -79,6 +91,18 @@ void vi_small_solve(int k, const double *L, double *b);
 int vi_contact_solve(const vi_model *m, int nc, const int *idx,
                      const double *v, double *vp, double *P, double *vn,
                      double *ie);
+
+/* Band models (vi_band.c).  vi_band_setup replaces the dense setup: band
+ * Cholesky of M, positive semidefiniteness of K and C by shifted band
+ * Cholesky, M^-1 of the forcing and the stops, the row form KR, CR. */
+int vi_band_setup(vi_model *m);
+/* acc = M^-1 (f(t) - K x - C v) for an interleaved state z (x_1, v_1, ..) */
+void vi_band_accel(const vi_model *m, double t, const double *z, double *acc);
+/* y = M^-1 (K x + C v), x and v with strides incx, incv (O(n kd)) */
+void vi_band_apply(const vi_model *m, const double *x, int incx,
+                   const double *v, int incv, double *y);
+/* 1/2 v^T M v + 1/2 x^T K x from the band storage */
+double vi_band_energy(const vi_model *m, const double *x, const double *v);
 
 /* Modal analysis (vi_modal.c), called by vi_model_setup. */
 int vi_modal_setup(vi_model *m);

@@ -46,6 +46,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!model->frozen) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   if (model->ns > 1) return VI_ERR_UNSUPPORTED; /* WB 11-13: one stop */
+  if (model->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   vi_orbit *o = calloc(1, sizeof *o);
   if (!o) return VI_ERR_NOMEM;
   int n = model->n;
@@ -619,6 +620,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
   if (!full->frozen) return VI_ERR_STATE;
   if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
+  if (full->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;

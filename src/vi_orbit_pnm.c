@@ -339,6 +339,7 @@ int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
+  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   ws w;
   int st = ws_init(&w, m), n = m->n;
   if (st) return st;

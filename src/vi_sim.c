@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_band_internal.h"
 #include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 
@@ -451,6 +452,7 @@ static void accel_rate(const vi_sim *s, double t, int k, const double *u,
                        const double *ud, double *out)
 {
   const vi_model *m = s->m;
+  if (m->band) { vi_band_accel_rate(m, t, k, u, ud, out); return; }
   int n = s->n, bw = m->bw;
   double W = m->omega_f, c = 0.0, sn = 0.0;
   if (s->harmonic) {
@@ -1069,6 +1071,9 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
   if (!s) return VI_ERR_ARG;
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
+  if (on && s->m->band)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the energy ledger needs "
+                   "the modes, which a band-storage model does not have");
   vi_ledger_destroy(s->led);
   s->led = NULL;
   if (on) {

@@ -34,10 +34,11 @@ files=(
   apps/vi_sweep_cont.c apps/vi_sweep_h5.c apps/vi_sweep_main.c apps/vi_bench_sweep.c
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
   src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c
+  src/vi_band.c tests/test_band.c apps/vi_bench_band.c
 )
 # Headers whose findings count (a finding in another header is silent until
 # the header joins this list): a regex for clang-tidy's --header-filter.
-headers='(include/vibroimpact/[^/]*|src/vi_internal|src/vi_ledger_internal|src/vi_sim_internal|src/vi_flow_internal|src/vi_exact_internal|src/io/vi_[a-z_]*internal|apps/vi_app)\.h$'
+headers='(include/vibroimpact/[^/]*|src/vi_internal|src/vi_ledger_internal|src/vi_sim_internal|src/vi_flow_internal|src/vi_exact_internal|src/vi_band_internal|src/io/vi_[a-z_]*internal|apps/vi_app)\.h$'
 
 for tool in clang-tidy cppcheck; do
   if ! command -v "$tool" >/dev/null; then
