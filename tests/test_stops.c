@@ -445,7 +445,7 @@ static void test_newton_uncoupled(void **state)
   double vp[2], P[2], ie[2];
   assert_int_equal(vi_impact_apply_multi(m, 2, both, vm, vp, P, ie), VI_OK);
   for (int k = 0; k < 2; k++) {
-    double mk = M[3 * k];
+    double mk = M[3 * (size_t)k];
     assert_close(vp[k], -r[k] * vm[k], 1e-15);
     assert_close(P[k], mk * (1.0 + r[k]) * vm[k], 1e-14);
     assert_close(ie[k], 0.5 * mk * vm[k] * vm[k] * (1.0 - r[k] * r[k]), 1e-14);
@@ -528,7 +528,8 @@ static void test_newton_coupled(void **state)
       assert_close(P[1], Pe[1], 1e-14);
       /* complementarity from the velocities: y_k = -w_k.v+ - r_k u_k */
       for (int k = 0; k < 2; k++) {
-        double y = -(W[2 * k] * vp[0] + W[2 * k + 1] * vp[1]) - rr[q][k] * u[k];
+        const double *wk = W + 2 * (size_t)k;
+        double y = -(wk[0] * vp[0] + wk[1] * vp[1]) - rr[q][k] * u[k];
         assert_true(P[k] >= 0.0);
         assert_true(y >= -1e-14);
         assert_true(fabs(P[k] * y) <= 1e-14);
@@ -582,7 +583,7 @@ static void test_newton_corner(void **state)
     assert_int_equal(ev.stop[k], k);
     assert_close(ev.t[k], 1.0, 1e-9);
     assert_close(ev.vn[k], u[k], 1e-9);
-    assert_close(ev.vp[2 * k], -0.5, 1e-9);
+    assert_close(ev.vp[2 * (size_t)k], -0.5, 1e-9);
     assert_close(ev.vp[2 * k + 1], -0.1, 1e-9);
     assert_close(ev.ie[k], 0.5 * P[k] * u[k] * 0.5, 1e-9);
     ie += ev.ie[k];
