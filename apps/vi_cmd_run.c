@@ -125,9 +125,15 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
              *note = vi_sim_method_note(s);
   fprintf(f, "vibroimpact %s: scene %s (n = %d)\n", vi_version_string(),
           vi_scene_name(sc), n);
-  fprintf(f, "  modes     omega =");
-  for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);
-  fprintf(f, "%s\n", n > 8 ? " ..." : "");
+  if (om) {
+    fprintf(f, "  modes     omega =");
+    for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);
+    fprintf(f, "%s\n", n > 8 ? " ..." : "");
+  } else {
+    fprintf(f, "  model     band storage (half-bandwidth %d), no modal "
+            "analysis; highest frequency <= %.6g\n", vi_model_bandwidth(m),
+            vi_model_omega_bound(m));
+  }
   fprintf(f, "  run       t = %g .. %g (%.6g forcing periods), method %s, "
           "rtol %g, atol %g\n", c->t0, c->t_end, (c->t_end - c->t0) / period,
           used ? used : "?", vi_scene_rtol(sc), vi_scene_atol(sc));
@@ -184,8 +190,9 @@ int vi_cmd_run(const app_opts *o)
   c.t_end = vi_scene_t_end(sc);
   /* only what something consumes: the ledger feeds the file and the
    * summary; samples go only into a file */
-  int ledger = vi_scene_wants(sc, "ledger") && (o->out || !o->quiet);
-  c.store_events = vi_scene_wants(sc, "impacts");
+  int outs = vi_scene_outputs(sc);
+  int ledger = (outs & VI_SCENE_OUT_LEDGER) && (o->out || !o->quiet);
+  c.store_events = (outs & VI_SCENE_OUT_IMPACTS) != 0;
   int spp = o->out ? vi_scene_samples_per_period(sc) : 0;
   if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
     if (!d.message[0]) snprintf(d.message, sizeof d.message, "%s", vi_sim_errmsg(s));
@@ -195,13 +202,13 @@ int vi_cmd_run(const app_opts *o)
   }
   /* from here files exist: a signal before the run polls removes them */
   if (o->out) snprintf(h5part, sizeof h5part, "%s.part", o->out_target);
-  if (o->csv && strcmp(o->csv, "-"))
+  if (o->csv && strcmp(o->csv, "-") != 0)
     snprintf(part, sizeof part, "%s.part", o->csv_target);
   vi_app_arm_parts(h5part, part);
   if (o->out) {
     if (!(c.wa = vi_app_writer())) goto done;
-    if (c.wa->create(o->out_target, m, vi_scene_wants(sc, "compress"),
-                         &c.w, &d)) {
+    if (c.wa->create(o->out_target, m, (outs & VI_SCENE_OUT_COMPRESS) != 0,
+                     &c.w, &d)) {
       fprintf(stderr, "vibroimpact: %s\n", d.message);
       goto done;
     }

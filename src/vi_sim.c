@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_band_internal.h"
+#include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 
 static void note_method(vi_sim *s);
@@ -22,8 +24,13 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->z = calloc(10 * (size_t)n, sizeof(double));
   s->sbuf = calloc(4 * (size_t)n + 4 * (size_t)model->ns, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-  if (!s->z || !s->sbuf || !s->brent) {
+  s->pend = calloc((size_t)model->ns, sizeof *s->pend);
+  /* each simulation builds its own exact flow (vi_flow_internal.h) */
+  int fst = vi_xflow_create(model, &s->flow);
+  if (!s->z || !s->sbuf || !s->brent || !s->pend || fst) {
+    vi_xflow_destroy(&s->flow);
     gsl_root_fsolver_free(s->brent);
+    free(s->pend);
     free(s->sbuf);
     free(s->z);
     free(s);
@@ -45,6 +52,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->atol = 1e-10;
   s->vchat = 1e-7;
   s->t_last_contact = -HUGE_VAL;
+  s->stick_at = HUGE_VAL;
   s->fast_nvector = 1;
   s->wnorm = sqrt(vi_dot(n, model->w, model->w));
   s->ns = model->ns;
@@ -89,7 +97,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over && !s->nforces && s->ns == 1;
+         s->flow->ok && !s->handed_over && !s->nforces;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -109,10 +117,8 @@ static void note_method(vi_sim *s)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
              s->nforces     ? "nonlinear forces have no closed form"
-             : s->ns > 1     ? "the closed form handles one stop, the model "
-                               "has several"
-             : s->m->flow_ok ? "closed-form flow available"
-                             : s->m->flow_why);
+             : s->flow->ok ? "closed-form flow available"
+                           : s->flow->why);
   else
     snprintf(s->method_note, sizeof s->method_note, "%s",
              method_names[s->method_used]);
@@ -160,7 +166,9 @@ void vi_sim_destroy(vi_sim **sim)
   backend_destroy(s);
   vi_ledger_destroy(s->led);
   vi_force_free(s);
+  vi_xflow_destroy(&s->flow);
   gsl_root_fsolver_free(s->brent);
+  free(s->pend);
   free(s->sbuf);
   free(s->z);
   free(s);
@@ -176,10 +184,10 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (!s) return VI_ERR_ARG;
   if (!vi_method_name(method))
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
-  if (method == VI_METHOD_EXACT && !s->m->flow_ok)
+  if (method == VI_METHOD_EXACT && !s->flow->ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
-                   "exact method unavailable: %s", s->m->flow_why);
-  if ((method == VI_METHOD_EXACT || method == VI_METHOD_ERK) && s->ns > 1)
+                   "exact method unavailable: %s", s->flow->why);
+  if (method == VI_METHOD_ERK && s->ns > 1)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "%s method unavailable: "
                    "the model has %d stops and its contact search handles "
                    "one (use adams or bdf)", method_names[method], s->ns);
@@ -249,7 +257,7 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
   s->sticking = 0;
   s->nstick = 0;
   s->started = 0;
-  s->stick_pending = 0;
+  vi_chatter_unpend(s, -1);
   s->t_last_contact = -HUGE_VAL;
   if (s->led) vi_ledger_begin(s->led, s->t, s->z);
   return VI_OK;
@@ -417,6 +425,15 @@ int vi_sim_bracket(vi_sim *s, double (*f)(double, void *), void *params,
   return VI_OK; /* Brent's bracket still holds the root: report its best */
 }
 
+/* accel_rate() below, for the chatter map (vi_chatter.c) */
+static void accel_rate(const vi_sim *s, double t, int k, const double *u,
+                       const double *ud, double *out);
+void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
+                       const double *ud, double *out)
+{
+  accel_rate(s, t, k, u, ud, out);
+}
+
 /* ---- events ------------------------------------------------------------- */
 static void split(vi_sim *s, const double *z)
 {
@@ -446,6 +463,7 @@ static void accel_rate(const vi_sim *s, double t, int k, const double *u,
                        const double *ud, double *out)
 {
   const vi_model *m = s->m;
+  if (m->band) { vi_band_accel_rate(m, t, k, u, ud, out); return; }
   int n = s->n, bw = m->bw;
   double W = m->omega_f, c = 0.0, sn = 0.0;
   if (s->harmonic) {
@@ -464,186 +482,23 @@ static void accel_rate(const vi_sim *s, double t, int k, const double *u,
   }
 }
 
-/* Remove the component along M^-1 w_k so that w_k.a = 0 (stop k's
- * constraint). */
-static void constrain(const vi_sim *s, int k, double *a)
-{
-  const vi_model *m = s->m;
-  const double *mw = vi_stop_minvw(m, k);
-  double lam = vi_dot(s->n, vi_stop_w(m, k), a) / m->G[k + (size_t)k * m->ns];
-  for (int i = 0; i < s->n; i++) a[i] -= lam * mw[i];
-}
-
-void vi_sim_constrain_set(const vi_sim *s, double *a, double *lam)
-{
-  const vi_model *m = s->m;
-  int n = s->n, ns = s->nstick;
-  double b[VI_CONTACT_MAX];
-  for (int i = 0; i < ns; i++) b[i] = vi_dot(n, vi_stop_w(m, s->stick_k[i]), a);
-  vi_small_solve(ns, s->stick_L, b);
-  for (int i = 0; i < ns; i++) {
-    const double *mw = vi_stop_minvw(m, s->stick_k[i]);
-    for (int j = 0; j < n; j++) a[j] -= b[i] * mw[j];
-    if (lam) lam[i] = b[i];
-  }
-}
-
-/* Make the stops list [cnt] the sticking set: the projection of the
- * right-hand side needs the factor of their Delassus block. */
-static int set_sticking(vi_sim *s, const int *list, int cnt)
-{
-  const vi_model *m = s->m;
-  for (int i = 0; i < cnt; i++) {
-    s->stick_k[i] = list[i];
-    for (int j = 0; j < cnt; j++)
-      s->stick_L[i + j * cnt] = m->G[list[i] + (size_t)list[j] * m->ns];
-  }
-  s->nstick = cnt;
-  s->sticking = cnt > 0;
-  if (cnt > 1 && vi_small_cholesky(cnt, s->stick_L)) {
-    s->nstick = 0;
-    s->sticking = 0;
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "sticking on %d stops at "
-                   "once at t = %.17g, whose stop vectors are dependent "
-                   "(Delassus block singular)", cnt, s->t);
-  }
-  return VI_OK;
-}
-
-static int in_stick_set(const vi_sim *s, int k)
-{
-  for (int i = 0; i < s->nstick; i++)
-    if (s->stick_k[i] == k) return 1;
-  return 0;
-}
-
-/* The gap's free acceleration p = w_k.M^-1 (f - C v - K x) of stop k and
- * its first two rates along the constrained (sticking) motion from x, v
- * at t. */
-static void contact_push(vi_sim *s, int k, double t, const double *x,
-                         const double *v, double *p)
-{
-  int n = s->n;
-  const double *w = vi_stop_w(s->m, k);
-  double *zz = s->zs, *acc = s->w1, *jerk = s->w2, *snap = s->w3;
-  for (int i = 0; i < n; i++) {
-    zz[2 * (size_t)i] = x[i];
-    zz[2 * (size_t)i + 1] = v[i];
-  }
-  vi_sim_accel(s, t, zz, 0, acc);
-  p[0] = vi_dot(n, w, acc);
-  constrain(s, k, acc);
-  accel_rate(s, t, 1, v, acc, jerk);
-  p[1] = vi_dot(n, w, jerk);
-  constrain(s, k, jerk);
-  accel_rate(s, t, 2, acc, jerk, snap);
-  p[2] = vi_dot(n, w, snap);
-}
-
-/* Sum a chattering tail in closed form (the chatter map of Nordmark &
- * Piiroinen 2009).  During a flight the gap obeys
- *   g'' + gamma g' + kappa g = p0 + p1 t,
- * the push p of the contact force and its rate along the sticking motion,
- * with the normal stiffness kappa and damping gamma of the structure seen
- * through the stop.  Each flight, from g = 0 at rate -u, is its Taylor
- * series (exact for this equation, and converging fast: a flight lasts at
- * most about half a normal period); its root gives the flight time and
- * the return speed, r times which starts the next.  The bounces are summed
- * until their speed is round-off of the first; for a constant load
- * (kappa = gamma = p1 = 0) this is the exact accumulation time
- * 2 u / (p0 (1 - r)).  Returns the duration, or -1 if by the model the
- * sequence does not accumulate (the mass leaves before the bounces die). */
-enum { TAIL_TERMS = 40 };
-
-static int tail_flight(double u, double a, double p1, double kappa,
-                       double gamma, double *tau, double *vret)
-{
-  double c[TAIL_TERMS]; /* g(t) = sum c_k t^k */
-  c[0] = 0.0;
-  c[1] = -u;
-  for (int k = 0; k + 2 < TAIL_TERMS; k++) {
-    double q = k == 0 ? a : k == 1 ? p1 : 0.0;
-    c[k + 2] = (q - kappa * c[k] - gamma * (k + 1) * c[k + 1]) /
-               ((k + 2.0) * (k + 1.0));
-  }
-  /* start from the undamped flight's own root, (2 / w) atan(u w / a) */
-  double w = sqrt(fmax(kappa, 0.0));
-  double t = w > 0.0 ? 2.0 * atan(u * w / a) / w : 2.0 * u / a;
-  for (int it = 0; it < 30; it++) { /* Newton on g(t) / t, root t > 0 */
-    double f = 0.0, df = 0.0;
-    for (int k = TAIL_TERMS - 1; k >= 1; k--) {
-      df = df * t + f;
-      f = f * t + c[k];
-    }
-    if (!(df != 0.0) || !isfinite(f)) return -1;
-    double dt = f / df;
-    t -= dt;
-    if (!(t > 0.0)) return -1;
-    if (fabs(dt) <= 4.0 * DBL_EPSILON * t) break;
-  }
-  /* the series must have converged at t: its last term is round-off */
-  if (!(fabs(c[TAIL_TERMS - 1]) * pow(t, TAIL_TERMS - 1) <= 1e-16 * u * t))
-    return -1;
-  double v = 0.0;
-  for (int k = TAIL_TERMS - 1; k >= 1; k--) v = v * t + k * c[k];
-  *tau = t;
-  *vret = v;
-  return 0;
-}
-
-static double chatter_tail(double u, double r, double p0, double p1,
-                           double kappa, double gamma, int64_t *count)
-{
-  double T = 0.0, u0 = u;
-  int64_t k = 0;
-  while (u > 1e-17 * u0) {
-    double a = p0 + p1 * T, tau, vret;
-    if (!(a > 0.0) || k > 1000000) return -1.0;
-    if (tail_flight(u, a, p1, kappa, gamma, &tau, &vret) || !(vret > 0.0))
-      return -1.0;
-    T += tau;
-    k++;
-    u = r * vret;
-  }
-  *count = k;
-  return T;
-}
-
-/* Normal stiffness and damping of the structure seen through stop k:
- * a displacement xi along n = M^-1 w / (w^T M^-1 w) changes the gap by xi
- * and its acceleration by -kappa xi (and -gamma xi' for a rate). */
-static void normal_stiffness(const vi_sim *s, int k, double *kappa,
-                             double *gamma)
-{
-  const vi_model *m = s->m;
-  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
-  int n = s->n;
-  double kk = 0.0, c = 0.0;
-  for (int i = 0; i < n; i++) {
-    if (w[i] == 0.0) continue;
-    double ki = 0.0, ci = 0.0;
-    for (int j = 0; j < n; j++) {
-      size_t ij = (size_t)i + (size_t)j * (size_t)n;
-      ki += m->MinvK[ij] * mw[j];
-      ci += m->MinvC[ij] * mw[j];
-    }
-    kk += w[i] * ki;
-    c += w[i] * ci;
-  }
-  double wmw = m->G[k + (size_t)k * m->ns];
-  *kappa = kk / wmw;
-  *gamma = c / wmw;
-}
-
 /* Sticking after a summed chattering tail begins at its accumulation point:
- * the STICK event is due when the run reaches s->stick_at. */
-static void emit_pending_stick(vi_sim *s)
+ * stop k's STICK event, pending until the run reaches it, goes out now (at
+ * its time, or earlier if the stop is let go before). */
+static void emit_stick(vi_sim *s, int k)
 {
-  if (!s->stick_pending) return;
-  s->stick_pending = 0;
+  if (!s->pend[k].on) return;
+  double vn = s->pend[k].vn, ie = s->pend[k].ie;
+  vi_chatter_unpend(s, k);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * (size_t)s->n);
-  emit(s, VI_EVENT_STICK, s->stick_stop, s->stick_vn, s->stick_ie);
+  emit(s, VI_EVENT_STICK, k, vn, ie);
+}
+
+/* Every pending STICK event due by t, the earliest first. */
+static void emit_sticks_due(vi_sim *s, double t)
+{
+  for (int k; (k = vi_chatter_due(s, t)) >= 0;) emit_stick(s, k);
 }
 
 /* End the ledger's open interval at s->t (vi_ledger_pre_jump saw the state
@@ -666,7 +521,7 @@ static int on_contact_one(vi_sim *s, int k)
   int n = s->n;
   const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
   double r = m->rv[k], wmw = m->G[k + (size_t)k * m->ns], xs = m->xsv[k];
-  double wnorm = s->wnorms[k];
+  emit_sticks_due(s, HUGE_VAL); /* an earlier stop's tail, if any, ends */
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
   double vn = vi_dot(n, w, s->v);
@@ -674,41 +529,9 @@ static int on_contact_one(vi_sim *s, int k)
   double push = vi_dot(n, w, s->vp); /* > 0: pressed into the stop */
   double dt_prev = s->t - s->t_last_contact;
   s->t_last_contact = s->t;
-  /* Chattering (Budd & Dux 1994): with r < 1 and the stop pressed on,
-   * impacts accumulate at a finite time.  Once the next bounce's apex
-   * (r v_n)^2 / (2 w.a) lies within a few atol of the stop, further impacts
-   * are no longer resolved (a position error dx turns into an approach
-   * speed error w.a dx / v_n as large as v_n itself); below the chatter
-   * threshold or a floor they are not wanted.  Then the rest of the
-   * sequence is summed in closed form and sticking begins at its
-   * accumulation point (Nordmark & Piiroinen 2009). */
-  double apex = push > 0.0 ? 0.5 * r * r * vn * vn / push : HUGE_VAL;
-  int floor_hit = push > 0.0 && vn > 0.0 &&
-                  ((s->vn_floor > 0.0 && vn < s->vn_floor) ||
-                   (s->dt_floor > 0.0 && dt_prev < s->dt_floor));
-  /* a touch at rest or a floor ends any sequence that presses on the stop,
-   * even at r = 1; a vanishing bounce only where impacts lose energy */
-  int chatter = push > 0.0 &&
-                (vn <= 0.0 || floor_hit ||
-                 (r < 1.0 && (vn < s->vchat || apex < 10.0 * s->atol * wnorm)));
-  if (!chatter && r < 1.0 && push > 0.0) {
-    /* Sum the tail as soon as resolving the next impact costs more
-     * accuracy than the closed-form tail: the next contact time is only
-     * known to dx / (r v_n), with dx the integrator's position error along
-     * w, while the chatter map neglects the contact force's second rate,
-     * an error of about |p''| / p Delta^3 over the tail's duration Delta. */
-    double p[3];
-    contact_push(s, k, s->t, s->x, s->v, p);
-    /* an integrator's global position error is some ten times its local
-     * tolerance */
-    double dx = s->be == &vi_backend_exact
-                    ? 16.0 * DBL_EPSILON * (fabs(xs) + wnorm)
-                    : 10.0 * (s->atol * wnorm + s->rtol * fabs(xs));
-    double delta = 2.0 * r * vn / (p[0] * (1.0 - r));
-    double e_res = dx / (r * vn), e_model = fabs(p[2]) / p[0] * pow(delta, 3);
-    double tol_t = s->rtol * fmax(fabs(s->t), 2.0 * vn / p[0]);
-    chatter = p[0] > 0.0 && e_res > tol_t && e_model <= e_res;
-  }
+  int floor_hit;
+  int chatter = vi_chatter_wanted(s, k, vn, push, dt_prev, s->x, s->v,
+                                  &floor_hit);
   if (floor_hit) s->stats[VI_STAT_FLOORS]++;
   double ie = 0.0;
   if (vn > 0.0) {
@@ -738,25 +561,12 @@ static int on_contact_one(vi_sim *s, int k)
     double u = vi_dot(n, w, s->vp) / wmw;
     ie_tail = 0.5 * u * u * wmw;
     for (int i = 0; i < n; i++) s->vp[i] -= u * mw[i];
-    double tail = 0.0;
-    int64_t count = 0;
-    if (u < 0.0) {
-      double p[3];
-      contact_push(s, k, s->t, s->x, s->vp, p);
-      double kappa, gamma;
-      normal_stiffness(s, k, &kappa, &gamma);
-      tail = chatter_tail(-u * wmw, r, p[0], p[1], kappa, gamma, &count);
-      if (tail < 0.0) tail = 0.0; /* not accumulating by the model: stick */
-    }
-    emit_pending_stick(s); /* an earlier stop's tail, if any, ends here */
-    set_sticking(s, &k, 1);
+    int64_t count;
+    double tail = vi_chatter_sum(s, k, -u * wmw, s->x, s->vp, &count);
+    vi_sim_set_sticking(s, &k, 1);
     s->stats[VI_STAT_STICKS]++;
     s->stats[VI_STAT_CHATTER_SKIPPED] += count;
-    s->stick_pending = 1;
-    s->stick_stop = k;
-    s->stick_at = s->t + tail;
-    s->stick_vn = -u * wmw;
-    s->stick_ie = ie_tail;
+    vi_chatter_pend(s, k, s->t + tail, -u * wmw, ie_tail);
   }
   s->ie_stop[k] += ie + ie_tail;
   /* The contact is at g = 0 by definition, but the located state carries
@@ -771,7 +581,7 @@ static int on_contact_one(vi_sim *s, int k)
     s->z[2 * (size_t)i + 1] = s->vp[i];
   }
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
-  if (stick && s->stick_at <= s->t) emit_pending_stick(s);
+  emit_sticks_due(s, s->t); /* a tail of no duration */
   s->stats[VI_STAT_REINITS]++;
   use_backend(s, stick ? &vi_backend_cvode : method_backend(s));
   return s->be->start(s);
@@ -801,16 +611,17 @@ static void project_on_stops(vi_sim *s, const int *list, int cnt, double *x)
  * and every stop held while sticking): Newton's law for simultaneous
  * contacts (vi_contact.c).  Then the stops that hold from here on: a
  * sticking stop that the impulses keep on its stop, and a stop whose
- * bounces would die out (its chatter criteria, or r = 0, pressed on), as
- * long as its contact force pushes (lambda_S = G_SS^-1 W_S^T a_free > 0).
- * Such a stop sticks at once: with several stops involved the chattering
- * tail is not summed (its duration is the error). */
+ * bounces die out (vi_chatter_wanted with the other held stops on theirs,
+ * or r = 0, pressed on), as long as its contact force pushes (lambda_S =
+ * G_SS^-1 W_S^T a_free > 0).  A stop whose bounces die out holds from
+ * here; its STICK event waits for the accumulation point of its tail,
+ * summed with the other held stops' constraint forces in its normal
+ * dynamics (vi_chatter_sum). */
 static int on_contact_multi(vi_sim *s, int nc, int *idx)
 {
   const vi_model *m = s->m;
   int n = s->n, st;
   double P[VI_CONTACT_MAX], u[VI_CONTACT_MAX], ie[VI_CONTACT_MAX];
-  emit_pending_stick(s);
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   split(s, s->z);
   st = vi_contact_solve(m, nc, idx, s->v, s->vp, P, u, ie);
@@ -829,29 +640,39 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
   for (int k = 0; k < nc; k++) {
     ie_sum += ie[k];
     s->ie_stop[idx[k]] += ie[k];
-    if (u[k] > 0.0 && P[k] > 0.0) {
+    /* a held stop takes a constraint impulse (its approach speed is
+     * round-off), not an impact */
+    if (u[k] > 0.0 && P[k] > 0.0 && !vi_sim_in_stick_set(s, idx[k])) {
       impacted = 1;
       s->stats[VI_STAT_IMPACTS]++;
       emit(s, VI_EVENT_IMPACT, idx[k], u[k], ie[k]);
     }
   }
-  /* free acceleration after the jump (damping sees the new velocity) */
+  /* free acceleration after the jump (damping sees the new velocity), and
+   * a2: the same with the stops held so far on theirs, the push that a
+   * stop not held feels */
   double *zz = s->sbuf, *acc = zz + 2 * (size_t)n, *a2 = acc + n;
   for (int i = 0; i < n; i++) {
     zz[2 * (size_t)i] = s->x[i];
     zz[2 * (size_t)i + 1] = s->vp[i];
   }
   vi_sim_accel(s, s->t, zz, 0, acc);
+  memcpy(a2, acc, sizeof(double) * (size_t)n);
+  if (s->sticking) vi_sim_constrain(s, a2, NULL);
   int hold[VI_CONTACT_MAX] = {0}, was[VI_CONTACT_MAX], nh = 0;
+  int tailing[VI_CONTACT_MAX] = {0}; /* hold[i]'s bounces die out here */
   int nwas = s->nstick;
   memcpy(was, s->stick_k, sizeof(int) * (size_t)nwas);
   for (int k = 0; k < nc; k++) {
     int j = idx[k];
     const double *w = vi_stop_w(m, j);
-    double r = m->rv[j], un = vi_dot(n, w, s->vp), push = vi_dot(n, w, acc);
+    double un = vi_dot(n, w, s->vp), push = vi_dot(n, w, a2);
     double vscale = fmax(fabs(u[k]), s->atol);
-    if (in_stick_set(s, j)) {
-      if (P[k] > 0.0 || fabs(un) <= 1e-9 * vscale) hold[nh++] = j;
+    if (vi_sim_in_stick_set(s, j)) {
+      /* held on: pushed by its impulse, or left with a normal speed within
+       * the integration error (atol) of rest */
+      double vtol = fmax(1e-9 * fabs(u[k]), s->atol * s->wnorms[j]);
+      if (P[k] > 0.0 || fabs(un) <= vtol) hold[nh++] = j;
       continue;
     }
     if (!(push > 0.0)) continue;
@@ -862,61 +683,78 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
       continue;
     }
     if (!(P[k] > 0.0)) continue;
-    double apex = 0.5 * r * r * u[k] * u[k] / push;
-    int floor_hit = (s->vn_floor > 0.0 && u[k] < s->vn_floor) ||
-                    (s->dt_floor > 0.0 && dt_prev < s->dt_floor);
+    int floor_hit;
+    int chatter = vi_chatter_wanted(s, j, u[k], push, dt_prev, s->x, s->v,
+                                    &floor_hit);
     if (floor_hit) s->stats[VI_STAT_FLOORS]++;
-    /* a floor ends any sequence, a vanishing bounce one that loses energy */
-    if (r == 0.0 || floor_hit ||
-        (r < 1.0 && (u[k] < s->vchat || apex < 10.0 * s->atol * s->wnorms[j])))
+    if (chatter || m->rv[j] == 0.0) {
+      tailing[nh] = 1;
       hold[nh++] = j;
+    }
   }
   /* drop the stops that would pull (lambda <= 0) until the rest push */
   for (int pass = 0; pass <= VI_CONTACT_MAX && nh > 0; pass++) {
     double lam[VI_CONTACT_MAX];
-    if ((st = set_sticking(s, hold, nh))) return st;
+    if ((st = vi_sim_set_sticking(s, hold, nh))) return st;
     memcpy(a2, acc, sizeof(double) * (size_t)n);
     vi_sim_constrain(s, a2, lam);
     int keep = 0;
     for (int i = 0; i < nh; i++)
-      if (lam[i] > 0.0) hold[keep++] = hold[i];
+      if (lam[i] > 0.0) {
+        tailing[keep] = tailing[i];
+        hold[keep++] = hold[i];
+      }
     if (keep == nh) break;
     nh = keep;
   }
-  if ((st = set_sticking(s, hold, nh))) return st;
+  if ((st = vi_sim_set_sticking(s, hold, nh))) return st;
   /* the held stops' normal velocities go: their bounces' energy */
-  double ie_tail = 0.0;
+  double ie_tail = 0.0, b[VI_CONTACT_MAX], e[VI_CONTACT_MAX];
   if (nh) {
-    double b[VI_CONTACT_MAX], lam[VI_CONTACT_MAX];
+    double lam[VI_CONTACT_MAX];
     for (int i = 0; i < nh; i++) b[i] = vi_dot(n, vi_stop_w(m, hold[i]), s->vp);
     vi_sim_constrain(s, s->vp, lam);
     for (int i = 0; i < nh; i++) {
-      double e = 0.5 * lam[i] * b[i];
-      ie_tail += e;
-      s->ie_stop[hold[i]] += e;
+      e[i] = 0.5 * lam[i] * b[i];
+      ie_tail += e[i];
+      s->ie_stop[hold[i]] += e[i];
     }
   }
   /* back on the stops that took an impulse or hold */
   int on[VI_CONTACT_MAX], non = 0;
   for (int k = 0; k < nc; k++)
-    if (P[k] > 0.0 || in_stick_set(s, idx[k])) on[non++] = idx[k];
+    if (P[k] > 0.0 || vi_sim_in_stick_set(s, idx[k])) on[non++] = idx[k];
   project_on_stops(s, on, non, s->x);
   for (int i = 0; i < n; i++) {
     s->z[2 * (size_t)i] = s->x[i];
     s->z[2 * (size_t)i + 1] = s->vp[i];
   }
+  /* a new hold's STICK event is due at the end of its tail (rebound speed
+   * -b) */
+  double due[VI_CONTACT_MAX];
+  for (int i = 0; i < nh; i++) {
+    int64_t count = 0;
+    due[i] = s->t;
+    if (tailing[i])
+      due[i] += vi_chatter_sum(s, hold[i], -b[i], s->x, s->vp, &count);
+    s->stats[VI_STAT_CHATTER_SKIPPED] += count;
+  }
   close_interval(s, impacted || nh > 0, ie_sum + ie_tail);
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
   for (int i = 0; i < nwas; i++)
-    if (!in_stick_set(s, was[i])) emit(s, VI_EVENT_RELEASE, was[i], 0.0, 0.0);
+    if (!vi_sim_in_stick_set(s, was[i])) {
+      emit_stick(s, was[i]); /* let go before its tail's end */
+      emit(s, VI_EVENT_RELEASE, was[i], 0.0, 0.0);
+    }
   for (int i = 0; i < nh; i++) {
     int old = 0;
     for (int j = 0; j < nwas; j++) old |= was[j] == hold[i];
     if (old) continue;
     s->stats[VI_STAT_STICKS]++;
-    emit(s, VI_EVENT_STICK, hold[i], 0.0, 0.0);
+    vi_chatter_pend(s, hold[i], due[i], fmax(-b[i], 0.0), e[i]);
   }
+  emit_sticks_due(s, s->t);
   s->stats[VI_STAT_REINITS]++;
   use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
   return s->be->start(s);
@@ -934,7 +772,7 @@ static int on_contact(vi_sim *s)
     vi_sim_gap_k(s, k, s->z, &g, &gd);
     /* a stop within a few integration errors touches too */
     double tol = 10.0 * (s->atol + s->rtol * fabs(s->m->xsv[k])) * s->wnorms[k];
-    if (k != k0 && !in_stick_set(s, k) && g < -tol) continue;
+    if (k != k0 && !vi_sim_in_stick_set(s, k) && g < -tol) continue;
     if (nc == VI_CONTACT_MAX)
       return vi_fail(s->errmsg, VI_ERR_LIMIT, "more than %d stops touch at "
                      "once at t = %.17g: Newton's law for simultaneous "
@@ -953,12 +791,23 @@ static int on_release(vi_sim *s)
   for (int i = 0; i < s->nstick; i++)
     if (s->stick_k[i] != k) keep[nk++] = s->stick_k[i];
   if (nk == s->nstick) k = s->stick_k[--nk]; /* not held: the last one */
-  emit_pending_stick(s); /* released before the tail's end: stick was brief */
+  emit_stick(s, k); /* released before its tail's end: the stick was brief */
+  split(s, s->z);
+  if (s->ns > 1) {
+    /* leave from exactly on the stops at rest along their normals: a
+     * round-off normal speed into the released stop would be found again
+     * as a contact at the gap's first maximum */
+    project_on_stops(s, s->stick_k, s->nstick, s->x);
+    vi_sim_constrain(s, s->v, NULL);
+    for (int i = 0; i < s->n; i++) {
+      s->z[2 * (size_t)i] = s->x[i];
+      s->z[2 * (size_t)i + 1] = s->v[i];
+    }
+  }
   if (s->led) vi_ledger_pre_jump(s->led, s->z);
   close_interval(s, 0, 0.0);
-  split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * s->n);
-  if ((st = set_sticking(s, keep, nk))) return st;
+  if ((st = vi_sim_set_sticking(s, keep, nk))) return st;
   emit(s, VI_EVENT_RELEASE, k, 0.0, 0.0);
   s->stats[VI_STAT_REINITS]++;
   /* free again: back to the method's own integrator (the closed form's
@@ -1184,7 +1033,7 @@ int vi_sim_run(vi_sim *s, double t_end)
     if (st) return st;
     if (s->stick_pending && s->t >= s->stick_at) {
       if ((st = vi_sim_sync(s))) return st;
-      emit_pending_stick(s);
+      emit_sticks_due(s, s->t);
     }
     if ((st = check_invariants(s))) return st;
     monitor(s);
@@ -1233,6 +1082,9 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
   if (!s) return VI_ERR_ARG;
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
+  if (on && s->m->band)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the energy ledger needs "
+                   "the modes, which a band-storage model does not have");
   vi_ledger_destroy(s->led);
   s->led = NULL;
   if (on) {

@@ -41,6 +41,7 @@ extern const vi_backend vi_backend_arkode;
 
 struct vi_sim {
   const vi_model *m;
+  struct vi_xflow *flow; /* the model's exact flow (vi_flow_internal.h) */
   int n, method;
   double rtol, atol, vchat, h_restart, hmax;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
@@ -54,7 +55,6 @@ struct vi_sim {
   int nstick, stick_k[VI_CONTACT_MAX];
   double stick_L[VI_CONTACT_MAX * VI_CONTACT_MAX];
   int contact_stop; /* set by the backend with VI_STEP_CONTACT/RELEASE */
-  int stick_stop;   /* stop of a pending STICK event */
   int fast_nvector; /* our vector ops instead of Debian's -O0 ones */
 
   double t, *z;   /* current time and state [2n] */
@@ -67,10 +67,13 @@ struct vi_sim {
   char handover_why[VI_MSG_LEN];   /* set by a backend with VI_STEP_HANDOVER */
   vi_cancel_fn cancel_fn; void *cancel_user; vi_destroy_fn cancel_free;
   double vn_floor, dt_floor, t_last_contact;
-  /* a summed chattering tail: sticking began at its first impact, the
-   * STICK event is due at its accumulation point stick_at */
+  /* summed chattering tails: stop k sticks from its tail's first impact,
+   * its STICK event is due at the accumulation point pend[k].at (with the
+   * rebound speed vn and the tail's loss ie); stick_pending of them, the
+   * first due at stick_at (vi_chatter.c keeps both) */
+  struct vi_pending { int on; double at, vn, ie; } *pend; /* [ns] */
   int stick_pending;
-  double stick_at, stick_vn, stick_ie;
+  double stick_at;
   double t_end;   /* of the current vi_sim_run call */
 
   vi_event_fn ev_fn;    void *ev_user;   vi_destroy_fn ev_free;
@@ -162,6 +165,47 @@ int vi_force_jacobian(vi_sim *s, double t, const double *z, double **Ax,
                       double **Av); /* into the sim's workspace */
 void vi_force_free(vi_sim *s);
 
+/* The sticking set (vi_chatter.c): make the stops list [cnt] the stops
+ * held (the projection needs the Cholesky factor of their Delassus block;
+ * VI_ERR_UNSUPPORTED if it is singular), and whether stop k is held. */
+int vi_sim_set_sticking(vi_sim *s, const int *list, int cnt);
+int vi_sim_in_stick_set(const vi_sim *s, int k);
+
+/* out = M^-1 (f^(k)(t) - K u - C ud), k = 1, 2: the k-th time derivative
+ * of the free acceleration along a motion whose k-th and (k+1)-th
+ * derivatives of x are u and ud (vi_sim.c). */
+void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
+                       const double *ud, double *out);
+
+/* The chatter map (vi_chatter.c), for stop k while the other stops of the
+ * sticking set hold.  push: stop k's gap acceleration p [3] (the push of
+ * its contact force) and its first two rates along the motion sticking on
+ * stop k and the held ones from x, v at t.  normal: the structure's
+ * stiffness kappa and damping gamma seen through stop k with the held
+ * stops on theirs.  tail: the duration of the chattering sequence that
+ * starts at rebound speed u (restitution r) under g'' + gamma g' + kappa g
+ * = p0 + p1 t + p2 t^2 / 2, its bounces counted in *count; -1 if by the
+ * model it does not accumulate. */
+void vi_chatter_push(vi_sim *s, int k, double t, const double *x,
+                     const double *v, double *p);
+void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma);
+double vi_chatter_tail(double u, double r, double p0, double p1, double p2,
+                       double kappa, double gamma, int64_t *count);
+/* Whether stop k's bounces end at this impact (see vi_chatter.c); *floor_hit
+ * says a floor of vi_sim_set_floors decided it. */
+int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
+                      double dt_prev, const double *x, const double *v,
+                      int *floor_hit);
+/* Stop k's tail from rebound speed u at s->t, with the other held stops
+ * on theirs: its duration (0: it holds at once), bounces in *count. */
+double vi_chatter_sum(vi_sim *s, int k, double u, const double *x,
+                      const double *v, int64_t *count);
+/* Pending STICK events: record stop k's (due at `at`), the stop whose
+ * event is due first by t (-1: none), and forget stop k's (-1: all). */
+void vi_chatter_pend(vi_sim *s, int k, double at, double vn, double ie);
+int vi_chatter_due(const vi_sim *s, double t);
+void vi_chatter_unpend(vi_sim *s, int k);
+
 /* Remove from a [n] the components along M^-1 w_k of the sticking stops
  * so that w_k.a = 0 for each: a -= M^-1 W_S G_SS^-1 W_S^T a; lam [nstick]
  * (may be NULL) receives the multipliers G_SS^-1 W_S^T a. */
@@ -194,7 +238,8 @@ static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
     c = cos(m->omega_f * t);
     sn = sin(m->omega_f * t);
   }
-  for (int i = 0; i < n; i++) {
+  if (m->band) vi_band_accel(m, t, z, acc); /* band storage: vi_band.c */
+  else for (int i = 0; i < n; i++) {
     double a = m->Minv_a[i] * c + m->Minv_b[i] * sn + m->Minv_f0[i];
     int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
     for (int j = j0; j <= j1; j++) {

@@ -37,11 +37,11 @@ static void test_shipped_scenes_run(void **state)
     assert_int_equal(vi_model_n(m), vi_scene_n(sc));
     assert_int_equal(vi_sim_create(m, &s), VI_OK);
     assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
-    if (vi_scene_wants(sc, "ledger")) assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+    if (vi_scene_outputs(sc) & VI_SCENE_OUT_LEDGER) assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
     st = vi_sim_run(s, vi_scene_t_end(sc));
     if (st) print_error("%s: %s\n", path, vi_sim_errmsg(s));
     assert_int_equal(st, VI_OK);
-    if (vi_scene_wants(sc, "ledger")) assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
+    if (vi_scene_outputs(sc) & VI_SCENE_OUT_LEDGER) assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
     print_message("%-22s n = %d, %lld impacts in 5 periods\n", e->d_name,
                   vi_model_n(m), (long long)vi_sim_stat(s, VI_STAT_IMPACTS));
     vi_sim_destroy(&s);
@@ -181,9 +181,9 @@ static void test_scene_stops(void **state)
   assert_int_equal(h.count, 26); /* (0.5 + j) / 1.3 < 20: j = 0 .. 25 */
   assert_int_equal(h.bad_stop, 0);
   assert_true(h.et < 1e-10);
-  /* method auto runs adams on several stops; exact is refused, naming the
-   * key */
-  assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
+  /* method auto runs the closed form on several stops, and exact is
+   * accepted */
+  assert_int_equal(vi_sim_method_used(s), VI_METHOD_EXACT);
   vi_sim_destroy(&s);
   vi_scene_destroy(&sc);
   const char *te = "model: {M: [[1.0]], K: [[0.0]]}\n"
@@ -193,8 +193,7 @@ static void test_scene_stops(void **state)
                    "run: {t_end: 20, method: exact}\n";
   assert_int_equal(vi_scene_parse(te, -1, "walls.yaml", &sc, &d), VI_OK);
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_ERR_UNSUPPORTED);
-  assert_string_equal(d.key, "run.method");
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
   vi_scene_destroy(&sc);
@@ -274,7 +273,7 @@ static void test_misuse(void **state)
   assert_true(vi_scene_rtol(NULL) == 0 && vi_scene_atol(NULL) == 0);
   assert_int_equal(vi_scene_method(NULL), 0);
   assert_int_equal(vi_scene_samples_per_period(NULL), 0);
-  assert_int_equal(vi_scene_wants(NULL, "ledger"), 0);
+  assert_int_equal(vi_scene_outputs(NULL), 0);
   assert_true(vi_scene_memory_estimate(NULL) == 0);
   assert_int_equal(vi_scene_check_memory(NULL, 0, &d), VI_ERR_ARG);
   assert_int_equal(vi_scene_set_run(NULL, 0, 0, 0, -1), VI_ERR_ARG);
@@ -287,8 +286,6 @@ static void test_misuse(void **state)
   vi_diag_format(&d, buf, -3);
   /* a valid scene with bad overrides */
   assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "fig2", &sc, &d), VI_OK);
-  assert_int_equal(vi_scene_wants(sc, NULL), 0);
-  assert_int_equal(vi_scene_wants(sc, "nonsense"), 0);
   assert_int_equal(vi_scene_set_run(sc, NAN, 0, 0, -1), VI_ERR_ARG);
   assert_int_equal(vi_scene_set_run(sc, 0, 0, INFINITY, -1), VI_ERR_ARG);
   assert_int_equal(vi_scene_set_run(sc, 0, 0, 0, 99), VI_ERR_ARG);
@@ -317,6 +314,50 @@ static void test_misuse(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* A long chain that asks for nothing modal is stored in band form: O(n)
+ * memory (estimated before, held after), its top frequency bounded by
+ * Gershgorin: m = k = 1 gives omega_max = 2 sin(n pi / (2n + 1)) < 2 and the
+ * bound sqrt(max row sum |M^-1 K|) = 2.  Asking for the ledger needs the
+ * modes: dense storage, and the estimate says 16 n^2 doubles. */
+static void test_band_chain_scene(void **state)
+{
+  (void)state;
+  const int n = 4000;
+  char text[512];
+  const char *tail[2] = {"", ", ledger: true"};
+  double est[2];
+  vi_scene *sc = NULL;
+  vi_diag d;
+  for (int k = 0; k < 2; k++) {
+    snprintf(text, sizeof text,
+             "model:\n  chain: {n: %d, m: 1.0, k: 1.0, c: 0.01}\n"
+             "forcing: {omega: 0.5, on: [1], amplitude: 0.3}\n"
+             "stop: {mass: %d, xs: 0.05, r: 0.8}\n"
+             "run: {periods: 1}\noutput: {impacts: true%s}\n", n, n, tail[k]);
+    assert_int_equal(vi_scene_parse(text, -1, "long.yaml", &sc, &d), VI_OK);
+    est[k] = vi_scene_memory_estimate(sc);
+    if (k == 0) {
+      vi_model *m = NULL;
+      assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+      assert_int_equal(vi_model_bandwidth(m), 1);
+      assert_null(vi_model_omega(m));
+      assert_true((double)vi_model_memory(m) <= 8.0 * 64 * n);
+      assert_true((double)vi_model_memory(m) <= est[0]);
+      double wmax = 2.0 * sin(n * M_PI / (2.0 * n + 1.0));
+      assert_true(vi_model_omega_bound(m) >= wmax);
+      assert_true(vi_model_omega_bound(m) <= 2.0 * (1 + 1e-12));
+      vi_model_destroy(&m);
+      assert_int_equal(vi_scene_check_memory(sc, 100e6, &d), VI_OK);
+    } else {
+      assert_int_equal(vi_scene_check_memory(sc, 100e6, &d), VI_ERR_LIMIT);
+      assert_string_equal(d.key, "model.chain.n");
+    }
+    vi_scene_destroy(&sc);
+  }
+  assert_true(est[0] < 8.0 * 1000 * n);      /* O(n) */
+  assert_true(est[1] > 8.0 * 14 * n * n);    /* dense, with its modes */
+}
+
 /* Text is not a number: quoted or !!str-tagged scalars; aliases resolve
  * only to complete nodes; a second document is refused. */
 static void test_yaml_strictness(void **state)
@@ -342,6 +383,41 @@ static void test_yaml_strictness(void **state)
   }
 }
 
+/* output: one typed bit per key, defaults impacts and compress on; a key
+ * set to false clears its bit, and a non-boolean is refused at its line. */
+static void test_outputs(void **state)
+{
+  (void)state;
+  static const struct { const char *output; int bits; } c[] = {
+    {"", VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_COMPRESS},
+    {"output: {ledger: true}\n",
+     VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_LEDGER | VI_SCENE_OUT_COMPRESS},
+    {"output: {impacts: false, compress: false, modes: true}\n",
+     VI_SCENE_OUT_MODES},
+    {"output: {ledger: true, modes: true, impacts: true, compress: true}\n",
+     VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_LEDGER | VI_SCENE_OUT_MODES |
+         VI_SCENE_OUT_COMPRESS},
+  };
+  for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
+    char text[512];
+    snprintf(text, sizeof text, "%s%s%s", CHAIN GOOD_STOP, "run: {t_end: 1}\n",
+             c[k].output);
+    vi_scene *sc = NULL;
+    vi_diag d;
+    assert_int_equal(vi_scene_parse(text, -1, "outputs", &sc, &d), VI_OK);
+    assert_int_equal(vi_scene_outputs(sc), c[k].bits);
+    vi_scene_destroy(&sc);
+  }
+  vi_scene *sc = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(CHAIN GOOD_STOP "run: {t_end: 1}\n"
+                                  "output: {ledger: yes}\n", -1, "outputs",
+                                  &sc, &d), VI_ERR_PARSE);
+  assert_string_equal(d.key, "output.ledger");
+  assert_int_equal(d.line, 5); /* CHAIN 1-2, stop 3, run 4, output 5 */
+  assert_null(sc);
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
@@ -354,6 +430,8 @@ int main(void)
       cmocka_unit_test(test_overrides_and_builders),
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_yaml_strictness),
+      cmocka_unit_test(test_outputs),
+      cmocka_unit_test(test_band_chain_scene),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

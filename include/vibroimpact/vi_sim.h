@@ -16,11 +16,13 @@
  * an impulse.  Sticking may hold any set of stops at once (the motion is
  * projected with their Delassus block G_SS; each is released when its
  * multiplier, of G_SS^-1 W_S^T a_free, falls through zero) while the
- * others are still watched.  A chattering tail is summed to its
- * accumulation point (Nordmark & Piiroinen) only when one stop is involved
- * and none is held; with several, a stop whose bounces die out (chatter
- * threshold, apex within 10 atol, floors, or r = 0) sticks at once, an
- * error of the order of the tail's duration.  Methods adams and bdf only.
+ * others are still watched.  A stop whose bounces die out (chatter
+ * threshold, apex within 10 atol, floors, or r = 0) while other stops are
+ * held or free has its chattering tail summed to its accumulation point
+ * (Nordmark & Piiroinen), with the held stops' constraint forces in its
+ * normal dynamics; it is held from the tail's first impact and its STICK
+ * event comes at the accumulation point, each stop at its own.  Methods
+ * adams, bdf and exact (ERK refuses several stops).
  *
  * Life cycle: vi_sim_create -> vi_sim_set_* -> vi_sim_run (repeatable; each
  * call continues from where the last stopped) -> queries ->
@@ -156,9 +158,10 @@ VI_API const char *vi_sim_errmsg(const vi_sim *sim);
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
  *  without a usable closed form: an undamped mode forced at resonance, or a
  *  defective first-order system such as an undamped rigid-body mode beside
- *  non-proportional damping; nonlinear forces; exact or erk on a model with
- *  several stops, whose contact searches handle one; the message says
- *  which).  With several stops auto runs adams. */
+ *  non-proportional damping; nonlinear forces; erk on a model with
+ *  several stops, whose contact search handles one; the message says
+ *  which).  The exact method searches every stop's gap; with several stops
+ *  auto runs it where the closed form applies. */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
 /** Relative and absolute tolerances, both > 0 and finite, rtol at least
  *  twice the machine epsilon; atol applies to positions and velocities

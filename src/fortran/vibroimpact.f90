@@ -68,6 +68,10 @@ module vibroimpact
             vi_model_modal_damping, vi_model_modal_forcing_cos, &
             vi_model_modal_forcing_sin, vi_model_modal_forcing_const, &
             vi_model_create_reduced
+  public :: vi_model_create_band, vi_model_set_mass_band, vi_model_set_damping_band, &
+            vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
+            vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
+            vi_model_damping_band, vi_model_stiffness_band, vi_build_chain_band
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
             vi_cantilever_shape, vi_cantilever_participation
   public :: vi_impact_apply, vi_impact_apply_r, vi_impact_apply_multi, vi_restitution_from_energy, &
@@ -91,7 +95,10 @@ module vibroimpact
             vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
   public :: vi_orbit_set_direct_search, vi_orbit_search_info, vi_orbit_pnm_solve, &
             vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
-            vi_orbit_pnm_residual
+            vi_orbit_pnm_residual, vi_orbit_pnm_monodromy, vi_orbit_pnm_solve_stops, &
+            vi_orbit_pnm_residual_stops, vi_orbit_pnm_multipliers_stops, &
+            vi_orbit_pnm_admissible_stops, vi_orbit_pnm_dparam, vi_orbit_impacts, &
+            vi_orbit_stop_balance, vi_orbit_stop_modal_balance
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -118,6 +125,71 @@ module vibroimpact
       import :: c_int, c_ptr
       integer(c_int), value :: n
       type(c_ptr) :: model
+    end function
+    ! band storage: AB(kd+1+i-j, j) = A(i, j) for max(1, j-kd) <= i <= j
+    ! (LAPACK's symmetric band 'U' form, as dsbev and dpbtrf take it)
+    integer(c_int) function vi_model_create_band(n, kd, model) bind(C, name="vi_model_create_band")
+      import :: c_int, c_ptr
+      integer(c_int), value :: n, kd
+      type(c_ptr) :: model
+    end function
+    integer(c_int) function vi_model_set_mass_band(model, kd, AB, ldab) bind(C, name="vi_model_set_mass_band")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: kd, ldab
+      real(c_double), intent(in) :: AB(ldab, *)
+    end function
+    integer(c_int) function vi_model_set_damping_band(model, kd, AB, ldab) bind(C, name="vi_model_set_damping_band")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: kd, ldab
+      real(c_double), intent(in), optional :: AB(ldab, *)  ! absent: C = 0
+    end function
+    integer(c_int) function vi_model_set_stiffness_band(model, kd, AB, ldab) bind(C, name="vi_model_set_stiffness_band")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: kd, ldab
+      real(c_double), intent(in) :: AB(ldab, *)
+    end function
+    integer(c_int) function vi_model_create_chain(n, mass, k, c, model) bind(C, name="vi_model_create_chain")
+      import :: c_int, c_ptr, c_double
+      integer(c_int), value :: n
+      real(c_double), intent(in) :: mass(*), k(*)
+      real(c_double), intent(in), optional :: c(*)  ! absent: no damping
+      type(c_ptr) :: model
+    end function
+    integer(c_int) function vi_model_memory_estimate(n, kd, ns, method, ledger, bytes) &
+        bind(C, name="vi_model_memory_estimate")
+      import :: c_int, c_int64_t
+      integer(c_int), value :: n, kd, ns, method, ledger
+      integer(c_int64_t) :: bytes
+    end function
+    real(c_double) function vi_model_omega_bound(model) bind(C, name="vi_model_omega_bound")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int64_t) function vi_model_memory(model) bind(C, name="vi_model_memory")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int) function vi_model_bandwidth(model) bind(C, name="vi_model_bandwidth")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_mass_band(model, kd, ldab) bind(C, name="vi_model_mass_band")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: kd, ldab
+    end function
+    type(c_ptr) function vi_model_damping_band(model, kd, ldab) bind(C, name="vi_model_damping_band")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: kd, ldab
+    end function
+    type(c_ptr) function vi_model_stiffness_band(model, kd, ldab) bind(C, name="vi_model_stiffness_band")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: kd, ldab
     end function
     subroutine vi_model_destroy(model) bind(C, name="vi_model_destroy")
       import :: c_ptr
@@ -298,6 +370,14 @@ module vibroimpact
       integer(c_int), value :: k
       real(c_double), value :: r
       type(c_ptr) :: model
+    end function
+    integer(c_int) function vi_build_chain_band(n, mass, k, c, MB, CB, KB, ldab) &
+        bind(C, name="vi_build_chain_band")
+      import :: c_int, c_double
+      integer(c_int), value :: n, ldab
+      real(c_double), intent(in) :: mass(*), k(*)
+      real(c_double), intent(in), optional :: c(*)  ! absent: no damping
+      real(c_double) :: MB(ldab, *), CB(ldab, *), KB(ldab, *)
     end function
     integer(c_int) function vi_build_chain(n, mass, k, c, M, Cm, Km, ld) bind(C, name="vi_build_chain")
       import :: c_int, c_double
@@ -652,6 +732,33 @@ module vibroimpact
       integer(c_int), value :: k
       real(c_double) :: r_S
     end function
+    !> the analysed orbit's impacts: t, stop, vn [count]; x, v [ld x count]
+    integer(c_int) function vi_orbit_impacts(orbit, count, t, stop, vn, x, v, ld) &
+        bind(C, name="vi_orbit_impacts")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), optional :: count
+      real(c_double), optional :: t(*), vn(*), x(*), v(*)
+      integer(c_int), optional :: stop(*)
+      integer(c_int), value :: ld
+    end function
+    !> WB 11-13 for stop k (0-based)
+    integer(c_int) function vi_orbit_stop_balance(orbit, k, count, KE_i, RE, IE, r_rec, &
+        closure) bind(C, name="vi_orbit_stop_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: k
+      integer(c_int), optional :: count
+      real(c_double), optional :: KE_i, RE, IE, r_rec, closure
+    end function
+    !> FE, DE, XE [n] of stop k's approaches
+    integer(c_int) function vi_orbit_stop_modal_balance(orbit, k, FE, DE, XE) &
+        bind(C, name="vi_orbit_stop_modal_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: k
+      real(c_double), optional :: FE(*), DE(*), XE(*)
+    end function
     ! ---- P(n, m) orbits found directly (vi_orbit_pnm.c) --------------------
     integer(c_int) function vi_orbit_set_direct_search(orbit, on) &
         bind(C, name="vi_orbit_set_direct_search")
@@ -702,6 +809,66 @@ module vibroimpact
       real(c_double), intent(in) :: t(*), x(*), v(*)
       real(c_double), optional :: gmax
       integer(c_int) :: ok
+    end function
+    !> Mo [2 n_coords x 2 n_coords]; stop [mi] 0-based or omitted (all on stop 0)
+    integer(c_int) function vi_orbit_pnm_monodromy(model, n, mi, stop, t, x, v, ld, Mo) &
+        bind(C, name="vi_orbit_pnm_monodromy")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: Mo(*)
+    end function
+    !> the P(n, m) functions with the stop (0-based) of each impact, stop [mi]
+    integer(c_int) function vi_orbit_pnm_solve_stops(model, n, mi, stop, t, x, v, ld, tol, &
+        iters) bind(C, name="vi_orbit_pnm_solve_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double) :: t(*), x(*), v(*)
+      real(c_double), value :: tol
+      integer(c_int), optional :: iters
+    end function
+    integer(c_int) function vi_orbit_pnm_residual_stops(model, n, mi, stop, t, x, v, ld, F, &
+        J) bind(C, name="vi_orbit_pnm_residual_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: F(*)
+      real(c_double), optional :: J(*)
+    end function
+    integer(c_int) function vi_orbit_pnm_multipliers_stops(model, n, mi, stop, t, x, v, ld, &
+        re, im) bind(C, name="vi_orbit_pnm_multipliers_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: re(*), im(*)
+    end function
+    integer(c_int) function vi_orbit_pnm_admissible_stops(model, n, mi, stop, t, x, v, ld, &
+        gmax, ok) bind(C, name="vi_orbit_pnm_admissible_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double), optional :: gmax
+      integer(c_int) :: ok
+    end function
+    !> dF [mi (2 n_coords + 1)]; param VI_ORBIT_PARAM_*, k the stop (0-based)
+    integer(c_int) function vi_orbit_pnm_dparam(model, n, mi, stop, t, x, v, ld, param, k, &
+        dF) bind(C, name="vi_orbit_pnm_dparam")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld, param, k
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: dF(*)
     end function
     !> t [cap]; x, v [ld x cap]; found may exceed cap
     integer(c_int) function vi_orbit_p1_scan(model, n, nphase, t, x, v, ld, cap, found) &
