@@ -294,14 +294,16 @@ int vi_xflow_physical(const vi_xflow *fl, const vi_model *m, double t0,
 }
 
 /* The public calls build a flow for the call: O(n) for proportional
- * damping, a dgeev otherwise (hold a vi_xflow to advance many states). */
-int vi_flow_modal(const vi_model *m, double t0, const double *q0,
-                  const double *qd0, double t, double *q, double *qd)
+ * damping, a dgeev otherwise (hold a vi_xflow to advance many states).
+ * (y0, yd0) -> (y, yd) in modal or physical coordinates. */
+static int flow_call(const vi_model *m, int physical, double t0,
+                     const double *y0, const double *yd0, double t, double *y,
+                     double *yd)
 {
-  if (!m || !q0 || !qd0 || !q || !qd) return VI_ERR_ARG;
-  if (m->frozen && (vi_overlap(q, qd, m->n) || vi_overlap(q, q0, m->n) ||
-                    vi_overlap(q, qd0, m->n) || vi_overlap(qd, q0, m->n) ||
-                    vi_overlap(qd, qd0, m->n)))
+  if (!m || !y0 || !yd0 || !y || !yd) return VI_ERR_ARG;
+  if (m->frozen && (vi_overlap(y, yd, m->n) || vi_overlap(y, y0, m->n) ||
+                    vi_overlap(y, yd0, m->n) || vi_overlap(yd, y0, m->n) ||
+                    vi_overlap(yd, yd0, m->n)))
     return VI_ERR_ARG; /* outputs would overwrite inputs still being read */
   if (!m->frozen) return VI_ERR_STATE;
   vi_xflow *fl = NULL;
@@ -309,26 +311,20 @@ int vi_flow_modal(const vi_model *m, double t0, const double *q0,
   if (st) return st;
   if (!fl->ok) st = VI_ERR_UNSUPPORTED;
   else if (!(t >= t0)) st = VI_ERR_TIME;
-  else st = vi_xflow_modal(fl, m, t0, q0, qd0, t, q, qd);
+  else if (physical) st = vi_xflow_physical(fl, m, t0, y0, yd0, t, y, yd);
+  else st = vi_xflow_modal(fl, m, t0, y0, yd0, t, y, yd);
   vi_xflow_destroy(&fl);
   return st;
+}
+
+int vi_flow_modal(const vi_model *m, double t0, const double *q0,
+                  const double *qd0, double t, double *q, double *qd)
+{
+  return flow_call(m, 0, t0, q0, qd0, t, q, qd);
 }
 
 int vi_flow_physical(const vi_model *m, double t0, const double *x0,
                      const double *v0, double t, double *x, double *v)
 {
-  if (!m || !x0 || !v0 || !x || !v) return VI_ERR_ARG;
-  if (m->frozen && (vi_overlap(x, v, m->n) || vi_overlap(x, x0, m->n) ||
-                    vi_overlap(x, v0, m->n) || vi_overlap(v, x0, m->n) ||
-                    vi_overlap(v, v0, m->n)))
-    return VI_ERR_ARG; /* outputs would overwrite inputs still being read */
-  if (!m->frozen) return VI_ERR_STATE;
-  vi_xflow *fl = NULL;
-  int st = vi_xflow_create(m, &fl);
-  if (st) return st;
-  if (!fl->ok) st = VI_ERR_UNSUPPORTED;
-  else if (!(t >= t0)) st = VI_ERR_TIME;
-  else st = vi_xflow_physical(fl, m, t0, x0, v0, t, x, v);
-  vi_xflow_destroy(&fl);
-  return st;
+  return flow_call(m, 1, t0, x0, v0, t, x, v);
 }
