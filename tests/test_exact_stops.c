@@ -14,78 +14,6 @@
 
 #include "vi_testutil.h"
 
-/* ---- events with the stop index, x and v+ ---------------------------------- */
-typedef struct rec {
-  int count, cap, n;
-  int *kind, *stop;
-  double *t, *vn, *ie, *x, *vp; /* x, vp: count x n */
-} rec;
-
-static int record(const vi_event *ev, void *user)
-{
-  rec *e = user;
-  if (e->count == e->cap) {
-    e->cap = e->cap ? 2 * e->cap : 64;
-    e->n = ev->n;
-    e->kind = realloc(e->kind, sizeof(int) * (size_t)e->cap);
-    e->stop = realloc(e->stop, sizeof(int) * (size_t)e->cap);
-    e->t = realloc(e->t, sizeof(double) * (size_t)e->cap);
-    e->vn = realloc(e->vn, sizeof(double) * (size_t)e->cap);
-    e->ie = realloc(e->ie, sizeof(double) * (size_t)e->cap);
-    e->x = realloc(e->x, sizeof(double) * (size_t)e->cap * (size_t)ev->n);
-    e->vp = realloc(e->vp, sizeof(double) * (size_t)e->cap * (size_t)ev->n);
-    assert_true(e->kind && e->stop && e->t && e->vn && e->ie && e->x && e->vp);
-  }
-  int k = e->count++;
-  e->kind[k] = ev->kind;
-  e->stop[k] = ev->stop;
-  e->t[k] = ev->t;
-  e->vn[k] = ev->vn;
-  e->ie[k] = ev->ie;
-  memcpy(e->x + (size_t)k * (size_t)ev->n, ev->x, sizeof(double) * (size_t)ev->n);
-  memcpy(e->vp + (size_t)k * (size_t)ev->n, ev->v_plus,
-         sizeof(double) * (size_t)ev->n);
-  return 0;
-}
-
-static void rec_free(rec *e)
-{
-  free(e->kind); free(e->stop); free(e->t); free(e->vn); free(e->ie);
-  free(e->x); free(e->vp);
-  memset(e, 0, sizeof *e);
-}
-
-/* A set-up model: n x n M, C (NULL = 0), K; forcing a cos(omega t) (a may
- * be NULL); ns stops, W [n x ns] column-major, xs [ns], r [ns]. */
-static vi_model *build(int n, const double *M, const double *C,
-                       const double *K, double omega, const double *a, int ns,
-                       const double *W, const double *xs, const double *r)
-{
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(n, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, n), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, n), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, a ? omega : 0.0, a, NULL, NULL), VI_OK);
-  for (int k = 0; k < ns; k++)
-    assert_int_equal(vi_model_add_stop(m, W + (size_t)k * n, xs[k], r[k]), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
-  return m;
-}
-
-static vi_sim *make_sim(const vi_model *m, int method, double rtol,
-                        double atol, double t0, const double *x0,
-                        const double *v0, rec *ev)
-{
-  vi_sim *s = NULL;
-  assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
-  assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
-  assert_int_equal(vi_sim_set_initial(s, t0, x0, v0), VI_OK);
-  if (ev) assert_int_equal(vi_sim_set_event_callback(s, record, ev, NULL), VI_OK);
-  return s;
-}
-
 /* ---- two-sided clearance, r = 1, C = 0: energy ------------------------------ */
 /* A 2-DOF chain (M = diag(1, 2), K = [[3, -1], [-1, 1]]) whose mass 1 rattles
  * in a clearance |x_1| <= 0.4 with r = 1 and no damping or forcing: the
@@ -103,10 +31,10 @@ static void test_clearance_energy(void **state)
   (void)state;
   const double M[4] = {1.0, 0.0, 0.0, 2.0}, K[4] = {3.0, -1.0, -1.0, 1.0};
   const double W[4] = {1.0, 0.0, -1.0, 0.0}, xs[2] = {0.4, 0.4}, r[2] = {1.0, 1.0};
-  vi_model *m = build(2, M, NULL, K, 0.0, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
   const double x0[2] = {0.0, 0.1}, v0[2] = {1.5, -0.7};
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_AUTO, 1e-10, 1e-12, 0.0, x0, v0, &ev);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_AUTO, 1e-10, 1e-12, 0.0, x0, v0, &ev);
   assert_int_equal(vi_sim_run(s, 2000.0), VI_OK);
   assert_int_equal(vi_sim_method_used(s), VI_METHOD_EXACT); /* auto's choice */
   double E0 = vi_model_energy(m, x0, v0), worst = 0.0;
@@ -131,7 +59,7 @@ static void test_clearance_energy(void **state)
   assert_true(hits[0] > 400 && hits[1] > 400);
   assert_true(worst <= 1.0);
   assert_true(fabs(Eend - E0) <= bound);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
@@ -147,12 +75,12 @@ static void test_mirror(void **state)
   const double M[4] = {1.0, 0.0, 0.0, 2.0}, K[4] = {3.0, -1.0, -1.0, 1.0};
   const double C[4] = {0.03, -0.01, -0.01, 0.01};
   const double W[4] = {1.0, 0.0, -1.0, 0.0}, xs[2] = {0.4, 0.4}, r[2] = {0.9, 0.9};
-  vi_model *m = build(2, M, C, K, 0.0, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, C, K, 0.0, NULL, NULL, 2, W, xs, r);
   const double xa[2] = {0.0, 0.1}, va[2] = {1.5, -0.7};
   const double xb[2] = {-0.0, -0.1}, vb[2] = {-1.5, 0.7};
-  rec ea = {0}, eb = {0};
-  vi_sim *a = make_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, xa, va, &ea);
-  vi_sim *b = make_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, xb, vb, &eb);
+  vi_test_rec ea = {0}, eb = {0};
+  vi_sim *a = vi_test_sim_stops(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, xa, va, &ea);
+  vi_sim *b = vi_test_sim_stops(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, xb, vb, &eb);
   assert_int_equal(vi_sim_run(a, 60.0), VI_OK);
   assert_int_equal(vi_sim_run(b, 60.0), VI_OK);
   assert_int_equal(ea.count, eb.count);
@@ -170,8 +98,8 @@ static void test_mirror(void **state)
                 "%.2g\n", ea.count, dt, dx);
   assert_true(dt <= 4.0 * DBL_EPSILON * 60.0);
   assert_true(dx <= 4.0 * DBL_EPSILON * 2.0);
-  rec_free(&ea);
-  rec_free(&eb);
+  vi_test_rec_free(&ea);
+  vi_test_rec_free(&eb);
   vi_sim_destroy(&a);
   vi_sim_destroy(&b);
   vi_model_destroy(&m);
@@ -188,9 +116,9 @@ static void test_symmetric_orbit(void **state)
   (void)state;
   const double M = 1.0, C = 0.3, K = 1.0, a = 0.5, Om = 0.9, T = 2.0 * M_PI / Om;
   const double W[2] = {1.0, -1.0}, xs[2] = {0.3, 0.3}, r[2] = {0.7, 0.7};
-  vi_model *m = build(1, &M, &C, &K, Om, &a, 2, W, xs, r);
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, NULL, NULL, &ev);
+  vi_model *m = vi_test_model_stops(1, &M, &C, &K, Om, &a, NULL, 2, W, xs, r);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, NULL, NULL, &ev);
   assert_int_equal(vi_sim_run(s, 160.0 * T), VI_OK);
   int i0 = 0;
   while (i0 < ev.count && ev.t[i0] < 150.0 * T) i0++;
@@ -207,7 +135,7 @@ static void test_symmetric_orbit(void **state)
                 ev.count - i0, dt, dv, ev.vn[i0]);
   assert_true(dt <= 1e-9 * T);
   assert_true(dv <= 1e-9 * ev.vn[i0]);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
@@ -257,13 +185,13 @@ static void test_two_coordinates(void **state)
   const double M[4] = {1.0, 0.0, 0.0, 1.0}, K[4] = {2.0, -1.0, -1.0, 2.0};
   const double C[4] = {0.1, -0.05, -0.05, 0.1}, a[2] = {1.0, 0.0};
   const double W[4] = {1.0, 0.0, 0.0, -1.0}, xs[2] = {0.3, 0.25}, r[2] = {0.8, 0.6};
-  vi_model *m = build(2, M, C, K, 1.3, a, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, C, K, 1.3, a, NULL, 2, W, xs, r);
   const int nref = (int)(sizeof ref2 / sizeof ref2[0]);
   const int meth[2] = {VI_METHOD_EXACT, VI_METHOD_ADAMS};
   const double tol[2] = {1e-11, 1e-8};
   for (int q = 0; q < 2; q++) {
-    rec ev = {0};
-    vi_sim *s = make_sim(m, meth[q], 1e-12, 1e-14, 0.0, NULL, NULL, &ev);
+    vi_test_rec ev = {0};
+    vi_sim *s = vi_test_sim_stops(m, meth[q], 1e-12, 1e-14, 0.0, NULL, NULL, &ev);
     assert_int_equal(vi_sim_run(s, 57.0), VI_OK);
     assert_int_equal(vi_sim_method_used(s), meth[q]);
     assert_int_equal(ev.count, nref);
@@ -281,7 +209,7 @@ static void test_two_coordinates(void **state)
                   vi_method_name(meth[q]), nref, et, ev_);
     assert_true(et <= tol[q]);
     assert_true(ev_ <= tol[q]);
-    rec_free(&ev);
+    vi_test_rec_free(&ev);
     vi_sim_destroy(&s);
   }
   vi_model_destroy(&m);
@@ -297,11 +225,11 @@ static void test_two_coordinates_nonproportional(void **state)
   const double M[4] = {1.0, 0.0, 0.0, 1.0}, K[4] = {2.0, -1.0, -1.0, 2.0};
   const double C[4] = {0.15, -0.05, -0.05, 0.05}, a[2] = {1.0, 0.0};
   const double W[4] = {1.0, 0.0, 0.0, -1.0}, xs[2] = {0.3, 0.25}, r[2] = {0.8, 0.6};
-  vi_model *m = build(2, M, C, K, 1.3, a, 2, W, xs, r);
-  rec e[2] = {{0}, {0}};
+  vi_model *m = vi_test_model_stops(2, M, C, K, 1.3, a, NULL, 2, W, xs, r);
+  vi_test_rec e[2] = {{0}, {0}};
   const int meth[2] = {VI_METHOD_EXACT, VI_METHOD_ADAMS};
   for (int q = 0; q < 2; q++) {
-    vi_sim *s = make_sim(m, meth[q], 1e-12, 1e-14, 0.0, NULL, NULL, &e[q]);
+    vi_sim *s = vi_test_sim_stops(m, meth[q], 1e-12, 1e-14, 0.0, NULL, NULL, &e[q]);
     assert_int_equal(vi_sim_run(s, 60.0), VI_OK);
     assert_int_equal(vi_sim_method_used(s), meth[q]);
     vi_sim_destroy(&s);
@@ -323,8 +251,8 @@ static void test_two_coordinates_nonproportional(void **state)
   assert_true(hits[0] > 5 && hits[1] > 5);
   assert_true(et <= 1e-8);
   assert_true(ev_ <= 1e-8);
-  rec_free(&e[0]);
-  rec_free(&e[1]);
+  vi_test_rec_free(&e[0]);
+  vi_test_rec_free(&e[1]);
   vi_model_destroy(&m);
 }
 
@@ -341,10 +269,10 @@ static void test_simultaneous(void **state)
   (void)state;
   const double M[4] = {1.0, 0.0, 0.0, 2.0}, Z[4] = {0.0, 0.0, 0.0, 0.0};
   const double W[4] = {1.0, 0.0, 1.0, 1.0}, xs[2] = {1.0, 1.25}, r[2] = {0.5, 0.5};
-  vi_model *m = build(2, M, NULL, Z, 0.0, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, Z, 0.0, NULL, NULL, 2, W, xs, r);
   const double v0[2] = {1.0, 0.25};
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_AUTO, 1e-10, 1e-12, 0.0, NULL, v0, &ev);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_AUTO, 1e-10, 1e-12, 0.0, NULL, v0, &ev);
   assert_int_equal(vi_sim_run(s, 3.0), VI_OK);
   assert_int_equal(vi_sim_method_used(s), VI_METHOD_EXACT);
   assert_int_equal(ev.count, 2);
@@ -367,7 +295,7 @@ static void test_simultaneous(void **state)
   print_message("simultaneous (exact): both stops at t = %.16f, v+ = (%.15f, "
                 "%.15f), loss %.15f (closed form 0.421875)\n", ev.t[0],
                 ev.vp[0], ev.vp[1], loss);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
@@ -386,10 +314,10 @@ static void test_graze_second_stop(void **state)
   (void)state;
   const double M = 1.0, K = 1.0, delta = 1e-10, t0 = 0.3;
   const double W[2] = {-1.0, 1.0}, xs[2] = {0.8, 1.0 - delta}, r[2] = {0.9, 0.9};
-  vi_model *m = build(1, &M, NULL, &K, 0.0, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
   const double x0 = sin(t0), v0 = cos(t0);
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, t0, &x0, &v0, &ev);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_EXACT, 1e-10, 1e-12, t0, &x0, &v0, &ev);
   assert_int_equal(vi_sim_run(s, 2.0), VI_OK);
   double theta = 2.0 * asin(sqrt(0.5 * delta)), tc = 0.5 * M_PI - theta;
   assert_int_equal(ev.count, 1);
@@ -400,7 +328,7 @@ static void test_graze_second_stop(void **state)
                 sin(theta), (long long)vi_sim_stat(s, VI_STAT_GRAZE_CHECKS));
   assert_close(ev.t[0], tc, 64.0 * DBL_EPSILON / sin(theta));
   assert_close(ev.vn[0], sin(theta), 64.0 * DBL_EPSILON / sin(theta));
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }

@@ -11,77 +11,6 @@
 
 #include "vi_testutil.h"
 
-/* ---- event records with the stop index and the energy lost ---------------- */
-typedef struct rec {
-  int count, cap, n;
-  int *kind, *stop;
-  double *t, *vn, *ie, *vm, *vp; /* vm, vp: count x n */
-} rec;
-
-static int record(const vi_event *ev, void *user)
-{
-  rec *e = user;
-  if (e->count == e->cap) {
-    e->cap = e->cap ? 2 * e->cap : 64;
-    e->n = ev->n;
-    e->kind = realloc(e->kind, sizeof(int) * e->cap);
-    e->stop = realloc(e->stop, sizeof(int) * e->cap);
-    e->t = realloc(e->t, sizeof(double) * e->cap);
-    e->vn = realloc(e->vn, sizeof(double) * e->cap);
-    e->ie = realloc(e->ie, sizeof(double) * e->cap);
-    e->vm = realloc(e->vm, sizeof(double) * e->cap * ev->n);
-    e->vp = realloc(e->vp, sizeof(double) * e->cap * ev->n);
-    assert_true(e->kind && e->stop && e->t && e->vn && e->ie && e->vm && e->vp);
-  }
-  int k = e->count++;
-  e->kind[k] = ev->kind;
-  e->stop[k] = ev->stop;
-  e->t[k] = ev->t;
-  e->vn[k] = ev->vn;
-  e->ie[k] = ev->ie;
-  memcpy(e->vm + (size_t)k * ev->n, ev->v_minus, sizeof(double) * ev->n);
-  memcpy(e->vp + (size_t)k * ev->n, ev->v_plus, sizeof(double) * ev->n);
-  return 0;
-}
-
-static void rec_free(rec *e)
-{
-  free(e->kind); free(e->stop); free(e->t); free(e->vn); free(e->ie);
-  free(e->vm); free(e->vp);
-  memset(e, 0, sizeof *e);
-}
-
-/* A set-up model: n x n M, C (NULL = 0), K; forcing a cos(omega t) + f0
- * (either NULL); ns stops, W [n x ns] column-major, xs [ns], r [ns]. */
-static vi_model *build(int n, const double *M, const double *C,
-                       const double *K, double omega, const double *a,
-                       const double *f0, int ns, const double *W,
-                       const double *xs, const double *r)
-{
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(n, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, n), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, n), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, a ? omega : 0.0, a, NULL, f0), VI_OK);
-  for (int k = 0; k < ns; k++)
-    assert_int_equal(vi_model_add_stop(m, W + (size_t)k * n, xs[k], r[k]), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
-  return m;
-}
-
-static vi_sim *make_sim(const vi_model *m, int method, double rtol, double atol,
-                        const double *x0, const double *v0, rec *ev)
-{
-  vi_sim *s = NULL;
-  assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
-  assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
-  assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
-  if (ev) assert_int_equal(vi_sim_set_event_callback(s, record, ev, NULL), VI_OK);
-  return s;
-}
-
 /* ---- the model's API -------------------------------------------------------- */
 static void test_model_api(void **state)
 {
@@ -140,7 +69,7 @@ static void test_exact_refused(void **state)
   (void)state;
   const double M = 1.0, K = 1.0, W[2] = {1.0, -1.0}, xs[2] = {0.5, 0.5},
                r[2] = {1.0, 1.0};
-  vi_model *m = build(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
   vi_sim *s = NULL;
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
   /* the closed form handles several stops (tests/test_exact_stops.c) */
@@ -186,11 +115,10 @@ static void test_clearance_free_particle(void **state)
   (void)state;
   const double M = 1.0, K = 0.0, W[2] = {1.0, -1.0}, xs[2] = {0.5, 0.5},
                r[2] = {1.0, 1.0}, v0 = 1.3;
-  vi_model *m = build(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
   for (int meth = 0; meth < 2; meth++) {
-    rec ev = {0};
-    vi_sim *s = make_sim(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10,
-                         1e-12, NULL, &v0, &ev);
+    vi_test_rec ev = {0};
+    vi_sim *s = vi_test_sim_stops(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, NULL, &v0, &ev);
     assert_int_equal(vi_sim_run(s, 1000.0), VI_OK);
     int expect = (int)floor((1000.0 * v0 - 0.5) / 1.0) + 1;
     assert_int_equal(ev.count, expect);
@@ -219,7 +147,7 @@ static void test_clearance_free_particle(void **state)
     assert_int_equal(vi_sim_stop_losses(s, ie), VI_OK);
     assert_true(ie[0] == 0.0 && ie[1] == 0.0);
     vi_sim_destroy(&s);
-    rec_free(&ev);
+    vi_test_rec_free(&ev);
   }
   vi_model_destroy(&m);
 }
@@ -232,9 +160,9 @@ static void test_clearance_restitution(void **state)
   (void)state;
   const double M = 1.0, K = 0.0, W[2] = {1.0, -1.0}, xs[2] = {0.5, 0.5},
                r[2] = {0.9, 0.9}, v0 = 2.0;
-  vi_model *m = build(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, &v0, &ev);
+  vi_model *m = vi_test_model_stops(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, NULL, &v0, &ev);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   assert_int_equal(vi_sim_run(s, 60.0), VI_OK);
   double t = 0.5 / v0, v = v0, loss[2] = {0.0, 0.0}, et = 0.0;
@@ -262,7 +190,7 @@ static void test_clearance_restitution(void **state)
   assert_close(ie[0] + ie[1], ie_led, 1e-14);
   assert_true(vi_sim_ledger_max_residual(s) < 1e-8);
   vi_sim_destroy(&s);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_model_destroy(&m);
 }
 
@@ -279,14 +207,14 @@ static void test_clearance_energy(void **state)
   /* a 2-DOF chain whose tip (mass 2) rattles in a clearance +-0.2 */
   const double W[4] = {0.0, 1.0, 0.0, -1.0}, xs[2] = {0.2, 0.2},
                r[2] = {1.0, 1.0};
-  vi_model *m = build(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
   const double x0[2] = {0.3, 0.0}, v0[2] = {0.0, 1.0};
   const int meths[3] = {VI_METHOD_ADAMS, VI_METHOD_ADAMS, VI_METHOD_BDF};
   const double rtols[3] = {1e-10, 1e-12, 1e-10};
   double drift[3];
   for (int q = 0; q < 3; q++) {
-    rec ev = {0};
-    vi_sim *s = make_sim(m, meths[q], rtols[q], 1e-2 * rtols[q], x0, v0, &ev);
+    vi_test_rec ev = {0};
+    vi_sim *s = vi_test_sim_stops(m, meths[q], rtols[q], 1e-2 * rtols[q], 0.0, x0, v0, &ev);
     energy_watch e = {m, vi_model_energy(m, x0, v0), 0.0, 0};
     assert_int_equal(vi_sim_set_sampling(s, 0.05, watch_energy, &e, NULL), VI_OK);
     assert_int_equal(vi_sim_run(s, 500.0), VI_OK);
@@ -299,7 +227,7 @@ static void test_clearance_energy(void **state)
     assert_true(hits[0] > 500 && hits[1] > 500);
     assert_true(drift[q] < 10.0 * rtols[q] * ev.count);
     vi_sim_destroy(&s);
-    rec_free(&ev);
+    vi_test_rec_free(&ev);
   }
   assert_true(drift[1] < 0.1 * drift[0]);
   vi_model_destroy(&m);
@@ -317,7 +245,7 @@ static vi_model *mirror_model(void)
   const double C[4] = {0.1, -0.05, -0.05, 0.1}, a[2] = {0.6, -0.6};
   const double W[4] = {1.0, 0.0, 0.0, -1.0}, xs[2] = {0.15, 0.15},
                r[2] = {0.8, 0.8};
-  return build(2, M, C, K, 1.3, a, NULL, 2, W, xs, r);
+  return vi_test_model_stops(2, M, C, K, 1.3, a, NULL, 2, W, xs, r);
 }
 
 typedef struct traj {
@@ -347,12 +275,12 @@ static void test_mirror_equivariance(void **state)
   vi_model *m = mirror_model();
   const double xa[2] = {0.05, -0.02}, va[2] = {0.3, 0.1};
   const double xb[2] = {0.02, -0.05}, vb[2] = {-0.1, -0.3};
-  rec ea = {0}, eb = {0};
+  vi_test_rec ea = {0}, eb = {0};
   traj *pa = calloc(1, sizeof *pa), *pb = calloc(1, sizeof *pb);
   assert_non_null(pa);
   assert_non_null(pb);
-  vi_sim *a = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, xa, va, &ea);
-  vi_sim *b = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, xb, vb, &eb);
+  vi_sim *a = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-11, 1e-13, 0.0, xa, va, &ea);
+  vi_sim *b = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-11, 1e-13, 0.0, xb, vb, &eb);
   assert_int_equal(vi_sim_set_sampling(a, 0.025, keep, pa, NULL), VI_OK);
   assert_int_equal(vi_sim_set_sampling(b, 0.025, keep, pb, NULL), VI_OK);
   assert_int_equal(vi_sim_run(a, 100.0), VI_OK);
@@ -387,8 +315,8 @@ static void test_mirror_equivariance(void **state)
   vi_sim_destroy(&b);
   free(pa);
   free(pb);
-  rec_free(&ea);
-  rec_free(&eb);
+  vi_test_rec_free(&ea);
+  vi_test_rec_free(&eb);
   vi_model_destroy(&m);
 }
 
@@ -400,10 +328,10 @@ static void test_mirror_symmetric_orbit(void **state)
   (void)state;
   vi_model *m = mirror_model();
   const double x0[2] = {0.05, -0.05}, v0[2] = {0.2, -0.2};
-  rec ev = {0};
+  vi_test_rec ev = {0};
   traj *p = calloc(1, sizeof *p);
   assert_non_null(p);
-  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, x0, v0, &ev);
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-11, 1e-13, 0.0, x0, v0, &ev);
   assert_int_equal(vi_sim_set_sampling(s, 0.025, keep, p, NULL), VI_OK);
   assert_int_equal(vi_sim_run(s, 100.0), VI_OK);
   double asym = 0.0, et = 0.0, evn = 0.0;
@@ -426,7 +354,7 @@ static void test_mirror_symmetric_orbit(void **state)
   assert_true(evn < 1e-6);
   vi_sim_destroy(&s);
   free(p);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_model_destroy(&m);
 }
 
@@ -439,7 +367,7 @@ static void test_newton_uncoupled(void **state)
   const double M[4] = {2.0, 0.0, 0.0, 0.5}, K[4] = {1.0, 0.0, 0.0, 1.0};
   const double W[4] = {1.0, 0.0, 0.0, 1.0}, xs[2] = {0.1, 0.1},
                r[2] = {0.8, 0.3};
-  vi_model *m = build(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
   const double vm[2] = {1.5, 0.7};
   const int both[2] = {0, 1};
   double vp[2], P[2], ie[2];
@@ -466,10 +394,10 @@ static void test_newton_uncoupled(void **state)
   /* in the integrator: two equal oscillators x'' + x = 0 from x = 0, v = v0
    * reach x_s together at t* = asin(x_s / v0), speed v0 cos t* */
   const double Mi[4] = {1.0, 0.0, 0.0, 1.0};
-  m = build(2, Mi, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
+  m = vi_test_model_stops(2, Mi, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
   const double v0[2] = {0.5, 0.5};
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, NULL, v0, &ev);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-11, 1e-13, 0.0, NULL, v0, &ev);
   assert_int_equal(vi_sim_run(s, 1.0), VI_OK);
   double ts = asin(0.1 / 0.5), us = 0.5 * cos(ts);
   assert_int_equal(ev.count, 2);
@@ -481,7 +409,7 @@ static void test_newton_uncoupled(void **state)
     assert_close(ev.ie[k], 0.5 * us * us * (1.0 - r[k] * r[k]), 1e-9);
   }
   vi_sim_destroy(&s);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_model_destroy(&m);
 }
 
@@ -503,7 +431,7 @@ static void test_newton_coupled(void **state)
   const int both[2] = {0, 1};
   int cases[3] = {0, 0, 0};
   for (int q = 0; q < 3; q++) {
-    vi_model *m = build(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, rr[q]);
+    vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, rr[q]);
     for (int iv = 0; iv < 4; iv++) {
       const double *vm = vms[iv];
       double u[2] = {vm[0], c * vm[0] + sn * vm[1]}, e[2], Pe[2], P[2],
@@ -567,11 +495,11 @@ static void test_newton_corner(void **state)
   const double M[4] = {1.0, 0.0, 0.0, 1.0}, K[4] = {0.0, 0.0, 0.0, 0.0};
   const double W[4] = {1.0, 0.0, c, sn}, xs[2] = {0.1, 0.1},
                r[2] = {0.5, 0.5};
-  vi_model *m = build(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.0, NULL, NULL, 2, W, xs, r);
   const double v0[2] = {1.0, 0.2}, corner[2] = {0.1, (0.1 - c * 0.1) / sn};
   const double x0[2] = {corner[0] - v0[0], corner[1] - v0[1]};
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-11, 1e-13, x0, v0, &ev);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-11, 1e-13, 0.0, x0, v0, &ev);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   assert_int_equal(vi_sim_run(s, 5.0), VI_OK);
   assert_int_equal(ev.count, 2);
@@ -599,7 +527,7 @@ static void test_newton_corner(void **state)
   assert_close(ie_led, dKE, 1e-9);
   assert_true(vi_sim_ledger_max_residual(s) < 1e-9);
   vi_sim_destroy(&s);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_model_destroy(&m);
 }
 
@@ -617,7 +545,7 @@ static void test_newton_limits(void **state)
     xs[i] = 1.0;
     r[i] = 0.5;
   }
-  vi_model *m = build(N, M, NULL, M, 0.0, NULL, NULL, N, W, xs, r);
+  vi_model *m = vi_test_model_stops(N, M, NULL, M, 0.0, NULL, NULL, N, W, xs, r);
   int all[N];
   double v[N], vp[N];
   for (int i = 0; i < N; i++) {
@@ -634,7 +562,7 @@ static void test_newton_limits(void **state)
    * satisfies both Newton bounds */
   const double M1 = 1.0, W2[2] = {1.0, 1.0}, xs2[2] = {1.0, 1.0},
                r2[2] = {0.3, 0.6};
-  m = build(1, &M1, NULL, &M1, 0.0, NULL, NULL, 2, W2, xs2, r2);
+  m = vi_test_model_stops(1, &M1, NULL, &M1, 0.0, NULL, NULL, 2, W2, xs2, r2);
   const int both[2] = {0, 1};
   double v1 = 1.0, vp1, P[2];
   assert_int_equal(vi_impact_apply_multi(m, 2, both, &v1, &vp1, P, NULL), VI_OK);
@@ -662,13 +590,13 @@ static void test_stops_on_coordinates(void **state)
   memcpy(W_far_near + 3, e1, sizeof e1);
   const double xs_nf[2] = {0.05, 100.0}, xs_fn[2] = {100.0, 0.05},
                r2[2] = {0.7, 0.7};
-  vi_model *one = build(3, M, C, K, 0.7, a, NULL, 1, e1, xs_nf, r2);
-  vi_model *nf = build(3, M, C, K, 0.7, a, NULL, 2, W_near_far, xs_nf, r2);
-  vi_model *fn = build(3, M, C, K, 0.7, a, NULL, 2, W_far_near, xs_fn, r2);
-  rec e0 = {0}, e_nf = {0}, e_fn = {0};
-  vi_sim *s0 = make_sim(one, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, NULL, &e0);
-  vi_sim *s1 = make_sim(nf, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, NULL, &e_nf);
-  vi_sim *s2 = make_sim(fn, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, NULL, &e_fn);
+  vi_model *one = vi_test_model_stops(3, M, C, K, 0.7, a, NULL, 1, e1, xs_nf, r2);
+  vi_model *nf = vi_test_model_stops(3, M, C, K, 0.7, a, NULL, 2, W_near_far, xs_nf, r2);
+  vi_model *fn = vi_test_model_stops(3, M, C, K, 0.7, a, NULL, 2, W_far_near, xs_fn, r2);
+  vi_test_rec e0 = {0}, e_nf = {0}, e_fn = {0};
+  vi_sim *s0 = vi_test_sim_stops(one, VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, NULL, NULL, &e0);
+  vi_sim *s1 = vi_test_sim_stops(nf, VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, NULL, NULL, &e_nf);
+  vi_sim *s2 = vi_test_sim_stops(fn, VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, NULL, NULL, &e_fn);
   assert_int_equal(vi_sim_run(s0, 150.0), VI_OK);
   assert_int_equal(vi_sim_run(s1, 150.0), VI_OK);
   assert_int_equal(vi_sim_run(s2, 150.0), VI_OK);
@@ -687,9 +615,9 @@ static void test_stops_on_coordinates(void **state)
   vi_sim_destroy(&s0);
   vi_sim_destroy(&s1);
   vi_sim_destroy(&s2);
-  rec_free(&e0);
-  rec_free(&e_nf);
-  rec_free(&e_fn);
+  vi_test_rec_free(&e0);
+  vi_test_rec_free(&e_nf);
+  vi_test_rec_free(&e_fn);
   vi_model_destroy(&one);
   vi_model_destroy(&nf);
   vi_model_destroy(&fn);
@@ -722,13 +650,12 @@ static void test_stick_while_other_hit(void **state)
   const double W[4] = {1.0, 0.0, 0.0, 1.0}, xs[2] = {0.1, 0.1},
                r[2] = {0.5, 1.0};
   const double a[2] = {0.25, 0.0}, f0[2] = {0.3, 0.0};
-  vi_model *m = build(2, M, NULL, K, 0.5, a, f0, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.5, a, f0, 2, W, xs, r);
   const double x0[2] = {0.1, 0.0}, v0[2] = {0.0, 0.5};
   double t_r = 2.0 * acos(-0.8), th1 = asin(0.2);
   for (int meth = 0; meth < 2; meth++) {
-    rec ev = {0};
-    vi_sim *s = make_sim(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10,
-                         1e-12, x0, v0, &ev);
+    vi_test_rec ev = {0};
+    vi_sim *s = vi_test_sim_stops(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, x0, v0, &ev);
     stick_watch w = {0.1, 0.0, t_r};
     assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
     assert_int_equal(vi_sim_set_sampling(s, 0.01, watch_stick, &w, NULL), VI_OK);
@@ -764,7 +691,7 @@ static void test_stick_while_other_hit(void **state)
     assert_close(t_rel, t_r, 1e-9);
     assert_true(vi_sim_ledger_max_residual(s) < 1e-7);
     vi_sim_destroy(&s);
-    rec_free(&ev);
+    vi_test_rec_free(&ev);
   }
   vi_model_destroy(&m);
 }
@@ -780,10 +707,10 @@ static void test_stick_on_two(void **state)
   const double W[4] = {1.0, 0.0, 0.0, 1.0}, xs[2] = {0.1, 0.1},
                r[2] = {0.5, 0.5};
   const double f0[2] = {0.6, 0.6};
-  vi_model *m = build(2, M, NULL, K, 0.0, NULL, f0, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.0, NULL, f0, 2, W, xs, r);
   const double x0[2] = {0.05, 0.0};
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-10, 1e-12, x0, NULL, &ev);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, x0, NULL, &ev);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   assert_int_equal(vi_sim_run(s, 40.0), VI_OK);
   int stuck[2] = {0, 0}, rel = 0;
@@ -806,7 +733,7 @@ static void test_stick_on_two(void **state)
   assert_close(v[1], 0.0, 1e-9);
   assert_true(vi_sim_ledger_max_residual(s) < 1e-7);
   vi_sim_destroy(&s);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_model_destroy(&m);
 }
 
@@ -822,13 +749,12 @@ static void test_release_one_of_two(void **state)
   const double W[4] = {1.0, 0.0, 0.0, 1.0}, xs[2] = {0.1, 0.1},
                r[2] = {0.5, 0.5};
   const double a[2] = {0.625, 0.0}, f0[2] = {0.6, 0.6};
-  vi_model *m = build(2, M, NULL, K, 0.5, a, f0, 2, W, xs, r);
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.5, a, f0, 2, W, xs, r);
   const double x0[2] = {0.1, 0.1};
   double t_r = 2.0 * acos(-0.8);
   for (int meth = 0; meth < 2; meth++) {
-    rec ev = {0};
-    vi_sim *s = make_sim(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10,
-                         1e-12, x0, NULL, &ev);
+    vi_test_rec ev = {0};
+    vi_sim *s = vi_test_sim_stops(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, x0, NULL, &ev);
     assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
     assert_int_equal(vi_sim_run(s, t_r + 1.0), VI_OK);
     int stick[2] = {0, 0}, rel[2] = {0, 0};
@@ -860,7 +786,7 @@ static void test_release_one_of_two(void **state)
     assert_close(x[1], 0.1, 1e-9);
     assert_true(vi_sim_ledger_max_residual(s) < 1e-7);
     vi_sim_destroy(&s);
-    rec_free(&ev);
+    vi_test_rec_free(&ev);
   }
   vi_model_destroy(&m);
 }
@@ -880,11 +806,10 @@ static void test_plastic_pressed_after(void **state)
                f0[3] = {0.0, 0.05, 0.0}, w[3] = {1.0, 0.0, 0.0}, xs = 0.2,
                r = 0.0;
   assert_int_equal(vi_build_chain(3, mass, k, c, M, C, K, 3), VI_OK);
-  vi_model *m = build(3, M, C, K, 0.8, a, f0, 1, w, &xs, &r);
+  vi_model *m = vi_test_model_stops(3, M, C, K, 0.8, a, f0, 1, w, &xs, &r);
   for (int meth = 0; meth < 2; meth++) {
-    rec ev = {0};
-    vi_sim *s = make_sim(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-8,
-                         1e-10, NULL, NULL, &ev);
+    vi_test_rec ev = {0};
+    vi_sim *s = vi_test_sim_stops(m, meth ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-8, 1e-10, 0.0, NULL, NULL, &ev);
     assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
     assert_int_equal(vi_sim_run(s, 300.0), VI_OK);
     int counts[3] = {0, 0, 0};
@@ -898,7 +823,7 @@ static void test_plastic_pressed_after(void **state)
     assert_true(counts[2] >= counts[1] - 1);
     assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
     vi_sim_destroy(&s);
-    rec_free(&ev);
+    vi_test_rec_free(&ev);
   }
   vi_model_destroy(&m);
 }
@@ -915,9 +840,9 @@ static void test_rattle_stick_release(void **state)
   (void)state;
   const double M = 1.0, K = 0.0, C = 0.02, a = 1.5, f0 = 0.2, W = 0.7;
   const double Ws[2] = {1.0, -1.0}, xs[2] = {0.1, 0.1}, r[2] = {0.6, 0.6};
-  vi_model *m = build(1, &M, &C, &K, W, &a, &f0, 2, Ws, xs, r);
-  rec ev = {0};
-  vi_sim *s = make_sim(m, VI_METHOD_ADAMS, 1e-10, 1e-12, NULL, NULL, &ev);
+  vi_model *m = vi_test_model_stops(1, &M, &C, &K, W, &a, &f0, 2, Ws, xs, r);
+  vi_test_rec ev = {0};
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, NULL, NULL, &ev);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
   assert_int_equal(vi_sim_run(s, 200.0), VI_OK);
   int rel[2] = {0, 0}, stick[2] = {0, 0}, held = -1;
@@ -954,7 +879,7 @@ static void test_rattle_stick_release(void **state)
   assert_close(ie[0] + ie[1], ie_led, 1e-12 * ie_led);
   assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
   vi_sim_destroy(&s);
-  rec_free(&ev);
+  vi_test_rec_free(&ev);
   vi_model_destroy(&m);
 }
 
@@ -982,11 +907,10 @@ static void test_band_vs_adams(void **state)
   W[N + N - 1] = -1.0;     /* tip >= -0.1 */
   W[2 * N + 2] = 1.0;      /* mass 3 <= 0.05 */
   const double xs[3] = {0.3, 0.1, 0.05}, r[3] = {0.5, 0.5, 0.5};
-  vi_model *m = build(N, M, C, K, 0.3, a, f0, 3, W, xs, r);
-  rec ev[2] = {{0}, {0}};
+  vi_model *m = vi_test_model_stops(N, M, C, K, 0.3, a, f0, 3, W, xs, r);
+  vi_test_rec ev[2] = {{0}, {0}};
   for (int q = 0; q < 2; q++) {
-    vi_sim *s = make_sim(m, q ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10,
-                         1e-12, NULL, NULL, &ev[q]);
+    vi_sim *s = vi_test_sim_stops(m, q ? VI_METHOD_BDF : VI_METHOD_ADAMS, 1e-10, 1e-12, 0.0, NULL, NULL, &ev[q]);
     assert_int_equal(vi_sim_run(s, 300.0), VI_OK);
     if (q) assert_true(vi_sim_stat(s, VI_STAT_JAC_EVALS) > 0);
     vi_sim_destroy(&s);
@@ -1006,8 +930,8 @@ static void test_band_vs_adams(void **state)
                 hits[2], sticks, et);
   assert_true(sticks > 0 && hits[0] > 0 && hits[1] > 0 && hits[2] > 0);
   assert_true(et < 1e-4);
-  rec_free(&ev[0]);
-  rec_free(&ev[1]);
+  vi_test_rec_free(&ev[0]);
+  vi_test_rec_free(&ev[1]);
   vi_model_destroy(&m);
 }
 

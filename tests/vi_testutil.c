@@ -131,3 +131,81 @@ int vi_test_run(const vi_model *m, int method, double rtol, double atol,
   vi_sim_destroy(&s);
   return st;
 }
+
+int vi_test_record(const vi_event *ev, void *user)
+{
+  vi_test_rec *e = user;
+  size_t n = (size_t)ev->n;
+  if (e->count == e->cap) {
+    e->cap = e->cap ? 2 * e->cap : 64;
+    e->n = ev->n;
+    size_t c = (size_t)e->cap;
+    e->kind = realloc(e->kind, sizeof(int) * c);
+    e->stop = realloc(e->stop, sizeof(int) * c);
+    e->t = realloc(e->t, sizeof(double) * c);
+    e->vn = realloc(e->vn, sizeof(double) * c);
+    e->ie = realloc(e->ie, sizeof(double) * c);
+    e->x = realloc(e->x, sizeof(double) * c * n);
+    e->vm = realloc(e->vm, sizeof(double) * c * n);
+    e->vp = realloc(e->vp, sizeof(double) * c * n);
+    assert_true(e->kind && e->stop && e->t && e->vn && e->ie && e->x &&
+                e->vm && e->vp);
+  }
+  size_t k = (size_t)e->count++;
+  e->kind[k] = ev->kind;
+  e->stop[k] = ev->stop;
+  e->t[k] = ev->t;
+  e->vn[k] = ev->vn;
+  e->ie[k] = ev->ie;
+  memcpy(e->x + k * n, ev->x, sizeof(double) * n);
+  memcpy(e->vm + k * n, ev->v_minus, sizeof(double) * n);
+  memcpy(e->vp + k * n, ev->v_plus, sizeof(double) * n);
+  return 0;
+}
+
+void vi_test_rec_free(vi_test_rec *e)
+{
+  free(e->kind);
+  free(e->stop);
+  free(e->t);
+  free(e->vn);
+  free(e->ie);
+  free(e->x);
+  free(e->vm);
+  free(e->vp);
+  memset(e, 0, sizeof *e);
+}
+
+vi_model *vi_test_model_stops(int n, const double *M, const double *C,
+                              const double *K, double omega, const double *a,
+                              const double *f0, int ns, const double *W,
+                              const double *xs, const double *r)
+{
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(n, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, n), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, n), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, a ? omega : 0.0, a, NULL, f0),
+                   VI_OK);
+  for (int k = 0; k < ns; k++)
+    assert_int_equal(vi_model_add_stop(m, W + (size_t)k * (size_t)n, xs[k],
+                                       r[k]), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  return m;
+}
+
+vi_sim *vi_test_sim_stops(const vi_model *m, int method, double rtol,
+                          double atol, double t0, const double *x0,
+                          const double *v0, vi_test_rec *ev)
+{
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, t0, x0, v0), VI_OK);
+  if (ev)
+    assert_int_equal(vi_sim_set_event_callback(s, vi_test_record, ev, NULL),
+                     VI_OK);
+  return s;
+}

@@ -62,4 +62,25 @@ int vi_test_run(const vi_model *m, int method, double rtol, double atol,
                 const double *x0, const double *v0, double t_end,
                 vi_test_events *ev);
 
+/* Events with their stop: kind, stop, t, vn, ie [count]; x, v_minus (vm),
+ * v_plus (vp) [count x n].  vi_test_record is the event callback. */
+typedef struct vi_test_rec {
+  int count, cap, n;
+  int *kind, *stop;
+  double *t, *vn, *ie, *x, *vm, *vp;
+} vi_test_rec;
+int vi_test_record(const vi_event *ev, void *user);
+void vi_test_rec_free(vi_test_rec *e);
+/* A set-up model: n x n M, C (NULL = 0), K; forcing a cos(omega t) + f0
+ * (either NULL); ns stops, W [n x ns] column-major, xs [ns], r [ns]. */
+vi_model *vi_test_model_stops(int n, const double *M, const double *C,
+                              const double *K, double omega, const double *a,
+                              const double *f0, int ns, const double *W,
+                              const double *xs, const double *r);
+/* A sim of m with the method and tolerances, starting at (t0, x0, v0),
+ * recording its events into ev (may be NULL). */
+vi_sim *vi_test_sim_stops(const vi_model *m, int method, double rtol,
+                          double atol, double t0, const double *x0,
+                          const double *v0, vi_test_rec *ev);
+
 #endif
