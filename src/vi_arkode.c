@@ -16,7 +16,7 @@
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_serial.h>
 
-#include "vi_sim_internal.h"
+#include "vi_rhs.h"
 
 /* of ARKODE's explicit tables the cheapest per accuracy on Fig. 2 (Verner
  * 8-5-6 and Dormand-Prince 7-4-5 need 3x and 1.2-1.4x the evaluations) */
@@ -25,6 +25,7 @@
 typedef struct ark_data {
   SUNContext ctx;
   void *mem;
+  vi_rhs *rhs;    /* the right-hand side's packed coefficients */
   ARKodeButcherTable B; /* our copy of the table, for polishing steps */
   int N;          /* 2n state, then nq ledger integrals */
   int nq;         /* 0 without the ledger, 4n, or 5n with nonlinear forces */
@@ -42,19 +43,16 @@ typedef struct ark_data {
 
 /* The extended right-hand side: state rates, then (ledger) FE', DE', XE',
  * CE' (and NE') as vi_cvode.c's quadratures compute them. */
-static void erk_f(vi_sim *s, double t, const double *z, double *zd)
+static void erk_f(vi_sim *s, ark_data *d, double t, const double *z,
+                  double *zd)
 {
   size_t n = (size_t)s->n;
-  vi_sim_accel(s, t, z, s->sticking, s->vp);
-  for (size_t i = 0; i < n; i++) {
-    zd[2 * i] = z[2 * i + 1];
-    zd[2 * i + 1] = s->vp[i];
-  }
+  vi_rhs_rate(s, d->rhs, t, z, zd);
   if (s->led) {
     double Lambda = 0.0, *gq = NULL;
     if (s->sticking) {
-      vi_sim_accel(s, t, z, 0, s->vp);
-      Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
+      vi_sim_accel(s, t, z, 0, d->rhs->acc);
+      Lambda = vi_dot(s->n, s->m->w, d->rhs->acc) / s->m->wMw;
     }
     if (s->nforces) {
       gq = s->fbuf + 3 * n;
@@ -67,7 +65,7 @@ static void erk_f(vi_sim *s, double t, const double *z, double *zd)
 static int rhs(double t, N_Vector y, N_Vector yd, void *user)
 {
   vi_sim *s = user;
-  erk_f(s, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yd));
+  erk_f(s, s->be_data, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yd));
   return s->force_failed ? -1 : 0; /* the host's force failed: stop */
 }
 
@@ -103,6 +101,7 @@ static void ark_destroy(vi_sim *s)
   if (!d) return;
   ERKStepFree(&d->mem);
   ARKodeButcherTable_Free(d->B);
+  vi_rhs_destroy(&d->rhs);
   N_VDestroy(d->y);
   N_VDestroy(d->yd);
   SUNContext_Free(&d->ctx);
@@ -122,6 +121,8 @@ static int ark_create(vi_sim *s)
   s->errmsg[0] = '\0';
   d->nq = s->led ? (s->nforces ? 5 : 4) * n : 0;
   d->N = 2 * n + d->nq;
+  VI_CHECK(vi_rhs_create(s, &d->rhs) == VI_OK, s->errmsg, VI_ERR_NOMEM,
+           "out of memory");
   d->B = ARKodeButcherTable_LoadERK(VI_ERK_TABLE);
   VI_CHECK(d->B, s->errmsg, VI_ERR_NOMEM, "ARKODE Butcher table unavailable");
   d->ze = calloc((size_t)d->N * (5 + (size_t)d->B->stages), sizeof(double));
@@ -234,7 +235,7 @@ static void rk_step(vi_sim *s, ark_data *d, double t0, double h)
       const double *kj = d->K + (size_t)j * N;
       for (int k = 0; k < N; k++) d->yt[k] += a * kj[k];
     }
-    erk_f(s, t0 + B->c[i] * h, d->yt, d->K + (size_t)i * N);
+    erk_f(s, d, t0 + B->c[i] * h, d->yt, d->K + (size_t)i * N);
   }
   memcpy(d->yo, d->y0, sizeof(double) * N);
   for (int i = 0; i < S; i++) {
@@ -279,9 +280,67 @@ static int polish(vi_sim *s, ark_data *d, double tc, double lo, double hi)
   return 0;
 }
 
-typedef struct gap_ctx { vi_sim *s; ark_data *d; } gap_ctx;
+/* The start of the last step into d->y0 and its time into *t0. */
+static int step_start(ark_data *d, double *t0)
+{
+  double tn, h;
+  if (ERKStepGetCurrentTime(d->mem, &tn) < 0 ||
+      ERKStepGetLastStep(d->mem, &h) < 0 ||
+      ERKStepGetDky(d->mem, tn - h, 0, d->yd) < 0) /* Hermite: exact there */
+    return -1;
+  memcpy(d->y0, d->zd, sizeof(double) * d->N);
+  *t0 = tn - h;
+  return 0;
+}
 
+typedef struct gap_ctx { vi_sim *s; ark_data *d; double t0; } gap_ctx;
+
+/* The gap at t on a Runge-Kutta step from the last step's start (d->y0):
+ * a grazing contact is a matter of the gap's last digits, which the cubic
+ * interpolant does not have. */
 static double gap_at(double t, void *p)
+{
+  gap_ctx *c = p;
+  double g, gd;
+  rk_step(c->s, c->d, c->t0, t - c->t0);
+  vi_sim_gap(c->s, c->d->yo, &g, &gd);
+  return g;
+}
+
+/* A contact root at s->t: polish it.  Newton can fail on a grazing
+ * contact, where the interpolant's root lies beyond the gap's maximum on
+ * the step; then the first point of [lo, hi] where the step's own gap is
+ * non-negative (the root, the step's end, or a scan between) brackets the
+ * crossing.  Only if the step shows none is the interpolant's kept. */
+static int on_root_contact(vi_sim *s, ark_data *d, double lo, double hi,
+                           int *event)
+{
+  *event = VI_STEP_CONTACT;
+  double tr = s->t;
+  if (polish(s, d, tr, lo, hi)) return VI_OK;
+  gap_ctx c = {s, d, 0.0};
+  if (step_start(d, &c.t0) == 0 && gap_at(lo, &c) < 0.0) {
+    double b = tr;
+    if (!(gap_at(b, &c) >= 0.0)) b = hi;
+    for (int k = 1; k < 16 && !(gap_at(b, &c) >= 0.0); k++)
+      b = lo + (hi - lo) * k / 16.0;
+    if (gap_at(b, &c) >= 0.0) {
+      double tc = b;
+      int st = vi_sim_bracket(s, gap_at, &c, lo, b, &tc);
+      if (st) return st;
+      gap_at(tc, &c);
+      memcpy(d->ze, d->yo, sizeof(double) * d->N);
+      s->t = tc;
+      if (!polish(s, d, tc, lo, b)) put_state(s, d->ze);
+      return VI_OK;
+    }
+  }
+  put_state(s, d->ze);
+  return VI_OK;
+}
+
+/* The gap at t on ARKODE's interpolant. */
+static double gap_interp(double t, void *p)
 {
   gap_ctx *c = p;
   double g, gd;
@@ -290,35 +349,29 @@ static double gap_at(double t, void *p)
   return g;
 }
 
-/* A contact root at s->t: polish it, else keep the interpolant's. */
-static int on_root_contact(vi_sim *s, ark_data *d, double lo, double hi,
-                           int *event)
-{
-  if (!polish(s, d, s->t, lo, hi)) put_state(s, d->ze);
-  *event = VI_STEP_CONTACT;
-  return VI_OK;
-}
-
 /* A maximum of the gap at s->t (as vi_cvode.c): a positive gap there means
- * the contact was stepped over; locate the first crossing. */
+ * the contact was stepped over; locate the first crossing, on the step
+ * itself where the step shows it, else on the interpolant.  Whether the
+ * maximum crosses is read on the interpolant, as CVODE does: where the
+ * true maximum just touches the stop (a plastic impact's rebound) either
+ * answer is within the error. */
 static int graze_check(vi_sim *s, ark_data *d, int *event)
 {
   double g, gd;
   vi_sim_gap(s, s->z, &g, &gd);
   s->stats[VI_STAT_GRAZE_CHECKS]++;
   if (g <= 0.0) return VI_OK;
-  double tn, hu, lo;
-  ERKStepGetCurrentTime(d->mem, &tn);
-  ERKStepGetLastStep(d->mem, &hu);
-  lo = fmax(d->t_prev, tn - hu);
-  gap_ctx c = {s, d};
-  double tc = lo, tmax = s->t;
-  if (gap_at(lo, &c) < 0.0) {
-    int st = vi_sim_bracket(s, gap_at, &c, lo, tmax, &tc);
+  gap_ctx c = {s, d, 0.0};
+  if (step_start(d, &c.t0) < 0)
+    return vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "ERKStepGetDky failed");
+  double tmax = s->t, lo = fmax(d->t_prev, c.t0), tc = lo;
+  double (*gap)(double, void *) = gap_at(tmax, &c) > 0.0 ? gap_at : gap_interp;
+  if (gap(lo, &c) < 0.0) {
+    int st = vi_sim_bracket(s, gap, &c, lo, tmax, &tc);
     if (st) return st;
   }
-  if (ERKStepGetDky(d->mem, tc, 0, d->y) < 0)
-    return vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "ERKStepGetDky failed");
+  gap_at(tc, &c);
+  memcpy(d->ze, d->yo, sizeof(double) * d->N);
   s->t = tc;
   if (!polish(s, d, tc, lo, tmax)) put_state(s, d->ze);
   *event = VI_STEP_CONTACT;
