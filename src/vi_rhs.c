@@ -48,7 +48,7 @@ int vi_rhs_create(const vi_sim *s, vi_rhs **out)
   r->f0 = m->Minv_f0;
   r->harmonic = s->harmonic;
   r->W = m->omega_f;
-  for (int k = 0; k < 4; k++) r->tc[k] = NAN;
+  for (int k = 0; k < VI_RHS_TRIG; k++) r->tc[k] = NAN;
   *out = r;
   return VI_OK;
 }
@@ -65,14 +65,14 @@ void vi_rhs_destroy(vi_rhs **r)
 
 static void trig(vi_rhs *r, double t, double *c, double *sn)
 {
-  for (int k = 0; k < 4; k++)
+  for (int k = 0; k < VI_RHS_TRIG; k++)
     if (r->tc[k] == t) {
       *c = r->cc[k];
       *sn = r->sc[k];
       return;
     }
   int k = r->next;
-  r->next = (k + 1) & 3;
+  r->next = k + 1 == VI_RHS_TRIG ? 0 : k + 1;
   r->tc[k] = t;
   r->cc[k] = *c = cos(r->W * t);
   r->sc[k] = *sn = sin(r->W * t);
@@ -83,19 +83,22 @@ void vi_rhs_rate(vi_sim *s, vi_rhs *r, double t, const double *z, double *zd)
   int n = r->n, width = r->width;
   double c = 1.0, sn = 0.0;
   if (r->harmonic) trig(r, t, &c, &sn);
-  double *acc = r->acc;
-  const double *R = r->R;
+  /* locals: acc may not alias the coefficients, so they stay in registers */
+  double *restrict acc = r->acc;
+  const double *restrict R = r->R;
+  const double *restrict fa = r->fa, *restrict fb = r->fb, *restrict f0 = r->f0;
+  const int *restrict lo = r->lo;
   if (width == 6) { /* a chain: tridiagonal M^-1 K, M^-1 C */
     for (int i = 0; i < n; i++) {
-      const double *row = R + 6 * (size_t)i, *zi = z + r->lo[i];
-      acc[i] = r->fa[i] * c + r->fb[i] * sn + r->f0[i] + row[0] * zi[0] +
+      const double *row = R + 6 * (size_t)i, *zi = z + lo[i];
+      acc[i] = fa[i] * c + fb[i] * sn + f0[i] + row[0] * zi[0] +
                row[1] * zi[1] + row[2] * zi[2] + row[3] * zi[3] +
                row[4] * zi[4] + row[5] * zi[5];
     }
   } else {
     for (int i = 0; i < n; i++) {
-      const double *row = R + (size_t)width * (size_t)i, *zi = z + r->lo[i];
-      double a = r->fa[i] * c + r->fb[i] * sn + r->f0[i];
+      const double *row = R + (size_t)width * (size_t)i, *zi = z + lo[i];
+      double a = fa[i] * c + fb[i] * sn + f0[i];
       for (int q = 0; q < width; q++) a += row[q] * zi[q];
       acc[i] = a;
     }

@@ -4,10 +4,14 @@
 
 #include "vi_sim_internal.h"
 
+/* Stage times a 13-stage step revisits: c = 1/6 and c = 1 twice, and its
+ * c = 0 is the last step's c = 1, ten evaluations back. */
+#define VI_RHS_TRIG 12
+
 /* M^-1 K and M^-1 C packed by rows over their band, interleaved like the
  * state so that each acceleration is one short dot product with z, and a
  * small cache of cos/sin of the forcing (a Runge-Kutta step asks for the
- * same stage times again: c = 0 and c = 1 of consecutive steps). */
+ * same stage times again). */
 typedef struct vi_rhs {
   int n, width;     /* width: coefficients per row, 2 (2 bw + 1) or 2n */
   int *lo;          /* [n] first state index each row reads */
@@ -17,7 +21,8 @@ typedef struct vi_rhs {
                        side while the driver holds s->vp (dense output) */
   int harmonic;
   double W;
-  double tc[4], cc[4], sc[4]; /* cache: t, cos(W t), sin(W t) */
+  double tc[VI_RHS_TRIG], cc[VI_RHS_TRIG], sc[VI_RHS_TRIG]; /* cache: t,
+                                               cos(W t), sin(W t) */
   int next;
 } vi_rhs;
 
