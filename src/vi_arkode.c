@@ -107,7 +107,10 @@ typedef struct ark_data {
   double *y0, *yt, *yo, *K; /* polishing: step start, stage input, output
                                [N each], stages [stages * N] */
   N_Vector y, yd;
-  int nroots;     /* 2 in free flight, 1 while sticking; 0 before a start */
+  int nroots;     /* 2 per stop in free flight, 1 while sticking (one stop;
+                     the driver runs sticking on CVODE); 0 before a start */
+  int *rinfo;     /* [2 ns]: root directions at a start, then root info */
+  int k;          /* the stop whose gap the contact search looks at */
   long polish_rhs;
   double t_prev;  /* time of the previous return */
   int continued;  /* the last step ended on a root we integrated through */
@@ -142,8 +145,9 @@ static int rhs(double t, N_Vector y, N_Vector yd, void *user)
   return s->force_failed ? -1 : 0; /* the host's force failed: stop */
 }
 
-/* As vi_cvode.c: contact (g rising), gap maxima (g' falling), and while
- * sticking the free normal acceleration falling through zero. */
+/* As vi_cvode.c: per stop k, contact (g_k rising) and gap maxima (g_k'
+ * falling); while sticking on the one stop, the free normal acceleration
+ * falling through zero. */
 static int roots(double t, N_Vector y, double *g, void *user)
 {
   vi_sim *s = user;
@@ -151,9 +155,9 @@ static int roots(double t, N_Vector y, double *g, void *user)
   if (s->sticking) {
     vi_sim_accel(s, t, z, 0, s->vp);
     g[0] = vi_dot(s->n, s->m->w, s->vp);
-  } else {
-    vi_sim_gap(s, z, &g[0], &g[1]);
+    return 0;
   }
+  for (int k = 0; k < s->ns; k++) vi_sim_gap_k(s, k, z, &g[2 * k], &g[2 * k + 1]);
   return 0;
 }
 
@@ -179,6 +183,7 @@ static void ark_destroy(vi_sim *s)
   N_VDestroy(d->yd);
   SUNContext_Free(&d->ctx);
   free(d->ze);
+  free(d->rinfo);
   free(d);
   s->be_data = NULL;
 }
@@ -199,7 +204,8 @@ static int ark_create(vi_sim *s)
   d->B = dp87_table();
   VI_CHECK(d->B, s->errmsg, VI_ERR_NOMEM, "ARKODE Butcher table unavailable");
   d->ze = calloc((size_t)d->N * (5 + (size_t)d->B->stages), sizeof(double));
-  VI_CHECK(d->ze, s->errmsg, VI_ERR_NOMEM, "out of memory");
+  d->rinfo = calloc(2 * (size_t)s->ns, sizeof(int));
+  VI_CHECK(d->ze && d->rinfo, s->errmsg, VI_ERR_NOMEM, "out of memory");
   d->zd = d->ze + d->N;
   d->y0 = d->zd + d->N;
   d->yt = d->y0 + d->N;
@@ -273,9 +279,10 @@ static int ark_start(vi_sim *s)
     ARK_TRY(ERKStepReset(d->mem, s->t, d->y));
   }
   ark_data *d = s->be_data;
-  int nr = s->sticking ? 1 : 2;
+  int nr = s->sticking ? 1 : 2 * s->ns;
   if (nr != d->nroots) {
-    int dir[2] = {s->sticking ? -1 : 1, -1};
+    int *dir = d->rinfo;
+    for (int i = 0; i < nr; i++) dir[i] = i % 2 || s->sticking ? -1 : 1;
     ARK_TRY(ERKStepRootInit(d->mem, nr, roots));
     ARK_TRY(ERKStepSetRootDirection(d->mem, dir));
     ARK_TRY(ERKStepSetNoInactiveRootWarn(d->mem));
@@ -335,12 +342,13 @@ static int polish(vi_sim *s, ark_data *d, double tc, double lo, double hi)
   memcpy(d->y0, d->zd, sizeof(double) * d->N);
   double t = tc;
   for (int it = 0; it < 8; it++) {
-    double g, gd, scale = fabs(s->m->xs);
+    const double *w = vi_stop_w(s->m, d->k);
+    double g, gd, scale = fabs(s->m->xsv[d->k]);
     rk_step(s, d, t0, t - t0);
     if (s->force_failed) return 0;
-    vi_sim_gap(s, d->yo, &g, &gd);
+    vi_sim_gap_k(s, d->k, d->yo, &g, &gd);
     if (!(gd > 0.0)) return 0;
-    for (int i = 0; i < s->n; i++) scale += fabs(s->m->w[i] * d->yo[2 * i]);
+    for (int i = 0; i < s->n; i++) scale += fabs(w[i] * d->yo[2 * i]);
     double dt = -g / gd;
     /* converged in t, or the gap is at its round-off (a grazing contact's
      * slow rate turns one ulp of g into many of t) */
@@ -391,7 +399,7 @@ static double gap_at(double t, void *p)
   gap_ctx *c = p;
   double g, gd;
   rk_step(c->s, c->d, c->t0, t - c->t0);
-  vi_sim_gap(c->s, c->d->yo, &g, &gd);
+  vi_sim_gap_k(c->s, c->d->k, c->d->yo, &g, &gd);
   return g;
 }
 
@@ -405,9 +413,9 @@ static double step_max(vi_sim *s, ark_data *d, gap_ctx *c, double lo, double hi,
   double t = *tm, g = gap_at(t, c);
   for (int it = 0; it < 4; it++) {
     double gd, gdd, dummy;
-    vi_sim_gap(s, d->yo, &dummy, &gd);
+    vi_sim_gap_k(s, d->k, d->yo, &dummy, &gd);
     vi_rhs_rate(s, d->rhs, t, d->yo, d->yt);
-    vi_sim_gap(s, d->yt, &dummy, &gdd);
+    vi_sim_gap_k(s, d->k, d->yt, &dummy, &gdd);
     d->polish_rhs++;
     if (!(gdd < 0.0)) break;
     double tn = fmin(hi, fmax(lo, t - gd / gdd));
@@ -429,10 +437,11 @@ static double step_max(vi_sim *s, ark_data *d, gap_ctx *c, double lo, double hi,
  * the step; then the first point where the step's own gap is non-negative
  * (the root, the step's maximum near it, or the step's end) brackets the
  * crossing.  Only if the step shows none is the interpolant's kept. */
-static int on_root_contact(vi_sim *s, ark_data *d, double lo, double hi,
-                           int *event)
+static int on_root_contact(vi_sim *s, ark_data *d, int k, double lo,
+                           double hi, int *event)
 {
   *event = VI_STEP_CONTACT;
+  s->contact_stop = d->k = k;
   double tr = s->t;
   if (polish(s, d, tr, lo, hi)) return VI_OK;
   gap_ctx c = {s, d, 0.0};
@@ -460,9 +469,10 @@ static int on_root_contact(vi_sim *s, ark_data *d, double lo, double hi,
  * over an 8th-order step is too coarse to see a graze of the integration
  * error's depth, so the maximum and the crossing are found on the step
  * itself. */
-static int graze_check(vi_sim *s, ark_data *d, int *event)
+static int graze_check(vi_sim *s, ark_data *d, int k, int *event)
 {
   s->stats[VI_STAT_GRAZE_CHECKS]++;
+  d->k = k;
   gap_ctx c = {s, d, 0.0};
   if (step_start(d, &c.t0) < 0) return step_failed(s, "ERKStepGetDky", s->t);
   double tn, lo = fmax(d->t_prev, c.t0), tmax = s->t;
@@ -472,7 +482,7 @@ static int graze_check(vi_sim *s, ark_data *d, int *event)
   /* a maximum within 1 % of the gap's error tolerance only touches: a
    * plastic impact's rebound returns to the stop tangentially, and the
    * last digits of the step would report spurious contacts there */
-  if (!(g > 0.01 * (s->atol + s->rtol * fabs(s->m->xs)) * s->wnorm))
+  if (!(g > 0.01 * (s->atol + s->rtol * fabs(s->m->xsv[k])) * s->wnorms[k]))
     return VI_OK;
   double tc = lo;
   if (gap_at(lo, &c) < 0.0) {
@@ -483,6 +493,7 @@ static int graze_check(vi_sim *s, ark_data *d, int *event)
   memcpy(d->ze, d->yo, sizeof(double) * d->N);
   s->t = tc;
   if (!polish(s, d, tc, lo, tmax)) put_state(s, d->ze);
+  s->contact_stop = k;
   *event = VI_STEP_CONTACT;
   return VI_OK;
 }
@@ -518,15 +529,23 @@ static int ark_step(vi_sim *s, double t_end, int *event)
   s->t = t;
   put_state(s, d->ze);
   if (flag == ARK_ROOT_RETURN) {
-    int info[2] = {0, 0};
+    int *info = d->rinfo, kc = -1;
     ERKStepGetRootInfo(d->mem, info);
     if (s->sticking) *event = info[0] ? VI_STEP_RELEASE : VI_STEP_NONE;
-    else if (info[0]) {
-      double tn, hu;
-      ERKStepGetCurrentTime(d->mem, &tn);
-      ERKStepGetLastStep(d->mem, &hu);
-      st = on_root_contact(s, d, fmax(d->t_prev, tn - hu), tn, event);
-    } else if (info[1]) st = graze_check(s, d, event);
+    else {
+      /* a contact first (the driver looks at the other stops at that
+       * instant), else the gap maxima's grazing checks in stop order */
+      for (int k = 0; k < s->ns && kc < 0; k++)
+        if (info[2 * k]) kc = k;
+      if (kc >= 0) {
+        double tn, hu;
+        ERKStepGetCurrentTime(d->mem, &tn);
+        ERKStepGetLastStep(d->mem, &hu);
+        st = on_root_contact(s, d, kc, fmax(d->t_prev, tn - hu), tn, event);
+      }
+      for (int k = 0; k < s->ns && kc < 0 && *event == VI_STEP_NONE && !st; k++)
+        if (info[2 * k + 1]) st = graze_check(s, d, k, event);
+    }
     d->continued = *event == VI_STEP_NONE;
   }
   d->t_prev = s->t;

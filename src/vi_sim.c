@@ -172,7 +172,7 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && !s->m->flow_ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->m->flow_why);
-  if ((method == VI_METHOD_EXACT || method == VI_METHOD_ERK) && s->ns > 1)
+  if (method == VI_METHOD_EXACT && s->ns > 1)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "%s method unavailable: "
                    "the model has %d stops and its contact search handles "
                    "one (use adams or bdf)", method_names[method], s->ns);
