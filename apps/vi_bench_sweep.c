@@ -60,12 +60,12 @@ static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
 static int identical(const vi_sweep *a, const vi_sweep *b)
 {
   int K = a->spec.steps, R = a->spec.record;
-  if (memcmp(a->lines[0].strobe, b->lines[0].strobe, sizeof(double) * K * R * 2 * a->N))
+  if (memcmp(a->lines[0].strobe, b->lines[0].strobe, sizeof(double) * K * R * 2 * a->N) != 0)
     return 0;
   for (int k = 0; k < K; k++) {
     const vi_sweep_point *p = &a->lines[0].pt[k], *q = &b->lines[0].pt[k];
     if (p->n != q->n || p->m != q->m || p->nimp != q->nimp ||
-        (p->nimp && memcmp(p->vn, q->vn, sizeof(double) * p->nimp)))
+        (p->nimp && memcmp(p->vn, q->vn, sizeof(double) * p->nimp) != 0))
       return 0;
   }
   return 1;
@@ -91,7 +91,7 @@ int main(int argc, char **argv)
 {
   int K = 1000, P = 500, R = 100, T = 2;
   for (int i = 1; i + 1 < argc; i += 2) {
-    int v = atoi(argv[i + 1]);
+    int v = (int)strtol(argv[i + 1], NULL, 10);
     if (!strcmp(argv[i], "--values")) K = v;
     else if (!strcmp(argv[i], "--transient")) P = v;
     else if (!strcmp(argv[i], "--record")) R = v;

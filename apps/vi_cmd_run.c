@@ -184,8 +184,9 @@ int vi_cmd_run(const app_opts *o)
   c.t_end = vi_scene_t_end(sc);
   /* only what something consumes: the ledger feeds the file and the
    * summary; samples go only into a file */
-  int ledger = vi_scene_wants(sc, "ledger") && (o->out || !o->quiet);
-  c.store_events = vi_scene_wants(sc, "impacts");
+  int outs = vi_scene_outputs(sc);
+  int ledger = (outs & VI_SCENE_OUT_LEDGER) && (o->out || !o->quiet);
+  c.store_events = (outs & VI_SCENE_OUT_IMPACTS) != 0;
   int spp = o->out ? vi_scene_samples_per_period(sc) : 0;
   if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
     if (!d.message[0]) snprintf(d.message, sizeof d.message, "%s", vi_sim_errmsg(s));
@@ -195,13 +196,13 @@ int vi_cmd_run(const app_opts *o)
   }
   /* from here files exist: a signal before the run polls removes them */
   if (o->out) snprintf(h5part, sizeof h5part, "%s.part", o->out_target);
-  if (o->csv && strcmp(o->csv, "-"))
+  if (o->csv && strcmp(o->csv, "-") != 0)
     snprintf(part, sizeof part, "%s.part", o->csv_target);
   vi_app_arm_parts(h5part, part);
   if (o->out) {
     if (!(c.wa = vi_app_writer())) goto done;
-    if (c.wa->create(o->out_target, m, vi_scene_wants(sc, "compress"),
-                         &c.w, &d)) {
+    if (c.wa->create(o->out_target, m, (outs & VI_SCENE_OUT_COMPRESS) != 0,
+                     &c.w, &d)) {
       fprintf(stderr, "vibroimpact: %s\n", d.message);
       goto done;
     }

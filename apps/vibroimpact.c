@@ -121,6 +121,15 @@ static int num(const char *opt, const char *s, double *out)
   return 1;
 }
 
+/* A number > 0 (periods, tolerances). */
+static int positive(const char *opt, const char *s, double *out)
+{
+  if (!num(opt, s, out)) return 0;
+  if (*out > 0) return 1;
+  fprintf(stderr, "vibroimpact: %s must be > 0\n", opt);
+  return 0;
+}
+
 /* A size in bytes with an optional K, M or G suffix (powers of 1024). */
 static int bytes(const char *opt, const char *s, double *out)
 {
@@ -275,18 +284,9 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
     switch (c) {
     case 'o': o.out = optarg; break;
     case 'c': o.csv = optarg; break;
-    case 'p':
-      if (!num("--periods", optarg, &o.periods)) return 2;
-      if (!(o.periods > 0)) { fprintf(stderr, "vibroimpact: --periods must be > 0\n"); return 2; }
-      break;
-    case 'r':
-      if (!num("--rtol", optarg, &o.rtol)) return 2;
-      if (!(o.rtol > 0)) { fprintf(stderr, "vibroimpact: --rtol must be > 0\n"); return 2; }
-      break;
-    case 'a':
-      if (!num("--atol", optarg, &o.atol)) return 2;
-      if (!(o.atol > 0)) { fprintf(stderr, "vibroimpact: --atol must be > 0\n"); return 2; }
-      break;
+    case 'p': if (!positive("--periods", optarg, &o.periods)) return 2; break;
+    case 'r': if (!positive("--rtol", optarg, &o.rtol)) return 2; break;
+    case 'a': if (!positive("--atol", optarg, &o.atol)) return 2; break;
     case 'm':
       if ((o.method = vi_method_from_name(optarg)) < 0) {
         fprintf(stderr, "vibroimpact: --method: '%s' is not one of", optarg);
@@ -382,14 +382,14 @@ int main(int argc, char **argv)
   sigaddset(&block, SIGTERM);
   sigprocmask(SIG_BLOCK, &block, &old);
   int bad = (o.out && check_output(o.out, o.out_target)) ||
-            (o.csv && strcmp(o.csv, "-") && check_output(o.csv, o.csv_target));
+            (o.csv && strcmp(o.csv, "-") != 0 && check_output(o.csv, o.csv_target));
   sigprocmask(SIG_SETMASK, &old, NULL);
   if (bad) return 1;
   /* the scene is the user's, not ours to replace */
   struct stat ss, os;
   if (o.scene && stat(o.scene, &ss) == 0 && S_ISREG(ss.st_mode))
     for (int k = 0; k < 2; k++) {
-      const char *t = k ? (o.csv && strcmp(o.csv, "-") ? o.csv_target : NULL)
+      const char *t = k ? (o.csv && strcmp(o.csv, "-") != 0 ? o.csv_target : NULL)
                         : (o.out ? o.out_target : NULL);
       if (t && stat(t, &os) == 0 && os.st_dev == ss.st_dev &&
           os.st_ino == ss.st_ino) {
@@ -398,7 +398,7 @@ int main(int argc, char **argv)
         return 2;
       }
     }
-  if (o.out && o.csv && strcmp(o.csv, "-") &&
+  if (o.out && o.csv && strcmp(o.csv, "-") != 0 &&
       !strcmp(o.out_target, o.csv_target)) {
     fprintf(stderr, "vibroimpact: -o and --impacts-csv name the same file "
             "%s\n", o.out_target);

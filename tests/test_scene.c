@@ -37,11 +37,11 @@ static void test_shipped_scenes_run(void **state)
     assert_int_equal(vi_model_n(m), vi_scene_n(sc));
     assert_int_equal(vi_sim_create(m, &s), VI_OK);
     assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
-    if (vi_scene_wants(sc, "ledger")) assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+    if (vi_scene_outputs(sc) & VI_SCENE_OUT_LEDGER) assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
     st = vi_sim_run(s, vi_scene_t_end(sc));
     if (st) print_error("%s: %s\n", path, vi_sim_errmsg(s));
     assert_int_equal(st, VI_OK);
-    if (vi_scene_wants(sc, "ledger")) assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
+    if (vi_scene_outputs(sc) & VI_SCENE_OUT_LEDGER) assert_true(vi_sim_ledger_max_residual(s) < 1e-6);
     print_message("%-22s n = %d, %lld impacts in 5 periods\n", e->d_name,
                   vi_model_n(m), (long long)vi_sim_get_stat(s, VI_STAT_IMPACTS));
     vi_sim_destroy(&s);
@@ -274,7 +274,7 @@ static void test_misuse(void **state)
   assert_true(vi_scene_rtol(NULL) == 0 && vi_scene_atol(NULL) == 0);
   assert_int_equal(vi_scene_method(NULL), 0);
   assert_int_equal(vi_scene_samples_per_period(NULL), 0);
-  assert_int_equal(vi_scene_wants(NULL, "ledger"), 0);
+  assert_int_equal(vi_scene_outputs(NULL), 0);
   assert_true(vi_scene_memory_estimate(NULL) == 0);
   assert_int_equal(vi_scene_check_memory(NULL, 0, &d), VI_ERR_ARG);
   assert_int_equal(vi_scene_set_run(NULL, 0, 0, 0, -1), VI_ERR_ARG);
@@ -287,8 +287,6 @@ static void test_misuse(void **state)
   vi_diag_format(&d, buf, -3);
   /* a valid scene with bad overrides */
   assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "fig2", &sc, &d), VI_OK);
-  assert_int_equal(vi_scene_wants(sc, NULL), 0);
-  assert_int_equal(vi_scene_wants(sc, "nonsense"), 0);
   assert_int_equal(vi_scene_set_run(sc, NAN, 0, 0, -1), VI_ERR_ARG);
   assert_int_equal(vi_scene_set_run(sc, 0, 0, INFINITY, -1), VI_ERR_ARG);
   assert_int_equal(vi_scene_set_run(sc, 0, 0, 0, 99), VI_ERR_ARG);
@@ -342,6 +340,41 @@ static void test_yaml_strictness(void **state)
   }
 }
 
+/* output: one typed bit per key, defaults impacts and compress on; a key
+ * set to false clears its bit, and a non-boolean is refused at its line. */
+static void test_outputs(void **state)
+{
+  (void)state;
+  static const struct { const char *output; int bits; } c[] = {
+    {"", VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_COMPRESS},
+    {"output: {ledger: true}\n",
+     VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_LEDGER | VI_SCENE_OUT_COMPRESS},
+    {"output: {impacts: false, compress: false, modes: true}\n",
+     VI_SCENE_OUT_MODES},
+    {"output: {ledger: true, modes: true, impacts: true, compress: true}\n",
+     VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_LEDGER | VI_SCENE_OUT_MODES |
+         VI_SCENE_OUT_COMPRESS},
+  };
+  for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
+    char text[512];
+    snprintf(text, sizeof text, "%s%s%s", CHAIN GOOD_STOP, "run: {t_end: 1}\n",
+             c[k].output);
+    vi_scene *sc = NULL;
+    vi_diag d;
+    assert_int_equal(vi_scene_parse(text, -1, "outputs", &sc, &d), VI_OK);
+    assert_int_equal(vi_scene_outputs(sc), c[k].bits);
+    vi_scene_destroy(&sc);
+  }
+  vi_scene *sc = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(CHAIN GOOD_STOP "run: {t_end: 1}\n"
+                                  "output: {ledger: yes}\n", -1, "outputs",
+                                  &sc, &d), VI_ERR_PARSE);
+  assert_string_equal(d.key, "output.ledger");
+  assert_int_equal(d.line, 5); /* CHAIN 1-2, stop 3, run 4, output 5 */
+  assert_null(sc);
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
@@ -354,6 +387,7 @@ int main(void)
       cmocka_unit_test(test_overrides_and_builders),
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_yaml_strictness),
+      cmocka_unit_test(test_outputs),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -25,7 +25,7 @@ static int sample_check(double t, int n, const double *x, const double *v, void 
     c->nonfinite += !isfinite(x[i]) || !isfinite(v[i]);
     c->err = fmax(c->err, fmax(fabs(x[i] - xe[i]), fabs(v[i] - ve[i])));
     if (c->n == 0) {
-      c->first[2 * i] = x[i];
+      c->first[(size_t)2 * (size_t)i] = x[i];
       c->first[2 * i + 1] = v[i];
     }
   }
@@ -53,7 +53,7 @@ static void test_free_flight_matches_closed_form(void **state)
     assert_int_equal(c.nonfinite, 0);
     /* the sample at t0 is the initial state itself */
     for (int i = 0; i < 2; i++) {
-      assert_true(c.first[2 * i] == c.x0[i]);
+      assert_true(c.first[(size_t)2 * (size_t)i] == c.x0[i]);
       assert_true(c.first[2 * i + 1] == c.v0[i]);
     }
     assert_true(c.err < 1e-9);

@@ -21,7 +21,8 @@ vi_model *vi_test_chain(int n, double m, double k, double c, double xs,
 {
   double *buf = calloc((size_t)3 * n * n + 4 * (size_t)n, sizeof(double));
   assert_non_null(buf);
-  double *M = buf, *C = M + n * n, *K = C + n * n, *mv = K + n * n;
+  size_t nn = (size_t)n * (size_t)n;
+  double *M = buf, *C = M + nn, *K = C + nn, *mv = K + nn;
   double *kv = mv + n, *cv = kv + n, *w = cv + n;
   for (int i = 0; i < n; i++) {
     mv[i] = m;

@@ -55,7 +55,7 @@ extern "C" {
 #endif
 
 /** Default limits and ranges of scene values (see the file comment). */
-#define VI_SCENE_MAX_BYTES (16 * 1024 * 1024) /**< largest scene text */
+#define VI_SCENE_MAX_BYTES 16777216 /**< largest scene text (16 MiB) */
 #define VI_SCENE_MAX_DEPTH 32                  /**< deepest YAML nesting */
 #define VI_SCENE_NUM_MAX 1e100           /**< largest magnitude of a number */
 #define VI_SCENE_RATIO_MAX 1e12          /**< spread of masses, stiffnesses */
@@ -144,9 +144,16 @@ VI_API double vi_scene_atol(const vi_scene *sc);
 VI_API int vi_scene_method(const vi_scene *sc);
 /** output.samples_per_period (0: no sampling). */
 VI_API int vi_scene_samples_per_period(const vi_scene *sc);
-/** 1 if the scene's output asks for `what`: "impacts", "ledger", "modes" or
- *  "compress"; else 0. */
-VI_API int vi_scene_wants(const vi_scene *sc, const char *what);
+/** What a scene's `output:` asks for, one bit each (vi_scene_outputs). */
+typedef enum vi_scene_output {
+  VI_SCENE_OUT_IMPACTS = 1,  /**< output.impacts (default on): /impacts */
+  VI_SCENE_OUT_LEDGER = 2,   /**< output.ledger: the energy ledger, /ledger */
+  VI_SCENE_OUT_MODES = 4,    /**< output.modes: the /modal group */
+  VI_SCENE_OUT_COMPRESS = 8  /**< output.compress (default on): deflate */
+} vi_scene_output;
+/** The scene's outputs: an OR of vi_scene_output bits; 0 for NULL.  Test
+ *  one with `vi_scene_outputs(sc) & VI_SCENE_OUT_LEDGER`. */
+VI_API int vi_scene_outputs(const vi_scene *sc);
 /** Override the run from the command line (code overrides scene): values
  *  <= 0 (method < 0) keep the scene's.  @return VI_OK, VI_ERR_ARG (NaN, an
  *  unknown method), VI_ERR_TOLERANCE (rtol outside [VI_SCENE_RTOL_MIN,

@@ -5,6 +5,7 @@ pkgs=(cmake make gcc g++ gfortran binutils pkg-config libsundials-dev libgsl-dev
       liblapacke-dev libcmocka-dev libhdf5-dev libyaml-dev
       python3-h5py python3-matplotlib doxygen xz-utils)
 pkgs+=(libopenmpi-dev openmpi-bin)  # vibroimpact sweep under mpirun
+pkgs+=(clang clang-tidy cppcheck)    # the fuzz targets (libFuzzer) and the lint test
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \

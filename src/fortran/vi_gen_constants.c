@@ -53,6 +53,8 @@ int main(int argc, char **argv)
     constant(f, "VI_DIAG_MESSAGE_LEN", (long)sizeof d.message);
     constant(f, "VI_C_SIZEOF_DIAG", (long)sizeof d);
   }
+  K_(VI_SCENE_OUT_IMPACTS); K_(VI_SCENE_OUT_LEDGER); K_(VI_SCENE_OUT_MODES);
+  K_(VI_SCENE_OUT_COMPRESS);
 #undef K_
   return fclose(f) != 0;
 }

@@ -30,7 +30,7 @@ module vibroimpact_io
   public :: vi_scene_load, vi_scene_parse, vi_scene_destroy, vi_scene_create_model, &
             vi_scene_configure_sim, vi_scene_name, vi_scene_text, vi_scene_n, &
             vi_scene_t0, vi_scene_t_end, vi_scene_rtol, vi_scene_atol, &
-            vi_scene_method, vi_scene_samples_per_period, vi_scene_wants, &
+            vi_scene_method, vi_scene_samples_per_period, vi_scene_outputs, &
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
             vi_scene_memory_estimate, vi_scene_check_memory
@@ -192,11 +192,10 @@ module vibroimpact_io
       import :: c_int, c_ptr
       type(c_ptr), value :: scene
     end function
-    !> what: 'ledger'//c_null_char, ...
-    integer(c_int) function vi_scene_wants(scene, what) bind(C, name="vi_scene_wants")
-      import :: c_int, c_ptr, c_char
+    !> an OR of VI_SCENE_OUT_* bits: iand(vi_scene_outputs(scene), VI_SCENE_OUT_LEDGER) /= 0
+    integer(c_int) function vi_scene_outputs(scene) bind(C, name="vi_scene_outputs")
+      import :: c_int, c_ptr
       type(c_ptr), value :: scene
-      character(kind=c_char), intent(in) :: what(*)
     end function
     integer(c_int) function vi_scene_set_run(scene, rtol, atol, periods, method) &
         bind(C, name="vi_scene_set_run")

@@ -1,48 +1,21 @@
-/* vi_scene.c - scene files read with libyaml's document API.  Only this file
- * knows YAML; it does no numerics beyond assembling the model's matrices. */
+/* vi_scene.c - reading a scene: YAML text (libyaml's events, our own
+ * composer) into the plain description of vi_scene_internal.h, every value
+ * checked where it is read and every error reported with file:line:column
+ * and key.  The only file of the scene that knows YAML; the model is
+ * assembled in vi_scene_model.c, the run options live in
+ * vi_scene_options.c. */
 #include <errno.h>
-#include <float.h>
 #include <limits.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <yaml.h>
 
+#include "vi_scene_internal.h"
 #include "vibroimpact.h"
-#include "vibroimpact/vi_scene.h"
 
-enum { MODEL_EXPLICIT, MODEL_CHAIN, MODEL_CANTILEVER };
-
-struct vi_scene {
-  char *name, *text, *file;
-  int n, kind;
-  double *M, *C, *K;            /* explicit matrices [n*n], or NULL */
-  double *cm, *ck, *cc;         /* chain parameters [n] */
-  double omega1, zeta, xi_stop; /* cantilever */
-  int has_rayleigh;
-  double ra, rb;
-  double omega, base;
-  int has_base;
-  double *a, *b, *f0, *w, *x0, *v0;
-  int has_w;
-  double xs, r, t0, t_end, periods, rtol, atol;
-  int method, samples, out_impacts, out_ledger, out_modes, compress;
-  int line_model, line_stop, line_initial, line_run, line_forcing;
-  /* built-in nonlinear springs (vi_force.h), applied to the sim */
-  struct scene_spring {
-    int type, i, j, line;
-    double k, gap;
-  } *springs;
-  int nsprings;
-  /* stops: the first is w, xs, r above; the others here: xw [n x nx],
-   * xxs, xr [nx]; xint [2 nx]: has_w, then the entry's line */
-  int nx, stop_list;
-  double *xw, *xxs, *xr;
-  int *xint;
-};
 
 /* ---- diagnostics -------------------------------------------------------- */
 typedef struct ctx {
@@ -50,28 +23,6 @@ typedef struct ctx {
   vi_diag *d;
   const char *file;
 } ctx;
-
-static int diag(vi_diag *d, const char *file, int code, int line, int col,
-                const char *key, const char *value, const char *fmt, ...)
-    __attribute__((format(printf, 8, 9)));
-
-static int diag(vi_diag *d, const char *file, int code, int line, int col,
-                const char *key, const char *value, const char *fmt, ...)
-{
-  if (!d) return code;
-  memset(d, 0, sizeof *d);
-  d->code = code;
-  d->line = line;
-  d->column = col;
-  snprintf(d->file, sizeof d->file, "%s", file ? file : "");
-  snprintf(d->key, sizeof d->key, "%s", key ? key : "");
-  snprintf(d->value, sizeof d->value, "%s", value ? value : "");
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(d->message, sizeof d->message, fmt, ap);
-  va_end(ap);
-  return code;
-}
 
 void vi_diag_format(const vi_diag *d, char *buf, int len)
 {
@@ -98,8 +49,8 @@ static int fail(ctx *c, yaml_node_t *nd, int code, const char *key,
   const char *val = nd && nd->type == YAML_SCALAR_NODE
                         ? (const char *)nd->data.scalar.value
                         : "";
-  return diag(c->d, c->file, code, nd ? LINE(nd) : 0, nd ? COL(nd) : 0, key,
-              val, fmt, detail);
+  return vi_diag_set(c->d, c->file, code, nd ? LINE(nd) : 0,
+                     nd ? COL(nd) : 0, key, val, fmt, detail);
 }
 
 /* ---- typed access ------------------------------------------------------- */
@@ -135,13 +86,13 @@ static int check_map(ctx *c, yaml_node_t *map, const char *path,
       for (const char *const *a = allowed; *a; a++)
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
                  a == allowed ? "" : ", ", *a);
-      return diag(c->d, c->file, VI_ERR_PARSE, LINE(k), COL(k), full, ks,
-                  "unknown key (allowed here: %s)", list);
+      return vi_diag_set(c->d, c->file, VI_ERR_PARSE, LINE(k), COL(k), full, ks,
+                         "unknown key (allowed here: %s)", list);
     }
     for (yaml_node_pair_t *q = map->data.mapping.pairs.start; q < p; q++)
       if (!strcmp((const char *)node(c, q->key)->data.scalar.value, ks))
-        return diag(c->d, c->file, VI_ERR_PARSE, LINE(k), COL(k), full, ks,
-                    "%s", "key given twice");
+        return vi_diag_set(c->d, c->file, VI_ERR_PARSE, LINE(k), COL(k), full,
+                           ks, "%s", "key given twice");
   }
   return VI_OK;
 }
@@ -289,13 +240,20 @@ static int matrix(ctx *c, yaml_node_t *nd, const char *key, int n, double *out)
   return st;
 }
 
-/* Optional keys of a section: an absent key leaves *out at its default. */
+/* An optional key of a section: its node (NULL when absent: the value
+ * keeps its default) and its dotted name in full[128]. */
+static yaml_node_t *optional(ctx *c, yaml_node_t *map, const char *path,
+                             const char *key, char *full)
+{
+  join(full, path, key);
+  return find(c, map, key);
+}
+
 static int opt_number(ctx *c, yaml_node_t *map, const char *path,
                       const char *key, double *out)
 {
   char full[128];
-  yaml_node_t *v = find(c, map, key);
-  join(full, path, key);
+  yaml_node_t *v = optional(c, map, path, key, full);
   return v ? number(c, v, full, out) : VI_OK;
 }
 
@@ -303,18 +261,19 @@ static int opt_vector(ctx *c, yaml_node_t *map, const char *path,
                       const char *key, int n, double *out)
 {
   char full[128];
-  yaml_node_t *v = find(c, map, key);
-  join(full, path, key);
+  yaml_node_t *v = optional(c, map, path, key, full);
   return v ? vector(c, v, full, n, 0, out) : VI_OK;
 }
 
-static int opt_boolean(ctx *c, yaml_node_t *map, const char *path,
-                       const char *key, int *out)
+/* An optional boolean as one bit of *flags. */
+static int opt_flag(ctx *c, yaml_node_t *map, const char *path,
+                    const char *key, int bit, int *flags)
 {
   char full[128];
-  yaml_node_t *v = find(c, map, key);
-  join(full, path, key);
-  return v ? boolean(c, v, full, out) : VI_OK;
+  yaml_node_t *v = optional(c, map, path, key, full);
+  int on = 0, st = v ? boolean(c, v, full, &on) : VI_OK;
+  if (v && !st) *flags = on ? *flags | bit : *flags & ~bit;
+  return st;
 }
 
 /* ---- the sections ------------------------------------------------------- */
@@ -365,7 +324,7 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
     return fail(c, mod, VI_ERR_PARSE, "model", "%s",
                 "give exactly one of K (with M, C), chain or cantilever");
   if (K) {
-    s->kind = MODEL_EXPLICIT;
+    s->kind = VI_SCENE_EXPLICIT;
     if (K->type != YAML_SEQUENCE_NODE)
       return fail(c, K, VI_ERR_PARSE, "model.K", "%s",
                   "expected a list of rows");
@@ -416,7 +375,7 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
       return st;
   } else if (ch) {
     static const char *const ck[] = {"n", "m", "k", "c", NULL};
-    s->kind = MODEL_CHAIN;
+    s->kind = VI_SCENE_CHAIN;
     if ((st = check_map(c, ch, "model.chain", ck)) ||
         (st = integer(c, find(c, ch, "n"), "model.chain.n", 1, 100000, &s->n)))
       return st;
@@ -437,7 +396,7 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
   } else {
     static const char *const bk[] = {"modes", "omega1", "zeta", "xi_stop",
                                      NULL};
-    s->kind = MODEL_CANTILEVER;
+    s->kind = VI_SCENE_CANTILEVER;
     s->omega1 = 1.0;
     s->xi_stop = 1.0;
     const char *p = "model.cantilever";
@@ -489,7 +448,7 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
     return fail(c, on ? on : amp, VI_ERR_PARSE, "forcing", "%s",
                 "'on' and 'amplitude' go together");
   if (on) {
-    double A;
+    double A = 0;
     if (find(c, f, "a"))
       return fail(c, on, VI_ERR_PARSE, "forcing.on", "%s",
                   "give 'a' or 'on', not both");
@@ -499,13 +458,13 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
                   "expected a list of mass indices");
     for (yaml_node_item_t *it = on->data.sequence.items.start;
          it < on->data.sequence.items.top; it++) {
-      int j;
+      int j = 1;
       if ((st = integer(c, node(c, *it), "forcing.on", 1, s->n, &j))) return st;
       s->a[j - 1] = A;
     }
   }
   if (base) {
-    if (s->kind != MODEL_CANTILEVER)
+    if (s->kind != VI_SCENE_CANTILEVER)
       return fail(c, base, VI_ERR_PARSE, "forcing.base", "%s",
                   "base excitation needs a cantilever model");
     if ((st = number(c, base, "forcing.base", &s->base))) return st;
@@ -534,12 +493,12 @@ static int parse_stop_at(ctx *c, vi_scene *s, yaml_node_t *sp,
     *has_w = 1;
   }
   if (mass) {
-    int j;
+    int j = 1;
     if ((st = integer(c, mass, key, 1, s->n, &j))) return st;
     w[j - 1] = 1.0;
     *has_w = 1;
   }
-  if (!*has_w && s->kind != MODEL_CANTILEVER)
+  if (!*has_w && s->kind != VI_SCENE_CANTILEVER)
     return fail(c, sp, VI_ERR_PARSE, path, "%s", "missing w or mass");
   yaml_node_t *xn = find(c, sp, "xs"), *rn = find(c, sp, "r");
   join(key, path, "xs");
@@ -629,14 +588,14 @@ static int parse_springs(ctx *c, vi_scene *s, yaml_node_t *list)
     const char *tname = ty && ty->type == YAML_SCALAR_NODE
                             ? (const char *)ty->data.scalar.value : "";
     int bil = !strcmp(tname, "bilinear");
-    if (!bil && strcmp(tname, "cubic")) {
+    if (!bil && strcmp(tname, "cubic") != 0) {
       join(key, path, "type");
       return fail(c, ty ? ty : sp, VI_ERR_PARSE, key, "%s",
                   "expected type: cubic or bilinear");
     }
     int st = check_map(c, sp, path, bil ? bilinear : cubic);
     if (st) return st;
-    struct scene_spring *q = &s->springs[k];
+    vi_scene_spring *q = &s->springs[k];
     q->type = bil ? VI_SPRING_BILINEAR : VI_SPRING_CUBIC;
     q->line = LINE(sp);
     yaml_node_t *i = find(c, sp, "i"), *j = find(c, sp, "j");
@@ -727,10 +686,14 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
                 "without a forcing frequency give run.t_end");
   if (out) {
     if ((st = check_map(c, out, "output", ok)) ||
-        (st = opt_boolean(c, out, "output", "impacts", &s->out_impacts)) ||
-        (st = opt_boolean(c, out, "output", "ledger", &s->out_ledger)) ||
-        (st = opt_boolean(c, out, "output", "modes", &s->out_modes)) ||
-        (st = opt_boolean(c, out, "output", "compress", &s->compress)))
+        (st = opt_flag(c, out, "output", "impacts", VI_SCENE_OUT_IMPACTS,
+                       &s->outputs)) ||
+        (st = opt_flag(c, out, "output", "ledger", VI_SCENE_OUT_LEDGER,
+                       &s->outputs)) ||
+        (st = opt_flag(c, out, "output", "modes", VI_SCENE_OUT_MODES,
+                       &s->outputs)) ||
+        (st = opt_flag(c, out, "output", "compress", VI_SCENE_OUT_COMPRESS,
+                       &s->outputs)))
       return st;
     if ((v = find(c, out, "samples_per_period")) &&
         (st = integer(c, v, "output.samples_per_period", 0, 1000000,
@@ -750,7 +713,8 @@ static int parse_root(ctx *c, vi_scene *s)
                                      "stops",   NULL};
   yaml_node_t *root = yaml_document_get_root_node(&c->doc);
   if (!root)
-    return diag(c->d, c->file, VI_ERR_PARSE, 1, 1, "", "", "empty scene");
+    return vi_diag_set(c->d, c->file, VI_ERR_PARSE, 1, 1, "", "", "%s",
+                       "empty scene");
   int st = check_map(c, root, "", keys);
   if (st) return st;
   yaml_node_t *v;
@@ -809,16 +773,18 @@ typedef struct level {
 
 static int syntax(ctx *c, yaml_parser_t *p)
 {
-  return diag(c->d, c->file, VI_ERR_PARSE, (int)p->problem_mark.line + 1,
-              (int)p->problem_mark.column + 1, "", "", "YAML syntax: %s%s%s",
-              p->problem ? p->problem : "error", p->context ? " " : "",
-              p->context ? p->context : "");
+  return vi_diag_set(c->d, c->file, VI_ERR_PARSE,
+                     (int)p->problem_mark.line + 1,
+                     (int)p->problem_mark.column + 1, "", "",
+                     "YAML syntax: %s%s%s",
+                     p->problem ? p->problem : "error", p->context ? " " : "",
+                     p->context ? p->context : "");
 }
 
 static int ev_fail(ctx *c, const yaml_event_t *e, int code, const char *msg)
 {
-  return diag(c->d, c->file, code, (int)e->start_mark.line + 1,
-              (int)e->start_mark.column + 1, "", "", "%s", msg);
+  return vi_diag_set(c->d, c->file, code, (int)e->start_mark.line + 1,
+                     (int)e->start_mark.column + 1, "", "", "%s", msg);
 }
 
 static int attach(ctx *c, level *top, int id)
@@ -859,7 +825,7 @@ static int compose(ctx *c, const char *text, size_t len, int max_depth)
   int depth = 0, docs = 0, nanch = 0, canch = 0, st = VI_OK, done = 0,
       have_doc = 0;
   if (!stack)
-    return diag(c->d, c->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+    return vi_diag_nomem(c->d, c->file);
   yaml_parser_initialize(&p);
   yaml_parser_set_input_string(&p, (const unsigned char *)text, len);
   while (!done && st == VI_OK) {
@@ -973,7 +939,7 @@ static int compose(ctx *c, const char *text, size_t len, int max_depth)
   if (!have_doc && st == VI_OK) {
     /* an empty stream: an empty document, reported by parse_root */
     if (!yaml_document_initialize(&c->doc, NULL, NULL, NULL, 1, 1))
-      return diag(c->d, c->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+      return vi_diag_nomem(c->d, c->file);
     have_doc = 1;
   }
   if (st && have_doc) yaml_document_delete(&c->doc);
@@ -986,25 +952,21 @@ int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
   if (d) memset(d, 0, sizeof *d);
   if (out) *out = NULL;
   if (!out || !text)
-    return diag(d, name, VI_ERR_ARG, 0, 0, "", "", "%s",
-                "vi_scene_parse: text and out are required");
+    return vi_diag_set(d, name, VI_ERR_ARG, 0, 0, "", "", "%s",
+                       "vi_scene_parse: text and out are required");
   if (len < 0) len = (long)strlen(text);
   if (max_depth <= 0) max_depth = VI_SCENE_MAX_DEPTH;
   vi_scene *s = calloc(1, sizeof *s);
-  if (!s) return diag(d, name, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+  if (!s) return vi_diag_nomem(d, name);
   s->text = malloc((size_t)len + 1);
   s->file = strdup(name ? name : "<input>");
   if (!s->text || !s->file) {
     vi_scene_destroy(&s);
-    return diag(d, name, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+    return vi_diag_nomem(d, name);
   }
   memcpy(s->text, text, (size_t)len);
   s->text[len] = '\0';
-  s->rtol = 1e-8;
-  s->atol = 1e-10;
-  s->method = VI_METHOD_AUTO;
-  s->out_impacts = 1;
-  s->compress = 1;
+  vi_scene_options_init(s);
   ctx c = {.d = d, .file = s->file};
   int st = compose(&c, s->text, (size_t)len, max_depth);
   if (st) {
@@ -1014,14 +976,12 @@ int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
   st = parse_root(&c, s);
   yaml_document_delete(&c.doc);
   if (!st && !s->name && !(s->name = strdup(s->file)))
-    st = diag(d, s->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+    st = vi_diag_nomem(d, s->file);
   if (st) {
     vi_scene_destroy(&s);
     return st;
   }
-  if (s->periods > 0 || !(s->t_end > 0))
-    s->t_end =
-        s->t0 + (s->periods > 0 ? s->periods : 100.0) * 2 * M_PI / s->omega;
+  vi_scene_options_finish(s);
   *out = s;
   return VI_OK;
 }
@@ -1038,14 +998,14 @@ int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
   if (d) memset(d, 0, sizeof *d);
   if (out) *out = NULL;
   if (!path || !out)
-    return diag(d, path, VI_ERR_ARG, 0, 0, "", "", "%s",
-                "vi_scene_load: path and out are required");
+    return vi_diag_set(d, path, VI_ERR_ARG, 0, 0, "", "", "%s",
+                       "vi_scene_load: path and out are required");
   if (max_bytes <= 0) max_bytes = VI_SCENE_MAX_BYTES;
   if (max_bytes > LONG_MAX - 1) max_bytes = LONG_MAX - 1;
   FILE *f = fopen(path, "rb");
   if (!f)
-    return diag(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
-                strerror(errno));
+    return vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
+                       strerror(errno));
   char *buf = NULL;
   long len = 0, cap = 0;
   size_t got;
@@ -1056,9 +1016,9 @@ int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
     if (len + (long)got > max_bytes) {
       free(buf);
       fclose(f);
-      return diag(d, path, VI_ERR_LIMIT, 0, 0, "", "",
-                  "the scene is larger than %lld bytes (the limit; "
-                  "--max-scene-size raises it)", (long long)max_bytes);
+      return vi_diag_set(d, path, VI_ERR_LIMIT, 0, 0, "", "",
+                         "the scene is larger than %lld bytes (the limit; "
+                         "--max-scene-size raises it)", (long long)max_bytes);
     }
     if (len + (long)got > cap) {
       cap = 2 * (len + (long)got);
@@ -1067,7 +1027,7 @@ int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
       if (!nb) {
         free(buf);
         fclose(f);
-        return diag(d, path, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
+        return vi_diag_nomem(d, path);
       }
       buf = nb;
     }
@@ -1079,8 +1039,8 @@ int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
   fclose(f);
   if (bad) {
     free(buf);
-    return diag(d, path, VI_ERR_IO, 0, 0, "", "", "cannot read: %s",
-                strerror(e));
+    return vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot read: %s",
+                       strerror(e));
   }
   int st = vi_scene_parse_limited(buf ? buf : "", len, path, max_depth, out, d);
   free(buf);
@@ -1109,327 +1069,7 @@ void vi_scene_destroy(vi_scene **scene)
   *scene = NULL;
 }
 
-/* ---- ranges that need the model's frequencies ---------------------------
- * Scales: omega_hi, the fastest of the natural frequencies and the forcing;
- * L, a length (the clearance, or the static response to the loads).  The
- * run must be resolvable in double precision and the state within a few
- * orders of magnitude of the problem's own scales. */
-static int range_fail(vi_diag *d, const vi_scene *s, int line, const char *key,
-                      double v, const char *fmt, double a, double b)
-{
-  char val[64], msg[256];
-  snprintf(val, sizeof val, "%.6g", v);
-  snprintf(msg, sizeof msg, fmt, a, b);
-  return diag(d, s->file, VI_ERR_LIMIT, line, line ? 1 : 0, key, val, "%s",
-              msg);
-}
-
-static double maxabs(const double *v, int n)
-{
-  double m = 0;
-  for (int i = 0; i < n; i++) m = fabs(v[i]) > m ? fabs(v[i]) : m;
-  return m;
-}
-
-static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
-{
-  int n = s->n;
-  const double *om = vi_model_omega(m), *ze = vi_model_zeta(m),
-               *K = vi_model_stiffness(m);
-  double wmax = 0, zmax = 0, kmax = 0;
-  for (int j = 0; j < n; j++) {
-    wmax = om[j] > wmax ? om[j] : wmax;
-    zmax = isfinite(ze[j]) && ze[j] > zmax ? ze[j] : zmax;
-    kmax = fabs(K[j + (size_t)j * n]) > kmax ? fabs(K[j + (size_t)j * n]) : kmax;
-  }
-  double W = s->omega > wmax ? s->omega : wmax;
-  if (s->omega > 0 && wmax > 0 &&
-      (s->omega < VI_SCENE_FREQ_RATIO_MIN * wmax ||
-       s->omega > VI_SCENE_FREQ_RATIO_MAX * wmax))
-    return range_fail(d, s, s->line_forcing, "forcing.omega", s->omega,
-                      "must lie in [%.3g, %.3g]: within 1e-8 .. 1e8 times "
-                      "the highest natural frequency",
-                      VI_SCENE_FREQ_RATIO_MIN * wmax,
-                      VI_SCENE_FREQ_RATIO_MAX * wmax);
-  if (zmax > VI_SCENE_ZETA_MAX)
-    return range_fail(d, s, s->line_model, "model", zmax,
-                      "a modal damping ratio above %.3g (limit; got %.3g): "
-                      "the damping is out of proportion to the stiffness",
-                      VI_SCENE_ZETA_MAX, zmax);
-  /* time: t must resolve the fastest motion: |t| eps omega_hi <= 1e-3 */
-  if (W > 0) {
-    double tmax = 1e-3 / (DBL_EPSILON * W),
-           span = fabs(s->t_end) > fabs(s->t0) ? fabs(s->t_end) : fabs(s->t0);
-    const char *key = s->periods > 0 ? "run.periods" : "run.t_end";
-    if (span > tmax)
-      return range_fail(d, s, s->line_run, key,
-                        s->periods > 0 ? s->periods : s->t_end,
-                        "the run reaches |t| = %.3g; above %.3g double "
-                        "precision no longer resolves the fastest motion",
-                        span, tmax);
-    if (!(s->t_end - s->t0 >= 1e-9 / W))
-      return range_fail(d, s, s->line_run, key,
-                        s->periods > 0 ? s->periods : s->t_end,
-                        "the run spans %.3g time units, less than %.3g "
-                        "(1e-9 of the fastest period)",
-                        s->t_end - s->t0, 1e-9 / W);
-  }
-  /* lengths: the clearance or the static response to the loads */
-  double F = 0;
-  for (int i = 0; i < n; i++) {
-    double f = fabs(s->a[i]) + fabs(s->b[i]) + fabs(s->f0[i]) +
-               (s->has_base ? fabs(s->base) : 0);
-    F = f > F ? f : F;
-  }
-  double L = fabs(s->xs), Ls = kmax > 0 ? F / kmax : 0;
-  L = Ls > L ? Ls : L;
-  double x0 = maxabs(s->x0, n), v0 = maxabs(s->v0, n);
-  if (L > 0 && x0 > VI_SCENE_STATE_RATIO * L)
-    return range_fail(d, s, s->line_initial, "initial.x", x0,
-                      "|x0| above %.3g: 1e8 times the problem's length "
-                      "scale %.3g (clearance or static response)",
-                      VI_SCENE_STATE_RATIO * L, L);
-  if (L > 0 && W > 0 && v0 > VI_SCENE_STATE_RATIO * L * W)
-    return range_fail(d, s, s->line_initial, "initial.v", v0,
-                      "|v0| above %.3g: 1e8 times the length scale %.3g "
-                      "times the highest frequency",
-                      VI_SCENE_STATE_RATIO * L * W, L);
-  double La = L;
-  La = x0 > La ? x0 : La;
-  La = W > 0 && v0 / W > La ? v0 / W : La;
-  if (La > 0 && s->atol > VI_SCENE_ATOL_RATIO * La)
-    return range_fail(d, s, s->line_run, "run.atol", s->atol,
-                      "must be at most %.3g: 0.01 of the problem's length "
-                      "scale %.3g",
-                      VI_SCENE_ATOL_RATIO * La, La);
-  if (!(s->atol >= DBL_MIN))
-    return range_fail(d, s, s->line_run, "run.atol", s->atol,
-                      "must be at least %.3g%.0g", DBL_MIN, 0);
-  if (!(s->rtol >= VI_SCENE_RTOL_MIN && s->rtol <= VI_SCENE_RTOL_MAX))
-    return range_fail(d, s, s->line_run, "run.rtol", s->rtol,
-                      "must lie in [%.3g, %.3g]", VI_SCENE_RTOL_MIN,
-                      VI_SCENE_RTOL_MAX);
-  return VI_OK;
-}
-
-/* Bytes a model of n coordinates and its simulation take, measured on
- * chains (max RSS of `vibroimpact -o` less the empty process: 14 n^2
- * doubles at n = 1000 for adams, bdf and exact alike): about
- * VI_MEM_N2 n^2 + VI_MEM_N n doubles. */
-#define VI_MEM_N2 16.0
-#define VI_MEM_N 400.0
-double vi_scene_memory_estimate(const vi_scene *s)
-{
-  if (!s) return 0;
-  double n = s->n;
-  return 8.0 * (VI_MEM_N2 * n * n + VI_MEM_N * n);
-}
-
-/* MemAvailable from /proc/meminfo in bytes; 0 when unknown. */
-static double mem_available(void)
-{
-  FILE *f = fopen("/proc/meminfo", "r");
-  if (!f) return 0;
-  char line[256];
-  double kb = 0;
-  while (fgets(line, sizeof line, f))
-    if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
-  fclose(f);
-  return kb * 1024.0;
-}
-
-int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
-{
-  if (d) memset(d, 0, sizeof *d);
-  if (!s) return VI_ERR_ARG;
-  int from_machine = !(max_bytes > 0);
-  if (from_machine) max_bytes = mem_available();
-  if (!(max_bytes > 0)) return VI_OK; /* not known: nothing to compare */
-  double need = vi_scene_memory_estimate(s);
-  if (need <= max_bytes) return VI_OK;
-  const char *key = s->kind == MODEL_CHAIN        ? "model.chain.n"
-                    : s->kind == MODEL_CANTILEVER ? "model.cantilever.modes"
-                                                  : "model.K";
-  char val[32];
-  snprintf(val, sizeof val, "%d", s->n);
-  return diag(d, s->file, VI_ERR_LIMIT, s->line_model, s->line_model ? 1 : 0,
-              key, val,
-              "the model would need about %.3g MB, more than the %.3g MB %s "
-              "(--max-memory raises the limit)",
-              need / 1048576.0, max_bytes / 1048576.0,
-              from_machine ? "available on this machine" : "allowed");
-}
-
-/* ---- building the model ------------------------------------------------- */
-int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
-{
-  if (d) memset(d, 0, sizeof *d);
-  if (out) *out = NULL;
-  if (!s || !out)
-    return diag(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
-                "vi_scene_create_model: scene and out are required");
-  int n = s->n, st;
-  size_t nn = (size_t)n * n;
-  double *buf = calloc(3 * nn + 3 * (size_t)n, sizeof(double));
-  if (!buf)
-    return diag(d, s->file, VI_ERR_NOMEM, 0, 0, "", "", "out of memory");
-  double *M = buf, *C = M + nn, *K = C + nn, *w = K + nn, *a = w + n;
-  double *tip = a + n; /* a cantilever's tip: the stops that give no w */
-  memcpy(w, s->w, sizeof(double) * n);
-  memcpy(a, s->a, sizeof(double) * n);
-  const char *where = "model";
-  if (s->kind == MODEL_EXPLICIT) {
-    memcpy(M, s->M, sizeof(double) * 3 * nn);
-  } else if (s->kind == MODEL_CHAIN) {
-    vi_build_chain(n, s->cm, s->ck, s->cc, M, C, K, n);
-  } else {
-    double *gamma = malloc(sizeof(double) * n);
-    if (!gamma) {
-      free(buf);
-      return VI_ERR_NOMEM;
-    }
-    vi_build_cantilever(n, s->omega1, s->zeta, s->xi_stop, M, C, K, n, w,
-                        gamma);
-    memcpy(tip, w, sizeof(double) * n);
-    if (s->has_w)
-      memcpy(w, s->w, sizeof(double) * n); /* an explicit stop wins */
-    if (s->has_base)
-      for (int j = 0; j < n; j++)
-        a[j] = s->a[j] - s->base * gamma[j];
-    else
-      memcpy(a, s->a, sizeof(double) * n);
-    free(gamma);
-  }
-  if (s->has_rayleigh)
-    for (size_t i = 0; i < nn; i++)
-      C[i] = s->ra * M[i] + s->rb * K[i];
-  vi_model *m = NULL;
-  st = vi_model_create(n, &m);
-  if (!st) {
-    where = "model.M";
-    st = vi_model_set_mass(m, M, n);
-  }
-  if (!st) {
-    where = "model.K";
-    st = vi_model_set_stiffness(m, K, n);
-  }
-  if (!st) {
-    where = "model.C";
-    st = vi_model_set_damping(m, C, n);
-  }
-  if (!st) {
-    where = "forcing";
-    st = vi_model_set_forcing(m, s->omega, a, s->b, s->f0);
-  }
-  if (!st) {
-    where = s->stop_list ? "stops[1]" : "stop";
-    st = vi_model_set_stop(m, w, s->xs, s->r);
-  }
-  char xkey[32] = "";
-  int xline = 0;
-  for (int k = 0; k < s->nx && !st; k++) {
-    snprintf(xkey, sizeof xkey, "stops[%d]", k + 2);
-    where = xkey;
-    xline = s->xint[s->nx + k];
-    st = vi_model_add_stop(m, s->xint[k] ? s->xw + (size_t)k * n : tip,
-                           s->xxs[k], s->xr[k]);
-  }
-  if (!st) {
-    where = "model";
-    st = vi_model_setup(m);
-  }
-  free(buf);
-  if (st) {
-    int line = where == xkey                 ? xline
-               : !strncmp(where, "stop", 4) ? s->line_stop
-                                             : s->line_model;
-    diag(d, s->file, st, line, line ? 1 : 0, where, "", "%s",
-         m ? vi_model_errmsg(m) : vi_strerror(st));
-    vi_model_destroy(&m);
-    return st;
-  }
-  if ((st = check_ranges(s, m, d))) {
-    vi_model_destroy(&m);
-    return st;
-  }
-  *out = m;
-  return VI_OK;
-}
-
-int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
-{
-  if (d) memset(d, 0, sizeof *d);
-  if (!s || !sim)
-    return diag(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
-                "vi_scene_configure_sim: scene and sim are required");
-  if (vi_sim_n(sim) != s->n)
-    return diag(d, s->file, VI_ERR_DIM, s->line_model, 0, "model", "",
-                "the scene has n = %d, the simulation n = %d", s->n,
-                vi_sim_n(sim));
-  int st = vi_sim_set_method(sim, s->method);
-  if (st)
-    return diag(d, s->file, st, s->line_run, 1, "run.method", "", "%s",
-                vi_sim_errmsg(sim));
-  if ((st = vi_sim_set_tolerances(sim, s->rtol, s->atol)))
-    return diag(d, s->file, st, s->line_run, 1, "run", "", "%s",
-                vi_sim_errmsg(sim));
-  if ((st = vi_sim_set_initial(sim, s->t0, s->x0, s->v0)))
-    return diag(d, s->file, st, s->line_initial, 1, "initial", "", "%s",
-                vi_sim_errmsg(sim));
-  vi_sim_clear_springs(sim);
-  for (int k = 0; k < s->nsprings; k++) {
-    const struct scene_spring *q = &s->springs[k];
-    if ((st = vi_sim_add_spring(sim, q->type, q->i, q->j, q->k, q->gap))) {
-      char key[32];
-      snprintf(key, sizeof key, "springs[%d]", k + 1);
-      return diag(d, s->file, st, q->line, 1, key, "", "%s",
-                  vi_sim_errmsg(sim));
-    }
-  }
-  return VI_OK;
-}
-
-/* ---- getters and overrides ---------------------------------------------- */
+/* ---- the description's own getters -------------------------------------- */
 const char *vi_scene_name(const vi_scene *s) { return s ? s->name : ""; }
 const char *vi_scene_text(const vi_scene *s) { return s ? s->text : ""; }
-
 int vi_scene_n(const vi_scene *s) { return s ? s->n : 0; }
-double vi_scene_t0(const vi_scene *s) { return s ? s->t0 : 0.0; }
-double vi_scene_t_end(const vi_scene *s) { return s ? s->t_end : 0.0; }
-double vi_scene_rtol(const vi_scene *s) { return s ? s->rtol : 0.0; }
-double vi_scene_atol(const vi_scene *s) { return s ? s->atol : 0.0; }
-int vi_scene_method(const vi_scene *s) { return s ? s->method : 0; }
-int vi_scene_samples_per_period(const vi_scene *s)
-{
-  return s ? s->samples : 0;
-}
-
-int vi_scene_wants(const vi_scene *s, const char *what)
-{
-  if (!s || !what) return 0;
-  if (!strcmp(what, "impacts")) return s->out_impacts;
-  if (!strcmp(what, "ledger")) return s->out_ledger;
-  if (!strcmp(what, "modes")) return s->out_modes;
-  if (!strcmp(what, "compress")) return s->compress;
-  return 0;
-}
-
-int vi_scene_set_run(vi_scene *s, double rtol, double atol, double periods,
-                     int method)
-{
-  if (!s || isnan(rtol) || isnan(atol) || isnan(periods) ||
-      !(periods < INFINITY) || (method >= 0 && !vi_method_name(method)))
-    return VI_ERR_ARG;
-  if (rtol > 0 && !(rtol >= VI_SCENE_RTOL_MIN && rtol <= VI_SCENE_RTOL_MAX))
-    return VI_ERR_TOLERANCE;
-  if (atol > 0 && !(atol < INFINITY)) return VI_ERR_TOLERANCE;
-  if (rtol > 0) s->rtol = rtol;
-  if (atol > 0) s->atol = atol;
-  if (method >= 0) s->method = method;
-  if (periods > 0) {
-    if (!(s->omega > 0)) return VI_ERR_FREQUENCY;
-    s->periods = periods;
-    s->t_end = s->t0 + periods * 2 * M_PI / s->omega;
-  }
-  return VI_OK;
-}

@@ -5,13 +5,13 @@
  * text the user never saw.  libyaml still does the locating: the document
  * is loaded, the path walked node by node, and the node's marks give the
  * span to replace. */
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <yaml.h>
 
+#include "vi_io_internal.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vibroimpact/vi_status.h"
 
@@ -28,28 +28,6 @@ typedef struct tok {
   int index; /* 0: a key; else a 1-based list index */
   char key[64];
 } tok;
-
-static int fail(vi_diag *d, const char *file, int code, int line, int col,
-                const char *key, const char *value, const char *fmt, ...)
-    __attribute__((format(printf, 8, 9)));
-
-static int fail(vi_diag *d, const char *file, int code, int line, int col,
-                const char *key, const char *value, const char *fmt, ...)
-{
-  if (!d) return code;
-  memset(d, 0, sizeof *d);
-  d->code = code;
-  d->line = line;
-  d->column = col;
-  snprintf(d->file, sizeof d->file, "%s", file ? file : "");
-  snprintf(d->key, sizeof d->key, "%s", key ? key : "");
-  snprintf(d->value, sizeof d->value, "%s", value ? value : "");
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(d->message, sizeof d->message, fmt, ap);
-  va_end(ap);
-  return code;
-}
 
 /* "a.b[2].c" -> tokens; 0 on a malformed path. */
 static int split_path(const char *key, tok *t, int *nt)
@@ -136,8 +114,8 @@ int vi_scene_edit_create(const char *text, int64_t len, const char *name,
   yaml_mark_t mk = {0, 0, 0};
   const char *why = "";
   if (!load(e->text, e->len, &doc, &mk, &why)) {
-    int st = fail(d, e->name, VI_ERR_PARSE, (int)mk.line + 1,
-                  (int)mk.column + 1, "", "", "YAML syntax: %s", why);
+    int st = vi_diag_set(d, e->name, VI_ERR_PARSE, (int)mk.line + 1,
+                         (int)mk.column + 1, "", "", "YAML syntax: %s", why);
     vi_scene_edit_destroy(&e);
     return st;
   }
@@ -205,34 +183,35 @@ static int walk(const vi_scene_edit *e, yaml_document_t *doc, const tok *t, int 
 {
   yaml_node_t *cur = yaml_document_get_root_node(doc);
   if (!cur)
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "",
-                "the scene is empty");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "",
+                       "the scene is empty");
   int i;
   for (i = 0; i < nt; i++) {
     int line = (int)cur->start_mark.line + 1, col = (int)cur->start_mark.column + 1;
     if (!t[i].index) {
       if (cur->type != YAML_MAPPING_NODE)
-        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
-                    "'%s' is looked up in something that is not a mapping",
-                    t[i].key);
+        return vi_diag_set(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                           "'%s' is looked up in something that is not a "
+                           "mapping",
+                           t[i].key);
       yaml_node_t *c = child(doc, cur, t[i].key, NULL);
       if (!c) break;
       cur = c;
     } else {
       if (cur->type != YAML_SEQUENCE_NODE)
-        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
-                    "index [%d] applied to something that is not a list",
-                    t[i].index);
+        return vi_diag_set(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                           "index [%d] applied to something that is not a list",
+                           t[i].index);
       long cnt = cur->data.sequence.items.top - cur->data.sequence.items.start;
       if (t[i].index > cnt)
-        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
-                    "index [%d] out of range: the list has %ld entries "
-                    "(indices are 1-based)", t[i].index, cnt);
+        return vi_diag_set(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                           "index [%d] out of range: the list has %ld entries "
+                           "(indices are 1-based)", t[i].index, cnt);
       cur = yaml_document_get_node(doc,
                                    cur->data.sequence.items.start[t[i].index - 1]);
       if (!cur)
-        return fail(d, e->name, VI_ERR_PARSE, line, col, key, "",
-                    "malformed list");
+        return vi_diag_set(d, e->name, VI_ERR_PARSE, line, col, key, "",
+                           "malformed list");
     }
   }
   *nd = cur;
@@ -245,12 +224,13 @@ static int check_value(const vi_scene_edit *e, const char *key,
                        const char *value, vi_diag *d)
 {
   if (!*value || strpbrk(value, "\n\r#"))
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                "the value must be one YAML value on one line (no comment)");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                       "the value must be one YAML value on one line "
+                       "(no comment)");
   yaml_document_t doc;
   if (!load(value, strlen(value), &doc, NULL, NULL))
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                "the value is not valid YAML");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                       "the value is not valid YAML");
   yaml_node_t *r = yaml_document_get_root_node(&doc);
   int ok = r && (r->type != YAML_MAPPING_NODE ||
                  r->data.mapping.style == YAML_FLOW_MAPPING_STYLE) &&
@@ -258,8 +238,9 @@ static int check_value(const vi_scene_edit *e, const char *key,
             r->data.sequence.style == YAML_FLOW_SEQUENCE_STYLE);
   yaml_document_delete(&doc);
   if (!ok)
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                "the value must be a number, a word or a flow list [..]");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                       "the value must be a number, a word or a flow list "
+                       "[..]");
   return VI_OK;
 }
 
@@ -271,14 +252,14 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
   tok t[MAX_TOK];
   int nt = 0, st, found = 0;
   if (!split_path(key, t, &nt))
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                "malformed key: expected words joined by '.', with 1-based "
-                "list indices such as forcing.a[1]");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                       "malformed key: expected words joined by '.', with "
+                       "1-based list indices such as forcing.a[1]");
   if ((st = check_value(e, key, value, d))) return st;
   yaml_document_t doc;
   if (!load(e->text, e->len, &doc, NULL, NULL))
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                "the scene is no longer valid YAML");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                       "the scene is no longer valid YAML");
   yaml_node_t *nd = NULL;
   if ((st = walk(e, &doc, t, nt, key, &nd, &found, d))) goto done;
   if (found == nt) {
@@ -293,10 +274,11 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
   /* add the missing keys to the innermost mapping that exists */
   for (int i = found; i < nt; i++)
     if (t[i].index) {
-      st = fail(d, e->name, VI_ERR_PARSE, (int)nd->start_mark.line + 1,
-                (int)nd->start_mark.column + 1, key, value,
-                "'%s' is not in the scene, and list entries cannot be added",
-                t[found].key);
+      st = vi_diag_set(d, e->name, VI_ERR_PARSE, (int)nd->start_mark.line + 1,
+                       (int)nd->start_mark.column + 1, key, value,
+                       "'%s' is not in the scene, and list entries cannot "
+                       "be added",
+                       t[found].key);
       goto done;
     }
   char ins[1024] = "";
@@ -308,7 +290,8 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
   for (int i = found; i + 1 < nt; i++)
     k += snprintf(ins + k, sizeof ins - (size_t)k, "}");
   if (k >= (int)sizeof ins - 8) {
-    st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value, "value too long");
+    st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value, "%s",
+                     "value too long");
     goto done;
   }
   long npairs = nd->data.mapping.pairs.top - nd->data.mapping.pairs.start;
@@ -317,8 +300,8 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
     size_t b = byte_of(e->text, e->len, nd->end_mark.index);
     while (b > 0 && e->text[b - 1] != '}') b--;
     if (b == 0) {
-      st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                "cannot find the end of the mapping");
+      st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                       "cannot find the end of the mapping");
       goto done;
     }
     snprintf(buf, sizeof buf, "%s%s", npairs ? ", " : "", ins);
@@ -326,8 +309,8 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
     remember(e, (int)nd->end_mark.line + 1);
   } else {
     if (!npairs) {
-      st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
-                "cannot add a key to an empty mapping");
+      st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
+                       "cannot add a key to an empty mapping");
       goto done;
     }
     yaml_node_t *k0 = yaml_document_get_node(&doc, nd->data.mapping.pairs.start->key);
@@ -356,8 +339,8 @@ int vi_scene_edit_assign(vi_scene_edit *e, const char *assignment, vi_diag *d)
   const char *eq = strchr(assignment, '=');
   char key[256];
   if (!eq || eq == assignment || (size_t)(eq - assignment) >= sizeof key)
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, assignment, "",
-                "expected KEY=VALUE, e.g. forcing.omega=0.9");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, assignment, "",
+                       "expected KEY=VALUE, e.g. forcing.omega=0.9");
   memcpy(key, assignment, (size_t)(eq - assignment));
   key[eq - assignment] = '\0';
   return vi_scene_edit_set(e, key, eq + 1, d);
@@ -380,15 +363,17 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
   tok t[MAX_TOK];
   int nt = 0, st, found = 0;
   if (!split_path(key, t, &nt))
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "malformed key");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "%s",
+                       "malformed key");
   yaml_document_t doc;
   if (!load(e->text, e->len, &doc, NULL, NULL))
-    return fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "invalid YAML");
+    return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "invalid YAML");
   yaml_node_t *nd = NULL;
   st = walk(e, &doc, t, nt, key, &nd, &found, d);
   if (!st && (found < nt || !nd || nd->type != YAML_SCALAR_NODE))
-    st = fail(d, e->name, VI_ERR_PARSE, 0, 0, key, "",
-              found < nt ? "the scene has no such key" : "not a single value");
+    st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "%s",
+                     found < nt ? "the scene has no such key"
+                                : "not a single value");
   if (!st && nd) snprintf(buf, (size_t)len, "%s", (const char *)nd->data.scalar.value);
   yaml_document_delete(&doc);
   return st;

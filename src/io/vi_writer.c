@@ -162,24 +162,32 @@ static int attr_str(hid_t obj, const char *name, const char *val)
   return e < 0;
 }
 
-static int attr_num(hid_t obj, const char *name, const double *v, hsize_t len)
+/* An attribute of len values (len 1: a scalar) of file type ftype from
+ * memory of type mtype; nonzero on failure. */
+static int attr_put(hid_t obj, const char *name, hid_t ftype, hid_t mtype,
+                    const void *v, hsize_t len)
 {
   hid_t sp = len == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &len, NULL);
-  hid_t a = H5Acreate2(obj, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t e = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_DOUBLE, v);
-  if (a >= 0) H5Aclose(a);
+  hid_t a = H5Acreate2(obj, name, ftype, sp, H5P_DEFAULT, H5P_DEFAULT);
+  herr_t e = a < 0 ? -1 : H5Awrite(a, mtype, v);
+  if (a >= 0 && H5Aclose(a) < 0) e = -1;
   H5Sclose(sp);
   return e < 0;
 }
 
+static int attr_num(hid_t obj, const char *name, const double *v, hsize_t len)
+{
+  return attr_put(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v, len);
+}
+
 static int attr_int(hid_t obj, const char *name, int v)
 {
-  hid_t sp = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(obj, name, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t e = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_INT, &v);
-  if (a >= 0) H5Aclose(a);
-  H5Sclose(sp);
-  return e < 0;
+  return attr_put(obj, name, H5T_STD_I32LE, H5T_NATIVE_INT, &v, 1);
+}
+
+static int attr_i64(hid_t obj, const char *name, int64_t v)
+{
+  return attr_put(obj, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &v, 1);
 }
 
 /* Text of any length as a scalar string dataset. */
@@ -193,16 +201,6 @@ static int text_dataset(hid_t obj, const char *name, const char *val)
   if (d >= 0 && H5Dclose(d) < 0) e = -1;
   H5Sclose(sp);
   H5Tclose(t);
-  return e < 0;
-}
-
-static int attr_i64(hid_t obj, const char *name, int64_t v)
-{
-  hid_t sp = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(obj, name, H5T_STD_I64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t e = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_INT64, &v);
-  if (a >= 0 && H5Aclose(a) < 0) e = -1;
-  H5Sclose(sp);
   return e < 0;
 }
 
@@ -432,7 +430,7 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
     return create_fail(diag, path, VI_ERR_IO, msg);
   }
   w->fd = open(w->part, O_WRONLY | O_CLOEXEC);
-  if (w->fd < 0 || (st = reserve(w, 0))) {
+  if (w->fd < 0 || reserve(w, 0) != VI_OK) {
     char msg[600];
     snprintf(msg, sizeof msg, "%.500s", w->fd < 0 ? "cannot open the new "
              "file again" : w->errmsg);
@@ -565,7 +563,7 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
       H5Gclose(g);
     }
     /* the modes only when the scene asks for them (always without a scene) */
-    g = scene && !vi_scene_wants(scene, "modes")
+    g = scene && !(vi_scene_outputs(scene) & VI_SCENE_OUT_MODES)
             ? 0
             : H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT,
                          H5P_DEFAULT);
@@ -659,8 +657,8 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
       hid_t p = H5Gcreate2(g, "P1_1", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
       bad |= p < 0;
       for (int k = 0; k < 8 && p >= 0; k++) bad |= attr_num(p, names[k], &v[k], 1);
-      double *x = buf, *vel = x + n, *re = vel + n, *im = re + 2 * n;
-      double *FE = im + 2 * n, *DE = FE + n, *XE = DE + n, *reff = XE + n;
+      double *x = buf, *vel = x + n, *re = vel + n, *im = re + (size_t)2 * n;
+      double *FE = im + (size_t)2 * n, *DE = FE + n, *XE = DE + n, *reff = XE + n;
       double *rS = reff + n, gmin, t;
       const int modes[4] = {0, 1, 2, 3};
       vi_orbit_impact_state(o, &t, x, vel);

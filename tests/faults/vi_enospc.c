@@ -28,7 +28,7 @@ static int is_part(int fd)
 static long long budget(void)
 {
   const char *b = getenv("VI_FAULT_BUDGET");
-  return b ? atoll(b) : -1;
+  return b ? strtoll(b, NULL, 10) : -1;
 }
 
 /* 1: this many more bytes go past the budget */

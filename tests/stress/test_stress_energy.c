@@ -191,7 +191,7 @@ static void run_elastic(int method, double rtol, double atol, long periods,
                 "ledger residual %.3g, VmHWM %ld -> %ld KiB\n",
                 vi_method_name(method), rtol, periods, impacts, e_end, work, gap,
                 bound, ie, vi_sim_ledger_max_residual(s), hwm0, hwm1);
-  st_check(impacts > periods / 2);
+  st_check(2 * impacts > periods);
   st_check(emax < 1.0); /* bounded, as above */
   st_check(gap <= bound);
   st_check(ie == 0.0); /* 1 - r^2 = 0 exactly */

@@ -1,0 +1,62 @@
+/* vi_scene_internal.h - the scene description shared by the scene files of
+ * libvibroimpact_io; never installed.
+ *
+ *   vi_scene.c          YAML (libyaml) -> struct vi_scene, with file:line:col
+ *                       diagnostics; the only file that knows YAML
+ *   vi_scene_model.c    struct vi_scene -> a vi_model (M, C, K, stops, ...),
+ *                       the ranges that need its frequencies, the memory
+ *                       estimate
+ *   vi_scene_options.c  the typed run options (method, tolerances, times,
+ *                       sampling, outputs) and applying them to a vi_sim */
+#ifndef VI_SCENE_INTERNAL_H
+#define VI_SCENE_INTERNAL_H
+
+#include "vi_io_internal.h"
+#include "vibroimpact/vi_scene.h"
+
+enum { VI_SCENE_EXPLICIT, VI_SCENE_CHAIN, VI_SCENE_CANTILEVER };
+
+/* A built-in nonlinear spring (vi_force.h), applied to the sim. */
+typedef struct vi_scene_spring {
+  int type, i, j, line; /* VI_SPRING_*, 1-based coordinates, YAML line */
+  double k, gap;
+} vi_scene_spring;
+
+/* Plain, validated data: what the YAML said, with its defaults filled in.
+ * The line_* fields are the 1-based lines of the sections (0: absent) for
+ * the messages of later steps. */
+struct vi_scene {
+  char *name, *text, *file;
+  /* ---- the model ---- */
+  int n, kind;                  /* kind: VI_SCENE_EXPLICIT, ... */
+  double *M, *C, *K;            /* explicit [n*n] (one block), or NULL */
+  double *cm, *ck, *cc;         /* chain parameters [n] (one block) */
+  double omega1, zeta, xi_stop; /* cantilever */
+  int has_rayleigh;
+  double ra, rb;                /* C = ra M + rb K */
+  /* forcing, stops and initial state: one block of 6 n from a */
+  double omega, base;           /* base: a cantilever's base acceleration */
+  int has_base;
+  double *a, *b, *f0, *w, *x0, *v0;
+  int has_w;                    /* the first stop gave w or mass */
+  double xs, r;                 /* the first stop */
+  /* stops after the first (a `stops:` list): xw [n x nx] then xxs, xr
+   * [nx] in one block; xint [2 nx]: has_w per stop, then its line */
+  int nx, stop_list;
+  double *xw, *xxs, *xr;
+  int *xint;
+  vi_scene_spring *springs;
+  int nsprings;
+  /* ---- run options (vi_scene_options.c) ---- */
+  double t0, t_end, periods, rtol, atol;
+  int method, samples, outputs; /* outputs: vi_scene_output flags */
+  int line_model, line_stop, line_initial, line_run, line_forcing;
+};
+
+/* The run options' defaults, before the YAML is read. */
+void vi_scene_options_init(vi_scene *s);
+/* After a successful parse: t_end from run.periods (default 100 periods)
+ * when run.t_end was not given. */
+void vi_scene_options_finish(vi_scene *s);
+
+#endif

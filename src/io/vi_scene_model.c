@@ -1,0 +1,292 @@
+/* vi_scene_model.c - a scene's model: assembling M, C, K, the forcing and
+ * the stops from the scene description (vi_scene_internal.h), the ranges
+ * that need the model's frequencies, and the memory a model would take.
+ * No YAML here: the description is plain data. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_scene_internal.h"
+#include "vibroimpact.h"
+
+/* ---- ranges that need the model's frequencies ---------------------------
+ * Scales: omega_hi, the fastest of the natural frequencies and the forcing;
+ * L, a length (the clearance, or the static response to the loads).  The
+ * run must be resolvable in double precision and the state within a few
+ * orders of magnitude of the problem's own scales. */
+static int range_fail(vi_diag *d, const vi_scene *s, int line, const char *key,
+                      double v, const char *fmt, double a, double b)
+{
+  char val[64], msg[256];
+  snprintf(val, sizeof val, "%.6g", v);
+  snprintf(msg, sizeof msg, fmt, a, b);
+  return vi_diag_set(d, s->file, VI_ERR_LIMIT, line, line ? 1 : 0, key, val,
+                     "%s", msg);
+}
+
+static double maxabs(const double *v, int n)
+{
+  double m = 0;
+  for (int i = 0; i < n; i++) m = fabs(v[i]) > m ? fabs(v[i]) : m;
+  return m;
+}
+
+static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
+{
+  int n = s->n;
+  const double *om = vi_model_omega(m), *ze = vi_model_zeta(m),
+               *K = vi_model_stiffness(m);
+  double wmax = 0, zmax = 0, kmax = 0;
+  for (int j = 0; j < n; j++) {
+    wmax = om[j] > wmax ? om[j] : wmax;
+    zmax = isfinite(ze[j]) && ze[j] > zmax ? ze[j] : zmax;
+    double kjj = fabs(K[(size_t)j * ((size_t)n + 1)]);
+    kmax = kjj > kmax ? kjj : kmax;
+  }
+  double W = s->omega > wmax ? s->omega : wmax;
+  if (s->omega > 0 && wmax > 0 &&
+      (s->omega < VI_SCENE_FREQ_RATIO_MIN * wmax ||
+       s->omega > VI_SCENE_FREQ_RATIO_MAX * wmax))
+    return range_fail(d, s, s->line_forcing, "forcing.omega", s->omega,
+                      "must lie in [%.3g, %.3g]: within 1e-8 .. 1e8 times "
+                      "the highest natural frequency",
+                      VI_SCENE_FREQ_RATIO_MIN * wmax,
+                      VI_SCENE_FREQ_RATIO_MAX * wmax);
+  if (zmax > VI_SCENE_ZETA_MAX)
+    return range_fail(d, s, s->line_model, "model", zmax,
+                      "a modal damping ratio above %.3g (limit; got %.3g): "
+                      "the damping is out of proportion to the stiffness",
+                      VI_SCENE_ZETA_MAX, zmax);
+  /* time: t must resolve the fastest motion: |t| eps omega_hi <= 1e-3 */
+  if (W > 0) {
+    double tmax = 1e-3 / (DBL_EPSILON * W),
+           span = fabs(s->t_end) > fabs(s->t0) ? fabs(s->t_end) : fabs(s->t0);
+    const char *key = s->periods > 0 ? "run.periods" : "run.t_end";
+    if (span > tmax)
+      return range_fail(d, s, s->line_run, key,
+                        s->periods > 0 ? s->periods : s->t_end,
+                        "the run reaches |t| = %.3g; above %.3g double "
+                        "precision no longer resolves the fastest motion",
+                        span, tmax);
+    if (!(s->t_end - s->t0 >= 1e-9 / W))
+      return range_fail(d, s, s->line_run, key,
+                        s->periods > 0 ? s->periods : s->t_end,
+                        "the run spans %.3g time units, less than %.3g "
+                        "(1e-9 of the fastest period)",
+                        s->t_end - s->t0, 1e-9 / W);
+  }
+  /* lengths: the clearance or the static response to the loads */
+  double F = 0;
+  for (int i = 0; i < n; i++) {
+    double f = fabs(s->a[i]) + fabs(s->b[i]) + fabs(s->f0[i]) +
+               (s->has_base ? fabs(s->base) : 0);
+    F = f > F ? f : F;
+  }
+  double L = fabs(s->xs), Ls = kmax > 0 ? F / kmax : 0;
+  L = Ls > L ? Ls : L;
+  double x0 = maxabs(s->x0, n), v0 = maxabs(s->v0, n);
+  if (L > 0 && x0 > VI_SCENE_STATE_RATIO * L)
+    return range_fail(d, s, s->line_initial, "initial.x", x0,
+                      "|x0| above %.3g: 1e8 times the problem's length "
+                      "scale %.3g (clearance or static response)",
+                      VI_SCENE_STATE_RATIO * L, L);
+  if (L > 0 && W > 0 && v0 > VI_SCENE_STATE_RATIO * L * W)
+    return range_fail(d, s, s->line_initial, "initial.v", v0,
+                      "|v0| above %.3g: 1e8 times the length scale %.3g "
+                      "times the highest frequency",
+                      VI_SCENE_STATE_RATIO * L * W, L);
+  double La = L;
+  La = x0 > La ? x0 : La;
+  La = W > 0 && v0 / W > La ? v0 / W : La;
+  if (La > 0 && s->atol > VI_SCENE_ATOL_RATIO * La)
+    return range_fail(d, s, s->line_run, "run.atol", s->atol,
+                      "must be at most %.3g: 0.01 of the problem's length "
+                      "scale %.3g",
+                      VI_SCENE_ATOL_RATIO * La, La);
+  if (!(s->atol >= DBL_MIN))
+    return range_fail(d, s, s->line_run, "run.atol", s->atol,
+                      "must be at least %.3g%.0g", DBL_MIN, 0);
+  if (!(s->rtol >= VI_SCENE_RTOL_MIN && s->rtol <= VI_SCENE_RTOL_MAX))
+    return range_fail(d, s, s->line_run, "run.rtol", s->rtol,
+                      "must lie in [%.3g, %.3g]", VI_SCENE_RTOL_MIN,
+                      VI_SCENE_RTOL_MAX);
+  return VI_OK;
+}
+
+/* Bytes a model of n coordinates and its simulation take, measured on
+ * chains (max RSS of `vibroimpact -o` less the empty process: 14 n^2
+ * doubles at n = 1000 for adams, bdf and exact alike): about
+ * VI_MEM_N2 n^2 + VI_MEM_N n doubles. */
+#define VI_MEM_N2 16.0
+#define VI_MEM_N 400.0
+double vi_scene_memory_estimate(const vi_scene *s)
+{
+  if (!s) return 0;
+  double n = s->n;
+  return 8.0 * (VI_MEM_N2 * n * n + VI_MEM_N * n);
+}
+
+/* MemAvailable from /proc/meminfo in bytes; 0 when unknown. */
+static double mem_available(void)
+{
+  FILE *f = fopen("/proc/meminfo", "r");
+  if (!f) return 0;
+  static const char tag[] = "MemAvailable:";
+  char line[256];
+  double kb = 0;
+  while (fgets(line, sizeof line, f))
+    if (!strncmp(line, tag, sizeof tag - 1)) {
+      char *end;
+      kb = strtod(line + sizeof tag - 1, &end);
+      if (end == line + sizeof tag - 1 || !(kb > 0)) kb = 0;
+      break;
+    }
+  fclose(f);
+  return kb * 1024.0;
+}
+
+int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (!s) return VI_ERR_ARG;
+  int from_machine = !(max_bytes > 0);
+  if (from_machine) max_bytes = mem_available();
+  if (!(max_bytes > 0)) return VI_OK; /* not known: nothing to compare */
+  double need = vi_scene_memory_estimate(s);
+  if (need <= max_bytes) return VI_OK;
+  const char *key = s->kind == VI_SCENE_CHAIN        ? "model.chain.n"
+                    : s->kind == VI_SCENE_CANTILEVER ? "model.cantilever.modes"
+                                                     : "model.K";
+  char val[32];
+  snprintf(val, sizeof val, "%d", s->n);
+  return vi_diag_set(d, s->file, VI_ERR_LIMIT, s->line_model,
+                     s->line_model ? 1 : 0, key, val,
+                     "the model would need about %.3g MB, more than the "
+                     "%.3g MB %s (--max-memory raises the limit)",
+                     need / 1048576.0, max_bytes / 1048576.0,
+                     from_machine ? "available on this machine" : "allowed");
+}
+
+/* ---- building the model -------------------------------------------------
+ * The description is turned into dense M, C, K [n*n] (column-major, ld n),
+ * w, a and the tip's stop direction [n], then handed to a new vi_model,
+ * which validates them. */
+typedef struct dense {
+  double *buf; /* the one allocation holding the others */
+  double *M, *C, *K, *w, *a, *tip;
+} dense;
+
+/* A chain of n masses (vi_build_chain).  Kept apart so that a band-stored
+ * chain can take its place without touching the other kinds. */
+static int assemble_chain(const vi_scene *s, dense *x)
+{
+  vi_build_chain(s->n, s->cm, s->ck, s->cc, x->M, x->C, x->K, s->n);
+  return VI_OK;
+}
+
+/* A cantilever's first n modes (vi_build_cantilever).  Its stop is at the
+ * tip unless the scene gives w (stops without w or mass take the tip too);
+ * a base acceleration enters each mode through the participation factor
+ * gamma_j. */
+static int assemble_cantilever(const vi_scene *s, dense *x)
+{
+  int n = s->n;
+  double *gamma = malloc(sizeof(double) * (size_t)n);
+  if (!gamma) return VI_ERR_NOMEM;
+  vi_build_cantilever(n, s->omega1, s->zeta, s->xi_stop, x->M, x->C, x->K, n,
+                      x->w, gamma);
+  memcpy(x->tip, x->w, sizeof(double) * (size_t)n);
+  if (s->has_w)
+    memcpy(x->w, s->w, sizeof(double) * (size_t)n); /* an explicit stop wins */
+  if (s->has_base)
+    for (int j = 0; j < n; j++)
+      x->a[j] = s->a[j] - s->base * gamma[j];
+  free(gamma);
+  return VI_OK;
+}
+
+/* Hand the arrays to the model m and set it up; on failure key[klen] and
+ * *line name the part of the scene the model refused. */
+static int fill_model(const vi_scene *s, const dense *x, vi_model *m,
+                      char *key, size_t klen, int *line)
+{
+  int n = s->n, st;
+  *line = s->line_model;
+  snprintf(key, klen, "%s", "model.M");
+  if ((st = vi_model_set_mass(m, x->M, n))) return st;
+  snprintf(key, klen, "%s", "model.K");
+  if ((st = vi_model_set_stiffness(m, x->K, n))) return st;
+  snprintf(key, klen, "%s", "model.C");
+  if ((st = vi_model_set_damping(m, x->C, n))) return st;
+  snprintf(key, klen, "%s", "forcing");
+  if ((st = vi_model_set_forcing(m, s->omega, x->a, s->b, s->f0))) return st;
+  *line = s->line_stop;
+  snprintf(key, klen, "%s", s->stop_list ? "stops[1]" : "stop");
+  if ((st = vi_model_set_stop(m, x->w, s->xs, s->r))) return st;
+  for (int k = 0; k < s->nx; k++) {
+    *line = s->xint[s->nx + k];
+    snprintf(key, klen, "stops[%d]", k + 2);
+    const double *w = s->xint[k] ? s->xw + (size_t)k * (size_t)n : x->tip;
+    if ((st = vi_model_add_stop(m, w, s->xxs[k], s->xr[k]))) return st;
+  }
+  *line = s->line_model;
+  snprintf(key, klen, "%s", "model");
+  return vi_model_setup(m);
+}
+
+int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (out) *out = NULL;
+  if (!s || !out)
+    return vi_diag_set(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
+                       "vi_scene_create_model: scene and out are required");
+  int n = s->n, st = VI_OK;
+  size_t nn = (size_t)n * (size_t)n;
+  dense x;
+  x.buf = calloc(3 * nn + 3 * (size_t)n, sizeof(double));
+  if (!x.buf)
+    return vi_diag_nomem(d, s->file);
+  x.M = x.buf;
+  x.C = x.M + nn;
+  x.K = x.C + nn;
+  x.w = x.K + nn;
+  x.a = x.w + n;
+  x.tip = x.a + n;
+  memcpy(x.w, s->w, sizeof(double) * (size_t)n);
+  memcpy(x.a, s->a, sizeof(double) * (size_t)n);
+  if (s->kind == VI_SCENE_EXPLICIT)
+    memcpy(x.M, s->M, sizeof(double) * 3 * nn); /* M, C, K: one block */
+  else if (s->kind == VI_SCENE_CHAIN)
+    st = assemble_chain(s, &x);
+  else
+    st = assemble_cantilever(s, &x);
+  if (st) {
+    free(x.buf);
+    return vi_diag_set(d, s->file, st, s->line_model, s->line_model ? 1 : 0,
+                       "model", "", "%s", vi_strerror(st));
+  }
+  if (s->has_rayleigh)
+    for (size_t i = 0; i < nn; i++)
+      x.C[i] = s->ra * x.M[i] + s->rb * x.K[i];
+  vi_model *m = NULL;
+  char key[32] = "model";
+  int line = s->line_model;
+  st = vi_model_create(n, &m);
+  if (!st) st = fill_model(s, &x, m, key, sizeof key, &line);
+  free(x.buf);
+  if (st) {
+    vi_diag_set(d, s->file, st, line, line ? 1 : 0, key, "", "%s",
+                m ? vi_model_errmsg(m) : vi_strerror(st));
+    vi_model_destroy(&m);
+    return st;
+  }
+  if ((st = check_ranges(s, m, d))) {
+    vi_model_destroy(&m);
+    return st;
+  }
+  *out = m;
+  return VI_OK;
+}
