@@ -157,7 +157,8 @@ static int roots(double t, N_Vector y, double *g, void *user)
     g[0] = vi_dot(s->n, s->m->w, s->vp);
     return 0;
   }
-  for (int k = 0; k < s->ns; k++) vi_sim_gap_k(s, k, z, &g[2 * k], &g[2 * k + 1]);
+  for (size_t k = 0; k < (size_t)s->ns; k++)
+    vi_sim_gap_k(s, (int)k, z, &g[2 * k], &g[2 * k + 1]);
   return 0;
 }
 
@@ -348,7 +349,7 @@ static int polish(vi_sim *s, ark_data *d, double tc, double lo, double hi)
     if (s->force_failed) return 0;
     vi_sim_gap_k(s, d->k, d->yo, &g, &gd);
     if (!(gd > 0.0)) return 0;
-    for (int i = 0; i < s->n; i++) scale += fabs(w[i] * d->yo[2 * i]);
+    for (size_t i = 0; i < (size_t)s->n; i++) scale += fabs(w[i] * d->yo[2 * i]);
     double dt = -g / gd;
     /* converged in t, or the gap is at its round-off (a grazing contact's
      * slow rate turns one ulp of g into many of t) */
@@ -536,7 +537,7 @@ static int ark_step(vi_sim *s, double t_end, int *event)
       /* a contact first (the driver looks at the other stops at that
        * instant), else the gap maxima's grazing checks in stop order */
       for (int k = 0; k < s->ns && kc < 0; k++)
-        if (info[2 * k]) kc = k;
+        if (info[2 * (size_t)k]) kc = k;
       if (kc >= 0) {
         double tn, hu;
         ERKStepGetCurrentTime(d->mem, &tn);
@@ -544,7 +545,7 @@ static int ark_step(vi_sim *s, double t_end, int *event)
         st = on_root_contact(s, d, kc, fmax(d->t_prev, tn - hu), tn, event);
       }
       for (int k = 0; k < s->ns && kc < 0 && *event == VI_STEP_NONE && !st; k++)
-        if (info[2 * k + 1]) st = graze_check(s, d, k, event);
+        if (info[2 * (size_t)k + 1]) st = graze_check(s, d, k, event);
     }
     d->continued = *event == VI_STEP_NONE;
   }
