@@ -23,6 +23,7 @@ typedef struct vi_rhs {
   double W;
   double tc[VI_RHS_TRIG], cc[VI_RHS_TRIG], sc[VI_RHS_TRIG]; /* cache: t,
                                                cos(W t), sin(W t) */
+  double ta, ca, sa; /* the anchor: the last cos, sin evaluated by libm */
   int next;
 } vi_rhs;
 
