@@ -413,9 +413,11 @@ static double gap_at(double t, void *p)
 /* The gap's maximum near t in the last step [t0, tn], on the step itself:
  * Newton on the rate w.x' (its derivative w.x'' from one more right-hand
  * side), from the interpolant's root.  Returns the gap there; *tm is the
- * time and d->yo the state. */
+ * time and d->yo the state.  Where the quadratic model at the first point
+ * puts the maximum below `below` even with twice its rise, g + g'^2/|g''|,
+ * that bound is returned at once (most maxima: far from the stop). */
 static double step_max(vi_sim *s, ark_data *d, gap_ctx *c, double lo, double hi,
-                       double *tm)
+                       double below, double *tm)
 {
   double t = *tm, g = gap_at(t, c);
   for (int it = 0; it < 4; it++) {
@@ -425,6 +427,10 @@ static double step_max(vi_sim *s, ark_data *d, gap_ctx *c, double lo, double hi,
     vi_sim_gap_k(s, d->k, d->yt, &dummy, &gdd);
     d->polish_rhs++;
     if (!(gdd < 0.0)) break;
+    if (it == 0 && g - gd * gd / gdd < below) {
+      *tm = t;
+      return g - gd * gd / gdd;
+    }
     double tn = fmin(hi, fmax(lo, t - gd / gdd));
     if (fabs(tn - t) <= 4.0 * DBL_EPSILON * fabs(t)) break;
     double gn = gap_at(tn, c);
@@ -454,7 +460,7 @@ static int on_root_contact(vi_sim *s, ark_data *d, int k, double lo,
   gap_ctx c = {s, d, 0.0};
   if (step_start(d, &c.t0) == 0 && gap_at(lo, &c) < 0.0) {
     double b = tr;
-    if (!(gap_at(b, &c) >= 0.0) && !(step_max(s, d, &c, lo, hi, &b) >= 0.0))
+    if (!(gap_at(b, &c) >= 0.0) && !(step_max(s, d, &c, lo, hi, 0.0, &b) >= 0.0))
       b = hi;
     if (gap_at(b, &c) >= 0.0) {
       double tc = b;
@@ -484,13 +490,13 @@ static int graze_check(vi_sim *s, ark_data *d, int k, int *event)
   if (step_start(d, &c.t0) < 0) return step_failed(s, "ERKStepGetDky", s->t);
   double tn, lo = fmax(d->t_prev, c.t0), tmax = s->t;
   ERKStepGetCurrentTime(d->mem, &tn);
-  double g = step_max(s, d, &c, lo, tn, &tmax);
-  if (s->force_failed) return step_failed(s, "", tmax);
   /* a maximum within 1 % of the gap's error tolerance only touches: a
    * plastic impact's rebound returns to the stop tangentially, and the
    * last digits of the step would report spurious contacts there */
-  if (!(g > 0.01 * (s->atol + s->rtol * fabs(s->m->xsv[k])) * s->wnorms[k]))
-    return VI_OK;
+  double touch = 0.01 * (s->atol + s->rtol * fabs(s->m->xsv[k])) * s->wnorms[k];
+  double g = step_max(s, d, &c, lo, tn, touch, &tmax);
+  if (s->force_failed) return step_failed(s, "", tmax);
+  if (!(g > touch)) return VI_OK;
   double tc = lo;
   if (gap_at(lo, &c) < 0.0) {
     int st = vi_sim_bracket(s, gap_at, &c, lo, tmax, &tc);
