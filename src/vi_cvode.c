@@ -13,6 +13,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include "vi_band_internal.h"
 #include "vi_rhs.h"
 
 typedef struct cv_data {
@@ -147,6 +148,7 @@ static int jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void *user,
   (void)fy; (void)t1; (void)t2; (void)t3;
   vi_sim *s = user;
   SUNMatZero(J);
+  if (s->m->band) return vi_band_jac(s, J); /* band storage: vi_band.c */
   if (s->nforces) return jac_forced(s, t, N_VGetArrayPointer(y), J);
   jac_entries(s, J, SUNMatGetID(J) == SUNMATRIX_BAND);
   return 0;
@@ -264,6 +266,10 @@ static int cv_create(vi_sim *s)
   CV_TRY(CVodeSetNoInactiveRootWarn(d->mem));
   if (s->method == VI_METHOD_BDF) {
     int bw = s->m->bw;
+    VI_CHECK(!s->m->band || use_band(s) || s->n <= 2000, s->errmsg,
+             VI_ERR_UNSUPPORTED, "BDF on this band model needs a dense "
+             "Jacobian (M not diagonal, or a stop on several coordinates): "
+             "use adams or erk");
     d->A = use_band(s) ? SUNBandMatrix(N, bw > 0 ? 2 * bw : 1, 2 * bw + 1, d->ctx)
                        : SUNDenseMatrix(N, N, d->ctx);
     VI_CHECK(d->A, s->errmsg, VI_ERR_NOMEM, "matrix allocation failed");

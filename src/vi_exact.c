@@ -22,7 +22,15 @@
  * it.  After an impact the time in which g provably recedes (a cubic bound
  * from g', g'' and B3) is skipped.  Physical states are built only when the
  * driver reads them, and an impact made by the driver is recognised as the
- * rank-one change of the modal velocities that it is. */
+ * rank-one change of the modal velocities that it is.
+ *
+ * Several stops w_k.x <= x_k: every gap g_k is a sum over the same modes
+ * with its own weights psi_k = Psi^T w_k, so the modes advance once per
+ * step and each stop keeps its own harmonic part, offset, round-off and
+ * derivative bounds (ex_stop).  A grid interval is searched stop by stop,
+ * each with its own rigorous Hermite bound, and the earliest crossing over
+ * all stops is the contact; the driver then gathers every stop touching
+ * at that instant (Newton's law for simultaneous contacts, vi_contact.c). */
 #include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,27 +44,39 @@
 #define EX_BATCH 512  /* grid steps per call of step() at most */
 #define EX_GRID 1.5707963267948966 /* grid step in radians of the fastest rate */
 
+/* One stop's gap g_k = psi_k.w + GA cos + GB sin - x_k - goff. */
+typedef struct ex_stop {
+  const double *psi;                /* psi_k of the active modes [na] */
+  double xs, GA, GB, GH;            /* x_k; harmonic part, its amplitude */
+  double goff, skip, gnoise;        /* offset at t0; no contact before;
+                                       round-off of g_k at t0 */
+  double B2, B3, B4;                /* bounds of |g''|, |g'''|, |g''''| */
+  double tol;                       /* the driver's penetration tolerance */
+} ex_stop;
+
 typedef struct ex_data {
   int kind;                         /* EX_KIND_FAST (vi_exact_internal.h) */
   vi_sim *s;
-  int n, na, *act;                  /* active modes: psi_j != 0 */
-  double *lam, *dmp, *F0, *psi;     /* of the active modes [na] */
-  double GA, GB, GH;                /* harmonic part of g, its amplitude */
+  int n, na, *act;                  /* active modes: some psi_kj != 0 */
+  int ns, hit;                      /* stops; the stop of tstar */
+  ex_stop *st, *cs;                 /* the stops [ns]; the one searched */
+  const double *pA, *pB;            /* harmonic particular solution [n] */
+  double *lam, *dmp, *F0, *psi;     /* of the active modes [na]; psi: stop
+                                       0's, then the others' [ns na] */
   double Om, h0, hq;                /* forcing, grid and quadrature steps */
   double *lev[EX_LEVELS];           /* B, Bp, phi for h0 2^-l [3 na] */
   double lc[EX_LEVELS], ls[EX_LEVELS]; /* cos, sin of Omega h0 2^-l */
   /* the flight */
   double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
-  double goff, skip;                /* g offset at t0; no contact before */
-  double gnoise;                    /* round-off of g at t0 */
   int p, lmax, since, handover;
   double hp, tg, cr, sr;            /* grid start, step, rotation by Om hp */
   int64_t k;                        /* grid index: t_k = tg + k hp */
-  double *wk, *wdk, gk, gdk, ck, sk; /* at t_k [na] */
-  double *wn, *wdn, gn, gdn, cn, sn; /* at t_{k+1} [na] */
+  double *wk, *wdk, ck, sk;         /* at t_k [na] */
+  double *wn, *wdn, cn, sn;         /* at t_{k+1} [na] */
+  double *gk, *gdk, *gn, *gdn;      /* every g_k, g_k' there [ns] */
+  double *gs;                       /* scratch [ns] */
   int next_ok, srch, anch;          /* t_{k+1} computed; search done */
   double tstar;                     /* its first crossing (srch == 2) */
-  double B2, B3, B4;                /* bounds of |g''|, |g'''|, |g''''| */
   double *stk;                      /* bisection states [(EX_DEPTH+2) 2 na] */
   /* modal state at tq and the physical state handed out at tz */
   double *q, *qd, tq, *z, tz, *qs, *qds;
@@ -75,6 +95,7 @@ static void ex_destroy(vi_sim *s)
     for (int l = 0; l < EX_LEVELS; l++) free(d->lev[l]);
     free(d->act);
     free(d->lam);
+    free(d->st);
   }
   free(d);
   s->be_data = NULL;
@@ -91,32 +112,32 @@ static const double *ex_level(ex_data *d, int l)
   d->ls[l] = sin(d->Om * dt);
   for (int i = 0; i < d->na; i++)
     vi_flow_basis(d->lam[i], d->dmp[i], dt, t + i, t + d->na + i,
-                  t + 2 * d->na + i);
+                  t + 2 * (size_t)d->na + i);
   d->lev[l] = t;
   return t;
 }
 
-/* Harmonic part of g and g' from cos, sin of Omega t. */
-static inline void ex_harm(const ex_data *d, double c, double sn, double *g,
-                           double *gd)
+/* Harmonic part of stop e's g and g' from cos, sin of Omega t. */
+static inline void ex_harm(const ex_data *d, const ex_stop *e, double c,
+                           double sn, double *g, double *gd)
 {
-  *g = d->GA * c + d->GB * sn;
-  *gd = d->Om * (d->GB * c - d->GA * sn);
+  *g = e->GA * c + e->GB * sn;
+  *gd = d->Om * (e->GB * c - e->GA * sn);
 }
 
-/* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and g, g'
- * at the new time (cos, sin of Omega t there: c, sn). */
+/* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and stop
+ * e's g, g' at the new time (cos, sin of Omega t there: c, sn). */
 static int ex_advance(ex_data *d, int l, const double *restrict w,
                       const double *restrict wd, double *restrict wo,
-                      double *restrict wdo, double c, double sn, double *g,
-                      double *gd)
+                      double *restrict wdo, double c, double sn,
+                      const ex_stop *e, double *g, double *gd)
 {
   const double *T = ex_level(d, l);
   if (!T) return vi_fail(d->s->errmsg, VI_ERR_NOMEM, "out of memory");
   const double *restrict B = T, *restrict Bp = T + d->na;
-  const double *restrict ph = T + 2 * d->na;
+  const double *restrict ph = T + 2 * (size_t)d->na;
   const double *restrict lam = d->lam, *restrict F0 = d->F0;
-  const double *restrict psi = d->psi;
+  const double *restrict psi = e->psi;
   /* four partial sums: the adds of one sum would chain otherwise */
   double a[4] = {0.0, 0.0, 0.0, 0.0}, b[4] = {0.0, 0.0, 0.0, 0.0};
   int na = d->na, i = 0;
@@ -140,11 +161,29 @@ static int ex_advance(ex_data *d, int l, const double *restrict w,
     b[0] += psi[i] * v;
   }
   double hg, hgd;
-  ex_harm(d, c, sn, &hg, &hgd);
-  *g = ((a[0] + a[1]) + (a[2] + a[3])) + hg - d->s->m->xs - d->goff;
+  ex_harm(d, e, c, sn, &hg, &hgd);
+  *g = ((a[0] + a[1]) + (a[2] + a[3])) + hg - e->xs - e->goff;
   *gd = ((b[0] + b[1]) + (b[2] + b[3])) + hgd;
   d->evals++;
   return VI_OK;
+}
+
+/* g, g' of stops 1, 2, ... into g[k], gd[k] from the active modes (w, wd)
+ * (stop 0's come with ex_advance). */
+static void ex_other_gaps(const ex_data *d, const double *w, const double *wd,
+                          double c, double sn, double *g, double *gd)
+{
+  for (int k = 1; k < d->ns; k++) {
+    const ex_stop *e = d->st + k;
+    double x = 0.0, v = 0.0, hg, hgd;
+    for (int j = 0; j < d->na; j++) {
+      x += e->psi[j] * w[j];
+      v += e->psi[j] * wd[j];
+    }
+    ex_harm(d, e, c, sn, &hg, &hgd);
+    g[k] = x + hg - e->xs - e->goff;
+    gd[k] = v + hgd;
+  }
 }
 
 /* w, w' of mode j (full index) at t from the flight's start. */
@@ -159,68 +198,74 @@ static inline void ex_mode(const ex_data *d, int j, double t, double *w,
   *wd = Bp * d->wd0[j] + B * f;
 }
 
-/* Active modes at t directly (an anchor), with g, g'. */
+/* Active modes at t directly (an anchor), with every stop's g, g' [ns]. */
 static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
                       double *sn, double *g, double *gd)
 {
-  double a = 0.0, b = 0.0, hg, hgd;
-  for (int i = 0; i < d->na; i++) {
-    ex_mode(d, d->act[i], t, w + i, wd + i);
-    a += d->psi[i] * w[i];
-    b += d->psi[i] * wd[i];
-  }
+  for (int i = 0; i < d->na; i++) ex_mode(d, d->act[i], t, w + i, wd + i);
   *c = cos(d->Om * t);
   *sn = sin(d->Om * t);
-  ex_harm(d, *c, *sn, &hg, &hgd);
-  *g = a + hg - d->s->m->xs - d->goff;
-  *gd = b + hgd;
+  for (int k = 0; k < d->ns; k++) {
+    const ex_stop *e = d->st + k;
+    double a = 0.0, b = 0.0, hg, hgd;
+    for (int i = 0; i < d->na; i++) {
+      a += e->psi[i] * w[i];
+      b += e->psi[i] * wd[i];
+    }
+    ex_harm(d, e, *c, *sn, &hg, &hgd);
+    g[k] = a + hg - e->xs - e->goff;
+    gd[k] = b + hgd;
+  }
   d->evals++;
 }
 
 /* Every mode's q, q' at t. */
 static void ex_modes_at(ex_data *d, double t, double *q, double *qd)
 {
-  const vi_model *m = d->s->m;
   double c = cos(d->Om * t), sn = sin(d->Om * t);
   for (int j = 0; j < d->n; j++) {
     double w, wd;
     ex_mode(d, j, t, &w, &wd);
-    q[j] = w + m->pA[j] * c + m->pB[j] * sn;
-    qd[j] = wd + d->Om * (m->pB[j] * c - m->pA[j] * sn);
+    q[j] = w + d->pA[j] * c + d->pB[j] * sn;
+    qd[j] = wd + d->Om * (d->pB[j] * c - d->pA[j] * sn);
   }
   d->evals++;
 }
 
-/* Bounds of |g''|, |g'''|, |g''''| from time t on, from the active modes'
- * (w, w') at t: |w^(k+1)| <= sqrt(w^(k+1)^2 + lambda w^(k)^2) at t, since
- * that energy of the free oscillation w^(k) never grows (d >= 0). */
+/* Bounds of every stop's |g''|, |g'''|, |g''''| from time t on, from the
+ * active modes' (w, w') at t: |w^(k+1)| <= sqrt(w^(k+1)^2 + lambda w^(k)^2)
+ * at t, since that energy of the free oscillation w^(k) never grows
+ * (d >= 0). */
 static void ex_bounds(ex_data *d, const double *w, const double *wd)
 {
-  double b2 = 0.0, b3 = 0.0, b4 = 0.0;
-  for (int i = 0; i < d->na; i++) {
-    double l = d->lam[i], dm = d->dmp[i];
-    double w2 = d->F0[i] - dm * wd[i] - l * w[i];
-    double w3 = -dm * w2 - l * wd[i], w4 = -dm * w3 - l * w2;
-    double a = fabs(d->psi[i]);
-    b2 += a * sqrt(w2 * w2 + l * wd[i] * wd[i]);
-    b3 += a * sqrt(w3 * w3 + l * w2 * w2);
-    b4 += a * sqrt(w4 * w4 + l * w3 * w3);
-  }
   double O2 = d->Om * d->Om;
-  /* a relative margin for the rounding of the sums */
-  d->B2 = (b2 + d->GH * O2) * (1.0 + 1e-9);
-  d->B3 = (b3 + d->GH * O2 * d->Om) * (1.0 + 1e-9);
-  d->B4 = (b4 + d->GH * O2 * O2) * (1.0 + 1e-9);
+  for (int k = 0; k < d->ns; k++) {
+    ex_stop *e = d->st + k;
+    double b2 = 0.0, b3 = 0.0, b4 = 0.0;
+    for (int i = 0; i < d->na; i++) {
+      double a = fabs(e->psi[i]);
+      double l = d->lam[i], dm = d->dmp[i];
+      double w2 = d->F0[i] - dm * wd[i] - l * w[i];
+      double w3 = -dm * w2 - l * wd[i], w4 = -dm * w3 - l * w2;
+      b2 += a * sqrt(w2 * w2 + l * wd[i] * wd[i]);
+      b3 += a * sqrt(w3 * w3 + l * w2 * w2);
+      b4 += a * sqrt(w4 * w4 + l * w3 * w3);
+    }
+    /* a relative margin for the rounding of the sums */
+    e->B2 = (b2 + e->GH * O2) * (1.0 + 1e-9);
+    e->B3 = (b3 + e->GH * O2 * d->Om) * (1.0 + 1e-9);
+    e->B4 = (b4 + e->GH * O2 * O2) * (1.0 + 1e-9);
+  }
 }
 
 /* fmax without the library call (no NaN reaches these) */
 static inline double mx(double a, double b) { return a > b ? a : b; }
 
-/* B4 w^4 / 384: how far g may rise above its cubic Hermite on a piece. */
-static inline double herm_err(const ex_data *d, double w)
+/* B4 w^4 / 384: how far g_k may rise above its cubic Hermite on a piece. */
+static inline double herm_err(const ex_stop *e, double w)
 {
   double w2 = w * w;
-  return d->B4 * w2 * w2 / 384.0;
+  return e->B4 * w2 * w2 / 384.0;
 }
 
 /* A cheap upper bound of the cubic Hermite on a piece: the weights of the
@@ -277,15 +322,15 @@ static int ex_polish(ex_data *d, int l, double a, const double *w,
   double wdt = ldexp(d->h0, -l);
   for (;;) {
     double scale = 0.25 * eps * fmax(fabs(a), d->h0) * gdlo;
-    if (l >= d->lmax || herm_err(d, wdt) <= scale) break;
+    if (l >= d->lmax || herm_err(d->cs, wdt) <= scale) break;
     double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
-    double m = a + 0.5 * wdt, gm, gdm;
-    int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, &gm, &gdm);
+    double m = a + 0.5 * wdt, gm = 0.0, gdm = 0.0;
+    int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cs, &gm, &gdm);
     if (st) return st;
     /* the harmonic part by rotation from a (the tables are built now) */
     double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
     double sn = sa * d->lc[l + 1] + ca * d->ls[l + 1], hg, hgd;
-    ex_harm(d, c, sn, &hg, &hgd);
+    ex_harm(d, d->cs, c, sn, &hg, &hgd);
     gm += hg;
     gdm += hgd;
     l++;
@@ -326,37 +371,44 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
                      const double *wd, double ca, double sa, double ga,
                      double gda, double gb, double gdb, double *tc)
 {
-  double wdt = ldexp(d->h0, -l), b = a + wdt, cf[4], e4 = herm_err(d, wdt);
-  if (b <= d->skip) return 0;
+  double wdt = ldexp(d->h0, -l), b = a + wdt, cf[4], e4 = herm_err(d->cs, wdt);
+  if (b <= d->cs->skip) return 0;
   /* below the stop by more than g's round-off: nothing here (a touch
    * within round-off is no contact, and a motion resting on the stop must
    * not send the bisection into every leaf) */
-  if (herm_quick(ga, gda, gb, gdb, wdt) + e4 < d->gnoise ||
-      herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < d->gnoise)
+  if (herm_quick(ga, gda, gb, gdb, wdt) + e4 < d->cs->gnoise ||
+      herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < d->cs->gnoise)
     return 0;
   /* g' on [a, b] lies within the two lines of slope B2 through the ends */
-  double gdlo = 0.5 * (gda + gdb - d->B2 * wdt);
-  double gdhi = 0.5 * (gda + gdb + d->B2 * wdt);
+  double gdlo = 0.5 * (gda + gdb - d->cs->B2 * wdt);
+  double gdhi = 0.5 * (gda + gdb + d->cs->B2 * wdt);
   if (gdhi < 0.0 && ga <= 0.0) return 0; /* decreasing */
   if (gdlo > 0.0 && ga < 0.0) {          /* increasing */
     if (gb < 0.0) return 0;
     return ex_polish(d, l, a, w, wd, ca, sa, ga, gda, gb, gdb, gdlo, tc);
   }
+  if (gdlo > 0.0 && a > d->t0) {
+    /* increasing from g(a) >= 0, below the round-off that the pieces
+     * before it found: the crossing is at a (a grid point on the root),
+     * not at the end of the first leaf of a bisection */
+    *tc = a;
+    return 1;
+  }
   if (l >= d->lmax) { /* at round-off in t: the sign decides */
     /* next to a start on the stop, only beyond g's round-off: a tangential
      * departure (a release) must not read as a new contact */
-    if (gb < 0.0 || (a <= d->t0 && gb <= d->gnoise)) return 0;
+    if (gb < 0.0 || (a <= d->t0 && gb <= d->cs->gnoise)) return 0;
     *tc = b;
     return 1;
   }
   d->s->stats[VI_STAT_GRAZE_CHECKS] += gda > 0.0 && gdb < 0.0;
   double *wm = d->stk + (size_t)(l + 1 - d->p) * 2 * d->na, *wdm = wm + d->na;
-  double m = a + 0.5 * wdt, gm, gdm;
-  int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, &gm, &gdm);
+  double m = a + 0.5 * wdt, gm = 0.0, gdm = 0.0;
+  int st = ex_advance(d, l + 1, w, wd, wm, wdm, 0.0, 0.0, d->cs, &gm, &gdm);
   if (st) return st;
   double c = ca * d->lc[l + 1] - sa * d->ls[l + 1];
   double sn = sa * d->lc[l + 1] + ca * d->ls[l + 1], hg, hgd;
-  ex_harm(d, c, sn, &hg, &hgd);
+  ex_harm(d, d->cs, c, sn, &hg, &hgd);
   gm += hg;
   gdm += hgd;
   st = ex_search(d, l + 1, a, w, wd, ca, sa, ga, gda, gm, gdm, tc);
@@ -364,28 +416,44 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
   return ex_search(d, l + 1, m, wm, wdm, c, sn, gm, gdm, gb, gdb, tc);
 }
 
+/* A mode is active when some stop's gap sees it. */
+static int ex_active(const vi_model *m, int j)
+{
+  for (int k = 0; k < m->ns; k++)
+    if (vi_stop_psi(m, k)[j] != 0.0) return 1;
+  return 0;
+}
+
 static int ex_alloc(vi_sim *s, ex_data **out)
 {
   const vi_model *m = s->m;
-  int n = s->n, na = 0;
-  for (int j = 0; j < n; j++) na += m->psi[j] != 0.0;
+  int n = s->n, na = 0, ns = m->ns;
+  for (int j = 0; j < n; j++) na += ex_active(m, j);
+  *out = NULL;
   ex_data *d = calloc(1, sizeof *d);
-  if (!d) return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
-  size_t nd = 4 * (size_t)na + 6 * (size_t)na +
-              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 14 * (size_t)n + 8;
+  if (!d) {
+    vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+    return VI_ERR_NOMEM;
+  }
+  size_t nd = (3 + (size_t)ns) * (size_t)na + 6 * (size_t)na +
+              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 14 * (size_t)n +
+              5 * (size_t)ns + 8;
   d->act = malloc(sizeof(int) * (size_t)(na + 1));
   d->lam = malloc(sizeof(double) * nd);
-  if (!d->act || !d->lam) {
+  d->st = calloc((size_t)ns, sizeof *d->st);
+  if (!d->act || !d->lam || !d->st) {
     free(d->act);
     free(d->lam);
+    free(d->st);
     free(d);
-    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+    vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+    return VI_ERR_NOMEM;
   }
   double *p = d->lam;
   p += na;
   d->dmp = p; p += na;
   d->F0 = p; p += na;
-  d->psi = p; p += na;
+  d->psi = p; p += (size_t)ns * na;
   d->wk = p; p += na;
   d->wdk = p; p += na;
   d->wn = p; p += na;
@@ -398,29 +466,51 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->qd = p; p += n;
   d->qs = p; p += n;
   d->qds = p; p += n;
+  d->gk = p; p += ns;
+  d->gdk = p; p += ns;
+  d->gn = p; p += ns;
+  d->gdn = p; p += ns;
+  d->gs = p; p += ns;
   d->z = p;
   d->kind = EX_KIND_FAST;
   d->s = s;
   d->n = n;
   d->na = na;
+  d->ns = ns;
+  d->cs = d->st;
+  d->pA = s->flow->pA;
+  d->pB = s->flow->pB;
   d->Om = m->omega_f;
   double top = 0.0, all = d->Om;
+  int harm = 0;
+  for (int k = 0; k < ns; k++) {
+    d->st[k].psi = d->psi + (size_t)k * na;
+    d->st[k].xs = m->xsv[k];
+  }
   for (int j = 0, i = 0; j < n; j++) {
     double dm = m->D[j + (size_t)j * n], rate = fmax(sqrt(m->lambda[j]), dm);
     all = fmax(all, rate);
-    if (m->psi[j] == 0.0) continue;
+    if (!ex_active(m, j)) continue;
     d->act[i] = j;
     d->lam[i] = m->lambda[j];
     d->dmp[i] = dm;
     d->F0[i] = m->F0[j];
-    d->psi[i] = m->psi[j];
-    d->GA += m->psi[j] * m->pA[j];
-    d->GB += m->psi[j] * m->pB[j];
+    for (int k = 0; k < ns; k++) {
+      ex_stop *e = d->st + k;
+      double pk = vi_stop_psi(m, k)[j];
+      d->psi[(size_t)k * na + i] = pk;
+      e->GA += pk * d->pA[j];
+      e->GB += pk * d->pB[j];
+    }
     top = fmax(top, rate);
     i++;
   }
-  d->GH = hypot(d->GA, d->GB);
-  if (d->GH != 0.0) top = fmax(top, d->Om);
+  for (int k = 0; k < ns; k++) {
+    ex_stop *e = d->st + k;
+    e->GH = hypot(e->GA, e->GB);
+    harm |= e->GH != 0.0;
+  }
+  if (harm) top = fmax(top, d->Om);
   /* no rate at all (free rigid modes under a constant load): g is a
    * quadratic, which the Hermite bound follows exactly at any step */
   d->h0 = top > 0.0 ? EX_GRID / top : 1.0;
@@ -429,35 +519,37 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   return VI_OK;
 }
 
-/* Modal state of s->z: the driver's impact changed the state we handed
- * out by dx = a M^-1 w, dv = b M^-1 w (WB 6 and the projection on the
- * stop), which in modes is q += a psi, q' += b psi; anything else is
- * converted in full. */
+/* Modal state of s->z: the driver's impact on the stop k we reported
+ * changed the state we handed out by dx = a M^-1 w_k, dv = b M^-1 w_k (WB
+ * 6 and the projection on the stop), which in modes is q += a psi_k, q' +=
+ * b psi_k; anything else (several stops at once) is converted in full. */
 static void ex_modal_from_z(ex_data *d)
 {
   vi_sim *s = d->s;
   const vi_model *m = s->m;
-  int n = d->n;
+  int n = d->n, k = d->hit;
   if (d->z_ok && d->q_ok && s->t == d->tz && s->t == d->tq) {
-    double a = 0.0, b = 0.0;
+    const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
+    const double *psi = vi_stop_psi(m, k);
+    double a = 0.0, b = 0.0, wmw = m->G[k + (size_t)k * m->ns];
     for (int i = 0; i < n; i++) {
-      a += m->w[i] * (s->z[2 * i] - d->z[2 * i]);
-      b += m->w[i] * (s->z[2 * i + 1] - d->z[2 * i + 1]);
+      a += w[i] * (s->z[2 * (size_t)i] - d->z[2 * (size_t)i]);
+      b += w[i] * (s->z[2 * (size_t)i + 1] - d->z[2 * (size_t)i + 1]);
     }
-    a /= m->wMw;
-    b /= m->wMw;
+    a /= wmw;
+    b /= wmw;
     int ok = 1;
     for (int i = 0; i < n && ok; i++) {
-      double ex = s->z[2 * i] - d->z[2 * i] - a * m->Minv_w[i];
-      double ev = s->z[2 * i + 1] - d->z[2 * i + 1] - b * m->Minv_w[i];
-      double tx = 1e-13 * (fabs(s->z[2 * i]) + fabs(a * m->Minv_w[i])) + DBL_MIN;
-      double tv = 1e-13 * (fabs(s->z[2 * i + 1]) + fabs(b * m->Minv_w[i])) + DBL_MIN;
+      double ex = s->z[2 * (size_t)i] - d->z[2 * (size_t)i] - a * mw[i];
+      double ev = s->z[2 * (size_t)i + 1] - d->z[2 * (size_t)i + 1] - b * mw[i];
+      double tx = 1e-13 * (fabs(s->z[2 * (size_t)i]) + fabs(a * mw[i])) + DBL_MIN;
+      double tv = 1e-13 * (fabs(s->z[2 * (size_t)i + 1]) + fabs(b * mw[i])) + DBL_MIN;
       ok = fabs(ex) <= tx && fabs(ev) <= tv;
     }
     if (ok) {
       for (int j = 0; j < n; j++) {
-        d->q[j] += a * m->psi[j];
-        d->qd[j] += b * m->psi[j];
+        d->q[j] += a * psi[j];
+        d->qd[j] += b * psi[j];
       }
       return;
     }
@@ -466,12 +558,27 @@ static void ex_modal_from_z(ex_data *d)
     double q = 0.0, qd = 0.0;
     for (int i = 0; i < n; i++) {
       double pm = m->PsiTM[j + (size_t)i * n];
-      q += pm * s->z[2 * i];
-      qd += pm * s->z[2 * i + 1];
+      q += pm * s->z[2 * (size_t)i];
+      qd += pm * s->z[2 * (size_t)i + 1];
     }
     d->q[j] = q;
     d->qd[j] = qd;
   }
+}
+
+/* The gap the driver checks for penetration (s->gap, against stop 0's
+ * tolerance) from every stop's g [ns] (less goff if off): the worst
+ * stop's excess. */
+static double ex_report(const ex_data *d, const double *g, int off)
+{
+  const ex_stop *e = d->st;
+  if (d->ns == 1) return g[0] + (off ? e->goff : 0.0);
+  double worst = g[0] + (off ? e->goff : 0.0) - e->tol;
+  for (int k = 1; k < d->ns; k++) {
+    double x = g[k] + (off ? e[k].goff : 0.0) - e[k].tol;
+    if (!(x <= worst)) worst = x; /* a NaN is the worst */
+  }
+  return worst + e->tol;
 }
 
 static int ex_start(vi_sim *s)
@@ -502,16 +609,18 @@ static int ex_start(vi_sim *s)
   double worst = 0.0;
   int jw = -1;
   for (int j = 0; j < n; j++) {
-    double H = m->pA[j] * c + m->pB[j] * sn;
-    double Hd = Om * (m->pB[j] * c - m->pA[j] * sn);
+    double H = d->pA[j] * c + d->pB[j] * sn;
+    double Hd = Om * (d->pB[j] * c - d->pA[j] * sn);
     d->w0[j] = d->q[j] - H;
     d->wd0[j] = d->qd[j] - Hd;
     double lam = m->lambda[j], dm = m->D[j + (size_t)j * n];
     double amp = fmax(lam, Om * Om) / hypot(lam - Om * Om, dm * Om);
-    double hs = fabs(m->psi[j]) * hypot(m->pA[j], m->pB[j]);
-    if (amp > 1e6 && 4.0 * DBL_EPSILON * hs > s->atol * s->wnorm && hs > worst) {
-      worst = hs;
-      jw = j;
+    for (int k = 0; k < d->ns && amp > 1e6; k++) {
+      double hs = fabs(vi_stop_psi(m, k)[j]) * hypot(d->pA[j], d->pB[j]);
+      if (4.0 * DBL_EPSILON * hs > s->atol * s->wnorms[k] && hs > worst) {
+        worst = hs;
+        jw = j;
+      }
     }
   }
   d->handover = jw >= 0;
@@ -523,65 +632,79 @@ static int ex_start(vi_sim *s)
              fmax(m->lambda[jw], Om * Om) /
                  hypot(m->lambda[jw] - Om * Om, m->D[jw + (size_t)jw * n] * Om),
              worst);
-  /* g, g', g'' now */
-  double a = 0.0, b = 0.0, b2 = 0.0, hg, hgd;
   for (int i = 0; i < na; i++) {
     int j = d->act[i];
     d->wk[i] = d->w0[j];
     d->wdk[i] = d->wd0[j];
-    a += d->psi[i] * d->wk[i];
-    b += d->psi[i] * d->wdk[i];
-    b2 += d->psi[i] * (d->F0[i] - d->dmp[i] * d->wdk[i] - d->lam[i] * d->wk[i]);
   }
-  d->goff = 0.0;
-  ex_harm(d, c, sn, &hg, &hgd);
-  double g = a + hg - m->xs, gd = b + hgd, gdd = b2 - Om * Om * hg;
-  s->gap = g;
-  s->z_stale = 0;
   ex_bounds(d, d->wk, d->wdk);
-  /* On the stop (after an impact, or a start there): measure g from here,
-   * and skip the time in which g provably recedes, g' tau + g'' tau^2 / 2
-   * + B3 tau^3 / 6 < 0. */
-  /* the round-off of g: of its terms, physical and modal */
-  double scale = fabs(m->xs) + d->GH + 1e-3 * s->atol * s->wnorm;
-  for (int i = 0; i < n; i++) scale += fabs(m->w[i] * s->z[2 * i]);
-  for (int i = 0; i < na; i++) scale += fabs(d->psi[i] * d->wk[i]);
-  double tr = 0.0;
-  d->gnoise = 64.0 * DBL_EPSILON * scale;
-  if (fabs(g) <= d->gnoise) {
-    d->goff = g;
-    double A = d->B3 / 6.0, B = 0.5 * gdd, C = gd;
-    if (C < 0.0) {
-      if (A > 0.0) tr = 2.0 * -C / (B + sqrt(B * B - 4.0 * A * C));
-      else tr = B > 0.0 ? -C / B : HUGE_VAL;
-    } else if (C == 0.0 && B < 0.0) {
-      tr = A > 0.0 ? -B / A : HUGE_VAL;
+  /* Each stop: g, g', g'' now.  On the stop (after an impact, or a start
+   * there): measure g from here, and skip the time in which g provably
+   * recedes, g' tau + g'' tau^2 / 2 + B3 tau^3 / 6 < 0.  The grid starts
+   * where the first stop's skip ends. */
+  double tf = HUGE_VAL, tg = HUGE_VAL;
+  for (int k = 0; k < d->ns; k++) {
+    ex_stop *e = d->st + k;
+    const double *w = vi_stop_w(m, k);
+    double a = 0.0, b = 0.0, b2 = 0.0, hg, hgd;
+    for (int i = 0; i < na; i++) {
+      a += e->psi[i] * d->wk[i];
+      b += e->psi[i] * d->wdk[i];
+      b2 += e->psi[i] *
+            (d->F0[i] - d->dmp[i] * d->wdk[i] - d->lam[i] * d->wk[i]);
     }
-    tr *= 1.0 - 1e-6;
+    e->goff = 0.0;
+    e->tol = vi_sim_gap_tol(s, k);
+    ex_harm(d, e, c, sn, &hg, &hgd);
+    double g = a + hg - e->xs, gd = b + hgd, gdd = b2 - Om * Om * hg;
+    d->gk[k] = g;
+    d->gdk[k] = gd;
+    /* the round-off of g: of its terms, physical and modal */
+    double scale = fabs(e->xs) + e->GH + 1e-3 * s->atol * s->wnorms[k];
+    for (int i = 0; i < n; i++) scale += fabs(w[i] * s->z[2 * (size_t)i]);
+    for (int i = 0; i < na; i++) scale += fabs(e->psi[i] * d->wk[i]);
+    double tr = 0.0;
+    e->gnoise = 64.0 * DBL_EPSILON * scale;
+    /* on the stop: within round-off, or beyond it by no more than the
+     * driver accepts (a state handed over from CVODE after sticking),
+     * which read as a contact would restart here for ever */
+    if (fabs(g) <= e->gnoise || (g > 0.0 && g <= e->tol)) {
+      e->goff = g;
+      d->gk[k] = 0.0;
+      double A = e->B3 / 6.0, B = 0.5 * gdd, C = gd;
+      if (C < 0.0) {
+        if (A > 0.0) tr = 2.0 * -C / (B + sqrt(B * B - 4.0 * A * C));
+        else tr = B > 0.0 ? -C / B : HUGE_VAL;
+      } else if (C == 0.0 && B < 0.0) {
+        tr = A > 0.0 ? -B / A : HUGE_VAL;
+      }
+      tr *= 1.0 - 1e-6;
+    }
+    e->skip = s->t + tr;
+    tg = fmin(tg, e->skip);
+    /* grid: fine enough to see the end of a short flight, whose length is
+     * about 2 |g'| / g'' when g'' > 0 (a bounce); a tangential departure
+     * (g' ~ 0 and g'' <= 0, a release) starts no short flight */
+    if (tr > 0.0 && gdd > 0.0 && gd < 0.0)
+      tf = fmin(tf, fmax(tr, -2.0 * gd / gdd));
   }
-  d->skip = s->t + tr;
-  /* grid: fine enough to see the end of a short flight, whose length is
-   * about 2 |g'| / g'' when g'' > 0 (a bounce); a tangential departure
-   * (g' ~ 0 and g'' <= 0, a release) starts no short flight */
-  double tf = tr > 0.0 && gdd > 0.0 && gd < 0.0 ? fmax(tr, -2.0 * gd / gdd)
-                                                : HUGE_VAL;
+  s->gap = ex_report(d, d->gk, 1);
+  s->z_stale = 0;
   d->p = 0;
   while (d->p < 40 && ldexp(d->h0, -d->p) > 4.0 * tf &&
          ldexp(d->h0, -d->p - 1) >= 64.0 * DBL_EPSILON * fabs(s->t))
     d->p++;
   d->lmax = d->p + EX_DEPTH;
   d->hp = ldexp(d->h0, -d->p);
-  d->tg = d->skip; /* +inf: g recedes for ever */
+  d->tg = tg; /* +inf: every g recedes for ever */
   d->k = 0;
   d->cr = cos(Om * d->hp);
   d->sr = sin(Om * d->hp);
   if (d->tg > s->t && isfinite(d->tg))
-    ex_anchor(d, d->tg, d->wk, d->wdk, &d->ck, &d->sk, &d->gk, &d->gdk);
+    ex_anchor(d, d->tg, d->wk, d->wdk, &d->ck, &d->sk, d->gk, d->gdk);
   else {
     d->ck = c;
     d->sk = sn;
-    d->gk = g - d->goff;
-    d->gdk = gd;
   }
   d->next_ok = 0;
   d->srch = 0;
@@ -599,10 +722,11 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
   static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
                                0.2223810344533745, 0.1012285362903763};
   if (!(b > a)) return;
-  double np = ceil((b - a) / d->hq);
-  if (!(np >= 1.0)) np = 1.0;
-  for (double k = 0; k < np; k++) {
-    double pa = a + (b - a) * k / np, pb = k + 1 == np ? b : a + (b - a) * (k + 1) / np;
+  double npf = ceil((b - a) / d->hq);
+  int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
+  for (int64_t k = 0; k < np; k++) {
+    double pa = a + (b - a) * (double)k / (double)np;
+    double pb = k + 1 == np ? b : a + (b - a) * (double)(k + 1) / (double)np;
     double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
     for (int i = 0; i < 8; i++) {
       double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h;
@@ -612,16 +736,21 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
   }
 }
 
-/* g at t inside the flight, directly (an end time between grid points). */
+/* The reported gap at t inside the flight, directly (an end time between
+ * grid points); the bisection stack is free then. */
 static double ex_gap_at(ex_data *d, double t)
 {
-  double w, wd, a = 0.0;
-  for (int i = 0; i < d->na; i++) {
-    ex_mode(d, d->act[i], t, &w, &wd);
-    a += d->psi[i] * w;
+  double *w = d->stk, *wd = w + d->na, c = cos(d->Om * t), sn = sin(d->Om * t);
+  double *g = d->gs;
+  for (int i = 0; i < d->na; i++) ex_mode(d, d->act[i], t, w + i, wd + i);
+  for (int k = 0; k < d->ns; k++) {
+    const ex_stop *e = d->st + k;
+    double a = 0.0;
+    for (int i = 0; i < d->na; i++) a += e->psi[i] * w[i];
+    g[k] = a + e->GA * c + e->GB * sn - e->xs;
   }
   d->evals++;
-  return a + d->GA * cos(d->Om * t) + d->GB * sin(d->Om * t) - d->s->m->xs;
+  return ex_report(d, g, 0);
 }
 
 /* Move to t (no contact before it): time, gap, ledger. */
@@ -648,7 +777,7 @@ static int ex_step(vi_sim *s, double t_end, int *event)
       ex_move(s, d, t_end, ex_gap_at(d, t_end));
       return VI_OK;
     }
-    ex_move(s, d, d->tg, d->gk + d->goff);
+    ex_move(s, d, d->tg, ex_report(d, d->gk, 1));
   }
   for (int it = 0; it < EX_BATCH; it++) {
     /* the host's poll between grid steps: a pointer test without one */
@@ -657,30 +786,46 @@ static int ex_step(vi_sim *s, double t_end, int *event)
     if (!d->next_ok) {
       d->anch = ++d->since >= EX_ANCHOR;
       if (d->anch) {
-        ex_anchor(d, tb, d->wn, d->wdn, &d->cn, &d->sn, &d->gn, &d->gdn);
+        ex_anchor(d, tb, d->wn, d->wdn, &d->cn, &d->sn, d->gn, d->gdn);
       } else {
         d->cn = d->ck * d->cr - d->sk * d->sr;
         d->sn = d->sk * d->cr + d->ck * d->sr;
         int st = ex_advance(d, d->p, d->wk, d->wdk, d->wn, d->wdn, d->cn,
-                            d->sn, &d->gn, &d->gdn);
+                            d->sn, d->st, d->gn, d->gdn);
         if (st) return st;
+        if (d->ns > 1)
+          ex_other_gaps(d, d->wn, d->wdn, d->cn, d->sn, d->gn, d->gdn);
       }
       d->next_ok = 1;
       d->srch = 0;
     }
     if (!d->srch) {
-      double tc, cf[4];
-      int hit = 0;
-      double e4 = herm_err(d, d->hp);
-      if (tb <= d->skip ||
-          (herm_quick(d->gk, d->gdk, d->gn, d->gdn, d->hp) + e4 >= d->gnoise &&
-           herm_max(d->gk, d->gdk, d->gn, d->gdn, d->hp, cf) + e4 >= d->gnoise)) {
-        hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, d->gk,
-                        d->gdk, d->gn, d->gdn, &tc);
+      /* stop by stop: the earliest crossing over all of them */
+      double best = HUGE_VAL, hp = d->hp;
+      const double *gk = d->gk, *gdk = d->gdk, *gn = d->gn, *gdn = d->gdn;
+      int found = -1;
+      for (int k = 0, ns = d->ns; k < ns; k++) {
+        ex_stop *e = d->st + k;
+        double tc, cf[4], e4 = herm_err(e, hp);
+        if (tb <= e->skip ||
+            herm_quick(gk[k], gdk[k], gn[k], gdn[k], hp) + e4 < e->gnoise ||
+            herm_max(gk[k], gdk[k], gn[k], gdn[k], hp, cf) + e4 < e->gnoise)
+          continue;
+        d->cs = e;
+        int hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, gk[k],
+                            gdk[k], gn[k], gdn[k], &tc);
         if (hit < 0) return hit;
+        if (hit && tc < best) {
+          best = tc;
+          found = k;
+        }
       }
-      d->srch = hit ? 2 : 1;
-      d->tstar = hit ? tc : HUGE_VAL;
+      d->tstar = best;
+      d->srch = 1;
+      if (found >= 0) {
+        d->hit = found;
+        d->srch = 2;
+      }
     }
     if (d->srch == 2 && d->tstar <= t_end) { /* contact */
       double tc = fmax(d->tstar, s->t);
@@ -689,9 +834,14 @@ static int ex_step(vi_sim *s, double t_end, int *event)
       ex_modes_at(d, tc, d->q, d->qd);
       d->tq = tc;
       d->q_ok = 1;
-      double g = -s->m->xs;
-      for (int j = 0; j < d->n; j++) g += s->m->psi[j] * d->q[j];
-      s->gap = g;
+      double *g = d->gs;
+      for (int k = 0; k < d->ns; k++) {
+        const double *psi = vi_stop_psi(s->m, k);
+        g[k] = -d->st[k].xs;
+        for (int j = 0; j < d->n; j++) g[k] += psi[j] * d->q[j];
+      }
+      s->gap = ex_report(d, g, 0);
+      s->contact_stop = d->hit;
       s->z_stale = 1;
       d->steps++;
       *event = VI_STEP_CONTACT;
@@ -701,15 +851,19 @@ static int ex_step(vi_sim *s, double t_end, int *event)
       ex_move(s, d, t_end, ex_gap_at(d, t_end));
       return VI_OK;
     }
-    ex_move(s, d, tb, d->gn + d->goff);
+    ex_move(s, d, tb, ex_report(d, d->gn, 1));
     /* commit t_{k+1} */
     double *t1 = d->wk, *t2 = d->wdk;
     d->wk = d->wn;
     d->wdk = d->wdn;
     d->wn = t1;
     d->wdn = t2;
+    t1 = d->gk;
+    t2 = d->gdk;
     d->gk = d->gn;
     d->gdk = d->gdn;
+    d->gn = t1;
+    d->gdn = t2;
     d->ck = d->cn;
     d->sk = d->sn;
     d->k++;
@@ -730,15 +884,15 @@ static void ex_physical(const vi_model *m, const double *q, const double *qd,
 {
   int n = m->n;
   for (int i = 0; i < n; i++) {
-    z[2 * i] = 0.0;
-    z[2 * i + 1] = 0.0;
+    z[2 * (size_t)i] = 0.0;
+    z[2 * (size_t)i + 1] = 0.0;
   }
   for (int j = 0; j < n; j++) { /* column order: Psi is column-major */
     const double *col = m->Psi + (size_t)j * n;
     double a = q[j], b = qd[j];
     for (int i = 0; i < n; i++) {
-      z[2 * i] += col[i] * a;
-      z[2 * i + 1] += col[i] * b;
+      z[2 * (size_t)i] += col[i] * a;
+      z[2 * (size_t)i + 1] += col[i] * b;
     }
   }
 }

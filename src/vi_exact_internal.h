@@ -2,6 +2,7 @@
 #ifndef VI_EXACT_INTERNAL_H
 #define VI_EXACT_INTERNAL_H
 
+#include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 
 /* The step-by-step scan of the closed form (vi_exact_scan.c): the exact

@@ -7,7 +7,9 @@
  * shortest period present in g; in each step the sign of g' splits the step
  * at an extremum (located by Brent), and a contact is a rising crossing of a
  * monotone piece, also located by Brent to round-off.  Checking the maxima
- * is what catches grazing contacts that a sign test at step ends misses. */
+ * is what catches grazing contacts that a sign test at step ends misses.
+ * With several stops every gap is scanned so over each step and the
+ * earliest contact over all of them is the one reported. */
 #include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,7 +24,10 @@ typedef struct ex_data {
   double *u0, *v0;    /* homogeneous initial values per mode [n] */
   double *q, *qd;     /* modal state of the last evaluation [n] */
   double h;           /* scan step */
-  double ta, ga, gda; /* left end of the next scan step */
+  double ta;          /* left end of the next scan step */
+  double *ga, *gda;   /* every stop's gap and rate there [ns] */
+  double *gb, *gdb;   /* and at the step's end [ns] */
+  int ns, stop;       /* stops; the one gap_fn and rate_fn follow */
   double *rates;      /* ledger integrands [4n] */
   vi_gflow *gf;       /* non-proportional damping: the first-order flow */
   int handover;       /* the flow would cancel a far larger particular part */
@@ -43,8 +48,8 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
         double q = 0.0, qd = 0.0;
         for (int i = 0; i < n; i++) {
           double p = m->PsiTM[j + (size_t)i * n];
-          q += p * d->zfull[2 * i];
-          qd += p * d->zfull[2 * i + 1];
+          q += p * d->zfull[2 * (size_t)i];
+          qd += p * d->zfull[2 * (size_t)i + 1];
         }
         d->q[j] = q;
         d->qd[j] = qd;
@@ -56,7 +61,7 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
   for (int j = 0; j < n; j++) {
     if (!full && m->psi[j] == 0.0) continue;
     double qp, qpd, u, ud;
-    vi_flow_particular(m, j, c, sn, tau, &qp, &qpd);
+    vi_flow_particular(m, d->s->flow, j, c, sn, tau, &qp, &qpd);
     vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], d->u0[j],
                         d->v0[j], tau, &u, &ud);
     d->q[j] = qp + u;
@@ -69,17 +74,67 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
   *gd = b;
 }
 
+/* Gap and rate of stop k at t: stop 0's directly, another's from the
+ * whole state. */
+static void ex_eval_k(ex_data *d, double t, int k, double *g, double *gd)
+{
+  const vi_model *m = d->s->m;
+  int n = m->n;
+  if (k == 0) {
+    ex_eval(d, t, g, gd, 0);
+    return;
+  }
+  ex_eval(d, t, g, gd, 1);
+  const double *w = vi_stop_w(m, k), *psi = vi_stop_psi(m, k);
+  double a = 0.0, b = 0.0;
+  for (int i = 0; i < n; i++) {
+    if (d->gf) {
+      a += w[i] * d->zfull[2 * (size_t)i];
+      b += w[i] * d->zfull[2 * (size_t)i + 1];
+    } else {
+      a += psi[i] * d->q[i];
+      b += psi[i] * d->qd[i];
+    }
+  }
+  *g = a - m->xsv[k];
+  *gd = b;
+}
+
+/* Every stop's gap and rate at t into g, gd [ns]. */
+static void ex_eval_all(ex_data *d, double t, double *g, double *gd)
+{
+  ex_eval(d, t, g, gd, d->ns > 1);
+  for (int k = 1; k < d->ns; k++) {
+    const vi_model *m = d->s->m;
+    const double *w = vi_stop_w(m, k), *psi = vi_stop_psi(m, k);
+    double a = 0.0, b = 0.0;
+    for (int i = 0; i < m->n; i++) {
+      if (d->gf) {
+        a += w[i] * d->zfull[2 * (size_t)i];
+        b += w[i] * d->zfull[2 * (size_t)i + 1];
+      } else {
+        a += psi[i] * d->q[i];
+        b += psi[i] * d->qd[i];
+      }
+    }
+    g[k] = a - m->xsv[k];
+    gd[k] = b;
+  }
+}
+
 static double gap_fn(double t, void *p)
 {
+  ex_data *d = p;
   double g, gd;
-  ex_eval(p, t, &g, &gd, 0);
+  ex_eval_k(d, t, d->stop, &g, &gd);
   return g;
 }
 
 static double rate_fn(double t, void *p)
 {
+  ex_data *d = p;
   double g, gd;
-  ex_eval(p, t, &g, &gd, 0);
+  ex_eval_k(d, t, d->stop, &g, &gd);
   return gd;
 }
 
@@ -98,8 +153,8 @@ static void to_state(const vi_model *m, const ex_data *d, double *z)
       x += p * d->q[j];
       v += p * d->qd[j];
     }
-    z[2 * i] = x;
-    z[2 * i + 1] = v;
+    z[2 * (size_t)i] = x;
+    z[2 * (size_t)i + 1] = v;
   }
 }
 
@@ -124,8 +179,8 @@ static int ex_start(vi_sim *s)
   ex_data *d = s->be_data;
   if (!d) {
     d = calloc(1, sizeof *d);
-    if (d) d->u0 = malloc(sizeof(double) * 10 * (size_t)n);
-    if (d && !m->proportional) d->gf = vi_gflow_create(m);
+    if (d) d->u0 = malloc(sizeof(double) * (10 * (size_t)n + 4 * (size_t)m->ns));
+    if (d && !m->proportional) d->gf = vi_gflow_create(s->flow->gen);
     if (!d || !d->u0 || (!m->proportional && !d->gf)) {
       if (d) free(d->u0);
       free(d);
@@ -135,13 +190,19 @@ static int ex_start(vi_sim *s)
     d->q = d->v0 + n;
     d->qd = d->q + n;
     d->rates = d->qd + n;
-    d->zfull = d->rates + 4 * n;
+    d->zfull = d->rates + 4 * (size_t)n;
+    d->ga = d->zfull + 2 * (size_t)n;
+    d->gda = d->ga + m->ns;
+    d->gb = d->gda + m->ns;
+    d->gdb = d->gb + m->ns;
+    d->ns = m->ns;
     d->kind = EX_KIND_SCAN;
     d->s = s;
     double wtop = m->omega_f;
-    for (int j = 0; j < n; j++)
-      if (m->psi[j] != 0.0) wtop = fmax(wtop, m->omega[j]);
-    if (d->gf) wtop = vi_general_top_frequency(m);
+    for (int k = 0; k < m->ns; k++)
+      for (int j = 0; j < n; j++)
+        if (vi_stop_psi(m, k)[j] != 0.0) wtop = fmax(wtop, m->omega[j]);
+    if (d->gf) wtop = vi_general_top_frequency(s->flow->gen, m->omega_f);
     d->h = wtop > 0.0 ? M_PI / (8.0 * wtop) : HUGE_VAL;
     s->be_data = d;
   }
@@ -149,15 +210,15 @@ static int ex_start(vi_sim *s)
   d->ta = s->t;
   if (d->gf) {
     vi_gflow_start(d->gf, m, s->t, s->z);
-    ex_eval(d, d->ta, &d->ga, &d->gda, 0);
-    s->gap = d->ga;
+    ex_eval_all(d, d->ta, d->ga, d->gda);
+    s->gap = d->ga[0];
     s->z_stale = 0;
     /* The gap is the sum of a particular part and a transient that cancel
      * when a static offset or a resonant response dwarfs the motion (a
      * very soft structure under load): hand over to CVODE rather than lose
      * those digits (issue 9). */
-    double hsc = vi_general_particular_scale(m), msc = fabs(m->xs);
-    for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * i]);
+    double hsc = vi_general_particular_scale(s->flow->gen), msc = fabs(m->xs);
+    for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * (size_t)i]);
     d->handover = hsc > 1e6 * (msc + s->atol * s->wnorm);
     if (d->handover)
       snprintf(s->handover_why, sizeof s->handover_why,
@@ -172,15 +233,15 @@ static int ex_start(vi_sim *s)
     double q = 0.0, qd = 0.0, qp, qpd;
     for (int i = 0; i < n; i++) {
       double p = m->PsiTM[j + (size_t)i * n];
-      q += p * s->z[2 * i];
-      qd += p * s->z[2 * i + 1];
+      q += p * s->z[2 * (size_t)i];
+      qd += p * s->z[2 * (size_t)i + 1];
     }
-    vi_flow_particular(m, j, c, sn, 0.0, &qp, &qpd);
+    vi_flow_particular(m, d->s->flow, j, c, sn, 0.0, &qp, &qpd);
     d->u0[j] = q - qp;
     d->v0[j] = qd - qpd;
   }
   d->ta = s->t;
-  ex_eval(d, d->ta, &d->ga, &d->gda, 0);
+  ex_eval_all(d, d->ta, d->ga, d->gda);
   return VI_OK;
 }
 
@@ -234,11 +295,23 @@ static int ex_step(vi_sim *s, double t_end, int *event)
     *event = VI_STEP_HANDOVER;
     return VI_OK;
   }
-  double b = fmin(d->ta + d->h, t_end), gb, gdb, tc;
-  ex_eval(d, b, &gb, &gdb, 0);
+  double b = fmin(d->ta + d->h, t_end), tc = HUGE_VAL;
+  double *gb = d->gb, *gdb = d->gdb;
+  int hit = 0;
+  ex_eval_all(d, b, gb, gdb);
   d->steps++;
-  int hit = find_contact(s, d, d->ta, d->ga, d->gda, b, gb, gdb, &tc);
-  if (hit < 0) return hit;
+  for (int k = 0; k < d->ns; k++) {
+    double t1 = HUGE_VAL;
+    d->stop = k;
+    int h = find_contact(s, d, d->ta, d->ga[k], d->gda[k], b, gb[k], gdb[k],
+                         &t1);
+    if (h < 0) return h;
+    if (h && t1 < tc) {
+      tc = t1;
+      hit = 1;
+      s->contact_stop = k;
+    }
+  }
   *event = hit ? VI_STEP_CONTACT : VI_STEP_NONE;
   s->t = hit ? tc : b;
   if (s->led) ex_quadrature(s, d, d->ta, s->t);
@@ -248,6 +321,8 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   s->gap = g;
   s->z_stale = 0;
   d->ta = b;
+  d->gb = d->ga; /* swap: the end is the next step's start */
+  d->gdb = d->gda;
   d->ga = gb;
   d->gda = gdb;
   return VI_OK;

@@ -1,9 +1,87 @@
 /* vi_flow.c - closed-form motion between impacts (MODEL.md section 8):
- * proportionally damped modes here, any other damping in vi_general.c. */
+ * the flow object (vi_flow_internal.h), proportionally damped modes here,
+ * any other damping in vi_general.c. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
-#include "vi_internal.h"
+#include "vi_flow_internal.h"
+
+/* Harmonic particular solution of q'' + d q' + lambda q = Fc cos + Fs sin;
+ * returns 0 when an undamped mode is forced exactly at resonance. */
+static int particular(double lambda, double d, double Om, double Fc, double Fs,
+                      double *A, double *B)
+{
+  *A = *B = 0.0;
+  if (Fc == 0.0 && Fs == 0.0) return 1;
+  double p = lambda - Om * Om, s = d * Om, det = p * p + s * s;
+  if (det <= 1e-28 * fmax(lambda * lambda, Om * Om * Om * Om)) return 0;
+  *A = (p * Fc - s * Fs) / det;
+  *B = (s * Fc + p * Fs) / det;
+  return 1;
+}
+
+int vi_xflow_create(const vi_model *m, vi_xflow **out)
+{
+  *out = NULL;
+  int n = m->n;
+  vi_xflow *f = calloc(1, sizeof *f);
+  if (!f) return VI_ERR_NOMEM;
+  f->pA = malloc(sizeof(double) * 2 * (size_t)n);
+  if (!f->pA) {
+    free(f);
+    return VI_ERR_NOMEM;
+  }
+  f->pB = f->pA + n;
+  f->ok = 1;
+  if (m->band) { /* vi_band.c */
+    f->ok = 0;
+    vi_fail(f->why, VI_ERR_UNSUPPORTED, "the model is in band storage: it "
+            "has no modes, so no closed-form flow");
+    *out = f;
+    return VI_OK;
+  }
+  if (!m->proportional) {
+    /* modes couple between impacts: the first-order eigen-solution; a
+     * LAPACK failure only means no closed form (CVODE remains) */
+    int st = vi_general_create(m, &f->gen, f->why);
+    if (st == VI_ERR_NOMEM) {
+      vi_xflow_destroy(&f);
+      return st;
+    }
+    f->ok = st == VI_OK;
+  }
+  for (int j = 0; j < n; j++) {
+    double d = m->D[j + (size_t)j * n];
+    if (!particular(m->lambda[j], d, m->omega_f, m->Fa[j], m->Fb[j], &f->pA[j],
+                    &f->pB[j]) && f->ok && m->proportional) {
+      f->ok = 0;
+      vi_fail(f->why, VI_ERR_UNSUPPORTED,
+              "mode %d (omega = %.17g) is undamped and forced at resonance",
+              j + 1, m->omega[j]);
+    }
+  }
+  *out = f;
+  return VI_OK;
+}
+
+void vi_xflow_destroy(vi_xflow **f)
+{
+  if (!f || !*f) return;
+  vi_general_destroy(&(*f)->gen);
+  free((*f)->pA);
+  free(*f);
+  *f = NULL;
+}
+
+int vi_xflow_available(const vi_model *m)
+{
+  vi_xflow *f = NULL;
+  if (vi_xflow_create(m, &f)) return 0;
+  int ok = f->ok;
+  vi_xflow_destroy(&f);
+  return ok;
+}
 
 /* u'' + d u' + lambda u = 0 from u(0) = u0, u'(0) = v0, after tau >= 0.
  * With mu^2 = lambda - d^2/4 and w = v0 + d u0 / 2:
@@ -108,12 +186,13 @@ void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
   *phi = (1.0 - A) / lambda;
 }
 
-void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
-                        double tau, double *qp, double *qpd)
+void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
+                        double cos_t, double sin_t, double tau, double *qp,
+                        double *qpd)
 {
   double Om = m->omega_f, lam = m->lambda[j], d = m->D[j + (size_t)j * m->n];
-  double q = m->pA[j] * cos_t + m->pB[j] * sin_t;
-  double qd = Om * (m->pB[j] * cos_t - m->pA[j] * sin_t);
+  double q = f->pA[j] * cos_t + f->pB[j] * sin_t;
+  double qd = Om * (f->pB[j] * cos_t - f->pA[j] * sin_t);
   double F0 = m->F0[j];
   if (F0 != 0.0) {
     if (lam > 0.0) {
@@ -131,32 +210,91 @@ void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
 }
 
 /* Non-proportional damping: the first-order eigen-solution (vi_general.c). */
-static int flow_general(const vi_model *m, double t0, const double *x0,
-                        const double *v0, double t, double *x, double *v)
+static int flow_general(const vi_general *gen, const vi_model *m, double t0,
+                        const double *x0, const double *v0, double t,
+                        double *x, double *v)
 {
   int n = m->n;
   double *z = malloc(sizeof(double) * 2 * (size_t)n), g, gd;
-  vi_gflow *f = vi_gflow_create(m);
+  vi_gflow *f = vi_gflow_create(gen);
   if (!z || !f) {
     free(z);
     vi_gflow_free(f);
     return VI_ERR_NOMEM;
   }
   for (int i = 0; i < n; i++) {
-    z[2 * i] = x0[i];
-    z[2 * i + 1] = v0[i];
+    z[2 * (size_t)i] = x0[i];
+    z[2 * (size_t)i + 1] = v0[i];
   }
   vi_gflow_start(f, m, t0, z);
   vi_gflow_eval(f, m, t, &g, &gd, z);
   for (int i = 0; i < n; i++) {
-    x[i] = z[2 * i];
-    v[i] = z[2 * i + 1];
+    x[i] = z[2 * (size_t)i];
+    v[i] = z[2 * (size_t)i + 1];
   }
   vi_gflow_free(f);
   free(z);
   return VI_OK;
 }
 
+int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
+                   const double *q0, const double *qd0, double t, double *q,
+                   double *qd)
+{
+  if (!fl->ok) return VI_ERR_UNSUPPORTED;
+  if (fl->gen) { /* through physical coordinates: x = Psi q, q = Psi^T M x */
+    int n = m->n;
+    double *buf = malloc(sizeof(double) * 4 * (size_t)n);
+    if (!buf) return VI_ERR_NOMEM;
+    vi_matvec(n, m->Psi, q0, buf);
+    vi_matvec(n, m->Psi, qd0, buf + n);
+    int st = flow_general(fl->gen, m, t0, buf, buf + n, t,
+                          buf + 2 * (size_t)n, buf + 3 * (size_t)n);
+    vi_matvec(n, m->PsiTM, buf + 2 * (size_t)n, q);
+    vi_matvec(n, m->PsiTM, buf + 3 * (size_t)n, qd);
+    free(buf);
+    return st;
+  }
+  /* q = H(t) + w: H the harmonic particular solution, w the rest, which
+   * obeys w'' + d w' + lambda w = F0 and runs relative to its start */
+  double tau = t - t0, Om = m->omega_f;
+  double c0 = cos(Om * t0), s0 = sin(Om * t0), c1 = cos(Om * t), s1 = sin(Om * t);
+  const double *pA = fl->pA, *pB = fl->pB;
+  for (int j = 0; j < m->n; j++) {
+    double lam = m->lambda[j], d = m->D[j + (size_t)j * m->n], B, Bp, phi;
+    double w0 = q0[j] - (pA[j] * c0 + pB[j] * s0);
+    double wd0 = qd0[j] - Om * (pB[j] * c0 - pA[j] * s0);
+    double f = m->F0[j] - lam * w0;
+    vi_flow_basis(lam, d, tau, &B, &Bp, &phi);
+    q[j] = pA[j] * c1 + pB[j] * s1 + (w0 + B * wd0 + phi * f);
+    qd[j] = Om * (pB[j] * c1 - pA[j] * s1) + (Bp * wd0 + B * f);
+  }
+  return VI_OK;
+}
+
+int vi_xflow_physical(const vi_xflow *fl, const vi_model *m, double t0,
+                      const double *x0, const double *v0, double t, double *x,
+                      double *v)
+{
+  if (!fl->ok) return VI_ERR_UNSUPPORTED;
+  if (fl->gen) return flow_general(fl->gen, m, t0, x0, v0, t, x, v);
+  int n = m->n;
+  double *q = malloc(sizeof(double) * 4 * (size_t)n);
+  if (!q) return VI_ERR_NOMEM;
+  double *qd = q + n, *q1 = q + 2 * (size_t)n, *qd1 = q + 3 * (size_t)n;
+  vi_matvec(n, m->PsiTM, x0, q);
+  vi_matvec(n, m->PsiTM, v0, qd);
+  int st = vi_xflow_modal(fl, m, t0, q, qd, t, q1, qd1);
+  if (st == VI_OK) {
+    vi_matvec(n, m->Psi, q1, x);
+    vi_matvec(n, m->Psi, qd1, v);
+  }
+  free(q);
+  return st;
+}
+
+/* The public calls build a flow for the call: O(n) for proportional
+ * damping, a dgeev otherwise (hold a vi_xflow to advance many states). */
 int vi_flow_modal(const vi_model *m, double t0, const double *q0,
                   const double *qd0, double t, double *q, double *qd)
 {
@@ -166,34 +304,14 @@ int vi_flow_modal(const vi_model *m, double t0, const double *q0,
                     vi_overlap(qd, qd0, m->n)))
     return VI_ERR_ARG; /* outputs would overwrite inputs still being read */
   if (!m->frozen) return VI_ERR_STATE;
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
-  if (!(t >= t0)) return VI_ERR_TIME;
-  if (m->gen) { /* through physical coordinates: x = Psi q, q = Psi^T M x */
-    int n = m->n;
-    double *buf = malloc(sizeof(double) * 4 * (size_t)n);
-    if (!buf) return VI_ERR_NOMEM;
-    vi_matvec(n, m->Psi, q0, buf);
-    vi_matvec(n, m->Psi, qd0, buf + n);
-    int st = flow_general(m, t0, buf, buf + n, t, buf + 2 * n, buf + 3 * n);
-    vi_matvec(n, m->PsiTM, buf + 2 * n, q);
-    vi_matvec(n, m->PsiTM, buf + 3 * n, qd);
-    free(buf);
-    return st;
-  }
-  /* q = H(t) + w: H the harmonic particular solution, w the rest, which
-   * obeys w'' + d w' + lambda w = F0 and runs relative to its start */
-  double tau = t - t0, Om = m->omega_f;
-  double c0 = cos(Om * t0), s0 = sin(Om * t0), c1 = cos(Om * t), s1 = sin(Om * t);
-  for (int j = 0; j < m->n; j++) {
-    double lam = m->lambda[j], d = m->D[j + (size_t)j * m->n], B, Bp, phi;
-    double w0 = q0[j] - (m->pA[j] * c0 + m->pB[j] * s0);
-    double wd0 = qd0[j] - Om * (m->pB[j] * c0 - m->pA[j] * s0);
-    double f = m->F0[j] - lam * w0;
-    vi_flow_basis(lam, d, tau, &B, &Bp, &phi);
-    q[j] = m->pA[j] * c1 + m->pB[j] * s1 + (w0 + B * wd0 + phi * f);
-    qd[j] = Om * (m->pB[j] * c1 - m->pA[j] * s1) + (Bp * wd0 + B * f);
-  }
-  return VI_OK;
+  vi_xflow *fl = NULL;
+  int st = vi_xflow_create(m, &fl);
+  if (st) return st;
+  if (!fl->ok) st = VI_ERR_UNSUPPORTED;
+  else if (!(t >= t0)) st = VI_ERR_TIME;
+  else st = vi_xflow_modal(fl, m, t0, q0, qd0, t, q, qd);
+  vi_xflow_destroy(&fl);
+  return st;
 }
 
 int vi_flow_physical(const vi_model *m, double t0, const double *x0,
@@ -205,20 +323,12 @@ int vi_flow_physical(const vi_model *m, double t0, const double *x0,
                     vi_overlap(v, v0, m->n)))
     return VI_ERR_ARG; /* outputs would overwrite inputs still being read */
   if (!m->frozen) return VI_ERR_STATE;
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
-  if (!(t >= t0)) return VI_ERR_TIME;
-  if (m->gen) return flow_general(m, t0, x0, v0, t, x, v);
-  int n = m->n;
-  double *q = malloc(sizeof(double) * 4 * (size_t)n);
-  if (!q) return VI_ERR_NOMEM;
-  double *qd = q + n, *q1 = q + 2 * n, *qd1 = q + 3 * n;
-  vi_matvec(n, m->PsiTM, x0, q);
-  vi_matvec(n, m->PsiTM, v0, qd);
-  int st = vi_flow_modal(m, t0, q, qd, t, q1, qd1);
-  if (st == VI_OK) {
-    vi_matvec(n, m->Psi, q1, x);
-    vi_matvec(n, m->Psi, qd1, v);
-  }
-  free(q);
+  vi_xflow *fl = NULL;
+  int st = vi_xflow_create(m, &fl);
+  if (st) return st;
+  if (!fl->ok) st = VI_ERR_UNSUPPORTED;
+  else if (!(t >= t0)) st = VI_ERR_TIME;
+  else st = vi_xflow_physical(fl, m, t0, x0, v0, t, x, v);
+  vi_xflow_destroy(&fl);
   return st;
 }

@@ -35,6 +35,9 @@ int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
                      void *user)
 {
   if (!s) return VI_ERR_ARG;
+  if (fn && s->m->band) /* M^-1 g = Psi Psi^T g needs the modes */
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
+                   "which a band-storage model does not have");
   if (fn && exact_in_use(s))
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the exact method has no "
                    "closed form for a host force: choose adams, bdf, erk or "
@@ -53,6 +56,9 @@ int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
 int vi_sim_add_spring(vi_sim *s, int type, int i, int j, double k, double gap)
 {
   if (!s) return VI_ERR_ARG;
+  if (s->m->band) /* M^-1 g = Psi Psi^T g needs the modes */
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
+                   "which a band-storage model does not have");
   if (type != VI_SPRING_CUBIC && type != VI_SPRING_BILINEAR)
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown spring type %d", type);
   if (i < 1 || i > s->n || j < 0 || j > s->n || i == j)

@@ -17,7 +17,7 @@
 
 #include <lapacke.h>
 
-#include "vi_internal.h"
+#include "vi_flow_internal.h"
 
 typedef double complex cplx;
 
@@ -29,28 +29,30 @@ struct vi_general {
 };
 
 struct vi_gflow {
+  const vi_general *g;
   double t0;
   cplx *u, *y; /* homogeneous amplitudes at t0, modal state at t [n2] */
 };
 
-void vi_general_free(vi_model *m)
+void vi_general_destroy(vi_general **g)
 {
-  if (!m->gen) return;
-  free(m->gen->lam);
-  free(m->gen);
-  m->gen = NULL;
+  if (!g || !*g) return;
+  free((*g)->lam);
+  free(*g);
+  *g = NULL;
 }
 
-int vi_general_setup(vi_model *m)
+int vi_general_create(const vi_model *m, vi_general **out, char *why)
 {
   int n = m->n, n2 = 2 * n, st = VI_OK;
+  *out = NULL;
   size_t nn2 = (size_t)n2 * n2;
   double *A = calloc(nn2 * 2 + 2 * (size_t)n2, sizeof(double));
   struct vi_general *g = calloc(1, sizeof *g);
   cplx *mem = calloc(3 * nn2 + 7 * (size_t)n2, sizeof(cplx));
   lapack_int *ipiv = malloc(sizeof(lapack_int) * n2);
   if (!A || !g || !mem || !ipiv) {
-    st = vi_fail(m->flow_why, VI_ERR_NOMEM, "out of memory");
+    st = vi_fail(why, VI_ERR_NOMEM, "out of memory");
     goto cleanup;
   }
   double *VR = A + nn2, *wr = VR + nn2, *wi = wr + n2;
@@ -75,7 +77,7 @@ int vi_general_setup(vi_model *m)
   lapack_int info = LAPACKE_dgeev(LAPACK_COL_MAJOR, 'N', 'V', n2, A, n2, wr, wi,
                                   NULL, 1, VR, n2);
   if (info != 0) {
-    st = vi_fail(m->flow_why, VI_ERR_LAPACK, "dgeev failed (info %d)", (int)info);
+    st = vi_fail(why, VI_ERR_LAPACK, "dgeev failed (info %d)", (int)info);
     goto cleanup;
   }
   for (int k = 0; k < n2; k++) {
@@ -98,7 +100,7 @@ int vi_general_setup(vi_model *m)
   info = LAPACKE_zgetrf(LAPACK_COL_MAJOR, n2, n2, LU, n2, ipiv);
   if (info == 0) LAPACKE_zgecon(LAPACK_COL_MAJOR, '1', n2, LU, n2, anorm, &rcond);
   if (info != 0 || rcond < 1e-6) {
-    st = vi_fail(m->flow_why, VI_ERR_UNSUPPORTED,
+    st = vi_fail(why, VI_ERR_UNSUPPORTED,
                  "the first-order system is not safely diagonalisable "
                  "(eigenvector condition %.2g): rigid-body or critically "
                  "damped modes", rcond);
@@ -123,12 +125,12 @@ int vi_general_setup(vi_model *m)
     g->cw[k] = cw;
     g->cv[k] = cv;
     if ((bc != 0 || bs != 0) && cabs(den) <= 1e-14 * (cabs(l * l) + Om * Om)) {
-      st = vi_fail(m->flow_why, VI_ERR_UNSUPPORTED,
+      st = vi_fail(why, VI_ERR_UNSUPPORTED,
                    "a mode is undamped and forced at resonance");
       goto cleanup;
     }
     if (b0 != 0 && cabs(l) <= 1e-14) {
-      st = vi_fail(m->flow_why, VI_ERR_UNSUPPORTED,
+      st = vi_fail(why, VI_ERR_UNSUPPORTED,
                    "a constant load on a zero eigenvalue (rigid-body drift)");
       goto cleanup;
     }
@@ -137,7 +139,7 @@ int vi_general_setup(vi_model *m)
     g->Q[k] = (bc != 0 || bs != 0) ? (l * g->P[k] + bc) / Om : 0;
     g->R[k] = b0 != 0 ? -b0 / l : 0;
   }
-  m->gen = g;
+  *out = g;
   g = NULL;
   mem = NULL;
 cleanup:
@@ -148,28 +150,33 @@ cleanup:
   return st;
 }
 
-double vi_general_top_frequency(const vi_model *m)
+double vi_general_top_frequency(const vi_general *g, double omega_f)
 {
-  double top = m->omega_f;
-  for (int k = 0; m->gen && k < m->gen->n2; k++) top = fmax(top, fabs(cimag(m->gen->lam[k])));
+  double top = omega_f;
+  for (int k = 0; k < g->n2; k++) top = fmax(top, fabs(cimag(g->lam[k])));
   return top;
 }
 
-double vi_general_particular_scale(const vi_model *m)
+double vi_general_particular_scale(const vi_general *g)
 {
   double sc = 0.0;
-  for (int k = 0; m->gen && k < m->gen->n2; k++)
-    sc += cabs(m->gen->cw[k]) *
-          (cabs(m->gen->P[k]) + cabs(m->gen->Q[k]) + cabs(m->gen->R[k]));
+  for (int k = 0; k < g->n2; k++)
+    sc += cabs(g->cw[k]) * (cabs(g->P[k]) + cabs(g->Q[k]) + cabs(g->R[k]));
   return sc;
 }
 
-vi_gflow *vi_gflow_create(const vi_model *m)
+vi_gflow *vi_gflow_create(const vi_general *g)
 {
   vi_gflow *f = calloc(1, sizeof *f);
-  if (f) f->u = calloc(2 * (size_t)m->gen->n2, sizeof(cplx));
-  if (f && !f->u) { free(f); return NULL; }
-  if (f) f->y = f->u + m->gen->n2;
+  if (f) f->u = calloc(2 * (size_t)g->n2, sizeof(cplx));
+  if (f && !f->u) {
+    free(f);
+    return NULL;
+  }
+  if (f) {
+    f->g = g;
+    f->y = f->u + g->n2;
+  }
   return f;
 }
 
@@ -187,15 +194,15 @@ static cplx particular(const struct vi_general *g, int k, double c, double s)
 
 void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z)
 {
-  const struct vi_general *g = m->gen;
+  const struct vi_general *g = f->g;
   int n = m->n, n2 = g->n2;
   double c = cos(m->omega_f * t0), s = sin(m->omega_f * t0);
   f->t0 = t0;
   for (int k = 0; k < n2; k++) {
     cplx y = 0;
     for (int i = 0; i < n; i++)
-      y += g->Vinv[k + (size_t)i * n2] * z[2 * i] +
-           g->Vinv[k + (size_t)(n + i) * n2] * z[2 * i + 1];
+      y += g->Vinv[k + (size_t)i * n2] * z[2 * (size_t)i] +
+           g->Vinv[k + (size_t)(n + i) * n2] * z[2 * (size_t)i + 1];
     f->u[k] = y - particular(g, k, c, s);
   }
 }
@@ -203,7 +210,7 @@ void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z)
 void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
                    double *rate, double *z)
 {
-  const struct vi_general *g = m->gen;
+  const struct vi_general *g = f->g;
   int n = m->n, n2 = g->n2;
   double c = cos(m->omega_f * t), s = sin(m->omega_f * t), tau = t - f->t0;
   cplx a = 0, b = 0;
@@ -221,7 +228,7 @@ void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
       x += g->V[i + (size_t)k * n2] * f->y[k];
       v += g->V[(n + i) + (size_t)k * n2] * f->y[k];
     }
-    z[2 * i] = creal(x);
-    z[2 * i + 1] = creal(v);
+    z[2 * (size_t)i] = creal(x);
+    z[2 * (size_t)i + 1] = creal(v);
   }
 }

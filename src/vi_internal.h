@@ -44,12 +44,21 @@ struct vi_model {
   int bw;                         /* half-bandwidth of M^-1 K and M^-1 C */
   double *omega, *lambda, *Psi, *PsiTM, *D, *zeta, *psi;
   double *Fa, *Fb, *F0;           /* Psi^T a, Psi^T b, Psi^T f0 */
-  double *pA, *pB;                /* harmonic particular solution per mode */
-  int proportional;
-  int flow_ok;                    /* closed-form flow available */
-  char flow_why[VI_MSG_LEN];
-  struct vi_general *gen;         /* exact flow for non-proportional damping */
+  int proportional;               /* modes decouple (the exact flow, built
+                                     on the model: vi_flow_internal.h) */
   double *block;                  /* single allocation behind the arrays */
+  /* Band storage (vi_model_create_band): M, C, K in LAPACK symmetric-band
+   * 'U' form, entry (i, j), i <= j, at [kd + i - j + j ldb]; the dense n x n
+   * arrays and the modal ones are then NULL: a band model has no modes. */
+  int band;                       /* 1 for band storage */
+  int kd, ldb;                    /* storage half-bandwidth, ldb = kd + 1 */
+  int kdm;                        /* M's own half-bandwidth (0: diagonal) */
+  double *MB, *CB, *KB;           /* as set */
+  double *LB;                     /* band Cholesky of M, or 1/m_i (kdm 0) */
+  double *KR, *CR;                /* rows of K, C, scaled by 1/m_i when M is
+                                     diagonal (then rows of M^-1 K, M^-1 C):
+                                     row i, column j at [i (2kd+1) + j-i+kd] */
+  int64_t bytes;                  /* bytes the model holds (vi_model_memory) */
   char errmsg[VI_MSG_LEN];
 };
 
@@ -83,37 +92,20 @@ int vi_contact_solve(const vi_model *m, int nc, const int *idx,
                      const double *v, double *vp, double *P, double *vn,
                      double *ie);
 
+/* Band models (vi_band.c).  vi_band_setup replaces the dense setup: band
+ * Cholesky of M, positive semidefiniteness of K and C by shifted band
+ * Cholesky, M^-1 of the forcing and the stops, the row form KR, CR. */
+int vi_band_setup(vi_model *m);
+/* acc = M^-1 (f(t) - K x - C v) for an interleaved state z (x_1, v_1, ..) */
+void vi_band_accel(const vi_model *m, double t, const double *z, double *acc);
+/* y = M^-1 (K x + C v), x and v with strides incx, incv (O(n kd)) */
+void vi_band_apply(const vi_model *m, const double *x, int incx,
+                   const double *v, int incv, double *y);
+/* 1/2 v^T M v + 1/2 x^T K x from the band storage */
+double vi_band_energy(const vi_model *m, const double *x, const double *v);
+
 /* Modal analysis (vi_modal.c), called by vi_model_setup. */
 int vi_modal_setup(vi_model *m);
-
-/* Closed-form mode j (vi_flow.c): particular solution at t, with tau = t - t0
- * for the polynomial part of a rigid-body mode, and the homogeneous solution
- * from (u0, v0) after tau. */
-void vi_flow_particular(const vi_model *m, int j, double cos_t, double sin_t,
-                        double tau, double *qp, double *qpd);
-void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
-                         double tau, double *u, double *ud);
-/* Mode u'' + d u' + lambda u = F relative to its start (vi_flow.c):
- * u = u0 + B v0 + phi (F - lambda u0), u' = Bp v0 + B (F - lambda u0). */
-void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
-                   double *phi);
-
-/* Exact flow for any damping (vi_general.c): set up at vi_model_setup when
- * the damping is not proportional; a vi_gflow is the flow from one start. */
-typedef struct vi_gflow vi_gflow;
-int vi_general_setup(vi_model *m);
-void vi_general_free(vi_model *m);
-double vi_general_top_frequency(const vi_model *m);
-/* sum_k |w.V_k| (|P_k| + |Q_k| + |R_k|): the size of the particular
- * solution as the gap sees it, against which the flow cancels */
-double vi_general_particular_scale(const vi_model *m);
-vi_gflow *vi_gflow_create(const vi_model *m);
-void vi_gflow_free(vi_gflow *f);
-/* z: interleaved state (x_1, v_1, ...) at t0 */
-void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z);
-/* gap w.x - x_s and rate w.x' at t; with z != NULL the state too */
-void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
-                   double *rate, double *z);
 
 /* Dense helpers, column-major with leading dimension n (vi_dense.c). */
 void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x */

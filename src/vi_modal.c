@@ -1,5 +1,6 @@
 /* vi_modal.c - generalised eigenproblem K psi = lambda M psi (LAPACK dsygvd),
- * modal damping, forcing and impact vector (MODEL.md section 3). */
+ * modal damping, forcing and impact vector (MODEL.md section 3): the modes,
+ * on which the exact flow (vi_flow.c) is built. */
 #include <math.h>
 #include <string.h>
 
@@ -10,20 +11,6 @@
 /* Off-diagonal modal damping below this fraction of the largest entry is
  * round-off: the damping is proportional and modes decouple (WB 4). */
 #define VI_PROP_TOL 1e-10
-
-/* Harmonic particular solution of q'' + d q' + lambda q = Fc cos + Fs sin;
- * returns 0 when an undamped mode is forced exactly at resonance. */
-static int particular(double lambda, double d, double Om, double Fc, double Fs,
-                      double *A, double *B)
-{
-  *A = *B = 0.0;
-  if (Fc == 0.0 && Fs == 0.0) return 1;
-  double p = lambda - Om * Om, s = d * Om, det = p * p + s * s;
-  if (det <= 1e-28 * fmax(lambda * lambda, Om * Om * Om * Om)) return 0;
-  *A = (p * Fc - s * Fs) / det;
-  *B = (s * Fc + p * Fs) / det;
-  return 1;
-}
 
 int vi_modal_setup(vi_model *m)
 {
@@ -75,25 +62,11 @@ int vi_modal_setup(vi_model *m)
   vi_matvec_t(n, m->Psi, m->b, m->Fb);
   vi_matvec_t(n, m->Psi, m->f0, m->F0);
 
-  m->flow_ok = 1;
-  m->flow_why[0] = '\0';
-  vi_general_free(m);
-  if (!m->proportional) {
-    /* modes couple between impacts: the first-order eigen-solution */
-    int st = vi_general_setup(m);
-    if (st == VI_ERR_NOMEM || st == VI_ERR_LAPACK) return vi_fail(m->errmsg, st, "%s", m->flow_why);
-    m->flow_ok = st == VI_OK;
-  }
+  /* the exact flow built on these modes is a layer of its own
+   * (vi_flow_internal.h) */
   for (int j = 0; j < n; j++) {
     double d = m->D[j + (size_t)j * n];
     m->zeta[j] = m->omega[j] > 0.0 ? d / (2.0 * m->omega[j]) : 0.0;
-    if (!particular(m->lambda[j], d, m->omega_f, m->Fa[j], m->Fb[j], &m->pA[j],
-                    &m->pB[j]) && m->flow_ok && m->proportional) {
-      m->flow_ok = 0;
-      vi_fail(m->flow_why, VI_ERR_UNSUPPORTED,
-              "mode %d (omega = %.17g) is undamped and forced at resonance",
-              j + 1, m->omega[j]);
-    }
   }
   return VI_OK;
 }

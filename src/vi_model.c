@@ -22,7 +22,7 @@ int vi_model_create(int n, vi_model **out)
   if (!m) return VI_ERR_NOMEM;
   size_t nn = (size_t)n * n;
   /* 10 n x n matrices and 17 vectors in one block */
-  m->block = calloc(10 * nn + 17 * (size_t)n, sizeof(double));
+  m->block = calloc(10 * nn + 15 * (size_t)n, sizeof(double));
   if (!m->block) {
     free(m);
     return VI_ERR_NOMEM;
@@ -51,11 +51,54 @@ int vi_model_create(int n, vi_model **out)
   m->psi = p; p += n;
   m->Fa = p; p += n;
   m->Fb = p; p += n;
-  m->F0 = p; p += n;
-  m->pA = p; p += n;
-  m->pB = p;
+  m->F0 = p;
   m->n = n;
+  m->kd = -1;
+  m->bytes = (int64_t)(sizeof *m +
+                       (10 * nn + 17 * (size_t)n) * sizeof(double));
   for (int i = 0; i < n; i++) m->M[i + (size_t)i * n] = 1.0;
+  *out = m;
+  return VI_OK;
+}
+
+int vi_model_create_band(int n, int kd, vi_model **out)
+{
+  if (!out) return VI_ERR_ARG;
+  *out = NULL;
+  if (n < 1 || kd < 0) return VI_ERR_DIM;
+  if (kd > n - 1) kd = n - 1; /* a wider band holds nothing more */
+  vi_model *m = calloc(1, sizeof *m);
+  if (!m) return VI_ERR_NOMEM;
+  size_t ldb = (size_t)kd + 1, w = 2 * (size_t)kd + 1, nb = ldb * n;
+  /* M, C, K and M's factor [ldb x n], the rows KR, CR [w x n] and the
+   * eight vectors a, b, f0, w, M^-1 a, M^-1 b, M^-1 f0, M^-1 w */
+  size_t count = 4 * nb + 2 * w * n + 8 * (size_t)n;
+  m->block = calloc(count, sizeof(double));
+  if (!m->block) {
+    free(m);
+    return VI_ERR_NOMEM;
+  }
+  double *p = m->block;
+  m->MB = p; p += nb;
+  m->CB = p; p += nb;
+  m->KB = p; p += nb;
+  m->LB = p; p += nb;
+  m->KR = p; p += w * n;
+  m->CR = p; p += w * n;
+  m->a = p; p += n;
+  m->b = p; p += n;
+  m->f0 = p; p += n;
+  m->w = p; p += n;
+  m->Minv_a = p; p += n;
+  m->Minv_b = p; p += n;
+  m->Minv_f0 = p; p += n;
+  m->Minv_w = p;
+  m->n = n;
+  m->band = 1;
+  m->kd = kd;
+  m->ldb = (int)ldb;
+  m->bytes = (int64_t)(sizeof *m + count * sizeof(double));
+  for (int i = 0; i < n; i++) m->MB[kd + (size_t)i * ldb] = 1.0;
   *out = m;
   return VI_OK;
 }
@@ -63,7 +106,6 @@ int vi_model_create(int n, vi_model **out)
 void vi_model_destroy(vi_model **model)
 {
   if (!model || !*model) return;
-  vi_general_free(*model);
   free((*model)->Ws);
   free((*model)->MinvW);
   free((*model)->block);
@@ -106,6 +148,15 @@ static int set_symmetric(vi_model *m, const char *name, double *dst,
   if (ld < n)
     return vi_fail(m->errmsg, VI_ERR_DIM,
                    "%s: leading dimension %d is less than n = %d", name, ld, n);
+  if (m->band) { /* a dense matrix given to a band model: outside the band
+                    it must be zero */
+    for (int j = 0; j < n; j++)
+      for (int i = 0; i < n; i++)
+        if (abs(i - j) > m->kd && src[i + (size_t)j * ld] != 0.0)
+          return vi_fail(m->errmsg, VI_ERR_DIM, "%s(%d,%d) = %g lies outside "
+                         "the model's half-bandwidth %d", name, i + 1, j + 1,
+                         src[i + (size_t)j * ld], m->kd);
+  }
   double amax = 0.0;
   for (int j = 0; j < n; j++)
     for (int i = 0; i < n; i++) {
@@ -124,6 +175,13 @@ static int set_symmetric(vi_model *m, const char *name, double *dst,
                        "%s(%d,%d) = %.17g",
                        name, name, i + 1, j + 1, lo, name, j + 1, i + 1, up);
     }
+  if (m->band) {
+    for (int j = 0; j < n; j++)
+      for (int i = j - m->kd < 0 ? 0 : j - m->kd; i <= j; i++)
+        dst[m->kd + i - j + (size_t)j * m->ldb] =
+            0.5 * (src[i + (size_t)j * ld] + src[j + (size_t)i * ld]);
+    return VI_OK;
+  }
   for (int j = 0; j < n; j++)
     for (int i = 0; i < n; i++)
       dst[i + (size_t)j * n] =
@@ -131,23 +189,86 @@ static int set_symmetric(vi_model *m, const char *name, double *dst,
   return VI_OK;
 }
 
+/* Copy a symmetric band matrix in LAPACK 'U' form (entry (i, j), i <= j,
+ * at AB[kd + i - j + j ldab]) into the model's storage, band or dense. */
+static int set_band(vi_model *m, const char *name, int which, int kd,
+                    const double *AB, int ldab)
+{
+  int st = check_open(m);
+  if (st) return st;
+  int n = m->n;
+  if (!AB) return vi_fail(m->errmsg, VI_ERR_ARG, "%s: NULL array", name);
+  if (kd < 0)
+    return vi_fail(m->errmsg, VI_ERR_DIM, "%s: half-bandwidth %d is "
+                   "negative", name, kd);
+  if (ldab < kd + 1)
+    return vi_fail(m->errmsg, VI_ERR_DIM, "%s: leading dimension %d is less "
+                   "than kd + 1 = %d", name, ldab, kd + 1);
+  for (int j = 0; j < n; j++)
+    for (int i = j - kd < 0 ? 0 : j - kd; i <= j; i++) {
+      double v = AB[kd + i - j + (size_t)j * ldab];
+      if (!isfinite(v))
+        return vi_fail(m->errmsg, VI_ERR_NONFINITE,
+                       "%s(%d,%d) = %g is not finite", name, i + 1, j + 1, v);
+      if (m->band && j - i > m->kd && v != 0.0)
+        return vi_fail(m->errmsg, VI_ERR_DIM, "%s(%d,%d) = %g lies outside "
+                       "the model's half-bandwidth %d", name, i + 1, j + 1, v,
+                       m->kd);
+    }
+  double *dst = m->band ? (which == 0 ? m->MB : which == 1 ? m->CB : m->KB)
+                        : (which == 0 ? m->M : which == 1 ? m->C : m->K);
+  if (m->band) {
+    memset(dst, 0, sizeof(double) * (size_t)m->ldb * n);
+    int k = kd < m->kd ? kd : m->kd;
+    for (int j = 0; j < n; j++)
+      for (int i = j - k < 0 ? 0 : j - k; i <= j; i++)
+        dst[m->kd + i - j + (size_t)j * m->ldb] =
+            AB[kd + i - j + (size_t)j * ldab];
+    return VI_OK;
+  }
+  memset(dst, 0, sizeof(double) * (size_t)n * n);
+  for (int j = 0; j < n; j++)
+    for (int i = j - kd < 0 ? 0 : j - kd; i <= j; i++)
+      dst[i + (size_t)j * n] = dst[j + (size_t)i * n] =
+          AB[kd + i - j + (size_t)j * ldab];
+  return VI_OK;
+}
+
+int vi_model_set_mass_band(vi_model *m, int kd, const double *AB, int ldab)
+{
+  return set_band(m, "M", 0, kd, AB, ldab);
+}
+
+int vi_model_set_damping_band(vi_model *m, int kd, const double *AB, int ldab)
+{
+  if (m && !AB && !m->frozen) { /* C = 0 */
+    size_t sz = m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n;
+    memset(m->band ? m->CB : m->C, 0, sizeof(double) * sz);
+    return VI_OK;
+  }
+  return set_band(m, "C", 1, kd, AB, ldab);
+}
+
+int vi_model_set_stiffness_band(vi_model *m, int kd, const double *AB,
+                                int ldab)
+{
+  return set_band(m, "K", 2, kd, AB, ldab);
+}
+
 int vi_model_set_mass(vi_model *m, const double *M, int ldm)
 {
-  return set_symmetric(m, "M", m ? m->M : NULL, M, ldm);
+  return set_symmetric(m, "M", m ? (m->band ? m->MB : m->M) : NULL, M, ldm);
 }
 
 int vi_model_set_damping(vi_model *m, const double *C, int ldc)
 {
-  if (m && !C && !m->frozen) {
-    memset(m->C, 0, sizeof(double) * (size_t)m->n * m->n);
-    return VI_OK;
-  }
-  return set_symmetric(m, "C", m ? m->C : NULL, C, ldc);
+  if (m && !C) return vi_model_set_damping_band(m, 0, NULL, 1);
+  return set_symmetric(m, "C", m ? (m->band ? m->CB : m->C) : NULL, C, ldc);
 }
 
 int vi_model_set_stiffness(vi_model *m, const double *K, int ldk)
 {
-  return set_symmetric(m, "K", m ? m->K : NULL, K, ldk);
+  return set_symmetric(m, "K", m ? (m->band ? m->KB : m->K) : NULL, K, ldk);
 }
 
 static int is_zero(int n, const double *v)
@@ -341,11 +462,17 @@ int vi_model_setup(vi_model *m)
   if (st) return st;
   int n = m->n;
   size_t nn = (size_t)n * n;
-  double *work = m->D + nn; /* the two spare n x n blocks */
-  double *L = work + nn;
+  double *work = m->band ? NULL : m->D + nn; /* the two spare n x n blocks */
+  double *L = m->band ? NULL : work + nn;
   if (!m->has_stop)
     return vi_fail(m->errmsg, VI_ERR_STOP_VECTOR,
                    "no stop: call vi_model_set_stop before setup");
+  if (m->band) { /* O(n kd): no modal analysis (vi_band.c) */
+    if ((st = vi_band_setup(m))) return st;
+    m->frozen = 1;
+    m->errmsg[0] = '\0';
+    return VI_OK;
+  }
   if ((st = check_psd(m, "K", m->K, work, m->omega))) return st;
   if ((st = check_psd(m, "C", m->C, work, m->omega))) return st;
 
@@ -438,6 +565,7 @@ int vi_model_to_modal(const vi_model *m, const double *x, double *q)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes */
   if (vi_overlap(x, q, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->PsiTM, x, q);
   return VI_OK;
@@ -447,6 +575,7 @@ int vi_model_from_modal(const vi_model *m, const double *q, double *x)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
+  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes */
   if (vi_overlap(q, x, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->Psi, q, x);
   return VI_OK;
@@ -455,6 +584,7 @@ int vi_model_from_modal(const vi_model *m, const double *q, double *x)
 double vi_model_energy(const vi_model *m, const double *x, const double *v)
 {
   if (!m || !x || !v) return NAN;
+  if (m->band) return vi_band_energy(m, x, v);
   int n = m->n;
   double e = 0.0;
   for (int j = 0; j < n; j++)
@@ -493,5 +623,190 @@ int vi_build_chain(int n, const double *mass, const double *k,
       C[(j - 1) + (size_t)j * ld] = C[j + (size_t)(j - 1) * ld] = -cj;
     }
   }
+  return VI_OK;
+}
+
+/* ---- band storage ------------------------------------------------------- */
+int vi_model_bandwidth(const vi_model *m) { return m && m->band ? m->kd : -1; }
+
+static const double *band_view(const vi_model *m, const double *AB, int *kd,
+                               int *ldab)
+{
+  int ok = m && m->band && m->frozen;
+  if (kd) *kd = ok ? m->kd : 0;
+  if (ldab) *ldab = ok ? m->ldb : 0;
+  return ok ? AB : NULL;
+}
+
+const double *vi_model_mass_band(const vi_model *m, int *kd, int *ldab)
+{
+  return band_view(m, m ? m->MB : NULL, kd, ldab);
+}
+
+const double *vi_model_damping_band(const vi_model *m, int *kd, int *ldab)
+{
+  return band_view(m, m ? m->CB : NULL, kd, ldab);
+}
+
+const double *vi_model_stiffness_band(const vi_model *m, int *kd, int *ldab)
+{
+  return band_view(m, m ? m->KB : NULL, kd, ldab);
+}
+
+double vi_model_omega_bound(const vi_model *m)
+{
+  if (!m || !m->frozen) return 0.0;
+  if (!m->band) return m->omega[m->n - 1];
+  /* Gershgorin: lambda_max(M^-1 K) <= max row sum of |K| / lambda_min(M),
+   * with lambda_min(M) >= min_i (M_ii - sum_j!=i |M_ij|) */
+  int n = m->n, kd = m->kd, w = 2 * kd + 1;
+  double kmax = 0.0, mmin = HUGE_VAL;
+  for (int i = 0; i < n; i++) {
+    const double *kr = m->KR + (size_t)i * w;
+    double r = 0.0;
+    for (int d = 0; d < w; d++) r += fabs(kr[d]);
+    if (m->kdm == 0) { /* KR holds M^-1 K: its rows bound the spectrum */
+      kmax = fmax(kmax, r);
+      continue;
+    }
+    kmax = fmax(kmax, r);
+    double mi = m->MB[kd + (size_t)i * m->ldb], off = 0.0;
+    for (int j = i - kd < 0 ? 0 : i - kd; j <= (i + kd < n ? i + kd : n - 1); j++)
+      if (j != i)
+        off += fabs(j > i ? m->MB[kd + i - j + (size_t)j * m->ldb]
+                          : m->MB[kd + j - i + (size_t)i * m->ldb]);
+    mmin = fmin(mmin, mi - off);
+  }
+  if (m->kdm == 0) return sqrt(kmax);
+  return mmin > 0.0 ? sqrt(kmax / mmin) : HUGE_VAL;
+}
+
+int64_t vi_model_memory(const vi_model *m)
+{
+  if (!m) return 0;
+  int64_t b = m->bytes, n = m->n, ns = m->ns;
+  b += (int64_t)m->ns_cap * (n + 2) * (int64_t)sizeof(double); /* stops */
+  if (m->MinvW) /* M^-1 W, G (and Psi^T W for dense storage) */
+    b += ((m->band ? 1 : 2) * n * ns + ns * ns) * (int64_t)sizeof(double);
+  return b;
+}
+
+/* What the integrators allocate per method, in doubles, for a state of
+ * N = 2n and a ledger of 4n quadratures (SUNDIALS 6.4: CVODE keeps q_max+1
+ * Nordsieck arrays and ~10 work vectors, ARKODE's ERK its stages and ~8). */
+static double integrator_doubles(int method, double n, int ledger)
+{
+  double N = 2.0 * n;
+  double v = method == VI_METHOD_ERK ? (13.0 + 8.0 + 13.0 + 4.0) * N
+             : method == VI_METHOD_BDF ? (6.0 + 10.0) * N
+                                       : (13.0 + 10.0) * N;
+  if (ledger) v += (method == VI_METHOD_ERK ? 38.0 : 23.0) * 5.0 * n + 16.0 * n;
+  return v + 16.0 * n; /* the sim's own state and scratch */
+}
+
+int vi_model_memory_estimate(int n, int kd, int ns, int method, int ledger,
+                             int64_t *bytes)
+{
+  if (!bytes) return VI_ERR_ARG;
+  *bytes = 0;
+  if (n < 1 || ns < 0) return VI_ERR_DIM;
+  if (method < 0 || method >= VI_METHOD_COUNT || (ledger != 0 && ledger != 1))
+    return VI_ERR_ARG;
+  double dn = n, s = ns < 1 ? 1 : ns, d;
+  double stops = s * (dn + 2.0) + 2.0 * s * dn + s * s;
+  if (kd >= 0) { /* band storage */
+    if (method == VI_METHOD_EXACT || ledger) return VI_ERR_UNSUPPORTED;
+    double k = kd > n - 1 ? n - 1 : kd, ldb = k + 1.0, w = 2.0 * k + 1.0;
+    /* MB, CB, KB, LB, KR, CR, 8 vectors; the PSD check's copy at setup */
+    d = 4.0 * ldb * dn + 2.0 * w * dn + 8.0 * dn + ldb * dn + stops;
+    if (method == VI_METHOD_BDF) { /* SUNBandMatrix(N, 2k, 2k + 1) stores
+                                      smu + ml + 1 rows (smu = mu + ml),
+                                      and CVODE keeps a saved copy */
+      double N = 2.0 * dn, ml = 2.0 * k + 1.0;
+      double smu = fmin(N - 1.0, 2.0 * k + ml);
+      d += 2.0 * (smu + ml + 1.0) * N + N;
+    }
+  } else { /* dense: 10 n x n in the model, dsygvd's 2 n^2 at setup and
+              LAPACK's workspaces: 14 n^2 measured (max RSS at n = 1000) */
+    d = 14.0 * dn * dn + 23.0 * dn + stops;
+    if (method == VI_METHOD_BDF) d += 2.0 * 4.0 * dn * dn + 2.0 * dn;
+    /* non-proportional damping: the complex 2n x 2n eigenvectors and their
+     * inverse of the closed form (an upper bound: proportional needs none) */
+    if (method == VI_METHOD_EXACT || method == VI_METHOD_AUTO)
+      d += 16.0 * dn * dn;
+    if (ledger) d += 8.0 * dn;
+  }
+  d += integrator_doubles(method == VI_METHOD_AUTO ? VI_METHOD_ADAMS : method,
+                          dn, ledger);
+  double b = d * (double)sizeof(double) + 4096.0;
+  if (!(b < 9.0e18)) return VI_ERR_LIMIT;
+  *bytes = (int64_t)b;
+  return VI_OK;
+}
+
+/* Validate a chain's masses, springs and dampers. */
+static int check_chain(int n, const double *mass, const double *k,
+                       const double *c)
+{
+  if (n < 1) return VI_ERR_DIM;
+  if (!mass || !k) return VI_ERR_ARG;
+  /* a chain needs positive masses and non-negative springs and dampers */
+  for (int j = 0; j < n; j++) {
+    double cj = c ? c[j] : 0.0;
+    if (!isfinite(mass[j]) || !isfinite(k[j]) || !isfinite(cj))
+      return VI_ERR_NONFINITE;
+    if (!(mass[j] > 0.0) || k[j] < 0.0 || cj < 0.0) return VI_ERR_ARG;
+  }
+  return VI_OK;
+}
+
+int vi_build_chain_band(int n, const double *mass, const double *k,
+                        const double *c, double *MB, double *CB, double *KB,
+                        int ldab)
+{
+  if (ldab < 2) return VI_ERR_DIM;
+  int st = check_chain(n, mass, k, c);
+  if (st) return st;
+  if (!MB || !CB || !KB) return VI_ERR_ARG;
+  for (int j = 0; j < n; j++) {
+    double *mj = MB + (size_t)j * ldab, *cj = CB + (size_t)j * ldab,
+           *kj = KB + (size_t)j * ldab;
+    for (int i = 0; i < ldab; i++) mj[i] = cj[i] = kj[i] = 0.0;
+  }
+  /* 'U' form, kd = 1: row 1 the diagonal, row 0 the superdiagonal */
+  for (int j = 0; j < n; j++) {
+    double cv = c ? c[j] : 0.0;
+    size_t d = 1 + (size_t)j * ldab;
+    MB[d] = mass[j];
+    /* element j joins mass j-1 (the ground for j = 0) to mass j */
+    KB[d] += k[j];
+    CB[d] += cv;
+    if (j > 0) {
+      KB[d - ldab] += k[j];
+      CB[d - ldab] += cv;
+      KB[d - 1] = -k[j];
+      CB[d - 1] = -cv;
+    }
+  }
+  return VI_OK;
+}
+
+int vi_model_create_chain(int n, const double *mass, const double *k,
+                          const double *c, vi_model **out)
+{
+  if (!out) return VI_ERR_ARG;
+  *out = NULL;
+  int st = check_chain(n, mass, k, c);
+  if (st) return st;
+  vi_model *m;
+  if ((st = vi_model_create_band(n, 1, &m))) return st;
+  if (n == 1) { /* kd is clamped to n - 1 = 0: the diagonal only */
+    m->MB[0] = mass[0];
+    m->KB[0] = k[0];
+    m->CB[0] = c ? c[0] : 0.0;
+  } else {
+    vi_build_chain_band(n, mass, k, c, m->MB, m->CB, m->KB, m->ldb);
+  }
+  *out = m;
   return VI_OK;
 }

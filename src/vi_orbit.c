@@ -8,7 +8,7 @@
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_multiroots.h>
 
-#include "vi_internal.h"
+#include "vi_flow_internal.h"
 
 #define RING 4096 /* impacts remembered for classification */
 #define MAX_N 8   /* longest orbit period looked for, in forcing periods */
@@ -46,6 +46,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!model->frozen) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   if (model->ns > 1) return VI_ERR_UNSUPPORTED; /* WB 11-13: one stop */
+  if (model->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   vi_orbit *o = calloc(1, sizeof *o);
   if (!o) return VI_ERR_NOMEM;
   int n = model->n;
@@ -76,7 +77,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->dE = p;
   o->m = model;
   o->n = n;
-  o->method = model->flow_ok ? VI_METHOD_EXACT : VI_METHOD_ADAMS;
+  o->method = vi_xflow_available(model) ? VI_METHOD_EXACT : VI_METHOD_ADAMS;
   o->rtol = 1e-11;
   o->atol = 1e-13;
   o->max_periods = 3000;
@@ -487,7 +488,7 @@ int vi_orbit_find(vi_orbit *o)
   if (o->pn != 1 || o->pm != 1) {
     /* the transient went elsewhere; a stable P(1,1) orbit may still
      * exist (another attractor): look for it directly */
-    if (!o->direct || !o->m->flow_ok) return VI_OK;
+    if (!o->direct || !vi_xflow_available(o->m)) return VI_OK;
     int got = direct_p11(o);
     if (got < 0)
       return vi_fail(o->errmsg, got, "direct P(1,1) search: %s",
@@ -512,7 +513,7 @@ int vi_orbit_find(vi_orbit *o)
   if ((st = refine(o)) || (st = balance(o))) return st;
   /* multipliers: exact (saltation matrices, vi_orbit_pnm.c) where the
    * closed-form flow exists, central differences of the map otherwise */
-  if (o->m->flow_ok) {
+  if (vi_xflow_available(o->m)) {
     st = vi_orbit_pnm_multipliers(o->m, 1, 1, &o->t_imp, o->x_imp, o->v_imp,
                                   n, o->mre, o->mim);
     if (st) return vi_fail(o->errmsg, st, "multipliers: %s", vi_strerror(st));
@@ -619,6 +620,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
   if (!full->frozen) return VI_ERR_STATE;
   if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
+  if (full->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;

@@ -16,13 +16,14 @@
 
 #include <lapacke.h>
 
-#include "vi_internal.h"
+#include "vi_flow_internal.h"
 
 typedef struct ws {
   const vi_model *m;
   int n, n2;
   double *Q;   /* velocity impact map [n x n] (WB 2) */
   double *buf; /* scratch */
+  vi_xflow *fl; /* the exact flow, built once per call (vi_flow_internal.h) */
 } ws;
 
 static int ws_init(ws *w, const vi_model *m)
@@ -39,10 +40,16 @@ static int ws_init(ws *w, const vi_model *m)
     for (int i = 0; i < n; i++)
       w->Q[i + (size_t)j * n] =
           (i == j) - (1.0 + m->r) * m->Minv_w[i] * m->w[j] / m->wMw;
-  return VI_OK;
+  int st = vi_xflow_create(m, &w->fl);
+  if (st) free(w->Q);
+  return st;
 }
 
-static void ws_free(ws *w) { free(w->Q); }
+static void ws_free(ws *w)
+{
+  vi_xflow_destroy(&w->fl);
+  free(w->Q);
+}
 
 /* f = z' = (v, M^-1 (f(t) - C v - K x)) */
 static void field(const vi_model *m, double t, const double *z, double *f)
@@ -58,23 +65,24 @@ static void field(const vi_model *m, double t, const double *z, double *f)
   }
 }
 
-static int flow(const vi_model *m, double t0, const double *z0, double t1,
+static int flow(const ws *w, double t0, const double *z0, double t1,
                 double *z1)
 {
-  int n = m->n;
-  return vi_flow_physical(m, t0, z0, z0 + n, t1, z1, z1 + n);
+  int n = w->n;
+  if (!(t1 >= t0)) return VI_ERR_TIME;
+  return vi_xflow_physical(w->fl, w->m, t0, z0, z0 + n, t1, z1, z1 + n);
 }
 
 /* Phi(t1 - t0) [2n x 2n] by the affine difference; c = flow of 0. */
-static int stm(const vi_model *m, double t0, double t1, double *Phi,
+static int stm(const ws *w, double t0, double t1, double *Phi,
                double *e, double *c)
 {
-  int n2 = 2 * m->n, st;
+  int n2 = w->n2, st;
   memset(e, 0, sizeof(double) * n2);
-  if ((st = flow(m, t0, e, t1, c))) return st;
+  if ((st = flow(w, t0, e, t1, c))) return st;
   for (int j = 0; j < n2; j++) {
     e[j] = 1.0;
-    st = flow(m, t0, e, t1, Phi + (size_t)j * n2);
+    st = flow(w, t0, e, t1, Phi + (size_t)j * n2);
     e[j] = 0.0;
     if (st) return st;
     for (int i = 0; i < n2; i++) Phi[i + (size_t)j * n2] -= c[i];
@@ -111,7 +119,7 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
       return VI_ERR_NOT_CONVERGED; /* impacts out of order */
     }
     impact(w, uj + 1, zp);
-    if ((st = flow(m, t0, zp, t1, ze))) {
+    if ((st = flow(w, t0, zp, t1, ze))) {
       free(zp);
       return st;
     }
@@ -119,7 +127,7 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
     for (int i = 0; i < n2; i++) Fj[i] = ze[i] - uk[1 + i];
     Fj[n2] = vi_dot(n, m->w, uj + 1) - m->xs;
     if (!want_j) continue;
-    if ((st = stm(m, t0, t1, Phi, e, c))) {
+    if ((st = stm(w, t0, t1, Phi, e, c))) {
       free(zp);
       return st;
     }
@@ -163,7 +171,7 @@ int vi_orbit_pnm_solve(const vi_model *m, int np, int mi, double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   ws w;
   int st = ws_init(&w, m), n = m->n, B = 2 * n + 1, D = mi * B, it = 0;
@@ -231,7 +239,7 @@ int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   ws w;
   int st = ws_init(&w, m), n = m->n, B = 2 * n + 1, D = mi * B;
@@ -260,7 +268,7 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   ws w;
   int st = ws_init(&w, m), n = m->n, n2 = 2 * n;
   if (st) return st;
@@ -293,7 +301,7 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
         S[a + (size_t)b * n2] = R + (fp[a] - Rf[a]) * g / gf;
       }
     double t1 = j + 1 < mi ? t[j + 1] : t[0] + np * T;
-    if ((st = stm(m, t[j], t1, Phi, e, c))) break;
+    if ((st = stm(&w, t[j], t1, Phi, e, c))) break;
     /* Mo <- Phi S Mo */
     for (size_t i = 0; i < nn; i++) tmp[i] = 0.0;
     for (int b = 0; b < n2; b++)
@@ -316,11 +324,11 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
 }
 
 /* gap w.x - x_s of the free flow from (t0, zp) at t */
-static double gap_at(const vi_model *m, double t0, const double *zp, double t,
+static double gap_at(const ws *w, double t0, const double *zp, double t,
                      double *z)
 {
-  if (flow(m, t0, zp, t, z)) return NAN;
-  return vi_dot(m->n, m->w, z) - m->xs;
+  if (flow(w, t0, zp, t, z)) return NAN;
+  return vi_dot(w->n, w->m->w, z) - w->m->xs;
 }
 
 int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
@@ -331,6 +339,7 @@ int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
+  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   ws w;
   int st = ws_init(&w, m), n = m->n;
   if (st) return st;
@@ -349,18 +358,18 @@ int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
     /* 512 samples per forcing period, then golden-section on each
      * interior local maximum of the gap */
     int K = (int)fmax(64.0, 512.0 * (t1 - t0) / T);
-    double h = (t1 - t0) / K, gp = -HUGE_VAL, gc = gap_at(m, t0, zp, t0 + h, zz);
+    double h = (t1 - t0) / K, gp = -HUGE_VAL, gc = gap_at(&w, t0, zp, t0 + h, zz);
     for (int k = 1; k < K; k++) {
-      double gn = gap_at(m, t0, zp, t0 + (k + 1) * h, zz);
+      double gn = gap_at(&w, t0, zp, t0 + (k + 1) * h, zz);
       /* interior maxima only: the gap rises to 0 at the next impact */
       if (k > 1 && k + 1 < K - 1 && gc >= gp && gc >= gn) {
         double a = t0 + (k - 1) * h, b = t0 + (k + 1) * h;
         const double gr = 0.6180339887498949;
         double c1 = b - gr * (b - a), c2 = a + gr * (b - a);
-        double g1 = gap_at(m, t0, zp, c1, zz), g2 = gap_at(m, t0, zp, c2, zz);
+        double g1 = gap_at(&w, t0, zp, c1, zz), g2 = gap_at(&w, t0, zp, c2, zz);
         for (int it = 0; it < 40; it++) {
-          if (g1 > g2) { b = c2; c2 = c1; g2 = g1; c1 = b - gr * (b - a); g1 = gap_at(m, t0, zp, c1, zz); }
-          else { a = c1; c1 = c2; g1 = g2; c2 = a + gr * (b - a); g2 = gap_at(m, t0, zp, c2, zz); }
+          if (g1 > g2) { b = c2; c2 = c1; g2 = g1; c1 = b - gr * (b - a); g1 = gap_at(&w, t0, zp, c1, zz); }
+          else { a = c1; c1 = c2; g1 = g2; c2 = a + gr * (b - a); g2 = gap_at(&w, t0, zp, c2, zz); }
         }
         worst = fmax(worst, fmax(fmax(g1, g2), gc));
       }
@@ -385,7 +394,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->flow_ok) return VI_ERR_UNSUPPORTED;
+  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   *found = 0;
   ws w;
@@ -406,7 +415,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
    * P(np,1) orbit where its gap h(phi) = w.x - x_s vanishes. */
   for (int k = 0; k <= nphase && !st; k++) {
     double phi = P * k / nphase;
-    if ((st = stm(m, phi, phi + P, Phi, e, c))) break;
+    if ((st = stm(&w, phi, phi + P, Phi, e, c))) break;
     /* A = I - Phi J, J = diag(I, Q) */
     for (int b = 0; b < n2; b++)
       for (int a = 0; a < n2; a++) {
@@ -432,7 +441,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     /* linear interpolation of the root, then Newton on the full system */
     double s = h[k] / (h[k] - h[k + 1]), phi = P * (k + s) / nphase;
     if (!(vn[k] > 0.0 || vn[k + 1] > 0.0)) continue;
-    if ((st = stm(m, phi, phi + P, Phi, e, c))) break;
+    if ((st = stm(&w, phi, phi + P, Phi, e, c))) break;
     for (int b = 0; b < n2; b++)
       for (int a = 0; a < n2; a++) {
         double sm = 0.0;

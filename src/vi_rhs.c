@@ -18,14 +18,25 @@ int vi_rhs_create(const vi_sim *s, vi_rhs **out)
   *out = NULL;
   vi_rhs *r = calloc(1, sizeof *r);
   if (!r) return VI_ERR_NOMEM;
+  r->n = n;
+  r->acc = malloc(sizeof(double) * (size_t)n);
+  if (!r->acc) {
+    vi_rhs_destroy(&r);
+    return VI_ERR_NOMEM;
+  }
   int width = 2 * (2 * bw + 1);
   if (width > 2 * n) width = 2 * n;
-  r->n = n;
+  /* band storage has no dense M^-1 K (vi_band.c evaluates it in O(n kd));
+   * a wide band gains nothing from packing but the memory of a third copy:
+   * both take vi_sim_accel */
+  if (m->band || width > VI_RHS_WIDTH_MAX) {
+    *out = r;
+    return VI_OK;
+  }
   r->width = width;
   r->R = calloc((size_t)n * (size_t)width, sizeof(double));
   r->lo = malloc(sizeof(int) * (size_t)n);
-  r->acc = malloc(sizeof(double) * (size_t)n);
-  if (!r->R || !r->lo || !r->acc) {
+  if (!r->R || !r->lo) {
     vi_rhs_destroy(&r);
     return VI_ERR_NOMEM;
   }
@@ -105,36 +116,40 @@ static void trig(vi_rhs *r, double t, double *c, double *sn)
 void vi_rhs_rate(vi_sim *s, vi_rhs *r, double t, const double *z, double *zd)
 {
   int n = r->n, width = r->width;
-  double c = 1.0, sn = 0.0;
-  if (r->harmonic) trig(r, t, &c, &sn);
-  /* locals: acc may not alias the coefficients, so they stay in registers */
   double *restrict acc = r->acc;
-  const double *restrict R = r->R;
-  const double *restrict fa = r->fa, *restrict fb = r->fb, *restrict f0 = r->f0;
-  const int *restrict lo = r->lo;
-  if (width == 4) { /* two degrees of freedom, dense */
-    for (int i = 0; i < n; i++) {
-      const double *row = R + 4 * (size_t)i;
-      acc[i] = fa[i] * c + fb[i] * sn + f0[i] + row[0] * z[0] + row[1] * z[1] +
-               row[2] * z[2] + row[3] * z[3];
-    }
-  } else if (width == 6) { /* a chain: tridiagonal M^-1 K, M^-1 C */
-    for (int i = 0; i < n; i++) {
-      const double *row = R + 6 * (size_t)i, *zi = z + lo[i];
-      acc[i] = fa[i] * c + fb[i] * sn + f0[i] + row[0] * zi[0] +
-               row[1] * zi[1] + row[2] * zi[2] + row[3] * zi[3] +
-               row[4] * zi[4] + row[5] * zi[5];
-    }
+  if (!r->R) {
+    vi_sim_accel(s, t, z, s->sticking, acc);
   } else {
-    for (int i = 0; i < n; i++) {
-      const double *row = R + (size_t)width * (size_t)i, *zi = z + lo[i];
-      double a = fa[i] * c + fb[i] * sn + f0[i];
-      for (int q = 0; q < width; q++) a += row[q] * zi[q];
-      acc[i] = a;
+    double c = 1.0, sn = 0.0;
+    if (r->harmonic) trig(r, t, &c, &sn);
+    /* locals: acc may not alias the coefficients, so they stay in registers */
+    const double *restrict R = r->R;
+    const double *restrict fa = r->fa, *restrict fb = r->fb, *restrict f0 = r->f0;
+    const int *restrict lo = r->lo;
+    if (width == 4) { /* two degrees of freedom, dense */
+      for (int i = 0; i < n; i++) {
+        const double *row = R + 4 * (size_t)i;
+        acc[i] = fa[i] * c + fb[i] * sn + f0[i] + row[0] * z[0] + row[1] * z[1] +
+                 row[2] * z[2] + row[3] * z[3];
+      }
+    } else if (width == 6) { /* a chain: tridiagonal M^-1 K, M^-1 C */
+      for (int i = 0; i < n; i++) {
+        const double *row = R + 6 * (size_t)i, *zi = z + lo[i];
+        acc[i] = fa[i] * c + fb[i] * sn + f0[i] + row[0] * zi[0] +
+                 row[1] * zi[1] + row[2] * zi[2] + row[3] * zi[3] +
+                 row[4] * zi[4] + row[5] * zi[5];
+      }
+    } else {
+      for (int i = 0; i < n; i++) {
+        const double *row = R + (size_t)width * (size_t)i, *zi = z + lo[i];
+        double a = fa[i] * c + fb[i] * sn + f0[i];
+        for (int q = 0; q < width; q++) a += row[q] * zi[q];
+        acc[i] = a;
+      }
     }
+    if (s->nforces) vi_force_add_accel(s, t, z, acc);
+    if (s->sticking) vi_sim_constrain(s, acc, NULL);
   }
-  if (s->nforces) vi_force_add_accel(s, t, z, acc);
-  if (s->sticking) vi_sim_constrain(s, acc, NULL);
   for (int i = 0; i < n; i++) {
     zd[2 * (size_t)i] = z[2 * (size_t)i + 1];
     zd[2 * (size_t)i + 1] = acc[i];

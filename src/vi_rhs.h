@@ -7,6 +7,8 @@
 /* Stage times a 13-stage step revisits: c = 1/6 and c = 1 twice, and its
  * c = 0 is the last step's c = 1, ten evaluations back. */
 #define VI_RHS_TRIG 12
+/* Widest band packed (coefficients per row, 2 (2 bw + 1)): bw <= 15 */
+#define VI_RHS_WIDTH_MAX 62
 
 /* M^-1 K and M^-1 C packed by rows over their band, interleaved like the
  * state so that each acceleration is one short dot product with z, and a
@@ -15,7 +17,8 @@
 typedef struct vi_rhs {
   int n, width;     /* width: coefficients per row, 2 (2 bw + 1) or 2n */
   int *lo;          /* [n] first state index each row reads */
-  double *R;        /* [n * width] -(M^-1 K), -(M^-1 C) interleaved */
+  double *R;        /* [n * width] -(M^-1 K), -(M^-1 C) interleaved; NULL:
+                       band storage or a wide band, vi_sim_accel instead */
   double *fa, *fb, *f0; /* M^-1 a, M^-1 b, M^-1 f0 [n] (the model's) */
   double *acc;      /* [n] scratch: a backend may evaluate the right-hand
                        side while the driver holds s->vp (dense output) */

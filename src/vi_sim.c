@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_band_internal.h"
+#include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 
 static void note_method(vi_sim *s);
@@ -22,7 +24,10 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->z = calloc(10 * (size_t)n, sizeof(double));
   s->sbuf = calloc(4 * (size_t)n + 4 * (size_t)model->ns, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-  if (!s->z || !s->sbuf || !s->brent) {
+  /* each simulation builds its own exact flow (vi_flow_internal.h) */
+  int fst = vi_xflow_create(model, &s->flow);
+  if (!s->z || !s->sbuf || !s->brent || fst) {
+    vi_xflow_destroy(&s->flow);
     gsl_root_fsolver_free(s->brent);
     free(s->sbuf);
     free(s->z);
@@ -89,7 +94,7 @@ const char *vi_stat_name(int which)
 static int uses_exact(const vi_sim *s)
 {
   return (s->method == VI_METHOD_EXACT || s->method == VI_METHOD_AUTO) &&
-         s->m->flow_ok && !s->handed_over && !s->nforces && s->ns == 1;
+         s->flow->ok && !s->handed_over && !s->nforces;
 }
 
 static const vi_backend *method_backend(const vi_sim *s)
@@ -109,10 +114,8 @@ static void note_method(vi_sim *s)
     snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
              method_names[s->method_used],
              s->nforces     ? "nonlinear forces have no closed form"
-             : s->ns > 1     ? "the closed form handles one stop, the model "
-                               "has several"
-             : s->m->flow_ok ? "closed-form flow available"
-                             : s->m->flow_why);
+             : s->flow->ok ? "closed-form flow available"
+                           : s->flow->why);
   else
     snprintf(s->method_note, sizeof s->method_note, "%s",
              method_names[s->method_used]);
@@ -153,6 +156,7 @@ void vi_sim_destroy(vi_sim **sim)
   backend_destroy(s);
   vi_ledger_destroy(s->led);
   vi_force_free(s);
+  vi_xflow_destroy(&s->flow);
   gsl_root_fsolver_free(s->brent);
   free(s->sbuf);
   free(s->z);
@@ -169,13 +173,9 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (!s) return VI_ERR_ARG;
   if (!vi_method_name(method))
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
-  if (method == VI_METHOD_EXACT && !s->m->flow_ok)
+  if (method == VI_METHOD_EXACT && !s->flow->ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
-                   "exact method unavailable: %s", s->m->flow_why);
-  if (method == VI_METHOD_EXACT && s->ns > 1)
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "%s method unavailable: "
-                   "the model has %d stops and its contact search handles "
-                   "one (use adams or bdf)", method_names[method], s->ns);
+                   "exact method unavailable: %s", s->flow->why);
   if (method == VI_METHOD_EXACT && s->nforces)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "exact method unavailable: "
                    "nonlinear forces have no closed form");
@@ -435,6 +435,7 @@ static void accel_rate(const vi_sim *s, double t, int k, const double *u,
                        const double *ud, double *out)
 {
   const vi_model *m = s->m;
+  if (m->band) { vi_band_accel_rate(m, t, k, u, ud, out); return; }
   int n = s->n, bw = m->bw;
   double W = m->omega_f, c = 0.0, sn = 0.0;
   if (s->harmonic) {
@@ -605,6 +606,7 @@ static void normal_stiffness(const vi_sim *s, int k, double *kappa,
                              double *gamma)
 {
   const vi_model *m = s->m;
+  if (m->band) { vi_band_normal_stiffness(m, k, kappa, gamma); return; }
   const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
   int n = s->n;
   double kk = 0.0, c = 0.0;
@@ -1222,6 +1224,9 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
   if (!s) return VI_ERR_ARG;
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
+  if (on && s->m->band)
+    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the energy ledger needs "
+                   "the modes, which a band-storage model does not have");
   vi_ledger_destroy(s->led);
   s->led = NULL;
   if (on) {

@@ -41,6 +41,7 @@ extern const vi_backend vi_backend_arkode;
 
 struct vi_sim {
   const vi_model *m;
+  struct vi_xflow *flow; /* the model's exact flow (vi_flow_internal.h) */
   int n, method;
   double rtol, atol, vchat, h_restart, hmax;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
@@ -191,7 +192,8 @@ static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
     c = cos(m->omega_f * t);
     sn = sin(m->omega_f * t);
   }
-  for (int i = 0; i < n; i++) {
+  if (m->band) vi_band_accel(m, t, z, acc); /* band storage: vi_band.c */
+  else for (int i = 0; i < n; i++) {
     double a = m->Minv_a[i] * c + m->Minv_b[i] * sn + m->Minv_f0[i];
     int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
     for (int j = j0; j <= j1; j++) {

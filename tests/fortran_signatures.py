@@ -43,7 +43,8 @@ def c_kind(decl, result=False):
             return base + ":ref"
         if base == "void":
             return "ptr:value"
-        return {"double": "double", "int": "int", "char": "char"}.get(base, "?" + base) + ":ref"
+        return {"double": "double", "int": "int", "char": "char",
+                "int64_t": "int64"}.get(base, "?" + base) + ":ref"
     return {"double": "double", "int": "int", "int64_t": "int64",
             "long": "long"}.get(base, "?" + base) + ":value"
 

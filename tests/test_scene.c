@@ -181,9 +181,9 @@ static void test_scene_stops(void **state)
   assert_int_equal(h.count, 26); /* (0.5 + j) / 1.3 < 20: j = 0 .. 25 */
   assert_int_equal(h.bad_stop, 0);
   assert_true(h.et < 1e-10);
-  /* method auto runs adams on several stops; exact is refused, naming the
-   * key */
-  assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
+  /* method auto runs the closed form on several stops, and exact is
+   * accepted */
+  assert_int_equal(vi_sim_method_used(s), VI_METHOD_EXACT);
   vi_sim_destroy(&s);
   vi_scene_destroy(&sc);
   const char *te = "model: {M: [[1.0]], K: [[0.0]]}\n"
@@ -193,8 +193,7 @@ static void test_scene_stops(void **state)
                    "run: {t_end: 20, method: exact}\n";
   assert_int_equal(vi_scene_parse(te, -1, "walls.yaml", &sc, &d), VI_OK);
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_ERR_UNSUPPORTED);
-  assert_string_equal(d.key, "run.method");
+  assert_int_equal(vi_scene_configure_sim(sc, s, &d), VI_OK);
   vi_sim_destroy(&s);
   vi_model_destroy(&m);
   vi_scene_destroy(&sc);

@@ -8,8 +8,8 @@
  * two-sided clearances (a pair with opposite normals), stops on different
  * coordinates.  Simultaneous contacts follow Newton's law for multiple
  * contacts (vi_impact.h).  Stop 0 is "the stop" of the single-stop getters
- * (vi_model_stop_vector, vi_model_clearance, ...), of orbits and of the
- * exact method, which needs a model with one stop.
+ * (vi_model_stop_vector, vi_model_clearance, ...) and of orbits, which
+ * need a model with one stop; the exact method searches every stop.
  *
  * Life cycle: vi_model_create -> vi_model_set_* -> vi_model_setup ->
  * (getters, vi_sim_create) -> vi_model_destroy.  Every array is copied when
@@ -21,6 +21,8 @@
  */
 #ifndef VI_MODEL_H
 #define VI_MODEL_H
+
+#include <stdint.h>
 
 #include "vibroimpact/vi_export.h"
 
@@ -38,6 +40,72 @@ VI_API int vi_model_create(int n, vi_model **out);
 /** Destroy a model and set *model to NULL; NULL-safe.  Sims and orbits made
  *  from it must be destroyed first. */
 VI_API void vi_model_destroy(vi_model **model);
+
+/** Create a model in band storage: n >= 1 coordinates, M, C and K
+ *  symmetric with half-bandwidth kd >= 0 (clamped to n - 1), stored in
+ *  LAPACK's symmetric band 'U' form, (kd + 1) n doubles each, so that a long
+ *  chain needs memory and time per step O(n kd) instead of O(n^2).  M = I,
+ *  C = K = 0 as with vi_model_create; every setter works (a dense matrix
+ *  given to vi_model_set_mass etc. must be zero outside the band).
+ *
+ *  A band model has no modes: vi_model_setup does no modal analysis, the
+ *  modal getters (vi_model_omega, vi_model_modal_shapes, ...) and the dense
+ *  ones (vi_model_mass, vi_model_damping, vi_model_stiffness) return NULL
+ *  (read vi_model_mass_band etc.), vi_model_to_modal / from_modal return
+ *  VI_ERR_UNSUPPORTED, and so do the energy ledger, the exact method, the
+ *  orbits and nonlinear forces; the method "auto" runs Adams.  Adams and
+ *  ERK run on any band model; BDF uses SUNDIALS' band solver when M is
+ *  diagonal and every stop acts on one coordinate (a chain with its stop
+ *  on a mass), else a dense Jacobian, refused above 2000 coordinates.  A
+ *  diagonal M is inverted (M^-1 K is then banded); a banded M is factored
+ *  by band Cholesky (dpbtrf) and applied by a band solve per evaluation.
+ *  @return VI_OK, VI_ERR_DIM (n < 1 or kd < 0), VI_ERR_ARG, VI_ERR_NOMEM. */
+VI_API int vi_model_create_band(int n, int kd, vi_model **out);
+/** Set M from its symmetric band form AB [ldab x n], LAPACK 'U' storage
+ *  (as dsbev and dpbtrf take it): entry (i, j), i <= j <= i + kd, at
+ *  AB[kd + i - j + j ldab] (0-based; Fortran AB(kd+1+i-j, j)).  Rows above
+ *  the band's first column are not read.  Any model: a dense one receives
+ *  the expanded matrix; a band model needs kd at most its own half-bandwidth
+ *  or zeros beyond it.  @return VI_OK, VI_ERR_DIM (kd < 0, ldab < kd + 1, a
+ *  non-zero outside the model's band), VI_ERR_NONFINITE, VI_ERR_ARG,
+ *  VI_ERR_STATE. */
+VI_API int vi_model_set_mass_band(vi_model *m, int kd, const double *AB,
+                                  int ldab);
+/** Set C in band form as vi_model_set_mass_band; AB NULL means C = 0. */
+VI_API int vi_model_set_damping_band(vi_model *m, int kd, const double *AB,
+                                     int ldab);
+/** Set K in band form as vi_model_set_mass_band. */
+VI_API int vi_model_set_stiffness_band(vi_model *m, int kd, const double *AB,
+                                       int ldab);
+/** The paper's fixed-free chain (vi_build_chain) as a band model (kd = 1)
+ *  with M, C, K set: the forcing and the stop remain to be set before
+ *  vi_model_setup.  mass, k [n], c [n] or NULL.  *out is NULL on failure.
+ *  @return VI_OK, VI_ERR_DIM, VI_ERR_ARG (a mass not positive, a spring or
+ *  damper negative), VI_ERR_NONFINITE, VI_ERR_NOMEM. */
+VI_API int vi_model_create_chain(int n, const double *mass, const double *k,
+                                 const double *c, vi_model **out);
+/** Bytes a model of n coordinates with ns stops and a simulation of it
+ *  will need, estimated before anything is allocated: kd >= 0 for band
+ *  storage of that half-bandwidth (vi_model_create_band), kd < 0 for dense
+ *  storage (vi_model_create, including the modal analysis' workspace);
+ *  method a VI_METHOD_* (vi_sim.h; the integrator's vectors, BDF's
+ *  Jacobian), ledger 0 or 1.  Output buffers are not counted.
+ *  @return VI_OK, VI_ERR_DIM (n < 1, ns < 0), VI_ERR_ARG,
+ *  VI_ERR_UNSUPPORTED (band storage with the exact method or the ledger,
+ *  which need the modes), VI_ERR_LIMIT (beyond int64). */
+VI_API int vi_model_memory_estimate(int n, int kd, int ns, int method,
+                                    int ledger, int64_t *bytes);
+/** An upper bound of the highest natural frequency, for checks of the
+ *  forcing frequency against the model: omega_n itself for a dense model,
+ *  a Gershgorin bound for a band model (sqrt of the largest row sum of
+ *  |M^-1 K| for a diagonal M; HUGE_VAL if M's rows are not diagonally
+ *  dominant); 0 before setup. */
+VI_API double vi_model_omega_bound(const vi_model *m);
+/** Bytes the model holds now (its arrays and stops; 0 for NULL). */
+VI_API int64_t vi_model_memory(const vi_model *m);
+/** Half-bandwidth kd of a band model, -1 for dense storage (also before
+ *  setup). */
+VI_API int vi_model_bandwidth(const vi_model *m);
 
 /** Set the mass matrix M [ldm x n] (copied; symmetric to 1e-12 relative,
  *  positive definite, checked at setup).  @return VI_OK, VI_ERR_DIM
@@ -89,7 +157,8 @@ VI_API int vi_model_setup(vi_model *m);
 VI_API const char *vi_model_errmsg(const vi_model *m);
 
 /** @name Getters
- *  Valid after vi_model_setup: before it they return 0 or NULL.  Returned
+ *  Valid after vi_model_setup: before it they return 0 or NULL.  The modal
+ *  ones return NULL (or 0) for a band model, which has no modes.  Returned
  *  pointers are read-only views owned by the model, valid until it is
  *  destroyed.
  *  @{ */
@@ -101,12 +170,24 @@ VI_API double vi_model_omega_forcing(const vi_model *m);
 VI_API double vi_model_clearance(const vi_model *m);
 /** Coefficient of restitution r (of stop 0 with several). */
 VI_API double vi_model_restitution(const vi_model *m);
-/** Mass matrix as set (exactly symmetric), column-major, leading dimension n. */
+/** Mass matrix as set (exactly symmetric), column-major, leading dimension
+ *  n; NULL for a band model (vi_model_mass_band), as the two below. */
 VI_API const double *vi_model_mass(const vi_model *m);
 /** Damping matrix as set, column-major, leading dimension n. */
 VI_API const double *vi_model_damping(const vi_model *m);
 /** Stiffness matrix as set, column-major, leading dimension n. */
 VI_API const double *vi_model_stiffness(const vi_model *m);
+/** M of a band model in LAPACK 'U' band form [*ldab x n] with
+ *  half-bandwidth *kd (see vi_model_set_mass_band); NULL (and 0) for a
+ *  dense model or before setup. */
+VI_API const double *vi_model_mass_band(const vi_model *m, int *kd,
+                                        int *ldab);
+/** C of a band model in 'U' band form, as vi_model_mass_band. */
+VI_API const double *vi_model_damping_band(const vi_model *m, int *kd,
+                                           int *ldab);
+/** K of a band model in 'U' band form, as vi_model_mass_band. */
+VI_API const double *vi_model_stiffness_band(const vi_model *m, int *kd,
+                                             int *ldab);
 /** Stop vector w [n] (stop 0's with several: vi_model_get_stop). */
 VI_API const double *vi_model_stop_vector(const vi_model *m);
 /** Forcing amplitude a [n] of a cos(Omega t). */
@@ -161,6 +242,12 @@ VI_API double vi_model_energy(const vi_model *m, const double *x,
 VI_API int vi_build_chain(int n, const double *mass, const double *k,
                           const double *c, double *M, double *C, double *K,
                           int ld);
+/** The same chain in LAPACK 'U' band form with kd = 1 (n >= 2): MB, CB, KB
+ *  [ldab x n], ldab >= 2, row 1 (0-based) the diagonal, row 0 the
+ *  superdiagonal, for vi_model_set_*_band.  @return as vi_build_chain. */
+VI_API int vi_build_chain_band(int n, const double *mass, const double *k,
+                               const double *c, double *MB, double *CB,
+                               double *KB, int ldab);
 
 #ifdef __cplusplus
 }

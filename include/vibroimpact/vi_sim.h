@@ -152,9 +152,10 @@ VI_API const char *vi_sim_errmsg(const vi_sim *sim);
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
  *  without a usable closed form: an undamped mode forced at resonance, or a
  *  defective first-order system such as an undamped rigid-body mode beside
- *  non-proportional damping; nonlinear forces; exact or erk on a model with
- *  several stops, whose contact searches handle one; the message says
- *  which).  With several stops auto runs adams. */
+ *  non-proportional damping; nonlinear forces; erk on a model with
+ *  several stops, whose contact search handles one; the message says
+ *  which).  The exact method searches every stop's gap; with several stops
+ *  auto runs it where the closed form applies. */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
 /** Relative and absolute tolerances, both > 0 and finite, rtol at least
  *  twice the machine epsilon; atol applies to positions and velocities

@@ -68,6 +68,10 @@ module vibroimpact
             vi_model_modal_damping, vi_model_modal_forcing_cos, &
             vi_model_modal_forcing_sin, vi_model_modal_forcing_const, &
             vi_model_create_reduced
+  public :: vi_model_create_band, vi_model_set_mass_band, vi_model_set_damping_band, &
+            vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
+            vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
+            vi_model_damping_band, vi_model_stiffness_band, vi_build_chain_band
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
             vi_cantilever_shape, vi_cantilever_participation
   public :: vi_impact_apply, vi_impact_apply_r, vi_impact_apply_multi, vi_restitution_from_energy, &
@@ -118,6 +122,71 @@ module vibroimpact
       import :: c_int, c_ptr
       integer(c_int), value :: n
       type(c_ptr) :: model
+    end function
+    ! band storage: AB(kd+1+i-j, j) = A(i, j) for max(1, j-kd) <= i <= j
+    ! (LAPACK's symmetric band 'U' form, as dsbev and dpbtrf take it)
+    integer(c_int) function vi_model_create_band(n, kd, model) bind(C, name="vi_model_create_band")
+      import :: c_int, c_ptr
+      integer(c_int), value :: n, kd
+      type(c_ptr) :: model
+    end function
+    integer(c_int) function vi_model_set_mass_band(model, kd, AB, ldab) bind(C, name="vi_model_set_mass_band")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: kd, ldab
+      real(c_double), intent(in) :: AB(ldab, *)
+    end function
+    integer(c_int) function vi_model_set_damping_band(model, kd, AB, ldab) bind(C, name="vi_model_set_damping_band")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: kd, ldab
+      real(c_double), intent(in), optional :: AB(ldab, *)  ! absent: C = 0
+    end function
+    integer(c_int) function vi_model_set_stiffness_band(model, kd, AB, ldab) bind(C, name="vi_model_set_stiffness_band")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: kd, ldab
+      real(c_double), intent(in) :: AB(ldab, *)
+    end function
+    integer(c_int) function vi_model_create_chain(n, mass, k, c, model) bind(C, name="vi_model_create_chain")
+      import :: c_int, c_ptr, c_double
+      integer(c_int), value :: n
+      real(c_double), intent(in) :: mass(*), k(*)
+      real(c_double), intent(in), optional :: c(*)  ! absent: no damping
+      type(c_ptr) :: model
+    end function
+    integer(c_int) function vi_model_memory_estimate(n, kd, ns, method, ledger, bytes) &
+        bind(C, name="vi_model_memory_estimate")
+      import :: c_int, c_int64_t
+      integer(c_int), value :: n, kd, ns, method, ledger
+      integer(c_int64_t) :: bytes
+    end function
+    real(c_double) function vi_model_omega_bound(model) bind(C, name="vi_model_omega_bound")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int64_t) function vi_model_memory(model) bind(C, name="vi_model_memory")
+      import :: c_int64_t, c_ptr
+      type(c_ptr), value :: model
+    end function
+    integer(c_int) function vi_model_bandwidth(model) bind(C, name="vi_model_bandwidth")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+    end function
+    type(c_ptr) function vi_model_mass_band(model, kd, ldab) bind(C, name="vi_model_mass_band")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: kd, ldab
+    end function
+    type(c_ptr) function vi_model_damping_band(model, kd, ldab) bind(C, name="vi_model_damping_band")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: kd, ldab
+    end function
+    type(c_ptr) function vi_model_stiffness_band(model, kd, ldab) bind(C, name="vi_model_stiffness_band")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: model
+      integer(c_int) :: kd, ldab
     end function
     subroutine vi_model_destroy(model) bind(C, name="vi_model_destroy")
       import :: c_ptr
@@ -298,6 +367,14 @@ module vibroimpact
       integer(c_int), value :: k
       real(c_double), value :: r
       type(c_ptr) :: model
+    end function
+    integer(c_int) function vi_build_chain_band(n, mass, k, c, MB, CB, KB, ldab) &
+        bind(C, name="vi_build_chain_band")
+      import :: c_int, c_double
+      integer(c_int), value :: n, ldab
+      real(c_double), intent(in) :: mass(*), k(*)
+      real(c_double), intent(in), optional :: c(*)  ! absent: no damping
+      real(c_double) :: MB(ldab, *), CB(ldab, *), KB(ldab, *)
     end function
     integer(c_int) function vi_build_chain(n, mass, k, c, M, Cm, Km, ld) bind(C, name="vi_build_chain")
       import :: c_int, c_double

@@ -1,0 +1,79 @@
+/* vi_flow_internal.h - the exact flow between impacts, the third layer
+ * above the model (M, C, K, forcing, stops) and its modes (vi_modal.c).
+ *
+ * A vi_xflow is built from a set-up model by whoever needs it and never
+ * changes afterwards; the model knows nothing of it.  A simulation builds
+ * its own at vi_sim_create: for proportional damping that is the harmonic
+ * particular solution of each mode, O(n) in one allocation (measured: no
+ * change in build/rel/vi_bench_sweep, which creates a simulation per
+ * forcing frequency), and a per-simulation object needs no reference
+ * counting or locking when sweeps create simulations from one model on
+ * several threads.  Non-proportional damping adds the first-order
+ * eigen-solution (LAPACK dgeev on 2n x 2n), so a caller that advances
+ * many states holds one flow and calls vi_xflow_physical rather than the
+ * public vi_flow_physical, which builds a flow per call. */
+#ifndef VI_FLOW_INTERNAL_H
+#define VI_FLOW_INTERNAL_H
+
+#include "vi_internal.h"
+
+typedef struct vi_general vi_general; /* vi_general.c */
+
+typedef struct vi_xflow {
+  int ok;                 /* closed-form flow available */
+  char why[VI_MSG_LEN];   /* if not, why */
+  double *pA, *pB;        /* harmonic particular solution per mode [n] */
+  vi_general *gen;        /* non-proportional damping: first-order modes */
+} vi_xflow;
+
+/* Build the flow of a set-up model.  VI_OK (f->ok says whether the closed
+ * form applies) or VI_ERR_NOMEM; *out is NULL on failure. */
+int vi_xflow_create(const vi_model *m, vi_xflow **out);
+void vi_xflow_destroy(vi_xflow **f);
+
+/* Free motion with a flow of m (arguments as vi_flow_physical /
+ * vi_flow_modal, unchecked). */
+int vi_xflow_physical(const vi_xflow *f, const vi_model *m, double t0,
+                      const double *x0, const double *v0, double t, double *x,
+                      double *v);
+int vi_xflow_modal(const vi_xflow *f, const vi_model *m, double t0,
+                   const double *q0, const double *qd0, double t, double *q,
+                   double *qd);
+/* 1 if the closed-form flow of m exists (builds one to find out: cheap
+ * for proportional damping), 0 if not or out of memory. */
+int vi_xflow_available(const vi_model *m);
+
+/* Closed-form mode j (vi_flow.c): particular solution at t, with tau = t - t0
+ * for the polynomial part of a rigid-body mode, and the homogeneous solution
+ * from (u0, v0) after tau. */
+void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
+                        double cos_t, double sin_t, double tau, double *qp,
+                        double *qpd);
+void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
+                         double tau, double *u, double *ud);
+/* Mode u'' + d u' + lambda u = F relative to its start (vi_flow.c):
+ * u = u0 + B v0 + phi (F - lambda u0), u' = Bp v0 + B (F - lambda u0). */
+void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
+                   double *phi);
+
+/* Exact flow for any damping (vi_general.c): the first-order
+ * eigen-solution of a model whose damping is not proportional; a vi_gflow
+ * is the flow from one start.  vi_general_create: VI_OK, VI_ERR_NOMEM,
+ * VI_ERR_LAPACK or VI_ERR_UNSUPPORTED (not safely diagonalisable, or a
+ * resonance), with the reason in why [VI_MSG_LEN]. */
+typedef struct vi_gflow vi_gflow;
+int vi_general_create(const vi_model *m, vi_general **out, char *why);
+void vi_general_destroy(vi_general **g);
+double vi_general_top_frequency(const vi_general *g, double omega_f);
+/* sum_k |w.V_k| (|P_k| + |Q_k| + |R_k|): the size of the particular
+ * solution as the gap sees it, against which the flow cancels */
+double vi_general_particular_scale(const vi_general *g);
+vi_gflow *vi_gflow_create(const vi_general *g);
+void vi_gflow_free(vi_gflow *f);
+/* z: interleaved state (x_1, v_1, ...) at t0 */
+void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z);
+/* gap w.x - x_s and rate w.x' at t; with z != NULL the state too */
+void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
+                   double *rate, double *z);
+
+#endif
