@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "vi_app.h"
+#include "vi_sweep.h"
 
 /* Orbit of the reduced model with the first k modes and restitution r_S,
  * compared with the full orbit: impact velocity, deepest excursion from the
@@ -55,7 +56,7 @@ static void json_str(const char *s)
 /* The orbit's Floquet multipliers: a JSON member or a line of text. */
 static void print_multipliers(const vi_orbit *orb, int n, int json)
 {
-  double *re = malloc(sizeof(double) * 4 * (size_t)n), *im = re ? re + 2 * n : NULL;
+  double *re = malloc(sizeof(double) * 4 * (size_t)n), *im = re ? re + (size_t)2 * n : NULL;
   if (!re || vi_orbit_multipliers(orb, re, im)) {
     free(re);
     return;
@@ -70,6 +71,44 @@ static void print_multipliers(const vi_orbit *orb, int n, int json)
   if (json) printf("], \"stable\": %s", rho < 1 ? "true" : "false");
   else printf("  (largest modulus %.6g: %s)\n", rho, rho < 1 ? "stable" : "unstable");
   free(re);
+}
+
+/* WB 11-13 per stop of an analysed orbit (vi_orbit_stop_balance), with
+ * its impacts: a JSON member or lines of text. */
+static void print_stops(const vi_orbit *orb, const vi_model *m, int json)
+{
+  int ns = vi_model_num_stops(m), cnt = 0, sp[8];
+  double t[8], vn[8], T = 2 * M_PI / vi_model_omega_forcing(m);
+  if (vi_orbit_impacts(orb, &cnt, t, sp, vn, NULL, NULL, 1)) return;
+  if (json) {
+    printf(", \"impacts\": [");
+    for (int j = 0; j < cnt; j++)
+      printf("%s{\"stop\": %d, \"impact_phase\": %.17g, \"vN\": %.17g}",
+             j ? ", " : "", sp[j], fmod(t[j], T), vn[j]);
+    printf("], \"stops\": [");
+  } else {
+    for (int j = 0; j < cnt; j++)
+      printf("  impact %d: stop %d, time mod T %.10g, v_N %.10g\n", j + 1,
+             sp[j] + 1, fmod(t[j], T), vn[j]);
+    printf("  %4s %7s %14s %14s %14s %14s %10s\n", "stop", "impacts", "KE_i",
+           "RE", "IE", "r recovered", "|RE-IE|/KE");
+  }
+  for (int k = 0; k < ns; k++) {
+    int c = 0;
+    double KE, RE, IE, rr, cl;
+    vi_orbit_stop_balance(orb, k, &c, &KE, &RE, &IE, &rr, &cl);
+    if (json)
+      printf("%s{\"stop\": %d, \"impacts\": %d, \"KE_i\": %.17g, \"RE\": "
+             "%.17g, \"IE\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g}",
+             k ? ", " : "", k, c, c ? KE : 0.0, c ? RE : 0.0, c ? IE : 0.0,
+             c ? rr : 0.0, c ? cl : 0.0);
+    else if (c)
+      printf("  %4d %7d %14.8g %14.8g %14.8g %14.10f %10.3g\n", k + 1, c, KE,
+             RE, IE, rr, cl);
+    else
+      printf("  %4d %7d\n", k + 1, 0);
+  }
+  if (json) printf("]");
 }
 
 /* The analysis to OUT.h5 (/model, /modal, /orbits); no file on failure. */
@@ -118,6 +157,15 @@ int vi_cmd_energy(const app_opts *o)
     rc = 2;
     goto done;
   }
+  if (vi_sweep_text_nonlinear(vi_scene_text(sc))) {
+    /* the orbit analysis integrates M, C, K and the stops only: a balance
+     * without the springs' work would be the balance of another system */
+    fprintf(stderr, "vibroimpact: energy: scene %s has nonlinear springs "
+                    "(springs:); the WB 11-13 analysis is of the linear model "
+                    "and would ignore them\n", vi_scene_name(sc));
+    rc = 2;
+    goto done;
+  }
   if ((st = vi_orbit_create(m, &orb)) ||
       (o->method >= 0 && (st = vi_orbit_set_method(orb, o->method))) ||
       (o->rtol > 0 &&
@@ -129,8 +177,6 @@ int vi_cmd_energy(const app_opts *o)
      * process at once (vi_app_arm_parts) */
     /* without a handle the code is all there is: say what it needs */
     const char *why = orb ? vi_orbit_errmsg(orb)
-                    : vi_model_num_stops(m) > 1
-                        ? "the WB 11-13 analysis is for one stop; this scene has several"
                     : st == VI_ERR_FREQUENCY
                         ? "the analysis needs harmonic forcing (forcing.omega)"
                         : "the orbit analysis could not start";
@@ -143,13 +189,26 @@ int vi_cmd_energy(const app_opts *o)
   vi_orbit_classify(orb, &pn, &pm);
   if (pn != 1 || pm != 1) {
     rc = 3; /* not P(1,1): a result, not a failure */
+    int ana = vi_orbit_stop_balance(orb, 0, NULL, NULL, NULL, NULL, NULL, NULL) == VI_OK;
     if (o->json) {
       printf("{\"scene\": ");
       json_str(vi_scene_name(sc));
       printf(", \"P11\": false, \"periodic\": %s, ", pn ? "true" : "false");
-      if (pn) printf("\"n\": %d, \"m\": %d}\n", pn, pm);
-      else printf("\"n\": null, \"m\": null, \"impacts_per_period\": %d}\n", pm);
+      if (pn) printf("\"n\": %d, \"m\": %d", pn, pm);
+      else printf("\"n\": null, \"m\": null, \"impacts_per_period\": %d", pm);
+      if (ana) { /* a P(1, m) orbit over several stops: WB 11-13 per stop */
+        print_stops(orb, m, 1);
+        print_multipliers(orb, n, 1);
+      }
+      printf("}\n");
+    } else if (ana) {
+      printf("P(1,%d) orbit, scene %s: WB 11-13 per stop (%d; numbered from 1 "
+             "in the scene's order, from 0 in JSON and HDF5)\n", pm,
+             vi_scene_name(sc), vi_model_num_stops(m));
+      print_stops(orb, m, 0);
+      print_multipliers(orb, n, 0);
     }
+    if (ana) goto done;
     if (pn == 0)
       fprintf(
           stderr,

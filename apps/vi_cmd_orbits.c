@@ -7,8 +7,10 @@
  * every P(n,1) orbit, unstable and inadmissible ones included); for any m
  * the motions that transients settle on, from the scene's `initial:` and
  * from rest at 8 forcing phases.  Each seed is refined by Newton
- * (vi_orbit_pnm_solve), checked for admissibility, and its Floquet
- * multipliers come from the monodromy matrix with saltation matrices. */
+ * (vi_orbit_pnm_solve_stops), checked for admissibility, and its Floquet
+ * multipliers come from the monodromy matrix with saltation matrices.
+ * With several stops each impact keeps the stop it hit (the seeds are
+ * transients only: the scan is for one stop). */
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -25,6 +27,7 @@
 
 typedef struct orbit {
   int n, m, admissible, stable;
+  int *stop;                   /* [m] the stop of each impact */
   double *t, *x, *v, *re, *im; /* [m], [N x m], [N x m], [2N], [2N] */
   double gmax;
 } orbit;
@@ -37,6 +40,7 @@ typedef struct list {
 
 static void orbit_free(orbit *o)
 {
+  free(o->stop);
   free(o->t);
   free(o->x);
   free(o->v);
@@ -56,7 +60,8 @@ static int whole(const char *s, int lo, int hi)
 /* Same orbit: the same impacts up to a cyclic shift of their order and a
  * shift of time by whole forcing periods (the forcing is T-periodic, so a
  * P(n, m) orbit and its copy started T later are one orbit). */
-static int same(const list *L, const orbit *a, const double *t, const double *v)
+static int same(const list *L, const orbit *a, const double *t, const double *v,
+                const int *stop)
 {
   double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
   int N = L->N;
@@ -64,6 +69,10 @@ static int same(const list *L, const orbit *a, const double *t, const double *v)
     int ok = 1;
     for (int j = 0; j < L->m && ok; j++) {
       int k = (j + s) % L->m;
+      if (a->stop[j] != stop[k]) {
+        ok = 0;
+        break;
+      }
       double d = fmod(fabs(a->t[j] - t[k]), T), dv = 0, sv = 1;
       for (int q = 0; q < N; q++) {
         dv = fmax(dv, fabs(a->v[(size_t)j * N + q] - v[(size_t)k * N + q]));
@@ -76,20 +85,34 @@ static int same(const list *L, const orbit *a, const double *t, const double *v)
   return 0;
 }
 
-/* Refine a seed; keep it if new. */
-static void add(list *L, double *t, double *x, double *v)
+/* Refine a seed (stop: the stop of each impact, NULL for stop 0); keep it
+ * if new. */
+static void add(list *L, double *t, double *x, double *v, const int *stop)
 {
   int N = L->N, m = L->m;
-  if (vi_orbit_pnm_solve(L->mdl, L->n, m, t, x, v, N, 0.0, NULL)) return;
+  int *sp = calloc((size_t)m, sizeof(int));
+  if (!sp) return;
+  for (int j = 0; stop && j < m; j++) sp[j] = stop[j];
+  if (vi_orbit_pnm_solve_stops(L->mdl, L->n, m, sp, t, x, v, N, 0.0, NULL)) {
+    free(sp);
+    return;
+  }
   double P = L->n * 2 * M_PI / vi_model_omega_forcing(L->mdl);
   /* impact times into [0, nT), order kept cyclically */
   double sh = floor(t[0] / P) * P;
   for (int j = 0; j < m; j++) t[j] -= sh;
   for (int i = 0; i < L->count; i++)
-    if (same(L, &L->o[i], t, v)) return;
-  if (L->count == MAXORB) return;
+    if (same(L, &L->o[i], t, v, sp)) {
+      free(sp);
+      return;
+    }
+  if (L->count == MAXORB) {
+    free(sp);
+    return;
+  }
   orbit *o = &L->o[L->count];
   memset(o, 0, sizeof *o);
+  o->stop = sp;
   o->t = malloc(sizeof(double) * m);
   o->x = malloc(sizeof(double) * N * m);
   o->v = malloc(sizeof(double) * N * m);
@@ -104,8 +127,9 @@ static void add(list *L, double *t, double *x, double *v)
   memcpy(o->v, v, sizeof(double) * N * m);
   o->n = L->n;
   o->m = m;
-  if (vi_orbit_pnm_multipliers(L->mdl, L->n, m, t, x, v, N, o->re, o->im) ||
-      vi_orbit_pnm_admissible(L->mdl, L->n, m, t, x, v, N, &o->gmax, &o->admissible)) {
+  if (vi_orbit_pnm_multipliers_stops(L->mdl, L->n, m, sp, t, x, v, N, o->re, o->im) ||
+      vi_orbit_pnm_admissible_stops(L->mdl, L->n, m, sp, t, x, v, N, &o->gmax,
+                                    &o->admissible)) {
     orbit_free(o);
     return;
   }
@@ -120,6 +144,7 @@ typedef struct ring {
   int N;
   int64_t k;
   double t[RINGN], *z; /* z: RINGN x 2N, pre-impact (x, v) */
+  int stop[RINGN];
 } ring;
 
 static int on_impact(const vi_event *ev, void *user)
@@ -128,6 +153,7 @@ static int on_impact(const vi_event *ev, void *user)
   if (ev->kind != VI_EVENT_IMPACT) return 0;
   int i = (int)(r->k % RINGN);
   r->t[i] = ev->t;
+  r->stop[i] = ev->stop;
   memcpy(r->z + (size_t)i * 2 * r->N, ev->x, sizeof(double) * r->N);
   memcpy(r->z + (size_t)i * 2 * r->N + r->N, ev->v_minus, sizeof(double) * r->N);
   r->k++;
@@ -170,13 +196,17 @@ static void transient_seed(list *L, const vi_scene *sc, double t0,
     for (int64_t q = r->k - 1; q >= 0 && q > r->k - RINGN && r->t[q % RINGN] >= tn; q--) cnt++;
     if (cnt != m) goto done; /* periodic, but another P(n, m') */
     double *tt = st, *xx = tt + m, *vv = xx + (size_t)N * m;
+    int *sp = malloc(sizeof(int) * (size_t)m);
+    if (!sp) goto done;
     for (int j = 0; j < m; j++) {
       int64_t q = r->k - m + j;
       tt[j] = r->t[q % RINGN];
+      sp[j] = r->stop[q % RINGN];
       memcpy(xx + (size_t)j * N, r->z + (size_t)(q % RINGN) * 2 * N, sizeof(double) * N);
       memcpy(vv + (size_t)j * N, r->z + (size_t)(q % RINGN) * 2 * N + N, sizeof(double) * N);
     }
-    add(L, tt, xx, vv);
+    add(L, tt, xx, vv, sp);
+    free(sp);
     goto done;
   }
 done:
@@ -187,6 +217,19 @@ done:
   free(st);
 }
 
+/* the approach velocity w_k.v of impact j on its stop k */
+static double approach(const list *L, const orbit *o, int j)
+{
+  int N = L->N;
+  double *w = malloc(sizeof(double) * (size_t)N), vn = NAN;
+  if (w && !vi_model_get_stop(L->mdl, o->stop[j], w, NULL, NULL)) {
+    vn = 0;
+    for (int q = 0; q < N; q++) vn += w[q] * o->v[(size_t)j * N + q];
+  }
+  free(w);
+  return vn;
+}
+
 static void print_json(const list *L)
 {
   int N = L->N;
@@ -195,13 +238,11 @@ static void print_json(const list *L)
     const orbit *o = &L->o[i];
     double P = o->n * 2 * M_PI / vi_model_omega_forcing(L->mdl),
            T = P / o->n;
-    const double *w = vi_model_stop_vector(L->mdl);
     printf("%s{\"n\": %d, \"m\": %d, \"vN\": [", i ? ", " : "", o->n, o->m);
-    for (int j = 0; j < o->m; j++) {
-      double vn = 0;
-      for (int q = 0; q < N; q++) vn += w[q] * o->v[(size_t)j * N + q];
-      printf("%s%.17g", j ? ", " : "", vn);
-    }
+    for (int j = 0; j < o->m; j++)
+      printf("%s%.17g", j ? ", " : "", approach(L, o, j));
+    printf("], \"stop\": [");
+    for (int j = 0; j < o->m; j++) printf("%s%d", j ? ", " : "", o->stop[j]);
     printf("], \"impact_time_mod_T\": [");
     for (int j = 0; j < o->m; j++) printf("%s%.17g", j ? ", " : "", fmod(o->t[j], T));
     printf("], \"impact_time\": [");
@@ -217,8 +258,7 @@ static void print_json(const list *L)
 
 static void print_text(const list *L, const char *name)
 {
-  int N = L->N;
-  const double *w = vi_model_stop_vector(L->mdl);
+  int N = L->N, ns = vi_model_num_stops(L->mdl);
   double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
   printf("P(%d,%d) orbits of %s (Omega = %.10g, T = %.10g): %d found\n", L->n,
          L->m, name, vi_model_omega_forcing(L->mdl), T, L->count);
@@ -227,9 +267,10 @@ static void print_text(const list *L, const char *name)
     printf("  orbit %d: %s, %s\n", i + 1, o->stable ? "stable" : "unstable",
            o->admissible ? "admissible" : "NOT admissible (contact between impacts, or no approach)");
     for (int j = 0; j < o->m; j++) {
-      double vn = 0;
-      for (int q = 0; q < N; q++) vn += w[q] * o->v[(size_t)j * N + q];
-      printf("    impact %d: t mod T = %.12g, v_N = %.12g\n", j + 1, fmod(o->t[j], T), vn);
+      printf("    impact %d: t mod T = %.12g, v_N = %.12g", j + 1, fmod(o->t[j], T),
+             approach(L, o, j));
+      if (ns > 1) printf(" (stop %d)", o->stop[j] + 1);
+      printf("\n");
     }
     printf("    multipliers:");
     for (int j = 0; j < 2 * N; j++)
@@ -333,7 +374,7 @@ int vi_cmd_orbits_main(int argc, char **argv)
   L->m = mi;
   int N = L->N;
   rc = 0;
-  if (mi == 1) {
+  if (mi == 1 && vi_model_num_stops(mdl) == 1) { /* the scan: one stop */
     double *t = malloc(sizeof(double) * MAXORB * (2 * N + 1));
     int found = 0;
     if (!t) { rc = 1; goto fin; }
@@ -346,7 +387,7 @@ int vi_cmd_orbits_main(int argc, char **argv)
       goto fin;
     }
     for (int i = 0; i < found && i < MAXORB; i++)
-      add(L, &t[i], x + (size_t)i * N, v + (size_t)i * N);
+      add(L, &t[i], x + (size_t)i * N, v + (size_t)i * N, NULL);
     free(t);
   }
   double *x0 = calloc((size_t)N * 2, sizeof(double));

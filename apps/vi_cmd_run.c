@@ -125,9 +125,15 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
              *note = vi_sim_method_note(s);
   fprintf(f, "vibroimpact %s: scene %s (n = %d)\n", vi_version_string(),
           vi_scene_name(sc), n);
-  fprintf(f, "  modes     omega =");
-  for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);
-  fprintf(f, "%s\n", n > 8 ? " ..." : "");
+  if (om) {
+    fprintf(f, "  modes     omega =");
+    for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);
+    fprintf(f, "%s\n", n > 8 ? " ..." : "");
+  } else {
+    fprintf(f, "  model     band storage (half-bandwidth %d), no modal "
+            "analysis; highest frequency <= %.6g\n", vi_model_bandwidth(m),
+            vi_model_omega_bound(m));
+  }
   fprintf(f, "  run       t = %g .. %g (%.6g forcing periods), method %s, "
           "rtol %g, atol %g\n", c->t0, c->t_end, (c->t_end - c->t0) / period,
           used ? used : "?", vi_scene_rtol(sc), vi_scene_atol(sc));

@@ -262,13 +262,25 @@ static int gauss(int k, double *A, double *b)
   return 0;
 }
 
+/* The parameter vi_orbit_pnm_dparam differentiates exactly, or -1 for a
+ * key it does not know (an amplitude, a stiffness, ...). */
+static int exact_param(const char *key)
+{
+  if (!strcmp(key, "forcing.omega")) return VI_ORBIT_PARAM_OMEGA;
+  if (!strcmp(key, "stop.xs")) return VI_ORBIT_PARAM_XS;
+  if (!strcmp(key, "stop.r")) return VI_ORBIT_PARAM_R;
+  return -1;
+}
+
 /* F(u; p) [D] and, with Ja, the extended Jacobian's first D rows
- * [J_u | dF/dp] (Ja [(D+1) x (D+1)], leading dimension D+1): J_u exact,
- * dF/dp by central differences in p (the model is rebuilt at p +- dp). */
+ * [J_u | dF/dp] (Ja [(D+1) x (D+1)], leading dimension D+1): J_u exact;
+ * dF/dp exact for forcing.omega, stop.xs and stop.r (vi_orbit_pnm_dparam),
+ * by central differences in p (the model rebuilt at p +- dp) for any
+ * other key. */
 static int ext_residual(vi_scene_edit *ed, const char *key, int np, int N,
                         const double *U, double *F, double *Ja, char *err, int len)
 {
-  int D = 2 * N + 1, K = D + 1, st;
+  int D = 2 * N + 1, K = D + 1, st, par = exact_param(key);
   double p = U[D];
   vi_model *m = model_at(ed, key, p, err, len);
   if (!m) return -1;
@@ -278,6 +290,11 @@ static int ext_residual(vi_scene_edit *ed, const char *key, int np, int N,
     return VI_ERR_NOMEM;
   }
   st = vi_orbit_pnm_residual(m, np, 1, U, U + 1, U + 1 + N, N, F, J);
+  if (!st && Ja && par >= 0) {
+    double *dF = J + (size_t)D * D;
+    st = vi_orbit_pnm_dparam(m, np, 1, NULL, U, U + 1, U + 1 + N, N, par, 0, dF);
+    for (int r = 0; r < D && !st; r++) Ja[r + (size_t)D * K] = dF[r];
+  }
   vi_model_destroy(&m);
   if (st || !Ja) {
     free(J);
@@ -285,6 +302,10 @@ static int ext_residual(vi_scene_edit *ed, const char *key, int np, int N,
   }
   for (int c = 0; c < D; c++)
     for (int r = 0; r < D; r++) Ja[r + (size_t)c * K] = J[r + (size_t)c * D];
+  if (par >= 0) {
+    free(J);
+    return VI_OK;
+  }
   double dp = 1e-6 * fmax(1.0, fabs(p)), *Fp = J + (size_t)D * D, *Fm = Fp + D;
   vi_model *mp = model_at(ed, key, p + dp, err, len), *mm = model_at(ed, key, p - dp, err, len);
   st = !mp || !mm ? -1 : vi_orbit_pnm_residual(mp, np, 1, U, U + 1, U + 1 + N, N, Fp, NULL);

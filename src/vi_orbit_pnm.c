@@ -3,99 +3,76 @@
  * P(n, 1), admissibility, and Floquet multipliers from the monodromy matrix
  * with the saltation matrix at each impact.
  *
- * An orbit is its m impacts in one orbit period nT: times t_j and the
- * states just before them, (x_j, v_j).  Between impacts the motion is the
- * free flow (vi_flow_physical), which is affine in the state:
- *   z(t) = Phi(t - t0) z0 + c(t0, t),
- * so D_z0 z(t) = Phi is the difference of two flows with no truncation
- * error, and the time derivatives are the vector field itself.  These are
- * the exact derivatives of the variational flow, up to round-off. */
+ * An orbit is its m impacts in one orbit period nT: times t_j, the stop
+ * s_j each hits, and the states just before them, (x_j, v_j).  Between
+ * impacts the motion is the free flow (vi_flow_physical), affine in the
+ * state: z(t) = Phi(t - t0) z0 + c(t0, t).  Its derivatives are exact:
+ * D_z0 z(t) = Phi in closed form (vi_orbit_var.c), the time derivatives
+ * the vector field itself, and the impact's the saltation matrix. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <lapacke.h>
 
-#include "vi_flow_internal.h"
+#include "vi_orbit_internal.h"
 
 typedef struct ws {
   const vi_model *m;
   int n, n2;
-  double *Q;   /* velocity impact map [n x n] (WB 2) */
-  double *buf; /* scratch */
-  vi_xflow *fl; /* the exact flow, built once per call (vi_flow_internal.h) */
+  const int *stop; /* stop of each impact (NULL: all on stop 0) */
+  vi_xflow *xf;    /* the closed-form flow, built once per call */
+  double *buf;     /* scratch [16n] */
 } ws;
 
-static int ws_init(ws *w, const vi_model *m)
+/* need_flow 1: the closed-form flow must exist (VI_ERR_UNSUPPORTED);
+ * 0: built if it exists; -1: not built (derivatives only) */
+static int ws_init(ws *w, const vi_model *m, const int *stop, int need_flow)
 {
-  int n = m->n;
   w->m = m;
-  w->n = n;
-  w->n2 = 2 * n;
-  w->Q = malloc(sizeof(double) * ((size_t)n * n + 16 * (size_t)n));
-  w->buf = w->Q ? w->Q + (size_t)n * n : NULL;
-  if (!w->Q) return VI_ERR_NOMEM;
-  /* Q = I - (1 + r) M^-1 w w^T / (w^T M^-1 w) */
-  for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++)
-      w->Q[i + (size_t)j * n] =
-          (i == j) - (1.0 + m->r) * m->Minv_w[i] * m->w[j] / m->wMw;
-  int st = vi_xflow_create(m, &w->fl);
-  if (st) free(w->Q);
-  return st;
+  w->n = m->n;
+  w->n2 = 2 * m->n;
+  w->stop = stop;
+  w->xf = NULL;
+  w->buf = malloc(sizeof(double) * 16 * (size_t)m->n);
+  if (w->buf && need_flow < 0) return VI_OK;
+  if (!w->buf || vi_xflow_create(m, &w->xf)) {
+    free(w->buf);
+    w->buf = NULL;
+    return VI_ERR_NOMEM;
+  }
+  if (need_flow && !w->xf->ok) {
+    vi_xflow_destroy(&w->xf);
+    free(w->buf);
+    w->buf = NULL;
+    return VI_ERR_UNSUPPORTED;
+  }
+  return VI_OK;
 }
 
 static void ws_free(ws *w)
 {
-  vi_xflow_destroy(&w->fl);
-  free(w->Q);
+  vi_xflow_destroy(&w->xf);
+  free(w->buf);
 }
 
-/* f = z' = (v, M^-1 (f(t) - C v - K x)) */
-static void field(const vi_model *m, double t, const double *z, double *f)
+static int stop_of(const ws *w, int j) { return w->stop ? w->stop[j] : 0; }
+
+/* stop indices valid for the model */
+static int stops_ok(const vi_model *m, int mi, const int *stop)
 {
-  int n = m->n;
-  double c = cos(m->omega_f * t), s = sin(m->omega_f * t);
-  memcpy(f, z + n, sizeof(double) * n);
-  for (int i = 0; i < n; i++) {
-    double a = m->Minv_a[i] * c + m->Minv_b[i] * s + m->Minv_f0[i];
-    for (int k = 0; k < n; k++)
-      a -= m->MinvK[i + (size_t)k * n] * z[k] + m->MinvC[i + (size_t)k * n] * z[n + k];
-    f[n + i] = a;
-  }
+  for (int j = 0; stop && j < mi; j++)
+    if (stop[j] < 0 || stop[j] >= m->ns) return 0;
+  return 1;
 }
 
 static int flow(const ws *w, double t0, const double *z0, double t1,
                 double *z1)
 {
   int n = w->n;
+  if (!w->xf || !w->xf->ok) return VI_ERR_UNSUPPORTED;
   if (!(t1 >= t0)) return VI_ERR_TIME;
-  return vi_xflow_physical(w->fl, w->m, t0, z0, z0 + n, t1, z1, z1 + n);
-}
-
-/* Phi(t1 - t0) [2n x 2n] by the affine difference; c = flow of 0. */
-static int stm(const ws *w, double t0, double t1, double *Phi,
-               double *e, double *c)
-{
-  int n2 = w->n2, st;
-  memset(e, 0, sizeof(double) * n2);
-  if ((st = flow(w, t0, e, t1, c))) return st;
-  for (int j = 0; j < n2; j++) {
-    e[j] = 1.0;
-    st = flow(w, t0, e, t1, Phi + (size_t)j * n2);
-    e[j] = 0.0;
-    if (st) return st;
-    for (int i = 0; i < n2; i++) Phi[i + (size_t)j * n2] -= c[i];
-  }
-  return VI_OK;
-}
-
-/* post-impact state zp = (x, Q v) of the pre-impact z */
-static void impact(const ws *w, const double *z, double *zp)
-{
-  int n = w->n;
-  memcpy(zp, z, sizeof(double) * n);
-  vi_matvec(n, w->Q, z + n, zp + n);
+  return vi_xflow_physical(w->xf, w->m, t0, z0, z0 + n, t1, z1, z1 + n);
 }
 
 /* unknowns u = [t_j, x_j, v_j] for j = 0..m-1 (2n + 1 each) */
@@ -105,53 +82,53 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
   const vi_model *m = w->m;
   int n = w->n, n2 = w->n2, B = n2 + 1, D = mi * B, st;
   double T = 2.0 * M_PI / m->omega_f;
-  double *zp = malloc(sizeof(double) * ((size_t)n2 * n2 + 6 * (size_t)n2));
+  double *zp = malloc(sizeof(double) * ((size_t)n2 * n2 + 4 * (size_t)n2));
   if (!zp) return VI_ERR_NOMEM;
-  double *ze = zp + n2, *f0 = ze + n2, *f1 = f0 + n2, *e = f1 + n2,
-         *c = e + n2, *Phi = c + n2;
+  double *ze = zp + n2, *f0 = ze + n2, *f1 = f0 + n2, *Phi = f1 + n2;
   if (want_j) memset(J, 0, sizeof(double) * (size_t)D * D);
   for (int j = 0; j < mi; j++) {
-    int k = (j + 1) % mi;
+    int k = (j + 1) % mi, s = stop_of(w, j);
     const double *uj = u + (size_t)j * B, *uk = u + (size_t)k * B;
+    const double *ws_ = vi_stop_w(m, s), *Mw = vi_stop_minvw(m, s);
     double t0 = uj[0], t1 = uk[0] + (j + 1 == mi ? np * T : 0.0);
     if (!(t1 > t0)) {
       free(zp);
       return VI_ERR_NOT_CONVERGED; /* impacts out of order */
     }
-    impact(w, uj + 1, zp);
+    vi_var_impact(m, s, uj + 1, zp);
     if ((st = flow(w, t0, zp, t1, ze))) {
       free(zp);
       return st;
     }
     double *Fj = F + (size_t)j * B;
     for (int i = 0; i < n2; i++) Fj[i] = ze[i] - uk[1 + i];
-    Fj[n2] = vi_dot(n, m->w, uj + 1) - m->xs;
+    Fj[n2] = vi_dot(n, ws_, uj + 1) - m->xsv[s];
     if (!want_j) continue;
-    if ((st = stm(w, t0, t1, Phi, e, c))) {
+    if ((st = vi_var_stm(m, t1 - t0, Phi))) {
       free(zp);
       return st;
     }
-    field(m, t0, zp, f0);
-    field(m, t1, ze, f1);
-    /* rows of segment j: columns of block j (t, x, v) and of block k */
+    vi_var_field(m, t0, zp, f0);
+    vi_var_field(m, t1, ze, f1);
+    /* rows of segment j: columns of block j (t, x, v) and of block k;
+     * d/dv_j through Q = I - c M^-1 w w^T: Phi_v Q = Phi_v - c (Phi_v M^-1 w) w^T */
+    double c = (1.0 + m->rv[s]) / m->G[s + (size_t)s * m->ns];
     for (int i = 0; i < n2; i++) {
       size_t row = (size_t)j * B + i;
-      double dt0 = 0.0;
+      double dt0 = 0.0, pm = 0.0;
       for (int q = 0; q < n2; q++) dt0 -= Phi[i + (size_t)q * n2] * f0[q];
+      for (int p = 0; p < n; p++) pm += Phi[i + (size_t)(n + p) * n2] * Mw[p];
       J[row + (size_t)(j * B) * D] += dt0;
       J[row + (size_t)(k * B) * D] += f1[i];
       for (int q = 0; q < n; q++) /* d/dx_j */
         J[row + (size_t)(j * B + 1 + q) * D] += Phi[i + (size_t)q * n2];
-      for (int q = 0; q < n; q++) { /* d/dv_j through Q */
-        double s = 0.0;
-        for (int p = 0; p < n; p++)
-          s += Phi[i + (size_t)(n + p) * n2] * w->Q[p + (size_t)q * n];
-        J[row + (size_t)(j * B + 1 + n + q) * D] += s;
-      }
+      for (int q = 0; q < n; q++)
+        J[row + (size_t)(j * B + 1 + n + q) * D] +=
+            Phi[i + (size_t)(n + q) * n2] - c * pm * ws_[q];
       J[row + (size_t)(k * B + 1 + i) * D] -= 1.0;
     }
     for (int q = 0; q < n; q++) /* the impact condition w.x_j = x_s */
-      J[(size_t)j * B + n2 + (size_t)(j * B + 1 + q) * D] = m->w[q];
+      J[(size_t)j * B + n2 + (size_t)(j * B + 1 + q) * D] = ws_[q];
   }
   free(zp);
   return VI_OK;
@@ -164,50 +141,75 @@ static double norm_inf(int k, const double *x)
   return s;
 }
 
-int vi_orbit_pnm_solve(const vi_model *m, int np, int mi, double *t,
-                       double *x, double *v, int ld, double tol, int *iters)
+/* common checks of the P(n, m) entry points */
+static int pnm_check(const vi_model *m, int np, int mi, const int *stop)
 {
-  if (!m || !t || !x || !v || np < 1 || mi < 1 || ld < (m ? m->n : 1))
-    return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
-  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
+  if (!stops_ok(m, mi, stop) || np < 1 || mi < 1) return VI_ERR_ARG;
+  if (m->ns < 1) return VI_ERR_STATE; /* no stop: nothing to impact */
+  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
-  ws w;
-  int st = ws_init(&w, m), n = m->n, B = 2 * n + 1, D = mi * B, it = 0;
+  return VI_OK;
+}
+
+int vi_orbit_pnm_solve_stops(const vi_model *m, int np, int mi,
+                             const int *stop, double *t, double *x, double *v,
+                             int ld, double tol, int *iters)
+{
+  if (!m || !t || !x || !v || ld < m->n) return VI_ERR_ARG;
+  int st = pnm_check(m, np, mi, stop), n = m->n, B = 2 * n + 1, D = mi * B, it = 0;
   if (st) return st;
-  double *u = malloc(sizeof(double) * ((size_t)D * D + 3 * (size_t)D));
+  ws w;
+  if ((st = ws_init(&w, m, stop, 1))) return st;
+  double *u = malloc(sizeof(double) * ((size_t)D * D + 4 * (size_t)D));
   lapack_int *piv = malloc(sizeof(lapack_int) * (size_t)D);
   if (!u || !piv) {
     st = VI_ERR_NOMEM;
     goto cleanup;
   }
-  double *F = u + D, *du = F + D, *J = du + D;
+  double *F = u + D, *du = F + D, *uc = du + D, *J = uc + D;
   for (int j = 0; j < mi; j++) {
     u[(size_t)j * B] = t[j];
     memcpy(u + (size_t)j * B + 1, x + (size_t)j * ld, sizeof(double) * n);
     memcpy(u + (size_t)j * B + 1 + n, v + (size_t)j * ld, sizeof(double) * n);
   }
-  double scale = fabs(m->xs);
+  double scale = 0.0;
+  for (int k = 0; k < m->ns; k++) scale = fmax(scale, fabs(m->xsv[k]));
   for (int i = 0; i < D; i++)
     if (i % B) scale = fmax(scale, fabs(u[i]));
   if (!(tol > 0.0)) tol = 1e-12;
   st = VI_ERR_NOT_CONVERGED;
+  /* once the test passes, one more full Newton step: quadratic convergence
+   * takes the error from the stopping test down to round-off (near
+   * grazing the multipliers amplify it by 1 / v_N); kept only if the
+   * residual does not grow */
+  int polished = 0;
+  double rconv = 0.0;
   for (it = 0; it < 40; it++) {
     int rs = residual(&w, np, mi, u, F, J, 1);
+    double r = rs ? HUGE_VAL : norm_inf(D, F);
+    if (polished) {
+      if (!(r <= rconv)) memcpy(u, uc, sizeof(double) * D);
+      break;
+    }
     if (rs) {
       st = rs == VI_ERR_NOMEM ? rs : VI_ERR_NOT_CONVERGED;
       break;
     }
-    double r = norm_inf(D, F);
     /* the closed-form flow is exact to round-off: a residual of a few
      * hundred ulps of the state is what it can deliver */
     if (r <= tol * scale) {
       st = VI_OK;
-      break;
+      rconv = r;
+      memcpy(uc, u, sizeof(double) * D);
     }
     memcpy(du, F, sizeof(double) * D);
     if (LAPACKE_dgesv(LAPACK_COL_MAJOR, D, 1, J, D, piv, du, D) != 0) break;
+    if (st == VI_OK) {
+      for (int i = 0; i < D; i++) u[i] -= du[i];
+      polished = 1;
+      continue;
+    }
     /* damped step: never more than a tenth of a period in time, nor
      * twice the state scale */
     double lam = 1.0, T = 2.0 * M_PI / m->omega_f;
@@ -217,6 +219,7 @@ int vi_orbit_pnm_solve(const vi_model *m, int np, int mi, double *t,
     }
     for (int i = 0; i < D; i++) u[i] -= lam * du[i];
   }
+  if (polished && it == 40) memcpy(u, uc, sizeof(double) * D); /* unchecked */
   if (st == VI_OK)
     for (int j = 0; j < mi; j++) {
       t[j] = u[(size_t)j * B];
@@ -231,19 +234,22 @@ cleanup:
   return st;
 }
 
-int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
-                          const double *x, const double *v, int ld, double *F,
-                          double *J)
+int vi_orbit_pnm_solve(const vi_model *m, int np, int mi, double *t,
+                       double *x, double *v, int ld, double tol, int *iters)
 {
-  if (!m || !t || !x || !v || !F || np < 1 || mi < 1 || ld < (m ? m->n : 1))
-    return VI_ERR_ARG;
-  if (!m->frozen) return VI_ERR_STATE;
-  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
-  if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
-  ws w;
-  int st = ws_init(&w, m), n = m->n, B = 2 * n + 1, D = mi * B;
+  return vi_orbit_pnm_solve_stops(m, np, mi, NULL, t, x, v, ld, tol, iters);
+}
+
+int vi_orbit_pnm_residual_stops(const vi_model *m, int np, int mi,
+                                const int *stop, const double *t,
+                                const double *x, const double *v, int ld,
+                                double *F, double *J)
+{
+  if (!m || !t || !x || !v || !F || ld < m->n) return VI_ERR_ARG;
+  int st = pnm_check(m, np, mi, stop), n = m->n, B = 2 * n + 1, D = mi * B;
   if (st) return st;
+  ws w;
+  if ((st = ws_init(&w, m, stop, 1))) return st;
   double *u = malloc(sizeof(double) * (size_t)D);
   if (!u) {
     ws_free(&w);
@@ -260,48 +266,107 @@ int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
   return st;
 }
 
-int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
-                             const double *t, const double *x, const double *v,
-                             int ld, double *re, double *im)
+int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
+                          const double *x, const double *v, int ld, double *F,
+                          double *J)
 {
-  if (!m || !t || !x || !v || !re || !im || np < 1 || mi < 1 || ld < (m ? m->n : 1))
-    return VI_ERR_ARG;
-  if (!m->frozen) return VI_ERR_STATE;
-  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
-  ws w;
-  int st = ws_init(&w, m), n = m->n, n2 = 2 * n;
+  return vi_orbit_pnm_residual_stops(m, np, mi, NULL, t, x, v, ld, F, J);
+}
+
+/* dF/dp of the conditions of residual(): for each segment j,
+ *   F_j = Phi(t1 - t0) (z_j+ - z_p(t0)) + z_p(t1) - z_{j+1}-,
+ *   z_j+ = (x_j, v_j - (1 + r_s) (w_s.v_j) M^-1 w_s / G_ss),
+ *   last row w_s.x_j - x_s;
+ * Omega enters z_p and, for the last segment, t1 = t_0 + nT (dt1/dOmega =
+ * -nT / Omega, times the field f1); x_s enters only the impact rows; r_s
+ * only z_j+. */
+int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
+                        const double *t, const double *x, const double *v,
+                        int ld, int param, int k, double *dF)
+{
+  if (!m || !t || !x || !v || !dF || ld < m->n) return VI_ERR_ARG;
+  int st = pnm_check(m, np, mi, stop), n = m->n, n2 = 2 * n, B = n2 + 1;
   if (st) return st;
+  if (param != VI_ORBIT_PARAM_OMEGA && param != VI_ORBIT_PARAM_XS &&
+      param != VI_ORBIT_PARAM_R)
+    return VI_ERR_ARG;
+  if (param != VI_ORBIT_PARAM_OMEGA && (k < 0 || k >= m->ns)) return VI_ERR_ARG;
+  ws w;
+  if ((st = ws_init(&w, m, stop, 1))) return st;
   double T = 2.0 * M_PI / m->omega_f;
-  size_t nn = (size_t)n2 * n2;
-  double *Mo = malloc(sizeof(double) * (4 * nn + 8 * (size_t)n2));
-  if (!Mo) {
+  double *Phi = malloc(sizeof(double) * ((size_t)n2 * n2 + 6 * (size_t)n2));
+  if (!Phi) {
     ws_free(&w);
     return VI_ERR_NOMEM;
   }
-  double *S = Mo + nn, *Phi = S + nn, *tmp = Phi + nn, *z = tmp + nn,
-         *zp = z + n2, *fm = zp + n2, *fp = fm + n2, *e = fp + n2, *c = e + n2;
+  double *d = Phi + (size_t)n2 * n2, *dp = d + (size_t)2 * n2, *zp = dp + n2, *ze = zp + n2,
+         *f1 = ze + n2;
+  memset(dF, 0, sizeof(double) * (size_t)mi * B);
+  for (int j = 0; j < mi && !st; j++) {
+    int s = stop_of(&w, j), kk = (j + 1) % mi;
+    double t0 = t[j], t1 = t[kk] + (j + 1 == mi ? np * T : 0.0), *Fj = dF + (size_t)j * B;
+    if (param == VI_ORBIT_PARAM_XS) {
+      if (s == k) Fj[n2] = -1.0;
+      continue;
+    }
+    if ((st = vi_var_stm(m, t1 - t0, Phi))) break;
+    memset(dp, 0, sizeof(double) * n2);
+    if (param == VI_ORBIT_PARAM_R) {
+      if (s != k) continue;
+      const double *Mw = vi_stop_minvw(m, s);
+      double c = -vi_dot(n, vi_stop_w(m, s), v + (size_t)j * ld) / m->G[s + (size_t)s * m->ns];
+      for (int i = 0; i < n; i++) dp[n + i] = c * Mw[i];
+    } else {
+      double tt[2] = {t0, t1};
+      if ((st = vi_var_dpart_domega(m, 2, tt, d))) break;
+      for (int i = 0; i < n2; i++) dp[i] = -d[i];
+      for (int i = 0; i < n2; i++) Fj[i] += d[n2 + i];
+      if (j + 1 == mi) { /* the period itself */
+        memcpy(zp, x + (size_t)j * ld, sizeof(double) * n);
+        memcpy(zp + n, v + (size_t)j * ld, sizeof(double) * n);
+        vi_var_impact(m, s, zp, zp);
+        if ((st = flow(&w, t0, zp, t1, ze))) break;
+        vi_var_field(m, t1, ze, f1);
+        for (int i = 0; i < n2; i++) Fj[i] += f1[i] * (-np * T / m->omega_f);
+      }
+    }
+    for (int i = 0; i < n2; i++)
+      for (int q = 0; q < n2; q++) Fj[i] += Phi[i + (size_t)q * n2] * dp[q];
+  }
+  free(Phi);
+  ws_free(&w);
+  return st;
+}
+
+int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
+                           const double *t, const double *x, const double *v,
+                           int ld, double *Mo)
+{
+  if (!m || !t || !x || !v || !Mo || ld < m->n) return VI_ERR_ARG;
+  int st = pnm_check(m, np, mi, stop), n = m->n, n2 = 2 * n;
+  if (st) return st;
+  ws w;
+  if ((st = ws_init(&w, m, stop, -1))) return st;
+  double T = 2.0 * M_PI / m->omega_f;
+  size_t nn = (size_t)n2 * n2;
+  double *S = malloc(sizeof(double) * (3 * nn + (size_t)n2));
+  if (!S) {
+    ws_free(&w);
+    return VI_ERR_NOMEM;
+  }
+  double *Phi = S + nn, *tmp = Phi + nn, *z = tmp + nn;
   for (size_t i = 0; i < nn; i++) Mo[i] = 0.0;
   for (int i = 0; i < n2; i++) Mo[i + (size_t)i * n2] = 1.0;
   for (int j = 0; j < mi && !st; j++) {
     memcpy(z, x + (size_t)j * ld, sizeof(double) * n);
     memcpy(z + n, v + (size_t)j * ld, sizeof(double) * n);
-    impact(&w, z, zp);
-    field(m, t[j], z, fm);
-    field(m, t[j], zp, fp);
-    /* saltation S = R + (f+ - R f-) g^T / (g^T f-), g = (w, 0), R =
-     * diag(I, Q): the jump of the flow's derivative across the impact */
-    double gf = vi_dot(n, m->w, z + n);
-    double *Rf = e;
-    impact(&w, fm, Rf);
-    for (int b = 0; b < n2; b++)
-      for (int a = 0; a < n2; a++) {
-        double R = a < n ? (a == b) : (b >= n ? w.Q[(a - n) + (size_t)(b - n) * n] : 0.0);
-        double g = b < n ? m->w[b] : 0.0;
-        S[a + (size_t)b * n2] = R + (fp[a] - Rf[a]) * g / gf;
-      }
+    if (!(vi_dot(n, vi_stop_w(m, stop_of(&w, j)), z + n) != 0.0)) {
+      st = VI_ERR_ARG; /* no approach velocity: S does not exist (grazing) */
+      break;
+    }
+    vi_var_saltation(m, stop_of(&w, j), t[j], z, S, w.buf);
     double t1 = j + 1 < mi ? t[j + 1] : t[0] + np * T;
-    if ((st = stm(&w, t[j], t1, Phi, e, c))) break;
+    if ((st = vi_var_stm(m, t1 - t[j], Phi))) break;
     /* Mo <- Phi S Mo */
     for (size_t i = 0; i < nn; i++) tmp[i] = 0.0;
     for (int b = 0; b < n2; b++)
@@ -314,45 +379,70 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
         for (int a = 0; a < n2; a++)
           Mo[a + (size_t)b * n2] += Phi[a + (size_t)k * n2] * tmp[k + (size_t)b * n2];
   }
-  if (!st &&
-      LAPACKE_dgeev(LAPACK_COL_MAJOR, 'N', 'N', n2, Mo, n2, re, im, NULL, 1,
-                    NULL, 1) != 0)
-    st = VI_ERR_LAPACK;
-  free(Mo);
+  free(S);
   ws_free(&w);
   return st;
 }
 
-/* gap w.x - x_s of the free flow from (t0, zp) at t */
+int vi_orbit_pnm_multipliers_stops(const vi_model *m, int np, int mi,
+                                   const int *stop, const double *t,
+                                   const double *x, const double *v, int ld,
+                                   double *re, double *im)
+{
+  if (!m || !re || !im) return VI_ERR_ARG;
+  size_t nn = (size_t)4 * m->n * m->n;
+  double *Mo = malloc(sizeof(double) * nn);
+  if (!Mo) return VI_ERR_NOMEM;
+  int st = vi_orbit_pnm_monodromy(m, np, mi, stop, t, x, v, ld, Mo);
+  if (!st && LAPACKE_dgeev(LAPACK_COL_MAJOR, 'N', 'N', 2 * m->n, Mo, 2 * m->n,
+                           re, im, NULL, 1, NULL, 1) != 0)
+    st = VI_ERR_LAPACK;
+  free(Mo);
+  return st;
+}
+
+int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
+                             const double *t, const double *x, const double *v,
+                             int ld, double *re, double *im)
+{
+  return vi_orbit_pnm_multipliers_stops(m, np, mi, NULL, t, x, v, ld, re, im);
+}
+
+/* the largest gap max_k (w_k.x - x_k) over the stops of the free flow
+ * from (t0, zp) at t */
 static double gap_at(const ws *w, double t0, const double *zp, double t,
                      double *z)
 {
+  const vi_model *m = w->m;
   if (flow(w, t0, zp, t, z)) return NAN;
-  return vi_dot(w->n, w->m->w, z) - w->m->xs;
+  double g = -HUGE_VAL;
+  for (int k = 0; k < m->ns; k++)
+    g = fmax(g, vi_dot(m->n, vi_stop_w(m, k), z) - m->xsv[k]);
+  return g;
 }
 
-int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
-                            const double *t, const double *x, const double *v,
-                            int ld, double *gmax, int *ok)
+int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
+                                  const int *stop, const double *t,
+                                  const double *x, const double *v, int ld,
+                                  double *gmax, int *ok)
 {
-  if (!m || !t || !x || !v || !ok || np < 1 || mi < 1 || ld < (m ? m->n : 1))
-    return VI_ERR_ARG;
-  if (!m->frozen) return VI_ERR_STATE;
-  if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
-  ws w;
-  int st = ws_init(&w, m), n = m->n;
+  if (!m || !t || !x || !v || !ok || ld < m->n) return VI_ERR_ARG;
+  int st = pnm_check(m, np, mi, stop), n = m->n;
   if (st) return st;
+  ws w;
+  if ((st = ws_init(&w, m, stop, 0))) return st;
   double T = 2.0 * M_PI / m->omega_f, worst = -HUGE_VAL;
   double *z = w.buf, *zp = z + (size_t)2 * n, *zz = zp + (size_t)2 * n;
-  double scale = fabs(m->xs);
+  double scale = 0.0;
+  for (int k = 0; k < m->ns; k++) scale = fmax(scale, fabs(m->xsv[k]));
   for (int j = 0; j < mi; j++) scale = fmax(scale, norm_inf(n, x + (size_t)j * ld));
   *ok = 1;
   for (int j = 0; j < mi; j++) {
+    int s = stop_of(&w, j);
     memcpy(z, x + (size_t)j * ld, sizeof(double) * n);
     memcpy(z + n, v + (size_t)j * ld, sizeof(double) * n);
-    if (!(vi_dot(n, m->w, z + n) > 0.0)) *ok = 0; /* no approach: no impact */
-    impact(&w, z, zp);
+    if (!(vi_dot(n, vi_stop_w(m, s), z + n) > 0.0)) *ok = 0; /* no approach */
+    vi_var_impact(m, s, z, zp);
     double t0 = t[j], t1 = j + 1 < mi ? t[j + 1] : t[0] + np * T;
     if (!(t1 > t0)) *ok = 0;
     /* 512 samples per forcing period, then golden-section on each
@@ -386,6 +476,13 @@ int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
   return st;
 }
 
+int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
+                            const double *t, const double *x, const double *v,
+                            int ld, double *gmax, int *ok)
+{
+  return vi_orbit_pnm_admissible_stops(m, np, mi, NULL, t, x, v, ld, gmax, ok);
+}
+
 int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
                      double *x, double *v, int ld, int cap, int *found)
 {
@@ -394,40 +491,49 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!vi_xflow_available(m)) return VI_ERR_UNSUPPORTED;
+  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   *found = 0;
   ws w;
-  int st = ws_init(&w, m), n = m->n, n2 = 2 * n;
+  int st = ws_init(&w, m, NULL, 1), n = m->n, n2 = 2 * n;
   if (st) return st;
   size_t nn = (size_t)n2 * n2;
   double T = 2.0 * M_PI / m->omega_f, P = np * T;
-  double *A = malloc(sizeof(double) * (2 * nn + 8 * (size_t)n2 + 2 * (size_t)nphase + 2));
+  double *A = malloc(sizeof(double) * (3 * nn + 8 * (size_t)n2 + 2 * (size_t)nphase + 2));
   lapack_int *piv = malloc(sizeof(lapack_int) * (size_t)n2);
   if (!A || !piv) {
     st = VI_ERR_NOMEM;
     goto cleanup;
   }
-  double *Phi = A + nn, *c = Phi + nn, *e = c + n2, *zs = e + n2,
+  double *Phi = A + nn, *Q = Phi + nn, *c = Q + nn, *e = c + n2, *zs = e + n2,
          *h = zs + n2, *vn = h + nphase + 1;
+  /* velocity impact map Q = I - (1 + r) M^-1 w w^T / (w^T M^-1 w) (WB 2) */
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++)
+      Q[i + (size_t)j * n] = (i == j) - (1.0 + m->r) * m->Minv_w[i] * m->w[j] / m->wMw;
+  memset(e, 0, sizeof(double) * n2);
   /* the affine map z -> flow(phi, J z, phi + P) has one fixed point for
    * each phase phi: the periodic motion with an impact at phi.  It is a
-   * P(np,1) orbit where its gap h(phi) = w.x - x_s vanishes. */
+   * P(np,1) orbit where its gap h(phi) = w.x - x_s vanishes.  The
+   * transition matrix over one orbit period is the same for every phase. */
+  if ((st = vi_var_stm(m, P, Phi))) goto cleanup;
+  /* A = I - Phi J, J = diag(I, Q): factored once (a singular A, a
+   * resonance of the impact map, leaves no isolated fixed points) */
+  for (int b = 0; b < n2; b++)
+    for (int a = 0; a < n2; a++) {
+      double s = 0.0;
+      if (b < n) s = Phi[a + (size_t)b * n2];
+      else
+        for (int p = 0; p < n; p++)
+          s += Phi[a + (size_t)(n + p) * n2] * Q[p + (size_t)(b - n) * n];
+      A[a + (size_t)b * n2] = (a == b) - s;
+    }
+  if (LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, A, n2, piv) != 0) goto cleanup;
   for (int k = 0; k <= nphase && !st; k++) {
     double phi = P * k / nphase;
-    if ((st = stm(&w, phi, phi + P, Phi, e, c))) break;
-    /* A = I - Phi J, J = diag(I, Q) */
-    for (int b = 0; b < n2; b++)
-      for (int a = 0; a < n2; a++) {
-        double s = 0.0;
-        if (b < n) s = Phi[a + (size_t)b * n2];
-        else
-          for (int p = 0; p < n; p++)
-            s += Phi[a + (size_t)(n + p) * n2] * w.Q[p + (size_t)(b - n) * n];
-        A[a + (size_t)b * n2] = (a == b) - s;
-      }
+    if ((st = flow(&w, phi, e, phi + P, c))) break;
     memcpy(zs, c, sizeof(double) * n2);
-    if (LAPACKE_dgesv(LAPACK_COL_MAJOR, n2, 1, A, n2, piv, zs, n2) != 0) {
+    if (LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n2, 1, A, n2, piv, zs, n2) != 0) {
       h[k] = NAN;
       vn[k] = NAN;
       continue;
@@ -441,18 +547,9 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     /* linear interpolation of the root, then Newton on the full system */
     double s = h[k] / (h[k] - h[k + 1]), phi = P * (k + s) / nphase;
     if (!(vn[k] > 0.0 || vn[k + 1] > 0.0)) continue;
-    if ((st = stm(&w, phi, phi + P, Phi, e, c))) break;
-    for (int b = 0; b < n2; b++)
-      for (int a = 0; a < n2; a++) {
-        double sm = 0.0;
-        if (b < n) sm = Phi[a + (size_t)b * n2];
-        else
-          for (int p = 0; p < n; p++)
-            sm += Phi[a + (size_t)(n + p) * n2] * w.Q[p + (size_t)(b - n) * n];
-        A[a + (size_t)b * n2] = (a == b) - sm;
-      }
+    if ((st = flow(&w, phi, e, phi + P, c))) break;
     memcpy(zs, c, sizeof(double) * n2);
-    if (LAPACKE_dgesv(LAPACK_COL_MAJOR, n2, 1, A, n2, piv, zs, n2) != 0) continue;
+    if (LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n2, 1, A, n2, piv, zs, n2) != 0) continue;
     double tt = phi, *xx = w.buf, *vv = xx + n;
     memcpy(xx, zs, sizeof(double) * n);
     memcpy(vv, zs + n, sizeof(double) * n);

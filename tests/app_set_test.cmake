@@ -54,4 +54,14 @@ expect(2 "^$" "duffing.yaml has nonlinear springs" orbits ${SCENES}/duffing.yaml
 file(WRITE ${DIR}/sdof.yaml "model: {M: [[1.0]], C: [[0.1]], K: [[1.0]]}\nforcing: {omega: 0.7, a: [0.3]}\nstop: {w: [1.0], xs: 0.57, r: 0.8}\n")
 expect(0 "\"type\": \"grazing_impact\", \"param\": 0\\.5827715174[0-9]*" ""
        orbits ${DIR}/sdof.yaml --json --continue stop.xs --to 0.59 --steps 10)
+# energy with nonlinear springs: refused (the analysis is of the linear model)
+expect(2 "^$" "duffing has nonlinear springs" energy ${SCENES}/duffing.yaml)
+# several stops: the symmetric P(1,2) orbit of rattle.yaml, WB 11-13 per stop
+# (one impact each, r recovered 0.8 on both, balance closed per stop)
+expect(3 "\"m\": 2, \"impacts\": .*\"stops\": \\[{\"stop\": 0, \"impacts\": 1, .*\"r_recovered\": 0\\.(8000000|7999999).*{\"stop\": 1, \"impacts\": 1, .*\"r_recovered\": 0\\.(8000000|7999999).*\"stable\": true" ""
+       energy ${SCENES}/rattle.yaml --json)
+# orbits with several stops: the same orbit by Newton over its impact
+# sequence (stops 0 and 1, half a period apart)
+expect(0 "{\"n\": 1, \"m\": 2, \"vN\": \\[0\\.4504816660[0-9]*, 0\\.4504816660[0-9]*\\], \"stop\": \\[0, 1\\].*\"stable\": true, \"admissible\": true" ""
+       orbits ${SCENES}/rattle.yaml --m 2 --json)
 message(STATUS "--set, energy --json classification, orbits --json and --continue: ok")

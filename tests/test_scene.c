@@ -314,6 +314,50 @@ static void test_misuse(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* A long chain that asks for nothing modal is stored in band form: O(n)
+ * memory (estimated before, held after), its top frequency bounded by
+ * Gershgorin: m = k = 1 gives omega_max = 2 sin(n pi / (2n + 1)) < 2 and the
+ * bound sqrt(max row sum |M^-1 K|) = 2.  Asking for the ledger needs the
+ * modes: dense storage, and the estimate says 16 n^2 doubles. */
+static void test_band_chain_scene(void **state)
+{
+  (void)state;
+  const int n = 4000;
+  char text[512];
+  const char *tail[2] = {"", ", ledger: true"};
+  double est[2];
+  vi_scene *sc = NULL;
+  vi_diag d;
+  for (int k = 0; k < 2; k++) {
+    snprintf(text, sizeof text,
+             "model:\n  chain: {n: %d, m: 1.0, k: 1.0, c: 0.01}\n"
+             "forcing: {omega: 0.5, on: [1], amplitude: 0.3}\n"
+             "stop: {mass: %d, xs: 0.05, r: 0.8}\n"
+             "run: {periods: 1}\noutput: {impacts: true%s}\n", n, n, tail[k]);
+    assert_int_equal(vi_scene_parse(text, -1, "long.yaml", &sc, &d), VI_OK);
+    est[k] = vi_scene_memory_estimate(sc);
+    if (k == 0) {
+      vi_model *m = NULL;
+      assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+      assert_int_equal(vi_model_bandwidth(m), 1);
+      assert_null(vi_model_omega(m));
+      assert_true((double)vi_model_memory(m) <= 8.0 * 64 * n);
+      assert_true((double)vi_model_memory(m) <= est[0]);
+      double wmax = 2.0 * sin(n * M_PI / (2.0 * n + 1.0));
+      assert_true(vi_model_omega_bound(m) >= wmax);
+      assert_true(vi_model_omega_bound(m) <= 2.0 * (1 + 1e-12));
+      vi_model_destroy(&m);
+      assert_int_equal(vi_scene_check_memory(sc, 100e6, &d), VI_OK);
+    } else {
+      assert_int_equal(vi_scene_check_memory(sc, 100e6, &d), VI_ERR_LIMIT);
+      assert_string_equal(d.key, "model.chain.n");
+    }
+    vi_scene_destroy(&sc);
+  }
+  assert_true(est[0] < 8.0 * 1000 * n);      /* O(n) */
+  assert_true(est[1] > 8.0 * 14 * n * n);    /* dense, with its modes */
+}
+
 /* Text is not a number: quoted or !!str-tagged scalars; aliases resolve
  * only to complete nodes; a second document is refused. */
 static void test_yaml_strictness(void **state)
@@ -387,6 +431,7 @@ int main(void)
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_yaml_strictness),
       cmocka_unit_test(test_outputs),
+      cmocka_unit_test(test_band_chain_scene),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

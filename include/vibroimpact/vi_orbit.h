@@ -5,16 +5,23 @@
  * vi_orbit_find runs past the transient, classifies the motion as P(n, m)
  * (period n forcing periods, m impacts in it) or not periodic, and for a
  * P(1,1) orbit refines it by Newton shooting on the stroboscopic map (GSL
- * hybrids), computes its Floquet multipliers and the energy balance over one
- * period:
+ * hybridsj with the map's exact Jacobian: the closed-form variational flow
+ * and the saltation matrix of each impact), computes its Floquet
+ * multipliers and the energy balance over one period:
  *   IE = 1/2 v_N^2 (1 - r^2) / psi.psi = sum_j (FE_j - DE_j - XE_j) = RE (WB 11)
  *   r  = sqrt(1 - RE / KE_i),  KE_i = 1/2 v_N^2 / psi.psi            (WB 12, 13)
  * and the restitution r_S a reduced model keeping only the modes in S needs
- * to reproduce the orbit. */
+ * to reproduce the orbit.
+ *
+ * P(1, m) orbits are analysed too, also when the impacts go to several
+ * stops (a two-sided clearance: m = 2, one impact on each), with the
+ * balance per stop (vi_orbit_stop_balance): the work fed in on the
+ * approach to each stop's impacts against the energy they take. */
 #ifndef VI_ORBIT_H
 #define VI_ORBIT_H
 
 #include "vibroimpact/vi_export.h"
+#include "vibroimpact/vi_builders.h" /* the reduced model, once declared here */
 #include "vibroimpact/vi_model.h"
 #include "vibroimpact/vi_sim.h"
 
@@ -25,11 +32,10 @@ extern "C" {
 /** Opaque periodic-orbit analysis handle. */
 typedef struct vi_orbit vi_orbit;
 
-/** Create an orbit analysis of a set-up model with harmonic forcing (the
- *  model is borrowed and must outlive the orbit).  @return VI_OK, VI_ERR_ARG,
- *  VI_ERR_STATE (model not set up), VI_ERR_FREQUENCY (Omega = 0),
- *  VI_ERR_UNSUPPORTED (a model with several stops: the balance of WB 11-13
- *  is that of one stop), VI_ERR_NOMEM. */
+/** Create an orbit analysis of a set-up model with harmonic forcing and at
+ *  least one stop (the model is borrowed and must outlive the orbit).
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (model not set up, or no stop),
+ *  VI_ERR_FREQUENCY (Omega = 0), VI_ERR_NOMEM. */
 VI_API int vi_orbit_create(const vi_model *model, vi_orbit **out);
 /** Destroy and set *orbit to NULL; NULL-safe. */
 VI_API void vi_orbit_destroy(vi_orbit **orbit);
@@ -67,9 +73,14 @@ VI_API int vi_orbit_set_direct_search(vi_orbit *o, int on);
  *  pointer may be NULL. */
 VI_API int vi_orbit_search_info(const vi_orbit *o, int *tn, int *tm,
                                 int *by_scan);
-/** Run, classify, and for P(1,1) refine and analyse.  VI_OK whatever the
- * motion turns out to be: ask vi_orbit_classify.  VI_STOPPED if the monitor
- * asked to stop; a negative code means the computation itself failed. */
+/** Run, classify, and for P(1,1) refine and analyse; for P(1, m), m <= 8,
+ * the same unless (one stop) the direct search finds a stable P(1,1)
+ * orbit, which takes precedence.  VI_OK whatever the motion turns out to
+ * be: ask vi_orbit_classify (and vi_orbit_impacts, VI_ERR_STATE if no orbit
+ * was analysed: a P(1, m) orbit that shooting cannot hold stays only
+ * classified).  VI_STOPPED if the monitor asked to stop; a negative code
+ * means the computation itself failed.  The direct search is for models
+ * with one stop. */
 VI_API int vi_orbit_find(vi_orbit *o);
 /** *n periods of forcing, *m impacts per orbit period; n = 0 when no period
  * up to 8 was found within the transient (m is then the mean number of
@@ -78,7 +89,7 @@ VI_API int vi_orbit_find(vi_orbit *o);
  * missed (vi_orbit_search_info tells the two apart). */
 VI_API int vi_orbit_classify(const vi_orbit *o, int *n, int *m);
 
-/* ---- P(1,1) results: VI_ERR_STATE unless the orbit is P(1,1) ---------- */
+/* ---- P(1,1) results: VI_ERR_STATE unless the analysed orbit is P(1,1) - */
 /** period = 2 pi / Omega; phase = impact time modulo the period (time
  * units); vN = approach velocity w.x'(t-); KE_i, RE, IE as in WB 11-13;
  * r_rec from WB 12; closure = |RE - IE| / KE_i.  Any pointer may be NULL. */
@@ -92,13 +103,40 @@ VI_API int vi_orbit_modal_balance(const vi_orbit *o, double *FE, double *DE,
 /** The state just before the impact: t, x [n], v [n] (any may be NULL). */
 VI_API int vi_orbit_impact_state(const vi_orbit *o, double *t, double *x,
                                  double *v);
+/* ---- any analysed orbit (VI_ERR_STATE if none) ---------------------------- */
+/** The analysed orbit's impacts in one period from the section: *count (at
+ *  most 8), and per impact j the time t [count], the stop hit stop [count],
+ *  the approach velocity vn [count], the state just before, x and v
+ *  [n x count] with leading dimension ld.  Any pointer may be NULL.
+ *  @return VI_OK, VI_ERR_ARG (ld < n with x or v), VI_ERR_STATE. */
+VI_API int vi_orbit_impacts(const vi_orbit *o, int *count, double *t,
+                            int *stop, double *vn, double *x, double *v,
+                            int ld);
+/** WB 11-13 for stop k's impacts (0-based): *count impacts per period,
+ *  KE_i = sum 1/2 v_n^2 / (w_k^T M^-1 w_k), IE the energy they take (WB 10),
+ *  RE the residual work sum_j (FE_j - DE_j - XE_j) fed in on the approach
+ *  to each of them (from the impact before), r_rec = sqrt(1 - RE / KE_i)
+ *  (WB 13), closure = |RE - IE| / KE_i.  The stops' RE - IE are the energy
+ *  the motion carries from one stop to the next: they sum to zero, and each
+ *  vanishes for one stop or a symmetric orbit.  NaN for a stop with no
+ *  impact.  Any pointer may be NULL.  @return VI_OK, VI_ERR_ARG (k out of
+ *  range), VI_ERR_STATE. */
+VI_API int vi_orbit_stop_balance(const vi_orbit *o, int k, int *count,
+                                 double *KE_i, double *RE, double *IE,
+                                 double *r_rec, double *closure);
+/** Per mode [n], the approach work to stop k's impacts: FE, DE, XE (their
+ *  sums over the stops are vi_orbit_modal_balance's).  Any pointer may be
+ *  NULL.  @return as vi_orbit_stop_balance. */
+VI_API int vi_orbit_stop_modal_balance(const vi_orbit *o, int k, double *FE,
+                                       double *DE, double *XE);
 /** Floquet multipliers of the stroboscopic map, re and im [2n]: from the
- *  monodromy matrix with saltation matrices (vi_orbit_pnm_multipliers)
- *  when the model has the closed-form flow, else central differences of
- *  the map. */
+ *  monodromy matrix of exact derivatives (vi_orbit_pnm_multipliers) at the
+ *  refined orbit's impact.  With the exact method the orbit is exact to
+ *  round-off; with CVODE the derivatives are still exact but the orbit
+ *  carries the integration tolerance. */
 VI_API int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im);
-/** Smallest value of the gap w.x - x_s over the period (the deepest
- * excursion from the stop, <= 0). */
+/** Smallest value over the period of the gap to the nearest stop,
+ * max_k (w_k.x - x_k) (the deepest excursion from the stops, <= 0). */
 VI_API int vi_orbit_min_gap(const vi_orbit *o, double *gmin);
 /** Equivalent restitution of a reduced model keeping the modes modes[0..k)
  * (0-based, ascending omega): r_S = sqrt(1 - RE_S / KE_S) with
@@ -112,9 +150,13 @@ VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
 /** An orbit is given by its m impacts in one orbit period n T (T = 2 pi /
  *  Omega): times t[m], ascending, and the states just before them, x and v
  *  [n x m] column-major with leading dimension ld (column j = impact j).
- *  Between impacts the motion is the closed-form free flow, so these
- *  functions need a model with the exact flow and one stop
- *  (VI_ERR_UNSUPPORTED otherwise). */
+ *  The *_stops variants also take the stop each impact hits, stop[m]
+ *  (0-based, vi_model_add_stop order; NULL = every impact on stop 0, which
+ *  is what the functions without the suffix do).  Between impacts the
+ *  motion is the closed-form free flow, so solve, residual and the scan
+ *  need a model with the exact flow (VI_ERR_UNSUPPORTED otherwise); the
+ *  multipliers and admissibility need only the linear model.  A model with
+ *  several stops: admissibility watches every stop's gap. */
 
 /** Newton's method on the impact conditions: for each impact j, the free
  *  flow from (t_j, x_j, v_j+) reaches (x_{j+1}, v_{j+1}) at t_{j+1} (the
@@ -141,16 +183,29 @@ VI_API int vi_orbit_pnm_residual(const vi_model *m, int n, int mi,
                                  const double *v, int ld, double *F,
                                  double *J);
 /** Floquet multipliers [2 n_coords] (re, im) of the orbit: eigenvalues of
- *  the monodromy matrix, the product over the impacts of the flow's state
- *  transition matrix and the saltation matrix
- *  S = R + (f+ - R f-) g^T / (g^T f-) (R the impact law's Jacobian, f-+
- *  the vector field before and after, g = (w, 0)).  det = r^(2m)
+ *  the monodromy matrix (vi_orbit_pnm_monodromy).  det = prod_j r_{s_j}^2
  *  exp(-tr(M^-1 C) nT).  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE,
- *  VI_ERR_UNSUPPORTED, VI_ERR_NOMEM, VI_ERR_LAPACK. */
+ *  VI_ERR_NOMEM, VI_ERR_LAPACK. */
 VI_API int vi_orbit_pnm_multipliers(const vi_model *m, int n, int mi,
                                     const double *t, const double *x,
                                     const double *v, int ld, double *re,
                                     double *im);
+/** The monodromy matrix Mo [2n x 2n] (column-major, leading dimension 2n,
+ *  state z = (x, v)) from just before impact 0 to one orbit period later:
+ *  the product over the impacts of the saltation matrix
+ *  S = R + (f+ - R f-) g^T / (g^T f-) (R = diag(I, Q) the impact law's
+ *  Jacobian, f-+ the vector field before and after, g = (w, 0); the
+ *  derivation is in vi_orbit_var.c) and the state-transition matrix to the
+ *  next impact, e^{A tau}, in closed form (per mode for proportional
+ *  damping, Pade scaling and squaring otherwise).  Exact derivatives: no
+ *  differences, no integration; valid for any linear model, whatever
+ *  computed the orbit.  @return VI_OK, VI_ERR_ARG (also an impact with no
+ *  approach velocity: S is singular at grazing), VI_ERR_STATE,
+ *  VI_ERR_FREQUENCY, VI_ERR_NOMEM, VI_ERR_LAPACK. */
+VI_API int vi_orbit_pnm_monodromy(const vi_model *m, int n, int mi,
+                                  const int *stop, const double *t,
+                                  const double *x, const double *v, int ld,
+                                  double *Mo);
 /** Admissibility: *ok = 1 if every impact approaches the stop (w.v_j > 0)
  *  and the gap w.x - x_s stays below the stop between impacts (sampled at
  *  512 points per forcing period, maxima refined by golden section; 1e-10
@@ -161,6 +216,45 @@ VI_API int vi_orbit_pnm_admissible(const vi_model *m, int n, int mi,
                                    const double *t, const double *x,
                                    const double *v, int ld, double *gmax,
                                    int *ok);
+/** vi_orbit_pnm_solve with the stop of each impact, stop [mi] (0-based;
+ *  VI_ERR_ARG if one is out of range); each impact obeys its own stop's
+ *  w_k, x_k and r_k. */
+VI_API int vi_orbit_pnm_solve_stops(const vi_model *m, int n, int mi,
+                                    const int *stop, double *t, double *x,
+                                    double *v, int ld, double tol, int *iters);
+/** vi_orbit_pnm_residual with the stop of each impact, stop [mi]. */
+VI_API int vi_orbit_pnm_residual_stops(const vi_model *m, int n, int mi,
+                                       const int *stop, const double *t,
+                                       const double *x, const double *v,
+                                       int ld, double *F, double *J);
+/** vi_orbit_pnm_multipliers with the stop of each impact, stop [mi]. */
+VI_API int vi_orbit_pnm_multipliers_stops(const vi_model *m, int n, int mi,
+                                          const int *stop, const double *t,
+                                          const double *x, const double *v,
+                                          int ld, double *re, double *im);
+/** vi_orbit_pnm_admissible with the stop of each impact, stop [mi]: the
+ *  approach is to that stop; every stop's gap stays below between impacts. */
+VI_API int vi_orbit_pnm_admissible_stops(const vi_model *m, int n, int mi,
+                                         const int *stop, const double *t,
+                                         const double *x, const double *v,
+                                         int ld, double *gmax, int *ok);
+/** Parameters of vi_orbit_pnm_dparam. */
+enum {
+  VI_ORBIT_PARAM_OMEGA = 0, /**< the forcing frequency Omega */
+  VI_ORBIT_PARAM_XS = 1,    /**< stop k's position x_k */
+  VI_ORBIT_PARAM_R = 2      /**< stop k's restitution r_k */
+};
+/** Exact derivative dF [D] of the conditions of vi_orbit_pnm_residual_stops
+ *  with respect to a parameter (VI_ORBIT_PARAM_*; k the stop for XS and R,
+ *  ignored for OMEGA), at fixed (t_j, x_j, v_j): what pseudo-arclength
+ *  continuation needs beside the Jacobian.  Omega enters through the
+ *  harmonic particular solution (its phasor's derivative in closed form)
+ *  and the orbit period nT.  stop may be NULL.  @return as
+ *  vi_orbit_pnm_residual, VI_ERR_ARG also for an unknown parameter or k. */
+VI_API int vi_orbit_pnm_dparam(const vi_model *m, int n, int mi,
+                               const int *stop, const double *t,
+                               const double *x, const double *v, int ld,
+                               int param, int k, double *dF);
 /** Every P(n, 1) orbit: for each impact phase phi the periodic motion
  *  with one impact at phi per nT solves a linear system (the flow is
  *  affine); its gap w.x - x_s is scanned over nphase (>= 8) phases in
@@ -171,36 +265,6 @@ VI_API int vi_orbit_pnm_admissible(const vi_model *m, int n, int mi,
  *  vi_orbit_pnm_solve. */
 VI_API int vi_orbit_p1_scan(const vi_model *m, int n, int nphase, double *t,
                             double *x, double *v, int ld, int cap, int *found);
-
-/** The reduced model itself, in the modal coordinates of `full`: M = I,
- * K = diag(omega_S^2), C = D_SS, forcing Psi_S^T (a, b, f0), stop psi_S
- * with the same x_s and restitution r.  A new, set-up model; a model with
- * several stops is refused (VI_ERR_UNSUPPORTED). */
-VI_API int vi_model_create_reduced(const vi_model *full, const int *modes,
-                                   int k, double r, vi_model **out);
-
-/** The paper's beam: a clamped-free Euler-Bernoulli cantilever.
- * Mode j (0-based) of a unit-length, unit-mass-per-length cantilever: beta_j
- * solves cos(beta) cosh(beta) = -1 and the mass-normalised shape is
- *   phi_j(xi) = cosh(b xi) - cos(b xi) - s_j (sinh(b xi) - sin(b xi)).
- * vi_cantilever_shape evaluates phi_j(xi), xi in [0, 1], stably for large
- * beta.  vi_cantilever_beta returns beta_j (j = 0: 1.8751041), NaN for j
- * outside 0..200. */
-VI_API double vi_cantilever_beta(int j);
-/** phi_j(xi) of the cantilever, xi in [0, 1] (0 the clamp, 1 the tip);
- *  |phi_j(1)| = 2; NaN for j outside 0..200. */
-VI_API double vi_cantilever_shape(int j, double xi);
-/** Integral of phi_j over the span (the participation of a uniform base
- * acceleration): 2 s_j / beta_j. */
-VI_API double vi_cantilever_participation(int j);
-/** Galerkin model with `modes` modes in modal coordinates: M = I,
- * K = diag(omega_j^2) with omega_j = omega1 (beta_j / beta_1)^2,
- * C = diag(2 zeta omega_j); w_j = phi_j(xi_stop) (the stop acts at
- * xi_stop, 1 = the free end); gamma_j = participation.  A base acceleration
- * A cos(Omega t) is the forcing a = -A gamma.  M, C, K [ld x modes]. */
-VI_API int vi_build_cantilever(int modes, double omega1, double zeta,
-                               double xi_stop, double *M, double *C,
-                               double *K, int ld, double *w, double *gamma);
 
 #ifdef __cplusplus
 }

@@ -33,6 +33,7 @@ int main(int argc, char **argv)
   K_(VI_STAT_CHATTER_SKIPPED); K_(VI_STAT_FLOORS); K_(VI_STAT_POLISHES);
   K_(VI_STAT_COUNT);
   K_(VI_SPRING_CUBIC); K_(VI_SPRING_BILINEAR);
+  K_(VI_ORBIT_PARAM_OMEGA); K_(VI_ORBIT_PARAM_XS); K_(VI_ORBIT_PARAM_R);
   /* Fortran is case-insensitive: VI_VERSION_NUMBER would clash with the
    * function vi_version_number */
   constant(f, "VI_HEADER_VERSION", VI_VERSION_NUMBER);

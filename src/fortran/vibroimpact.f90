@@ -95,7 +95,10 @@ module vibroimpact
             vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
   public :: vi_orbit_set_direct_search, vi_orbit_search_info, vi_orbit_pnm_solve, &
             vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
-            vi_orbit_pnm_residual
+            vi_orbit_pnm_residual, vi_orbit_pnm_monodromy, vi_orbit_pnm_solve_stops, &
+            vi_orbit_pnm_residual_stops, vi_orbit_pnm_multipliers_stops, &
+            vi_orbit_pnm_admissible_stops, vi_orbit_pnm_dparam, vi_orbit_impacts, &
+            vi_orbit_stop_balance, vi_orbit_stop_modal_balance
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -726,6 +729,33 @@ module vibroimpact
       integer(c_int), value :: k
       real(c_double) :: r_S
     end function
+    !> the analysed orbit's impacts: t, stop, vn [count]; x, v [ld x count]
+    integer(c_int) function vi_orbit_impacts(orbit, count, t, stop, vn, x, v, ld) &
+        bind(C, name="vi_orbit_impacts")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), optional :: count
+      real(c_double), optional :: t(*), vn(*), x(*), v(*)
+      integer(c_int), optional :: stop(*)
+      integer(c_int), value :: ld
+    end function
+    !> WB 11-13 for stop k (0-based)
+    integer(c_int) function vi_orbit_stop_balance(orbit, k, count, KE_i, RE, IE, r_rec, &
+        closure) bind(C, name="vi_orbit_stop_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: k
+      integer(c_int), optional :: count
+      real(c_double), optional :: KE_i, RE, IE, r_rec, closure
+    end function
+    !> FE, DE, XE [n] of stop k's approaches
+    integer(c_int) function vi_orbit_stop_modal_balance(orbit, k, FE, DE, XE) &
+        bind(C, name="vi_orbit_stop_modal_balance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      integer(c_int), value :: k
+      real(c_double), optional :: FE(*), DE(*), XE(*)
+    end function
     ! ---- P(n, m) orbits found directly (vi_orbit_pnm.c) --------------------
     integer(c_int) function vi_orbit_set_direct_search(orbit, on) &
         bind(C, name="vi_orbit_set_direct_search")
@@ -776,6 +806,66 @@ module vibroimpact
       real(c_double), intent(in) :: t(*), x(*), v(*)
       real(c_double), optional :: gmax
       integer(c_int) :: ok
+    end function
+    !> Mo [2 n_coords x 2 n_coords]; stop [mi] 0-based or omitted (all on stop 0)
+    integer(c_int) function vi_orbit_pnm_monodromy(model, n, mi, stop, t, x, v, ld, Mo) &
+        bind(C, name="vi_orbit_pnm_monodromy")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: Mo(*)
+    end function
+    !> the P(n, m) functions with the stop (0-based) of each impact, stop [mi]
+    integer(c_int) function vi_orbit_pnm_solve_stops(model, n, mi, stop, t, x, v, ld, tol, &
+        iters) bind(C, name="vi_orbit_pnm_solve_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double) :: t(*), x(*), v(*)
+      real(c_double), value :: tol
+      integer(c_int), optional :: iters
+    end function
+    integer(c_int) function vi_orbit_pnm_residual_stops(model, n, mi, stop, t, x, v, ld, F, &
+        J) bind(C, name="vi_orbit_pnm_residual_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: F(*)
+      real(c_double), optional :: J(*)
+    end function
+    integer(c_int) function vi_orbit_pnm_multipliers_stops(model, n, mi, stop, t, x, v, ld, &
+        re, im) bind(C, name="vi_orbit_pnm_multipliers_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: re(*), im(*)
+    end function
+    integer(c_int) function vi_orbit_pnm_admissible_stops(model, n, mi, stop, t, x, v, ld, &
+        gmax, ok) bind(C, name="vi_orbit_pnm_admissible_stops")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double), optional :: gmax
+      integer(c_int) :: ok
+    end function
+    !> dF [mi (2 n_coords + 1)]; param VI_ORBIT_PARAM_*, k the stop (0-based)
+    integer(c_int) function vi_orbit_pnm_dparam(model, n, mi, stop, t, x, v, ld, param, k, &
+        dF) bind(C, name="vi_orbit_pnm_dparam")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, mi, ld, param, k
+      integer(c_int), intent(in), optional :: stop(*)
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      real(c_double) :: dF(*)
     end function
     !> t [cap]; x, v [ld x cap]; found may exceed cap
     integer(c_int) function vi_orbit_p1_scan(model, n, nphase, t, x, v, ld, cap, found) &

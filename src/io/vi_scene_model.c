@@ -35,14 +35,17 @@ static double maxabs(const double *v, int n)
 
 static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
 {
-  int n = s->n;
+  int n = s->n, kd, ldab;
   const double *om = vi_model_omega(m), *ze = vi_model_zeta(m),
-               *K = vi_model_stiffness(m);
-  double wmax = 0, zmax = 0, kmax = 0;
+               *K = vi_model_stiffness(m),
+               *KB = vi_model_stiffness_band(m, &kd, &ldab);
+  /* a band model has no modes: its frequencies are bounded (Gershgorin) */
+  double wmax = om ? 0 : vi_model_omega_bound(m), zmax = 0, kmax = 0;
   for (int j = 0; j < n; j++) {
-    wmax = om[j] > wmax ? om[j] : wmax;
-    zmax = isfinite(ze[j]) && ze[j] > zmax ? ze[j] : zmax;
-    double kjj = fabs(K[(size_t)j * ((size_t)n + 1)]);
+    if (om) wmax = om[j] > wmax ? om[j] : wmax;
+    if (ze) zmax = isfinite(ze[j]) && ze[j] > zmax ? ze[j] : zmax;
+    double kjj = fabs(K ? K[(size_t)j * ((size_t)n + 1)]
+                        : KB[(size_t)kd + (size_t)j * (size_t)ldab]);
     kmax = kjj > kmax ? kjj : kmax;
   }
   double W = s->omega > wmax ? s->omega : wmax;
@@ -115,17 +118,32 @@ static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
   return VI_OK;
 }
 
-/* Bytes a model of n coordinates and its simulation take, measured on
- * chains (max RSS of `vibroimpact -o` less the empty process: 14 n^2
- * doubles at n = 1000 for adams, bdf and exact alike): about
- * VI_MEM_N2 n^2 + VI_MEM_N n doubles. */
-#define VI_MEM_N2 16.0
-#define VI_MEM_N 400.0
+/* Chains from this size on are stored in band form (kd = 1: O(n) memory
+ * and set-up instead of 16 n^2 doubles and an O(n^3) eigen-solve) unless
+ * the scene asks for something that needs the modes: the exact method, the
+ * ledger, the modes themselves, or springs (their ledger column).  Below
+ * it the dense model's exact method is faster (vi_bench_band). */
+#define VI_SCENE_BAND_N 1000
+static int uses_band(const vi_scene *s)
+{
+  return s->kind == VI_SCENE_CHAIN && s->n >= VI_SCENE_BAND_N &&
+         s->method != VI_METHOD_EXACT && s->nsprings == 0 &&
+         !(s->outputs & (VI_SCENE_OUT_LEDGER | VI_SCENE_OUT_MODES));
+}
+
+/* Bytes the model and a simulation of it will take (vi_model_memory_
+ * estimate, measured on chains against max RSS). */
 double vi_scene_memory_estimate(const vi_scene *s)
 {
   if (!s) return 0;
-  double n = s->n;
-  return 8.0 * (VI_MEM_N2 * n * n + VI_MEM_N * n);
+  int64_t bytes = 0;
+  int method = s->method == VI_METHOD_AUTO && uses_band(s) ? VI_METHOD_ADAMS
+                                                           : s->method;
+  if (vi_model_memory_estimate(s->n, uses_band(s) ? 1 : -1, 1 + s->nx, method,
+                               (s->outputs & VI_SCENE_OUT_LEDGER) != 0,
+                               &bytes) != VI_OK)
+    return HUGE_VAL;
+  return (double)bytes;
 }
 
 /* MemAvailable from /proc/meminfo in bytes; 0 when unknown. */
@@ -214,12 +232,14 @@ static int fill_model(const vi_scene *s, const dense *x, vi_model *m,
 {
   int n = s->n, st;
   *line = s->line_model;
-  snprintf(key, klen, "%s", "model.M");
-  if ((st = vi_model_set_mass(m, x->M, n))) return st;
-  snprintf(key, klen, "%s", "model.K");
-  if ((st = vi_model_set_stiffness(m, x->K, n))) return st;
-  snprintf(key, klen, "%s", "model.C");
-  if ((st = vi_model_set_damping(m, x->C, n))) return st;
+  if (x->M) { /* dense; a band chain has them already */
+    snprintf(key, klen, "%s", "model.M");
+    if ((st = vi_model_set_mass(m, x->M, n))) return st;
+    snprintf(key, klen, "%s", "model.K");
+    if ((st = vi_model_set_stiffness(m, x->K, n))) return st;
+    snprintf(key, klen, "%s", "model.C");
+    if ((st = vi_model_set_damping(m, x->C, n))) return st;
+  }
   snprintf(key, klen, "%s", "forcing");
   if ((st = vi_model_set_forcing(m, s->omega, x->a, s->b, s->f0))) return st;
   *line = s->line_stop;
@@ -236,6 +256,25 @@ static int fill_model(const vi_scene *s, const dense *x, vi_model *m,
   return vi_model_setup(m);
 }
 
+/* A band-stored chain (uses_band): M, C, K in 'U' band rows, ldab 2. */
+static int create_band_chain(const vi_scene *s, vi_model **m)
+{
+  int n = s->n, st;
+  double *B = malloc(sizeof(double) * 6 * (size_t)n);
+  if (!B) return VI_ERR_NOMEM;
+  double *MB = B, *CB = B + 2 * (size_t)n, *KB = B + 4 * (size_t)n;
+  st = vi_build_chain_band(n, s->cm, s->ck, s->cc, MB, CB, KB, 2);
+  if (!st && s->has_rayleigh)
+    for (size_t i = 0; i < 2 * (size_t)n; i++)
+      CB[i] = s->ra * MB[i] + s->rb * KB[i];
+  if (!st) st = vi_model_create_band(n, 1, m);
+  if (!st && !(st = vi_model_set_mass_band(*m, 1, MB, 2)) &&
+      !(st = vi_model_set_stiffness_band(*m, 1, KB, 2)))
+    st = vi_model_set_damping_band(*m, 1, CB, 2);
+  free(B);
+  return st;
+}
+
 int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
@@ -243,14 +282,14 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
   if (!s || !out)
     return vi_diag_set(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
                        "vi_scene_create_model: scene and out are required");
-  int n = s->n, st = VI_OK;
-  size_t nn = (size_t)n * (size_t)n;
+  int n = s->n, st = VI_OK, band = uses_band(s);
+  size_t nn = band ? 0 : (size_t)n * (size_t)n;
   dense x;
   x.buf = calloc(3 * nn + 3 * (size_t)n, sizeof(double));
   if (!x.buf)
     return vi_diag_nomem(d, s->file);
-  x.M = x.buf;
-  x.C = x.M + nn;
+  x.M = band ? NULL : x.buf;
+  x.C = x.buf + nn;
   x.K = x.C + nn;
   x.w = x.K + nn;
   x.a = x.w + n;
@@ -259,22 +298,22 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
   memcpy(x.a, s->a, sizeof(double) * (size_t)n);
   if (s->kind == VI_SCENE_EXPLICIT)
     memcpy(x.M, s->M, sizeof(double) * 3 * nn); /* M, C, K: one block */
-  else if (s->kind == VI_SCENE_CHAIN)
-    st = assemble_chain(s, &x);
-  else
+  else if (s->kind == VI_SCENE_CHAIN) {
+    if (!band) st = assemble_chain(s, &x); /* else made with the model below */
+  } else
     st = assemble_cantilever(s, &x);
   if (st) {
     free(x.buf);
     return vi_diag_set(d, s->file, st, s->line_model, s->line_model ? 1 : 0,
                        "model", "", "%s", vi_strerror(st));
   }
-  if (s->has_rayleigh)
+  if (s->has_rayleigh && !band)
     for (size_t i = 0; i < nn; i++)
       x.C[i] = s->ra * x.M[i] + s->rb * x.K[i];
   vi_model *m = NULL;
   char key[32] = "model";
   int line = s->line_model;
-  st = vi_model_create(n, &m);
+  st = band ? create_band_chain(s, &m) : vi_model_create(n, &m);
   if (!st) st = fill_model(s, &x, m, key, sizeof key, &line);
   free(x.buf);
   if (st) {

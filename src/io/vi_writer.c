@@ -388,7 +388,7 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
     return create_fail(diag, path, VI_ERR_ARG,
                        "vi_writer_create: path, model and out are required");
   int n = vi_model_n(model), st = VI_OK;
-  if (n < 1 || !vi_model_omega(model))
+  if (n < 1 || !(vi_model_omega_bound(model) > 0))
     return create_fail(diag, path, VI_ERR_STATE,
                        "vi_writer_create: the model is not set up "
                        "(vi_model_setup)");
@@ -452,8 +452,9 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
   w->traj.c[0] = COL("time", 1, F64, "time", "uniform sample times");
   w->traj.c[1] = VEC("x", n, F64, "length", "physical positions");
   w->traj.c[2] = VEC("v", n, F64, "length/time", "physical velocities");
-  w->traj.c[3] = VEC("q", n, F64, "modal", "modal coordinates q = Psi^T M x");
-  w->traj.c[4] = VEC("qd", n, F64, "modal/time", "modal velocities");
+  w->traj.c[3] = VEC("q", n, F64, "modal", "modal coordinates q = Psi^T M x "
+                     "(NaN for a band-stored model, which has no modes)");
+  w->traj.c[4] = VEC("qd", n, F64, "modal/time", "modal velocities (NaN as q)");
   w->led.ncol = 13;
   w->led.c[0] = COL("t_a", 1, F64, "time", "interval start");
   w->led.c[1] = COL("t_b", 1, F64, "time", "interval end (before the event)");
@@ -500,7 +501,8 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
   const vi_model *m = w->m;
   int n = w->n, bad = 0, ld;
   char creator[64];
-  double nn = (double)n * n;
+  int kd = vi_model_bandwidth(m); /* >= 0: band storage, no modes */
+  double nn = kd < 0 ? (double)n * n : (kd + 1.0) * n;
   int st = reserve(w, 8.0 * (5 * nn + 10.0 * n) +
                           (scene ? (double)strlen(vi_scene_text(scene)) : 0));
   if (st) return st;
@@ -526,9 +528,21 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
     bad |= g < 0;
     if (g >= 0) {
       double v;
-      bad |= put(g, "M", vi_model_mass(m), n, n, "mass matrix");
-      bad |= put(g, "C", vi_model_damping(m), n, n, "damping matrix");
-      bad |= put(g, "K", vi_model_stiffness(m), n, n, "stiffness matrix");
+      if (kd < 0) {
+        bad |= put(g, "M", vi_model_mass(m), n, n, "mass matrix");
+        bad |= put(g, "C", vi_model_damping(m), n, n, "damping matrix");
+        bad |= put(g, "K", vi_model_stiffness(m), n, n, "stiffness matrix");
+      } else { /* LAPACK 'U' band rows [ldab x n], as vi_model_mass_band */
+        int bk, ldab;
+        const double *B = vi_model_mass_band(m, &bk, &ldab);
+        bad |= put(g, "M_band", B, ldab, n, "mass matrix, symmetric band "
+                   "'U' storage: (i, j) at row kd + i - j, column j");
+        B = vi_model_damping_band(m, &bk, &ldab);
+        bad |= put(g, "C_band", B, ldab, n, "damping matrix, band as M_band");
+        B = vi_model_stiffness_band(m, &bk, &ldab);
+        bad |= put(g, "K_band", B, ldab, n, "stiffness matrix, band as M_band");
+        bad |= attr_int(g, "kd", kd);
+      }
       bad |=
           put(g, "w", vi_model_stop_vector(m), n, 0, "stop vector: w.x <= x_s");
       bad |=
@@ -562,8 +576,9 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
       }
       H5Gclose(g);
     }
-    /* the modes only when the scene asks for them (always without a scene) */
-    g = scene && !(vi_scene_outputs(scene) & VI_SCENE_OUT_MODES)
+    /* the modes only when the scene asks for them (always without a scene)
+     * and the model has them (a band model has none) */
+    g = kd >= 0 || (scene && !(vi_scene_outputs(scene) & VI_SCENE_OUT_MODES))
             ? 0
             : H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT,
                          H5P_DEFAULT);
@@ -605,8 +620,9 @@ int vi_writer_event(vi_writer *w, const vi_event *ev)
 int vi_writer_sample(vi_writer *w, double t, const double *x, const double *v)
 {
   if (!w || !x || !v) return VI_ERR_ARG;
-  vi_model_to_modal(w->m, x, w->q);
-  vi_model_to_modal(w->m, v, w->qd);
+  if (vi_model_to_modal(w->m, x, w->q) != VI_OK ||
+      vi_model_to_modal(w->m, v, w->qd) != VI_OK)
+    for (int j = 0; j < 2 * w->n; j++) w->q[j] = NAN; /* a band model: no modes */
   const double *vals[5] = {&t, x, v, w->q, w->qd};
   int st;
   H5E_BEGIN_TRY { st = table_row(w, &w->traj, vals); }

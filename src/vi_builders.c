@@ -1,7 +1,12 @@
-/* vi_beam.c - clamped-free Euler-Bernoulli cantilever modes and the Galerkin
- * model of the paper's beam example (MODEL.md section 6, WB section 4). */
+/* vi_builders.c - model builders (vi_builders.h): the clamped-free
+ * Euler-Bernoulli cantilever's modes and the Galerkin model of the paper's
+ * beam example (MODEL.md section 6, WB section 4), and the reduced model
+ * that keeps a subset of a model's modes (MODEL.md section 5).  The chain
+ * builders (dense, band, vi_model_create_chain) live in vi_model.c: the
+ * band chain is built into the model's own storage. */
 #include <float.h>
 #include <math.h>
+#include <stdlib.h>
 
 #include "vi_internal.h"
 
@@ -70,4 +75,45 @@ int vi_build_cantilever(int modes, double omega1, double zeta, double xi_stop,
     if (gamma) gamma[j] = vi_cantilever_participation(j);
   }
   return VI_OK;
+}
+
+/* ---- the reduced model --------------------------------------------------- */
+int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
+                            double r, vi_model **out)
+{
+  if (!out) return VI_ERR_ARG;
+  *out = NULL;
+  if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
+  if (!full->frozen) return VI_ERR_STATE;
+  if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
+  if (full->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
+  int n = full->n, st;
+  double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
+  if (!buf) return VI_ERR_NOMEM;
+  size_t kk = (size_t)k * k;
+  double *M = buf, *K = M + kk, *C = K + kk, *w = C + kk;
+  double *a = w + k, *b = a + k, *f0 = b + k;
+  for (int p = 0; p < k; p++) {
+    int j = modes[p];
+    if (j < 0 || j >= n) { free(buf); return VI_ERR_ARG; }
+    M[p + p * k] = 1.0;
+    K[p + p * k] = full->lambda[j];
+    for (int q = 0; q < k; q++) C[p + q * k] = full->D[j + (size_t)modes[q] * n];
+    w[p] = full->psi[j];
+    a[p] = full->Fa[j];
+    b[p] = full->Fb[j];
+    f0[p] = full->F0[j];
+  }
+  vi_model *m = NULL;
+  st = vi_model_create(k, &m);
+  if (!st) st = vi_model_set_mass(m, M, k);
+  if (!st) st = vi_model_set_stiffness(m, K, k);
+  if (!st) st = vi_model_set_damping(m, C, k);
+  if (!st) st = vi_model_set_forcing(m, full->omega_f, a, b, f0);
+  if (!st) st = vi_model_set_stop(m, w, full->xs, r);
+  if (!st) st = vi_model_setup(m);
+  free(buf);
+  if (st) vi_model_destroy(&m);
+  *out = m;
+  return st;
 }

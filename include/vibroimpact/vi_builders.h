@@ -1,0 +1,49 @@
+/** @file vi_builders.h
+ * model builders: the paper's clamped-free cantilever (MODEL.md section 6)
+ * into caller arrays, and the reduced model that keeps a subset of a
+ * set-up model's modes (MODEL.md section 5).  The chain builders are in
+ * vi_model.h (vi_build_chain, vi_build_chain_band, vi_model_create_chain). */
+#ifndef VI_BUILDERS_H
+#define VI_BUILDERS_H
+
+#include "vibroimpact/vi_export.h"
+#include "vibroimpact/vi_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** The reduced model itself, in the modal coordinates of `full`: M = I,
+ * K = diag(omega_S^2), C = D_SS, forcing Psi_S^T (a, b, f0), stop psi_S
+ * with the same x_s and restitution r.  A new, set-up model; a model with
+ * several stops is refused (VI_ERR_UNSUPPORTED). */
+VI_API int vi_model_create_reduced(const vi_model *full, const int *modes,
+                                   int k, double r, vi_model **out);
+
+/** The paper's beam: a clamped-free Euler-Bernoulli cantilever.
+ * Mode j (0-based) of a unit-length, unit-mass-per-length cantilever: beta_j
+ * solves cos(beta) cosh(beta) = -1 and the mass-normalised shape is
+ *   phi_j(xi) = cosh(b xi) - cos(b xi) - s_j (sinh(b xi) - sin(b xi)).
+ * vi_cantilever_shape evaluates phi_j(xi), xi in [0, 1], stably for large
+ * beta.  vi_cantilever_beta returns beta_j (j = 0: 1.8751041), NaN for j
+ * outside 0..200. */
+VI_API double vi_cantilever_beta(int j);
+/** phi_j(xi) of the cantilever, xi in [0, 1] (0 the clamp, 1 the tip);
+ *  |phi_j(1)| = 2; NaN for j outside 0..200. */
+VI_API double vi_cantilever_shape(int j, double xi);
+/** Integral of phi_j over the span (the participation of a uniform base
+ * acceleration): 2 s_j / beta_j. */
+VI_API double vi_cantilever_participation(int j);
+/** Galerkin model with `modes` modes in modal coordinates: M = I,
+ * K = diag(omega_j^2) with omega_j = omega1 (beta_j / beta_1)^2,
+ * C = diag(2 zeta omega_j); w_j = phi_j(xi_stop) (the stop acts at
+ * xi_stop, 1 = the free end); gamma_j = participation.  A base acceleration
+ * A cos(Omega t) is the forcing a = -A gamma.  M, C, K [ld x modes]. */
+VI_API int vi_build_cantilever(int modes, double omega1, double zeta,
+                               double xi_stop, double *M, double *C,
+                               double *K, int ld, double *w, double *gamma);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

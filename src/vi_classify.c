@@ -1,0 +1,69 @@
+/* vi_classify.c - is a transient periodic?  The impacts and the
+ * stroboscopic states of the recent past, and the test that they repeat
+ * with a period of n forcing periods: the P(n, m) classification of
+ * vi_orbit_find. */
+#include <math.h>
+#include <string.h>
+
+#include "vi_orbit_internal.h"
+
+int vi_classify_record(const vi_event *ev, void *user)
+{
+  vi_orbit *o = user;
+  if (ev->kind != VI_EVENT_IMPACT) return 0;
+  int k = (int)(o->nimp % RING), n = o->n;
+  o->rt[k] = ev->t;
+  o->rs[k] = ev->stop;
+  memcpy(o->rz + (size_t)k * 2 * n, ev->x, sizeof(double) * n);
+  memcpy(o->rz + (size_t)k * 2 * n + n, ev->v_minus, sizeof(double) * n);
+  o->nimp++;
+  return 0;
+}
+
+/* Ring index of the first impact at or after time t (nimp if none). */
+int64_t vi_classify_first_after(const vi_orbit *o, double t)
+{
+  int64_t k = o->nimp;
+  while (k > 0 && k > o->nimp - RING && o->rt[(k - 1) % RING] >= t) k--;
+  return k;
+}
+
+/* Stroboscopic state at the end of forcing period k (kept for the last
+ * 3 MAX_N + 1 periods). */
+double *vi_classify_strobe(const vi_orbit *o, int64_t k)
+{
+  return o->pz + (size_t)(k % (3 * MAX_N + 1)) * 2 * o->n;
+}
+
+/* Period n needs the states at the ends of periods k, k - n, k - 2n, k - 3n
+ * to agree (a run of impact-free periods is not yet periodic: the motion
+ * may still be creeping towards the stop), and the impacts of the three
+ * windows between them to repeat, shifted by n T. */
+int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
+{
+  double nT = n * o->T, t_now = kp * o->T, zscale = fabs(o->m->xs);
+  const double *zk = vi_classify_strobe(o, kp);
+  for (int i = 0; i < 2 * o->n; i++) zscale = fmax(zscale, fabs(zk[i]));
+  for (int j = 1; j <= 3; j++)
+    for (int i = 0; i < 2 * o->n; i++)
+      if (fabs(vi_classify_strobe(o, kp - (int64_t)j * n)[i] - zk[i]) > o->tol * zscale) return 0;
+  int64_t k0 = vi_classify_first_after(o, t_now - 3 * nT), k1 = vi_classify_first_after(o, t_now - 2 * nT),
+          k2 = vi_classify_first_after(o, t_now - nT), k3 = o->nimp;
+  if (k0 <= o->nimp - RING) return 0; /* the ring no longer holds them */
+  int64_t c = k3 - k2;
+  if (k2 - k1 != c || k1 - k0 != c) return 0;
+  double scale = fabs(o->m->xs);
+  for (int64_t k = k0; k < k3; k++)
+    for (int i = 0; i < 2 * o->n; i++)
+      scale = fmax(scale, fabs(o->rz[(size_t)(k % RING) * 2 * o->n + i]));
+  for (int64_t k = k0; k + c < k3; k++) {
+    size_t a = (size_t)(k % RING), b = (size_t)((k + c) % RING);
+    if (fabs(o->rt[b] - o->rt[a] - nT) > o->tol * o->T) return 0;
+    if (o->rs[b] != o->rs[a]) return 0;
+    for (int i = 0; i < 2 * o->n; i++)
+      if (fabs(o->rz[b * 2 * o->n + i] - o->rz[a * 2 * o->n + i]) > o->tol * scale)
+        return 0;
+  }
+  *m = (int)c;
+  return 1;
+}

@@ -1,0 +1,98 @@
+/* vi_orbit_internal.h - the orbit analysis handle and the variational
+ * flow of impacting orbits, shared by the orbit files (vi_orbit.c: the
+ * search, shooting and multipliers; vi_classify.c: the P(n, m)
+ * classification of a transient; vi_balance.c: WB 11-13; vi_orbit_var.c:
+ * exact derivatives); never installed. */
+#ifndef VI_ORBIT_INTERNAL_H
+#define VI_ORBIT_INTERNAL_H
+
+#include "vi_flow_internal.h"
+
+/* State-transition matrix e^{A tau} [2n x 2n] (z = (x, v), column-major,
+ * leading dimension 2n) of the free motion: closed form per mode for
+ * proportional damping, Pade scaling and squaring otherwise.  VI_OK,
+ * VI_ERR_TIME (tau < 0), VI_ERR_NOMEM, VI_ERR_LAPACK. */
+int vi_var_stm(const vi_model *m, double tau, double *Phi);
+/* Vector field f = z' [2n] of the free motion at t (z, f stacked (x, v)). */
+void vi_var_field(const vi_model *m, double t, const double *z, double *f);
+/* Post-impact state zp [2n] of z on stop k (WB 2, stop k's own r_k); zp
+ * may be z. */
+void vi_var_impact(const vi_model *m, int k, const double *z, double *zp);
+/* Saltation matrix S [2n x 2n] of an impact on stop k at t from the state
+ * z [2n] just before it; work [8n]. */
+void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
+                      double *S, double *work);
+/* D z(tb) / D z(ta) [2n x 2n] of the motion from ta to tb through mi
+ * impacts at t [mi] on stop [mi], pre-impact states z [2n x mi] (stacked
+ * x, v per impact): the exact derivative of a shooting map. */
+int vi_var_map_jacobian(const vi_model *m, double ta, double tb, int mi,
+                        const int *stop, const double *t, const double *z,
+                        double *J);
+/* d/dOmega of the harmonic particular solution z_p = (x_p, v_p) at the
+ * times t [nt] into dz [2n x nt].  VI_OK, VI_ERR_NOMEM, VI_ERR_UNSUPPORTED
+ * (an undamped mode forced at resonance), VI_ERR_LAPACK. */
+int vi_var_dpart_domega(const vi_model *m, int nt, const double *t, double *dz);
+
+#define RING 4096 /* impacts remembered for classification */
+#define MAX_N 8   /* longest orbit period looked for, in forcing periods */
+
+#define MAX_M 8 /* most impacts per period analysed (several stops) */
+
+struct vi_orbit {
+  const vi_model *m;
+  int n, ns, method;
+  double rtol, atol, max_periods, tol, T;
+  double *x0, *v0;
+  vi_sim *sim;
+  /* classification */
+  int pn, pm, analysed;
+  /* impact ring: t, stop, then x, v per impact */
+  int64_t nimp;
+  double *rt, *rz;
+  int *rs;
+  /* states at the last 3 MAX_N + 1 forcing-period ends (stroboscopic) */
+  double *pz;
+  /* the analysed P(1, m) orbit: section time, its mi impacts in the period
+   * from t_s (time, stop, x, v-, v+ [n x MAX_M], v_n, energy lost) and the
+   * ledger of the interval ending at each (its approach: FE, DE, XE
+   * [n x MAX_M]) */
+  double t_s, KEi, RE, IE, r_rec, closure, gmin;
+  int mi, istop[MAX_M];
+  double it[MAX_M], ivn[MAX_M], iie[MAX_M];
+  double *ix, *iv, *ivp, *aFE, *aDE, *aXE;
+  double *mz; /* a shooting map's pre-impact states, stacked [2n x MAX_M] */
+  /* totals over the period [n] and per stop [n x ns], [ns] */
+  double *zfix, *FE, *DE, *XE, *reff, *mre, *mim, *kFE, *kDE, *kXE;
+  double *kKE, *kRE, *kIE, *kr, *kcl;
+  int *kcnt;
+  double *scr, *dE; /* scratch: map output [2n], impact jumps [n] */
+  double *block;
+  int map_impacts;
+  /* direct search: the transient's own classification, and whether the
+   * analysed orbit came from the impact-phase scan */
+  int direct, tn, tm, by_scan;
+  char errmsg[VI_MSG_LEN];
+};
+
+/* the P(1,1) getters: one impact per period; the rest: any analysed orbit */
+#define NEED_ORBIT(o) \
+  do { if (!(o)) return VI_ERR_ARG; if (!(o)->analysed) return VI_ERR_STATE; } while (0)
+#define NEED_P11(o) \
+  do { NEED_ORBIT(o); if ((o)->mi != 1) return VI_ERR_STATE; } while (0)
+
+/* Classification of the transient (vi_classify.c): the event callback that
+ * records impacts into the ring; the ring index of the first impact at or
+ * after t; the stroboscopic state kept for the end of forcing period k;
+ * whether the motion repeats with period n forcing periods at the end of
+ * period kp (then *m impacts per orbit period). */
+int vi_classify_record(const vi_event *ev, void *user);
+int64_t vi_classify_first_after(const vi_orbit *o, double t);
+double *vi_classify_strobe(const vi_orbit *o, int64_t k);
+int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m);
+
+/* One period from the refined fixed point o->zfix at o->t_s with the
+ * ledger: the impacts of the period and WB 11-13 in total and per stop
+ * (vi_balance.c).  VI_OK or a code with o->errmsg set. */
+int vi_balance_run(vi_orbit *o);
+
+#endif
