@@ -48,13 +48,18 @@ static double now(void)
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+/* The loaded SUNDIALS libraries (CVODES for adams/bdf, ARKODE for erk):
+ * which build ran, e.g. the optimised one of share/scripts/deps.sh. */
+typedef struct libs { char cvodes[512], arkode[512]; } libs;
+
 static int find_lib(struct dl_phdr_info *info, size_t size, void *out)
 {
   (void)size;
-  if (strstr(info->dlpi_name, "sundials_cvodes")) {
-    snprintf(out, 512, "%s", info->dlpi_name);
-    return 1;
-  }
+  libs *l = out;
+  if (strstr(info->dlpi_name, "sundials_cvodes"))
+    snprintf(l->cvodes, sizeof l->cvodes, "%s", info->dlpi_name);
+  if (strstr(info->dlpi_name, "sundials_arkode"))
+    snprintf(l->arkode, sizeof l->arkode, "%s", info->dlpi_name);
   return 0;
 }
 
@@ -290,10 +295,10 @@ int main(int argc, char **argv)
     fprintf(stderr, "usage: vi_bench [PERIODS [REPEATS [all|table|limit|scaling|memory]]]\n");
     return 2;
   }
-  char lib[512] = "(not found)";
-  dl_iterate_phdr(find_lib, lib);
-  printf("vi_bench: vibroimpact %s, SUNDIALS %s from %s\n",
-         vi_version_string(), vi_sundials_version(), lib);
+  libs lib = {"(not found)", "(not found)"};
+  dl_iterate_phdr(find_lib, &lib);
+  printf("vi_bench: vibroimpact %s, SUNDIALS %s from %s and %s\n",
+         vi_version_string(), vi_sundials_version(), lib.cvodes, lib.arkode);
   printf("scene: Wagg & Bishop Fig. 2, %g forcing periods, best of %d; "
          "atol = rtol / 100\n\n", periods, repeats);
   if (!strcmp(only, "limit") || !strcmp(only, "all")) limit_section(5);
@@ -313,9 +318,9 @@ int main(int argc, char **argv)
          "us/impact", "max|dt_imp|", "x_exact");
   const struct { int m; const char *name; } meth[] = {
       {VI_METHOD_EXACT, "exact"}, {VI_METHOD_ADAMS, "adams"},
-      {VI_METHOD_BDF, "bdf"}};
+      {VI_METHOD_BDF, "bdf"}, {VI_METHOD_ERK, "erk"}};
   const double tols[] = {1e-6, 1e-8, 1e-10};
-  for (int i = 0; i < 3; i++)
+  for (int i = 0; i < 4; i++)
     for (int j = 0; j < 3; j++)
       for (int h = 0; h < (meth[i].m == VI_METHOD_EXACT ? 1 : 3); h++) {
         /* variant 1 forces the first step after a restart; variant 2 runs

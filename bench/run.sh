@@ -26,7 +26,9 @@ if [ ${#missing[@]} -gt 0 ]; then
       python3-scipy python3-mpmath python3-numpy python3-matplotlib >/dev/null
 fi
 build=$root/build/bench
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DVI_BUILD_TESTS=OFF >/dev/null
+# the optimised SUNDIALS where deps.sh put it (or $VI_SUNDIALS_PREFIX)
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DVI_BUILD_TESTS=OFF \
+  -DVI_SUNDIALS_PREFIX="${VI_SUNDIALS_PREFIX:-$root/build/sundials}" >/dev/null
 cmake --build "$build" -j"$(nproc)" >/dev/null
 gcc -O2 -std=c99 -Wall -Wextra -D_GNU_SOURCE "$root/bench/vi_wp.c" \
   -I"$root/include" -I"$build/include" -L"$build" -lvibroimpact_io -lvibroimpact \

@@ -14,11 +14,12 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include "vi_band_internal.h"
-#include "vi_sim_internal.h"
+#include "vi_rhs.h"
 
 typedef struct cv_data {
   SUNContext ctx;
   void *mem;
+  vi_rhs *rhs;    /* the right-hand side's packed coefficients */
   N_Vector y;     /* wraps s->z: CVODE writes the state in place */
   N_Vector ys;    /* wraps s->zs: interpolant output */
   N_Vector yQ;    /* wraps s->Q: ledger quadratures, NULL without a ledger */
@@ -38,16 +39,8 @@ typedef struct cv_data {
 static int rhs(double t, N_Vector y, N_Vector yd, void *user)
 {
   vi_sim *s = user;
-  const double *z = N_VGetArrayPointer(y);
-  double *zd = N_VGetArrayPointer(yd);
-  int n = s->n;
-  /* acceleration into the odd slots first, then positions' rates: the
-   * velocities are read from z, so zd can be filled in either order */
-  vi_sim_accel(s, t, z, s->sticking, s->vp);
-  for (int i = 0; i < n; i++) {
-    zd[2 * (size_t)i] = z[2 * (size_t)i + 1];
-    zd[2 * (size_t)i + 1] = s->vp[i];
-  }
+  cv_data *d = s->be_data;
+  vi_rhs_rate(s, d->rhs, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yd));
   return s->force_failed ? -1 : 0; /* the host's force failed: stop */
 }
 
@@ -219,6 +212,7 @@ static void cv_destroy(vi_sim *s)
   SUNContext_Free(&d->ctx);
   free(d->zprev);
   free(d->info);
+  vi_rhs_destroy(&d->rhs);
   free(d);
   s->be_data = NULL;
 }
@@ -255,7 +249,8 @@ static int cv_create(vi_sim *s)
   s->errmsg[0] = '\0';
   d->zprev = malloc(sizeof(double) * (2 + VI_LEDGER_BLOCKS) * (size_t)s->n);
   d->info = calloc(2 * (size_t)s->ns, sizeof(int));
-  VI_CHECK(d->zprev && d->info, s->errmsg, VI_ERR_NOMEM, "out of memory");
+  VI_CHECK(d->zprev && d->info && vi_rhs_create(s, &d->rhs) == VI_OK,
+           s->errmsg, VI_ERR_NOMEM, "out of memory");
   VI_CHECK(SUNContext_Create(NULL, &d->ctx) == 0, s->errmsg, VI_ERR_NOMEM,
            "SUNContext_Create failed");
   d->y = N_VMake_Serial(N, s->z, d->ctx);

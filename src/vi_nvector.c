@@ -80,20 +80,53 @@ static double wrmsnorm(N_Vector x, N_Vector w)
   return sqrt(s / (double)n);
 }
 
-/* z = sum_k c_k X_k: Nordsieck-array work (prediction, interpolation) */
+/* z = sum_k c_k X_k: Nordsieck-array work (prediction, interpolation) and
+ * every Runge-Kutta stage.  Zero coefficients after the first are skipped
+ * (a third of a Fehlberg 7(8) tableau, and all but three terms of its error
+ * estimate) and the rest are taken four at a time, so z is read and written
+ * once per four vectors. */
 static int linearcombination(int nv, double *c, N_Vector *X, N_Vector z)
 {
   double *zd = DAT(z);
   sunindextype n = LEN(z);
-  const double *x0 = DAT(X[0]);
-  if (X[0] == z) {
-    for (sunindextype i = 0; i < n; i++) zd[i] *= c[0];
+  int k = 1;
+  if (X[0] == z) { /* as SUNDIALS' own: only X[0] may be z */
+    if (c[0] != 1.0)
+      for (sunindextype i = 0; i < n; i++) zd[i] *= c[0];
   } else {
-    for (sunindextype i = 0; i < n; i++) zd[i] = c[0] * x0[i];
+    const double *x0 = DAT(X[0]);
+    double c0 = c[0];
+    for (sunindextype i = 0; i < n; i++) zd[i] = c0 * x0[i];
   }
-  for (int k = 1; k < nv; k++) {
-    const double *xk = DAT(X[k]);
-    for (sunindextype i = 0; i < n; i++) zd[i] += c[k] * xk[i];
+  const double *xs[4] = {NULL, NULL, NULL, NULL};
+  double cs[4] = {0.0, 0.0, 0.0, 0.0};
+  int m = 0;
+  for (; k <= nv; k++) {
+    if (k < nv) {
+      if (c[k] == 0.0) continue;
+      xs[m] = DAT(X[k]);
+      cs[m++] = c[k];
+      if (m < 4) continue;
+    }
+    const double *x0 = xs[0], *x1 = xs[1], *x2 = xs[2], *x3 = xs[3];
+    switch (m) {
+    case 4:
+      for (sunindextype i = 0; i < n; i++)
+        zd[i] += cs[0] * x0[i] + cs[1] * x1[i] + cs[2] * x2[i] + cs[3] * x3[i];
+      break;
+    case 3:
+      for (sunindextype i = 0; i < n; i++)
+        zd[i] += cs[0] * x0[i] + cs[1] * x1[i] + cs[2] * x2[i];
+      break;
+    case 2:
+      for (sunindextype i = 0; i < n; i++) zd[i] += cs[0] * x0[i] + cs[1] * x1[i];
+      break;
+    case 1:
+      for (sunindextype i = 0; i < n; i++) zd[i] += cs[0] * x0[i];
+      break;
+    default: break;
+    }
+    m = 0;
   }
   return 0;
 }

@@ -187,10 +187,6 @@ int vi_sim_set_method(vi_sim *s, int method)
   if (method == VI_METHOD_EXACT && !s->flow->ok)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED,
                    "exact method unavailable: %s", s->flow->why);
-  if (method == VI_METHOD_ERK && s->ns > 1)
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "%s method unavailable: "
-                   "the model has %d stops and its contact search handles "
-                   "one (use adams or bdf)", method_names[method], s->ns);
   if (method == VI_METHOD_EXACT && s->nforces)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "exact method unavailable: "
                    "nonlinear forces have no closed form");
