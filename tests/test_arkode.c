@@ -350,8 +350,8 @@ static void test_two_sided_clearance(void **state)
     assert_int_equal(vi_sim_set_method(s, methods[i]), VI_OK);
     assert_int_equal(vi_sim_set_tolerances(s, 1e-12, 1e-14), VI_OK);
     assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
-    assert_int_equal(vi_sim_set_event_callback(s, ts_event, &r[i]), VI_OK);
-    assert_int_equal(vi_sim_set_sampling(s, 0.05, ts_sample, &r[i]), VI_OK);
+    assert_int_equal(vi_sim_set_event_callback(s, ts_event, &r[i], NULL), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(s, 0.05, ts_sample, &r[i], NULL), VI_OK);
     assert_int_equal(vi_sim_run(s, 40.0), VI_OK);
     assert_int_equal(vi_sim_method_used(s), methods[i]);
     vi_sim_destroy(&s);
