@@ -60,6 +60,7 @@ int vi_build_cantilever(int modes, double omega1, double zeta, double xi_stop,
                         double *gamma)
 {
   if (modes < 1 || ld < modes) return VI_ERR_DIM;
+  if (modes > 201) return VI_ERR_LIMIT; /* beta_j is tabulated for j <= 200 */
   if (!M || !C || !K || !w) return VI_ERR_ARG;
   if (!(omega1 > 0.0) || !(zeta >= 0.0) || !(xi_stop >= 0.0 && xi_stop <= 1.0))
     return VI_ERR_ARG;
@@ -95,7 +96,9 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   double *a = w + k, *b = a + k, *f0 = b + k;
   for (int p = 0; p < k; p++) {
     int j = modes[p];
-    if (j < 0 || j >= n) { free(buf); return VI_ERR_ARG; }
+    int seen = 0; /* a subset: a mode kept twice would count it twice */
+    for (int q = 0; q < p; q++) seen |= modes[q] == j;
+    if (j < 0 || j >= n || seen) { free(buf); return VI_ERR_ARG; }
     M[p + p * k] = 1.0;
     K[p + p * k] = full->lambda[j];
     for (int q = 0; q < k; q++) C[p + q * k] = full->D[j + (size_t)modes[q] * n];

@@ -44,6 +44,12 @@ int vi_impact_apply_multi(const vi_model *m, int nc, const int *stops,
       if (stops[j] == stops[k]) return VI_ERR_ARG;
   }
   if (v_plus != v_minus && vi_overlap(v_minus, v_plus, m->n)) return VI_ERR_ARG;
+  /* P and ie are written while v_minus is read and v_plus written */
+  size_t n = (size_t)m->n, k = (size_t)nc;
+  if (vi_overlap2(P, k, v_minus, n) || vi_overlap2(P, k, v_plus, n) ||
+      vi_overlap2(ie, k, v_minus, n) || vi_overlap2(ie, k, v_plus, n) ||
+      vi_overlap(P, ie, nc))
+    return VI_ERR_ARG;
   return vi_contact_solve(m, nc, stops, v_minus, v_plus, P, NULL, ie);
 }
 

@@ -133,5 +133,11 @@ static inline int vi_overlap(const double *a, const double *b, int n)
 {
   return a && b && a < b + n && b < a + n;
 }
+/* The same for arrays of different lengths, a [na] and b [nb]. */
+static inline int vi_overlap2(const double *a, size_t na, const double *b,
+                              size_t nb)
+{
+  return a && b && a < b + nb && b < a + na;
+}
 
 #endif

@@ -159,6 +159,11 @@ int vi_orbit_pnm_solve_stops(const vi_model *m, int np, int mi,
   if (!m || !t || !x || !v || ld < m->n) return VI_ERR_ARG;
   int st = pnm_check(m, np, mi, stop), n = m->n, B = 2 * n + 1, D = mi * B, it = 0;
   if (st) return st;
+  /* t, x, v are read as the seed and overwritten with the orbit */
+  size_t len = (size_t)ld * (size_t)(mi - 1) + (size_t)n;
+  if (vi_overlap2(x, len, v, len) || vi_overlap2(t, (size_t)mi, x, len) ||
+      vi_overlap2(t, (size_t)mi, v, len))
+    return VI_ERR_ARG;
   ws w;
   if ((st = ws_init(&w, m, stop, 1))) return st;
   double *u = malloc(sizeof(double) * ((size_t)D * D + 4 * (size_t)D));
@@ -488,6 +493,11 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
 {
   if (!m || !t || !x || !v || !found || np < 1 || nphase < 8 || cap < 0 ||
       ld < (m ? m->n : 1))
+    return VI_ERR_ARG;
+  /* the orbits found go to t, x, v column by column: no sharing */
+  size_t len = cap > 0 ? (size_t)ld * (size_t)(cap - 1) + (size_t)m->n : 0;
+  if (vi_overlap2(x, len, v, len) || vi_overlap2(t, (size_t)cap, x, len) ||
+      vi_overlap2(t, (size_t)cap, v, len))
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */

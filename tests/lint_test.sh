@@ -25,6 +25,7 @@ files=(
   tests/test_api.c tests/test_sim.c tests/test_ledger.c tests/test_model.c
   tests/test_stops.c
   tests/test_modal.c tests/test_impact.c tests/test_force.c tests/test_misuse.c
+  tests/test_misuse_io.c
   tests/vi_testutil.c tests/test_arkode.c tests/test_exact.c tests/test_orbit.c
   tests/test_scene_edit.c tests/test_writer.c tests/faults/test_faults.c
   tests/faults/vi_enospc.c tests/stress/stress_util.c tests/stress/test_stress_chatter.c

@@ -5,9 +5,13 @@
  * a message; nothing may read or write out of bounds (this file runs under
  * ASan and UBSan in the sanitizer build). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "vi_testutil.h"
+#include "vibroimpact/vi_builders.h"
+#include "vibroimpact/vi_orbit.h"
+#include "vibroimpact/vi_version.h"
 
 /* an error code, and the handle's message says something */
 #define assert_err(call) assert_true((call) < 0)
@@ -225,12 +229,493 @@ static void test_impact_flow_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* band storage, chain and memory estimate, and the getters of a model that
+ * is not set up, of NULL and of the wrong storage */
+static void test_model_band_getters_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create_band(0, 1, &m), VI_ERR_DIM);
+  assert_null(m);
+  assert_int_equal(vi_model_create_band(3, -1, &m), VI_ERR_DIM);
+  assert_null(m);
+  assert_err(vi_model_create_band(3, 1, NULL));
+  double AB[6] = {0, 1, 0, 1, 0, 1}, ABn[6] = {0, 1, 0, NAN, 0, 1};
+  assert_err(vi_model_set_mass_band(NULL, 1, AB, 2));
+  assert_err(vi_model_set_damping_band(NULL, 1, AB, 2));
+  assert_err(vi_model_set_stiffness_band(NULL, 1, AB, 2));
+  assert_int_equal(vi_model_create_band(3, 1, &m), VI_OK);
+  const char *msg = vi_model_errmsg(m);
+  assert_int_equal(vi_model_set_mass_band(m, -1, AB, 2), VI_ERR_DIM);
+  assert_true(strlen(msg) > 0);
+  assert_int_equal(vi_model_set_mass_band(m, 1, AB, 1), VI_ERR_DIM); /* ldab < kd + 1 */
+  assert_int_equal(vi_model_set_damping_band(m, 1, AB, 0), VI_ERR_DIM);
+  assert_int_equal(vi_model_set_stiffness_band(m, 1, AB, -3), VI_ERR_DIM);
+  assert_err_msg(vi_model_set_mass_band(m, 1, NULL, 2), msg);
+  assert_err_msg(vi_model_set_stiffness_band(m, 1, NULL, 2), msg);
+  assert_err_msg(vi_model_set_mass_band(m, 1, ABn, 2), msg);
+  assert_err_msg(vi_model_set_stiffness_band(m, 1, ABn, 2), msg);
+  assert_err_msg(vi_model_set_damping_band(m, 1, ABn, 2), msg);
+  /* kd beyond the model's own half-bandwidth with non-zeros there */
+  double AB2[9] = {5, 0, 1, 5, 0, 1, 5, 0, 1};
+  assert_int_equal(vi_model_set_stiffness_band(m, 2, AB2, 3), VI_ERR_DIM);
+  assert_true(strlen(msg) > 0);
+  /* a band model has no dense matrices and no modes, even before setup */
+  assert_null(vi_model_mass(m));
+  assert_int_equal(vi_model_bandwidth(m), 1); /* known before setup */
+  int kd = 7, ld = 7;
+  assert_null(vi_model_mass_band(m, &kd, &ld)); /* before setup */
+  vi_model_destroy(&m);
+
+  double mass[3] = {1, 1, 1}, k[3] = {1, 1, 1}, negk[3] = {1, -1, 1};
+  double nank[3] = {1, NAN, 1};
+  assert_int_equal(vi_model_create_chain(0, mass, k, NULL, &m), VI_ERR_DIM);
+  assert_null(m);
+  assert_int_equal(vi_model_create_chain(-3, mass, k, NULL, &m), VI_ERR_DIM);
+  assert_err(vi_model_create_chain(3, NULL, k, NULL, &m));
+  assert_null(m);
+  assert_err(vi_model_create_chain(3, mass, NULL, NULL, &m));
+  assert_null(m);
+  assert_err(vi_model_create_chain(3, mass, negk, NULL, &m));
+  assert_null(m);
+  assert_err(vi_model_create_chain(3, mass, nank, NULL, &m));
+  assert_null(m);
+  assert_err(vi_model_create_chain(3, mass, k, NULL, NULL));
+
+  int64_t bytes = 0;
+  assert_int_equal(vi_model_memory_estimate(0, -1, 1, VI_METHOD_ADAMS, 0, &bytes),
+                   VI_ERR_DIM);
+  assert_int_equal(vi_model_memory_estimate(3, -1, -1, VI_METHOD_ADAMS, 0, &bytes),
+                   VI_ERR_DIM);
+  assert_err(vi_model_memory_estimate(3, -1, 1, -1, 0, &bytes));
+  assert_err(vi_model_memory_estimate(3, -1, 1, VI_METHOD_COUNT, 0, &bytes));
+  assert_err(vi_model_memory_estimate(3, -1, 1, VI_METHOD_ADAMS, 2, &bytes));
+  assert_err(vi_model_memory_estimate(3, -1, 1, VI_METHOD_ADAMS, 0, NULL));
+  assert_int_equal(vi_model_memory_estimate(3, 1, 1, VI_METHOD_EXACT, 0, &bytes),
+                   VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_model_memory_estimate(3, 1, 1, VI_METHOD_ADAMS, 1, &bytes),
+                   VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_model_memory_estimate(2000000000, -1, 1, VI_METHOD_BDF,
+                                            0, &bytes), VI_ERR_LIMIT);
+
+  /* NULL model: the documented 0 / NULL / -1 */
+  assert_true(vi_model_omega_bound(NULL) == 0.0);
+  assert_int_equal(vi_model_memory(NULL), 0);
+  assert_int_equal(vi_model_bandwidth(NULL), -1);
+  assert_int_equal(vi_model_num_stops(NULL), 0);
+  double w[2], xs, r;
+  assert_err(vi_model_stop(NULL, 0, w, &xs, &r));
+  assert_err(vi_model_set_damping(NULL, NULL, 2));
+  assert_err(vi_model_set_forcing(NULL, 1, NULL, NULL, NULL));
+  assert_err(vi_model_set_stop(NULL, w, 0.1, 0.5));
+  assert_err(vi_model_add_stop(NULL, w, 0.1, 0.5));
+  int ldg = 5;
+  assert_null(vi_model_delassus(NULL, &ldg));
+  assert_true(vi_model_omega_forcing(NULL) == 0.0);
+  assert_true(vi_model_restitution(NULL) == 0.0);
+  assert_true(vi_model_stop_compliance(NULL) == 0.0);
+  assert_null(vi_model_mass(NULL));
+  assert_null(vi_model_damping(NULL));
+  assert_null(vi_model_stiffness(NULL));
+  assert_null(vi_model_mass_band(NULL, &kd, &ld));
+  assert_null(vi_model_damping_band(NULL, &kd, &ld));
+  assert_null(vi_model_stiffness_band(NULL, &kd, &ld));
+  assert_null(vi_model_stop_vector(NULL));
+  assert_null(vi_model_forcing_cos(NULL));
+  assert_null(vi_model_forcing_sin(NULL));
+  assert_null(vi_model_forcing_const(NULL));
+  assert_null(vi_model_omega(NULL));
+  assert_null(vi_model_modal_shapes(NULL, &ld));
+  assert_null(vi_model_modal_damping(NULL, &ld));
+  assert_null(vi_model_zeta(NULL));
+  assert_int_equal(vi_model_is_proportional(NULL), 0);
+  assert_null(vi_model_modal_stop(NULL));
+  assert_null(vi_model_modal_forcing_cos(NULL));
+  assert_null(vi_model_modal_forcing_sin(NULL));
+  assert_null(vi_model_modal_forcing_const(NULL));
+  double x[2] = {0, 0}, q[2];
+  assert_err(vi_model_from_modal(NULL, x, q));
+
+  /* a dense model before setup: getters 0 / NULL; stop k out of range */
+  assert_int_equal(vi_model_create(2, &m), VI_OK);
+  msg = vi_model_errmsg(m);
+  double w0[2] = {0, 0}, wn[2] = {NAN, 1}, w1[2] = {0, 1};
+  assert_int_equal(vi_model_add_stop(m, NULL, 0.1, 0.5), VI_ERR_ARG);
+  assert_int_equal(vi_model_add_stop(m, w0, 0.1, 0.5), VI_ERR_STOP_VECTOR);
+  assert_true(strlen(msg) > 0);
+  assert_int_equal(vi_model_add_stop(m, wn, 0.1, 0.5), VI_ERR_NONFINITE);
+  assert_int_equal(vi_model_add_stop(m, w1, 0.1, -0.5), VI_ERR_RESTITUTION);
+  assert_int_equal(vi_model_add_stop(m, w1, INFINITY, 0.5), VI_ERR_NONFINITE);
+  assert_int_equal(vi_model_num_stops(m), 0); /* the refusals added none */
+  assert_int_equal(vi_model_stop(m, 0, w, &xs, &r), VI_ERR_ARG); /* none yet */
+  assert_err_msg(vi_model_set_damping(m, x, 1), msg); /* ld < n */
+  double Cn[4] = {0, NAN, NAN, 0};
+  assert_err_msg(vi_model_set_damping(m, Cn, 2), msg);
+  double Cs[4] = {0, 1, 0, 0};
+  assert_err_msg(vi_model_set_damping(m, Cs, 2), msg); /* not symmetric */
+  double an[2] = {NAN, 0};
+  assert_err_msg(vi_model_set_forcing(m, 1.0, an, NULL, NULL), msg);
+  assert_err_msg(vi_model_set_forcing(m, 1.0, NULL, NULL, an), msg);
+  assert_err_msg(vi_model_set_forcing(m, 0.0, x, w1, NULL), msg);
+  assert_null(vi_model_delassus(m, &ldg));
+  assert_true(vi_model_omega_bound(m) == 0.0);
+  assert_null(vi_model_stop_vector(m));
+  assert_null(vi_model_zeta(m));
+  assert_null(vi_model_modal_damping(m, &ld));
+  assert_null(vi_model_modal_stop(m));
+  assert_true(vi_model_stop_compliance(m) == 0.0);
+  assert_int_equal(vi_model_from_modal(m, x, q), VI_ERR_STATE);
+  vi_model_destroy(&m);
+
+  /* a set-up dense model: stop k = -1 and k = ns, overlapping and NULL
+   * arrays, and the band getters of dense storage */
+  m = vi_test_fig2();
+  assert_int_equal(vi_model_stop(m, -1, w, &xs, &r), VI_ERR_ARG);
+  assert_int_equal(vi_model_stop(m, 1, w, &xs, &r), VI_ERR_ARG); /* k = ns */
+  assert_err_msg(vi_model_add_stop(m, w1, 0.2, 0.5), msg = vi_model_errmsg(m)); /* frozen */
+  assert_int_equal(vi_model_num_stops(m), 1);
+  assert_err_msg(vi_model_set_damping_band(m, 1, AB, 2), msg); /* frozen */
+  kd = 7;
+  ld = 7;
+  assert_null(vi_model_mass_band(m, &kd, &ld));
+  assert_int_equal(kd, 0);
+  assert_int_equal(ld, 0);
+  assert_null(vi_model_damping_band(m, &kd, &ld));
+  assert_null(vi_model_stiffness_band(m, NULL, NULL));
+  assert_int_equal(vi_model_bandwidth(m), -1);
+  assert_int_equal(vi_model_from_modal(m, NULL, q), VI_ERR_ARG);
+  assert_int_equal(vi_model_from_modal(m, x, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_model_to_modal(m, x, NULL), VI_ERR_ARG);
+  assert_true(isnan(vi_model_energy(m, x, NULL)));
+  vi_model_destroy(&m);
+
+  /* a set-up band model: no dense matrices, no modes */
+  double chm[3] = {1, 1, 1}, wb[3] = {0, 0, 1};
+  assert_int_equal(vi_model_create_chain(3, chm, k, NULL, &m), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, wb, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  assert_null(vi_model_mass(m));
+  assert_null(vi_model_damping(m));
+  assert_null(vi_model_stiffness(m));
+  assert_null(vi_model_omega(m));
+  assert_null(vi_model_modal_shapes(m, &ld));
+  assert_null(vi_model_modal_forcing_cos(m));
+  double x3[3] = {0, 0, 0}, q3[3];
+  assert_int_equal(vi_model_to_modal(m, x3, q3), VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_model_from_modal(m, x3, q3), VI_ERR_UNSUPPORTED);
+  vi_model_destroy(&m);
+}
+
+static void test_builders_misuse(void **state)
+{
+  (void)state;
+  double mass[2] = {1, 1}, k[2] = {1, 1}, c[2] = {0.1, 0.1}, out[4], o2[4],
+         o3[4], negc[2] = {0.1, -0.1}, nanm[2] = {1, NAN};
+  assert_err(vi_build_chain(-2, mass, k, c, out, o2, o3, 2));
+  assert_err(vi_build_chain(2, mass, NULL, c, out, o2, o3, 2));
+  assert_err(vi_build_chain(2, mass, k, negc, out, o2, o3, 2));
+  assert_err(vi_build_chain(2, nanm, k, c, out, o2, o3, 2));
+  assert_err(vi_build_chain(2, mass, k, c, NULL, o2, o3, 2));
+  assert_err(vi_build_chain_band(0, mass, k, c, out, o2, o3, 2));
+  assert_err(vi_build_chain_band(2, NULL, k, c, out, o2, o3, 2));
+  assert_err(vi_build_chain_band(2, mass, k, c, out, o2, o3, 1)); /* ldab < 2 */
+  assert_err(vi_build_chain_band(2, mass, k, c, out, o2, NULL, 2));
+
+  assert_true(isnan(vi_cantilever_beta(-1)));
+  assert_true(isnan(vi_cantilever_beta(201)));
+  assert_true(isnan(vi_cantilever_shape(-1, 0.5)));
+  assert_true(isnan(vi_cantilever_shape(201, 0.5)));
+  assert_true(isnan(vi_cantilever_shape(0, NAN)));
+  assert_true(isnan(vi_cantilever_participation(-1)));
+  assert_true(isnan(vi_cantilever_participation(201)));
+  double M[4], C[4], K[4], w[2], g[2];
+  assert_err(vi_build_cantilever(0, 1, 0.01, 1, M, C, K, 2, w, g));
+  assert_err(vi_build_cantilever(-2, 1, 0.01, 1, M, C, K, 2, w, g));
+  assert_err(vi_build_cantilever(2, 1, 0.01, 1, M, C, K, 1, w, g)); /* ld < modes */
+  assert_err(vi_build_cantilever(2, -1, 0.01, 1, M, C, K, 2, w, g));
+  assert_err(vi_build_cantilever(2, NAN, 0.01, 1, M, C, K, 2, w, g));
+  assert_err(vi_build_cantilever(2, 1, -0.01, 1, M, C, K, 2, w, g));
+  assert_err(vi_build_cantilever(2, 1, 0.01, 1.5, M, C, K, 2, w, g));
+  assert_err(vi_build_cantilever(2, 1, 0.01, 1, NULL, C, K, 2, w, g));
+  assert_err(vi_build_cantilever(2, 1, 0.01, 1, M, C, K, 2, NULL, g));
+  /* beyond the 201 tabulated modes beta is NaN: refused, not written */
+  size_t big = 202;
+  double *BM = calloc(big * big, sizeof(double)), *BC = calloc(big * big, sizeof(double)),
+         *BK = calloc(big * big, sizeof(double)), *bw = calloc(big, sizeof(double));
+  assert_non_null(BM);
+  assert_non_null(BC);
+  assert_non_null(BK);
+  assert_non_null(bw);
+  assert_err(vi_build_cantilever(202, 1, 0.01, 1, BM, BC, BK, 202, bw, NULL));
+  free(BM);
+  free(BC);
+  free(BK);
+  free(bw);
+
+  vi_model *full = vi_test_fig2(), *red = NULL;
+  int modes[2] = {0, 1}, bad[2] = {0, 2}, neg[1] = {-1}, dup[2] = {0, 0};
+  assert_err(vi_model_create_reduced(NULL, modes, 1, 0.7, &red));
+  assert_null(red);
+  assert_err(vi_model_create_reduced(full, NULL, 1, 0.7, &red));
+  assert_err(vi_model_create_reduced(full, modes, 0, 0.7, &red));
+  assert_err(vi_model_create_reduced(full, modes, -1, 0.7, &red));
+  assert_err(vi_model_create_reduced(full, modes, 3, 0.7, &red)); /* k > n */
+  assert_err(vi_model_create_reduced(full, bad, 2, 0.7, &red));
+  assert_err(vi_model_create_reduced(full, neg, 1, 0.7, &red));
+  assert_err(vi_model_create_reduced(full, dup, 2, 0.7, &red));
+  assert_err(vi_model_create_reduced(full, modes, 1, 1.5, &red));
+  assert_err(vi_model_create_reduced(full, modes, 1, NAN, &red));
+  assert_err(vi_model_create_reduced(full, modes, 1, 0.7, NULL));
+  assert_null(red);
+  vi_model *raw = NULL;
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_model_create_reduced(raw, modes, 1, 0.7, &red), VI_ERR_STATE);
+  assert_null(red);
+  vi_model_destroy(&raw);
+  vi_model_destroy(&full);
+
+  /* the versions: well-formed, never NULL */
+  assert_true(vi_version_number() > 0);
+  assert_non_null(vi_version_string());
+  assert_true(strlen(vi_version_string()) >= 5);
+  assert_non_null(vi_sundials_version());
+  assert_true(strlen(vi_sundials_version()) > 0);
+}
+
+static void test_impact_multi_misuse(void **state)
+{
+  (void)state;
+  /* two independent stops on a 2-DOF chain: x_1 <= 0.1 and x_2 <= 0.1 */
+  double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1}, W[4] = {1, 0, 0, 1},
+         xs[2] = {0.1, 0.1}, r[2] = {0.7, 0.7};
+  vi_model *m = vi_test_model_stops(2, M, NULL, K, 0.9, NULL, NULL, 2, W, xs, r);
+  int st[2] = {0, 1}, bad[1] = {2}, neg[1] = {-1}, dup[2] = {0, 0};
+  double v[2] = {0, 1}, vp[2], P[2], ie[2];
+  assert_err(vi_impact_apply_multi(NULL, 1, st, v, vp, P, ie));
+  assert_err(vi_impact_apply_multi(m, 0, st, v, vp, P, ie));
+  assert_err(vi_impact_apply_multi(m, -1, st, v, vp, P, ie));
+  assert_err(vi_impact_apply_multi(m, 13, st, v, vp, P, ie));
+  assert_err(vi_impact_apply_multi(m, 1, NULL, v, vp, P, ie));
+  assert_err(vi_impact_apply_multi(m, 1, st, NULL, vp, P, ie));
+  assert_err(vi_impact_apply_multi(m, 1, st, v, NULL, P, ie));
+  assert_int_equal(vi_impact_apply_multi(m, 1, bad, v, vp, P, ie), VI_ERR_ARG);
+  assert_int_equal(vi_impact_apply_multi(m, 1, neg, v, vp, P, ie), VI_ERR_ARG);
+  assert_err(vi_impact_apply_multi(m, 2, dup, v, vp, P, ie)); /* G singular */
+  assert_int_equal(vi_impact_apply_multi(m, 2, st, v, vp, P, P), VI_ERR_ARG); /* P, ie overlap */
+  assert_int_equal(vi_impact_apply_multi(m, 2, st, v, vp, v, ie), VI_ERR_ARG); /* P over v_minus */
+  assert_int_equal(vi_impact_apply_multi(m, 2, st, v, vp, P, vp), VI_ERR_ARG); /* ie over v_plus */
+  double vnan[2] = {0, NAN};
+  assert_err(vi_impact_apply_multi(m, 1, st, vnan, vp, P, ie));
+  vi_model *raw = NULL;
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_impact_apply_multi(raw, 1, st, v, vp, P, ie), VI_ERR_STATE);
+  vi_model_destroy(&raw);
+
+  /* vi_sim_stop_losses: NULL sim, NULL array */
+  assert_err(vi_sim_stop_losses(NULL, ie));
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_stop_losses(s, NULL), VI_ERR_ARG); /* const: code only */
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+}
+
+static int stop_mon(const vi_progress *p, void *u)
+{
+  (void)p;
+  (void)u;
+  return 1;
+}
+
+static void test_orbit_misuse(void **state)
+{
+  (void)state;
+  vi_orbit *o = NULL;
+  assert_err(vi_orbit_create(NULL, &o));
+  assert_null(o);
+  vi_model *raw = NULL;
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_orbit_create(raw, &o), VI_ERR_STATE);
+  assert_null(o);
+  vi_model *m = vi_test_fig2();
+  assert_err(vi_orbit_create(m, NULL));
+  vi_model *unforced = vi_test_sdof(1, 0.1, 1, 0, 0, 0, 0.1, 0.7);
+  assert_int_equal(vi_orbit_create(unforced, &o), VI_ERR_FREQUENCY);
+  assert_null(o);
+  vi_orbit_destroy(NULL);
+  vi_orbit_destroy(&o);
+
+  /* every call on a NULL orbit */
+  int n = 0, mm = 0, sc = 0, cnt = 0, stp[8];
+  double d[8], x[16], v[16], re[4], im[4], rS = 0;
+  int modes[2] = {0, 1};
+  assert_string_equal(vi_orbit_errmsg(NULL), "");
+  assert_err(vi_orbit_set_method(NULL, VI_METHOD_ADAMS));
+  assert_err(vi_orbit_set_tolerances(NULL, 1e-8, 1e-10));
+  assert_err(vi_orbit_set_initial(NULL, NULL, NULL));
+  assert_err(vi_orbit_set_transient(NULL, 100, 1e-6));
+  assert_err(vi_orbit_set_monitor(NULL, NULL, NULL, NULL));
+  assert_err(vi_orbit_set_direct_search(NULL, 1));
+  assert_err(vi_orbit_search_info(NULL, &n, &mm, &sc));
+  assert_err(vi_orbit_find(NULL));
+  assert_err(vi_orbit_classify(NULL, &n, &mm));
+  assert_err(vi_orbit_balance(NULL, d, d, d, d, d, d, d, d));
+  assert_err(vi_orbit_modal_balance(NULL, d, d, d, d));
+  assert_err(vi_orbit_impact_state(NULL, d, x, v));
+  assert_err(vi_orbit_impacts(NULL, &cnt, d, stp, d, x, v, 2));
+  assert_err(vi_orbit_stop_balance(NULL, 0, &cnt, d, d, d, d, d));
+  assert_err(vi_orbit_stop_modal_balance(NULL, 0, d, d, d));
+  assert_err(vi_orbit_multipliers(NULL, re, im));
+  assert_err(vi_orbit_min_gap(NULL, d));
+  assert_err(vi_orbit_reduced_restitution(NULL, modes, 1, &rS));
+
+  /* bad values on a live orbit, each with a message */
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  const char *msg = vi_orbit_errmsg(o);
+  assert_err_msg(vi_orbit_set_method(o, -1), msg);
+  assert_err_msg(vi_orbit_set_method(o, VI_METHOD_COUNT), msg);
+  assert_err_msg(vi_orbit_set_tolerances(o, 0, 1e-10), msg);
+  assert_err_msg(vi_orbit_set_tolerances(o, 1e-8, NAN), msg);
+  assert_err_msg(vi_orbit_set_tolerances(o, -1, 1e-10), msg);
+  double xnan[2] = {NAN, 0}, xbeyond[2] = {0, 0.5};
+  assert_err_msg(vi_orbit_set_initial(o, xnan, NULL), msg);
+  assert_err_msg(vi_orbit_set_initial(o, NULL, xnan), msg);
+  assert_err_msg(vi_orbit_set_initial(o, xbeyond, NULL), msg);
+  assert_err_msg(vi_orbit_set_transient(o, 0, 1e-6), msg);
+  assert_err_msg(vi_orbit_set_transient(o, -5, 1e-6), msg);
+  assert_err_msg(vi_orbit_set_transient(o, NAN, 1e-6), msg);
+  assert_err_msg(vi_orbit_set_transient(o, 100, -1e-6), msg);
+  assert_err_msg(vi_orbit_set_transient(o, 100, NAN), msg);
+  assert_err_msg(vi_orbit_set_direct_search(o, 2), msg);
+  assert_err_msg(vi_orbit_set_direct_search(o, -1), msg);
+  /* results before vi_orbit_find: VI_ERR_STATE */
+  assert_int_equal(vi_orbit_balance(o, d, d, d, d, d, d, d, d), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_modal_balance(o, d, d, d, d), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_impact_state(o, d, x, v), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_impacts(o, &cnt, d, stp, d, x, v, 2), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_stop_balance(o, 0, &cnt, d, d, d, d, d), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_stop_modal_balance(o, 0, d, d, d), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_multipliers(o, re, im), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_min_gap(o, d), VI_ERR_STATE);
+  assert_err(vi_orbit_reduced_restitution(o, modes, 1, &rS));
+  /* a monitor that stops at once: VI_STOPPED, not an analysis */
+  assert_int_equal(vi_orbit_set_monitor(o, stop_mon, NULL, NULL), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_STOPPED);
+  assert_int_equal(vi_orbit_balance(o, d, d, d, d, d, d, d, d), VI_ERR_STATE);
+  assert_int_equal(vi_orbit_set_monitor(o, NULL, NULL, NULL), VI_OK);
+  /* the analysed Fig. 2 orbit (P(1,1)): out-of-range indices, ld < n */
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  assert_int_equal(vi_orbit_classify(o, &n, &mm), VI_OK);
+  assert_int_equal(n, 1);
+  assert_int_equal(mm, 1);
+  assert_int_equal(vi_orbit_impacts(o, &cnt, d, stp, d, x, v, 1), VI_ERR_ARG);
+  assert_int_equal(vi_orbit_impacts(o, &cnt, d, stp, d, x, NULL, 0), VI_ERR_ARG);
+  assert_int_equal(vi_orbit_stop_balance(o, -1, &cnt, d, d, d, d, d), VI_ERR_ARG);
+  assert_int_equal(vi_orbit_stop_balance(o, 1, &cnt, d, d, d, d, d), VI_ERR_ARG); /* k = ns */
+  assert_int_equal(vi_orbit_stop_modal_balance(o, -1, d, d, d), VI_ERR_ARG);
+  assert_int_equal(vi_orbit_stop_modal_balance(o, 1, d, d, d), VI_ERR_ARG);
+  int badm[1] = {2}, negm[1] = {-1};
+  rS = 0;
+  assert_int_equal(vi_orbit_reduced_restitution(o, badm, 1, &rS), VI_ERR_ARG);
+  assert_true(isnan(rS));
+  assert_int_equal(vi_orbit_reduced_restitution(o, negm, 1, &rS), VI_ERR_ARG);
+  assert_err(vi_orbit_reduced_restitution(o, NULL, 1, &rS));
+  assert_err(vi_orbit_reduced_restitution(o, modes, 0, &rS));
+  assert_err(vi_orbit_reduced_restitution(o, modes, -1, &rS));
+  assert_err(vi_orbit_reduced_restitution(o, modes, 3, &rS));
+  assert_err(vi_orbit_reduced_restitution(o, modes, 1, NULL));
+  /* the orbit still answers after the refusals */
+  assert_int_equal(vi_orbit_search_info(o, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(vi_orbit_min_gap(o, d), VI_OK);
+  vi_orbit_destroy(&o);
+  assert_null(o);
+
+  /* P(n, m) functions: one impact per period of Fig. 2 */
+  double t[1] = {0}, x1[2] = {0, 0.1}, v1[2] = {0, 0.1}, F[5], J[25], Mo[16];
+  double dF[5], g = 0;
+  int st0[1] = {0}, st1[1] = {1}, stn[1] = {-1}, it = 0, ok = 0, found = 0;
+  assert_err(vi_orbit_pnm_solve(NULL, 1, 1, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve(m, 0, 1, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve(m, 1, 0, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve(m, 1, -1, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve(m, -1, 1, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve(m, 1, 1, NULL, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve(m, 1, 1, t, x1, v1, 1, 0, &it)); /* ld < n */
+  assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, t, x1, x1, 2, 0, &it), VI_ERR_ARG); /* x, v overlap */
+  assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, x1, x1, v1, 2, 0, &it), VI_ERR_ARG); /* t, x overlap */
+  assert_err(vi_orbit_pnm_solve_stops(m, 1, 1, st1, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve_stops(m, 1, 1, stn, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_solve_stops(NULL, 1, 1, st0, t, x1, v1, 2, 0, &it));
+  assert_err(vi_orbit_pnm_residual(NULL, 1, 1, t, x1, v1, 2, F, J));
+  assert_err(vi_orbit_pnm_residual(m, 1, 0, t, x1, v1, 2, F, J));
+  assert_err(vi_orbit_pnm_residual(m, 1, 1, t, x1, v1, 1, F, J));
+  assert_err(vi_orbit_pnm_residual(m, 1, 1, t, x1, v1, 2, NULL, J));
+  assert_err(vi_orbit_pnm_residual_stops(m, 1, 1, st1, t, x1, v1, 2, F, J));
+  assert_err(vi_orbit_pnm_residual_stops(m, 1, 1, stn, t, x1, v1, 2, F, J));
+  assert_err(vi_orbit_pnm_residual_stops(NULL, 1, 1, st0, t, x1, v1, 2, F, J));
+  assert_err(vi_orbit_pnm_multipliers(NULL, 1, 1, t, x1, v1, 2, re, im));
+  assert_err(vi_orbit_pnm_multipliers(m, 0, 1, t, x1, v1, 2, re, im));
+  assert_err(vi_orbit_pnm_multipliers(m, 1, 1, t, x1, v1, 1, re, im));
+  assert_err(vi_orbit_pnm_multipliers(m, 1, 1, t, x1, v1, 2, NULL, im));
+  assert_err(vi_orbit_pnm_multipliers_stops(m, 1, 1, st1, t, x1, v1, 2, re, im));
+  assert_err(vi_orbit_pnm_multipliers_stops(m, 1, 1, stn, t, x1, v1, 2, re, im));
+  assert_err(vi_orbit_pnm_multipliers_stops(NULL, 1, 1, st0, t, x1, v1, 2, re, im));
+  assert_err(vi_orbit_pnm_monodromy(NULL, 1, 1, NULL, t, x1, v1, 2, Mo));
+  assert_err(vi_orbit_pnm_monodromy(m, 1, 0, NULL, t, x1, v1, 2, Mo));
+  assert_err(vi_orbit_pnm_monodromy(m, 1, 1, st1, t, x1, v1, 2, Mo));
+  assert_err(vi_orbit_pnm_monodromy(m, 1, 1, NULL, t, x1, v1, 1, Mo));
+  assert_err(vi_orbit_pnm_monodromy(m, 1, 1, NULL, t, x1, v1, 2, NULL));
+  double v0[2] = {0, 0};
+  assert_err(vi_orbit_pnm_monodromy(m, 1, 1, NULL, t, x1, v0, 2, Mo)); /* grazing */
+  assert_err(vi_orbit_pnm_admissible(NULL, 1, 1, t, x1, v1, 2, &g, &ok));
+  assert_err(vi_orbit_pnm_admissible(m, 1, 0, t, x1, v1, 2, &g, &ok));
+  assert_err(vi_orbit_pnm_admissible(m, 1, 1, t, x1, v1, 1, &g, &ok));
+  assert_err(vi_orbit_pnm_admissible(m, 1, 1, t, x1, v1, 2, &g, NULL));
+  assert_err(vi_orbit_pnm_admissible_stops(m, 1, 1, st1, t, x1, v1, 2, &g, &ok));
+  assert_err(vi_orbit_pnm_admissible_stops(m, 1, 1, stn, t, x1, v1, 2, &g, &ok));
+  assert_err(vi_orbit_pnm_admissible_stops(NULL, 1, 1, st0, t, x1, v1, 2, &g, &ok));
+  assert_err(vi_orbit_pnm_dparam(NULL, 1, 1, NULL, t, x1, v1, 2,
+                                 VI_ORBIT_PARAM_OMEGA, 0, dF));
+  assert_err(vi_orbit_pnm_dparam(m, 1, 1, NULL, t, x1, v1, 2, -1, 0, dF));
+  assert_err(vi_orbit_pnm_dparam(m, 1, 1, NULL, t, x1, v1, 2, 3, 0, dF));
+  assert_err(vi_orbit_pnm_dparam(m, 1, 1, NULL, t, x1, v1, 2,
+                                 VI_ORBIT_PARAM_XS, 1, dF)); /* k = ns */
+  assert_err(vi_orbit_pnm_dparam(m, 1, 1, NULL, t, x1, v1, 2,
+                                 VI_ORBIT_PARAM_R, -1, dF));
+  assert_err(vi_orbit_pnm_dparam(m, 1, 1, st1, t, x1, v1, 2,
+                                 VI_ORBIT_PARAM_OMEGA, 0, dF));
+  assert_err(vi_orbit_pnm_dparam(m, 1, 1, NULL, t, x1, v1, 1,
+                                 VI_ORBIT_PARAM_OMEGA, 0, dF));
+  assert_err(vi_orbit_pnm_dparam(m, 1, 1, NULL, t, x1, v1, 2,
+                                 VI_ORBIT_PARAM_OMEGA, 0, NULL));
+  double ts[4], xs4[8], vs4[8];
+  assert_err(vi_orbit_p1_scan(NULL, 1, 64, ts, xs4, vs4, 2, 4, &found));
+  assert_err(vi_orbit_p1_scan(m, 0, 64, ts, xs4, vs4, 2, 4, &found));
+  assert_err(vi_orbit_p1_scan(m, 1, 7, ts, xs4, vs4, 2, 4, &found)); /* nphase < 8 */
+  assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, vs4, 1, 4, &found));
+  assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, vs4, 2, -1, &found));
+  assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, vs4, 2, 4, NULL));
+  assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, xs4, 2, 4, &found)); /* overlap */
+  /* a model that is not set up */
+  assert_int_equal(vi_orbit_pnm_residual(raw, 1, 1, t, x1, v1, 2, F, J),
+                   VI_ERR_STATE);
+  assert_int_equal(vi_orbit_pnm_multipliers(raw, 1, 1, t, x1, v1, 2, re, im),
+                   VI_ERR_STATE);
+  vi_model_destroy(&raw);
+  vi_model_destroy(&unforced);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_model_misuse),
       cmocka_unit_test(test_sim_misuse),
       cmocka_unit_test(test_impact_flow_misuse),
+      cmocka_unit_test(test_model_band_getters_misuse),
+      cmocka_unit_test(test_builders_misuse),
+      cmocka_unit_test(test_impact_multi_misuse),
+      cmocka_unit_test(test_orbit_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -374,7 +374,16 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
     st = vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "%s",
                      found < nt ? "the scene has no such key"
                                 : "not a single value");
-  if (!st && nd) snprintf(buf, (size_t)len, "%s", (const char *)nd->data.scalar.value);
+  if (!st && nd) {
+    const char *v = (const char *)nd->data.scalar.value;
+    /* a value cut to fit would pass for another value: refuse it */
+    if (strlen(v) >= (size_t)len)
+      st = vi_diag_set(d, e->name, VI_ERR_LIMIT, 0, 0, key, "",
+                       "the value needs %zu bytes, the buffer has %d",
+                       strlen(v) + 1, len);
+    else
+      snprintf(buf, (size_t)len, "%s", v);
+  }
   yaml_document_delete(&doc);
   return st;
 }

@@ -169,6 +169,10 @@ int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
   if (!s) return VI_ERR_ARG;
+  /* NaN is no limit and no request for the machine's: refuse it */
+  if (isnan(max_bytes))
+    return vi_diag_set(d, s->file, VI_ERR_ARG, 0, 0, "max_bytes", "nan",
+                       "the memory limit is not a number");
   int from_machine = !(max_bytes > 0);
   if (from_machine) max_bytes = mem_available();
   if (!(max_bytes > 0)) return VI_OK; /* not known: nothing to compare */

@@ -342,6 +342,8 @@ static int table_flush(vi_writer *w, table *t)
 static int table_row(vi_writer *w, table *t, const double *const *vals)
 {
   if (w->failed) return VI_ERR_IO; /* the file is already broken */
+  /* after vi_writer_finish the tables' buffers are gone */
+  if (!w->file) return warg(w, VI_ERR_STATE, "the writer is already closed");
   for (int k = 0; k < t->ncol; k++)
     memcpy(t->c[k].buf + (size_t)t->used * t->c[k].width, vals[k],
            sizeof(double) * t->c[k].width);
@@ -661,6 +663,15 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
   vi_orbit_classify(o, &pn, &pm);
   double *buf = calloc(10 * (size_t)n + 8, sizeof(double));
   if (!buf) return werr(w, VI_ERR_NOMEM, "out of memory");
+  /* the getters below fill [n] arrays of the orbit's own n: an orbit of a
+   * larger model would write past buf (vi_orbit_impacts refuses ld < n;
+   * buf holds its at most 8 columns) */
+  int cnt;
+  if (vi_orbit_impacts(o, &cnt, NULL, NULL, NULL, buf, NULL, n) == VI_ERR_ARG) {
+    free(buf);
+    return warg(w, VI_ERR_DIM, "vi_writer_orbit: the orbit's model has more "
+                "coordinates than the writer's (%d)", n);
+  }
   H5E_BEGIN_TRY {
     hid_t g = H5Gcreate2(w->file, "orbits", H5P_DEFAULT, H5P_DEFAULT,
                          H5P_DEFAULT);

@@ -1,0 +1,27 @@
+#!/bin/bash
+# Every function exported by libvibroimpact and libvibroimpact_io is called
+# in the misuse tests (test_misuse.c, test_misuse_io.c), so that a new
+# function cannot be added without its NULL / range / order checks.
+# usage: misuse_coverage_test.sh TESTS_DIR LIBVIBROIMPACT LIBVIBROIMPACT_IO
+set -u
+dir=$1
+shift
+files=("$dir/test_misuse.c" "$dir/test_misuse_io.c")
+for f in "${files[@]}" "$@"; do
+  [ -r "$f" ] || { echo "misuse_coverage: cannot read $f"; exit 1; }
+done
+missing=0 total=0
+for lib in "$@"; do
+  syms=$(nm -D --defined-only "$lib" | awk '$2 == "T" && $3 ~ /^vi_/ {print $3}')
+  [ -n "$syms" ] || { echo "misuse_coverage: no vi_ symbols in $lib"; exit 1; }
+  for s in $syms; do
+    total=$((total + 1))
+    # a call: the name followed by '(' (not only a mention in a comment)
+    if ! grep -qE "\\b$s\\(" "${files[@]}"; then
+      echo "not called in the misuse tests: $s ($(basename "$lib"))"
+      missing=$((missing + 1))
+    fi
+  done
+done
+echo "misuse_coverage: $((total - missing)) of $total exported functions called"
+[ "$missing" -eq 0 ]

@@ -1,0 +1,299 @@
+/* test_misuse_io.c - every exported function of the companion library
+ * vibroimpact_io (scenes, scene edits, the HDF5 writer) called as a careless
+ * or hostile host would: NULL handles, arrays and strings, zero and negative
+ * lengths, non-finite values, calls out of order and after finishing.  Each
+ * must return an error code (never VI_OK) and the documented sentinel, and
+ * fill the diag or the handle's message; nothing may read or write out of
+ * bounds (ASan and UBSan in the sanitizer build).  A separate program from
+ * test_misuse.c because the numerical core links no HDF5 and no YAML. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "vi_testutil.h"
+#include "vibroimpact/vi_orbit.h"
+#include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_scene_edit.h"
+#include "vibroimpact/vi_writer.h"
+
+/* an error code, and the diag's message says something */
+#define assert_err_diag(call, d)         \
+  do {                                   \
+    memset(&(d), 0, sizeof(d));          \
+    assert_true((call) < 0);             \
+    assert_true(strlen((d).message) > 0); \
+  } while (0)
+
+static const char *chain3 = "model:\n  chain: {n: 3, m: 1, k: 1}\n"
+                            "stop: {mass: 3, xs: 0.1, r: 0.5}\n"
+                            "run: {t_end: 10}\n";
+
+static void test_scene_misuse(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_diag d;
+  const char *text = vi_scene_default_text();
+  assert_non_null(text);
+  assert_true(strlen(text) > 0);
+  /* NULL text, NULL out, unreadable and empty files, limits */
+  assert_int_equal(vi_scene_parse(NULL, -1, "x", &sc, &d), VI_ERR_ARG);
+  assert_null(sc);
+  assert_int_equal(vi_scene_parse(text, -1, "x", NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_parse("model: [", -1, "x", &sc, &d), d);
+  assert_null(sc);
+  /* a length shorter than the text: only that much is read (cut mid-key) */
+  assert_err_diag(vi_scene_parse(text, 3, "x", &sc, &d), d);
+  assert_null(sc);
+  assert_int_equal(vi_scene_parse_limited(NULL, -1, "x", 4, &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_parse_limited(text, -1, "x", 4, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_parse_limited("a: [[[1]]]", -1, "x", 2, &sc, &d),
+                   VI_ERR_LIMIT);
+  assert_null(sc);
+  assert_int_equal(vi_scene_load(NULL, &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_load("x.yaml", NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_load("/nonexistent/x.yaml", &sc, &d), d);
+  assert_int_equal(d.code, VI_ERR_IO);
+  assert_err_diag(vi_scene_load("/", &sc, &d), d); /* a directory */
+  assert_null(sc);
+  assert_int_equal(vi_scene_load_limited(NULL, 0, 0, &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_load_limited("x.yaml", 0, 0, NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_load_limited("/nonexistent/x.yaml", 0, 0, &sc, &d), d);
+  assert_null(sc);
+  vi_scene_destroy(NULL);
+  vi_scene_destroy(&sc); /* *sc == NULL */
+
+  /* getters on NULL: "" and 0 */
+  assert_string_equal(vi_scene_name(NULL), "");
+  assert_string_equal(vi_scene_text(NULL), "");
+  assert_int_equal(vi_scene_n(NULL), 0);
+  assert_true(vi_scene_t0(NULL) == 0.0);
+  assert_true(vi_scene_t_end(NULL) == 0.0);
+  assert_true(vi_scene_rtol(NULL) == 0.0);
+  assert_true(vi_scene_atol(NULL) == 0.0);
+  assert_int_equal(vi_scene_method(NULL), 0);
+  assert_int_equal(vi_scene_samples_per_period(NULL), 0);
+  assert_int_equal(vi_scene_outputs(NULL), 0);
+  assert_true(vi_scene_memory_estimate(NULL) == 0.0);
+  assert_int_equal(vi_scene_check_memory(NULL, 1e12, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(NULL, 1e-8, 1e-10, 10, 0), VI_ERR_ARG);
+  assert_int_equal(vi_scene_create_model(NULL, &m, &d), VI_ERR_ARG);
+  assert_null(m);
+  assert_int_equal(vi_scene_configure_sim(NULL, NULL, &d), VI_ERR_ARG);
+
+  /* a valid scene given bad overrides and mismatched handles */
+  assert_int_equal(vi_scene_parse(text, -1, "fig2", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_set_run(sc, NAN, 0, 0, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0, NAN, 0, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, NAN, -1), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0, 0, 0, VI_METHOD_COUNT), VI_ERR_ARG);
+  assert_int_equal(vi_scene_set_run(sc, 0.5, 0, 0, -1), VI_ERR_TOLERANCE);
+  assert_int_equal(vi_scene_create_model(sc, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_check_memory(sc, 1.0, &d), VI_ERR_LIMIT);
+  assert_true(strlen(d.message) > 0);
+  assert_err_diag(vi_scene_check_memory(sc, NAN, &d), d);
+  assert_int_equal(d.code, VI_ERR_ARG);
+  vi_scene *sc3 = NULL;
+  assert_int_equal(vi_scene_parse(chain3, -1, "three", &sc3, &d), VI_OK);
+  vi_model *m2 = vi_test_fig2();
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m2, &s), VI_OK);
+  assert_err_diag(vi_scene_configure_sim(sc3, s, &d), d);
+  assert_int_equal(d.code, VI_ERR_DIM);
+  assert_int_equal(vi_scene_configure_sim(sc, NULL, &d), VI_ERR_ARG);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m2);
+  vi_scene_destroy(&sc3);
+  assert_null(sc3);
+  vi_scene_destroy(&sc);
+
+  /* diag formatting: NULL diag, NULL or short buffers, never past len */
+  char buf[8];
+  memset(buf, 'x', sizeof buf);
+  vi_diag_format(NULL, buf, (int)sizeof buf);
+  assert_string_equal(buf, "");
+  memset(&d, 0, sizeof d);
+  strcpy(d.file, "a-rather-long-file-name.yaml");
+  strcpy(d.message, "a message longer than the buffer");
+  d.line = 3;
+  memset(buf, 'x', sizeof buf);
+  vi_diag_format(&d, buf, 4);
+  assert_true(strlen(buf) <= 3);
+  assert_int_equal(buf[5], 'x'); /* nothing written past len */
+  vi_diag_format(&d, NULL, 10);
+  vi_diag_format(&d, buf, 0);
+  vi_diag_format(&d, buf, -1);
+}
+
+static void test_scene_edit_misuse(void **state)
+{
+  (void)state;
+  vi_scene_edit *e = NULL;
+  vi_diag d;
+  char buf[16];
+  const char *text = vi_scene_default_text();
+  assert_int_equal(vi_scene_edit_create(NULL, -1, "x", &e, &d), VI_ERR_ARG);
+  assert_null(e);
+  assert_int_equal(vi_scene_edit_create(text, -1, "x", NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_edit_create("a: [", -1, "x", &e, &d), d);
+  assert_int_equal(d.code, VI_ERR_PARSE);
+  assert_null(e);
+  vi_scene_edit_destroy(NULL);
+  vi_scene_edit_destroy(&e);
+  /* every call on a NULL edit */
+  assert_int_equal(vi_scene_edit_set(NULL, "stop.r", "0.5", &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_assign(NULL, "stop.r=0.5", &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_set_number(NULL, "stop.r", 0.5, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_get(NULL, "stop.r", buf, (int)sizeof buf, &d),
+                   VI_ERR_ARG);
+  assert_string_equal(vi_scene_edit_text(NULL), "");
+  vi_scene *sc = NULL;
+  assert_int_equal(vi_scene_edit_parse(NULL, &sc, &d), VI_ERR_ARG);
+  assert_null(sc);
+
+  /* a live edit: NULL and malformed keys and values, short buffers */
+  assert_int_equal(vi_scene_edit_create(text, -1, "fig2", &e, &d), VI_OK);
+  assert_int_equal(vi_scene_edit_set(e, NULL, "1", &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_set(e, "stop.r", NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_edit_set(e, "", "1", &d), d);
+  assert_err_diag(vi_scene_edit_set(e, "stop..r", "1", &d), d);
+  assert_err_diag(vi_scene_edit_set(e, "forcing.a[0]", "1", &d), d); /* 1-based */
+  assert_err_diag(vi_scene_edit_set(e, "forcing.a[-1]", "1", &d), d);
+  assert_err_diag(vi_scene_edit_set(e, "forcing.a[99]", "1", &d), d);
+  assert_err_diag(vi_scene_edit_set(e, "stop.r.x", "1", &d), d); /* through a scalar */
+  assert_err_diag(vi_scene_edit_set(e, "stop.r", "[1, ", &d), d);
+  assert_err_diag(vi_scene_edit_set(e, "stop.r", "1\n2", &d), d);
+  assert_int_equal(vi_scene_edit_assign(e, NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_edit_assign(e, "stop.r", &d), d); /* no '=' */
+  assert_err_diag(vi_scene_edit_assign(e, "=0.5", &d), d);
+  assert_int_equal(vi_scene_edit_set_number(e, NULL, 0.5, &d), VI_ERR_ARG);
+  /* a non-finite number is written as the text says; the parse refuses it */
+  assert_int_equal(vi_scene_edit_set_number(e, "stop.r", NAN, &d), VI_OK);
+  assert_err_diag(vi_scene_edit_parse(e, &sc, &d), d);
+  assert_null(sc);
+  assert_int_equal(vi_scene_edit_get(e, NULL, buf, (int)sizeof buf, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_get(e, "stop.r", NULL, 16, &d), VI_ERR_ARG);
+  assert_true(vi_scene_edit_get(e, "stop.r", buf, 0, &d) < 0);
+  assert_true(vi_scene_edit_get(e, "stop.r", buf, -4, &d) < 0);
+  assert_err_diag(vi_scene_edit_get(e, "stop.nothing", buf, (int)sizeof buf, &d), d);
+  assert_err_diag(vi_scene_edit_get(e, "stop", buf, (int)sizeof buf, &d), d); /* a mapping */
+  char one[2];
+  memset(one, 'x', sizeof one);
+  assert_err_diag(vi_scene_edit_get(e, "stop.r", one, 1, &d), d); /* no room */
+  assert_int_equal(d.code, VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_edit_parse(e, NULL, &d), VI_ERR_ARG);
+  /* a value the scene refuses: the parse names it */
+  assert_int_equal(vi_scene_edit_set(e, "stop.r", "1.5", &d), VI_OK);
+  assert_err_diag(vi_scene_edit_parse(e, &sc, &d), d);
+  assert_null(sc);
+  assert_non_null(vi_scene_edit_text(e));
+  vi_scene_edit_destroy(&e);
+  assert_null(e);
+}
+
+static void test_writer_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *unset = NULL;
+  vi_writer *w = NULL;
+  vi_diag d;
+  char path[] = "/tmp/vi_misuse_io_XXXXXX", target[512];
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  assert_int_equal(vi_output_resolve(NULL, target, (int)sizeof target, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_resolve(path, NULL, (int)sizeof target, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_resolve(path, target, 0, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_resolve(path, target, -1, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_resolve(path, target, 4, &d), VI_ERR_LIMIT);
+  assert_err_diag(vi_output_resolve("/", target, (int)sizeof target, &d), d);
+  assert_int_equal(d.code, VI_ERR_IO);
+  assert_err_diag(vi_output_resolve("/dev/null", target, (int)sizeof target, &d), d);
+  assert_err_diag(vi_output_resolve("/nonexistent/dir/x.h5", target,
+                                    (int)sizeof target, &d), d);
+  assert_int_equal(vi_writer_create(NULL, m, 0, &w, &d), VI_ERR_ARG);
+  assert_int_equal(vi_writer_create(path, NULL, 0, &w, &d), VI_ERR_ARG);
+  assert_int_equal(vi_writer_create(path, m, 0, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_model_create(2, &unset), VI_OK);
+  assert_int_equal(vi_writer_create(path, unset, 0, &w, &d), VI_ERR_STATE);
+  assert_null(w);
+  assert_err_diag(vi_writer_create("/", m, 0, &w, &d), d);
+  assert_null(w);
+
+  /* every call on a NULL writer */
+  vi_event ev = {0};
+  vi_ledger_interval iv = {0};
+  double x[2] = {0, 0};
+  assert_int_equal(vi_writer_write_header(NULL, NULL, 1e-8, 1e-10, 0), VI_ERR_ARG);
+  assert_int_equal(vi_writer_event(NULL, &ev), VI_ERR_ARG);
+  assert_int_equal(vi_writer_sample(NULL, 0, x, x), VI_ERR_ARG);
+  assert_int_equal(vi_writer_ledger(NULL, &iv), VI_ERR_ARG);
+  assert_int_equal(vi_writer_orbit(NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_writer_run_info(NULL, NULL), VI_ERR_ARG);
+  assert_int_equal((int)vi_writer_rows(NULL, "impacts"), -1);
+  assert_int_equal(vi_writer_finish(NULL, 1), VI_ERR_ARG);
+  assert_int_equal(vi_writer_close(NULL, 1), VI_ERR_ARG);
+  assert_int_equal(vi_writer_close(&w, 1), VI_ERR_ARG);
+  vi_writer_abort(NULL);
+  vi_writer_abort(&w);
+  assert_string_equal(vi_writer_errmsg(NULL), "");
+
+  /* a live writer given wrong things, each with a message */
+  assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
+  const char *msg = vi_writer_errmsg(w);
+  assert_true(vi_writer_write_header(w, NULL, 1e-8, -1e-10, 0) < 0);
+  assert_true(strlen(msg) > 0);
+  assert_true(vi_writer_write_header(w, NULL, 1e-8, 1e-10, -1) < 0);
+  assert_true(vi_writer_write_header(w, NULL, NAN, 1e-10, 0) < 0);
+  assert_int_equal(vi_writer_write_header(w, NULL, 1e-8, 1e-10, 0), VI_OK);
+  assert_int_equal(vi_writer_event(w, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_writer_sample(w, 0, NULL, x), VI_ERR_ARG);
+  assert_int_equal(vi_writer_ledger(w, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_writer_ledger(w, &iv), VI_ERR_ARG); /* NULL arrays */
+  assert_int_equal(vi_writer_orbit(w, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_writer_run_info(w, NULL), VI_ERR_ARG);
+  assert_int_equal((int)vi_writer_rows(w, NULL), -1);
+  assert_int_equal((int)vi_writer_rows(w, ""), -1);
+  assert_int_equal(vi_writer_finish(w, 1), VI_OK);
+  /* after finishing: out of order */
+  assert_int_equal(vi_writer_sample(w, 0, x, x), VI_ERR_STATE);
+  assert_int_equal(vi_writer_event(w, &ev), VI_ERR_ARG); /* NULL arrays */
+  vi_event ev2 = {VI_EVENT_IMPACT, 2, 0, 1.0, 0.1, 0.0, x, x, x, 0};
+  assert_int_equal(vi_writer_event(w, &ev2), VI_ERR_STATE);
+  assert_true(vi_writer_write_header(w, NULL, 1e-8, 1e-10, 0) < 0);
+  assert_int_equal(vi_writer_finish(w, 1), VI_ERR_STATE);
+  assert_true(strlen(vi_writer_errmsg(w)) > 0);
+  assert_int_equal(vi_writer_close(&w, 1), VI_ERR_STATE);
+  assert_null(w);
+  remove(path);
+  /* the analysed Fig. 2 orbit (n = 2) given to a writer of a one-mass
+   * model: refused, nothing written past the writer's n-sized buffers */
+  vi_model *sdof = vi_test_sdof(1, 0.1, 1, 0.5, 0, 0.9, 0.1, 0.7);
+  vi_orbit *o = NULL;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  assert_int_equal(vi_writer_create(path, sdof, 0, &w, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(w, NULL, 1e-8, 1e-10, 0), VI_OK);
+  assert_int_equal(vi_writer_orbit(w, o), VI_ERR_DIM);
+  assert_true(strlen(vi_writer_errmsg(w)) > 0);
+  vi_writer_abort(&w);
+  assert_null(w);
+  assert_int_not_equal(access(path, F_OK), 0); /* aborted: no file */
+  vi_orbit_destroy(&o);
+  vi_model_destroy(&sdof);
+  vi_model_destroy(&unset);
+  vi_model_destroy(&m);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_scene_misuse),
+      cmocka_unit_test(test_scene_edit_misuse),
+      cmocka_unit_test(test_writer_misuse),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
