@@ -44,7 +44,8 @@ SCENES = [
     ("cantilever4", "share/scenes/cantilever4.yaml", 100),
     ("chain200", "bench/scenes/chain200.yaml", 5),
 ]
-OUR_TOLS = [1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 3e-10, 1e-10, 1e-11, 1e-12]  # cheap: half decades
+OUR_TOLS = [1e-6, 5e-7, 2e-7, 1e-7, 5e-8, 2e-8, 1e-8, 5e-9, 2e-9, 1e-9, 5e-10,
+            2e-10, 1e-10, 1e-11, 1e-12]  # cheap: 1-2-5 per decade
 SCIPY_TOLS = [1e-6, 1e-8, 1e-10, 1e-12]  # slow: decades only
 ED_TOLS = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
 MJ_STEPS_PER_PERIOD = [100, 1000]

@@ -242,7 +242,7 @@ VI_API double vi_model_energy(const vi_model *m, const double *x,
 VI_API int vi_build_chain(int n, const double *mass, const double *k,
                           const double *c, double *M, double *C, double *K,
                           int ld);
-/** The same chain in LAPACK 'U' band form with kd = 1 (n >= 2): MB, CB, KB
+/** The same chain in LAPACK 'U' band form with kd = 1 (n >= 1): MB, CB, KB
  *  [ldab x n], ldab >= 2, row 1 (0-based) the diagonal, row 0 the
  *  superdiagonal, for vi_model_set_*_band.  @return as vi_build_chain. */
 VI_API int vi_build_chain_band(int n, const double *mass, const double *k,

@@ -54,7 +54,8 @@ VI_API int vi_scene_edit_assign(vi_scene_edit *e, const char *assignment,
 VI_API int vi_scene_edit_set_number(vi_scene_edit *e, const char *key,
                                     double value, vi_diag *diag);
 /** The scalar at `key` as written in the text, into buf [len]; VI_ERR_PARSE
- *  if the key is missing or not a scalar. */
+ *  if the key is missing or not a scalar, VI_ERR_LIMIT if the value does
+ *  not fit in buf (nothing is returned truncated). */
 VI_API int vi_scene_edit_get(const vi_scene_edit *e, const char *key,
                              char *buf, int len, vi_diag *diag);
 /** The current text (owned by the edit, valid until its next change). */

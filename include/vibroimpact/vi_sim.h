@@ -21,8 +21,8 @@
  * held or free has its chattering tail summed to its accumulation point
  * (Nordmark & Piiroinen), with the held stops' constraint forces in its
  * normal dynamics; it is held from the tail's first impact and its STICK
- * event comes at the accumulation point, each stop at its own.  Methods
- * adams, bdf and exact (ERK refuses several stops).
+ * event comes at the accumulation point, each stop at its own.  Every
+ * method takes several stops (exact and erk search every gap).
  *
  * Life cycle: vi_sim_create -> vi_sim_set_* -> vi_sim_run (repeatable; each
  * call continues from where the last stopped) -> queries ->
@@ -158,10 +158,10 @@ VI_API const char *vi_sim_errmsg(const vi_sim *sim);
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (exact method on a model
  *  without a usable closed form: an undamped mode forced at resonance, or a
  *  defective first-order system such as an undamped rigid-body mode beside
- *  non-proportional damping; nonlinear forces; erk on a model with
- *  several stops, whose contact search handles one; the message says
- *  which).  The exact method searches every stop's gap; with several stops
- *  auto runs it where the closed form applies. */
+ *  non-proportional damping; nonlinear forces; a band-stored model, which
+ *  has no modes; the message says which).  Exact and erk search every
+ *  stop's gap; with several stops auto runs exact where the closed form
+ *  applies. */
 VI_API int vi_sim_set_method(vi_sim *sim, int method);
 /** Relative and absolute tolerances, both > 0 and finite, rtol at least
  *  twice the machine epsilon; atol applies to positions and velocities
