@@ -65,10 +65,12 @@ class Ours:
         return json.loads(subprocess.check_output([self.wp, scene, "model"]))
 
     def run(self, scene, method, rtol, t_end, repeats=10):
-        out = subprocess.check_output(
+        p = subprocess.run(
             [self.wp, scene, method, repr(rtol), repr(rtol * 1e-2),
-             repr(t_end), str(repeats)], text=True)
-        lines = out.splitlines()
+             repr(t_end), str(repeats)], text=True, capture_output=True)
+        if p.returncode != 0:  # a run our invariant checks stopped
+            raise RuntimeError((p.stderr.strip().splitlines() or ["?"])[-1])
+        lines = p.stdout.splitlines()
         head = lines[0].split()
         info = {head[i]: head[i + 1] for i in range(1, len(head) - 1)}
         imp = [tuple(map(float, l.split())) for l in lines[1:]]
@@ -356,14 +358,27 @@ def main():
         cfg = [("ours " + m, "rtol 1e-10", m, 1e-10) for m in ["exact", "auto"]]
         cfg += [("ours " + m, "rtol %.0e" % tol, m, tol)
                 for m in ["adams", "bdf", "erk"] for tol in OUR_TOLS]
-        got = {}
+        got, failed = {}, {}
         for _ in range(ROUNDS):
             for solver, setting, m, tol in cfg:
-                r = ours.run(scene, m, tol, t_end)
+                if (solver, setting) in failed:
+                    continue
+                try:
+                    r = ours.run(scene, m, tol, t_end)
+                except RuntimeError as e:  # shown as a failed row, not hidden
+                    failed[solver, setting] = str(e)
+                    continue
                 if (solver, setting) not in got or r["wall"] < got[solver, setting]["wall"]:
                     got[solver, setting] = r
         for solver, setting, m, tol in cfg:
-            add(solver, setting, got[solver, setting])
+            if (solver, setting) in failed:
+                e = failed[solver, setting]
+                log("  %-22s %-10s failed: %s" % (solver, setting, e))
+                rows.append({"scene": name, "solver": solver, "setting": setting,
+                             "n": 0, "n_ref": len(ref), "err": None, "ms": float("nan"),
+                             "against": against, "rhs": None, "note": "failed: %s" % e})
+            else:
+                add(solver, setting, got[solver, setting])
         for m in ["DOP853", "LSODA"]:
             for tol in SCIPY_TOLS:
                 peer("SciPy " + m, "rtol %.0e" % tol,
