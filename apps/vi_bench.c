@@ -288,8 +288,8 @@ static void scaling_section(int repeats)
 int main(int argc, char **argv)
 {
   gsl_set_error_handler_off();
-  double periods = argc > 1 ? atof(argv[1]) : 1000.0;
-  int repeats = argc > 2 ? atoi(argv[2]) : 3;
+  double periods = argc > 1 ? strtod(argv[1], NULL) : 1000.0;
+  int repeats = argc > 2 ? (int)strtol(argv[2], NULL, 10) : 3;
   const char *only = argc > 3 ? argv[3] : "all";
   if (!(periods > 0) || repeats < 1) {
     fprintf(stderr, "usage: vi_bench [PERIODS [REPEATS [all|table|limit|scaling|memory]]]\n");
@@ -307,7 +307,7 @@ int main(int argc, char **argv)
     memory_section();
     return 0;
   }
-  if (strcmp(only, "table") && strcmp(only, "all")) return 0;
+  if (strcmp(only, "table") != 0 && strcmp(only, "all") != 0) return 0;
   vi_model *m = fig2();
   double t_end = periods * 2.0 * M_PI / 0.9;
   result ref = run(m, VI_METHOD_EXACT, 1e-12, 0.0, 1, t_end, repeats);

@@ -56,6 +56,7 @@ static void usage(FILE *f)
 static int num(const char *opt, const char *s, double *out)
 {
   char *end;
+  if (!s) return 0;
   errno = 0;
   double v = strtod(s, &end);
   if (errno || end == s || *end || !isfinite(v)) {
@@ -223,9 +224,10 @@ int vi_cmd_sweep_main(int argc, char **argv)
   /* ranks on one machine share its cores: without --threads, each takes
    * its share rather than all of them */
   const char *local = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
-  if (mpi && sp.threads <= 0 && local && atoi(local) > 1) {
+  int nlocal = local ? (int)strtol(local, NULL, 10) : 0;
+  if (mpi && sp.threads <= 0 && nlocal > 1) {
 #ifdef _OPENMP
-    sp.threads = omp_get_num_procs() / atoi(local);
+    sp.threads = omp_get_num_procs() / nlocal;
 #endif
     if (sp.threads < 1) sp.threads = 1;
   }

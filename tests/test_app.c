@@ -108,14 +108,14 @@ static void test_outputs(void **state)
   assert_int_equal(strncmp(csv, "k,t,vn,x_1,x_2,v_1,v_2\n0,", 25), 0);
   char *a2[] = {(char *)app, "restitution", "--re", "0.51", "--ke", "1", NULL};
   assert_int_equal(run_app(a2, out, err), 0);
-  assert_close(atof(slurp(out)), 0.7, 1e-15);
+  assert_close(strtod(slurp(out), NULL), 0.7, 1e-15);
   char *a3[] = {(char *)app, "restitution", "--re", "2", "--ke", "1", NULL};
   assert_int_equal(run_app(a3, out, err), 2);
   char *a4[] = {(char *)app, "energy", "--json", NULL};
   assert_int_equal(run_app(a4, out, err), 0);
   char *js = slurp(out), *p = strstr(js, "\"r_recovered\": ");
   assert_non_null(p);
-  assert_close(atof(p + 15), 0.7, 1e-10);
+  assert_close(strtod(p + 15, NULL), 0.7, 1e-10);
   assert_non_null(strstr(js, "\"modes\": [{\"omega\": "));
   assert_non_null(strstr(js, "\"reduced\": [{\"modes\": 1, \"r_S\": "));
   /* the same analysis into HDF5: /orbits/P1_1 */

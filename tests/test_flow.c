@@ -10,7 +10,8 @@ static void test_sdof_free(void **state)
   (void)state;
   vi_model *m = vi_test_sdof(2.0, 0.0, 8.0, 0.0, 0.0, 0.0, 1.0, 0.5);
   double w = 2.0, x0 = 0.3, v0 = -0.7, x, v;
-  for (double t = 0.0; t < 50.0; t += 3.7) {
+  for (int i = 0; i * 3.7 < 50.0; i++) {
+    double t = i * 3.7;
     assert_int_equal(vi_flow_physical(m, 0.0, &x0, &v0, t, &x, &v), VI_OK);
     assert_close(x, x0 * cos(w * t) + v0 / w * sin(w * t), 1e-13);
     assert_close(v, -x0 * w * sin(w * t) + v0 * cos(w * t), 1e-13);
@@ -42,7 +43,8 @@ static void check_ode(double m_, double c, double k, double a, double f0,
 {
   vi_model *m = vi_test_sdof(m_, c, k, a, f0, W, 100.0, 0.5);
   double x0 = 0.3, v0 = -0.4, h = 1e-3;
-  for (double t = 0.5; t < 10.0; t += 1.1) {
+  for (int i = 0; 0.5 + i * 1.1 < 10.0; i++) {
+    double t = 0.5 + i * 1.1;
     double xm, xc, xp, vm, vc, vp;
     vi_flow_physical(m, 0.2, &x0, &v0, t - h, &xm, &vm);
     vi_flow_physical(m, 0.2, &x0, &v0, t, &xc, &vc);
@@ -104,7 +106,8 @@ static void test_nonproportional_flow(void **state)
                *a = vi_test_np3_a, f0[3] = {0.1, 0, -0.2};
   vi_model *m = vi_test_nonprop3(10.0, f0); /* stop out of reach */
   double x0[3] = {0.1, -0.2, 0.05}, v0[3] = {0.3, 0.0, -0.1}, h = 1e-3;
-  for (double t = 1.0; t < 30.0; t += 3.3) {
+  for (int k = 0; 1.0 + k * 3.3 < 30.0; k++) {
+    double t = 1.0 + k * 3.3;
     double xm[3], xc[3], xp[3], vm[3], vc[3], vp[3];
     vi_flow_physical(m, 0.5, x0, v0, t - h, xm, vm);
     vi_flow_physical(m, 0.5, x0, v0, t, xc, vc);

@@ -24,7 +24,7 @@ static void fig2_scan(void **state)
 {
   (void)state;
   vi_model *m = vi_test_fig2();
-  double t[8], x[16], v[16], re[4], im[4], gmax;
+  double t[8], x[16], v[16], re[4], im[4], gmax = 0;
   int found = 0, ok = 0;
   assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 2, 8, &found), VI_OK);
   int adm = -1, count = 0;
@@ -36,12 +36,15 @@ static void fig2_scan(void **state)
     }
   }
   assert_int_equal(count, 1);
+  size_t a2 = (size_t)2 * (size_t)(adm > 0 ? adm : 0), a = a2 / 2;
   /* tests/ref_fig2_p11.py: the flow is exact, so round-off level */
-  assert_close(v[2 * adm + 1], 0.78766085255479729134, 1e-12);
-  assert_close(fmod(t[adm], 2 * M_PI / 0.9), 0.67857113423124466619, 1e-12);
-  assert_close(x[2 * adm + 1], 0.1, 1e-14);                  /* on the stop */
-  assert_close(x[2 * adm], 0.09621605903588743049, 1e-12);
-  assert_true(gmax < -1e-3);                                  /* clear of the stop */
+  assert_close(v[a2 + 1], 0.78766085255479729134, 1e-12);
+  assert_close(fmod(t[a], 2 * M_PI / 0.9), 0.67857113423124466619, 1e-12);
+  assert_close(x[a2 + 1], 0.1, 1e-14);                  /* on the stop */
+  assert_close(x[a2], 0.09621605903588743049, 1e-12);
+  assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, &t[a], x + a2, v + a2, 2,
+                                           &gmax, &ok), VI_OK);
+  assert_true(ok && gmax < -1e-3); /* the admissible orbit: clear of the stop */
   /* multipliers: det of the monodromy = r^2 exp(-tr(M^-1 C) T) (det of a
    * saltation matrix is r^2; Liouville for the flow), tr(M^-1 C) = 0.3 */
   assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t[adm], x + (size_t)2 * adm, v + (size_t)2 * adm, 2, re, im), VI_OK);

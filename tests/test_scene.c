@@ -22,7 +22,7 @@ static void test_shipped_scenes_run(void **state)
   int count = 0;
   while ((e = readdir(dir))) {
     size_t len = strlen(e->d_name);
-    if (len < 6 || strcmp(e->d_name + len - 5, ".yaml")) continue;
+    if (len < 6 || strcmp(e->d_name + len - 5, ".yaml") != 0) continue;
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", VI_SCENE_DIR, e->d_name);
     vi_scene *sc = NULL;
