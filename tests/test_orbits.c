@@ -20,6 +20,33 @@ static int by_modulus(const void *a, const void *b)
 }
 
 /* Fig. 2: one P(1,1) orbit, admissible and stable, at the reference. */
+/* The one-period map of a 2-DOF model by central differences (h = 1e-6)
+ * of exact-method runs, J [4 x 4] column-major in (x, v), on the section
+ * half a period T after the orbit's impact at ti (state xi, vi before). */
+static void differenced_map(const vi_model *m, double ti, const double *xi,
+                            const double *vi, double T, double *J)
+{
+  double vp[2], z0[4], zp[4], zm[4];
+  assert_int_equal(vi_impact_apply(m, vi, vp, NULL, NULL), VI_OK);
+  assert_int_equal(vi_flow_physical(m, ti, xi, vp, ti + T / 2, z0, z0 + 2), VI_OK);
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
+  for (int j = 0; j < 4; j++) {
+    double h = 1e-6;
+    for (int sg = -1; sg <= 1; sg += 2) {
+      double zs[4];
+      memcpy(zs, z0, sizeof zs);
+      zs[j] += sg * h;
+      assert_int_equal(vi_sim_set_initial(s, ti + T / 2, zs, zs + 2), VI_OK);
+      assert_int_equal(vi_sim_run(s, ti + 1.5 * T), VI_OK);
+      vi_sim_state(s, NULL, sg > 0 ? zp : zm, (sg > 0 ? zp : zm) + 2);
+    }
+    for (int i = 0; i < 4; i++) J[i + (size_t)4 * j] = (zp[i] - zm[i]) / (2 * h);
+  }
+  vi_sim_destroy(&s);
+}
+
 static void fig2_scan(void **state)
 {
   (void)state;
@@ -59,25 +86,8 @@ static void fig2_scan(void **state)
   /* central differences of the stroboscopic map (the simulation, exact
    * method, h = 1e-6) agree to their own error, ~1e-6 here; the section
    * is half a period after the impact */
-  double T = 2 * M_PI / 0.9, vp[2], z0[4], zp[4], zm[4], Jm[16];
-  assert_int_equal(vi_impact_apply(m, v + (size_t)2 * adm, vp, NULL, NULL), VI_OK);
-  assert_int_equal(vi_flow_physical(m, t[adm], x + (size_t)2 * adm, vp, t[adm] + T / 2, z0, z0 + 2), VI_OK);
-  vi_sim *s = NULL;
-  assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
-  for (int j = 0; j < 4; j++) {
-    double h = 1e-6;
-    for (int sg = -1; sg <= 1; sg += 2) {
-      double zs[4];
-      memcpy(zs, z0, sizeof zs);
-      zs[j] += sg * h;
-      assert_int_equal(vi_sim_set_initial(s, t[adm] + T / 2, zs, zs + 2), VI_OK);
-      assert_int_equal(vi_sim_run(s, t[adm] + 1.5 * T), VI_OK);
-      vi_sim_state(s, NULL, sg > 0 ? zp : zm, (sg > 0 ? zp : zm) + 2);
-    }
-    for (int i = 0; i < 4; i++) Jm[i + 4 * j] = (zp[i] - zm[i]) / (2 * h);
-  }
-  vi_sim_destroy(&s);
+  double T = 2 * M_PI / 0.9, Jm[16];
+  differenced_map(m, t[adm], x + (size_t)2 * adm, v + (size_t)2 * adm, T, Jm);
   /* the characteristic polynomial's coefficients: trace and determinant */
   double tr = Jm[0] + Jm[5] + Jm[10] + Jm[15], trx = 0;
   for (int i = 0; i < 4; i++) trx += re[i];
@@ -411,25 +421,8 @@ static void nonprop_floquet(void **state)
   assert_close(det, 0.49 * exp(-0.2 * T), 1e-13);
   /* central differences of the exact simulation's map, section half a
    * period after the impact */
-  double vp[2], z0[4], J[16], zp[4], zm[4];
-  assert_int_equal(vi_impact_apply(m, v + (size_t)2 * k, vp, NULL, NULL), VI_OK);
-  assert_int_equal(vi_flow_physical(m, t[k], x + (size_t)2 * k, vp, t[k] + T / 2, z0, z0 + 2), VI_OK);
-  vi_sim *s = NULL;
-  assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
-  for (int j = 0; j < 4; j++) {
-    double h = 1e-6;
-    for (int sg = -1; sg <= 1; sg += 2) {
-      double zs[4];
-      memcpy(zs, z0, sizeof zs);
-      zs[j] += sg * h;
-      assert_int_equal(vi_sim_set_initial(s, t[k] + T / 2, zs, zs + 2), VI_OK);
-      assert_int_equal(vi_sim_run(s, t[k] + 1.5 * T), VI_OK);
-      vi_sim_state(s, NULL, sg > 0 ? zp : zm, (sg > 0 ? zp : zm) + 2);
-    }
-    for (int i = 0; i < 4; i++) J[i + 4 * j] = (zp[i] - zm[i]) / (2 * h);
-  }
-  vi_sim_destroy(&s);
+  double J[16];
+  differenced_map(m, t[k], x + (size_t)2 * k, v + (size_t)2 * k, T, J);
   /* trace and the sum of principal 2 x 2 minors: the first two
    * coefficients of the characteristic polynomial */
   double tr = 0, trx = 0, m2 = 0, m2x = 0;
