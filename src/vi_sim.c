@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "vi_band_internal.h"
+#include "vi_exact_internal.h"
 #include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 
@@ -106,6 +107,14 @@ static const vi_backend *method_backend(const vi_sim *s)
   return s->method == VI_METHOD_ERK ? &vi_backend_arkode : &vi_backend_cvode;
 }
 
+/* A sticking phase runs on the exact method's constrained modes where the
+ * held set has them (vi_held.c), else on CVODE. */
+static const vi_backend *held_backend(vi_sim *s)
+{
+  if (uses_exact(s) && vi_held_available(s)) return &vi_backend_exact;
+  return &vi_backend_cvode;
+}
+
 static void note_method(vi_sim *s)
 {
   s->method_used = uses_exact(s)                  ? VI_METHOD_EXACT
@@ -164,6 +173,7 @@ void vi_sim_destroy(vi_sim **sim)
   vi_user_set(&s->force_user, &s->force_free, NULL, NULL);
   vi_user_set(&s->led_user, &s->led_free, NULL, NULL);
   backend_destroy(s);
+  vi_held_free(s);
   vi_ledger_destroy(s->led);
   vi_force_free(s);
   vi_xflow_destroy(&s->flow);
@@ -392,7 +402,7 @@ int64_t vi_sim_stat(const vi_sim *s, int which)
   int64_t v = s->stats[which];
   if (s->be_data) v += s->be->stat(s->be_data, which);
   if (s->park_data) v += s->park_be->stat(s->park_data, which);
-  return v;
+  return v + vi_held_stat(s, which);
 }
 
 /* ---- root bracketing shared by the backends ----------------------------- */
@@ -579,7 +589,7 @@ static int on_contact_one(vi_sim *s, int k)
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   emit_sticks_due(s, s->t); /* a tail of no duration */
   s->stats[VI_STAT_REINITS]++;
-  use_backend(s, stick ? &vi_backend_cvode : method_backend(s));
+  use_backend(s, stick ? held_backend(s) : method_backend(s));
   return s->be->start(s);
 }
 
@@ -752,7 +762,7 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
   }
   emit_sticks_due(s, s->t);
   s->stats[VI_STAT_REINITS]++;
-  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  use_backend(s, s->sticking ? held_backend(s) : method_backend(s));
   return s->be->start(s);
 }
 
@@ -992,7 +1002,7 @@ int vi_sim_run(vi_sim *s, double t_end)
                        k + 1, g + xs, xs);
     }
     note_method(s);
-    use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+    use_backend(s, s->sticking ? held_backend(s) : method_backend(s));
     if ((st = s->be->start(s))) return st;
     s->started = 1;
     if (s->smp_fn && (st = samples(s, s->t))) return st;
@@ -1052,7 +1062,7 @@ int vi_sim_setup(vi_sim *s)
   if (!s) return VI_ERR_ARG;
   if (s->started) return VI_OK;
   note_method(s);
-  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  use_backend(s, s->sticking ? held_backend(s) : method_backend(s));
   return s->be->start(s); /* allocates; vi_sim_run restarts it cheaply */
 }
 
