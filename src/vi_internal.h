@@ -111,6 +111,11 @@ int vi_modal_setup(vi_model *m);
 void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x */
 void vi_matvec_t(int n, const double *A, const double *x, double *y); /* y = A^T x */
 double vi_dot(int n, const double *x, const double *y);
+/* C = alpha op(A) op(B) + beta C (BLAS dgemm, column-major; ta, tb 'N' or
+ * 'T'; C is m x n, op(A) m x k) */
+void vi_gemm(char ta, char tb, int m, int n, int k, double alpha,
+             const double *A, int lda, const double *B, int ldb, double beta,
+             double *C, int ldc);
 /* Modal coordinates q = Psi^T M x and velocities qd = Psi^T M v of an
  * interleaved state z = (x_1, v_1, ...); q or qd may be NULL. */
 void vi_modal_project(const vi_model *m, const double *z, double *q,

@@ -38,17 +38,13 @@ int vi_modal_setup(vi_model *m)
     m->omega[j] = sqrt(m->lambda[j]);
   }
   /* PsiTM = Psi^T M (x -> q), D = Psi^T C Psi; Mw holds C Psi, M Psi */
-  for (int j = 0; j < n; j++) {
-    vi_matvec(n, m->C, m->Psi + (size_t)j * n, Mw + (size_t)j * n);
-    vi_matvec(n, m->M, m->Psi + (size_t)j * n, Kw + (size_t)j * n);
-  }
+  vi_gemm('N', 'N', n, n, n, 1.0, m->C, n, m->Psi, n, 0.0, Mw, n);
+  vi_gemm('N', 'N', n, n, n, 1.0, m->M, n, m->Psi, n, 0.0, Kw, n);
+  vi_gemm('T', 'N', n, n, n, 1.0, m->Psi, n, Mw, n, 0.0, m->D, n);
   for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++) {
-      m->D[i + (size_t)j * n] =
-          vi_dot(n, m->Psi + (size_t)i * n, Mw + (size_t)j * n);
+    for (int i = 0; i < n; i++)
       /* (Psi^T M)_{ij} = (M Psi)_{ji} since M is symmetric */
       m->PsiTM[i + (size_t)j * n] = Kw[j + (size_t)i * n];
-    }
   double dmax = 0.0, offmax = 0.0;
   for (int j = 0; j < n; j++)
     for (int i = 0; i < n; i++) {

@@ -56,6 +56,9 @@ static int rayleigh_fit(const vi_model *m, double *a, double *b)
   for (int j = 0; j < n; j++)
     if (fabs(m->D[j + (size_t)j * n] - *a - *b * m->lambda[j]) > 1e-9 * dmax)
       return 0;
+  /* a coefficient that is round-off of zero is zero (a, b >= 0 below) */
+  if (fabs(*a) <= 1e-9 * dmax) *a = 0.0;
+  if (fabs(*b) * lmax <= 1e-9 * dmax) *b = 0.0;
   return 1;
 }
 
