@@ -503,8 +503,10 @@ int vi_held_start(vi_sim *s)
     if (e->kind == 0) sc += c->lscale[e->slot];
     else sc += 1e-3 * s->atol * s->wnorms[e->stop];
     e->noise = 64.0 * DBL_EPSILON * sc;
-    if (fabs(H->fk[j]) <= e->noise || (e->kind == 1 && H->fk[j] > 0.0 &&
-                                       H->fk[j] <= e->tol)) {
+    /* a hold the driver began with its force at zero and rising (pressed
+     * at a higher order) starts on zero too */
+    if (fabs(H->fk[j]) <= e->noise || (e->kind == 0 && H->fk[j] > 0.0) ||
+        (e->kind == 1 && H->fk[j] > 0.0 && H->fk[j] <= e->tol)) {
       e->off = H->fk[j];
       H->fk[j] = 0.0;
     }

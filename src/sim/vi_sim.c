@@ -558,7 +558,18 @@ static int on_contact_one(vi_sim *s, int k)
       s->zs[2 * (size_t)i + 1] = s->vp[i];
     }
     vi_sim_accel(s, s->t, s->zs, 0, s->w1);
-    stick = vi_dot(n, w, s->w1) > 0.0;
+    double p2 = vi_dot(n, w, s->w1);
+    stick = p2 > 0.0;
+    if (!stick) {
+      /* pressed at the next order: no contact force yet (a body arriving
+       * undeformed, as Siconos' impacting bar) but a positive third
+       * derivative of the gap, so that it presses within a round-off of
+       * p2; a restart on g = g' = g'' = 0 would miss that contact (no sign
+       * change from zero) */
+      vi_sim_accel_rate(s, s->t, 1, s->vp, s->w1, s->w2);
+      double jerk = vi_dot(n, w, s->w2), om = vi_model_omega_bound(m);
+      stick = jerk > 0.0 && om > 0.0 && -p2 <= jerk * 1e-3 / om;
+    }
   }
   double ie_tail = 0.0;
   if (stick) {
@@ -852,6 +863,13 @@ static int worst_gap(const vi_sim *s, const double *z, double *g,
   for (int k = 0; k < s->ns; k++) {
     double gk, gd, tk = vi_sim_gap_tol(s, k);
     vi_sim_gap_k(s, k, z, &gk, &gd);
+    /* the integrator controls each coordinate to rtol |x_i| + atol, so w.x
+     * carries rtol sum |w_i x_i| besides the atol part: the state's scale
+     * (a stop near the origin of a structure far from it) */
+    const double *w = vi_stop_w(s->m, k);
+    double sc = 0.0;
+    for (int i = 0; i < s->n; i++) sc += fabs(w[i] * z[2 * (size_t)i]);
+    tk += 100.0 * s->rtol * sc;
     /* written so that a NaN gap is the worst */
     if (!(gk - tk <= worst)) {
       worst = gk - tk;
