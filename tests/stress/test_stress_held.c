@@ -19,7 +19,7 @@
  *    oscillates as x1 = sin(sqrt2 t) / sqrt2, hitting x1 = 0.3 with speed
  *    u1 = cos(sqrt2 t1); each rebound -r u returns to the stop after
  *    (2 pi + 2 atan(-r u / (0.3 sqrt2))) / sqrt2 at the same speed r u.
- * d. Siconos' impacting bar (vi_bar.h) against the independent clamped-bar
+ * d. Siconos' impacting bar (vi_bar.h, 20 to 500 elements) against the independent clamped-bar
  *    reference ref/bar_ref.py: release to 1e-11 s; and the continuum limit
  *    5e-4 + 2 L / c, rebound 0.1 m/s, approached as the mesh is refined.
  *
@@ -238,6 +238,7 @@ static const struct { int ne; double t, v; } bar_ref[] = {
     {50, 0.00088190517159937262, 0.097932658841603834},
     {100, 0.00088310604066142826, 0.098698152326737121},
     {200, 0.00088402089810526855, 0.099177994429015995},
+    {500, 0.00088466116610149445, 0.099553874153702135},
 };
 
 static void test_impacting_bar(void **state)
@@ -281,9 +282,11 @@ static void test_impacting_bar(void **state)
            "rhs_evals %lld\n", ne, log->t[ir], bar_ref[q].t, et, vr, ev,
            log->t[ir] - tc, 0.1 - vr,
            (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
-    assert_true(et <= 1e-11);
-    /* momentum: the impulses' round-off against 1e-3 of the rebound */
-    assert_true(ev <= 1e-9);
+    /* the issue's target is 1e-11 s; the modal sums reach 1e-13 s (a rigid
+     * mode left at dsygvd's round-off eigenvalue cost 2e-13 s here) */
+    assert_true(et <= 1e-13);
+    /* momentum after release: round-off of the modal sums */
+    assert_true(ev <= 1e-12);
     assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
     /* the continuum limit is approached from below, monotonically */
     assert_true(log->t[ir] < tc && tc - log->t[ir] < prev_t);
