@@ -37,7 +37,7 @@ int main(int argc, char **argv)
     return 2;
   }
   double t0 = now();
-  vi_model *m = bar_model(ne);
+  vi_model *m = bar_model(ne, 0.0);
   int n = ne + 1;
   double *x = malloc(sizeof(double) * (size_t)n), *v = malloc(sizeof(double) * (size_t)n);
   vi_sim *s = NULL;

@@ -18,8 +18,9 @@
 #define BAR_X0 5e-5
 #define BAR_V0 -0.1
 
-/* The bar's model (dense M, K), set up; NULL on failure. */
-static inline vi_model *bar_model(int ne)
+/* The bar's model (dense M, K) with restitution r at the obstacle (the
+ * example: 0), set up; NULL on failure. */
+static inline vi_model *bar_model(int ne, double r)
 {
   int n = ne + 1;
   double h = BAR_L / ne, mm = BAR_RHO * BAR_S * h, kk = BAR_E * BAR_S / h;
@@ -41,7 +42,7 @@ static inline vi_model *bar_model(int ne)
   }
   w[0] = -1.0;
   if (vi_model_set_mass(m, M, n) || vi_model_set_stiffness(m, K, n) ||
-      vi_model_set_stop(m, w, 0.0, 0.0) || vi_model_setup(m))
+      vi_model_set_stop(m, w, 0.0, r) || vi_model_setup(m))
     vi_model_destroy(&m);
 out:
   free(M);
