@@ -140,10 +140,11 @@ VI_API int vi_fe_set_modal_damping(vi_fe *fe, int nzeta, const double *zeta);
 
 /** @name Eigensolver settings (sparse source)
  *  @{ */
-/** Keep the k lowest modes, 1 <= k <= n (k < n - 1 for the sparse source
- *  when n > 2: Lanczos needs room; a smaller model is better served by
- *  dense vi_model_create).  A per-mode zeta set before must have k entries
- *  at setup.  @return VI_OK, VI_ERR_DIM, VI_ERR_STATE. */
+/** Keep the k lowest modes, 1 <= k <= n.  Lanczos needs k <= n - 2; for
+ *  k >= n - 1 the modes come from LAPACK's dense dsygvd on the expanded
+ *  matrices instead (n <= 4000).  A per-mode zeta set before must have k
+ *  entries at setup.  @return VI_OK, VI_ERR_DIM, VI_ERR_STATE (frozen, or
+ *  host modes set: they fix k). */
 VI_API int vi_fe_set_modes(vi_fe *fe, int k);
 /** The shift sigma of the shift-invert (K - sigma M)^-1 M, finite and
  *  below the lowest eigenvalue (lambda = omega^2); a shift at or above it
@@ -151,10 +152,11 @@ VI_API int vi_fe_set_modes(vi_fe *fe, int k);
  *  Default: automatic (0, or negative for a singular K).
  *  @return VI_OK, VI_ERR_NONFINITE, VI_ERR_STATE. */
 VI_API int vi_fe_set_shift(vi_fe *fe, double sigma);
-/** Lanczos settings: tol, the relative accuracy of the Ritz values (0: the
- *  default, machine precision); ncv, the Lanczos basis size (0: the default
- *  min(n, max(2k + 1, k + 20)); else k < ncv <= n); maxit, restart
- *  iterations (0: default 1000).  @return VI_OK, VI_ERR_ARG (negative or
+/** Lanczos settings: tol, ARPACK's relative accuracy of the Ritz values
+ *  (0: the default, machine precision); ncv, the Lanczos basis size (0: the
+ *  default min(n, max(2k + 1, k + 20)); else k < ncv <= n, checked at
+ *  setup); maxit, restart iterations (0: default 1000).  The start vector
+ *  is fixed, so a setup is reproducible.  @return VI_OK, VI_ERR_ARG (negative or
  *  non-finite), VI_ERR_DIM (ncv), VI_ERR_STATE. */
 VI_API int vi_fe_set_eigensolver(vi_fe *fe, double tol, int ncv, int maxit);
 /** Refuse a setup that would hold more than `bytes` (the CSC copies, the
@@ -262,9 +264,9 @@ VI_API const double *vi_fe_output_shapes(const vi_fe *fe, int *ld);
 VI_API const double *vi_fe_shapes(const vi_fe *fe, int *ld);
 /** The shift sigma used (0 with host modes). */
 VI_API double vi_fe_shift(const vi_fe *fe);
-/** Largest relative residual of the kept modes,
- *  max_j ||K psi_j - lambda_j M psi_j|| / (||K psi_j|| + |lambda_j| ||M psi_j||)
- *  (infinity norms; the eigenpairs' backward error); 0 with host modes. */
+/** Largest backward error of the kept eigenpairs,
+ *  max_j ||K psi_j - lambda_j M psi_j|| / ((||K|| + |lambda_j| ||M||)
+ *  ||psi_j||) (infinity norms); 0 with host modes. */
 VI_API double vi_fe_residual(const vi_fe *fe);
 /** Stop s's compliance (WB 10): *dynamic = w^T M^-1 w, the inverse of its
  *  effective mass, against which sum_j psi_sj^2 over the kept modes is the

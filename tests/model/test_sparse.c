@@ -57,7 +57,8 @@ static void rod_build(rod *r, int N, int fixed)
 static double rod_lambda(int N, double theta)
 {
   double h = LEN / N;
-  return 6.0 * E / (RHO * h * h) * (1.0 - cos(theta)) / (2.0 + cos(theta));
+  double s = sin(0.5 * theta); /* 1 - cos theta without cancellation */
+  return 6.0 * E / (RHO * h * h) * 2.0 * s * s / (2.0 + cos(theta));
 }
 
 static vi_fe *rod_fe(const rod *r, int k)
