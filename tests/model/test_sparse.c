@@ -298,6 +298,69 @@ static void test_hermite_beam(void **state)
   }
 }
 
+/* Two disconnected free rods in one model: every eigenvalue double, two
+ * rigid modes (as the six of a free 3-D body): Lanczos must return both
+ * members of each pair, M-orthonormal. */
+static void test_degenerate_modes(void **state)
+{
+  (void)state;
+  const int N = 100, k = 8;
+  rod_build(&R, N, 0);
+  int n1 = R.n, n = 2 * n1, nnz = R.nnz;
+  int *cp = malloc(sizeof(int) * (size_t)(n + 1)), *ri = malloc(sizeof(int) * 2 * (size_t)nnz);
+  double *mv = malloc(sizeof(double) * 2 * (size_t)nnz), *kv = malloc(sizeof(double) * 2 * (size_t)nnz);
+  assert_true(cp && ri && mv && kv);
+  for (int b = 0; b < 2; b++) {
+    for (int j = 0; j < n1; j++) cp[b * n1 + j] = R.colptr[j] + b * nnz;
+    for (int p = 0; p < nnz; p++) {
+      ri[b * nnz + p] = R.rowind[p] + b * n1;
+      mv[b * nnz + p] = R.m[p];
+      kv[b * nnz + p] = R.k[p];
+    }
+  }
+  cp[n] = 2 * nnz;
+  vi_fe *fe = NULL;
+  assert_int_equal(vi_fe_create(n, &fe), VI_OK);
+  assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, cp, ri, mv), VI_OK);
+  assert_int_equal(vi_fe_set_stiffness_csc(fe, VI_CSC_LOWER, 0, cp, ri, kv), VI_OK);
+  assert_int_equal(vi_fe_set_modes(fe, k), VI_OK);
+  assert_int_equal(vi_fe_add_stop_dof(fe, 0, -1, 0.0, 0.5), VI_OK);
+  assert_int_equal(vi_fe_set_keep_shapes(fe, 1), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_OK);
+  const double *om = vi_fe_omega(fe);
+  assert_true(om[0] == 0.0 && om[1] == 0.0);
+  for (int j = 2; j < k; j++)
+    assert_close(om[j] / sqrt(rod_lambda(N, (j / 2) * M_PI / N)), 1.0, 1e-9);
+  /* Psi^T M Psi = I, the degenerate pairs included: eps times the
+   * Lanczos basis' loss of orthogonality, 1e-10 */
+  int ld;
+  const double *Psi = vi_fe_shapes(fe, &ld);
+  /* M Psi from the stored lower triangle */
+  const int *scp, *sri;
+  const double *smv;
+  int snz;
+  assert_int_equal(vi_fe_matrix_csc(fe, VI_FE_MASS, &snz, &scp, &sri, &smv), VI_OK);
+  double *Mp = calloc((size_t)n, sizeof(double));
+  assert_non_null(Mp);
+  for (int b = 0; b < k; b++) {
+    const double *pb = Psi + (size_t)b * ld;
+    memset(Mp, 0, sizeof(double) * (size_t)n);
+    for (int j = 0; j < n; j++)
+      for (int p = scp[j]; p < scp[j + 1]; p++) {
+        Mp[sri[p]] += smv[p] * pb[j];
+        if (sri[p] != j) Mp[j] += smv[p] * pb[sri[p]];
+      }
+    for (int a = 0; a < k; a++) {
+      double d = 0.0;
+      for (int i = 0; i < n; i++) d += Psi[i + (size_t)a * ld] * Mp[i];
+      assert_close(d, a == b ? 1.0 : 0.0, 1e-10);
+    }
+  }
+  free(Mp);
+  vi_fe_destroy(&fe);
+  free(cp); free(ri); free(mv); free(kv);
+}
+
 /* Every mode of a small rod (k >= n - 1: LAPACK's dense solver). */
 static void test_small_rod_dense(void **state)
 {
@@ -597,6 +660,7 @@ int main(void)
       cmocka_unit_test(test_fixed_free_rod),
       cmocka_unit_test(test_free_free_rod),
       cmocka_unit_test(test_hermite_beam),
+      cmocka_unit_test(test_degenerate_modes),
       cmocka_unit_test(test_small_rod_dense),
       cmocka_unit_test(test_storage_variants),
       cmocka_unit_test(test_bad_csc),
