@@ -330,7 +330,7 @@ static void test_degenerate_modes(void **state)
   const double *om = vi_fe_omega(fe);
   assert_true(om[0] == 0.0 && om[1] == 0.0);
   for (int j = 2; j < k; j++)
-    assert_close(om[j] / sqrt(rod_lambda(N, (j / 2) * M_PI / N)), 1.0, 1e-9);
+    assert_close(om[j] / sqrt(rod_lambda(N, (double)(j / 2) * M_PI / N)), 1.0, 1e-9); /* pair j / 2 */
   /* Psi^T M Psi = I, the degenerate pairs included: eps times the
    * Lanczos basis' loss of orthogonality, 1e-10 */
   int ld;
