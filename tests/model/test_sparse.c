@@ -329,8 +329,10 @@ static void test_degenerate_modes(void **state)
   assert_int_equal(vi_fe_setup(fe), VI_OK);
   const double *om = vi_fe_omega(fe);
   assert_true(om[0] == 0.0 && om[1] == 0.0);
-  for (int j = 2; j < k; j++)
-    assert_close(om[j] / sqrt(rod_lambda(N, (double)(j / 2) * M_PI / N)), 1.0, 1e-9); /* pair j / 2 */
+  for (int j = 2; j < k; j++) {
+    int pair = j / 2; /* modes 2j and 2j + 1 share theta = pair pi / N */
+    assert_close(om[j] / sqrt(rod_lambda(N, pair * M_PI / N)), 1.0, 1e-9);
+  }
   /* Psi^T M Psi = I, the degenerate pairs included: eps times the
    * Lanczos basis' loss of orthogonality, 1e-10 */
   int ld;
