@@ -1,24 +1,7 @@
 /* vi_dense.c - dense column-major helpers (leading dimension n) and the
  * modal projection of an interleaved state: shared by the model, the modal
  * analysis, the ledger, the orbits and the closed-form backend. */
-#include <stddef.h>
-
 #include "vi_internal.h"
-
-/* The reference BLAS interface (Debian's libblas.so.3: OpenBLAS where it is
- * installed); the trailing lengths are those of the character arguments. */
-void dgemm_(const char *ta, const char *tb, const int *m, const int *n,
-            const int *k, const double *alpha, const double *A, const int *lda,
-            const double *B, const int *ldb, const double *beta, double *C,
-            const int *ldc, size_t lta, size_t ltb);
-
-void vi_gemm(char ta, char tb, int m, int n, int k, double alpha,
-             const double *A, int lda, const double *B, int ldb, double beta,
-             double *C, int ldc)
-{
-  if (m <= 0 || n <= 0) return;
-  dgemm_(&ta, &tb, &m, &n, &k, &alpha, A, &lda, B, &ldb, &beta, C, &ldc, 1, 1);
-}
 
 void vi_matvec(int n, const double *A, const double *x, double *y)
 {

@@ -108,18 +108,14 @@ double vi_band_energy(const vi_model *m, const double *x, const double *v);
 void vi_band_accel_rate(const vi_model *m, double t, int k, const double *u,
                         const double *ud, double *out);
 
-/* Modal analysis (vi_modal.c), called by vi_model_setup. */
-int vi_modal_setup(vi_model *m);
+/* Modal analysis (vi_modal.c), called by vi_model_setup after M's
+ * Cholesky factorisation; checks K and C (c_zero: C = 0) semidefinite. */
+int vi_modal_setup(vi_model *m, int c_zero);
 
 /* Dense helpers, column-major with leading dimension n (vi_dense.c). */
 void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x */
 void vi_matvec_t(int n, const double *A, const double *x, double *y); /* y = A^T x */
 double vi_dot(int n, const double *x, const double *y);
-/* C = alpha op(A) op(B) + beta C (BLAS dgemm, column-major; ta, tb 'N' or
- * 'T'; C is m x n, op(A) m x k) */
-void vi_gemm(char ta, char tb, int m, int n, int k, double alpha,
-             const double *A, int lda, const double *B, int ldb, double beta,
-             double *C, int ldc);
 /* Modal coordinates q = Psi^T M x and velocities qd = Psi^T M v of an
  * interleaved state z = (x_1, v_1, ...); q or qd may be NULL. */
 void vi_modal_project(const vi_model *m, const double *z, double *q,
