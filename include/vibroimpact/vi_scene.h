@@ -12,13 +12,18 @@
  *                  | cantilever: {modes, omega1, zeta, xi_stop}
  *            rayleigh: {alpha, beta}            (C = alpha M + beta K)
  *   forcing: {omega, a, b, f0}  vectors of length n, omitted = 0;
- *            or {omega, on: [mass indices, 1-based], amplitude}
- *            or, for a cantilever, {omega, base: A} (base acceleration)
- *   stop:    {w: [...] | mass: j (1-based), xs, r}
+ *            or {omega, on: [coordinate indices, 1-based], amplitude}
+ *            (any model: a builder's coordinates are its own, a
+ *            cantilever's its modal ones)
+ *            or, for a cantilever, {omega, base: A} (base acceleration);
+ *            the whole section may be left out (free motion: give t_end)
+ *   stop:    {w: [...] | dof: j (1-based; `mass: j` is a synonym),
+ *            direction: +1 | -1 (with dof: w = +-e_j, default +1), xs, r}
  *   stops:   a list of stops as stop: takes one, instead of stop: (several
  *            stops, vi_model_add_stop order: the first is stop 0; on a
  *            cantilever a stop without w or mass is at the tip)
- *   initial: {t0, x, v}
+ *   initial: {t0, x, v}  x, v lists of n numbers, or one number for every
+ *            coordinate
  *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
  *   output:  {impacts: bool (default true), samples_per_period: int
  *             (default 0), ledger: bool (false), modes: bool (false: no

@@ -265,6 +265,16 @@ static int opt_vector(ctx *c, yaml_node_t *map, const char *path,
   return v ? vector(c, v, full, n, 0, out) : VI_OK;
 }
 
+/* initial.x / initial.v: a list of n numbers, or one number for every
+ * coordinate (a large model starting from a uniform state). */
+static int opt_state(ctx *c, yaml_node_t *map, const char *key, int n,
+                     double *out)
+{
+  char full[128];
+  yaml_node_t *v = optional(c, map, "initial", key, full);
+  return v ? vector(c, v, full, n, 1, out) : VI_OK;
+}
+
 /* An optional boolean as one bit of *flags. */
 static int opt_flag(ctx *c, yaml_node_t *map, const char *path,
                     const char *key, int bit, int *flags)
@@ -473,33 +483,57 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
   return VI_OK;
 }
 
-/* One stop {w: [...] | mass: j, xs, r} at `path` ("stop", "stops[2]")
- * into w [n] (zeroed), *has_w, *xs, *r. */
+/* One stop {w: [...] | dof: j (or its synonym mass: j, 1-based),
+ * direction: +1 | -1, xs, r} at `path` ("stop", "stops[2]") into w [n]
+ * (zeroed), *has_w, *xs, *r.  direction -1 makes the stop push the other
+ * way: w = -e_j, so that -x_j <= xs (a stop below the coordinate). */
 static int parse_stop_at(ctx *c, vi_scene *s, yaml_node_t *sp,
                          const char *path, double *w, int *has_w, double *xs,
                          double *r)
 {
-  static const char *const keys[] = {"w", "mass", "xs", "r", NULL};
+  static const char *const keys[] = {"w",  "mass", "dof", "direction",
+                                     "xs", "r",    NULL};
   char key[128];
   int st = check_map(c, sp, path, keys);
   if (st) return st;
-  yaml_node_t *wn = find(c, sp, "w"), *mass = find(c, sp, "mass");
-  join(key, path, "mass");
-  if (wn && mass)
-    return fail(c, mass, VI_ERR_PARSE, key, "%s", "give w or mass, not both");
+  yaml_node_t *wn = find(c, sp, "w"), *mass = find(c, sp, "mass"),
+              *dof = find(c, sp, "dof"), *dir = find(c, sp, "direction");
+  if (mass && dof) {
+    join(key, path, "dof");
+    return fail(c, dof, VI_ERR_PARSE, key, "%s",
+                "give dof or its synonym mass, not both");
+  }
+  const char *dname = dof ? "dof" : "mass";
+  if (!dof) dof = mass;
+  join(key, path, dname);
+  if (wn && dof)
+    return fail(c, dof, VI_ERR_PARSE, key, "%s", "give w or dof, not both");
   if (wn) {
     join(key, path, "w");
     if ((st = vector(c, wn, key, s->n, 0, w))) return st;
     *has_w = 1;
   }
-  if (mass) {
+  double sign = 1.0;
+  if (dir) {
+    join(key, path, "direction");
+    if (!dof)
+      return fail(c, dir, VI_ERR_PARSE, key, "%s",
+                  "direction goes with dof (w carries its own sign)");
+    int dv = 0;
+    if ((st = integer(c, dir, key, -1, 1, &dv))) return st;
+    if (dv == 0)
+      return fail(c, dir, VI_ERR_PARSE, key, "%s", "expected +1 or -1");
+    sign = dv;
+  }
+  if (dof) {
     int j = 1;
-    if ((st = integer(c, mass, key, 1, s->n, &j))) return st;
-    w[j - 1] = 1.0;
+    join(key, path, dname);
+    if ((st = integer(c, dof, key, 1, s->n, &j))) return st;
+    w[j - 1] = sign;
     *has_w = 1;
   }
   if (!*has_w && s->kind != VI_SCENE_CANTILEVER)
-    return fail(c, sp, VI_ERR_PARSE, path, "%s", "missing w or mass");
+    return fail(c, sp, VI_ERR_PARSE, path, "%s", "missing w or dof");
   yaml_node_t *xn = find(c, sp, "xs"), *rn = find(c, sp, "r");
   join(key, path, "xs");
   if (!xn)
@@ -637,8 +671,8 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
     s->line_initial = LINE(in);
     if ((st = check_map(c, in, "initial", ik)) ||
         (st = opt_number(c, in, "initial", "t0", &s->t0)) ||
-        (st = opt_vector(c, in, "initial", "x", s->n, s->x0)) ||
-        (st = opt_vector(c, in, "initial", "v", s->n, s->v0)))
+        (st = opt_state(c, in, "x", s->n, s->x0)) ||
+        (st = opt_state(c, in, "v", s->n, s->v0)))
       return st;
   }
   if (run) {
