@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "vi_testutil.h"
+#include "vibroimpact/vi_mmio.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
@@ -288,12 +289,48 @@ static void test_writer_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* Matrix Market reader: NULL paths, handles and outputs, an unknown
+ * storage, a NaN limit, a directory and a missing file for a path; the
+ * getters of a NULL handle return their sentinels. */
+static void test_mm_misuse(void **state)
+{
+  (void)state;
+  vi_mm *m = NULL;
+  vi_diag d;
+  assert_err_diag(vi_mm_load(NULL, VI_MM_LOWER, &m, &d), d);
+  assert_err_diag(vi_mm_load("x.mtx", VI_MM_LOWER, NULL, &d), d);
+  assert_err_diag(vi_mm_load("x.mtx", 7, &m, &d), d);
+  assert_err_diag(vi_mm_load("x.mtx", -1, &m, &d), d);
+  assert_int_equal(vi_mm_load("x.mtx", 7, &m, NULL), VI_ERR_ARG);
+  assert_err_diag(vi_mm_load_limited("x.mtx", VI_MM_FULL, NAN, &m, &d), d);
+  assert_err_diag(vi_mm_load_limited(NULL, VI_MM_FULL, 1e9, &m, &d), d);
+  assert_err_diag(vi_mm_load("/nonexistent/x.mtx", VI_MM_FULL, &m, &d), d);
+  assert_int_equal(d.code, VI_ERR_IO);
+  assert_err_diag(vi_mm_load("/", VI_MM_FULL, &m, &d), d); /* a directory */
+  assert_null(m);
+  assert_err_diag(vi_mm_read_header(NULL, NULL, NULL, NULL, NULL, &d), d);
+  assert_int_equal(vi_mm_read_header("/nonexistent", NULL, NULL, NULL, NULL,
+                                     NULL), VI_ERR_IO);
+  assert_err_diag(vi_mm_read_header("/dev/null", NULL, NULL, NULL, NULL, &d),
+                  d);
+  vi_mm_destroy(&m);
+  vi_mm_destroy(NULL);
+  assert_int_equal(vi_mm_rows(NULL), 0);
+  assert_int_equal(vi_mm_cols(NULL), 0);
+  assert_int_equal(vi_mm_nnz(NULL), 0);
+  assert_int_equal(vi_mm_storage_kind(NULL), -1);
+  assert_null(vi_mm_colptr(NULL));
+  assert_null(vi_mm_rowind(NULL));
+  assert_null(vi_mm_values(NULL));
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_scene_misuse),
       cmocka_unit_test(test_scene_edit_misuse),
       cmocka_unit_test(test_writer_misuse),
+      cmocka_unit_test(test_mm_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

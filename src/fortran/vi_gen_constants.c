@@ -8,6 +8,7 @@
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_mmio.h"
 
 static void constant(FILE *f, const char *name, long value)
 {
@@ -56,6 +57,7 @@ int main(int argc, char **argv)
   }
   K_(VI_SCENE_OUT_IMPACTS); K_(VI_SCENE_OUT_LEDGER); K_(VI_SCENE_OUT_MODES);
   K_(VI_SCENE_OUT_COMPRESS);
+  K_(VI_MM_LOWER); K_(VI_MM_FULL); K_(VI_MM_MAX_LINE);
 #undef K_
   return fclose(f) != 0;
 }

@@ -41,6 +41,9 @@ module vibroimpact_io
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
             vi_output_resolve, vi_writer_run_info, vi_writer_finish
+  public :: vi_mm_read_header, vi_mm_load, vi_mm_load_limited, vi_mm_destroy, &
+            vi_mm_rows, vi_mm_cols, vi_mm_nnz, vi_mm_storage_kind, vi_mm_colptr, &
+            vi_mm_rowind, vi_mm_values
 
   interface
     ! ---- scenes ---------------------------------------------------------------
@@ -288,6 +291,68 @@ module vibroimpact_io
     type(c_ptr) function vi_writer_errmsg(writer) bind(C, name="vi_writer_errmsg")
       import :: c_ptr
       type(c_ptr), value :: writer
+    end function
+    ! ---- Matrix Market files (vi_mmio.h) ------------------------------------
+    !> path: 'K.mtx'//c_null_char; rows, cols, entries, symmetric optional
+    integer(c_int) function vi_mm_read_header(path, rows, cols, entries, symmetric, diag) &
+        bind(C, name="vi_mm_read_header")
+      import :: c_int, c_int64_t, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), optional :: rows, cols, symmetric
+      integer(c_int64_t), optional :: entries
+      type(vi_diag), optional :: diag
+    end function
+    !> storage: VI_MM_LOWER or VI_MM_FULL; mm receives the handle
+    integer(c_int) function vi_mm_load(path, storage, mm, diag) bind(C, name="vi_mm_load")
+      import :: c_int, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: storage
+      type(c_ptr) :: mm
+      type(vi_diag), optional :: diag
+    end function
+    !> max_bytes <= 0: no limit
+    integer(c_int) function vi_mm_load_limited(path, storage, max_bytes, mm, diag) &
+        bind(C, name="vi_mm_load_limited")
+      import :: c_int, c_double, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: storage
+      real(c_double), value :: max_bytes
+      type(c_ptr) :: mm
+      type(vi_diag), optional :: diag
+    end function
+    subroutine vi_mm_destroy(mm) bind(C, name="vi_mm_destroy")
+      import :: c_ptr
+      type(c_ptr) :: mm
+    end subroutine
+    integer(c_int) function vi_mm_rows(mm) bind(C, name="vi_mm_rows")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    integer(c_int) function vi_mm_cols(mm) bind(C, name="vi_mm_cols")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    integer(c_int) function vi_mm_nnz(mm) bind(C, name="vi_mm_nnz")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    integer(c_int) function vi_mm_storage_kind(mm) bind(C, name="vi_mm_storage_kind")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    !> views: c_f_pointer(vi_mm_colptr(mm), p, [vi_mm_cols(mm) + 1]); 0-based
+    !> indices (add 1 for Fortran's)
+    type(c_ptr) function vi_mm_colptr(mm) bind(C, name="vi_mm_colptr")
+      import :: c_ptr
+      type(c_ptr), value :: mm
+    end function
+    type(c_ptr) function vi_mm_rowind(mm) bind(C, name="vi_mm_rowind")
+      import :: c_ptr
+      type(c_ptr), value :: mm
+    end function
+    type(c_ptr) function vi_mm_values(mm) bind(C, name="vi_mm_values")
+      import :: c_ptr
+      type(c_ptr), value :: mm
     end function
   end interface
 
