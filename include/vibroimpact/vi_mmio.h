@@ -32,15 +32,16 @@
  * are dropped.  Line endings LF or CRLF; lines up to 1024 characters.
  *
  * Output: CSC arrays (the Harwell-Boeing convention), 0-based, rows sorted
- * within each column: colptr [cols + 1], rowind and values [nnz].  Storage
- * VI_MM_LOWER keeps the lower triangle (i >= j) of a square symmetric
+ * within each column: colptr [cols + 1], rowind and values [nnz], as
+ * vi_fe_set_mass_csc (vi_sparse.h) takes them with base 0.  Storage
+ * (vi_csc_storage) VI_CSC_LOWER keeps the lower triangle (i >= j) of a square symmetric
  * matrix: a symmetric file as it is, a general file after checking that
  * A(i,j) = A(j,i) to 1e-12 of the largest |A| (as vi_model_set_mass does;
  * VI_ERR_NOT_SYMMETRIC names both lines otherwise) and storing the average.
- * VI_MM_FULL keeps every entry, a symmetric file's mirrored.
+ * VI_CSC_FULL keeps every entry, a symmetric file's mirrored.
  *
  * Memory: a file of E entries (vi_mm_read_header) takes about 40 E bytes
- * while it is read and 12 E (24 E for VI_MM_FULL of a symmetric file) once
+ * while it is read and 12 E (24 E for VI_CSC_FULL of a symmetric file) once
  * stored; vi_mm_load_limited refuses, before reading the entries, a file
  * that would need more than its limit.
  */
@@ -51,16 +52,11 @@
 
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_sparse.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** Storage of a loaded matrix (vi_mm_load). */
-typedef enum vi_mm_storage {
-  VI_MM_LOWER = 0, /**< the lower triangle of a symmetric matrix */
-  VI_MM_FULL = 1   /**< every entry */
-} vi_mm_storage;
 
 /** Longest line of a Matrix Market file read (characters, without the
  *  line end). */
@@ -81,8 +77,8 @@ typedef struct vi_mm vi_mm;
 VI_API int vi_mm_read_header(const char *path, int *rows, int *cols,
                              int64_t *entries, int *symmetric, vi_diag *diag);
 /** Read a Matrix Market file into CSC storage (see the file comment);
- *  *out receives the matrix, NULL on failure.  storage: VI_MM_LOWER (square
- *  and symmetric) or VI_MM_FULL.
+ *  *out receives the matrix, NULL on failure.  storage: VI_CSC_LOWER
+ *  (square and symmetric) or VI_CSC_FULL (any matrix).
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_IO, VI_ERR_PARSE, VI_ERR_DIM (an index
  *  out of range; a matrix that is not square for VI_MM_LOWER),
  *  VI_ERR_NONFINITE, VI_ERR_NOT_SYMMETRIC, VI_ERR_UNSUPPORTED, VI_ERR_LIMIT,
@@ -103,7 +99,7 @@ VI_API int vi_mm_rows(const vi_mm *mm);
 VI_API int vi_mm_cols(const vi_mm *mm);
 /** Entries stored (the length of rowind and values; 0 for NULL). */
 VI_API int vi_mm_nnz(const vi_mm *mm);
-/** The storage held, VI_MM_LOWER or VI_MM_FULL (-1 for NULL). */
+/** The storage held, VI_CSC_LOWER or VI_CSC_FULL (-1 for NULL). */
 VI_API int vi_mm_storage_kind(const vi_mm *mm);
 /** Column pointers [cols + 1], 0-based (column j's entries are
  *  colptr[j] .. colptr[j+1] - 1; Fortran adds 1); a view owned by mm,

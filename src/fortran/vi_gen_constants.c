@@ -57,7 +57,7 @@ int main(int argc, char **argv)
   }
   K_(VI_SCENE_OUT_IMPACTS); K_(VI_SCENE_OUT_LEDGER); K_(VI_SCENE_OUT_MODES);
   K_(VI_SCENE_OUT_COMPRESS);
-  K_(VI_MM_LOWER); K_(VI_MM_FULL); K_(VI_MM_MAX_LINE);
+  K_(VI_MM_MAX_LINE);
 #undef K_
   return fclose(f) != 0;
 }

@@ -302,7 +302,7 @@ module vibroimpact_io
       integer(c_int64_t), optional :: entries
       type(vi_diag), optional :: diag
     end function
-    !> storage: VI_MM_LOWER or VI_MM_FULL; mm receives the handle
+    !> storage: VI_CSC_LOWER or VI_CSC_FULL; mm receives the handle
     integer(c_int) function vi_mm_load(path, storage, mm, diag) bind(C, name="vi_mm_load")
       import :: c_int, c_ptr, c_char, vi_diag
       character(kind=c_char), intent(in) :: path(*)

@@ -222,7 +222,7 @@ static int read_header(reader *r, header *h)
                      h->symmetric ? "symmetric" : "general", h->rows, h->cols);
     h->entries = v[2];
   }
-  /* VI_MM_FULL doubles a symmetric file's entries; CSC indices are int */
+  /* VI_CSC_FULL doubles a symmetric file's entries; CSC indices are int */
   if (2.0 * (double)h->entries > INT_MAX)
     return rd_fail(r, VI_ERR_LIMIT, "size", "%lld entries: more than the "
                    "%d that int indices hold", (long long)h->entries,
@@ -433,13 +433,13 @@ static int mm_nomem(vi_mm **m, triplets *t, int *perm, vi_diag *d,
   return vi_diag_nomem(d, path);
 }
 
-/* The triplets (symmetric files mirrored first for VI_MM_FULL) into a CSC
+/* The triplets (symmetric files mirrored first for VI_CSC_FULL) into a CSC
  * matrix; duplicates refused; a general file kept whole or, for
- * VI_MM_LOWER, checked for symmetry and its lower triangle averaged. */
+ * VI_CSC_LOWER, checked for symmetry and its lower triangle averaged. */
 static int build(reader *r, const header *h, triplets *t, int storage,
                  vi_mm **out)
 {
-  if (h->symmetric && storage == VI_MM_FULL) {
+  if (h->symmetric && storage == VI_CSC_FULL) {
     int64_t n0 = t->count;
     for (int64_t k = 0; k < n0; k++)
       if (t->i[k] != t->j[k]) {
@@ -491,7 +491,7 @@ static int build(reader *r, const header *h, triplets *t, int storage,
     }
   }
   m->nnz = (int)t->count;
-  if (!h->symmetric && storage == VI_MM_LOWER) {
+  if (!h->symmetric && storage == VI_CSC_LOWER) {
     if (h->rows != h->cols) {
       vi_diag_set(r->d, r->path, VI_ERR_DIM, 0, 0, "size", "",
                   "a %d x %d matrix is not square: lower-triangle storage "
@@ -553,11 +553,11 @@ int vi_mm_load_limited(const char *path, int storage, double max_bytes,
 {
   if (d) memset(d, 0, sizeof *d);
   if (out) *out = NULL;
-  if (!path || !out || (storage != VI_MM_LOWER && storage != VI_MM_FULL) ||
+  if (!path || !out || (storage != VI_CSC_LOWER && storage != VI_CSC_FULL) ||
       isnan(max_bytes))
     return vi_diag_set(d, path ? path : "", VI_ERR_ARG, 0, 0, "", "", "%s",
-                       "vi_mm_load: path, out, a storage (VI_MM_LOWER or "
-                       "VI_MM_FULL) and a limit that is a number are "
+                       "vi_mm_load: path, out, a storage (VI_CSC_LOWER or "
+                       "VI_CSC_FULL) and a limit that is a number are "
                        "required");
   reader r;
   header h;
@@ -570,7 +570,7 @@ int vi_mm_load_limited(const char *path, int storage, double max_bytes,
   }
   /* triplets (20 bytes each, twice as many for a mirrored file) + the
    * sort's two int arrays + the CSC copy */
-  int64_t cap = h.symmetric && storage == VI_MM_FULL ? 2 * h.entries
+  int64_t cap = h.symmetric && storage == VI_CSC_FULL ? 2 * h.entries
                                                      : h.entries;
   double need = 40.0 * (double)cap + 12.0 * (double)h.cols;
   if (max_bytes > 0 && need > max_bytes) {

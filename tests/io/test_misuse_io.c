@@ -297,16 +297,16 @@ static void test_mm_misuse(void **state)
   (void)state;
   vi_mm *m = NULL;
   vi_diag d;
-  assert_err_diag(vi_mm_load(NULL, VI_MM_LOWER, &m, &d), d);
-  assert_err_diag(vi_mm_load("x.mtx", VI_MM_LOWER, NULL, &d), d);
+  assert_err_diag(vi_mm_load(NULL, VI_CSC_LOWER, &m, &d), d);
+  assert_err_diag(vi_mm_load("x.mtx", VI_CSC_LOWER, NULL, &d), d);
   assert_err_diag(vi_mm_load("x.mtx", 7, &m, &d), d);
   assert_err_diag(vi_mm_load("x.mtx", -1, &m, &d), d);
   assert_int_equal(vi_mm_load("x.mtx", 7, &m, NULL), VI_ERR_ARG);
-  assert_err_diag(vi_mm_load_limited("x.mtx", VI_MM_FULL, NAN, &m, &d), d);
-  assert_err_diag(vi_mm_load_limited(NULL, VI_MM_FULL, 1e9, &m, &d), d);
-  assert_err_diag(vi_mm_load("/nonexistent/x.mtx", VI_MM_FULL, &m, &d), d);
+  assert_err_diag(vi_mm_load_limited("x.mtx", VI_CSC_FULL, NAN, &m, &d), d);
+  assert_err_diag(vi_mm_load_limited(NULL, VI_CSC_FULL, 1e9, &m, &d), d);
+  assert_err_diag(vi_mm_load("/nonexistent/x.mtx", VI_CSC_FULL, &m, &d), d);
   assert_int_equal(d.code, VI_ERR_IO);
-  assert_err_diag(vi_mm_load("/", VI_MM_FULL, &m, &d), d); /* a directory */
+  assert_err_diag(vi_mm_load("/", VI_CSC_FULL, &m, &d), d); /* a directory */
   assert_null(m);
   assert_err_diag(vi_mm_read_header(NULL, NULL, NULL, NULL, NULL, &d), d);
   assert_int_equal(vi_mm_read_header("/nonexistent", NULL, NULL, NULL, NULL,
