@@ -54,6 +54,7 @@
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_model.h"
 #include "vibroimpact/vi_sim.h"
+#include "vibroimpact/vi_sparse.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -115,8 +116,22 @@ VI_API void vi_scene_destroy(vi_scene **scene);
  *  back in diag with the scene's key and line. */
 VI_API int vi_scene_create_model(const vi_scene *sc, vi_model **out,
                                  vi_diag *diag);
+/** The reduction of a model.matrix_market scene (vi_sparse.h), set up:
+ *  its Matrix Market files read (vi_mmio.h), the scene's damping, stops
+ *  and forcing given, `modes` lowest modes solved (0: the scene's
+ *  model.modes; more than a per-mode model.zeta list covers is refused),
+ *  the full Psi kept when keep is 1.  For studies across the number of
+ *  modes (vibroimpact truncation) and the frequencies, compliances and
+ *  shapes the model itself does not hold.  *out is NULL on failure.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (another kind of model),
+ *  VI_ERR_DIM, the reader's codes (diag naming the matrix file and line)
+ *  and vi_fe_setup's (diag naming the scene's key). */
+VI_API int vi_scene_create_fe(const vi_scene *sc, int modes, int keep,
+                              vi_fe **out, vi_diag *diag);
 /** Bytes the scene's model and a simulation of it need (an estimate
- *  measured on chains, dense storage); 0 for NULL. */
+ *  measured on chains, dense storage; for a model.matrix_market, the
+ *  files read, the reduction before its sparse factor
+ *  (vi_fe_memory_estimate) and the modal model's run); 0 for NULL. */
 VI_API double vi_scene_memory_estimate(const vi_scene *sc);
 /** Compare vi_scene_memory_estimate with max_bytes (<= 0: MemAvailable of
  *  /proc/meminfo; no check when that is unknown), before anything is
@@ -135,8 +150,13 @@ VI_API int vi_scene_configure_sim(const vi_scene *sc, vi_sim *sim,
 VI_API const char *vi_scene_name(const vi_scene *sc);
 /** The YAML text as read; owned by the scene. */
 VI_API const char *vi_scene_text(const vi_scene *sc);
-/** Number of coordinates of the scene's model. */
+/** Number of coordinates of the scene's model (the kept modes of a
+ *  model.matrix_market). */
 VI_API int vi_scene_n(const vi_scene *sc);
+/** Number of physical coordinates (dofs) the scene's vectors have: the
+ *  Matrix Market files' size for a model.matrix_market, else as
+ *  vi_scene_n. */
+VI_API int vi_scene_dofs(const vi_scene *sc);
 /** Initial time (initial.t0, default 0). */
 VI_API double vi_scene_t0(const vi_scene *sc);
 /** End time: run.t_end, or t0 + periods 2 pi / omega (default 100 periods). */
