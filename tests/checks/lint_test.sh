@@ -27,7 +27,7 @@ files=(
   tests/model/test_modal.c tests/impact/test_impact.c tests/sim/test_force.c tests/api/test_misuse.c
   tests/io/test_misuse_io.c
   tests/vi_testutil.c tests/sim/test_arkode.c tests/sim/test_exact.c tests/orbit/test_orbit.c
-  tests/io/test_scene_edit.c tests/io/test_writer.c tests/faults/test_faults.c
+  tests/io/test_scene_edit.c tests/io/test_writer.c tests/io/test_fe_scene.c tests/faults/test_faults.c
   tests/faults/vi_enospc.c tests/stress/stress_util.c tests/stress/test_stress_chatter.c
   tests/stress/test_stress_floors.c tests/stress/test_stress_graze.c
   tests/stress/test_stress_mdof.c tests/stress/test_stress_soft.c

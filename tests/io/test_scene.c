@@ -32,7 +32,9 @@ static void test_shipped_scenes_run(void **state)
     int st = vi_scene_load(path, &sc, &d);
     if (st) print_error("%s: %s\n", path, d.message);
     assert_int_equal(st, VI_OK);
-    assert_int_equal(vi_scene_set_run(sc, 0, 0, 5, -1), VI_OK); /* short */
+    /* short: 5 forcing periods; a free-motion scene keeps its t_end */
+    st = vi_scene_set_run(sc, 0, 0, 5, -1);
+    assert_true(st == VI_OK || st == VI_ERR_FREQUENCY);
     assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
     assert_int_equal(vi_model_n(m), vi_scene_n(sc));
     assert_int_equal(vi_sim_create(m, &s), VI_OK);
