@@ -33,7 +33,8 @@ module vibroimpact_io
             vi_scene_method, vi_scene_samples_per_period, vi_scene_outputs, &
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
-            vi_scene_memory_estimate, vi_scene_check_memory
+            vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
+            vi_scene_create_fe
   public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
@@ -170,6 +171,20 @@ module vibroimpact_io
     integer(c_int) function vi_scene_n(scene) bind(C, name="vi_scene_n")
       import :: c_int, c_ptr
       type(c_ptr), value :: scene
+    end function
+    integer(c_int) function vi_scene_dofs(scene) bind(C, name="vi_scene_dofs")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    !> modes 0: the scene's model.modes; keep 1: the full Psi; fe receives
+    !> the set-up reduction (module vibroimpact's vi_fe_* routines)
+    integer(c_int) function vi_scene_create_fe(scene, modes, keep, fe, diag) &
+        bind(C, name="vi_scene_create_fe")
+      import :: c_int, c_ptr, vi_diag
+      type(c_ptr), value :: scene
+      integer(c_int), value :: modes, keep
+      type(c_ptr) :: fe
+      type(vi_diag), optional :: diag
     end function
     real(c_double) function vi_scene_t0(scene) bind(C, name="vi_scene_t0")
       import :: c_double, c_ptr

@@ -324,6 +324,28 @@ static void test_mm_misuse(void **state)
   assert_null(vi_mm_values(NULL));
 }
 
+/* FE scenes: vi_scene_create_fe on NULL, another kind of model, bad
+ * modes and keep; vi_scene_dofs of NULL. */
+static void test_fe_scene_misuse(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL;
+  vi_fe *fe = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_dofs(NULL), 0);
+  assert_err_diag(vi_scene_create_fe(NULL, 0, 0, &fe, &d), d);
+  assert_int_equal(vi_scene_parse(chain3, -1, "chain3", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_dofs(sc), 3);
+  assert_err_diag(vi_scene_create_fe(sc, 0, 0, NULL, &d), d);
+  assert_err_diag(vi_scene_create_fe(sc, 0, 2, &fe, &d), d);
+  assert_err_diag(vi_scene_create_fe(sc, 0, -1, &fe, &d), d);
+  assert_err_diag(vi_scene_create_fe(sc, 0, 0, &fe, &d), d); /* a chain */
+  assert_int_equal(d.code, VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_scene_create_fe(sc, -3, 0, &fe, NULL), VI_ERR_UNSUPPORTED);
+  assert_null(fe);
+  vi_scene_destroy(&sc);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -331,6 +353,7 @@ int main(void)
       cmocka_unit_test(test_scene_edit_misuse),
       cmocka_unit_test(test_writer_misuse),
       cmocka_unit_test(test_mm_misuse),
+      cmocka_unit_test(test_fe_scene_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
