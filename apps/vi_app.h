@@ -52,6 +52,7 @@ typedef struct app_writer_api {
   int (*finish)(vi_writer *, int);
   void (*abort)(vi_writer **);
   const char *(*errmsg)(const vi_writer *);
+  int (*fe_shapes)(vi_writer *, const vi_fe *);
 } app_writer_api;
 /* The writer's functions; NULL (with a message printed) if the library
  * cannot be loaded. */

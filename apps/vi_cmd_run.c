@@ -217,6 +217,21 @@ int vi_cmd_run(const app_opts *o)
       fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
       goto done;
     }
+    if (outs & VI_SCENE_OUT_SHAPES) {
+      /* the full Psi only when asked: the reduction is solved again with
+       * its shapes kept (the model made above kept none) */
+      vi_fe *fe = NULL;
+      int fst = vi_scene_create_fe(sc, 0, 1, &fe, &d), wst = VI_OK;
+      if (fst)
+        vi_app_print_diag(&d, fst);
+      else if ((wst = c.wa->fe_shapes(c.w, fe)))
+        fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
+      vi_fe_destroy(&fe);
+      if (fst || wst) {
+        rc = fst && fst != VI_ERR_NOMEM ? 2 : 1;
+        goto done;
+      }
+    }
   }
   if (o->csv) {
     if (!strcmp(o->csv, "-")) {

@@ -27,7 +27,9 @@
  *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
  *   output:  {impacts: bool (default true), samples_per_period: int
  *             (default 0), ledger: bool (false), modes: bool (false: no
- *             /modal group), compress: bool (true: deflate the trajectory)}
+ *             /modal group), compress: bool (true: deflate the trajectory),
+ *             shapes: bool (false: no /fe/Psi, the full mode shapes of a
+ *             model.matrix_market)}
  *   springs: a list of built-in nonlinear springs (vi_force.h) between
  *            coordinates i and j (1-based; j = 0, the default, is the
  *            ground): {type: cubic, i, j, k3} (force k3 (x_i - x_j)^3) or
@@ -174,7 +176,9 @@ typedef enum vi_scene_output {
   VI_SCENE_OUT_IMPACTS = 1,  /**< output.impacts (default on): /impacts */
   VI_SCENE_OUT_LEDGER = 2,   /**< output.ledger: the energy ledger, /ledger */
   VI_SCENE_OUT_MODES = 4,    /**< output.modes: the /modal group */
-  VI_SCENE_OUT_COMPRESS = 8  /**< output.compress (default on): deflate */
+  VI_SCENE_OUT_COMPRESS = 8, /**< output.compress (default on): deflate */
+  VI_SCENE_OUT_SHAPES = 16   /**< output.shapes: the kept modes' full Psi
+                                  of a model.matrix_market (/fe/Psi) */
 } vi_scene_output;
 /** The scene's outputs: an OR of vi_scene_output bits; 0 for NULL.  Test
  *  one with `vi_scene_outputs(sc) & VI_SCENE_OUT_LEDGER`. */

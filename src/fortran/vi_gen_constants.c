@@ -56,7 +56,7 @@ int main(int argc, char **argv)
     constant(f, "VI_C_SIZEOF_DIAG", (long)sizeof d);
   }
   K_(VI_SCENE_OUT_IMPACTS); K_(VI_SCENE_OUT_LEDGER); K_(VI_SCENE_OUT_MODES);
-  K_(VI_SCENE_OUT_COMPRESS);
+  K_(VI_SCENE_OUT_COMPRESS); K_(VI_SCENE_OUT_SHAPES);
   K_(VI_MM_MAX_LINE);
 #undef K_
   return fclose(f) != 0;

@@ -41,7 +41,7 @@ module vibroimpact_io
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
-            vi_output_resolve, vi_writer_run_info, vi_writer_finish
+            vi_output_resolve, vi_writer_run_info, vi_writer_finish, vi_writer_fe_shapes
   public :: vi_mm_read_header, vi_mm_load, vi_mm_load_limited, vi_mm_destroy, &
             vi_mm_rows, vi_mm_cols, vi_mm_nnz, vi_mm_storage_kind, vi_mm_colptr, &
             vi_mm_rowind, vi_mm_values
@@ -306,6 +306,11 @@ module vibroimpact_io
     type(c_ptr) function vi_writer_errmsg(writer) bind(C, name="vi_writer_errmsg")
       import :: c_ptr
       type(c_ptr), value :: writer
+    end function
+    !> fe: a set-up vi_fe that kept its shapes (module vibroimpact)
+    integer(c_int) function vi_writer_fe_shapes(writer, fe) bind(C, name="vi_writer_fe_shapes")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: writer, fe
     end function
     ! ---- Matrix Market files (vi_mmio.h) ------------------------------------
     !> path: 'K.mtx'//c_null_char; rows, cols, entries, symmetric optional

@@ -780,7 +780,7 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
   static const char *const rk[] = {"t_end", "periods", "rtol",
                                    "atol",  "method",  NULL};
   static const char *const ok[] = {"impacts", "samples_per_period", "ledger",
-                                   "modes",   "compress",           NULL};
+                                   "modes",   "compress", "shapes",  NULL};
   yaml_node_t *in = find(c, root, "initial"), *run = find(c, root, "run"),
               *out = find(c, root, "output"), *v;
   int st;
@@ -844,8 +844,14 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
         (st = opt_flag(c, out, "output", "modes", VI_SCENE_OUT_MODES,
                        &s->outputs)) ||
         (st = opt_flag(c, out, "output", "compress", VI_SCENE_OUT_COMPRESS,
+                       &s->outputs)) ||
+        (st = opt_flag(c, out, "output", "shapes", VI_SCENE_OUT_SHAPES,
                        &s->outputs)))
       return st;
+    if ((s->outputs & VI_SCENE_OUT_SHAPES) && s->kind != VI_SCENE_FE)
+      return fail(c, find(c, out, "shapes"), VI_ERR_PARSE, "output.shapes",
+                  "%s", "the shapes of a model.matrix_market: other models "
+                  "write theirs in /modal (output.modes)");
     if ((v = find(c, out, "samples_per_period")) &&
         (st = integer(c, v, "output.samples_per_period", 0, 1000000,
                       &s->samples)))

@@ -346,6 +346,58 @@ static void test_fe_scene_misuse(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* vi_writer_fe_shapes: NULL writer or reduction; a reduction without its
+ * full Psi; one of another size than the writer's model. */
+static void test_fe_shapes_misuse(void **state)
+{
+  (void)state;
+  char path[] = "/tmp/vi_misuse_fe_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  static const int cp[4] = {0, 1, 2, 3}, ri[3] = {0, 1, 2};
+  static const double mv[3] = {1, 2, 3}, kv[3] = {4, 5, 6};
+  double w[3] = {0, 0, 1};
+  vi_fe *fe = NULL;
+  vi_model *m = NULL;
+  vi_writer *wr = NULL;
+  vi_diag d;
+  assert_int_equal(vi_fe_create(3, &fe), VI_OK);
+  assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, cp, ri, mv), VI_OK);
+  assert_int_equal(vi_fe_set_stiffness_csc(fe, VI_CSC_LOWER, 0, cp, ri, kv), VI_OK);
+  assert_int_equal(vi_fe_set_modes(fe, 2), VI_OK);
+  assert_int_equal(vi_fe_add_stop(fe, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_OK); /* no shapes kept */
+  assert_int_equal(vi_fe_create_model(fe, &m), VI_OK);
+  assert_int_equal(vi_writer_create(path, m, 0, &wr, &d), VI_OK);
+  assert_int_equal(vi_writer_fe_shapes(NULL, fe), VI_ERR_ARG);
+  assert_int_equal(vi_writer_fe_shapes(wr, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_writer_fe_shapes(wr, fe), VI_ERR_STATE);
+  assert_true(strlen(vi_writer_errmsg(wr)) > 0);
+  vi_writer_abort(&wr);
+  vi_model_destroy(&m);
+  /* a writer of another n */
+  vi_model *m5 = vi_test_chain(5, 1, 1, 0.1, 0.1, 0.7, 0.9, NULL);
+  vi_fe *fk = NULL;
+  assert_int_equal(vi_fe_create(3, &fk), VI_OK);
+  assert_int_equal(vi_fe_set_mass_csc(fk, VI_CSC_LOWER, 0, cp, ri, mv), VI_OK);
+  assert_int_equal(vi_fe_set_stiffness_csc(fk, VI_CSC_LOWER, 0, cp, ri, kv), VI_OK);
+  assert_int_equal(vi_fe_set_modes(fk, 2), VI_OK);
+  assert_int_equal(vi_fe_add_stop(fk, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_fe_set_keep_shapes(fk, 1), VI_OK);
+  assert_int_equal(vi_fe_setup(fk), VI_OK);
+  assert_int_equal(vi_writer_create(path, m5, 0, &wr, &d), VI_OK);
+  assert_int_equal(vi_writer_fe_shapes(wr, fk), VI_ERR_DIM);
+  vi_writer_abort(&wr);
+  char part[64];
+  snprintf(part, sizeof part, "%s.part", path);
+  assert_int_equal(access(part, F_OK), -1); /* aborted: no partial file */
+  remove(path);
+  vi_fe_destroy(&fk);
+  vi_fe_destroy(&fe);
+  vi_model_destroy(&m5);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -354,6 +406,7 @@ int main(void)
       cmocka_unit_test(test_writer_misuse),
       cmocka_unit_test(test_mm_misuse),
       cmocka_unit_test(test_fe_scene_misuse),
+      cmocka_unit_test(test_fe_shapes_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
