@@ -33,6 +33,7 @@
 #include <string.h>
 
 #include "vi_app.h"
+#include "vi_sweep.h" /* --set */
 #include "vibroimpact/vi_sparse.h"
 
 /* The outcome of the orbit search on one model. */
@@ -148,6 +149,59 @@ static int build_model(const vi_model *R, int k, int corr, double r,
   return st;
 }
 
+/* The first impacts from rest (t0 of the scene, the exact method where it
+ * applies): before the first contact the structure answers the forcing,
+ * quasi-statically in its high modes (the static flexibility's domain);
+ * after it, Newton's law acts through the dynamic compliance.  Times and
+ * approach velocities of up to NHIT impacts by t_end. */
+enum { NHIT = 3 };
+typedef struct first {
+  int n;
+  double t[NHIT], vn[NHIT];
+} first;
+
+static int on_first(const vi_event *ev, void *user)
+{
+  first *f = user;
+  if (ev->kind != VI_EVENT_IMPACT) return 0;
+  f->t[f->n] = ev->t;
+  f->vn[f->n++] = ev->vn;
+  return f->n >= NHIT; /* nonzero: stop */
+}
+
+static void first_impacts(const vi_model *m, double t0, double t_end,
+                          first *f)
+{
+  vi_sim *s = NULL;
+  memset(f, 0, sizeof *f);
+  if (!vi_sim_create(m, &s) && !vi_sim_set_initial(s, t0, NULL, NULL) &&
+      !vi_sim_set_tolerances(s, 1e-11, 1e-14) &&
+      !vi_sim_set_event_callback(s, on_first, f, NULL)) {
+    int st = vi_sim_run(s, t_end);
+    if (st != VI_OK && st != VI_STOPPED) f->n = -1;
+  }
+  vi_sim_destroy(&s);
+}
+
+static void json_first(const char *key, const first *f, const first *ref)
+{
+  printf("\"%s\": {\"t\": [", key);
+  for (int j = 0; j < f->n; j++) printf("%s%.17g", j ? ", " : "", f->t[j]);
+  printf("], \"vn\": [");
+  for (int j = 0; j < f->n; j++) printf("%s%.17g", j ? ", " : "", f->vn[j]);
+  printf("]");
+  if (ref) { /* errors against the reference's, impact by impact */
+    printf(", \"dt\": [");
+    for (int j = 0; j < f->n && j < ref->n; j++)
+      printf("%s%.3g", j ? ", " : "", f->t[j] - ref->t[j]);
+    printf("], \"dvn_rel\": [");
+    for (int j = 0; j < f->n && j < ref->n; j++)
+      printf("%s%.3g", j ? ", " : "", (f->vn[j] - ref->vn[j]) / ref->vn[j]);
+    printf("]");
+  }
+  printf("}");
+}
+
 static void json_response(const response *r)
 {
   if (!r->ok) {
@@ -196,10 +250,11 @@ int vi_cmd_truncation(const app_opts *o)
   int rc = 2, st;
   memset(&d, 0, sizeof d);
   int lo = o->modes_lo > 0 ? o->modes_lo : 1, hi = o->modes_hi;
-  st = o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
-                                        o->max_depth, &sc, &d)
-                : vi_scene_parse(vi_scene_default_text(), -1,
-                                 "<default scene: fig2>", &sc, &d);
+  st = vi_sets_active() ? vi_sets_load(o->scene, &sc, &d) /* --set */
+       : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
+                                          o->max_depth, &sc, &d)
+                  : vi_scene_parse(vi_scene_default_text(), -1,
+                                   "<default scene: fig2>", &sc, &d);
   if (!st) st = vi_scene_set_run(sc, o->rtol, o->atol, 0, o->method);
   if (!st) st = vi_scene_check_memory(sc, o->max_memory, &d);
   if (st) {
@@ -288,6 +343,9 @@ int vi_cmd_truncation(const app_opts *o)
     find_orbit(R, &ref, &oref);
   }
   int p11 = oref && ref.pn == 1 && ref.pm == 1;
+  double t0 = vi_scene_t0(sc), tend = vi_scene_t_end(sc);
+  first fref;
+  first_impacts(R, t0, tend, &fref);
   if (o->json) {
     printf("{\"scene\": \"%s\", \"dofs\": %d, \"modes\": [%d, %d], "
            "\"restitution\": %.17g, ", vi_scene_name(sc), vi_scene_dofs(sc),
@@ -296,6 +354,8 @@ int vi_cmd_truncation(const app_opts *o)
     json_num("compliance_static", Gs, 1);
     printf("\"reference\": ");
     json_response(&ref);
+    printf(", ");
+    json_first("first_impacts", &fref, NULL);
     printf(", \"rows\": [");
   } else {
     printf("truncation study, scene %s: %d dofs, reference %d modes, r = %g\n",
@@ -305,9 +365,13 @@ int vi_cmd_truncation(const app_opts *o)
     char b[64];
     printf("%s\n", forced ? text_response(&ref, b, sizeof b)
                           : "none (no harmonic forcing)");
-    printf("  %3s %12s %9s %9s %22s %10s %22s | %9s %22s\n", "k", "omega_k",
-           "dyn.frac", "stat.frac", "v_N @phase (r)", "r_S",
-           "v_N @phase (r_S)", "+static", "v_N @phase (+static)");
+    if (fref.n > 0)
+      printf("  reference's first impact from rest: t = %.10g, v_n = %.8g\n",
+             fref.t[0], fref.vn[0]);
+    printf("  %3s %12s %9s %9s %22s %10s %22s | %9s %22s | %9s %9s\n", "k",
+           "omega_k", "dyn.frac", "stat.frac", "v_N @phase (r)", "r_S",
+           "v_N @phase (r_S)", "+static", "v_N @phase (+static)", "dt1",
+           "dt1+stat");
   }
   int modes_idx[4096];
   for (int j = 0; j < nR && j < 4096; j++) modes_idx[j] = j;
@@ -326,14 +390,20 @@ int vi_cmd_truncation(const app_opts *o)
     rk.vN = rk.phase = rs.vN = rs.phase = rc2.vN = rc2.phase = NAN;
     double rS = NAN, carried = NAN;
     vi_model *mk = NULL, *ms = NULL, *mc = NULL;
+    first fk, fc1;
+    memset(&fk, 0, sizeof fk);
+    memset(&fc1, 0, sizeof fc1);
+    if (!build_model(R, k, 0, r, &mk, NULL)) first_impacts(mk, t0, tend, &fk);
     if (forced) {
-      if (!build_model(R, k, 0, r, &mk, NULL)) find_orbit(mk, &rk, NULL);
+      if (mk) find_orbit(mk, &rk, NULL);
       if (p11 && !vi_orbit_reduced_restitution(oref, modes_idx, k, &rS) &&
           !build_model(R, k, 0, rS, &ms, NULL))
         find_orbit(ms, &rs, NULL);
     }
-    if (k < nR && !build_model(R, k, 1, r, &mc, &carried) && forced)
-      find_orbit(mc, &rc2, NULL);
+    if (k < nR && !build_model(R, k, 1, r, &mc, &carried)) {
+      first_impacts(mc, t0, tend, &fc1);
+      if (forced) find_orbit(mc, &rc2, NULL);
+    }
     double fc = carried / Gd;
     vi_model_destroy(&mk);
     vi_model_destroy(&ms);
@@ -347,6 +417,8 @@ int vi_cmd_truncation(const app_opts *o)
       printf("\"response\": ");
       json_response(&rk);
       printf(", ");
+      json_first("first_impacts", &fk, &fref);
+      printf(", ");
       json_num("r_S", rS, 1);
       printf("\"response_r_S\": ");
       json_response(&rs);
@@ -355,16 +427,24 @@ int vi_cmd_truncation(const app_opts *o)
         json_num("dynamic_fraction", fc, 1);
         printf("\"response\": ");
         json_response(&rc2);
+        printf(", ");
+        json_first("first_impacts", &fc1, &fref);
         printf("}}");
       } else /* no mode beyond k: no residual */
         printf(", \"static_corrected\": null}");
     } else {
-      char b1[64], b2[64], b3[64], f3[32] = "-";
+      char b1[64], b2[64], b3[64], f3[32] = "-", d1[32] = "-", d2[32] = "-";
       if (k < nR) snprintf(f3, sizeof f3, "%.6f", fc);
-      printf("  %3d %12.6g %9.6f %9.6f %22s %10.6f %22s | %9s %22s\n", k,
-             omk, fd, jnum(fs), forced ? text_response(&rk, b1, sizeof b1) : "-",
-             rS, forced && p11 ? text_response(&rs, b2, sizeof b2) : "-", f3,
-             forced && k < nR ? text_response(&rc2, b3, sizeof b3) : "-");
+      if (fk.n > 0 && fref.n > 0)
+        snprintf(d1, sizeof d1, "%.2e", fk.t[0] - fref.t[0]);
+      if (fc1.n > 0 && fref.n > 0)
+        snprintf(d2, sizeof d2, "%.2e", fc1.t[0] - fref.t[0]);
+      printf("  %3d %12.6g %9.6f %9.6f %22s %10.6f %22s | %9s %22s | %9s "
+             "%9s\n", k, omk, fd, jnum(fs),
+             forced ? text_response(&rk, b1, sizeof b1) : "-", rS,
+             forced && p11 ? text_response(&rs, b2, sizeof b2) : "-", f3,
+             forced && k < nR ? text_response(&rc2, b3, sizeof b3) : "-", d1,
+             d2);
     }
     fflush(stdout);
   }
