@@ -59,9 +59,10 @@ static int collect(const vi_event *ev, void *user)
   if (e->count == e->cap) {
     e->cap = e->cap ? 2 * e->cap : 256;
     double *t = realloc(e->t, sizeof(double) * e->cap);
-    double *v = realloc(e->vn, sizeof(double) * e->cap);
-    if (!t || !v) return 1;
+    if (!t) return 1;
     e->t = t;
+    double *v = realloc(e->vn, sizeof(double) * e->cap);
+    if (!v) return 1;
     e->vn = v;
   }
   e->t[e->count] = ev->t;
@@ -91,10 +92,15 @@ static int bench_rod(int N)
   const double zeta = 0.02;
   printf("== fixed-free rod, %d linear elements (consistent mass), %d modes "
          "==\n", N, k);
+  vi_fe *fe = NULL;
+  vi_model *mex = NULL, *mfe = NULL;
+  events ef = {0}, ex = {0};
+  double *a = NULL;
+  int rc = 1;
   double t0 = now();
   int *cp = malloc(sizeof(int) * (n + 1)), *ri = malloc(sizeof(int) * 2 * n);
   double *mv = malloc(sizeof(double) * 2 * n), *kv = malloc(sizeof(double) * 2 * n);
-  if (!cp || !ri || !mv || !kv) return 1;
+  if (!cp || !ri || !mv || !kv) goto done;
   double h = LEN / N, ke = E * AREA / h, me = RHO * AREA * h / 6.0;
   int c = 0;
   for (int j = 0; j < n; j++) { /* dof j = node j + 1; node 0 clamped */
@@ -111,10 +117,10 @@ static int bench_rod(int N)
   }
   cp[n] = c;
   double t_asm = now() - t0;
-  vi_fe *fe = NULL;
   double force = 1e3, xs = 2e-5, r = 0.7;
   double w1 = sqrt(rod_lambda(N, M_PI / (2.0 * N))), Om = 0.9 * w1;
-  double *a = calloc((size_t)n, sizeof(double));
+  a = calloc((size_t)n, sizeof(double));
+  if (!a) goto done;
   a[n - 1] = force;
   t0 = now();
   int st = vi_fe_create(n, &fe);
@@ -130,7 +136,7 @@ static int bench_rod(int N)
   double t_setup = now() - t0;
   if (st) {
     fprintf(stderr, "setup: %s\n", vi_fe_errmsg(fe));
-    return 1;
+    goto done;
   }
   printf("set-up: assembly %.3f s, CSC input %.3f s, factorise + "
          "eigensolve %.3f s; total %.3f s (target <= 10 s)\n", t_asm, t_in,
@@ -140,8 +146,8 @@ static int bench_rod(int N)
   const double *om = vi_fe_omega(fe);
   double emax = 0.0, e1 = 0.0;
   for (int j = 1; j <= k; j++) {
-    double ex = sqrt(rod_lambda(N, (2 * j - 1) * M_PI / (2.0 * N)));
-    double e = fabs(om[j - 1] / ex - 1.0);
+    double exact = sqrt(rod_lambda(N, (2 * j - 1) * M_PI / (2.0 * N)));
+    double e = fabs(om[j - 1] / exact - 1.0);
     emax = fmax(emax, e);
     if (j == 1) e1 = e;
   }
@@ -159,14 +165,13 @@ static int bench_rod(int N)
       q += me * (2 * sa * sa + 2 * sa * sb + 2 * sb * sb);
     }
     double lam = rod_lambda(N, th), tip = sin(N * th) / sqrt(q);
-    K[(j - 1) * 21] = lam;
-    C[(j - 1) * 21] = 2.0 * zeta * sqrt(lam);
+    K[(size_t)(j - 1) * 21] = lam;
+    C[(size_t)(j - 1) * 21] = 2.0 * zeta * sqrt(lam);
     /* the sign of a mode is free: keep the reduction's */
     double sg = vi_fe_modal_stops(fe, NULL)[j - 1] * tip < 0 ? -1.0 : 1.0;
     wv[j - 1] = sg * tip;
     av[j - 1] = force * sg * tip;
   }
-  vi_model *mex = NULL, *mfe = NULL;
   st = vi_model_create(k, &mex);
   if (!st) st = vi_model_set_stiffness(mex, K, k);
   if (!st) st = vi_model_set_damping(mex, C, k);
@@ -176,12 +181,11 @@ static int bench_rod(int N)
   if (!st) st = vi_fe_create_model(fe, &mfe);
   if (st) {
     fprintf(stderr, "models: %s\n", vi_model_errmsg(mex));
-    return 1;
+    goto done;
   }
   double t_end = 60.0 * 2.0 * M_PI / Om;
-  events ef = {0}, ex = {0};
   double tf = run(mfe, t_end, &ef), tx = run(mex, t_end, &ex);
-  if (tf < 0 || tx < 0) return 1;
+  if (tf < 0 || tx < 0) goto done;
   double vmax = 0.0, dt = 0.0, dv = 0.0;
   int used = 0;
   for (int i = 0; i < ex.count; i++) vmax = fmax(vmax, fabs(ex.vn[i]));
@@ -203,12 +207,14 @@ static int bench_rod(int N)
          vmax, dt, dv);
   printf("run time: FE model %.3f s, explicit 20-mode model %.3f s, ratio "
          "%.2f\n", tf, tx, tf / tx);
+  rc = 0;
+done:
   free(ef.t); free(ef.vn); free(ex.t); free(ex.vn);
   vi_model_destroy(&mex);
   vi_model_destroy(&mfe);
   vi_fe_destroy(&fe);
   free(a); free(cp); free(ri); free(mv); free(kv);
-  return 0;
+  return rc;
 }
 
 static int bench_dense(int n)
@@ -221,8 +227,12 @@ static int bench_dense(int n)
   double *mass = malloc(sizeof(double) * n), *kk = malloc(sizeof(double) * n);
   double *cc = malloc(sizeof(double) * n), *lam = malloc(sizeof(double) * n);
   double *w = calloc((size_t)n, sizeof(double));
-  if (!M || !C || !K || !W1 || !W2 || !W3 || !mass || !kk || !cc || !lam || !w)
+  if (!M || !C || !K || !W1 || !W2 || !W3 || !mass || !kk || !cc || !lam ||
+      !w) {
+    free(M); free(C); free(K); free(W1); free(W2); free(W3);
+    free(mass); free(kk); free(cc); free(lam); free(w);
     return 1;
+  }
   for (int i = 0; i < n; i++) {
     mass[i] = 1.0 + 0.1 * (i % 3);
     kk[i] = 1.0 + 0.05 * (i % 5);
@@ -241,7 +251,7 @@ static int bench_dense(int n)
   double t_model = now() - t0;
   if (st) {
     fprintf(stderr, "setup: %s\n", vi_model_errmsg(m));
-    return 1;
+    goto done;
   }
   /* the reference: dsygvd and the two products, on copies */
   memcpy(W1, K, sizeof(double) * nn);
@@ -262,10 +272,11 @@ static int bench_dense(int n)
          t_eig + t_prod, t_model / (t_eig + t_prod));
   /* the same modes: omega_1 from the model and from the reference */
   printf("check: omega_1 %.15g vs %.15g\n", vi_model_omega(m)[0], sqrt(lam[0]));
+done:
   vi_model_destroy(&m);
   free(M); free(C); free(K); free(W1); free(W2); free(W3);
   free(mass); free(kk); free(cc); free(lam); free(w);
-  return 0;
+  return st != 0;
 }
 
 int main(int argc, char **argv)

@@ -437,7 +437,6 @@ int vi_fe_eigs(vi_fe *fe, double **pPsi)
                    "a free structure needs sigma < 0", minor, rcond);
       goto cleanup;
     }
-    st = VI_OK;
   }
   if (k_ok) {
     if ((st = compliances(fe, L, c, fe->wKw))) goto cleanup;
@@ -452,7 +451,6 @@ int vi_fe_eigs(vi_fe *fe, double **pPsi)
           (st = compliances(fe, L, c, fe->wKw)))
         goto cleanup;
       cholmod_free_factor(&L, c);
-      st = VI_OK;
     }
     double alpha[2] = {1.0, 0.0}, beta[2] = {-fe->shift, 0.0};
     A = cholmod_add(&Ks, &Ms, alpha, beta, 1, 1, c);

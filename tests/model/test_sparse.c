@@ -151,8 +151,8 @@ static void test_fixed_free_rod(void **state)
   {
     double s0 = 0.0, s1 = 0.0;
     for (int j = 0; j < k; j++) {
-      s0 += Po[2 * j] * q[j];
-      s1 += Po[1 + 2 * j] * q[j];
+      s0 += Po[2 * (size_t)j] * q[j];
+      s1 += Po[1 + 2 * (size_t)j] * q[j];
     }
     assert_close(x[0], s0, 1e-15 * fabs(s0) + 1e-300);
     assert_close(x[1], s1, 1e-14 * fabs(s1) + 1e-300);
@@ -273,7 +273,8 @@ static void test_storage_variants(void **state)
     int full = v / 2, base = v % 2;
     const int *P = full ? fp : R.colptr, *I = full ? fi : R.rowind;
     int nnz = P[n];
-    int *P1 = malloc(sizeof(int) * (n + 1)), *I1 = malloc(sizeof(int) * nnz);
+    int *P1 = malloc(sizeof(int) * (n + 1));
+    int *I1 = malloc(sizeof(int) * (size_t)(nnz > 0 ? nnz : 1));
     for (int j = 0; j <= n; j++) P1[j] = P[j] + base;
     for (int p = 0; p < nnz; p++) I1[p] = I[p] + base;
     vi_fe *fe = NULL;
