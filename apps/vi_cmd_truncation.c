@@ -12,6 +12,8 @@
  *   - the r_S a k-mode model needs to carry the reference orbit's energy
  *     balance (WB 12-13 on the first k modes, MODEL.md section 5) and the
  *     v_N the k-mode model then has;
+ *   - the first impacts from the scene's initial state, against the
+ *     reference's;
  *   - the same k modes plus one static (residual-flexibility) vector at the
  *     stop, K^-1 w less its part in the kept modes, M-orthonormalised: its
  *     compliance fraction and impact response, to measure whether such a
@@ -70,7 +72,8 @@ static void find_orbit(const vi_model *m, response *r, vi_orbit **keep)
  * forcing T^T (a, b, f0), the stop's x_s and the given r.  Small dense
  * matrices (k + 1 <= a few hundred): plain loops. */
 static int build_model(const vi_model *R, int k, int corr, double r,
-                       vi_model **out, double *carried)
+                       const double *q0R, vi_model **out, double *carried,
+                       double *q0)
 {
   int nR = vi_model_n(R), n = k + corr, st;
   const double *K = vi_model_stiffness(R), *C = vi_model_damping(R),
@@ -133,6 +136,14 @@ static int build_model(const vi_model *R, int k, int corr, double r,
   }
   double g = 0;
   for (int p = 0; p < n; p++) g += w[p] * w[p]; /* w^T M^-1 w, M = I */
+  /* the reference's initial state [2 nR] projected: T^T q (T orthonormal) */
+  for (int h = 0; q0R && q0 && h < 2; h++)
+    for (int p = 0; p < n; p++) {
+      double sum = 0;
+      for (int i = 0; i < nR; i++)
+        sum += T[i + (size_t)p * nR] * q0R[i + (size_t)h * nR];
+      q0[p + (size_t)h * n] = sum;
+    }
   if (carried) *carried = g;
   vi_model *m = NULL;
   if (!(st = vi_model_create(n, &m)) && !(st = vi_model_set_mass(m, Mn, n)) &&
@@ -149,8 +160,8 @@ static int build_model(const vi_model *R, int k, int corr, double r,
   return st;
 }
 
-/* The first impacts from rest (t0 of the scene, the exact method where it
- * applies): before the first contact the structure answers the forcing,
+/* The first impacts from the scene's initial state (projected onto each
+ * model's coordinates; the exact method where it applies): before the first contact the structure answers the forcing,
  * quasi-statically in its high modes (the static flexibility's domain);
  * after it, Newton's law acts through the dynamic compliance.  Times and
  * approach velocities of up to NHIT impacts by t_end. */
@@ -158,11 +169,13 @@ enum { NHIT = 3 };
 typedef struct first {
   int n;
   double t[NHIT], vn[NHIT];
+  double release; /* the first end of sticking (r = 0, chatter), or NaN */
 } first;
 
 static int on_first(const vi_event *ev, void *user)
 {
   first *f = user;
+  if (ev->kind == VI_EVENT_RELEASE && isnan(f->release)) f->release = ev->t;
   if (ev->kind != VI_EVENT_IMPACT) return 0;
   f->t[f->n] = ev->t;
   f->vn[f->n++] = ev->vn;
@@ -170,17 +183,28 @@ static int on_first(const vi_event *ev, void *user)
 }
 
 static void first_impacts(const vi_model *m, double t0, double t_end,
-                          first *f)
+                          const double *q0, first *f)
 {
   vi_sim *s = NULL;
+  int n = vi_model_n(m);
   memset(f, 0, sizeof *f);
-  if (!vi_sim_create(m, &s) && !vi_sim_set_initial(s, t0, NULL, NULL) &&
+  f->release = NAN;
+  if (!vi_sim_create(m, &s) &&
+      !vi_sim_set_initial(s, t0, q0, q0 ? q0 + n : NULL) &&
       !vi_sim_set_tolerances(s, 1e-11, 1e-14) &&
       !vi_sim_set_event_callback(s, on_first, f, NULL)) {
     int st = vi_sim_run(s, t_end);
     if (st != VI_OK && st != VI_STOPPED) f->n = -1;
   }
   vi_sim_destroy(&s);
+}
+
+static void json_num(const char *key, double v, int comma)
+{
+  if (isfinite(v))
+    printf("\"%s\": %.17g%s", key, v, comma ? ", " : "");
+  else
+    printf("\"%s\": null%s", key, comma ? ", " : "");
 }
 
 static void json_first(const char *key, const first *f, const first *ref)
@@ -199,6 +223,8 @@ static void json_first(const char *key, const first *f, const first *ref)
       printf("%s%.3g", j ? ", " : "", (f->vn[j] - ref->vn[j]) / ref->vn[j]);
     printf("]");
   }
+  printf(", ");
+  json_num("release", f->release, 0);
   printf("}");
 }
 
@@ -230,15 +256,6 @@ static const char *text_response(const response *r, char *buf, size_t len)
   return buf;
 }
 
-static double jnum(double v) { return isfinite(v) ? v : 0.0; }
-
-static void json_num(const char *key, double v, int comma)
-{
-  if (isfinite(v))
-    printf("\"%s\": %.17g%s", key, v, comma ? ", " : "");
-  else
-    printf("\"%s\": null%s", key, comma ? ", " : "");
-}
 
 int vi_cmd_truncation(const app_opts *o)
 {
@@ -250,6 +267,14 @@ int vi_cmd_truncation(const app_opts *o)
   int rc = 2, st;
   memset(&d, 0, sizeof d);
   int lo = o->modes_lo > 0 ? o->modes_lo : 1, hi = o->modes_hi;
+  if (o->out || o->csv || o->periods > 0) {
+    /* the study's machine-readable form is --json (share/plot_truncation.py
+     * reads it); nothing is silently ignored */
+    fprintf(stderr, "vibroimpact: truncation: %s is not an option of this "
+            "command (--json gives the study as one JSON object)\n",
+            o->out ? "-o" : o->csv ? "--impacts-csv" : "--periods");
+    return 2;
+  }
   st = vi_sets_active() ? vi_sets_load(o->scene, &sc, &d) /* --set */
        : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
                                           o->max_depth, &sc, &d)
@@ -281,7 +306,7 @@ int vi_cmd_truncation(const app_opts *o)
       rc = 2;
       goto done;
     }
-    if ((st = vi_scene_create_fe(sc, nref, 0, &fe, &d))) {
+    if ((st = vi_scene_create_fe(sc, nref, 1, &fe, &d))) {
       vi_app_print_diag(&d, st);
       rc = st == VI_ERR_NOMEM ? 1 : 2;
       goto done;
@@ -326,6 +351,23 @@ int vi_cmd_truncation(const app_opts *o)
   }
   int nR = vi_model_n(R);
   if (hi > nR) hi = nR;
+  /* the scene's initial state in the reference's coordinates: q = Psi^T M x
+   * (the FE reduction's kept shapes, or the dense model's modes) */
+  int dofs = vi_scene_dofs(sc);
+  double *x0 = calloc(2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4,
+                      sizeof(double));
+  if (!x0) goto done;
+  double *q0R = x0 + 2 * (size_t)dofs, *qk = q0R + 2 * (size_t)nR;
+  vi_scene_initial(sc, x0, x0 + dofs);
+  if ((fe && (vi_fe_to_modal(fe, x0, q0R) ||
+              vi_fe_to_modal(fe, x0 + dofs, q0R + nR))) ||
+      (dense && (vi_model_to_modal(dense, x0, q0R) ||
+                 vi_model_to_modal(dense, x0 + dofs, q0R + nR)))) {
+    fprintf(stderr, "vibroimpact: truncation: cannot project the initial "
+            "state onto the modes\n");
+    free(x0);
+    goto done;
+  }
   if (nR > 4096) {
     fprintf(stderr, "vibroimpact: truncation: a reference of %d modes: at "
             "most 4096\n", nR);
@@ -345,7 +387,7 @@ int vi_cmd_truncation(const app_opts *o)
   int p11 = oref && ref.pn == 1 && ref.pm == 1;
   double t0 = vi_scene_t0(sc), tend = vi_scene_t_end(sc);
   first fref;
-  first_impacts(R, t0, tend, &fref);
+  first_impacts(R, t0, tend, q0R, &fref);
   if (o->json) {
     printf("{\"scene\": \"%s\", \"dofs\": %d, \"modes\": [%d, %d], "
            "\"restitution\": %.17g, ", vi_scene_name(sc), vi_scene_dofs(sc),
@@ -366,8 +408,8 @@ int vi_cmd_truncation(const app_opts *o)
     printf("%s\n", forced ? text_response(&ref, b, sizeof b)
                           : "none (no harmonic forcing)");
     if (fref.n > 0)
-      printf("  reference's first impact from rest: t = %.10g, v_n = %.8g\n",
-             fref.t[0], fref.vn[0]);
+      printf("  reference's first impact from the initial state: t = %.10g, "
+             "v_n = %.8g\n", fref.t[0], fref.vn[0]);
     printf("  %3s %12s %9s %9s %22s %10s %22s | %9s %22s | %9s %9s\n", "k",
            "omega_k", "dyn.frac", "stat.frac", "v_N @phase (r)", "r_S",
            "v_N @phase (r_S)", "+static", "v_N @phase (+static)", "dt1",
@@ -393,15 +435,16 @@ int vi_cmd_truncation(const app_opts *o)
     first fk, fc1;
     memset(&fk, 0, sizeof fk);
     memset(&fc1, 0, sizeof fc1);
-    if (!build_model(R, k, 0, r, &mk, NULL)) first_impacts(mk, t0, tend, &fk);
+    if (!build_model(R, k, 0, r, q0R, &mk, NULL, qk))
+      first_impacts(mk, t0, tend, qk, &fk);
     if (forced) {
       if (mk) find_orbit(mk, &rk, NULL);
       if (p11 && !vi_orbit_reduced_restitution(oref, modes_idx, k, &rS) &&
-          !build_model(R, k, 0, rS, &ms, NULL))
+          !build_model(R, k, 0, rS, NULL, &ms, NULL, NULL))
         find_orbit(ms, &rs, NULL);
     }
-    if (k < nR && !build_model(R, k, 1, r, &mc, &carried)) {
-      first_impacts(mc, t0, tend, &fc1);
+    if (k < nR && !build_model(R, k, 1, r, q0R, &mc, &carried, qk)) {
+      first_impacts(mc, t0, tend, qk, &fc1);
       if (forced) find_orbit(mc, &rc2, NULL);
     }
     double fc = carried / Gd;
@@ -440,7 +483,7 @@ int vi_cmd_truncation(const app_opts *o)
       if (fc1.n > 0 && fref.n > 0)
         snprintf(d2, sizeof d2, "%.2e", fc1.t[0] - fref.t[0]);
       printf("  %3d %12.6g %9.6f %9.6f %22s %10.6f %22s | %9s %22s | %9s "
-             "%9s\n", k, omk, fd, jnum(fs),
+             "%9s\n", k, omk, fd, fs,
              forced ? text_response(&rk, b1, sizeof b1) : "-", rS,
              forced && p11 ? text_response(&rs, b2, sizeof b2) : "-", f3,
              forced && k < nR ? text_response(&rc2, b3, sizeof b3) : "-", d1,
@@ -449,6 +492,7 @@ int vi_cmd_truncation(const app_opts *o)
     fflush(stdout);
   }
   if (o->json) printf("]}\n");
+  free(x0);
   rc = vi_app_signal ? vi_app_interrupt_status() : 0;
 done:
   vi_orbit_destroy(&oref);

@@ -10,8 +10,9 @@ panels against the number k of kept modes:
      (sum psi_j^2 / w^T M^-1 w, the Delassus number of Newton's law) and
      static (sum psi_j^2 / omega_j^2 / w^T K^-1 w), and the dynamic fraction
      of the k modes plus the static residual vector;
-  2. the error of the first impact from rest against the reference, in
-     time, for the k-mode model and with the static vector;
+  2. the error of the first impact from the scene's initial state against
+     the reference, in time, for the k-mode model and with the static
+     vector;
   3. the same for the approach velocity of the second impact (after one
      Newton impact: the impact law at work);
   4. impacts per forcing period of the k-mode model's motion (m / n of its
@@ -80,7 +81,7 @@ def main(argv):
         a.semilogy(k, [err(s.get("first_impacts"), key, j) for s in sc],
                    "^--", label="k modes + static vector")
         a.set_xlabel("modes kept k")
-        a.set_title(what + " (from rest)")
+        a.set_title(what)
         a.legend()
     a = ax[1][1]
     a.plot(k, [rate(r.get("response")) for r in rows], "o-",

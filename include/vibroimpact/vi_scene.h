@@ -159,6 +159,11 @@ VI_API int vi_scene_n(const vi_scene *sc);
  *  Matrix Market files' size for a model.matrix_market, else as
  *  vi_scene_n. */
 VI_API int vi_scene_dofs(const vi_scene *sc);
+/** The scene's initial state as written: x0 and v0 [vi_scene_dofs] (either
+ *  may be NULL), physical coordinates (a model.matrix_market's dofs; its
+ *  model starts from their projection onto the modes).  @return VI_OK,
+ *  VI_ERR_ARG (NULL scene). */
+VI_API int vi_scene_initial(const vi_scene *sc, double *x0, double *v0);
 /** Initial time (initial.t0, default 0). */
 VI_API double vi_scene_t0(const vi_scene *sc);
 /** End time: run.t_end, or t0 + periods 2 pi / omega (default 100 periods). */

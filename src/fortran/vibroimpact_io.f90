@@ -34,7 +34,7 @@ module vibroimpact_io
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
             vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
-            vi_scene_create_fe
+            vi_scene_create_fe, vi_scene_initial
   public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
@@ -171,6 +171,12 @@ module vibroimpact_io
     integer(c_int) function vi_scene_n(scene) bind(C, name="vi_scene_n")
       import :: c_int, c_ptr
       type(c_ptr), value :: scene
+    end function
+    !> x0, v0(vi_scene_dofs(scene)), each optional
+    integer(c_int) function vi_scene_initial(scene, x0, v0) bind(C, name="vi_scene_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: scene
+      real(c_double), optional :: x0(*), v0(*)
     end function
     integer(c_int) function vi_scene_dofs(scene) bind(C, name="vi_scene_dofs")
       import :: c_int, c_ptr

@@ -71,6 +71,13 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
 
 /* ---- getters and overrides ---------------------------------------------- */
 double vi_scene_t0(const vi_scene *s) { return s ? s->t0 : 0.0; }
+int vi_scene_initial(const vi_scene *s, double *x0, double *v0)
+{
+  if (!s) return VI_ERR_ARG;
+  if (x0) memcpy(x0, s->x0, sizeof(double) * (size_t)s->n);
+  if (v0) memcpy(v0, s->v0, sizeof(double) * (size_t)s->n);
+  return VI_OK;
+}
 double vi_scene_t_end(const vi_scene *s) { return s ? s->t_end : 0.0; }
 double vi_scene_rtol(const vi_scene *s) { return s ? s->rtol : 0.0; }
 double vi_scene_atol(const vi_scene *s) { return s ? s->atol : 0.0; }

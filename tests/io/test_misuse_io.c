@@ -336,6 +336,8 @@ static void test_fe_scene_misuse(void **state)
   assert_err_diag(vi_scene_create_fe(NULL, 0, 0, &fe, &d), d);
   assert_int_equal(vi_scene_parse(chain3, -1, "chain3", &sc, &d), VI_OK);
   assert_int_equal(vi_scene_dofs(sc), 3);
+  assert_int_equal(vi_scene_initial(NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_scene_initial(sc, NULL, NULL), VI_OK);
   assert_err_diag(vi_scene_create_fe(sc, 0, 0, NULL, &d), d);
   assert_err_diag(vi_scene_create_fe(sc, 0, 2, &fe, &d), d);
   assert_err_diag(vi_scene_create_fe(sc, 0, -1, &fe, &d), d);
