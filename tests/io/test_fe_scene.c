@@ -253,10 +253,16 @@ static void test_chain_from_files(void **state)
   print_message("chain from files: %d impacts, dense: %d\n", a->n, b->n);
   assert_int_equal(a->n, b->n);
   assert_true(a->n > 10);
+  double et = 0, ev = 0;
   for (int k = 0; k < a->n; k++) {
-    assert_close(a->t[k], b->t[k], 1e-8);
-    assert_close(a->vn[k], b->vn[k], 1e-8);
+    et = fmax(et, fabs(a->t[k] - b->t[k]));
+    ev = fmax(ev, fabs(a->vn[k] - b->vn[k]));
   }
+  print_message("chain from files against the dense chain: times within "
+                "%.2g, velocities within %.2g\n", et, ev);
+  /* both exact; the modes differ by the eigensolvers' round-off
+   * (measured 2.8e-14 in time, 7.2e-15 in velocity) */
+  assert_true(et < 1e-8 && ev < 1e-8);
   free(a);
   free(b);
   /* the state is physical: configuring a sim before the model projected
