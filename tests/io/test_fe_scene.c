@@ -265,6 +265,7 @@ static void test_chain_from_files(void **state)
   assert_true(et < 1e-8 && ev < 1e-8);
   free(a);
   free(b);
+  vi_scene_destroy(&sd);
   /* the state is physical: configuring a sim before the model projected
    * it onto the modes is refused */
   vi_scene_destroy(&sf);
