@@ -311,7 +311,7 @@ int vi_cmd_truncation(const app_opts *o)
       rc = st == VI_ERR_NOMEM ? 1 : 2;
       goto done;
     }
-    if ((st = vi_fe_create_model(fe, &R))) {
+    if (vi_fe_create_model(fe, &R) != VI_OK) {
       fprintf(stderr, "vibroimpact: truncation: %s\n", vi_fe_errmsg(fe));
       goto done;
     }

@@ -424,18 +424,10 @@ static int find_entry(const int *colptr, const int *rowind, int i, int j)
   return -1;
 }
 
-static int mm_nomem(vi_mm **m, triplets *t, int *perm, vi_diag *d,
-                    const char *path)
-{
-  vi_mm_destroy(m);
-  trip_free(t);
-  free(perm);
-  return vi_diag_nomem(d, path);
-}
-
-/* The triplets (symmetric files mirrored first for VI_CSC_FULL) into a CSC
- * matrix; duplicates refused; a general file kept whole or, for
- * VI_CSC_LOWER, checked for symmetry and its lower triangle averaged. */
+/* The triplets (symmetric files mirrored first for VI_CSC_FULL) into CSC
+ * arrays; duplicates refused; a general file kept whole or, for
+ * VI_CSC_LOWER, checked for symmetry and its lower triangle averaged.  The
+ * arrays are made first and handed to a new vi_mm only on success. */
 static int build(reader *r, const header *h, triplets *t, int storage,
                  vi_mm **out)
 {
@@ -450,102 +442,106 @@ static int build(reader *r, const header *h, triplets *t, int storage,
         t->count++;
       }
   }
-  vi_mm *m = calloc(1, sizeof *m);
-  int *perm = malloc(((size_t)t->count + 1) * sizeof(int));
-  if (!m || !perm) {
-    free(m);
-    free(perm);
-    return vi_diag_nomem(r->d, r->path);
+  size_t cnt = (size_t)t->count + 1;
+  int *perm = malloc(cnt * sizeof(int)),
+      *colptr = malloc(((size_t)h->cols + 1) * sizeof(int)),
+      *rowind = malloc(cnt * sizeof(int));
+  double *val = malloc(cnt * sizeof(double)), *avg = NULL;
+  int st = VI_OK, nnz = (int)t->count;
+  if (!perm || !colptr || !rowind || !val ||
+      sort_csc(t, h->rows, h->cols, colptr, perm)) {
+    st = vi_diag_nomem(r->d, r->path);
+    goto out;
   }
-  m->rows = h->rows;
-  m->cols = h->cols;
-  m->storage = storage;
-  m->colptr = malloc(((size_t)h->cols + 1) * sizeof(int));
-  m->rowind = malloc(((size_t)t->count + 1) * sizeof(int));
-  m->val = malloc(((size_t)t->count + 1) * sizeof(double));
-  if (!m->colptr || !m->rowind || !m->val ||
-      sort_csc(t, h->rows, h->cols, m->colptr, perm))
-    return mm_nomem(&m, t, perm, r->d, r->path);
   double amax = 0;
   for (int64_t k = 0; k < t->count; k++) {
     int e = perm[k];
-    m->rowind[k] = t->i[e];
-    m->val[k] = t->v[e];
+    rowind[k] = t->i[e];
+    val[k] = t->v[e];
     amax = fmax(amax, fabs(t->v[e]));
     if (k > 0 && t->i[e] == t->i[perm[k - 1]] &&
         t->j[e] == t->j[perm[k - 1]]) {
       int l0 = t->line[perm[k - 1]], l1 = t->line[e];
       if (l0 > l1) {
-        int s = l0;
+        int sw = l0;
         l0 = l1;
-        l1 = s;
+        l1 = sw;
       }
       /* report at the later line, naming the earlier */
-      vi_diag_set(r->d, r->path, VI_ERR_PARSE, l1, 1, "entry", "",
-                  "entry (%d, %d) given twice, at lines %d and %d "
-                  "(duplicates are refused, not summed)",
-                  t->i[e] + 1, t->j[e] + 1, l0, l1);
-      vi_mm_destroy(&m);
-      free(perm);
-      return VI_ERR_PARSE;
+      st = vi_diag_set(r->d, r->path, VI_ERR_PARSE, l1, 1, "entry", "",
+                       "entry (%d, %d) given twice, at lines %d and %d "
+                       "(duplicates are refused, not summed)",
+                       t->i[e] + 1, t->j[e] + 1, l0, l1);
+      goto out;
     }
   }
-  m->nnz = (int)t->count;
   if (!h->symmetric && storage == VI_CSC_LOWER) {
     if (h->rows != h->cols) {
-      vi_diag_set(r->d, r->path, VI_ERR_DIM, 0, 0, "size", "",
-                  "a %d x %d matrix is not square: lower-triangle storage "
-                  "needs a symmetric matrix", h->rows, h->cols);
-      vi_mm_destroy(&m);
-      free(perm);
-      return VI_ERR_DIM;
+      st = vi_diag_set(r->d, r->path, VI_ERR_DIM, 0, 0, "size", "",
+                       "a %d x %d matrix is not square: lower-triangle "
+                       "storage needs a symmetric matrix", h->rows, h->cols);
+      goto out;
     }
-    /* every entry against its mirror (absent: 0) ... */
+    /* every entry against its mirror (absent: 0), the average kept ... */
+    if (!(avg = malloc(cnt * sizeof(double)))) {
+      st = vi_diag_nomem(r->d, r->path);
+      goto out;
+    }
     for (int j = 0; j < h->cols; j++)
-      for (int k = m->colptr[j]; k < m->colptr[j + 1]; k++) {
-        int i = m->rowind[k], q = find_entry(m->colptr, m->rowind, j, i);
-        double a = m->val[k], b = q >= 0 ? m->val[q] : 0.0;
+      for (int k = colptr[j]; k < colptr[j + 1]; k++) {
+        int i = rowind[k], q = find_entry(colptr, rowind, j, i);
+        double a = val[k], b = q >= 0 ? val[q] : 0.0;
         if (fabs(a - b) > VI_MM_SYM_TOL * amax) {
           int la = t->line[perm[k]];
           char other[48] = " (absent)";
           if (q >= 0)
             snprintf(other, sizeof other, " (line %d)", t->line[perm[q]]);
-          vi_diag_set(r->d, r->path, VI_ERR_NOT_SYMMETRIC, la, 1, "entry", "",
-                      "not symmetric: A(%d,%d) = %.17g (line %d) but "
-                      "A(%d,%d) = %.17g%s", i + 1, j + 1, a, la, j + 1, i + 1,
-                      b, other);
-          vi_mm_destroy(&m);
-          free(perm);
-          return VI_ERR_NOT_SYMMETRIC;
+          st = vi_diag_set(r->d, r->path, VI_ERR_NOT_SYMMETRIC, la, 1,
+                           "entry", "", "not symmetric: A(%d,%d) = %.17g "
+                           "(line %d) but A(%d,%d) = %.17g%s", i + 1, j + 1,
+                           a, la, j + 1, i + 1, b, other);
+          goto out;
         }
+        avg[k] = 0.5 * (a + b);
       }
-    /* ... then the lower triangle, averaged (exactly symmetric, as the
-     * model stores a dense matrix) */
+    /* ... then the lower triangle, exactly symmetric as the model stores a
+     * dense matrix */
     int kept = 0;
-    double *avg = malloc(((size_t)m->nnz + 1) * sizeof(double));
-    if (!avg) return mm_nomem(&m, t, perm, r->d, r->path);
-    for (int j = 0; j < h->cols; j++)
-      for (int k = m->colptr[j]; k < m->colptr[j + 1]; k++) {
-        int i = m->rowind[k], q = find_entry(m->colptr, m->rowind, j, i);
-        avg[k] = 0.5 * (m->val[k] + (q >= 0 ? m->val[q] : 0.0));
-      }
     for (int j = 0; j < h->cols; j++) {
-      int start = m->colptr[j], end = m->colptr[j + 1];
-      m->colptr[j] = kept;
+      int start = colptr[j], end = colptr[j + 1];
+      colptr[j] = kept;
       for (int k = start; k < end; k++)
-        if (m->rowind[k] >= j) {
-          m->rowind[kept] = m->rowind[k];
-          m->val[kept] = avg[k];
+        if (rowind[k] >= j) {
+          rowind[kept] = rowind[k];
+          val[kept] = avg[k];
           kept++;
         }
     }
-    free(avg);
-    m->colptr[h->cols] = kept;
-    m->nnz = kept;
+    colptr[h->cols] = kept;
+    nnz = kept;
   }
-  free(perm);
+  vi_mm *m = calloc(1, sizeof *m);
+  if (!m) {
+    st = vi_diag_nomem(r->d, r->path);
+    goto out;
+  }
+  m->rows = h->rows;
+  m->cols = h->cols;
+  m->storage = storage;
+  m->nnz = nnz;
+  m->colptr = colptr;
+  m->rowind = rowind;
+  m->val = val;
+  colptr = rowind = NULL;
+  val = NULL;
   *out = m;
-  return VI_OK;
+out:
+  free(perm);
+  free(colptr);
+  free(rowind);
+  free(val);
+  free(avg);
+  return st;
 }
 
 int vi_mm_load_limited(const char *path, int storage, double max_bytes,

@@ -435,7 +435,7 @@ static int create_fe_model(const vi_scene *s, vi_model **out, vi_diag *d)
            ((st = vi_fe_to_modal(fe, s->x0, s->fe.q0)) ||
             (st = vi_fe_to_modal(fe, s->v0, s->fe.q0 + k))))
     fe_fail(d, s, s->line_initial, "initial", st, fe);
-  if (!st) s->fe.q0[2 * k] = 1.0; /* projected */
+  if (!st) s->fe.q0[(size_t)2 * k] = 1.0; /* projected */
   vi_fe_destroy(&fe);
   return st;
 }

@@ -38,7 +38,7 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
    * the model (vi_scene_create_model) */
   const double *x0 = s->x0, *v0 = s->v0;
   if (s->kind == VI_SCENE_FE) {
-    if (!s->fe.at_rest && s->fe.q0[2 * n] != 1.0)
+    if (!s->fe.at_rest && s->fe.q0[(size_t)2 * n] != 1.0)
       return vi_diag_set(d, s->file, VI_ERR_STATE, s->line_initial, 1,
                          "initial", "", "%s", "an FE scene's initial state "
                          "is projected onto its modes by "
