@@ -23,7 +23,9 @@
  * line that is not two or three positive whole numbers, more entries than
  * the matrix holds, an index out of range, a value that is not a number,
  * not finite or (field integer) not whole, extra or missing words on a line,
- * too few entries (a truncated file) or too many, an entry above the
+ * too few entries (a truncated file: refused at the size line when the
+ * file's bytes cannot hold them, so nothing is allocated for them) or too
+ * many, an entry above the
  * diagonal in a symmetric file (the format stores the lower triangle), and
  * a **duplicate entry, which is refused** with both lines named (the format
  * does not define duplicates; an assembled matrix has none, so a duplicate

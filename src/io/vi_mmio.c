@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "vi_io_internal.h"
 #include "vibroimpact/vi_mmio.h"
@@ -575,6 +576,21 @@ int vi_mm_load_limited(const char *path, int storage, double max_bytes,
                    "about %.3g MB, more than the %.3g MB allowed",
                    (long long)h.entries, need / 1048576.0,
                    max_bytes / 1048576.0);
+  }
+  /* the rest of a regular file must hold the entries the size line
+   * promises ("i j v" or "v" and a line end each, the last line's end
+   * optional), before storage for them
+   * is allocated: a short file cannot ask for gigabytes */
+  struct stat sb;
+  long at = ftell(r.f);
+  double least = (h.array ? 2.0 : 6.0) * (double)h.entries - 1.0;
+  if (!fstat(fileno(r.f), &sb) && S_ISREG(sb.st_mode) && at >= 0 &&
+      (double)(sb.st_size - at) < least) {
+    fclose(r.f);
+    return rd_fail(&r, VI_ERR_PARSE, "size", "%lld entries need at least "
+                   "%.0f more bytes, the file has %lld (truncated?)",
+                   (long long)h.entries, least,
+                   (long long)(sb.st_size - at));
   }
   triplets t;
   if (!trip_alloc(&t, cap)) {

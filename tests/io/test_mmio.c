@@ -158,15 +158,17 @@ static const badmm bads[] = {
     {"value Inf", HS "3 3 1\n1 1 -inf\n", VI_ERR_NONFINITE, 3, "finite"},
     {"value overflows", HS "3 3 1\n1 1 1e400\n", VI_ERR_NONFINITE, 3, "finite"},
     {"integer field, real value", "%%MatrixMarket matrix coordinate integer general\n1 1 1\n1 1 2.5\n", VI_ERR_PARSE, 3, "integer"},
-    {"missing value", HS "3 3 1\n1 1\n", VI_ERR_PARSE, 3, "2 words"},
+    {"missing value", HS "3 3 1\n1 1      \n", VI_ERR_PARSE, 3, "2 words"},
     {"extra word", HS "3 3 1\n1 1 1 1\n", VI_ERR_PARSE, 3, "words"},
-    {"truncated", HS "3 3 3\n1 1 1\n2 2 1\n", VI_ERR_PARSE, 4, "truncated"},
+    {"truncated", HS "3 3 3\n1 1 1\n2 2 1\n", VI_ERR_PARSE, 2, "truncated"},
+    {"truncated, long lines", HS "3 3 3\n1 1 1.0000000000000000\n2 2 1.0000000000000000\n", VI_ERR_PARSE, 4, "after 2 of its 3"},
     {"too many entries", HS "3 3 1\n1 1 1\n2 2 1\n", VI_ERR_PARSE, 4, "more entries"},
     {"above the diagonal", HS "3 3 2\n1 1 1\n1 2 1\n", VI_ERR_NOT_SYMMETRIC, 4, "above"},
     {"duplicate", HS "3 3 3\n1 1 1\n2 1 1\n1 1 2\n", VI_ERR_PARSE, 5, "lines 3 and 5"},
     {"not symmetric", HG "2 2 3\n1 1 1\n2 1 0.5\n1 2 0.4\n", VI_ERR_NOT_SYMMETRIC, 4, "not symmetric"},
     {"mirror absent", HG "2 2 2\n1 1 1\n1 2 0.5\n", VI_ERR_NOT_SYMMETRIC, 4, "absent"},
-    {"array: too few", "%%MatrixMarket matrix array real symmetric\n2 2\n1\n2\n", VI_ERR_PARSE, 4, "truncated"},
+    {"array: too few", "%%MatrixMarket matrix array real symmetric\n2 2\n1\n2\n", VI_ERR_PARSE, 2, "truncated"},
+    {"array: too few, long lines", "%%MatrixMarket matrix array real symmetric\n2 2\n1.000000\n2.000000\n", VI_ERR_PARSE, 4, "after 2 of its 3"},
     {"array: two per line", "%%MatrixMarket matrix array real general\n1 2\n1 2\n", VI_ERR_PARSE, 3, "one value"},
     {"array: size with entries", "%%MatrixMarket matrix array real general\n2 2 4\n", VI_ERR_PARSE, 2, "rows cols"},
     {"binary", HS "3 3 1\n1 1 1\0\n", VI_ERR_PARSE, 3, "NUL"},
@@ -204,8 +206,9 @@ static void test_malformed(void **state)
   }
 }
 
-/* Limits: a file that would need more memory than allowed is refused at
- * its size line, before its entries are read; a line beyond the length
+/* Limits: a file that would need more memory than allowed, or whose bytes
+ * cannot hold the entries its size line promises, is refused at its size
+ * line, before storage for its entries exists; a line beyond the length
  * limit is refused. */
 static void test_limits(void **state)
 {
@@ -218,10 +221,12 @@ static void test_limits(void **state)
                    VI_ERR_LIMIT);
   assert_int_equal(d.line, 2);
   assert_non_null(strstr(d.message, "MB"));
-  /* with room, the short file is found truncated at its end */
+  /* with room, the short file is refused at its size line: its bytes
+   * cannot hold 200000 entries, so nothing is allocated for them */
   assert_int_equal(vi_mm_load_limited(path, VI_CSC_LOWER, 1e9, &m, &d),
                    VI_ERR_PARSE);
-  assert_non_null(strstr(d.message, "after 1 of its 200000"));
+  assert_int_equal(d.line, 2);
+  assert_non_null(strstr(d.message, "truncated"));
   remove(path);
   char *big = malloc(VI_MM_MAX_LINE + 200);
   assert_non_null(big);
