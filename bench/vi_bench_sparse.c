@@ -184,8 +184,18 @@ static int bench_rod(int N)
     goto done;
   }
   double t_end = 60.0 * 2.0 * M_PI / Om;
+  /* each twice, alternating, the faster kept: the first run also warms
+   * the caches, and the machine may be shared */
   double tf = run(mfe, t_end, &ef), tx = run(mex, t_end, &ex);
   if (tf < 0 || tx < 0) goto done;
+  events e2 = {0};
+  double tf2 = run(mfe, t_end, &e2);
+  free(e2.t); free(e2.vn);
+  e2 = (events){0};
+  double tx2 = run(mex, t_end, &e2);
+  free(e2.t); free(e2.vn);
+  if (tf2 > 0) tf = fmin(tf, tf2);
+  if (tx2 > 0) tx = fmin(tx, tx2);
   double vmax = 0.0, dt = 0.0, dv = 0.0;
   int used = 0;
   for (int i = 0; i < ex.count; i++) vmax = fmax(vmax, fabs(ex.vn[i]));
@@ -205,8 +215,8 @@ static int bench_rod(int N)
          "%.2e periods (target 1e-5), max |dv_n| = %.2e v_max (target "
          "1e-4)\n", t_end * Om / (2.0 * M_PI), ef.count, ex.count, used,
          vmax, dt, dv);
-  printf("run time: FE model %.3f s, explicit 20-mode model %.3f s, ratio "
-         "%.2f\n", tf, tx, tf / tx);
+  printf("run time (best of 2): FE model %.3f s, explicit 20-mode model "
+         "%.3f s, ratio %.2f\n", tf, tx, tf / tx);
   rc = 0;
 done:
   free(ef.t); free(ef.vn); free(ex.t); free(ex.vn);

@@ -19,9 +19,11 @@
  * a free structure, whose rigid-body modes need a negative shift. */
 #define VI_EIGS_SINGULAR 1e-13
 /* The automatic negative shift, relative to the scale max_j K_jj / M_jj of
- * the spectrum (~lambda_max / 4 for linear elements): far below the first
- * elastic eigenvalue of any mesh up to ~1e5 elements in 1-D (lambda_1 /
- * scale ~ 3 / N^2), while cond(K - sigma M) ~ 1e9 leaves the solves
+ * the spectrum (~lambda_max / 4 for linear elements): below the first
+ * elastic eigenvalue of 1-D meshes up to ~5e4 elements (lambda_1 / scale
+ * ~ 3 / N^2) and of any 2-D or 3-D mesh of practical size, and within a few
+ * lambda_1 up to 1e5 (a shift of a few lambda_1 hardly slows Lanczos),
+ * while cond(K - sigma M) <= scale / |sigma| = 1e9 keeps the solves
  * accurate. */
 #define VI_EIGS_AUTO_SHIFT 1e-9
 /* Eigenvalues within this fraction of the scale are rigid-body modes

@@ -219,6 +219,150 @@ static void test_free_free_rod(void **state)
   vi_fe_destroy(&fe);
 }
 
+/* A clamped Euler-Bernoulli beam of N Hermite elements (EI = rho A = L = 1;
+ * dofs w, theta per node): the tip's static flexibility is exact for
+ * cubic elements, L^3 / (3 EI); the frequencies converge to the analytic
+ * cantilever's beta_j^2 as h^4 (consistent mass: the eigenvalue error of
+ * cubic elements is O(h^(2(p + 1 - m))) = O(h^4)), so halving h divides the
+ * error by 16.  Two dofs per node of different scales (w and theta) test
+ * the factorisation and the Lanczos solver on a non-M-matrix operator. */
+static void beam_csc(int N, int *cp, int *ri, double *mv, double *kv)
+{
+  int n = 2 * N, c = 0;
+  double h = 1.0 / N;
+  double ke[4][4] = {{12, 6 * h, -12, 6 * h}, {6 * h, 4 * h * h, -6 * h, 2 * h * h},
+                     {-12, -6 * h, 12, -6 * h}, {6 * h, 2 * h * h, -6 * h, 4 * h * h}};
+  double me[4][4] = {{156, 22 * h, 54, -13 * h}, {22 * h, 4 * h * h, 13 * h, -3 * h * h},
+                     {54, 13 * h, 156, -22 * h}, {-13 * h, -3 * h * h, -22 * h, 4 * h * h}};
+  /* node i (1..N) has dofs 2(i-1), 2(i-1)+1; element e joins nodes e, e+1 */
+  for (int j = 0; j < n; j++) {
+    int node = j / 2 + 1;
+    cp[j] = c;
+    for (int i = j; i < n && i <= 2 * node + 1; i++) { /* lower band */
+      double kk = 0.0, mm = 0.0;
+      for (int e = node - 1; e <= node; e++) { /* elements holding node */
+        if (e < 0 || e >= N) continue;
+        int a = j - 2 * (e - 1), b = i - 2 * (e - 1); /* local 0..3 */
+        if (a < 0 || a > 3 || b < 0 || b > 3) continue;
+        kk += ke[b][a] / (h * h * h);
+        mm += me[b][a] * h / 420.0;
+      }
+      if (kk == 0.0 && mm == 0.0) continue;
+      ri[c] = i;
+      kv[c] = kk;
+      mv[c++] = mm;
+    }
+  }
+  cp[n] = c;
+}
+
+static void test_hermite_beam(void **state)
+{
+  (void)state;
+  double err[2][4];
+  for (int pass = 0; pass < 2; pass++) {
+    int N = pass ? 40 : 20, n = 2 * N;
+    int *cp = malloc(sizeof(int) * (size_t)(n + 1)), *ri = malloc(sizeof(int) * 4 * (size_t)n);
+    double *mv = malloc(sizeof(double) * 4 * (size_t)n), *kv = malloc(sizeof(double) * 4 * (size_t)n);
+    assert_true(cp && ri && mv && kv);
+    beam_csc(N, cp, ri, mv, kv);
+    vi_fe *fe = NULL;
+    assert_int_equal(vi_fe_create(n, &fe), VI_OK);
+    assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, cp, ri, mv), VI_OK);
+    assert_int_equal(vi_fe_set_stiffness_csc(fe, VI_CSC_LOWER, 0, cp, ri, kv), VI_OK);
+    assert_int_equal(vi_fe_set_modes(fe, 4), VI_OK);
+    assert_int_equal(vi_fe_add_stop_dof(fe, n - 2, 1, 0.0, 0.5), VI_OK); /* tip w */
+    assert_int_equal(vi_fe_setup(fe), VI_OK);
+    double dyn, sta;
+    assert_int_equal(vi_fe_stop_compliance(fe, 0, &dyn, &sta), VI_OK);
+    /* a solve with K, whose condition grows as N^4 (~5e7 at N = 40,
+     * rotations and deflections mixed): eps cond(K) ~ 1e-8 */
+    assert_close(sta * 3.0, 1.0, 1e-8);
+    for (int j = 0; j < 4; j++) {
+      double b = vi_cantilever_beta(j);
+      err[pass][j] = vi_fe_omega(fe)[j] / (b * b) - 1.0;
+      /* the consistent mass bounds the eigenvalues from above */
+      assert_true(err[pass][j] > 0.0);
+    }
+    /* the tip's modal amplitudes: |phi_j(1)| = 2 for the unit cantilever */
+    const double *ps = vi_fe_modal_stops(fe, NULL);
+    for (int j = 0; j < 4; j++) assert_close(fabs(ps[j]), 2.0, 2e-3);
+    vi_fe_destroy(&fe);
+    free(cp); free(ri); free(mv); free(kv);
+  }
+  for (int j = 0; j < 4; j++) {
+    double ratio = err[0][j] / err[1][j];
+    print_message("beam mode %d: error %.3e (N = 20), %.3e (N = 40), ratio %.2f\n",
+                  j + 1, err[0][j], err[1][j], ratio);
+    assert_true(ratio > 14.0 && ratio < 17.0);
+  }
+}
+
+/* Two disconnected free rods in one model: every eigenvalue double, two
+ * rigid modes (as the six of a free 3-D body): Lanczos must return both
+ * members of each pair, M-orthonormal. */
+static void test_degenerate_modes(void **state)
+{
+  (void)state;
+  const int N = 100, k = 8;
+  rod_build(&R, N, 0);
+  int n1 = R.n, n = 2 * n1, nnz = R.nnz;
+  int *cp = malloc(sizeof(int) * (size_t)(n + 1)), *ri = malloc(sizeof(int) * 2 * (size_t)nnz);
+  double *mv = malloc(sizeof(double) * 2 * (size_t)nnz), *kv = malloc(sizeof(double) * 2 * (size_t)nnz);
+  assert_true(cp && ri && mv && kv);
+  for (int b = 0; b < 2; b++) {
+    for (int j = 0; j < n1; j++) cp[b * n1 + j] = R.colptr[j] + b * nnz;
+    for (int p = 0; p < nnz; p++) {
+      ri[b * nnz + p] = R.rowind[p] + b * n1;
+      mv[b * nnz + p] = R.m[p];
+      kv[b * nnz + p] = R.k[p];
+    }
+  }
+  cp[n] = 2 * nnz;
+  vi_fe *fe = NULL;
+  assert_int_equal(vi_fe_create(n, &fe), VI_OK);
+  assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, cp, ri, mv), VI_OK);
+  assert_int_equal(vi_fe_set_stiffness_csc(fe, VI_CSC_LOWER, 0, cp, ri, kv), VI_OK);
+  assert_int_equal(vi_fe_set_modes(fe, k), VI_OK);
+  assert_int_equal(vi_fe_add_stop_dof(fe, 0, -1, 0.0, 0.5), VI_OK);
+  assert_int_equal(vi_fe_set_keep_shapes(fe, 1), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_OK);
+  const double *om = vi_fe_omega(fe);
+  assert_true(om[0] == 0.0 && om[1] == 0.0);
+  for (int j = 2; j < k; j++) {
+    int pair = j / 2; /* modes 2j and 2j + 1 share theta = pair pi / N */
+    assert_close(om[j] / sqrt(rod_lambda(N, pair * M_PI / N)), 1.0, 1e-9);
+  }
+  /* Psi^T M Psi = I, the degenerate pairs included: eps times the
+   * Lanczos basis' loss of orthogonality, 1e-10 */
+  int ld;
+  const double *Psi = vi_fe_shapes(fe, &ld);
+  /* M Psi from the stored lower triangle */
+  const int *scp, *sri;
+  const double *smv;
+  int snz;
+  assert_int_equal(vi_fe_matrix_csc(fe, VI_FE_MASS, &snz, &scp, &sri, &smv), VI_OK);
+  double *Mp = calloc((size_t)n, sizeof(double));
+  assert_non_null(Mp);
+  for (int b = 0; b < k; b++) {
+    const double *pb = Psi + (size_t)b * ld;
+    memset(Mp, 0, sizeof(double) * (size_t)n);
+    for (int j = 0; j < n; j++)
+      for (int p = scp[j]; p < scp[j + 1]; p++) {
+        Mp[sri[p]] += smv[p] * pb[j];
+        if (sri[p] != j) Mp[j] += smv[p] * pb[sri[p]];
+      }
+    for (int a = 0; a < k; a++) {
+      double d = 0.0;
+      for (int i = 0; i < n; i++) d += Psi[i + (size_t)a * ld] * Mp[i];
+      assert_close(d, a == b ? 1.0 : 0.0, 1e-10);
+    }
+  }
+  free(Mp);
+  vi_fe_destroy(&fe);
+  free(cp); free(ri); free(mv); free(kv);
+}
+
 /* Every mode of a small rod (k >= n - 1: LAPACK's dense solver). */
 static void test_small_rod_dense(void **state)
 {
@@ -517,6 +661,8 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_fixed_free_rod),
       cmocka_unit_test(test_free_free_rod),
+      cmocka_unit_test(test_hermite_beam),
+      cmocka_unit_test(test_degenerate_modes),
       cmocka_unit_test(test_small_rod_dense),
       cmocka_unit_test(test_storage_variants),
       cmocka_unit_test(test_bad_csc),
