@@ -243,6 +243,12 @@ static void test_chain_from_files(void **state)
   assert_int_equal(vi_scene_parse("model:\n  chain: {n: 3, m: [1, 2, 3], "
                                   "k: [4, 5, 6]}\n" TAIL, -1, "dense", &sd,
                                   &d), VI_OK);
+  /* the memory is estimated from the files' headers and refused up front,
+   * naming the files' key */
+  assert_true(vi_scene_memory_estimate(sf) > 0);
+  assert_int_equal(vi_scene_check_memory(sf, 1000.0, &d), VI_ERR_LIMIT);
+  assert_string_equal(d.key, "model.matrix_market");
+  assert_int_equal(vi_scene_check_memory(sf, 1e12, &d), VI_OK);
   /* frequencies: the reduction's against the dense model's (dsygvd) */
   vi_fe *fe = NULL;
   vi_model *md = NULL;
