@@ -36,5 +36,6 @@
 #include "vibroimpact/vi_ledger.h"
 #include "vibroimpact/vi_force.h"
 #include "vibroimpact/vi_orbit.h"
+#include "vibroimpact/vi_param.h"
 
 #endif

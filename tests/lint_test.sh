@@ -38,6 +38,7 @@ files=(
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
   src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c apps/vi_cmd_energy.c
   src/vi_band.c tests/test_band.c apps/vi_bench_band.c
+  src/model/vi_param.c tests/model/test_param.c
   tests/test_app.c tests/test_flow.c tests/test_scene.c tests/test_sweep.c
   apps/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
 )
