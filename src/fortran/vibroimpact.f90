@@ -72,6 +72,8 @@ module vibroimpact
             vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
             vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
             vi_model_damping_band, vi_model_stiffness_band, vi_build_chain_band
+  public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
+            vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
             vi_cantilever_shape, vi_cantilever_participation
   public :: vi_impact_apply, vi_impact_apply_r, vi_impact_apply_multi, vi_restitution_from_energy, &
@@ -878,6 +880,55 @@ module vibroimpact
       integer(c_int), value :: n, nphase, ld, cap
       real(c_double) :: t(*), x(*), v(*)
       integer(c_int) :: found
+    end function
+    ! ---- parameters by key (vi_param.h); keys are C strings,
+    ! e.g. 'forcing.omega'//c_null_char, with 1-based indices 'forcing.a[1]'
+    integer(c_int) function vi_model_set_param(model, key, value) &
+        bind(C, name="vi_model_set_param")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: model
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), value :: value
+    end function
+    integer(c_int) function vi_model_param(model, key, value) bind(C, name="vi_model_param")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: model
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), intent(out) :: value
+    end function
+    integer(c_int) function vi_model_copy(model, out) bind(C, name="vi_model_copy")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int) function vi_param_kind(key) bind(C, name="vi_param_kind")
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: key(*)
+    end function
+    integer(c_int) function vi_param_set_initial(key, value, n, t0, x, v) &
+        bind(C, name="vi_param_set_initial")
+      import :: c_int, c_char, c_double
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), value :: value
+      integer(c_int), value :: n
+      real(c_double), intent(inout) :: t0, x(*), v(*)
+    end function
+    integer(c_int) function vi_param_initial(key, n, t0, x, v, value) &
+        bind(C, name="vi_param_initial")
+      import :: c_int, c_char, c_double
+      character(kind=c_char), intent(in) :: key(*)
+      integer(c_int), value :: n
+      real(c_double), value :: t0
+      real(c_double), intent(in) :: x(*), v(*)
+      real(c_double), intent(out) :: value
+    end function
+    integer(c_int) function vi_param_key_count() bind(C, name="vi_param_key_count")
+      import :: c_int
+    end function
+    !> a C string (vi_string converts it); null out of range
+    type(c_ptr) function vi_param_key_name(i) bind(C, name="vi_param_key_name")
+      import :: c_ptr, c_int
+      integer(c_int), value :: i
     end function
   end interface
 

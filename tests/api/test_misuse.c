@@ -706,6 +706,58 @@ static void test_orbit_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* Parameters by key: NULL handles, keys and outputs, unknown keys,
+ * indices out of range, values out of their domain; a model before setup
+ * takes the model keys but not the modal ratios. */
+static void test_param_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *c = NULL, *raw = NULL;
+  double val, t0 = 0, x[2] = {0, 0}, v[2] = {0, 0};
+  assert_err(vi_model_set_param(NULL, "forcing.omega", 1.0));
+  assert_err_msg(vi_model_set_param(m, NULL, 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.a[]", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.a[1][1]", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.a[99999999999]", 1.0),
+                 vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "stops[-1].xs", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.omega", INFINITY), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "damping.zeta[3]", 0.1), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "damping.zeta", -0.1), vi_model_errmsg(m));
+  assert_err(vi_model_param(NULL, "forcing.omega", &val));
+  assert_err(vi_model_param(m, "forcing.omega", NULL));
+  assert_err_msg(vi_model_param(m, "forcing.omgea", &val), vi_model_errmsg(m));
+  assert_err_msg(vi_model_param(m, "stops[2].r", &val), vi_model_errmsg(m));
+  assert_err_msg(vi_model_param(m, "initial.x[1]", &val), vi_model_errmsg(m));
+  assert_err(vi_model_copy(NULL, &c));
+  assert_null(c);
+  assert_err(vi_model_copy(m, NULL));
+  assert_int_equal(vi_param_kind(NULL), VI_PARAM_UNKNOWN);
+  assert_int_equal(vi_param_kind("initial.x[1]x"), VI_PARAM_UNKNOWN);
+  assert_err(vi_param_set_initial(NULL, 1.0, 2, &t0, x, v));
+  assert_err(vi_param_set_initial("initial.x[1]", NAN, 2, &t0, x, v));
+  assert_err(vi_param_set_initial("initial.x[1]", 1.0, 2, &t0, NULL, v));
+  assert_err(vi_param_set_initial("initial.t0", 1.0, 2, NULL, x, v));
+  assert_err(vi_param_set_initial("initial.v[0]", 1.0, 2, &t0, x, v));
+  assert_err(vi_param_initial("initial.v[1]", 2, t0, x, NULL, &val));
+  assert_err(vi_param_initial("initial.v[1]", 2, t0, x, v, NULL));
+  assert_err(vi_param_initial("initial.v[3]", 2, t0, x, v, &val));
+  assert_err(vi_param_initial("stop.xs", 2, t0, x, v, &val));
+  assert_null(vi_param_key_name(-1));
+  assert_true(vi_param_key_count() > 0);
+  /* before setup: model keys yes, modal ratios no */
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_model_set_param(raw, "forcing.omega", 1.0), VI_OK);
+  assert_err_msg(vi_model_set_param(raw, "stop.xs", 1.0), vi_model_errmsg(raw));
+  assert_int_equal(vi_model_set_param(raw, "damping.zeta", 0.1), VI_ERR_STATE);
+  assert_int_equal(vi_model_set_param(raw, "forcing.a[1]", 1.0), VI_OK);
+  assert_int_equal(vi_model_set_param(raw, "forcing.omega", 0.0),
+                   VI_ERR_FREQUENCY); /* harmonic forcing needs Omega */
+  vi_model_destroy(&raw);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -716,6 +768,7 @@ int main(void)
       cmocka_unit_test(test_builders_misuse),
       cmocka_unit_test(test_impact_multi_misuse),
       cmocka_unit_test(test_orbit_misuse),
+      cmocka_unit_test(test_param_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
