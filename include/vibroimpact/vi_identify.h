@@ -59,7 +59,8 @@ typedef int (*vi_identify_model_fn)(const double *p, void *user,
 /** Parameter kinds of vi_identify_set_param: the vi_orbit_pnm_dparam
  *  parameters, whose derivatives are exact and whose models the
  *  identification can build itself from the base model, or any other
- *  (VI_IDENTIFY_OTHER: built by the builder, derivative differenced). */
+ *  (VI_IDENTIFY_OTHER: set by its key, vi_identify_set_param_key, or by the
+ *  builder; derivative differenced). */
 enum {
   VI_IDENTIFY_OMEGA = 0, /**< forcing frequency Omega (VI_ORBIT_PARAM_OMEGA) */
   VI_IDENTIFY_XS = 1,    /**< a stop's position x_k (VI_ORBIT_PARAM_XS) */
@@ -98,15 +99,30 @@ VI_API const char *vi_identify_errmsg(const vi_identify *id);
 /** Parameter j (0-based): its kind (VI_IDENTIFY_*), the stop k (0-based)
  *  for VI_IDENTIFY_XS and VI_IDENTIFY_R (ignored otherwise), its starting
  *  value p0 and its admissible range [lo, hi] (lo < hi; infinite bounds
- *  allowed; r is also confined to [0, 1]).  Every parameter must be set
+ *  allowed; r is also confined to [0, 1]).  A VI_IDENTIFY_OTHER parameter
+ *  keeps the key vi_identify_set_param_key gave it (a new start or range).
+ *  Every parameter must be set
  *  before vi_identify_run.  @return VI_OK, VI_ERR_ARG (j, kind or k out of
  *  range, p0 outside [lo, hi], lo >= hi), VI_ERR_NONFINITE (p0 NaN or
  *  infinite). */
 VI_API int vi_identify_set_param(vi_identify *id, int j, int kind, int k,
                                  double p0, double lo, double hi);
-/** The model at trial values: fn builds it (needed when a parameter is
- *  VI_IDENTIFY_OTHER; without a builder the identification changes Omega,
- *  x_k and r_k of a copy of the base model).  The models must keep the base
+/** Parameter j by its vi_param.h key (forcing.omega, stop.xs, stops[k].r,
+ *  forcing.a[i], damping.zeta, ...): the starting value is the base
+ *  model's (vi_model_param), the range [lo, hi] (NaN: unbounded on that
+ *  side; r also within [0, 1]).  Without a builder the model at trial
+ *  values is a copy of the base model (vi_model_copy) with every keyed
+ *  parameter set by vi_model_set_param.  Omega, x_k and r_k keep exact
+ *  derivatives; any other key is differenced.  @return VI_OK, VI_ERR_ARG
+ *  (NULL or unknown key, j out of range, the start outside [lo, hi]),
+ *  VI_ERR_DIM (an index out of range), VI_ERR_UNSUPPORTED, as
+ *  vi_model_param. */
+VI_API int vi_identify_set_param_key(vi_identify *id, int j, const char *key,
+                                     double lo, double hi);
+/** The model at trial values: fn builds it from all np values (needed
+ *  for a VI_IDENTIFY_OTHER parameter without a key; without a builder the
+ *  identification sets each parameter by its key on a copy of the base
+ *  model, vi_model_copy and vi_model_set_param).  The models must keep the base
  *  model's size and stops.  fn NULL removes it.  @return VI_OK,
  *  VI_ERR_ARG. */
 VI_API int vi_identify_set_builder(vi_identify *id, vi_identify_model_fn fn,

@@ -16,6 +16,7 @@
 
 #include "vi_orbit_internal.h"
 #include "vibroimpact/vi_identify.h"
+#include "vibroimpact/vi_param.h"
 
 #define MAXP 32
 
@@ -32,6 +33,7 @@ struct vi_identify {
   int N, np;
   int kind[MAXP], kst[MAXP], pset[MAXP];
   double p0[MAXP], lo[MAXP], hi[MAXP];
+  char key[MAXP][64]; /* the vi_param.h key of each parameter */
   vi_identify_model_fn fn;
   void *user;
   vi_destroy_fn destroy;
@@ -168,11 +170,51 @@ int vi_identify_set_param(vi_identify *id, int j, int kind, int k, double p0,
                    p0, lo, hi);
   id->kind[j] = kind;
   id->kst[j] = kind == VI_IDENTIFY_XS || kind == VI_IDENTIFY_R ? k : 0;
+  if (kind == VI_IDENTIFY_OMEGA) snprintf(id->key[j], sizeof id->key[j], "forcing.omega");
+  else if (kind == VI_IDENTIFY_XS) snprintf(id->key[j], sizeof id->key[j], "stops[%d].xs", k + 1);
+  else if (kind == VI_IDENTIFY_R) snprintf(id->key[j], sizeof id->key[j], "stops[%d].r", k + 1);
   id->p0[j] = p0;
   id->lo[j] = lo;
   id->hi[j] = hi;
   id->pset[j] = 1;
   id->done = 0;
+  return VI_OK;
+}
+
+/* "stop.xs", "stops[k].r", ...: the stop (0-based) and the field, or -1. */
+static int stop_key(const char *key, const char *field)
+{
+  char tail[16];
+  int k = 0, len = 0;
+  snprintf(tail, sizeof tail, ".%s", field);
+  if (!strncmp(key, "stop.", 5)) return strcmp(key + 4, tail) == 0 ? 0 : -1;
+  if (sscanf(key, "stops[%d]%n", &k, &len) == 1 && len > 0 && key[len - 1] == ']' &&
+      !strcmp(key + len, tail))
+    return k - 1;
+  return -1;
+}
+
+int vi_identify_set_param_key(vi_identify *id, int j, const char *key,
+                              double lo, double hi)
+{
+  if (!id) return VI_ERR_ARG;
+  if (!key || strlen(key) >= sizeof id->key[0])
+    return vi_fail(id->errmsg, VI_ERR_ARG, "parameter %d: no key or too long",
+                   j + 1);
+  double p0;
+  int st = vi_model_param(id->base, key, &p0);
+  if (st)
+    return vi_fail(id->errmsg, st, "parameter %d: %s", j + 1,
+                   vi_model_errmsg(id->base));
+  int kind = VI_IDENTIFY_OTHER, k = 0;
+  if (!strcmp(key, "forcing.omega")) kind = VI_IDENTIFY_OMEGA;
+  else if ((k = stop_key(key, "xs")) >= 0) kind = VI_IDENTIFY_XS;
+  else if ((k = stop_key(key, "r")) >= 0) kind = VI_IDENTIFY_R;
+  if (k < 0) k = 0;
+  if (isnan(lo)) lo = -HUGE_VAL;
+  if (isnan(hi)) hi = HUGE_VAL;
+  if ((st = vi_identify_set_param(id, j, kind, k, p0, lo, hi))) return st;
+  snprintf(id->key[j], sizeof id->key[j], "%s", key);
   return VI_OK;
 }
 
@@ -267,32 +309,15 @@ int vi_identify_set_data(vi_identify *id, int ns, const double *t,
 
 /* ---- models at trial values ------------------------------------------- */
 
-/* A copy of the base model with Omega, x_k, r_k from p. */
-static int clone_model(const vi_identify *id, const double *p, vi_model **out)
+/* A copy of the base model with the parameters set by key (vi_param.h:
+ * only what each touches is redone). */
+static int copy_model(vi_identify *id, const double *p, vi_model **out)
 {
-  const vi_model *b = id->base;
-  int n = id->N, st;
-  double om = b->omega_f;
-  for (int j = 0; j < id->np; j++)
-    if (id->kind[j] == VI_IDENTIFY_OMEGA) om = p[j];
   vi_model *m = NULL;
-  if ((st = vi_model_create(n, &m))) return st;
-  st = vi_model_set_mass(m, b->M, n);
-  if (!st) st = vi_model_set_damping(m, b->C, n);
-  if (!st) st = vi_model_set_stiffness(m, b->K, n);
-  if (!st)
-    st = vi_model_set_forcing(m, om, vi_model_forcing_cos(b),
-                              vi_model_forcing_sin(b), vi_model_forcing_const(b));
-  for (int k = 0; !st && k < b->ns; k++) {
-    double xs = b->xsv[k], r = b->rv[k];
-    for (int j = 0; j < id->np; j++) {
-      if (id->kst[j] != k) continue;
-      if (id->kind[j] == VI_IDENTIFY_XS) xs = p[j];
-      if (id->kind[j] == VI_IDENTIFY_R) r = p[j];
-    }
-    st = vi_model_add_stop(m, vi_stop_w(b, k), xs, r);
-  }
-  if (!st) st = vi_model_setup(m);
+  int st = vi_model_copy(id->base, &m);
+  for (int j = 0; !st && j < id->np; j++)
+    if ((st = vi_model_set_param(m, id->key[j], p[j])))
+      vi_fail(id->errmsg, st, "%s", vi_model_errmsg(m));
   if (st) vi_model_destroy(&m);
   *out = m;
   return st;
@@ -303,7 +328,7 @@ static int make_model(vi_identify *id, const double *p, vi_model **out)
   *out = NULL;
   for (int j = 0; j < id->np; j++)
     if (!(p[j] >= id->lo[j] && p[j] <= id->hi[j])) return VI_ERR_ARG;
-  if (!id->fn) return clone_model(id, p, out);
+  if (!id->fn) return copy_model(id, p, out);
   int st = id->fn(p, id->user, out);
   if (st || !*out) {
     vi_model_destroy(out);
@@ -1074,9 +1099,9 @@ int vi_identify_run(vi_identify *id)
   for (int j = 0; j < id->np; j++) {
     if (!id->pset[j])
       return vi_fail(id->errmsg, VI_ERR_STATE, "parameter %d not set", j + 1);
-    if (id->kind[j] == VI_IDENTIFY_OTHER && !id->fn)
+    if (id->kind[j] == VI_IDENTIFY_OTHER && !id->fn && !id->key[j][0])
       return vi_fail(id->errmsg, VI_ERR_STATE,
-                     "parameter %d needs a model builder", j + 1);
+                     "parameter %d needs a key or a model builder", j + 1);
   }
   int np = id->np, P = np + id->fit_shift, nr = nres(id), st;
   id->errmsg[0] = 0;

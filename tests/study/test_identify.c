@@ -304,6 +304,24 @@ static void fig2(void **state)
   assert_true(f.conv);
   assert_true(fabs(f.p[0] - 0.7) < 3 * f.se[0] && f.se[0] < 0.01);
   assert_true(phase_err(f.t0, r.T0, 2 * M_PI / 0.9) < 0.01);
+  /* by vi_param.h keys: r (exact) and the forcing amplitude a_1
+   * (differenced), from 0.6 and 0.45 */
+  vi_identify *id = NULL;
+  double p[2], se[2];
+  int conv;
+  assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param_key(id, 0, "stop.r", NAN, NAN), VI_OK);
+  assert_int_equal(vi_identify_set_param_key(id, 1, "forcing.a[1]", 0.3, 0.7), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_OTHER, 0, 0.45, 0.3, 0.7), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_OK);
+  assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(vi_identify_summary(id, &conv, NULL, NULL, NULL, NULL, NULL, NULL), VI_OK);
+  assert_true(conv);
+  assert_true(fabs(p[0] - 0.7) < 3 * se[0] && fabs(p[1] - 0.5) < 3 * se[1]);
+  assert_true(se[1] < 0.01);
+  vi_identify_destroy(&id);
   series_free(&s);
   vi_model_destroy(&m);
 }
