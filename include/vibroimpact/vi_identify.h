@@ -178,6 +178,14 @@ VI_API int vi_identify_correlation(const vi_identify *id, double *R, int ld);
 VI_API int vi_identify_summary(const vi_identify *id, int *converged,
                                int *iterations, double *rms, double *noise,
                                double *rcond, int *n, int *m);
+/** Number of parameters np of the identification (0 for NULL). */
+VI_API int vi_identify_nparams(const vi_identify *id);
+/** The fitted orbit: its period *period = n 2 pi / Omega and the model
+ *  times t [m] (m <= 8, vi_identify_summary) of its impacts in the period
+ *  [0, *period) (the shift maps recording time t to model time t + t0).
+ *  Either pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
+VI_API int vi_identify_orbit_period(const vi_identify *id, double *period,
+                                    double *t);
 /** The fitted model's response c.x at recording times t [nt] (the shift
  *  applied) into x [nt]; v [nt] (may be NULL) receives c.x'.
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE, VI_ERR_NONFINITE. */

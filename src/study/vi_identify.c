@@ -346,7 +346,7 @@ static int make_model(vi_identify *id, const double *p, vi_model **out)
   return VI_OK;
 }
 
-static double period(const vi_model *m, int n) { return n * 2.0 * M_PI / m->omega_f; }
+static double period_of(const vi_model *m, int n) { return n * 2.0 * M_PI / m->omega_f; }
 
 /* Bring the orbit's first impact into [0, P): the same periodic orbit. */
 static void orb_normalise(orb *o, double P)
@@ -406,7 +406,7 @@ static int ensure(vi_identify *id, const double *p)
   drop_cur(id);
   id->cur = m;
   id->xf = xf;
-  orb_normalise(tr, period(m, tr->n));
+  orb_normalise(tr, period_of(m, tr->n));
   orb_copy(&id->o, tr, N);
   memcpy(id->pcur, p, sizeof(double) * id->np);
   id->have_cur = 1;
@@ -440,7 +440,7 @@ static void orbit_state(const vi_model *m, const vi_xflow *xf, const orb *o,
 {
   int N = m->n, j;
   double tau, k;
-  locate(o, period(m, o->n), s, &j, &tau, &k);
+  locate(o, period_of(m, o->n), s, &j, &tau, &k);
   memcpy(z, o->x + (size_t)j * N, sizeof(double) * N);
   memcpy(z + N, o->v + (size_t)j * N, sizeof(double) * N);
   vi_var_impact(m, o->stop[j], z, zp);
@@ -598,7 +598,7 @@ static int res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   memcpy(id->pacc, p, sizeof(double) * np);
   for (size_t i = 0; i < (size_t)D * np; i++) id->dudp[i] = -w.Fp[i];
   id->have_pred = 1;
-  double P = period(m, o->n);
+  double P = period_of(m, o->n);
   for (int i = 0; i < ns; i++) {
     int j;
     double tau, kper;
@@ -632,8 +632,8 @@ static int res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
         /* the response's own dependence at a fixed orbit (Omega: the
          * forcing and the period, k periods on), differenced */
         double *zt = w.zt;
-        double ta = tau + kper * (P - period(w.mp[q], o->n));
-        double tb = tau + kper * (P - period(w.mm[q], o->n));
+        double ta = tau + kper * (P - period_of(w.mp[q], o->n));
+        double tb = tau + kper * (P - period_of(w.mm[q], o->n));
         memcpy(zt, o->x + (size_t)j * N, sizeof(double) * N);
         memcpy(zt + N, o->v + (size_t)j * N, sizeof(double) * N);
         vi_var_impact(w.mp[q], sj, zt, w.zeta);
@@ -714,7 +714,7 @@ static int seed_orbit(vi_identify *id, orb *o)
                    "the model's P(%d,%d) motion at the starting values cannot "
                    "be refined to a periodic orbit (%s)", pn, pm,
                    st ? vi_strerror(st) : "not admissible");
-  orb_normalise(o, period(m, o->n));
+  orb_normalise(o, period_of(m, o->n));
   return VI_OK;
 }
 
@@ -776,7 +776,7 @@ static int data_period(vi_identify *id, double T)
  * periods of the recording. */
 static double scan_shift(vi_identify *id, double *cost_out)
 {
-  double P = period(id->cur, id->o.n), best = 0.0, bc = HUGE_VAL;
+  double P = period_of(id->cur, id->o.n), best = 0.0, bc = HUGE_VAL;
   int N = id->N, use = 0;
   double z[64], zp[64];
   double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
@@ -925,10 +925,11 @@ static double local_poly(const vi_identify *id, const double *f, int last,
 }
 
 /* The recorded approach velocity at time s: the fitted model's vN plus
- * the slope of the recording's departure from the model just before s (a
- * quartic through the last 8 displacement residuals, or a cubic through
- * the last 5 velocity residuals).  The model interpolates what 64 samples
- * per period cannot: the higher modes that ring between impacts. */
+ * the recording's departure from the model just before s (the slope of a
+ * line through the last 8 displacement residuals, or the mean of the last
+ * 3 velocity residuals: low-order, so that noise is averaged, not
+ * amplified).  The model interpolates what 64 samples per period cannot:
+ * the higher modes that ring between impacts. */
 static double recorded_slope(const vi_identify *id, const double *e,
                              const double *ev, double vNm, double s)
 {
@@ -940,8 +941,8 @@ static double recorded_slope(const vi_identify *id, const double *e,
   }
   int last = b; /* last sample before s */
   if (!(id->t[last] < s) || last < 8) return NAN;
-  return vNm + (ev ? local_poly(id, ev, last, 5, 3, s, 0)
-                   : local_poly(id, e, last, 8, 4, s, 1));
+  return vNm + (ev ? local_poly(id, ev, last, 3, 0, s, 0)
+                   : local_poly(id, e, last, 8, 1, s, 1));
 }
 
 /* WB 12 at the fitted orbit: the model's residual energy from its modal
@@ -957,7 +958,7 @@ static void energy_route(vi_identify *id)
   const double *w = vi_stop_w(m, 0);
   for (int i = 0; i < N; i++)
     if (fabs(id->c[i] - w[i]) > 1e-12 * (fabs(w[i]) + 1e-300)) return;
-  double P = period(m, 1), sum = 0.0;
+  double P = period_of(m, 1), sum = 0.0;
   int cnt = 0, ns = id->ns;
   double *e = malloc(sizeof(double) * (2 * (size_t)ns + 4 * (size_t)N));
   if (!e) return;
@@ -1053,7 +1054,7 @@ static int choose_orbit(vi_identify *id, int nd)
     for (int i = 0; i < 2 * N; i++)
       if (!(hypot(id->mre[i], id->mim[i]) < 1.0)) stable = 0;
     if (!stable) continue;
-    orb_normalise(&c1, period(m, nd));
+    orb_normalise(&c1, period_of(m, nd));
     orb save = id->o;
     id->o.n = c1.n;
     id->o.m = 1;
@@ -1119,7 +1120,7 @@ int vi_identify_run(vi_identify *id)
   id->scale = 0.0;
   for (int i = 0; i < id->ns; i++) id->scale = fmax(id->scale, fabs(id->y[i]));
   if (!(id->scale > 0.0)) id->scale = 1.0;
-  double T = period(m0, 1), span = id->t[id->ns - 1] - id->t[0];
+  double T = period_of(m0, 1), span = id->t[id->ns - 1] - id->t[0];
   if (id->ns < 4 * P + 8)
     return vi_fail(id->errmsg, VI_ERR_ARG,
                    "too few samples: %d for %d fitted values", id->ns, P);
@@ -1246,6 +1247,16 @@ int vi_identify_summary(const vi_identify *id, int *converged, int *iterations,
   if (rcond) *rcond = id->rcond;
   if (n) *n = id->o.n;
   if (m) *m = id->o.m;
+  return VI_OK;
+}
+
+int vi_identify_nparams(const vi_identify *id) { return id ? id->np : 0; }
+
+int vi_identify_orbit_period(const vi_identify *id, double *period, double *t)
+{
+  NEED_DONE(id);
+  if (period) *period = period_of(id->cur, id->o.n);
+  if (t) memcpy(t, id->o.t, sizeof(double) * id->o.m);
   return VI_OK;
 }
 
