@@ -308,7 +308,7 @@ static void usage(FILE *f)
 {
   fprintf(f,
     "usage: vibroimpact identify SCENE.yaml --data REC.csv --fit KEY[,KEY...]\n"
-    "                            [--dof I] [--noise S] [--set KEY=VALUE]...\n"
+    "                            [--dof I] [--noise S] [--unstable] [--set KEY=VALUE]...\n"
     "                            [--json] [-o OUT.h5]\n"
     "Fit scene parameters to a recorded periodic response (nonlinear least\n"
     "squares on the model's periodic orbit; an unknown forcing phase is\n"
@@ -321,6 +321,8 @@ static void usage(FILE *f)
     "  --dof I       the recording is coordinate I (1-based), not w.x\n"
     "  --noise S     the recording's noise standard deviation, if known\n"
     "                (else estimated from its 4th differences)\n"
+    "  --unstable    also fit unstable orbits (a model that cannot hold the\n"
+    "                recorded motion: which shape would it need?)\n"
     "  --set K=V     override a scene key first\n"
     "  --json        one JSON object on standard output\n"
     "  -o FILE.h5    the recording, fitted response, residuals and fit\n"
@@ -333,13 +335,14 @@ int vi_cmd_identify_main(int argc, char **argv)
 {
   const char *data = NULL, *fit = NULL, *out = NULL, *scene_path = NULL;
   const char *sets[64];
-  int nsets = 0, json = 0, dof = 0;
+  int nsets = 0, json = 0, dof = 0, unstable = 0;
   double noise = 0.0;
   static const struct option lo[] = {
       {"data", required_argument, 0, 'd'}, {"fit", required_argument, 0, 'F'},
       {"dof", required_argument, 0, 'D'},  {"noise", required_argument, 0, 'n'},
       {"set", required_argument, 0, 's'},  {"json", no_argument, 0, 'j'},
       {"output", required_argument, 0, 'o'}, {"help", no_argument, 0, 'h'},
+      {"unstable", no_argument, 0, 'u'},
       {0, 0, 0, 0}};
   int c;
   char *end;
@@ -351,6 +354,7 @@ int vi_cmd_identify_main(int argc, char **argv)
     case 'F': fit = optarg; break;
     case 'o': out = optarg; break;
     case 'j': json = 1; break;
+    case 'u': unstable = 1; break;
     case 'D':
       dof = (int)strtol(optarg, &end, 10);
       if (end == optarg || *end || dof < 1) {
@@ -487,6 +491,7 @@ int vi_cmd_identify_main(int argc, char **argv)
     }
   }
   if (!st) st = vi_identify_set_noise(id, noise);
+  if (!st && unstable) st = vi_identify_set_stable_only(id, 0);
   if (!st) st = vi_identify_set_data(id, rec.ns, rec.t, rec.x, rec.v);
   if (st) {
     fprintf(stderr, "vibroimpact: %s: %s\n", data, vi_identify_errmsg(id));
@@ -504,13 +509,14 @@ int vi_cmd_identify_main(int argc, char **argv)
   int np = b.nk, conv, iters, on, om;
   double p[MAXKEY], se[MAXKEY], l95[MAXKEY], h95[MAXKEY], R[MAXKEY * MAXKEY];
   int fl[MAXKEY];
-  double rms, nz, rcond, t0, t0se, r12, vN, KE, RE, P;
+  double rms, nz, rcond, t0, t0se, r12, vN, KE, RE, P, mu = NAN;
   vi_identify_params(id, p, se, l95, h95, fl);
   vi_identify_correlation(id, R, np);
   vi_identify_summary(id, &conv, &iters, &rms, &nz, &rcond, &on, &om);
   vi_identify_shift(id, &t0, &t0se);
   vi_identify_energy_restitution(id, &r12, &vN, &KE, &RE);
   vi_identify_orbit_period(id, &P, NULL);
+  vi_identify_stability(id, &mu);
   double tf = forcing_shift(&rec, vi_model_omega_forcing(model));
   if (json) {
     printf("{\"fit\": {");
@@ -540,8 +546,10 @@ int vi_cmd_identify_main(int argc, char **argv)
     json_num(tf);
     printf(", \"period\": ");
     json_num(P);
-    printf(", \"orbit\": {\"n\": %d, \"m\": %d}, \"samples\": %d, \"correlation\": [",
-           on, om, rec.ns);
+    printf(", \"orbit\": {\"n\": %d, \"m\": %d, \"stable\": %s, \"multiplier\": ",
+           on, om, mu < 1.0 ? "true" : "false");
+    json_num(mu);
+    printf("}, \"samples\": %d, \"correlation\": [", rec.ns);
     for (int i = 0; i < np; i++) {
       printf("%s[", i ? ", " : "");
       for (int j = 0; j < np; j++) {
@@ -584,6 +592,9 @@ int vi_cmd_identify_main(int argc, char **argv)
     if (isfinite(vN))
       printf("  WB 12 route: recorded v_N %.6g, KE_i %.6g, the model's RE %.6g: "
              "r = %.6g\n", vN, KE, RE, r12);
+    if (!(mu < 1.0))
+      printf("  the fitted orbit is UNSTABLE (largest |multiplier| %.3g): the "
+             "model cannot show this motion\n", mu);
     if (rcond < 1e-10)
       printf("  warning: the Jacobian is ill-conditioned (rcond %.2g): the data "
              "do not determine every parameter\n", rcond);

@@ -135,6 +135,12 @@ VI_API int vi_identify_set_observation(vi_identify *id, const double *c);
  *  starting from t0, or from a scan of one orbit period when t0 is NaN (the
  *  default); fit = 0 holds it at t0 (finite).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_identify_set_shift(vi_identify *id, int fit, double t0);
+/** on = 1 (default): the model's orbit must be stable (|Floquet
+ *  multipliers| < 1): an unstable orbit is not a motion a recording can
+ *  show.  on = 0 also fits unstable orbits: the shape a model's orbit
+ *  would need, e.g. to compare a reduced model that cannot hold the motion
+ *  (vi_identify_stability then tells).  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_identify_set_stable_only(vi_identify *id, int on);
 /** The recording's noise standard deviation, if known (sigma <= 0: estimate
  *  it from the 4th differences of a near-uniformly sampled recording), for
  *  the comparison with the residual RMS.  @return VI_OK, VI_ERR_NONFINITE. */
@@ -178,6 +184,10 @@ VI_API int vi_identify_correlation(const vi_identify *id, double *R, int ld);
 VI_API int vi_identify_summary(const vi_identify *id, int *converged,
                                int *iterations, double *rms, double *noise,
                                double *rcond, int *n, int *m);
+/** The fitted orbit's largest Floquet multiplier modulus *mu (< 1:
+ *  stable; NaN if it could not be computed).  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_STATE. */
+VI_API int vi_identify_stability(const vi_identify *id, double *mu);
 /** Number of parameters np of the identification (0 for NULL). */
 VI_API int vi_identify_nparams(const vi_identify *id);
 /** The fitted orbit: its period *period = n 2 pi / Omega and the model
@@ -194,9 +204,12 @@ VI_API int vi_identify_response(const vi_identify *id, int nt,
 /** The WB 12 route (MODEL.md section 5) at the fitted orbit, for a P(1,1)
  *  orbit observed at the stop (c = w): the model's residual energy RE =
  *  sum_j (FE_j - DE_j - XE_j) over one period (the modal ledger of the
- *  fitted orbit), the recorded approach velocity vN (the recording's
- *  velocity, or a local cubic fit of the displacements, just before each
- *  recorded impact, averaged), KE = 1/2 vN^2 / (w^T M^-1 w), and
+ *  fitted orbit), the recorded approach velocity vN just before each
+ *  recorded impact, averaged (when the residual is within 1.5 times the
+ *  noise: the fitted model's vN corrected by a low-order fit of the
+ *  residuals just before the impact, the model interpolating between the
+ *  samples; otherwise NaN: at 64 samples per period a local polynomial of
+ *  the recording alone is off by about 2 % of vN on the 4-mode beam), KE = 1/2 vN^2 / (w^T M^-1 w), and
  *  r12 = sqrt(1 - RE / KE) (WB 13).  NaN where they do not apply (not
  *  P(1,1), another observation, RE outside [0, KE]).  Any pointer may be
  *  NULL.  @return VI_OK, VI_ERR_STATE. */

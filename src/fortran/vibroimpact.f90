@@ -77,7 +77,8 @@ module vibroimpact
             vi_identify_set_observation, vi_identify_set_shift, vi_identify_set_noise, &
             vi_identify_set_data, vi_identify_run, vi_identify_params, vi_identify_shift, &
             vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
-            vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution
+            vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution, &
+            vi_identify_set_stable_only, vi_identify_stability
   public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
             vi_param_set_initial, vi_param_initial_value, vi_param_key_count, vi_param_key_name
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
@@ -983,6 +984,17 @@ module vibroimpact
       type(c_ptr), value :: id
       integer(c_int), optional :: converged, iterations, n, m
       real(c_double), optional :: rms, noise, rcond
+    end function
+    integer(c_int) function vi_identify_set_stable_only(id, on) &
+        bind(C, name="vi_identify_set_stable_only")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: id
+      integer(c_int), value :: on
+    end function
+    integer(c_int) function vi_identify_stability(id, mu) bind(C, name="vi_identify_stability")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double) :: mu
     end function
     integer(c_int) function vi_identify_nparams(id) bind(C, name="vi_identify_nparams")
       import :: c_int, c_ptr

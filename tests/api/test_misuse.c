@@ -808,6 +808,10 @@ static void test_identify_misuse(void **state)
   assert_err(vi_identify_set_shift(id, 2, 0.0));
   assert_err(vi_identify_set_shift(id, 0, NAN));
   assert_err(vi_identify_set_noise(NULL, 0.1));
+  assert_err(vi_identify_set_stable_only(NULL, 1));
+  assert_err(vi_identify_set_stable_only(id, 2));
+  assert_int_equal(vi_identify_stability(id, R), VI_ERR_STATE);
+  assert_int_equal(vi_identify_stability(NULL, R), VI_ERR_ARG);
   assert_int_equal(vi_identify_set_noise(id, INFINITY), VI_ERR_NONFINITE);
   assert_err(vi_identify_set_data(NULL, 20, t, x, NULL));
   assert_err(vi_identify_set_data(id, 20, NULL, x, NULL));
