@@ -460,7 +460,6 @@ int vi_cmd_identify_main(int argc, char **argv)
     b.key[b.nk++] = k;
   }
   if ((rc = read_csv(data, &rec))) goto done;
-  rc = 1;
   int n = vi_model_n(model);
   if (dof > n) {
     fprintf(stderr, "vibroimpact: --dof %d: the model has %d coordinates\n", dof, n);

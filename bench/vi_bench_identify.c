@@ -37,11 +37,14 @@ static int load(const char *dir, const char *name, double *t, double *x)
   FILE *f = fopen(path, "r");
   if (!f) return 0;
   int n = 0;
-  double v;
-  while (fgets(line, sizeof line, f) && n < 64)
-    if (line[0] != '#' && line[0] != 't' &&
-        sscanf(line, "%lf,%lf,%lf", &t[n], &x[n], &v) == 3)
-      n++;
+  while (fgets(line, sizeof line, f) && n < 64) {
+    if (line[0] == '#' || line[0] == 't') continue;
+    char *e1, *e2;
+    t[n] = strtod(line, &e1);
+    if (*e1 != ',') continue;
+    x[n] = strtod(e1 + 1, &e2);
+    if (e2 > e1 + 1) n++;
+  }
   fclose(f);
   return n;
 }
@@ -111,7 +114,7 @@ int main(int argc, char **argv)
     for (int s = 1; s <= seeds; s++) {
       gsl_rng_set(g, (unsigned long)s);
       for (int i = 0; i < ns; i++) {
-        t[i] = t1[i % 64] + (i / 64) * T;
+        t[i] = t1[i % 64] + floor(i / 64.0) * T;
         x[i] = x1[i % 64] + gsl_ran_gaussian(g, sigma);
       }
       vi_identify *id = NULL;

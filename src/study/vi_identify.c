@@ -99,7 +99,7 @@ int vi_identify_create(const vi_model *base, int np, vi_identify **out)
   id->c = malloc(sizeof(double) * id->N);
   id->dudp = malloc(sizeof(double) * (size_t)MAX_M * (2 * id->N + 1) * np);
   id->mre = malloc(sizeof(double) * 4 * (size_t)id->N);
-  id->mim = id->mre ? id->mre + 2 * id->N : NULL;
+  id->mim = id->mre ? id->mre + (size_t)2 * id->N : NULL;
   if (!id->c || !id->dudp || !id->mre || orb_alloc(&id->o, id->N) ||
       orb_alloc(&id->trial, id->N) || orb_alloc(&id->acc, id->N)) {
     vi_identify_destroy(&id);
@@ -186,13 +186,15 @@ int vi_identify_set_param(vi_identify *id, int j, int kind, int k, double p0,
 static int stop_key(const char *key, const char *field)
 {
   char tail[16];
-  int k = 0, len = 0;
   snprintf(tail, sizeof tail, ".%s", field);
   if (!strncmp(key, "stop.", 5)) return strcmp(key + 4, tail) == 0 ? 0 : -1;
-  if (sscanf(key, "stops[%d]%n", &k, &len) == 1 && len > 0 && key[len - 1] == ']' &&
-      !strcmp(key + len, tail))
-    return k - 1;
-  return -1;
+  if (strncmp(key, "stops[", 6) != 0) return -1;
+  char *end;
+  long k = strtol(key + 6, &end, 10);
+  if (end == key + 6 || *end != ']' || strcmp(end + 1, tail) != 0 || k < 1 ||
+      k > 1000000)
+    return -1;
+  return (int)k - 1;
 }
 
 int vi_identify_set_param_key(vi_identify *id, int j, const char *key,
@@ -388,10 +390,10 @@ static int ensure(vi_identify *id, const double *p)
       double dp = p[q] - id->pacc[q];
       const double *du = id->dudp + (size_t)q * D;
       for (int j = 0; j < tr->m; j++) {
-        tr->t[j] += du[j * B] * dp;
+        tr->t[j] += du[(size_t)j * B] * dp;
         for (int i = 0; i < N; i++) {
-          tr->x[i + (size_t)j * N] += du[j * B + 1 + i] * dp;
-          tr->v[i + (size_t)j * N] += du[j * B + 1 + N + i] * dp;
+          tr->x[i + (size_t)j * N] += du[(size_t)j * B + 1 + i] * dp;
+          tr->v[i + (size_t)j * N] += du[(size_t)j * B + 1 + N + i] * dp;
         }
       }
     }
@@ -479,7 +481,7 @@ static int res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
   double p[MAXP], t0, z[64], zp[64];
   double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
   if (!zz) return GSL_ENOMEM;
-  double *zzp = N <= 32 ? zp : zz + 2 * N;
+  double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
   split(id, th, p, &t0);
   if (ensure(id, p)) {
     /* no admissible orbit there: a cost no step can accept */
@@ -549,7 +551,7 @@ static int res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
   double p[MAXP], t0;
   split(id, th, p, &t0);
-  if ((st = ensure(id, p))) return GSL_EBADFUNC;
+  if (ensure(id, p)) return GSL_EBADFUNC;
   const vi_model *m = id->cur;
   const orb *o = &id->o;
   int B = N2 + 1, D = o->m * B;
@@ -787,12 +789,13 @@ static int data_period(vi_identify *id, double T)
  * periods of the recording. */
 static double scan_shift(vi_identify *id, double *cost_out)
 {
+  if (cost_out) *cost_out = HUGE_VAL;
   double P = period_of(id->cur, id->o.n), best = 0.0, bc = HUGE_VAL;
   int N = id->N, use = 0;
   double z[64], zp[64];
   double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
   if (!zz) return 0.0;
-  double *zzp = N <= 32 ? zp : zz + 2 * N;
+  double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
   while (use < id->ns && id->t[use] - id->t[0] < 2.0 * P && use < 1024) use++;
   for (int k = 0; k < 128; k++) {
     double t0 = k * P / 128.0, cost = 0.0;
@@ -981,7 +984,7 @@ static void energy_route(vi_identify *id)
   if (!e) return;
   double *ev = e + ns, *zz = ev + ns;
   for (int i = 0; i < ns; i++) {
-    orbit_state(m, id->xf, o, id->t[i] + id->t0, zz, zz + 2 * N, NULL, NULL,
+    orbit_state(m, id->xf, o, id->t[i] + id->t0, zz, zz + (size_t)2 * N, NULL, NULL,
                 NULL);
     e[i] = id->y[i] - vi_dot(N, id->c, zz);
     ev[i] = id->vy ? id->vy[i] - vi_dot(N, id->c, zz + N) : 0.0;
@@ -989,8 +992,8 @@ static void energy_route(vi_identify *id)
   double vNm = vi_dot(N, w, o->v);
   double nz = id->sigma > 0.0 ? id->sigma : noise_estimate(id);
   int assisted = !(id->rms > 1.5 * nz);
-  for (double k = ceil((id->t[0] + id->t0 - o->t[0]) / P);; k += 1.0) {
-    double s = o->t[0] + k * P - id->t0; /* recording time of impact k */
+  for (long k = (long)ceil((id->t[0] + id->t0 - o->t[0]) / P);; k++) {
+    double s = o->t[0] + (double)k * P - id->t0; /* recording time of impact k */
     if (s > id->t[ns - 1]) break;
     double v = recorded_slope(id, e, id->vy ? ev : NULL, vNm, assisted, s);
     if (isfinite(v)) {
@@ -1008,7 +1011,7 @@ static void energy_route(vi_identify *id)
   double RE = NAN;
   int pn = 0, pm = 0;
   if (z) {
-    orbit_state(m, id->xf, o, 0.0, z, z + 2 * N, NULL, NULL, NULL);
+    orbit_state(m, id->xf, o, 0.0, z, z + (size_t)2 * N, NULL, NULL, NULL);
     if (!vi_orbit_create(m, &ob) && !vi_orbit_set_initial(ob, z, z + N) &&
         !vi_orbit_set_direct_search(ob, 0) && !vi_orbit_find(ob) &&
         !vi_orbit_classify(ob, &pn, &pm) && pn == 1 && pm == 1)
@@ -1034,8 +1037,9 @@ static int choose_orbit(vi_identify *id, int nd)
 {
   const vi_model *m = id->cur;
   int N = id->N, found = 0, best = -1, cap = 16, ok = 0, st;
-  double bc = HUGE_VAL, cost;
+  double bc = HUGE_VAL, cost = HUGE_VAL;
   orb cand;
+  memset(&cand, 0, sizeof cand);
   cand.x = malloc(sizeof(double) * (size_t)N * (MAX_M + 2 * cap));
   cand.v = malloc(sizeof(double) * (size_t)N * (MAX_M + 2 * cap));
   double *st_ = malloc(sizeof(double) * cap);
@@ -1314,7 +1318,7 @@ int vi_identify_response(const vi_identify *id, int nt, const double *t,
       free(z);
       return VI_ERR_NONFINITE;
     }
-    orbit_state(id->cur, id->xf, &id->o, t[i] + id->t0, z, z + 2 * N, NULL,
+    orbit_state(id->cur, id->xf, &id->o, t[i] + id->t0, z, z + (size_t)2 * N, NULL,
                 NULL, NULL);
     x[i] = vi_dot(N, id->c, z);
     if (v) v[i] = vi_dot(N, id->c, z + N);

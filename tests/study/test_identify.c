@@ -42,8 +42,13 @@ static void load(const char *name, rec *r)
     if (!strncmp(line, "# T0 = ", 7)) r->T0 = strtod(line + 7, NULL);
     if (line[0] == '#' || line[0] == 't') continue;
     assert_true(r->ns < 1024);
-    assert_int_equal(sscanf(line, "%lf,%lf,%lf", &r->t[r->ns], &r->x[r->ns],
-                            &r->v[r->ns]), 3);
+    char *e1, *e2, *e3;
+    r->t[r->ns] = strtod(line, &e1);
+    assert_true(*e1 == ',');
+    r->x[r->ns] = strtod(e1 + 1, &e2);
+    assert_true(*e2 == ',');
+    r->v[r->ns] = strtod(e2 + 1, &e3);
+    assert_true(e3 > e2 + 1);
     r->ns++;
   }
   fclose(f);
@@ -78,9 +83,9 @@ static series repeat(const rec *r, int periods, double sigma, unsigned long seed
   series s;
   double T = r->t[1] * 64.0;
   s.ns = r->ns * periods;
-  s.t = malloc(sizeof(double) * s.ns);
-  s.x = malloc(sizeof(double) * s.ns);
-  s.v = malloc(sizeof(double) * s.ns);
+  s.t = malloc(sizeof(double) * (s.ns + 1));
+  s.x = malloc(sizeof(double) * (s.ns + 1));
+  s.v = malloc(sizeof(double) * (s.ns + 1));
   gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(g, seed);
   for (int p = 0; p < periods; p++)
