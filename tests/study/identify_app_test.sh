@@ -24,7 +24,8 @@ $py - "$dir/beam.json" <<'PY' || bad "beam JSON"
 import json, sys
 j = json.load(open(sys.argv[1]))
 r = j["fit"]["stop.r"]
-assert j["converged"] and j["orbit"] == {"n": 1, "m": 1}, j
+assert j["converged"] and (j["orbit"]["n"], j["orbit"]["m"]) == (1, 1), j
+assert j["orbit"]["stable"] and j["orbit"]["multiplier"] < 1, j
 assert abs(r["value"] - 0.75) < 3 * r["stderr"] and r["stderr"] < 0.01, r
 assert r["ci95"][0] < r["value"] < r["ci95"][1]
 assert abs(j["rms_residual"] / j["noise"] - 1) < 0.1, j
