@@ -1112,7 +1112,8 @@ static int choose_orbit(vi_identify *id, int nd)
       return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
                      "the recording repeats every %d forcing period(s), but "
                      "the model at the starting values settles on P(%d,%d) "
-                     "and has no %sP(%d,1) orbit: start nearer", nd, tn, tm,
+                     "and the impact-phase scan finds no %sP(%d,1) orbit: "
+                     "start nearer", nd, tn, tm,
                      id->stable_only ? "stable " : "", nd);
     return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED, "%s",
                    why[0] ? why : "no periodic orbit at the starting values");

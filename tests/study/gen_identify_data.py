@@ -45,22 +45,25 @@ def chain2():
     return np.eye(2), 0.1 * E, E, np.array([0.5, 0.0]), np.array([0.0, 1.0])
 
 
-def simulate(M, C, K, a, w, Om, xs, r, t_end, t_rec, times):
+def simulate(M, C, K, a, w, Om, xs, r, t_end, t_rec, times, stops=None):
     """Run from rest to t_end; return w.x, w.v at the given times (all
-    >= t_rec) by dense output between impacts."""
+    >= t_rec) by dense output between impacts.  stops: a list of (w_k,
+    xs_k, r_k) for several stops (w, xs, r then name the observation)."""
     n = len(w)
     Mi = np.linalg.inv(M)
-    Miw = Mi @ w
-    G = w @ Miw
+    stops = stops or [(w, xs, r)]
 
     def rhs(t, z):
         x, v = z[:n], z[n:]
         return np.concatenate([v, Mi @ (a * math.cos(Om * t) - C @ v - K @ x)])
 
-    def gap(t, z):
-        return w @ z[:n] - xs
-    gap.terminal = True
-    gap.direction = 1
+    def make_gap(wk, xk):
+        def gap(t, z):
+            return wk @ z[:n] - xk
+        gap.terminal = True
+        gap.direction = 1
+        return gap
+    gaps = [make_gap(np.asarray(wk), xk) for wk, xk, _ in stops]
     z = np.zeros(2 * n)
     t = 0.0
     out_x = np.full(len(times), np.nan)
@@ -68,18 +71,21 @@ def simulate(M, C, K, a, w, Om, xs, r, t_end, t_rec, times):
     impacts = 0
     while t < t_end:
         sol = solve_ivp(rhs, (t, t_end), z, method='DOP853', rtol=1e-12,
-                        atol=1e-14, events=gap, dense_output=True)
+                        atol=1e-14, events=gaps, dense_output=True)
         t1 = sol.t[-1]
         sel = (times >= t) & (times <= t1)
         if sel.any():
             zz = sol.sol(times[sel])
             out_x[sel] = w @ zz[:n]
             out_v[sel] = w @ zz[n:]
-        if sol.status == 1:  # an impact: WB 2
-            z = sol.y_events[0][0].copy()
-            t = sol.t_events[0][0]
-            vn = w @ z[n:]
-            z[n:] -= (1 + r) * vn * Miw / G
+        if sol.status == 1:  # an impact on stop k: WB 2
+            k = [i for i, te in enumerate(sol.t_events) if len(te)][0]
+            z = sol.y_events[k][0].copy()
+            t = sol.t_events[k][0]
+            wk, rk = np.asarray(stops[k][0]), stops[k][2]
+            Miw = Mi @ wk
+            vn = wk @ z[n:]
+            z[n:] -= (1 + rk) * vn * Miw / (wk @ Miw)
             impacts += 1
         else:
             break
@@ -96,6 +102,24 @@ def write(path, T0, t, x, v, note):
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else '.'
     rng = np.random.default_rng(7)
+    only = sys.argv[2] if len(sys.argv) > 2 else None
+    # share/scenes/clearance.yaml at a = (0.3, 0), Omega = 1.7: a P(1,2)
+    # orbit with one impact on each of the two stops x_2 = +-0.1 (r = 0.8)
+    E = np.array([[2.0, -1.0], [-1.0, 1.0]])
+    M2, C2, a2 = np.eye(2), 0.05 * E, np.array([0.3, 0.0])
+    e2 = np.array([0.0, 1.0])
+    if only in (None, 'clearance'):
+        Om = 1.7
+        T = 2 * math.pi / Om
+        T0 = 200 * T + 0.6123 * T
+        t = np.arange(64) * T / 64
+        x, v, _ = simulate(M2, C2, E, a2, e2, Om, 0.1, 0.8, T0 + T, T0, T0 + t,
+                           stops=[(e2, 0.1, 0.8), (-e2, 0.1, 0.8)])
+        write(f"{out}/clearance.csv", T0, t, x, v,
+              "clearance: steady P(1,2), x = x_2, one period of 64 samples, "
+              "a=(0.3,0) Omega=1.7 stops x_2 <= 0.1, -x_2 <= 0.1, r=0.8")
+        if only:
+            return
     cases = [('beam4', beam(), 0.85, 0.05, 0.75, 300),
              ('fig2', chain2(), 0.9, 0.1, 0.7, 200)]
     for name, (M, C, K, a, w), Om, xs, r, settle in cases:
