@@ -38,6 +38,8 @@ int main(int argc, char **argv)
   K_(VI_IDENTIFY_OMEGA); K_(VI_IDENTIFY_XS); K_(VI_IDENTIFY_R);
   K_(VI_IDENTIFY_OTHER); K_(VI_IDENTIFY_ON_BOUND);
   K_(VI_IDENTIFY_UNDETERMINED); K_(VI_IDENTIFY_CORRELATED);
+  K_(VI_CSC_FULL); K_(VI_CSC_LOWER);
+  K_(VI_FE_MASS); K_(VI_FE_DAMPING); K_(VI_FE_STIFFNESS);
   /* Fortran is case-insensitive: VI_VERSION_NUMBER would clash with the
    * function vi_version_number */
   constant(f, "VI_HEADER_VERSION", VI_VERSION_NUMBER);
