@@ -4,7 +4,8 @@
  *
  * Output goes to regular files only: a symbolic link is followed to its
  * target, devices, FIFOs, sockets and directories are refused
- * (vi_output_resolve, which a program can call before computing anything).
+ * (vi_output_resolve of vi_output.h, which a program can call before
+ * computing anything).
  * The file is written as TARGET.part and renamed to TARGET by
  * vi_writer_finish / vi_writer_close: complete = 1 for a finished run, 0
  * for an interrupted one (the file is valid and its root attribute
@@ -21,6 +22,7 @@
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_ledger.h"
 #include "vibroimpact/vi_model.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_sim.h"
@@ -31,16 +33,6 @@ extern "C" {
 
 /** Opaque HDF5 writer handle. */
 typedef struct vi_writer vi_writer;
-
-/** Where output for `path` will go: symbolic links followed to the final
- *  target (written into target[len]); refuses (VI_ERR_IO, reason in diag)
- *  a target that is not a regular file, a target or folder that is not
- *  writable, and a TARGET.part that exists but is not a regular file.
- *  Tries the folder by creating and removing TARGET.part (a stale one is
- *  removed), so nothing is left behind.  @return VI_OK, VI_ERR_ARG,
- *  VI_ERR_IO, VI_ERR_LIMIT (path longer than len). */
-VI_API int vi_output_resolve(const char *path, char *target, int len,
-                             vi_diag *diag);
 
 /** Create TARGET.part for the model's run (the model is borrowed and must
  *  be set up); path is resolved as by vi_output_resolve; compress != 0

@@ -390,7 +390,9 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
     return create_fail(diag, path, VI_ERR_ARG,
                        "vi_writer_create: path, model and out are required");
   int n = vi_model_n(model), st = VI_OK;
-  if (n < 1 || !(vi_model_omega_bound(model) > 0))
+  /* set up means frozen: the stop's compliance w.M^-1.w is > 0 then, also
+   * for a free body whose omega_1 = 0 (omega_bound is 0 for K = 0) */
+  if (n < 1 || !(vi_model_stop_compliance(model) > 0))
     return create_fail(diag, path, VI_ERR_STATE,
                        "vi_writer_create: the model is not set up "
                        "(vi_model_setup)");
@@ -411,7 +413,7 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
     return create_fail(diag, path, VI_ERR_NOMEM, "out of memory");
   }
   w->qd = w->q + n;
-  sprintf(w->part, "%s.part", target);
+  vi_output_part(target, w->part, (int)strlen(target) + 6);
   /* a stale PATH.part of an earlier crash is ours (vi_output_resolve made
    * sure it is a plain file); EXCL then creates a fresh one and never
    * follows a link planted in between */

@@ -226,8 +226,10 @@ static void test_non_regular_outputs(void **state)
   for (int k = 0; k < 3; k++) {
     int rc = run(ARGV("no-such-scene.yaml", "-o", (char *)targets[k]), NULL);
     expect(rc, 1, kinds[k]);
-    rc = run(ARGV("no-such-scene.yaml", "--impacts-csv", (char *)targets[k]), NULL);
-    expect(rc, 1, kinds[k]);
+    /* a CSV stream may go to a character device: written, not replaced */
+    rc = run(ARGV(k ? "no-such-scene.yaml" : "--quiet", "--impacts-csv",
+                  (char *)targets[k]), NULL);
+    expect(rc, k ? 1 : 0, k ? kinds[k] : NULL);
     char part[600];
     snprintf(part, sizeof part, "%s.part", targets[k]);
     assert_false(exists(part));
