@@ -388,8 +388,7 @@ static int polish(vi_sim *s, ark_data *d, double tc, double lo, double hi)
 static int step_failed(vi_sim *s, const char *what, double t)
 {
   if (s->force_failed)
-    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
-                   "failed at t = %.17g", s->force_fail_t);
+    return vi_force_failure(s);
   return vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s failed at t = %.17g", what, t);
 }
 
@@ -541,8 +540,7 @@ static int ark_step(vi_sim *s, double t_end, int *event)
   d->continued = 0;
   d->fresh = 0;
   if (flag < 0 && s->force_failed)
-    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
-                   "failed at t = %.17g", s->force_fail_t);
+    return vi_force_failure(s);
   if (flag < 0) {
     if (!s->errmsg[0])
       vi_fail(s->errmsg, VI_ERR_INTEGRATOR,

@@ -488,8 +488,7 @@ static int cv_step(vi_sim *s, double t_end, int *event)
   }
   d->continued = 0;
   if (flag < 0 && s->force_failed)
-    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
-                   "failed at t = %.17g", s->force_fail_t);
+    return vi_force_failure(s);
   if (flag < 0) {
     if (!s->errmsg[0])
       vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVode failed (flag %d) at t = %g",

@@ -152,10 +152,23 @@ static void use_backend(vi_sim *s, const vi_backend *be)
   s->be_data = pd;
 }
 
+int vi_sim_busy(vi_sim *s, const char *name)
+{
+  return vi_fail(s->errmsg, VI_ERR_STATE, "%s called from inside a callback "
+                 "of this sim's own run: refused (only the queries listed in "
+                 "vi_sim.h may be called there)", name);
+}
+
 void vi_sim_destroy(vi_sim **sim)
 {
   if (!sim || !*sim) return;
   vi_sim *s = *sim;
+  if (s->running) {
+    /* the run still holds s: end it, and let the host destroy afterwards */
+    s->destroy_asked = 1;
+    s->stop = 1;
+    return;
+  }
   /* the host's user data handed over with a destroy function */
   vi_user_set(&s->cancel_user, &s->cancel_free, NULL, NULL);
   vi_user_set(&s->ev_user, &s->ev_free, NULL, NULL);
@@ -182,6 +195,7 @@ const char *vi_sim_errmsg(const vi_sim *s) { return s ? s->errmsg : ""; }
 int vi_sim_set_method(vi_sim *s, int method)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!vi_method_name(method))
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
   if (method == VI_METHOD_EXACT && !s->flow->ok)
@@ -200,6 +214,7 @@ int vi_sim_set_method(vi_sim *s, int method)
 int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(rtol > 0.0) || !(atol > 0.0) || !isfinite(rtol) || !isfinite(atol))
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "tolerances rtol = %g, atol = %g must be positive and "
@@ -219,6 +234,7 @@ int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
 int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   const vi_model *m = s->m;
   int n = s->n;
   if (!isfinite(t0))
@@ -262,6 +278,7 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
 int vi_sim_set_chatter_threshold(vi_sim *s, double vmin)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(vmin >= 0.0) || !isfinite(vmin))
     return vi_fail(s->errmsg, VI_ERR_ARG, "chatter threshold %g must be a "
                    "finite non-negative velocity", vmin);
@@ -272,6 +289,7 @@ int vi_sim_set_chatter_threshold(vi_sim *s, double vmin)
 int vi_sim_set_restart_step(vi_sim *s, double h)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(h >= 0.0) || !isfinite(h))
     return vi_fail(s->errmsg, VI_ERR_ARG, "restart step %g must be >= 0", h);
   s->h_restart = h;
@@ -281,6 +299,7 @@ int vi_sim_set_restart_step(vi_sim *s, double h)
 int vi_sim_set_max_step(vi_sim *s, double hmax)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(hmax >= 0.0) || !isfinite(hmax))
     return vi_fail(s->errmsg, VI_ERR_ARG, "max step %g must be >= 0", hmax);
   s->hmax = hmax;
@@ -291,6 +310,7 @@ int vi_sim_set_max_step(vi_sim *s, double hmax)
 int vi_sim_set_native_vector_ops(vi_sim *s, int on)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "native vector ops: %d is not 0 or 1", on);
   s->fast_nvector = on;
@@ -302,6 +322,7 @@ int vi_sim_set_cancel(vi_sim *s, vi_cancel_fn fn, void *user,
                       vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   s->cancel_fn = fn;
   vi_user_set(&s->cancel_user, &s->cancel_free, user, destroy);
   return VI_OK;
@@ -310,6 +331,7 @@ int vi_sim_set_cancel(vi_sim *s, vi_cancel_fn fn, void *user,
 int vi_sim_set_floors(vi_sim *s, double vn_min, double dt_min)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(vn_min >= 0.0) || !isfinite(vn_min) || !(dt_min >= 0.0) ||
       !isfinite(dt_min))
     return vi_fail(s->errmsg, VI_ERR_ARG, "floors v_n = %g, dt = %g must be "
@@ -330,6 +352,7 @@ int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user,
                               vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   s->ev_fn = fn;
   vi_user_set(&s->ev_user, &s->ev_free, user, destroy);
   return VI_OK;
@@ -339,6 +362,7 @@ int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user,
                         vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (fn && !(dt > 0.0 && isfinite(dt)))
     return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g must be "
                    "positive and finite", dt);
@@ -354,6 +378,7 @@ int vi_sim_set_monitor(vi_sim *s, double every, vi_monitor_fn fn, void *user,
                        vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (fn && !(every > 0.0))
     return vi_fail(s->errmsg, VI_ERR_ARG, "monitor interval %g must be > 0",
                    every);
@@ -899,7 +924,12 @@ static void monitor(vi_sim *s)
   vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_stat(s, VI_STAT_STEPS),
                    s->stats[VI_STAT_IMPACTS]};
   if (s->mon_fn(&p, s->mon_user)) s->stop = 1;
-  while (s->mon_next <= s->t) s->mon_next += s->mon_every;
+  /* the next report after t, in one step: a loop of additions would never
+   * end where mon_every is below the resolution of t (vi_sim_run refuses
+   * such intervals; this keeps the arithmetic safe regardless) */
+  double k = floor((s->t - s->mon_next) / s->mon_every) + 1.0;
+  s->mon_next += k * s->mon_every;
+  if (!(s->mon_next > s->t)) s->mon_next = nextafter(s->t, HUGE_VAL);
 }
 
 /* The closed form lost its conditioning at s->t: go on with CVODE (Adams,
@@ -953,13 +983,67 @@ static int check_finite_state(vi_sim *s)
   return VI_OK;
 }
 
+static int run(vi_sim *s, double t_end);
+
 int vi_sim_run(vi_sim *s, double t_end)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s); /* a nested run would corrupt this one's integrator */
+  s->running = 1;
+  int st = run(s, t_end);
+  s->running = 0;
+  if (s->destroy_asked) {
+    s->destroy_asked = 0;
+    return vi_fail(s->errmsg, VI_ERR_STATE, "vi_sim_destroy was called from "
+                   "inside a callback of this sim's run: the run ended at t = "
+                   "%.17g and the sim was not destroyed (destroy it after "
+                   "vi_sim_run returns)", s->t);
+  }
+  return st;
+}
+
+/* Consecutive steps that may leave t where it was (events at one instant,
+ * a restart after a contact) before the run is declared stuck. */
+#define VI_STUCK_STEPS 1000
+
+/* The run made no progress for VI_STUCK_STEPS steps: say why it may be. */
+static int stuck(vi_sim *s, double t_before)
+{
+  int st = vi_sim_sync(s);
+  double zmax = 0.0;
+  int imax = 0;
+  for (int i = 0; i < 2 * s->n && !st; i++)
+    if (!(fabs(s->z[i]) <= zmax)) {
+      zmax = fabs(s->z[i]);
+      imax = i;
+    }
+  return vi_fail(s->errmsg, VI_ERR_INTEGRATOR,
+                 "no progress: time stuck at t = %.17g for %d steps (%s "
+                 "method; from t = %.17g): the step size collapsed below the "
+                 "resolution of t.  Largest state entry %s(%d) = %.3g: a "
+                 "solution that blows up in finite time (a softening spring) "
+                 "or a force that is not finite there", s->t, VI_STUCK_STEPS,
+                 method_names[s->method_used], t_before, imax % 2 ? "v" : "x",
+                 imax / 2 + 1, zmax);
+}
+
+static int run(vi_sim *s, double t_end)
+{
   if (!isfinite(t_end) || !(t_end > s->t))
     return vi_fail(s->errmsg, VI_ERR_TIME,
                    "end time %.17g is not after the current time %.17g", t_end,
                    s->t);
+  if (s->mon_fn) {
+    /* a report interval t cannot resolve would report at every step */
+    double ts = fmax(fabs(t_end), fabs(s->t));
+    if (s->mon_every <= 4.0 * DBL_EPSILON * ts ||
+        (t_end - s->t) / s->mon_every > 1e12)
+      return vi_fail(s->errmsg, VI_ERR_LIMIT,
+                     "monitor interval %g is below the resolution of t up to "
+                     "t = %g (at least %.3g, and at most 1e12 reports)",
+                     s->mon_every, t_end,
+                     fmax(8.0 * DBL_EPSILON * ts, (t_end - s->t) / 1e12));
+  }
   if (s->smp_fn) {
     /* refuse a sampling interval whose samples could never all be made */
     double span = t_end - fmax(s->t, s->smp_t0), ts = fmax(fabs(t_end), fabs(s->smp_t0));
@@ -998,10 +1082,18 @@ int vi_sim_run(vi_sim *s, double t_end)
     if (s->smp_fn && (st = samples(s, s->t))) return st;
     if (initial_contact(s) && (st = on_contact(s))) return st;
   }
+  int still = 0;             /* consecutive steps that left t in place */
+  double t_moved = s->t;     /* where t last advanced */
   while (s->t < t_end && !s->stop) {
     if (vi_sim_cancelled(s)) {
       cancelled = 1;
       break;
+    }
+    if (s->t > t_moved + 4.0 * DBL_EPSILON * fabs(t_moved)) {
+      still = 0;
+      t_moved = s->t;
+    } else if (++still > VI_STUCK_STEPS) {
+      return stuck(s, t_moved);
     }
     int event = VI_STEP_NONE;
     s->contact_stop = 0; /* a multi-stop backend says which */
@@ -1050,6 +1142,7 @@ int vi_sim_run(vi_sim *s, double t_end)
 int vi_sim_setup(vi_sim *s)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (s->started) return VI_OK;
   note_method(s);
   use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
@@ -1059,6 +1152,7 @@ int vi_sim_setup(vi_sim *s)
 int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
 {
   if (!s || !kind) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   *kind = -1;
   s->event_stop = 1;
   s->last_event = -1;
@@ -1076,6 +1170,7 @@ int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
 int vi_sim_enable_ledger(vi_sim *s, int on)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
   if (on && s->m->band)
@@ -1100,6 +1195,7 @@ int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user,
                                vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   s->led_fn = fn;
   vi_user_set(&s->led_user, &s->led_free, user, destroy);
   if (s->led) vi_ledger_set_callback(s->led, fn, user);

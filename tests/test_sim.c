@@ -1,6 +1,7 @@
 /* test_sim.c - the event integrator against closed forms: free flight,
  * impact times, the Fig. 2 orbit, restarts, grazing and chattering. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "vi_testutil.h"
@@ -448,10 +449,147 @@ static void test_native_vector_ops_agree(void **state)
   vi_model_destroy(&m);
 }
 
+/* ---- re-entrancy: calls on a sim from inside its own run ---------------- */
+typedef struct reentry {
+  vi_sim *s;
+  int what, calls, refused, impacts;
+} reentry;
+
+/* what: 0 nothing, 1 vi_sim_enable_ledger(0), 2 vi_sim_destroy, 3 a nested
+ * vi_sim_run, 4 a nested vi_sim_run_to_event, 5 vi_sim_set_initial, 6
+ * vi_sim_set_tolerances; every call is refused with VI_ERR_STATE (except
+ * destroy, which ends the run) and queries still answer */
+static void misuse(reentry *r)
+{
+  int st = VI_OK, kind;
+  double t, x[2];
+  r->calls++;
+  assert_int_equal(vi_sim_state(r->s, &t, x, NULL), VI_OK); /* a query */
+  assert_true(vi_sim_stat(r->s, VI_STAT_STEPS) >= 0);
+  switch (r->what) {
+  case 1: st = vi_sim_enable_ledger(r->s, 0); break;
+  case 2: vi_sim_destroy(&r->s); assert_non_null(r->s); return;
+  case 3: st = vi_sim_run(r->s, t + 10.0); break;
+  case 4: st = vi_sim_run_to_event(r->s, t + 10.0, &kind); break;
+  case 5: st = vi_sim_set_initial(r->s, 0.0, NULL, NULL); break;
+  case 6: st = vi_sim_set_tolerances(r->s, 1e-3, 1e-3); break;
+  default: return;
+  }
+  assert_int_equal(st, VI_ERR_STATE);
+  assert_non_null(strstr(vi_sim_errmsg(r->s), "inside a callback"));
+  r->refused++;
+}
+
+static int re_event(const vi_event *ev, void *user)
+{
+  reentry *r = user;
+  if (ev->kind == VI_EVENT_IMPACT) r->impacts++;
+  if (r->what >= 2) misuse(r);
+  return 0;
+}
+
+static int re_ledger(const vi_ledger_interval *iv, void *user)
+{
+  (void)iv;
+  reentry *r = user;
+  if (r->what == 1) misuse(r);
+  return 0;
+}
+
+static int re_sample(double t, int n, const double *x, const double *v,
+                     void *user)
+{
+  (void)t;
+  (void)n;
+  (void)x;
+  (void)v;
+  reentry *r = user;
+  if (r->what >= 5) misuse(r);
+  return 0;
+}
+
+static void test_reentry_refused(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double T = 2 * M_PI / 0.9, ref_t = 0, ref_x[2] = {0, 0};
+  int ref_impacts = 0;
+  for (int what = 0; what <= 6; what++) {
+    reentry r = {0};
+    r.what = what;
+    r.s = vi_test_sim(m, VI_METHOD_ADAMS, 1e-8, 1e-10, NULL, NULL, NULL);
+    assert_int_equal(vi_sim_enable_ledger(r.s, 1), VI_OK);
+    assert_int_equal(vi_sim_set_ledger_callback(r.s, re_ledger, &r, NULL), VI_OK);
+    assert_int_equal(vi_sim_set_event_callback(r.s, re_event, &r, NULL), VI_OK);
+    assert_int_equal(vi_sim_set_sampling(r.s, T / 16, re_sample, &r, NULL), VI_OK);
+    int st = vi_sim_run(r.s, 20 * T);
+    double t, x[2];
+    vi_sim_state(r.s, &t, x, NULL);
+    if (what == 0) {
+      assert_int_equal(st, VI_OK);
+      ref_t = t;
+      ref_x[0] = x[0];
+      ref_x[1] = x[1];
+      ref_impacts = r.impacts;
+      assert_true(ref_impacts > 10);
+    } else if (what == 2) {
+      /* destroy inside the run: the run ends, the sim lives on */
+      assert_int_equal(st, VI_ERR_STATE);
+      assert_non_null(strstr(vi_sim_errmsg(r.s), "vi_sim_destroy"));
+      assert_int_equal(r.calls, 1);
+    } else {
+      /* refused every time; the outer run is the undisturbed one */
+      assert_int_equal(st, VI_OK);
+      assert_true(r.calls > 0 && r.refused == r.calls);
+      assert_int_equal(r.impacts, ref_impacts);
+      assert_true(t == ref_t && x[0] == ref_x[0] && x[1] == ref_x[1]);
+      assert_true(vi_sim_ledger_max_residual(r.s) < 1e-6);
+    }
+    printf("re-entry %d: %d calls, %d refused, status %d\n", what, r.calls,
+           r.refused, st);
+    vi_sim_destroy(&r.s);
+    assert_null(r.s);
+  }
+  vi_model_destroy(&m);
+}
+
+static int mon_noop(const vi_progress *p, void *user)
+{
+  (void)p;
+  ++*(int *)user;
+  return 0;
+}
+
+/* Report intervals t cannot resolve are refused before the run, not looped
+ * on: 1e-300, and 1e-4 at t = 1e13 (where t's spacing is 2e-3). */
+static void test_monitor_resolution(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  int calls = 0;
+  vi_sim *s = vi_test_sim(m, VI_METHOD_ADAMS, 1e-8, 1e-10, NULL, NULL, NULL);
+  assert_int_equal(vi_sim_set_monitor(s, 1e-300, mon_noop, &calls, NULL), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_ERR_LIMIT);
+  assert_non_null(strstr(vi_sim_errmsg(s), "monitor interval"));
+  /* a sane interval reports about once per interval */
+  assert_int_equal(vi_sim_set_monitor(s, 1.0, mon_noop, &calls, NULL), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_OK);
+  assert_true(calls >= 9 && calls <= 11);
+  vi_sim_destroy(&s);
+  s = vi_test_sim(m, VI_METHOD_ADAMS, 1e-8, 1e-10, NULL, NULL, NULL);
+  assert_int_equal(vi_sim_set_initial(s, 1e13, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sim_set_monitor(s, 1e-4, mon_noop, &calls, NULL), VI_OK);
+  assert_int_not_equal(vi_sim_run(s, 1e13 + 10.0), VI_OK);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_free_flight_matches_closed_form),
+      cmocka_unit_test(test_reentry_refused),
+      cmocka_unit_test(test_monitor_resolution),
       cmocka_unit_test(test_sdof_impact_times),
       cmocka_unit_test(test_fig2_cvode_vs_exact),
       cmocka_unit_test(test_nonproportional_cvode_vs_exact),
