@@ -1033,6 +1033,38 @@ static int run(vi_sim *s, double t_end)
     return vi_fail(s->errmsg, VI_ERR_TIME,
                    "end time %.17g is not after the current time %.17g", t_end,
                    s->t);
+  if (!s->started) {
+    /* the ranges a scene must lie in, checked by the same code (before a
+     * first start: later calls continue a motion already accepted) */
+    const char *key = "";
+    char why[300];
+    vi_sim_sync(s);
+    for (int i = 0; i < s->n; i++) {
+      s->x[i] = s->z[2 * (size_t)i];
+      s->v[i] = s->z[2 * (size_t)i + 1];
+    }
+    int st = vi_model_check_run(s->m, s->t, t_end, s->x, s->v, s->rtol,
+                                s->atol, &key, NULL, why, (int)sizeof why);
+    if (st) {
+      static const char *const api[][2] = {
+          {"forcing.omega", "the forcing frequency (vi_model_set_forcing)"},
+          {"run.t_end", "the run's times (t0 of vi_sim_set_initial, t_end)"},
+          {"initial.x", "the initial x (vi_sim_set_initial)"},
+          {"initial.v", "the initial v (vi_sim_set_initial)"},
+          {"run.atol", "atol (vi_sim_set_tolerances)"},
+          {"run.rtol", "rtol (vi_sim_set_tolerances)"}};
+      const char *what = "the model";
+      for (size_t k = 0; k < sizeof api / sizeof api[0]; k++)
+        if (!strcmp(key, api[k][0])) what = api[k][1];
+      return vi_fail(s->errmsg, st == VI_ERR_LIMIT ? VI_ERR_LIMIT : st,
+                     "%s %s", what, why);
+    }
+  }
+  if (s->hmax > 0 &&
+      s->hmax <= 4.0 * DBL_EPSILON * fmax(fabs(t_end), fabs(s->t)))
+    return vi_fail(s->errmsg, VI_ERR_LIMIT, "max step %g is below the "
+                   "resolution of t up to t = %g (vi_sim_set_max_step)",
+                   s->hmax, t_end);
   if (s->mon_fn) {
     /* a report interval t cannot resolve would report at every step */
     double ts = fmax(fabs(t_end), fabs(s->t));

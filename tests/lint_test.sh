@@ -17,7 +17,7 @@ files=(
   src/vi_impact.c src/vi_builders.c src/vi_ledger.c src/vi_nvector.c src/vi_dense.c
   src/vi_force.c src/vi_orbit_pnm.c src/io/vi_scene_edit.c src/vi_contact.c
   src/vi_sim.c src/vi_chatter.c src/vi_cvode.c src/vi_arkode.c src/vi_rhs.c
-  src/io/vi_output.c
+  src/io/vi_output.c src/model/vi_range.c
   src/fortran/vi_gen_constants.c tests/test_fortran_compare.c
   src/vi_orbit.c src/vi_classify.c src/vi_balance.c src/vi_orbit_var.c
   src/vi_exact.c src/vi_exact_scan.c src/vi_flow.c src/vi_general.c

@@ -203,6 +203,50 @@ static void test_sim_misuse(void **state)
   assert_int_equal(count, 11);
   vi_sim_destroy(&s);
   assert_null(s);
+
+  /* the API refuses what a scene refuses (one check, vi_model_check_run),
+   * at once instead of running endlessly */
+  const char *key = "x";
+  double val = 0;
+  char why[200];
+  assert_int_equal(vi_model_check_run(NULL, 0, 1, NULL, NULL, 1e-8, 1e-10,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_ARG);
+  assert_int_equal(vi_model_check_run(m, 0, NAN, NULL, NULL, 1e-8, 1e-10,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_NONFINITE);
+  assert_int_equal(vi_model_check_run(m, 0, 10, NULL, NULL, 1e-8, 1e-10,
+                                      NULL, NULL, NULL, 0), VI_OK);
+  assert_int_equal(vi_model_check_run(m, 1e300, 2e300, NULL, NULL, 1e-8, 1e-10,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_LIMIT);
+  assert_string_equal(key, "run.t_end");
+  assert_int_equal(vi_model_check_run(m, 0, 10, NULL, NULL, 1e-8, 1e300,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_LIMIT);
+  assert_string_equal(key, "run.atol");
+  assert_true(val == 1e300);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, 1e300, NULL, NULL), VI_OK);
+  assert_err_msg(vi_sim_run(s, 1.1e300), msg = vi_sim_errmsg(s));
+  assert_non_null(strstr(msg, "resolves"));
+  assert_int_equal(vi_sim_set_initial(s, 0, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, 1e-8, 1e300), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_ERR_LIMIT);
+  assert_non_null(strstr(msg, "atol"));
+  assert_int_equal(vi_sim_set_tolerances(s, 0.5, 1e-10), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_ERR_LIMIT); /* rtol above 0.1 */
+  assert_int_equal(vi_sim_set_tolerances(s, 1e-8, 1e-10), VI_OK);
+  assert_int_equal(vi_sim_set_max_step(s, 1e-300), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_ERR_LIMIT);
+  assert_non_null(strstr(msg, "max step"));
+  assert_int_equal(vi_sim_set_max_step(s, 0), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_OK);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  /* a forcing frequency 1e300 times the structure's */
+  double a[2] = {0.5, 0};
+  m = vi_test_chain(2, 1.0, 1.0, 0.1, 0.1, 0.7, 1e300, a);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_run(s, 1.0), VI_ERR_LIMIT);
+  assert_non_null(strstr(vi_sim_errmsg(s), "forcing frequency"));
+  vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
 
