@@ -563,7 +563,9 @@ static int on_contact_one(vi_sim *s, int k)
   } else {
     memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
   }
-  int stick = chatter || (vn > 0.0 && r == 0.0 && push > 0.0);
+  int stick = chatter || (vn > 0.0 && r == 0.0 && push > 0.0) ||
+              (vn <= 0.0 && s->press_next);
+  s->press_next = 0;
   if (!stick && vn > 0.0 && r == 0.0) {
     /* a plastic impact leaves the mass on the stop at rest along w: it
      * sticks if pressed with the velocity after the impact (damping), else
@@ -853,6 +855,20 @@ static int initial_contact(vi_sim *s)
     push = vi_dot(s->n, vi_stop_w(s->m, k), s->vp);
     if (gd == 0.0 && push > 0.0) return 1; /* at rest and pressed: sticks,
                                               any r */
+    if (gd == 0.0 && push == 0.0) {
+      /* at rest on the stop and not yet pressed (Fig. 2 from rest with
+       * x_s = 0: g = g' = g'' = 0 at t0): the contact force's next rates
+       * along the held motion decide.  Rising, the mass is pressed from
+       * t0 on and sticks; started free, the gap would grow from exactly 0
+       * with no sign change for the integrator's root finding to see. */
+      double p[3];
+      split(s, s->z);
+      vi_chatter_push(s, k, s->t, s->x, s->v, p);
+      if (p[1] > 0.0 || (p[1] == 0.0 && p[2] > 0.0)) {
+        s->press_next = 1;
+        return 1;
+      }
+    }
   }
   return 0;
 }

@@ -584,11 +584,52 @@ static void test_monitor_resolution(void **state)
   vi_model_destroy(&m);
 }
 
+/* Starting at rest exactly on the stop (Fig. 2 with x_s = 0, x = v = 0):
+ * g = g' = g'' = 0 at t0 and the contact force then rises (its second rate
+ * along the held motion is k a_1 = 0.5 > 0), so the mass sticks from t0
+ * and is released later.  Started free, the gap grew from exactly 0 with
+ * no sign change and adams, bdf and erk stopped on the penetration check.
+ * Every method now runs it, and their events agree with the closed form's. */
+static void test_start_on_stop_at_rest(void **state)
+{
+  (void)state;
+  double a[2] = {0.5, 0.0}, T = 2 * M_PI / 0.9;
+  vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.1, 0.0, 0.7, 0.9, a);
+  const int order[4] = {VI_METHOD_EXACT, VI_METHOD_ADAMS, VI_METHOD_BDF,
+                        VI_METHOD_ERK};
+  vi_test_events ref = {0};
+  for (int k = 0; k < 4; k++) {
+    vi_test_events ev = {0};
+    int st = vi_test_run(m, order[k], 1e-10, 1e-12, NULL, NULL, 20 * T, &ev);
+    assert_int_equal(st, VI_OK);
+    assert_true(ev.count > 10);
+    assert_int_equal(ev.kind[0], VI_EVENT_STICK); /* held from t0 */
+    assert_true(ev.t[0] == 0.0);
+    if (k == 0) {
+      ref = ev;
+      continue;
+    }
+    assert_int_equal(ev.count, ref.count);
+    double dt = 0;
+    for (int j = 0; j < ev.count; j++) {
+      assert_int_equal(ev.kind[j], ref.kind[j]);
+      dt = fmax(dt, fabs(ev.t[j] - ref.t[j]));
+    }
+    printf("on the stop at rest, %s: %d events, max |dt| vs exact %.2g\n",
+           vi_method_name(order[k]), ev.count, dt);
+    assert_true(dt < 1e-6);
+    vi_test_events_free(&ev);
+  }
+  vi_test_events_free(&ref);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_free_flight_matches_closed_form),
       cmocka_unit_test(test_reentry_refused),
+      cmocka_unit_test(test_start_on_stop_at_rest),
       cmocka_unit_test(test_monitor_resolution),
       cmocka_unit_test(test_sdof_impact_times),
       cmocka_unit_test(test_fig2_cvode_vs_exact),
