@@ -284,6 +284,16 @@ static void test_model_band_getters_misuse(void **state)
   assert_int_equal(vi_model_create_band(3, -1, &m), VI_ERR_DIM);
   assert_null(m);
   assert_err(vi_model_create_band(3, 1, NULL));
+  /* n = 1.5e9: the size in 64 bits (a 32-bit product would wrap to a small
+   * block and the first write would corrupt the heap) */
+#ifndef __SANITIZE_ADDRESS__ /* ASan aborts on a failed 264 GB calloc */
+  {
+    int big = vi_model_create_band(1500000000, 1, &m);
+    assert_true(big == VI_ERR_NOMEM || big == VI_OK);
+    if (big == VI_OK) assert_true(vi_model_memory(m) > (int64_t)1500000000 * 20 * 8);
+    vi_model_destroy(&m);
+  }
+#endif
   double AB[6] = {0, 1, 0, 1, 0, 1}, ABn[6] = {0, 1, 0, NAN, 0, 1};
   assert_err(vi_model_set_mass_band(NULL, 1, AB, 2));
   assert_err(vi_model_set_damping_band(NULL, 1, AB, 2));
@@ -477,6 +487,10 @@ static void test_builders_misuse(void **state)
   assert_err(vi_build_cantilever(-2, 1, 0.01, 1, M, C, K, 2, w, g));
   assert_err(vi_build_cantilever(2, 1, 0.01, 1, M, C, K, 1, w, g)); /* ld < modes */
   assert_err(vi_build_cantilever(2, -1, 0.01, 1, M, C, K, 2, w, g));
+  /* the stop at the clamp (or within round-off of it) can never be hit */
+  assert_int_equal(vi_build_cantilever(2, 1, 0.01, 0.0, M, C, K, 2, w, g), VI_ERR_STOP_VECTOR);
+  assert_int_equal(vi_build_cantilever(2, 1, 0.01, 1e-7, M, C, K, 2, w, g), VI_ERR_STOP_VECTOR);
+  assert_int_equal(vi_build_cantilever(2, 1, 0.01, 0.01, M, C, K, 2, w, g), VI_OK);
   assert_err(vi_build_cantilever(2, NAN, 0.01, 1, M, C, K, 2, w, g));
   assert_err(vi_build_cantilever(2, 1, -0.01, 1, M, C, K, 2, w, g));
   assert_err(vi_build_cantilever(2, 1, 0.01, 1.5, M, C, K, 2, w, g));

@@ -407,9 +407,11 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
         (st = opt_number(c, ca, p, "zeta", &s->zeta)) ||
         (st = opt_number(c, ca, p, "xi_stop", &s->xi_stop)))
       return st;
-    if (!(s->omega1 > 0) || s->zeta < 0 || s->xi_stop < 0 || s->xi_stop > 1)
+    if (!(s->omega1 > 0) || s->zeta < 0 || !(s->xi_stop > 0) || s->xi_stop > 1)
       return fail(c, ca, VI_ERR_ARG, "model.cantilever", "%s",
-                  "need omega1 > 0, zeta >= 0, 0 <= xi_stop <= 1");
+                  "need omega1 > 0, zeta >= 0, 0 < xi_stop <= 1 (at the "
+                  "clamp, xi_stop = 0, no mode moves and no impact can "
+                  "happen)");
   }
   yaml_node_t *ra = find(c, mod, "rayleigh");
   if (ra) {
@@ -614,9 +616,11 @@ static int parse_springs(ctx *c, vi_scene *s, yaml_node_t *list)
       join(key, path, "gap");
       if (!gap) return fail(c, sp, VI_ERR_PARSE, key, "%s", "missing gap");
       if ((st = number(c, gap, key, &q->gap))) return st;
-      if (q->k < 0)
+      if (q->k < 0) {
+        join(key, path, "k"); /* the key of the value refused */
         return fail(c, kk, VI_ERR_PARSE, key, "%s",
                     "a soft stop's stiffness must be >= 0");
+      }
     }
   }
   s->nsprings = (int)count;

@@ -137,8 +137,12 @@ static int assemble_cantilever(const vi_scene *s, dense *x)
   int n = s->n;
   double *gamma = malloc(sizeof(double) * (size_t)n);
   if (!gamma) return VI_ERR_NOMEM;
-  vi_build_cantilever(n, s->omega1, s->zeta, s->xi_stop, x->M, x->C, x->K, n,
-                      x->w, gamma);
+  int st = vi_build_cantilever(n, s->omega1, s->zeta, s->xi_stop, x->M, x->C,
+                               x->K, n, x->w, gamma);
+  if (st && !(st == VI_ERR_STOP_VECTOR && s->has_w)) { /* else w is given */
+    free(gamma);
+    return st;
+  }
   memcpy(x->tip, x->w, sizeof(double) * (size_t)n);
   if (s->has_w)
     memcpy(x->w, s->w, sizeof(double) * (size_t)n); /* an explicit stop wins */
@@ -228,6 +232,15 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
     st = assemble_cantilever(s, &x);
   if (st) {
     free(x.buf);
+    if (st == VI_ERR_STOP_VECTOR) {
+      char val[64];
+      snprintf(val, sizeof val, "%.6g", s->xi_stop);
+      return vi_diag_set(d, s->file, st, s->line_model, s->line_model ? 1 : 0,
+                         "model.cantilever.xi_stop", val, "%s",
+                         "the stop sits at (or within round-off of) the "
+                         "clamp, where no mode moves: no impact could ever "
+                         "happen (give xi_stop > 0, 1 = the tip)");
+    }
     return vi_diag_set(d, s->file, st, s->line_model, s->line_model ? 1 : 0,
                        "model", "", "%s", vi_strerror(st));
   }
