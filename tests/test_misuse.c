@@ -262,10 +262,15 @@ static void test_impact_flow_misuse(void **state)
   assert_err(vi_restitution_from_energy(-1, 1, &r));
   assert_err(vi_restitution_from_energy(2, 1, &r)); /* RE > KE_i */
   assert_err(vi_restitution_from_energy(0.5, 1, NULL));
+  double xo[2], vo[2];
   assert_err(vi_flow_physical(NULL, 0, x, v, 1, x, v));
   assert_err(vi_flow_physical(m, 0, x, v, -1, vp, vp)); /* backwards */
   assert_err(vi_flow_physical(m, 0, x, v, NAN, vp, vp));
-  double xo[2], vo[2];
+  /* a time whose phase double precision cannot resolve */
+  assert_int_equal(vi_flow_physical(m, 0, x, v, 1e300, vp, vo), VI_ERR_LIMIT);
+  assert_int_equal(vi_flow_modal(m, 1e300, x, v, 1e300, vp, vo), VI_ERR_LIMIT);
+  assert_int_equal(vi_flow_physical(m, 0, x, v, 1e6, vp, vo), VI_OK);
+
   assert_err(vi_flow_physical(m, 0, x, v, 1, x, vo)); /* x0 and x overlap */
   assert_err(vi_flow_modal(m, 0, x, v, 1, xo, xo));   /* q and qd overlap */
   assert_string_equal(vi_status_name(-1000), "VI_UNKNOWN");

@@ -552,6 +552,57 @@ static void test_free_body(void **state)
   vi_model_destroy(&m);
 }
 
+/* What a file must never hold: NaN samples and events, kinds and stops out
+ * of range, an orbit that was never sought; each refused with nothing
+ * written, and the file still finishes. */
+static void test_refused_rows(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  char path[] = "/tmp/vi_rows_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  vi_writer *w = NULL;
+  vi_diag d;
+  assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(w, NULL, 1e-8, 1e-10, 0), VI_OK);
+  double x[2] = {0.0, 0.1}, v[2] = {0.2, 0.3}, xn[2] = {NAN, 0.0};
+  assert_int_equal(vi_writer_sample(w, 1.0, xn, v), VI_ERR_NONFINITE);
+  assert_int_equal(vi_writer_sample(w, INFINITY, x, v), VI_ERR_NONFINITE);
+  assert_non_null(strstr(vi_writer_errmsg(w), "not finite"));
+  vi_event ev = {0};
+  ev.n = 2;
+  ev.t = 1.0;
+  ev.vn = 0.3;
+  ev.x = x;
+  ev.v_minus = v;
+  ev.v_plus = v;
+  ev.kind = 7;
+  assert_int_equal(vi_writer_event(w, &ev), VI_ERR_ARG);
+  ev.kind = VI_EVENT_IMPACT;
+  ev.stop = 1; /* Fig. 2 has one stop */
+  assert_int_equal(vi_writer_event(w, &ev), VI_ERR_ARG);
+  ev.stop = 0;
+  ev.vn = NAN;
+  assert_int_equal(vi_writer_event(w, &ev), VI_ERR_NONFINITE);
+  ev.vn = 0.3;
+  assert_int_equal(vi_writer_event(w, &ev), VI_OK);
+  assert_int_equal(vi_writer_sample(w, 1.0, x, v), VI_OK);
+  vi_orbit *o = NULL;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  int pn = -1, pm = -1;
+  assert_int_equal(vi_orbit_classify(o, &pn, &pm), VI_ERR_STATE);
+  assert_int_equal(vi_writer_orbit(w, o), VI_ERR_STATE);
+  assert_non_null(strstr(vi_writer_errmsg(w), "never"));
+  vi_orbit_destroy(&o);
+  assert_int_equal(vi_writer_rows(w, "impacts"), 1);
+  assert_int_equal(vi_writer_rows(w, "trajectory"), 1);
+  assert_int_equal(vi_writer_close(&w, 1), VI_OK);
+  remove(path);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
@@ -561,6 +612,7 @@ int main(void)
       cmocka_unit_test(test_unwritable_and_abort),
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_free_body),
+      cmocka_unit_test(test_refused_rows),
       cmocka_unit_test(test_output_module),
       cmocka_unit_test(test_rank_and_size),
       cmocka_unit_test(test_large_scene_text),

@@ -47,10 +47,13 @@ VI_API int vi_writer_create(const char *path, const vi_model *model,
  *  method, tolerances not > 0), VI_ERR_DIM (a scene of another n). */
 VI_API int vi_writer_write_header(vi_writer *w, const vi_scene *scene,
                                   double rtol, double atol, int method);
-/** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...). */
+/** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...),
+ *  VI_ERR_DIM (another n), VI_ERR_ARG (a kind or stop out of range),
+ *  VI_ERR_NONFINITE (a value not finite; nothing written). */
 VI_API int vi_writer_event(vi_writer *w, const vi_event *ev);
 /** Append one sample at t (x, v [n]) to /trajectory, with its modal
- *  coordinates.  @return VI_OK, VI_ERR_IO. */
+ *  coordinates.  @return VI_OK, VI_ERR_IO, VI_ERR_NONFINITE (t, x or v not
+ *  finite; nothing written). */
 VI_API int vi_writer_sample(vi_writer *w, double t, const double *x,
                             const double *v);
 /** Append one ledger interval to /ledger.  @return VI_OK, VI_ERR_IO. */
@@ -59,7 +62,8 @@ VI_API int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv);
  *  (attributes period_n, impacts_m) and, for P(1,1), /orbits/P1_1 with the
  *  balance of WB 11-13 as attributes, the impact state, Floquet multipliers,
  *  per-mode FE, DE, XE, r_eff and the reduced-model r_S of the first 1..4
- *  modes (NaN where none exists).  @return VI_OK, VI_ERR_IO. */
+ *  modes (NaN where none exists).  @return VI_OK, VI_ERR_IO, VI_ERR_STATE
+ *  (an orbit vi_orbit_find never sought). */
 VI_API int vi_writer_orbit(vi_writer *w, const vi_orbit *orbit);
 /** Write group /run: the method that ran and why (vi_sim_method_used,
  *  vi_sim_method_note) and every statistic (vi_stat_name: value) as

@@ -612,6 +612,18 @@ int vi_writer_event(vi_writer *w, const vi_event *ev)
   if (ev->n != w->n)
     return warg(w, VI_ERR_DIM, "event of n = %d for a writer of n = %d",
                 ev->n, w->n);
+  if (ev->kind < VI_EVENT_IMPACT || ev->kind > VI_EVENT_RELEASE ||
+      ev->stop < 0 || ev->stop >= vi_model_num_stops(w->m))
+    return warg(w, VI_ERR_ARG, "event of kind %d on stop %d: out of range "
+                "(kinds 0..2, stops 0..%d)", ev->kind, ev->stop,
+                vi_model_num_stops(w->m) - 1);
+  int finite = isfinite(ev->t) && isfinite(ev->vn) && isfinite(ev->ie);
+  for (int i = 0; i < w->n && finite; i++)
+    finite = isfinite(ev->x[i]) && isfinite(ev->v_minus[i]) &&
+             isfinite(ev->v_plus[i]);
+  if (!finite)
+    return warg(w, VI_ERR_NONFINITE, "event at t = %g holds a value that is "
+                "not finite", ev->t);
   double kind = ev->kind, stop = ev->stop;
   const double *vals[8] = {&ev->t, &kind,       &ev->vn,   &ev->ie,
                            ev->x,  ev->v_minus, ev->v_plus, &stop};
@@ -624,6 +636,11 @@ int vi_writer_event(vi_writer *w, const vi_event *ev)
 int vi_writer_sample(vi_writer *w, double t, const double *x, const double *v)
 {
   if (!w || !x || !v) return VI_ERR_ARG;
+  int finite = isfinite(t);
+  for (int i = 0; i < w->n && finite; i++) finite = isfinite(x[i]) && isfinite(v[i]);
+  if (!finite)
+    return warg(w, VI_ERR_NONFINITE, "sample at t = %g holds a value that is "
+                "not finite", t);
   if (vi_model_to_modal(w->m, x, w->q) != VI_OK ||
       vi_model_to_modal(w->m, v, w->qd) != VI_OK)
     for (int j = 0; j < 2 * w->n; j++) w->q[j] = NAN; /* a band model: no modes */
@@ -661,8 +678,10 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
   if (!w || !o) return VI_ERR_ARG;
   if (w->failed) return VI_ERR_IO;
   int n = w->n, pn, pm, bad = 0;
+  if (vi_orbit_classify(o, &pn, &pm) != VI_OK)
+    return warg(w, VI_ERR_STATE, "%s", "vi_writer_orbit: the orbit was never "
+                "sought (vi_orbit_find)");
   if (reserve(w, 8.0 * (12.0 * n + 64))) return VI_ERR_IO;
-  vi_orbit_classify(o, &pn, &pm);
   double *buf = calloc(10 * (size_t)n + 8, sizeof(double));
   if (!buf) return werr(w, VI_ERR_NOMEM, "out of memory");
   /* the getters below fill [n] arrays of the orbit's own n: an orbit of a
