@@ -65,10 +65,12 @@ static int split_path(const char *key, tok *t, int *nt)
   return 1;
 }
 
-/* libyaml marks count characters; the splice needs bytes (UTF-8 comments). */
+/* libyaml marks count characters; the splice needs bytes (UTF-8 comments).
+ * A UTF-8 byte-order mark is skipped by libyaml before counting starts. */
 static size_t byte_of(const char *text, size_t len, size_t chars)
 {
   size_t b = 0, c = 0;
+  if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3)) b = 3;
   while (b < len && c < chars) {
     b++;
     while (b < len && ((unsigned char)text[b] & 0xC0) == 0x80) b++;
