@@ -51,6 +51,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->rtol = 1e-8;
   s->atol = 1e-10;
   s->vchat = 1e-7;
+  s->impact_ratio = 1e-5;
   s->t_last_contact = -HUGE_VAL;
   s->stick_at = HUGE_VAL;
   s->fast_nvector = 1;
@@ -285,6 +286,20 @@ int vi_sim_set_chatter_threshold(vi_sim *s, double vmin)
   s->vchat = vmin;
   return VI_OK;
 }
+
+int vi_sim_set_impact_resolution(vi_sim *s, double ratio)
+{
+  if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
+  if (!(ratio >= 0.0 && ratio < 1.0))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "impact resolution %g must lie in "
+                   "[0, 1) (a fraction of the run's velocity scale)", ratio);
+  s->impact_ratio = ratio;
+  s->vres = ratio * s->vscale;
+  return VI_OK;
+}
+
+double vi_sim_velocity_scale(const vi_sim *s) { return s ? s->vscale : 0.0; }
 
 int vi_sim_set_restart_step(vi_sim *s, double h)
 {
@@ -1061,6 +1076,12 @@ static int run(vi_sim *s, double t_end)
     }
     int st = vi_model_check_run(s->m, s->t, t_end, s->x, s->v, s->rtol,
                                 s->atol, &key, NULL, why, (int)sizeof why);
+    /* the run's velocity scale starts at the initial speeds and grows
+     * with every approach velocity (vi_chatter_wanted) */
+    double vmax = 0.0;
+    for (int i = 0; i < s->n; i++) vmax = fmax(vmax, fabs(s->v[i]));
+    s->vscale = vmax;
+    s->vres = s->impact_ratio * s->vscale;
     if (st) {
       static const char *const api[][2] = {
           {"forcing.omega", "the forcing frequency (vi_model_set_forcing)"},

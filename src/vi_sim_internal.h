@@ -44,6 +44,10 @@ struct vi_sim {
   struct vi_xflow *flow; /* the model's exact flow (vi_flow_internal.h) */
   int n, method;
   double rtol, atol, vchat, h_restart, hmax;
+  /* impacts resolved individually down to vres = impact_ratio * vscale
+   * (the run's velocity scale, fixed at its first start); 0: the older
+   * accuracy-driven summing */
+  double impact_ratio, vscale, vres;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
   double wnorm;  /* |w|, the scale of gap tolerances */
   int ns;        /* number of stops (vi_model_add_stop) */

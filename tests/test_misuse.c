@@ -128,6 +128,8 @@ static void test_sim_misuse(void **state)
   assert_err(vi_sim_set_tolerances(NULL, 1e-8, 1e-10));
   assert_err(vi_sim_set_initial(NULL, 0, NULL, NULL));
   assert_err(vi_sim_set_chatter_threshold(NULL, 0));
+  assert_err(vi_sim_set_impact_resolution(NULL, 1e-5));
+  assert_true(vi_sim_velocity_scale(NULL) == 0.0);
   assert_err(vi_sim_set_restart_step(NULL, 0));
   assert_err(vi_sim_set_max_step(NULL, 0));
   assert_err(vi_sim_set_native_vector_ops(NULL, 1));
@@ -171,6 +173,9 @@ static void test_sim_misuse(void **state)
   assert_err_msg(vi_sim_set_initial(s, 0, xnan, NULL), msg);
   assert_err_msg(vi_sim_set_initial(s, INFINITY, NULL, NULL), msg);
   assert_err_msg(vi_sim_set_chatter_threshold(s, -1), msg);
+  assert_err_msg(vi_sim_set_impact_resolution(s, -1e-5), msg);
+  assert_err_msg(vi_sim_set_impact_resolution(s, 1.0), msg);
+  assert_err_msg(vi_sim_set_impact_resolution(s, NAN), msg);
   assert_err_msg(vi_sim_set_restart_step(s, NAN), msg);
   assert_err_msg(vi_sim_set_max_step(s, -1), msg);
   assert_err_msg(vi_sim_set_native_vector_ops(s, 2), msg);

@@ -204,6 +204,10 @@ static void test_chattering_accumulates_then_sticks(void **state)
     vi_test_events ev = {0};
     double x0 = 0.0, v0 = -V;
     vi_sim *s = vi_test_sim(m, methods[k], 1e-12, 1e-14, &x0, &v0, &ev);
+    /* the accumulation point to rtol: the accuracy-driven summing (the
+     * default resolves every impact above 1e-5 V, at the cost of timing
+     * the late, grazing ones to dx / v_n only) */
+    assert_int_equal(vi_sim_set_impact_resolution(s, 0.0), VI_OK);
     assert_int_equal(vi_sim_run(s, 5.0), VI_OK);
     int last = ev.count - 1;
     /* impacts are resolved while each can be timed to rtol (a position
@@ -624,11 +628,96 @@ static void test_start_on_stop_at_rest(void **state)
   vi_model_destroy(&m);
 }
 
+/* Impacts a user can count on.  A ball thrown off the stop (v0 = 1 away
+ * from it) under a constant load g = 1, r = 0.8: its k-th impact comes at
+ * t_k = 2 (1 + r + ... + r^(k-1)) with v_n = r^(k-1), in closed form.  By
+ * default every impact with v_n >= 1e-5 V (V = 1, the fastest) is
+ * reported individually, by every method alike: the 52 with r^(k-1) >=
+ * 1e-5, plus the first one below, after which the tail is summed.  The
+ * accuracy-driven rule (resolution 0) reported 21 with adams, bdf and erk
+ * and 45 with exact. */
+/* an integrator's global position error, some 100 atol (BDF's) */
+#define DX 1e-10
+static void test_impacts_counted_alike(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_sdof(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.8);
+  const int all[4] = {VI_METHOD_ADAMS, VI_METHOD_BDF, VI_METHOD_EXACT,
+                      VI_METHOD_ERK};
+  double r = 0.8, Tacc = 2.0 / (1.0 - r);
+  int want = (int)floor(log(1e-5) / log(r)) + 1; /* 52 */
+  for (int k = 0; k < 4; k++) {
+    vi_test_events ev = {0};
+    double x0 = 0.0, v0 = -1.0;
+    vi_sim *s = vi_test_sim(m, all[k], 1e-10, 1e-12, &x0, &v0, &ev);
+    assert_int_equal(vi_sim_run(s, 20.0), VI_OK);
+    assert_close(vi_sim_velocity_scale(s), 1.0, 1e-9); /* the first impact */
+    int above = 0, impacts = 0;
+    double tk = 0, vk = 1.0, et = 0, ev_rel = 0;
+    for (int i = 0; i < ev.count; i++) {
+      if (ev.kind[i] != VI_EVENT_IMPACT) continue;
+      tk += 2 * vk;
+      /* a position error dx (10 atol) times an impact to dx / v_n; the
+       * times add up the flights' errors, a geometric sum to 1 / (1 - r) */
+      double tol = 1e-9 + DX / ((1.0 - r) * vk);
+      et = fmax(et, fabs(ev.t[i] - tk) / tol);
+      ev_rel = fmax(ev_rel, fabs(ev.vn[i] - vk) / (1e-9 + DX / vk));
+      above += ev.vn[i] >= 1e-5;
+      impacts++;
+      vk *= r;
+    }
+    printf("ball, %s: %d impacts (%d with v_n >= 1e-5 V, closed form %d), "
+           "times within %.2g and speeds within %.2g of their bounds; stick "
+           "at %.12g (T_acc %g)\n", vi_method_name(all[k]), impacts, above,
+           want, et, ev_rel, ev.t[ev.count - 1], Tacc);
+    assert_int_equal(above, want);
+    assert_int_equal(impacts, want + 1);
+    assert_true(et <= 1.0 && ev_rel <= 1.0);
+    assert_int_equal(ev.kind[ev.count - 1], VI_EVENT_STICK);
+    /* the summed tail: the accumulation point, to the timing of the last
+     * resolved impact (r^52 = 9.1e-6) */
+    assert_close(ev.t[ev.count - 1], Tacc, DX / ((1.0 - r) * vk / r));
+    vi_test_events_free(&ev);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+}
+
+/* The same count from every method on a forced chattering oscillator
+ * (share/scenes/chatter.yaml: x'' + 0.02 x' + 0.1 x = 0.6 cos t + 0.3,
+ * stop at 0, r = 0.5, 50 periods): 137 impacts each by default, where the
+ * accuracy-driven rule gave exact 140 and the integrators 119. */
+static void test_chatter_counts_agree(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_sdof(1.0, 0.02, 0.1, 0.6, 0.3, 1.0, 0.0, 0.5);
+  const int all[4] = {VI_METHOD_EXACT, VI_METHOD_ADAMS, VI_METHOD_BDF,
+                      VI_METHOD_ERK};
+  int count0 = -1;
+  double T = 2 * M_PI;
+  for (int k = 0; k < 4; k++) {
+    vi_test_events ev = {0};
+    vi_sim *s = vi_test_sim(m, all[k], 1e-10, 1e-12, NULL, NULL, &ev);
+    assert_int_equal(vi_sim_run(s, 50 * T), VI_OK);
+    int impacts = 0;
+    for (int i = 0; i < ev.count; i++) impacts += ev.kind[i] == VI_EVENT_IMPACT;
+    printf("chatter.yaml, %s: %d impacts, velocity scale %.6g\n",
+           vi_method_name(all[k]), impacts, vi_sim_velocity_scale(s));
+    if (k == 0) count0 = impacts;
+    assert_int_equal(impacts, count0);
+    vi_test_events_free(&ev);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_free_flight_matches_closed_form),
       cmocka_unit_test(test_reentry_refused),
+      cmocka_unit_test(test_impacts_counted_alike),
+      cmocka_unit_test(test_chatter_counts_agree),
       cmocka_unit_test(test_start_on_stop_at_rest),
       cmocka_unit_test(test_monitor_resolution),
       cmocka_unit_test(test_sdof_impact_times),

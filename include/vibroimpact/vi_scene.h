@@ -19,7 +19,12 @@
  *            stops, vi_model_add_stop order: the first is stop 0; on a
  *            cantilever a stop without w or mass is at the tip)
  *   initial: {t0, x, v}
- *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
+ *   run:     {t_end | periods, rtol, atol, method: any vi_method_name,
+ *             impact_resolution: every impact whose v_n is at least this
+ *             fraction of the run's fastest impact is reported
+ *             individually, only a chattering tail below it is summed
+ *             (default 1e-5, 0: accuracy-driven; in [0, 0.5];
+ *             vi_sim_set_impact_resolution)}
  *   output:  {impacts: bool (default true), samples_per_period: int
  *             (default 0), ledger: bool (false), modes: bool (false: no
  *             /modal group), compress: bool (true: deflate the trajectory)}

@@ -198,6 +198,29 @@ VI_API int vi_sim_set_initial(vi_sim *sim, double t0, const double *x0,
  *  the model's velocity unit; 0 leaves only the tolerance criterion.
  *  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_chatter_threshold(vi_sim *sim, double vmin);
+/** Impacts a user can count on: every impact whose approach velocity v_n
+ *  is at least ratio times the run's velocity scale V is located and
+ *  reported individually, by every method alike, and only a chattering
+ *  tail below that is summed by the chatter map (its impacts counted in
+ *  VI_STAT_CHATTER_SKIPPED, its energy, the rebound's kinetic energy along
+ *  the stop (r v_n)^2 / (2 w.M^-1.w), taken by the STICK event's ie and
+ *  the ledger's impact loss).  V (vi_sim_velocity_scale) is the largest
+ *  of the initial speeds |v0_i| and of the approach velocities of the run
+ *  so far: a tail is measured against the run's own fastest impact, in
+ *  any units and for any stiffness.  Default 1e-5 (scene key
+ *  run.impact_resolution).  0 restores the accuracy-driven summing (a
+ *  tail is summed as soon as resolving its next impact costs more
+ *  accuracy than the closed-form tail: fewer impacts, and which depends on
+ *  the method).  The chatter threshold (vi_sim_set_chatter_threshold)
+ *  still ends a sequence below its absolute velocity.  Resolving a bounce
+ *  of apex (r v_n)^2 / (2 w.a) needs atol below it: with loose tolerances
+ *  the integrators may then fail on the penetration check
+ *  (VI_ERR_INVARIANT) rather than sum it silently.
+ *  @return VI_OK, VI_ERR_ARG (ratio outside [0, 1)), VI_ERR_STATE. */
+VI_API int vi_sim_set_impact_resolution(vi_sim *sim, double ratio);
+/** The run's velocity scale V of vi_sim_set_impact_resolution (0 before
+ *  the first run): the largest initial speed or approach velocity so far. */
+VI_API double vi_sim_velocity_scale(const vi_sim *sim);
 /** First step CVODE takes after a restart: 0 (default) lets CVODE estimate
  *  it; h > 0 forces it.  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_restart_step(vi_sim *sim, double h);

@@ -84,7 +84,8 @@ module vibroimpact
             vi_sim_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops, &
             vi_sim_set_chatter_threshold, vi_sim_set_restart_step, vi_sim_set_max_step, &
             vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note, &
-            vi_sim_setup, vi_sim_run_to_event, vi_sim_n
+            vi_sim_setup, vi_sim_run_to_event, vi_sim_n, &
+            vi_sim_set_impact_resolution, vi_sim_velocity_scale
   public :: vi_sim_enable_ledger, vi_sim_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_sim_set_force, vi_sim_add_spring, vi_sim_clear_springs, &
@@ -549,6 +550,16 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double), value :: vn_min, dt_min
+    end function
+    integer(c_int) function vi_sim_set_impact_resolution(sim, ratio) &
+        bind(C, name="vi_sim_set_impact_resolution")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: ratio
+    end function
+    real(c_double) function vi_sim_velocity_scale(sim) bind(C, name="vi_sim_velocity_scale")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: sim
     end function
     integer(c_int) function vi_sim_set_chatter_threshold(sim, vmin) bind(C, name="vi_sim_set_chatter_threshold")
       import :: c_int, c_ptr, c_double

@@ -631,7 +631,8 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
 {
   static const char *const ik[] = {"t0", "x", "v", NULL};
   static const char *const rk[] = {"t_end", "periods", "rtol",
-                                   "atol",  "method",  NULL};
+                                   "atol",  "method",  "impact_resolution",
+                                   NULL};
   static const char *const ok[] = {"impacts", "samples_per_period", "ledger",
                                    "modes",   "compress",           NULL};
   yaml_node_t *in = find(c, root, "initial"), *run = find(c, root, "run"),
@@ -672,6 +673,13 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
       if ((st = number(c, v, "run.atol", &s->atol))) return st;
       if (!(s->atol > 0))
         return fail(c, v, VI_ERR_TOLERANCE, "run.atol", "%s", "must be > 0");
+    }
+    if ((v = find(c, run, "impact_resolution"))) {
+      if ((st = number(c, v, "run.impact_resolution", &s->impact_resolution)))
+        return st;
+      if ((st = in_range(c, v, "run.impact_resolution", s->impact_resolution,
+                         0.0, 0.5, VI_ERR_ARG)))
+        return st;
     }
     if ((v = find(c, run, "method"))) {
       const char *m =
