@@ -134,12 +134,22 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
             "analysis; highest frequency <= %.6g\n", vi_model_bandwidth(m),
             vi_model_omega_bound(m));
   }
-  fprintf(f, "  run       t = %g .. %g (%.6g forcing periods), method %s, "
-          "rtol %g, atol %g\n", c->t0, c->t_end, (c->t_end - c->t0) / period,
-          used ? used : "?", vi_scene_rtol(sc), vi_scene_atol(sc));
+  /* forcing periods only where there is a forcing frequency; an unforced
+   * run (a free body, a release from rest) is measured in time units */
+  int forced = vi_model_omega_forcing(m) > 0;
+  char span[64] = "";
+  if (forced) snprintf(span, sizeof span, " (%.6g forcing periods)",
+                       (c->t_end - c->t0) / period);
+  fprintf(f, "  run       t = %g .. %g%s, method %s, rtol %g, atol %g\n",
+          c->t0, c->t_end, span, used ? used : "?", vi_scene_rtol(sc),
+          vi_scene_atol(sc));
   if (note && note[0]) fprintf(f, "  method    %s\n", note);
-  fprintf(f, "  impacts   %lld (%.4f per forcing period)", (long long)c->impacts,
-          c->impacts / ((c->t_end - c->t0) / period));
+  if (forced)
+    fprintf(f, "  impacts   %lld (%.4f per forcing period)", (long long)c->impacts,
+            c->impacts / ((c->t_end - c->t0) / period));
+  else
+    fprintf(f, "  impacts   %lld (%.4g per time unit)", (long long)c->impacts,
+            c->impacts / (c->t_end - c->t0));
   if (c->impacts)
     fprintf(f, "; last at t = %.10g, v_n = %.10g", c->t_last, c->vn_last);
   fputc('\n', f);
