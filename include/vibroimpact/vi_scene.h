@@ -26,6 +26,7 @@
  *             (default 1e-5, 0: accuracy-driven; in [0, 0.5];
  *             vi_sim_set_impact_resolution)}
  *   output:  {impacts: bool (default true), samples_per_period: int
+ *             (per forcing period; without forcing, per 1/100 of the run)
  *             (default 0), ledger: bool (false), modes: bool (false: no
  *             /modal group), compress: bool (true: deflate the trajectory)}
  *   springs: a list of built-in nonlinear springs (vi_force.h) between

@@ -711,9 +711,8 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
         (st = integer(c, v, "output.samples_per_period", 0, 1000000,
                       &s->samples)))
       return st;
-    if (s->samples > 0 && !(s->omega > 0))
-      return fail(c, v, VI_ERR_ARG, "output.samples_per_period", "%s",
-                  "needs a forcing frequency");
+    /* without a forcing frequency a "period" is 1/100 of the run (as the
+     * program's progress and sampling take it): a transient is sampled */
   }
   return VI_OK;
 }
