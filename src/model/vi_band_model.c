@@ -1,6 +1,7 @@
-/* vi_band.c - models in band storage (vi_model_create_band): setup, the
- * right-hand side and its Jacobian in O(n kd) per evaluation, so that a
- * long chain runs in memory and time linear in n.  There are no modes: the
+/* vi_band_model.c - models in band storage (vi_model_create_band): setup,
+ * the acceleration M^-1 (f - C v - K x), its rates and the energy in O(n kd)
+ * per evaluation, so that a long chain runs in memory and time linear in
+ * n (the integrator's Jacobian is src/sim/vi_band.c).  There are no modes: the
  * ledger, the closed form and the orbits need them and refuse such models.
  *
  * Storage is LAPACK's symmetric band 'U' form [(kd+1) x n] as set; for the
@@ -13,11 +14,8 @@
 #include <string.h>
 
 #include <lapacke.h>
-#include <sunmatrix/sunmatrix_band.h>
-#include <sunmatrix/sunmatrix_dense.h>
 
-#include "vi_band_internal.h"
-#include "vi_sim_internal.h"
+#include "vi_internal.h"
 
 /* A PSD matrix plus this fraction of its infinity norm (a bound of its
  * largest eigenvalue) has a band Cholesky factor; an indefinite one with a
@@ -224,39 +222,6 @@ void vi_band_accel_rate(const vi_model *m, double t, int k, const double *u,
              out[i];
 }
 
-void vi_band_normal_stiffness(const vi_model *m, int k, double *kappa,
-                              double *gamma)
-{
-  int n = m->n, kd = m->kd, w = 2 * kd + 1;
-  const double *wk = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
-  double kk = 0.0, c = 0.0, zero = 0.0;
-  if (m->kdm == 0) { /* rows of M^-1 K, M^-1 C where w is non-zero */
-    for (int i = 0; i < n; i++) {
-      if (wk[i] == 0.0) continue;
-      const double *kr = m->KR + (size_t)i * w, *cr = m->CR + (size_t)i * w;
-      int d0 = i - kd < 0 ? -i : -kd, d1 = i + kd >= n ? n - 1 - i : kd;
-      for (int d = d0; d <= d1; d++) {
-        kk += wk[i] * kr[d + kd] * mw[i + d];
-        c += wk[i] * cr[d + kd] * mw[i + d];
-      }
-    }
-  } else {
-    double *buf = malloc(sizeof(double) * (size_t)n);
-    if (!buf) {
-      *kappa = *gamma = NAN;
-      return;
-    }
-    vi_band_apply(m, mw, 1, &zero, 0, buf);
-    kk = vi_dot(n, wk, buf);
-    vi_band_apply(m, &zero, 0, mw, 1, buf);
-    c = vi_dot(n, wk, buf);
-    free(buf);
-  }
-  double wmw = m->G[k + (size_t)k * m->ns];
-  *kappa = kk / wmw;
-  *gamma = c / wmw;
-}
-
 double vi_band_energy(const vi_model *m, const double *x, const double *v)
 {
   int n = m->n, kd = m->kd, ldb = m->ldb;
@@ -272,63 +237,3 @@ double vi_band_energy(const vi_model *m, const double *x, const double *v)
   return e;
 }
 
-/* Column jz of the Jacobian [[0, I], [-M^-1 K, -M^-1 C]] (interleaved)
- * on the band [j - bw, j + bw] of rows, projected while sticking.  With a
- * band matrix the model has a diagonal M and every stop acts on one
- * coordinate p_k (cvode's use_band), so the projection
- * a -= M^-1 W_S G_SS^-1 W_S^T a touches the rows p_k only. */
-int vi_band_jac(vi_sim *s, SUNMatrix J)
-{
-  const vi_model *m = s->m;
-  int n = s->n, kd = m->kd, w = 2 * kd + 1, ns = s->nstick;
-  if (SUNMatGetID(J) != SUNMATRIX_BAND) {
-    /* small models: full columns by band products, O(n^2 kd) */
-    double *e = s->zs, *col = s->zs + n, zero = 0.0;
-    memset(e, 0, sizeof(double) * (size_t)n);
-    for (int jz = 0; jz < 2 * n; jz++) {
-      int j = jz / 2;
-      e[j] = 1.0;
-      if (jz % 2) vi_band_apply(m, &zero, 0, e, 1, col);
-      else vi_band_apply(m, e, 1, &zero, 0, col);
-      e[j] = 0.0;
-      for (int i = 0; i < n; i++) col[i] = -col[i];
-      if (s->sticking) vi_sim_constrain(s, col, NULL);
-      for (int i = 0; i < n; i++) SM_ELEMENT_D(J, 2 * i + 1, jz) = col[i];
-      if (jz % 2) SM_ELEMENT_D(J, jz - 1, jz) = 1.0;
-    }
-    return 0;
-  }
-  int bw = m->bw, p[VI_CONTACT_MAX];
-  double wp[VI_CONTACT_MAX], mwp[VI_CONTACT_MAX];
-  for (int q = 0; q < ns; q++) {
-    const double *wk = vi_stop_w(m, s->stick_k[q]);
-    int i = 0;
-    while (i < n - 1 && wk[i] == 0.0) i++;
-    p[q] = i;
-    wp[q] = wk[i];
-    mwp[q] = vi_stop_minvw(m, s->stick_k[q])[i];
-  }
-  for (int jz = 0; jz < 2 * n; jz++) {
-    int j = jz / 2;
-    const double *R = jz % 2 ? m->CR : m->KR;
-    int i0 = j - bw < 0 ? 0 : j - bw, i1 = j + bw >= n ? n - 1 : j + bw;
-    for (int i = i0; i <= i1; i++)
-      SM_ELEMENT_B(J, 2 * i + 1, jz) = -R[(size_t)i * w + (j - i + kd)];
-    if (jz % 2) SM_ELEMENT_B(J, jz - 1, jz) = 1.0;
-    if (!ns) continue;
-    double b[VI_CONTACT_MAX];
-    int any = 0;
-    for (int q = 0; q < ns; q++) {
-      int in = p[q] >= i0 && p[q] <= i1;
-      b[q] = in ? wp[q] * SM_ELEMENT_B(J, 2 * p[q] + 1, jz) : 0.0;
-      any |= b[q] != 0.0;
-    }
-    if (!any) continue;
-    if (ns == 1) b[0] /= m->G[s->stick_k[0] * (size_t)(m->ns + 1)];
-    else vi_small_solve(ns, s->stick_L, b);
-    for (int q = 0; q < ns; q++)
-      if (p[q] >= i0 && p[q] <= i1)
-        SM_ELEMENT_B(J, 2 * p[q] + 1, jz) -= b[q] * mwp[q];
-  }
-  return 0;
-}
