@@ -158,7 +158,9 @@ static void byte_order_mark(void **state)
   size_t len = strlen(scene);
   char *text = malloc(len + 4);
   assert_non_null(text);
-  memcpy(text, "\xEF\xBB\xBF", 3);
+  text[0] = (char)0xEF; /* the mark, U+FEFF in UTF-8 */
+  text[1] = (char)0xBB;
+  text[2] = (char)0xBF;
   memcpy(text + 3, scene, len + 1);
   vi_scene_edit *e = NULL;
   vi_diag d;
