@@ -9,6 +9,7 @@
 
 #include "vibroimpact.h"
 #include "vi_sweep.h"
+#include "vibroimpact/vi_output.h"
 
 static int put(hid_t loc, const char *name, hid_t type, int rank,
                const hsize_t *dims, const void *data)
@@ -111,8 +112,12 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
 {
   const vi_sweep_spec *sp = &sw->spec;
   int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
-  char part[4096];
-  snprintf(part, sizeof part, "%s.part", path);
+  char part[4096 + 8];
+  if (vi_output_part(path, part, (int)sizeof part)) {
+    snprintf(err, (size_t)errlen, "output path too long");
+    return 1;
+  }
+  remove(part); /* a stale one of ours (vi_output_check made sure) */
   int64_t I = 0;
   for (int l = 0; l < L; l++)
     for (int k = 0; k < K; k++) I += sw->lines[l].pt[k].nimp;
@@ -153,7 +158,8 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     row[l] = sw->lines[l].row;
   }
   hid_t f = -1, g = -1, gi = -1;
-  H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
+  /* EXCL: never follow a link planted at PATH.part since the check */
+  H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
   if (f < 0) {
     snprintf(err, (size_t)errlen, "cannot create '%s'", part);
     bad = 1;
