@@ -1,9 +1,11 @@
 /* vi_sweep_h5.c - a sweep to HDF5 (layout: share/doc/sweep-layout.md).
  * Whole arrays are known when the sweep ends, so each is one contiguous
  * dataset written at once; the file is FILE.part until it is complete. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <hdf5.h>
 
@@ -117,7 +119,6 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     snprintf(err, (size_t)errlen, "output path too long");
     return 1;
   }
-  remove(part); /* a stale one of ours (vi_output_check made sure) */
   int64_t I = 0;
   for (int l = 0; l < L; l++)
     for (int k = 0; k < K; k++) I += sw->lines[l].pt[k].nimp;
@@ -158,8 +159,14 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     row[l] = sw->lines[l].row;
   }
   hid_t f = -1, g = -1, gi = -1;
-  /* EXCL: never follow a link planted at PATH.part since the check */
-  H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
+  /* the file is built in memory (HDF5's core driver, no backing store) and
+   * its image written through the output module: HDF5 never meets a full
+   * disk (whose failed close crashed in its atexit handler), and every
+   * write, the sync and the rename are checked */
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  if (fapl >= 0 && H5Pset_fapl_core(fapl, (size_t)1 << 20, 0) >= 0)
+    H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, fapl); } H5E_END_TRY;
+  if (fapl >= 0) H5Pclose(fapl);
   if (f < 0) {
     snprintf(err, (size_t)errlen, "cannot create '%s'", part);
     bad = 1;
@@ -207,17 +214,44 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
     if (sp->orbits > 0) bad |= put_p11(g, sw);
   }
+  void *image = NULL;
+  ssize_t size = -1;
   H5E_BEGIN_TRY {
     if (gi >= 0) H5Gclose(gi);
     if (g >= 0) H5Gclose(g);
+    if (!bad && H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0 &&
+        (size = H5Fget_file_image(f, NULL, 0)) > 0 &&
+        (image = malloc((size_t)size)) != NULL &&
+        H5Fget_file_image(f, image, (size_t)size) != size)
+      size = -1;
     bad |= H5Fclose(f) < 0;
   } H5E_END_TRY;
-  if (bad) snprintf(err, (size_t)errlen, "writing '%s' failed", part);
-  else if (rename(part, path)) {
-    snprintf(err, (size_t)errlen, "cannot rename '%s' to '%s'", part, path);
+  if (bad || size <= 0 || !image) {
+    snprintf(err, (size_t)errlen, "building the file for '%s' failed", path);
     bad = 1;
+  } else {
+    FILE *fp = NULL;
+    vi_diag od;
+    memset(&od, 0, sizeof od);
+    int wbad = vi_output_open(path, VI_OUTPUT_FILE, &fp, &od) != VI_OK;
+    /* the image in large write()s of the descriptor itself */
+    for (size_t at = 0; !wbad && at < (size_t)size;) {
+      ssize_t k = write(fileno(fp), (const char *)image + at, (size_t)size - at);
+      if (k <= 0) {
+        snprintf(od.message, sizeof od.message, "cannot write %.300s.part: %s",
+                 path, strerror(k < 0 ? errno : EIO));
+        wbad = 1;
+      } else {
+        at += (size_t)k;
+      }
+    }
+    if (wbad || vi_output_close(&fp, path, VI_OUTPUT_FILE, &od)) {
+      if (fp) vi_output_discard(&fp, path, VI_OUTPUT_FILE);
+      snprintf(err, (size_t)errlen, "%s", od.message[0] ? od.message : "writing failed");
+      bad = 1;
+    }
   }
-  if (bad) remove(part);
+  free(image);
 done:
   free(ni);
   free(cnt);
