@@ -178,12 +178,35 @@ static void byte_order_mark(void **state)
   free(text);
 }
 
+/* The scene reader's nesting limit applies before the document is loaded:
+ * 100 000 levels are refused at the 33rd, as `run` refuses them (loading
+ * them first took minutes). */
+static void nesting_limit(void **state)
+{
+  (void)state;
+  enum { N = 100000 };
+  char *text = malloc(2 * N + 8);
+  assert_non_null(text);
+  memcpy(text, "a: ", 3);
+  memset(text + 3, '[', N);
+  memset(text + 3 + N, ']', N);
+  memcpy(text + 3 + 2 * N, "\n", 2);
+  vi_scene_edit *e = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_edit_create(text, -1, "deep.yaml", &e, &d), VI_ERR_PARSE);
+  assert_null(e);
+  assert_non_null(strstr(d.message, "32 levels"));
+  assert_int_equal(d.column, 3 + 32); /* level 33: the mapping, then 32 brackets */
+  free(text);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(one_value_changes), cmocka_unit_test(errors_keep_lines),
       cmocka_unit_test(adds_missing_keys), cmocka_unit_test(bad_edits),
       cmocka_unit_test(byte_order_mark),
+      cmocka_unit_test(nesting_limit),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
