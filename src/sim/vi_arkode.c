@@ -313,6 +313,12 @@ static int ark_start(vi_sim *s)
     hmax = hmax > 0.0 ? fmin(hmax, h) : h;
   }
   ARK_TRY(ERKStepSetMaxStep(d->mem, hmax));
+  /* after an impact the first step stays inside the rebound's flight
+   * (vi_sim.c, on_contact_one); 0: ARKODE's own estimate */
+  double h0 = s->h_restart;
+  if (s->h_flight > 0.0) h0 = h0 > 0.0 ? fmin(h0, s->h_flight) : s->h_flight;
+  s->h_flight = 0.0;
+  if (h0 > 0.0) ARK_TRY(ERKStepSetInitStep(d->mem, h0)); /* else as before */
   d->t_prev = s->t;
   d->fresh = 1;
 cleanup:

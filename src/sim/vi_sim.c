@@ -605,6 +605,12 @@ static int on_contact_one(vi_sim *s, int k)
     s->stats[VI_STAT_CHATTER_SKIPPED] += count;
     vi_chatter_pend(s, k, s->t + tail, -u * wmw, ie_tail);
   }
+  /* the rebound's flight 2 r v_n / w.a: the integrator's first step must
+   * end inside it, or it steps from the stop (g = 0) to beyond it (g > 0)
+   * with no sign change for the root finding (a chattering tail, where
+   * the flights shrink geometrically; ERK missed such a landing).  Used by
+   * ERK, whose first step after a restart is otherwise its own estimate */
+  s->h_flight = vn > 0.0 && !stick && push > 0.0 ? 0.5 * r * vn / push : 0.0;
   s->ie_stop[k] += ie + ie_tail;
   /* The contact is at g = 0 by definition, but the located state carries
    * the integrator's position error along w.  Near grazing that error is

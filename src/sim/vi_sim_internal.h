@@ -90,6 +90,8 @@ struct vi_sim {
   int running;    /* inside vi_sim_run: state-changing calls refused */
   int destroy_asked; /* vi_sim_destroy from a callback: the run ends */
   int press_next; /* initial_contact: at rest on the stop, pressed next */
+  double h_flight; /* first step after an impact: within the rebound's
+                      flight (0: none); consumed by the backend's start */
   int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
   int last_event; /* kind of the last event emitted */
 
