@@ -41,6 +41,8 @@ files=(
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/study/test_sweep.c
   bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
+  src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c
+  bench/vi_bench_sparse.c examples/c/fe_host.c
 )
 # Headers whose findings count (a finding in another header is silent until
 # the header joins this list): a regex for clang-tidy's --header-filter.
