@@ -28,6 +28,23 @@ static int put(hid_t loc, const char *name, hid_t type, int rank,
   return bad;
 }
 
+static int dset_str(hid_t loc, const char *name, const char *val)
+{
+  int bad = 1;
+  hid_t t = -1, sp = -1, d = -1;
+  H5E_BEGIN_TRY {
+    t = H5Tcopy(H5T_C_S1);
+    if (t >= 0 && H5Tset_size(t, strlen(val) + 1) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
+      sp = H5Screate(H5S_SCALAR);
+    if (sp >= 0) d = H5Dcreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    bad = d < 0 || H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, val) < 0;
+    if (d >= 0) H5Dclose(d);
+    if (sp >= 0) H5Sclose(sp);
+    if (t >= 0) H5Tclose(t);
+  } H5E_END_TRY;
+  return bad;
+}
+
 static int attr_str(hid_t loc, const char *name, const char *val)
 {
   int bad = 1;
@@ -178,7 +195,10 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
   bad |= attr_str(f, "creator", creator);
   bad |= attr_str(f, "kind", "sweep");
   bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
-  bad |= attr_str(f, "scene", sw->text);
+  /* an attribute holds at most 64 KiB: a longer scene goes to the
+   * dataset /scene (a scalar string), as in a run's file */
+  if (strlen(sw->text) < 60000) bad |= attr_str(f, "scene", sw->text);
+  else bad |= dset_str(f, "scene", sw->text);
   bad |= attr_str(f, "scene_file", sw->name);
   H5E_BEGIN_TRY {
     g = H5Gcreate2(f, "sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);

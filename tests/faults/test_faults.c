@@ -588,6 +588,15 @@ static void test_every_command(void **state)
   assert_int_equal(symlink(victim, part), 0);
   char env[700];
   snprintf(env, sizeof env, "LD_PRELOAD=%s", hook);
+  char *big = path("cmd-big.yaml");
+  {
+    FILE *bf = fopen(big, "w");
+    assert_non_null(bf);
+    fputs(slurp(scene), bf);
+    for (int i = 0; i < 800; i++)
+      fprintf(bf, "# %098d\n", i); /* 80 KB of comment */
+    assert_int_equal(fclose(bf), 0);
+  }
   for (size_t k = 0; k < sizeof commands / sizeof commands[0]; k++) {
     const cmd_case *c = &commands[k];
     print_message("command %s\n", c->name);
@@ -627,8 +636,9 @@ static void test_every_command(void **state)
     assert_string_equal(slurp(out), "old contents\n");
     snprintf(part, sizeof part, "%s.part", out);
     assert_false(exists(part));
-    /* and, with room, a valid file */
-    rc = run(cmd_argv(c, scene, o3), NULL);
+    /* and, with room, a valid file, also of a scene over 64 KiB (an HDF5
+     * attribute's limit) */
+    rc = run(cmd_argv(c, big, o3), NULL);
     expect(rc, 0, NULL);
     hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
     assert_true(f >= 0);
