@@ -185,12 +185,16 @@ static void nesting_limit(void **state)
 {
   (void)state;
   enum { N = 100000 };
-  char *text = malloc(2 * N + 8);
+  size_t n = N;
+  char *text = malloc(2 * n + 8);
   assert_non_null(text);
-  memcpy(text, "a: ", 3);
-  memset(text + 3, '[', N);
-  memset(text + 3 + N, ']', N);
-  memcpy(text + 3 + 2 * N, "\n", 2);
+  text[0] = 'a';
+  text[1] = ':';
+  text[2] = ' ';
+  memset(text + 3, '[', n);
+  memset(text + 3 + n, ']', n);
+  text[3 + 2 * n] = '\n';
+  text[4 + 2 * n] = '\0';
   vi_scene_edit *e = NULL;
   vi_diag d;
   assert_int_equal(vi_scene_edit_create(text, -1, "deep.yaml", &e, &d), VI_ERR_PARSE);

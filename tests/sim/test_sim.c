@@ -729,9 +729,10 @@ static void test_rod_chatter_all_methods(void **state)
   double M[N * N] = {0}, C[N * N] = {0}, K[N * N] = {0}, w[N], a[N];
   for (int j = 0; j < N; j++) {
     double om = (2 * j + 1) * M_PI / 2;
-    M[j * (N + 1)] = 1.0;
-    K[j * (N + 1)] = om * om;
-    C[j * (N + 1)] = 2 * 0.02 * om;
+    size_t jj = (size_t)j * (N + 1); /* the diagonal */
+    M[jj] = 1.0;
+    K[jj] = om * om;
+    C[jj] = 2 * 0.02 * om;
     w[j] = (j % 2 ? -1.0 : 1.0) * sqrt(2.0);
     a[j] = 0.1 * w[j];
   }
