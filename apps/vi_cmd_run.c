@@ -134,22 +134,19 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
             "analysis; highest frequency <= %.6g\n", vi_model_bandwidth(m),
             vi_model_omega_bound(m));
   }
-  /* forcing periods only where there is a forcing frequency; an unforced
-   * run (a free body, a release from rest) is measured in time units */
-  int forced = vi_model_omega_forcing(m) > 0;
-  char span[64] = "";
-  if (forced) snprintf(span, sizeof span, " (%.6g forcing periods)",
-                       (c->t_end - c->t0) / period);
-  fprintf(f, "  run       t = %g .. %g%s, method %s, rtol %g, atol %g\n",
+  int forced = vi_model_omega_forcing(m) > 0; /* else: free motion */
+  char span[64] = "free motion";
+  if (forced)
+    snprintf(span, sizeof span, "%.6g forcing periods",
+             (c->t_end - c->t0) / period);
+  fprintf(f, "  run       t = %g .. %g (%s), method %s, rtol %g, atol %g\n",
           c->t0, c->t_end, span, used ? used : "?", vi_scene_rtol(sc),
           vi_scene_atol(sc));
   if (note && note[0]) fprintf(f, "  method    %s\n", note);
+  fprintf(f, "  impacts   %lld", (long long)c->impacts);
   if (forced)
-    fprintf(f, "  impacts   %lld (%.4f per forcing period)", (long long)c->impacts,
+    fprintf(f, " (%.4f per forcing period)",
             c->impacts / ((c->t_end - c->t0) / period));
-  else
-    fprintf(f, "  impacts   %lld (%.4g per time unit)", (long long)c->impacts,
-            c->impacts / (c->t_end - c->t0));
   if (c->impacts)
     fprintf(f, "; last at t = %.10g, v_n = %.10g", c->t_last, c->vn_last);
   fputc('\n', f);
@@ -226,6 +223,21 @@ int vi_cmd_run(const app_opts *o)
                            vi_scene_method(sc))) {
       fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
       goto done;
+    }
+    if (outs & VI_SCENE_OUT_SHAPES) {
+      /* the full Psi only when asked: the reduction is solved again with
+       * its shapes kept (the model made above kept none) */
+      vi_fe *fe = NULL;
+      int fst = vi_scene_create_fe(sc, 0, 1, &fe, &d), wst = VI_OK;
+      if (fst)
+        vi_app_print_diag(&d, fst);
+      else if ((wst = c.wa->fe_shapes(c.w, fe)))
+        fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
+      vi_fe_destroy(&fe);
+      if (fst || wst) {
+        rc = fst && fst != VI_ERR_NOMEM ? 2 : 1;
+        goto done;
+      }
     }
   }
   if (o->csv && vi_output_open(o->csv_target, o->csv_kind, &c.csv, &d)) {
