@@ -601,6 +601,8 @@ static void test_refused_rows(void **state)
   assert_int_equal(vi_writer_close(&w, 1), VI_OK);
   remove(path);
   vi_model_destroy(&m);
+}
+
 static int attr_int_of(hid_t obj, const char *name)
 {
   int v = -1;
