@@ -91,5 +91,7 @@ int vi_app_parse(int argc, char **argv, app_opts *o, const app_cmd **cmd);
 int vi_cmd_run(const app_opts *o);
 int vi_cmd_energy(const app_opts *o);
 int vi_cmd_truncation(const app_opts *o);
+/* `vibroimpact identify` parses its own arguments (vi_cmd_identify.c). */
+int vi_cmd_identify_main(int argc, char **argv);
 
 #endif

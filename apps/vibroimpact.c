@@ -85,7 +85,9 @@ static void usage(FILE *f)
   fprintf(f, "       vibroimpact sweep [SCENE.yaml] --param KEY --from A --to B --steps K ...\n"
              "         bifurcation diagram (vibroimpact sweep --help)\n"
              "       vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json]\n"
-             "         P(n,m) orbits by Newton, stable or not (--help)\n");
+             "         P(n,m) orbits by Newton, stable or not (--help)\n"
+             "       vibroimpact identify SCENE.yaml --data REC.csv --fit KEY[,KEY...]\n"
+             "         parameters from a recorded response (--help)\n");
   fprintf(f,
     "With no scene: the embedded default, Wagg & Bishop (2000) Fig. 2.\n\n"
     "  -o, --output FILE   write the run to an HDF5 file (FILE.part until "
@@ -393,6 +395,8 @@ int main(int argc, char **argv)
   /* sweep and orbits parse their own arguments (apps/vi_sweep.h) */
   if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_sweep_exec(argc - 1, argv + 1);
   if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
+  if (argc > 1 && !strcmp(argv[1], "identify"))
+    return close_stdout(vi_cmd_identify_main(argc - 1, argv + 1));
   if ((argc = vi_sets_take(argc, argv)) < 0) {
     fprintf(stderr, "vibroimpact: --set needs KEY=VALUE\n");
     return 2;

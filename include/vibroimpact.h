@@ -37,5 +37,7 @@
 #include "vibroimpact/vi_ledger.h"
 #include "vibroimpact/vi_force.h"
 #include "vibroimpact/vi_orbit.h"
+#include "vibroimpact/vi_param.h"
+#include "vibroimpact/vi_identify.h"
 
 #endif

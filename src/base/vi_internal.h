@@ -59,6 +59,11 @@ struct vi_model {
                                      diagonal (then rows of M^-1 K, M^-1 C):
                                      row i, column j at [i (2kd+1) + j-i+kd] */
   int64_t bytes;                  /* bytes the model holds (vi_model_memory) */
+  size_t nblock;                  /* doubles in block (vi_model_copy) */
+  /* how C was given: 0 a matrix, 1 Rayleigh alpha M + beta K, 2 modal
+   * ratios (vi_param.c: the keys damping.alpha, .beta, .zeta) */
+  int damp_kind;
+  double ray_alpha, ray_beta;
   char errmsg[VI_MSG_LEN];
 };
 
@@ -96,6 +101,8 @@ int vi_contact_solve(const vi_model *m, int nc, const int *idx,
  * Cholesky of M, positive semidefiniteness of K and C by shifted band
  * Cholesky, M^-1 of the forcing and the stops, the row form KR, CR. */
 int vi_band_setup(vi_model *m);
+/* x [n x nrhs] <- M^-1 x with the model's band factor (vi_param.c) */
+int vi_band_solve_mass(const vi_model *m, int nrhs, double *x);
 /* acc = M^-1 (f(t) - K x - C v) for an interleaved state z (x_1, v_1, ..) */
 void vi_band_accel(const vi_model *m, double t, const double *z, double *acc);
 /* y = M^-1 (K x + C v), x and v with strides incx, incv (O(n kd)) */

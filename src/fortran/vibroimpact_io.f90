@@ -38,6 +38,7 @@ module vibroimpact_io
   public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
+  public :: vi_identify_write_h5
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
@@ -359,6 +360,17 @@ module vibroimpact_io
       import :: c_ptr
       type(c_ptr) :: writer
     end subroutine
+    !> t, x [ns]; path, keys NUL-terminated (keys optional)
+    integer(c_int) function vi_identify_write_h5(path, id, keys, ns, t, x, diag) &
+        bind(C, name="vi_identify_write_h5")
+      import :: c_int, c_ptr, c_char, c_double, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), value :: id
+      character(kind=c_char), intent(in), optional :: keys(*)
+      integer(c_int), value :: ns
+      real(c_double), intent(in) :: t(*), x(*)
+      type(vi_diag), optional :: diag
+    end function
     type(c_ptr) function vi_writer_errmsg(writer) bind(C, name="vi_writer_errmsg")
       import :: c_ptr
       type(c_ptr), value :: writer

@@ -86,6 +86,11 @@ static int minv(const vi_model *m, int nrhs, double *x)
                                   m->LB, m->kdm + 1, x, n);
 }
 
+int vi_band_solve_mass(const vi_model *m, int nrhs, double *x)
+{
+  return minv(m, nrhs, x);
+}
+
 int vi_band_setup(vi_model *m)
 {
   int n = m->n, kd = m->kd, ldb = m->ldb, ns = m->ns, st;

@@ -54,6 +54,7 @@ int vi_model_create(int n, vi_model **out)
   m->F0 = p;
   m->n = n;
   m->kd = -1;
+  m->nblock = 10 * nn + 15 * (size_t)n;
   m->bytes = (int64_t)(sizeof *m +
                        (10 * nn + 17 * (size_t)n) * sizeof(double));
   for (int i = 0; i < n; i++) m->M[i + (size_t)i * n] = 1.0;
@@ -94,6 +95,7 @@ int vi_model_create_band(int n, int kd, vi_model **out)
   m->Minv_f0 = p; p += n;
   m->Minv_w = p;
   m->n = n;
+  m->nblock = count;
   m->band = 1;
   m->kd = kd;
   m->ldb = (int)ldb;
@@ -241,6 +243,7 @@ int vi_model_set_mass_band(vi_model *m, int kd, const double *AB, int ldab)
 
 int vi_model_set_damping_band(vi_model *m, int kd, const double *AB, int ldab)
 {
+  if (m && !m->frozen) m->damp_kind = 0; /* C as a matrix */
   if (m && !AB && !m->frozen) { /* C = 0 */
     size_t sz = m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n;
     memset(m->band ? m->CB : m->C, 0, sizeof(double) * sz);
@@ -262,6 +265,7 @@ int vi_model_set_mass(vi_model *m, const double *M, int ldm)
 
 int vi_model_set_damping(vi_model *m, const double *C, int ldc)
 {
+  if (m && !m->frozen) m->damp_kind = 0; /* C as a matrix */
   if (m && !C) return vi_model_set_damping_band(m, 0, NULL, 1);
   return set_symmetric(m, "C", m ? (m->band ? m->CB : m->C) : NULL, C, ldc);
 }

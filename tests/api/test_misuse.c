@@ -933,6 +933,153 @@ static void test_orbit_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* Parameters by key: NULL handles, keys and outputs, unknown keys,
+ * indices out of range, values out of their domain; a model before setup
+ * takes the model keys but not the modal ratios. */
+static void test_param_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *c = NULL, *raw = NULL;
+  double val, t0 = 0, x[2] = {0, 0}, v[2] = {0, 0};
+  assert_err(vi_model_set_param(NULL, "forcing.omega", 1.0));
+  assert_err_msg(vi_model_set_param(m, NULL, 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.a[]", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.a[1][1]", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.a[99999999999]", 1.0),
+                 vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "stops[-1].xs", 1.0), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "forcing.omega", INFINITY), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "damping.zeta[3]", 0.1), vi_model_errmsg(m));
+  assert_err_msg(vi_model_set_param(m, "damping.zeta", -0.1), vi_model_errmsg(m));
+  assert_err(vi_model_param(NULL, "forcing.omega", &val));
+  assert_err(vi_model_param(m, "forcing.omega", NULL));
+  assert_err_msg(vi_model_param(m, "forcing.omgea", &val), vi_model_errmsg(m));
+  assert_err_msg(vi_model_param(m, "stops[2].r", &val), vi_model_errmsg(m));
+  assert_err_msg(vi_model_param(m, "initial.x[1]", &val), vi_model_errmsg(m));
+  assert_err(vi_model_copy(NULL, &c));
+  assert_null(c);
+  assert_err(vi_model_copy(m, NULL));
+  assert_int_equal(vi_param_kind(NULL), VI_PARAM_UNKNOWN);
+  assert_int_equal(vi_param_kind("initial.x[1]x"), VI_PARAM_UNKNOWN);
+  assert_err(vi_param_set_initial(NULL, 1.0, 2, &t0, x, v));
+  assert_err(vi_param_set_initial("initial.x[1]", NAN, 2, &t0, x, v));
+  assert_err(vi_param_set_initial("initial.x[1]", 1.0, 2, &t0, NULL, v));
+  assert_err(vi_param_set_initial("initial.t0", 1.0, 2, NULL, x, v));
+  assert_err(vi_param_set_initial("initial.v[0]", 1.0, 2, &t0, x, v));
+  assert_err(vi_param_initial("initial.v[1]", 2, t0, x, NULL, &val));
+  assert_err(vi_param_initial("initial.v[1]", 2, t0, x, v, NULL));
+  assert_err(vi_param_initial("initial.v[3]", 2, t0, x, v, &val));
+  assert_err(vi_param_initial("stop.xs", 2, t0, x, v, &val));
+  assert_null(vi_param_key_name(-1));
+  assert_true(vi_param_key_count() > 0);
+  /* before setup: model keys yes, modal ratios no */
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_model_set_param(raw, "forcing.omega", 1.0), VI_OK);
+  assert_err_msg(vi_model_set_param(raw, "stop.xs", 1.0), vi_model_errmsg(raw));
+  assert_int_equal(vi_model_set_param(raw, "damping.zeta", 0.1), VI_ERR_STATE);
+  assert_int_equal(vi_model_set_param(raw, "forcing.a[1]", 1.0), VI_OK);
+  assert_int_equal(vi_model_set_param(raw, "forcing.omega", 0.0),
+                   VI_ERR_FREQUENCY); /* harmonic forcing needs Omega */
+  vi_model_destroy(&raw);
+  vi_model_destroy(&m);
+}
+
+/* vi_identify_*: NULL handles, out-of-range parameters, bad data, results
+ * before a fit. */
+static int ident_builder(const double *p, void *user, vi_model **out)
+{
+  (void)p;
+  (void)user;
+  *out = NULL;
+  return VI_ERR_ARG;
+}
+
+static void test_identify_misuse(void **state)
+{
+  (void)state;
+  vi_identify *id = NULL;
+  vi_model *m = vi_test_fig2();
+  double t[20], x[20], R[4], c[2] = {0, 0};
+  int fl[1];
+  for (int i = 0; i < 20; i++) {
+    t[i] = i;
+    x[i] = 0.0;
+  }
+  assert_err(vi_identify_create(NULL, 1, &id));
+  assert_err(vi_identify_create(m, 1, NULL));
+  assert_int_equal(vi_identify_create(m, 0, &id), VI_ERR_DIM);
+  assert_null(id);
+  vi_identify_destroy(NULL);
+  vi_identify_destroy(&id);
+  assert_string_equal(vi_identify_errmsg(NULL), "");
+  assert_int_equal(vi_identify_nparams(NULL), 0);
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_nparams(id), 1);
+  assert_err(vi_identify_set_param(NULL, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 1, VI_IDENTIFY_R, 0, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 0, 7, 0, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 3, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, NAN, 0, 1));
+  assert_err_msg(vi_identify_set_param(id, 0, VI_IDENTIFY_XS, 0, 2.0, 0, 1), "outside");
+  assert_err(vi_identify_set_param_key(NULL, 0, "stop.r", NAN, NAN));
+  assert_err(vi_identify_set_param_key(id, 0, NULL, NAN, NAN));
+  assert_err(vi_identify_set_param_key(id, 0, "no.such.key", NAN, NAN));
+  assert_err(vi_identify_set_param_key(id, 0, "stop.r", 0.8, 0.9));
+  assert_err(vi_identify_set_builder(NULL, ident_builder, NULL, NULL));
+  assert_err(vi_identify_set_observation(NULL, NULL));
+  assert_err(vi_identify_set_observation(id, c));
+  c[0] = NAN;
+  assert_int_equal(vi_identify_set_observation(id, c), VI_ERR_NONFINITE);
+  assert_err(vi_identify_set_shift(NULL, 1, NAN));
+  assert_err(vi_identify_set_shift(id, 2, 0.0));
+  assert_err(vi_identify_set_shift(id, 0, NAN));
+  assert_err(vi_identify_set_noise(NULL, 0.1));
+  assert_err(vi_identify_set_stable_only(NULL, 1));
+  assert_err(vi_identify_set_stable_only(id, 2));
+  assert_int_equal(vi_identify_stability(id, R), VI_ERR_STATE);
+  assert_int_equal(vi_identify_stability(NULL, R), VI_ERR_ARG);
+  assert_int_equal(vi_identify_set_noise(id, INFINITY), VI_ERR_NONFINITE);
+  assert_err(vi_identify_set_data(NULL, 20, t, x, NULL));
+  assert_err(vi_identify_set_data(id, 20, NULL, x, NULL));
+  assert_err_msg(vi_identify_set_data(id, 15, t, x, NULL), "too few");
+  t[3] = t[2];
+  assert_err_msg(vi_identify_set_data(id, 20, t, x, NULL), "sample 4");
+  t[3] = 3.0;
+  x[5] = INFINITY;
+  assert_int_equal(vi_identify_set_data(id, 20, t, x, NULL), VI_ERR_NONFINITE);
+  x[5] = 0.0;
+  /* out of order: no data, a parameter not set */
+  assert_int_equal(vi_identify_run(NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_run(id), VI_ERR_STATE);
+  assert_int_equal(vi_identify_set_data(id, 20, t, x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_ERR_STATE);
+  /* the builder fails at the start */
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_OTHER, 0, 0.5, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_ERR_STATE); /* no key, no builder */
+  assert_int_equal(vi_identify_set_builder(id, ident_builder, NULL, NULL), VI_OK);
+  assert_err(vi_identify_run(id));
+  assert_int_equal(vi_identify_set_builder(id, NULL, NULL, NULL), VI_OK);
+  /* results before a completed fit */
+  assert_int_equal(vi_identify_params(id, NULL, NULL, NULL, NULL, fl), VI_ERR_STATE);
+  assert_int_equal(vi_identify_params(NULL, NULL, NULL, NULL, NULL, fl), VI_ERR_ARG);
+  assert_int_equal(vi_identify_shift(id, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_shift(NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_correlation(id, R, 1), VI_ERR_STATE);
+  assert_int_equal(vi_identify_correlation(NULL, R, 1), VI_ERR_ARG);
+  assert_int_equal(vi_identify_summary(id, NULL, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_summary(NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_orbit_period(id, R, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_orbit_period(NULL, R, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_response(id, 1, t, x, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_response(NULL, 1, t, x, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_energy_restitution(id, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_energy_restitution(NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  vi_identify_destroy(&id);
+  assert_null(id);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -944,6 +1091,8 @@ int main(void)
       cmocka_unit_test(test_builders_misuse),
       cmocka_unit_test(test_impact_multi_misuse),
       cmocka_unit_test(test_orbit_misuse),
+      cmocka_unit_test(test_param_misuse),
+      cmocka_unit_test(test_identify_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -40,6 +40,9 @@ files=(
   src/sim/vi_band.c src/model/vi_band_model.c tests/sim/test_band.c bench/vi_bench_band.c
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/study/test_sweep.c
   bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
+  src/model/vi_param.c tests/model/test_param.c
+  src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
+  tests/study/test_identify.c bench/vi_bench_identify.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
   src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c
   bench/vi_bench_sparse.c examples/c/fe_host.c

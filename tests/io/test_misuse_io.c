@@ -19,6 +19,7 @@
 #include "vibroimpact/vi_scene_edit.h"
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_writer.h"
+#include "vibroimpact/vi_identify_io.h"
 
 /* an error code, and the diag's message says something */
 #define assert_err_diag(call, d)         \
@@ -425,6 +426,24 @@ static void test_fe_shapes_misuse(void **state)
   vi_model_destroy(&m5);
 }
 
+/* vi_identify_write_h5: NULL arguments, an identification without a fit. */
+static void test_identify_h5_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_identify *id = NULL;
+  vi_diag d;
+  double t[2] = {0, 1}, x[2] = {0, 0};
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_write_h5(NULL, id, NULL, 2, t, x, &d), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", NULL, NULL, 2, t, x, &d), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", id, NULL, 0, t, x, &d), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", id, NULL, 2, NULL, x, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", id, "stop.r", 2, t, x, &d), VI_ERR_STATE);
+  vi_identify_destroy(&id);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -434,6 +453,7 @@ int main(void)
       cmocka_unit_test(test_mm_misuse),
       cmocka_unit_test(test_fe_scene_misuse),
       cmocka_unit_test(test_fe_shapes_misuse),
+      cmocka_unit_test(test_identify_h5_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
