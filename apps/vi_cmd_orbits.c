@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "vibroimpact.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vi_sweep.h"
@@ -445,5 +446,13 @@ done:
   vi_scene_destroy(&sc);
 out:
   free(sets);
+  if (!rc) { /* a lost table or JSON is an error (> /dev/full) */
+    vi_diag od;
+    FILE *so = stdout;
+    if (vi_output_close(&so, "-", VI_OUTPUT_STDOUT, &od)) {
+      fprintf(stderr, "vibroimpact: orbits: %s\n", od.message);
+      rc = 1;
+    }
+  }
   return rc;
 }

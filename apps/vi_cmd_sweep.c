@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "vibroimpact.h"
+#include "vibroimpact/vi_output.h"
 #include "vi_sweep.h"
 #ifdef VI_HAVE_MPI
 #include <mpi.h>
@@ -23,7 +24,7 @@
 #endif
 
 static volatile sig_atomic_t interrupted;
-static void on_signal(int sig) { (void)sig; interrupted = 1; }
+static void on_signal(int sig) { interrupted = sig; } /* 128 + sig on exit */
 
 static void usage(FILE *f)
 {
@@ -193,17 +194,20 @@ int vi_cmd_sweep_main(int argc, char **argv)
   }
   if (!sp.key2) sp.steps2 = 1;
   char err[2048];
-  if (out) { /* a path we cannot write fails now, not after the sweep */
-    char part[4096];
-    snprintf(part, sizeof part, "%s.part", out);
-    FILE *f = fopen(part, "wb");
-    if (!f) {
-      fprintf(stderr, "vibroimpact: sweep: cannot write '%s': %s\n", part, strerror(errno));
-      rc = 1;
+  /* the one output path (vi_output.h): checked before the sweep, the
+   * links followed, devices, FIFOs, directories, a planted .part link and
+   * the scene itself refused */
+  char target[4096];
+  if (out) {
+    vi_diag od;
+    int ost = vi_output_check(out, VI_OUTPUT_REGULAR, scene, target,
+                              (int)sizeof target, NULL, &od);
+    if (ost) {
+      fprintf(stderr, "vibroimpact: sweep: %s\n", od.message);
+      rc = ost == VI_ERR_ARG ? 2 : 1;
       goto done;
     }
-    fclose(f);
-    remove(part);
+    out = target;
   }
   char *text = vi_sweep_read_text(scene, err, sizeof err);
   if (!text) {
@@ -263,7 +267,16 @@ int vi_cmd_sweep_main(int argc, char **argv)
     if (out) printf("diagram written to %s\n", out);
   }
   vi_sweep_free(&sw);
+  if (!rc) { /* a lost table or JSON is an error (> /dev/full) */
+    vi_diag od;
+    FILE *so = stdout;
+    if (vi_output_close(&so, "-", VI_OUTPUT_STDOUT, &od)) {
+      fprintf(stderr, "vibroimpact: sweep: %s\n", od.message);
+      rc = 1;
+    }
+  }
 finish:
+  if (interrupted) rc = 128 + (int)interrupted; /* 130 SIGINT, 143 SIGTERM */
 #ifdef VI_HAVE_MPI
   if (mpi) {
     /* every rank leaves with rank 0's status */
