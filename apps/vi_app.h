@@ -58,6 +58,9 @@ typedef struct app_writer_api {
 /* The writer's functions; NULL (with a message printed) if the library
  * cannot be loaded. */
 const app_writer_api *vi_app_writer(void);
+/* The function `name` of libvibroimpact_io (opened on first use), or NULL
+ * after a message on stderr. */
+void *vi_app_io_symbol(const char *name);
 
 /* ---- signals (vibroimpact.c) ---------------------------------------------
  * Until a run polls for cancellation, SIGINT/SIGTERM end the process at

@@ -13,15 +13,15 @@
 #define VI_IO_SONAME "libvibroimpact_io.so.1"
 #endif
 
-const app_writer_api *vi_app_writer(void)
+/* libvibroimpact_io, opened once (NULL, reported, if it cannot be) */
+static void *open_io(void)
 {
-  static app_writer_api api;
-  static int state; /* 0 not tried, 1 loaded, -1 failed */
-  if (state) return state > 0 ? &api : NULL;
-  state = -1;
+  static void *h;
+  static int tried;
+  if (tried) return h;
+  tried = 1;
   /* first beside libvibroimpact (installed side by side, and the build
    * tree): a sanitizer's dlopen interceptor would not search our RUNPATH */
-  void *h = NULL;
   Dl_info info;
   union { int (*f)(void); void *p; } core = {vi_version_number};
   if (dladdr(core.p, &info) && info.dli_fname) {
@@ -34,11 +34,28 @@ const app_writer_api *vi_app_writer(void)
     }
   }
   if (!h) h = dlopen(VI_IO_SONAME, RTLD_NOW | RTLD_LOCAL);
-  if (!h) {
+  if (!h)
     fprintf(stderr, "vibroimpact: cannot load the HDF5 writer: %s\n",
             dlerror());
-    return NULL;
-  }
+  return h;
+}
+
+void *vi_app_io_symbol(const char *name)
+{
+  void *h = open_io(), *p = h ? dlsym(h, name) : NULL;
+  if (h && !p)
+    fprintf(stderr, "vibroimpact: %s lacks %s\n", VI_IO_SONAME, name);
+  return p;
+}
+
+const app_writer_api *vi_app_writer(void)
+{
+  static app_writer_api api;
+  static int state; /* 0 not tried, 1 loaded, -1 failed */
+  if (state) return state > 0 ? &api : NULL;
+  state = -1;
+  void *h = open_io();
+  if (!h) return NULL;
   /* a function pointer from dlsym's void * goes through a union: ISO C
    * has no conversion between the two */
 #define SYM(field, name)                                                     \

@@ -37,6 +37,7 @@
 #include "vi_app.h"
 #include "vi_sweep.h" /* --set */
 #include "vibroimpact/vi_sparse.h"
+#include "vibroimpact/vi_truncation_io.h"
 
 /* The outcome of the orbit search on one model. */
 typedef struct response {
@@ -243,6 +244,50 @@ static void json_response(const response *r)
     printf("{\"class\": \"not periodic\", \"impacts_per_period\": %d}", r->pm);
 }
 
+/* The study's table for -o (vi_truncation_io.h: its column layout). */
+static void tab_response(double *t, int ld, int c, const response *r)
+{
+  t[(size_t)c * ld] = r->ok ? r->pn : -1;
+  t[(size_t)(c + 1) * ld] = r->ok ? r->pm : NAN;
+  t[(size_t)(c + 2) * ld] = r->vN;
+  t[(size_t)(c + 3) * ld] = r->phase;
+}
+
+static void tab_first(double *t, int ld, int c, const first *f,
+                      const first *ref)
+{
+  t[(size_t)c * ld] = f->n;
+  for (int j = 0; j < NHIT; j++) {
+    int have = j < f->n, cmp = have && ref && j < ref->n;
+    t[(size_t)(c + 1 + j) * ld] = have ? f->t[j] : NAN;
+    t[(size_t)(c + 4 + j) * ld] = have ? f->vn[j] : NAN;
+    t[(size_t)(c + 7 + j) * ld] = cmp ? f->t[j] - ref->t[j] : NAN;
+    t[(size_t)(c + 10 + j) * ld] =
+        cmp ? (f->vn[j] - ref->vn[j]) / ref->vn[j] : NAN;
+  }
+  t[(size_t)(c + 13) * ld] = f->release;
+}
+
+typedef int (*trunc_h5_fn)(const char *, const char *, const char *,
+                           const double *, const double *, int,
+                           const double *, int, vi_diag *);
+
+/* -o: the study through vi_truncation_write_h5 (libvibroimpact_io, loaded
+ * now); 0 or 1 after a message. */
+static int write_h5(const app_opts *o, const vi_scene *sc, const double *info,
+                    const double *ref, int nrows, const double *rows, int ld)
+{
+  union { void *p; trunc_h5_fn f; } u;
+  u.p = vi_app_io_symbol("vi_truncation_write_h5");
+  if (!u.p) return 1;
+  vi_diag d;
+  int st = u.f(o->out_target, vi_scene_name(sc), vi_scene_text(sc), info, ref,
+               nrows, rows, ld, &d);
+  if (st) fprintf(stderr, "vibroimpact: %s\n",
+                  st == VI_ERR_IO ? d.message : vi_strerror(st));
+  return st ? 1 : 0;
+}
+
 static const char *text_response(const response *r, char *buf, size_t len)
 {
   if (!r->ok)
@@ -267,12 +312,12 @@ int vi_cmd_truncation(const app_opts *o)
   int rc = 2, st;
   memset(&d, 0, sizeof d);
   int lo = o->modes_lo > 0 ? o->modes_lo : 1, hi = o->modes_hi;
-  if (o->out || o->csv || o->periods > 0) {
-    /* the study's machine-readable form is --json (share/plot_truncation.py
-     * reads it); nothing is silently ignored */
+  if (o->csv || o->periods > 0) {
+    /* the study's machine-readable forms are --json (share/plot_truncation.py
+     * reads it) and -o; nothing is silently ignored */
     fprintf(stderr, "vibroimpact: truncation: %s is not an option of this "
-            "command (--json gives the study as one JSON object)\n",
-            o->out ? "-o" : o->csv ? "--impacts-csv" : "--periods");
+            "command (--json or -o give the study)\n",
+            o->csv ? "--impacts-csv" : "--periods");
     return 2;
   }
   st = vi_sets_active() ? vi_sets_load(o->scene, &sc, &d) /* --set */
@@ -354,9 +399,14 @@ int vi_cmd_truncation(const app_opts *o)
   /* the scene's initial state in the reference's coordinates: q = Psi^T M x
    * (the FE reduction's kept shapes, or the dense model's modes) */
   int dofs = vi_scene_dofs(sc);
-  double *x0 = calloc(2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4,
+  int nrows = 0, ldt = hi - lo + 1 > 0 ? hi - lo + 1 : 1; /* -o: rows */
+  double *x0 = calloc(2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4 +
+                          (o->out ? (size_t)(ldt + 1) * VI_TRUNCATION_COLUMNS
+                                  : 0),
                       sizeof(double));
   if (!x0) goto done;
+  double *tab = x0 + 2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4,
+         *tref = tab + (size_t)ldt * VI_TRUNCATION_COLUMNS;
   double *q0R = x0 + 2 * (size_t)dofs, *qk = q0R + 2 * (size_t)nR;
   vi_scene_initial(sc, x0, x0 + dofs);
   if ((fe && (vi_fe_to_modal(fe, x0, q0R) ||
@@ -452,6 +502,24 @@ int vi_cmd_truncation(const app_opts *o)
     vi_model_destroy(&ms);
     vi_model_destroy(&mc);
     double omk = sqrt(lam > 0 ? lam : 0);
+    if (o->out) {
+      double *t = tab + nrows++;
+      t[0] = k;
+      t[ldt] = omk;
+      t[2 * (size_t)ldt] = fd;
+      t[3 * (size_t)ldt] = fs;
+      tab_response(t, ldt, 4, &rk);
+      tab_first(t, ldt, 8, &fk, &fref);
+      t[22 * (size_t)ldt] = rS;
+      tab_response(t, ldt, 23, &rs);
+      t[27 * (size_t)ldt] = k < nR;
+      t[28 * (size_t)ldt] = k < nR ? fc : NAN;
+      tab_response(t, ldt, 29, &rc2);
+      tab_first(t, ldt, 33, &fc1, &fref);
+      if (k >= nR) /* no mode beyond k: no variant */
+        for (int c = 29; c < VI_TRUNCATION_COLUMNS; c++)
+          t[(size_t)c * ldt] = NAN;
+    }
     if (o->json) {
       printf("%s{\"k\": %d, ", k > lo ? ", " : "", k);
       json_num("omega", omk, 1);
@@ -492,8 +560,16 @@ int vi_cmd_truncation(const app_opts *o)
     fflush(stdout);
   }
   if (o->json) printf("]}\n");
-  free(x0);
   rc = vi_app_signal ? vi_app_interrupt_status() : 0;
+  if (o->out && !rc) { /* interrupted: no file */
+    double info[VI_TRUNCATION_INFO] = {dofs, lo, hi, nR, r, Gd, Gs};
+    for (int c = 0; c < VI_TRUNCATION_COLUMNS; c++) tref[c] = NAN;
+    tref[0] = nR;
+    tab_response(tref, 1, 4, &ref);
+    tab_first(tref, 1, 8, &fref, NULL);
+    rc = write_h5(o, sc, info, tref, nrows, tab, ldt);
+  }
+  free(x0);
 done:
   vi_orbit_destroy(&oref);
   vi_model_destroy(&R);

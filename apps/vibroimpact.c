@@ -32,7 +32,7 @@ static const app_cmd cmds[] = {
     {"restitution", cmd_restitution, "--re RE --ke KE_I",
      "r = sqrt(1 - RE/KE_i) (WB 13)"},
     {"truncation", vi_cmd_truncation,
-     "[SCENE.yaml] [--modes A..B] [--reference N] [--json]",
+     "[SCENE.yaml] [--modes A..B] [--reference N] [--json] [-o OUT.h5]",
      "how many modes: compliance carried, response and r_S per k"},
 };
 enum { NCMD = sizeof cmds / sizeof cmds[0] };

@@ -10,6 +10,7 @@
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_mmio.h"
+#include "vibroimpact/vi_truncation_io.h"
 
 static void constant(FILE *f, const char *name, long value)
 {
@@ -67,6 +68,7 @@ int main(int argc, char **argv)
   K_(VI_MM_MAX_LINE);
   K_(VI_OUTPUT_REGULAR); K_(VI_OUTPUT_STREAM);
   K_(VI_OUTPUT_FILE); K_(VI_OUTPUT_DEVICE); K_(VI_OUTPUT_STDOUT);
+  K_(VI_TRUNCATION_COLUMNS); K_(VI_TRUNCATION_INFO);
 #undef K_
   return fclose(f) != 0;
 }

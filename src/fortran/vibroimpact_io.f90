@@ -39,6 +39,7 @@ module vibroimpact_io
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
   public :: vi_identify_write_h5
+  public :: vi_truncation_write_h5
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
@@ -369,6 +370,19 @@ module vibroimpact_io
       character(kind=c_char), intent(in), optional :: keys(*)
       integer(c_int), value :: ns
       real(c_double), intent(in) :: t(*), x(*)
+      type(vi_diag), optional :: diag
+    end function
+    !> info(VI_TRUNCATION_INFO), reference(VI_TRUNCATION_COLUMNS),
+    !> rows(ldrows, VI_TRUNCATION_COLUMNS); strings NUL-terminated (names optional)
+    integer(c_int) function vi_truncation_write_h5(path, scene_name, scene_text, &
+        info, reference, nrows, rows, ldrows, diag) bind(C, name="vi_truncation_write_h5")
+      import :: c_int, c_char, c_double, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char), intent(in), optional :: scene_name(*), scene_text(*)
+      real(c_double), intent(in) :: info(*), reference(*)
+      integer(c_int), value :: nrows
+      real(c_double), intent(in) :: rows(*)
+      integer(c_int), value :: ldrows
       type(vi_diag), optional :: diag
     end function
     type(c_ptr) function vi_writer_errmsg(writer) bind(C, name="vi_writer_errmsg")

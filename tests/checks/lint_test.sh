@@ -43,6 +43,7 @@ files=(
   bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
   src/model/vi_param.c tests/model/test_param.c
   src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
+  src/io/vi_truncation_h5.c
   tests/study/test_identify.c bench/vi_bench_identify.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
   src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c

@@ -20,6 +20,7 @@
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_writer.h"
 #include "vibroimpact/vi_identify_io.h"
+#include "vibroimpact/vi_truncation_io.h"
 
 /* an error code, and the diag's message says something */
 #define assert_err_diag(call, d)         \
@@ -444,6 +445,26 @@ static void test_identify_h5_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* vi_truncation_write_h5: NULL tables, bad sizes, a directory as target:
+ * refused, no file or .part left. */
+static void test_truncation_h5_misuse(void **state)
+{
+  (void)state;
+  vi_diag d;
+  double info[VI_TRUNCATION_INFO] = {0}, ref[VI_TRUNCATION_COLUMNS] = {0},
+         rows[2 * VI_TRUNCATION_COLUMNS] = {0};
+  assert_int_equal(vi_truncation_write_h5(NULL, "s", "", info, ref, 2, rows, 2, &d), VI_ERR_ARG);
+  assert_int_equal(vi_truncation_write_h5("x.h5", "s", "", NULL, ref, 2, rows, 2, &d), VI_ERR_ARG);
+  assert_int_equal(vi_truncation_write_h5("x.h5", "s", "", info, NULL, 2, rows, 2, &d), VI_ERR_ARG);
+  assert_int_equal(vi_truncation_write_h5("x.h5", "s", "", info, ref, 2, NULL, 2, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_truncation_write_h5("x.h5", "s", "", info, ref, -1, rows, 2, &d), VI_ERR_ARG);
+  assert_int_equal(vi_truncation_write_h5("x.h5", "s", "", info, ref, 2, rows, 1, &d), VI_ERR_ARG);
+  assert_int_equal(vi_truncation_write_h5("x.h5", "s", "", info, ref, 0, rows, 0, &d), VI_ERR_ARG);
+  assert_int_equal(access("x.h5", F_OK), -1);
+  assert_int_equal(vi_truncation_write_h5(".", NULL, NULL, info, ref, 2, rows, 2, &d), VI_ERR_IO);
+  assert_int_equal(access("./.part", F_OK), -1);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -454,6 +475,7 @@ int main(void)
       cmocka_unit_test(test_fe_scene_misuse),
       cmocka_unit_test(test_fe_shapes_misuse),
       cmocka_unit_test(test_identify_h5_misuse),
+      cmocka_unit_test(test_truncation_h5_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
