@@ -40,11 +40,11 @@ static double cpu(void)
 
 static double cpu_used; /* CPU seconds of the last sweep, all threads */
 
-static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
+static vi_diagram *sweep(vi_sweep_spec *sp, double *wall)
 {
   double c0 = cpu();
   static const char *sets[] = {"run.method=exact"};
-  vi_sweep *sw = NULL;
+  vi_diagram *sw = NULL;
   char err[2048];
   double t = now();
   if (vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, 1, sp, NULL,
@@ -57,13 +57,13 @@ static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
   return sw;
 }
 
-static int identical(const vi_sweep *a, const vi_sweep *b)
+static int identical(const vi_diagram *a, const vi_diagram *b)
 {
   int K = a->spec.steps, R = a->spec.record;
   if (memcmp(a->lines[0].strobe, b->lines[0].strobe, sizeof(double) * K * R * 2 * a->N) != 0)
     return 0;
   for (int k = 0; k < K; k++) {
-    const vi_sweep_point *p = &a->lines[0].pt[k], *q = &b->lines[0].pt[k];
+    const vi_diagram_point *p = &a->lines[0].pt[k], *q = &b->lines[0].pt[k];
     if (p->n != q->n || p->m != q->m || p->nimp != q->nimp ||
         (p->nimp && memcmp(p->vn, q->vn, sizeof(double) * p->nimp) != 0))
       return 0;
@@ -71,12 +71,12 @@ static int identical(const vi_sweep *a, const vi_sweep *b)
   return 1;
 }
 
-static void census(const vi_sweep *sw)
+static void census(const vi_diagram *sw)
 {
   int K = sw->spec.steps, p11 = 0, per = 0, failed = 0;
   int64_t imp = 0;
   for (int k = 0; k < K; k++) {
-    const vi_sweep_point *p = &sw->lines[0].pt[k];
+    const vi_diagram_point *p = &sw->lines[0].pt[k];
     p11 += p->n == 1 && p->m == 1;
     per += p->n > 0;
     failed += p->failed;
@@ -110,12 +110,12 @@ int main(int argc, char **argv)
   T = 1;
 #endif
   vi_sweep_spec sp = {"forcing.omega", 0.5, 1.8, K, NULL, NAN, NAN, 1, 1, P, R,
-                      1, 1, 1e-6, 32, 0};
+                      1, 1, 1e-6, 32, 0, 0};
   double periods = (double)K * (P + R), w1, w2, w3;
   printf("vi_bench_sweep: Fig. 2, Omega 0.5..1.8 in %d values, %d transient + "
          "%d recorded periods each (%.3g forcing periods), exact method; %d "
          "cores\n", K, P, R, periods, cores);
-  vi_sweep *a = sweep(&sp, &w1);
+  vi_diagram *a = sweep(&sp, &w1);
   printf("  (1) 1 sweep, 1 thread:         %8.3f s wall, %8.3f s CPU  (%.2f us "
          "CPU per forcing period)\n", w1, cpu_used, 1e6 * cpu_used / periods);
   census(a);
@@ -123,10 +123,10 @@ int main(int argc, char **argv)
   if (T > 1) {
     sp.chunks = 4 * T;
     sp.threads = 1;
-    vi_sweep *b = sweep(&sp, &w2);
+    vi_diagram *b = sweep(&sp, &w2);
     printf("  (2) %d chunks, 1 thread:        %8.3f s wall, %8.3f s CPU\n", 4 * T, w2, cpu_used);
     sp.threads = T;
-    vi_sweep *c = sweep(&sp, &w3);
+    vi_diagram *c = sweep(&sp, &w3);
     printf("  (3) %d chunks, %d threads:      %8.3f s wall, %8.3f s CPU  (CPU/wall "
            "= %.2f: the cores this run got; other loads on the machine lower it)\n",
            4 * T, T, w3, cpu_used, cpu_used / w3);

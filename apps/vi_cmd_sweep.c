@@ -80,7 +80,7 @@ static int inum(const char *opt, const char *s, int lo, int *out)
   return 1;
 }
 
-static void table(const vi_sweep *sw)
+static void table(const vi_diagram *sw)
 {
   const vi_sweep_spec *sp = &sw->spec;
   int K = sp->steps;
@@ -88,13 +88,13 @@ static void table(const vi_sweep *sw)
          "value, %d line%s, %.3f s\n", sp->key, K, sp->transient, sp->record,
          sw->nlines, sw->nlines > 1 ? "s" : "", sw->wall);
   for (int l = 0; l < sw->nlines; l++) {
-    const vi_sweep_line *ln = &sw->lines[l];
+    const vi_diagram_line *ln = &sw->lines[l];
     printf("%s%s", ln->dir > 0 ? "up" : "down", sp->key2 ? "" : "\n");
     if (sp->key2) printf(", %s = %.10g\n", sp->key2, sw->param2[ln->row]);
     printf("  %14s  %-9s  %s\n", sp->key, "motion", "v_n of one period (or the last recorded)");
     for (int p = 0; p < K; p++) {
       int k = ln->dir > 0 ? p : K - 1 - p;
-      const vi_sweep_point *pt = &ln->pt[k];
+      const vi_diagram_point *pt = &ln->pt[k];
       char cls[32];
       if (pt->failed) snprintf(cls, sizeof cls, "failed");
       else if (pt->n) snprintf(cls, sizeof cls, "P(%d,%d)", pt->n, pt->m);
@@ -110,7 +110,7 @@ static void table(const vi_sweep *sw)
 
 int vi_cmd_sweep_main(int argc, char **argv)
 {
-  vi_sweep_spec sp = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0, 1e-6, 32, 0};
+  vi_sweep_spec sp = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0, 1e-6, 32, 0, 0};
   const char *out = NULL, *scene = NULL;
   const char **sets = calloc((size_t)argc + 2, sizeof *sets);
   char method_set[64];
@@ -216,7 +216,7 @@ int vi_cmd_sweep_main(int argc, char **argv)
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, NULL);
   sigaction(SIGTERM, &sa, NULL);
-  vi_sweep *sw = NULL;
+  vi_diagram *sw = NULL;
 #ifdef VI_HAVE_MPI
   /* only when started by mpirun: a plain run never touches MPI */
   int mpi = getenv("OMPI_COMM_WORLD_SIZE") != NULL;

@@ -25,6 +25,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "vibroimpact.h"
+
 typedef struct vi_sweep_spec {
   const char *key;      /* swept scene key */
   double from, to;
@@ -41,10 +43,12 @@ typedef struct vi_sweep_spec {
   int orbits;           /* > 0: also every P(1,1) orbit at each value, by a
                            scan of this many impact phases (vi_orbit_p1_scan),
                            unstable ones included; 0: off */
+  int cold;             /* 1: every value from the scene's initial state (a
+                           basin of attraction), no warm start */
 } vi_sweep_spec;
 
 /* One parameter value of one line. */
-typedef struct vi_sweep_point {
+typedef struct vi_diagram_point {
   int n, m;             /* P(n, m); n = 0: none within the recorded periods */
   int64_t nimp;         /* impacts in the recorded periods */
   double *t, *phase, *vn; /* their times, times mod T, approach velocities */
@@ -56,22 +60,22 @@ typedef struct vi_sweep_point {
   int norb;
   double *ovn, *ophase;  /* [norb] approach velocity w.v, impact time mod T */
   int *ostable, *oadm;   /* [norb] stable (all |mu| < 1), admissible */
-} vi_sweep_point;
+} vi_diagram_point;
 
-typedef struct vi_sweep_line {
+typedef struct vi_diagram_line {
   int dir;              /* +1 up, -1 down */
   int row;              /* index of the second parameter's value */
-  vi_sweep_point *pt;   /* [K], by value index (ascending from..to) */
+  vi_diagram_point *pt;   /* [K], by value index (ascending from..to) */
   double *strobe;       /* [K][record][2N]: x then v at t0 + (P + k) T */
-} vi_sweep_line;
+} vi_diagram_line;
 
-typedef struct vi_sweep {
+typedef struct vi_diagram {
   vi_sweep_spec spec;
   int N;                /* coordinates */
   double t0;
   double *param, *param2; /* [K], [steps2] */
   int nlines;
-  vi_sweep_line *lines;   /* row-major: row r, then up before down */
+  vi_diagram_line *lines;   /* row-major: row r, then up before down */
   char *text, *name;      /* the base scene (after --set) and its file name */
   double wall;            /* seconds spent in vi_sweep_run */
   int rank;               /* MPI rank (0 without MPI): only rank 0 holds
@@ -79,7 +83,14 @@ typedef struct vi_sweep {
   int npieces;            /* lines x chunks */
   double *piece_cpu;      /* [npieces] CPU seconds of each piece (its
                              thread's clock; this rank's pieces only) */
-} vi_sweep;
+  struct vi_scene *sc;    /* the base scene */
+  vi_model *model;        /* its model, built once: values are parameters */
+  char pkey[64], pkey2[64]; /* the keys as parameters (vi_param.h) */
+  int warm;               /* warm start along a line (not spec.cold) */
+  int *attractor;         /* spec.cold: [nlines x K] attractor ids (-1:
+                             none), vi_sweep_attractors; rank 0 only */
+  int nattr;
+} vi_diagram;
 
 /* Run the sweep on the scene text (name: its file, for messages) after
  * the KEY=VALUE assignments sets[nsets].  Returns 0, or 2 for bad input
@@ -87,15 +98,15 @@ typedef struct vi_sweep {
  * failure or cancellation (*cancel set non-zero by a signal handler). */
 int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int nsets, const vi_sweep_spec *spec,
-                 volatile sig_atomic_t *cancel, vi_sweep **out, char *err,
+                 volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
                  int errlen);
-void vi_sweep_free(vi_sweep **sw);
+void vi_sweep_free(vi_diagram **sw);
 
 /* The diagram as one JSON object (see share/doc/sweep-layout.md). */
-void vi_sweep_print_json(const vi_sweep *sw, FILE *f);
+void vi_sweep_print_json(const vi_diagram *sw, FILE *f);
 /* The diagram to HDF5 (share/doc/sweep-layout.md): written to path.part,
  * renamed on success.  Returns 0, or 1 with a message in err. */
-int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err,
+int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err,
                       int errlen);
 
 

@@ -57,7 +57,7 @@ static int attr_num(hid_t loc, const char *name, hid_t type, const void *val)
 }
 
 /* /sweep/p11: every P(1,1) orbit at each value (sweep --orbits) */
-static int put_p11(hid_t g, const vi_sweep *sw)
+static int put_p11(hid_t g, const vi_diagram *sw)
 {
   int K = sw->spec.steps, L = sw->nlines, bad = 0;
   size_t LK = (size_t)L * K, J = 0;
@@ -75,7 +75,7 @@ static int put_p11(hid_t g, const vi_sweep *sw)
   int *st = cnt + LK, *ad = st + J;
   size_t off = 0;
   for (size_t i = 0; i < LK; i++) {
-    const vi_sweep_point *pt = &sw->lines[i / K].pt[i % K];
+    const vi_diagram_point *pt = &sw->lines[i / K].pt[i % K];
     cnt[i] = pt->norb;
     start[i] = (int64_t)off;
     for (int j = 0; j < pt->norb; j++, off++) {
@@ -107,7 +107,7 @@ done:
   return bad;
 }
 
-int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errlen)
+int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int errlen)
 {
   const vi_sweep_spec *sp = &sw->spec;
   int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
@@ -130,10 +130,10 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
   int *nn = ni, *mm = ni + LK, *lin = ni + 2 * LK;
   int64_t *start = cnt + LK, off = 0;
   for (int l = 0; l < L; l++) {
-    const vi_sweep_line *ln = &sw->lines[l];
+    const vi_diagram_line *ln = &sw->lines[l];
     memcpy(strobe + (size_t)l * K * R * n2, ln->strobe, sizeof(double) * K * R * n2);
     for (int k = 0; k < K; k++) {
-      const vi_sweep_point *pt = &ln->pt[k];
+      const vi_diagram_point *pt = &ln->pt[k];
       size_t i = (size_t)l * K + k;
       nn[i] = pt->failed ? -1 : pt->n;
       mm[i] = pt->n ? pt->m : 0;

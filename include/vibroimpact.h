@@ -37,5 +37,6 @@
 #include "vibroimpact/vi_force.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_param.h"
+#include "vibroimpact/vi_study.h"
 
 #endif

@@ -23,13 +23,13 @@ static const char *exact[] = {"run.method=exact"};
 
 static vi_sweep_spec spec(const char *key, double from, double to, int steps)
 {
-  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0};
+  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0, 0};
   return s;
 }
 
-static vi_sweep *run(const vi_sweep_spec *sp, const char *const *sets, int nsets)
+static vi_diagram *run(const vi_sweep_spec *sp, const char *const *sets, int nsets)
 {
-  vi_sweep *sw = NULL;
+  vi_diagram *sw = NULL;
   char err[2048];
   int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, nsets, sp,
                         NULL, &sw, err, sizeof err);
@@ -46,8 +46,8 @@ static void fig2_p11(void **state)
 {
   (void)state;
   vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
-  vi_sweep *sw = run(&sp, exact, 1);
-  const vi_sweep_point *pt = &sw->lines[0].pt[0];
+  vi_diagram *sw = run(&sp, exact, 1);
+  const vi_diagram_point *pt = &sw->lines[0].pt[0];
   assert_int_equal(pt->n, 1);
   assert_int_equal(pt->m, 1);
   assert_int_equal(pt->nimp, 100); /* one per recorded period */
@@ -68,9 +68,9 @@ static void harmonic_response(void **state)
   vi_sweep_spec sp = spec("forcing.omega", 0.2, 3.0, 15);
   sp.transient = 400;
   sp.record = 4;
-  vi_sweep *sw = run(&sp, sets, 2);
+  vi_diagram *sw = run(&sp, sets, 2);
   for (int k = 0; k < sp.steps; k++) {
-    const vi_sweep_point *pt = &sw->lines[0].pt[k];
+    const vi_diagram_point *pt = &sw->lines[0].pt[k];
     double Om = sw->param[k];
     assert_int_equal(pt->n, 1);
     assert_int_equal(pt->m, 0);
@@ -96,12 +96,12 @@ static void up_down_agree(void **state)
   (void)state;
   vi_sweep_spec sp = spec("forcing.omega", 0.88, 0.95, 8);
   sp.dirs = 3;
-  vi_sweep *sw = run(&sp, exact, 1);
+  vi_diagram *sw = run(&sp, exact, 1);
   assert_int_equal(sw->nlines, 2);
   assert_int_equal(sw->lines[0].dir, 1);
   assert_int_equal(sw->lines[1].dir, -1);
   for (int k = 0; k < sp.steps; k++) {
-    const vi_sweep_point *u = &sw->lines[0].pt[k], *d = &sw->lines[1].pt[k];
+    const vi_diagram_point *u = &sw->lines[0].pt[k], *d = &sw->lines[1].pt[k];
     assert_int_equal(u->n, 1);
     assert_int_equal(u->m, 1);
     assert_int_equal(d->n, 1);
@@ -122,12 +122,12 @@ static void warm_start(void **state)
   vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 2);
   sp.transient = 5;
   sp.record = 5;
-  vi_sweep *warm = run(&sp, exact, 1);
+  vi_diagram *warm = run(&sp, exact, 1);
   sp.steps = 1;
   sp.transient = 15;
-  vi_sweep *longer = run(&sp, exact, 1);
+  vi_diagram *longer = run(&sp, exact, 1);
   sp.transient = 5;
-  vi_sweep *cold = run(&sp, exact, 1);
+  vi_diagram *cold = run(&sp, exact, 1);
   const double *w = warm->lines[0].strobe + 20, /* value 5 of 2 x 2 */ *l = longer->lines[0].strobe,
                *c = cold->lines[0].strobe;
   double far = 0;
@@ -153,14 +153,14 @@ static void threads_identical(void **state)
   sp.chunks = 3;
   sp.dirs = 3;
   sp.threads = 1;
-  vi_sweep *a = run(&sp, exact, 1);
+  vi_diagram *a = run(&sp, exact, 1);
   sp.threads = 2;
-  vi_sweep *b = run(&sp, exact, 1);
+  vi_diagram *b = run(&sp, exact, 1);
   for (int l = 0; l < 2; l++) {
     assert_memory_equal(a->lines[l].strobe, b->lines[l].strobe,
                         sizeof(double) * 12 * 20 * 4);
     for (int k = 0; k < 12; k++) {
-      const vi_sweep_point *p = &a->lines[l].pt[k], *q = &b->lines[l].pt[k];
+      const vi_diagram_point *p = &a->lines[l].pt[k], *q = &b->lines[l].pt[k];
       assert_int_equal(p->n, q->n);
       assert_int_equal(p->m, q->m);
       assert_int_equal(p->nimp, q->nimp);
@@ -181,9 +181,9 @@ static void two_parameter_map(void **state)
   sp.from2 = 0.1;
   sp.to2 = 100;
   sp.steps2 = 2;
-  vi_sweep *sw = run(&sp, exact, 1);
+  vi_diagram *sw = run(&sp, exact, 1);
   assert_int_equal(sw->nlines, 2);
-  const vi_sweep_point *p = &sw->lines[0].pt[1], *q = &sw->lines[1].pt[1];
+  const vi_diagram_point *p = &sw->lines[0].pt[1], *q = &sw->lines[1].pt[1];
   assert_int_equal(p->n, 1);
   assert_int_equal(p->m, 1);
   assert_close(p->vn[p->nimp - 1], FIG2_VN, 1e-9);
@@ -202,8 +202,8 @@ static void p11_orbits(void **state)
   sp.transient = 300;
   sp.record = 10;
   sp.orbits = 360;
-  vi_sweep *sw = run(&sp, exact, 1);
-  const vi_sweep_point *pt = &sw->lines[0].pt[0];
+  vi_diagram *sw = run(&sp, exact, 1);
+  const vi_diagram_point *pt = &sw->lines[0].pt[0];
   int adm = 0;
   for (int i = 0; i < pt->norb; i++)
     if (pt->oadm[i]) {
@@ -241,7 +241,7 @@ static void json_form(void **state)
   vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
   sp.transient = 0;
   sp.record = 4;
-  vi_sweep *sw = run(&sp, exact, 1);
+  vi_diagram *sw = run(&sp, exact, 1);
   char *buf = NULL;
   size_t len = 0;
   FILE *f = open_memstream(&buf, &len);
@@ -259,7 +259,7 @@ static void json_form(void **state)
 static void bad_input(void **state)
 {
   (void)state;
-  vi_sweep *sw = NULL;
+  vi_diagram *sw = NULL;
   char err[2048];
   vi_sweep_spec sp = spec("forcing.omgea", 0.8, 0.9, 2);
   int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", exact, 1, &sp,
@@ -283,7 +283,7 @@ static void hdf5_layout(void **state)
   vi_sweep_spec sp = spec("forcing.omega", 0.88, 0.9, 3);
   sp.transient = 200;
   sp.record = 10;
-  vi_sweep *sw = run(&sp, exact, 1);
+  vi_diagram *sw = run(&sp, exact, 1);
   char err[256];
   const char *path = "test_sweep_out.h5";
   assert_int_equal(vi_sweep_write_h5(sw, path, err, sizeof err), 0);
