@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Check the Prince-Dormand RK8(7)13M coefficients typed into src/vi_arkode.c
+"""Check the Prince-Dormand RK8(7)13M coefficients typed into src/sim/vi_arkode.c
 (dp87_table) against the Runge-Kutta order conditions in exact rational
 arithmetic: row sums = nodes, the quadrature conditions up to order 8 (7 for
 the embedding) and the bushy-tree conditions b.A.c^k and b.(c * A.c^k).

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Figures from a vibroimpact HDF5 file (layout: share/doc/hdf5-layout.md).
+"""Figures from a vibroimpact HDF5 file (layout: doc/hdf5-layout.md).
 
     /usr/bin/python3 share/plot.py RUN.h5 [--out DIR] [--last FRACTION]
 

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Bifurcation diagrams from `vibroimpact sweep -o SWEEP.h5`
-(layout: share/doc/sweep-layout.md).
+(layout: doc/sweep-layout.md).
 
     /usr/bin/python3 share/plot_sweep.py SWEEP.h5 [--out DIR] [--coord J]
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Reference impacts of a 2-DOF chain with a stop on each coordinate, at 30
-digits (python3-mpmath), for tests/test_exact_stops.c.
+digits (python3-mpmath), for tests/sim/test_exact_stops.c.
 
 Written independently of the library: the modes of M = I, K = [[2, -1],
 [-1, 2]] are known in closed form (psi = (1, 1)/sqrt 2, lambda = 1 and

@@ -45,7 +45,7 @@ if [ -n "$nomiss" ]; then
 fi
 
 # ... and each binding's arguments and result match the C prototype
-python3 "$src/tests/fortran_signatures.py" "$src" || fail=1
+python3 "$src/tests/fortran/fortran_signatures.py" "$src" || fail=1
 
 echo "C exports: $(wc -l < "$tmp/c"), Fortran bindings: $(wc -l < "$tmp/f"), \
 enumerators: $(wc -l < "$tmp/enum"), Fortran constants: $(wc -l < "$tmp/const")"

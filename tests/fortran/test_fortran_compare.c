@@ -1,4 +1,4 @@
-/* test_fortran_compare.c - the Fortran example (apps/fortran/fig2.f90) and
+/* test_fortran_compare.c - the Fortran example (examples/fortran/fig2.f90) and
  * the C API with the same settings give the same impacts on Fig. 2. */
 #include <math.h>
 #include <stdio.h>

@@ -14,7 +14,7 @@ a = (0.5, 0), Omega = 0.9, r = 0.7, stop on mass 2) in 60-digit arithmetic
 Cases: the paper's x_s = 0.1, and x_s = 0.6413, just past the grazing of the
 free response (amplitude 0.64119 of mass 2): v_N ~ 1.5e-4, a multiplier
 ~ 6e3 (the square-root singularity of the impact map).
-Run: python3 tests/ref_fig2_floquet.py  (about a minute)."""
+Run: python3 tests/orbit/ref_fig2_floquet.py  (about a minute)."""
 import mpmath as mp
 
 mp.mp.dps = 60

@@ -72,8 +72,8 @@ static void test_exact_refused(void **state)
   vi_model *m = vi_test_model_stops(1, &M, NULL, &K, 0.0, NULL, NULL, 2, W, xs, r);
   vi_sim *s = NULL;
   assert_int_equal(vi_sim_create(m, &s), VI_OK);
-  /* the closed form handles several stops (tests/test_exact_stops.c), and
-   * so does erk (tests/test_arkode.c) */
+  /* the closed form handles several stops (tests/sim/test_exact_stops.c), and
+   * so does erk (tests/sim/test_arkode.c) */
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_ERK), VI_OK);
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_AUTO), VI_OK);

@@ -1,8 +1,8 @@
-/* test_orbits.c - P(n, m) orbits found directly (src/vi_orbit_pnm.c):
+/* test_orbits.c - P(n, m) orbits found directly (src/orbit/vi_orbit_pnm.c):
  * the exhaustive impact-phase scan, Newton, admissibility and the Floquet
  * multipliers from exact derivatives (closed-form transition and saltation
  * matrices), against independent 40-60 digit references
- * (tests/ref_fig2_p11.py, tests/ref_sdof_p11.py, tests/ref_fig2_floquet.py,
+ * (tests/orbit/ref_fig2_p11.py, tests/orbit/ref_sdof_p11.py, tests/orbit/ref_fig2_floquet.py,
  * python3-mpmath), the SDOF oscillator's closed-form multipliers,
  * Liouville's formula for the monodromy determinant, and simulation. */
 #include <math.h>
@@ -64,7 +64,7 @@ static void fig2_scan(void **state)
   }
   assert_int_equal(count, 1);
   size_t a2 = (size_t)2 * (size_t)(adm > 0 ? adm : 0), a = a2 / 2;
-  /* tests/ref_fig2_p11.py: the flow is exact, so round-off level */
+  /* tests/orbit/ref_fig2_p11.py: the flow is exact, so round-off level */
   assert_close(v[a2 + 1], 0.78766085255479729134, 1e-12);
   assert_close(fmod(t[a], 2 * M_PI / 0.9), 0.67857113423124466619, 1e-12);
   assert_close(x[a2 + 1], 0.1, 1e-14);                  /* on the stop */
@@ -106,7 +106,7 @@ static void fig2_scan(void **state)
 }
 
 /* share/scenes/chatter.yaml: a stable and an unstable P(1,1) orbit; the
- * transient only ever finds the stable one.  tests/ref_sdof_p11.py. */
+ * transient only ever finds the stable one.  tests/orbit/ref_sdof_p11.py. */
 static void sdof_two_orbits(void **state)
 {
   (void)state;
@@ -139,7 +139,7 @@ static void sdof_two_orbits(void **state)
 
 /* vi_orbit_find's direct search: on chatter.yaml the transient from rest
  * does not settle on a P(1,1) orbit, but the stable one exists and the
- * energy analysis gets it (v_N and phase of tests/ref_sdof_p11.py); with
+ * energy analysis gets it (v_N and phase of tests/orbit/ref_sdof_p11.py); with
  * the search off it reports what the transient did. */
 static void direct_search(void **state)
 {
@@ -252,7 +252,7 @@ static void inadmissible(void **state)
 }
 
 /* Floquet multipliers of Fig. 2 P(1,1) orbits against
- * tests/ref_fig2_floquet.py (60 digits, central differences of the
+ * tests/orbit/ref_fig2_floquet.py (60 digits, central differences of the
  * stroboscopic map at h = 1e-25 with the impact time found anew: no
  * saltation matrix): the paper's x_s = 0.1 and x_s = 0.6413, just past the
  * grazing of the free response (v_N = 1.5e-4, a multiplier of 6052).  The

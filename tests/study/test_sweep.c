@@ -1,6 +1,6 @@
 /* test_sweep.c - brute-force bifurcation diagrams (apps/vi_sweep.c) against
  * physics: the Fig. 2 P(1,1) orbit from an independent 40-digit shooting
- * (tests/ref_fig2_p11.py), the closed-form harmonic response when the stop
+ * (tests/orbit/ref_fig2_p11.py), the closed-form harmonic response when the stop
  * is out of reach, up and down sweeps agreeing where the motion is unique,
  * and thread-count independence of the results. */
 #include <complex.h>
@@ -15,7 +15,7 @@
 #include "vibroimpact/vi_scene.h"
 #include "vi_sweep.h"
 
-/* tests/ref_fig2_p11.py (mpmath, 40 digits) */
+/* tests/orbit/ref_fig2_p11.py (mpmath, 40 digits) */
 #define FIG2_VN 0.78766085255479729134
 #define FIG2_PHASE 0.67857113423124466619
 
@@ -194,7 +194,7 @@ static void two_parameter_map(void **state)
 /* --orbits: every P(1,1) orbit at each value.  Fig. 2 at 0.9: one, stable
  * and admissible, the one the brute-force sweep settles on.  chatter.yaml
  * (written out here): the stable one the sweep reaches and the unstable one
- * no simulation shows (tests/ref_sdof_p11.py). */
+ * no simulation shows (tests/orbit/ref_sdof_p11.py). */
 static void p11_orbits(void **state)
 {
   (void)state;

@@ -6,7 +6,7 @@
 set -u
 dir=$1
 shift
-files=("$dir/test_misuse.c" "$dir/test_misuse_io.c")
+files=("$dir/api/test_misuse.c" "$dir/io/test_misuse_io.c")
 for f in "${files[@]}" "$@"; do
   [ -r "$f" ] || { echo "misuse_coverage: cannot read $f"; exit 1; }
 done

@@ -13,38 +13,38 @@ src=$(cd "$1" && pwd) build=$(cd "$2" && pwd)
 
 # The files kept clean; add a file here once it is (run with --all to see).
 files=(
-  src/vi_status.c src/vi_version.c src/vi_model.c src/vi_modal.c
-  src/vi_impact.c src/vi_builders.c src/vi_ledger.c src/vi_nvector.c src/vi_dense.c
-  src/vi_force.c src/vi_orbit_pnm.c src/io/vi_scene_edit.c src/vi_contact.c
-  src/vi_sim.c src/vi_chatter.c src/vi_cvode.c src/vi_arkode.c src/vi_rhs.c
+  src/base/vi_status.c src/base/vi_version.c src/model/vi_model.c src/model/vi_modal.c
+  src/impact/vi_impact.c src/model/vi_builders.c src/ledger/vi_ledger.c src/sim/vi_nvector.c src/base/vi_dense.c
+  src/sim/vi_force.c src/orbit/vi_orbit_pnm.c src/io/vi_scene_edit.c src/impact/vi_contact.c
+  src/sim/vi_sim.c src/sim/vi_chatter.c src/sim/vi_cvode.c src/sim/vi_arkode.c src/sim/vi_rhs.c
   src/io/vi_output.c
-  src/fortran/vi_gen_constants.c tests/test_fortran_compare.c
-  src/vi_orbit.c src/vi_classify.c src/vi_balance.c src/vi_orbit_var.c
-  src/vi_exact.c src/vi_exact_scan.c src/vi_flow.c src/vi_general.c
-  tests/test_exact_stops.c
-  tests/test_api.c tests/test_sim.c tests/test_ledger.c tests/test_model.c
-  tests/test_stops.c
-  tests/test_modal.c tests/test_impact.c tests/test_force.c tests/test_misuse.c
-  tests/test_misuse_io.c
-  tests/vi_testutil.c tests/test_arkode.c tests/test_exact.c tests/test_orbit.c
-  tests/test_scene_edit.c tests/test_writer.c tests/faults/test_faults.c
+  src/fortran/vi_gen_constants.c tests/fortran/test_fortran_compare.c
+  src/orbit/vi_orbit.c src/orbit/vi_classify.c src/orbit/vi_balance.c src/orbit/vi_orbit_var.c
+  src/sim/vi_exact.c src/sim/vi_exact_scan.c src/flow/vi_flow.c src/flow/vi_general.c
+  tests/sim/test_exact_stops.c
+  tests/api/test_api.c tests/sim/test_sim.c tests/ledger/test_ledger.c tests/model/test_model.c
+  tests/sim/test_stops.c
+  tests/model/test_modal.c tests/impact/test_impact.c tests/sim/test_force.c tests/api/test_misuse.c
+  tests/io/test_misuse_io.c
+  tests/vi_testutil.c tests/sim/test_arkode.c tests/sim/test_exact.c tests/orbit/test_orbit.c
+  tests/io/test_scene_edit.c tests/io/test_writer.c tests/faults/test_faults.c
   tests/faults/vi_enospc.c tests/stress/stress_util.c tests/stress/test_stress_chatter.c
   tests/stress/test_stress_floors.c tests/stress/test_stress_graze.c
   tests/stress/test_stress_mdof.c tests/stress/test_stress_soft.c
   tests/stress/test_stress_start.c tests/stress/test_stress_chain.c
   tests/stress/test_stress_energy.c tests/stress/test_stress_stops.c
   apps/vi_app_h5.c apps/vi_cmd_orbits.c
-  apps/vi_sweep_cont.c apps/vi_sweep_h5.c apps/vi_sweep_main.c apps/vi_bench_sweep.c
+  apps/vi_sweep_cont.c apps/vi_sweep_h5.c apps/vi_sweep_main.c bench/vi_bench_sweep.c
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
   src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c apps/vi_cmd_energy.c
-  src/vi_band.c tests/test_band.c apps/vi_bench_band.c
-  src/model/vi_param.c tests/model/test_param.c
-  tests/test_app.c tests/test_flow.c tests/test_scene.c tests/test_sweep.c
-  apps/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
+  src/sim/vi_band.c tests/sim/test_band.c bench/vi_bench_band.c
+  tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/study/test_sweep.c
+  bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
+  src/model/vi_param.c tests/model/test_param.c src/study/vi_sweep.c
 )
 # Headers whose findings count (a finding in another header is silent until
 # the header joins this list): a regex for clang-tidy's --header-filter.
-headers='(include/vibroimpact/[^/]*|src/vi_internal|src/vi_rhs|src/vi_ledger_internal|src/vi_sim_internal|src/vi_flow_internal|src/vi_exact_internal|src/vi_orbit_internal|src/vi_band_internal|src/io/vi_[a-z_]*internal|apps/vi_app)\.h$'
+headers='(include/vibroimpact/[^/]*|src/[a-z]+/vi_[a-z_]*internal|src/sim/vi_rhs|apps/vi_app)\.h$'
 
 for tool in clang-tidy cppcheck; do
   if ! command -v "$tool" >/dev/null; then
@@ -58,7 +58,7 @@ fi
 if [ "${3:-}" = --all ]; then
   mapfile -t files < <(sed -n 's|.*"file": "'"$src"'/\(.*\.c\)".*|\1|p' "$db" \
                        | grep -v "^${build#"$src"/}/" | sort -u)
-  headers='(include|src|apps)/.*\.h$'
+  headers='(include|src|apps|bench)/.*\.h$'
 fi
 
 cd "$src"
