@@ -16,6 +16,7 @@
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
+#include "vibroimpact/vi_scene_param.h"
 #include "vibroimpact/vi_writer.h"
 
 /* an error code, and the diag's message says something */
@@ -288,12 +289,43 @@ static void test_writer_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* Scene keys as parameters: NULL arguments, keys that are no parameter
+ * (named in the diag), a buffer too small. */
+static void test_scene_param_misuse(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL;
+  vi_diag d;
+  char out[64];
+  double t0, x[2], v[2];
+  assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "fig2.yaml",
+                                  &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_param_key(NULL, "stop.xs", out, 64, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, NULL, out, 64, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, "stop.xs", NULL, 64, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, "stop.xs", out, 0, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, "model.chain.k", out, 64, &d),
+                   VI_ERR_PARSE);
+  assert_string_equal(d.key, "model.chain.k");
+  assert_non_null(strstr(d.message, "forcing.omega"));
+  assert_int_equal(vi_scene_param_key(sc, "run.method", out, 64, &d), VI_ERR_PARSE);
+  assert_int_equal(vi_scene_param_key(sc, "model.rayleigh.alpha", out, 5, &d),
+                   VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_param_key(sc, "model.rayleigh.alpha", out, 64, &d),
+                   VI_OK);
+  assert_string_equal(out, "damping.alpha");
+  assert_int_equal(vi_scene_initial(NULL, &t0, x, v), VI_ERR_ARG);
+  assert_int_equal(vi_scene_initial(sc, NULL, NULL, NULL), VI_OK);
+  vi_scene_destroy(&sc);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_scene_misuse),
       cmocka_unit_test(test_scene_edit_misuse),
       cmocka_unit_test(test_writer_misuse),
+      cmocka_unit_test(test_scene_param_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
