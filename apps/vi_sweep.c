@@ -635,3 +635,93 @@ void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
   }
   fprintf(f, "}\n");
 }
+
+/* ---- basins of attraction ------------------------------------------------- */
+/* Attractor ids of every cell (vi_sweep_attractors): cells whose last n
+ * stroboscopic states agree to 100 tol (both are within about tol of
+ * their orbit) up to a cyclic shift share one.  Returns 0, 1 out of memory. */
+int vi_basins_identify(vi_diagram *sw)
+{
+  int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
+  size_t LK = (size_t)sw->nlines * K, blk = (size_t)K * R * n2;
+  double *z = malloc(sizeof(double) * blk * sw->nlines + 1);
+  int *per = malloc(sizeof(int) * LK + 1);
+  free(sw->attractor);
+  sw->attractor = malloc(sizeof(int) * LK + 1);
+  int bad = !z || !per || !sw->attractor;
+  for (size_t i = 0; !bad && i < LK; i++) {
+    const vi_diagram_point *pt = &sw->lines[i / K].pt[i % K];
+    per[i] = pt->failed ? 0 : pt->n;
+  }
+  for (int l = 0; !bad && l < sw->nlines; l++)
+    memcpy(z + (size_t)l * blk, sw->lines[l].strobe, sizeof(double) * blk);
+  if (!bad)
+    bad = vi_sweep_attractors((int64_t)LK, sw->N, R, per, z, n2,
+                              100 * sw->spec.tol, sw->attractor, &sw->nattr) != VI_OK;
+  free(z);
+  free(per);
+  return bad;
+}
+
+/* Basins as JSON: one flat entry per cell (row-major: param2 rows). */
+void vi_basins_print_json(const vi_diagram *sw, FILE *f)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, L = sw->nlines;
+  fprintf(f, "{\"scene\": ");
+  json_str(f, sw->name);
+  fprintf(f, ", \"kind\": \"basins\", \"key\": ");
+  json_str(f, sp->key);
+  fprintf(f, ", \"key2\": ");
+  json_str(f, sp->key2);
+  fprintf(f, ", \"transient\": %d, \"record\": %d, \"steps\": %d, "
+          "\"steps2\": %d, \"attractors\": %d", sp->transient, sp->record,
+          K, sp->steps2, sw->nattr);
+  static const char *what[] = {"param", "param2", "n", "m", "attractor"};
+  for (int w = 0; w < 5; w++) {
+    fprintf(f, ", \"%s\": [", what[w]);
+    for (int l = 0; l < L; l++)
+      for (int k = 0; k < K; k++) {
+        const vi_diagram_point *pt = &sw->lines[l].pt[k];
+        fprintf(f, "%s", l || k ? ", " : "");
+        if (w == 0) fprintf(f, "%.17g", sw->param[k]);
+        else if (w == 1) fprintf(f, "%.17g", sw->param2[sw->lines[l].row]);
+        else if (w == 4) fprintf(f, "%d", sw->attractor[(size_t)l * K + k]);
+        else if (pt->n && !pt->failed) fprintf(f, "%d", w == 2 ? pt->n : pt->m);
+        else fprintf(f, "null");
+      }
+    fprintf(f, "]");
+  }
+  fprintf(f, "}\n");
+}
+
+/* Basins as text: the attractors, then the grid of their ids. */
+void vi_basins_table(const vi_diagram *sw, FILE *f)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps;
+  fprintf(f, "basins of %s x %s, %d x %d cells, %d transient + %d recorded "
+          "periods each, %.3f s: %d attractor%s\n", sp->key, sp->key2, K,
+          sp->steps2, sp->transient, sp->record, sw->wall, sw->nattr,
+          sw->nattr == 1 ? "" : "s");
+  for (int a = 0; a < sw->nattr; a++)
+    for (size_t i = 0; i < (size_t)sw->nlines * K; i++)
+      if (sw->attractor[i] == a) {
+        const vi_diagram_point *pt = &sw->lines[i / K].pt[i % K];
+        int cells = 0;
+        for (size_t j = 0; j < (size_t)sw->nlines * K; j++) cells += sw->attractor[j] == a;
+        fprintf(f, "  %2d: P(%d,%d), %d cells\n", a, pt->n, pt->m, cells);
+        break;
+      }
+  fprintf(f, "rows %s (%.6g .. %.6g), columns %s (%.6g .. %.6g); '.': none\n",
+          sp->key2, sw->param2[0], sw->param2[sp->steps2 - 1], sp->key,
+          sw->param[0], sw->param[K - 1]);
+  for (int l = sw->nlines - 1; l >= 0; l--) {
+    for (int k = 0; k < K; k++) {
+      int id = sw->attractor[(size_t)l * K + k];
+      if (id < 0) fprintf(f, "  .");
+      else fprintf(f, " %2d", id);
+    }
+    fprintf(f, "\n");
+  }
+}

@@ -102,6 +102,13 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int errlen);
 void vi_sweep_free(vi_diagram **sw);
 
+/* Basins (spec.cold): the attractor of every cell, sw->attractor and
+ * sw->nattr (vi_sweep_attractors); 0, or 1 out of memory.  Then JSON (flat
+ * param, param2, n, m, attractor per cell) or a text grid. */
+int vi_basins_identify(vi_diagram *sw);
+void vi_basins_print_json(const vi_diagram *sw, FILE *f);
+void vi_basins_table(const vi_diagram *sw, FILE *f);
+
 /* The diagram as one JSON object (see share/doc/sweep-layout.md). */
 void vi_sweep_print_json(const vi_diagram *sw, FILE *f);
 /* The diagram to HDF5 (share/doc/sweep-layout.md): written to path.part,

@@ -163,7 +163,7 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
   snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
   int fmt = 1;
   bad |= attr_str(f, "creator", creator);
-  bad |= attr_str(f, "kind", "sweep");
+  bad |= attr_str(f, "kind", sw->attractor ? "basins" : "sweep");
   bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
   bad |= attr_str(f, "scene", sw->text);
   bad |= attr_str(f, "scene_file", sw->name);
@@ -200,6 +200,10 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
     bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, flat + I);
     bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
     if (sp->orbits > 0) bad |= put_p11(g, sw);
+    if (sw->attractor) { /* basins: the attractor of each cell */
+      bad |= put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor);
+      bad |= attr_num(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr);
+    }
   }
   H5E_BEGIN_TRY {
     if (gi >= 0) H5Gclose(gi);
