@@ -407,31 +407,19 @@ int vi_cmd_orbits_main(int argc, char **argv)
   }
   if (ckey) {
     /* follow every admissible orbit found in the key (vi_sweep_cont.c) */
-    char *text = vi_sweep_read_text(scene, err, sizeof err);
-    vi_scene_edit *ed = NULL;
-    int bad = !text || vi_scene_edit_create(text, -1, scene ? scene : "<default scene: fig2>", &ed, &d);
-    for (int i = 0; i < nsets && !bad; i++) bad = vi_scene_edit_assign(ed, sets[i], &d) != 0;
-    if (bad) {
-      if (text) vi_diag_format(&d, err, sizeof err);
-      fprintf(stderr, "vibroimpact: %s\n", err);
-      rc = 2;
-    }
-    if (json && !bad) printf("{\"branches\": [");
-    for (int i = 0, k = 0; !bad && i < L->count; i++) {
+    if (json) printf("{\"branches\": [");
+    for (int i = 0, k = 0; i < L->count; i++) {
       if (!L->o[i].admissible) continue;
       if (json && k++) printf(", ");
-      int r = (arclength ? vi_sweep_arclength : vi_sweep_continue)(vi_scene_edit_text(ed), scene ? scene : "<default scene: fig2>",
-                                ckey, cto, csteps, np, L->o[i].t, L->o[i].x, L->o[i].v, N,
-                                json, err, sizeof err);
+      int r = vi_sweep_follow(mdl, sc, ckey, arclength, cto, csteps, np, *L->o[i].t,
+                              L->o[i].x, L->o[i].v, json, err, sizeof err);
       if (r) {
         fprintf(stderr, "vibroimpact: orbits: --continue: %s\n", err);
         rc = r;
         break;
       }
     }
-    if (json && !bad) printf("]}\n");
-    vi_scene_edit_destroy(&ed);
-    free(text);
+    if (json) printf("]}\n");
   } else if (json) {
     print_json(L);
   } else {

@@ -148,21 +148,15 @@ int vi_sweep_text_nonlinear(const char *text);
 int vi_sweep_exec(int argc, char **argv);
 
 /* Follow the P(n,1) orbit (t0, x0, v0 [N]: an impact and the state before
- * it) of the scene in its key from the scene's value to `to` in `steps`
- * steps (vi_sweep_cont.c), printing the branch and the points where it
- * loses stability or grazes (text, or JSON {key, n, m, branch, events}).
- * Returns 0, 2 for bad input (err), 1 otherwise. */
-int vi_sweep_continue(const char *text, const char *name, const char *key,
-                      double to, int steps, int np, const double *t0,
-                      const double *x0, const double *v0, int N, int json,
-                      char *err, int errlen);
-
-/* The same by pseudo-arclength (around folds; dF/dp by central
- * differences): vi_sweep_cont.c. */
-int vi_sweep_arclength(const char *text, const char *name, const char *key,
-                       double to, int steps, int np, const double *t0,
-                       const double *x0, const double *v0, int N, int json,
-                       char *err, int errlen);
+ * it) of the scene's model m in the scene key `key` from its value to `to`
+ * in `steps` steps, naturally or (arclength) by pseudo-arclength around
+ * folds (vi_cont.h), printing the branch and the points where it loses
+ * stability, folds or grazes (text, or JSON {key, n, m, branch, events}).
+ * Returns 0, 2 for bad input (err), 1 otherwise (vi_sweep_cont.c). */
+int vi_sweep_follow(const vi_model *m, const struct vi_scene *sc,
+                    const char *key, int arclength, double to, int steps,
+                    int np, double t0, const double *x0, const double *v0,
+                    int json, char *err, int errlen);
 
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */

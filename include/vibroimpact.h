@@ -38,5 +38,6 @@
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_param.h"
 #include "vibroimpact/vi_study.h"
+#include "vibroimpact/vi_cont.h"
 
 #endif
