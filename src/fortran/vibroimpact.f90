@@ -78,6 +78,9 @@ module vibroimpact
             vi_sweep_set_sim_hook, vi_sweep_set_cancel, vi_sweep_set_orbits, vi_sweep_iterate, &
             vi_sweep_period, vi_sweep_failed, vi_sweep_forcing_period, vi_sweep_impacts, &
             vi_sweep_strobe, vi_sweep_orbits, vi_sweep_model, vi_sweep_attractors
+  public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
+            vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_iterate, vi_cont_done, &
+            vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
   public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
             vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
@@ -1073,6 +1076,75 @@ module vibroimpact
       real(c_double), intent(in) :: strobe(*)
       real(c_double), value :: tol
       integer(c_int), intent(out) :: id(*), nattr
+    end function
+    ! ---- continuation (vi_cont.h)
+    integer(c_int) function vi_cont_create(model, key, n, method, out) bind(C, name="vi_cont_create")
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: model
+      character(kind=c_char), intent(in) :: key(*)
+      integer(c_int), value :: n, method
+      type(c_ptr), intent(out) :: out
+    end function
+    subroutine vi_cont_destroy(c) bind(C, name="vi_cont_destroy")
+      import :: c_ptr
+      type(c_ptr) :: c
+    end subroutine
+    !> a C string (vi_string converts it)
+    type(c_ptr) function vi_cont_errmsg(c) bind(C, name="vi_cont_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_set_range(c, to, steps) bind(C, name="vi_cont_set_range")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: to
+      integer(c_int), value :: steps
+    end function
+    integer(c_int) function vi_cont_set_orbit(c, t, x, v) bind(C, name="vi_cont_set_orbit")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: t
+      real(c_double), intent(in) :: x(*), v(*)
+    end function
+    !> fn: integer(c_int) function f(c, point, user) bind(C), all by value
+    integer(c_int) function vi_cont_set_monitor(c, fn, user, destroy) &
+        bind(C, name="vi_cont_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_cont_iterate(c) bind(C, name="vi_cont_iterate")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_done(c) bind(C, name="vi_cont_done")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_point(c, param, vn, t, rho, admissible) &
+        bind(C, name="vi_cont_point")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), intent(out), optional :: param, vn, t, rho
+      integer(c_int), intent(out), optional :: admissible
+    end function
+    integer(c_int) function vi_cont_orbit(c, t, x, v) bind(C, name="vi_cont_orbit")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), intent(out) :: t, x(*), v(*)
+    end function
+    integer(c_int) function vi_cont_num_events(c) bind(C, name="vi_cont_num_events")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    !> i is 0-based
+    integer(c_int) function vi_cont_event(c, i, type, param, vn, re, im, admissible) &
+        bind(C, name="vi_cont_event")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      integer(c_int), value :: i
+      integer(c_int), intent(out), optional :: type, admissible
+      real(c_double), intent(out), optional :: param, vn, re, im
     end function
   end interface
 

@@ -864,6 +864,75 @@ static void test_sweep_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+static int stop_cont(const vi_cont *c, int64_t point, void *user)
+{
+  (void)c, (void)user;
+  return point >= 1;
+}
+
+/* Continuation: NULL handles and outputs, bad keys and methods, calls out
+ * of order, a model not set up, a monitor that stops. */
+static void test_cont_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *raw = NULL;
+  vi_cont *c = NULL;
+  double x[2] = {0, 0}, p, t;
+  int type;
+  assert_err(vi_cont_create(NULL, "forcing.omega", 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omega", 1, VI_CONT_NATURAL, NULL));
+  assert_err(vi_cont_create(m, NULL, 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omgea", 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "initial.x[1]", 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omega", 0, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omega", 1, 7, &c));
+  assert_err(vi_cont_create(m, "forcing.a[3]", 1, VI_CONT_NATURAL, &c));
+  assert_null(c);
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_cont_create(raw, "forcing.omega", 1, VI_CONT_NATURAL, &c),
+                   VI_ERR_STATE);
+  vi_model_destroy(&raw);
+  assert_int_equal(vi_cont_create(m, "forcing.omega", 1, VI_CONT_NATURAL, &c), VI_OK);
+  assert_err(vi_cont_set_range(NULL, 1.0, 2));
+  assert_err(vi_cont_set_range(c, 1.0, 0));
+  assert_err(vi_cont_set_range(c, NAN, 2));
+  assert_err(vi_cont_set_orbit(NULL, 0, x, x));
+  assert_err(vi_cont_set_orbit(c, 0, NULL, x));
+  assert_err(vi_cont_set_orbit(c, INFINITY, x, x));
+  x[0] = NAN;
+  assert_err(vi_cont_set_orbit(c, 0, x, x));
+  x[0] = 0;
+  assert_err(vi_cont_set_monitor(NULL, NULL, NULL, NULL));
+  assert_err(vi_cont_iterate(NULL));
+  assert_err_msg(vi_cont_iterate(c), vi_cont_errmsg(c)); /* nothing set */
+  assert_err(vi_cont_point(NULL, &p, NULL, NULL, NULL, NULL));
+  assert_int_equal(vi_cont_point(c, &p, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_err(vi_cont_orbit(c, &t, x, NULL));
+  assert_int_equal(vi_cont_orbit(c, &t, x, x), VI_ERR_STATE);
+  assert_int_equal(vi_cont_num_events(NULL), 0);
+  assert_err(vi_cont_event(c, 0, &type, NULL, NULL, NULL, NULL, NULL));
+  assert_err(vi_cont_event(NULL, 0, &type, NULL, NULL, NULL, NULL, NULL));
+  assert_int_equal(vi_cont_done(NULL), 0);
+  assert_string_equal(vi_cont_errmsg(NULL), "");
+  /* a range that ends where it starts: one point, then done */
+  double xo[2] = {-0.0563, 0.1}, vo[2] = {0.11, 0.79};
+  assert_int_equal(vi_cont_set_range(c, 0.9, 1), VI_OK);
+  assert_int_equal(vi_cont_set_orbit(c, 0.68, xo, vo), VI_OK);
+  assert_int_equal(vi_cont_iterate(c), VI_OK);
+  assert_int_equal(vi_cont_done(c), VI_CONT_END);
+  assert_err_msg(vi_cont_iterate(c), vi_cont_errmsg(c));
+  vi_cont_destroy(&c);
+  vi_cont_destroy(&c); /* NULL-safe */
+  /* a monitor that stops after the first point (the Fig. 2 orbit) */
+  assert_int_equal(vi_cont_create(m, "forcing.omega", 1, VI_CONT_NATURAL, &c), VI_OK);
+  assert_int_equal(vi_cont_set_range(c, 1.0, 2), VI_OK);
+  assert_int_equal(vi_cont_set_orbit(c, 0.68, xo, vo), VI_OK);
+  assert_int_equal(vi_cont_set_monitor(c, stop_cont, NULL, NULL), VI_OK);
+  assert_int_equal(vi_cont_iterate(c), VI_STOPPED);
+  vi_cont_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -876,6 +945,7 @@ int main(void)
       cmocka_unit_test(test_orbit_misuse),
       cmocka_unit_test(test_param_misuse),
       cmocka_unit_test(test_sweep_misuse),
+      cmocka_unit_test(test_cont_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
