@@ -386,52 +386,38 @@ static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
 }
 #endif
 
-int vi_sweep_run(const char *text, const char *name, const char *const *sets,
-                 int nsets, const vi_sweep_spec *spec,
-                 volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
-                 int errlen)
+/* The base scene (text with the --set assignments), its model built
+ * once, the values, and the keys tried at both ends.  0, 1 (memory), 2
+ * (input) with err. */
+static int prepare(vi_diagram *sw, const char *text, const char *name,
+                   const char *const *sets, int nsets, char *err, int errlen)
 {
-  double w0 = now();
-  *out = NULL;
-  err[0] = '\0';
-  const vi_sweep_spec *sp = spec;
-  if (!sp->key || sp->steps < 1 || sp->record < 2 || sp->transient < 0 ||
-      sp->chunks < 1 || sp->dirs < 1 || sp->dirs > 3 || !(sp->tol > 0) ||
-      sp->nmax < 1 || (sp->key2 && sp->steps2 < 1)) {
-    msg(err, errlen, "sweep: need --param, --steps >= 1, --record >= 2, "
-        "--transient >= 0, --chunks >= 1, --tol > 0");
-    return 2;
-  }
-  vi_diagram *sw = calloc(1, sizeof *sw);
-  if (!sw) goto oom;
-  sw->spec = *sp;
-  if (!sw->spec.key2) sw->spec.steps2 = 1;
-  int K = sw->spec.steps, rows = sw->spec.steps2;
-  if (sw->spec.chunks > K) sw->spec.chunks = K;
-  /* the base text: the scene with the --set assignments */
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, rows = sp->steps2;
   vi_scene_edit *ed = NULL;
-  vi_scene *sc = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
   int st = vi_scene_edit_create(text, -1, name, &ed, &d);
   for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
-  if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
+  if (!st) st = vi_scene_edit_parse(ed, &sw->sc, &d);
+  if (!st) {
+    sw->text = strdup(vi_scene_edit_text(ed));
+    sw->name = strdup(name);
+  }
+  vi_scene_edit_destroy(&ed);
   if (st) {
     diag_msg(&d, st, err, errlen);
-    vi_scene_edit_destroy(&ed);
-    vi_sweep_free(&sw);
     return st == VI_ERR_NOMEM ? 1 : 2;
   }
-  sw->N = vi_scene_n(sc);
-  sw->t0 = vi_scene_t0(sc);
-  sw->text = strdup(vi_scene_edit_text(ed));
-  sw->name = strdup(name);
-  sw->sc = sc;
+  sw->N = vi_scene_n(sw->sc);
+  sw->t0 = vi_scene_t0(sw->sc);
   sw->warm = !sp->cold;
-  vi_scene_edit_destroy(&ed);
   sw->param = malloc(sizeof(double) * K);
   sw->param2 = malloc(sizeof(double) * rows);
-  if (!sw->text || !sw->name || !sw->param || !sw->param2) goto oom;
+  if (!sw->text || !sw->name || !sw->param || !sw->param2) {
+    msg(err, errlen, "out of memory");
+    return 1;
+  }
   for (int k = 0; k < K; k++)
     sw->param[k] = K > 1 ? sp->from + (sp->to - sp->from) * k / (K - 1) : sp->from;
   for (int r = 0; r < rows; r++)
@@ -440,40 +426,59 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   if (sp->orbits > 0 && vi_sweep_text_nonlinear(sw->text)) {
     msg(err, errlen, "%s: --orbits: the scene has nonlinear springs, and the "
         "P(1,1) orbits are found with the linear closed-form flow", sw->name);
-    vi_sweep_free(&sw);
     return 2;
   }
   /* the model, once: every value is a parameter change on a copy */
-  if ((st = vi_scene_create_model(sc, &sw->model, &d))) {
+  if ((st = vi_scene_create_model(sw->sc, &sw->model, &d))) {
     diag_msg(&d, st, err, errlen);
-    vi_sweep_free(&sw);
     return st == VI_ERR_NOMEM ? 1 : 2;
   }
   /* bad keys and values show up here, before any simulation */
   if (trial(sw, sp->key, sp->from, sw->pkey, err, errlen) ||
       trial(sw, sp->key, sp->to, sw->pkey, err, errlen) ||
       (sp->key2 && (trial(sw, sp->key2, sp->from2, sw->pkey2, err, errlen) ||
-                    trial(sw, sp->key2, sp->to2, sw->pkey2, err, errlen)))) {
-    vi_sweep_free(&sw);
+                    trial(sw, sp->key2, sp->to2, sw->pkey2, err, errlen))))
     return 2;
-  }
-  int ndir = sp->dirs == 3 ? 2 : 1;
-  sw->nlines = rows * ndir;
+  return 0;
+}
+
+/* The lines (rows x directions), their points and NaN-filled strobes. */
+static int make_lines(vi_diagram *sw)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, ndir = sp->dirs == 3 ? 2 : 1;
+  size_t nz = (size_t)K * sp->record * 2 * sw->N;
+  sw->nlines = sp->steps2 * ndir;
   sw->lines = calloc((size_t)sw->nlines, sizeof *sw->lines);
-  if (!sw->lines) goto oom;
+  if (!sw->lines) return 1;
   for (int l = 0; l < sw->nlines; l++) {
     vi_diagram_line *ln = &sw->lines[l];
     ln->row = l / ndir;
     ln->dir = sp->dirs == 2 || (sp->dirs == 3 && l % ndir) ? -1 : 1;
     ln->pt = calloc((size_t)K, sizeof *ln->pt);
-    ln->strobe = malloc(sizeof(double) * (size_t)K * sp->record * 2 * sw->N);
-    if (!ln->pt || !ln->strobe) goto oom;
+    ln->strobe = malloc(sizeof(double) * nz);
+    if (!ln->pt || !ln->strobe) return 1;
     /* a value that fails leaves NaN, not garbage, in the file */
-    for (size_t i = 0; i < (size_t)K * sp->record * 2 * sw->N; i++) ln->strobe[i] = NAN;
+    for (size_t i = 0; i < nz; i++) ln->strobe[i] = NAN;
   }
-  int C = sw->spec.chunks, ntask = sw->nlines * C;
+  return 0;
+}
+
+/* Deal the pieces: MPI ranks take them round-robin (rank r: pieces r,
+ * r + size, ...), each rank's on its OpenMP threads; each piece is
+ * computed the same way wherever it runs.  The exit code, err. */
+static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
+                int errlen)
+{
+  int K = sw->spec.steps, C = sw->spec.chunks, ntask = sw->nlines * C;
   piece *ps = calloc((size_t)ntask, sizeof *ps);
-  if (!ps) goto oom;
+  sw->npieces = ntask;
+  sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
+  if (!ps || !sw->piece_cpu) {
+    free(ps);
+    msg(err, errlen, "out of memory");
+    return 1;
+  }
   for (int i = 0; i < ntask; i++) {
     ps[i].sw = sw;
     ps[i].ln = &sw->lines[i / C];
@@ -481,8 +486,6 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     ps[i].pos1 = (int)((int64_t)K * (i % C + 1) / C);
     ps[i].cancel = cancel;
   }
-  /* MPI ranks take pieces round-robin (rank r: pieces r, r + size, ...);
-   * each piece is computed the same way wherever it runs */
   int rank = 0, size = 1;
 #ifdef VI_HAVE_MPI
   int mpi_on = 0;
@@ -494,15 +497,7 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
 #endif
   int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
 #ifdef _OPENMP
-  int nth = sp->threads > 0 ? sp->threads : omp_get_max_threads();
-#endif
-  sw->npieces = ntask;
-  sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
-  if (!sw->piece_cpu) {
-    free(ps);
-    goto oom;
-  }
-#ifdef _OPENMP
+  int nth = sw->spec.threads > 0 ? sw->spec.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
 #endif
   for (int q = 0; q < nmine; q++) {
@@ -523,6 +518,39 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   sw->rank = rank;
 #endif
   free(ps);
+  return code;
+}
+
+int vi_sweep_run(const char *text, const char *name, const char *const *sets,
+                 int nsets, const vi_sweep_spec *spec,
+                 volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
+                 int errlen)
+{
+  double w0 = now();
+  *out = NULL;
+  err[0] = '\0';
+  const vi_sweep_spec *sp = spec;
+  if (!sp->key || sp->steps < 1 || sp->record < 2 || sp->transient < 0 ||
+      sp->chunks < 1 || sp->dirs < 1 || sp->dirs > 3 || !(sp->tol > 0) ||
+      sp->nmax < 1 || (sp->key2 && sp->steps2 < 1)) {
+    msg(err, errlen, "sweep: need --param, --steps >= 1, --record >= 2, "
+        "--transient >= 0, --chunks >= 1, --tol > 0");
+    return 2;
+  }
+  vi_diagram *sw = calloc(1, sizeof *sw);
+  if (!sw) {
+    msg(err, errlen, "out of memory");
+    return 1;
+  }
+  sw->spec = *sp;
+  if (!sw->spec.key2) sw->spec.steps2 = 1;
+  if (sw->spec.chunks > sw->spec.steps) sw->spec.chunks = sw->spec.steps;
+  int code = prepare(sw, text, name, sets, nsets, err, errlen);
+  if (!code && make_lines(sw)) {
+    msg(err, errlen, "out of memory");
+    code = 1;
+  }
+  if (!code) code = deal(sw, cancel, err, errlen);
   if (code) {
     vi_sweep_free(&sw);
     return code;
@@ -530,10 +558,6 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   sw->wall = now() - w0;
   *out = sw;
   return 0;
-oom:
-  vi_sweep_free(&sw);
-  msg(err, errlen, "out of memory");
-  return 1;
 }
 
 /* ---- JSON ------------------------------------------------------------------ */

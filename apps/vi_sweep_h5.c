@@ -107,6 +107,52 @@ done:
   return bad;
 }
 
+/* The arrays of a diagram, flattened for HDF5. */
+typedef struct flat_arrays {
+  int *n, *m, *dir, *row;
+  int64_t *cnt, *start, I;
+  double *T, *flat, *strobe;
+} flat_arrays;
+
+/* The /sweep datasets and attributes; non-zero on any failure. */
+static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays *a)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
+  hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
+          dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
+          dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
+          dI[1] = {(hsize_t)a->I};
+  bad |= attr_str(g, "key", sp->key);
+  if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
+  bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
+  bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
+  bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
+  bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
+  bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
+  bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
+  bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
+  bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
+  if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
+  bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, a->dir);
+  bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, a->row);
+  bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, a->n);
+  bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, a->m);
+  bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, a->T);
+  bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, a->strobe);
+  bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, a->cnt);
+  bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, a->start);
+  bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, a->flat);
+  bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, a->flat + a->I);
+  bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, a->flat + 2 * a->I);
+  if (sp->orbits > 0) bad |= put_p11(g, sw);
+  if (sw->attractor) { /* basins: the attractor of each cell */
+    bad |= put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor);
+    bad |= attr_num(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr);
+  }
+  return bad;
+}
+
 int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int errlen)
 {
   const vi_sweep_spec *sp = &sw->spec;
@@ -152,6 +198,7 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
     dir[l] = sw->lines[l].dir;
     row[l] = sw->lines[l].row;
   }
+  flat_arrays a = {nn, mm, dir, row, cnt, start, I, T, flat, strobe};
   hid_t f = -1, g = -1, gi = -1;
   H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
   if (f < 0) {
@@ -172,39 +219,7 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
     if (g >= 0) gi = H5Gcreate2(g, "impacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   } H5E_END_TRY;
   bad |= g < 0 || gi < 0;
-  if (!bad) {
-    hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
-            dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
-            dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
-            dI[1] = {(hsize_t)I};
-    bad |= attr_str(g, "key", sp->key);
-    if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
-    bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
-    bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
-    bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
-    bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
-    bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
-    bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
-    bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
-    bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
-    if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
-    bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, dir);
-    bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, row);
-    bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, nn);
-    bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, mm);
-    bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, T);
-    bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, strobe);
-    bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, cnt);
-    bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, start);
-    bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, flat);
-    bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, flat + I);
-    bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
-    if (sp->orbits > 0) bad |= put_p11(g, sw);
-    if (sw->attractor) { /* basins: the attractor of each cell */
-      bad |= put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor);
-      bad |= attr_num(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr);
-    }
-  }
+  if (!bad) bad = put_sweep(g, gi, sw, &a);
   H5E_BEGIN_TRY {
     if (gi >= 0) H5Gclose(gi);
     if (g >= 0) H5Gclose(g);
