@@ -147,6 +147,23 @@ VI_API int vi_orbit_min_gap(const vi_orbit *o, double *gmin);
 VI_API int vi_orbit_reduced_restitution(const vi_orbit *o, const int *modes,
                                         int k, double *r_S);
 
+/** The largest Lyapunov exponent of the motion from the initial state
+ *  (vi_orbit_set_initial, rest by default; t = 0) of the orbit's model, with
+ *  its method and tolerances: after `transient` forcing periods, a tangent
+ *  vector is carried over the next `periods` (>= 2) by the exact
+ *  state-transition matrix between impacts and the saltation matrix of each
+ *  impact (MODEL.md section 13), renormalised after every factor.
+ *  *lambda receives the mean growth rate (per unit time; multiply by
+ *  2 pi / Omega for per forcing period), *spread (may be NULL) the
+ *  difference between the rates of the first and second halves: a
+ *  convergence indicator, not an error bound.  On a periodic orbit lambda
+ *  tends to log|mu_max| / (nT).  A motion that sticks, sums a chattering
+ *  tail or hits two stops at one instant is refused.  @return VI_OK,
+ *  VI_ERR_ARG, VI_ERR_UNSUPPORTED, VI_ERR_NONFINITE (the tangent overflowed:
+ *  a grazing impact), VI_ERR_NOMEM, or the simulation's code. */
+VI_API int vi_orbit_lyapunov(vi_orbit *o, double transient, double periods,
+                             double *lambda, double *spread);
+
 /* ---- P(n, m) orbits found directly (vi_orbit_pnm.c) ------------------- */
 /** An orbit is given by its m impacts in one orbit period n T (T = 2 pi /
  *  Omega): times t[m], ascending, and the states just before them, x and v

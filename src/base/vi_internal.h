@@ -110,6 +110,10 @@ void vi_band_apply(const vi_model *m, const double *x, int incx,
                    const double *v, int incv, double *y);
 /* 1/2 v^T M v + 1/2 x^T K x from the band storage */
 double vi_band_energy(const vi_model *m, const double *x, const double *v);
+/* out = M^-1 (f^(k)(t) - K u - C ud), k = 1, 2 (the rates of the
+ * acceleration that the sim's chatter and release tests read). */
+void vi_band_accel_rate(const vi_model *m, double t, int k, const double *u,
+                        const double *ud, double *out);
 
 /* Modal analysis (vi_modal.c), called by vi_model_setup. */
 int vi_modal_setup(vi_model *m);

@@ -109,7 +109,7 @@ module vibroimpact
             vi_orbit_pnm_residual, vi_orbit_pnm_monodromy, vi_orbit_pnm_solve_stops, &
             vi_orbit_pnm_residual_stops, vi_orbit_pnm_multipliers_stops, &
             vi_orbit_pnm_admissible_stops, vi_orbit_pnm_dparam, vi_orbit_impacts, &
-            vi_orbit_stop_balance, vi_orbit_stop_modal_balance
+            vi_orbit_stop_balance, vi_orbit_stop_modal_balance, vi_orbit_lyapunov
 
   interface
     ! ---- status and version -------------------------------------------------
@@ -729,6 +729,14 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: orbit
       real(c_double) :: re(*), im(*)
+    end function
+    integer(c_int) function vi_orbit_lyapunov(orbit, transient, periods, lambda, spread) &
+        bind(C, name="vi_orbit_lyapunov")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: orbit
+      real(c_double), value :: transient, periods
+      real(c_double) :: lambda
+      real(c_double), optional :: spread  ! absent: not wanted
     end function
     integer(c_int) function vi_orbit_min_gap(orbit, gmin) bind(C, name="vi_orbit_min_gap")
       import :: c_int, c_ptr, c_double

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_band_internal.h"
 #include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 

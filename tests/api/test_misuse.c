@@ -568,6 +568,7 @@ static void test_orbit_misuse(void **state)
   assert_err(vi_orbit_multipliers(NULL, re, im));
   assert_err(vi_orbit_min_gap(NULL, d));
   assert_err(vi_orbit_reduced_restitution(NULL, modes, 1, &rS));
+  assert_err(vi_orbit_lyapunov(NULL, 10, 10, d, d));
 
   /* bad values on a live orbit, each with a message */
   assert_int_equal(vi_orbit_create(m, &o), VI_OK);
@@ -588,6 +589,12 @@ static void test_orbit_misuse(void **state)
   assert_err_msg(vi_orbit_set_transient(o, 100, NAN), msg);
   assert_err_msg(vi_orbit_set_direct_search(o, 2), msg);
   assert_err_msg(vi_orbit_set_direct_search(o, -1), msg);
+  assert_err_msg(vi_orbit_lyapunov(o, 10, 10, NULL, d), msg);
+  assert_err_msg(vi_orbit_lyapunov(o, -1, 10, d, d), msg);
+  assert_err_msg(vi_orbit_lyapunov(o, NAN, 10, d, d), msg);
+  assert_err_msg(vi_orbit_lyapunov(o, 10, 1, d, d), msg);
+  assert_err_msg(vi_orbit_lyapunov(o, 10, INFINITY, d, d), msg);
+  assert_err_msg(vi_orbit_lyapunov(o, 1e9, 10, d, d), msg);
   /* results before vi_orbit_find: VI_ERR_STATE */
   assert_int_equal(vi_orbit_balance(o, d, d, d, d, d, d, d, d), VI_ERR_STATE);
   assert_int_equal(vi_orbit_modal_balance(o, d, d, d, d), VI_ERR_STATE);
