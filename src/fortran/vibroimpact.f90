@@ -900,18 +900,18 @@ module vibroimpact
     end function
     ! ---- parameters by key (vi_param.h); keys are C strings,
     ! e.g. 'forcing.omega'//c_null_char, with 1-based indices 'forcing.a[1]'
-    integer(c_int) function vi_model_set_param(model, key, value) &
+    integer(c_int) function vi_model_set_param(model, key, val) &
         bind(C, name="vi_model_set_param")
       import :: c_int, c_ptr, c_char, c_double
       type(c_ptr), value :: model
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), value :: value
+      real(c_double), value :: val
     end function
-    integer(c_int) function vi_model_param(model, key, value) bind(C, name="vi_model_param")
+    integer(c_int) function vi_model_param(model, key, val) bind(C, name="vi_model_param")
       import :: c_int, c_ptr, c_char, c_double
       type(c_ptr), value :: model
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), intent(out) :: value
+      real(c_double), intent(out) :: val
     end function
     integer(c_int) function vi_model_copy(model, out) bind(C, name="vi_model_copy")
       import :: c_int, c_ptr
@@ -922,22 +922,22 @@ module vibroimpact
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: key(*)
     end function
-    integer(c_int) function vi_param_set_initial(key, value, n, t0, x, v) &
+    integer(c_int) function vi_param_set_initial(key, val, n, t0, x, v) &
         bind(C, name="vi_param_set_initial")
       import :: c_int, c_char, c_double
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), value :: value
+      real(c_double), value :: val
       integer(c_int), value :: n
       real(c_double), intent(inout) :: t0, x(*), v(*)
     end function
-    integer(c_int) function vi_param_initial(key, n, t0, x, v, value) &
+    integer(c_int) function vi_param_initial(key, n, t0, x, v, val) &
         bind(C, name="vi_param_initial")
       import :: c_int, c_char, c_double
       character(kind=c_char), intent(in) :: key(*)
       integer(c_int), value :: n
       real(c_double), value :: t0
       real(c_double), intent(in) :: x(*), v(*)
-      real(c_double), intent(out) :: value
+      real(c_double), intent(out) :: val
     end function
     integer(c_int) function vi_param_key_count() bind(C, name="vi_param_key_count")
       import :: c_int
@@ -991,17 +991,17 @@ module vibroimpact
       type(c_ptr), value :: sw
       integer(c_int), value :: warm
     end function
-    integer(c_int) function vi_sweep_set_param(sw, key, value) bind(C, name="vi_sweep_set_param")
+    integer(c_int) function vi_sweep_set_param(sw, key, val) bind(C, name="vi_sweep_set_param")
       import :: c_int, c_ptr, c_char, c_double
       type(c_ptr), value :: sw
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), value :: value
+      real(c_double), value :: val
     end function
-    integer(c_int) function vi_sweep_param(sw, key, value) bind(C, name="vi_sweep_param")
+    integer(c_int) function vi_sweep_param(sw, key, val) bind(C, name="vi_sweep_param")
       import :: c_int, c_ptr, c_char, c_double
       type(c_ptr), value :: sw
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), intent(out) :: value
+      real(c_double), intent(out) :: val
     end function
     integer(c_int) function vi_sweep_reset(sw) bind(C, name="vi_sweep_reset")
       import :: c_int, c_ptr

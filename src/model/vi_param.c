@@ -32,9 +32,9 @@ static const struct {
     {"damping.beta", "damping.beta", VI_PARAM_MODEL},
     {"damping.zeta[]", "damping.zeta[j]", VI_PARAM_MODEL},
     {"damping.zeta", "damping.zeta", VI_PARAM_MODEL},
-    {"initial.t0", "initial.t0", VI_PARAM_INITIAL},
-    {"initial.x[]", "initial.x[i]", VI_PARAM_INITIAL},
-    {"initial.v[]", "initial.v[i]", VI_PARAM_INITIAL},
+    {"initial.t0", "initial.t0", VI_PARAM_INITIAL_STATE},
+    {"initial.x[]", "initial.x[i]", VI_PARAM_INITIAL_STATE},
+    {"initial.v[]", "initial.v[i]", VI_PARAM_INITIAL_STATE},
 };
 
 /* A parsed key: its table entry and its 1-based index (0: none). */
@@ -420,7 +420,7 @@ int vi_model_param(const vi_model *m, const char *key, double *value)
 
 static int initial_slot(const char *key, int n, pkey *p)
 {
-  if (parse_key(key, p) || keys[p->id].kind != VI_PARAM_INITIAL)
+  if (parse_key(key, p) || keys[p->id].kind != VI_PARAM_INITIAL_STATE)
     return VI_ERR_ARG;
   if (p->id != P_T0 && (p->idx < 1 || p->idx > n)) return VI_ERR_DIM;
   return VI_OK;

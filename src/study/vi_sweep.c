@@ -185,7 +185,7 @@ int vi_sweep_reset(vi_sweep *sw)
 int vi_sweep_set_param(vi_sweep *sw, const char *key, double value)
 {
   if (!sw) return VI_ERR_ARG;
-  if (vi_param_kind(key) == VI_PARAM_INITIAL) {
+  if (vi_param_kind(key) == VI_PARAM_INITIAL_STATE) {
     int st = vi_param_set_initial(key, value, sw->n, &sw->t0, sw->x0, sw->v0);
     if (st)
       return vi_fail(sw->errmsg, st, "%s = %.17g: %s", key, value,
@@ -202,11 +202,11 @@ int vi_sweep_param(const vi_sweep *sw, const char *key, double *value)
 {
   if (!sw || !value) return VI_ERR_ARG;
   vi_sweep *s = (vi_sweep *)sw; /* only errmsg is written */
-  int st = vi_param_kind(key) == VI_PARAM_INITIAL
+  int st = vi_param_kind(key) == VI_PARAM_INITIAL_STATE
                ? vi_param_initial(key, sw->n, sw->t0, sw->x0, sw->v0, value)
                : vi_model_param(sw->m, key, value);
   if (st)
-    vi_fail(s->errmsg, st, "%s", vi_param_kind(key) == VI_PARAM_INITIAL
+    vi_fail(s->errmsg, st, "%s", vi_param_kind(key) == VI_PARAM_INITIAL_STATE
                                      ? vi_strerror(st)
                                      : vi_model_errmsg(sw->m));
   return st;
