@@ -67,6 +67,8 @@ static void usage(FILE *f, int basins)
     "  --orbits[=K]          also every P(1,1) orbit at each value, stable or not,\n"
     "                        by a scan of K impact phases (default 360; closed-form\n"
     "                        flow needed): the diagram's unstable branches\n"
+    "  --lyapunov            also the largest Lyapunov exponent of each value (over\n"
+    "                        R more periods from its end state; > 0: chaos)\n"
     "  --set KEY=VALUE       override a scene key (repeatable)\n"
     "  --json                print the diagram as one JSON object\n"
     "  -o, --output FILE     write the diagram to HDF5 (share/doc/sweep-layout.md)\n"
@@ -152,6 +154,7 @@ static int parse(int argc, char **argv, args *a)
       {"json", no_argument, 0, 'J'},          {"output", required_argument, 0, 'o'},
       {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
       {"orbits", optional_argument, 0, 'O'},  {"basins", no_argument, 0, 'B'},
+      {"lyapunov", no_argument, 0, 'L'},
       {0, 0, 0, 0}};
   vi_sweep_spec *sp = &a->sp;
   int c;
@@ -192,6 +195,7 @@ static int parse(int argc, char **argv, args *a)
       if (optarg) ok = inum("--orbits", optarg, 8, &sp->orbits);
       break;
     case 'B': a->basins = 1; break;
+    case 'L': sp->lyapunov = 1; break;
     case 'h': usage(stdout, a->basins); return -1;
     default:
       fprintf(stderr, "vibroimpact: sweep: unknown or incomplete option '%s'\n",
@@ -330,7 +334,7 @@ int vi_cmd_sweep_main(int argc, char **argv)
   args a;
   memset(&a, 0, sizeof a);
   vi_sweep_spec sp0 = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0,
-                       1e-6, 32, 0, 0};
+                       1e-6, 32, 0, 0, 0};
   a.sp = sp0;
   a.sets = calloc((size_t)argc + 2, sizeof *a.sets);
   if (!a.sets) return 1;

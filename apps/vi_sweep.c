@@ -77,6 +77,7 @@ static int keep_point(const vi_sweep *st, const vi_diagram *sw,
   const double *t, *ph, *vn, *z = vi_sweep_strobe(st, &ld, &R);
   vi_sweep_period(st, &pt->n, &pt->m);
   vi_sweep_impacts(st, &pt->nimp, &t, &ph, &vn);
+  pt->lyap = vi_sweep_lyapunov(st);
   pt->T = vi_sweep_forcing_period(st);
   if (z) memcpy(ln->strobe + (size_t)k * R * ld, z, sizeof(double) * R * ld);
   if (pt->nimp) {
@@ -112,20 +113,23 @@ static int make_study(const vi_diagram *sw, vi_sweep **out, char *err, int len)
 {
   const vi_sweep_spec *sp = &sw->spec;
   double t0;
-  int n = sw->N, st;
+  int n = sw->N;
   double *x = malloc(sizeof(double) * 2 * (size_t)n);
-  if (!x || (st = vi_sweep_create(sw->model, out))) {
+  if (!x || vi_sweep_create(sw->model, out) || !*out) {
     free(x);
     msg(err, len, "out of memory");
     return 1;
   }
   vi_scene_initial(sw->sc, &t0, x, x + n);
-  st = vi_sweep_set_initial(*out, t0, x, x + n);
+  int st = vi_sweep_set_initial(*out, t0, x, x + n);
   free(x);
   if (!st) st = vi_sweep_set_periods(*out, sp->transient, sp->record);
   if (!st) st = vi_sweep_set_classify(*out, sp->tol, sp->nmax);
   if (!st) st = vi_sweep_set_orbits(*out, sp->orbits);
   if (!st) st = vi_sweep_set_warm(*out, sw->warm);
+  if (!st) st = vi_sweep_set_lyapunov(*out, sp->lyapunov);
+  if (!st) st = vi_sweep_set_run(*out, vi_scene_method(sw->sc), vi_scene_rtol(sw->sc),
+                                 vi_scene_atol(sw->sc));
   if (!st) st = vi_sweep_set_sim_hook(*out, scene_hook, (void *)sw->sc, NULL);
   if (st) msg(err, len, "%s", vi_sweep_errmsg(*out));
   return st ? 2 : 0;
@@ -137,10 +141,9 @@ static void run_piece(piece *p)
   vi_diagram_line *ln = p->ln;
   int K = sw->spec.steps, st;
   vi_sweep *study = NULL;
-  if ((p->code = make_study(sw, &study, p->err, sizeof p->err))) goto done;
+  if ((p->code = make_study(sw, &study, p->err, sizeof p->err)) || !study) goto done;
   if (p->cancel) vi_sweep_set_cancel(study, on_cancel, (void *)p->cancel, NULL);
-  if (sw->spec.key2 &&
-      (st = vi_sweep_set_param(study, sw->pkey2, sw->param2[ln->row]))) {
+  if (sw->spec.key2 && vi_sweep_set_param(study, sw->pkey2, sw->param2[ln->row])) {
     p->code = 2;
     msg(p->err, sizeof p->err, "%s: %s", sw->name, vi_sweep_errmsg(study));
     goto done;
@@ -148,7 +151,7 @@ static void run_piece(piece *p)
   for (int pos = p->pos0; pos < p->pos1; pos++) {
     int k = ln->dir > 0 ? pos : K - 1 - pos;
     double val = sw->param[k];
-    if ((st = vi_sweep_set_param(study, sw->pkey, val))) {
+    if (vi_sweep_set_param(study, sw->pkey, val)) {
       p->code = 2;
       msg(p->err, sizeof p->err, "%s: %s", sw->name, vi_sweep_errmsg(study));
       goto done;
@@ -271,6 +274,7 @@ static void pack_piece(const vi_diagram *sw, const piece *pc, pbuf *p)
     int64_t ni = pt->nimp, el = pt->error ? (int64_t)strlen(pt->error) : -1;
     put_bytes(p, hdr, sizeof hdr);
     put_bytes(p, &pt->T, sizeof pt->T);
+    put_bytes(p, &pt->lyap, sizeof pt->lyap);
     put_bytes(p, &ni, sizeof ni);
     if (ni) {
       put_bytes(p, pt->t, sizeof(double) * ni);
@@ -304,6 +308,7 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
     pt->m = hdr[1];
     pt->failed = hdr[2];
     TAKE(&pt->T, sizeof pt->T);
+    TAKE(&pt->lyap, sizeof pt->lyap);
     TAKE(&ni, sizeof ni);
     pt->nimp = ni;
     if (ni) {
@@ -497,7 +502,8 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
 #endif
   int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
 #ifdef _OPENMP
-  int nth = sw->spec.threads > 0 ? sw->spec.threads : omp_get_max_threads();
+  int nth = sw->spec.threads;
+  if (nth <= 0) nth = omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
 #endif
   for (int q = 0; q < nmine; q++) {
@@ -612,6 +618,14 @@ static void json_line(const vi_diagram *sw, const vi_diagram_line *ln, FILE *f)
                 "\"admissible\": %s}", i ? ", " : "", pt->ovn[i], pt->ophase[i],
                 pt->ostable[i] ? "true" : "false", pt->oadm[i] ? "true" : "false");
       fprintf(f, "]");
+    }
+  }
+  if (sw->spec.lyapunov) { /* null where refused */
+    fprintf(f, "], \"lyapunov\": [");
+    for (int p = 0; p < K; p++) {
+      double l = ln->pt[ln->dir > 0 ? p : K - 1 - p].lyap;
+      if (isnan(l)) fprintf(f, "%snull", p ? ", " : "");
+      else fprintf(f, "%s%.17g", p ? ", " : "", l);
     }
   }
   fprintf(f, "], \"failed\": [");

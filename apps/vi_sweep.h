@@ -45,6 +45,8 @@ typedef struct vi_sweep_spec {
                            unstable ones included; 0: off */
   int cold;             /* 1: every value from the scene's initial state (a
                            basin of attraction), no warm start */
+  int lyapunov;         /* 1: the largest Lyapunov exponent of each value
+                           (vi_sweep_set_lyapunov) */
 } vi_sweep_spec;
 
 /* One parameter value of one line. */
@@ -57,6 +59,8 @@ typedef struct vi_diagram_point {
                            `error`); the next value starts cold */
   char *error;
   /* spec.orbits: the P(1,1) orbits at this value (-1: no closed-form flow) */
+  double lyap;          /* spec.lyapunov: the largest Lyapunov exponent
+                           (per unit time), NaN where refused */
   int norb;
   double *ovn, *ophase;  /* [norb] approach velocity w.v, impact time mod T */
   int *ostable, *oadm;   /* [norb] stable (all |mu| < 1), admissible */

@@ -146,6 +146,12 @@ static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays 
   bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, a->flat + a->I);
   bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, a->flat + 2 * a->I);
   if (sp->orbits > 0) bad |= put_p11(g, sw);
+  if (sp->lyapunov) { /* the largest Lyapunov exponent, NaN where refused */
+    double *l = malloc(sizeof(double) * (size_t)L * K);
+    for (int i = 0; l && i < L * K; i++) l[i] = sw->lines[i / K].pt[i % K].lyap;
+    bad |= !l || put(g, "lyapunov", H5T_NATIVE_DOUBLE, 2, dLK, l);
+    free(l);
+  }
   if (sw->attractor) { /* basins: the attractor of each cell */
     bad |= put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor);
     bad |= attr_num(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr);

@@ -116,6 +116,17 @@ VI_API int vi_sweep_set_cancel(vi_sweep *sw, vi_cancel_fn fn, void *user,
  *  @return VI_OK, VI_ERR_ARG (nphase < 0). */
 VI_API int vi_sweep_set_orbits(vi_sweep *sw, int nphase);
 
+/** Also the largest Lyapunov exponent of each point (on = 1; default 0):
+ *  carried on from the point's end state over `record` more periods by
+ *  vi_orbit_lyapunov (exact state-transition and saltation matrices), to
+ *  tell chaos (> 0) from a long period (< 0).  Needs a model with the
+ *  closed-form flow and t0 a whole number of forcing periods; NaN where
+ *  refused (vi_orbit_lyapunov's cases).  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_sweep_set_lyapunov(vi_sweep *sw, int on);
+/** The last point's largest Lyapunov exponent (per unit time); NaN when
+ *  not asked for (vi_sweep_set_lyapunov), refused or before a point. */
+VI_API double vi_sweep_lyapunov(const vi_sweep *sw);
+
 /** Compute one point at the current parameters.  On an error the point
  *  is marked failed (vi_sweep_failed), its results are empty and the next
  *  point starts cold.  @return VI_OK, VI_STOPPED (the monitor asked),

@@ -77,7 +77,8 @@ module vibroimpact
             vi_sweep_set_param, vi_sweep_param, vi_sweep_reset, vi_sweep_set_monitor, &
             vi_sweep_set_sim_hook, vi_sweep_set_cancel, vi_sweep_set_orbits, vi_sweep_iterate, &
             vi_sweep_period, vi_sweep_failed, vi_sweep_forcing_period, vi_sweep_impacts, &
-            vi_sweep_strobe, vi_sweep_orbits, vi_sweep_model, vi_sweep_attractors
+            vi_sweep_strobe, vi_sweep_orbits, vi_sweep_model, vi_sweep_attractors, &
+            vi_sweep_set_lyapunov, vi_sweep_lyapunov
   public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
             vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_iterate, vi_cont_done, &
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
@@ -1032,6 +1033,15 @@ module vibroimpact
       import :: c_int, c_ptr
       type(c_ptr), value :: sw
       integer(c_int), value :: nphase
+    end function
+    integer(c_int) function vi_sweep_set_lyapunov(sw, on) bind(C, name="vi_sweep_set_lyapunov")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+      integer(c_int), value :: on
+    end function
+    real(c_double) function vi_sweep_lyapunov(sw) bind(C, name="vi_sweep_lyapunov")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: sw
     end function
     integer(c_int) function vi_sweep_iterate(sw) bind(C, name="vi_sweep_iterate")
       import :: c_int, c_ptr

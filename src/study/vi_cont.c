@@ -82,7 +82,7 @@ int vi_cont_create(const vi_model *m, const char *key, int n, int method,
   c->xs = c->vp + N;
   c->vs = c->xs + N;
   c->re = c->vs + N; /* re, im: [2N] each */
-  c->im = c->re + 2 * N;
+  c->im = c->re + 2 * (size_t)N;
   c->U = c->x + 10 * (size_t)N;
   c->tau = c->U + K;
   c->Un = c->tau + K;
@@ -327,7 +327,8 @@ static int ext_residual(vi_cont *c, const double *U, double *F, double *Ja)
   int N = c->N, np = c->n, D = 2 * N + 1, K = D + 1, st;
   double p = U[D];
   if (vi_model_set_param(c->m, c->key, p)) return -1;
-  double *J = Ja ? malloc(sizeof(double) * (size_t)D * D + sizeof(double) * 2 * D) : NULL;
+  /* J [D x D] and two residuals (one spare: never a size of 0) */
+  double *J = Ja ? malloc(sizeof(double) * ((size_t)D * D + 2 * (size_t)D + 1)) : NULL;
   if (Ja && !J) return VI_ERR_NOMEM;
   st = vi_orbit_pnm_residual(c->m, np, 1, U, U + 1, U + 1 + N, N, F, J);
   if (!st && Ja && c->par >= 0) {

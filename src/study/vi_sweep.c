@@ -25,6 +25,9 @@ struct vi_sweep {
   double *t, *phase, *vn;      /* [cap] */
   double *z;                   /* [2n x (record + 1)]: z_0 .. z_R */
   int oom;
+  /* the largest Lyapunov exponent (vi_sweep_set_lyapunov) */
+  int lyap;
+  double lambda;
   /* the P(1,1) census (vi_sweep_set_orbits) */
   int nphase, norb;
   double *ovn, *ophase;
@@ -239,6 +242,39 @@ int vi_sweep_set_cancel(vi_sweep *sw, vi_cancel_fn fn, void *user,
   return VI_OK;
 }
 
+int vi_sweep_set_lyapunov(vi_sweep *sw, int on)
+{
+  if (!sw) return VI_ERR_ARG;
+  if (on != 0 && on != 1)
+    return vi_fail(sw->errmsg, VI_ERR_ARG, "lyapunov = %d: 0 or 1", on);
+  sw->lyap = on;
+  return VI_OK;
+}
+
+double vi_sweep_lyapunov(const vi_sweep *sw)
+{
+  return sw && sw->done && sw->lyap ? sw->lambda : NAN;
+}
+
+/* The largest Lyapunov exponent over the recorded periods, carried on from
+ * the point's end state (vi_orbit_lyapunov: exact state-transition
+ * matrices and saltation matrices); the forcing phase there is t0's, so t0
+ * must be a whole number of periods.  NaN where it is refused (no
+ * closed-form flow, sticking, a grazing impact). */
+static double lyapunov(vi_sweep *sw)
+{
+  vi_orbit *o = NULL;
+  double lambda = NAN, ph = fmod(sw->t0, sw->T);
+  if (fmin(ph, sw->T - ph) > 1e-12 * sw->T) return NAN;
+  if (!vi_orbit_create(sw->m, &o) &&
+      !vi_orbit_set_tolerances(o, sw->rtol, sw->atol) &&
+      !vi_orbit_set_initial(o, sw->xw, sw->vw) &&
+      vi_orbit_lyapunov(o, 0.0, sw->record, &lambda, NULL))
+    lambda = NAN;
+  vi_orbit_destroy(&o);
+  return lambda;
+}
+
 int vi_sweep_set_orbits(vi_sweep *sw, int nphase)
 {
   if (!sw) return VI_ERR_ARG;
@@ -286,7 +322,7 @@ static int p11_orbits(vi_sweep *sw)
   double *buf = malloc(sizeof(double) * ((size_t)CAP * (2 * n + 1) + 4 * (size_t)n));
   if (!buf) return VI_ERR_NOMEM;
   double *t = buf, *x = t + CAP, *v = x + (size_t)CAP * n,
-         *re = v + (size_t)CAP * n, *im = re + 2 * n;
+         *re = v + (size_t)CAP * n, *im = re + 2 * (size_t)n;
   st = vi_orbit_p1_scan(m, 1, sw->nphase, t, x, v, n, CAP, &found);
   if (st == VI_ERR_UNSUPPORTED) {
     sw->norb = -1;
@@ -401,6 +437,7 @@ static int point(vi_sweep *sw)
   sw->nimp = 0;
   sw->oom = 0;
   sw->pn = sw->pm = 0;
+  sw->lambda = NAN;
   free_orbits(sw);
   double omega = sw->m->omega_f;
   if (!(omega > 0))
@@ -420,6 +457,7 @@ static int point(vi_sweep *sw)
     vi_sim_state(s, NULL, sw->xw, sw->vw);
   }
   vi_sim_destroy(&s);
+  if (!st && sw->lyap) sw->lambda = lyapunov(sw);
   return st;
 }
 
@@ -474,7 +512,7 @@ const double *vi_sweep_strobe(const vi_sweep *sw, int *ld, int *record)
 {
   if (ld) *ld = sw ? 2 * sw->n : 0;
   if (record) *record = sw ? sw->record : 0;
-  return sw && sw->done && sw->z ? sw->z + 2 * sw->n : NULL;
+  return sw && sw->done && sw->z ? sw->z + 2 * (size_t)sw->n : NULL;
 }
 
 const vi_model *vi_sweep_model(const vi_sweep *sw) { return sw ? sw->m : NULL; }

@@ -832,6 +832,10 @@ static void test_sweep_misuse(void **state)
   assert_err(vi_sweep_set_sim_hook(NULL, NULL, NULL, NULL));
   assert_err(vi_sweep_set_cancel(NULL, never_cancel, NULL, NULL));
   assert_err(vi_sweep_set_orbits(NULL, 8));
+  assert_err(vi_sweep_set_lyapunov(NULL, 1));
+  assert_err_msg(vi_sweep_set_lyapunov(sw, 2), vi_sweep_errmsg(sw));
+  assert_true(isnan(vi_sweep_lyapunov(NULL)));
+  assert_true(isnan(vi_sweep_lyapunov(sw))); /* before a point */
   assert_err_msg(vi_sweep_set_orbits(sw, -1), vi_sweep_errmsg(sw));
   assert_err(vi_sweep_iterate(NULL));
   /* results before any point */

@@ -28,7 +28,7 @@ static const char *sets[] = {"run.method=exact", "forcing.omega=2.4"};
 static vi_diagram *basins(int threads)
 {
   vi_sweep_spec sp = {"initial.x[2]", -4.0, 0.09, NX, "initial.v[2]", -6.0, 6.0,
-                      NV, 1, 1000, 30, NX, threads, 1e-6, 32, 0, 1};
+                      NV, 1, 1000, 30, NX, threads, 1e-6, 32, 0, 1, 0};
   vi_diagram *sw = NULL;
   char err[2048];
   int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, 2, &sp,
@@ -136,7 +136,7 @@ static void one_orbit_many_phases(void **state)
     if (first < 0) first = i;
     else {
       const double *z0 = sw->lines[first / NX].strobe + (size_t)(first % NX) * 30 * 4;
-      shifted += fabs(z[29 * 4] - z0[29 * 4]) > 1e-3; /* another phase */
+      shifted += fabs(z[(size_t)29 * 4] - z0[(size_t)29 * 4]) > 1e-3; /* another phase */
     }
   }
   /* cells landed on the orbit in different phases, and still share an id */

@@ -189,6 +189,44 @@ static void p11_census(void **state)
   vi_model_destroy(&m);
 }
 
+/* --lyapunov: the study's exponent is vi_orbit_lyapunov's from the
+ * point's end state, bit for bit; on the stable P(1,1) orbit of Fig. 2 it
+ * is log|mu_max| / T (Floquet multipliers of the orbit API), to 2e-3
+ * relative over 400 periods (the tangent's initial alignment, a term
+ * O(1) / (400 T), is what is left); without the option it is NaN. */
+static void lyapunov_exponent(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_sweep *sw = study(m, 300, 400);
+  assert_true(isnan(vi_sweep_lyapunov(sw)));
+  assert_int_equal(vi_sweep_set_lyapunov(sw, 1), VI_OK);
+  assert_int_equal(vi_sweep_iterate(sw), VI_OK);
+  double lam = vi_sweep_lyapunov(sw), T = 2 * M_PI / 0.9;
+  /* the same from the end state by the orbit API */
+  int ld, R;
+  const double *z = vi_sweep_strobe(sw, &ld, &R);
+  vi_orbit *o = NULL;
+  double ref;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_set_tolerances(o, 1e-8, 1e-10), VI_OK);
+  assert_int_equal(vi_orbit_set_initial(o, z + (size_t)(R - 1) * ld, z + (size_t)(R - 1) * ld + 2), VI_OK);
+  assert_int_equal(vi_orbit_lyapunov(o, 0.0, R, &ref, NULL), VI_OK);
+  assert_true(lam == ref);
+  vi_orbit_destroy(&o);
+  /* Floquet: the multipliers of the orbit the orbit API finds */
+  double re[4], im[4], mu = 0;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  assert_int_equal(vi_orbit_multipliers(o, re, im), VI_OK);
+  vi_orbit_destroy(&o);
+  for (int i = 0; i < 4; i++) mu = fmax(mu, hypot(re[i], im[i]));
+  assert_close(lam, log(mu) / T, 2e-3 * fabs(log(mu) / T));
+  assert_true(lam < 0);
+  vi_sweep_destroy(&sw);
+  vi_model_destroy(&m);
+}
+
 typedef struct seen {
   int64_t calls, last;
   int stop_at;
@@ -233,6 +271,7 @@ int main(void)
       cmocka_unit_test(fig2_p11),      cmocka_unit_test(harmonic_response),
       cmocka_unit_test(up_down_agree), cmocka_unit_test(warm_start),
       cmocka_unit_test(p11_census),    cmocka_unit_test(monitor_and_copy),
+      cmocka_unit_test(lyapunov_exponent),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
