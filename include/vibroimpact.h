@@ -30,6 +30,7 @@
 #include "vibroimpact/vi_status.h"
 #include "vibroimpact/vi_model.h"
 #include "vibroimpact/vi_builders.h"
+#include "vibroimpact/vi_sparse.h"
 #include "vibroimpact/vi_impact.h"
 #include "vibroimpact/vi_flow.h"
 #include "vibroimpact/vi_sim.h"

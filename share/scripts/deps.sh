@@ -3,6 +3,7 @@
 set -euo pipefail
 pkgs=(cmake make gcc g++ gfortran binutils pkg-config libsundials-dev libgsl-dev
       liblapacke-dev libcmocka-dev libhdf5-dev libyaml-dev
+      libarpack2-dev libsuitesparse-dev
       python3-h5py python3-matplotlib doxygen xz-utils)
 pkgs+=(libopenmpi-dev openmpi-bin)  # vibroimpact sweep under mpirun
 pkgs+=(clang clang-tidy cppcheck)    # the fuzz targets (libFuzzer) and the lint test

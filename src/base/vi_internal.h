@@ -115,8 +115,9 @@ double vi_band_energy(const vi_model *m, const double *x, const double *v);
 void vi_band_accel_rate(const vi_model *m, double t, int k, const double *u,
                         const double *ud, double *out);
 
-/* Modal analysis (vi_modal.c), called by vi_model_setup. */
-int vi_modal_setup(vi_model *m);
+/* Modal analysis (vi_modal.c), called by vi_model_setup after M's
+ * Cholesky factorisation; checks K and C (c_zero: C = 0) semidefinite. */
+int vi_modal_setup(vi_model *m, int c_zero);
 
 /* Dense helpers, column-major with leading dimension n (vi_dense.c). */
 void vi_matvec(int n, const double *A, const double *x, double *y); /* y = A x */

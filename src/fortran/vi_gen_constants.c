@@ -41,6 +41,8 @@ int main(int argc, char **argv)
   K_(VI_STAT_COUNT);
   K_(VI_SPRING_CUBIC); K_(VI_SPRING_BILINEAR);
   K_(VI_ORBIT_PARAM_OMEGA); K_(VI_ORBIT_PARAM_XS); K_(VI_ORBIT_PARAM_R);
+  K_(VI_CSC_FULL); K_(VI_CSC_LOWER);
+  K_(VI_FE_MASS); K_(VI_FE_DAMPING); K_(VI_FE_STIFFNESS);
   /* Fortran is case-insensitive: VI_VERSION_NUMBER would clash with the
    * function vi_version_number */
   constant(f, "VI_HEADER_VERSION", VI_VERSION_NUMBER);

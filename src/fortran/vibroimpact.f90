@@ -84,6 +84,16 @@ module vibroimpact
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
   public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
             vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
+  public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
+            vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
+            vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
+            vi_fe_set_eigensolver, vi_fe_set_memory_limit, vi_fe_set_host_modes, &
+            vi_fe_add_stop, vi_fe_add_stop_dof, vi_fe_set_forcing, vi_fe_set_outputs, &
+            vi_fe_set_keep_shapes, vi_fe_setup, vi_fe_create_model, vi_fe_n, &
+            vi_fe_num_modes, vi_fe_omega, vi_fe_modal_damping, vi_fe_modal_stops, &
+            vi_fe_num_stops, vi_fe_output_shapes, vi_fe_shapes, vi_fe_shift, &
+            vi_fe_residual, vi_fe_stop_compliance, vi_fe_matrix_csc, vi_fe_to_outputs, &
+            vi_fe_to_modal, vi_fe_memory_estimate, vi_model_create_modal
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
             vi_cantilever_shape, vi_cantilever_participation
   public :: vi_impact_apply, vi_impact_apply_r, vi_impact_apply_multi, vi_restitution_from_energy, &
@@ -1163,6 +1173,216 @@ module vibroimpact
       integer(c_int), value :: i
       integer(c_int), intent(out), optional :: type, admissible
       real(c_double), intent(out), optional :: param, vn, re, im
+    end function
+    ! ---- finite-element structures in (vi_sparse.h) --------------------------
+    ! CSC arrays pass unchanged with base = 1; dof indices (vi_fe_add_stop_dof,
+    ! vi_fe_set_outputs, vi_fe_set_host_modes' rows) are 0-based: subtract 1.
+    integer(c_int) function vi_fe_create(n, fe) bind(C, name="vi_fe_create")
+      import :: c_int, c_ptr
+      integer(c_int), value :: n
+      type(c_ptr) :: fe
+    end function
+    subroutine vi_fe_destroy(fe) bind(C, name="vi_fe_destroy")
+      import :: c_ptr
+      type(c_ptr) :: fe
+    end subroutine
+    type(c_ptr) function vi_fe_errmsg(fe) bind(C, name="vi_fe_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: fe
+    end function
+    integer(c_int) function vi_fe_set_mass_csc(fe, storage, base, colptr, rowind, values) &
+        bind(C, name="vi_fe_set_mass_csc")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: storage, base
+      integer(c_int), intent(in) :: colptr(*), rowind(*)
+      real(c_double), intent(in) :: values(*)
+    end function
+    integer(c_int) function vi_fe_set_stiffness_csc(fe, storage, base, colptr, rowind, values) &
+        bind(C, name="vi_fe_set_stiffness_csc")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: storage, base
+      integer(c_int), intent(in) :: colptr(*), rowind(*)
+      real(c_double), intent(in) :: values(*)
+    end function
+    integer(c_int) function vi_fe_set_damping_csc(fe, storage, base, colptr, rowind, values) &
+        bind(C, name="vi_fe_set_damping_csc")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: storage, base
+      integer(c_int), intent(in), optional :: colptr(*), rowind(*)  ! absent: C = 0
+      real(c_double), intent(in), optional :: values(*)
+    end function
+    integer(c_int) function vi_fe_set_rayleigh(fe, alpha, beta) bind(C, name="vi_fe_set_rayleigh")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      real(c_double), value :: alpha, beta
+    end function
+    integer(c_int) function vi_fe_set_modal_damping(fe, nzeta, zeta) &
+        bind(C, name="vi_fe_set_modal_damping")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: nzeta
+      real(c_double), intent(in) :: zeta(*)
+    end function
+    integer(c_int) function vi_fe_set_modes(fe, k) bind(C, name="vi_fe_set_modes")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      integer(c_int), value :: k
+    end function
+    integer(c_int) function vi_fe_set_shift(fe, sigma) bind(C, name="vi_fe_set_shift")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      real(c_double), value :: sigma
+    end function
+    integer(c_int) function vi_fe_set_eigensolver(fe, tol, ncv, maxit) &
+        bind(C, name="vi_fe_set_eigensolver")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      real(c_double), value :: tol
+      integer(c_int), value :: ncv, maxit
+    end function
+    integer(c_int) function vi_fe_set_memory_limit(fe, bytes) bind(C, name="vi_fe_set_memory_limit")
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: fe
+      integer(c_int64_t), value :: bytes
+    end function
+    integer(c_int) function vi_fe_set_host_modes(fe, k, omega, zeta, D, ldd, nrows, rows, Psi, ldp) &
+        bind(C, name="vi_fe_set_host_modes")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: k, ldd, nrows, ldp
+      real(c_double), intent(in) :: omega(*)
+      real(c_double), intent(in), optional :: zeta(*), D(ldd, *)
+      integer(c_int), intent(in) :: rows(*)       ! 0-based dofs
+      real(c_double), intent(in) :: Psi(ldp, *)
+    end function
+    integer(c_int) function vi_fe_add_stop(fe, w, x_s, r) bind(C, name="vi_fe_add_stop")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      real(c_double), intent(in) :: w(*)
+      real(c_double), value :: x_s, r
+    end function
+    integer(c_int) function vi_fe_add_stop_dof(fe, dof, direction, x_s, r) &
+        bind(C, name="vi_fe_add_stop_dof")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: dof, direction     ! dof 0-based
+      real(c_double), value :: x_s, r
+    end function
+    integer(c_int) function vi_fe_set_forcing(fe, omega, a, b, f0) bind(C, name="vi_fe_set_forcing")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      real(c_double), value :: omega
+      real(c_double), intent(in), optional :: a(*), b(*), f0(*)
+    end function
+    integer(c_int) function vi_fe_set_outputs(fe, nout, dofs) bind(C, name="vi_fe_set_outputs")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      integer(c_int), value :: nout
+      integer(c_int), intent(in), optional :: dofs(*)  ! 0-based
+    end function
+    integer(c_int) function vi_fe_set_keep_shapes(fe, keep) bind(C, name="vi_fe_set_keep_shapes")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      integer(c_int), value :: keep
+    end function
+    integer(c_int) function vi_fe_setup(fe) bind(C, name="vi_fe_setup")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+    end function
+    integer(c_int) function vi_fe_create_model(fe, model) bind(C, name="vi_fe_create_model")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      type(c_ptr) :: model
+    end function
+    integer(c_int) function vi_fe_n(fe) bind(C, name="vi_fe_n")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+    end function
+    integer(c_int) function vi_fe_num_modes(fe) bind(C, name="vi_fe_num_modes")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+    end function
+    type(c_ptr) function vi_fe_omega(fe) bind(C, name="vi_fe_omega")
+      import :: c_ptr
+      type(c_ptr), value :: fe
+    end function
+    type(c_ptr) function vi_fe_modal_damping(fe, ld) bind(C, name="vi_fe_modal_damping")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: fe
+      integer(c_int), optional :: ld
+    end function
+    type(c_ptr) function vi_fe_modal_stops(fe, ld) bind(C, name="vi_fe_modal_stops")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: fe
+      integer(c_int), optional :: ld
+    end function
+    integer(c_int) function vi_fe_num_stops(fe) bind(C, name="vi_fe_num_stops")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+    end function
+    type(c_ptr) function vi_fe_output_shapes(fe, ld) bind(C, name="vi_fe_output_shapes")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: fe
+      integer(c_int), optional :: ld
+    end function
+    type(c_ptr) function vi_fe_shapes(fe, ld) bind(C, name="vi_fe_shapes")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: fe
+      integer(c_int), optional :: ld
+    end function
+    real(c_double) function vi_fe_shift(fe) bind(C, name="vi_fe_shift")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: fe
+    end function
+    real(c_double) function vi_fe_residual(fe) bind(C, name="vi_fe_residual")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: fe
+    end function
+    integer(c_int) function vi_fe_stop_compliance(fe, s, dynamic, statik) &
+        bind(C, name="vi_fe_stop_compliance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: s
+      real(c_double), optional :: dynamic, statik
+    end function
+    integer(c_int) function vi_fe_matrix_csc(fe, which, nnz, colptr, rowind, values) &
+        bind(C, name="vi_fe_matrix_csc")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      integer(c_int), value :: which
+      integer(c_int), optional :: nnz
+      type(c_ptr), optional :: colptr, rowind, values  ! views: c_f_pointer
+    end function
+    integer(c_int) function vi_fe_to_outputs(fe, ncol, Q, ldq, Y, ldy) bind(C, name="vi_fe_to_outputs")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), value :: ncol, ldq, ldy
+      real(c_double), intent(in) :: Q(ldq, *)
+      real(c_double) :: Y(ldy, *)
+    end function
+    integer(c_int) function vi_fe_to_modal(fe, x, q) bind(C, name="vi_fe_to_modal")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      real(c_double), intent(in) :: x(*)
+      real(c_double) :: q(*)
+    end function
+    integer(c_int) function vi_fe_memory_estimate(n, nnz, k, keep, bytes) &
+        bind(C, name="vi_fe_memory_estimate")
+      import :: c_int, c_int64_t
+      integer(c_int), value :: n, k, keep
+      integer(c_int64_t), value :: nnz
+      integer(c_int64_t) :: bytes
+    end function
+    integer(c_int) function vi_model_create_modal(k, omega, zeta, D, ldd, model) &
+        bind(C, name="vi_model_create_modal")
+      import :: c_int, c_ptr, c_double
+      integer(c_int), value :: k, ldd
+      real(c_double), intent(in) :: omega(*)
+      real(c_double), intent(in), optional :: zeta(*), D(ldd, *)
+      type(c_ptr) :: model
     end function
   end interface
 

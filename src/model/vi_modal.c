@@ -1,9 +1,11 @@
 /* vi_modal.c - generalised eigenproblem K psi = lambda M psi (LAPACK dsygvd),
  * modal damping, forcing and impact vector (MODEL.md section 3): the modes,
- * on which the exact flow (vi_flow.c) is built. */
+ * on which the exact flow (vi_flow.c) is built.  The products are BLAS-3
+ * (issue 21 item 5): the set-up costs a few dsygvd's, not n^3 dot products. */
 #include <math.h>
 #include <string.h>
 
+#include <cblas.h>
 #include <lapacke.h>
 
 #include "vi_internal.h"
@@ -11,8 +13,41 @@
 /* Off-diagonal modal damping below this fraction of the largest entry is
  * round-off: the damping is proportional and modes decouple (WB 4). */
 #define VI_PROP_TOL 1e-10
+/* Relative tolerance of semidefiniteness, as vi_model.c's VI_PSD_TOL. */
+#define VI_MODAL_PSD_TOL 1e-12
 
-int vi_modal_setup(vi_model *m)
+/* C is PSD iff D = Psi^T C Psi is (a congruence, Psi non-singular), so the
+ * test runs on D: its diagonal when the damping is proportional, else its
+ * eigenvalues (dsyev on a copy in work). */
+static int check_damping(vi_model *m, double *work)
+{
+  int n = m->n;
+  double dmin = HUGE_VAL, big = 0.0;
+  if (m->proportional) {
+    for (int j = 0; j < n; j++) {
+      double d = m->D[j + (size_t)j * n];
+      dmin = fmin(dmin, d);
+      big = fmax(big, fabs(d));
+    }
+  } else {
+    memcpy(work, m->D, sizeof(double) * (size_t)n * n);
+    lapack_int info = LAPACKE_dsyev(LAPACK_COL_MAJOR, 'N', 'L', n, work, n,
+                                    m->zeta);
+    if (info != 0)
+      return vi_fail(m->errmsg, VI_ERR_LAPACK, "dsyev on the modal damping "
+                     "failed (info %d)", (int)info);
+    dmin = m->zeta[0];
+    big = fmax(fabs(m->zeta[0]), fabs(m->zeta[n - 1]));
+  }
+  if (dmin < -VI_MODAL_PSD_TOL * big)
+    return vi_fail(m->errmsg, VI_ERR_NOT_PSD,
+                   "C is not positive semidefinite: the modal damping "
+                   "Psi^T C Psi has eigenvalue %.6g (largest magnitude %.6g)",
+                   dmin, big);
+  return VI_OK;
+}
+
+int vi_modal_setup(vi_model *m, int c_zero)
 {
   int n = m->n;
   size_t nn = (size_t)n * n;
@@ -25,6 +60,13 @@ int vi_modal_setup(vi_model *m)
   if (info != 0)
     return vi_fail(m->errmsg, VI_ERR_LAPACK, "dsygvd failed (info %d)",
                    (int)info);
+  /* K is PSD iff M^-1 K's eigenvalues are >= 0 (Sylvester's inertia): the
+   * check costs nothing beyond the eigenproblem */
+  double big = fmax(fabs(m->lambda[0]), fabs(m->lambda[n - 1]));
+  if (m->lambda[0] < -VI_MODAL_PSD_TOL * big)
+    return vi_fail(m->errmsg, VI_ERR_NOT_PSD,
+                   "K is not positive semidefinite: smallest eigenvalue %.6g "
+                   "of M^-1 K (largest magnitude %.6g)", m->lambda[0], big);
   for (int j = 0; j < n; j++) {
     double *col = Kw + (size_t)j * n;
     /* deterministic sign: the largest-magnitude entry positive */
@@ -37,18 +79,22 @@ int vi_modal_setup(vi_model *m)
     if (m->lambda[j] < 0.0) m->lambda[j] = 0.0;
     m->omega[j] = sqrt(m->lambda[j]);
   }
-  /* PsiTM = Psi^T M (x -> q), D = Psi^T C Psi; Mw holds C Psi, M Psi */
-  for (int j = 0; j < n; j++) {
-    vi_matvec(n, m->C, m->Psi + (size_t)j * n, Mw + (size_t)j * n);
-    vi_matvec(n, m->M, m->Psi + (size_t)j * n, Kw + (size_t)j * n);
+  /* PsiTM = Psi^T M (x -> q) */
+  cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, n, n, n, 1.0, m->Psi,
+              n, m->M, n, 0.0, m->PsiTM, n);
+  /* D = Psi^T (C Psi), made exactly symmetric */
+  if (c_zero) {
+    memset(m->D, 0, sizeof(double) * nn);
+  } else {
+    cblas_dsymm(CblasColMajor, CblasLeft, CblasLower, n, n, 1.0, m->C, n,
+                m->Psi, n, 0.0, Mw, n);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, n, n, n, 1.0, m->Psi,
+                n, Mw, n, 0.0, m->D, n);
+    for (int j = 0; j < n; j++)
+      for (int i = j + 1; i < n; i++)
+        m->D[i + (size_t)j * n] = m->D[j + (size_t)i * n] =
+            0.5 * (m->D[i + (size_t)j * n] + m->D[j + (size_t)i * n]);
   }
-  for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++) {
-      m->D[i + (size_t)j * n] =
-          vi_dot(n, m->Psi + (size_t)i * n, Mw + (size_t)j * n);
-      /* (Psi^T M)_{ij} = (M Psi)_{ji} since M is symmetric */
-      m->PsiTM[i + (size_t)j * n] = Kw[j + (size_t)i * n];
-    }
   double dmax = 0.0, offmax = 0.0;
   for (int j = 0; j < n; j++)
     for (int i = 0; i < n; i++) {
@@ -57,6 +103,10 @@ int vi_modal_setup(vi_model *m)
       if (i != j) offmax = fmax(offmax, v);
     }
   m->proportional = offmax <= VI_PROP_TOL * dmax;
+  if (!c_zero) {
+    int st = check_damping(m, Kw);
+    if (st) return st;
+  }
   vi_matvec_t(n, m->Psi, m->w, m->psi);
   vi_matvec_t(n, m->Psi, m->a, m->Fa);
   vi_matvec_t(n, m->Psi, m->b, m->Fb);

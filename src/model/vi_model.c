@@ -8,10 +8,10 @@
 
 #include "vi_internal.h"
 
-/* Relative tolerance for symmetry and semidefiniteness: generous enough for
- * matrices read from text with 15-17 digits, tight enough to catch typos. */
+/* Relative tolerance for symmetry (semidefiniteness: vi_modal.c): generous
+ * enough for matrices read from text with 15-17 digits, tight enough to
+ * catch typos. */
 #define VI_SYM_TOL 1e-12
-#define VI_PSD_TOL 1e-12
 
 int vi_model_create(int n, vi_model **out)
 {
@@ -441,25 +441,6 @@ static int setup_stops(vi_model *m, const double *L)
   return VI_OK;
 }
 
-/* Smallest eigenvalue of a symmetric matrix relative to its largest
- * magnitude, via dsyev on a copy in work (n x n). */
-static int check_psd(vi_model *m, const char *name, const double *A,
-                     double *work, double *eig)
-{
-  int n = m->n;
-  memcpy(work, A, sizeof(double) * (size_t)n * n);
-  lapack_int info = LAPACKE_dsyev(LAPACK_COL_MAJOR, 'N', 'L', n, work, n, eig);
-  if (info != 0)
-    return vi_fail(m->errmsg, VI_ERR_LAPACK, "dsyev on %s failed (info %d)",
-                   name, (int)info);
-  double big = fmax(fabs(eig[0]), fabs(eig[n - 1]));
-  if (eig[0] < -VI_PSD_TOL * big)
-    return vi_fail(m->errmsg, VI_ERR_NOT_PSD,
-                   "%s is not positive semidefinite: smallest eigenvalue %.6g "
-                   "(largest magnitude %.6g)", name, eig[0], big);
-  return VI_OK;
-}
-
 int vi_model_setup(vi_model *m)
 {
   int st = check_open(m);
@@ -477,8 +458,10 @@ int vi_model_setup(vi_model *m)
     m->errmsg[0] = '\0';
     return VI_OK;
   }
-  if ((st = check_psd(m, "K", m->K, work, m->omega))) return st;
-  if ((st = check_psd(m, "C", m->C, work, m->omega))) return st;
+  /* K and C are checked semidefinite on the modes (vi_modal.c), at no
+   * extra O(n^3) cost */
+  int c_zero = 1;
+  for (size_t k = 0; k < nn && c_zero; k++) c_zero = m->C[k] == 0.0;
 
   /* Cholesky of M: the positive-definiteness test, and M^-1 for the RHS */
   memcpy(L, m->M, sizeof(double) * nn);
@@ -487,28 +470,23 @@ int vi_model_setup(vi_model *m)
     return vi_fail(m->errmsg, VI_ERR_NOT_SPD,
                    "M is not positive definite (Cholesky fails at column %d)",
                    (int)info);
-  /* right-hand sides [K C a b f0 w] solved in one dpotrs call */
-  size_t nrhs = 2 * (size_t)n + 6;
-  double *rhs = malloc(sizeof(double) * nrhs * n);
-  if (!rhs) return vi_fail(m->errmsg, VI_ERR_NOMEM, "out of memory");
-  memcpy(rhs, m->K, sizeof(double) * nn);
-  memcpy(rhs + nn, m->C, sizeof(double) * nn);
+  /* right-hand sides [K C a b f0 w] solved in one dpotrs call (C only if
+   * non-zero); the solve runs in place in the model's own arrays */
+  memcpy(m->MinvK, m->K, sizeof(double) * nn);
+  if (!c_zero) memcpy(m->MinvC, m->C, sizeof(double) * nn);
   const double *vecs[4] = {m->a, m->b, m->f0, m->w};
-  for (int k = 0; k < 4; k++)
-    memcpy(rhs + 2 * nn + (size_t)k * n, vecs[k], sizeof(double) * n);
-  info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, (lapack_int)(2 * n + 4), L,
-                        n, rhs, n);
-  if (info != 0) {
-    free(rhs);
+  double *outs[4] = {m->Minv_a, m->Minv_b, m->Minv_f0, m->Minv_w};
+  for (int k = 0; k < 4; k++) memcpy(outs[k], vecs[k], sizeof(double) * n);
+  info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, n, L, n, m->MinvK, n);
+  if (info == 0 && !c_zero)
+    info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, n, L, n, m->MinvC, n);
+  if (c_zero) memset(m->MinvC, 0, sizeof(double) * nn);
+  /* the four vectors are contiguous in the block: one solve */
+  if (info == 0)
+    info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, 4, L, n, m->Minv_a, n);
+  if (info != 0)
     return vi_fail(m->errmsg, VI_ERR_LAPACK, "dpotrs failed (info %d)",
                    (int)info);
-  }
-  memcpy(m->MinvK, rhs, sizeof(double) * nn);
-  memcpy(m->MinvC, rhs + nn, sizeof(double) * nn);
-  double *outs[4] = {m->Minv_a, m->Minv_b, m->Minv_f0, m->Minv_w};
-  for (int k = 0; k < 4; k++)
-    memcpy(outs[k], rhs + 2 * nn + (size_t)k * n, sizeof(double) * n);
-  free(rhs);
   m->wMw = vi_dot(n, m->w, m->Minv_w);
   if ((st = setup_stops(m, L))) return st;
 
@@ -521,7 +499,7 @@ int vi_model_setup(vi_model *m)
            m->MinvC[i + (size_t)j * n] != 0.0) && abs(i - j) > m->bw)
         m->bw = abs(i - j);
 
-  if ((st = vi_modal_setup(m))) return st;
+  if ((st = vi_modal_setup(m, c_zero))) return st;
   memcpy(m->PsiW, m->psi, sizeof(double) * (size_t)n);
   for (int k = 1; k < m->ns; k++)
     vi_matvec_t(n, m->Psi, m->Ws + (size_t)k * n, m->PsiW + (size_t)k * n);

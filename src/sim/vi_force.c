@@ -5,7 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
+
 #include "vi_sim_internal.h"
+
+/* From this many coordinates on, BLAS dgemv/dgemm beat the hand-written
+ * loops (measured: 0.2x at n = 2, 1x at n = 8, 2.5x at 16, 6x at 200). */
+#define VI_FORCE_BLAS_N 8
 
 struct vi_spring {
   int type, i, j; /* 0-based coordinates; j = -1 is the ground */
@@ -156,6 +162,13 @@ void vi_force_add_accel(vi_sim *s, double t, const double *z, double *acc)
   double *g = s->fbuf + 2 * (size_t)n, *gq = g + n;
   if (force_eval(s, t, z, g)) return; /* the backend stops the run */
   const vi_model *m = s->m;
+  if (n >= VI_FORCE_BLAS_N) { /* acc += Psi (Psi^T g) */
+    cblas_dgemv(CblasColMajor, CblasTrans, n, n, 1.0, m->Psi, n, g, 1, 0.0,
+                gq, 1);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->Psi, n, gq, 1, 1.0,
+                acc, 1);
+    return;
+  }
   vi_matvec_t(n, m->Psi, g, gq); /* Psi^T g */
   for (int j = 0; j < n; j++) {
     const double *col = m->Psi + (size_t)j * (size_t)n;
@@ -170,7 +183,11 @@ void vi_force_modal(vi_sim *s, double t, const double *z, double *gq)
     memset(gq, 0, sizeof(double) * (size_t)s->n);
     return;
   }
-  vi_matvec_t(s->n, s->m->Psi, g, gq);
+  if (s->n >= VI_FORCE_BLAS_N)
+    cblas_dgemv(CblasColMajor, CblasTrans, s->n, s->n, 1.0, s->m->Psi, s->n,
+                g, 1, 0.0, gq, 1);
+  else
+    vi_matvec_t(s->n, s->m->Psi, g, gq);
 }
 
 /* Ax = M^-1 dg/dx, Av = M^-1 dg/dv at (t, z): the springs analytically,
@@ -236,8 +253,23 @@ int vi_force_jacobian(vi_sim *s, double t, const double *z, double **pAx,
       Gv[k] += Hv[k];
     }
   }
-  /* M^-1 G = Psi (Psi^T G), column by column */
+  /* M^-1 G = Psi (Psi^T G), BLAS-3: the outputs Ax, Av hold Psi^T G, the
+   * products go back into Gx, Gv and are copied out */
   const double *Psi = s->m->Psi;
+  if (!st && n >= VI_FORCE_BLAS_N) {
+    double *Tx = Ax, *Tv = Av;
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, n, n, n, 1.0, Psi, n,
+                Gx, n, 0.0, Tx, n);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, n, n, 1.0, Psi,
+                n, Tx, n, 0.0, Gx, n);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, n, n, n, 1.0, Psi, n,
+                Gv, n, 0.0, Tv, n);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, n, n, 1.0, Psi,
+                n, Tv, n, 0.0, Gv, n);
+    memcpy(Ax, Gx, sizeof(double) * nn);
+    memcpy(Av, Gv, sizeof(double) * nn);
+    return st;
+  }
   for (int c = 0; c < n && !st; c++) {
     vi_matvec_t(n, Psi, Gx + (size_t)c * n, g0);
     vi_matvec(n, Psi, g0, Ax + (size_t)c * n);

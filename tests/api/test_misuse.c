@@ -21,6 +21,158 @@
     assert_true(strlen(msg) > 0);       \
   } while (0)
 
+/* vi_sparse.h: the finite-element reduction, its CSC input and host modes. */
+static void test_fe_misuse(void **state)
+{
+  (void)state;
+  vi_fe *fe = NULL;
+  assert_err(vi_fe_create(0, &fe));
+  assert_null(fe);
+  assert_err(vi_fe_create(-3, &fe));
+  assert_err(vi_fe_create(3, NULL));
+  vi_fe_destroy(NULL);
+  vi_fe_destroy(&fe); /* NULL handle: no-op */
+  assert_string_equal(vi_fe_errmsg(NULL), "");
+  /* NULL handle everywhere */
+  int p[4] = {0, 2, 4, 5}, i[5] = {0, 1, 1, 2, 2}, dofs[1] = {2};
+  double v[5] = {2, -1, 2, -1, 1}, w[3] = {0, 0, 1}, q[3] = {0}, y[3];
+  assert_err(vi_fe_set_mass_csc(NULL, VI_CSC_LOWER, 0, p, i, v));
+  assert_err(vi_fe_set_stiffness_csc(NULL, VI_CSC_LOWER, 0, p, i, v));
+  assert_err(vi_fe_set_damping_csc(NULL, VI_CSC_LOWER, 0, p, i, v));
+  assert_err(vi_fe_set_rayleigh(NULL, 0.1, 0.1));
+  assert_err(vi_fe_set_modal_damping(NULL, 1, v));
+  assert_err(vi_fe_set_modes(NULL, 1));
+  assert_err(vi_fe_set_shift(NULL, 0.0));
+  assert_err(vi_fe_set_eigensolver(NULL, 0.0, 0, 0));
+  assert_err(vi_fe_set_memory_limit(NULL, 0));
+  assert_err(vi_fe_set_host_modes(NULL, 1, v, NULL, NULL, 0, 1, dofs, v, 1));
+  assert_err(vi_fe_add_stop(NULL, w, 0.0, 0.5));
+  assert_err(vi_fe_add_stop_dof(NULL, 0, 1, 0.0, 0.5));
+  assert_err(vi_fe_set_forcing(NULL, 1.0, w, NULL, NULL));
+  assert_err(vi_fe_set_outputs(NULL, 1, dofs));
+  assert_err(vi_fe_set_keep_shapes(NULL, 1));
+  assert_err(vi_fe_setup(NULL));
+  vi_model *m = NULL;
+  assert_err(vi_fe_create_model(NULL, &m));
+  assert_null(m);
+  assert_int_equal(vi_fe_n(NULL), 0);
+  assert_int_equal(vi_fe_num_modes(NULL), 0);
+  assert_int_equal(vi_fe_num_stops(NULL), 0);
+  assert_null(vi_fe_omega(NULL));
+  int ld = 7;
+  assert_null(vi_fe_modal_damping(NULL, &ld));
+  assert_int_equal(ld, 0);
+  assert_null(vi_fe_modal_stops(NULL, &ld));
+  assert_null(vi_fe_output_shapes(NULL, &ld));
+  assert_null(vi_fe_shapes(NULL, &ld));
+  assert_true(vi_fe_shift(NULL) == 0.0);
+  assert_true(vi_fe_residual(NULL) == 0.0);
+  double dyn, sta;
+  assert_err(vi_fe_stop_compliance(NULL, 0, &dyn, &sta));
+  int nnz;
+  const int *cp, *ri;
+  const double *vv;
+  assert_err(vi_fe_matrix_csc(NULL, VI_FE_MASS, &nnz, &cp, &ri, &vv));
+  assert_err(vi_fe_to_outputs(NULL, 1, q, 3, y, 3));
+  assert_err(vi_fe_to_modal(NULL, w, q));
+  int64_t bytes = 1;
+  assert_err(vi_fe_memory_estimate(0, 5, 1, 0, &bytes));
+  assert_int_equal(bytes, 0);
+  assert_err(vi_fe_memory_estimate(3, -1, 1, 0, &bytes));
+  assert_err(vi_fe_memory_estimate(3, 5, 4, 0, &bytes)); /* k > n */
+  assert_err(vi_fe_memory_estimate(3, 5, 1, 2, &bytes));
+  assert_err(vi_fe_memory_estimate(3, 5, 1, 0, NULL));
+  assert_int_equal(vi_fe_memory_estimate(3, 5, 1, 0, &bytes), VI_OK);
+  assert_true(bytes > 0);
+  /* vi_model_create_modal */
+  double om[2] = {1, 2}, zz[2] = {0.1, 0.1}, neg[2] = {-1, 2}, D[4] = {1, 0, 0, 1};
+  assert_err(vi_model_create_modal(0, om, NULL, NULL, 0, &m));
+  assert_err(vi_model_create_modal(2, NULL, NULL, NULL, 0, &m));
+  assert_err(vi_model_create_modal(2, neg, NULL, NULL, 0, &m));
+  assert_err(vi_model_create_modal(2, om, zz, D, 2, &m)); /* both */
+  assert_err(vi_model_create_modal(2, om, NULL, D, 1, &m)); /* ldd */
+  assert_err(vi_model_create_modal(2, om, neg, NULL, 0, &m));
+  double nan2[2] = {NAN, 1};
+  assert_err(vi_model_create_modal(2, nan2, NULL, NULL, 0, &m));
+  assert_err(vi_model_create_modal(2, om, NULL, NULL, 0, NULL));
+  assert_null(m);
+
+  /* a real handle: bad arguments, each with a message */
+  assert_int_equal(vi_fe_create(3, &fe), VI_OK);
+  assert_err_msg(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, NULL, i, v), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, p, NULL, v), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, p, i, NULL), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_mass_csc(fe, 7, 0, p, i, v), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, -1, p, i, v), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_stiffness_csc(fe, VI_CSC_FULL, 1, p, i, v), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_damping_csc(fe, VI_CSC_LOWER, 0, p, NULL, v), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_rayleigh(fe, -1.0, 0.0), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_rayleigh(fe, NAN, 0.0), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_modal_damping(fe, 0, v), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_modal_damping(fe, 1, NULL), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_modal_damping(fe, 2, neg), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_modes(fe, 0), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_modes(fe, 4), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_shift(fe, INFINITY), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_eigensolver(fe, -1.0, 0, 0), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_eigensolver(fe, 0.0, 4, 0), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_eigensolver(fe, 0.0, 0, -1), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_memory_limit(fe, -1), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_host_modes(fe, 0, v, NULL, NULL, 0, 1, dofs, v, 1), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_host_modes(fe, 1, NULL, NULL, NULL, 0, 1, dofs, v, 1), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_host_modes(fe, 1, v, NULL, NULL, 0, 2, dofs, v, 1), vi_fe_errmsg(fe));
+  int oor[1] = {3};
+  assert_err_msg(vi_fe_set_host_modes(fe, 1, v, NULL, NULL, 0, 1, oor, v, 1), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_host_modes(fe, 2, om, zz, D, 2, 1, dofs, v, 1), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_add_stop(fe, NULL, 0.0, 0.5), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_add_stop(fe, q, 0.0, 0.5), vi_fe_errmsg(fe)); /* zero */
+  assert_err_msg(vi_fe_add_stop(fe, w, 0.0, 1.5), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_add_stop(fe, w, NAN, 0.5), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_add_stop_dof(fe, 3, 1, 0.0, 0.5), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_add_stop_dof(fe, 0, 0, 0.0, 0.5), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_forcing(fe, 0.0, w, NULL, NULL), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_forcing(fe, -1.0, NULL, NULL, NULL), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_forcing(fe, NAN, NULL, NULL, w), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_outputs(fe, -1, dofs), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_outputs(fe, 1, NULL), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_outputs(fe, 1, oor), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_keep_shapes(fe, 2), vi_fe_errmsg(fe));
+  /* out of order: before setup */
+  assert_err_msg(vi_fe_setup(fe), vi_fe_errmsg(fe)); /* no matrices */
+  assert_int_equal(vi_fe_create_model(fe, &m), VI_ERR_STATE);
+  assert_err(vi_fe_create_model(fe, NULL));
+  assert_null(vi_fe_omega(fe));
+  assert_err(vi_fe_stop_compliance(fe, 0, &dyn, &sta));
+  assert_int_equal(vi_fe_matrix_csc(fe, VI_FE_MASS, &nnz, &cp, &ri, &vv), VI_ERR_STATE);
+  assert_null(cp);
+  assert_err(vi_fe_matrix_csc(fe, 5, &nnz, &cp, &ri, &vv));
+  assert_err(vi_fe_to_outputs(fe, 1, q, 3, y, 3));
+  assert_err(vi_fe_to_modal(fe, w, q));
+  /* set up a 3-dof chain, then misuse the frozen reduction */
+  assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, p, i, (double[]){1, 0, 1, 0, 1}), VI_OK);
+  assert_int_equal(vi_fe_set_stiffness_csc(fe, VI_CSC_LOWER, 0, p, i, v), VI_OK);
+  assert_int_equal(vi_fe_set_modes(fe, 3), VI_OK);
+  assert_int_equal(vi_fe_add_stop_dof(fe, 2, 1, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_fe_set_outputs(fe, 1, dofs), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_ERR_STATE);
+  assert_err_msg(vi_fe_set_modes(fe, 1), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_add_stop(fe, w, 0.0, 0.5), vi_fe_errmsg(fe));
+  assert_err(vi_fe_stop_compliance(fe, 1, &dyn, &sta));
+  assert_err(vi_fe_stop_compliance(fe, -1, &dyn, &sta));
+  assert_err(vi_fe_to_outputs(fe, -1, q, 3, y, 3));
+  assert_err(vi_fe_to_outputs(fe, 1, q, 2, y, 3)); /* ldq < k */
+  assert_err(vi_fe_to_outputs(fe, 1, q, 3, y, 0)); /* ldy < nout */
+  assert_err(vi_fe_to_outputs(fe, 1, q, 3, q, 3)); /* overlap */
+  assert_err(vi_fe_to_outputs(fe, 1, NULL, 3, y, 3));
+  assert_int_equal(vi_fe_to_modal(fe, w, q), VI_ERR_STATE); /* no shapes kept */
+  assert_err(vi_fe_to_modal(fe, w, NULL));
+  assert_int_equal(vi_fe_create_model(fe, &m), VI_OK);
+  vi_model_destroy(&m);
+  vi_fe_destroy(&fe);
+  assert_null(fe);
+}
+
 static void test_model_misuse(void **state)
 {
   (void)state;
@@ -948,6 +1100,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_model_misuse),
+      cmocka_unit_test(test_fe_misuse),
       cmocka_unit_test(test_sim_misuse),
       cmocka_unit_test(test_impact_flow_misuse),
       cmocka_unit_test(test_model_band_getters_misuse),

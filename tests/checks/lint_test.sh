@@ -43,6 +43,8 @@ files=(
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
   src/model/vi_param.c tests/model/test_param.c src/study/vi_sweep.c
   src/study/vi_cont.c tests/study/test_cont.c tests/study/test_basins.c src/io/vi_scene_param.c
+  src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c
+  bench/vi_bench_sparse.c examples/c/fe_host.c
 )
 # Headers whose findings count (a finding in another header is silent until
 # the header joins this list): a regex for clang-tidy's --header-filter.

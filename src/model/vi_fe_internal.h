@@ -1,0 +1,68 @@
+/* vi_fe_internal.h - the finite-element reduction's private structure
+ * (vi_sparse.h), shared by vi_sparse.c (storage, checks, projections) and
+ * vi_eigs.c (the sparse partial eigensolve); never installed. */
+#ifndef VI_FE_INTERNAL_H
+#define VI_FE_INTERNAL_H
+
+#include "vi_internal.h"
+#include "vibroimpact/vi_sparse.h"
+
+/* A symmetric matrix as stored: lower triangle with the diagonal, 0-based,
+ * rows strictly increasing in each column (CHOLMOD's stype -1 form). */
+typedef struct vi_csc {
+  int nnz;
+  int *colptr, *rowind; /* [n + 1], [nnz]; NULL: not set */
+  double *val;          /* [nnz] */
+} vi_csc;
+
+enum { VI_FE_SRC_NONE = 0, VI_FE_SRC_SPARSE = 1, VI_FE_SRC_HOST = 2 };
+enum { VI_FE_DAMP_NONE = 0, VI_FE_DAMP_C = 1, VI_FE_DAMP_RAYLEIGH = 2,
+       VI_FE_DAMP_ZETA = 3, VI_FE_DAMP_HOST_D = 4 };
+
+struct vi_fe {
+  int n, k, frozen, source;
+  vi_csc mat[3];            /* VI_FE_MASS, VI_FE_DAMPING, VI_FE_STIFFNESS */
+  int damping;              /* VI_FE_DAMP_* */
+  double alpha, beta;       /* Rayleigh */
+  int nzeta;                /* 1 or k ratios in zeta */
+  double *zeta_in;
+  double *Dhost;            /* host's modal D [k x k] */
+  int shift_set;
+  double sigma_in, tol;
+  int ncv, maxit, keep;
+  int64_t mem_limit;
+  /* host modes: omega_in [k], rows [nrows], Prow [nrows x k] */
+  double *omega_in;
+  int nrows;
+  int *rows, *rowpos;       /* rowpos [n]: dof -> row in Prow, -1 absent */
+  double *Prow;
+  /* stops: W [n x ns_cap], x_s, r [ns_cap] */
+  int ns, ns_cap;
+  double *W, *xs, *r;
+  /* forcing: a, b, f0 [n] each, NULL when zero */
+  double omega_f;
+  double *fa, *fb, *f0;
+  int nout;
+  int *outs;
+  /* results of setup */
+  double *omega, *lambda;   /* [k] */
+  double *D;                /* [k x k] */
+  double *PsiW;             /* [k x ns] */
+  double *Fa, *Fb, *F0;     /* [k] */
+  double *Pout;             /* [nout x k] */
+  double *Psi;              /* [n x k] when kept */
+  double *wMw, *wKw;        /* [ns] */
+  double shift, resid;
+  char errmsg[VI_MSG_LEN];
+};
+
+/* y = A x for a stored symmetric matrix (lower triangle). */
+void vi_csc_symv(int n, const vi_csc *A, const double *x, double *y);
+
+/* The sparse path of vi_fe_setup (vi_eigs.c): factorise, solve for the k
+ * lowest modes, and fill fe->omega, fe->lambda, the stops' compliances and
+ * *Psi [n x k] (allocated, mass-normalised, ascending, signed: the caller
+ * frees it), fe->shift, fe->resid. */
+int vi_fe_eigs(vi_fe *fe, double **Psi);
+
+#endif
