@@ -115,13 +115,19 @@ static int make_study(const vi_diagram *sw, vi_sweep **out, char *err, int len)
   double t0;
   int n = sw->N;
   double *x = malloc(sizeof(double) * 2 * (size_t)n);
+  vi_sim *s = NULL;
   if (!x || vi_sweep_create(sw->model, out) || !*out) {
     free(x);
     msg(err, len, "out of memory");
     return 1;
   }
-  vi_scene_initial(sw->sc, &t0, x, x + n);
-  int st = vi_sweep_set_initial(*out, t0, x, x + n);
+  /* the initial state the scene gives its model (projected onto the modes
+   * of a finite-element scene), read back from a sim it configured */
+  int st = vi_sim_create(sw->model, &s);
+  if (!st) st = vi_scene_configure_sim(sw->sc, s, NULL);
+  if (!st) st = vi_sim_state(s, &t0, x, x + n);
+  vi_sim_destroy(&s);
+  if (!st) st = vi_sweep_set_initial(*out, t0, x, x + n);
   free(x);
   if (!st) st = vi_sweep_set_periods(*out, sp->transient, sp->record);
   if (!st) st = vi_sweep_set_classify(*out, sp->tol, sp->nmax);

@@ -2,7 +2,7 @@
  * Scene keys as parameters (vi_param.h): part of the companion library
  * vibroimpact_io.  A study changes a parameter on its model (no scene text
  * is rewritten, no model rebuilt); this maps the scene's own key onto the
- * parameter key and gives the scene's initial state to a study.
+ * parameter key.
  *
  *   scene key                          parameter key
  *   forcing.omega, forcing.a[i], forcing.b[i], forcing.f0[i]   the same
@@ -29,10 +29,6 @@ extern "C" {
  *  (len too small). */
 VI_API int vi_scene_param_key(const vi_scene *sc, const char *key, char *out,
                               int len, vi_diag *diag);
-/** The scene's initial state: *t0, x [n], v [n] (n = vi_scene_n; each may
- *  be NULL).  @return VI_OK, VI_ERR_ARG. */
-VI_API int vi_scene_initial(const vi_scene *sc, double *t0, double *x,
-                            double *v);
 
 #ifdef __cplusplus
 }

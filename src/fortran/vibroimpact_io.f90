@@ -33,8 +33,7 @@ module vibroimpact_io
             vi_scene_method, vi_scene_samples_per_period, vi_scene_outputs, &
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
-            vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_param_key, &
-            vi_scene_initial
+            vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_param_key
   public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
@@ -165,11 +164,6 @@ module vibroimpact_io
       character(kind=c_char), intent(out) :: out(*)
       integer(c_int), value :: len
       type(vi_diag), optional :: diag
-    end function
-    integer(c_int) function vi_scene_initial(scene, t0, x, v) bind(C, name="vi_scene_initial")
-      import :: c_int, c_ptr, c_double
-      type(c_ptr), value :: scene
-      real(c_double), intent(out), optional :: t0, x(*), v(*)
     end function
     type(c_ptr) function vi_scene_name(scene) bind(C, name="vi_scene_name")
       import :: c_ptr

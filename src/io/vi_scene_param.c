@@ -1,5 +1,5 @@
 /* vi_scene_param.c - scene keys as the parameters of vi_param.h: the few
- * keys whose names differ, and the scene's initial state for a study. */
+ * keys whose names differ. */
 #include <stdio.h>
 #include <string.h>
 
@@ -39,14 +39,5 @@ int vi_scene_param_key(const vi_scene *sc, const char *key, char *out,
     return vi_diag_set(d, sc->file, VI_ERR_LIMIT, 0, 0, key, "", "%s",
                        "the parameter key does not fit the buffer");
   snprintf(out, (size_t)len, "%s", p);
-  return VI_OK;
-}
-
-int vi_scene_initial(const vi_scene *sc, double *t0, double *x, double *v)
-{
-  if (!sc) return VI_ERR_ARG;
-  if (t0) *t0 = sc->t0;
-  if (x) memcpy(x, sc->x0, sizeof(double) * (size_t)sc->n);
-  if (v) memcpy(v, sc->v0, sizeof(double) * (size_t)sc->n);
   return VI_OK;
 }
