@@ -23,6 +23,8 @@ typedef struct app_opts {
   int64_t max_scene_bytes; /* limits (0: the library's defaults) */
   int max_depth;
   double max_memory;  /* bytes; 0: what the machine has available */
+  int modes_lo, modes_hi; /* truncation --modes A..B (0: the defaults) */
+  int modes_ref;          /* truncation --reference N (0: the default) */
 } app_opts;
 
 /* One subcommand: `vibroimpact NAME ...`.  The table in vibroimpact.c is
@@ -50,6 +52,7 @@ typedef struct app_writer_api {
   int (*finish)(vi_writer *, int);
   void (*abort)(vi_writer **);
   const char *(*errmsg)(const vi_writer *);
+  int (*fe_shapes)(vi_writer *, const vi_fe *);
 } app_writer_api;
 /* The writer's functions; NULL (with a message printed) if the library
  * cannot be loaded. */
@@ -86,5 +89,8 @@ int vi_app_parse(int argc, char **argv, app_opts *o, const app_cmd **cmd);
 
 int vi_cmd_run(const app_opts *o);
 int vi_cmd_energy(const app_opts *o);
+int vi_cmd_truncation(const app_opts *o);
+/* `vibroimpact identify` parses its own arguments (vi_cmd_identify.c). */
+int vi_cmd_identify_main(int argc, char **argv);
 
 #endif

@@ -62,6 +62,7 @@ const app_writer_api *vi_app_writer(void)
   SYM(finish, "vi_writer_finish");
   SYM(abort, "vi_writer_abort");
   SYM(errmsg, "vi_writer_errmsg");
+  SYM(fe_shapes, "vi_writer_fe_shapes");
 #undef SYM
   state = 1;
   return &api;

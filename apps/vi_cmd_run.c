@@ -134,12 +134,19 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
             "analysis; highest frequency <= %.6g\n", vi_model_bandwidth(m),
             vi_model_omega_bound(m));
   }
-  fprintf(f, "  run       t = %g .. %g (%.6g forcing periods), method %s, "
-          "rtol %g, atol %g\n", c->t0, c->t_end, (c->t_end - c->t0) / period,
-          used ? used : "?", vi_scene_rtol(sc), vi_scene_atol(sc));
+  int forced = vi_model_omega_forcing(m) > 0; /* else: free motion */
+  char span[64] = "free motion";
+  if (forced)
+    snprintf(span, sizeof span, "%.6g forcing periods",
+             (c->t_end - c->t0) / period);
+  fprintf(f, "  run       t = %g .. %g (%s), method %s, rtol %g, atol %g\n",
+          c->t0, c->t_end, span, used ? used : "?", vi_scene_rtol(sc),
+          vi_scene_atol(sc));
   if (note && note[0]) fprintf(f, "  method    %s\n", note);
-  fprintf(f, "  impacts   %lld (%.4f per forcing period)", (long long)c->impacts,
-          c->impacts / ((c->t_end - c->t0) / period));
+  fprintf(f, "  impacts   %lld", (long long)c->impacts);
+  if (forced)
+    fprintf(f, " (%.4f per forcing period)",
+            c->impacts / ((c->t_end - c->t0) / period));
   if (c->impacts)
     fprintf(f, "; last at t = %.10g, v_n = %.10g", c->t_last, c->vn_last);
   fputc('\n', f);
@@ -216,6 +223,21 @@ int vi_cmd_run(const app_opts *o)
                            vi_scene_method(sc))) {
       fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
       goto done;
+    }
+    if (outs & VI_SCENE_OUT_SHAPES) {
+      /* the full Psi only when asked: the reduction is solved again with
+       * its shapes kept (the model made above kept none) */
+      vi_fe *fe = NULL;
+      int fst = vi_scene_create_fe(sc, 0, 1, &fe, &d), wst = VI_OK;
+      if (fst)
+        vi_app_print_diag(&d, fst);
+      else if ((wst = c.wa->fe_shapes(c.w, fe)))
+        fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
+      vi_fe_destroy(&fe);
+      if (fst || wst) {
+        rc = fst && fst != VI_ERR_NOMEM ? 2 : 1;
+        goto done;
+      }
     }
   }
   if (o->csv) {

@@ -31,6 +31,9 @@ static const app_cmd cmds[] = {
      "P(1,1) energy balance (WB 11-13)"},
     {"restitution", cmd_restitution, "--re RE --ke KE_I",
      "r = sqrt(1 - RE/KE_i) (WB 13)"},
+    {"truncation", vi_cmd_truncation,
+     "[SCENE.yaml] [--modes A..B] [--reference N] [--json]",
+     "how many modes: compliance carried, response and r_S per k"},
 };
 enum { NCMD = sizeof cmds / sizeof cmds[0] };
 
@@ -84,7 +87,9 @@ static void usage(FILE *f)
              "       vibroimpact basins [SCENE.yaml] --param KEY ... --param2 KEY2 ...\n"
              "         basins of attraction (vibroimpact basins --help)\n"
              "       vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json]\n"
-             "         P(n,m) orbits by Newton, stable or not (--help)\n");
+             "         P(n,m) orbits by Newton, stable or not (--help)\n"
+             "       vibroimpact identify SCENE.yaml --data REC.csv --fit KEY[,KEY...]\n"
+             "         parameters from a recorded response (--help)\n");
   fprintf(f,
     "With no scene: the embedded default, Wagg & Bishop (2000) Fig. 2.\n\n"
     "  -o, --output FILE   write the run to an HDF5 file (FILE.part until "
@@ -97,7 +102,10 @@ static void usage(FILE *f)
   for (int m = 0; vi_method_name(m); m++)
     fprintf(f, "%s%s", m ? ", " : "", vi_method_name(m));
   fprintf(f, "\n"
-    "  --json              (energy) print one JSON object\n"
+    "  --json              (energy, truncation) print one JSON object\n"
+    "  --modes A..B        (truncation) kept modes studied, or K for 1..K\n"
+    "  --reference N       (truncation) modes of the reference model (FE\n"
+    "                      scenes; default max(2B, B + 20))\n"
     "  --set KEY=VALUE     override a scene key, e.g. --set forcing.omega=0.95\n"
     "  --quiet             no summary and no progress bar\n"
     "  --max-scene-size B  largest scene file read (default %lld bytes)\n"
@@ -261,7 +269,7 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
       return 2;
     }
   }
-  enum { O_MAXSIZE = 256, O_MAXDEPTH, O_MAXMEM };
+  enum { O_MAXSIZE = 256, O_MAXDEPTH, O_MAXMEM, O_MODES, O_REF };
   static const struct option lo[] = {
       {"output", required_argument, 0, 'o'}, {"impacts-csv", required_argument, 0, 'c'},
       {"periods", required_argument, 0, 'p'}, {"rtol", required_argument, 0, 'r'},
@@ -271,6 +279,8 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
       {"max-scene-size", required_argument, 0, O_MAXSIZE},
       {"max-depth", required_argument, 0, O_MAXDEPTH},
       {"max-memory", required_argument, 0, O_MAXMEM},
+      {"modes", required_argument, 0, O_MODES},
+      {"reference", required_argument, 0, O_REF},
       {"version", no_argument, 0, 'V'},      {"help", no_argument, 0, 'h'},
       {0, 0, 0, 0}};
   int c;
@@ -318,6 +328,29 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
     case O_MAXMEM:
       if (!bytes("--max-memory", optarg, &o.max_memory)) return 2;
       break;
+    case O_MODES: { /* K (= 1..K) or A..B */
+      char *end;
+      const char *dots = strstr(optarg, "..");
+      long a = strtol(optarg, &end, 10), b = a;
+      if (dots && end == dots) b = strtol(dots + 2, &end, 10);
+      if (end == optarg || *end || a < 1 || b < a || b > 100000) {
+        fprintf(stderr, "vibroimpact: --modes: '%s' is not K or A..B with "
+                "1 <= A <= B <= 100000\n", optarg);
+        return 2;
+      }
+      o.modes_lo = dots ? (int)a : 1;
+      o.modes_hi = (int)b;
+      break;
+    }
+    case O_REF:
+      if (!num("--reference", optarg, &v)) return 2;
+      if (!(v >= 1 && v <= 100000) || v != floor(v)) {
+        fprintf(stderr, "vibroimpact: --reference must be a whole number in "
+                "[1, 100000]\n");
+        return 2;
+      }
+      o.modes_ref = (int)v;
+      break;
     case 'V':
       printf("vibroimpact %s (SUNDIALS %s)\n", vi_version_string(), vi_sundials_version());
       return 0;
@@ -363,6 +396,8 @@ int main(int argc, char **argv)
   if (argc > 1 && (!strcmp(argv[1], "sweep") || !strcmp(argv[1], "basins")))
     return vi_sweep_exec(argc - 1, argv + 1);
   if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
+  if (argc > 1 && !strcmp(argv[1], "identify"))
+    return close_stdout(vi_cmd_identify_main(argc - 1, argv + 1));
   if ((argc = vi_sets_take(argc, argv)) < 0) {
     fprintf(stderr, "vibroimpact: --set needs KEY=VALUE\n");
     return 2;

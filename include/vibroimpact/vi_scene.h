@@ -12,17 +12,24 @@
  *                  | cantilever: {modes, omega1, zeta, xi_stop}
  *            rayleigh: {alpha, beta}            (C = alpha M + beta K)
  *   forcing: {omega, a, b, f0}  vectors of length n, omitted = 0;
- *            or {omega, on: [mass indices, 1-based], amplitude}
- *            or, for a cantilever, {omega, base: A} (base acceleration)
- *   stop:    {w: [...] | mass: j (1-based), xs, r}
+ *            or {omega, on: [coordinate indices, 1-based], amplitude}
+ *            (any model: a builder's coordinates are its own, a
+ *            cantilever's its modal ones)
+ *            or, for a cantilever, {omega, base: A} (base acceleration);
+ *            the whole section may be left out (free motion: give t_end)
+ *   stop:    {w: [...] | dof: j (1-based; `mass: j` is a synonym),
+ *            direction: +1 | -1 (with dof: w = +-e_j, default +1), xs, r}
  *   stops:   a list of stops as stop: takes one, instead of stop: (several
  *            stops, vi_model_add_stop order: the first is stop 0; on a
  *            cantilever a stop without w or mass is at the tip)
- *   initial: {t0, x, v}
+ *   initial: {t0, x, v}  x, v lists of n numbers, or one number for every
+ *            coordinate
  *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
  *   output:  {impacts: bool (default true), samples_per_period: int
  *             (default 0), ledger: bool (false), modes: bool (false: no
- *             /modal group), compress: bool (true: deflate the trajectory)}
+ *             /modal group), compress: bool (true: deflate the trajectory),
+ *             shapes: bool (false: no /fe/Psi, the full mode shapes of a
+ *             model.matrix_market)}
  *   springs: a list of built-in nonlinear springs (vi_force.h) between
  *            coordinates i and j (1-based; j = 0, the default, is the
  *            ground): {type: cubic, i, j, k3} (force k3 (x_i - x_j)^3) or
@@ -49,6 +56,7 @@
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_model.h"
 #include "vibroimpact/vi_sim.h"
+#include "vibroimpact/vi_sparse.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -110,8 +118,22 @@ VI_API void vi_scene_destroy(vi_scene **scene);
  *  back in diag with the scene's key and line. */
 VI_API int vi_scene_create_model(const vi_scene *sc, vi_model **out,
                                  vi_diag *diag);
+/** The reduction of a model.matrix_market scene (vi_sparse.h), set up:
+ *  its Matrix Market files read (vi_mmio.h), the scene's damping, stops
+ *  and forcing given, `modes` lowest modes solved (0: the scene's
+ *  model.modes; more than a per-mode model.zeta list covers is refused),
+ *  the full Psi kept when keep is 1.  For studies across the number of
+ *  modes (vibroimpact truncation) and the frequencies, compliances and
+ *  shapes the model itself does not hold.  *out is NULL on failure.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_UNSUPPORTED (another kind of model),
+ *  VI_ERR_DIM, the reader's codes (diag naming the matrix file and line)
+ *  and vi_fe_setup's (diag naming the scene's key). */
+VI_API int vi_scene_create_fe(const vi_scene *sc, int modes, int keep,
+                              vi_fe **out, vi_diag *diag);
 /** Bytes the scene's model and a simulation of it need (an estimate
- *  measured on chains, dense storage); 0 for NULL. */
+ *  measured on chains, dense storage; for a model.matrix_market, the
+ *  files read, the reduction before its sparse factor
+ *  (vi_fe_memory_estimate) and the modal model's run); 0 for NULL. */
 VI_API double vi_scene_memory_estimate(const vi_scene *sc);
 /** Compare vi_scene_memory_estimate with max_bytes (<= 0: MemAvailable of
  *  /proc/meminfo; no check when that is unknown), before anything is
@@ -130,8 +152,18 @@ VI_API int vi_scene_configure_sim(const vi_scene *sc, vi_sim *sim,
 VI_API const char *vi_scene_name(const vi_scene *sc);
 /** The YAML text as read; owned by the scene. */
 VI_API const char *vi_scene_text(const vi_scene *sc);
-/** Number of coordinates of the scene's model. */
+/** Number of coordinates of the scene's model (the kept modes of a
+ *  model.matrix_market). */
 VI_API int vi_scene_n(const vi_scene *sc);
+/** Number of physical coordinates (dofs) the scene's vectors have: the
+ *  Matrix Market files' size for a model.matrix_market, else as
+ *  vi_scene_n. */
+VI_API int vi_scene_dofs(const vi_scene *sc);
+/** The scene's initial state as written: x0 and v0 [vi_scene_dofs] (either
+ *  may be NULL), physical coordinates (a model.matrix_market's dofs; its
+ *  model starts from their projection onto the modes).  @return VI_OK,
+ *  VI_ERR_ARG (NULL scene). */
+VI_API int vi_scene_initial(const vi_scene *sc, double *x0, double *v0);
 /** Initial time (initial.t0, default 0). */
 VI_API double vi_scene_t0(const vi_scene *sc);
 /** End time: run.t_end, or t0 + periods 2 pi / omega (default 100 periods). */
@@ -149,7 +181,9 @@ typedef enum vi_scene_output {
   VI_SCENE_OUT_IMPACTS = 1,  /**< output.impacts (default on): /impacts */
   VI_SCENE_OUT_LEDGER = 2,   /**< output.ledger: the energy ledger, /ledger */
   VI_SCENE_OUT_MODES = 4,    /**< output.modes: the /modal group */
-  VI_SCENE_OUT_COMPRESS = 8  /**< output.compress (default on): deflate */
+  VI_SCENE_OUT_COMPRESS = 8, /**< output.compress (default on): deflate */
+  VI_SCENE_OUT_SHAPES = 16   /**< output.shapes: the kept modes' full Psi
+                                  of a model.matrix_market (/fe/Psi) */
 } vi_scene_output;
 /** The scene's outputs: an OR of vi_scene_output bits; 0 for NULL.  Test
  *  one with `vi_scene_outputs(sc) & VI_SCENE_OUT_LEDGER`. */

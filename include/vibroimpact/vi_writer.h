@@ -24,6 +24,7 @@
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_sim.h"
+#include "vibroimpact/vi_sparse.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -51,10 +52,23 @@ VI_API int vi_writer_create(const char *path, const vi_model *model,
                             int compress, vi_writer **out, vi_diag *diag);
 /** Write the root attributes (creator, tolerances, method), the scene text
  *  (dataset /scene), /model and, when the scene's output.modes is true or
- *  scene is NULL, /modal.  @return VI_OK, VI_ERR_IO, VI_ERR_ARG (unknown
+ *  scene is NULL, /modal; for a model.matrix_market scene also /fe with
+ *  its sparse M, K (and C) read from the scene's files (CSC, lower
+ *  triangle; the run's /model is then the k-mode reduction).  @return VI_OK, VI_ERR_IO, VI_ERR_ARG (unknown
  *  method, tolerances not > 0), VI_ERR_DIM (a scene of another n). */
 VI_API int vi_writer_write_header(vi_writer *w, const vi_scene *scene,
                                   double rtol, double atol, int method);
+/** Write the kept mode shapes of a finite-element reduction to /fe: Psi
+ *  [n][k] (row i = dof i, column j = mode j, x = Psi q) and omega [k].
+ *  Only when asked (the scene's output.shapes; `vibroimpact run` calls
+ *  it): a 1e5-dof, 20-mode Psi is 16 MB, the rest of such a file a few kB
+ *  plus the sparse matrices (vi_writer_write_header writes those, M, K and
+ *  C as CSC, for a model.matrix_market scene).  fe must have kept its
+ *  shapes (vi_fe_set_keep_shapes, or vi_scene_create_fe with keep 1) and
+ *  have as many modes as the writer's model has coordinates.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (no full Psi), VI_ERR_DIM,
+ *  VI_ERR_IO. */
+VI_API int vi_writer_fe_shapes(vi_writer *w, const vi_fe *fe);
 /** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...). */
 VI_API int vi_writer_event(vi_writer *w, const vi_event *ev);
 /** Append one sample at t (x, v [n]) to /trajectory, with its modal

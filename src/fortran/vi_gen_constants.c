@@ -8,6 +8,7 @@
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_mmio.h"
 
 static void constant(FILE *f, const char *name, long value)
 {
@@ -41,6 +42,9 @@ int main(int argc, char **argv)
   K_(VI_STAT_COUNT);
   K_(VI_SPRING_CUBIC); K_(VI_SPRING_BILINEAR);
   K_(VI_ORBIT_PARAM_OMEGA); K_(VI_ORBIT_PARAM_XS); K_(VI_ORBIT_PARAM_R);
+  K_(VI_IDENTIFY_OMEGA); K_(VI_IDENTIFY_XS); K_(VI_IDENTIFY_R);
+  K_(VI_IDENTIFY_OTHER); K_(VI_IDENTIFY_ON_BOUND);
+  K_(VI_IDENTIFY_UNDETERMINED); K_(VI_IDENTIFY_CORRELATED);
   K_(VI_CSC_FULL); K_(VI_CSC_LOWER);
   K_(VI_FE_MASS); K_(VI_FE_DAMPING); K_(VI_FE_STIFFNESS);
   /* Fortran is case-insensitive: VI_VERSION_NUMBER would clash with the
@@ -64,7 +68,8 @@ int main(int argc, char **argv)
     constant(f, "VI_C_SIZEOF_DIAG", (long)sizeof d);
   }
   K_(VI_SCENE_OUT_IMPACTS); K_(VI_SCENE_OUT_LEDGER); K_(VI_SCENE_OUT_MODES);
-  K_(VI_SCENE_OUT_COMPRESS);
+  K_(VI_SCENE_OUT_COMPRESS); K_(VI_SCENE_OUT_SHAPES);
+  K_(VI_MM_MAX_LINE);
 #undef K_
   return fclose(f) != 0;
 }

@@ -84,6 +84,13 @@ module vibroimpact
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
   public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
             vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
+  public :: vi_identify_create, vi_identify_destroy, vi_identify_errmsg, &
+            vi_identify_set_param, vi_identify_set_param_key, vi_identify_set_builder, &
+            vi_identify_set_observation, vi_identify_set_shift, vi_identify_set_noise, &
+            vi_identify_set_data, vi_identify_run, vi_identify_params, vi_identify_shift, &
+            vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
+            vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution, &
+            vi_identify_set_stable_only, vi_identify_stability
   public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
             vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
             vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
@@ -911,6 +918,140 @@ module vibroimpact
     end function
     ! ---- parameters by key (vi_param.h); keys are C strings,
     ! e.g. 'forcing.omega'//c_null_char, with 1-based indices 'forcing.a[1]'
+    ! ---- identification (vi_identify.h) ----------------------------------------
+    integer(c_int) function vi_identify_create(model, np, id) bind(C, name="vi_identify_create")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      integer(c_int), value :: np
+      type(c_ptr) :: id
+    end function
+    subroutine vi_identify_destroy(id) bind(C, name="vi_identify_destroy")
+      import :: c_ptr
+      type(c_ptr) :: id
+    end subroutine
+    type(c_ptr) function vi_identify_errmsg(id) bind(C, name="vi_identify_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: id
+    end function
+    !> j, k 0-based as in C
+    integer(c_int) function vi_identify_set_param(id, j, kind, k, p0, lo, hi) &
+        bind(C, name="vi_identify_set_param")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: j, kind, k
+      real(c_double), value :: p0, lo, hi
+    end function
+    !> key NUL-terminated (vi_chars or // c_null_char)
+    integer(c_int) function vi_identify_set_param_key(id, j, key, lo, hi) &
+        bind(C, name="vi_identify_set_param_key")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: j
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), value :: lo, hi
+    end function
+    integer(c_int) function vi_identify_set_builder(id, fn, user, destroy) &
+        bind(C, name="vi_identify_set_builder")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: id, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> c [n], or c_null_ptr through an optional absent argument: stop 0's w
+    integer(c_int) function vi_identify_set_observation(id, c) &
+        bind(C, name="vi_identify_set_observation")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), intent(in), optional :: c(*)
+    end function
+    integer(c_int) function vi_identify_set_shift(id, fit, t0) bind(C, name="vi_identify_set_shift")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: fit
+      real(c_double), value :: t0
+    end function
+    integer(c_int) function vi_identify_set_noise(id, sigma) bind(C, name="vi_identify_set_noise")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), value :: sigma
+    end function
+    !> t, x [ns]; v [ns] optional
+    integer(c_int) function vi_identify_set_data(id, ns, t, x, v) bind(C, name="vi_identify_set_data")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: ns
+      real(c_double), intent(in) :: t(*), x(*)
+      real(c_double), intent(in), optional :: v(*)
+    end function
+    integer(c_int) function vi_identify_run(id) bind(C, name="vi_identify_run")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: id
+    end function
+    !> arrays [np], each optional
+    integer(c_int) function vi_identify_params(id, p, se, lo95, hi95, flags) &
+        bind(C, name="vi_identify_params")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), optional :: p(*), se(*), lo95(*), hi95(*)
+      integer(c_int), optional :: flags(*)
+    end function
+    integer(c_int) function vi_identify_shift(id, t0, se) bind(C, name="vi_identify_shift")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), optional :: t0, se
+    end function
+    !> R [ld x np]
+    integer(c_int) function vi_identify_correlation(id, r, ld) bind(C, name="vi_identify_correlation")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double) :: r(*)
+      integer(c_int), value :: ld
+    end function
+    integer(c_int) function vi_identify_summary(id, converged, iterations, rms, noise, &
+        rcond, n, m) bind(C, name="vi_identify_summary")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), optional :: converged, iterations, n, m
+      real(c_double), optional :: rms, noise, rcond
+    end function
+    integer(c_int) function vi_identify_set_stable_only(id, on) &
+        bind(C, name="vi_identify_set_stable_only")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: id
+      integer(c_int), value :: on
+    end function
+    integer(c_int) function vi_identify_stability(id, mu) bind(C, name="vi_identify_stability")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double) :: mu
+    end function
+    integer(c_int) function vi_identify_nparams(id) bind(C, name="vi_identify_nparams")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: id
+    end function
+    !> t [m]
+    integer(c_int) function vi_identify_orbit_period(id, period, t) &
+        bind(C, name="vi_identify_orbit_period")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), optional :: period, t(*)
+    end function
+    !> t, x [nt]; v [nt] optional
+    integer(c_int) function vi_identify_response(id, nt, t, x, v) bind(C, name="vi_identify_response")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: nt
+      real(c_double), intent(in) :: t(*)
+      real(c_double) :: x(*)
+      real(c_double), optional :: v(*)
+    end function
+    integer(c_int) function vi_identify_energy_restitution(id, r12, vn, ke, re) &
+        bind(C, name="vi_identify_energy_restitution")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), optional :: r12, vn, ke, re
+    end function
+    ! ---- parameters by key (vi_param.h); keys are C strings,
+    ! e.g. 'forcing.omega'//c_null_char, with 1-based indices 'forcing.a[1]'
     integer(c_int) function vi_model_set_param(model, key, val) &
         bind(C, name="vi_model_set_param")
       import :: c_int, c_ptr, c_char, c_double
@@ -1174,6 +1315,7 @@ module vibroimpact
       integer(c_int), intent(out), optional :: type, admissible
       real(c_double), intent(out), optional :: param, vn, re, im
     end function
+
     ! ---- finite-element structures in (vi_sparse.h) --------------------------
     ! CSC arrays pass unchanged with base = 1; dof indices (vi_fe_add_stop_dof,
     ! vi_fe_set_outputs, vi_fe_set_host_modes' rows) are 0-based: subtract 1.

@@ -33,14 +33,20 @@ module vibroimpact_io
             vi_scene_method, vi_scene_samples_per_period, vi_scene_outputs, &
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
-            vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_param_key
+            vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
+            vi_scene_create_fe, vi_scene_initial, &
+            vi_scene_param_key
   public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
+  public :: vi_identify_write_h5
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
-            vi_output_resolve, vi_writer_run_info, vi_writer_finish
+            vi_output_resolve, vi_writer_run_info, vi_writer_finish, vi_writer_fe_shapes
+  public :: vi_mm_read_header, vi_mm_load, vi_mm_load_limited, vi_mm_destroy, &
+            vi_mm_rows, vi_mm_cols, vi_mm_nnz, vi_mm_storage_kind, vi_mm_colptr, &
+            vi_mm_rowind, vi_mm_values
 
   interface
     ! ---- scenes ---------------------------------------------------------------
@@ -177,6 +183,26 @@ module vibroimpact_io
       import :: c_int, c_ptr
       type(c_ptr), value :: scene
     end function
+    !> x0, v0(vi_scene_dofs(scene)), each optional
+    integer(c_int) function vi_scene_initial(scene, x0, v0) bind(C, name="vi_scene_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: scene
+      real(c_double), optional :: x0(*), v0(*)
+    end function
+    integer(c_int) function vi_scene_dofs(scene) bind(C, name="vi_scene_dofs")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+    end function
+    !> modes 0: the scene's model.modes; keep 1: the full Psi; fe receives
+    !> the set-up reduction (module vibroimpact's vi_fe_* routines)
+    integer(c_int) function vi_scene_create_fe(scene, modes, keep, fe, diag) &
+        bind(C, name="vi_scene_create_fe")
+      import :: c_int, c_ptr, vi_diag
+      type(c_ptr), value :: scene
+      integer(c_int), value :: modes, keep
+      type(c_ptr) :: fe
+      type(vi_diag), optional :: diag
+    end function
     real(c_double) function vi_scene_t0(scene) bind(C, name="vi_scene_t0")
       import :: c_double, c_ptr
       type(c_ptr), value :: scene
@@ -294,9 +320,87 @@ module vibroimpact_io
       import :: c_ptr
       type(c_ptr) :: writer
     end subroutine
+    !> t, x [ns]; path, keys NUL-terminated (keys optional)
+    integer(c_int) function vi_identify_write_h5(path, id, keys, ns, t, x, diag) &
+        bind(C, name="vi_identify_write_h5")
+      import :: c_int, c_ptr, c_char, c_double, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), value :: id
+      character(kind=c_char), intent(in), optional :: keys(*)
+      integer(c_int), value :: ns
+      real(c_double), intent(in) :: t(*), x(*)
+      type(vi_diag), optional :: diag
+    end function
     type(c_ptr) function vi_writer_errmsg(writer) bind(C, name="vi_writer_errmsg")
       import :: c_ptr
       type(c_ptr), value :: writer
+    end function
+    !> fe: a set-up vi_fe that kept its shapes (module vibroimpact)
+    integer(c_int) function vi_writer_fe_shapes(writer, fe) bind(C, name="vi_writer_fe_shapes")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: writer, fe
+    end function
+    ! ---- Matrix Market files (vi_mmio.h) ------------------------------------
+    !> path: 'K.mtx'//c_null_char; rows, cols, entries, symmetric optional
+    integer(c_int) function vi_mm_read_header(path, rows, cols, entries, symmetric, diag) &
+        bind(C, name="vi_mm_read_header")
+      import :: c_int, c_int64_t, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), optional :: rows, cols, symmetric
+      integer(c_int64_t), optional :: entries
+      type(vi_diag), optional :: diag
+    end function
+    !> storage: VI_CSC_LOWER or VI_CSC_FULL; mm receives the handle
+    integer(c_int) function vi_mm_load(path, storage, mm, diag) bind(C, name="vi_mm_load")
+      import :: c_int, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: storage
+      type(c_ptr) :: mm
+      type(vi_diag), optional :: diag
+    end function
+    !> max_bytes <= 0: no limit
+    integer(c_int) function vi_mm_load_limited(path, storage, max_bytes, mm, diag) &
+        bind(C, name="vi_mm_load_limited")
+      import :: c_int, c_double, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: storage
+      real(c_double), value :: max_bytes
+      type(c_ptr) :: mm
+      type(vi_diag), optional :: diag
+    end function
+    subroutine vi_mm_destroy(mm) bind(C, name="vi_mm_destroy")
+      import :: c_ptr
+      type(c_ptr) :: mm
+    end subroutine
+    integer(c_int) function vi_mm_rows(mm) bind(C, name="vi_mm_rows")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    integer(c_int) function vi_mm_cols(mm) bind(C, name="vi_mm_cols")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    integer(c_int) function vi_mm_nnz(mm) bind(C, name="vi_mm_nnz")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    integer(c_int) function vi_mm_storage_kind(mm) bind(C, name="vi_mm_storage_kind")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: mm
+    end function
+    !> views: c_f_pointer(vi_mm_colptr(mm), p, [vi_mm_cols(mm) + 1]); 0-based
+    !> indices (add 1 for Fortran's)
+    type(c_ptr) function vi_mm_colptr(mm) bind(C, name="vi_mm_colptr")
+      import :: c_ptr
+      type(c_ptr), value :: mm
+    end function
+    type(c_ptr) function vi_mm_rowind(mm) bind(C, name="vi_mm_rowind")
+      import :: c_ptr
+      type(c_ptr), value :: mm
+    end function
+    type(c_ptr) function vi_mm_values(mm) bind(C, name="vi_mm_values")
+      import :: c_ptr
+      type(c_ptr), value :: mm
     end function
   end interface
 

@@ -15,6 +15,7 @@
 
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
+#include "vibroimpact/vi_mmio.h"
 
 
 /* ---- diagnostics -------------------------------------------------------- */
@@ -265,6 +266,16 @@ static int opt_vector(ctx *c, yaml_node_t *map, const char *path,
   return v ? vector(c, v, full, n, 0, out) : VI_OK;
 }
 
+/* initial.x / initial.v: a list of n numbers, or one number for every
+ * coordinate (a large model starting from a uniform state). */
+static int opt_state(ctx *c, yaml_node_t *map, const char *key, int n,
+                     double *out)
+{
+  char full[128];
+  yaml_node_t *v = optional(c, map, "initial", key, full);
+  return v ? vector(c, v, full, n, 1, out) : VI_OK;
+}
+
 /* An optional boolean as one bit of *flags. */
 static int opt_flag(ctx *c, yaml_node_t *map, const char *path,
                     const char *key, int bit, int *flags)
@@ -311,19 +322,134 @@ static int check_spread(ctx *c, yaml_node_t *nd, const char *key,
   return fail(c, nd, VI_ERR_LIMIT, key, "%s", why);
 }
 
+/* A matrix file named in the scene: relative to the scene's folder (the
+ * folder of the name it was read under), absolute as written. */
+static char *scene_relative(const char *scene_file, const char *path)
+{
+  const char *slash = strrchr(scene_file, '/');
+  size_t dl = path[0] == '/' || !slash ? 0 : (size_t)(slash - scene_file) + 1;
+  char *out = malloc(dl + strlen(path) + 1);
+  if (!out) return NULL;
+  memcpy(out, scene_file, dl);
+  strcpy(out + dl, path);
+  return out;
+}
+
+/* model.matrix_market: {M: FILE, K: FILE, C: FILE} with modes and zeta
+ * beside it.  The files' headers are read now (their size is the model's n
+ * and, with the modes, its memory); their entries when the model is made. */
+static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm)
+{
+  static const char *const fk[] = {"M", "K", "C", NULL};
+  static const char *const names[3] = {"M", "K", "C"};
+  static const int slot[3] = {VI_FE_MASS, VI_FE_STIFFNESS, VI_FE_DAMPING};
+  int st = check_map(c, mm, "model.matrix_market", fk);
+  if (st) return st;
+  s->kind = VI_SCENE_FE;
+  for (int k = 0; k < 3; k++) {
+    char key[64];
+    snprintf(key, sizeof key, "model.matrix_market.%s", names[k]);
+    yaml_node_t *v = find(c, mm, names[k]);
+    if (!v) {
+      if (k == 2) continue; /* C is optional */
+      return fail(c, mm, VI_ERR_PARSE, key, "%s",
+                  "missing: M and K are required (C is optional)");
+    }
+    if (v->type != YAML_SCALAR_NODE || !v->data.scalar.length ||
+        strlen((const char *)v->data.scalar.value) != v->data.scalar.length)
+      return fail(c, v, VI_ERR_PARSE, key, "%s",
+                  "expected the path of a Matrix Market file");
+    char *path = scene_relative(c->file, (const char *)v->data.scalar.value);
+    if (!path) return fail(c, v, VI_ERR_NOMEM, key, "%s", "out of memory");
+    s->fe.path[slot[k]] = path;
+    s->fe.line[slot[k]] = LINE(v);
+    vi_diag hd;
+    int rows = 0, cols = 0, sym = 0;
+    int64_t entries = 0;
+    if ((st = vi_mm_read_header(path, &rows, &cols, &entries, &sym, &hd))) {
+      /* a place in the matrix file: there, the scene's key in front;
+       * none (it cannot be opened): at the scene's key */
+      if (!hd.line)
+        return vi_diag_set(c->d, c->file, st, LINE(v), COL(v), key,
+                           (const char *)v->data.scalar.value, "%s: %s", path,
+                           hd.message);
+      if (c->d) {
+        *c->d = hd;
+        snprintf(c->d->key, sizeof c->d->key, "%.60s %.60s", key, hd.key);
+      }
+      return st;
+    }
+    char why[160];
+    if (rows != cols) {
+      snprintf(why, sizeof why, "a %d x %d matrix: M, C and K are square",
+               rows, cols);
+      return fail(c, v, VI_ERR_DIM, key, "%s", why);
+    }
+    if (k > 0 && rows != s->n) {
+      snprintf(why, sizeof why, "%d x %d, but M is %d x %d", rows, rows, s->n,
+               s->n);
+      return fail(c, v, VI_ERR_DIM, key, "%s", why);
+    }
+    s->n = rows;
+    s->fe.entries = entries > s->fe.entries ? entries : s->fe.entries;
+  }
+  s->fe.modes = s->n < 6 ? s->n : 6; /* vi_fe_create's default */
+  yaml_node_t *mo = find(c, mod, "modes"), *ze = find(c, mod, "zeta");
+  if (mo && (st = integer(c, mo, "model.modes", 1, s->n, &s->fe.modes)))
+    return st;
+  if (s->fe.modes > 100000)
+    return fail(c, mo, VI_ERR_LIMIT, "model.modes", "%s",
+                "more than 100000 modes");
+  if (ze) {
+    if (s->fe.path[VI_FE_DAMPING])
+      return fail(c, ze, VI_ERR_PARSE, "model.zeta", "%s",
+                  "give damping once: C or zeta, not both");
+    s->fe.nzeta = ze->type == YAML_SCALAR_NODE ? 1 : s->fe.modes;
+    if (!(s->fe.zeta = malloc(sizeof(double) * (size_t)s->fe.nzeta)))
+      return fail(c, ze, VI_ERR_NOMEM, "model.zeta", "%s", "out of memory");
+    if ((st = vector(c, ze, "model.zeta", s->fe.nzeta, 1, s->fe.zeta)))
+      return st;
+    for (int j = 0; j < s->fe.nzeta; j++)
+      if (!(s->fe.zeta[j] >= 0 && s->fe.zeta[j] <= VI_SCENE_ZETA_MAX))
+        return fail(c, ze, VI_ERR_ARG, "model.zeta", "%s",
+                    "damping ratios must lie in [0, 1e6]");
+  }
+  if (!(s->fe.q0 = calloc(2 * (size_t)s->fe.modes + 1, sizeof(double))))
+    return fail(c, mm, VI_ERR_NOMEM, "model", "%s", "out of memory");
+  return VI_OK;
+}
+
 static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
 {
-  static const char *const keys[] = {"M",          "C",        "K", "chain",
-                                     "cantilever", "rayleigh", NULL};
+  static const char *const keys[] = {"M",        "C",        "K",
+                                     "chain",    "cantilever", "rayleigh",
+                                     "matrix_market", "modes", "zeta", NULL};
   int st = check_map(c, mod, "model", keys);
   if (st) return st;
   s->line_model = LINE(mod);
   yaml_node_t *K = find(c, mod, "K"), *ch = find(c, mod, "chain"),
-              *ca = find(c, mod, "cantilever");
-  if ((K != NULL) + (ch != NULL) + (ca != NULL) != 1)
+              *ca = find(c, mod, "cantilever"),
+              *mm = find(c, mod, "matrix_market");
+  if ((K != NULL) + (ch != NULL) + (ca != NULL) + (mm != NULL) != 1)
     return fail(c, mod, VI_ERR_PARSE, "model", "%s",
-                "give exactly one of K (with M, C), chain or cantilever");
-  if (K) {
+                "give exactly one of K (with M, C), chain, cantilever or "
+                "matrix_market");
+  if (!mm) {
+    yaml_node_t *x = find(c, mod, "modes");
+    x = x ? x : find(c, mod, "zeta");
+    if (x)
+      return fail(c, x, VI_ERR_PARSE, find(c, mod, "modes") ? "model.modes"
+                                                             : "model.zeta",
+                  "%s", "modes and zeta go with matrix_market (a "
+                  "cantilever takes them in cantilever:)");
+  }
+  if (mm) {
+    if (find(c, mod, "M") || find(c, mod, "C"))
+      return fail(c, mod, VI_ERR_PARSE, "model", "%s",
+                  "matrix_market gives M, K and C: no explicit matrices "
+                  "beside it");
+    if ((st = parse_fe(c, s, mod, mm))) return st;
+  } else if (K) {
     s->kind = VI_SCENE_EXPLICIT;
     if (K->type != YAML_SEQUENCE_NODE)
       return fail(c, K, VI_ERR_PARSE, "model.K", "%s",
@@ -416,7 +542,8 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
     static const char *const rk[] = {"alpha", "beta", NULL};
     if ((st = check_map(c, ra, "model.rayleigh", rk))) return st;
     if (find(c, mod, "C") || (ch && find(c, ch, "c")) ||
-        (ca && find(c, ca, "zeta")))
+        (ca && find(c, ca, "zeta")) || find(c, mod, "zeta") ||
+        (mm && find(c, mm, "C")))
       return fail(c, ra, VI_ERR_PARSE, "model.rayleigh", "%s",
                   "give damping once: rayleigh or C / c / zeta, not both");
     s->has_rayleigh = 1;
@@ -473,33 +600,57 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
   return VI_OK;
 }
 
-/* One stop {w: [...] | mass: j, xs, r} at `path` ("stop", "stops[2]")
- * into w [n] (zeroed), *has_w, *xs, *r. */
+/* One stop {w: [...] | dof: j (or its synonym mass: j, 1-based),
+ * direction: +1 | -1, xs, r} at `path` ("stop", "stops[2]") into w [n]
+ * (zeroed), *has_w, *xs, *r.  direction -1 makes the stop push the other
+ * way: w = -e_j, so that -x_j <= xs (a stop below the coordinate). */
 static int parse_stop_at(ctx *c, vi_scene *s, yaml_node_t *sp,
                          const char *path, double *w, int *has_w, double *xs,
                          double *r)
 {
-  static const char *const keys[] = {"w", "mass", "xs", "r", NULL};
+  static const char *const keys[] = {"w",  "mass", "dof", "direction",
+                                     "xs", "r",    NULL};
   char key[128];
   int st = check_map(c, sp, path, keys);
   if (st) return st;
-  yaml_node_t *wn = find(c, sp, "w"), *mass = find(c, sp, "mass");
-  join(key, path, "mass");
-  if (wn && mass)
-    return fail(c, mass, VI_ERR_PARSE, key, "%s", "give w or mass, not both");
+  yaml_node_t *wn = find(c, sp, "w"), *mass = find(c, sp, "mass"),
+              *dof = find(c, sp, "dof"), *dir = find(c, sp, "direction");
+  if (mass && dof) {
+    join(key, path, "dof");
+    return fail(c, dof, VI_ERR_PARSE, key, "%s",
+                "give dof or its synonym mass, not both");
+  }
+  const char *dname = dof ? "dof" : "mass";
+  if (!dof) dof = mass;
+  join(key, path, dname);
+  if (wn && dof)
+    return fail(c, dof, VI_ERR_PARSE, key, "%s", "give w or dof, not both");
   if (wn) {
     join(key, path, "w");
     if ((st = vector(c, wn, key, s->n, 0, w))) return st;
     *has_w = 1;
   }
-  if (mass) {
+  double sign = 1.0;
+  if (dir) {
+    join(key, path, "direction");
+    if (!dof)
+      return fail(c, dir, VI_ERR_PARSE, key, "%s",
+                  "direction goes with dof (w carries its own sign)");
+    int dv = 0;
+    if ((st = integer(c, dir, key, -1, 1, &dv))) return st;
+    if (dv == 0)
+      return fail(c, dir, VI_ERR_PARSE, key, "%s", "expected +1 or -1");
+    sign = dv;
+  }
+  if (dof) {
     int j = 1;
-    if ((st = integer(c, mass, key, 1, s->n, &j))) return st;
-    w[j - 1] = 1.0;
+    join(key, path, dname);
+    if ((st = integer(c, dof, key, 1, s->n, &j))) return st;
+    w[j - 1] = sign;
     *has_w = 1;
   }
   if (!*has_w && s->kind != VI_SCENE_CANTILEVER)
-    return fail(c, sp, VI_ERR_PARSE, path, "%s", "missing w or mass");
+    return fail(c, sp, VI_ERR_PARSE, path, "%s", "missing w or dof");
   yaml_node_t *xn = find(c, sp, "xs"), *rn = find(c, sp, "r");
   join(key, path, "xs");
   if (!xn)
@@ -629,7 +780,7 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
   static const char *const rk[] = {"t_end", "periods", "rtol",
                                    "atol",  "method",  NULL};
   static const char *const ok[] = {"impacts", "samples_per_period", "ledger",
-                                   "modes",   "compress",           NULL};
+                                   "modes",   "compress", "shapes",  NULL};
   yaml_node_t *in = find(c, root, "initial"), *run = find(c, root, "run"),
               *out = find(c, root, "output"), *v;
   int st;
@@ -637,8 +788,8 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
     s->line_initial = LINE(in);
     if ((st = check_map(c, in, "initial", ik)) ||
         (st = opt_number(c, in, "initial", "t0", &s->t0)) ||
-        (st = opt_vector(c, in, "initial", "x", s->n, s->x0)) ||
-        (st = opt_vector(c, in, "initial", "v", s->n, s->v0)))
+        (st = opt_state(c, in, "x", s->n, s->x0)) ||
+        (st = opt_state(c, in, "v", s->n, s->v0)))
       return st;
   }
   if (run) {
@@ -693,8 +844,14 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
         (st = opt_flag(c, out, "output", "modes", VI_SCENE_OUT_MODES,
                        &s->outputs)) ||
         (st = opt_flag(c, out, "output", "compress", VI_SCENE_OUT_COMPRESS,
+                       &s->outputs)) ||
+        (st = opt_flag(c, out, "output", "shapes", VI_SCENE_OUT_SHAPES,
                        &s->outputs)))
       return st;
+    if ((s->outputs & VI_SCENE_OUT_SHAPES) && s->kind != VI_SCENE_FE)
+      return fail(c, find(c, out, "shapes"), VI_ERR_PARSE, "output.shapes",
+                  "%s", "the shapes of a model.matrix_market: other models "
+                  "write theirs in /modal (output.modes)");
     if ((v = find(c, out, "samples_per_period")) &&
         (st = integer(c, v, "output.samples_per_period", 0, 1000000,
                       &s->samples)))
@@ -982,6 +1139,11 @@ int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
     return st;
   }
   vi_scene_options_finish(s);
+  if (s->kind == VI_SCENE_FE) {
+    s->fe.at_rest = 1;
+    for (int i = 0; i < s->n; i++)
+      if (s->x0[i] != 0 || s->v0[i] != 0) s->fe.at_rest = 0;
+  }
   *out = s;
   return VI_OK;
 }
@@ -1065,6 +1227,9 @@ void vi_scene_destroy(vi_scene **scene)
   free(s->springs);
   free(s->xw);
   free(s->xint);
+  for (int k = 0; k < 3; k++) free(s->fe.path[k]);
+  free(s->fe.zeta);
+  free(s->fe.q0);
   free(s);
   *scene = NULL;
 }
@@ -1072,4 +1237,9 @@ void vi_scene_destroy(vi_scene **scene)
 /* ---- the description's own getters -------------------------------------- */
 const char *vi_scene_name(const vi_scene *s) { return s ? s->name : ""; }
 const char *vi_scene_text(const vi_scene *s) { return s ? s->text : ""; }
-int vi_scene_n(const vi_scene *s) { return s ? s->n : 0; }
+int vi_scene_model_n(const vi_scene *s)
+{
+  return s->kind == VI_SCENE_FE ? s->fe.modes : s->n;
+}
+int vi_scene_n(const vi_scene *s) { return s ? vi_scene_model_n(s) : 0; }
+int vi_scene_dofs(const vi_scene *s) { return s ? s->n : 0; }

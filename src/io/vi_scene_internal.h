@@ -14,7 +14,26 @@
 #include "vi_io_internal.h"
 #include "vibroimpact/vi_scene.h"
 
-enum { VI_SCENE_EXPLICIT, VI_SCENE_CHAIN, VI_SCENE_CANTILEVER };
+enum { VI_SCENE_EXPLICIT, VI_SCENE_CHAIN, VI_SCENE_CANTILEVER, VI_SCENE_FE };
+
+/* A finite-element model from Matrix Market files (model.matrix_market):
+ * the files' paths (resolved against the scene's folder; C may be NULL),
+ * the modes kept and their damping.  Its vectors (forcing, stops, initial
+ * state) are physical: n dofs; the model made has `modes` coordinates. */
+typedef struct vi_scene_fe {
+  char *path[3];       /* M, K, C (VI_FE_MASS, VI_FE_STIFFNESS, ...) */
+  int line[3];         /* their lines in the scene */
+  int64_t entries;     /* the most values any of the files holds */
+  int modes, nzeta;    /* kept modes; 0, 1 or `modes` damping ratios */
+  double *zeta;
+  /* the initial state in modal coordinates, q0 [2 modes + 1]: positions,
+   * velocities, then 1 once vi_scene_create_model has projected the
+   * physical state (it needs the modes) for vi_scene_configure_sim.  A
+   * buffer of the scene filled by create_model (the scene itself is
+   * const there); at rest it needs no projection: all zeros. */
+  double *q0;
+  int at_rest;
+} vi_scene_fe;
 
 /* A built-in nonlinear spring (vi_force.h), applied to the sim. */
 typedef struct vi_scene_spring {
@@ -34,6 +53,7 @@ struct vi_scene {
   double omega1, zeta, xi_stop; /* cantilever */
   int has_rayleigh;
   double ra, rb;                /* C = ra M + rb K */
+  vi_scene_fe fe;               /* kind VI_SCENE_FE */
   /* forcing, stops and initial state: one block of 6 n from a */
   double omega, base;           /* base: a cantilever's base acceleration */
   int has_base;
@@ -52,6 +72,9 @@ struct vi_scene {
   int method, samples, outputs; /* outputs: vi_scene_output flags */
   int line_model, line_stop, line_initial, line_run, line_forcing;
 };
+
+/* Coordinates of the scene's model: n, or the kept modes of an FE model. */
+int vi_scene_model_n(const vi_scene *s);
 
 /* The run options' defaults, before the YAML is read. */
 void vi_scene_options_init(vi_scene *s);

@@ -11,6 +11,8 @@
 #include "vi_scene_internal.h"
 #include "vibroimpact/vi_param.h"
 #include "vibroimpact.h"
+#include "vibroimpact/vi_mmio.h"
+#include "vibroimpact/vi_sparse.h"
 
 /* ---- ranges that need the model's frequencies ---------------------------
  * Scales: omega_hi, the fastest of the natural frequencies and the forcing;
@@ -36,7 +38,9 @@ static double maxabs(const double *v, int n)
 
 static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
 {
-  int n = s->n, kd, ldab;
+  /* n: the model's coordinates (an FE model's modes); the scene's vectors
+   * have s->n entries (an FE model's dofs) */
+  int n = vi_model_n(m), kd, ldab;
   const double *om = vi_model_omega(m), *ze = vi_model_zeta(m),
                *K = vi_model_stiffness(m),
                *KB = vi_model_stiffness_band(m, &kd, &ldab);
@@ -83,14 +87,18 @@ static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
   }
   /* lengths: the clearance or the static response to the loads */
   double F = 0;
+  int fe = s->kind == VI_SCENE_FE; /* modal loads against modal stiffness */
+  const double *fa = fe ? vi_model_forcing_cos(m) : s->a,
+               *fb = fe ? vi_model_forcing_sin(m) : s->b,
+               *fc = fe ? vi_model_forcing_const(m) : s->f0;
   for (int i = 0; i < n; i++) {
-    double f = fabs(s->a[i]) + fabs(s->b[i]) + fabs(s->f0[i]) +
+    double f = fabs(fa[i]) + fabs(fb[i]) + fabs(fc[i]) +
                (s->has_base ? fabs(s->base) : 0);
     F = f > F ? f : F;
   }
   double L = fabs(s->xs), Ls = kmax > 0 ? F / kmax : 0;
   L = Ls > L ? Ls : L;
-  double x0 = maxabs(s->x0, n), v0 = maxabs(s->v0, n);
+  double x0 = maxabs(s->x0, s->n), v0 = maxabs(s->v0, s->n);
   if (L > 0 && x0 > VI_SCENE_STATE_RATIO * L)
     return range_fail(d, s, s->line_initial, "initial.x", x0,
                       "|x0| above %.3g: 1e8 times the problem's length "
@@ -138,6 +146,21 @@ double vi_scene_memory_estimate(const vi_scene *s)
 {
   if (!s) return 0;
   int64_t bytes = 0;
+  if (s->kind == VI_SCENE_FE) {
+    /* the files read (vi_mmio.h: 40 bytes an entry), the reduction
+     * without its sparse factor (vi_fe_memory_estimate; the factor is
+     * known only after CHOLMOD's analysis), the scene's 7 vectors of n
+     * and the modal model's run */
+    int64_t fe = 0, run = 0;
+    if (vi_fe_memory_estimate(s->n, s->fe.entries, s->fe.modes,
+                              !s->fe.at_rest, &fe) != VI_OK ||
+        vi_model_memory_estimate(s->fe.modes, -1, 1 + s->nx, s->method,
+                                 (s->outputs & VI_SCENE_OUT_LEDGER) != 0,
+                                 &run) != VI_OK)
+      return HUGE_VAL;
+    return 40.0 * (double)s->fe.entries + (double)fe + (double)run +
+           56.0 * s->n;
+  }
   int method = s->method == VI_METHOD_AUTO && uses_band(s) ? VI_METHOD_ADAMS
                                                            : s->method;
   if (vi_model_memory_estimate(s->n, uses_band(s) ? 1 : -1, 1 + s->nx, method,
@@ -181,6 +204,7 @@ int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
   if (need <= max_bytes) return VI_OK;
   const char *key = s->kind == VI_SCENE_CHAIN        ? "model.chain.n"
                     : s->kind == VI_SCENE_CANTILEVER ? "model.cantilever.modes"
+                    : s->kind == VI_SCENE_FE         ? "model.matrix_market"
                                                      : "model.K";
   char val[32];
   snprintf(val, sizeof val, "%d", s->n);
@@ -286,6 +310,143 @@ static int create_band_chain(const vi_scene *s, vi_model **m)
   return st;
 }
 
+/* ---- a finite-element model: Matrix Market files reduced to modes ------
+ * Each file read into lower CSC storage and handed to the reduction
+ * (vi_sparse.h), which copies it: one file's arrays at a time. */
+static int fe_fail(vi_diag *d, const vi_scene *s, int line, const char *key,
+                   int st, const vi_fe *fe)
+{
+  return vi_diag_set(d, s->file, st, line, line ? 1 : 0, key, "", "%s",
+                     fe && vi_fe_errmsg(fe)[0] ? vi_fe_errmsg(fe)
+                                               : vi_strerror(st));
+}
+
+static int fe_matrices(const vi_scene *s, vi_fe *fe, vi_diag *d)
+{
+  static const char *const names[3] = {"M", "C", "K"};
+  for (int k = 0; k < 3; k++) { /* VI_FE_MASS, _DAMPING, _STIFFNESS */
+    if (!s->fe.path[k]) continue;
+    char key[64];
+    snprintf(key, sizeof key, "model.matrix_market.%s", names[k]);
+    vi_mm *mm = NULL;
+    vi_diag md;
+    int st = vi_mm_load(s->fe.path[k], VI_CSC_LOWER, &mm, &md);
+    if (st) {
+      if (!md.line) /* no place in the file: name it at the scene's key */
+        return vi_diag_set(d, s->file, st, s->fe.line[k], 1, key,
+                           s->fe.path[k], "%s", md.message);
+      if (d) {
+        *d = md;
+        snprintf(d->key, sizeof d->key, "%.60s %.60s", key, md.key);
+      }
+      return st;
+    }
+    if (vi_mm_rows(mm) != s->n) { /* changed since the scene was read */
+      int rows = vi_mm_rows(mm);
+      vi_mm_destroy(&mm);
+      return vi_diag_set(d, s->file, VI_ERR_DIM, s->fe.line[k], 1, key,
+                         s->fe.path[k], "the file now holds a matrix of %d "
+                         "rows, the scene was read with n = %d", rows, s->n);
+    }
+    const int *p = vi_mm_colptr(mm), *ri = vi_mm_rowind(mm);
+    const double *v = vi_mm_values(mm);
+    st = k == VI_FE_MASS        ? vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, p, ri, v)
+         : k == VI_FE_STIFFNESS ? vi_fe_set_stiffness_csc(fe, VI_CSC_LOWER, 0, p, ri, v)
+                                : vi_fe_set_damping_csc(fe, VI_CSC_LOWER, 0, p, ri, v);
+    vi_mm_destroy(&mm);
+    if (st) return fe_fail(d, s, s->fe.line[k], key, st, fe);
+  }
+  return VI_OK;
+}
+
+int vi_scene_create_fe(const vi_scene *s, int modes, int keep, vi_fe **out,
+                       vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (out) *out = NULL;
+  if (!s || !out || (keep != 0 && keep != 1))
+    return vi_diag_set(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
+                       "vi_scene_create_fe: scene, out and keep 0 or 1 are "
+                       "required");
+  if (s->kind != VI_SCENE_FE)
+    return vi_diag_set(d, s->file, VI_ERR_UNSUPPORTED, s->line_model, 1,
+                       "model", "", "%s", "not a finite-element scene "
+                       "(model.matrix_market)");
+  if (modes == 0) modes = s->fe.modes;
+  if (modes < 1 || modes > s->n)
+    return vi_diag_set(d, s->file, VI_ERR_DIM, s->line_model, 1,
+                       "model.modes", "", "%d modes asked of a model of %d "
+                       "dofs", modes, s->n);
+  if (s->fe.nzeta > 1 && modes > s->fe.nzeta)
+    return vi_diag_set(d, s->file, VI_ERR_DIM, s->line_model, 1, "model.zeta",
+                       "", "%d modes asked, model.zeta gives %d ratios",
+                       modes, s->fe.nzeta);
+  vi_fe *fe = NULL;
+  int st = vi_fe_create(s->n, &fe);
+  if (st) return vi_diag_set(d, s->file, st, s->line_model, 1, "model", "",
+                             "%s", vi_strerror(st));
+  const int line = s->line_model;
+  if ((st = fe_matrices(s, fe, d))) goto out;
+  if ((st = vi_fe_set_modes(fe, modes))) {
+    fe_fail(d, s, line, "model.modes", st, fe);
+    goto out;
+  }
+  if (s->fe.nzeta) /* one ratio, or the first `modes` of the list */
+    st = vi_fe_set_modal_damping(fe, s->fe.nzeta == 1 ? 1 : modes,
+                                 s->fe.zeta);
+  else if (s->has_rayleigh)
+    st = vi_fe_set_rayleigh(fe, s->ra, s->rb);
+  if (st) {
+    fe_fail(d, s, line, s->fe.nzeta ? "model.zeta" : "model.rayleigh", st,
+            fe);
+    goto out;
+  }
+  if ((st = vi_fe_add_stop(fe, s->w, s->xs, s->r))) {
+    fe_fail(d, s, s->line_stop, s->stop_list ? "stops[1]" : "stop", st, fe);
+    goto out;
+  }
+  for (int k = 0; k < s->nx; k++)
+    if ((st = vi_fe_add_stop(fe, s->xw + (size_t)k * (size_t)s->n,
+                             s->xxs[k], s->xr[k]))) {
+      char key[32];
+      snprintf(key, sizeof key, "stops[%d]", k + 2);
+      fe_fail(d, s, s->xint[s->nx + k], key, st, fe);
+      goto out;
+    }
+  if ((st = vi_fe_set_forcing(fe, s->omega, s->a, s->b, s->f0))) {
+    fe_fail(d, s, s->line_forcing, "forcing", st, fe);
+    goto out;
+  }
+  if ((st = vi_fe_set_keep_shapes(fe, keep)) || (st = vi_fe_setup(fe)))
+    fe_fail(d, s, line, "model", st, fe);
+out:
+  if (st)
+    vi_fe_destroy(&fe);
+  else
+    *out = fe;
+  return st;
+}
+
+/* The modal model of an FE scene; its initial state projected (q = Psi^T
+ * M x, the full Psi kept for that only when the state is not at rest) into
+ * the scene's buffer for vi_scene_configure_sim. */
+static int create_fe_model(const vi_scene *s, vi_model **out, vi_diag *d)
+{
+  vi_fe *fe = NULL;
+  int st = vi_scene_create_fe(s, 0, !s->fe.at_rest, &fe, d);
+  if (st) return st;
+  int k = s->fe.modes;
+  if ((st = vi_fe_create_model(fe, out)))
+    fe_fail(d, s, s->line_model, "model", st, fe);
+  else if (!s->fe.at_rest &&
+           ((st = vi_fe_to_modal(fe, s->x0, s->fe.q0)) ||
+            (st = vi_fe_to_modal(fe, s->v0, s->fe.q0 + k))))
+    fe_fail(d, s, s->line_initial, "initial", st, fe);
+  if (!st) s->fe.q0[(size_t)2 * k] = 1.0; /* projected */
+  vi_fe_destroy(&fe);
+  return st;
+}
+
 int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
@@ -294,6 +455,15 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
     return vi_diag_set(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
                        "vi_scene_create_model: scene and out are required");
   int n = s->n, st = VI_OK, band = uses_band(s);
+  if (s->kind == VI_SCENE_FE) {
+    vi_model *m = NULL;
+    if ((st = create_fe_model(s, &m, d)) || (st = check_ranges(s, m, d))) {
+      vi_model_destroy(&m);
+      return st;
+    }
+    *out = m;
+    return VI_OK;
+  }
   size_t nn = band ? 0 : (size_t)n * (size_t)n;
   dense x;
   x.buf = calloc(3 * nn + 3 * (size_t)n, sizeof(double));

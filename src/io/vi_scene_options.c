@@ -29,10 +29,23 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
   if (!s || !sim)
     return vi_diag_set(d, s ? s->file : "", VI_ERR_ARG, 0, 0, "", "", "%s",
                        "vi_scene_configure_sim: scene and sim are required");
-  if (vi_sim_n(sim) != s->n)
+  int n = vi_scene_model_n(s);
+  if (vi_sim_n(sim) != n)
     return vi_diag_set(d, s->file, VI_ERR_DIM, s->line_model, 0, "model", "",
-                       "the scene has n = %d, the simulation n = %d", s->n,
+                       "the scene has n = %d, the simulation n = %d", n,
                        vi_sim_n(sim));
+  /* an FE scene's state is physical: its modal projection is made with
+   * the model (vi_scene_create_model) */
+  const double *x0 = s->x0, *v0 = s->v0;
+  if (s->kind == VI_SCENE_FE) {
+    if (!s->fe.at_rest && s->fe.q0[(size_t)2 * n] != 1.0)
+      return vi_diag_set(d, s->file, VI_ERR_STATE, s->line_initial, 1,
+                         "initial", "", "%s", "an FE scene's initial state "
+                         "is projected onto its modes by "
+                         "vi_scene_create_model: call it first");
+    x0 = s->fe.q0;
+    v0 = s->fe.q0 + n;
+  }
   int st = vi_sim_set_method(sim, s->method);
   if (st)
     return vi_diag_set(d, s->file, st, s->line_run, 1, "run.method", "", "%s",
@@ -40,7 +53,7 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
   if ((st = vi_sim_set_tolerances(sim, s->rtol, s->atol)))
     return vi_diag_set(d, s->file, st, s->line_run, 1, "run", "", "%s",
                        vi_sim_errmsg(sim));
-  if ((st = vi_sim_set_initial(sim, s->t0, s->x0, s->v0)))
+  if ((st = vi_sim_set_initial(sim, s->t0, x0, v0)))
     return vi_diag_set(d, s->file, st, s->line_initial, 1, "initial", "", "%s",
                        vi_sim_errmsg(sim));
   vi_sim_clear_springs(sim);
@@ -58,6 +71,13 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
 
 /* ---- getters and overrides ---------------------------------------------- */
 double vi_scene_t0(const vi_scene *s) { return s ? s->t0 : 0.0; }
+int vi_scene_initial(const vi_scene *s, double *x0, double *v0)
+{
+  if (!s) return VI_ERR_ARG;
+  if (x0) memcpy(x0, s->x0, sizeof(double) * (size_t)s->n);
+  if (v0) memcpy(v0, s->v0, sizeof(double) * (size_t)s->n);
+  return VI_OK;
+}
 double vi_scene_t_end(const vi_scene *s) { return s ? s->t_end : 0.0; }
 double vi_scene_rtol(const vi_scene *s) { return s ? s->rtol : 0.0; }
 double vi_scene_atol(const vi_scene *s) { return s ? s->atol : 0.0; }

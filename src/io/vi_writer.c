@@ -13,7 +13,9 @@
 
 #include <hdf5.h>
 
+#include "vi_scene_internal.h"
 #include "vibroimpact.h"
+#include "vibroimpact/vi_mmio.h"
 #include "vibroimpact/vi_writer.h"
 
 #define MAXCOL 13
@@ -233,6 +235,116 @@ static int put(hid_t g, const char *name, const double *A, int rows, int cols,
   H5Sclose(sp);
   free(buf);
   return e < 0;
+}
+
+/* An int array [len] (CSC indices). */
+static int put_int(hid_t g, const char *name, const int *v, int len,
+                   const char *meaning)
+{
+  hsize_t dims = (hsize_t)len;
+  hid_t sp = H5Screate_simple(1, &dims, NULL);
+  hid_t d = H5Dcreate2(g, name, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT,
+                       H5P_DEFAULT);
+  herr_t e = d < 0 || len == 0
+                 ? (d < 0 ? -1 : 0)
+                 : H5Dwrite(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                            v);
+  if (d >= 0) {
+    if (meaning) attr_str(d, "meaning", meaning);
+    H5Dclose(d);
+  }
+  H5Sclose(sp);
+  return e < 0;
+}
+
+/* A sparse symmetric matrix as group `name`: colptr [n + 1], rowind [nnz],
+ * values [nnz] (0-based CSC, lower triangle with the diagonal: the
+ * Harwell-Boeing / vi_fe_set_mass_csc form) with attributes rows, cols,
+ * nnz, storage "lower", index_base 0. */
+static int put_csc(hid_t parent, const char *name, int n, int nnz,
+                   const int *colptr, const int *rowind, const double *val)
+{
+  hid_t g = H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (g < 0) return 1;
+  int bad = attr_int(g, "rows", n) | attr_int(g, "cols", n) |
+            attr_int(g, "nnz", nnz) | attr_str(g, "storage", "lower") |
+            attr_int(g, "index_base", 0);
+  bad |= put_int(g, "colptr", colptr, n + 1, "column j: entries colptr[j] "
+                 ".. colptr[j+1]-1");
+  bad |= put_int(g, "rowind", rowind, nnz, "row of each entry, ascending "
+                 "within a column");
+  bad |= put(g, "values", val, nnz, 0, "value of each entry");
+  H5Gclose(g);
+  return bad;
+}
+
+/* /fe of a model.matrix_market scene: the physical model as it came in,
+ * sparse: M, K (and C) from the scene's files, the dofs and kept modes.
+ * The rows are the files' own (read again: O(nnz), no eigensolve). */
+static int write_fe(vi_writer *w, const vi_scene *s)
+{
+  static const char *const names[3] = {"M", "C", "K"};
+  hid_t g = H5Gcreate2(w->file, "fe", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (g < 0) return 1;
+  int bad = attr_int(g, "dofs", s->n) | attr_int(g, "modes", s->fe.modes);
+  bad |= attr_str(g, "meaning", "the finite-element model (physical dofs, "
+                  "sparse); the run's model is its reduction to the lowest "
+                  "modes (/model)");
+  for (int k = 0; k < 3 && !bad; k++) {
+    if (!s->fe.path[k]) continue;
+    vi_mm *mm = NULL;
+    vi_diag d;
+    if (vi_mm_load(s->fe.path[k], VI_CSC_LOWER, &mm, &d)) {
+      bad = 1;
+      snprintf(w->errmsg, sizeof w->errmsg, "%s", d.message);
+      break;
+    }
+    bad |= put_csc(g, names[k], vi_mm_rows(mm), vi_mm_nnz(mm),
+                   vi_mm_colptr(mm), vi_mm_rowind(mm), vi_mm_values(mm));
+    bad |= attr_str(g, names[k][0] == 'M' ? "M_file"
+                       : names[k][0] == 'C' ? "C_file" : "K_file",
+                    s->fe.path[k]);
+    vi_mm_destroy(&mm);
+  }
+  H5Gclose(g);
+  return bad;
+}
+
+int vi_writer_fe_shapes(vi_writer *w, const vi_fe *fe)
+{
+  if (!w || !fe) return VI_ERR_ARG;
+  if (w->failed) return VI_ERR_IO;
+  int n = vi_fe_n(fe), k = vi_fe_num_modes(fe), ld = 0;
+  const double *Psi = vi_fe_shapes(fe, &ld), *om = vi_fe_omega(fe);
+  if (!Psi || !om)
+    return warg(w, VI_ERR_STATE, "vi_writer_fe_shapes: the reduction holds "
+                "no full Psi (vi_fe_set_keep_shapes(fe, 1) before its setup)");
+  if (k != w->n)
+    return warg(w, VI_ERR_DIM, "vi_writer_fe_shapes: %d modes, the writer's "
+                "model has n = %d", k, w->n);
+  int st = reserve(w, 8.0 * ((double)n * k + k));
+  if (st) return st;
+  int bad = 0;
+  H5E_BEGIN_TRY
+  {
+    hid_t g = H5Lexists(w->file, "fe", H5P_DEFAULT) > 0
+                  ? H5Gopen2(w->file, "fe", H5P_DEFAULT)
+                  : H5Gcreate2(w->file, "fe", H5P_DEFAULT, H5P_DEFAULT,
+                               H5P_DEFAULT);
+    bad = g < 0;
+    if (g >= 0) {
+      /* [n][k] in C order: row i = dof i, as Psi(i, j) */
+      bad |= ld != n ||
+             put(g, "Psi", Psi, n, k, "mass-normalised modes kept, column j "
+                 "= mode j (x = Psi q)");
+      bad |= put(g, "omega", om, k, 0, "natural frequencies of the kept modes");
+      H5Gclose(g);
+    }
+  }
+  H5E_END_TRY;
+  return bad ? werr(w, VI_ERR_IO, "cannot write the mode shapes to %s",
+                    w->part)
+             : VI_OK;
 }
 
 /* ---- growing tables -----------------------------------------------------
@@ -505,8 +617,12 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
   char creator[64];
   int kd = vi_model_bandwidth(m); /* >= 0: band storage, no modes */
   double nn = kd < 0 ? (double)n * n : (kd + 1.0) * n;
+  int fe = scene && scene->kind == VI_SCENE_FE;
   int st = reserve(w, 8.0 * (5 * nn + 10.0 * n) +
-                          (scene ? (double)strlen(vi_scene_text(scene)) : 0));
+                          (scene ? (double)strlen(vi_scene_text(scene)) : 0) +
+                          (fe ? 36.0 * (double)scene->fe.entries +
+                                    12.0 * scene->n
+                              : 0));
   if (st) return st;
   snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
   H5E_BEGIN_TRY
@@ -598,6 +714,7 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
       bad |= attr_int(g, "proportional", vi_model_is_proportional(m));
       H5Gclose(g);
     }
+    if (fe) bad |= write_fe(w, scene);
   }
   H5E_END_TRY;
   return bad ? werr(w, VI_ERR_IO, "cannot write the header of %s", w->part)

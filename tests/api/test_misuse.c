@@ -1093,6 +1093,98 @@ static void test_cont_misuse(void **state)
   assert_int_equal(vi_cont_set_monitor(c, stop_cont, NULL, NULL), VI_OK);
   assert_int_equal(vi_cont_iterate(c), VI_STOPPED);
   vi_cont_destroy(&c);
+/* vi_identify_*: NULL handles, out-of-range parameters, bad data, results
+ * before a fit. */
+static int ident_builder(const double *p, void *user, vi_model **out)
+{
+  (void)p;
+  (void)user;
+  *out = NULL;
+  return VI_ERR_ARG;
+}
+
+static void test_identify_misuse(void **state)
+{
+  (void)state;
+  vi_identify *id = NULL;
+  vi_model *m = vi_test_fig2();
+  double t[20], x[20], R[4], c[2] = {0, 0};
+  int fl[1];
+  for (int i = 0; i < 20; i++) {
+    t[i] = i;
+    x[i] = 0.0;
+  }
+  assert_err(vi_identify_create(NULL, 1, &id));
+  assert_err(vi_identify_create(m, 1, NULL));
+  assert_int_equal(vi_identify_create(m, 0, &id), VI_ERR_DIM);
+  assert_null(id);
+  vi_identify_destroy(NULL);
+  vi_identify_destroy(&id);
+  assert_string_equal(vi_identify_errmsg(NULL), "");
+  assert_int_equal(vi_identify_nparams(NULL), 0);
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_nparams(id), 1);
+  assert_err(vi_identify_set_param(NULL, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 1, VI_IDENTIFY_R, 0, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 0, 7, 0, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 3, 0.5, 0, 1));
+  assert_err(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, NAN, 0, 1));
+  assert_err_msg(vi_identify_set_param(id, 0, VI_IDENTIFY_XS, 0, 2.0, 0, 1), "outside");
+  assert_err(vi_identify_set_param_key(NULL, 0, "stop.r", NAN, NAN));
+  assert_err(vi_identify_set_param_key(id, 0, NULL, NAN, NAN));
+  assert_err(vi_identify_set_param_key(id, 0, "no.such.key", NAN, NAN));
+  assert_err(vi_identify_set_param_key(id, 0, "stop.r", 0.8, 0.9));
+  assert_err(vi_identify_set_builder(NULL, ident_builder, NULL, NULL));
+  assert_err(vi_identify_set_observation(NULL, NULL));
+  assert_err(vi_identify_set_observation(id, c));
+  c[0] = NAN;
+  assert_int_equal(vi_identify_set_observation(id, c), VI_ERR_NONFINITE);
+  assert_err(vi_identify_set_shift(NULL, 1, NAN));
+  assert_err(vi_identify_set_shift(id, 2, 0.0));
+  assert_err(vi_identify_set_shift(id, 0, NAN));
+  assert_err(vi_identify_set_noise(NULL, 0.1));
+  assert_err(vi_identify_set_stable_only(NULL, 1));
+  assert_err(vi_identify_set_stable_only(id, 2));
+  assert_int_equal(vi_identify_stability(id, R), VI_ERR_STATE);
+  assert_int_equal(vi_identify_stability(NULL, R), VI_ERR_ARG);
+  assert_int_equal(vi_identify_set_noise(id, INFINITY), VI_ERR_NONFINITE);
+  assert_err(vi_identify_set_data(NULL, 20, t, x, NULL));
+  assert_err(vi_identify_set_data(id, 20, NULL, x, NULL));
+  assert_err_msg(vi_identify_set_data(id, 15, t, x, NULL), "too few");
+  t[3] = t[2];
+  assert_err_msg(vi_identify_set_data(id, 20, t, x, NULL), "sample 4");
+  t[3] = 3.0;
+  x[5] = INFINITY;
+  assert_int_equal(vi_identify_set_data(id, 20, t, x, NULL), VI_ERR_NONFINITE);
+  x[5] = 0.0;
+  /* out of order: no data, a parameter not set */
+  assert_int_equal(vi_identify_run(NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_run(id), VI_ERR_STATE);
+  assert_int_equal(vi_identify_set_data(id, 20, t, x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_ERR_STATE);
+  /* the builder fails at the start */
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_OTHER, 0, 0.5, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_ERR_STATE); /* no key, no builder */
+  assert_int_equal(vi_identify_set_builder(id, ident_builder, NULL, NULL), VI_OK);
+  assert_err(vi_identify_run(id));
+  assert_int_equal(vi_identify_set_builder(id, NULL, NULL, NULL), VI_OK);
+  /* results before a completed fit */
+  assert_int_equal(vi_identify_params(id, NULL, NULL, NULL, NULL, fl), VI_ERR_STATE);
+  assert_int_equal(vi_identify_params(NULL, NULL, NULL, NULL, NULL, fl), VI_ERR_ARG);
+  assert_int_equal(vi_identify_shift(id, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_shift(NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_correlation(id, R, 1), VI_ERR_STATE);
+  assert_int_equal(vi_identify_correlation(NULL, R, 1), VI_ERR_ARG);
+  assert_int_equal(vi_identify_summary(id, NULL, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_summary(NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_orbit_period(id, R, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_orbit_period(NULL, R, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_response(id, 1, t, x, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_response(NULL, 1, t, x, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_energy_restitution(id, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_energy_restitution(NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  vi_identify_destroy(&id);
+  assert_null(id);
   vi_model_destroy(&m);
 }
 
@@ -1110,6 +1202,7 @@ int main(void)
       cmocka_unit_test(test_param_misuse),
       cmocka_unit_test(test_sweep_misuse),
       cmocka_unit_test(test_cont_misuse),
+      cmocka_unit_test(test_identify_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -17,7 +17,7 @@ files=(
   src/impact/vi_impact.c src/model/vi_builders.c src/ledger/vi_ledger.c src/sim/vi_nvector.c src/base/vi_dense.c
   src/sim/vi_force.c src/orbit/vi_orbit_pnm.c src/io/vi_scene_edit.c src/impact/vi_contact.c
   src/sim/vi_sim.c src/sim/vi_chatter.c src/sim/vi_cvode.c src/sim/vi_arkode.c src/sim/vi_rhs.c
-  src/io/vi_output.c
+  src/io/vi_output.c src/io/vi_mmio.c tests/io/test_mmio.c apps/vi_cmd_truncation.c
   src/fortran/vi_gen_constants.c tests/fortran/test_fortran_compare.c
   src/orbit/vi_orbit.c src/orbit/vi_classify.c src/orbit/vi_balance.c src/orbit/vi_orbit_var.c
   src/sim/vi_exact.c src/sim/vi_exact_scan.c src/flow/vi_flow.c src/flow/vi_general.c
@@ -27,7 +27,7 @@ files=(
   tests/model/test_modal.c tests/impact/test_impact.c tests/sim/test_force.c tests/api/test_misuse.c
   tests/io/test_misuse_io.c
   tests/vi_testutil.c tests/sim/test_arkode.c tests/sim/test_exact.c tests/orbit/test_orbit.c
-  tests/io/test_scene_edit.c tests/io/test_writer.c tests/faults/test_faults.c
+  tests/io/test_scene_edit.c tests/io/test_writer.c tests/io/test_fe_scene.c tests/faults/test_faults.c
   tests/faults/vi_enospc.c tests/stress/stress_util.c tests/stress/test_stress_chatter.c
   tests/stress/test_stress_floors.c tests/stress/test_stress_graze.c
   tests/stress/test_stress_mdof.c tests/stress/test_stress_soft.c
@@ -40,6 +40,9 @@ files=(
   src/sim/vi_band.c src/model/vi_band_model.c tests/sim/test_band.c bench/vi_bench_band.c
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/app/test_sweep_app.c tests/study/test_sweep.c
   bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
+  src/model/vi_param.c tests/model/test_param.c
+  src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
+  tests/study/test_identify.c bench/vi_bench_identify.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
   src/model/vi_param.c tests/model/test_param.c src/study/vi_sweep.c
   src/study/vi_cont.c tests/study/test_cont.c tests/study/test_basins.c src/io/vi_scene_param.c

@@ -13,11 +13,13 @@
 #include <unistd.h>
 
 #include "vi_testutil.h"
+#include "vibroimpact/vi_mmio.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vibroimpact/vi_scene_param.h"
 #include "vibroimpact/vi_writer.h"
+#include "vibroimpact/vi_identify_io.h"
 
 /* an error code, and the diag's message says something */
 #define assert_err_diag(call, d)         \
@@ -316,6 +318,135 @@ static void test_scene_param_misuse(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* Matrix Market reader: NULL paths, handles and outputs, an unknown
+ * storage, a NaN limit, a directory and a missing file for a path; the
+ * getters of a NULL handle return their sentinels. */
+static void test_mm_misuse(void **state)
+{
+  (void)state;
+  vi_mm *m = NULL;
+  vi_diag d;
+  assert_err_diag(vi_mm_load(NULL, VI_CSC_LOWER, &m, &d), d);
+  assert_err_diag(vi_mm_load("x.mtx", VI_CSC_LOWER, NULL, &d), d);
+  assert_err_diag(vi_mm_load("x.mtx", 7, &m, &d), d);
+  assert_err_diag(vi_mm_load("x.mtx", -1, &m, &d), d);
+  assert_int_equal(vi_mm_load("x.mtx", 7, &m, NULL), VI_ERR_ARG);
+  assert_err_diag(vi_mm_load_limited("x.mtx", VI_CSC_FULL, NAN, &m, &d), d);
+  assert_err_diag(vi_mm_load_limited(NULL, VI_CSC_FULL, 1e9, &m, &d), d);
+  assert_err_diag(vi_mm_load("/nonexistent/x.mtx", VI_CSC_FULL, &m, &d), d);
+  assert_int_equal(d.code, VI_ERR_IO);
+  assert_err_diag(vi_mm_load("/", VI_CSC_FULL, &m, &d), d); /* a directory */
+  assert_null(m);
+  assert_err_diag(vi_mm_read_header(NULL, NULL, NULL, NULL, NULL, &d), d);
+  assert_int_equal(vi_mm_read_header("/nonexistent", NULL, NULL, NULL, NULL,
+                                     NULL), VI_ERR_IO);
+  assert_err_diag(vi_mm_read_header("/dev/null", NULL, NULL, NULL, NULL, &d),
+                  d);
+  vi_mm_destroy(&m);
+  vi_mm_destroy(NULL);
+  assert_int_equal(vi_mm_rows(NULL), 0);
+  assert_int_equal(vi_mm_cols(NULL), 0);
+  assert_int_equal(vi_mm_nnz(NULL), 0);
+  assert_int_equal(vi_mm_storage_kind(NULL), -1);
+  assert_null(vi_mm_colptr(NULL));
+  assert_null(vi_mm_rowind(NULL));
+  assert_null(vi_mm_values(NULL));
+}
+
+/* FE scenes: vi_scene_create_fe on NULL, another kind of model, bad
+ * modes and keep; vi_scene_dofs of NULL. */
+static void test_fe_scene_misuse(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL;
+  vi_fe *fe = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_dofs(NULL), 0);
+  assert_err_diag(vi_scene_create_fe(NULL, 0, 0, &fe, &d), d);
+  assert_int_equal(vi_scene_parse(chain3, -1, "chain3", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_dofs(sc), 3);
+  assert_int_equal(vi_scene_initial(NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_scene_initial(sc, NULL, NULL), VI_OK);
+  assert_err_diag(vi_scene_create_fe(sc, 0, 0, NULL, &d), d);
+  assert_err_diag(vi_scene_create_fe(sc, 0, 2, &fe, &d), d);
+  assert_err_diag(vi_scene_create_fe(sc, 0, -1, &fe, &d), d);
+  assert_err_diag(vi_scene_create_fe(sc, 0, 0, &fe, &d), d); /* a chain */
+  assert_int_equal(d.code, VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_scene_create_fe(sc, -3, 0, &fe, NULL), VI_ERR_UNSUPPORTED);
+  assert_null(fe);
+  vi_scene_destroy(&sc);
+}
+
+/* vi_writer_fe_shapes: NULL writer or reduction; a reduction without its
+ * full Psi; one of another size than the writer's model. */
+static void test_fe_shapes_misuse(void **state)
+{
+  (void)state;
+  char path[] = "/tmp/vi_misuse_fe_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  static const int cp[4] = {0, 1, 2, 3}, ri[3] = {0, 1, 2};
+  static const double mv[3] = {1, 2, 3}, kv[3] = {4, 5, 6};
+  double w[3] = {0, 0, 1};
+  vi_fe *fe = NULL;
+  vi_model *m = NULL;
+  vi_writer *wr = NULL;
+  vi_diag d;
+  assert_int_equal(vi_fe_create(3, &fe), VI_OK);
+  assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, cp, ri, mv), VI_OK);
+  assert_int_equal(vi_fe_set_stiffness_csc(fe, VI_CSC_LOWER, 0, cp, ri, kv), VI_OK);
+  assert_int_equal(vi_fe_set_modes(fe, 2), VI_OK);
+  assert_int_equal(vi_fe_add_stop(fe, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_OK); /* no shapes kept */
+  assert_int_equal(vi_fe_create_model(fe, &m), VI_OK);
+  assert_int_equal(vi_writer_create(path, m, 0, &wr, &d), VI_OK);
+  assert_int_equal(vi_writer_fe_shapes(NULL, fe), VI_ERR_ARG);
+  assert_int_equal(vi_writer_fe_shapes(wr, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_writer_fe_shapes(wr, fe), VI_ERR_STATE);
+  assert_true(strlen(vi_writer_errmsg(wr)) > 0);
+  vi_writer_abort(&wr);
+  vi_model_destroy(&m);
+  /* a writer of another n */
+  vi_model *m5 = vi_test_chain(5, 1, 1, 0.1, 0.1, 0.7, 0.9, NULL);
+  vi_fe *fk = NULL;
+  assert_int_equal(vi_fe_create(3, &fk), VI_OK);
+  assert_int_equal(vi_fe_set_mass_csc(fk, VI_CSC_LOWER, 0, cp, ri, mv), VI_OK);
+  assert_int_equal(vi_fe_set_stiffness_csc(fk, VI_CSC_LOWER, 0, cp, ri, kv), VI_OK);
+  assert_int_equal(vi_fe_set_modes(fk, 2), VI_OK);
+  assert_int_equal(vi_fe_add_stop(fk, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_fe_set_keep_shapes(fk, 1), VI_OK);
+  assert_int_equal(vi_fe_setup(fk), VI_OK);
+  assert_int_equal(vi_writer_create(path, m5, 0, &wr, &d), VI_OK);
+  assert_int_equal(vi_writer_fe_shapes(wr, fk), VI_ERR_DIM);
+  vi_writer_abort(&wr);
+  char part[64];
+  snprintf(part, sizeof part, "%s.part", path);
+  assert_int_equal(access(part, F_OK), -1); /* aborted: no partial file */
+  remove(path);
+  vi_fe_destroy(&fk);
+  vi_fe_destroy(&fe);
+  vi_model_destroy(&m5);
+}
+
+/* vi_identify_write_h5: NULL arguments, an identification without a fit. */
+static void test_identify_h5_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_identify *id = NULL;
+  vi_diag d;
+  double t[2] = {0, 1}, x[2] = {0, 0};
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_write_h5(NULL, id, NULL, 2, t, x, &d), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", NULL, NULL, 2, t, x, &d), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", id, NULL, 0, t, x, &d), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", id, NULL, 2, NULL, x, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_write_h5("x.h5", id, "stop.r", 2, t, x, &d), VI_ERR_STATE);
+  vi_identify_destroy(&id);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -323,6 +454,10 @@ int main(void)
       cmocka_unit_test(test_scene_edit_misuse),
       cmocka_unit_test(test_writer_misuse),
       cmocka_unit_test(test_scene_param_misuse),
+      cmocka_unit_test(test_mm_misuse),
+      cmocka_unit_test(test_fe_scene_misuse),
+      cmocka_unit_test(test_fe_shapes_misuse),
+      cmocka_unit_test(test_identify_h5_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

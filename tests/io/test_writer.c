@@ -424,6 +424,129 @@ static void test_stops_round_trip(void **state)
   vi_scene_destroy(&sc);
 }
 
+static int attr_int_of(hid_t obj, const char *name)
+{
+  int v = -1;
+  hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+  assert_true(a >= 0);
+  assert_true(H5Aread(a, H5T_NATIVE_INT, &v) >= 0);
+  H5Aclose(a);
+  return v;
+}
+
+static int *read_ints(hid_t f, const char *name, size_t count)
+{
+  int *buf = malloc(sizeof(int) * (count ? count : 1));
+  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  assert_true(d >= 0);
+  assert_true(H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
+  H5Dclose(d);
+  return buf;
+}
+
+/* A finite-element scene (the shipped 100-element beam, 200 dofs, 4
+ * modes): /fe holds its M and K as CSC arrays equal to the reduction's own
+ * (read from the same files), /fe/Psi [200][4] only because it is asked
+ * for, and the shapes read back are mass-normalised against the M read
+ * back: Psi^T M Psi = I to 1e-12.  The file stays small (the dense M, K
+ * and Psi would be 640 kB; the whole file is asserted below 150 kB). */
+static void test_fe_round_trip(void **state)
+{
+  (void)state;
+  char path[] = "/tmp/vi_test_writer_fe_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_writer *w = NULL;
+  vi_fe *fe = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_load(VI_SCENE_DIR "/beam_fe.yaml", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  assert_int_equal(vi_writer_create(path, m, 1, &w, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(w, sc, 1e-8, 1e-10, VI_METHOD_EXACT), VI_OK);
+  assert_int_equal(vi_scene_create_fe(sc, 0, 1, &fe, &d), VI_OK);
+  assert_int_equal(vi_writer_fe_shapes(w, fe), VI_OK);
+  assert_int_equal(vi_writer_close(&w, 1), VI_OK);
+  struct stat stt;
+  assert_int_equal(stat(path, &stt), 0);
+  print_message("FE beam file: %lld bytes\n", (long long)stt.st_size);
+  assert_true(stt.st_size < 150000);
+  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  hid_t g = H5Gopen2(f, "fe", H5P_DEFAULT);
+  assert_int_equal(attr_int_of(g, "dofs"), 200);
+  assert_int_equal(attr_int_of(g, "modes"), 4);
+  H5Gclose(g);
+  const char *names[2] = {"fe/M", "fe/K"};
+  const int which[2] = {VI_FE_MASS, VI_FE_STIFFNESS};
+  int n = 200, *cpM = NULL, *riM = NULL;
+  double *vM = NULL;
+  for (int q = 0; q < 2; q++) {
+    char key[64];
+    g = H5Gopen2(f, names[q], H5P_DEFAULT);
+    assert_int_equal(attr_int_of(g, "rows"), n);
+    int nnz = attr_int_of(g, "nnz"), fnnz;
+    assert_int_equal(attr_int_of(g, "index_base"), 0);
+    H5Gclose(g);
+    const int *cp, *ri;
+    const double *v;
+    assert_int_equal(vi_fe_matrix_csc(fe, which[q], &fnnz, &cp, &ri, &v), VI_OK);
+    assert_int_equal(nnz, fnnz);
+    snprintf(key, sizeof key, "%s/colptr", names[q]);
+    int *rcp = read_ints(f, key, (size_t)n + 1);
+    snprintf(key, sizeof key, "%s/rowind", names[q]);
+    int *rri = read_ints(f, key, (size_t)nnz);
+    snprintf(key, sizeof key, "%s/values", names[q]);
+    double *rv = read_all(f, key, (size_t)nnz);
+    assert_memory_equal(rcp, cp, sizeof(int) * ((size_t)n + 1));
+    assert_memory_equal(rri, ri, sizeof(int) * (size_t)nnz);
+    assert_memory_equal(rv, v, sizeof(double) * (size_t)nnz);
+    if (q == 0) {
+      cpM = rcp;
+      riM = rri;
+      vM = rv;
+    } else {
+      free(rcp);
+      free(rri);
+      free(rv);
+    }
+  }
+  int rank;
+  hsize_t cols;
+  assert_int_equal(rows(f, "fe/Psi", &rank, &cols), (hsize_t)n);
+  assert_int_equal(cols, 4);
+  double *P = read_all(f, "fe/Psi", (size_t)n * 4); /* [i][j]: C order */
+  double emax = 0;
+  for (int a = 0; a < 4; a++)
+    for (int b = 0; b < 4; b++) {
+      double sum = 0; /* psi_a^T M psi_b, M from its lower triangle */
+      for (int j = 0; j < n; j++)
+        for (int k = cpM[j]; k < cpM[j + 1]; k++) {
+          int i = riM[k];
+          sum += P[i * 4 + a] * vM[k] * P[j * 4 + b];
+          if (i != j) sum += P[j * 4 + a] * vM[k] * P[i * 4 + b];
+        }
+      emax = fmax(emax, fabs(sum - (a == b)));
+    }
+  print_message("Psi^T M Psi - I read back: %.2g\n", emax);
+  assert_true(emax < 1e-12);
+  double *om = read_all(f, "fe/omega", 4);
+  for (int j = 0; j < 4; j++) assert_true(om[j] == vi_fe_omega(fe)[j]);
+  free(om);
+  free(P);
+  free(cpM);
+  free(riM);
+  free(vM);
+  H5Fclose(f);
+  assert_int_equal(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
+  remove(path);
+  vi_fe_destroy(&fe);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
@@ -434,6 +557,7 @@ int main(void)
       cmocka_unit_test(test_misuse),
       cmocka_unit_test(test_rank_and_size),
       cmocka_unit_test(test_large_scene_text),
+      cmocka_unit_test(test_fe_round_trip),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

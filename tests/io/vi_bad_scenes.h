@@ -61,6 +61,16 @@ static const bad cases[] = {
   {"second stop's r", CHAIN "stops:\n  - {mass: 2, xs: 0.1, r: 0.7}\n  - {mass: 1, xs: 0.1, r: 2}\n", VI_ERR_RESTITUTION, 5, "stops[2].r"},
   {"second stop's mass", CHAIN "stops:\n  - {mass: 2, xs: 0.1, r: 0.7}\n  - {mass: 3, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 5, "stops[2].mass"},
   {"second stop zero", "model:\n  K: [[2, -1], [-1, 1]]\nstops:\n  - {w: [0, 1], xs: 0.1, r: 0.7}\n  - {w: [0, 0], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", VI_ERR_STOP_VECTOR, 5, "stops[2]"},
+  /* stops by coordinate and direction; broadcast initial states */
+  {"dof and mass", CHAIN "stop: {dof: 2, mass: 2, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.dof"},
+  {"dof and w", CHAIN "stop: {dof: 2, w: [0, 1], xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.dof"},
+  {"dof out of range", CHAIN "stop: {dof: 0, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.dof"},
+  {"direction 0", CHAIN "stop: {dof: 2, direction: 0, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.direction"},
+  {"direction 2", CHAIN "stop: {dof: 2, direction: 2, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.direction"},
+  {"direction with w", CHAIN "stop: {w: [0, 1], direction: -1, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 3, "stop.direction"},
+  {"second stop's direction", CHAIN "stops:\n  - {dof: 2, xs: 0.1, r: 0.7}\n  - {dof: 1, direction: up, xs: 0.1, r: 0.7}\n", VI_ERR_PARSE, 5, "stops[2].direction"},
+  {"initial.x text", CHAIN GOOD_STOP "initial: {x: zero}\n", VI_ERR_PARSE, 4, "initial.x"},
+  {"initial.v wrong length", CHAIN GOOD_STOP "initial: {v: [1, 2, 3]}\n", VI_ERR_DIM, 4, "initial.v"},
   /* rejected when the run is configured */
   {"initial state beyond the stop", CHAIN GOOD_STOP "initial: {x: [0.0, 0.5]}\nrun: {t_end: 10}\n", VI_ERR_INITIAL_STATE, 4, "initial"},
 };

@@ -1,0 +1,222 @@
+/** @file vi_identify.h
+ * Model parameters from a recorded response (MODEL.md sections 5, 6; the
+ * paper's section 4): the restitution, clearance, forcing frequency or any
+ * other parameter a model needs to reproduce a measured periodic impacting
+ * motion, with honest uncertainties.
+ *
+ * The recording is samples y_i = c.x(t_i) (c the observation vector: the
+ * stop's w by default, so y is the gap coordinate w.x, or a unit vector for
+ * one coordinate), optionally with the velocity c.x'(t_i).  The model's
+ * response is its steady periodic impacting orbit P(n, m) at the trial
+ * parameters p: found once by a transient (vi_orbit_find) at the starting
+ * values, then continued from trial to trial by Newton's method on the
+ * impact conditions (vi_orbit_pnm_solve_stops); between impacts the
+ * response at the sample times is the exact flow (vi_flow.h).  The
+ * recording's forcing phase is unknown: model time s = t + t0, and the
+ * shift t0 is a nuisance parameter, fitted.
+ *
+ * Nonlinear least squares (GSL gsl_multifit_nlinear, Levenberg-Marquardt
+ * trust region) minimises sum_i (y_i - c.x(t_i + t0; p))^2 (plus the
+ * velocity residuals divided by Omega when velocities are given).  The
+ * Jacobian: the orbit's sensitivity du/dp = -F_u^-1 F_p from the exact
+ * Jacobian F_u of the impact conditions and their exact parameter
+ * derivative F_p (vi_orbit_pnm_dparam: Omega, x_s, r; a central
+ * difference of the conditions for any other parameter), carried to every
+ * sample by the exact state-transition matrix; d/dt0 is the model's
+ * velocity.
+ *
+ * Uncertainty: cov = s^2 (J^T J)^-1 at the optimum with the residual
+ * variance s^2 = SSR / (N - P) (N residuals, P fitted values with the
+ * shift), 95 % intervals p +- t_{0.975, N-P} stderr.  Valid when the noise
+ * is independent and the model is right: compare the residual RMS with the
+ * noise level (given, or estimated from the recording's 4th differences).
+ *
+ * Life cycle: vi_identify_create -> vi_identify_set_param (each one) ->
+ * [vi_identify_set_builder, _set_observation, _set_shift, _set_noise] ->
+ * vi_identify_set_data -> vi_identify_run -> the result getters ->
+ * vi_identify_destroy.
+ */
+#ifndef VI_IDENTIFY_H
+#define VI_IDENTIFY_H
+
+#include "vibroimpact/vi_export.h"
+#include "vibroimpact/vi_model.h"
+#include "vibroimpact/vi_sim.h" /* vi_destroy_fn */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Opaque identification handle. */
+typedef struct vi_identify vi_identify;
+
+/** Builds the set-up model at parameter values p [np] into *out (a new
+ *  handle the identification destroys).  Return VI_OK, or a non-zero code
+ *  for values that make no model (the step is then rejected). */
+typedef int (*vi_identify_model_fn)(const double *p, void *user,
+                                    vi_model **out);
+
+/** Parameter kinds of vi_identify_set_param: the vi_orbit_pnm_dparam
+ *  parameters, whose derivatives are exact and whose models the
+ *  identification can build itself from the base model, or any other
+ *  (VI_IDENTIFY_OTHER: set by its key, vi_identify_set_param_key, or by the
+ *  builder; derivative differenced). */
+enum {
+  VI_IDENTIFY_OMEGA = 0, /**< forcing frequency Omega (VI_ORBIT_PARAM_OMEGA) */
+  VI_IDENTIFY_XS = 1,    /**< a stop's position x_k (VI_ORBIT_PARAM_XS) */
+  VI_IDENTIFY_R = 2,     /**< a stop's restitution r_k (VI_ORBIT_PARAM_R) */
+  VI_IDENTIFY_OTHER = 3  /**< anything the builder sets */
+};
+
+/** Warnings about a fitted parameter (vi_identify_params flags). */
+enum {
+  VI_IDENTIFY_ON_BOUND = 1,     /**< the optimum lies on (within 1e-6 of the
+                                     range of) a bound: stderr and interval
+                                     do not apply */
+  VI_IDENTIFY_UNDETERMINED = 2, /**< the data do not determine it: the
+                                     Jacobian is singular or ill-conditioned
+                                     (reciprocal condition < 1e-10) in its
+                                     direction, or its interval is wider
+                                     than its range */
+  VI_IDENTIFY_CORRELATED = 4    /**< |correlation| > 0.99 with another */
+};
+
+/** Create an identification of np >= 1 parameters of the set-up model
+ *  `base` (borrowed; it must outlive the handle): its values are the
+ *  starting point unless vi_identify_set_param gives others.  The model
+ *  needs the closed-form flow (vi_flow.h), harmonic forcing and a stop.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_DIM (np < 1 or > 32), VI_ERR_STATE
+ *  (model not set up or without a stop), VI_ERR_UNSUPPORTED (no
+ *  closed-form flow, a band model), VI_ERR_FREQUENCY (no forcing),
+ *  VI_ERR_NOMEM. */
+VI_API int vi_identify_create(const vi_model *base, int np, vi_identify **out);
+/** Destroy and set *id to NULL; NULL-safe (the builder's user data is
+ *  released with its destroy function). */
+VI_API void vi_identify_destroy(vi_identify **id);
+/** Detail of the last error ("" if none), owned by the handle. */
+VI_API const char *vi_identify_errmsg(const vi_identify *id);
+
+/** Parameter j (0-based): its kind (VI_IDENTIFY_*), the stop k (0-based)
+ *  for VI_IDENTIFY_XS and VI_IDENTIFY_R (ignored otherwise), its starting
+ *  value p0 and its admissible range [lo, hi] (lo < hi; infinite bounds
+ *  allowed; r is also confined to [0, 1]).  A VI_IDENTIFY_OTHER parameter
+ *  keeps the key vi_identify_set_param_key gave it (a new start or range).
+ *  Every parameter must be set
+ *  before vi_identify_run.  @return VI_OK, VI_ERR_ARG (j, kind or k out of
+ *  range, p0 outside [lo, hi], lo >= hi), VI_ERR_NONFINITE (p0 NaN or
+ *  infinite). */
+VI_API int vi_identify_set_param(vi_identify *id, int j, int kind, int k,
+                                 double p0, double lo, double hi);
+/** Parameter j by its vi_param.h key (forcing.omega, stop.xs, stops[k].r,
+ *  forcing.a[i], damping.zeta, ...): the starting value is the base
+ *  model's (vi_model_param), the range [lo, hi] (NaN: unbounded on that
+ *  side; r also within [0, 1]).  Without a builder the model at trial
+ *  values is a copy of the base model (vi_model_copy) with every keyed
+ *  parameter set by vi_model_set_param.  Omega, x_k and r_k keep exact
+ *  derivatives; any other key is differenced.  @return VI_OK, VI_ERR_ARG
+ *  (NULL or unknown key, j out of range, the start outside [lo, hi]),
+ *  VI_ERR_DIM (an index out of range), VI_ERR_UNSUPPORTED, as
+ *  vi_model_param. */
+VI_API int vi_identify_set_param_key(vi_identify *id, int j, const char *key,
+                                     double lo, double hi);
+/** The model at trial values: fn builds it from all np values (needed
+ *  for a VI_IDENTIFY_OTHER parameter without a key; without a builder the
+ *  identification sets each parameter by its key on a copy of the base
+ *  model, vi_model_copy and vi_model_set_param).  The models must keep the base
+ *  model's size and stops.  fn NULL removes it.  @return VI_OK,
+ *  VI_ERR_ARG. */
+VI_API int vi_identify_set_builder(vi_identify *id, vi_identify_model_fn fn,
+                                   void *user, vi_destroy_fn destroy);
+/** Observation vector c [n]: the recording is c.x (default, c NULL: stop
+ *  0's w, the gap coordinate; e_i for coordinate i).  @return VI_OK,
+ *  VI_ERR_ARG (c zero), VI_ERR_NONFINITE. */
+VI_API int vi_identify_set_observation(vi_identify *id, const double *c);
+/** The time shift t0 (model time = recording time + t0): fit = 1 fits it
+ *  starting from t0, or from a scan of one orbit period when t0 is NaN (the
+ *  default); fit = 0 holds it at t0 (finite).  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_identify_set_shift(vi_identify *id, int fit, double t0);
+/** on = 1 (default): the model's orbit must be stable (|Floquet
+ *  multipliers| < 1): an unstable orbit is not a motion a recording can
+ *  show.  on = 0 also fits unstable orbits: the shape a model's orbit
+ *  would need, e.g. to compare a reduced model that cannot hold the motion
+ *  (vi_identify_stability then tells).  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_identify_set_stable_only(vi_identify *id, int on);
+/** The recording's noise standard deviation, if known (sigma <= 0: estimate
+ *  it from the 4th differences of a near-uniformly sampled recording), for
+ *  the comparison with the residual RMS.  @return VI_OK, VI_ERR_NONFINITE. */
+VI_API int vi_identify_set_noise(vi_identify *id, double sigma);
+/** The recording (copied): ns samples at times t [ns] (strictly
+ *  increasing, uniform or not), displacements x [ns] (c.x), velocities v
+ *  [ns] (c.x') or NULL.  @return VI_OK, VI_ERR_ARG (ns < 16 or t not
+ *  strictly increasing, the message giving the sample), VI_ERR_NONFINITE
+ *  (a NaN or infinite value, 1-based sample in the message),
+ *  VI_ERR_NOMEM. */
+VI_API int vi_identify_set_data(vi_identify *id, int ns, const double *t,
+                                const double *x, const double *v);
+/** Fit.  Finds the model's periodic orbit at the starting values, checks
+ *  that the recording repeats with that orbit's period, scans the shift,
+ *  and runs the least squares (at most 200 iterations).  VI_OK when the
+ *  fit completed, converged or not (vi_identify_summary tells).
+ *  @return VI_OK, VI_ERR_STATE (no data, a parameter not set),
+ *  VI_ERR_ARG (too few samples per fitted value, a recording shorter than
+ *  one orbit period, or one that does not repeat with the model's orbit
+ *  period: message), VI_ERR_NOT_CONVERGED (the model's motion at the
+ *  starting values is not periodic, or its orbit cannot be held), the
+ *  builder's code, VI_ERR_NOMEM. */
+VI_API int vi_identify_run(vi_identify *id);
+
+/* ---- results: VI_ERR_STATE before a completed vi_identify_run -------- */
+/** Fitted values p [np], standard errors se [np], 95 % intervals
+ *  [lo95, hi95] [np], warning flags (VI_IDENTIFY_* bits) [np].  Any
+ *  pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
+VI_API int vi_identify_params(const vi_identify *id, double *p, double *se,
+                              double *lo95, double *hi95, int *flags);
+/** The fitted (or held) shift *t0 and its standard error *se (0 if held).
+ *  Either pointer may be NULL. */
+VI_API int vi_identify_shift(const vi_identify *id, double *t0, double *se);
+/** Correlation matrix R [np x np] of the fitted parameters (leading
+ *  dimension ld >= np).  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
+VI_API int vi_identify_correlation(const vi_identify *id, double *R, int ld);
+/** Summary: converged (1/0), least-squares iterations, residual RMS (over
+ *  the displacement samples), the noise level (given or estimated; NaN
+ *  if neither), the Jacobian's reciprocal condition number, the fitted
+ *  orbit P(n, m).  Any pointer may be NULL. */
+VI_API int vi_identify_summary(const vi_identify *id, int *converged,
+                               int *iterations, double *rms, double *noise,
+                               double *rcond, int *n, int *m);
+/** The fitted orbit's largest Floquet multiplier modulus *mu (< 1:
+ *  stable; NaN if it could not be computed).  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_STATE. */
+VI_API int vi_identify_stability(const vi_identify *id, double *mu);
+/** Number of parameters np of the identification (0 for NULL). */
+VI_API int vi_identify_nparams(const vi_identify *id);
+/** The fitted orbit: its period *period = n 2 pi / Omega and the model
+ *  times t [m] (m <= 8, vi_identify_summary) of its impacts in the period
+ *  [0, *period) (the shift maps recording time t to model time t + t0).
+ *  Either pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
+VI_API int vi_identify_orbit_period(const vi_identify *id, double *period,
+                                    double *t);
+/** The fitted model's response c.x at recording times t [nt] (the shift
+ *  applied) into x [nt]; v [nt] (may be NULL) receives c.x'.
+ *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE, VI_ERR_NONFINITE. */
+VI_API int vi_identify_response(const vi_identify *id, int nt,
+                                const double *t, double *x, double *v);
+/** The WB 12 route (MODEL.md section 5) at the fitted orbit, for a P(1,1)
+ *  orbit observed at the stop (c = w): the model's residual energy RE =
+ *  sum_j (FE_j - DE_j - XE_j) over one period (the modal ledger of the
+ *  fitted orbit), the recorded approach velocity vN just before each
+ *  recorded impact, averaged (when the residual is within 1.5 times the
+ *  noise: the fitted model's vN corrected by a low-order fit of the
+ *  residuals just before the impact, the model interpolating between the
+ *  samples; otherwise NaN: at 64 samples per period a local polynomial of
+ *  the recording alone is off by about 2 % of vN on the 4-mode beam), KE = 1/2 vN^2 / (w^T M^-1 w), and
+ *  r12 = sqrt(1 - RE / KE) (WB 13).  NaN where they do not apply (not
+ *  P(1,1), another observation, RE outside [0, KE]).  Any pointer may be
+ *  NULL.  @return VI_OK, VI_ERR_STATE. */
+VI_API int vi_identify_energy_restitution(const vi_identify *id, double *r12,
+                                          double *vN, double *KE, double *RE);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# `vibroimpact identify` end to end: recordings made from the independent
+# SciPy period (tests/study/data, noisy_recording.py), fits of the 4-mode
+# beam and Fig. 2 checked against the values that made the data (within
+# 3 standard errors), the JSON's fields, the HDF5 output and its plot, and
+# bad input: exit 2 with the file, line and column named, no output file.
+#   identify_app_test.sh APP SRC DIR
+set -u
+app=$1 src=$2 dir=$3
+py=/usr/bin/python3
+rm -rf "$dir" && mkdir -p "$dir"
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+rec="$src/tests/study/noisy_recording.py"
+data="$src/tests/study/data"
+scenes="$src/share/scenes"
+$py "$rec" "$data/beam4.csv" 50 0.002 1 > "$dir/beam.csv" || bad "recording"
+$py "$rec" "$data/fig2.csv" 20 0.002 2 --v > "$dir/fig2.csv" || bad "recording"
+
+# r from 0.6 (the data: 0.75): JSON, within 3 stderr, the residual is the noise
+"$app" identify "$scenes/cantilever4.yaml" --set stop.r=0.6 --data "$dir/beam.csv" \
+  --fit stop.r --json -o "$dir/beam.h5" > "$dir/beam.json" || bad "beam fit exit $?"
+$py - "$dir/beam.json" <<'PY' || bad "beam JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))
+r = j["fit"]["stop.r"]
+assert j["converged"] and (j["orbit"]["n"], j["orbit"]["m"]) == (1, 1), j
+assert j["orbit"]["stable"] and j["orbit"]["multiplier"] < 1, j
+assert abs(r["value"] - 0.75) < 3 * r["stderr"] and r["stderr"] < 0.01, r
+assert r["ci95"][0] < r["value"] < r["ci95"][1]
+assert abs(j["rms_residual"] / j["noise"] - 1) < 0.1, j
+assert j["correlation"] == [[1]], j["correlation"]
+for k in ("iterations", "shift", "r_energy_balance"):
+    assert k in j, k
+PY
+[ -f "$dir/beam.h5" ] || bad "no beam.h5"
+if $py -c "import h5py, matplotlib" 2>/dev/null; then
+  $py "$src/share/plot_identify.py" "$dir/beam.h5" --out "$dir" > /dev/null || bad "plot"
+  [ "$(stat -c %s "$dir/beam_identify.png" 2>/dev/null || echo 0)" -gt 10000 ] || bad "plot size"
+fi
+# Fig. 2 with velocities: r and x_s together, text report
+"$app" identify "$scenes/fig2.yaml" --set stop.r=0.6 --data "$dir/fig2.csv" \
+  --fit stop.r,stop.xs --json > "$dir/fig2.json" || bad "fig2 fit exit $?"
+$py - "$dir/fig2.json" <<'PY' || bad "fig2 JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))
+for k, v in (("stop.r", 0.7), ("stop.xs", 0.1)):
+    f = j["fit"][k]
+    assert abs(f["value"] - v) < 3 * f["stderr"], (k, f)
+assert len(j["correlation"]) == 2 and abs(j["correlation"][0][1]) < 1
+PY
+# a scene key vi_param.h does not know (the chain's damper), by re-reading the scene
+"$app" identify "$scenes/fig2.yaml" --set model.chain.c=0.12 --data "$dir/fig2.csv" \
+  --fit model.chain.c,stop.r --json > "$dir/fig2c.json" || bad "fig2 c fit exit $?"
+$py - "$dir/fig2c.json" <<'PY' || bad "fig2 c JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))
+for k, v in (("model.chain.c", 0.1), ("stop.r", 0.7)):
+    f = j["fit"][k]
+    assert abs(f["value"] - v) < 3 * f["stderr"], (k, f)
+PY
+"$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.r --dof 2 \
+  | grep -q "stop.r .*= 0.7" || bad "fig2 --dof 2 text report"
+
+# bad input: exit 2 and where
+expect() { # expect PATTERN CMD...: exit 2, stderr matches
+  local pat=$1; shift
+  "$@" > "$dir/out" 2> "$dir/err"; local rc=$?
+  [ $rc -eq 2 ] || bad "exit $rc (want 2): $*"
+  grep -q -- "$pat" "$dir/err" || { bad "no '$pat' in: $(cat "$dir/err")"; }
+}
+printf 't,x\n0,1\n1,abc\n' > "$dir/nan1.csv"
+expect "nan1.csv:3:3: x = 'abc': not a number" "$app" identify "$scenes/fig2.yaml" --data "$dir/nan1.csv" --fit stop.r
+printf 't,x\n0,1\n1,nan\n' > "$dir/nan2.csv"
+expect "nan2.csv:3:3: x = 'nan': not finite" "$app" identify "$scenes/fig2.yaml" --data "$dir/nan2.csv" --fit stop.r
+printf '# comment\nt,x\n0,1\n2,1\n1,1\n' > "$dir/mono.csv"
+expect "mono.csv:5:1: t = 1 does not increase" "$app" identify "$scenes/fig2.yaml" --data "$dir/mono.csv" --fit stop.r
+head -12 "$dir/fig2.csv" > "$dir/short.csv"
+expect "too few samples" "$app" identify "$scenes/fig2.yaml" --data "$dir/short.csv" --fit stop.r
+printf 'time,x\n0,1\n' > "$dir/head.csv"
+expect "needs columns t and x" "$app" identify "$scenes/fig2.yaml" --data "$dir/head.csv" --fit stop.r
+$py -c "
+import math
+print('t,x')
+for i in range(2000): print('%r,%r' % (0.1*i, 0.3*math.sin(0.63*0.1*i)))" > "$dir/sine.csv"
+expect "does not repeat" "$app" identify "$scenes/fig2.yaml" --data "$dir/sine.csv" --fit stop.r -o "$dir/no.h5"
+[ -e "$dir/no.h5" ] || [ -e "$dir/no.h5.part" ] && bad "an output file after an error"
+expect "fig2.yaml:6:7: name = fig2: not a number" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit name
+expect "no such key" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.q
+expect "coordinates" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.r --dof 3
+expect "needs SCENE, --data and --fit" "$app" identify "$scenes/fig2.yaml" --fit stop.r
+exit $fail

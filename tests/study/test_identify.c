@@ -1,0 +1,463 @@
+/* test_identify.c - model parameters from recorded data (src/study/
+ * vi_identify.c) on synthetic recordings made outside the library
+ * (tests/study/gen_identify_data.py: SciPy DOP853 with event location; one
+ * settled period at 64 samples, repeated here over P periods, with
+ * Gaussian noise of a fraction of the peak-to-peak and an unknown phase).
+ *
+ * The tolerances come from what the data hold (issue 22): on the 4-mode
+ * beam a change of 0.01 in r moves the tip by ~1.3e-5 RMS against a
+ * peak-to-peak of 0.1, so 50 periods at 0.2 % noise determine r to about
+ * +-0.003 and 20 periods at 1 % to about +-0.02.  The 95 % intervals must
+ * cover the truth in >= 8 of 10 noise seeds (binomial: P(<= 7 of 10 |
+ * 0.95) = 1.2 %, fixed seeds).  Measured here: the stderr implies 6.4e-6
+ * RMS per 0.01 in r (half the issue's estimate), so the stderr is 0.0055
+ * at 0.2 % over 50 periods and 0.043 at 1 % over 20 periods. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "vi_testutil.h"
+
+#ifndef VI_IDENT_DATA
+#define VI_IDENT_DATA "tests/study/data"
+#endif
+
+typedef struct rec {
+  int ns;
+  double T0, t[1024], x[1024], v[1024];
+} rec;
+
+/* The generator's CSV: "# T0 = ..." then t,x,v rows. */
+static void load(const char *name, rec *r)
+{
+  char path[512], line[256];
+  snprintf(path, sizeof path, "%s/%s", VI_IDENT_DATA, name);
+  FILE *f = fopen(path, "r");
+  assert_non_null(f);
+  r->ns = 0;
+  r->T0 = NAN;
+  while (fgets(line, sizeof line, f)) {
+    if (!strncmp(line, "# T0 = ", 7)) r->T0 = strtod(line + 7, NULL);
+    if (line[0] == '#' || line[0] == 't') continue;
+    assert_true(r->ns < 1024);
+    char *e1, *e2, *e3;
+    r->t[r->ns] = strtod(line, &e1);
+    assert_true(*e1 == ',');
+    r->x[r->ns] = strtod(e1 + 1, &e2);
+    assert_true(*e2 == ',');
+    r->v[r->ns] = strtod(e2 + 1, &e3);
+    assert_true(e3 > e2 + 1);
+    r->ns++;
+  }
+  fclose(f);
+  assert_true(isfinite(r->T0));
+}
+
+/* The 4-mode cantilever of share/scenes/cantilever4.yaml (modes 1..nm). */
+static vi_model *beam(int nm, double xs, double r)
+{
+  double M[16], C[16], K[16], w[4], g[4], a[4];
+  assert_int_equal(vi_build_cantilever(nm, 1.0, 0.05, 1.0, M, C, K, nm, w, g), VI_OK);
+  for (int j = 0; j < nm; j++) a[j] = -0.01 * g[j];
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(nm, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, nm), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, nm), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, nm), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 0.85, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w, xs, r), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  return m;
+}
+
+/* One period of 64 samples repeated over `periods`, noise sigma. */
+typedef struct series {
+  int ns;
+  double *t, *x, *v;
+} series;
+
+static series repeat(const rec *r, int periods, double sigma, unsigned long seed)
+{
+  series s;
+  double T = r->t[1] * 64.0;
+  s.ns = r->ns * periods;
+  s.t = malloc(sizeof(double) * (s.ns + 1));
+  s.x = malloc(sizeof(double) * (s.ns + 1));
+  s.v = malloc(sizeof(double) * (s.ns + 1));
+  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(g, seed);
+  for (int p = 0; p < periods; p++)
+    for (int i = 0; i < r->ns; i++) {
+      int k = p * r->ns + i;
+      s.t[k] = r->t[i] + p * T;
+      s.x[k] = r->x[i] + (sigma > 0 ? gsl_ran_gaussian(g, sigma) : 0.0);
+      s.v[k] = r->v[i];
+    }
+  gsl_rng_free(g);
+  return s;
+}
+
+static void series_free(series *s)
+{
+  free(s->t);
+  free(s->x);
+  free(s->v);
+}
+
+static double peak_to_peak(const rec *r)
+{
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (int i = 0; i < r->ns; i++) {
+    lo = fmin(lo, r->x[i]);
+    hi = fmax(hi, r->x[i]);
+  }
+  return hi - lo;
+}
+
+/* Fit r (from r0) of the model m to s; the results. */
+typedef struct fit {
+  double p[2], se[2], lo[2], hi[2], t0, rms, noise;
+  int flags[2], conv, iters;
+} fit;
+
+static fit fit_r(const vi_model *m, const series *s, double r0, int with_v)
+{
+  vi_identify *id = NULL;
+  fit f;
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, r0, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s->ns, s->t, s->x, with_v ? s->v : NULL), VI_OK);
+  int st = vi_identify_run(id);
+  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+  assert_int_equal(st, VI_OK);
+  assert_int_equal(vi_identify_params(id, f.p, f.se, f.lo, f.hi, f.flags), VI_OK);
+  assert_int_equal(vi_identify_shift(id, &f.t0, NULL), VI_OK);
+  assert_int_equal(vi_identify_summary(id, &f.conv, &f.iters, &f.rms, &f.noise,
+                                       NULL, NULL, NULL), VI_OK);
+  vi_identify_destroy(&id);
+  return f;
+}
+
+/* Distance of two shifts modulo the period T. */
+static double phase_err(double a, double b, double T)
+{
+  double d = fmod(a - b, T);
+  if (d < 0) d += T;
+  return fmin(d, T - d);
+}
+
+/* Noise-free: the model reproduces the independent simulation to its
+ * tolerance, r to 1e-6, the phase to 1e-6 of the period. */
+static void beam_exact(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4.csv", &r);
+  double T = 2 * M_PI / 0.85;
+  vi_model *m = beam(4, 0.05, 0.75);
+  series s = repeat(&r, 3, 0.0, 1);
+  fit f = fit_r(m, &s, 0.6, 0);
+  assert_true(f.conv);
+  assert_close(f.p[0], 0.75, 1e-6);
+  assert_true(f.rms < 1e-8); /* DOP853 at rtol 1e-12 against the closed form */
+  assert_true(phase_err(f.t0, r.T0, T) < 1e-6 * T);
+  assert_close(peak_to_peak(&r), 0.1, 0.02); /* the scale the noise refers to */
+  /* the WB 12 route on the fitted orbit with the recorded v_N: with
+   * exact data and the right model it gives the same r (WB 11 closure) */
+  vi_identify *id = NULL;
+  double r12, vN, KE, RE, x1[1], t1[1] = {0.0};
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.7, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, s.v), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_OK);
+  assert_int_equal(vi_identify_energy_restitution(id, &r12, &vN, &KE, &RE), VI_OK);
+  assert_close(r12, 0.75, 1e-6);
+  assert_true(vN > 0.0 && RE > 0.0 && RE < KE);
+  assert_int_equal(vi_identify_response(id, 1, t1, x1, NULL), VI_OK);
+  assert_close(x1[0], r.x[0], 1e-9);
+  vi_identify_destroy(&id);
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
+/* 0.2 % noise over 50 periods: r within 0.01 (in fact within 3 stderr),
+ * stderr about 0.003; and the intervals' coverage over 10 seeds. */
+static void beam_noise(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4.csv", &r);
+  vi_model *m = beam(4, 0.05, 0.75);
+  double pp = peak_to_peak(&r);
+  struct { int periods; double level, se_lo, se_hi; } cs[2] = {
+      {50, 0.002, 0.003, 0.008}, {20, 0.01, 0.02, 0.06}};
+  for (int c = 0; c < 2; c++) {
+    int cover = 0;
+    for (unsigned long seed = 1; seed <= 10; seed++) {
+      series s = repeat(&r, cs[c].periods, cs[c].level * pp, seed);
+      fit f = fit_r(m, &s, 0.6, 0);
+      if (getenv("VI_DEBUG")) fprintf(stderr, "c%d seed %lu r %.5f se %.5f it %d rms %.3g noise %.3g\n", c, seed, f.p[0], f.se[0], f.iters, f.rms, f.noise);
+      assert_true(f.conv);
+      if (c == 0) assert_close(f.p[0], 0.75, 0.01);
+      assert_true(f.se[0] > cs[c].se_lo && f.se[0] < cs[c].se_hi);
+      cover += f.lo[0] <= 0.75 && 0.75 <= f.hi[0];
+      /* the residual is the noise: the model is right */
+      assert_close(f.rms / (cs[c].level * pp), 1.0, 0.05);
+      assert_close(f.noise / (cs[c].level * pp), 1.0, 0.25);
+      series_free(&s);
+    }
+    assert_true(cover >= 8);
+  }
+  vi_model_destroy(&m);
+}
+
+/* r and x_s together, and the exact derivative against a builder's
+ * differenced one (the same optimum and errors). */
+typedef struct bctx { int calls; } bctx;
+static int build_r(const double *p, void *user, vi_model **out)
+{
+  ((bctx *)user)->calls++;
+  double M[16], C[16], K[16], w[4], g[4], a[4];
+  vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g);
+  for (int j = 0; j < 4; j++) a[j] = -0.01 * g[j];
+  vi_model *m = NULL;
+  int st = vi_model_create(4, &m);
+  if (!st) st = vi_model_set_mass(m, M, 4);
+  if (!st) st = vi_model_set_damping(m, C, 4);
+  if (!st) st = vi_model_set_stiffness(m, K, 4);
+  if (!st) st = vi_model_set_forcing(m, 0.85, a, NULL, NULL);
+  if (!st) st = vi_model_set_stop(m, w, p[1], p[0]);
+  if (!st) st = vi_model_setup(m);
+  if (st) vi_model_destroy(&m);
+  *out = m;
+  return st;
+}
+
+static void beam_r_xs(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4.csv", &r);
+  vi_model *m = beam(4, 0.0495, 0.7);
+  double pp = peak_to_peak(&r);
+  series s = repeat(&r, 50, 0.002 * pp, 11);
+  double p[2][2], se[2][2], R[4];
+  bctx bc = {0};
+  for (int way = 0; way < 2; way++) {
+    vi_identify *id = NULL;
+    assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+    int kr = way ? VI_IDENTIFY_OTHER : VI_IDENTIFY_R;
+    int kx = way ? VI_IDENTIFY_OTHER : VI_IDENTIFY_XS;
+    if (way) assert_int_equal(vi_identify_set_builder(id, build_r, &bc, NULL), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, kr, 0, 0.7, 0, 1), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 1, kx, 0, 0.0495, 0.03, 0.07), VI_OK);
+    assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+    int st = vi_identify_run(id);
+    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+    assert_int_equal(st, VI_OK);
+    assert_int_equal(vi_identify_params(id, p[way], se[way], NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_identify_correlation(id, R, 2), VI_OK);
+    assert_close(R[0], 1.0, 1e-12);
+    assert_close(R[1], R[2], 1e-12);
+    { int cv, it; double rms; vi_identify_summary(id, &cv, &it, &rms, NULL, NULL, NULL, NULL); if (getenv("VI_DEBUG")) fprintf(stderr, "conv %d it %d rms %g\n", cv, it, rms); }
+    if (getenv("VI_DEBUG")) fprintf(stderr, "way %d r %.5f+-%.5f xs %.6f+-%.6f corr %.4f\n", way, p[way][0], se[way][0], p[way][1], se[way][1], R[1]);
+    assert_true(fabs(p[way][0] - 0.75) < 3 * se[way][0]);
+    assert_true(fabs(p[way][1] - 0.05) < 3 * se[way][1]);
+    vi_identify_destroy(&id);
+  }
+  assert_true(bc.calls > 0);
+  /* differences of 1e-6 relative against the exact sensitivities */
+  for (int j = 0; j < 2; j++) {
+    assert_close(p[1][j], p[0][j], 1e-4 * se[0][j]);
+    assert_close(se[1][j] / se[0][j], 1.0, 1e-4);
+  }
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
+/* Non-uniform samples with the velocity column. */
+static void beam_jitter(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4_jitter.csv", &r);
+  vi_model *m = beam(4, 0.05, 0.75);
+  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(g, 5);
+  for (int i = 0; i < r.ns; i++) r.x[i] += gsl_ran_gaussian(g, 1e-4);
+  gsl_rng_free(g);
+  series s = {r.ns, r.t, r.x, r.v};
+  fit f = fit_r(m, &s, 0.6, 0);
+  assert_true(f.conv);
+  assert_true(fabs(f.p[0] - 0.75) < 3 * f.se[0]);
+  assert_true(isnan(f.noise)); /* no 4th differences of non-uniform samples */
+  assert_close(f.rms / 1e-4, 1.0, 0.1);
+  vi_model_destroy(&m);
+}
+
+/* Fig. 2 (the 2-mass chain): r from 0.5 at 0.2 % noise over 20 periods. */
+static void fig2(void **state)
+{
+  (void)state;
+  static rec r;
+  load("fig2.csv", &r);
+  vi_model *m = vi_test_fig2();
+  series s = repeat(&r, 20, 0.002 * peak_to_peak(&r), 3);
+  fit f = fit_r(m, &s, 0.5, 0);
+  assert_true(f.conv);
+  assert_true(fabs(f.p[0] - 0.7) < 3 * f.se[0] && f.se[0] < 0.01);
+  assert_true(phase_err(f.t0, r.T0, 2 * M_PI / 0.9) < 0.01);
+  /* by vi_param.h keys: r (exact) and the forcing amplitude a_1
+   * (differenced), from 0.6 and 0.45 */
+  vi_identify *id = NULL;
+  double p[2], se[2];
+  int conv;
+  assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param_key(id, 0, "stop.r", NAN, NAN), VI_OK);
+  assert_int_equal(vi_identify_set_param_key(id, 1, "forcing.a[1]", 0.3, 0.7), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_OTHER, 0, 0.45, 0.3, 0.7), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_OK);
+  assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(vi_identify_summary(id, &conv, NULL, NULL, NULL, NULL, NULL, NULL), VI_OK);
+  assert_true(conv);
+  assert_true(fabs(p[0] - 0.7) < 3 * se[0] && fabs(p[1] - 0.5) < 3 * se[1]);
+  assert_true(se[1] < 0.01);
+  vi_identify_destroy(&id);
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
+/* What the data cannot say: the restitution of a stop the motion never
+ * reaches is flagged, its error infinite; a fit on a bound is flagged. */
+static void undetermined(void **state)
+{
+  (void)state;
+  static rec r;
+  load("fig2.csv", &r);
+  vi_model *f2 = vi_test_fig2();
+  vi_model *m = NULL;
+  double M[4] = {1, 0, 0, 1}, C[4] = {0.2, -0.1, -0.1, 0.1}, K[4] = {2, -1, -1, 1};
+  double a[2] = {0.5, 0}, w[2] = {0, 1}, w2[2] = {1, 0};
+  assert_int_equal(vi_model_create(2, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 0.9, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, w2, 5.0, 0.5), VI_OK); /* never hit */
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  series s = repeat(&r, 10, 0.002 * peak_to_peak(&r), 4);
+  vi_identify *id = NULL;
+  double p[2], se[2];
+  int fl[2];
+  assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_R, 1, 0.5, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_OK);
+  assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, fl), VI_OK);
+  assert_true(fabs(p[0] - 0.7) < 3 * se[0]);
+  assert_false(fl[0] & VI_IDENTIFY_UNDETERMINED);
+  assert_true(fl[1] & VI_IDENTIFY_UNDETERMINED);
+  assert_true(isinf(se[1]));
+  vi_identify_destroy(&id);
+  /* r of Fig. 2 from data made with r = 0.7, confined to [0, 0.6] */
+  assert_int_equal(vi_identify_create(f2, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.5, 0, 0.6), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_OK);
+  assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, fl), VI_OK);
+  assert_close(p[0], 0.6, 1e-6);
+  assert_true(fl[0] & VI_IDENTIFY_ON_BOUND);
+  vi_identify_destroy(&id);
+  series_free(&s);
+  vi_model_destroy(&m);
+  vi_model_destroy(&f2);
+}
+
+/* Bad recordings: named errors, no fit. */
+static void bad_data(void **state)
+{
+  (void)state;
+  static rec r;
+  load("fig2.csv", &r);
+  vi_model *m = vi_test_fig2();
+  vi_identify *id = NULL;
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
+  series s = repeat(&r, 4, 0.0, 1);
+  assert_int_equal(vi_identify_set_data(id, 10, s.t, s.x, NULL), VI_ERR_ARG);
+  assert_non_null(strstr(vi_identify_errmsg(id), "too few"));
+  s.t[7] = s.t[6];
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_ERR_ARG);
+  assert_non_null(strstr(vi_identify_errmsg(id), "sample 8"));
+  s.t[7] = 0.5 * (s.t[6] + s.t[8]);
+  s.x[9] = NAN;
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_ERR_NONFINITE);
+  assert_non_null(strstr(vi_identify_errmsg(id), "sample 10"));
+  /* not periodic with the orbit's period: a sine at another frequency */
+  for (int i = 0; i < s.ns; i++) s.x[i] = 0.3 * sin(0.63 * s.t[i]);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_ERR_ARG);
+  assert_non_null(strstr(vi_identify_errmsg(id), "does not repeat"));
+  assert_int_equal(vi_identify_params(id, NULL, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  /* shorter than one period */
+  assert_int_equal(vi_identify_set_data(id, 40, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_ERR_ARG);
+  vi_identify_destroy(&id);
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
+/* A P(1,2) orbit on two stops (share/scenes/clearance.yaml at a = (0.3, 0),
+ * Omega = 1.7: one impact on each side): both restitutions from 0.75. */
+static void clearance(void **state)
+{
+  (void)state;
+  static rec r;
+  load("clearance.csv", &r);
+  double M[4] = {1, 0, 0, 1}, C[4] = {0.1, -0.05, -0.05, 0.05}, K[4] = {2, -1, -1, 1};
+  double a[2] = {0.3, 0}, w[2] = {0, 1}, wm[2] = {0, -1};
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(2, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 1.7, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, w, 0.1, 0.75), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, wm, 0.1, 0.75), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  series s = repeat(&r, 20, 0.002 * peak_to_peak(&r), 9);
+  vi_identify *id = NULL;
+  double p[2], se[2];
+  int n, mm, conv;
+  assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.75, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_R, 1, 0.75, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_OK);
+  assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(vi_identify_summary(id, &conv, NULL, NULL, NULL, NULL, &n, &mm), VI_OK);
+  assert_true(conv && n == 1 && mm == 2);
+  for (int j = 0; j < 2; j++) assert_true(fabs(p[j] - 0.8) < 3 * se[j] && se[j] < 0.01);
+  vi_identify_destroy(&id);
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(beam_exact),   cmocka_unit_test(fig2),
+      cmocka_unit_test(bad_data),     cmocka_unit_test(undetermined),
+      cmocka_unit_test(beam_jitter),  cmocka_unit_test(beam_r_xs),
+      cmocka_unit_test(beam_noise),    cmocka_unit_test(clearance),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
