@@ -1093,6 +1093,9 @@ static void test_cont_misuse(void **state)
   assert_int_equal(vi_cont_set_monitor(c, stop_cont, NULL, NULL), VI_OK);
   assert_int_equal(vi_cont_iterate(c), VI_STOPPED);
   vi_cont_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 /* vi_identify_*: NULL handles, out-of-range parameters, bad data, results
  * before a fit. */
 static int ident_builder(const double *p, void *user, vi_model **out)
