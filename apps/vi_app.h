@@ -16,6 +16,7 @@ typedef struct app_opts {
   const char *out;    /* -o FILE.h5 as given */
   const char *csv;    /* --impacts-csv FILE or - */
   char out_target[VI_APP_PATH], csv_target[VI_APP_PATH]; /* links followed */
+  int csv_kind;       /* vi_output_kind of the CSV */
   double rtol, atol, periods; /* <= 0: from the scene */
   double re, ke;      /* restitution */
   int method;         /* -1: from the scene */

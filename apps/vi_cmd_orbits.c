@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "vibroimpact.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vi_sweep.h"
@@ -463,5 +464,13 @@ int vi_cmd_orbits_main(int argc, char **argv)
   vi_model_destroy(&mdl);
   vi_scene_destroy(&sc);
   free(a.sets);
+  if (!rc) { /* a lost table or JSON is an error (> /dev/full) */
+    vi_diag od;
+    FILE *so = stdout;
+    if (vi_output_close(&so, "-", VI_OUTPUT_STDOUT, &od)) {
+      fprintf(stderr, "vibroimpact: orbits: %s\n", od.message);
+      rc = 1;
+    }
+  }
   return rc;
 }

@@ -208,9 +208,9 @@ int vi_cmd_run(const app_opts *o)
     goto done;
   }
   /* from here files exist: a signal before the run polls removes them */
-  if (o->out) snprintf(h5part, sizeof h5part, "%s.part", o->out_target);
-  if (o->csv && strcmp(o->csv, "-") != 0)
-    snprintf(part, sizeof part, "%s.part", o->csv_target);
+  if (o->out) vi_output_part(o->out_target, h5part, (int)sizeof h5part);
+  if (o->csv && o->csv_kind == VI_OUTPUT_FILE)
+    vi_output_part(o->csv_target, part, (int)sizeof part);
   vi_app_arm_parts(h5part, part);
   if (o->out) {
     if (!(c.wa = vi_app_writer())) goto done;
@@ -240,17 +240,12 @@ int vi_cmd_run(const app_opts *o)
       }
     }
   }
+  if (o->csv && vi_output_open(o->csv_target, o->csv_kind, &c.csv, &d)) {
+    fprintf(stderr, "vibroimpact: %s\n", d.message);
+    part[0] = '\0';
+    goto done;
+  }
   if (o->csv) {
-    if (!strcmp(o->csv, "-")) {
-      c.csv = stdout;
-    } else {
-      remove(part); /* a stale one of ours (vi_output_resolve checked it) */
-      if (!(c.csv = fopen(part, "wx"))) {
-        fprintf(stderr, "vibroimpact: cannot write '%s': %s\n", part, strerror(errno));
-        part[0] = '\0';
-        goto done;
-      }
-    }
     fprintf(c.csv, "k,t,vn");
     for (int i = 1; i <= n; i++) fprintf(c.csv, ",x_%d", i);
     for (int i = 1; i <= n; i++) fprintf(c.csv, ",v_%d", i);
@@ -291,15 +286,14 @@ int vi_cmd_run(const app_opts *o)
     fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
     goto done;
   }
-  if (c.csv && c.csv != stdout) {
-    int bad = ferror(c.csv) | fflush(c.csv) | fsync(fileno(c.csv));
-    bad |= fclose(c.csv);
-    c.csv = NULL;
-    if (bad || rename(part, o->csv_target)) {
-      fprintf(stderr, "vibroimpact: cannot write '%s': %s\n", o->csv_target,
-              strerror(errno));
+  if (c.csv) {
+    /* every write, the flush, the sync and the close checked; renamed */
+    int to_stdout = c.csv == stdout;
+    if (vi_output_close(&c.csv, o->csv_target, o->csv_kind, &d)) {
+      fprintf(stderr, "vibroimpact: %s\n", d.message);
       goto done;
     }
+    if (to_stdout) c.csv = stdout; /* the summary then goes to stderr */
     part[0] = '\0';
   }
   if (!complete) {
@@ -320,7 +314,7 @@ int vi_cmd_run(const app_opts *o)
             wall, rows);
   rc = 0;
 done:
-  if (c.csv && c.csv != stdout) fclose(c.csv);
+  if (c.csv && c.csv != stdout) vi_output_discard(&c.csv, o->csv_target, o->csv_kind);
   if (part[0]) remove(part);
   if (c.w) c.wa->abort(&c.w);
   vi_sim_destroy(&s);

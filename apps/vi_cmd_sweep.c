@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "vibroimpact.h"
+#include "vibroimpact/vi_output.h"
 #include "vi_sweep.h"
 #ifdef VI_HAVE_MPI
 #include <mpi.h>
@@ -28,7 +29,7 @@
 #endif
 
 static volatile sig_atomic_t interrupted;
-static void on_signal(int sig) { (void)sig; interrupted = 1; }
+static void on_signal(int sig) { interrupted = sig; } /* 128 + sig on exit */
 
 static void usage(FILE *f, int basins)
 {
@@ -137,6 +138,7 @@ typedef struct args {
   const char *out, *scene, **sets;
   int nsets, json, quiet, basins, chunks_set;
   char method_set[64];
+  char target[4096]; /* the output's final path (vi_output_check) */
 } args;
 
 static int parse(int argc, char **argv, args *a)
@@ -239,16 +241,18 @@ static int check(args *a)
     sp->cold = 1;
     if (!a->chunks_set) sp->chunks = sp->steps;
   }
-  if (a->out) { /* a path we cannot write fails now, not after the sweep */
-    char part[4096];
-    snprintf(part, sizeof part, "%s.part", a->out);
-    FILE *f = fopen(part, "wb");
-    if (!f) {
-      fprintf(stderr, "vibroimpact: %s: cannot write '%s': %s\n", cmd, part, strerror(errno));
-      return 1;
+  /* the one output path (vi_output.h): checked before the sweep, the
+   * links followed, devices, FIFOs, directories, a planted .part link and
+   * the scene itself refused */
+  if (a->out) {
+    vi_diag od;
+    int ost = vi_output_check(a->out, VI_OUTPUT_REGULAR, a->scene, a->target,
+                              (int)sizeof a->target, NULL, &od);
+    if (ost) {
+      fprintf(stderr, "vibroimpact: %s: %s\n", cmd, od.message);
+      return ost == VI_ERR_ARG ? 2 : 1;
     }
-    fclose(f);
-    remove(part);
+    a->out = a->target;
   }
   return 0;
 }
@@ -326,6 +330,12 @@ static int report(const args *a, vi_diagram *sw)
     else table(sw);
     if (a->out) printf("%s written to %s\n", a->basins ? "basins" : "diagram", a->out);
   }
+  vi_diag od; /* a lost table or JSON is an error (> /dev/full) */
+  FILE *so = stdout;
+  if (vi_output_close(&so, "-", VI_OUTPUT_STDOUT, &od)) {
+    fprintf(stderr, "vibroimpact: %s: %s\n", cmd, od.message);
+    return 1;
+  }
   return 0;
 }
 
@@ -365,5 +375,6 @@ int vi_cmd_sweep_main(int argc, char **argv)
   if (!rc && !sw->rank) rc = report(&a, sw); /* rank 0 reports and writes */
   vi_sweep_free(&sw);
   free(a.sets);
+  if (interrupted) rc = 128 + (int)interrupted; /* 130 SIGINT, 143 SIGTERM */
   return mpi_finish(mpi, rc);
 }

@@ -1,14 +1,17 @@
 /* vi_sweep_h5.c - a sweep to HDF5 (layout: share/doc/sweep-layout.md).
  * Whole arrays are known when the sweep ends, so each is one contiguous
  * dataset written at once; the file is FILE.part until it is complete. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <hdf5.h>
 
 #include "vibroimpact.h"
 #include "vi_sweep.h"
+#include "vibroimpact/vi_output.h"
 
 static int put(hid_t loc, const char *name, hid_t type, int rank,
                const hsize_t *dims, const void *data)
@@ -21,6 +24,23 @@ static int put(hid_t loc, const char *name, hid_t type, int rank,
     bad = ds < 0 || H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
     if (ds >= 0) H5Dclose(ds);
     if (sp >= 0) H5Sclose(sp);
+  } H5E_END_TRY;
+  return bad;
+}
+
+static int dset_str(hid_t loc, const char *name, const char *val)
+{
+  int bad = 1;
+  hid_t t = -1, sp = -1, d = -1;
+  H5E_BEGIN_TRY {
+    t = H5Tcopy(H5T_C_S1);
+    if (t >= 0 && H5Tset_size(t, strlen(val) + 1) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
+      sp = H5Screate(H5S_SCALAR);
+    if (sp >= 0) d = H5Dcreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    bad = d < 0 || H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, val) < 0;
+    if (d >= 0) H5Dclose(d);
+    if (sp >= 0) H5Sclose(sp);
+    if (t >= 0) H5Tclose(t);
   } H5E_END_TRY;
   return bad;
 }
@@ -107,46 +127,11 @@ done:
   return bad;
 }
 
-/* The arrays of a diagram, flattened for HDF5. */
-typedef struct flat_arrays {
-  int *n, *m, *dir, *row;
-  int64_t *cnt, *start, I;
-  double *T, *flat, *strobe;
-} flat_arrays;
-
-/* The /sweep datasets and attributes; non-zero on any failure. */
-static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays *a)
+/* --lyapunov's exponents and basins' attractor ids, when asked for. */
+static int put_extra(hid_t g, const vi_diagram *sw, const hsize_t *dLK)
 {
-  const vi_sweep_spec *sp = &sw->spec;
-  int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
-  hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
-          dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
-          dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
-          dI[1] = {(hsize_t)a->I};
-  bad |= attr_str(g, "key", sp->key);
-  if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
-  bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
-  bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
-  bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
-  bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
-  bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
-  bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
-  bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
-  bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
-  if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
-  bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, a->dir);
-  bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, a->row);
-  bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, a->n);
-  bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, a->m);
-  bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, a->T);
-  bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, a->strobe);
-  bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, a->cnt);
-  bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, a->start);
-  bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, a->flat);
-  bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, a->flat + a->I);
-  bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, a->flat + 2 * a->I);
-  if (sp->orbits > 0) bad |= put_p11(g, sw);
-  if (sp->lyapunov) { /* the largest Lyapunov exponent, NaN where refused */
+  int K = sw->spec.steps, L = sw->nlines, bad = 0;
+  if (sw->spec.lyapunov) { /* the largest Lyapunov exponent, NaN where refused */
     double *l = malloc(sizeof(double) * (size_t)L * K);
     for (int i = 0; l && i < L * K; i++) l[i] = sw->lines[i / K].pt[i % K].lyap;
     bad |= !l || put(g, "lyapunov", H5T_NATIVE_DOUBLE, 2, dLK, l);
@@ -163,8 +148,11 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
 {
   const vi_sweep_spec *sp = &sw->spec;
   int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
-  char part[4096];
-  snprintf(part, sizeof part, "%s.part", path);
+  char part[4096 + 8];
+  if (vi_output_part(path, part, (int)sizeof part)) {
+    snprintf(err, (size_t)errlen, "output path too long");
+    return 1;
+  }
   int64_t I = 0;
   for (int l = 0; l < L; l++)
     for (int k = 0; k < K; k++) I += sw->lines[l].pt[k].nimp;
@@ -204,9 +192,15 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
     dir[l] = sw->lines[l].dir;
     row[l] = sw->lines[l].row;
   }
-  flat_arrays a = {nn, mm, dir, row, cnt, start, I, T, flat, strobe};
   hid_t f = -1, g = -1, gi = -1;
-  H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
+  /* the file is built in memory (HDF5's core driver, no backing store) and
+   * its image written through the output module: HDF5 never meets a full
+   * disk (whose failed close crashed in its atexit handler), and every
+   * write, the sync and the rename are checked */
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  if (fapl >= 0 && H5Pset_fapl_core(fapl, (size_t)1 << 20, 0) >= 0)
+    H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, fapl); } H5E_END_TRY;
+  if (fapl >= 0) H5Pclose(fapl);
   if (f < 0) {
     snprintf(err, (size_t)errlen, "cannot create '%s'", part);
     bad = 1;
@@ -218,25 +212,84 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
   bad |= attr_str(f, "creator", creator);
   bad |= attr_str(f, "kind", sw->attractor ? "basins" : "sweep");
   bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
-  bad |= attr_str(f, "scene", sw->text);
+  /* an attribute holds at most 64 KiB: a longer scene goes to the
+   * dataset /scene (a scalar string), as in a run's file */
+  if (strlen(sw->text) < 60000) bad |= attr_str(f, "scene", sw->text);
+  else bad |= dset_str(f, "scene", sw->text);
   bad |= attr_str(f, "scene_file", sw->name);
   H5E_BEGIN_TRY {
     g = H5Gcreate2(f, "sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (g >= 0) gi = H5Gcreate2(g, "impacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   } H5E_END_TRY;
   bad |= g < 0 || gi < 0;
-  if (!bad) bad = put_sweep(g, gi, sw, &a);
+  if (!bad) {
+    hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
+            dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
+            dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
+            dI[1] = {(hsize_t)I};
+    bad |= attr_str(g, "key", sp->key);
+    if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
+    bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
+    bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
+    bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
+    bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
+    bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
+    bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
+    bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
+    bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
+    if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
+    bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, dir);
+    bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, row);
+    bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, nn);
+    bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, mm);
+    bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, T);
+    bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, strobe);
+    bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, cnt);
+    bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, start);
+    bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, flat);
+    bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, flat + I);
+    bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
+    if (sp->orbits > 0) bad |= put_p11(g, sw);
+    bad |= put_extra(g, sw, dLK);
+  }
+  void *image = NULL;
+  ssize_t size = -1;
   H5E_BEGIN_TRY {
     if (gi >= 0) H5Gclose(gi);
     if (g >= 0) H5Gclose(g);
+    if (!bad && H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0 &&
+        (size = H5Fget_file_image(f, NULL, 0)) > 0 &&
+        (image = malloc((size_t)size)) != NULL &&
+        H5Fget_file_image(f, image, (size_t)size) != size)
+      size = -1;
     bad |= H5Fclose(f) < 0;
   } H5E_END_TRY;
-  if (bad) snprintf(err, (size_t)errlen, "writing '%s' failed", part);
-  else if (rename(part, path)) {
-    snprintf(err, (size_t)errlen, "cannot rename '%s' to '%s'", part, path);
+  if (bad || size <= 0 || !image) {
+    snprintf(err, (size_t)errlen, "building the file for '%s' failed", path);
     bad = 1;
+  } else {
+    FILE *fp = NULL;
+    vi_diag od;
+    memset(&od, 0, sizeof od);
+    int wbad = vi_output_open(path, VI_OUTPUT_FILE, &fp, &od) != VI_OK;
+    /* the image in large write()s of the descriptor itself */
+    for (size_t at = 0; !wbad && at < (size_t)size;) {
+      ssize_t k = write(fileno(fp), (const char *)image + at, (size_t)size - at);
+      if (k <= 0) {
+        snprintf(od.message, sizeof od.message, "cannot write %.300s.part: %s",
+                 path, strerror(k < 0 ? errno : EIO));
+        wbad = 1;
+      } else {
+        at += (size_t)k;
+      }
+    }
+    if (wbad || vi_output_close(&fp, path, VI_OUTPUT_FILE, &od)) {
+      if (fp) vi_output_discard(&fp, path, VI_OUTPUT_FILE);
+      snprintf(err, (size_t)errlen, "%s", od.message[0] ? od.message : "writing failed");
+      bad = 1;
+    }
   }
-  if (bad) remove(part);
+  free(image);
 done:
   free(ni);
   free(cnt);

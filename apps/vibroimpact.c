@@ -220,15 +220,17 @@ static const char *suggest(const char *arg)
   return best;
 }
 
-/* Output paths are checked before anything is computed. */
-static int check_output(const char *path, char *target)
+/* Output paths are checked before anything is computed (vi_output.h):
+ * the scene itself is refused, a stream may go to a character device. */
+static int check_output(const char *path, int flags, const char *scene,
+                        char *target, int *kind)
 {
   vi_diag d;
-  if (vi_output_resolve(path, target, VI_APP_PATH, &d)) {
-    fprintf(stderr, "vibroimpact: %s\n", d.message);
-    return 1;
-  }
-  return 0;
+  int st = vi_output_check(path, flags, scene, target, VI_APP_PATH, kind, &d);
+  if (st) fprintf(stderr, "vibroimpact: %s\n", d.message);
+  /* the scene named as the output is a usage error (2), the rest the
+   * machine's (1) */
+  return !st ? 0 : st == VI_ERR_ARG ? 2 : 1;
 }
 
 /* Standard output is checked like a file: a lost summary is an error. */
@@ -419,25 +421,15 @@ int main(int argc, char **argv)
   sigaddset(&block, SIGINT);
   sigaddset(&block, SIGTERM);
   sigprocmask(SIG_BLOCK, &block, &old);
-  int bad = (o.out && check_output(o.out, o.out_target)) ||
-            (o.csv && strcmp(o.csv, "-") != 0 && check_output(o.csv, o.csv_target));
+  int bad = o.out ? check_output(o.out, VI_OUTPUT_REGULAR, o.scene,
+                                 o.out_target, NULL) : 0;
+  if (!bad && o.csv)
+    bad = check_output(o.csv, VI_OUTPUT_STREAM, o.scene, o.csv_target,
+                       &o.csv_kind);
   sigprocmask(SIG_SETMASK, &old, NULL);
-  if (bad) return 1;
-  /* the scene is the user's, not ours to replace */
-  struct stat ss, os;
-  if (o.scene && stat(o.scene, &ss) == 0 && S_ISREG(ss.st_mode))
-    for (int k = 0; k < 2; k++) {
-      const char *t = k ? (o.csv && strcmp(o.csv, "-") != 0 ? o.csv_target : NULL)
-                        : (o.out ? o.out_target : NULL);
-      if (t && stat(t, &os) == 0 && os.st_dev == ss.st_dev &&
-          os.st_ino == ss.st_ino) {
-        fprintf(stderr, "vibroimpact: refusing to write the output over the "
-                "scene %s\n", o.scene);
-        return 2;
-      }
-    }
-  if (o.out && o.csv && strcmp(o.csv, "-") != 0 &&
-      !strcmp(o.out_target, o.csv_target)) {
+  if (bad) return bad;
+  /* one file named two ways is the same file: by device and inode */
+  if (o.out && o.csv && vi_output_same(o.out_target, o.csv_target)) {
     fprintf(stderr, "vibroimpact: -o and --impacts-csv name the same file "
             "%s\n", o.out_target);
     return 2;

@@ -1,7 +1,13 @@
 #!/usr/bin/python3
 """Figures from a vibroimpact HDF5 file (layout: doc/hdf5-layout.md).
 
-    /usr/bin/python3 share/plot.py RUN.h5 [--out DIR] [--last FRACTION]
+    /usr/bin/python3 share/plot.py RUN.h5 [--out DIR]
+                                   [--last FRACTION | --from T0 --to T1]
+
+The window fits the data: by default the whole run for a transient (no
+forcing frequency: a release, a bouncing ball that sticks) and the last
+fifth of the run for a forced, settled motion; --last FRACTION or a time
+window --from/--to choose it.
 
 Writes PNGs into DIR (default: beside the file):
   NAME_phase.png        phase portraits in modal and physical coordinates
@@ -76,11 +82,11 @@ def with_impacts(f, t, x, v, q, qd):
     return tt[k], xx, vv, qq, qqd
 
 
-def samples(tr, k0):
-    """time, x, v, q, qd of the trajectory from row k0, rows that are not
-    finite left out (and reported)."""
-    t = np.asarray(tr["time"][k0:], dtype=float)
-    x, v, q, qd = (rows(tr[k], k0) for k in ("x", "v", "q", "qd"))
+def samples(tr, k0, k1=None):
+    """time, x, v, q, qd of the trajectory's rows k0 .. k1, rows that are
+    not finite left out (and reported)."""
+    t = np.asarray(tr["time"][k0:k1], dtype=float)
+    x, v, q, qd = (rows(tr[k], k0)[:None if k1 is None else k1 - k0] for k in ("x", "v", "q", "qd"))
     ok = np.isfinite(t) & np.all(np.isfinite(np.hstack([x, v, q, qd])), axis=1)
     if not ok.all():
         print(f"plot: note: {np.count_nonzero(~ok)} trajectory rows not finite, left out "
@@ -88,13 +94,32 @@ def samples(tr, k0):
     return t[ok], x[ok], v[ok], q[ok], qd[ok]
 
 
-def phase(f, out, last):
+def window(tr, win):
+    """First and end row of the trajectory inside the window win: ("last",
+    fraction) or ("time", t0, t1)."""
+    rows_ = tr["time"].shape[0]
+    if win[0] == "last":
+        return int((1 - win[1]) * rows_), rows_
+    t = np.asarray(tr["time"][:], dtype=float)
+    return int(np.searchsorted(t, win[1], "left")), int(np.searchsorted(t, win[2], "right"))
+
+
+def describe(win):
+    if win[0] == "last":
+        return "the whole run" if win[1] >= 1 else f"last {win[1]:.0%} of the run"
+    return f"t = {win[1]:.6g} .. {win[2]:.6g}"
+
+
+def phase(f, out, win):
     tr = f.get("trajectory")
     if tr is None or tr["time"].shape[0] < 2:
         print("plot: no /trajectory (set output.samples_per_period)", file=sys.stderr)
         return
-    k0 = int((1 - last) * tr["time"].shape[0])
-    t, x, v, q, qd = with_impacts(f, *samples(tr, k0))
+    k0, k1 = window(tr, win)
+    if k1 - k0 < 2:
+        print(f"plot: fewer than 2 samples in {describe(win)}", file=sys.stderr)
+        return
+    t, x, v, q, qd = with_impacts(f, *samples(tr, k0, k1))
     n = x.shape[1]
     m = min(n, 2)
     fig, ax = plt.subplots(2, m, figsize=(5 * m, 8), squeeze=False)
@@ -114,19 +139,21 @@ def phase(f, out, last):
         if np.count_nonzero(w) == 1 and w[i] != 0:
             ax[1, j].axvline(xs / w[i], color="k", lw=1, ls="--", label="stop")
             ax[1, j].legend(loc="best")
-    fig.suptitle(f"{text(f.attrs.get('scene_name', ''))}: phase portraits (last {last:.0%} of the run)")
+    fig.suptitle(f"{text(f.attrs.get('scene_name', ''))}: phase portraits ({describe(win)})")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
     print(out)
 
 
-def gap(f, out, last):
+def gap(f, out, win):
     tr = f.get("trajectory")
     if tr is None or tr["time"].shape[0] < 2:
         return
-    k0 = int((1 - last) * tr["time"].shape[0])
-    t, x = samples(tr, k0)[:2]
+    k0, k1 = window(tr, win)
+    if k1 - k0 < 2:
+        return
+    t, x = samples(tr, k0, k1)[:2]
     w, xs = np.ravel(f["model/w"][:]), f["model"].attrs["x_s"]
     fig, ax = plt.subplots(figsize=(10, 3.8))
     ax.plot(t, x @ w, lw=0.8, label="$w \\cdot x$")
@@ -134,10 +161,11 @@ def gap(f, out, last):
     imp = f.get("impacts")
     if imp is not None and imp["time"].shape[0]:
         ti = imp["time"][:]
-        sel = ti >= t[0]
+        sel = (ti >= t[0]) & (ti <= t[-1])
         ax.plot(ti[sel], rows(imp["x"])[sel] @ w, "r.", ms=4, label="impacts")
     ax.set(xlabel=f"$t$ ({unit(tr['time'], 'time')})",
-           ylabel=f"$w \\cdot x$ ({unit(tr['x'], 'length')})", title="impacting coordinate")
+           ylabel=f"$w \\cdot x$ ({unit(tr['x'], 'length')})",
+           title=f"impacting coordinate ({describe(win)})")
     # beside the axes, where it cannot cover the data
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     fig.tight_layout()
@@ -146,17 +174,23 @@ def gap(f, out, last):
     print(out)
 
 
-def ledger(f, out, last):
+def ledger(f, out, win):
     lg = f.get("ledger")
     if lg is None or lg["FE"].shape[0] == 0:
         print("plot: no /ledger (set output.ledger)", file=sys.stderr)
         return
     L = lg["FE"].shape[0]
-    k0 = int((1 - last) * L)
+    if win[0] == "last":
+        k0 = int((1 - win[1]) * L)
+    else:  # the intervals that end inside the window
+        te = np.asarray(lg["t_b"][:], dtype=float) if "t_b" in lg else None
+        k0 = int(np.searchsorted(te, win[1], "left")) if te is not None else 0
+        if te is not None:
+            L = max(k0 + 1, int(np.searchsorted(te, win[2], "right")))
     cols = [("FE", "forcing work FE"), ("DE", "damping loss DE"), ("XE", "coupling XE"),
             ("CE", "contact work CE"), ("NE", "nonlinear force work NE"),
             ("dE", "impact jumps dE")]
-    sums = {k: rows(lg[k], k0).sum(axis=0) for k, _ in cols if k in lg}
+    sums = {k: rows(lg[k], k0)[:L - k0].sum(axis=0) for k, _ in cols if k in lg}
     if not np.any(sums.get("NE", 0)):  # no nonlinear forces in this run
         sums.pop("NE", None)
     cols = [c for c in cols if c[0] in sums]
@@ -169,7 +203,7 @@ def ledger(f, out, last):
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xticks(idx, [f"mode {j+1}" for j in idx])
     ax.set(ylabel="energy (units of the scene)", title=f"ledger, last {L - k0} intervals "
-           f"(closure {lg['residual'][k0:].max():.0e})")
+           f"(closure {lg['residual'][k0:L].max():.0e})")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
@@ -213,11 +247,20 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("file")
     ap.add_argument("--out", default=None, help="output folder")
-    ap.add_argument("--last", type=float, default=0.2,
-                    help="fraction of the run to show (default 0.2: past the transient)")
+    ap.add_argument("--last", type=float, default=None,
+                    help="fraction of the run to show (default: the whole run "
+                    "without forcing, else 0.2, past the transient)")
+    ap.add_argument("--from", dest="t0", type=float, default=None,
+                    help="window start time (with --to)")
+    ap.add_argument("--to", dest="t1", type=float, default=None,
+                    help="window end time")
     a = ap.parse_args()
-    if not 0 < a.last <= 1:
+    if a.last is not None and not 0 < a.last <= 1:
         ap.error("--last must lie in (0, 1]")
+    if (a.t0 is None) != (a.t1 is None):
+        ap.error("--from and --to go together")
+    if a.t0 is not None and (a.last is not None or not a.t0 < a.t1):
+        ap.error("--from T0 --to T1 needs T0 < T1, and excludes --last")
     out = a.out or os.path.dirname(os.path.abspath(a.file))
     os.makedirs(out, exist_ok=True)
     stem = os.path.join(out, os.path.splitext(os.path.basename(a.file))[0])
@@ -229,9 +272,18 @@ def main():
     with f:
         if not f.attrs.get("complete", 1):
             print("plot: note: the run was interrupted (complete = 0)", file=sys.stderr)
-        phase(f, stem + "_phase.png", a.last)
-        gap(f, stem + "_gap.png", a.last)
-        ledger(f, stem + "_ledger.png", a.last)
+        if a.t0 is not None:
+            win = ("time", a.t0, a.t1)
+        elif a.last is not None:
+            win = ("last", a.last)
+        else:
+            # a transient (no forcing frequency) is shown whole; a forced
+            # motion past its transient, over the last fifth of the run
+            forced = "model" in f and float(f["model"].attrs.get("Omega", 0)) > 0
+            win = ("last", 0.2 if forced else 1.0)
+        phase(f, stem + "_phase.png", win)
+        gap(f, stem + "_gap.png", win)
+        ledger(f, stem + "_ledger.png", win)
         restitution(f, stem + "_restitution.png")
     return 0
 

@@ -38,7 +38,10 @@ VI_API double vi_cantilever_participation(int j);
  * K = diag(omega_j^2) with omega_j = omega1 (beta_j / beta_1)^2,
  * C = diag(2 zeta omega_j); w_j = phi_j(xi_stop) (the stop acts at
  * xi_stop, 1 = the free end); gamma_j = participation.  A base acceleration
- * A cos(Omega t) is the forcing a = -A gamma.  M, C, K [ld x modes]. */
+ * A cos(Omega t) is the forcing a = -A gamma.  M, C, K [ld x modes].
+ * @return VI_OK, VI_ERR_DIM, VI_ERR_LIMIT (more than 201 modes), VI_ERR_ARG,
+ * VI_ERR_STOP_VECTOR (xi_stop = 0, the clamp, or so near it that w is
+ * round-off: a stop no motion can reach). */
 VI_API int vi_build_cantilever(int modes, double omega1, double zeta,
                                double xi_stop, double *M, double *C,
                                double *K, int ld, double *w, double *gamma);

@@ -22,7 +22,10 @@ extern "C" {
 /** Advance the free (stop-ignoring) motion from (t0, x0, v0) to t >= t0:
  * x, v [n] receive the state at t.  Arrays may not overlap.
  * @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (model not set up), VI_ERR_TIME
- * (t < t0), VI_ERR_NOMEM, VI_ERR_UNSUPPORTED for an undamped mode forced
+ * (t < t0), VI_ERR_NONFINITE (a time not finite), VI_ERR_LIMIT (|t| eps W
+ * above 1e-3, W the highest of the natural and forcing frequencies:
+ * double precision no longer resolves the phase, e.g. t = 1e300),
+ * VI_ERR_NOMEM, VI_ERR_UNSUPPORTED for an undamped mode forced
  * exactly at its natural frequency (secular growth) and for a defective
  * first-order system (an undamped rigid-body mode beside non-proportional
  * damping). */

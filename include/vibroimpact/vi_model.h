@@ -101,6 +101,38 @@ VI_API int vi_model_memory_estimate(int n, int kd, int ns, int method,
  *  |M^-1 K| for a diagonal M; HUGE_VAL if M's rows are not diagonally
  *  dominant); 0 before setup. */
 VI_API double vi_model_omega_bound(const vi_model *m);
+/** @name Ranges of a run
+ *  The one validation of a run's values, shared by the scene reader and
+ *  vi_sim_run (vi_model_check_run).
+ *  @{ */
+#define VI_RUN_RTOL_MIN 4.4408920985006262e-16 /**< 2 DBL_EPSILON */
+#define VI_RUN_RTOL_MAX 0.1          /**< loosest relative tolerance */
+#define VI_RUN_ATOL_RATIO 0.01       /**< atol / length scale, at most */
+#define VI_RUN_FREQ_RATIO_MIN 1e-8   /**< Omega / highest omega, at least */
+#define VI_RUN_FREQ_RATIO_MAX 1e8    /**< Omega / highest omega, at most */
+#define VI_RUN_ZETA_MAX 1e6          /**< largest modal damping ratio */
+#define VI_RUN_STATE_RATIO 1e8       /**< initial state / length scale */
+/** Check that a run of the set-up model m from (t0, x0, v0) to t_end with
+ *  tolerances rtol, atol lies in the ranges double precision and the
+ *  problem's own scales support; W is the fastest of the natural
+ *  frequencies and the forcing, L the clearance or the static response to
+ *  the loads: Omega within [1e-8, 1e8] times the highest natural
+ *  frequency; modal damping ratios up to 1e6; |t| eps W <= 1e-3 and a span
+ *  of at least 1e-9 / W (|t| <= 1e-3 / eps without any frequency); |x0| <=
+ *  1e8 L, |v0| <= 1e8 L W; DBL_MIN <= atol <= 0.01 max(L, |x0|, |v0| / W);
+ *  rtol in [VI_RUN_RTOL_MIN, VI_RUN_RTOL_MAX].  vi_sim_run applies it at
+ *  its first start (and the time span on every call); the scene reader
+ *  applies it to a scene, naming the line.  x0, v0 [n] may be NULL (0).
+ *  On failure *key receives the scene key of the value ("forcing.omega",
+ *  "model", "run.t_end", "initial.x", "initial.v", "run.atol",
+ *  "run.rtol"; a static string), *value the value and msg[len] the reason
+ *  (key, value, msg may be NULL).  @return VI_OK, VI_ERR_ARG (model not set
+ *  up), VI_ERR_NONFINITE, VI_ERR_LIMIT. */
+VI_API int vi_model_check_run(const vi_model *m, double t0, double t_end,
+                              const double *x0, const double *v0, double rtol,
+                              double atol, const char **key, double *value,
+                              char *msg, int len);
+/** @} */
 /** Bytes the model holds now (its arrays and stops; 0 for NULL). */
 VI_API int64_t vi_model_memory(const vi_model *m);
 /** Half-bandwidth kd of a band model, -1 for dense storage (also before

@@ -87,7 +87,9 @@ VI_API int vi_orbit_find(vi_orbit *o);
  * up to 8 was found within the transient (m is then the mean number of
  * impacts per forcing period over the last 8 periods, rounded).  (1, 1)
  * also when the direct search found a stable P(1,1) orbit the transient
- * missed (vi_orbit_search_info tells the two apart). */
+ * missed (vi_orbit_search_info tells the two apart).  @return VI_OK,
+ * VI_ERR_ARG, VI_ERR_STATE (with n = m = 0) until vi_orbit_find has
+ * classified a transient: an orbit never sought. */
 VI_API int vi_orbit_classify(const vi_orbit *o, int *n, int *m);
 
 /* ---- P(1,1) results: VI_ERR_STATE unless the analysed orbit is P(1,1) - */

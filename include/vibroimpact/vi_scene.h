@@ -24,8 +24,14 @@
  *            cantilever a stop without w or mass is at the tip)
  *   initial: {t0, x, v}  x, v lists of n numbers, or one number for every
  *            coordinate
- *   run:     {t_end | periods, rtol, atol, method: any vi_method_name}
+ *   run:     {t_end | periods, rtol, atol, method: any vi_method_name,
+ *             impact_resolution: every impact whose v_n is at least this
+ *             fraction of the run's fastest impact is reported
+ *             individually, only a chattering tail below it is summed
+ *             (default 1e-5, 0: accuracy-driven; in [0, 0.5];
+ *             vi_sim_set_impact_resolution)}
  *   output:  {impacts: bool (default true), samples_per_period: int
+ *             (per forcing period; without forcing, per 1/100 of the run)
  *             (default 0), ledger: bool (false), modes: bool (false: no
  *             /modal group), compress: bool (true: deflate the trajectory),
  *             shapes: bool (false: no /fe/Psi, the full mode shapes of a
@@ -67,13 +73,14 @@ extern "C" {
 #define VI_SCENE_MAX_DEPTH 32                  /**< deepest YAML nesting */
 #define VI_SCENE_NUM_MAX 1e100           /**< largest magnitude of a number */
 #define VI_SCENE_RATIO_MAX 1e12          /**< spread of masses, stiffnesses */
-#define VI_SCENE_RTOL_MIN 4.4408920985006262e-16 /**< 2 DBL_EPSILON */
-#define VI_SCENE_RTOL_MAX 0.1            /**< loosest relative tolerance */
-#define VI_SCENE_ATOL_RATIO 0.01         /**< atol / length scale, at most */
-#define VI_SCENE_FREQ_RATIO_MIN 1e-8     /**< Omega / highest omega, at least */
-#define VI_SCENE_FREQ_RATIO_MAX 1e8      /**< Omega / highest omega, at most */
-#define VI_SCENE_ZETA_MAX 1e6            /**< largest modal damping ratio */
-#define VI_SCENE_STATE_RATIO 1e8         /**< initial state / length scale */
+/* the ranges of a run are the library's own (vi_model_check_run) */
+#define VI_SCENE_RTOL_MIN VI_RUN_RTOL_MIN /**< 2 DBL_EPSILON */
+#define VI_SCENE_RTOL_MAX VI_RUN_RTOL_MAX /**< loosest relative tolerance */
+#define VI_SCENE_ATOL_RATIO VI_RUN_ATOL_RATIO /**< atol / length, at most */
+#define VI_SCENE_FREQ_RATIO_MIN VI_RUN_FREQ_RATIO_MIN /**< Omega / omega_hi, at least */
+#define VI_SCENE_FREQ_RATIO_MAX VI_RUN_FREQ_RATIO_MAX /**< Omega / omega_hi, at most */
+#define VI_SCENE_ZETA_MAX VI_RUN_ZETA_MAX /**< largest modal damping ratio */
+#define VI_SCENE_STATE_RATIO VI_RUN_STATE_RATIO /**< initial state / length */
 
 /** Where and why a scene (or a step before a handle exists) failed.  Fixed
  * arrays only, so Fortran can read it. */

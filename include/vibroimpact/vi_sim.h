@@ -28,6 +28,26 @@
  * call continues from where the last stopped) -> queries ->
  * vi_sim_destroy.  Results leave only through callbacks: the library keeps no
  * storage that grows with the run.  One vi_sim per thread.
+ *
+ * Callbacks (event, sample, monitor, ledger, force, cancel) run inside
+ * vi_sim_run and may call only these queries on their own sim:
+ * vi_sim_state, vi_sim_n, vi_sim_is_sticking, vi_sim_stat,
+ * vi_sim_stop_losses, vi_sim_errmsg, vi_sim_method_used,
+ * vi_sim_method_note, vi_sim_ledger, vi_sim_ledger_force and
+ * vi_sim_ledger_max_residual.  Every call that changes the sim (vi_sim_set_*,
+ * vi_sim_add_spring, vi_sim_clear_springs, vi_sim_enable_ledger,
+ * vi_sim_setup, a nested vi_sim_run or vi_sim_run_to_event) is refused
+ * there with VI_ERR_STATE and a message, leaving the run undisturbed;
+ * vi_sim_destroy there does not free the sim (the handle stays valid) but
+ * ends the run, which returns VI_ERR_STATE: destroy it after vi_sim_run
+ * returns.  Other sims may be used freely from a callback.
+ *
+ * Progress is guaranteed: a run whose time stops advancing (1000
+ * consecutive steps within the resolution of t: a step size that
+ * collapsed, a solution that blows up in finite time) fails with
+ * VI_ERR_INTEGRATOR, a force that is not finite with VI_ERR_CALLBACK, and a
+ * monitor or sampling interval that t cannot resolve is refused with
+ * VI_ERR_LIMIT before the run; the message says which.
  */
 #ifndef VI_SIM_H
 #define VI_SIM_H
@@ -178,6 +198,29 @@ VI_API int vi_sim_set_initial(vi_sim *sim, double t0, const double *x0,
  *  the model's velocity unit; 0 leaves only the tolerance criterion.
  *  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_chatter_threshold(vi_sim *sim, double vmin);
+/** Impacts a user can count on: every impact whose approach velocity v_n
+ *  is at least ratio times the run's velocity scale V is located and
+ *  reported individually, by every method alike, and only a chattering
+ *  tail below that is summed by the chatter map (its impacts counted in
+ *  VI_STAT_CHATTER_SKIPPED, its energy, the rebound's kinetic energy along
+ *  the stop (r v_n)^2 / (2 w.M^-1.w), taken by the STICK event's ie and
+ *  the ledger's impact loss).  V (vi_sim_velocity_scale) is the largest
+ *  of the initial speeds |v0_i| and of the approach velocities of the run
+ *  so far: a tail is measured against the run's own fastest impact, in
+ *  any units and for any stiffness.  Default 1e-5 (scene key
+ *  run.impact_resolution).  0 restores the accuracy-driven summing (a
+ *  tail is summed as soon as resolving its next impact costs more
+ *  accuracy than the closed-form tail: fewer impacts, and which depends on
+ *  the method).  The chatter threshold (vi_sim_set_chatter_threshold)
+ *  still ends a sequence below its absolute velocity.  Resolving a bounce
+ *  of apex (r v_n)^2 / (2 w.a) needs atol below it: with loose tolerances
+ *  the integrators may then fail on the penetration check
+ *  (VI_ERR_INVARIANT) rather than sum it silently.
+ *  @return VI_OK, VI_ERR_ARG (ratio outside [0, 1)), VI_ERR_STATE. */
+VI_API int vi_sim_set_impact_resolution(vi_sim *sim, double ratio);
+/** The run's velocity scale V of vi_sim_set_impact_resolution (0 before
+ *  the first run): the largest initial speed or approach velocity so far. */
+VI_API double vi_sim_velocity_scale(const vi_sim *sim);
 /** First step CVODE takes after a restart: 0 (default) lets CVODE estimate
  *  it; h > 0 forces it.  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_restart_step(vi_sim *sim, double h);
@@ -200,7 +243,9 @@ VI_API int vi_sim_set_event_callback(vi_sim *sim, vi_event_fn fn, void *user,
 VI_API int vi_sim_set_sampling(vi_sim *sim, double dt, vi_sample_fn fn,
                                void *user, vi_destroy_fn destroy);
 /** Call fn after the step that passes each multiple of `every` (> 0) units
- *  of simulated time.  @return VI_OK, VI_ERR_ARG. */
+ *  of simulated time (vi_sim_run refuses, with VI_ERR_LIMIT, an interval
+ *  below 4 DBL_EPSILON |t| or more than 1e12 reports).  @return VI_OK,
+ *  VI_ERR_ARG. */
 VI_API int vi_sim_set_monitor(vi_sim *sim, double every, vi_monitor_fn fn,
                               void *user, vi_destroy_fn destroy);
 
@@ -229,7 +274,10 @@ VI_API const char *vi_sim_method_note(const vi_sim *sim);
  *  @return VI_OK on reaching t_end, VI_STOPPED, VI_CANCELLED, or
  *  VI_ERR_TIME (t_end not after the current time), VI_ERR_INTEGRATOR,
  *  VI_ERR_ROOT, VI_ERR_INVARIANT (a state beyond the stop or not finite: the
- *  message says where), VI_ERR_NOMEM. */
+ *  message says where), VI_ERR_NOMEM, VI_ERR_CALLBACK (a force callback
+ *  failed or a force is not finite), VI_ERR_LIMIT (a monitor or sampling
+ *  interval t cannot resolve), VI_ERR_STATE (called from inside a callback
+ *  of this sim's run, or vi_sim_destroy called there). */
 VI_API int vi_sim_run(vi_sim *sim, double t_end);
 
 /** Allocate the integrator now (it is otherwise built by the first run),

@@ -4,7 +4,8 @@
  *
  * Output goes to regular files only: a symbolic link is followed to its
  * target, devices, FIFOs, sockets and directories are refused
- * (vi_output_resolve, which a program can call before computing anything).
+ * (vi_output_resolve of vi_output.h, which a program can call before
+ * computing anything).
  * The file is written as TARGET.part and renamed to TARGET by
  * vi_writer_finish / vi_writer_close: complete = 1 for a finished run, 0
  * for an interrupted one (the file is valid and its root attribute
@@ -21,6 +22,7 @@
 #include "vibroimpact/vi_export.h"
 #include "vibroimpact/vi_ledger.h"
 #include "vibroimpact/vi_model.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_sim.h"
@@ -32,16 +34,6 @@ extern "C" {
 
 /** Opaque HDF5 writer handle. */
 typedef struct vi_writer vi_writer;
-
-/** Where output for `path` will go: symbolic links followed to the final
- *  target (written into target[len]); refuses (VI_ERR_IO, reason in diag)
- *  a target that is not a regular file, a target or folder that is not
- *  writable, and a TARGET.part that exists but is not a regular file.
- *  Tries the folder by creating and removing TARGET.part (a stale one is
- *  removed), so nothing is left behind.  @return VI_OK, VI_ERR_ARG,
- *  VI_ERR_IO, VI_ERR_LIMIT (path longer than len). */
-VI_API int vi_output_resolve(const char *path, char *target, int len,
-                             vi_diag *diag);
 
 /** Create TARGET.part for the model's run (the model is borrowed and must
  *  be set up); path is resolved as by vi_output_resolve; compress != 0
@@ -69,10 +61,13 @@ VI_API int vi_writer_write_header(vi_writer *w, const vi_scene *scene,
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (no full Psi), VI_ERR_DIM,
  *  VI_ERR_IO. */
 VI_API int vi_writer_fe_shapes(vi_writer *w, const vi_fe *fe);
-/** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...). */
+/** Append one event to /impacts.  @return VI_OK, VI_ERR_IO (disk full...),
+ *  VI_ERR_DIM (another n), VI_ERR_ARG (a kind or stop out of range),
+ *  VI_ERR_NONFINITE (a value not finite; nothing written). */
 VI_API int vi_writer_event(vi_writer *w, const vi_event *ev);
 /** Append one sample at t (x, v [n]) to /trajectory, with its modal
- *  coordinates.  @return VI_OK, VI_ERR_IO. */
+ *  coordinates.  @return VI_OK, VI_ERR_IO, VI_ERR_NONFINITE (t, x or v not
+ *  finite; nothing written). */
 VI_API int vi_writer_sample(vi_writer *w, double t, const double *x,
                             const double *v);
 /** Append one ledger interval to /ledger.  @return VI_OK, VI_ERR_IO. */
@@ -81,7 +76,8 @@ VI_API int vi_writer_ledger(vi_writer *w, const vi_ledger_interval *iv);
  *  (attributes period_n, impacts_m) and, for P(1,1), /orbits/P1_1 with the
  *  balance of WB 11-13 as attributes, the impact state, Floquet multipliers,
  *  per-mode FE, DE, XE, r_eff and the reduced-model r_S of the first 1..4
- *  modes (NaN where none exists).  @return VI_OK, VI_ERR_IO. */
+ *  modes (NaN where none exists).  @return VI_OK, VI_ERR_IO, VI_ERR_STATE
+ *  (an orbit vi_orbit_find never sought). */
 VI_API int vi_writer_orbit(vi_writer *w, const vi_orbit *orbit);
 /** Write group /run: the method that ran and why (vi_sim_method_used,
  *  vi_sim_method_note) and every statistic (vi_stat_name: value) as

@@ -1,6 +1,7 @@
 /* vi_flow.c - closed-form motion between impacts (MODEL.md section 8):
  * the flow object (vi_flow_internal.h), proportionally damped modes here,
  * any other damping in vi_general.c. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -306,6 +307,11 @@ static int flow_call(const vi_model *m, int physical, double t0,
                     vi_overlap(yd, yd0, m->n)))
     return VI_ERR_ARG; /* outputs would overwrite inputs still being read */
   if (!m->frozen) return VI_ERR_STATE;
+  if (!isfinite(t0) || !isfinite(t)) return VI_ERR_NONFINITE;
+  /* the phase Omega t and omega_j t must be resolved: |t| eps W <= 1e-3,
+   * the range vi_model_check_run gives a run (t = 1e300 is no time) */
+  double W = fmax(vi_model_omega_bound(m), m->omega_f);
+  if (fmax(fabs(t0), fabs(t)) * DBL_EPSILON * W > 1e-3) return VI_ERR_LIMIT;
   vi_xflow *fl = NULL;
   int st = vi_xflow_create(m, &fl);
   if (st) return st;

@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "vibroimpact.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_mmio.h"
 
@@ -70,6 +71,8 @@ int main(int argc, char **argv)
   K_(VI_SCENE_OUT_IMPACTS); K_(VI_SCENE_OUT_LEDGER); K_(VI_SCENE_OUT_MODES);
   K_(VI_SCENE_OUT_COMPRESS); K_(VI_SCENE_OUT_SHAPES);
   K_(VI_MM_MAX_LINE);
+  K_(VI_OUTPUT_REGULAR); K_(VI_OUTPUT_STREAM);
+  K_(VI_OUTPUT_FILE); K_(VI_OUTPUT_DEVICE); K_(VI_OUTPUT_STDOUT);
 #undef K_
   return fclose(f) != 0;
 }

@@ -62,6 +62,7 @@ module vibroimpact
             vi_model_omega, vi_model_zeta, vi_model_modal_shapes, &
             vi_model_modal_stop, vi_model_is_proportional, vi_model_to_modal, &
             vi_model_from_modal, vi_model_energy, vi_model_stop_compliance, &
+            vi_model_check_run, &
             vi_model_omega_forcing, vi_model_clearance, vi_model_restitution, &
             vi_model_mass, vi_model_damping, vi_model_stiffness, vi_model_stop_vector, &
             vi_model_forcing_cos, vi_model_forcing_sin, vi_model_forcing_const, &
@@ -112,7 +113,8 @@ module vibroimpact
             vi_sim_stat, vi_sim_is_sticking, vi_sim_set_native_vector_ops, &
             vi_sim_set_chatter_threshold, vi_sim_set_restart_step, vi_sim_set_max_step, &
             vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note, &
-            vi_sim_setup, vi_sim_run_to_event, vi_sim_n
+            vi_sim_setup, vi_sim_run_to_event, vi_sim_n, &
+            vi_sim_set_impact_resolution, vi_sim_velocity_scale
   public :: vi_sim_enable_ledger, vi_sim_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_sim_set_force, vi_sim_add_spring, vi_sim_clear_springs, &
@@ -326,6 +328,18 @@ module vibroimpact
       import :: c_ptr, c_double
       type(c_ptr), value :: model
       real(c_double), intent(in) :: x(*), v(*)
+    end function
+    !> key: a C string (c_f_pointer it) naming the scene key of a refused value
+    integer(c_int) function vi_model_check_run(model, t0, t_end, x0, v0, rtol, atol, &
+        key, value, msg, len) bind(C, name="vi_model_check_run")
+      import :: c_int, c_ptr, c_double, c_char
+      type(c_ptr), value :: model
+      real(c_double), value :: t0, t_end, rtol, atol
+      real(c_double), intent(in) :: x0(*), v0(*)
+      type(c_ptr) :: key
+      real(c_double) :: value
+      character(kind=c_char) :: msg(*)
+      integer(c_int), value :: len
     end function
     real(c_double) function vi_model_stop_compliance(model) bind(C, name="vi_model_stop_compliance")
       import :: c_ptr, c_double
@@ -565,6 +579,16 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: sim
       real(c_double), value :: vn_min, dt_min
+    end function
+    integer(c_int) function vi_sim_set_impact_resolution(sim, ratio) &
+        bind(C, name="vi_sim_set_impact_resolution")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sim
+      real(c_double), value :: ratio
+    end function
+    real(c_double) function vi_sim_velocity_scale(sim) bind(C, name="vi_sim_velocity_scale")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: sim
     end function
     integer(c_int) function vi_sim_set_chatter_threshold(sim, vmin) bind(C, name="vi_sim_set_chatter_threshold")
       import :: c_int, c_ptr, c_double

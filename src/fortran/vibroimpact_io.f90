@@ -43,7 +43,9 @@ module vibroimpact_io
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &
-            vi_output_resolve, vi_writer_run_info, vi_writer_finish, vi_writer_fe_shapes
+            vi_output_resolve, vi_writer_run_info, vi_writer_finish, vi_writer_fe_shapes, &
+            vi_output_check, vi_output_part, vi_output_same, vi_output_open, &
+            vi_output_close, vi_output_discard, vi_output_commit
   public :: vi_mm_read_header, vi_mm_load, vi_mm_load_limited, vi_mm_destroy, &
             vi_mm_rows, vi_mm_cols, vi_mm_nnz, vi_mm_storage_kind, vi_mm_colptr, &
             vi_mm_rowind, vi_mm_values
@@ -300,6 +302,54 @@ module vibroimpact_io
       character(kind=c_char), intent(in) :: path(*)
       character(kind=c_char) :: target(*)
       integer(c_int), value :: len
+      type(vi_diag), optional :: diag
+    end function
+    !> flags: VI_OUTPUT_REGULAR or VI_OUTPUT_STREAM; scene: optional path
+    integer(c_int) function vi_output_check(path, flags, scene, target, len, kind, diag) &
+        bind(C, name="vi_output_check")
+      import :: c_int, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: flags
+      character(kind=c_char), intent(in), optional :: scene(*)
+      character(kind=c_char) :: target(*)
+      integer(c_int), value :: len
+      integer(c_int), optional :: kind
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_output_part(target, part, len) bind(C, name="vi_output_part")
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: target(*)
+      character(kind=c_char) :: part(*)
+      integer(c_int), value :: len
+    end function
+    integer(c_int) function vi_output_same(a, b) bind(C, name="vi_output_same")
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: a(*), b(*)
+    end function
+    !> f: a C FILE * (type(c_ptr)), for C I/O from Fortran
+    integer(c_int) function vi_output_open(target, kind, f, diag) bind(C, name="vi_output_open")
+      import :: c_int, c_char, c_ptr, vi_diag
+      character(kind=c_char), intent(in) :: target(*)
+      integer(c_int), value :: kind
+      type(c_ptr) :: f
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_output_close(f, target, kind, diag) bind(C, name="vi_output_close")
+      import :: c_int, c_char, c_ptr, vi_diag
+      type(c_ptr) :: f
+      character(kind=c_char), intent(in) :: target(*)
+      integer(c_int), value :: kind
+      type(vi_diag), optional :: diag
+    end function
+    subroutine vi_output_discard(f, target, kind) bind(C, name="vi_output_discard")
+      import :: c_int, c_char, c_ptr
+      type(c_ptr) :: f
+      character(kind=c_char), intent(in) :: target(*)
+      integer(c_int), value :: kind
+    end subroutine
+    integer(c_int) function vi_output_commit(target, diag) bind(C, name="vi_output_commit")
+      import :: c_int, c_char, vi_diag
+      character(kind=c_char), intent(in) :: target(*)
       type(vi_diag), optional :: diag
     end function
     integer(c_int) function vi_writer_run_info(writer, sim) bind(C, name="vi_writer_run_info")

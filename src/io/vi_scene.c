@@ -533,9 +533,11 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
         (st = opt_number(c, ca, p, "zeta", &s->zeta)) ||
         (st = opt_number(c, ca, p, "xi_stop", &s->xi_stop)))
       return st;
-    if (!(s->omega1 > 0) || s->zeta < 0 || s->xi_stop < 0 || s->xi_stop > 1)
+    if (!(s->omega1 > 0) || s->zeta < 0 || !(s->xi_stop > 0) || s->xi_stop > 1)
       return fail(c, ca, VI_ERR_ARG, "model.cantilever", "%s",
-                  "need omega1 > 0, zeta >= 0, 0 <= xi_stop <= 1");
+                  "need omega1 > 0, zeta >= 0, 0 < xi_stop <= 1 (at the "
+                  "clamp, xi_stop = 0, no mode moves and no impact can "
+                  "happen)");
   }
   yaml_node_t *ra = find(c, mod, "rayleigh");
   if (ra) {
@@ -765,9 +767,11 @@ static int parse_springs(ctx *c, vi_scene *s, yaml_node_t *list)
       join(key, path, "gap");
       if (!gap) return fail(c, sp, VI_ERR_PARSE, key, "%s", "missing gap");
       if ((st = number(c, gap, key, &q->gap))) return st;
-      if (q->k < 0)
+      if (q->k < 0) {
+        join(key, path, "k"); /* the key of the value refused */
         return fail(c, kk, VI_ERR_PARSE, key, "%s",
                     "a soft stop's stiffness must be >= 0");
+      }
     }
   }
   s->nsprings = (int)count;
@@ -778,7 +782,8 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
 {
   static const char *const ik[] = {"t0", "x", "v", NULL};
   static const char *const rk[] = {"t_end", "periods", "rtol",
-                                   "atol",  "method",  NULL};
+                                   "atol",  "method",  "impact_resolution",
+                                   NULL};
   static const char *const ok[] = {"impacts", "samples_per_period", "ledger",
                                    "modes",   "compress", "shapes",  NULL};
   yaml_node_t *in = find(c, root, "initial"), *run = find(c, root, "run"),
@@ -820,6 +825,13 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
       if (!(s->atol > 0))
         return fail(c, v, VI_ERR_TOLERANCE, "run.atol", "%s", "must be > 0");
     }
+    if ((v = find(c, run, "impact_resolution"))) {
+      if ((st = number(c, v, "run.impact_resolution", &s->impact_resolution)))
+        return st;
+      if ((st = in_range(c, v, "run.impact_resolution", s->impact_resolution,
+                         0.0, 0.5, VI_ERR_ARG)))
+        return st;
+    }
     if ((v = find(c, run, "method"))) {
       const char *m =
           v->type == YAML_SCALAR_NODE ? (const char *)v->data.scalar.value : "";
@@ -856,9 +868,8 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
         (st = integer(c, v, "output.samples_per_period", 0, 1000000,
                       &s->samples)))
       return st;
-    if (s->samples > 0 && !(s->omega > 0))
-      return fail(c, v, VI_ERR_ARG, "output.samples_per_period", "%s",
-                  "needs a forcing frequency");
+    /* without a forcing frequency a "period" is 1/100 of the run (as the
+     * program's progress and sampling take it): a transient is sampled */
   }
   return VI_OK;
 }

@@ -65,10 +65,12 @@ static int split_path(const char *key, tok *t, int *nt)
   return 1;
 }
 
-/* libyaml marks count characters; the splice needs bytes (UTF-8 comments). */
+/* libyaml marks count characters; the splice needs bytes (UTF-8 comments).
+ * A UTF-8 byte-order mark is skipped by libyaml before counting starts. */
 static size_t byte_of(const char *text, size_t len, size_t chars)
 {
   size_t b = 0, c = 0;
+  if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3)) b = 3;
   while (b < len && c < chars) {
     b++;
     while (b < len && ((unsigned char)text[b] & 0xC0) == 0x80) b++;
@@ -77,9 +79,41 @@ static size_t byte_of(const char *text, size_t len, size_t chars)
   return b;
 }
 
+/* The nesting limit of the scene reader (VI_SCENE_MAX_DEPTH), applied
+ * before the document is loaded: an event scan that stops at the first
+ * level too deep, so 100 000 levels cost what 33 do, as with `run`. */
+static int too_deep(const char *text, size_t len, yaml_mark_t *where)
+{
+  yaml_parser_t p;
+  if (!yaml_parser_initialize(&p)) return 0;
+  yaml_parser_set_input_string(&p, (const unsigned char *)text, len);
+  int depth = 0, deep = 0, end = 0;
+  while (!end && !deep) {
+    yaml_event_t ev;
+    if (!yaml_parser_parse(&p, &ev)) break; /* the loader reports it */
+    if (ev.type == YAML_MAPPING_START_EVENT || ev.type == YAML_SEQUENCE_START_EVENT) {
+      if (++depth > VI_SCENE_MAX_DEPTH) {
+        deep = 1;
+        if (where) *where = ev.start_mark;
+      }
+    } else if (ev.type == YAML_MAPPING_END_EVENT || ev.type == YAML_SEQUENCE_END_EVENT) {
+      depth--;
+    } else if (ev.type == YAML_STREAM_END_EVENT) {
+      end = 1;
+    }
+    yaml_event_delete(&ev);
+  }
+  yaml_parser_delete(&p);
+  return deep;
+}
+
 static int load(const char *text, size_t len, yaml_document_t *doc,
                 yaml_mark_t *where, const char **problem)
 {
+  if (too_deep(text, len, where)) {
+    if (problem) *problem = "nested deeper than the scene reader's limit (32 levels)";
+    return 0;
+  }
   yaml_parser_t p;
   if (!yaml_parser_initialize(&p)) return 0;
   yaml_parser_set_input_string(&p, (const unsigned char *)text, len);

@@ -69,6 +69,7 @@ struct vi_scene {
   int nsprings;
   /* ---- run options (vi_scene_options.c) ---- */
   double t0, t_end, periods, rtol, atol;
+  double impact_resolution; /* run.impact_resolution (vi_sim_set_impact_resolution) */
   int method, samples, outputs; /* outputs: vi_scene_output flags */
   int line_model, line_stop, line_initial, line_run, line_forcing;
 };

@@ -19,112 +19,30 @@
  * L, a length (the clearance, or the static response to the loads).  The
  * run must be resolvable in double precision and the state within a few
  * orders of magnitude of the problem's own scales. */
-static int range_fail(vi_diag *d, const vi_scene *s, int line, const char *key,
-                      double v, const char *fmt, double a, double b)
-{
-  char val[64], msg[256];
-  snprintf(val, sizeof val, "%.6g", v);
-  snprintf(msg, sizeof msg, fmt, a, b);
-  return vi_diag_set(d, s->file, VI_ERR_LIMIT, line, line ? 1 : 0, key, val,
-                     "%s", msg);
-}
-
-static double maxabs(const double *v, int n)
-{
-  double m = 0;
-  for (int i = 0; i < n; i++) m = fabs(v[i]) > m ? fabs(v[i]) : m;
-  return m;
-}
-
 static int check_ranges(const vi_scene *s, const vi_model *m, vi_diag *d)
 {
-  /* n: the model's coordinates (an FE model's modes); the scene's vectors
-   * have s->n entries (an FE model's dofs) */
-  int n = vi_model_n(m), kd, ldab;
-  const double *om = vi_model_omega(m), *ze = vi_model_zeta(m),
-               *K = vi_model_stiffness(m),
-               *KB = vi_model_stiffness_band(m, &kd, &ldab);
-  /* a band model has no modes: its frequencies are bounded (Gershgorin) */
-  double wmax = om ? 0 : vi_model_omega_bound(m), zmax = 0, kmax = 0;
-  for (int j = 0; j < n; j++) {
-    if (om) wmax = om[j] > wmax ? om[j] : wmax;
-    if (ze) zmax = isfinite(ze[j]) && ze[j] > zmax ? ze[j] : zmax;
-    double kjj = fabs(K ? K[(size_t)j * ((size_t)n + 1)]
-                        : KB[(size_t)kd + (size_t)j * (size_t)ldab]);
-    kmax = kjj > kmax ? kjj : kmax;
+  const char *key = "";
+  double v = 0;
+  char msg[256];
+  /* an FE scene's x0, v0 are of its dofs, the model's of its modes: the
+   * modal state is checked by vi_sim_run's first start (the same check) */
+  int fe = s->kind == VI_SCENE_FE;
+  int st = vi_model_check_run(m, s->t0, s->t_end, fe ? NULL : s->x0,
+                              fe ? NULL : s->v0, s->rtol, s->atol, &key, &v,
+                              msg, (int)sizeof msg);
+  if (!st) return VI_OK;
+  /* the library's key, with the scene's line (and periods for t_end) */
+  int line = !strncmp(key, "forcing", 7)   ? s->line_forcing
+             : !strncmp(key, "initial", 7) ? s->line_initial
+             : !strncmp(key, "run", 3)     ? s->line_run
+                                           : s->line_model;
+  if (!strcmp(key, "run.t_end") && s->periods > 0) {
+    key = "run.periods";
+    v = s->periods;
   }
-  double W = s->omega > wmax ? s->omega : wmax;
-  if (s->omega > 0 && wmax > 0 &&
-      (s->omega < VI_SCENE_FREQ_RATIO_MIN * wmax ||
-       s->omega > VI_SCENE_FREQ_RATIO_MAX * wmax))
-    return range_fail(d, s, s->line_forcing, "forcing.omega", s->omega,
-                      "must lie in [%.3g, %.3g]: within 1e-8 .. 1e8 times "
-                      "the highest natural frequency",
-                      VI_SCENE_FREQ_RATIO_MIN * wmax,
-                      VI_SCENE_FREQ_RATIO_MAX * wmax);
-  if (zmax > VI_SCENE_ZETA_MAX)
-    return range_fail(d, s, s->line_model, "model", zmax,
-                      "a modal damping ratio above %.3g (limit; got %.3g): "
-                      "the damping is out of proportion to the stiffness",
-                      VI_SCENE_ZETA_MAX, zmax);
-  /* time: t must resolve the fastest motion: |t| eps omega_hi <= 1e-3 */
-  if (W > 0) {
-    double tmax = 1e-3 / (DBL_EPSILON * W),
-           span = fabs(s->t_end) > fabs(s->t0) ? fabs(s->t_end) : fabs(s->t0);
-    const char *key = s->periods > 0 ? "run.periods" : "run.t_end";
-    if (span > tmax)
-      return range_fail(d, s, s->line_run, key,
-                        s->periods > 0 ? s->periods : s->t_end,
-                        "the run reaches |t| = %.3g; above %.3g double "
-                        "precision no longer resolves the fastest motion",
-                        span, tmax);
-    if (!(s->t_end - s->t0 >= 1e-9 / W))
-      return range_fail(d, s, s->line_run, key,
-                        s->periods > 0 ? s->periods : s->t_end,
-                        "the run spans %.3g time units, less than %.3g "
-                        "(1e-9 of the fastest period)",
-                        s->t_end - s->t0, 1e-9 / W);
-  }
-  /* lengths: the clearance or the static response to the loads */
-  double F = 0;
-  int fe = s->kind == VI_SCENE_FE; /* modal loads against modal stiffness */
-  const double *fa = fe ? vi_model_forcing_cos(m) : s->a,
-               *fb = fe ? vi_model_forcing_sin(m) : s->b,
-               *fc = fe ? vi_model_forcing_const(m) : s->f0;
-  for (int i = 0; i < n; i++) {
-    double f = fabs(fa[i]) + fabs(fb[i]) + fabs(fc[i]) +
-               (s->has_base ? fabs(s->base) : 0);
-    F = f > F ? f : F;
-  }
-  double L = fabs(s->xs), Ls = kmax > 0 ? F / kmax : 0;
-  L = Ls > L ? Ls : L;
-  double x0 = maxabs(s->x0, s->n), v0 = maxabs(s->v0, s->n);
-  if (L > 0 && x0 > VI_SCENE_STATE_RATIO * L)
-    return range_fail(d, s, s->line_initial, "initial.x", x0,
-                      "|x0| above %.3g: 1e8 times the problem's length "
-                      "scale %.3g (clearance or static response)",
-                      VI_SCENE_STATE_RATIO * L, L);
-  if (L > 0 && W > 0 && v0 > VI_SCENE_STATE_RATIO * L * W)
-    return range_fail(d, s, s->line_initial, "initial.v", v0,
-                      "|v0| above %.3g: 1e8 times the length scale %.3g "
-                      "times the highest frequency",
-                      VI_SCENE_STATE_RATIO * L * W, L);
-  double La = L;
-  La = x0 > La ? x0 : La;
-  La = W > 0 && v0 / W > La ? v0 / W : La;
-  if (La > 0 && s->atol > VI_SCENE_ATOL_RATIO * La)
-    return range_fail(d, s, s->line_run, "run.atol", s->atol,
-                      "must be at most %.3g: 0.01 of the problem's length "
-                      "scale %.3g",
-                      VI_SCENE_ATOL_RATIO * La, La);
-  if (!(s->atol >= DBL_MIN))
-    return range_fail(d, s, s->line_run, "run.atol", s->atol,
-                      "must be at least %.3g%.0g", DBL_MIN, 0);
-  if (!(s->rtol >= VI_SCENE_RTOL_MIN && s->rtol <= VI_SCENE_RTOL_MAX))
-    return range_fail(d, s, s->line_run, "run.rtol", s->rtol,
-                      "must lie in [%.3g, %.3g]", VI_SCENE_RTOL_MIN,
-                      VI_SCENE_RTOL_MAX);
-  return VI_OK;
+  char val[64];
+  snprintf(val, sizeof val, "%.6g", v);
+  return vi_diag_set(d, s->file, st, line, line ? 1 : 0, key, val, "%s", msg);
 }
 
 /* Chains from this size on are stored in band form (kd = 1: O(n) memory
@@ -242,8 +160,12 @@ static int assemble_cantilever(const vi_scene *s, dense *x)
   int n = s->n;
   double *gamma = malloc(sizeof(double) * (size_t)n);
   if (!gamma) return VI_ERR_NOMEM;
-  vi_build_cantilever(n, s->omega1, s->zeta, s->xi_stop, x->M, x->C, x->K, n,
-                      x->w, gamma);
+  int st = vi_build_cantilever(n, s->omega1, s->zeta, s->xi_stop, x->M, x->C,
+                               x->K, n, x->w, gamma);
+  if (st && !(st == VI_ERR_STOP_VECTOR && s->has_w)) { /* else w is given */
+    free(gamma);
+    return st;
+  }
   memcpy(x->tip, x->w, sizeof(double) * (size_t)n);
   if (s->has_w)
     memcpy(x->w, s->w, sizeof(double) * (size_t)n); /* an explicit stop wins */
@@ -485,6 +407,15 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
     st = assemble_cantilever(s, &x);
   if (st) {
     free(x.buf);
+    if (st == VI_ERR_STOP_VECTOR) {
+      char val[64];
+      snprintf(val, sizeof val, "%.6g", s->xi_stop);
+      return vi_diag_set(d, s->file, st, s->line_model, s->line_model ? 1 : 0,
+                         "model.cantilever.xi_stop", val, "%s",
+                         "the stop sits at (or within round-off of) the "
+                         "clamp, where no mode moves: no impact could ever "
+                         "happen (give xi_stop > 0, 1 = the tip)");
+    }
     return vi_diag_set(d, s->file, st, s->line_model, s->line_model ? 1 : 0,
                        "model", "", "%s", vi_strerror(st));
   }

@@ -12,6 +12,7 @@ void vi_scene_options_init(vi_scene *s)
 {
   s->rtol = 1e-8;
   s->atol = 1e-10;
+  s->impact_resolution = 1e-5;
   s->method = VI_METHOD_AUTO;
   s->outputs = VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_COMPRESS;
 }
@@ -53,6 +54,9 @@ int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
   if ((st = vi_sim_set_tolerances(sim, s->rtol, s->atol)))
     return vi_diag_set(d, s->file, st, s->line_run, 1, "run", "", "%s",
                        vi_sim_errmsg(sim));
+  if ((st = vi_sim_set_impact_resolution(sim, s->impact_resolution)))
+    return vi_diag_set(d, s->file, st, s->line_run, 1, "run.impact_resolution",
+                       "", "%s", vi_sim_errmsg(sim));
   if ((st = vi_sim_set_initial(sim, s->t0, x0, v0)))
     return vi_diag_set(d, s->file, st, s->line_initial, 1, "initial", "", "%s",
                        vi_sim_errmsg(sim));

@@ -502,7 +502,9 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
     return create_fail(diag, path, VI_ERR_ARG,
                        "vi_writer_create: path, model and out are required");
   int n = vi_model_n(model), st = VI_OK;
-  if (n < 1 || !(vi_model_omega_bound(model) > 0))
+  /* set up means frozen: the stop's compliance w.M^-1.w is > 0 then, also
+   * for a free body whose omega_1 = 0 (omega_bound is 0 for K = 0) */
+  if (n < 1 || !(vi_model_stop_compliance(model) > 0))
     return create_fail(diag, path, VI_ERR_STATE,
                        "vi_writer_create: the model is not set up "
                        "(vi_model_setup)");
@@ -523,7 +525,7 @@ int vi_writer_create(const char *path, const vi_model *model, int compress,
     return create_fail(diag, path, VI_ERR_NOMEM, "out of memory");
   }
   w->qd = w->q + n;
-  sprintf(w->part, "%s.part", target);
+  vi_output_part(target, w->part, (int)strlen(target) + 6);
   /* a stale PATH.part of an earlier crash is ours (vi_output_resolve made
    * sure it is a plain file); EXCL then creates a fresh one and never
    * follows a link planted in between */
@@ -727,6 +729,18 @@ int vi_writer_event(vi_writer *w, const vi_event *ev)
   if (ev->n != w->n)
     return warg(w, VI_ERR_DIM, "event of n = %d for a writer of n = %d",
                 ev->n, w->n);
+  if (ev->kind < VI_EVENT_IMPACT || ev->kind > VI_EVENT_RELEASE ||
+      ev->stop < 0 || ev->stop >= vi_model_num_stops(w->m))
+    return warg(w, VI_ERR_ARG, "event of kind %d on stop %d: out of range "
+                "(kinds 0..2, stops 0..%d)", ev->kind, ev->stop,
+                vi_model_num_stops(w->m) - 1);
+  int finite = isfinite(ev->t) && isfinite(ev->vn) && isfinite(ev->ie);
+  for (int i = 0; i < w->n && finite; i++)
+    finite = isfinite(ev->x[i]) && isfinite(ev->v_minus[i]) &&
+             isfinite(ev->v_plus[i]);
+  if (!finite)
+    return warg(w, VI_ERR_NONFINITE, "event at t = %g holds a value that is "
+                "not finite", ev->t);
   double kind = ev->kind, stop = ev->stop;
   const double *vals[8] = {&ev->t, &kind,       &ev->vn,   &ev->ie,
                            ev->x,  ev->v_minus, ev->v_plus, &stop};
@@ -739,6 +753,11 @@ int vi_writer_event(vi_writer *w, const vi_event *ev)
 int vi_writer_sample(vi_writer *w, double t, const double *x, const double *v)
 {
   if (!w || !x || !v) return VI_ERR_ARG;
+  int finite = isfinite(t);
+  for (int i = 0; i < w->n && finite; i++) finite = isfinite(x[i]) && isfinite(v[i]);
+  if (!finite)
+    return warg(w, VI_ERR_NONFINITE, "sample at t = %g holds a value that is "
+                "not finite", t);
   if (vi_model_to_modal(w->m, x, w->q) != VI_OK ||
       vi_model_to_modal(w->m, v, w->qd) != VI_OK)
     for (int j = 0; j < 2 * w->n; j++) w->q[j] = NAN; /* a band model: no modes */
@@ -776,8 +795,10 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
   if (!w || !o) return VI_ERR_ARG;
   if (w->failed) return VI_ERR_IO;
   int n = w->n, pn, pm, bad = 0;
+  if (vi_orbit_classify(o, &pn, &pm) != VI_OK)
+    return warg(w, VI_ERR_STATE, "%s", "vi_writer_orbit: the orbit was never "
+                "sought (vi_orbit_find)");
   if (reserve(w, 8.0 * (12.0 * n + 64))) return VI_ERR_IO;
-  vi_orbit_classify(o, &pn, &pm);
   double *buf = calloc(10 * (size_t)n + 8, sizeof(double));
   if (!buf) return werr(w, VI_ERR_NOMEM, "out of memory");
   /* the getters below fill [n] arrays of the orbit's own n: an orbit of a

@@ -75,6 +75,12 @@ int vi_build_cantilever(int modes, double omega1, double zeta, double xi_stop,
     w[j] = vi_cantilever_shape(j, xi_stop);
     if (gamma) gamma[j] = vi_cantilever_participation(j);
   }
+  /* at the clamp every shape is 0 (round-off of cosh - cos): a stop there
+   * could never be reached.  Near it phi_j ~ beta_j^2 xi^2: refuse a w
+   * whose largest entry is round-off against the tip's |phi_j(1)| = 2 */
+  double wmax = 0.0;
+  for (int j = 0; j < modes; j++) wmax = fmax(wmax, fabs(w[j]));
+  if (!(xi_stop > 0.0) || !(wmax > 1e-10)) return VI_ERR_STOP_VECTOR;
   return VI_OK;
 }
 

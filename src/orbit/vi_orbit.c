@@ -318,6 +318,7 @@ int vi_orbit_find(vi_orbit *o)
   int st, n = o->n;
   double t;
   o->analysed = 0;
+  o->classified = 0;
   o->pn = o->pm = 0;
   o->tn = o->tm = 0;
   o->by_scan = 0;
@@ -349,6 +350,7 @@ int vi_orbit_find(vi_orbit *o)
   }
   o->tn = o->pn;
   o->tm = o->pm;
+  o->classified = 1;
   /* analysed: P(1,1), else (one stop) a stable P(1,1) orbit the transient
    * missed, else P(1, m), m <= MAX_M (the impacts of a period, on one stop
    * or alternating between several) */
@@ -412,7 +414,7 @@ int vi_orbit_classify(const vi_orbit *o, int *n, int *m)
   if (!o) return VI_ERR_ARG;
   if (n) *n = o->pn;
   if (m) *m = o->pm;
-  return VI_OK;
+  return o->classified ? VI_OK : VI_ERR_STATE; /* 0, 0: nothing sought */
 }
 
 int vi_orbit_multipliers(const vi_orbit *o, double *re, double *im)

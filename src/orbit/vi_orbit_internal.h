@@ -46,6 +46,7 @@ struct vi_orbit {
   vi_sim *sim;
   /* classification */
   int pn, pm, analysed;
+  int classified; /* vi_orbit_find classified a transient */
   /* impact ring: t, stop, then x, v per impact */
   int64_t nimp;
   double *rt, *rz;

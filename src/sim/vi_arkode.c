@@ -313,6 +313,12 @@ static int ark_start(vi_sim *s)
     hmax = hmax > 0.0 ? fmin(hmax, h) : h;
   }
   ARK_TRY(ERKStepSetMaxStep(d->mem, hmax));
+  /* after an impact the first step stays inside the rebound's flight
+   * (vi_sim.c, on_contact_one); 0: ARKODE's own estimate */
+  double h0 = s->h_restart;
+  if (s->h_flight > 0.0) h0 = h0 > 0.0 ? fmin(h0, s->h_flight) : s->h_flight;
+  s->h_flight = 0.0;
+  if (h0 > 0.0) ARK_TRY(ERKStepSetInitStep(d->mem, h0)); /* else as before */
   d->t_prev = s->t;
   d->fresh = 1;
 cleanup:
@@ -388,8 +394,7 @@ static int polish(vi_sim *s, ark_data *d, double tc, double lo, double hi)
 static int step_failed(vi_sim *s, const char *what, double t)
 {
   if (s->force_failed)
-    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
-                   "failed at t = %.17g", s->force_fail_t);
+    return vi_force_failure(s);
   return vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "%s failed at t = %.17g", what, t);
 }
 
@@ -541,8 +546,7 @@ static int ark_step(vi_sim *s, double t_end, int *event)
   d->continued = 0;
   d->fresh = 0;
   if (flag < 0 && s->force_failed)
-    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
-                   "failed at t = %.17g", s->force_fail_t);
+    return vi_force_failure(s);
   if (flag < 0) {
     if (!s->errmsg[0])
       vi_fail(s->errmsg, VI_ERR_INTEGRATOR,

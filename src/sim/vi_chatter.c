@@ -244,6 +244,17 @@ int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
                 (s->dt_floor > 0.0 && dt_prev < s->dt_floor));
   /* a touch at rest or a floor ends any sequence that presses on the stop,
    * even at r = 1; a vanishing bounce only where impacts lose energy */
+  if (vn > s->vscale) { /* the run's velocity scale: its fastest impact */
+    s->vscale = vn;
+    s->vres = s->impact_ratio * vn;
+  }
+  if (s->vres > 0.0) {
+    /* impacts a user can count on: every impact at or above the run's
+     * resolution (a fraction of its velocity scale) is resolved, by every
+     * method alike; the chatter map sums only below it */
+    return push > 0.0 && (vn <= 0.0 || *floor_hit ||
+                          (r < 1.0 && (vn < s->vres || vn < s->vchat)));
+  }
   int chatter = push > 0.0 &&
                 (vn <= 0.0 || *floor_hit ||
                  (r < 1.0 && (vn < s->vchat || apex < 10.0 * s->atol * wnorm)));

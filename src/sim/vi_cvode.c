@@ -353,6 +353,8 @@ static int cv_start(vi_sim *s)
     memcpy(d->rstick + 1, s->stick_k, sizeof(int) * s->nstick);
   }
   if (s->h_restart > 0.0) CV_TRY(CVodeSetInitStep(d->mem, s->h_restart));
+  s->h_flight = 0.0; /* ERK's hint (vi_arkode.c); CVODE's own first step
+                        after a restart is small enough */
   /* While sticking the state barely moves, so CVODE's error control lets
    * the step grow past oscillations of the contact force that the release
    * root must see: resolve the forcing instead. */
@@ -488,8 +490,7 @@ static int cv_step(vi_sim *s, double t_end, int *event)
   }
   d->continued = 0;
   if (flag < 0 && s->force_failed)
-    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
-                   "failed at t = %.17g", s->force_fail_t);
+    return vi_force_failure(s);
   if (flag < 0) {
     if (!s->errmsg[0])
       vi_fail(s->errmsg, VI_ERR_INTEGRATOR, "CVode failed (flag %d) at t = %g",

@@ -2,6 +2,7 @@
  * callback and the built-in springs (vi_force.h).  They enter the
  * acceleration as M^-1 g = Psi Psi^T g (mass-normalised modes: Psi^T M Psi
  * = I, so M^-1 = Psi Psi^T), which needs no factorisation of M. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,6 +42,7 @@ int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
                      void *user, vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (fn && s->m->band) /* M^-1 g = Psi Psi^T g needs the modes */
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
                    "which a band-storage model does not have");
@@ -63,6 +65,7 @@ int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
 int vi_sim_add_spring(vi_sim *s, int type, int i, int j, double k, double gap)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (s->m->band) /* M^-1 g = Psi Psi^T g needs the modes */
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
                    "which a band-storage model does not have");
@@ -93,6 +96,7 @@ int vi_sim_add_spring(vi_sim *s, int type, int i, int j, double k, double gap)
 int vi_sim_clear_springs(vi_sim *s)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   free(s->springs);
   s->springs = NULL;
   s->nsprings = 0;
@@ -153,7 +157,32 @@ static int force_eval(vi_sim *s, double t, const double *z, double *g)
     }
     for (int i = 0; i < n; i++) g[i] += h[i];
   }
+  /* a NaN or inf force (the host's with status 0, or a spring's overflow)
+   * would leave the integrator retrying ever smaller steps at one t: the
+   * run fails instead, naming the coordinate */
+  for (int i = 0; i < n; i++)
+    if (!isfinite(g[i])) {
+      if (!s->force_failed) {
+        s->force_fail_t = t;
+        s->force_fail_i = i;
+        s->force_fail_g = g[i];
+      }
+      s->force_failed = 2;
+      return -1;
+    }
   return 0;
+}
+
+int vi_force_failure(vi_sim *s)
+{
+  if (s->force_failed == 2)
+    return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the nonlinear force is not "
+                   "finite at t = %.17g: g(%d) = %g (%s)", s->force_fail_t,
+                   s->force_fail_i + 1, s->force_fail_g,
+                   s->force_fn ? "the host's force callback or a spring"
+                               : "a spring: the motion has diverged");
+  return vi_fail(s->errmsg, VI_ERR_CALLBACK, "the host's force callback "
+                 "failed at t = %.17g", s->force_fail_t);
 }
 
 void vi_force_add_accel(vi_sim *s, double t, const double *z, double *acc)

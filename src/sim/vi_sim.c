@@ -50,6 +50,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->rtol = 1e-8;
   s->atol = 1e-10;
   s->vchat = 1e-7;
+  s->impact_ratio = 1e-5;
   s->t_last_contact = -HUGE_VAL;
   s->stick_at = HUGE_VAL;
   s->fast_nvector = 1;
@@ -151,10 +152,23 @@ static void use_backend(vi_sim *s, const vi_backend *be)
   s->be_data = pd;
 }
 
+int vi_sim_busy(vi_sim *s, const char *name)
+{
+  return vi_fail(s->errmsg, VI_ERR_STATE, "%s called from inside a callback "
+                 "of this sim's own run: refused (only the queries listed in "
+                 "vi_sim.h may be called there)", name);
+}
+
 void vi_sim_destroy(vi_sim **sim)
 {
   if (!sim || !*sim) return;
   vi_sim *s = *sim;
+  if (s->running) {
+    /* the run still holds s: end it, and let the host destroy afterwards */
+    s->destroy_asked = 1;
+    s->stop = 1;
+    return;
+  }
   /* the host's user data handed over with a destroy function */
   vi_user_set(&s->cancel_user, &s->cancel_free, NULL, NULL);
   vi_user_set(&s->ev_user, &s->ev_free, NULL, NULL);
@@ -181,6 +195,7 @@ const char *vi_sim_errmsg(const vi_sim *s) { return s ? s->errmsg : ""; }
 int vi_sim_set_method(vi_sim *s, int method)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!vi_method_name(method))
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown method %d", method);
   if (method == VI_METHOD_EXACT && !s->flow->ok)
@@ -199,6 +214,7 @@ int vi_sim_set_method(vi_sim *s, int method)
 int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(rtol > 0.0) || !(atol > 0.0) || !isfinite(rtol) || !isfinite(atol))
     return vi_fail(s->errmsg, VI_ERR_TOLERANCE,
                    "tolerances rtol = %g, atol = %g must be positive and "
@@ -218,6 +234,7 @@ int vi_sim_set_tolerances(vi_sim *s, double rtol, double atol)
 int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   const vi_model *m = s->m;
   int n = s->n;
   if (!isfinite(t0))
@@ -261,6 +278,7 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
 int vi_sim_set_chatter_threshold(vi_sim *s, double vmin)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(vmin >= 0.0) || !isfinite(vmin))
     return vi_fail(s->errmsg, VI_ERR_ARG, "chatter threshold %g must be a "
                    "finite non-negative velocity", vmin);
@@ -268,9 +286,24 @@ int vi_sim_set_chatter_threshold(vi_sim *s, double vmin)
   return VI_OK;
 }
 
+int vi_sim_set_impact_resolution(vi_sim *s, double ratio)
+{
+  if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
+  if (!(ratio >= 0.0 && ratio < 1.0))
+    return vi_fail(s->errmsg, VI_ERR_ARG, "impact resolution %g must lie in "
+                   "[0, 1) (a fraction of the run's velocity scale)", ratio);
+  s->impact_ratio = ratio;
+  s->vres = ratio * s->vscale;
+  return VI_OK;
+}
+
+double vi_sim_velocity_scale(const vi_sim *s) { return s ? s->vscale : 0.0; }
+
 int vi_sim_set_restart_step(vi_sim *s, double h)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(h >= 0.0) || !isfinite(h))
     return vi_fail(s->errmsg, VI_ERR_ARG, "restart step %g must be >= 0", h);
   s->h_restart = h;
@@ -280,6 +313,7 @@ int vi_sim_set_restart_step(vi_sim *s, double h)
 int vi_sim_set_max_step(vi_sim *s, double hmax)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(hmax >= 0.0) || !isfinite(hmax))
     return vi_fail(s->errmsg, VI_ERR_ARG, "max step %g must be >= 0", hmax);
   s->hmax = hmax;
@@ -290,6 +324,7 @@ int vi_sim_set_max_step(vi_sim *s, double hmax)
 int vi_sim_set_native_vector_ops(vi_sim *s, int on)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "native vector ops: %d is not 0 or 1", on);
   s->fast_nvector = on;
@@ -301,6 +336,7 @@ int vi_sim_set_cancel(vi_sim *s, vi_cancel_fn fn, void *user,
                       vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   s->cancel_fn = fn;
   vi_user_set(&s->cancel_user, &s->cancel_free, user, destroy);
   return VI_OK;
@@ -309,6 +345,7 @@ int vi_sim_set_cancel(vi_sim *s, vi_cancel_fn fn, void *user,
 int vi_sim_set_floors(vi_sim *s, double vn_min, double dt_min)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (!(vn_min >= 0.0) || !isfinite(vn_min) || !(dt_min >= 0.0) ||
       !isfinite(dt_min))
     return vi_fail(s->errmsg, VI_ERR_ARG, "floors v_n = %g, dt = %g must be "
@@ -329,6 +366,7 @@ int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user,
                               vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   s->ev_fn = fn;
   vi_user_set(&s->ev_user, &s->ev_free, user, destroy);
   return VI_OK;
@@ -338,6 +376,7 @@ int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user,
                         vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (fn && !(dt > 0.0 && isfinite(dt)))
     return vi_fail(s->errmsg, VI_ERR_ARG, "sampling interval %g must be "
                    "positive and finite", dt);
@@ -353,6 +392,7 @@ int vi_sim_set_monitor(vi_sim *s, double every, vi_monitor_fn fn, void *user,
                        vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (fn && !(every > 0.0))
     return vi_fail(s->errmsg, VI_ERR_ARG, "monitor interval %g must be > 0",
                    every);
@@ -537,7 +577,9 @@ static int on_contact_one(vi_sim *s, int k)
   } else {
     memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
   }
-  int stick = chatter || (vn > 0.0 && r == 0.0 && push > 0.0);
+  int stick = chatter || (vn > 0.0 && r == 0.0 && push > 0.0) ||
+              (vn <= 0.0 && s->press_next);
+  s->press_next = 0;
   if (!stick && vn > 0.0 && r == 0.0) {
     /* a plastic impact leaves the mass on the stop at rest along w: it
      * sticks if pressed with the velocity after the impact (damping), else
@@ -563,6 +605,12 @@ static int on_contact_one(vi_sim *s, int k)
     s->stats[VI_STAT_CHATTER_SKIPPED] += count;
     vi_chatter_pend(s, k, s->t + tail, -u * wmw, ie_tail);
   }
+  /* the rebound's flight 2 r v_n / w.a: the integrator's first step must
+   * end inside it, or it steps from the stop (g = 0) to beyond it (g > 0)
+   * with no sign change for the root finding (a chattering tail, where
+   * the flights shrink geometrically; ERK missed such a landing).  Used by
+   * ERK, whose first step after a restart is otherwise its own estimate */
+  s->h_flight = vn > 0.0 && !stick && push > 0.0 ? 0.5 * r * vn / push : 0.0;
   s->ie_stop[k] += ie + ie_tail;
   /* The contact is at g = 0 by definition, but the located state carries
    * the integrator's position error along w.  Near grazing that error is
@@ -827,6 +875,20 @@ static int initial_contact(vi_sim *s)
     push = vi_dot(s->n, vi_stop_w(s->m, k), s->vp);
     if (gd == 0.0 && push > 0.0) return 1; /* at rest and pressed: sticks,
                                               any r */
+    if (gd == 0.0 && push == 0.0) {
+      /* at rest on the stop and not yet pressed (Fig. 2 from rest with
+       * x_s = 0: g = g' = g'' = 0 at t0): the contact force's next rates
+       * along the held motion decide.  Rising, the mass is pressed from
+       * t0 on and sticks; started free, the gap would grow from exactly 0
+       * with no sign change for the integrator's root finding to see. */
+      double p[3];
+      split(s, s->z);
+      vi_chatter_push(s, k, s->t, s->x, s->v, p);
+      if (p[1] > 0.0 || (p[1] == 0.0 && p[2] > 0.0)) {
+        s->press_next = 1;
+        return 1;
+      }
+    }
   }
   return 0;
 }
@@ -898,7 +960,12 @@ static void monitor(vi_sim *s)
   vi_progress p = {s->t, s->run_t0, s->t_end, vi_sim_stat(s, VI_STAT_STEPS),
                    s->stats[VI_STAT_IMPACTS]};
   if (s->mon_fn(&p, s->mon_user)) s->stop = 1;
-  while (s->mon_next <= s->t) s->mon_next += s->mon_every;
+  /* the next report after t, in one step: a loop of additions would never
+   * end where mon_every is below the resolution of t (vi_sim_run refuses
+   * such intervals; this keeps the arithmetic safe regardless) */
+  double k = floor((s->t - s->mon_next) / s->mon_every) + 1.0;
+  s->mon_next += k * s->mon_every;
+  if (!(s->mon_next > s->t)) s->mon_next = nextafter(s->t, HUGE_VAL);
 }
 
 /* The closed form lost its conditioning at s->t: go on with CVODE (Adams,
@@ -952,13 +1019,105 @@ static int check_finite_state(vi_sim *s)
   return VI_OK;
 }
 
+static int run(vi_sim *s, double t_end);
+
 int vi_sim_run(vi_sim *s, double t_end)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s); /* a nested run would corrupt this one's integrator */
+  s->running = 1;
+  int st = run(s, t_end);
+  s->running = 0;
+  if (s->destroy_asked) {
+    s->destroy_asked = 0;
+    return vi_fail(s->errmsg, VI_ERR_STATE, "vi_sim_destroy was called from "
+                   "inside a callback of this sim's run: the run ended at t = "
+                   "%.17g and the sim was not destroyed (destroy it after "
+                   "vi_sim_run returns)", s->t);
+  }
+  return st;
+}
+
+/* Consecutive steps that may leave t where it was (events at one instant,
+ * a restart after a contact) before the run is declared stuck. */
+#define VI_STUCK_STEPS 1000
+
+/* The run made no progress for VI_STUCK_STEPS steps: say why it may be. */
+static int stuck(vi_sim *s, double t_before)
+{
+  int st = vi_sim_sync(s);
+  double zmax = 0.0;
+  int imax = 0;
+  for (int i = 0; i < 2 * s->n && !st; i++)
+    if (!(fabs(s->z[i]) <= zmax)) {
+      zmax = fabs(s->z[i]);
+      imax = i;
+    }
+  return vi_fail(s->errmsg, VI_ERR_INTEGRATOR,
+                 "no progress: time stuck at t = %.17g for %d steps (%s "
+                 "method; from t = %.17g): the step size collapsed below the "
+                 "resolution of t.  Largest state entry %s(%d) = %.3g: a "
+                 "solution that blows up in finite time (a softening spring) "
+                 "or a force that is not finite there", s->t, VI_STUCK_STEPS,
+                 method_names[s->method_used], t_before, imax % 2 ? "v" : "x",
+                 imax / 2 + 1, zmax);
+}
+
+static int run(vi_sim *s, double t_end)
+{
   if (!isfinite(t_end) || !(t_end > s->t))
     return vi_fail(s->errmsg, VI_ERR_TIME,
                    "end time %.17g is not after the current time %.17g", t_end,
                    s->t);
+  if (!s->started) {
+    /* the ranges a scene must lie in, checked by the same code (before a
+     * first start: later calls continue a motion already accepted) */
+    const char *key = "";
+    char why[300];
+    vi_sim_sync(s);
+    for (int i = 0; i < s->n; i++) {
+      s->x[i] = s->z[2 * (size_t)i];
+      s->v[i] = s->z[2 * (size_t)i + 1];
+    }
+    int st = vi_model_check_run(s->m, s->t, t_end, s->x, s->v, s->rtol,
+                                s->atol, &key, NULL, why, (int)sizeof why);
+    /* the run's velocity scale starts at the initial speeds and grows
+     * with every approach velocity (vi_chatter_wanted) */
+    double vmax = 0.0;
+    for (int i = 0; i < s->n; i++) vmax = fmax(vmax, fabs(s->v[i]));
+    s->vscale = vmax;
+    s->vres = s->impact_ratio * s->vscale;
+    if (st) {
+      static const char *const api[][2] = {
+          {"forcing.omega", "the forcing frequency (vi_model_set_forcing)"},
+          {"run.t_end", "the run's times (t0 of vi_sim_set_initial, t_end)"},
+          {"initial.x", "the initial x (vi_sim_set_initial)"},
+          {"initial.v", "the initial v (vi_sim_set_initial)"},
+          {"run.atol", "atol (vi_sim_set_tolerances)"},
+          {"run.rtol", "rtol (vi_sim_set_tolerances)"}};
+      const char *what = "the model";
+      for (size_t k = 0; k < sizeof api / sizeof api[0]; k++)
+        if (!strcmp(key, api[k][0])) what = api[k][1];
+      return vi_fail(s->errmsg, st == VI_ERR_LIMIT ? VI_ERR_LIMIT : st,
+                     "%s %s", what, why);
+    }
+  }
+  if (s->hmax > 0 &&
+      s->hmax <= 4.0 * DBL_EPSILON * fmax(fabs(t_end), fabs(s->t)))
+    return vi_fail(s->errmsg, VI_ERR_LIMIT, "max step %g is below the "
+                   "resolution of t up to t = %g (vi_sim_set_max_step)",
+                   s->hmax, t_end);
+  if (s->mon_fn) {
+    /* a report interval t cannot resolve would report at every step */
+    double ts = fmax(fabs(t_end), fabs(s->t));
+    if (s->mon_every <= 4.0 * DBL_EPSILON * ts ||
+        (t_end - s->t) / s->mon_every > 1e12)
+      return vi_fail(s->errmsg, VI_ERR_LIMIT,
+                     "monitor interval %g is below the resolution of t up to "
+                     "t = %g (at least %.3g, and at most 1e12 reports)",
+                     s->mon_every, t_end,
+                     fmax(8.0 * DBL_EPSILON * ts, (t_end - s->t) / 1e12));
+  }
   if (s->smp_fn) {
     /* refuse a sampling interval whose samples could never all be made */
     double span = t_end - fmax(s->t, s->smp_t0), ts = fmax(fabs(t_end), fabs(s->smp_t0));
@@ -997,10 +1156,18 @@ int vi_sim_run(vi_sim *s, double t_end)
     if (s->smp_fn && (st = samples(s, s->t))) return st;
     if (initial_contact(s) && (st = on_contact(s))) return st;
   }
+  int still = 0;             /* consecutive steps that left t in place */
+  double t_moved = s->t;     /* where t last advanced */
   while (s->t < t_end && !s->stop) {
     if (vi_sim_cancelled(s)) {
       cancelled = 1;
       break;
+    }
+    if (s->t > t_moved + 4.0 * DBL_EPSILON * fabs(t_moved)) {
+      still = 0;
+      t_moved = s->t;
+    } else if (++still > VI_STUCK_STEPS) {
+      return stuck(s, t_moved);
     }
     int event = VI_STEP_NONE;
     s->contact_stop = 0; /* a multi-stop backend says which */
@@ -1049,6 +1216,7 @@ int vi_sim_run(vi_sim *s, double t_end)
 int vi_sim_setup(vi_sim *s)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (s->started) return VI_OK;
   note_method(s);
   use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
@@ -1058,6 +1226,7 @@ int vi_sim_setup(vi_sim *s)
 int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
 {
   if (!s || !kind) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   *kind = -1;
   s->event_stop = 1;
   s->last_event = -1;
@@ -1075,6 +1244,7 @@ int vi_sim_run_to_event(vi_sim *s, double t_end, int *kind)
 int vi_sim_enable_ledger(vi_sim *s, int on)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
   if (on && s->m->band)
@@ -1099,6 +1269,7 @@ int vi_sim_set_ledger_callback(vi_sim *s, vi_ledger_fn fn, void *user,
                                vi_destroy_fn destroy)
 {
   if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
   s->led_fn = fn;
   vi_user_set(&s->led_user, &s->led_free, user, destroy);
   if (s->led) vi_ledger_set_callback(s->led, fn, user);

@@ -44,6 +44,10 @@ struct vi_sim {
   struct vi_xflow *flow; /* the model's exact flow (vi_flow_internal.h) */
   int n, method;
   double rtol, atol, vchat, h_restart, hmax;
+  /* impacts resolved individually down to vres = impact_ratio * vscale
+   * (the run's velocity scale, fixed at its first start); 0: the older
+   * accuracy-driven summing */
+  double impact_ratio, vscale, vres;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
   double wnorm;  /* |w|, the scale of gap tolerances */
   int ns;        /* number of stops (vi_model_add_stop) */
@@ -83,6 +87,11 @@ struct vi_sim {
   double mon_every, mon_next;
   double run_t0;
   int stop;       /* a callback asked to stop */
+  int running;    /* inside vi_sim_run: state-changing calls refused */
+  int destroy_asked; /* vi_sim_destroy from a callback: the run ends */
+  int press_next; /* initial_contact: at rest on the stop, pressed next */
+  double h_flight; /* first step after an impact: within the rebound's
+                      flight (0: none); consumed by the backend's start */
   int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
   int last_event; /* kind of the last event emitted */
 
@@ -107,8 +116,9 @@ struct vi_sim {
   int nsprings, nforces;  /* nforces: springs plus the callback, if any */
   double *fbuf;           /* scratch [4n]: x, v, g, Psi^T g */
   double *fjac;           /* Jacobian workspace, made at first use */
-  int force_failed;       /* the callback failed: the run stops */
-  double force_fail_t;
+  int force_failed;       /* 1 the callback failed, 2 a force not finite */
+  double force_fail_t, force_fail_g;
+  int force_fail_i;
 
   /* energy ledger (vi_ledger.c); NULL unless enabled */
   vi_ledger *led;
@@ -116,6 +126,14 @@ struct vi_sim {
 
   char errmsg[VI_MSG_LEN];
 };
+
+/* A call that changes the sim, made from inside a callback of its own run
+ * (the run holds pointers into the state it would change): VI_ERR_STATE. */
+int vi_sim_busy(vi_sim *s, const char *name);
+#define VI_SIM_IDLE(s)                                                    \
+  do {                                                                    \
+    if ((s)->running) return vi_sim_busy((s), __func__);                  \
+  } while (0)
 
 /* A SUNDIALS call in a backend function with `int st` and a `cleanup`
  * label: a negative flag records the call in s->errmsg (unless SUNDIALS'
@@ -158,6 +176,8 @@ static inline int vi_sim_cancelled(const vi_sim *s)
 /* Nonlinear forces (vi_force.c).  acc += M^-1 g(t, x, v) for an
  * interleaved state z; with gq != NULL the modal force Psi^T g too. */
 void vi_force_add_accel(vi_sim *s, double t, const double *z, double *acc);
+/* The message and status of a failed force evaluation (s->force_failed). */
+int vi_force_failure(vi_sim *s);
 /* The modal force Psi^T g [n] at (t, z) into gq: for the ledger. */
 void vi_force_modal(vi_sim *s, double t, const double *z, double *gq);
 /* d(M^-1 g)/dx and d(M^-1 g)/dv [n x n], column-major, at (t, z). */

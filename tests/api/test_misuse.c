@@ -280,6 +280,8 @@ static void test_sim_misuse(void **state)
   assert_err(vi_sim_set_tolerances(NULL, 1e-8, 1e-10));
   assert_err(vi_sim_set_initial(NULL, 0, NULL, NULL));
   assert_err(vi_sim_set_chatter_threshold(NULL, 0));
+  assert_err(vi_sim_set_impact_resolution(NULL, 1e-5));
+  assert_true(vi_sim_velocity_scale(NULL) == 0.0);
   assert_err(vi_sim_set_restart_step(NULL, 0));
   assert_err(vi_sim_set_max_step(NULL, 0));
   assert_err(vi_sim_set_native_vector_ops(NULL, 1));
@@ -323,6 +325,9 @@ static void test_sim_misuse(void **state)
   assert_err_msg(vi_sim_set_initial(s, 0, xnan, NULL), msg);
   assert_err_msg(vi_sim_set_initial(s, INFINITY, NULL, NULL), msg);
   assert_err_msg(vi_sim_set_chatter_threshold(s, -1), msg);
+  assert_err_msg(vi_sim_set_impact_resolution(s, -1e-5), msg);
+  assert_err_msg(vi_sim_set_impact_resolution(s, 1.0), msg);
+  assert_err_msg(vi_sim_set_impact_resolution(s, NAN), msg);
   assert_err_msg(vi_sim_set_restart_step(s, NAN), msg);
   assert_err_msg(vi_sim_set_max_step(s, -1), msg);
   assert_err_msg(vi_sim_set_native_vector_ops(s, 2), msg);
@@ -355,6 +360,50 @@ static void test_sim_misuse(void **state)
   assert_int_equal(count, 11);
   vi_sim_destroy(&s);
   assert_null(s);
+
+  /* the API refuses what a scene refuses (one check, vi_model_check_run),
+   * at once instead of running endlessly */
+  const char *key = "x";
+  double val = 0;
+  char why[200];
+  assert_int_equal(vi_model_check_run(NULL, 0, 1, NULL, NULL, 1e-8, 1e-10,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_ARG);
+  assert_int_equal(vi_model_check_run(m, 0, NAN, NULL, NULL, 1e-8, 1e-10,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_NONFINITE);
+  assert_int_equal(vi_model_check_run(m, 0, 10, NULL, NULL, 1e-8, 1e-10,
+                                      NULL, NULL, NULL, 0), VI_OK);
+  assert_int_equal(vi_model_check_run(m, 1e300, 2e300, NULL, NULL, 1e-8, 1e-10,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_LIMIT);
+  assert_string_equal(key, "run.t_end");
+  assert_int_equal(vi_model_check_run(m, 0, 10, NULL, NULL, 1e-8, 1e300,
+                                      &key, &val, why, (int)sizeof why), VI_ERR_LIMIT);
+  assert_string_equal(key, "run.atol");
+  assert_true(val == 1e300);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, 1e300, NULL, NULL), VI_OK);
+  assert_err_msg(vi_sim_run(s, 1.1e300), msg = vi_sim_errmsg(s));
+  assert_non_null(strstr(msg, "resolves"));
+  assert_int_equal(vi_sim_set_initial(s, 0, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, 1e-8, 1e300), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_ERR_LIMIT);
+  assert_non_null(strstr(msg, "atol"));
+  assert_int_equal(vi_sim_set_tolerances(s, 0.5, 1e-10), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_ERR_LIMIT); /* rtol above 0.1 */
+  assert_int_equal(vi_sim_set_tolerances(s, 1e-8, 1e-10), VI_OK);
+  assert_int_equal(vi_sim_set_max_step(s, 1e-300), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_ERR_LIMIT);
+  assert_non_null(strstr(msg, "max step"));
+  assert_int_equal(vi_sim_set_max_step(s, 0), VI_OK);
+  assert_int_equal(vi_sim_run(s, 10.0), VI_OK);
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  /* a forcing frequency 1e300 times the structure's */
+  double a[2] = {0.5, 0};
+  m = vi_test_chain(2, 1.0, 1.0, 0.1, 0.1, 0.7, 1e300, a);
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_run(s, 1.0), VI_ERR_LIMIT);
+  assert_non_null(strstr(vi_sim_errmsg(s), "forcing frequency"));
+  vi_sim_destroy(&s);
   vi_model_destroy(&m);
 }
 
@@ -370,10 +419,15 @@ static void test_impact_flow_misuse(void **state)
   assert_err(vi_restitution_from_energy(-1, 1, &r));
   assert_err(vi_restitution_from_energy(2, 1, &r)); /* RE > KE_i */
   assert_err(vi_restitution_from_energy(0.5, 1, NULL));
+  double xo[2], vo[2];
   assert_err(vi_flow_physical(NULL, 0, x, v, 1, x, v));
   assert_err(vi_flow_physical(m, 0, x, v, -1, vp, vp)); /* backwards */
   assert_err(vi_flow_physical(m, 0, x, v, NAN, vp, vp));
-  double xo[2], vo[2];
+  /* a time whose phase double precision cannot resolve */
+  assert_int_equal(vi_flow_physical(m, 0, x, v, 1e300, vp, vo), VI_ERR_LIMIT);
+  assert_int_equal(vi_flow_modal(m, 1e300, x, v, 1e300, vp, vo), VI_ERR_LIMIT);
+  assert_int_equal(vi_flow_physical(m, 0, x, v, 1e6, vp, vo), VI_OK);
+
   assert_err(vi_flow_physical(m, 0, x, v, 1, x, vo)); /* x0 and x overlap */
   assert_err(vi_flow_modal(m, 0, x, v, 1, xo, xo));   /* q and qd overlap */
   assert_string_equal(vi_status_name(-1000), "VI_UNKNOWN");
@@ -392,6 +446,16 @@ static void test_model_band_getters_misuse(void **state)
   assert_int_equal(vi_model_create_band(3, -1, &m), VI_ERR_DIM);
   assert_null(m);
   assert_err(vi_model_create_band(3, 1, NULL));
+  /* n = 1.5e9: the size in 64 bits (a 32-bit product would wrap to a small
+   * block and the first write would corrupt the heap) */
+#ifndef __SANITIZE_ADDRESS__ /* ASan aborts on a failed 264 GB calloc */
+  {
+    int big = vi_model_create_band(1500000000, 1, &m);
+    assert_true(big == VI_ERR_NOMEM || big == VI_OK);
+    if (big == VI_OK) assert_true(vi_model_memory(m) > (int64_t)1500000000 * 20 * 8);
+    vi_model_destroy(&m);
+  }
+#endif
   double AB[6] = {0, 1, 0, 1, 0, 1}, ABn[6] = {0, 1, 0, NAN, 0, 1};
   assert_err(vi_model_set_mass_band(NULL, 1, AB, 2));
   assert_err(vi_model_set_damping_band(NULL, 1, AB, 2));
@@ -585,6 +649,10 @@ static void test_builders_misuse(void **state)
   assert_err(vi_build_cantilever(-2, 1, 0.01, 1, M, C, K, 2, w, g));
   assert_err(vi_build_cantilever(2, 1, 0.01, 1, M, C, K, 1, w, g)); /* ld < modes */
   assert_err(vi_build_cantilever(2, -1, 0.01, 1, M, C, K, 2, w, g));
+  /* the stop at the clamp (or within round-off of it) can never be hit */
+  assert_int_equal(vi_build_cantilever(2, 1, 0.01, 0.0, M, C, K, 2, w, g), VI_ERR_STOP_VECTOR);
+  assert_int_equal(vi_build_cantilever(2, 1, 0.01, 1e-7, M, C, K, 2, w, g), VI_ERR_STOP_VECTOR);
+  assert_int_equal(vi_build_cantilever(2, 1, 0.01, 0.01, M, C, K, 2, w, g), VI_OK);
   assert_err(vi_build_cantilever(2, NAN, 0.01, 1, M, C, K, 2, w, g));
   assert_err(vi_build_cantilever(2, 1, -0.01, 1, M, C, K, 2, w, g));
   assert_err(vi_build_cantilever(2, 1, 0.01, 1.5, M, C, K, 2, w, g));

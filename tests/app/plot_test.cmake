@@ -15,11 +15,26 @@ run("${APP}" --periods 30 --quiet -o "${DIR}/fig2.h5")
 run("${APP}" "${SHARE}/scenes/chatter.yaml" --periods 10 --quiet -o "${DIR}/chatter.h5")
 run("${APP}" "${SHARE}/scenes/duffing.yaml" --periods 20 --quiet -o "${DIR}/duffing.h5")
 run("${APP}" energy -o "${DIR}/orbit.h5")
-foreach(stem fig2 chatter duffing orbit)
+# a transient without forcing (a ball thrown off the stop that sticks):
+# sampled and drawn whole, and a --from/--to window of the forced run
+file(WRITE "${DIR}/ball.yaml" "name: ball\nmodel: {M: [[1.0]], K: [[0.0]]}\n"
+  "forcing: {f0: [1.0]}\nstop: {mass: 1, xs: 0.0, r: 0.8}\n"
+  "initial: {x: [0.0], v: [-1.0]}\nrun: {t_end: 20}\n"
+  "output: {samples_per_period: 50, ledger: true}\n")
+run("${APP}" "${DIR}/ball.yaml" --quiet -o "${DIR}/ball.h5")
+foreach(stem fig2 chatter duffing orbit ball)
   run(/usr/bin/python3 "${SCRIPT}" "${DIR}/${stem}.h5" --out "${DIR}")
 endforeach()
+file(MAKE_DIRECTORY "${DIR}/window")
+run(/usr/bin/python3 "${SCRIPT}" "${DIR}/fig2.h5" --from 100 --to 120 --out "${DIR}/window")
+execute_process(COMMAND /usr/bin/python3 "${SCRIPT}" "${DIR}/fig2.h5" --from 3
+  --out "${DIR}/window" RESULT_VARIABLE rc ERROR_QUIET)
+if(rc EQUAL 0)
+  message(FATAL_ERROR "--from without --to was accepted")
+endif()
 foreach(f fig2_phase fig2_gap fig2_ledger fig2_restitution chatter_phase chatter_gap
-          chatter_ledger duffing_ledger orbit_restitution)
+          chatter_ledger duffing_ledger orbit_restitution ball_phase ball_gap
+          ball_ledger window/fig2_gap window/fig2_phase)
   if(NOT EXISTS "${DIR}/${f}.png")
     message(FATAL_ERROR "missing ${f}.png")
   endif()
@@ -66,6 +81,19 @@ run = plot.restitution(f, '${DIR}/orbit_check.png')
 r = f['model'].attrs['r']
 ok = run is not None and abs(run[2] - r) < 1e-6 and 0 < run[0] < run[1]
 print('restitution chart marks RE, KE_i, r =', run, 'ok' if ok else 'FAIL')
+bad += not ok
+# the windows: a transient whole (the ball's impacts end at t = 10 and the
+# rest sticks: a last fifth would be a flat line), --from/--to exactly
+f = h5py.File('${DIR}/ball.h5', 'r')
+tr = f['trajectory']
+k0, k1 = plot.window(tr, ('last', 1.0))
+ok = k0 == 0 and k1 == tr['time'].shape[0] and tr['time'][k1 - 1] >= 19.9
+f = h5py.File('${DIR}/fig2.h5', 'r')
+tr = f['trajectory']
+k0, k1 = plot.window(tr, ('time', 100.0, 120.0))
+t = tr['time'][k0:k1]
+ok &= bool(t[0] >= 100 and t[-1] <= 120 and tr['time'][k0 - 1] < 100 and tr['time'][k1] > 120)
+print('plot windows: whole transient, --from/--to:', 'ok' if ok else 'FAIL')
 bad += not ok
 sys.exit(bad)
 ")

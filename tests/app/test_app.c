@@ -231,6 +231,41 @@ static void test_sigint_leaves_valid_file(void **state)
   remove(err);
 }
 
+/* A free body (the bouncing ball: K = 0, a constant load, no forcing
+ * frequency) runs, is written to HDF5 like any model, and its summary is
+ * in time units, not "forcing periods" it does not have. */
+static void test_free_body_run(void **state)
+{
+  (void)state;
+  char scene[256], h5[256], out[256], err[256];
+  snprintf(scene, sizeof scene, "%s/ball.yaml", dir);
+  snprintf(h5, sizeof h5, "%s/ball.h5", dir);
+  snprintf(out, sizeof out, "%s/stdout", dir);
+  snprintf(err, sizeof err, "%s/stderr", dir);
+  FILE *f = fopen(scene, "w");
+  fputs("name: ball\nmodel: {M: [[1.0]], K: [[0.0]]}\nforcing: {f0: [1.0]}\n"
+        "stop: {mass: 1, xs: 0.0, r: 0.8}\ninitial: {x: [0.0], v: [-1.0]}\n"
+        "run: {t_end: 20, rtol: 1.0e-10, atol: 1.0e-12}\n"
+        "output: {ledger: true}\n", f);
+  fclose(f);
+  char *argv[] = {(char *)app, scene, "-o", h5, NULL};
+  int rc = run_app(argv, out, err);
+  if (rc) printf("%s", slurp(err));
+  assert_int_equal(rc, 0);
+  const char *s = slurp(out);
+  printf("%s", s);
+  assert_null(strstr(s, "forcing period"));
+  assert_non_null(strstr(s, "free motion"));
+  hid_t file = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(file >= 0);
+  assert_true(H5Lexists(file, "impacts", H5P_DEFAULT) > 0);
+  H5Fclose(file);
+  remove(h5);
+  remove(scene);
+  remove(out);
+  remove(err);
+}
+
 int main(int argc, char **argv)
 {
   if (argc < 2) {
@@ -243,6 +278,7 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_malformed_scene_files),
       cmocka_unit_test(test_outputs),
       cmocka_unit_test(test_output_flags),
+      cmocka_unit_test(test_free_body_run),
       cmocka_unit_test(test_sigint_leaves_valid_file),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);

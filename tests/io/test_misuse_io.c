@@ -18,6 +18,7 @@
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vibroimpact/vi_scene_param.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_writer.h"
 #include "vibroimpact/vi_identify_io.h"
 
@@ -217,6 +218,30 @@ static void test_writer_misuse(void **state)
   assert_err_diag(vi_output_resolve("/dev/null", target, (int)sizeof target, &d), d);
   assert_err_diag(vi_output_resolve("/nonexistent/dir/x.h5", target,
                                     (int)sizeof target, &d), d);
+  /* the rest of the output module (vi_output.h) */
+  int kind = -1;
+  FILE *f = NULL;
+  assert_int_equal(vi_output_check(NULL, 0, NULL, target, (int)sizeof target, &kind, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_check(path, 7, NULL, target, (int)sizeof target, &kind, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_check(path, 0, NULL, NULL, 10, &kind, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_check("/dev/null", VI_OUTPUT_REGULAR, NULL, target,
+                                   (int)sizeof target, &kind, &d), VI_ERR_IO);
+  assert_int_equal(vi_output_part(NULL, target, (int)sizeof target), VI_ERR_ARG);
+  assert_int_equal(vi_output_part(path, NULL, 10), VI_ERR_ARG);
+  assert_int_equal(vi_output_part(path, target, 0), VI_ERR_ARG);
+  assert_int_equal(vi_output_part(path, target, 4), VI_ERR_LIMIT);
+  assert_int_equal(vi_output_same(NULL, path), 0);
+  assert_int_equal(vi_output_same(path, "-"), 0);
+  assert_int_equal(vi_output_open(NULL, VI_OUTPUT_FILE, &f, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_open(path, 9, &f, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_open(path, VI_OUTPUT_FILE, NULL, &d), VI_ERR_ARG);
+  assert_null(f);
+  assert_int_equal(vi_output_close(NULL, path, VI_OUTPUT_FILE, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_close(&f, path, VI_OUTPUT_FILE, &d), VI_ERR_ARG);
+  vi_output_discard(NULL, NULL, VI_OUTPUT_FILE);
+  vi_output_discard(&f, path, 9);
+  assert_int_equal(vi_output_commit(NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_output_commit("/nonexistent/dir/x.h5", &d), VI_ERR_IO);
   assert_int_equal(vi_writer_create(NULL, m, 0, &w, &d), VI_ERR_ARG);
   assert_int_equal(vi_writer_create(path, NULL, 0, &w, &d), VI_ERR_ARG);
   assert_int_equal(vi_writer_create(path, m, 0, NULL, &d), VI_ERR_ARG);

@@ -149,11 +149,68 @@ static void bad_edits(void **state)
   vi_scene_edit_destroy(&e);
 }
 
+/* A scene saved with a UTF-8 byte-order mark (editors on Windows): libyaml
+ * skips the mark before counting characters, the splice must skip its
+ * three bytes too (it cut one byte of the key before). */
+static void byte_order_mark(void **state)
+{
+  (void)state;
+  size_t len = strlen(scene);
+  char *text = malloc(len + 4);
+  assert_non_null(text);
+  text[0] = (char)0xEF; /* the mark, U+FEFF in UTF-8 */
+  text[1] = (char)0xBB;
+  text[2] = (char)0xBF;
+  memcpy(text + 3, scene, len + 1);
+  vi_scene_edit *e = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_edit_create(text, -1, "bom.yaml", &e, &d), VI_OK);
+  assert_int_equal(vi_scene_edit_assign(e, "forcing.omega=1.25", &d), VI_OK);
+  const char *t = vi_scene_edit_text(e), *p = strstr(text, "0.9,");
+  size_t pre = (size_t)(p - text);
+  assert_memory_equal(t, text, pre);
+  assert_memory_equal(t + pre, "1.25,", 5);
+  assert_string_equal(t + pre + 4, text + pre + 3);
+  vi_scene *sc = NULL;
+  assert_int_equal(vi_scene_edit_parse(e, &sc, &d), VI_OK);
+  vi_scene_destroy(&sc);
+  vi_scene_edit_destroy(&e);
+  free(text);
+}
+
+/* The scene reader's nesting limit applies before the document is loaded:
+ * 100 000 levels are refused at the 33rd, as `run` refuses them (loading
+ * them first took minutes). */
+static void nesting_limit(void **state)
+{
+  (void)state;
+  enum { N = 100000 };
+  size_t n = N;
+  char *text = malloc(2 * n + 8);
+  assert_non_null(text);
+  text[0] = 'a';
+  text[1] = ':';
+  text[2] = ' ';
+  memset(text + 3, '[', n);
+  memset(text + 3 + n, ']', n);
+  text[3 + 2 * n] = '\n';
+  text[4 + 2 * n] = '\0';
+  vi_scene_edit *e = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_edit_create(text, -1, "deep.yaml", &e, &d), VI_ERR_PARSE);
+  assert_null(e);
+  assert_non_null(strstr(d.message, "32 levels"));
+  assert_int_equal(d.column, 3 + 32); /* level 33: the mapping, then 32 brackets */
+  free(text);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(one_value_changes), cmocka_unit_test(errors_keep_lines),
       cmocka_unit_test(adds_missing_keys), cmocka_unit_test(bad_edits),
+      cmocka_unit_test(byte_order_mark),
+      cmocka_unit_test(nesting_limit),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -12,6 +12,7 @@
 
 #include "vi_testutil.h"
 #include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_writer.h"
 
 typedef struct both { vi_writer *w; vi_test_events ev; int nled; } both;
@@ -424,6 +425,184 @@ static void test_stops_round_trip(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* The output module (vi_output.h): the same file by device and inode, a
+ * character device written directly by streams, a planted link at
+ * TARGET.part and the scene refused, a commit that renames and a discard
+ * that leaves the old file. */
+static void test_output_module(void **state)
+{
+  (void)state;
+  char dir[] = "/tmp/vi_outXXXXXX", a[256], b[256], t[4096], part[4200];
+  assert_non_null(mkdtemp(dir));
+  vi_diag d;
+  int kind = -1;
+  snprintf(a, sizeof a, "%s/x.h5", dir);
+  /* two names of one file still to be written, then of an existing one */
+  snprintf(b, sizeof b, "%s/./x.h5", dir);
+  assert_int_equal(vi_output_same(a, b), 1);
+  snprintf(b, sizeof b, "%s/y.h5", dir);
+  assert_int_equal(vi_output_same(a, b), 0);
+  FILE *f = fopen(a, "w");
+  assert_non_null(f);
+  fputs("old", f);
+  fclose(f);
+  snprintf(b, sizeof b, "%s/link.h5", dir);
+  assert_int_equal(symlink(a, b), 0);
+  assert_int_equal(vi_output_same(a, b), 1);
+  /* a stream to /dev/null is written directly; a regular output refuses it */
+  assert_int_equal(vi_output_check("/dev/null", VI_OUTPUT_STREAM, NULL, t,
+                                   (int)sizeof t, &kind, &d), VI_OK);
+  assert_int_equal(kind, VI_OUTPUT_DEVICE);
+  assert_int_equal(vi_output_open(t, kind, &f, &d), VI_OK);
+  assert_true(fputs("k,t\n", f) >= 0);
+  assert_int_equal(vi_output_close(&f, t, kind, &d), VI_OK);
+  assert_null(f);
+  struct stat st;
+  assert_int_equal(stat("/dev/null", &st), 0);
+  assert_true(S_ISCHR(st.st_mode));
+  assert_int_equal(vi_output_check("/dev/null", VI_OUTPUT_REGULAR, NULL, t,
+                                   (int)sizeof t, &kind, &d), VI_ERR_IO);
+  assert_non_null(strstr(d.message, "character device"));
+  /* "-" is stdout for streams only */
+  assert_int_equal(vi_output_check("-", VI_OUTPUT_STREAM, NULL, t, (int)sizeof t,
+                                   &kind, &d), VI_OK);
+  assert_int_equal(kind, VI_OUTPUT_STDOUT);
+  /* the scene, named through the link, is refused */
+  assert_int_equal(vi_output_check(b, VI_OUTPUT_STREAM, a, t, (int)sizeof t,
+                                   &kind, &d), VI_ERR_ARG);
+  assert_non_null(strstr(d.message, "scene"));
+  /* a link planted at TARGET.part */
+  assert_int_equal(vi_output_part(a, part, (int)sizeof part), VI_OK);
+  assert_int_equal(symlink("/tmp/vi_out_victim", part), 0);
+  assert_int_equal(vi_output_check(a, 0, NULL, t, (int)sizeof t, &kind, &d), VI_ERR_IO);
+  assert_non_null(strstr(d.message, "symbolic link"));
+  assert_int_equal(vi_output_open(a, VI_OUTPUT_FILE, &f, &d), VI_ERR_IO);
+  assert_int_equal(access("/tmp/vi_out_victim", F_OK), -1);
+  unlink(part);
+  /* through the link: the target is replaced on close, kept on discard */
+  assert_int_equal(vi_output_check(b, 0, NULL, t, (int)sizeof t, &kind, &d), VI_OK);
+  assert_int_equal(kind, VI_OUTPUT_FILE);
+  assert_int_equal(vi_output_open(t, kind, &f, &d), VI_OK);
+  fputs("partial", f);
+  vi_output_discard(&f, t, kind);
+  assert_int_equal(access(part, F_OK), -1);
+  char buf[16] = "";
+  f = fopen(a, "r");
+  assert_non_null(fgets(buf, sizeof buf, f));
+  fclose(f);
+  assert_string_equal(buf, "old");
+  assert_int_equal(vi_output_open(t, kind, &f, &d), VI_OK);
+  fputs("new", f);
+  assert_int_equal(vi_output_close(&f, t, kind, &d), VI_OK);
+  f = fopen(a, "r");
+  assert_non_null(fgets(buf, sizeof buf, f));
+  fclose(f);
+  assert_string_equal(buf, "new");
+  assert_int_equal(lstat(b, &st), 0);
+  assert_true(S_ISLNK(st.st_mode));
+  /* a directory and a FIFO are refused even as streams */
+  assert_int_equal(vi_output_check(dir, VI_OUTPUT_STREAM, NULL, t, (int)sizeof t,
+                                   &kind, &d), VI_ERR_IO);
+  snprintf(part, sizeof part, "%s/fifo", dir);
+  assert_int_equal(mkfifo(part, 0600), 0);
+  assert_int_equal(vi_output_check(part, VI_OUTPUT_STREAM, NULL, t, (int)sizeof t,
+                                   &kind, &d), VI_ERR_IO);
+  assert_non_null(strstr(d.message, "FIFO"));
+  unlink(part);
+  /* /dev/full: the loss is reported at close */
+  assert_int_equal(vi_output_check("/dev/full", VI_OUTPUT_STREAM, NULL, t,
+                                   (int)sizeof t, &kind, &d), VI_OK);
+  assert_int_equal(vi_output_open(t, kind, &f, &d), VI_OK);
+  fputs("lost", f);
+  assert_int_equal(vi_output_close(&f, t, kind, &d), VI_ERR_IO);
+  assert_null(f);
+  unlink(b);
+  unlink(a);
+  assert_int_equal(rmdir(dir), 0);
+}
+
+/* A free body (K = 0, a rigid-body mode, omega_1 = 0: the bouncing ball)
+ * is set up like any model and written like any other. */
+static void test_free_body(void **state)
+{
+  (void)state;
+  vi_model *m = NULL;
+  double M = 1.0, K = 0.0, w = 1.0;
+  assert_int_equal(vi_model_create(1, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, &M, 1), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, &K, 1), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, &w, 0.0, 0.8), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  assert_true(vi_model_omega_bound(m) == 0.0); /* the old "set up" test */
+  char path[] = "/tmp/vi_free_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  vi_writer *wr = NULL;
+  vi_diag d;
+  assert_int_equal(vi_writer_create(path, m, 0, &wr, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(wr, NULL, 1e-8, 1e-10, 0), VI_OK);
+  double x = 0.5, v = 0.0;
+  assert_int_equal(vi_writer_sample(wr, 0.0, &x, &v), VI_OK);
+  assert_int_equal(vi_writer_close(&wr, 1), VI_OK);
+  struct stat st;
+  assert_int_equal(stat(path, &st), 0);
+  assert_true(st.st_size > 0);
+  remove(path);
+  vi_model_destroy(&m);
+}
+
+/* What a file must never hold: NaN samples and events, kinds and stops out
+ * of range, an orbit that was never sought; each refused with nothing
+ * written, and the file still finishes. */
+static void test_refused_rows(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  char path[] = "/tmp/vi_rows_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  vi_writer *w = NULL;
+  vi_diag d;
+  assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(w, NULL, 1e-8, 1e-10, 0), VI_OK);
+  double x[2] = {0.0, 0.1}, v[2] = {0.2, 0.3}, xn[2] = {NAN, 0.0};
+  assert_int_equal(vi_writer_sample(w, 1.0, xn, v), VI_ERR_NONFINITE);
+  assert_int_equal(vi_writer_sample(w, INFINITY, x, v), VI_ERR_NONFINITE);
+  assert_non_null(strstr(vi_writer_errmsg(w), "not finite"));
+  vi_event ev = {0};
+  ev.n = 2;
+  ev.t = 1.0;
+  ev.vn = 0.3;
+  ev.x = x;
+  ev.v_minus = v;
+  ev.v_plus = v;
+  ev.kind = 7;
+  assert_int_equal(vi_writer_event(w, &ev), VI_ERR_ARG);
+  ev.kind = VI_EVENT_IMPACT;
+  ev.stop = 1; /* Fig. 2 has one stop */
+  assert_int_equal(vi_writer_event(w, &ev), VI_ERR_ARG);
+  ev.stop = 0;
+  ev.vn = NAN;
+  assert_int_equal(vi_writer_event(w, &ev), VI_ERR_NONFINITE);
+  ev.vn = 0.3;
+  assert_int_equal(vi_writer_event(w, &ev), VI_OK);
+  assert_int_equal(vi_writer_sample(w, 1.0, x, v), VI_OK);
+  vi_orbit *o = NULL;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  int pn = -1, pm = -1;
+  assert_int_equal(vi_orbit_classify(o, &pn, &pm), VI_ERR_STATE);
+  assert_int_equal(vi_writer_orbit(w, o), VI_ERR_STATE);
+  assert_non_null(strstr(vi_writer_errmsg(w), "never"));
+  vi_orbit_destroy(&o);
+  assert_int_equal(vi_writer_rows(w, "impacts"), 1);
+  assert_int_equal(vi_writer_rows(w, "trajectory"), 1);
+  assert_int_equal(vi_writer_close(&w, 1), VI_OK);
+  remove(path);
+  vi_model_destroy(&m);
+}
+
 static int attr_int_of(hid_t obj, const char *name)
 {
   int v = -1;
@@ -555,6 +734,9 @@ int main(void)
       cmocka_unit_test(test_stops_round_trip),
       cmocka_unit_test(test_unwritable_and_abort),
       cmocka_unit_test(test_misuse),
+      cmocka_unit_test(test_free_body),
+      cmocka_unit_test(test_refused_rows),
+      cmocka_unit_test(test_output_module),
       cmocka_unit_test(test_rank_and_size),
       cmocka_unit_test(test_large_scene_text),
       cmocka_unit_test(test_fe_round_trip),

@@ -52,6 +52,8 @@ static const bad cases[] = {
   {"spring coordinate", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 3, k3: 1}\n", VI_ERR_PARSE, 5, "springs[1].i"},
   {"spring to itself", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 1, j: 1, k3: 1}\n", VI_ERR_PARSE, 5, "springs[1].j"},
   {"bilinear without gap", CHAIN GOOD_STOP "springs:\n  - {type: bilinear, i: 2, k: 3}\n", VI_ERR_PARSE, 5, "springs[1].gap"},
+  {"bilinear with negative k", CHAIN GOOD_STOP "springs:\n  - {type: bilinear, i: 2, k: -3, gap: 0.05}\n", VI_ERR_PARSE, 5, "springs[1].k"},
+  {"cantilever clamped stop", "model:\n  cantilever: {modes: 2, omega1: 1, zeta: 0.05, xi_stop: 0}\nforcing: {omega: 0.85, base: 0.01}\nstop: {xs: 0.05, r: 0.2}\n", VI_ERR_ARG, 2, "model.cantilever"},
   {"cubic with k", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 2, k: 3}\n", VI_ERR_PARSE, 5, "springs[1].k"},
   {"springs with exact", CHAIN GOOD_STOP "springs:\n  - {type: cubic, i: 2, k3: 3}\nrun: {t_end: 10, method: exact}\n", VI_ERR_UNSUPPORTED, 5, "springs[1]"},
   /* stops: a list */

@@ -4,6 +4,7 @@
  * the host callback against the built-in spring, the ledger's NE column
  * against the nonlinear potential, and the refusals. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include <gsl/gsl_sf_ellint.h>
@@ -266,6 +267,55 @@ static void test_force_refusals(void **state)
   vi_model_destroy(&m);
 }
 
+static int nan_force(double t, int n, const double *x, const double *v,
+                     double *g, void *user)
+{
+  (void)n;
+  (void)x;
+  (void)v;
+  g[0] = t > 1.0 ? *(const double *)user : 0.0; /* status 0 all the same */
+  return 0;
+}
+
+/* Runs whose time stops advancing fail with a message instead of looping:
+ * a softening cubic spring (x'' + 0.05 x' + x - 0.5 x^3 = 0.3 cos 1.2 t,
+ * v0 = 1.5) whose motion escapes the potential well and blows up in finite
+ * time, and a host force that returns NaN or inf with status 0. */
+static void test_no_progress(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_sdof(1.0, 0.05, 1.0, 0.3, 0.0, 1.2, 0.8, 0.8);
+  const int methods[3] = {VI_METHOD_ADAMS, VI_METHOD_BDF, VI_METHOD_ERK};
+  double v0 = 1.5, T = 20 * 2 * M_PI / 1.2;
+  for (int k = 0; k < 3; k++) {
+    vi_sim *s = vi_test_sim(m, methods[k], 1e-8, 1e-10, NULL, &v0, NULL);
+    assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, -0.5, 0.0), VI_OK);
+    int st = vi_sim_run(s, T);
+    double t;
+    vi_sim_state(s, &t, NULL, NULL);
+    printf("softening cubic, %s: status %d at t = %.9g: %s\n",
+           vi_method_name(methods[k]), st, t, vi_sim_errmsg(s));
+    assert_true(st == VI_ERR_INTEGRATOR || st == VI_ERR_CALLBACK);
+    assert_true(strstr(vi_sim_errmsg(s), "no progress") ||
+                strstr(vi_sim_errmsg(s), "not finite"));
+    assert_true(t < T);
+    vi_sim_destroy(&s);
+  }
+  const double bad[2] = {NAN, INFINITY};
+  for (int k = 0; k < 3; k++)
+    for (int b = 0; b < 2; b++) {
+      vi_sim *s = vi_test_sim(m, methods[k], 1e-8, 1e-10, NULL, NULL, NULL);
+      assert_int_equal(vi_sim_set_force(s, nan_force, NULL, (void *)&bad[b], NULL), VI_OK);
+      assert_int_equal(vi_sim_run(s, 5.0), VI_ERR_CALLBACK);
+      assert_non_null(strstr(vi_sim_errmsg(s), "not finite"));
+      double t;
+      vi_sim_state(s, &t, NULL, NULL);
+      assert_true(t > 0.5 && t <= 1.0 + 1e-9); /* stopped where it started */
+      vi_sim_destroy(&s);
+    }
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -274,6 +324,7 @@ int main(void)
       cmocka_unit_test(test_ledger_force_column),
       cmocka_unit_test(test_linear_force_is_stiffness),
       cmocka_unit_test(test_force_refusals),
+      cmocka_unit_test(test_no_progress),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

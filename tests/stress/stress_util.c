@@ -114,6 +114,10 @@ vi_sim *st_sim(const vi_model *m, int method, double rtol, double atol,
   assert_int_equal(vi_sim_set_method(s, method), VI_OK);
   assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
   assert_int_equal(vi_sim_set_initial(s, t0, x0, v0), VI_OK);
+  /* the stress bounds are those of the accuracy-driven summing (each
+   * accumulation point to rtol); the default resolution (every impact
+   * above 1e-5 V) is tested in test_sim */
+  assert_int_equal(vi_sim_set_impact_resolution(s, 0.0), VI_OK);
   if (log) {
     log->w = vi_model_stop_vector(m);
     log->xs = vi_model_clearance(m);

@@ -136,6 +136,7 @@ static vi_sim *sim(const vi_model *m, int method, const double *x0,
   assert_int_equal(vi_sim_set_method(s, method), VI_OK);
   assert_int_equal(vi_sim_set_tolerances(s, 1e-12, 1e-14), VI_OK);
   assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
+  assert_int_equal(vi_sim_set_impact_resolution(s, 0.0), VI_OK); /* as st_sim */
   assert_int_equal(vi_sim_set_event_callback(s, log_event, log, NULL), VI_OK);
   assert_int_equal(vi_sim_set_cancel(s, st_guard_poll, guard, NULL), VI_OK);
   assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
