@@ -144,6 +144,96 @@ static int put_extra(hid_t g, const vi_diagram *sw, const hsize_t *dLK)
   return bad;
 }
 
+/* The file's image through the output module (vi_output.h): PATH.part
+ * in large write()s of the descriptor itself, synced, renamed; removed on
+ * any failure.  0, or 1 with err. */
+static int write_image(const char *path, const void *image, size_t size,
+                       char *err, int errlen)
+{
+  FILE *fp = NULL;
+  vi_diag od;
+  memset(&od, 0, sizeof od);
+  int wbad = vi_output_open(path, VI_OUTPUT_FILE, &fp, &od) != VI_OK;
+  for (size_t at = 0; !wbad && at < size;) {
+    ssize_t k = write(fileno(fp), (const char *)image + at, size - at);
+    if (k <= 0) {
+      snprintf(od.message, sizeof od.message, "cannot write %.300s.part: %s",
+               path, strerror(k < 0 ? errno : EIO));
+      wbad = 1;
+    } else {
+      at += (size_t)k;
+    }
+  }
+  if (wbad || vi_output_close(&fp, path, VI_OUTPUT_FILE, &od)) {
+    if (fp) vi_output_discard(&fp, path, VI_OUTPUT_FILE);
+    snprintf(err, (size_t)errlen, "%s", od.message[0] ? od.message : "writing failed");
+    return 1;
+  }
+  return 0;
+}
+
+/* The arrays of a diagram, flattened for HDF5. */
+typedef struct flat_arrays {
+  int *n, *m, *dir, *row;
+  int64_t *cnt, *start, I;
+  double *T, *flat, *strobe;
+} flat_arrays;
+
+/* The /sweep datasets and attributes; non-zero on any failure. */
+static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays *a)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
+  hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
+          dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
+          dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
+          dI[1] = {(hsize_t)a->I};
+  bad |= attr_str(g, "key", sp->key);
+  if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
+  bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
+  bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
+  bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
+  bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
+  bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
+  bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
+  bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
+  bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
+  if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
+  bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, a->dir);
+  bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, a->row);
+  bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, a->n);
+  bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, a->m);
+  bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, a->T);
+  bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, a->strobe);
+  bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, a->cnt);
+  bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, a->start);
+  bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, a->flat);
+  bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, a->flat + a->I);
+  bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, a->flat + 2 * a->I);
+  if (sp->orbits > 0) bad |= put_p11(g, sw);
+  bad |= put_extra(g, sw, dLK);
+  return bad;
+}
+
+/* The file's attributes: creator, kind, format, the scene (a dataset
+ * when longer than an attribute may be) and its file name. */
+static int put_file_attrs(hid_t f, const vi_diagram *sw)
+{
+  int bad = 0;
+  char creator[64];
+  snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
+  int fmt = 1;
+  bad |= attr_str(f, "creator", creator);
+  bad |= attr_str(f, "kind", sw->attractor ? "basins" : "sweep");
+  bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
+  /* an attribute holds at most 64 KiB: a longer scene goes to the
+   * dataset /scene (a scalar string), as in a run's file */
+  if (strlen(sw->text) < 60000) bad |= attr_str(f, "scene", sw->text);
+  else bad |= dset_str(f, "scene", sw->text);
+  bad |= attr_str(f, "scene_file", sw->name);
+  return bad;
+}
+
 int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int errlen)
 {
   const vi_sweep_spec *sp = &sw->spec;
@@ -206,52 +296,14 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
     bad = 1;
     goto done;
   }
-  char creator[64];
-  snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
-  int fmt = 1;
-  bad |= attr_str(f, "creator", creator);
-  bad |= attr_str(f, "kind", sw->attractor ? "basins" : "sweep");
-  bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
-  /* an attribute holds at most 64 KiB: a longer scene goes to the
-   * dataset /scene (a scalar string), as in a run's file */
-  if (strlen(sw->text) < 60000) bad |= attr_str(f, "scene", sw->text);
-  else bad |= dset_str(f, "scene", sw->text);
-  bad |= attr_str(f, "scene_file", sw->name);
+  bad |= put_file_attrs(f, sw);
   H5E_BEGIN_TRY {
     g = H5Gcreate2(f, "sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (g >= 0) gi = H5Gcreate2(g, "impacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   } H5E_END_TRY;
   bad |= g < 0 || gi < 0;
-  if (!bad) {
-    hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
-            dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
-            dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
-            dI[1] = {(hsize_t)I};
-    bad |= attr_str(g, "key", sp->key);
-    if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
-    bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
-    bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
-    bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
-    bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
-    bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
-    bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
-    bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
-    bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
-    if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
-    bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, dir);
-    bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, row);
-    bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, nn);
-    bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, mm);
-    bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, T);
-    bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, strobe);
-    bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, cnt);
-    bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, start);
-    bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, flat);
-    bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, flat + I);
-    bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
-    if (sp->orbits > 0) bad |= put_p11(g, sw);
-    bad |= put_extra(g, sw, dLK);
-  }
+  flat_arrays a = {nn, mm, dir, row, cnt, start, I, T, flat, strobe};
+  if (!bad) bad = put_sweep(g, gi, sw, &a);
   void *image = NULL;
   ssize_t size = -1;
   H5E_BEGIN_TRY {
@@ -268,26 +320,7 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
     snprintf(err, (size_t)errlen, "building the file for '%s' failed", path);
     bad = 1;
   } else {
-    FILE *fp = NULL;
-    vi_diag od;
-    memset(&od, 0, sizeof od);
-    int wbad = vi_output_open(path, VI_OUTPUT_FILE, &fp, &od) != VI_OK;
-    /* the image in large write()s of the descriptor itself */
-    for (size_t at = 0; !wbad && at < (size_t)size;) {
-      ssize_t k = write(fileno(fp), (const char *)image + at, (size_t)size - at);
-      if (k <= 0) {
-        snprintf(od.message, sizeof od.message, "cannot write %.300s.part: %s",
-                 path, strerror(k < 0 ? errno : EIO));
-        wbad = 1;
-      } else {
-        at += (size_t)k;
-      }
-    }
-    if (wbad || vi_output_close(&fp, path, VI_OUTPUT_FILE, &od)) {
-      if (fp) vi_output_discard(&fp, path, VI_OUTPUT_FILE);
-      snprintf(err, (size_t)errlen, "%s", od.message[0] ? od.message : "writing failed");
-      bad = 1;
-    }
+    bad = write_image(path, image, (size_t)size, err, errlen);
   }
   free(image);
 done:
