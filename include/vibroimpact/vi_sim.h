@@ -73,8 +73,10 @@ enum {
   VI_METHOD_EXACT = 2, /**< closed-form flow (vi_flow.h), contacts found by a
                             bounded grid search and polished to round-off:
                             any damping whose first-order system is
-                            diagonalisable; sticking phases (which have no
-                            closed form here) run on CVODE Adams */
+                            diagonalisable; sticking phases on the held
+                            structure's modes in closed form too (damping
+                            of Rayleigh form a M + b K), else on CVODE
+                            Adams */
   VI_METHOD_AUTO = 3,  /**< (default) the exact method where it applies and is well
                             conditioned, CVODE Adams otherwise (and from any
                             point where the closed form loses accuracy);

@@ -2,6 +2,7 @@
  * modal damping, forcing and impact vector (MODEL.md section 3): the modes,
  * on which the exact flow (vi_flow.c) is built.  The products are BLAS-3
  * (issue 21 item 5): the set-up costs a few dsygvd's, not n^3 dot products. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -75,8 +76,12 @@ int vi_modal_setup(vi_model *m, int c_zero)
       if (fabs(col[i]) > fabs(col[imax]) * (1.0 + 1e-12)) imax = i;
     double s = col[imax] < 0.0 ? -1.0 : 1.0;
     for (int i = 0; i < n; i++) m->Psi[i + (size_t)j * n] = s * col[i];
-    /* K is PSD, so a negative eigenvalue is round-off of a rigid mode */
-    if (m->lambda[j] < 0.0) m->lambda[j] = 0.0;
+    /* K is PSD, so a negative eigenvalue is round-off of a rigid mode, and
+     * so is one within dsygvd's absolute error, a few n eps lambda_max: a
+     * free FE bar's rigid mode came out at omega ~ 0.5 (lambda_max 1e15),
+     * which bends its rigid translation by omega^2 t^2 / 2 */
+    if (m->lambda[j] < 4.0 * n * DBL_EPSILON * m->lambda[n - 1])
+      m->lambda[j] = 0.0;
     m->omega[j] = sqrt(m->lambda[j]);
   }
   /* PsiTM = Psi^T M (x -> q) */

@@ -584,9 +584,8 @@ static double ex_report(const ex_data *d, const double *g, int off)
 static int ex_start(vi_sim *s)
 {
   const vi_model *m = s->m;
-  if (s->sticking) /* the driver runs sticking phases on CVODE */
-    return vi_fail(s->errmsg, VI_ERR_STATE, "internal: the closed form "
-                   "cannot start in a sticking phase (t = %.17g)", s->t);
+  if (s->sticking) /* held stops: the constrained modes' flow */
+    return vi_held_start(s);
   if (!m->proportional) return vi_backend_exact_scan.start(s);
   ex_data *d = s->be_data;
   if (!d) {
@@ -765,6 +764,7 @@ static void ex_move(vi_sim *s, ex_data *d, double t, double g)
 
 static int ex_step(vi_sim *s, double t_end, int *event)
 {
+  if (s->sticking) return vi_held_step(s, t_end, event);
   if (!s->m->proportional) return vi_backend_exact_scan.step(s, t_end, event);
   ex_data *d = s->be_data;
   *event = VI_STEP_NONE;
@@ -899,6 +899,7 @@ static void ex_physical(const vi_model *m, const double *q, const double *qd,
 
 static int ex_sync(vi_sim *s)
 {
+  if (s->sticking) return vi_held_sync(s);
   if (!s->m->proportional) return VI_OK;
   ex_data *d = s->be_data;
   if (!d->q_ok || d->tq != s->t) {
@@ -915,6 +916,7 @@ static int ex_sync(vi_sim *s)
 
 static int ex_dense(vi_sim *s, double t)
 {
+  if (s->sticking) return vi_held_dense(s, t);
   if (!s->m->proportional) return vi_backend_exact_scan.dense(s, t);
   ex_data *d = s->be_data;
   ex_modes_at(d, t, d->qs, d->qds);

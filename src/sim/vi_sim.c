@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_exact_internal.h"
 #include "vi_flow_internal.h"
 #include "vi_sim_internal.h"
 
@@ -106,6 +107,14 @@ static const vi_backend *method_backend(const vi_sim *s)
   return s->method == VI_METHOD_ERK ? &vi_backend_arkode : &vi_backend_cvode;
 }
 
+/* A sticking phase runs on the exact method's constrained modes where the
+ * held set has them (vi_held.c), else on CVODE. */
+static const vi_backend *held_backend(vi_sim *s)
+{
+  if (uses_exact(s) && vi_held_available(s)) return &vi_backend_exact;
+  return &vi_backend_cvode;
+}
+
 static void note_method(vi_sim *s)
 {
   s->method_used = uses_exact(s)                  ? VI_METHOD_EXACT
@@ -177,6 +186,7 @@ void vi_sim_destroy(vi_sim **sim)
   vi_user_set(&s->force_user, &s->force_free, NULL, NULL);
   vi_user_set(&s->led_user, &s->led_free, NULL, NULL);
   backend_destroy(s);
+  vi_held_free(s);
   vi_ledger_destroy(s->led);
   vi_force_free(s);
   vi_xflow_destroy(&s->flow);
@@ -431,7 +441,7 @@ int64_t vi_sim_stat(const vi_sim *s, int which)
   int64_t v = s->stats[which];
   if (s->be_data) v += s->be->stat(s->be_data, which);
   if (s->park_data) v += s->park_be->stat(s->park_data, which);
-  return v;
+  return v + vi_held_stat(s, which);
 }
 
 /* ---- root bracketing shared by the backends ----------------------------- */
@@ -589,7 +599,18 @@ static int on_contact_one(vi_sim *s, int k)
       s->zs[2 * (size_t)i + 1] = s->vp[i];
     }
     vi_sim_accel(s, s->t, s->zs, 0, s->w1);
-    stick = vi_dot(n, w, s->w1) > 0.0;
+    double p2 = vi_dot(n, w, s->w1);
+    stick = p2 > 0.0;
+    if (!stick) {
+      /* pressed at the next order: no contact force yet (a body arriving
+       * undeformed, as Siconos' impacting bar) but a positive third
+       * derivative of the gap, so that it presses within a round-off of
+       * p2; a restart on g = g' = g'' = 0 would miss that contact (no sign
+       * change from zero) */
+      vi_sim_accel_rate(s, s->t, 1, s->vp, s->w1, s->w2);
+      double jerk = vi_dot(n, w, s->w2), om = vi_model_omega_bound(m);
+      stick = jerk > 0.0 && om > 0.0 && -p2 <= jerk * 1e-3 / om;
+    }
   }
   double ie_tail = 0.0;
   if (stick) {
@@ -626,7 +647,7 @@ static int on_contact_one(vi_sim *s, int k)
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   emit_sticks_due(s, s->t); /* a tail of no duration */
   s->stats[VI_STAT_REINITS]++;
-  use_backend(s, stick ? &vi_backend_cvode : method_backend(s));
+  use_backend(s, stick ? held_backend(s) : method_backend(s));
   return s->be->start(s);
 }
 
@@ -799,7 +820,7 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
   }
   emit_sticks_due(s, s->t);
   s->stats[VI_STAT_REINITS]++;
-  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  use_backend(s, s->sticking ? held_backend(s) : method_backend(s));
   return s->be->start(s);
 }
 
@@ -903,6 +924,13 @@ static int worst_gap(const vi_sim *s, const double *z, double *g,
   for (int k = 0; k < s->ns; k++) {
     double gk, gd, tk = vi_sim_gap_tol(s, k);
     vi_sim_gap_k(s, k, z, &gk, &gd);
+    /* the integrator controls each coordinate to rtol |x_i| + atol, so w.x
+     * carries rtol sum |w_i x_i| besides the atol part: the state's scale
+     * (a stop near the origin of a structure far from it) */
+    const double *w = vi_stop_w(s->m, k);
+    double sc = 0.0;
+    for (int i = 0; i < s->n; i++) sc += fabs(w[i] * z[2 * (size_t)i]);
+    tk += 100.0 * s->rtol * sc;
     /* written so that a NaN gap is the worst */
     if (!(gk - tk <= worst)) {
       worst = gk - tk;
@@ -1150,7 +1178,7 @@ static int run(vi_sim *s, double t_end)
                        k + 1, g + xs, xs);
     }
     note_method(s);
-    use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+    use_backend(s, s->sticking ? held_backend(s) : method_backend(s));
     if ((st = s->be->start(s))) return st;
     s->started = 1;
     if (s->smp_fn && (st = samples(s, s->t))) return st;
@@ -1219,7 +1247,7 @@ int vi_sim_setup(vi_sim *s)
   VI_SIM_IDLE(s);
   if (s->started) return VI_OK;
   note_method(s);
-  use_backend(s, s->sticking ? &vi_backend_cvode : method_backend(s));
+  use_backend(s, s->sticking ? held_backend(s) : method_backend(s));
   return s->be->start(s); /* allocates; vi_sim_run restarts it cheaply */
 }
 

@@ -104,6 +104,7 @@ struct vi_sim {
    * its data wait here meanwhile */
   const vi_backend *park_be;
   void *park_data;
+  struct vi_held *held; /* the exact method's held phases (vi_held.c) */
   gsl_root_fsolver *brent;
 
   double *x, *v, *vp, *zs; /* scratch: n, n, n, 2n */

@@ -1,0 +1,712 @@
+/* vi_held.c - sticking phases of the exact method in closed form (MODEL.md
+ * section 9): while the stops S hold, the motion is the flow of the
+ * constrained modes (vi_constrained.c, one set of modes per held set,
+ * cached here), and every event is the first root of a function that is
+ * linear in the constrained modal state and the forcing:
+ *   - release of held stop k: -lambda_k(t) rising through 0;
+ *   - contact with a stop not held: its gap rising through 0.
+ * Each such f = a.w + c.w' + GA cos + GB sin + f0, w the constrained modes
+ * less their harmonic part (u = H + w, w'' + d w' + Omega^2 w = F0), is
+ * searched as vi_exact.c searches the gap: a uniform grid at a quarter
+ * period of the fastest mode, each interval skipped only when a rigorous
+ * upper bound of f on it (the cubic Hermite through f, f' at its ends plus
+ * B4 h^4 / 384) stays below the round-off of f; else a left-first
+ * bisection finds the first crossing - a maximum of f touching zero
+ * between grid points included - and the root is refined to round-off in
+ * t.  The bounds |f''|, |f'''|, |f''''| come from the modes' energies:
+ * every derivative w^(k), k >= 1, is a free damped oscillation whose
+ * energy w^(k+1)^2 + Omega^2 w^(k)^2 cannot grow.  Sign changes of a
+ * reaction are therefore resolved like grazing contacts, never stepped
+ * over.  The held stops do no work (fixed stops); the ledger books the
+ * constraint's exchange between modes (CE) by the same quadrature as the
+ * free flight's. */
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_exact_internal.h"
+
+#define HD_CACHE 8       /* held sets kept */
+#define HD_ANCHOR 64     /* grid steps between direct evaluations */
+#define HD_BATCH 512     /* grid steps per call of step() at most */
+#define HD_GRID 1.5707963267948966 /* grid step, radians of the fastest rate */
+#define HD_DEPTH 60      /* bisection levels below the grid's */
+
+/* A watched function: kind 0 the release of held stop `stop` (f =
+ * -lambda), kind 1 the gap of stop `stop`. */
+typedef struct hd_fun {
+  int kind, stop, slot;          /* slot: index in the held set (kind 0) */
+  const double *a, *c;           /* weights of w, w' of the active modes
+                                    (c NULL: none) */
+  double GA, GB, GH, f0;         /* harmonic part, its amplitude; constant */
+  double off, noise, tol;        /* offset at t0; round-off; gap tolerance */
+  double B2, B3, B4;             /* bounds of |f''|, |f'''|, |f''''| */
+} hd_fun;
+
+struct vi_held {
+  vi_cmodes *cache[HD_CACHE];
+  int ncache, next;
+  const vi_cmodes *cm;
+  int m, na, nf, *act;
+  /* per phase */
+  double t0, Om, h, cr, sr;
+  double *w0, *wd0;              /* every constrained mode at t0 [m] */
+  double *lam, *dmp, *F0;        /* of the active modes [na] */
+  double *wts;                   /* weights of the functions [2 nf na] */
+  double *wk, *wdk, *wn, *wdn;   /* active modes at t_k, t_{k+1} [na] */
+  double *wa, *wda;              /* scratch [na] */
+  double *T;                     /* the grid step's maps B, Bp, phi [3 na] */
+  double *u, *ud, *q, *qd;       /* [m], [m], [n], [n] */
+  double *fk, *fdk, *fn, *fdn;   /* the functions there [nf] */
+  hd_fun f[2 * VI_CONTACT_MAX + 64];
+  int64_t k;
+  double ck, sk, cn, sn, tstar, hq;
+  int next_ok, srch, since, found, anch;
+  int64_t steps, evals;
+};
+
+static void hd_phase_free(vi_held *H)
+{
+  free(H->act);
+  free(H->w0);
+  H->act = NULL;
+  H->w0 = NULL;
+}
+
+void vi_held_free(vi_sim *s)
+{
+  vi_held *H = s->held;
+  if (!H) return;
+  for (int i = 0; i < H->ncache; i++) vi_cmodes_destroy(&H->cache[i]);
+  hd_phase_free(H);
+  free(H);
+  s->held = NULL;
+}
+
+/* The constrained modes of the current sticking set, built on first use
+ * (NULL with s->errmsg on failure). */
+static const vi_cmodes *hd_modes(vi_sim *s)
+{
+  if (!s->held && !(s->held = calloc(1, sizeof *s->held))) return NULL;
+  vi_held *H = s->held;
+  for (int i = 0; i < H->ncache; i++) {
+    const vi_cmodes *c = H->cache[i];
+    if (c->cnt == s->nstick &&
+        !memcmp(c->set, s->stick_k, sizeof(int) * (size_t)s->nstick))
+      return c;
+  }
+  vi_cmodes *c = NULL;
+  if (vi_cmodes_create(s->m, s->stick_k, s->nstick, &c, s->errmsg)) return NULL;
+  if (H->ncache < HD_CACHE) {
+    H->cache[H->ncache++] = c;
+  } else { /* a few sets per run: replace round-robin */
+    if (H->cm == H->cache[H->next]) H->next = (H->next + 1) % HD_CACHE;
+    vi_cmodes_destroy(&H->cache[H->next]);
+    H->cache[H->next] = c;
+    H->next = (H->next + 1) % HD_CACHE;
+  }
+  return c;
+}
+
+int vi_held_available(vi_sim *s)
+{
+  if (!s->sticking || s->ns > 2 * VI_CONTACT_MAX + 64) return 0;
+  const vi_cmodes *c = hd_modes(s);
+  if (!c) s->errmsg[0] = '\0'; /* CVODE holds it instead */
+  return c && c->ok;
+}
+
+/* Constrained mode i's rest part at t (from the phase start). */
+static inline void hd_mode(const vi_held *H, int i, double t, double *w,
+                           double *wd)
+{
+  const vi_cmodes *c = H->cm;
+  double B, Bp, ph, l = c->om2[i];
+  vi_flow_basis(l, c->dmp[i], t - H->t0, &B, &Bp, &ph);
+  double f = c->F0[i] - l * H->w0[i];
+  *w = H->w0[i] + B * H->wd0[i] + ph * f;
+  *wd = Bp * H->wd0[i] + B * f;
+}
+
+/* f, f' of function e from the active modes (w, wd) and cos, sin of Om t. */
+static inline void hd_eval(const vi_held *H, const hd_fun *e, const double *w,
+                           const double *wd, double c, double sn, double *f,
+                           double *fd)
+{
+  double x = 0.0, v = 0.0;
+  const double *a = e->a;
+  if (e->c) {
+    const double *cc = e->c;
+    for (int i = 0; i < H->na; i++) {
+      double acc = H->F0[i] - H->dmp[i] * wd[i] - H->lam[i] * w[i];
+      x += a[i] * w[i] + cc[i] * wd[i];
+      v += a[i] * wd[i] + cc[i] * acc;
+    }
+  } else {
+    for (int i = 0; i < H->na; i++) {
+      x += a[i] * w[i];
+      v += a[i] * wd[i];
+    }
+  }
+  *f = x + e->GA * c + e->GB * sn + e->f0 - e->off;
+  *fd = v + H->Om * (e->GB * c - e->GA * sn);
+}
+
+/* Active modes at t directly, and every function there. */
+static void hd_anchor(vi_held *H, double t, double *w, double *wd, double *c,
+                      double *sn, double *f, double *fd)
+{
+  for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, w + i, wd + i);
+  *c = cos(H->Om * t);
+  *sn = sin(H->Om * t);
+  for (int j = 0; j < H->nf; j++) hd_eval(H, H->f + j, w, wd, *c, *sn, f + j, fd + j);
+  H->evals++;
+}
+
+/* Function e at t directly (the bisection's points). */
+static void hd_at(vi_held *H, const hd_fun *e, double t, double *f, double *fd)
+{
+  for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, H->wa + i, H->wda + i);
+  hd_eval(H, e, H->wa, H->wda, cos(H->Om * t), sin(H->Om * t), f, fd);
+  H->evals++;
+}
+
+/* Bounds of every function's |f''|, |f'''|, |f''''| from the active modes
+ * (w, wd) on: |w^(k)| <= sqrt(w^(k)^2 + Omega^2 w^(k-1)^2), k >= 2. */
+static void hd_bounds(vi_held *H, const double *w, const double *wd)
+{
+  double O = H->Om, O2 = O * O;
+  for (int j = 0; j < H->nf; j++) {
+    hd_fun *e = H->f + j;
+    double b2 = 0.0, b3 = 0.0, b4 = 0.0;
+    for (int i = 0; i < H->na; i++) {
+      double l = H->lam[i], d = H->dmp[i];
+      double w2 = H->F0[i] - d * wd[i] - l * w[i];
+      double w3 = -d * w2 - l * wd[i], w4 = -d * w3 - l * w2;
+      double w5 = -d * w4 - l * w3;
+      double e2 = sqrt(w2 * w2 + l * wd[i] * wd[i]);
+      double e3 = sqrt(w3 * w3 + l * w2 * w2), e4 = sqrt(w4 * w4 + l * w3 * w3);
+      double e5 = sqrt(w5 * w5 + l * w4 * w4);
+      double aa = fabs(e->a[i]), cc = e->c ? fabs(e->c[i]) : 0.0;
+      b2 += aa * e2 + cc * e3;
+      b3 += aa * e3 + cc * e4;
+      b4 += aa * e4 + cc * e5;
+    }
+    e->B2 = (b2 + e->GH * O2) * (1.0 + 1e-9);
+    e->B3 = (b3 + e->GH * O2 * O) * (1.0 + 1e-9);
+    e->B4 = (b4 + e->GH * O2 * O2) * (1.0 + 1e-9);
+  }
+}
+
+static inline double mx(double a, double b) { return a > b ? a : b; }
+
+/* Maximum on [0, 1] of the cubic Hermite through (fa, w fda), (fb, w fdb). */
+static double herm_max(double fa, double fda, double fb, double fdb, double w)
+{
+  double c1 = w * fda, c2 = 3.0 * (fb - fa) - w * (2.0 * fda + fdb);
+  double c3 = 2.0 * (fa - fb) + w * (fda + fdb), top = mx(fa, fb);
+  double A = 3.0 * c3, B = 2.0 * c2, C = c1, r[2];
+  int nr = 0;
+  if (A == 0.0) {
+    if (B != 0.0) r[nr++] = -C / B;
+  } else {
+    double disc = B * B - 4.0 * A * C;
+    if (disc >= 0.0) {
+      double qq = -0.5 * (B + copysign(sqrt(disc), B));
+      if (qq != 0.0) {
+        r[nr++] = qq / A;
+        r[nr++] = C / qq;
+      }
+    }
+  }
+  for (int i = 0; i < nr; i++)
+    if (r[i] > 0.0 && r[i] < 1.0) {
+      double s = r[i];
+      top = mx(top, fa + s * (c1 + s * (c2 + s * c3)));
+    }
+  return top;
+}
+
+/* Root of e in [a, b], f(a) < 0 <= f(b), f increasing: regula falsi
+ * (Illinois) to round-off in t; the upper end (f >= 0) is returned, so
+ * that the event is never reported before its root. */
+static double hd_root(vi_held *H, const hd_fun *e, double a, double fa,
+                      double b, double fb)
+{
+  int side = 0;
+  for (int it = 0; it < 200; it++) {
+    if (b - a <= 2.0 * DBL_EPSILON * fmax(fabs(a), fabs(b))) break;
+    double t = (a * fb - b * fa) / (fb - fa);
+    if (!(t > a && t < b)) t = 0.5 * (a + b);
+    double ft, fdt;
+    hd_at(H, e, t, &ft, &fdt);
+    if (ft >= 0.0) {
+      b = t;
+      fb = ft;
+      if (side == 1) fa *= 0.5;
+      side = 1;
+    } else {
+      a = t;
+      fa = ft;
+      if (side == -1) fb *= 0.5;
+      side = -1;
+    }
+  }
+  return b;
+}
+
+/* First t in (a, b] with f(t) >= 0, left first. 1 with *tc, 0: none. */
+static int hd_search(vi_held *H, const hd_fun *e, int depth, double a,
+                     double fa, double fda, double b, double fb, double fdb,
+                     double *tc)
+{
+  double w = b - a, w2 = w * w;
+  if (herm_max(fa, fda, fb, fdb, w) + e->B4 * w2 * w2 / 384.0 < e->noise)
+    return 0;
+  double fdlo = 0.5 * (fda + fdb - e->B2 * w);
+  double fdhi = 0.5 * (fda + fdb + e->B2 * w);
+  if (fdhi < 0.0 && fa <= 0.0) return 0; /* decreasing */
+  if (fdlo > 0.0 && fa < 0.0) {          /* increasing */
+    if (fb < 0.0) return 0;
+    *tc = hd_root(H, e, a, fa, b, fb);
+    return 1;
+  }
+  if (fdlo > 0.0 && a > H->t0) { /* rising from f(a) >= 0 */
+    *tc = a;
+    return 1;
+  }
+  if (depth >= HD_DEPTH || w <= 4.0 * DBL_EPSILON * fabs(b)) {
+    /* next to the start, only beyond round-off */
+    if (fb < 0.0 || (a <= H->t0 && fb <= e->noise)) return 0;
+    *tc = b;
+    return 1;
+  }
+  double mid = a + 0.5 * w, fm, fdm;
+  hd_at(H, e, mid, &fm, &fdm);
+  if (hd_search(H, e, depth + 1, a, fa, fda, mid, fm, fdm, tc)) return 1;
+  return hd_search(H, e, depth + 1, mid, fm, fdm, b, fb, fdb, tc);
+}
+
+/* The functions of the current held set, over the active modes. */
+static int hd_setup(vi_sim *s, vi_held *H)
+{
+  const vi_model *m = s->m;
+  const vi_cmodes *c = H->cm;
+  int mm = c->m, nst = s->nstick, nf = s->ns;
+  hd_phase_free(H);
+  /* active: some function sees the mode */
+  int na = 0;
+  H->act = malloc(sizeof(int) * (size_t)(mm + 1));
+  size_t nd = 2 * (size_t)mm + 3 * (size_t)mm + 2 * (size_t)nf * mm +
+              6 * (size_t)mm + 3 * (size_t)mm + 2 * (size_t)mm +
+              2 * (size_t)c->n + 4 * (size_t)nf + 8;
+  H->w0 = malloc(sizeof(double) * nd);
+  if (!H->act || !H->w0) {
+    hd_phase_free(H);
+    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  }
+  for (int i = 0; i < mm; i++) {
+    int on = 0;
+    for (int j = 0; j < nst && !on; j++) on = c->R[(size_t)j * mm + i] != 0.0;
+    for (int k = 0; k < m->ns && !on; k++)
+      on = !vi_sim_in_stick_set(s, k) && c->Pg[(size_t)k * mm + i] != 0.0;
+    if (on) H->act[na++] = i;
+  }
+  double *p = H->w0;
+  p += mm;
+  H->wd0 = p; p += mm;
+  H->lam = p; p += mm;
+  H->dmp = p; p += mm;
+  H->F0 = p; p += mm;
+  H->wts = p; p += 2 * (size_t)nf * mm;
+  H->wk = p; p += mm;
+  H->wdk = p; p += mm;
+  H->wn = p; p += mm;
+  H->wdn = p; p += mm;
+  H->wa = p; p += mm;
+  H->wda = p; p += mm;
+  H->T = p; p += 3 * (size_t)mm;
+  H->u = p; p += mm;
+  H->ud = p; p += mm;
+  H->q = p; p += c->n;
+  H->qd = p; p += c->n;
+  H->fk = p; p += nf;
+  H->fdk = p; p += nf;
+  H->fn = p; p += nf;
+  H->fdn = p;
+  H->m = mm;
+  H->na = na;
+  H->Om = m->omega_f;
+  double top = 0.0;
+  for (int i = 0; i < na; i++) {
+    int j = H->act[i];
+    H->lam[i] = c->om2[j];
+    H->dmp[i] = c->dmp[j];
+    H->F0[i] = c->F0[j];
+    top = fmax(top, fmax(sqrt(c->om2[j]), c->dmp[j]));
+  }
+  /* the functions: releases of the held stops, gaps of the others */
+  int j = 0;
+  double *wt = H->wts, Om = H->Om, b = c->brl;
+  for (int i = 0; i < nst; i++, j++) {
+    hd_fun *e = H->f + j;
+    memset(e, 0, sizeof *e);
+    e->kind = 0;
+    e->stop = s->stick_k[i];
+    e->slot = i;
+    double *a = wt, *cc = wt + na;
+    wt += 2 * (size_t)na;
+    const double *R = c->R + (size_t)i * mm;
+    double GA = -c->lA[i], GB = -c->lB[i];
+    for (int q = 0; q < mm; q++) {
+      GA += R[q] * (c->pA[q] + b * Om * c->pB[q]);
+      GB += R[q] * (c->pB[q] - b * Om * c->pA[q]);
+    }
+    for (int q = 0; q < na; q++) {
+      a[q] = R[H->act[q]];
+      cc[q] = b * R[H->act[q]];
+    }
+    e->a = a;
+    e->c = b != 0.0 ? cc : NULL;
+    e->GA = GA;
+    e->GB = GB;
+    e->f0 = -c->lc[i];
+  }
+  for (int k = 0; k < m->ns; k++) {
+    if (vi_sim_in_stick_set(s, k)) continue;
+    hd_fun *e = H->f + j++;
+    memset(e, 0, sizeof *e);
+    e->kind = 1;
+    e->stop = k;
+    double *a = wt;
+    wt += (size_t)na;
+    const double *P = c->Pg + (size_t)k * mm;
+    double GA = 0.0, GB = 0.0;
+    for (int q = 0; q < mm; q++) {
+      GA += P[q] * c->pA[q];
+      GB += P[q] * c->pB[q];
+    }
+    for (int q = 0; q < na; q++) a[q] = P[H->act[q]];
+    e->a = a;
+    e->GA = GA;
+    e->GB = GB;
+    e->f0 = c->gc[k];
+    e->tol = vi_sim_gap_tol(s, k);
+  }
+  H->nf = j;
+  int harm = 0;
+  for (int q = 0; q < j; q++) {
+    H->f[q].GH = hypot(H->f[q].GA, H->f[q].GB);
+    harm |= H->f[q].GH != 0.0;
+  }
+  if (harm) top = fmax(top, Om);
+  H->h = top > 0.0 ? HD_GRID / top : 1.0;
+  double all = Om;
+  for (int i = 0; i < mm; i++)
+    all = fmax(all, fmax(sqrt(c->om2[i]), c->dmp[i]));
+  H->hq = all > 0.0 ? 0.7853981633974483 / all : HUGE_VAL;
+  for (int i = 0; i < na; i++)
+    vi_flow_basis(H->lam[i], H->dmp[i], H->h, H->T + i, H->T + na + i,
+                  H->T + 2 * (size_t)na + i);
+  H->cr = cos(Om * H->h);
+  H->sr = sin(Om * H->h);
+  return VI_OK;
+}
+
+/* Every constrained mode's u, u' at t. */
+static void hd_modes_at(vi_held *H, double t, double *u, double *ud)
+{
+  const vi_cmodes *c = H->cm;
+  double cs = cos(H->Om * t), sn = sin(H->Om * t);
+  for (int i = 0; i < H->m; i++) {
+    double w, wd;
+    hd_mode(H, i, t, &w, &wd);
+    u[i] = w + c->pA[i] * cs + c->pB[i] * sn;
+    ud[i] = wd + H->Om * (c->pB[i] * cs - c->pA[i] * sn);
+  }
+}
+
+/* Free modal q, q' [n] of the constrained state (u, ud). */
+static void hd_free_modal(const vi_cmodes *c, const double *u, const double *ud,
+                          double *q, double *qd)
+{
+  int n = c->n;
+  memcpy(q, c->qc, sizeof(double) * (size_t)n);
+  memset(qd, 0, sizeof(double) * (size_t)n);
+  for (int i = 0; i < c->m; i++) { /* column order: Phi is column-major */
+    const double *col = c->Phi + (size_t)i * n;
+    double a = u[i], b = ud[i];
+    for (int r = 0; r < n; r++) {
+      q[r] += col[r] * a;
+      qd[r] += col[r] * b;
+    }
+  }
+}
+
+/* Physical interleaved state of the constrained state at t into z. */
+static void hd_state(vi_sim *s, vi_held *H, double t, double *z)
+{
+  const vi_model *m = s->m;
+  int n = m->n;
+  hd_modes_at(H, t, H->u, H->ud);
+  hd_free_modal(H->cm, H->u, H->ud, H->q, H->qd);
+  for (int i = 0; i < 2 * n; i++) z[i] = 0.0;
+  for (int j = 0; j < n; j++) {
+    const double *col = m->Psi + (size_t)j * n;
+    double a = H->q[j], b = H->qd[j];
+    for (int i = 0; i < n; i++) {
+      z[2 * (size_t)i] += col[i] * a;
+      z[2 * (size_t)i + 1] += col[i] * b;
+    }
+  }
+  H->evals++;
+}
+
+int vi_held_start(vi_sim *s)
+{
+  const vi_cmodes *c = hd_modes(s);
+  if (!c || !c->ok)
+    return vi_fail(s->errmsg, VI_ERR_STATE, "internal: the held set has no "
+                   "closed form (%s)", c ? c->why : s->errmsg);
+  vi_held *H = s->held;
+  int st;
+  H->cm = c; /* the stops not held may differ: set up every time */
+  if ((st = hd_setup(s, H))) return st;
+  if (!H->w0 || !H->act)
+    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  int n = c->n, mm = c->m, na = H->na;
+  vi_modal_project(s->m, s->z, H->q, H->qd);
+  double Om = H->Om, cs = cos(Om * s->t), sn = sin(Om * s->t);
+  for (int i = 0; i < mm; i++) {
+    const double *col = c->Phi + (size_t)i * n;
+    double u = 0.0, ud = 0.0;
+    for (int r = 0; r < n; r++) {
+      u += col[r] * (H->q[r] - c->qc[r]);
+      ud += col[r] * H->qd[r];
+    }
+    H->w0[i] = u - (c->pA[i] * cs + c->pB[i] * sn);
+    H->wd0[i] = ud - Om * (c->pB[i] * cs - c->pA[i] * sn);
+  }
+  H->t0 = s->t;
+  for (int i = 0; i < na; i++) {
+    H->wk[i] = H->w0[H->act[i]];
+    H->wdk[i] = H->wd0[H->act[i]];
+  }
+  /* each function now, its round-off, and an offset when it starts on
+   * zero (a release or contact at the start is one beyond round-off) */
+  double worst = -HUGE_VAL, tol0 = s->ns ? vi_sim_gap_tol(s, 0) : 0.0;
+  for (int j = 0; j < H->nf; j++) {
+    hd_fun *e = H->f + j;
+    e->off = 0.0;
+    hd_eval(H, e, H->wk, H->wdk, cs, sn, H->fk + j, H->fdk + j);
+    double sc = e->GH + fabs(e->f0);
+    for (int i = 0; i < na; i++)
+      sc += fabs(e->a[i] * H->wk[i]) + (e->c ? fabs(e->c[i] * H->wdk[i]) : 0.0);
+    if (e->kind == 0) sc += c->lscale[e->slot];
+    else sc += 1e-3 * s->atol * s->wnorms[e->stop];
+    e->noise = 64.0 * DBL_EPSILON * sc;
+    /* a hold the driver began with its force at zero and rising (pressed
+     * at a higher order) starts on zero too */
+    if (fabs(H->fk[j]) <= e->noise || (e->kind == 0 && H->fk[j] > 0.0) ||
+        (e->kind == 1 && H->fk[j] > 0.0 && H->fk[j] <= e->tol)) {
+      e->off = H->fk[j];
+      H->fk[j] = 0.0;
+    }
+    if (e->kind == 1) worst = fmax(worst, H->fk[j] + e->off - e->tol);
+  }
+  s->gap = H->nf > H->cm->cnt ? worst + tol0 : 0.0;
+  hd_bounds(H, H->wk, H->wdk);
+  H->k = 0;
+  H->ck = cs;
+  H->sk = sn;
+  H->next_ok = 0;
+  H->srch = 0;
+  H->since = 0;
+  s->z_stale = 0;
+  return VI_OK;
+}
+
+/* The reported gap (worst stop not held, against its tolerance, as
+ * vi_exact.c reports it) from the functions' values f [nf]. */
+static double hd_report(const vi_sim *s, const vi_held *H, const double *f)
+{
+  double worst = -HUGE_VAL;
+  int any = 0;
+  for (int j = 0; j < H->nf; j++) {
+    const hd_fun *e = H->f + j;
+    if (e->kind != 1) continue;
+    double x = f[j] + e->off - e->tol;
+    if (!(x <= worst)) worst = x;
+    any = 1;
+  }
+  return any ? worst + vi_sim_gap_tol(s, 0) : 0.0;
+}
+
+/* Ledger integrals over [a, b] (8-point Gauss-Legendre in quarter radians
+ * of the fastest rate, as vi_exact.c): forcing and damping of the free
+ * modes, and the held stops' constraint exchange CE_j = -sum_k lambda_k
+ * psi_kj q_j'. */
+static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
+{
+  static const double gx[4] = {0.1834346424956498, 0.5255324099163290,
+                               0.7966664774136267, 0.9602898564975363};
+  static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
+                               0.2223810344533745, 0.1012285362903763};
+  if (!(b > a)) return;
+  const vi_cmodes *c = H->cm;
+  const vi_model *m = s->m;
+  int n = c->n;
+  double *Q = vi_ledger_integrals(s->led) + 3 * (size_t)n;
+  double npf = ceil((b - a) / H->hq);
+  int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
+  for (int64_t k = 0; k < np; k++) {
+    double pa = a + (b - a) * (double)k / (double)np;
+    double pb = k + 1 == np ? b : a + (b - a) * (double)(k + 1) / (double)np;
+    double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
+    for (int i = 0; i < 8; i++) {
+      double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h, wgt = gw[i % 4] * h;
+      hd_modes_at(H, t, H->u, H->ud);
+      hd_free_modal(c, H->u, H->ud, H->q, H->qd);
+      vi_ledger_accumulate(s->led, t, H->qd, 0.0, wgt);
+      double cs = cos(H->Om * t), sn = sin(H->Om * t);
+      for (int q = 0; q < c->cnt; q++) {
+        const double *R = c->R + (size_t)q * c->m;
+        double lam = c->lc[q] + c->lA[q] * cs + c->lB[q] * sn;
+        for (int r = 0; r < c->m; r++) lam -= R[r] * (H->u[r] + c->brl * H->ud[r]);
+        const double *psi = vi_stop_psi(m, c->set[q]);
+        for (int r = 0; r < n; r++) Q[r] -= wgt * lam * psi[r] * H->qd[r];
+      }
+    }
+  }
+}
+
+/* The reported gap at t between grid points, directly. */
+static double hd_gap_at(vi_sim *s, vi_held *H, double t)
+{
+  double cs = cos(H->Om * t), sn = sin(H->Om * t);
+  for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, H->wa + i, H->wda + i);
+  for (int j = 0; j < H->nf; j++) {
+    double fd;
+    hd_eval(H, H->f + j, H->wa, H->wda, cs, sn, H->fn + j, &fd);
+  }
+  H->evals++;
+  H->next_ok = 0; /* fn was scratch */
+  return hd_report(s, H, H->fn);
+}
+
+static void hd_move(vi_sim *s, vi_held *H, double t, double g)
+{
+  if (s->led) hd_quadrature(s, H, s->t, t);
+  s->t = t;
+  s->gap = g;
+  s->z_stale = 1;
+}
+
+int vi_held_step(vi_sim *s, double t_end, int *event)
+{
+  vi_held *H = s->held;
+  *event = VI_STEP_NONE;
+  for (int it = 0; it < HD_BATCH; it++) {
+    if (it > 0 && vi_sim_cancelled(s)) return VI_CANCELLED;
+    double tk = H->t0 + (double)H->k * H->h;
+    double tb = H->t0 + (double)(H->k + 1) * H->h;
+    if (!H->next_ok) {
+      H->anch = ++H->since >= HD_ANCHOR;
+      if (H->anch) {
+        hd_anchor(H, tb, H->wn, H->wdn, &H->cn, &H->sn, H->fn, H->fdn);
+      } else {
+        const double *B = H->T, *Bp = H->T + H->na, *ph = H->T + 2 * (size_t)H->na;
+        for (int i = 0; i < H->na; i++) {
+          double f = H->F0[i] - H->lam[i] * H->wk[i];
+          H->wn[i] = H->wk[i] + B[i] * H->wdk[i] + ph[i] * f;
+          H->wdn[i] = Bp[i] * H->wdk[i] + B[i] * f;
+        }
+        H->cn = H->ck * H->cr - H->sk * H->sr;
+        H->sn = H->sk * H->cr + H->ck * H->sr;
+        for (int j = 0; j < H->nf; j++)
+          hd_eval(H, H->f + j, H->wn, H->wdn, H->cn, H->sn, H->fn + j, H->fdn + j);
+        H->evals++;
+      }
+      H->next_ok = 1;
+      H->srch = 0;
+    }
+    if (!H->srch) {
+      double best = HUGE_VAL;
+      int found = -1;
+      for (int j = 0; j < H->nf; j++) {
+        double tc;
+        if (hd_search(H, H->f + j, 0, tk, H->fk[j], H->fdk[j], tb, H->fn[j],
+                      H->fdn[j], &tc) &&
+            tc < best) {
+          best = tc;
+          found = j;
+        }
+      }
+      H->tstar = best;
+      H->found = found;
+      H->srch = 1;
+    }
+    if (H->found >= 0 && H->tstar <= t_end) {
+      const hd_fun *e = H->f + H->found;
+      double tc = fmax(H->tstar, s->t);
+      if (s->led) hd_quadrature(s, H, s->t, tc);
+      s->t = tc;
+      s->gap = 0.0;
+      s->contact_stop = e->stop;
+      s->z_stale = 1;
+      H->steps++;
+      *event = e->kind == 0 ? VI_STEP_RELEASE : VI_STEP_CONTACT;
+      return VI_OK;
+    }
+    if (t_end < tb) {
+      /* keep t_{k+1}: the run ends inside this interval */
+      double g = hd_gap_at(s, H, t_end);
+      hd_move(s, H, t_end, g);
+      return VI_OK;
+    }
+    hd_move(s, H, tb, hd_report(s, H, H->fn));
+    double *t1 = H->wk, *t2 = H->wdk;
+    H->wk = H->wn;
+    H->wdk = H->wdn;
+    H->wn = t1;
+    H->wdn = t2;
+    t1 = H->fk;
+    t2 = H->fdk;
+    H->fk = H->fn;
+    H->fdk = H->fdn;
+    H->fn = t1;
+    H->fdn = t2;
+    H->ck = H->cn;
+    H->sk = H->sn;
+    H->k++;
+    H->steps++;
+    H->next_ok = 0;
+    if (H->anch) {
+      H->since = 0;
+      hd_bounds(H, H->wk, H->wdk);
+    }
+    if (s->t >= t_end) return VI_OK;
+  }
+  return VI_OK;
+}
+
+int vi_held_sync(vi_sim *s)
+{
+  hd_state(s, s->held, s->t, s->z);
+  return VI_OK;
+}
+
+int vi_held_dense(vi_sim *s, double t)
+{
+  hd_state(s, s->held, t, s->zs);
+  return VI_OK;
+}
+
+int64_t vi_held_stat(const vi_sim *s, int which)
+{
+  const vi_held *H = s->held;
+  if (!H) return 0;
+  if (which == VI_STAT_STEPS) return H->steps;
+  if (which == VI_STAT_ROOT_EVALS) return H->evals;
+  return 0;
+}

@@ -1,0 +1,405 @@
+/* test_stress_held.c - sticking phases in closed form (issue 18): the exact
+ * method holds stops on the constrained structure's modes (vi_held.c), with
+ * no right-hand side, and finds releases and contacts as rigorous roots.
+ *
+ * a. SDOF under a preload: m = k = 1, c = 0.05, f = 0.8 + 0.6 cos(0.3 t),
+ *    stop x <= 0.5 (r = 0.5), from rest on the stop.  On the stop the
+ *    contact force is lambda = 0.8 + 0.6 cos(0.3 t) - 0.5, so every
+ *    release, the first and those after each later chattering sequence
+ *    into sticking (one per forcing period), comes at 0.3 t = 2 pi / 3
+ *    (mod 2 pi).
+ * b. Mass 2 of a 2-DOF chain held: M = I, K = [[2, -1], [-1, 1]],
+ *    C = 0.02 K, f = (0, 0.2 + 0.3 cos(0.7 t)), stop x2 <= 0.1, from
+ *    x = (0, 0.1) at rest.  Held, mass 1 is the damped oscillator
+ *    x1'' + 0.04 x1' + 2 x1 = 0.1 and lambda = f2 + x1 + 0.02 x1' - 0.1:
+ *    the release is its first root, bracketed here on that closed form.
+ * c. One stop held while the other is hit: the same chain, C = 0,
+ *    f = (0, 1), stops x2 <= 0 (r = 0) and x1 <= 0.3 (r = 0.5), from
+ *    x = 0, v = (1, 0).  Mass 2 holds (lambda = 1 + x1 > 0) and mass 1
+ *    oscillates as x1 = sin(sqrt2 t) / sqrt2, hitting x1 = 0.3 with speed
+ *    u1 = cos(sqrt2 t1); each rebound -r u returns to the stop after
+ *    (2 pi + 2 atan(-r u / (0.3 sqrt2))) / sqrt2 at the same speed r u.
+ * d. Siconos' impacting bar (vi_bar.h, 20 to 500 elements) against the independent clamped-bar
+ *    reference ref/bar_ref.py: release to 1e-11 s; and the continuum limit
+ *    5e-4 + 2 L / c, rebound 0.1 m/s, approached as the mesh is refined.
+ *
+ * e. The stiff methods on the bar (20 and 50 elements, rtol 1e-10, atol
+ *    1e-14): the plastic impact leaves the contact force at zero, growing;
+ *    a restart in free flight there let BDF tunnel (1.1e-12 beyond the
+ *    stop, VI_ERR_INVARIANT).  Both CVODE methods must finish, releasing
+ *    within 1e-10 s of the reference (measured: 2e-13 s or better).
+ *
+ * f. Chatter into sticking on a structure of a hundred modes: the
+ *    100-element bar with r = 0.5 bounces (its high modes ringing against
+ *    node 1), its impacts accumulate, node 1 sticks and is released.  No
+ *    closed form: the exact method against CVODE Adams at rtol 1e-10 -
+ *    releases within 1e-11 s of each other (measured 3e-14 s), the STICK
+ *    events (summed tails) within 1e-9 s.
+ *
+ * Every case but e: rhs_evals 0 under the exact method. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "stress_util.h"
+#include <vibroimpact/vi_ledger.h>
+#include "vi_bar.h"
+
+typedef struct hlog {
+  int count;
+  int kind[4096], stop[4096];
+  double t[4096], vn[4096];
+} hlog;
+
+static int hlog_event(const vi_event *ev, void *user)
+{
+  hlog *l = user;
+  if (l->count < 4096) {
+    l->kind[l->count] = ev->kind;
+    l->stop[l->count] = ev->stop;
+    l->t[l->count] = ev->t;
+    l->vn[l->count] = ev->vn;
+    l->count++;
+  }
+  return 0;
+}
+
+static vi_sim *held_sim(const vi_model *m, int method, double rtol,
+                        double atol, const double *x0, const double *v0,
+                        hlog *log)
+{
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, rtol, atol), VI_OK);
+  assert_int_equal(vi_sim_set_initial(s, 0.0, x0, v0), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, hlog_event, log, NULL), VI_OK);
+  return s;
+}
+
+static void test_sdof_preload(void **state)
+{
+  (void)state;
+  vi_model *m = st_sdof(1.0, 0.05, 1.0, 0.3, 0.6, 0.0, 0.8, 0.5, 0.5);
+  double x0 = 0.5, v0 = 0.0;
+  hlog *log = calloc(1, sizeof *log);
+  assert_non_null(log);
+  vi_sim *s = held_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, &x0, &v0, log);
+  assert_int_equal(vi_sim_run(s, 40.0 * 2.0 * M_PI / 0.3), VI_OK);
+  int nrel = 0, nstick = 0;
+  double worst = 0.0;
+  for (int i = 0; i < log->count; i++) {
+    if (log->kind[i] == VI_EVENT_STICK) nstick++;
+    if (log->kind[i] != VI_EVENT_RELEASE) continue;
+    /* the phase 0.3 t mod 2 pi of the root of 0.3 + 0.6 cos */
+    double ph = fmod(0.3 * log->t[i], 2.0 * M_PI);
+    worst = fmax(worst, fabs(ph - 2.0 * M_PI / 3.0) / 0.3);
+    nrel++;
+  }
+  printf("sdof preload: %d sticks, %d releases, worst release %.3g from "
+         "the closed form, rhs_evals %lld\n", nstick, nrel, worst,
+         (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
+  /* one stick and release per forcing period */
+  assert_true(nrel >= 39 && nstick >= nrel);
+  /* to the round-off of t (up to 838) and of the phase */
+  assert_true(worst <= 8.0 * DBL_EPSILON * 40.0 * 2.0 * M_PI / 0.3);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
+  assert_string_equal(vi_method_name(vi_sim_method_used(s)), "exact");
+  vi_sim_destroy(&s);
+  free(log);
+  vi_model_destroy(&m);
+}
+
+static vi_model *chain2(double cdamp, const double *f0, double W,
+                        const double *a)
+{
+  const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1};
+  double C[4];
+  for (int i = 0; i < 4; i++) C[i] = cdamp * K[i];
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(2, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, W, a, NULL, f0), VI_OK);
+  return m;
+}
+
+/* case b's contact force on the closed form of the held motion */
+static double chain_lambda(double t)
+{
+  double mu = sqrt(2.0 - 0.0004), A = -0.05, B = 0.02 * A / mu;
+  double e = exp(-0.02 * t), c = cos(mu * t), sn = sin(mu * t);
+  double x1 = 0.05 + e * (A * c + B * sn);
+  double v1 = e * (-0.02 * (A * c + B * sn) + mu * (-A * sn + B * c));
+  return 0.2 + 0.3 * cos(0.7 * t) + x1 + 0.02 * v1 - 0.1;
+}
+
+static void test_chain_mass2(void **state)
+{
+  (void)state;
+  const double f0[2] = {0.0, 0.2}, a[2] = {0.0, 0.3}, w[2] = {0.0, 1.0};
+  vi_model *m = chain2(0.02, f0, 0.7, a);
+  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  /* the reference: first root of lambda, scanned then bisected */
+  double lo = 0.0, hi = 0.0;
+  for (int i = 0; i < 20000; i++)
+    if (chain_lambda(1e-3 * (i + 1)) < 0.0) {
+      lo = 1e-3 * i;
+      hi = 1e-3 * (i + 1);
+      break;
+    }
+  assert_true(hi > 0.0);
+  for (int it = 0; it < 200 && hi - lo > 4e-16 * hi; it++) {
+    double mid = 0.5 * (lo + hi);
+    if (chain_lambda(mid) < 0.0) hi = mid;
+    else lo = mid;
+  }
+  const double x0[2] = {0.0, 0.1}, v0[2] = {0.0, 0.0};
+  const int methods[2] = {VI_METHOD_EXACT, VI_METHOD_ADAMS};
+  double ce_exact = 0.0;
+  for (int q = 0; q < 2; q++) {
+    hlog *log = calloc(1, sizeof *log);
+    assert_non_null(log);
+    vi_sim *s = held_sim(m, methods[q], 1e-11, 1e-13, x0, v0, log);
+    assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+    assert_int_equal(vi_sim_run(s, hi + 1e-3), VI_OK);
+    /* the ledger closes through the held phase, the stop's exchange CE
+     * between the modes summing to its work: zero for a fixed stop */
+    double CE[2], FE[2], DE[2];
+    assert_int_equal(vi_sim_ledger(s, NULL, FE, DE, NULL, CE, NULL, NULL), VI_OK);
+    double ce = fabs(CE[0]) + fabs(CE[1]), scale = fabs(FE[0]) + fabs(FE[1]);
+    printf("  ledger: CE = (%.6g, %.6g), sum %.3g; largest closure residual "
+           "%.3g\n", CE[0], CE[1], CE[0] + CE[1], vi_sim_ledger_max_residual(s));
+    assert_true(ce > 1e-3 * scale); /* the stop moves energy between modes */
+    assert_true(fabs(CE[0] + CE[1]) <= 1e-9 * ce);
+    assert_true(vi_sim_ledger_max_residual(s) <= 1e-9);
+    /* the closed form's quadrature and CVODE's agree on the exchange */
+    if (q == 0) ce_exact = CE[1];
+    else assert_true(fabs(CE[1] - ce_exact) <= 1e-8 * fabs(ce_exact));
+    int ir = -1;
+    for (int i = 0; i < log->count && ir < 0; i++)
+      if (log->kind[i] == VI_EVENT_RELEASE) ir = i;
+    assert_true(ir >= 0);
+    if (ir < 0) ir = 0; /* (failed above) */
+    double err = fabs(log->t[ir] - hi);
+    printf("chain, mass 2 held (%s): release %.17g, closed form %.17g, "
+           "error %.3g, rhs_evals %lld\n", vi_method_name(methods[q]),
+           log->t[ir], hi, err, (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
+    if (methods[q] == VI_METHOD_EXACT) {
+      assert_true(err <= 1e-12);
+      assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
+    } else {
+      assert_true(err <= 1e-7); /* CVODE at rtol 1e-11: its own error */
+    }
+    vi_sim_destroy(&s);
+    free(log);
+  }
+  vi_model_destroy(&m);
+}
+
+static void test_held_while_other_hit(void **state)
+{
+  (void)state;
+  const double f0[2] = {0.0, 1.0}, w2[2] = {0.0, 1.0}, w1[2] = {1.0, 0.0};
+  vi_model *m = chain2(0.0, f0, 1.0, NULL);
+  assert_int_equal(vi_model_set_stop(m, w2, 0.0, 0.0), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, w1, 0.3, 0.5), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  const double x0[2] = {0.0, 0.0}, v0[2] = {1.0, 0.0}, r2 = sqrt(2.0);
+  hlog *log = calloc(1, sizeof *log);
+  assert_non_null(log);
+  vi_sim *s = held_sim(m, VI_METHOD_EXACT, 1e-11, 1e-13, x0, v0, log);
+  assert_int_equal(vi_sim_run(s, 20.0), VI_OK);
+  double t = asin(0.3 * r2) / r2, u = cos(r2 * t), et = 0.0, ev = 0.0;
+  int k = 0, rel = 0;
+  for (int i = 0; i < log->count; i++) {
+    if (log->kind[i] == VI_EVENT_RELEASE) rel++;
+    if (log->kind[i] != VI_EVENT_IMPACT || log->stop[i] != 1) continue;
+    et = fmax(et, fabs(log->t[i] - t));
+    ev = fmax(ev, fabs(log->vn[i] - u));
+    t += (2.0 * M_PI + 2.0 * atan(-0.5 * u / (0.3 * r2))) / r2;
+    u *= 0.5;
+    k++;
+  }
+  printf("stop 2 held, stop 1 hit: %d impacts, time error %.3g, speed "
+         "error %.3g, releases %d, rhs_evals %lld\n", k, et, ev, rel,
+         (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
+  assert_true(k >= 4);
+  assert_true(et <= 1e-12 * 20.0);
+  assert_true(ev <= 1e-12);
+  assert_int_equal(rel, 0);
+  assert_true(vi_sim_is_sticking(s));
+  assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
+  vi_sim_destroy(&s);
+  free(log);
+  vi_model_destroy(&m);
+}
+
+/* ref/bar_ref.py: release time and rebound speed (momentum / mass) */
+static const struct { int ne; double t, v; } bar_ref[] = {
+    {20, 0.00087896085962067588, 0.096214567393333603},
+    {50, 0.00088190517159937262, 0.097932658841603834},
+    {100, 0.00088310604066142826, 0.098698152326737121},
+    {200, 0.00088402089810526855, 0.099177994429015995},
+    {500, 0.00088466116610149445, 0.099553874153702135},
+};
+
+static void test_impacting_bar(void **state)
+{
+  (void)state;
+  const double tc = 5e-4 + 2.0 * BAR_L / sqrt(BAR_E / BAR_RHO);
+  double prev_t = HUGE_VAL, prev_v = HUGE_VAL;
+  for (size_t q = 0; q < sizeof bar_ref / sizeof bar_ref[0]; q++) {
+    int ne = bar_ref[q].ne, n = ne + 1;
+    vi_model *m = bar_model(ne, 0.0);
+    assert_non_null(m);
+    double *x = malloc(sizeof(double) * n), *v = malloc(sizeof(double) * n);
+    assert_true(x && v);
+    for (int i = 0; i < n; i++) {
+      x[i] = BAR_X0;
+      v[i] = BAR_V0;
+    }
+    hlog *log = calloc(1, sizeof *log);
+    assert_non_null(log);
+    vi_sim *s = held_sim(m, VI_METHOD_AUTO, 1e-8, 1e-10, x, v, log);
+    assert_int_equal(vi_sim_run(s, 1.5e-3), VI_OK);
+    int ir = -1, nrel = 0;
+    for (int i = 0; i < log->count; i++)
+      if (log->kind[i] == VI_EVENT_RELEASE) {
+        nrel++;
+        if (ir < 0) ir = i;
+      }
+    assert_int_equal(nrel, 1);
+    if (ir < 0) ir = 0; /* (failed above) */
+    /* momentum of the free bar after release: 1^T M v / (rho S L) */
+    double t;
+    assert_int_equal(vi_sim_state(s, &t, x, v), VI_OK);
+    const double *M = vi_model_mass(m);
+    double P = 0.0;
+    for (int j = 0; j < n; j++)
+      for (int i = 0; i < n; i++) P += M[i + (size_t)j * n] * v[j];
+    double vr = P / (BAR_RHO * BAR_S * BAR_L);
+    double et = fabs(log->t[ir] - bar_ref[q].t), ev = fabs(vr - bar_ref[q].v);
+    printf("bar, %4d elements: release %.17g (ref %.17g, error %.3g s), "
+           "rebound %.12f (ref error %.3g), continuum gap %.3g s, %.3g m/s, "
+           "rhs_evals %lld\n", ne, log->t[ir], bar_ref[q].t, et, vr, ev,
+           log->t[ir] - tc, 0.1 - vr,
+           (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
+    /* the issue's target is 1e-11 s; the modal sums reach 1e-13 s (a rigid
+     * mode left at dsygvd's round-off eigenvalue cost 2e-13 s here) */
+    assert_true(et <= 1e-13);
+    /* momentum after release: round-off of the modal sums */
+    assert_true(ev <= 1e-12);
+    assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
+    /* the continuum limit is approached from below, monotonically */
+    assert_true(log->t[ir] < tc && tc - log->t[ir] < prev_t);
+    assert_true(vr < 0.1 && 0.1 - vr < prev_v);
+    prev_t = tc - log->t[ir];
+    prev_v = 0.1 - vr;
+    vi_sim_destroy(&s);
+    free(log);
+    free(x);
+    free(v);
+    vi_model_destroy(&m);
+  }
+}
+
+static void test_bar_stiff_methods(void **state)
+{
+  (void)state;
+  const int methods[2] = {VI_METHOD_BDF, VI_METHOD_ADAMS};
+  for (size_t q = 0; q < 2; q++)
+    for (int b = 0; b < 2; b++) {
+      int ne = bar_ref[b].ne, n = ne + 1;
+      vi_model *m = bar_model(ne, 0.0);
+      assert_non_null(m);
+      double *x = malloc(sizeof(double) * n), *v = malloc(sizeof(double) * n);
+      assert_true(x && v);
+      for (int i = 0; i < n; i++) {
+        x[i] = BAR_X0;
+        v[i] = BAR_V0;
+      }
+      hlog *log = calloc(1, sizeof *log);
+      assert_non_null(log);
+      vi_sim *s = held_sim(m, methods[q], 1e-10, 1e-14, x, v, log);
+      int st = vi_sim_run(s, 1.2e-3);
+      int ir = -1;
+      for (int i = 0; i < log->count && ir < 0; i++)
+        if (log->kind[i] == VI_EVENT_RELEASE) ir = i;
+      printf("bar, %d elements, %s: %s, release error %.3g s\n", ne,
+             vi_method_name(methods[q]), st ? vi_sim_errmsg(s) : "ok",
+             ir >= 0 ? log->t[ir] - bar_ref[b].t : HUGE_VAL);
+      assert_int_equal(st, VI_OK);
+      assert_true(ir >= 0);
+      if (ir < 0) ir = 0; /* (failed above) */
+      assert_true(fabs(log->t[ir] - bar_ref[b].t) <= 1e-10);
+      vi_sim_destroy(&s);
+      free(log);
+      free(x);
+      free(v);
+      vi_model_destroy(&m);
+    }
+}
+
+static void test_bar_chatter(void **state)
+{
+  (void)state;
+  int ne = 100, n = ne + 1;
+  vi_model *m = bar_model(ne, 0.5);
+  assert_non_null(m);
+  double *x = malloc(sizeof(double) * n), *v = malloc(sizeof(double) * n);
+  assert_true(x && v);
+  const int methods[2] = {VI_METHOD_EXACT, VI_METHOD_ADAMS};
+  double ts[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+  for (int q = 0; q < 2; q++) {
+    for (int i = 0; i < n; i++) {
+      x[i] = BAR_X0;
+      v[i] = BAR_V0;
+    }
+    hlog *log = calloc(1, sizeof *log);
+    assert_non_null(log);
+    vi_sim *s = held_sim(m, methods[q], 1e-10, 1e-13, x, v, log);
+    assert_int_equal(vi_sim_run(s, 1.2e-3), VI_OK);
+    int nimp = 0, nst = 0, nrel = 0;
+    for (int i = 0; i < log->count; i++) {
+      if (log->kind[i] == VI_EVENT_IMPACT) nimp++;
+      if (log->kind[i] == VI_EVENT_STICK && nst++ == 0) ts[q][0] = log->t[i];
+      if (log->kind[i] == VI_EVENT_RELEASE && nrel++ == 0) ts[q][1] = log->t[i];
+    }
+    printf("bar, r = 0.5 (%s): %d impacts, stick %.17g, release %.17g, "
+           "rhs_evals %lld\n", vi_method_name(methods[q]), nimp, ts[q][0],
+           ts[q][1], (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
+    assert_true(nimp >= 5);
+    assert_int_equal(nst, 1);
+    assert_int_equal(nrel, 1);
+    if (q == 0) assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
+    vi_sim_destroy(&s);
+    free(log);
+  }
+  /* the STICK event is the accumulation point the driver sums from the
+   * tail model at the impact where it decides to hold, which the methods
+   * reach after different impacts (measured 8e-11 s apart); the release
+   * is a root of the held flow from there */
+  assert_true(fabs(ts[0][0] - ts[1][0]) <= 1e-9);
+  assert_true(fabs(ts[0][1] - ts[1][1]) <= 1e-11);
+  free(x);
+  free(v);
+  vi_model_destroy(&m);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_sdof_preload),
+      cmocka_unit_test(test_chain_mass2),
+      cmocka_unit_test(test_held_while_other_hit),
+      cmocka_unit_test(test_impacting_bar),
+      cmocka_unit_test(test_bar_stiff_methods),
+      cmocka_unit_test(test_bar_chatter),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
