@@ -421,6 +421,7 @@ int vi_cmd_truncation(const app_opts *o)
   if (nR > 4096) {
     fprintf(stderr, "vibroimpact: truncation: a reference of %d modes: at "
             "most 4096\n", nR);
+    free(x0);
     goto done;
   }
   const double *K = vi_model_stiffness(R), *psi = vi_model_stop_vector(R);
