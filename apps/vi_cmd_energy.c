@@ -118,7 +118,7 @@ static int write_orbit(const app_opts *o, const vi_scene *sc, const vi_model *m,
   vi_writer *w = NULL;
   vi_diag d;
   char part[VI_APP_PATH + 8];
-  snprintf(part, sizeof part, "%s.part", o->out_target);
+  if (vi_output_part(o->out_target, part, (int)sizeof part)) return 1;
   vi_app_arm_parts(part, NULL); /* a signal now removes it and exits */
   const app_writer_api *wa = vi_app_writer();
   if (!wa) return 1;

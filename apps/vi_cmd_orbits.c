@@ -280,14 +280,29 @@ static void print_text(const list *L, const char *name)
   }
 }
 
-int vi_cmd_orbits_main(int argc, char **argv)
+typedef struct oargs {
+  int np, mi, json, phases, nsets, csteps, arclength;
+  const char *scene, *ckey, **sets;
+  double cto;
+} oargs;
+
+static void orbits_usage(void)
 {
-  int np = 1, mi = 1, json = 0, phases = 720, nsets = 0, c, rc = 2, csteps = 50;
-  const char *scene = NULL, *ckey = NULL;
-  double cto = NAN;
-  int arclength = 0;
-  const char **sets = calloc((size_t)argc + 1, sizeof *sets);
-  if (!sets) return 1;
+  printf("usage: vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json] "
+         "[--phases K] [--set KEY=VALUE]...\n"
+         "Every P(n,m) orbit found (default P(1,1)): by an exhaustive scan of "
+         "K impact phases\n(m = 1) and from transients, refined by Newton; "
+         "stability from the Floquet\nmultipliers (monodromy with saltation "
+         "matrices), admissibility checked.\n"
+         "--continue KEY --to B [--steps K]: follow each admissible P(n,1) orbit in KEY\n"
+         "to B (K steps, default 50), locating where it loses stability (period\n"
+         "doubling, fold, Neimark-Sacker) or grazes; --arclength: pseudo-arclength,\n"
+         "around folds.\n");
+}
+
+/* The command line; 0 to go on, -1 after --help, else the exit status. */
+static int orbits_parse(int argc, char **argv, oargs *a)
+{
   static const struct option lo[] = {
       {"n", required_argument, 0, 'n'},      {"m", required_argument, 0, 'm'},
       {"json", no_argument, 0, 'j'},         {"phases", required_argument, 0, 'p'},
@@ -295,157 +310,160 @@ int vi_cmd_orbits_main(int argc, char **argv)
       {"continue", required_argument, 0, 'C'}, {"to", required_argument, 0, 'T'},
       {"steps", required_argument, 0, 'S'},  {"arclength", no_argument, 0, 'A'},
       {0, 0, 0, 0}};
+  int c;
   optind = 1;
   opterr = 0;
   while ((c = getopt_long(argc, argv, "", lo, NULL)) != -1) {
     switch (c) {
-    case 'n': np = whole(optarg, 1, 64); break;
-    case 'm': mi = whole(optarg, 1, 64); break;
-    case 'j': json = 1; break;
-    case 'p': phases = whole(optarg, 8, 1000000); break;
-    case 's': sets[nsets++] = optarg; break;
-    case 'C': ckey = optarg; break;
-    case 'A': arclength = 1; break;
+    case 'n': a->np = whole(optarg, 1, 64); break;
+    case 'm': a->mi = whole(optarg, 1, 64); break;
+    case 'j': a->json = 1; break;
+    case 'p': a->phases = whole(optarg, 8, 1000000); break;
+    case 's': a->sets[a->nsets++] = optarg; break;
+    case 'C': a->ckey = optarg; break;
+    case 'A': a->arclength = 1; break;
     case 'T': {
       char *end;
-      cto = strtod(optarg, &end);
-      if (end == optarg || *end || !isfinite(cto)) cto = NAN, np = -1;
+      a->cto = strtod(optarg, &end);
+      if (end == optarg || *end || !isfinite(a->cto)) a->cto = NAN, a->np = -1;
       break;
     }
-    case 'S': csteps = whole(optarg, 1, 1000000); break;
-    case 'h':
-      printf("usage: vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json] "
-             "[--phases K] [--set KEY=VALUE]...\n"
-             "Every P(n,m) orbit found (default P(1,1)): by an exhaustive scan of "
-             "K impact phases\n(m = 1) and from transients, refined by Newton; "
-             "stability from the Floquet\nmultipliers (monodromy with saltation "
-             "matrices), admissibility checked.\n"
-             "--continue KEY --to B [--steps K]: follow each admissible P(n,1) orbit in KEY\n"
-             "to B (K steps, default 50), locating where it loses stability (period\n"
-             "doubling, fold, Neimark-Sacker) or grazes; --arclength: pseudo-arclength,\n"
-             "around folds.\n");
-      rc = 0;
-      goto out;
+    case 'S': a->csteps = whole(optarg, 1, 1000000); break;
+    case 'h': orbits_usage(); return -1;
     default:
       fprintf(stderr, "vibroimpact: orbits: unknown or incomplete option '%s'\n",
               argv[optind - 1]);
-      goto out;
+      return 2;
     }
   }
-  if (optind < argc) scene = argv[optind++];
-  if (optind < argc || np < 1 || np > 64 || mi < 1 || mi > 64 || phases < 8 ||
-      csteps < 1 || (ckey && (isnan(cto) || mi != 1))) {
+  if (optind < argc) a->scene = argv[optind++];
+  if (optind < argc || a->np < 1 || a->np > 64 || a->mi < 1 || a->mi > 64 ||
+      a->phases < 8 || a->csteps < 1 || (a->ckey && (isnan(a->cto) || a->mi != 1))) {
     fprintf(stderr, "vibroimpact: orbits: bad arguments (need 1 <= n, m <= 64, "
             "--phases >= 8, one scene; --continue KEY needs --to B, --steps K >= 1 "
             "and m = 1)\n");
-    goto out;
+    return 2;
   }
+  return 0;
+}
+
+/* The scene and its model (harmonic forcing, no springs); 0 or the exit
+ * status with the message printed. */
+static int orbits_model(const oargs *a, vi_scene **sc, vi_model **mdl)
+{
   char err[2048];
-  vi_scene *sc = NULL;
-  vi_model *mdl = NULL;
   vi_diag d;
-  if ((rc = vi_sweep_load_scene(scene, sets, nsets, &sc, err, sizeof err))) {
+  int rc = vi_sweep_load_scene(a->scene, a->sets, a->nsets, sc, err, sizeof err);
+  if (rc) {
     fprintf(stderr, "vibroimpact: %s\n", err);
-    goto out;
+    return rc;
   }
-  if (vi_sweep_text_nonlinear(vi_scene_text(sc))) {
+  if (vi_sweep_text_nonlinear(vi_scene_text(*sc))) {
     fprintf(stderr, "vibroimpact: orbits: %s has nonlinear springs; orbits are "
             "found with the linear closed-form flow, which would ignore them\n",
-            scene ? scene : "the scene");
-    rc = 2;
-    goto done;
+            a->scene ? a->scene : "the scene");
+    return 2;
   }
-  int st = vi_scene_create_model(sc, &mdl, &d);
-  if (st) {
+  if (vi_scene_create_model(*sc, mdl, &d)) {
     vi_diag_format(&d, err, sizeof err);
     fprintf(stderr, "vibroimpact: %s\n", err);
-    rc = 2;
-    goto done;
+    return 2;
   }
-  if (!(vi_model_omega_forcing(mdl) > 0)) {
+  if (!(vi_model_omega_forcing(*mdl) > 0)) {
     fprintf(stderr, "vibroimpact: orbits: the scene has no harmonic forcing\n");
-    rc = 2;
-    goto done;
+    return 2;
   }
-  list *L = calloc(1, sizeof *L);
-  if (!L) { rc = 1; goto done; }
-  L->mdl = mdl;
-  L->N = vi_model_n(mdl);
-  L->n = np;
-  L->m = mi;
-  int N = L->N;
-  rc = 0;
-  if (mi == 1 && vi_model_num_stops(mdl) == 1) { /* the scan: one stop */
+  return 0;
+}
+
+/* Seeds: the phase scan (m = 1, one stop), then transients from the
+ * scene's initial state and from rest at 8 forcing phases.  0, or the exit
+ * status with the message printed. */
+static int census(list *L, const vi_scene *sc, int phases)
+{
+  const vi_model *mdl = L->mdl;
+  int N = L->N, st;
+  if (L->m == 1 && vi_model_num_stops(mdl) == 1) { /* the scan: one stop */
     double *t = malloc(sizeof(double) * MAXORB * (2 * N + 1));
     int found = 0;
-    if (!t) { rc = 1; goto fin; }
+    if (!t) return 1;
     double *x = t + MAXORB, *v = x + (size_t)MAXORB * N;
-    st = vi_orbit_p1_scan(mdl, np, phases, t, x, v, N, MAXORB, &found);
+    st = vi_orbit_p1_scan(mdl, L->n, phases, t, x, v, N, MAXORB, &found);
     if (st) {
       fprintf(stderr, "vibroimpact: orbits: %s\n", vi_strerror(st));
       free(t);
-      rc = st == VI_ERR_UNSUPPORTED ? 2 : 1;
-      goto fin;
+      return st == VI_ERR_UNSUPPORTED ? 2 : 1;
     }
     for (int i = 0; i < found && i < MAXORB; i++)
       add(L, &t[i], x + (size_t)i * N, v + (size_t)i * N, NULL);
     free(t);
   }
   double *x0 = calloc((size_t)N * 2, sizeof(double));
-  if (x0) {
-    double T = 2 * M_PI / vi_model_omega_forcing(mdl);
-    vi_sim *s0 = NULL;
-    /* the scene's initial state, then rest at 8 forcing phases */
-    if (!vi_sim_create(mdl, &s0) && !vi_scene_configure_sim(sc, s0, NULL)) {
-      double t0, *xs = malloc(sizeof(double) * 2 * N);
-      if (xs && !vi_sim_state(s0, &t0, xs, xs + N))
-        transient_seed(L, sc, t0, xs, xs + N, 2000);
-      free(xs);
-    }
-    vi_sim_destroy(&s0);
-    for (int k = 0; k < 8; k++) transient_seed(L, sc, k * T / 8, x0, x0 + N, 2000);
-    free(x0);
+  if (!x0) return 0;
+  double T = 2 * M_PI / vi_model_omega_forcing(mdl);
+  vi_sim *s0 = NULL;
+  /* the scene's initial state, then rest at 8 forcing phases */
+  if (!vi_sim_create(mdl, &s0) && !vi_scene_configure_sim(sc, s0, NULL)) {
+    double t0, *xs = malloc(sizeof(double) * 2 * N);
+    if (xs && !vi_sim_state(s0, &t0, xs, xs + N))
+      transient_seed(L, sc, t0, xs, xs + N, 2000);
+    free(xs);
   }
-  if (ckey) {
-    /* follow every admissible orbit found in the key (vi_sweep_cont.c) */
-    char *text = vi_sweep_read_text(scene, err, sizeof err);
-    vi_scene_edit *ed = NULL;
-    int bad = !text || vi_scene_edit_create(text, -1, scene ? scene : "<default scene: fig2>", &ed, &d);
-    for (int i = 0; i < nsets && !bad; i++) bad = vi_scene_edit_assign(ed, sets[i], &d) != 0;
-    if (bad) {
-      if (text) vi_diag_format(&d, err, sizeof err);
-      fprintf(stderr, "vibroimpact: %s\n", err);
-      rc = 2;
+  vi_sim_destroy(&s0);
+  for (int k = 0; k < 8; k++) transient_seed(L, sc, k * T / 8, x0, x0 + N, 2000);
+  free(x0);
+  return 0;
+}
+
+/* Follow every admissible orbit found in the key (vi_sweep_cont.c). */
+static int follow_all(const list *L, const vi_scene *sc, const oargs *a)
+{
+  char err[2048];
+  int rc = 0;
+  if (a->json) printf("{\"branches\": [");
+  for (int i = 0, k = 0; i < L->count; i++) {
+    if (!L->o[i].admissible) continue;
+    if (a->json && k++) printf(", ");
+    int r = vi_sweep_follow(L->mdl, sc, a->ckey, a->arclength, a->cto, a->csteps,
+                            a->np, *L->o[i].t, L->o[i].x, L->o[i].v, a->json, err,
+                            sizeof err);
+    if (r) {
+      fprintf(stderr, "vibroimpact: orbits: --continue: %s\n", err);
+      rc = r;
+      break;
     }
-    if (json && !bad) printf("{\"branches\": [");
-    for (int i = 0, k = 0; !bad && i < L->count; i++) {
-      if (!L->o[i].admissible) continue;
-      if (json && k++) printf(", ");
-      int r = (arclength ? vi_sweep_arclength : vi_sweep_continue)(vi_scene_edit_text(ed), scene ? scene : "<default scene: fig2>",
-                                ckey, cto, csteps, np, L->o[i].t, L->o[i].x, L->o[i].v, N,
-                                json, err, sizeof err);
-      if (r) {
-        fprintf(stderr, "vibroimpact: orbits: --continue: %s\n", err);
-        rc = r;
-        break;
-      }
-    }
-    if (json && !bad) printf("]}\n");
-    vi_scene_edit_destroy(&ed);
-    free(text);
-  } else if (json) {
-    print_json(L);
-  } else {
-    print_text(L, scene ? scene : "the default scene (Fig. 2)");
   }
-fin:
-  for (int i = 0; i < L->count; i++) orbit_free(&L->o[i]);
-  free(L);
-done:
+  if (a->json) printf("]}\n");
+  return rc;
+}
+
+int vi_cmd_orbits_main(int argc, char **argv)
+{
+  oargs a = {1, 1, 0, 720, 0, 50, 0, NULL, NULL, NULL, NAN};
+  a.sets = calloc((size_t)argc + 1, sizeof *a.sets);
+  if (!a.sets) return 1;
+  vi_scene *sc = NULL;
+  vi_model *mdl = NULL;
+  list *L = NULL;
+  int rc = orbits_parse(argc, argv, &a);
+  if (rc < 0) rc = 0;
+  else if (!rc && !(rc = orbits_model(&a, &sc, &mdl)) && !(L = calloc(1, sizeof *L)))
+    rc = 1;
+  if (L) {
+    L->mdl = mdl;
+    L->N = vi_model_n(mdl);
+    L->n = a.np;
+    L->m = a.mi;
+    rc = census(L, sc, a.phases);
+    if (!rc && a.ckey) rc = follow_all(L, sc, &a);
+    else if (!rc && a.json) print_json(L);
+    else if (!rc) print_text(L, a.scene ? a.scene : "the default scene (Fig. 2)");
+    for (int i = 0; i < L->count; i++) orbit_free(&L->o[i]);
+    free(L);
+  }
   vi_model_destroy(&mdl);
   vi_scene_destroy(&sc);
-out:
-  free(sets);
+  free(a.sets);
   if (!rc) { /* a lost table or JSON is an error (> /dev/full) */
     vi_diag od;
     FILE *so = stdout;

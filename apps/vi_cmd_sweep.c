@@ -1,9 +1,14 @@
-/* vi_cmd_sweep.c - `vibroimpact sweep`: brute-force bifurcation diagrams.
+/* vi_cmd_sweep.c - `vibroimpact sweep`: brute-force bifurcation diagrams,
+ * and `vibroimpact basins`: basins of attraction (the same program with
+ * --basins first: every cell from its own initial state).
  *
  *   vibroimpact sweep [SCENE.yaml] --param KEY --from A --to B --steps K
  *       [--down | --both] [--transient P] [--record P] [--json] [-o OUT.h5]
  *       [--param2 KEY --from2 A --to2 B --steps2 K2] [--threads T]
  *       [--chunks C] [--tol TOL] [--nmax N] [--method M] [--set KEY=VALUE]...
+ *   vibroimpact basins [SCENE.yaml] --param KEY --from A --to B --steps K
+ *       --param2 KEY2 --from2 C --to2 D --steps2 K2 [--transient P]
+ *       [--record R] [--json] [-o OUT.h5] [--threads T] ...
  */
 #include <errno.h>
 #include <getopt.h>
@@ -26,12 +31,27 @@
 static volatile sig_atomic_t interrupted;
 static void on_signal(int sig) { interrupted = sig; } /* 128 + sig on exit */
 
-static void usage(FILE *f)
+static void usage(FILE *f, int basins)
 {
+  if (basins) {
+    fprintf(f,
+      "usage: vibroimpact basins [SCENE.yaml] --param KEY --from A --to B --steps K\n"
+      "         --param2 KEY2 --from2 C --to2 D --steps2 K2 [options]\n"
+      "Basins of attraction: every cell of the K x K2 grid of the two keys (initial\n"
+      "conditions such as initial.x[2] and initial.v[2], or any two parameters) is\n"
+      "simulated from its own initial state (no warm start) for P transient and R\n"
+      "recorded forcing periods, classified P(n,m), and its attractor identified\n"
+      "across cells (same orbit, same id; -1: none found).\n\n"
+      "  --transient P, --record R, --threads T, --tol TOL, --nmax N, --method M,\n"
+      "  --set KEY=VALUE, --json, -o FILE, --quiet   as for sweep (--help there)\n"
+      "Plot: /usr/bin/python3 share/plot_basins.py OUT.h5\n");
+    return;
+  }
   fprintf(f,
     "usage: vibroimpact sweep [SCENE.yaml] --param KEY --from A --to B --steps K [options]\n"
-    "Brute-force bifurcation diagram: KEY (any numeric scene key, e.g. forcing.omega,\n"
-    "stop.xs, stop.r, forcing.a[1]) takes K values from A to B; each value starts from\n"
+    "Brute-force bifurcation diagram: KEY (a parameter: forcing.omega, forcing.a[i],\n"
+    "stop.xs, stop.r, stops[k].xs, model.rayleigh.alpha, initial.x[i], ...) takes K\n"
+    "values from A to B, changed on the model built once; each value starts from\n"
     "the state the previous one ended in (warm start), runs P transient and R recorded\n"
     "forcing periods, and is classified P(n,m).\n\n"
     "  --down | --both       sweep B -> A, or both ways (hysteresis)\n"
@@ -48,6 +68,8 @@ static void usage(FILE *f)
     "  --orbits[=K]          also every P(1,1) orbit at each value, stable or not,\n"
     "                        by a scan of K impact phases (default 360; closed-form\n"
     "                        flow needed): the diagram's unstable branches\n"
+    "  --lyapunov            also the largest Lyapunov exponent of each value (over\n"
+    "                        R more periods from its end state; > 0: chaos)\n"
     "  --set KEY=VALUE       override a scene key (repeatable)\n"
     "  --json                print the diagram as one JSON object\n"
     "  -o, --output FILE     write the diagram to HDF5 (share/doc/sweep-layout.md)\n"
@@ -81,7 +103,7 @@ static int inum(const char *opt, const char *s, int lo, int *out)
   return 1;
 }
 
-static void table(const vi_sweep *sw)
+static void table(const vi_diagram *sw)
 {
   const vi_sweep_spec *sp = &sw->spec;
   int K = sp->steps;
@@ -89,13 +111,13 @@ static void table(const vi_sweep *sw)
          "value, %d line%s, %.3f s\n", sp->key, K, sp->transient, sp->record,
          sw->nlines, sw->nlines > 1 ? "s" : "", sw->wall);
   for (int l = 0; l < sw->nlines; l++) {
-    const vi_sweep_line *ln = &sw->lines[l];
+    const vi_diagram_line *ln = &sw->lines[l];
     printf("%s%s", ln->dir > 0 ? "up" : "down", sp->key2 ? "" : "\n");
     if (sp->key2) printf(", %s = %.10g\n", sp->key2, sw->param2[ln->row]);
     printf("  %14s  %-9s  %s\n", sp->key, "motion", "v_n of one period (or the last recorded)");
     for (int p = 0; p < K; p++) {
       int k = ln->dir > 0 ? p : K - 1 - p;
-      const vi_sweep_point *pt = &ln->pt[k];
+      const vi_diagram_point *pt = &ln->pt[k];
       char cls[32];
       if (pt->failed) snprintf(cls, sizeof cls, "failed");
       else if (pt->n) snprintf(cls, sizeof cls, "P(%d,%d)", pt->n, pt->m);
@@ -109,14 +131,18 @@ static void table(const vi_sweep *sw)
   }
 }
 
-int vi_cmd_sweep_main(int argc, char **argv)
-{
-  vi_sweep_spec sp = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0, 1e-6, 32, 0};
-  const char *out = NULL, *scene = NULL;
-  const char **sets = calloc((size_t)argc + 2, sizeof *sets);
+/* The command line, into sp and the rest; 0 to go on, else the exit
+ * status (2: usage, 0: --help). */
+typedef struct args {
+  vi_sweep_spec sp;
+  const char *out, *scene, **sets;
+  int nsets, json, quiet, basins, chunks_set;
   char method_set[64];
-  int nsets = 0, json = 0, quiet = 0, c, rc = 2;
-  if (!sets) return 1;
+  char target[4096]; /* the output's final path (vi_output_check) */
+} args;
+
+static int parse(int argc, char **argv, args *a)
+{
   static const struct option lo[] = {
       {"param", required_argument, 0, 'k'},   {"from", required_argument, 0, 'f'},
       {"to", required_argument, 0, 't'},      {"steps", required_argument, 0, 's'},
@@ -129,162 +155,226 @@ int vi_cmd_sweep_main(int argc, char **argv)
       {"method", required_argument, 0, 'm'},  {"set", required_argument, 0, 'x'},
       {"json", no_argument, 0, 'J'},          {"output", required_argument, 0, 'o'},
       {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
-      {"orbits", optional_argument, 0, 'O'},
+      {"orbits", optional_argument, 0, 'O'},  {"basins", no_argument, 0, 'B'},
+      {"lyapunov", no_argument, 0, 'L'},
       {0, 0, 0, 0}};
+  vi_sweep_spec *sp = &a->sp;
+  int c;
   optind = 1;
   opterr = 0;
   while ((c = getopt_long(argc, argv, "o:", lo, NULL)) != -1) {
+    int ok = 1;
     switch (c) {
-    case 'k': sp.key = optarg; break;
-    case 'f': if (!num("--from", optarg, &sp.from)) goto done; break;
-    case 't': if (!num("--to", optarg, &sp.to)) goto done; break;
-    case 's': if (!inum("--steps", optarg, 1, &sp.steps)) goto done; break;
-    case 'K': sp.key2 = optarg; break;
-    case 'F': if (!num("--from2", optarg, &sp.from2)) goto done; break;
-    case 'T': if (!num("--to2", optarg, &sp.to2)) goto done; break;
-    case 'S': if (!inum("--steps2", optarg, 1, &sp.steps2)) goto done; break;
-    case 'd': sp.dirs = 2; break;
-    case 'b': sp.dirs = 3; break;
-    case 'p': if (!inum("--transient", optarg, 0, &sp.transient)) goto done; break;
-    case 'r': if (!inum("--record", optarg, 2, &sp.record)) goto done; break;
-    case 'j': if (!inum("--threads", optarg, 1, &sp.threads)) goto done; break;
-    case 'c': if (!inum("--chunks", optarg, 1, &sp.chunks)) goto done; break;
-    case 'e':
-      if (!num("--tol", optarg, &sp.tol)) goto done;
-      if (!(sp.tol > 0)) { fprintf(stderr, "vibroimpact: sweep: --tol must be > 0\n"); goto done; }
-      break;
-    case 'n': if (!inum("--nmax", optarg, 1, &sp.nmax)) goto done; break;
+    case 'k': sp->key = optarg; break;
+    case 'f': ok = num("--from", optarg, &sp->from); break;
+    case 't': ok = num("--to", optarg, &sp->to); break;
+    case 's': ok = inum("--steps", optarg, 1, &sp->steps); break;
+    case 'K': sp->key2 = optarg; break;
+    case 'F': ok = num("--from2", optarg, &sp->from2); break;
+    case 'T': ok = num("--to2", optarg, &sp->to2); break;
+    case 'S': ok = inum("--steps2", optarg, 1, &sp->steps2); break;
+    case 'd': sp->dirs = 2; break;
+    case 'b': sp->dirs = 3; break;
+    case 'p': ok = inum("--transient", optarg, 0, &sp->transient); break;
+    case 'r': ok = inum("--record", optarg, 2, &sp->record); break;
+    case 'j': ok = inum("--threads", optarg, 1, &sp->threads); break;
+    case 'c': ok = inum("--chunks", optarg, 1, &sp->chunks); a->chunks_set = 1; break;
+    case 'e': ok = num("--tol", optarg, &sp->tol) && sp->tol > 0; break;
+    case 'n': ok = inum("--nmax", optarg, 1, &sp->nmax); break;
     case 'm':
-      if (vi_method_from_name(optarg) < 0) {
-        fprintf(stderr, "vibroimpact: sweep: --method: '%s' is not adams, bdf, "
-                "exact, auto or erk\n", optarg);
-        goto done;
-      }
-      snprintf(method_set, sizeof method_set, "run.method=%s", optarg);
-      sets[nsets++] = method_set;
+      ok = vi_method_from_name(optarg) >= 0;
+      if (!ok) fprintf(stderr, "vibroimpact: sweep: --method: '%s' is not adams, "
+                       "bdf, exact, auto or erk\n", optarg);
+      snprintf(a->method_set, sizeof a->method_set, "run.method=%s", optarg);
+      a->sets[a->nsets++] = a->method_set;
       break;
-    case 'x': sets[nsets++] = optarg; break;
-    case 'J': json = 1; break;
-    case 'o': out = optarg; break;
-    case 'q': quiet = 1; break;
+    case 'x': a->sets[a->nsets++] = optarg; break;
+    case 'J': a->json = 1; break;
+    case 'o': a->out = optarg; break;
+    case 'q': a->quiet = 1; break;
     case 'O':
-      sp.orbits = 360;
-      if (optarg && !inum("--orbits", optarg, 8, &sp.orbits)) goto done;
+      sp->orbits = 360;
+      if (optarg) ok = inum("--orbits", optarg, 8, &sp->orbits);
       break;
-    case 'h': usage(stdout); rc = 0; goto done;
+    case 'B': a->basins = 1; break;
+    case 'L': sp->lyapunov = 1; break;
+    case 'h': usage(stdout, a->basins); return -1;
     default:
       fprintf(stderr, "vibroimpact: sweep: unknown or incomplete option '%s'\n",
               argv[optind - 1]);
-      usage(stderr);
-      goto done;
+      usage(stderr, a->basins);
+      return 2;
+    }
+    if (!ok) {
+      if (c == 'e') fprintf(stderr, "vibroimpact: sweep: --tol must be > 0\n");
+      return 2;
     }
   }
-  if (optind < argc) scene = argv[optind++];
+  if (optind < argc) a->scene = argv[optind++];
   if (optind < argc) {
     fprintf(stderr, "vibroimpact: sweep: unexpected argument '%s'\n", argv[optind]);
-    goto done;
+    return 2;
   }
-  if (!sp.key || isnan(sp.from) || isnan(sp.to) || !sp.steps) {
-    fprintf(stderr, "vibroimpact: sweep needs --param KEY --from A --to B --steps K\n");
-    goto done;
+  return 0;
+}
+
+/* What the arguments must hold together; 0 or the exit status 2. */
+static int check(args *a)
+{
+  vi_sweep_spec *sp = &a->sp;
+  const char *cmd = a->basins ? "basins" : "sweep";
+  if (!sp->key || isnan(sp->from) || isnan(sp->to) || !sp->steps) {
+    fprintf(stderr, "vibroimpact: %s needs --param KEY --from A --to B --steps K\n", cmd);
+    return 2;
   }
-  if (sp.key2 && (isnan(sp.from2) || isnan(sp.to2))) {
-    fprintf(stderr, "vibroimpact: sweep: --param2 needs --from2, --to2 and --steps2\n");
-    goto done;
+  if ((sp->key2 || a->basins) && (!sp->key2 || isnan(sp->from2) || isnan(sp->to2) ||
+                                  !sp->steps2)) {
+    fprintf(stderr, "vibroimpact: %s: --param2 needs --from2, --to2 and --steps2\n", cmd);
+    return 2;
   }
-  if (!sp.key2) sp.steps2 = 1;
-  char err[2048];
+  if (a->basins && (sp->dirs != 1 || sp->orbits)) {
+    fprintf(stderr, "vibroimpact: basins: --down, --both and --orbits are for sweep\n");
+    return 2;
+  }
+  if (!sp->key2) sp->steps2 = 1;
+  if (a->basins) { /* cells are independent: as many pieces as values */
+    sp->cold = 1;
+    if (!a->chunks_set) sp->chunks = sp->steps;
+  }
   /* the one output path (vi_output.h): checked before the sweep, the
    * links followed, devices, FIFOs, directories, a planted .part link and
    * the scene itself refused */
-  char target[4096];
-  if (out) {
+  if (a->out) {
     vi_diag od;
-    int ost = vi_output_check(out, VI_OUTPUT_REGULAR, scene, target,
-                              (int)sizeof target, NULL, &od);
+    int ost = vi_output_check(a->out, VI_OUTPUT_REGULAR, a->scene, a->target,
+                              (int)sizeof a->target, NULL, &od);
     if (ost) {
-      fprintf(stderr, "vibroimpact: sweep: %s\n", od.message);
-      rc = ost == VI_ERR_ARG ? 2 : 1;
-      goto done;
+      fprintf(stderr, "vibroimpact: %s: %s\n", cmd, od.message);
+      return ost == VI_ERR_ARG ? 2 : 1;
     }
-    out = target;
+    a->out = a->target;
   }
-  char *text = vi_sweep_read_text(scene, err, sizeof err);
-  if (!text) {
+  return 0;
+}
+
+/* MPI when started by mpirun (a plain run never touches MPI): ranks on one
+ * machine share its cores, so without --threads each takes its share. */
+static int mpi_start(vi_sweep_spec *sp)
+{
+  int mpi = 0;
+#ifdef VI_HAVE_MPI
+  mpi = getenv("OMPI_COMM_WORLD_SIZE") != NULL;
+  if (mpi) MPI_Init(NULL, NULL);
+  const char *local = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  int nlocal = local ? (int)strtol(local, NULL, 10) : 0;
+  if (mpi && sp->threads <= 0 && nlocal > 1) {
+#ifdef _OPENMP
+    sp->threads = omp_get_num_procs() / nlocal;
+#endif
+    if (sp->threads < 1) sp->threads = 1;
+  }
+#else
+  (void)sp;
+#endif
+  return mpi;
+}
+
+static int mpi_rank(int mpi)
+{
+  int rank = 0;
+#ifdef VI_HAVE_MPI
+  if (mpi) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+#else
+  (void)mpi;
+#endif
+  return rank;
+}
+
+/* Every rank leaves with rank 0's status. */
+static int mpi_finish(int mpi, int rc)
+{
+#ifdef VI_HAVE_MPI
+  if (mpi) {
+    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Finalize();
+  }
+#else
+  (void)mpi;
+#endif
+  return rc;
+}
+
+/* Rank 0: warnings, then the file, JSON or table.  The exit status. */
+static int report(const args *a, vi_diagram *sw)
+{
+  char err[2048];
+  const char *cmd = a->basins ? "basins" : "sweep";
+  for (int l = 0; l < sw->nlines; l++)
+    for (int k = 0; k < a->sp.steps; k++)
+      if (sw->lines[l].pt[k].failed)
+        fprintf(stderr, "vibroimpact: %s: warning: %s (marked failed; the "
+                "next value starts from the scene's initial state)\n", cmd,
+                sw->lines[l].pt[k].error ? sw->lines[l].pt[k].error : "");
+  if (a->basins && vi_basins_identify(sw)) {
+    fprintf(stderr, "vibroimpact: basins: out of memory\n");
+    return 1;
+  }
+  if (a->out && vi_sweep_write_h5(sw, a->out, err, sizeof err)) {
+    fprintf(stderr, "vibroimpact: %s: %s\n", cmd, err);
+    return 1;
+  }
+  if (a->json && a->basins) vi_basins_print_json(sw, stdout);
+  else if (a->json) vi_sweep_print_json(sw, stdout);
+  else if (!a->quiet) {
+    if (a->basins) vi_basins_table(sw, stdout);
+    else table(sw);
+    if (a->out) printf("%s written to %s\n", a->basins ? "basins" : "diagram", a->out);
+  }
+  vi_diag od; /* a lost table or JSON is an error (> /dev/full) */
+  FILE *so = stdout;
+  if (vi_output_close(&so, "-", VI_OUTPUT_STDOUT, &od)) {
+    fprintf(stderr, "vibroimpact: %s: %s\n", cmd, od.message);
+    return 1;
+  }
+  return 0;
+}
+
+int vi_cmd_sweep_main(int argc, char **argv)
+{
+  args a;
+  memset(&a, 0, sizeof a);
+  vi_sweep_spec sp0 = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0,
+                       1e-6, 32, 0, 0, 0};
+  a.sp = sp0;
+  a.sets = calloc((size_t)argc + 2, sizeof *a.sets);
+  if (!a.sets) return 1;
+  int rc = parse(argc, argv, &a);
+  if (!rc) rc = check(&a);
+  char err[2048];
+  char *text = rc ? NULL : vi_sweep_read_text(a.scene, err, sizeof err);
+  if (!rc && !text) {
     fprintf(stderr, "vibroimpact: %s\n", err);
     rc = 1;
-    goto done;
+  }
+  if (rc) {
+    free(a.sets);
+    return rc < 0 ? 0 : rc;
   }
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, NULL);
   sigaction(SIGTERM, &sa, NULL);
-  vi_sweep *sw = NULL;
-#ifdef VI_HAVE_MPI
-  /* only when started by mpirun: a plain run never touches MPI */
-  int mpi = getenv("OMPI_COMM_WORLD_SIZE") != NULL;
-  if (mpi) MPI_Init(NULL, NULL);
-  /* ranks on one machine share its cores: without --threads, each takes
-   * its share rather than all of them */
-  const char *local = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
-  int nlocal = local ? (int)strtol(local, NULL, 10) : 0;
-  if (mpi && sp.threads <= 0 && nlocal > 1) {
-#ifdef _OPENMP
-    sp.threads = omp_get_num_procs() / nlocal;
-#endif
-    if (sp.threads < 1) sp.threads = 1;
-  }
-#endif
-  rc = vi_sweep_run(text, scene ? scene : "<default scene: fig2>", sets, nsets,
-                    &sp, &interrupted, &sw, err, sizeof err);
+  vi_diagram *sw = NULL;
+  int mpi = mpi_start(&a.sp);
+  rc = vi_sweep_run(text, a.scene ? a.scene : "<default scene: fig2>", a.sets,
+                    a.nsets, &a.sp, &interrupted, &sw, err, sizeof err);
   free(text);
-  if (rc) {
-    int rank = 0;
-#ifdef VI_HAVE_MPI
-    if (mpi) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-#endif
-    if (!rank) fprintf(stderr, "vibroimpact: sweep: %s\n", err); /* once */
-    goto finish;
-  }
-  if (sw->rank) { /* rank 0 reports and writes */
-    vi_sweep_free(&sw);
-    goto finish;
-  }
-  for (int l = 0; l < sw->nlines; l++)
-    for (int k = 0; k < sp.steps; k++)
-      if (sw->lines[l].pt[k].failed)
-        fprintf(stderr, "vibroimpact: sweep: warning: %s (marked failed; the "
-                "next value starts from the scene's initial state)\n",
-                sw->lines[l].pt[k].error ? sw->lines[l].pt[k].error : "");
-  if (out && vi_sweep_write_h5(sw, out, err, sizeof err)) {
-    fprintf(stderr, "vibroimpact: sweep: %s\n", err);
-    rc = 1;
-  } else if (json) {
-    vi_sweep_print_json(sw, stdout);
-  } else if (!quiet) {
-    table(sw);
-    if (out) printf("diagram written to %s\n", out);
-  }
+  if (rc && !mpi_rank(mpi)) /* once */
+    fprintf(stderr, "vibroimpact: %s: %s\n", a.basins ? "basins" : "sweep", err);
+  if (!rc && !sw->rank) rc = report(&a, sw); /* rank 0 reports and writes */
   vi_sweep_free(&sw);
-  if (!rc) { /* a lost table or JSON is an error (> /dev/full) */
-    vi_diag od;
-    FILE *so = stdout;
-    if (vi_output_close(&so, "-", VI_OUTPUT_STDOUT, &od)) {
-      fprintf(stderr, "vibroimpact: sweep: %s\n", od.message);
-      rc = 1;
-    }
-  }
-finish:
+  free(a.sets);
   if (interrupted) rc = 128 + (int)interrupted; /* 130 SIGINT, 143 SIGTERM */
-#ifdef VI_HAVE_MPI
-  if (mpi) {
-    /* every rank leaves with rank 0's status */
-    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    MPI_Finalize();
-  }
-#endif
-done:
-  free(sets);
-  return rc;
+  return mpi_finish(mpi, rc);
 }

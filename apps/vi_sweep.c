@@ -17,6 +17,7 @@
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
+#include "vibroimpact/vi_scene_param.h"
 #include "vi_sweep.h"
 
 static double now(void)
@@ -48,263 +49,151 @@ static void diag_msg(const vi_diag *d, int st, char *err, int len)
 
 /* ---- one piece: consecutive values with warm start ---------------------- */
 typedef struct piece {
-  const vi_sweep *sw;
-  vi_sweep_line *ln;
+  const vi_diagram *sw;
+  vi_diagram_line *ln;
   int pos0, pos1; /* positions in the line's sweep order */
   volatile sig_atomic_t *cancel;
-  /* current value */
-  vi_sweep_point *pt;
-  double t_rec;
-  int oom;
   int code; /* 0, 1 run-time, 2 input */
   char err[1400];
 } piece;
-
-static int on_event(const vi_event *ev, void *user)
-{
-  piece *p = user;
-  vi_sweep_point *pt = p->pt;
-  if (ev->kind != VI_EVENT_IMPACT || ev->t < p->t_rec) return 0;
-  if ((pt->nimp & (pt->nimp - 1)) == 0 && pt->nimp >= 16) { /* grow x2 */
-    size_t cap = 2 * (size_t)pt->nimp;
-    double *t = realloc(pt->t, cap * sizeof *t);
-    if (t) pt->t = t;
-    double *ph = t ? realloc(pt->phase, cap * sizeof *ph) : NULL;
-    if (ph) pt->phase = ph;
-    double *vn = ph ? realloc(pt->vn, cap * sizeof *vn) : NULL;
-    if (!vn) {
-      p->oom = 1;
-      return 1;
-    }
-    pt->vn = vn;
-  } else if (pt->nimp == 0) {
-    pt->t = malloc(16 * sizeof(double));
-    pt->phase = malloc(16 * sizeof(double));
-    pt->vn = malloc(16 * sizeof(double));
-    if (!pt->t || !pt->phase || !pt->vn) {
-      p->oom = 1;
-      return 1;
-    }
-  }
-  pt->t[pt->nimp] = ev->t;
-  pt->phase[pt->nimp] = fmod(ev->t, pt->T);
-  pt->vn[pt->nimp] = ev->vn;
-  pt->nimp++;
-  return 0;
-}
 
 static int on_cancel(void *user)
 {
   return *(volatile sig_atomic_t *)user != 0;
 }
 
-/* Smallest n <= nmax with z[k + n] = z[k] (to tol relative) for every k of
- * the recorded states z[0..R]; m = impacts in the last n periods. */
-static void classify(const vi_sweep *sw, vi_sweep_point *pt, const double *z,
-                     double xs, double t_end)
+/* The scene's run settings and springs on each simulation of the study. */
+static int scene_hook(vi_sim *sim, void *user)
 {
-  int R = sw->spec.record, n2 = 2 * sw->N;
-  double scale = fabs(xs);
-  for (size_t i = 0; i < (size_t)(R + 1) * n2; i++) scale = fmax(scale, fabs(z[i]));
-  double tol = sw->spec.tol * scale;
-  pt->n = pt->m = 0;
-  for (int n = 1; n <= sw->spec.nmax && n <= R; n++) {
-    int ok = 1;
-    for (int k = 0; ok && k + n <= R; k++)
-      for (int i = 0; ok && i < n2; i++)
-        ok = fabs(z[(size_t)(k + n) * n2 + i] - z[(size_t)k * n2 + i]) <= tol;
-    if (!ok) continue;
-    int m = 0;
-    double t1 = t_end - n * pt->T - 1e-9 * pt->T;
-    for (int64_t j = 0; j < pt->nimp; j++) m += pt->t[j] >= t1;
-    pt->n = n;
-    pt->m = m;
-    return;
-  }
+  return vi_scene_configure_sim(user, sim, NULL);
 }
 
-/* Every P(1,1) orbit at this value (vi_orbit_pnm.c): for the diagram's
- * unstable branches.  No closed-form flow: norb = -1. */
-static int p11_orbits(const vi_model *m, int nphase, vi_sweep_point *pt)
+/* Copy the study's last point into the diagram's point k. */
+static int keep_point(const vi_sweep *st, const vi_diagram *sw,
+                      vi_diagram_line *ln, int k)
 {
-  enum { CAP = 16 };
-  int n = vi_model_n(m), found = 0, st;
-  const double *w = vi_model_stop_vector(m);
-  double *buf = malloc(sizeof(double) * ((size_t)CAP * (2 * n + 1) + 4 * (size_t)n));
-  if (!buf) return VI_ERR_NOMEM;
-  double *t = buf, *x = t + CAP, *v = x + (size_t)CAP * n, *re = v + (size_t)CAP * n,
-         *im = re + 2 * n;
-  st = vi_orbit_p1_scan(m, 1, nphase, t, x, v, n, CAP, &found);
-  if (st == VI_ERR_UNSUPPORTED) {
-    pt->norb = -1;
-    free(buf);
-    return VI_OK;
+  vi_diagram_point *pt = &ln->pt[k];
+  int ld, R;
+  const double *t, *ph, *vn, *z = vi_sweep_strobe(st, &ld, &R);
+  vi_sweep_period(st, &pt->n, &pt->m);
+  vi_sweep_impacts(st, &pt->nimp, &t, &ph, &vn);
+  pt->lyap = vi_sweep_lyapunov(st);
+  pt->T = vi_sweep_forcing_period(st);
+  if (z) memcpy(ln->strobe + (size_t)k * R * ld, z, sizeof(double) * R * ld);
+  if (pt->nimp) {
+    size_t b = sizeof(double) * (size_t)pt->nimp;
+    pt->t = malloc(b);
+    pt->phase = malloc(b);
+    pt->vn = malloc(b);
+    if (!pt->t || !pt->phase || !pt->vn) return 1;
+    memcpy(pt->t, t, b);
+    memcpy(pt->phase, ph, b);
+    memcpy(pt->vn, vn, b);
   }
-  if (found > CAP) found = CAP;
-  pt->norb = 0;
-  if (!st && found) {
-    pt->ovn = malloc(sizeof(double) * found);
-    pt->ophase = malloc(sizeof(double) * found);
-    pt->ostable = malloc(sizeof(int) * found);
-    pt->oadm = malloc(sizeof(int) * found);
-    if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) st = VI_ERR_NOMEM;
+  if (sw->spec.orbits <= 0) return 0;
+  const double *ov, *op;
+  const int *os, *oa;
+  vi_sweep_orbits(st, &pt->norb, &ov, &op, &os, &oa);
+  if (pt->norb <= 0) return 0;
+  size_t no = (size_t)pt->norb;
+  pt->ovn = malloc(sizeof(double) * no);
+  pt->ophase = malloc(sizeof(double) * no);
+  pt->ostable = malloc(sizeof(int) * no);
+  pt->oadm = malloc(sizeof(int) * no);
+  if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) return 1;
+  memcpy(pt->ovn, ov, sizeof(double) * no);
+  memcpy(pt->ophase, op, sizeof(double) * no);
+  memcpy(pt->ostable, os, sizeof(int) * no);
+  memcpy(pt->oadm, oa, sizeof(int) * no);
+  return 0;
+}
+
+/* A study of the diagram's model with the scene's settings. */
+static int make_study(const vi_diagram *sw, vi_sweep **out, char *err, int len)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  double t0;
+  int n = sw->N;
+  double *x = malloc(sizeof(double) * 2 * (size_t)n);
+  vi_sim *s = NULL;
+  if (!x || vi_sweep_create(sw->model, out) || !*out) {
+    free(x);
+    msg(err, len, "out of memory");
+    return 1;
   }
-  for (int i = 0; !st && i < found; i++) {
-    const double *xi = x + (size_t)i * n, *vi = v + (size_t)i * n;
-    int ok = 0;
-    double rho = 0, vn = 0;
-    if (vi_orbit_pnm_admissible(m, 1, 1, &t[i], xi, vi, n, NULL, &ok) ||
-        vi_orbit_pnm_multipliers(m, 1, 1, &t[i], xi, vi, n, re, im))
-      continue;
-    for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
-    for (int j = 0; j < n; j++) vn += w[j] * vi[j];
-    pt->ovn[pt->norb] = vn;
-    pt->ophase[pt->norb] = fmod(t[i], pt->T);
-    pt->ostable[pt->norb] = rho < 1.0;
-    pt->oadm[pt->norb] = ok;
-    pt->norb++;
-  }
-  free(buf);
-  return st;
+  /* the initial state the scene gives its model (projected onto the modes
+   * of a finite-element scene), read back from a sim it configured */
+  int st = vi_sim_create(sw->model, &s);
+  if (!st) st = vi_scene_configure_sim(sw->sc, s, NULL);
+  if (!st) st = vi_sim_state(s, &t0, x, x + n);
+  vi_sim_destroy(&s);
+  if (!st) st = vi_sweep_set_initial(*out, t0, x, x + n);
+  free(x);
+  if (!st) st = vi_sweep_set_periods(*out, sp->transient, sp->record);
+  if (!st) st = vi_sweep_set_classify(*out, sp->tol, sp->nmax);
+  if (!st) st = vi_sweep_set_orbits(*out, sp->orbits);
+  if (!st) st = vi_sweep_set_warm(*out, sw->warm);
+  if (!st) st = vi_sweep_set_lyapunov(*out, sp->lyapunov);
+  if (!st) st = vi_sweep_set_run(*out, vi_scene_method(sw->sc), vi_scene_rtol(sw->sc),
+                                 vi_scene_atol(sw->sc));
+  if (!st) st = vi_sweep_set_sim_hook(*out, scene_hook, (void *)sw->sc, NULL);
+  if (st) msg(err, len, "%s", vi_sweep_errmsg(*out));
+  return st ? 2 : 0;
 }
 
 static void run_piece(piece *p)
 {
-  const vi_sweep *sw = p->sw;
-  vi_sweep_line *ln = p->ln;
-  int K = sw->spec.steps, N = sw->N, R = sw->spec.record, st;
-  vi_scene_edit *ed = NULL;
-  vi_scene *sc = NULL;
-  vi_model *m = NULL;
-  vi_sim *s = NULL;
-  vi_diag d;
-  double *buf = malloc(sizeof(double) * ((size_t)(R + 1) * 2 * N + 2 * N));
-  int have_state = 0;
-  if (!buf) {
-    p->code = 1;
-    msg(p->err, sizeof p->err, "out of memory");
-    return;
-  }
-  double *z = buf, *x = z + (size_t)(R + 1) * 2 * N, *v = x + N;
-  memset(&d, 0, sizeof d);
-  if ((st = vi_scene_edit_create(sw->text, -1, sw->name, &ed, &d)) ||
-      (sw->spec.key2 &&
-       (st = vi_scene_edit_set_number(ed, sw->spec.key2, sw->param2[ln->row], &d)))) {
+  const vi_diagram *sw = p->sw;
+  vi_diagram_line *ln = p->ln;
+  int K = sw->spec.steps, st;
+  vi_sweep *study = NULL;
+  if ((p->code = make_study(sw, &study, p->err, sizeof p->err)) || !study) goto done;
+  if (p->cancel) vi_sweep_set_cancel(study, on_cancel, (void *)p->cancel, NULL);
+  if (sw->spec.key2 && vi_sweep_set_param(study, sw->pkey2, sw->param2[ln->row])) {
     p->code = 2;
-    diag_msg(&d, st, p->err, sizeof p->err);
+    msg(p->err, sizeof p->err, "%s: %s", sw->name, vi_sweep_errmsg(study));
     goto done;
   }
   for (int pos = p->pos0; pos < p->pos1; pos++) {
     int k = ln->dir > 0 ? pos : K - 1 - pos;
     double val = sw->param[k];
-    vi_sweep_point *pt = &ln->pt[k];
-    p->pt = pt;
-    if ((st = vi_scene_edit_set_number(ed, sw->spec.key, val, &d)) ||
-        (st = vi_scene_edit_parse(ed, &sc, &d)) ||
-        (st = vi_scene_create_model(sc, &m, &d))) {
+    if (vi_sweep_set_param(study, sw->pkey, val)) {
       p->code = 2;
-      diag_msg(&d, st, p->err, sizeof p->err);
+      msg(p->err, sizeof p->err, "%s: %s", sw->name, vi_sweep_errmsg(study));
       goto done;
     }
-    double omega = vi_model_omega_forcing(m);
-    if (!(omega > 0)) {
-      p->code = 2;
-      msg(p->err, sizeof p->err, "%s = %.17g: the scene has no harmonic "
-          "forcing, so no forcing period to sample", sw->spec.key, val);
-      goto done;
-    }
-    pt->T = 2 * M_PI / omega;
-    if (sw->spec.orbits > 0 && (st = p11_orbits(m, sw->spec.orbits, pt))) {
+    st = vi_sweep_iterate(study);
+    if (st == VI_CANCELLED || st == VI_STOPPED || st == VI_ERR_NOMEM) {
       p->code = 1;
-      msg(p->err, sizeof p->err, "%s = %.17g: P(1,1) orbits: %s", sw->spec.key,
-          val, vi_strerror(st));
-      goto done;
-    }
-    if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
-      p->code = 2;
       if (st == VI_ERR_NOMEM) msg(p->err, sizeof p->err, "out of memory");
-      else diag_msg(&d, st, p->err, sizeof p->err);
+      else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
       goto done;
     }
-    if (have_state) {
-      /* the stop may have moved past the carried state: put it back on the
-       * stop along w (positions only), the smallest change that is legal */
-      const double *w = vi_model_stop_vector(m);
-      double xs = vi_model_clearance(m), gx = 0, ww = 0;
-      for (int i = 0; i < N; i++) {
-        gx += w[i] * x[i];
-        ww += w[i] * w[i];
-      }
-      if (gx > xs) {
-        double sft = (gx - xs + 1e-14 * fmax(1.0, fabs(xs))) / ww;
-        for (int i = 0; i < N; i++) x[i] -= sft * w[i];
-      }
-      if ((st = vi_sim_set_initial(s, sw->t0, x, v))) {
-        p->code = 1;
-        msg(p->err, sizeof p->err, "%s = %.17g: warm start: %s", sw->spec.key,
-            val, vi_sim_errmsg(s));
-        goto done;
-      }
-    }
-    vi_sim_set_event_callback(s, on_event, p, NULL);
-    if (p->cancel) vi_sim_set_cancel(s, on_cancel, (void *)p->cancel, NULL);
-    double t0 = sw->t0, T = pt->T;
-    p->t_rec = t0 + sw->spec.transient * T;
-    st = sw->spec.transient > 0 ? vi_sim_run(s, p->t_rec) : VI_OK;
-    if (!st) vi_sim_state(s, NULL, z, z + N);
-    for (int j = 1; j <= R && !st; j++) {
-      st = vi_sim_run(s, t0 + (sw->spec.transient + j) * T);
-      if (!st) {
-        double *zz = z + (size_t)j * 2 * N;
-        vi_sim_state(s, NULL, zz, zz + N);
-        memcpy(ln->strobe + ((size_t)k * R + (j - 1)) * 2 * N, zz,
-               sizeof(double) * 2 * N);
-      }
-    }
-    if (st && (p->oom || st == VI_CANCELLED || st == VI_STOPPED)) {
+    if (keep_point(study, sw, ln, k)) {
       p->code = 1;
-      if (p->oom) msg(p->err, sizeof p->err, "out of memory");
-      else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
+      msg(p->err, sizeof p->err, "out of memory");
       goto done;
     }
     if (st) {
       /* one value's failure does not sink the diagram: it is marked, and
        * the next value starts cold (from the scene's initial state) */
       char e[1400];
-      msg(e, sizeof e, "%s = %.17g: %s: %s", sw->spec.key, val,
-          vi_strerror(st), vi_sim_errmsg(s));
-      pt->failed = 1;
-      pt->n = pt->m = 0;
-      pt->error = strdup(e);
-      have_state = 0;
-      vi_sim_destroy(&s);
-      vi_model_destroy(&m);
-      vi_scene_destroy(&sc);
-      continue;
+      msg(e, sizeof e, "%s = %.17g: %s", sw->spec.key, val, vi_sweep_errmsg(study));
+      ln->pt[k].failed = 1;
+      ln->pt[k].error = strdup(e);
     }
-    classify(sw, pt, z, vi_model_clearance(m),
-             t0 + (sw->spec.transient + R) * T);
-    vi_sim_state(s, NULL, x, v);
-    have_state = 1;
-    vi_sim_destroy(&s);
-    vi_model_destroy(&m);
-    vi_scene_destroy(&sc);
   }
 done:
-  vi_sim_destroy(&s);
-  vi_model_destroy(&m);
-  vi_scene_destroy(&sc);
-  vi_scene_edit_destroy(&ed);
-  free(buf);
+  vi_sweep_destroy(&study);
 }
 
 /* ---- the whole sweep ------------------------------------------------------ */
-void vi_sweep_free(vi_sweep **swp)
+void vi_sweep_free(vi_diagram **swp)
 {
   if (!swp || !*swp) return;
-  vi_sweep *sw = *swp;
+  vi_diagram *sw = *swp;
   for (int l = 0; l < sw->nlines && sw->lines; l++) {
-    vi_sweep_line *ln = &sw->lines[l];
+    vi_diagram_line *ln = &sw->lines[l];
     for (int k = 0; k < sw->spec.steps && ln->pt; k++) {
       free(ln->pt[k].t);
       free(ln->pt[k].phase);
@@ -324,14 +213,18 @@ void vi_sweep_free(vi_sweep **swp)
   free(sw->piece_cpu);
   free(sw->text);
   free(sw->name);
+  free(sw->attractor);
+  vi_model_destroy(&sw->model);
+  vi_scene_destroy(&sw->sc);
   free(sw);
   *swp = NULL;
 }
 
-/* Set the key to a value and build the model: catches an unknown key or a
- * bad value before any simulation. */
-static int trial(const vi_sweep *sw, const char *key, double val, char *err,
-                 int len)
+/* The key at a value: the scene text (its ranges, with file:line) and the
+ * model's parameter (vi_param.h) on a copy; catches an unknown key or a bad
+ * value before any simulation.  *pkey [64] receives the parameter key. */
+static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
+                 char *err, int len)
 {
   vi_scene_edit *ed = NULL;
   vi_scene *sc = NULL;
@@ -341,8 +234,13 @@ static int trial(const vi_sweep *sw, const char *key, double val, char *err,
   int st = vi_scene_edit_create(sw->text, -1, sw->name, &ed, &d);
   if (!st) st = vi_scene_edit_set_number(ed, key, val, &d);
   if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
-  if (!st) st = vi_scene_create_model(sc, &m, &d);
+  if (!st) st = vi_scene_param_key(sw->sc, key, pkey, 64, &d);
   if (st) diag_msg(&d, st, err, len);
+  else if ((st = vi_model_copy(sw->model, &m)))
+    msg(err, len, "out of memory");
+  else if (vi_param_kind(pkey) == VI_PARAM_MODEL &&
+           (st = vi_model_set_param(m, pkey, val)))
+    msg(err, len, "%s: %s", sw->name, vi_model_errmsg(m));
   else if (!(vi_model_omega_forcing(m) > 0)) {
     st = VI_ERR_FREQUENCY;
     msg(err, len, "%s: %s = %.17g leaves no harmonic forcing (forcing.omega "
@@ -372,16 +270,17 @@ static void put_bytes(pbuf *p, const void *x, size_t k)
   p->len += k;
 }
 
-static void pack_piece(const vi_sweep *sw, const piece *pc, pbuf *p)
+static void pack_piece(const vi_diagram *sw, const piece *pc, pbuf *p)
 {
   int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
   for (int pos = pc->pos0; pos < pc->pos1; pos++) {
     int k = pc->ln->dir > 0 ? pos : K - 1 - pos;
-    const vi_sweep_point *pt = &pc->ln->pt[k];
+    const vi_diagram_point *pt = &pc->ln->pt[k];
     int hdr[3] = {pt->n, pt->m, pt->failed};
     int64_t ni = pt->nimp, el = pt->error ? (int64_t)strlen(pt->error) : -1;
     put_bytes(p, hdr, sizeof hdr);
     put_bytes(p, &pt->T, sizeof pt->T);
+    put_bytes(p, &pt->lyap, sizeof pt->lyap);
     put_bytes(p, &ni, sizeof ni);
     if (ni) {
       put_bytes(p, pt->t, sizeof(double) * ni);
@@ -401,20 +300,21 @@ static void pack_piece(const vi_sweep *sw, const piece *pc, pbuf *p)
   }
 }
 
-static int unpack_piece(const vi_sweep *sw, const piece *pc, const char *b,
+static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
                         size_t len, size_t *off)
 {
   int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
 #define TAKE(dst, k) do { if (*off + (k) > len) return 1; memcpy((dst), b + *off, (k)); *off += (k); } while (0)
   for (int pos = pc->pos0; pos < pc->pos1; pos++) {
     int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[3];
-    vi_sweep_point *pt = &pc->ln->pt[k];
+    vi_diagram_point *pt = &pc->ln->pt[k];
     int64_t ni, el;
     TAKE(hdr, sizeof hdr);
     pt->n = hdr[0];
     pt->m = hdr[1];
     pt->failed = hdr[2];
     TAKE(&pt->T, sizeof pt->T);
+    TAKE(&pt->lyap, sizeof pt->lyap);
     TAKE(&ni, sizeof ni);
     pt->nimp = ni;
     if (ni) {
@@ -453,7 +353,7 @@ static int unpack_piece(const vi_sweep *sw, const piece *pc, const char *b,
 
 /* Every rank's code is agreed on first (an error anywhere fails the sweep
  * everywhere); then ranks 1.. send their pieces' results to rank 0. */
-static int vi_sweep_gather(vi_sweep *sw, piece *ps, int ntask, int rank,
+static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
                            int size, int code, char *err, int errlen)
 {
   int all = 0;
@@ -497,51 +397,38 @@ static int vi_sweep_gather(vi_sweep *sw, piece *ps, int ntask, int rank,
 }
 #endif
 
-int vi_sweep_run(const char *text, const char *name, const char *const *sets,
-                 int nsets, const vi_sweep_spec *spec,
-                 volatile sig_atomic_t *cancel, vi_sweep **out, char *err,
-                 int errlen)
+/* The base scene (text with the --set assignments), its model built
+ * once, the values, and the keys tried at both ends.  0, 1 (memory), 2
+ * (input) with err. */
+static int prepare(vi_diagram *sw, const char *text, const char *name,
+                   const char *const *sets, int nsets, char *err, int errlen)
 {
-  double w0 = now();
-  *out = NULL;
-  err[0] = '\0';
-  const vi_sweep_spec *sp = spec;
-  if (!sp->key || sp->steps < 1 || sp->record < 2 || sp->transient < 0 ||
-      sp->chunks < 1 || sp->dirs < 1 || sp->dirs > 3 || !(sp->tol > 0) ||
-      sp->nmax < 1 || (sp->key2 && sp->steps2 < 1)) {
-    msg(err, errlen, "sweep: need --param, --steps >= 1, --record >= 2, "
-        "--transient >= 0, --chunks >= 1, --tol > 0");
-    return 2;
-  }
-  vi_sweep *sw = calloc(1, sizeof *sw);
-  if (!sw) goto oom;
-  sw->spec = *sp;
-  if (!sw->spec.key2) sw->spec.steps2 = 1;
-  int K = sw->spec.steps, rows = sw->spec.steps2;
-  if (sw->spec.chunks > K) sw->spec.chunks = K;
-  /* the base text: the scene with the --set assignments */
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, rows = sp->steps2;
   vi_scene_edit *ed = NULL;
-  vi_scene *sc = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
   int st = vi_scene_edit_create(text, -1, name, &ed, &d);
   for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
-  if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
+  if (!st) st = vi_scene_edit_parse(ed, &sw->sc, &d);
+  if (!st) {
+    sw->text = strdup(vi_scene_edit_text(ed));
+    sw->name = strdup(name);
+  }
+  vi_scene_edit_destroy(&ed);
   if (st) {
     diag_msg(&d, st, err, errlen);
-    vi_scene_edit_destroy(&ed);
-    vi_sweep_free(&sw);
     return st == VI_ERR_NOMEM ? 1 : 2;
   }
-  sw->N = vi_scene_n(sc);
-  sw->t0 = vi_scene_t0(sc);
-  sw->text = strdup(vi_scene_edit_text(ed));
-  sw->name = strdup(name);
-  vi_scene_destroy(&sc);
-  vi_scene_edit_destroy(&ed);
+  sw->N = vi_scene_n(sw->sc);
+  sw->t0 = vi_scene_t0(sw->sc);
+  sw->warm = !sp->cold;
   sw->param = malloc(sizeof(double) * K);
   sw->param2 = malloc(sizeof(double) * rows);
-  if (!sw->text || !sw->name || !sw->param || !sw->param2) goto oom;
+  if (!sw->text || !sw->name || !sw->param || !sw->param2) {
+    msg(err, errlen, "out of memory");
+    return 1;
+  }
   for (int k = 0; k < K; k++)
     sw->param[k] = K > 1 ? sp->from + (sp->to - sp->from) * k / (K - 1) : sp->from;
   for (int r = 0; r < rows; r++)
@@ -550,34 +437,59 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   if (sp->orbits > 0 && vi_sweep_text_nonlinear(sw->text)) {
     msg(err, errlen, "%s: --orbits: the scene has nonlinear springs, and the "
         "P(1,1) orbits are found with the linear closed-form flow", sw->name);
-    vi_sweep_free(&sw);
     return 2;
+  }
+  /* the model, once: every value is a parameter change on a copy */
+  if ((st = vi_scene_create_model(sw->sc, &sw->model, &d))) {
+    diag_msg(&d, st, err, errlen);
+    return st == VI_ERR_NOMEM ? 1 : 2;
   }
   /* bad keys and values show up here, before any simulation */
-  if (trial(sw, sp->key, sp->from, err, errlen) ||
-      trial(sw, sp->key, sp->to, err, errlen) ||
-      (sp->key2 && (trial(sw, sp->key2, sp->from2, err, errlen) ||
-                    trial(sw, sp->key2, sp->to2, err, errlen)))) {
-    vi_sweep_free(&sw);
+  if (trial(sw, sp->key, sp->from, sw->pkey, err, errlen) ||
+      trial(sw, sp->key, sp->to, sw->pkey, err, errlen) ||
+      (sp->key2 && (trial(sw, sp->key2, sp->from2, sw->pkey2, err, errlen) ||
+                    trial(sw, sp->key2, sp->to2, sw->pkey2, err, errlen))))
     return 2;
-  }
-  int ndir = sp->dirs == 3 ? 2 : 1;
-  sw->nlines = rows * ndir;
+  return 0;
+}
+
+/* The lines (rows x directions), their points and NaN-filled strobes. */
+static int make_lines(vi_diagram *sw)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, ndir = sp->dirs == 3 ? 2 : 1;
+  size_t nz = (size_t)K * sp->record * 2 * sw->N;
+  sw->nlines = sp->steps2 * ndir;
   sw->lines = calloc((size_t)sw->nlines, sizeof *sw->lines);
-  if (!sw->lines) goto oom;
+  if (!sw->lines) return 1;
   for (int l = 0; l < sw->nlines; l++) {
-    vi_sweep_line *ln = &sw->lines[l];
+    vi_diagram_line *ln = &sw->lines[l];
     ln->row = l / ndir;
     ln->dir = sp->dirs == 2 || (sp->dirs == 3 && l % ndir) ? -1 : 1;
     ln->pt = calloc((size_t)K, sizeof *ln->pt);
-    ln->strobe = malloc(sizeof(double) * (size_t)K * sp->record * 2 * sw->N);
-    if (!ln->pt || !ln->strobe) goto oom;
+    ln->strobe = malloc(sizeof(double) * nz);
+    if (!ln->pt || !ln->strobe) return 1;
     /* a value that fails leaves NaN, not garbage, in the file */
-    for (size_t i = 0; i < (size_t)K * sp->record * 2 * sw->N; i++) ln->strobe[i] = NAN;
+    for (size_t i = 0; i < nz; i++) ln->strobe[i] = NAN;
   }
-  int C = sw->spec.chunks, ntask = sw->nlines * C;
+  return 0;
+}
+
+/* Deal the pieces: MPI ranks take them round-robin (rank r: pieces r,
+ * r + size, ...), each rank's on its OpenMP threads; each piece is
+ * computed the same way wherever it runs.  The exit code, err. */
+static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
+                int errlen)
+{
+  int K = sw->spec.steps, C = sw->spec.chunks, ntask = sw->nlines * C;
   piece *ps = calloc((size_t)ntask, sizeof *ps);
-  if (!ps) goto oom;
+  sw->npieces = ntask;
+  sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
+  if (!ps || !sw->piece_cpu) {
+    free(ps);
+    msg(err, errlen, "out of memory");
+    return 1;
+  }
   for (int i = 0; i < ntask; i++) {
     ps[i].sw = sw;
     ps[i].ln = &sw->lines[i / C];
@@ -585,8 +497,6 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     ps[i].pos1 = (int)((int64_t)K * (i % C + 1) / C);
     ps[i].cancel = cancel;
   }
-  /* MPI ranks take pieces round-robin (rank r: pieces r, r + size, ...);
-   * each piece is computed the same way wherever it runs */
   int rank = 0, size = 1;
 #ifdef VI_HAVE_MPI
   int mpi_on = 0;
@@ -598,15 +508,8 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
 #endif
   int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
 #ifdef _OPENMP
-  int nth = sp->threads > 0 ? sp->threads : omp_get_max_threads();
-#endif
-  sw->npieces = ntask;
-  sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
-  if (!sw->piece_cpu) {
-    free(ps);
-    goto oom;
-  }
-#ifdef _OPENMP
+  int nth = sw->spec.threads;
+  if (nth <= 0) nth = omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
 #endif
   for (int q = 0; q < nmine; q++) {
@@ -627,6 +530,39 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   sw->rank = rank;
 #endif
   free(ps);
+  return code;
+}
+
+int vi_sweep_run(const char *text, const char *name, const char *const *sets,
+                 int nsets, const vi_sweep_spec *spec,
+                 volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
+                 int errlen)
+{
+  double w0 = now();
+  *out = NULL;
+  err[0] = '\0';
+  const vi_sweep_spec *sp = spec;
+  if (!sp->key || sp->steps < 1 || sp->record < 2 || sp->transient < 0 ||
+      sp->chunks < 1 || sp->dirs < 1 || sp->dirs > 3 || !(sp->tol > 0) ||
+      sp->nmax < 1 || (sp->key2 && sp->steps2 < 1)) {
+    msg(err, errlen, "sweep: need --param, --steps >= 1, --record >= 2, "
+        "--transient >= 0, --chunks >= 1, --tol > 0");
+    return 2;
+  }
+  vi_diagram *sw = calloc(1, sizeof *sw);
+  if (!sw) {
+    msg(err, errlen, "out of memory");
+    return 1;
+  }
+  sw->spec = *sp;
+  if (!sw->spec.key2) sw->spec.steps2 = 1;
+  if (sw->spec.chunks > sw->spec.steps) sw->spec.chunks = sw->spec.steps;
+  int code = prepare(sw, text, name, sets, nsets, err, errlen);
+  if (!code && make_lines(sw)) {
+    msg(err, errlen, "out of memory");
+    code = 1;
+  }
+  if (!code) code = deal(sw, cancel, err, errlen);
   if (code) {
     vi_sweep_free(&sw);
     return code;
@@ -634,10 +570,6 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
   sw->wall = now() - w0;
   *out = sw;
   return 0;
-oom:
-  vi_sweep_free(&sw);
-  msg(err, errlen, "out of memory");
-  return 1;
 }
 
 /* ---- JSON ------------------------------------------------------------------ */
@@ -660,7 +592,7 @@ static void json_nums(FILE *f, const double *x, int64_t n)
 }
 
 /* One line: param in sweep order, and per value n, m, vn, phase. */
-static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
+static void json_line(const vi_diagram *sw, const vi_diagram_line *ln, FILE *f)
 {
   int K = sw->spec.steps;
   fprintf(f, "\"direction\": \"%s\", \"param\": [", ln->dir > 0 ? "up" : "down");
@@ -670,7 +602,7 @@ static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
   for (int w = 0; w < 4; w++) {
     fprintf(f, "], \"%s\": [", what[w]);
     for (int p = 0; p < K; p++) {
-      const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+      const vi_diagram_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
       if (p) fprintf(f, ", ");
       if (w < 2) {
         if (pt->n) fprintf(f, "%d", w ? pt->m : pt->n);
@@ -685,7 +617,7 @@ static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
   if (sw->spec.orbits > 0) {
     fprintf(f, "], \"p11_orbits\": [");
     for (int p = 0; p < K; p++) {
-      const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+      const vi_diagram_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
       fprintf(f, "%s[", p ? ", " : "");
       for (int i = 0; i < pt->norb; i++)
         fprintf(f, "%s{\"vN\": %.17g, \"impact_time_mod_T\": %.17g, \"stable\": %s, "
@@ -694,9 +626,17 @@ static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
       fprintf(f, "]");
     }
   }
+  if (sw->spec.lyapunov) { /* null where refused */
+    fprintf(f, "], \"lyapunov\": [");
+    for (int p = 0; p < K; p++) {
+      double l = ln->pt[ln->dir > 0 ? p : K - 1 - p].lyap;
+      if (isnan(l)) fprintf(f, "%snull", p ? ", " : "");
+      else fprintf(f, "%s%.17g", p ? ", " : "", l);
+    }
+  }
   fprintf(f, "], \"failed\": [");
   for (int p = 0, first = 1; p < K; p++) {
-    const vi_sweep_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
+    const vi_diagram_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
     if (!pt->failed) continue;
     fprintf(f, "%s{\"param\": %.17g, \"error\": ", first ? "" : ", ",
             sw->param[ln->dir > 0 ? p : K - 1 - p]);
@@ -707,7 +647,7 @@ static void json_line(const vi_sweep *sw, const vi_sweep_line *ln, FILE *f)
   fprintf(f, "]");
 }
 
-void vi_sweep_print_json(const vi_sweep *sw, FILE *f)
+void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
 {
   const vi_sweep_spec *sp = &sw->spec;
   fprintf(f, "{\"scene\": ");
@@ -738,4 +678,94 @@ void vi_sweep_print_json(const vi_sweep *sw, FILE *f)
     fprintf(f, "]");
   }
   fprintf(f, "}\n");
+}
+
+/* ---- basins of attraction ------------------------------------------------- */
+/* Attractor ids of every cell (vi_sweep_attractors): cells whose last n
+ * stroboscopic states agree to 100 tol (both are within about tol of
+ * their orbit) up to a cyclic shift share one.  Returns 0, 1 out of memory. */
+int vi_basins_identify(vi_diagram *sw)
+{
+  int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
+  size_t LK = (size_t)sw->nlines * K, blk = (size_t)K * R * n2;
+  double *z = malloc(sizeof(double) * blk * sw->nlines + 1);
+  int *per = malloc(sizeof(int) * LK + 1);
+  free(sw->attractor);
+  sw->attractor = malloc(sizeof(int) * LK + 1);
+  int bad = !z || !per || !sw->attractor;
+  for (size_t i = 0; !bad && i < LK; i++) {
+    const vi_diagram_point *pt = &sw->lines[i / K].pt[i % K];
+    per[i] = pt->failed ? 0 : pt->n;
+  }
+  for (int l = 0; !bad && l < sw->nlines; l++)
+    memcpy(z + (size_t)l * blk, sw->lines[l].strobe, sizeof(double) * blk);
+  if (!bad)
+    bad = vi_sweep_attractors((int64_t)LK, sw->N, R, per, z, n2,
+                              100 * sw->spec.tol, sw->attractor, &sw->nattr) != VI_OK;
+  free(z);
+  free(per);
+  return bad;
+}
+
+/* Basins as JSON: one flat entry per cell (row-major: param2 rows). */
+void vi_basins_print_json(const vi_diagram *sw, FILE *f)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, L = sw->nlines;
+  fprintf(f, "{\"scene\": ");
+  json_str(f, sw->name);
+  fprintf(f, ", \"kind\": \"basins\", \"key\": ");
+  json_str(f, sp->key);
+  fprintf(f, ", \"key2\": ");
+  json_str(f, sp->key2);
+  fprintf(f, ", \"transient\": %d, \"record\": %d, \"steps\": %d, "
+          "\"steps2\": %d, \"attractors\": %d", sp->transient, sp->record,
+          K, sp->steps2, sw->nattr);
+  static const char *what[] = {"param", "param2", "n", "m", "attractor"};
+  for (int w = 0; w < 5; w++) {
+    fprintf(f, ", \"%s\": [", what[w]);
+    for (int l = 0; l < L; l++)
+      for (int k = 0; k < K; k++) {
+        const vi_diagram_point *pt = &sw->lines[l].pt[k];
+        fprintf(f, "%s", l || k ? ", " : "");
+        if (w == 0) fprintf(f, "%.17g", sw->param[k]);
+        else if (w == 1) fprintf(f, "%.17g", sw->param2[sw->lines[l].row]);
+        else if (w == 4) fprintf(f, "%d", sw->attractor[(size_t)l * K + k]);
+        else if (pt->n && !pt->failed) fprintf(f, "%d", w == 2 ? pt->n : pt->m);
+        else fprintf(f, "null");
+      }
+    fprintf(f, "]");
+  }
+  fprintf(f, "}\n");
+}
+
+/* Basins as text: the attractors, then the grid of their ids. */
+void vi_basins_table(const vi_diagram *sw, FILE *f)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps;
+  fprintf(f, "basins of %s x %s, %d x %d cells, %d transient + %d recorded "
+          "periods each, %.3f s: %d attractor%s\n", sp->key, sp->key2, K,
+          sp->steps2, sp->transient, sp->record, sw->wall, sw->nattr,
+          sw->nattr == 1 ? "" : "s");
+  for (int a = 0; a < sw->nattr; a++)
+    for (size_t i = 0; i < (size_t)sw->nlines * K; i++)
+      if (sw->attractor[i] == a) {
+        const vi_diagram_point *pt = &sw->lines[i / K].pt[i % K];
+        int cells = 0;
+        for (size_t j = 0; j < (size_t)sw->nlines * K; j++) cells += sw->attractor[j] == a;
+        fprintf(f, "  %2d: P(%d,%d), %d cells\n", a, pt->n, pt->m, cells);
+        break;
+      }
+  fprintf(f, "rows %s (%.6g .. %.6g), columns %s (%.6g .. %.6g); '.': none\n",
+          sp->key2, sw->param2[0], sw->param2[sp->steps2 - 1], sp->key,
+          sw->param[0], sw->param[K - 1]);
+  for (int l = sw->nlines - 1; l >= 0; l--) {
+    for (int k = 0; k < K; k++) {
+      int id = sw->attractor[(size_t)l * K + k];
+      if (id < 0) fprintf(f, "  .");
+      else fprintf(f, " %2d", id);
+    }
+    fprintf(f, "\n");
+  }
 }

@@ -25,6 +25,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "vibroimpact.h"
+
 typedef struct vi_sweep_spec {
   const char *key;      /* swept scene key */
   double from, to;
@@ -41,10 +43,14 @@ typedef struct vi_sweep_spec {
   int orbits;           /* > 0: also every P(1,1) orbit at each value, by a
                            scan of this many impact phases (vi_orbit_p1_scan),
                            unstable ones included; 0: off */
+  int cold;             /* 1: every value from the scene's initial state (a
+                           basin of attraction), no warm start */
+  int lyapunov;         /* 1: the largest Lyapunov exponent of each value
+                           (vi_sweep_set_lyapunov) */
 } vi_sweep_spec;
 
 /* One parameter value of one line. */
-typedef struct vi_sweep_point {
+typedef struct vi_diagram_point {
   int n, m;             /* P(n, m); n = 0: none within the recorded periods */
   int64_t nimp;         /* impacts in the recorded periods */
   double *t, *phase, *vn; /* their times, times mod T, approach velocities */
@@ -53,25 +59,27 @@ typedef struct vi_sweep_point {
                            `error`); the next value starts cold */
   char *error;
   /* spec.orbits: the P(1,1) orbits at this value (-1: no closed-form flow) */
+  double lyap;          /* spec.lyapunov: the largest Lyapunov exponent
+                           (per unit time), NaN where refused */
   int norb;
   double *ovn, *ophase;  /* [norb] approach velocity w.v, impact time mod T */
   int *ostable, *oadm;   /* [norb] stable (all |mu| < 1), admissible */
-} vi_sweep_point;
+} vi_diagram_point;
 
-typedef struct vi_sweep_line {
+typedef struct vi_diagram_line {
   int dir;              /* +1 up, -1 down */
   int row;              /* index of the second parameter's value */
-  vi_sweep_point *pt;   /* [K], by value index (ascending from..to) */
+  vi_diagram_point *pt;   /* [K], by value index (ascending from..to) */
   double *strobe;       /* [K][record][2N]: x then v at t0 + (P + k) T */
-} vi_sweep_line;
+} vi_diagram_line;
 
-typedef struct vi_sweep {
+typedef struct vi_diagram {
   vi_sweep_spec spec;
   int N;                /* coordinates */
   double t0;
   double *param, *param2; /* [K], [steps2] */
   int nlines;
-  vi_sweep_line *lines;   /* row-major: row r, then up before down */
+  vi_diagram_line *lines;   /* row-major: row r, then up before down */
   char *text, *name;      /* the base scene (after --set) and its file name */
   double wall;            /* seconds spent in vi_sweep_run */
   int rank;               /* MPI rank (0 without MPI): only rank 0 holds
@@ -79,7 +87,14 @@ typedef struct vi_sweep {
   int npieces;            /* lines x chunks */
   double *piece_cpu;      /* [npieces] CPU seconds of each piece (its
                              thread's clock; this rank's pieces only) */
-} vi_sweep;
+  struct vi_scene *sc;    /* the base scene */
+  vi_model *model;        /* its model, built once: values are parameters */
+  char pkey[64], pkey2[64]; /* the keys as parameters (vi_param.h) */
+  int warm;               /* warm start along a line (not spec.cold) */
+  int *attractor;         /* spec.cold: [nlines x K] attractor ids (-1:
+                             none), vi_sweep_attractors; rank 0 only */
+  int nattr;
+} vi_diagram;
 
 /* Run the sweep on the scene text (name: its file, for messages) after
  * the KEY=VALUE assignments sets[nsets].  Returns 0, or 2 for bad input
@@ -87,15 +102,22 @@ typedef struct vi_sweep {
  * failure or cancellation (*cancel set non-zero by a signal handler). */
 int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int nsets, const vi_sweep_spec *spec,
-                 volatile sig_atomic_t *cancel, vi_sweep **out, char *err,
+                 volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
                  int errlen);
-void vi_sweep_free(vi_sweep **sw);
+void vi_sweep_free(vi_diagram **sw);
+
+/* Basins (spec.cold): the attractor of every cell, sw->attractor and
+ * sw->nattr (vi_sweep_attractors); 0, or 1 out of memory.  Then JSON (flat
+ * param, param2, n, m, attractor per cell) or a text grid. */
+int vi_basins_identify(vi_diagram *sw);
+void vi_basins_print_json(const vi_diagram *sw, FILE *f);
+void vi_basins_table(const vi_diagram *sw, FILE *f);
 
 /* The diagram as one JSON object (see share/doc/sweep-layout.md). */
-void vi_sweep_print_json(const vi_sweep *sw, FILE *f);
+void vi_sweep_print_json(const vi_diagram *sw, FILE *f);
 /* The diagram to HDF5 (share/doc/sweep-layout.md): written to path.part,
  * renamed on success.  Returns 0, or 1 with a message in err. */
-int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err,
+int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err,
                       int errlen);
 
 
@@ -130,21 +152,15 @@ int vi_sweep_text_nonlinear(const char *text);
 int vi_sweep_exec(int argc, char **argv);
 
 /* Follow the P(n,1) orbit (t0, x0, v0 [N]: an impact and the state before
- * it) of the scene in its key from the scene's value to `to` in `steps`
- * steps (vi_sweep_cont.c), printing the branch and the points where it
- * loses stability or grazes (text, or JSON {key, n, m, branch, events}).
- * Returns 0, 2 for bad input (err), 1 otherwise. */
-int vi_sweep_continue(const char *text, const char *name, const char *key,
-                      double to, int steps, int np, const double *t0,
-                      const double *x0, const double *v0, int N, int json,
-                      char *err, int errlen);
-
-/* The same by pseudo-arclength (around folds; dF/dp by central
- * differences): vi_sweep_cont.c. */
-int vi_sweep_arclength(const char *text, const char *name, const char *key,
-                       double to, int steps, int np, const double *t0,
-                       const double *x0, const double *v0, int N, int json,
-                       char *err, int errlen);
+ * it) of the scene's model m in the scene key `key` from its value to `to`
+ * in `steps` steps, naturally or (arclength) by pseudo-arclength around
+ * folds (vi_cont.h), printing the branch and the points where it loses
+ * stability, folds or grazes (text, or JSON {key, n, m, branch, events}).
+ * Returns 0, 2 for bad input (err), 1 otherwise (vi_sweep_cont.c). */
+int vi_sweep_follow(const vi_model *m, const struct vi_scene *sc,
+                    const char *key, int arclength, double to, int steps,
+                    int np, double t0, const double *x0, const double *v0,
+                    int json, char *err, int errlen);
 
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */

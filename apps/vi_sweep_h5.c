@@ -77,7 +77,7 @@ static int attr_num(hid_t loc, const char *name, hid_t type, const void *val)
 }
 
 /* /sweep/p11: every P(1,1) orbit at each value (sweep --orbits) */
-static int put_p11(hid_t g, const vi_sweep *sw)
+static int put_p11(hid_t g, const vi_diagram *sw)
 {
   int K = sw->spec.steps, L = sw->nlines, bad = 0;
   size_t LK = (size_t)L * K, J = 0;
@@ -95,7 +95,7 @@ static int put_p11(hid_t g, const vi_sweep *sw)
   int *st = cnt + LK, *ad = st + J;
   size_t off = 0;
   for (size_t i = 0; i < LK; i++) {
-    const vi_sweep_point *pt = &sw->lines[i / K].pt[i % K];
+    const vi_diagram_point *pt = &sw->lines[i / K].pt[i % K];
     cnt[i] = pt->norb;
     start[i] = (int64_t)off;
     for (int j = 0; j < pt->norb; j++, off++) {
@@ -127,7 +127,114 @@ done:
   return bad;
 }
 
-int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errlen)
+/* --lyapunov's exponents and basins' attractor ids, when asked for. */
+static int put_extra(hid_t g, const vi_diagram *sw, const hsize_t *dLK)
+{
+  int K = sw->spec.steps, L = sw->nlines, bad = 0;
+  if (sw->spec.lyapunov) { /* the largest Lyapunov exponent, NaN where refused */
+    double *l = malloc(sizeof(double) * (size_t)L * K);
+    for (int i = 0; l && i < L * K; i++) l[i] = sw->lines[i / K].pt[i % K].lyap;
+    bad |= !l || put(g, "lyapunov", H5T_NATIVE_DOUBLE, 2, dLK, l);
+    free(l);
+  }
+  if (sw->attractor) { /* basins: the attractor of each cell */
+    bad |= put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor);
+    bad |= attr_num(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr);
+  }
+  return bad;
+}
+
+/* The file's image through the output module (vi_output.h): PATH.part
+ * in large write()s of the descriptor itself, synced, renamed; removed on
+ * any failure.  0, or 1 with err. */
+static int write_image(const char *path, const void *image, size_t size,
+                       char *err, int errlen)
+{
+  FILE *fp = NULL;
+  vi_diag od;
+  memset(&od, 0, sizeof od);
+  int wbad = vi_output_open(path, VI_OUTPUT_FILE, &fp, &od) != VI_OK;
+  for (size_t at = 0; !wbad && at < size;) {
+    ssize_t k = write(fileno(fp), (const char *)image + at, size - at);
+    if (k <= 0) {
+      snprintf(od.message, sizeof od.message, "cannot write %.300s.part: %s",
+               path, strerror(k < 0 ? errno : EIO));
+      wbad = 1;
+    } else {
+      at += (size_t)k;
+    }
+  }
+  if (wbad || vi_output_close(&fp, path, VI_OUTPUT_FILE, &od)) {
+    if (fp) vi_output_discard(&fp, path, VI_OUTPUT_FILE);
+    snprintf(err, (size_t)errlen, "%s", od.message[0] ? od.message : "writing failed");
+    return 1;
+  }
+  return 0;
+}
+
+/* The arrays of a diagram, flattened for HDF5. */
+typedef struct flat_arrays {
+  int *n, *m, *dir, *row;
+  int64_t *cnt, *start, I;
+  double *T, *flat, *strobe;
+} flat_arrays;
+
+/* The /sweep datasets and attributes; non-zero on any failure. */
+static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays *a)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
+  hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
+          dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
+          dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
+          dI[1] = {(hsize_t)a->I};
+  bad |= attr_str(g, "key", sp->key);
+  if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
+  bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
+  bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
+  bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
+  bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
+  bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
+  bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
+  bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
+  bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
+  if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
+  bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, a->dir);
+  bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, a->row);
+  bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, a->n);
+  bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, a->m);
+  bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, a->T);
+  bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, a->strobe);
+  bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, a->cnt);
+  bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, a->start);
+  bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, a->flat);
+  bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, a->flat + a->I);
+  bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, a->flat + 2 * a->I);
+  if (sp->orbits > 0) bad |= put_p11(g, sw);
+  bad |= put_extra(g, sw, dLK);
+  return bad;
+}
+
+/* The file's attributes: creator, kind, format, the scene (a dataset
+ * when longer than an attribute may be) and its file name. */
+static int put_file_attrs(hid_t f, const vi_diagram *sw)
+{
+  int bad = 0;
+  char creator[64];
+  snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
+  int fmt = 1;
+  bad |= attr_str(f, "creator", creator);
+  bad |= attr_str(f, "kind", sw->attractor ? "basins" : "sweep");
+  bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
+  /* an attribute holds at most 64 KiB: a longer scene goes to the
+   * dataset /scene (a scalar string), as in a run's file */
+  if (strlen(sw->text) < 60000) bad |= attr_str(f, "scene", sw->text);
+  else bad |= dset_str(f, "scene", sw->text);
+  bad |= attr_str(f, "scene_file", sw->name);
+  return bad;
+}
+
+int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int errlen)
 {
   const vi_sweep_spec *sp = &sw->spec;
   int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
@@ -153,10 +260,10 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
   int *nn = ni, *mm = ni + LK, *lin = ni + 2 * LK;
   int64_t *start = cnt + LK, off = 0;
   for (int l = 0; l < L; l++) {
-    const vi_sweep_line *ln = &sw->lines[l];
+    const vi_diagram_line *ln = &sw->lines[l];
     memcpy(strobe + (size_t)l * K * R * n2, ln->strobe, sizeof(double) * K * R * n2);
     for (int k = 0; k < K; k++) {
-      const vi_sweep_point *pt = &ln->pt[k];
+      const vi_diagram_point *pt = &ln->pt[k];
       size_t i = (size_t)l * K + k;
       nn[i] = pt->failed ? -1 : pt->n;
       mm[i] = pt->n ? pt->m : 0;
@@ -189,51 +296,14 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     bad = 1;
     goto done;
   }
-  char creator[64];
-  snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
-  int fmt = 1;
-  bad |= attr_str(f, "creator", creator);
-  bad |= attr_str(f, "kind", "sweep");
-  bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
-  /* an attribute holds at most 64 KiB: a longer scene goes to the
-   * dataset /scene (a scalar string), as in a run's file */
-  if (strlen(sw->text) < 60000) bad |= attr_str(f, "scene", sw->text);
-  else bad |= dset_str(f, "scene", sw->text);
-  bad |= attr_str(f, "scene_file", sw->name);
+  bad |= put_file_attrs(f, sw);
   H5E_BEGIN_TRY {
     g = H5Gcreate2(f, "sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     if (g >= 0) gi = H5Gcreate2(g, "impacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   } H5E_END_TRY;
   bad |= g < 0 || gi < 0;
-  if (!bad) {
-    hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
-            dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
-            dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
-            dI[1] = {(hsize_t)I};
-    bad |= attr_str(g, "key", sp->key);
-    if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
-    bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
-    bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
-    bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
-    bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
-    bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
-    bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
-    bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
-    bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
-    if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
-    bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, dir);
-    bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, row);
-    bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, nn);
-    bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, mm);
-    bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, T);
-    bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, strobe);
-    bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, cnt);
-    bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, start);
-    bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, flat);
-    bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, flat + I);
-    bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, flat + 2 * I);
-    if (sp->orbits > 0) bad |= put_p11(g, sw);
-  }
+  flat_arrays a = {nn, mm, dir, row, cnt, start, I, T, flat, strobe};
+  if (!bad) bad = put_sweep(g, gi, sw, &a);
   void *image = NULL;
   ssize_t size = -1;
   H5E_BEGIN_TRY {
@@ -250,26 +320,7 @@ int vi_sweep_write_h5(const vi_sweep *sw, const char *path, char *err, int errle
     snprintf(err, (size_t)errlen, "building the file for '%s' failed", path);
     bad = 1;
   } else {
-    FILE *fp = NULL;
-    vi_diag od;
-    memset(&od, 0, sizeof od);
-    int wbad = vi_output_open(path, VI_OUTPUT_FILE, &fp, &od) != VI_OK;
-    /* the image in large write()s of the descriptor itself */
-    for (size_t at = 0; !wbad && at < (size_t)size;) {
-      ssize_t k = write(fileno(fp), (const char *)image + at, (size_t)size - at);
-      if (k <= 0) {
-        snprintf(od.message, sizeof od.message, "cannot write %.300s.part: %s",
-                 path, strerror(k < 0 ? errno : EIO));
-        wbad = 1;
-      } else {
-        at += (size_t)k;
-      }
-    }
-    if (wbad || vi_output_close(&fp, path, VI_OUTPUT_FILE, &od)) {
-      if (fp) vi_output_discard(&fp, path, VI_OUTPUT_FILE);
-      snprintf(err, (size_t)errlen, "%s", od.message[0] ? od.message : "writing failed");
-      bad = 1;
-    }
+    bad = write_image(path, image, (size_t)size, err, errlen);
   }
   free(image);
 done:

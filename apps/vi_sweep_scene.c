@@ -141,11 +141,22 @@ int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
 /* ---- `vibroimpact sweep`: run vibroimpact-sweep in this process's place -- */
 int vi_sweep_exec(int argc, char **argv)
 {
-  (void)argc;
   char self[4096];
+  /* `basins` is the sweep program's other mode: it gets --basins first */
+  int basins = !strcmp(argv[0], "basins");
+  char **av = calloc((size_t)argc + 2, sizeof *av);
+  if (!av) {
+    fprintf(stderr, "vibroimpact: %s: out of memory\n", argv[0]);
+    return 1;
+  }
+  av[0] = argv[0];
+  if (basins) av[1] = (char *)"--basins";
+  for (int i = 1; i < argc; i++) av[i + basins] = argv[i];
+  argv = av;
   ssize_t k = readlink("/proc/self/exe", self, sizeof self - 32);
   if (k <= 0) {
     fprintf(stderr, "vibroimpact: sweep: cannot locate the program: %s\n", strerror(errno));
+    free(av);
     return 1;
   }
   self[k] = '\0';
@@ -155,6 +166,7 @@ int vi_sweep_exec(int argc, char **argv)
   argv[0] = self;
   execv(self, argv);
   fprintf(stderr, "vibroimpact: sweep: cannot run %s: %s\n", self, strerror(errno));
+  free(av);
   return 1;
 }
 

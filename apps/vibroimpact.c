@@ -84,6 +84,8 @@ static void usage(FILE *f)
             cmds[k].name, cmds[k].synopsis, 9, "", cmds[k].what);
   fprintf(f, "       vibroimpact sweep [SCENE.yaml] --param KEY --from A --to B --steps K ...\n"
              "         bifurcation diagram (vibroimpact sweep --help)\n"
+             "       vibroimpact basins [SCENE.yaml] --param KEY ... --param2 KEY2 ...\n"
+             "         basins of attraction (vibroimpact basins --help)\n"
              "       vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json]\n"
              "         P(n,m) orbits by Newton, stable or not (--help)\n"
              "       vibroimpact identify SCENE.yaml --data REC.csv --fit KEY[,KEY...]\n"
@@ -393,7 +395,8 @@ int main(int argc, char **argv)
     return 1;
   }
   /* sweep and orbits parse their own arguments (apps/vi_sweep.h) */
-  if (argc > 1 && !strcmp(argv[1], "sweep")) return vi_sweep_exec(argc - 1, argv + 1);
+  if (argc > 1 && (!strcmp(argv[1], "sweep") || !strcmp(argv[1], "basins")))
+    return vi_sweep_exec(argc - 1, argv + 1);
   if (argc > 1 && !strcmp(argv[1], "orbits")) return vi_cmd_orbits_main(argc - 1, argv + 1);
   if (argc > 1 && !strcmp(argv[1], "identify"))
     return close_stdout(vi_cmd_identify_main(argc - 1, argv + 1));

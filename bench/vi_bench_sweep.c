@@ -4,6 +4,15 @@
  * speed-up with threads, measured as ratios within this one run.
  *
  *   vi_bench_sweep [--values K] [--transient P] [--record R] [--threads T]
+ *   vi_bench_sweep --chain N [--values K]
+ *
+ * --chain N: issue 19's target, a K-value sweep (default 40) of
+ * forcing.omega on an N-mass chain (m = k = 1, C = 0.02 K, forced on mass
+ * 1, a stop on mass N; dense, exact method) with 5 + 2 periods per value,
+ * against one run of the scene for 7 periods (parse, model, simulation),
+ * and against the former way of sweeping (the value printed into the
+ * scene text, re-parsed, the model rebuilt with its modal analysis),
+ * timed here by doing it; ratios of wall times within this one run.
  *
  * Runs: (1) one warm-started sweep, serial; (2) the same split into 4 T
  * chunks, serial; (3) the same 4 T chunks on T threads.  (2) and (3) give
@@ -22,6 +31,7 @@
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
+#include "vibroimpact/vi_scene_edit.h"
 #include "vi_sweep.h"
 
 static double now(void)
@@ -40,11 +50,11 @@ static double cpu(void)
 
 static double cpu_used; /* CPU seconds of the last sweep, all threads */
 
-static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
+static vi_diagram *sweep(vi_sweep_spec *sp, double *wall)
 {
   double c0 = cpu();
   static const char *sets[] = {"run.method=exact"};
-  vi_sweep *sw = NULL;
+  vi_diagram *sw = NULL;
   char err[2048];
   double t = now();
   if (vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, 1, sp, NULL,
@@ -57,13 +67,13 @@ static vi_sweep *sweep(vi_sweep_spec *sp, double *wall)
   return sw;
 }
 
-static int identical(const vi_sweep *a, const vi_sweep *b)
+static int identical(const vi_diagram *a, const vi_diagram *b)
 {
   int K = a->spec.steps, R = a->spec.record;
   if (memcmp(a->lines[0].strobe, b->lines[0].strobe, sizeof(double) * K * R * 2 * a->N) != 0)
     return 0;
   for (int k = 0; k < K; k++) {
-    const vi_sweep_point *p = &a->lines[0].pt[k], *q = &b->lines[0].pt[k];
+    const vi_diagram_point *p = &a->lines[0].pt[k], *q = &b->lines[0].pt[k];
     if (p->n != q->n || p->m != q->m || p->nimp != q->nimp ||
         (p->nimp && memcmp(p->vn, q->vn, sizeof(double) * p->nimp) != 0))
       return 0;
@@ -71,12 +81,12 @@ static int identical(const vi_sweep *a, const vi_sweep *b)
   return 1;
 }
 
-static void census(const vi_sweep *sw)
+static void census(const vi_diagram *sw)
 {
   int K = sw->spec.steps, p11 = 0, per = 0, failed = 0;
   int64_t imp = 0;
   for (int k = 0; k < K; k++) {
-    const vi_sweep_point *p = &sw->lines[0].pt[k];
+    const vi_diagram_point *p = &sw->lines[0].pt[k];
     p11 += p->n == 1 && p->m == 1;
     per += p->n > 0;
     failed += p->failed;
@@ -87,8 +97,80 @@ static void census(const vi_sweep *sw)
          (long long)imp);
 }
 
+/* One run of the scene text (after setting `key` to val when key is
+ * not NULL, the former sweep's way): parse, model, simulate to t_end. */
+static double one_run(const char *text, const char *key, double val,
+                      double periods)
+{
+  vi_scene_edit *ed = NULL;
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_sim *s = NULL;
+  double t = now();
+  int st = vi_scene_edit_create(text, -1, "chain", &ed, NULL);
+  if (!st && key) st = vi_scene_edit_set_number(ed, key, val, NULL);
+  if (!st) st = vi_scene_edit_parse(ed, &sc, NULL);
+  if (!st) st = vi_scene_create_model(sc, &m, NULL);
+  if (!st) st = vi_sim_create(m, &s);
+  if (!st) st = vi_scene_configure_sim(sc, s, NULL);
+  if (!st) st = vi_sim_run(s, periods * 2 * M_PI / vi_model_omega_forcing(m));
+  if (st) {
+    fprintf(stderr, "vi_bench_sweep: one run: %s\n", vi_strerror(st));
+    exit(1);
+  }
+  vi_sim_destroy(&s);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+  vi_scene_edit_destroy(&ed);
+  return now() - t;
+}
+
+static int chain_bench(int n, int K)
+{
+  char text[1024];
+  snprintf(text, sizeof text,
+           "name: chain%d\nmodel:\n  chain: {n: %d, m: 1.0, k: 1.0}\n"
+           "  rayleigh: {alpha: 0.0, beta: 0.02}\n"
+           "forcing: {omega: 0.04, on: [1], amplitude: 0.05}\n"
+           "stop: {mass: %d, xs: 0.1, r: 0.95}\n"
+           "run: {periods: 7, rtol: 1.0e-8, atol: 1.0e-10, method: exact}\n",
+           n, n, n);
+  printf("vi_bench_sweep --chain %d: %d values of forcing.omega 0.03..0.05, "
+         "5 + 2 periods each, exact method, 1 thread\n", n, K);
+  double w_one = one_run(text, NULL, 0, 7);
+  printf("  one run (parse, model, 7 periods):   %8.3f s\n", w_one);
+  vi_sweep_spec sp = {"forcing.omega", 0.03, 0.05, K, NULL, NAN, NAN, 1, 1,
+                      5, 2, 1, 1, 1e-6, 32, 0, 0, 0};
+  vi_diagram *sw = NULL;
+  char err[2048];
+  double t = now();
+  if (vi_sweep_run(text, "chain", NULL, 0, &sp, NULL, &sw, err, sizeof err)) {
+    fprintf(stderr, "vi_bench_sweep: %s\n", err);
+    return 1;
+  }
+  double w_sweep = now() - t;
+  vi_sweep_free(&sw);
+  printf("  sweep (parameters, vi_param.h):      %8.3f s  = %.2f x one run "
+         "(target <= 3)\n", w_sweep, w_sweep / w_one);
+  t = now();
+  for (int k = 0; k < K; k++)
+    one_run(text, "forcing.omega", 0.03 + 0.02 * k / (K - 1), 7);
+  double w_text = now() - t;
+  printf("  the former way (text per value):     %8.3f s  = %.2f x one run; "
+         "the sweep is %.1f x faster\n", w_text, w_text / w_one,
+         w_text / w_sweep);
+  return 0;
+}
+
 int main(int argc, char **argv)
 {
+  if (argc >= 3 && !strcmp(argv[1], "--chain")) {
+    int n = (int)strtol(argv[2], NULL, 10), K = 40;
+    if (argc >= 5 && !strcmp(argv[3], "--values"))
+      K = (int)strtol(argv[4], NULL, 10);
+    if (n < 2 || K < 2) return 2;
+    return chain_bench(n, K);
+  }
   int K = 1000, P = 500, R = 100, T = 2;
   for (int i = 1; i + 1 < argc; i += 2) {
     int v = (int)strtol(argv[i + 1], NULL, 10);
@@ -110,12 +192,12 @@ int main(int argc, char **argv)
   T = 1;
 #endif
   vi_sweep_spec sp = {"forcing.omega", 0.5, 1.8, K, NULL, NAN, NAN, 1, 1, P, R,
-                      1, 1, 1e-6, 32, 0};
+                      1, 1, 1e-6, 32, 0, 0, 0};
   double periods = (double)K * (P + R), w1, w2, w3;
   printf("vi_bench_sweep: Fig. 2, Omega 0.5..1.8 in %d values, %d transient + "
          "%d recorded periods each (%.3g forcing periods), exact method; %d "
          "cores\n", K, P, R, periods, cores);
-  vi_sweep *a = sweep(&sp, &w1);
+  vi_diagram *a = sweep(&sp, &w1);
   printf("  (1) 1 sweep, 1 thread:         %8.3f s wall, %8.3f s CPU  (%.2f us "
          "CPU per forcing period)\n", w1, cpu_used, 1e6 * cpu_used / periods);
   census(a);
@@ -123,10 +205,10 @@ int main(int argc, char **argv)
   if (T > 1) {
     sp.chunks = 4 * T;
     sp.threads = 1;
-    vi_sweep *b = sweep(&sp, &w2);
+    vi_diagram *b = sweep(&sp, &w2);
     printf("  (2) %d chunks, 1 thread:        %8.3f s wall, %8.3f s CPU\n", 4 * T, w2, cpu_used);
     sp.threads = T;
-    vi_sweep *c = sweep(&sp, &w3);
+    vi_diagram *c = sweep(&sp, &w3);
     printf("  (3) %d chunks, %d threads:      %8.3f s wall, %8.3f s CPU  (CPU/wall "
            "= %.2f: the cores this run got; other loads on the machine lower it)\n",
            4 * T, T, w3, cpu_used, cpu_used / w3);

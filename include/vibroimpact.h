@@ -38,6 +38,8 @@
 #include "vibroimpact/vi_force.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_param.h"
+#include "vibroimpact/vi_study.h"
+#include "vibroimpact/vi_cont.h"
 #include "vibroimpact/vi_identify.h"
 
 #endif

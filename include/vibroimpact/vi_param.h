@@ -48,7 +48,7 @@ extern "C" {
 typedef enum vi_param_kind_t {
   VI_PARAM_UNKNOWN = 0, /**< not a parameter key */
   VI_PARAM_MODEL = 1,   /**< a number of the model: vi_model_set_param */
-  VI_PARAM_INITIAL = 2  /**< the initial state: vi_param_set_initial */
+  VI_PARAM_INITIAL_STATE = 2  /**< the initial state: vi_param_set_initial */
 } vi_param_kind_t;
 
 /** Set the parameter `key` of model m to `value`, before or after
@@ -75,7 +75,7 @@ VI_API int vi_model_param(const vi_model *m, const char *key, double *value);
 VI_API int vi_model_copy(const vi_model *m, vi_model **out);
 
 /** The kind of `key` (a vi_param_kind_t): VI_PARAM_MODEL for the keys of
- *  the table, VI_PARAM_INITIAL for initial.t0, initial.x[i],
+ *  the table, VI_PARAM_INITIAL_STATE for initial.t0, initial.x[i],
  *  initial.v[i]; VI_PARAM_UNKNOWN for anything else or NULL.  Indices are
  *  not range-checked here. */
 VI_API int vi_param_kind(const char *key);

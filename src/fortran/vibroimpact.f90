@@ -73,6 +73,18 @@ module vibroimpact
             vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
             vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
             vi_model_damping_band, vi_model_stiffness_band, vi_build_chain_band
+  public :: vi_sweep_create, vi_sweep_destroy, vi_sweep_errmsg, vi_sweep_set_periods, &
+            vi_sweep_set_classify, vi_sweep_set_run, vi_sweep_set_initial, vi_sweep_set_warm, &
+            vi_sweep_set_param, vi_sweep_param, vi_sweep_reset, vi_sweep_set_monitor, &
+            vi_sweep_set_sim_hook, vi_sweep_set_cancel, vi_sweep_set_orbits, vi_sweep_iterate, &
+            vi_sweep_period, vi_sweep_failed, vi_sweep_forcing_period, vi_sweep_impacts, &
+            vi_sweep_strobe, vi_sweep_orbits, vi_sweep_model, vi_sweep_attractors, &
+            vi_sweep_set_lyapunov, vi_sweep_lyapunov
+  public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
+            vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_iterate, vi_cont_done, &
+            vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
+  public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
+            vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
   public :: vi_identify_create, vi_identify_destroy, vi_identify_errmsg, &
             vi_identify_set_param, vi_identify_set_param_key, vi_identify_set_builder, &
             vi_identify_set_observation, vi_identify_set_shift, vi_identify_set_noise, &
@@ -80,8 +92,6 @@ module vibroimpact
             vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
             vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution, &
             vi_identify_set_stable_only, vi_identify_stability
-  public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
-            vi_param_set_initial, vi_param_initial_value, vi_param_key_count, vi_param_key_name
   public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
             vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
             vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
@@ -1064,18 +1074,20 @@ module vibroimpact
       type(c_ptr), value :: id
       real(c_double), optional :: r12, vn, ke, re
     end function
-    integer(c_int) function vi_model_set_param(model, key, value) &
+    ! ---- parameters by key (vi_param.h); keys are C strings,
+    ! e.g. 'forcing.omega'//c_null_char, with 1-based indices 'forcing.a[1]'
+    integer(c_int) function vi_model_set_param(model, key, val) &
         bind(C, name="vi_model_set_param")
       import :: c_int, c_ptr, c_char, c_double
       type(c_ptr), value :: model
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), value :: value
+      real(c_double), value :: val
     end function
-    integer(c_int) function vi_model_param(model, key, value) bind(C, name="vi_model_param")
+    integer(c_int) function vi_model_param(model, key, val) bind(C, name="vi_model_param")
       import :: c_int, c_ptr, c_char, c_double
       type(c_ptr), value :: model
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), intent(out) :: value
+      real(c_double), intent(out) :: val
     end function
     integer(c_int) function vi_model_copy(model, out) bind(C, name="vi_model_copy")
       import :: c_int, c_ptr
@@ -1086,24 +1098,22 @@ module vibroimpact
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: key(*)
     end function
-    integer(c_int) function vi_param_set_initial(key, value, n, t0, x, v) &
+    integer(c_int) function vi_param_set_initial(key, val, n, t0, x, v) &
         bind(C, name="vi_param_set_initial")
       import :: c_int, c_char, c_double
       character(kind=c_char), intent(in) :: key(*)
-      real(c_double), value :: value
+      real(c_double), value :: val
       integer(c_int), value :: n
       real(c_double), intent(inout) :: t0, x(*), v(*)
     end function
-    !> vi_param_initial: Fortran's names ignore case, so the function cannot
-    !> share the name of the constant VI_PARAM_INITIAL
-    integer(c_int) function vi_param_initial_value(key, n, t0, x, v, value) &
+    integer(c_int) function vi_param_initial(key, n, t0, x, v, val) &
         bind(C, name="vi_param_initial")
       import :: c_int, c_char, c_double
       character(kind=c_char), intent(in) :: key(*)
       integer(c_int), value :: n
       real(c_double), value :: t0
       real(c_double), intent(in) :: x(*), v(*)
-      real(c_double), intent(out) :: value
+      real(c_double), intent(out) :: val
     end function
     integer(c_int) function vi_param_key_count() bind(C, name="vi_param_key_count")
       import :: c_int
@@ -1112,6 +1122,222 @@ module vibroimpact
     type(c_ptr) function vi_param_key_name(i) bind(C, name="vi_param_key_name")
       import :: c_ptr, c_int
       integer(c_int), value :: i
+    end function
+    ! ---- parameter studies (vi_study.h)
+    integer(c_int) function vi_sweep_create(model, out) bind(C, name="vi_sweep_create")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      type(c_ptr), intent(out) :: out
+    end function
+    subroutine vi_sweep_destroy(sw) bind(C, name="vi_sweep_destroy")
+      import :: c_ptr
+      type(c_ptr) :: sw
+    end subroutine
+    !> a C string (vi_string converts it)
+    type(c_ptr) function vi_sweep_errmsg(sw) bind(C, name="vi_sweep_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: sw
+    end function
+    integer(c_int) function vi_sweep_set_periods(sw, transient, record) &
+        bind(C, name="vi_sweep_set_periods")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+      integer(c_int), value :: transient, record
+    end function
+    integer(c_int) function vi_sweep_set_classify(sw, tol, nmax) bind(C, name="vi_sweep_set_classify")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sw
+      real(c_double), value :: tol
+      integer(c_int), value :: nmax
+    end function
+    integer(c_int) function vi_sweep_set_run(sw, method, rtol, atol) bind(C, name="vi_sweep_set_run")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sw
+      integer(c_int), value :: method
+      real(c_double), value :: rtol, atol
+    end function
+    integer(c_int) function vi_sweep_set_initial(sw, t0, x, v) bind(C, name="vi_sweep_set_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sw
+      real(c_double), value :: t0
+      real(c_double), intent(in), optional :: x(*), v(*)
+    end function
+    integer(c_int) function vi_sweep_set_warm(sw, warm) bind(C, name="vi_sweep_set_warm")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+      integer(c_int), value :: warm
+    end function
+    integer(c_int) function vi_sweep_set_param(sw, key, val) bind(C, name="vi_sweep_set_param")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: sw
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), value :: val
+    end function
+    integer(c_int) function vi_sweep_param(sw, key, val) bind(C, name="vi_sweep_param")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: sw
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), intent(out) :: val
+    end function
+    integer(c_int) function vi_sweep_reset(sw) bind(C, name="vi_sweep_reset")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+    end function
+    !> fn: integer(c_int) function f(sw, point, status, user) bind(C), all by value
+    !> (sw a c_ptr, point integer(c_int64_t), status integer(c_int))
+    integer(c_int) function vi_sweep_set_monitor(sw, fn, user, destroy) &
+        bind(C, name="vi_sweep_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: sw, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> fn: integer(c_int) function f(sim, user) bind(C), both type(c_ptr), value
+    integer(c_int) function vi_sweep_set_sim_hook(sw, fn, user, destroy) &
+        bind(C, name="vi_sweep_set_sim_hook")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: sw, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_sweep_set_cancel(sw, fn, user, destroy) &
+        bind(C, name="vi_sweep_set_cancel")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: sw, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_sweep_set_orbits(sw, nphase) bind(C, name="vi_sweep_set_orbits")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+      integer(c_int), value :: nphase
+    end function
+    integer(c_int) function vi_sweep_set_lyapunov(sw, on) bind(C, name="vi_sweep_set_lyapunov")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+      integer(c_int), value :: on
+    end function
+    real(c_double) function vi_sweep_lyapunov(sw) bind(C, name="vi_sweep_lyapunov")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: sw
+    end function
+    integer(c_int) function vi_sweep_iterate(sw) bind(C, name="vi_sweep_iterate")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+    end function
+    integer(c_int) function vi_sweep_period(sw, n, m) bind(C, name="vi_sweep_period")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+      integer(c_int), intent(out) :: n, m
+    end function
+    integer(c_int) function vi_sweep_failed(sw) bind(C, name="vi_sweep_failed")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+    end function
+    real(c_double) function vi_sweep_forcing_period(sw) bind(C, name="vi_sweep_forcing_period")
+      import :: c_double, c_ptr
+      type(c_ptr), value :: sw
+    end function
+    !> t, phase, vn receive C pointers to [count] arrays (c_f_pointer)
+    integer(c_int) function vi_sweep_impacts(sw, count, t, phase, vn) &
+        bind(C, name="vi_sweep_impacts")
+      import :: c_int, c_ptr, c_int64_t
+      type(c_ptr), value :: sw
+      integer(c_int64_t), intent(out) :: count
+      type(c_ptr), intent(out), optional :: t, phase, vn
+    end function
+    !> a C pointer to [ld x record] doubles (c_f_pointer)
+    type(c_ptr) function vi_sweep_strobe(sw, ld, record) bind(C, name="vi_sweep_strobe")
+      import :: c_ptr, c_int
+      type(c_ptr), value :: sw
+      integer(c_int), intent(out), optional :: ld, record
+    end function
+    integer(c_int) function vi_sweep_orbits(sw, count, vn, phase, stable, admissible) &
+        bind(C, name="vi_sweep_orbits")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sw
+      integer(c_int), intent(out) :: count
+      type(c_ptr), intent(out), optional :: vn, phase, stable, admissible
+    end function
+    type(c_ptr) function vi_sweep_model(sw) bind(C, name="vi_sweep_model")
+      import :: c_ptr
+      type(c_ptr), value :: sw
+    end function
+    integer(c_int) function vi_sweep_attractors(count, ncoord, record, n, strobe, ld, tol, &
+        id, nattr) bind(C, name="vi_sweep_attractors")
+      import :: c_int, c_int64_t, c_double
+      integer(c_int64_t), value :: count
+      integer(c_int), value :: ncoord, record, ld
+      integer(c_int), intent(in) :: n(*)
+      real(c_double), intent(in) :: strobe(*)
+      real(c_double), value :: tol
+      integer(c_int), intent(out) :: id(*), nattr
+    end function
+    ! ---- continuation (vi_cont.h)
+    integer(c_int) function vi_cont_create(model, key, n, method, out) bind(C, name="vi_cont_create")
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: model
+      character(kind=c_char), intent(in) :: key(*)
+      integer(c_int), value :: n, method
+      type(c_ptr), intent(out) :: out
+    end function
+    subroutine vi_cont_destroy(c) bind(C, name="vi_cont_destroy")
+      import :: c_ptr
+      type(c_ptr) :: c
+    end subroutine
+    !> a C string (vi_string converts it)
+    type(c_ptr) function vi_cont_errmsg(c) bind(C, name="vi_cont_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_set_range(c, to, steps) bind(C, name="vi_cont_set_range")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: to
+      integer(c_int), value :: steps
+    end function
+    integer(c_int) function vi_cont_set_orbit(c, t, x, v) bind(C, name="vi_cont_set_orbit")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: t
+      real(c_double), intent(in) :: x(*), v(*)
+    end function
+    !> fn: integer(c_int) function f(c, point, user) bind(C), all by value
+    integer(c_int) function vi_cont_set_monitor(c, fn, user, destroy) &
+        bind(C, name="vi_cont_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_cont_iterate(c) bind(C, name="vi_cont_iterate")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_done(c) bind(C, name="vi_cont_done")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_point(c, param, vn, t, rho, admissible) &
+        bind(C, name="vi_cont_point")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), intent(out), optional :: param, vn, t, rho
+      integer(c_int), intent(out), optional :: admissible
+    end function
+    integer(c_int) function vi_cont_orbit(c, t, x, v) bind(C, name="vi_cont_orbit")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), intent(out) :: t, x(*), v(*)
+    end function
+    integer(c_int) function vi_cont_num_events(c) bind(C, name="vi_cont_num_events")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    !> i is 0-based
+    integer(c_int) function vi_cont_event(c, i, type, param, vn, re, im, admissible) &
+        bind(C, name="vi_cont_event")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      integer(c_int), value :: i
+      integer(c_int), intent(out), optional :: type, admissible
+      real(c_double), intent(out), optional :: param, vn, re, im
     end function
 
     ! ---- finite-element structures in (vi_sparse.h) --------------------------

@@ -34,7 +34,8 @@ module vibroimpact_io
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
             vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
-            vi_scene_create_fe, vi_scene_initial
+            vi_scene_create_fe, vi_scene_initial, &
+            vi_scene_param_key
   public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
@@ -161,6 +162,15 @@ module vibroimpact_io
     integer(c_int) function vi_scene_configure_sim(scene, sim, diag) bind(C, name="vi_scene_configure_sim")
       import :: c_int, c_ptr, vi_diag
       type(c_ptr), value :: scene, sim
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_scene_param_key(scene, key, out, len, diag) &
+        bind(C, name="vi_scene_param_key")
+      import :: c_int, c_ptr, c_char, vi_diag
+      type(c_ptr), value :: scene
+      character(kind=c_char), intent(in) :: key(*)
+      character(kind=c_char), intent(out) :: out(*)
+      integer(c_int), value :: len
       type(vi_diag), optional :: diag
     end function
     type(c_ptr) function vi_scene_name(scene) bind(C, name="vi_scene_name")

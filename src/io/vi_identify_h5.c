@@ -11,6 +11,7 @@
 #include "vi_io_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_identify_io.h"
+#include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_writer.h"
 
 static int put(hid_t g, const char *name, const double *a, hsize_t n0,
@@ -90,7 +91,10 @@ int vi_identify_write_h5(const char *path, const vi_identify *id,
     ph[i] = p < 0 ? p + 1.0 : p;
   }
   char part[4200];
-  snprintf(part, sizeof part, "%s.part", target);
+  if (vi_output_part(target, part, (int)sizeof part)) {
+    free(buf);
+    return VI_ERR_LIMIT;
+  }
   remove(part);
   hid_t f = H5Fcreate(part, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
   hid_t g = f < 0 ? -1 : H5Gcreate2(f, "identify", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);

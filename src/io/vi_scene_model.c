@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "vi_scene_internal.h"
+#include "vibroimpact/vi_param.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_mmio.h"
 #include "vibroimpact/vi_sparse.h"
@@ -203,6 +204,12 @@ static int fill_model(const vi_scene *s, const dense *x, vi_model *m,
   }
   *line = s->line_model;
   snprintf(key, klen, "%s", "model");
+  /* the model keeps alpha and beta as parameters (vi_param.h): the same
+   * C = alpha M + beta K, so that a study can change one of them */
+  if (s->has_rayleigh && s->ra >= 0.0 && s->rb >= 0.0 &&
+      ((st = vi_model_set_param(m, "damping.alpha", s->ra)) ||
+       (st = vi_model_set_param(m, "damping.beta", s->rb))))
+    return st;
   return vi_model_setup(m);
 }
 

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <lapacke.h>
+
 #include "vibroimpact/vi_param.h"
 #include "vi_internal.h"
 
@@ -30,9 +32,9 @@ static const struct {
     {"damping.beta", "damping.beta", VI_PARAM_MODEL},
     {"damping.zeta[]", "damping.zeta[j]", VI_PARAM_MODEL},
     {"damping.zeta", "damping.zeta", VI_PARAM_MODEL},
-    {"initial.t0", "initial.t0", VI_PARAM_INITIAL},
-    {"initial.x[]", "initial.x[i]", VI_PARAM_INITIAL},
-    {"initial.v[]", "initial.v[i]", VI_PARAM_INITIAL},
+    {"initial.t0", "initial.t0", VI_PARAM_INITIAL_STATE},
+    {"initial.x[]", "initial.x[i]", VI_PARAM_INITIAL_STATE},
+    {"initial.v[]", "initial.v[i]", VI_PARAM_INITIAL_STATE},
 };
 
 /* A parsed key: its table entry and its 1-based index (0: none). */
@@ -100,18 +102,24 @@ const char *vi_param_key_name(int i)
 
 /* ---- what a change redoes on a set-up model ------------------------------ */
 
-/* M^-1 f and Psi^T f of a forcing vector f [n] (dense: M^-1 = Psi Psi^T,
- * from the mass-normalised modes; band: the band factor of M). */
+/* M^-1 f and Psi^T f of a forcing vector f [n]: dense M^-1 f by the
+ * Cholesky factor of M, solved as vi_model_setup solves it (so that a
+ * changed model and one built with the value agree to the last bit); band
+ * by the model's band factor. */
 static int refresh_vector(vi_model *m, const double *f, double *minvf,
                           double *modal)
 {
   int n = m->n;
-  if (m->band) {
-    memcpy(minvf, f, sizeof(double) * (size_t)n);
-    return vi_band_solve_mass(m, 1, minvf) ? VI_ERR_LAPACK : VI_OK;
-  }
+  memcpy(minvf, f, sizeof(double) * (size_t)n);
+  if (m->band) return vi_band_solve_mass(m, 1, minvf) ? VI_ERR_LAPACK : VI_OK;
+  double *L = malloc(sizeof(double) * (size_t)n * n);
+  if (!L) return VI_ERR_NOMEM;
+  memcpy(L, m->M, sizeof(double) * (size_t)n * n);
+  lapack_int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', n, L, n);
+  if (!info) info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, 1, L, n, minvf, n);
+  free(L);
+  if (info) return VI_ERR_LAPACK;
   vi_matvec_t(n, m->Psi, f, modal);
-  vi_matvec(n, m->Psi, modal, minvf);
   return VI_OK;
 }
 
@@ -315,10 +323,13 @@ static int set_forcing_entry(vi_model *m, int id, int i, double v)
   double *f = id == P_A ? m->a : id == P_B ? m->b : m->f0;
   double *minvf = id == P_A ? m->Minv_a : id == P_B ? m->Minv_b : m->Minv_f0;
   double *modal = id == P_A ? m->Fa : id == P_B ? m->Fb : m->F0;
+  double was = f[i];
   f[i] = v;
   if (!m->frozen) return VI_OK;
   int st = refresh_vector(m, f, minvf, modal);
-  return st ? vi_fail(m->errmsg, st, "M^-1 of the forcing failed") : VI_OK;
+  if (st) f[i] = was; /* unchanged on an error */
+  return st ? vi_fail(m->errmsg, st, "M^-1 of the forcing: %s",
+                      vi_strerror(st)) : VI_OK;
 }
 
 int vi_model_set_param(vi_model *m, const char *key, double value)
@@ -409,7 +420,7 @@ int vi_model_param(const vi_model *m, const char *key, double *value)
 
 static int initial_slot(const char *key, int n, pkey *p)
 {
-  if (parse_key(key, p) || keys[p->id].kind != VI_PARAM_INITIAL)
+  if (parse_key(key, p) || keys[p->id].kind != VI_PARAM_INITIAL_STATE)
     return VI_ERR_ARG;
   if (p->id != P_T0 && (p->idx < 1 || p->idx > n)) return VI_ERR_DIM;
   return VI_OK;

@@ -67,3 +67,29 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
   *m = (int)c;
   return 1;
 }
+
+/* P(n, m) of a recorded motion (the studies, vi_study.h): the smallest
+ * n <= nmax, n <= R, with z_{k+n} = z_k for every recorded stroboscopic
+ * state z_0..z_R [n2 each] (to tol relative to the largest entry or |x_s|);
+ * m the impacts t [nimp] in the last n periods before t_end.  0 for n
+ * when none repeats. */
+int vi_classify_strobes(int R, int n2, const double *z, double xs, double tol,
+                        int nmax, const double *t, int64_t nimp, double T,
+                        double t_end, int *m)
+{
+  double scale = fabs(xs);
+  for (size_t i = 0; i < (size_t)(R + 1) * n2; i++) scale = fmax(scale, fabs(z[i]));
+  double eps = tol * scale;
+  *m = 0;
+  for (int n = 1; n <= nmax && n <= R; n++) {
+    int ok = 1;
+    for (int k = 0; ok && k + n <= R; k++)
+      for (int i = 0; ok && i < n2; i++)
+        ok = fabs(z[(size_t)(k + n) * n2 + i] - z[(size_t)k * n2 + i]) <= eps;
+    if (!ok) continue;
+    double t1 = t_end - n * T - 1e-9 * T;
+    for (int64_t j = 0; j < nimp; j++) *m += t[j] >= t1;
+    return n;
+  }
+  return 0;
+}

@@ -96,4 +96,10 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m);
  * (vi_balance.c).  VI_OK or a code with o->errmsg set. */
 int vi_balance_run(vi_orbit *o);
 
+/* P(n, m) of a recorded motion: R + 1 stroboscopic states z [n2 each],
+ * impacts t [nimp]; returns n (0: none <= nmax), *m (vi_classify.c). */
+int vi_classify_strobes(int R, int n2, const double *z, double xs, double tol,
+                        int nmax, const double *t, int64_t nimp, double T,
+                        double t_end, int *m);
+
 #endif

@@ -985,6 +985,185 @@ static void test_param_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+static int stop_at_once(const vi_sweep *sw, int64_t point, int status,
+                        void *user)
+{
+  (void)sw, (void)status, (void)user;
+  return point >= 1;
+}
+
+static int hook_fails(vi_sim *sim, void *user)
+{
+  (void)sim, (void)user;
+  return VI_ERR_CALLBACK;
+}
+
+static int never_cancel(void *user)
+{
+  (void)user;
+  return 0;
+}
+
+/* Studies: NULL handles and outputs, out-of-range settings, results
+ * before a point, a model not set up, a failing hook, a stopping monitor,
+ * and the attractor grouping's bad sizes. */
+static void test_sweep_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *raw = NULL;
+  vi_sweep *sw = NULL;
+  int n, mm, ld, R, cnt, id[2], na, per[2] = {1, 1};
+  int64_t ni;
+  double val, x[2] = {0, 0}, z[8] = {0};
+  assert_err(vi_sweep_create(NULL, &sw));
+  assert_err(vi_sweep_create(m, NULL));
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_sweep_create(raw, &sw), VI_ERR_STATE);
+  assert_null(sw);
+  vi_model_destroy(&raw);
+  assert_int_equal(vi_sweep_create(m, &sw), VI_OK);
+  assert_err(vi_sweep_set_periods(NULL, 1, 2));
+  assert_err_msg(vi_sweep_set_periods(sw, -1, 2), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_periods(sw, 1, 1), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_set_classify(NULL, 1e-6, 4));
+  assert_err_msg(vi_sweep_set_classify(sw, 0, 4), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_classify(sw, NAN, 4), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_classify(sw, 1e-6, 0), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_set_run(NULL, VI_METHOD_EXACT, 1e-8, 1e-10));
+  assert_err_msg(vi_sweep_set_run(sw, -1, 1e-8, 1e-10), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_run(sw, VI_METHOD_COUNT, 1e-8, 1e-10), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_run(sw, VI_METHOD_EXACT, 0, 1e-10), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_run(sw, VI_METHOD_EXACT, 1e-8, INFINITY), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_set_initial(NULL, 0, x, x));
+  assert_err_msg(vi_sweep_set_initial(sw, NAN, x, x), vi_sweep_errmsg(sw));
+  x[1] = INFINITY;
+  assert_err_msg(vi_sweep_set_initial(sw, 0, x, NULL), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_set_warm(NULL, 1));
+  assert_err_msg(vi_sweep_set_warm(sw, 2), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_set_param(NULL, "forcing.omega", 1.0));
+  assert_err_msg(vi_sweep_set_param(sw, "forcing.omgea", 1.0), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_param(sw, "initial.x[3]", 1.0), vi_sweep_errmsg(sw));
+  assert_err_msg(vi_sweep_set_param(sw, NULL, 1.0), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_param(NULL, "forcing.omega", &val));
+  assert_err(vi_sweep_param(sw, "forcing.omega", NULL));
+  assert_err_msg(vi_sweep_param(sw, "initial.v[0]", &val), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_reset(NULL));
+  assert_err(vi_sweep_set_monitor(NULL, NULL, NULL, NULL));
+  assert_err(vi_sweep_set_sim_hook(NULL, NULL, NULL, NULL));
+  assert_err(vi_sweep_set_cancel(NULL, never_cancel, NULL, NULL));
+  assert_err(vi_sweep_set_orbits(NULL, 8));
+  assert_err(vi_sweep_set_lyapunov(NULL, 1));
+  assert_err_msg(vi_sweep_set_lyapunov(sw, 2), vi_sweep_errmsg(sw));
+  assert_true(isnan(vi_sweep_lyapunov(NULL)));
+  assert_true(isnan(vi_sweep_lyapunov(sw))); /* before a point */
+  assert_err_msg(vi_sweep_set_orbits(sw, -1), vi_sweep_errmsg(sw));
+  assert_err(vi_sweep_iterate(NULL));
+  /* results before any point */
+  assert_int_equal(vi_sweep_period(sw, &n, &mm), VI_ERR_STATE);
+  assert_err(vi_sweep_period(NULL, &n, &mm));
+  assert_err(vi_sweep_period(sw, NULL, &mm));
+  assert_int_equal(vi_sweep_failed(NULL), 0);
+  assert_true(vi_sweep_forcing_period(NULL) == 0.0);
+  assert_err(vi_sweep_impacts(NULL, &ni, NULL, NULL, NULL));
+  assert_err(vi_sweep_impacts(sw, NULL, NULL, NULL, NULL));
+  assert_null(vi_sweep_strobe(NULL, &ld, &R));
+  assert_null(vi_sweep_strobe(sw, &ld, &R));
+  assert_err(vi_sweep_orbits(NULL, &cnt, NULL, NULL, NULL, NULL));
+  assert_err(vi_sweep_orbits(sw, NULL, NULL, NULL, NULL, NULL));
+  assert_null(vi_sweep_model(NULL));
+  assert_string_equal(vi_sweep_errmsg(NULL), "");
+  /* a hook that fails fails the point, named; a monitor stops */
+  assert_int_equal(vi_sweep_set_periods(sw, 2, 2), VI_OK);
+  assert_int_equal(vi_sweep_set_sim_hook(sw, hook_fails, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sweep_iterate(sw), VI_ERR_CALLBACK);
+  assert_int_equal(vi_sweep_failed(sw), 1);
+  assert_true(strlen(vi_sweep_errmsg(sw)) > 0);
+  assert_int_equal(vi_sweep_set_sim_hook(sw, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sweep_set_monitor(sw, stop_at_once, NULL, NULL), VI_OK);
+  assert_int_equal(vi_sweep_iterate(sw), VI_STOPPED);
+  assert_int_equal(vi_sweep_set_param(sw, "stop.r", 1.5), VI_ERR_RESTITUTION);
+  vi_sweep_destroy(&sw);
+  vi_sweep_destroy(&sw); /* NULL-safe */
+  /* attractors */
+  assert_err(vi_sweep_attractors(1, 1, 2, NULL, z, 2, 1e-6, id, &na));
+  assert_err(vi_sweep_attractors(1, 1, 2, per, z, 2, 0, id, &na));
+  assert_err(vi_sweep_attractors(-1, 1, 2, per, z, 2, 1e-6, id, &na));
+  assert_int_equal(vi_sweep_attractors(1, 1, 2, per, z, 1, 1e-6, id, &na), VI_ERR_DIM);
+  assert_int_equal(vi_sweep_attractors(1, 0, 2, per, z, 2, 1e-6, id, &na), VI_ERR_DIM);
+  assert_int_equal(vi_sweep_attractors(2, 1, 2, per, z, 2, 1e-6, id, &na), VI_OK);
+  assert_int_equal(na, 1); /* two equal points: one attractor */
+  vi_model_destroy(&m);
+}
+
+static int stop_cont(const vi_cont *c, int64_t point, void *user)
+{
+  (void)c, (void)user;
+  return point >= 1;
+}
+
+/* Continuation: NULL handles and outputs, bad keys and methods, calls out
+ * of order, a model not set up, a monitor that stops. */
+static void test_cont_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *raw = NULL;
+  vi_cont *c = NULL;
+  double x[2] = {0, 0}, p, t;
+  int type;
+  assert_err(vi_cont_create(NULL, "forcing.omega", 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omega", 1, VI_CONT_NATURAL, NULL));
+  assert_err(vi_cont_create(m, NULL, 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omgea", 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "initial.x[1]", 1, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omega", 0, VI_CONT_NATURAL, &c));
+  assert_err(vi_cont_create(m, "forcing.omega", 1, 7, &c));
+  assert_err(vi_cont_create(m, "forcing.a[3]", 1, VI_CONT_NATURAL, &c));
+  assert_null(c);
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_cont_create(raw, "forcing.omega", 1, VI_CONT_NATURAL, &c),
+                   VI_ERR_STATE);
+  vi_model_destroy(&raw);
+  assert_int_equal(vi_cont_create(m, "forcing.omega", 1, VI_CONT_NATURAL, &c), VI_OK);
+  assert_err(vi_cont_set_range(NULL, 1.0, 2));
+  assert_err(vi_cont_set_range(c, 1.0, 0));
+  assert_err(vi_cont_set_range(c, NAN, 2));
+  assert_err(vi_cont_set_orbit(NULL, 0, x, x));
+  assert_err(vi_cont_set_orbit(c, 0, NULL, x));
+  assert_err(vi_cont_set_orbit(c, INFINITY, x, x));
+  x[0] = NAN;
+  assert_err(vi_cont_set_orbit(c, 0, x, x));
+  x[0] = 0;
+  assert_err(vi_cont_set_monitor(NULL, NULL, NULL, NULL));
+  assert_err(vi_cont_iterate(NULL));
+  assert_err_msg(vi_cont_iterate(c), vi_cont_errmsg(c)); /* nothing set */
+  assert_err(vi_cont_point(NULL, &p, NULL, NULL, NULL, NULL));
+  assert_int_equal(vi_cont_point(c, &p, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_err(vi_cont_orbit(c, &t, x, NULL));
+  assert_int_equal(vi_cont_orbit(c, &t, x, x), VI_ERR_STATE);
+  assert_int_equal(vi_cont_num_events(NULL), 0);
+  assert_err(vi_cont_event(c, 0, &type, NULL, NULL, NULL, NULL, NULL));
+  assert_err(vi_cont_event(NULL, 0, &type, NULL, NULL, NULL, NULL, NULL));
+  assert_int_equal(vi_cont_done(NULL), 0);
+  assert_string_equal(vi_cont_errmsg(NULL), "");
+  /* a range that ends where it starts: one point, then done */
+  double xo[2] = {-0.0563, 0.1}, vo[2] = {0.11, 0.79};
+  assert_int_equal(vi_cont_set_range(c, 0.9, 1), VI_OK);
+  assert_int_equal(vi_cont_set_orbit(c, 0.68, xo, vo), VI_OK);
+  assert_int_equal(vi_cont_iterate(c), VI_OK);
+  assert_int_equal(vi_cont_done(c), VI_CONT_END);
+  assert_err_msg(vi_cont_iterate(c), vi_cont_errmsg(c));
+  vi_cont_destroy(&c);
+  vi_cont_destroy(&c); /* NULL-safe */
+  /* a monitor that stops after the first point (the Fig. 2 orbit) */
+  assert_int_equal(vi_cont_create(m, "forcing.omega", 1, VI_CONT_NATURAL, &c), VI_OK);
+  assert_int_equal(vi_cont_set_range(c, 1.0, 2), VI_OK);
+  assert_int_equal(vi_cont_set_orbit(c, 0.68, xo, vo), VI_OK);
+  assert_int_equal(vi_cont_set_monitor(c, stop_cont, NULL, NULL), VI_OK);
+  assert_int_equal(vi_cont_iterate(c), VI_STOPPED);
+  vi_cont_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 /* vi_identify_*: NULL handles, out-of-range parameters, bad data, results
  * before a fit. */
 static int ident_builder(const double *p, void *user, vi_model **out)
@@ -1092,6 +1271,8 @@ int main(void)
       cmocka_unit_test(test_impact_multi_misuse),
       cmocka_unit_test(test_orbit_misuse),
       cmocka_unit_test(test_param_misuse),
+      cmocka_unit_test(test_sweep_misuse),
+      cmocka_unit_test(test_cont_misuse),
       cmocka_unit_test(test_identify_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

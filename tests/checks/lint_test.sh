@@ -39,6 +39,7 @@ files=(
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
   src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c apps/vi_cmd_energy.c
   src/sim/vi_band.c src/model/vi_band_model.c tests/sim/test_band.c bench/vi_bench_band.c
+  tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/app/test_sweep_app.c tests/study/test_sweep.c
   src/flow/vi_constrained.c src/sim/vi_held.c tests/stress/test_stress_held.c
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/study/test_sweep.c
   bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
@@ -46,6 +47,8 @@ files=(
   src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
   tests/study/test_identify.c bench/vi_bench_identify.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
+  src/model/vi_param.c tests/model/test_param.c src/study/vi_sweep.c
+  src/study/vi_cont.c tests/study/test_cont.c tests/study/test_basins.c src/io/vi_scene_param.c
   src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c
   bench/vi_bench_sparse.c examples/c/fe_host.c
 )

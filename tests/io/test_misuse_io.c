@@ -17,6 +17,7 @@
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
+#include "vibroimpact/vi_scene_param.h"
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_writer.h"
 #include "vibroimpact/vi_identify_io.h"
@@ -315,6 +316,33 @@ static void test_writer_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* Scene keys as parameters: NULL arguments, keys that are no parameter
+ * (named in the diag), a buffer too small. */
+static void test_scene_param_misuse(void **state)
+{
+  (void)state;
+  vi_scene *sc = NULL;
+  vi_diag d;
+  char out[64];
+  assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "fig2.yaml",
+                                  &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_param_key(NULL, "stop.xs", out, 64, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, NULL, out, 64, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, "stop.xs", NULL, 64, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, "stop.xs", out, 0, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_scene_param_key(sc, "model.chain.k", out, 64, &d),
+                   VI_ERR_PARSE);
+  assert_string_equal(d.key, "model.chain.k");
+  assert_non_null(strstr(d.message, "forcing.omega"));
+  assert_int_equal(vi_scene_param_key(sc, "run.method", out, 64, &d), VI_ERR_PARSE);
+  assert_int_equal(vi_scene_param_key(sc, "model.rayleigh.alpha", out, 5, &d),
+                   VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_param_key(sc, "model.rayleigh.alpha", out, 64, &d),
+                   VI_OK);
+  assert_string_equal(out, "damping.alpha");
+  vi_scene_destroy(&sc);
+}
+
 /* Matrix Market reader: NULL paths, handles and outputs, an unknown
  * storage, a NaN limit, a directory and a missing file for a path; the
  * getters of a NULL handle return their sentinels. */
@@ -450,6 +478,7 @@ int main(void)
       cmocka_unit_test(test_scene_misuse),
       cmocka_unit_test(test_scene_edit_misuse),
       cmocka_unit_test(test_writer_misuse),
+      cmocka_unit_test(test_scene_param_misuse),
       cmocka_unit_test(test_mm_misuse),
       cmocka_unit_test(test_fe_scene_misuse),
       cmocka_unit_test(test_fe_shapes_misuse),

@@ -190,7 +190,7 @@ static void bad_keys(void **state)
   assert_int_equal(vi_model_param(m, "stop.r", &val), VI_OK);
   assert_true(val == 0.7);
   /* the initial state */
-  assert_int_equal(vi_param_kind("initial.v[2]"), VI_PARAM_INITIAL);
+  assert_int_equal(vi_param_kind("initial.v[2]"), VI_PARAM_INITIAL_STATE);
   assert_int_equal(vi_param_kind("stops[3].r"), VI_PARAM_MODEL);
   assert_int_equal(vi_param_kind("model.chain.k"), VI_PARAM_UNKNOWN);
   assert_int_equal(vi_param_set_initial("initial.v[2]", 0.4, 2, &t0, x, v), VI_OK);

@@ -1,332 +1,277 @@
-/* test_sweep.c - brute-force bifurcation diagrams (apps/vi_sweep.c) against
- * physics: the Fig. 2 P(1,1) orbit from an independent 40-digit shooting
- * (tests/orbit/ref_fig2_p11.py), the closed-form harmonic response when the stop
- * is out of reach, up and down sweeps agreeing where the motion is unique,
- * and thread-count independence of the results. */
+/* test_sweep.c - the study API (vi_study.h, src/study/vi_sweep.c) on its
+ * own, linked to the library only, against physics: the Fig. 2 P(1,1)
+ * orbit from an independent 40-digit shooting (tests/orbit/ref_fig2_p11.py),
+ * the closed-form harmonic response when the stop is out of reach, up and
+ * down sweeps agreeing where the motion is unique, warm start continuing
+ * one trajectory, the P(1,1) census of the stable orbit, and the monitor. */
 #include <complex.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <hdf5.h>
-
 #include "vi_testutil.h"
-#include "vibroimpact/vi_scene.h"
-#include "vi_sweep.h"
 
 /* tests/orbit/ref_fig2_p11.py (mpmath, 40 digits) */
 #define FIG2_VN 0.78766085255479729134
 #define FIG2_PHASE 0.67857113423124466619
 
-static const char *exact[] = {"run.method=exact"};
-
-static vi_sweep_spec spec(const char *key, double from, double to, int steps)
-{
-  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0};
-  return s;
-}
-
-static vi_sweep *run(const vi_sweep_spec *sp, const char *const *sets, int nsets)
+static vi_sweep *study(vi_model *m, int transient, int record)
 {
   vi_sweep *sw = NULL;
-  char err[2048];
-  int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, nsets, sp,
-                        NULL, &sw, err, sizeof err);
-  if (rc) fprintf(stderr, "sweep failed: %s\n", err);
-  assert_int_equal(rc, 0);
-  assert_non_null(sw);
+  assert_int_equal(vi_sweep_create(m, &sw), VI_OK);
+  assert_int_equal(vi_sweep_set_run(sw, VI_METHOD_EXACT, 1e-8, 1e-10), VI_OK);
+  assert_int_equal(vi_sweep_set_periods(sw, transient, record), VI_OK);
+  assert_int_equal(vi_sweep_set_classify(sw, 1e-6, 32), VI_OK);
   return sw;
+}
+
+/* The last recorded impact's v_n and phase of the last point. */
+static void last_impact(const vi_sweep *sw, double *vn, double *phase)
+{
+  int64_t n;
+  const double *v, *p;
+  assert_int_equal(vi_sweep_impacts(sw, &n, NULL, &p, &v), VI_OK);
+  assert_true(n > 0);
+  *vn = v[n - 1];
+  *phase = p[n - 1];
 }
 
 /* Fig. 2 at Omega = 0.9: P(1,1), v_N and impact phase of the exact orbit.
  * The exact flow's error is round-off and the transient (500 periods,
- * Floquet multipliers well inside the unit circle) has decayed, so 1e-9. */
+ * Floquet multipliers well inside the unit circle) has decayed: 1e-9. */
 static void fig2_p11(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
-  vi_sweep *sw = run(&sp, exact, 1);
-  const vi_sweep_point *pt = &sw->lines[0].pt[0];
-  assert_int_equal(pt->n, 1);
-  assert_int_equal(pt->m, 1);
-  assert_int_equal(pt->nimp, 100); /* one per recorded period */
-  assert_close(pt->vn[pt->nimp - 1], FIG2_VN, 1e-9);
-  assert_close(pt->phase[pt->nimp - 1], FIG2_PHASE, 1e-9);
-  /* the published README value, 6 digits */
-  assert_close(pt->vn[0], 0.787661, 5e-7);
-  vi_sweep_free(&sw);
+  vi_model *m = vi_test_fig2();
+  vi_sweep *sw = study(m, 500, 100);
+  int n, mm;
+  int64_t ni;
+  double vn, ph;
+  assert_int_equal(vi_sweep_iterate(sw), VI_OK);
+  assert_int_equal(vi_sweep_period(sw, &n, &mm), VI_OK);
+  assert_int_equal(n, 1);
+  assert_int_equal(mm, 1);
+  assert_int_equal(vi_sweep_impacts(sw, &ni, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(ni, 100); /* one per recorded period */
+  last_impact(sw, &vn, &ph);
+  assert_close(vn, FIG2_VN, 1e-9);
+  assert_close(ph, FIG2_PHASE, 1e-9);
+  assert_close(vi_sweep_forcing_period(sw), 2 * M_PI / 0.9, 1e-15);
+  assert_int_equal(vi_sweep_failed(sw), 0);
+  vi_sweep_destroy(&sw);
+  vi_model_destroy(&m);
 }
 
 /* Stop out of reach (x_s = 100): no impacts, P(1,0), and the stroboscopic
  * states are the harmonic response x = Re(H a), v = Re(i Omega H a) with
- * H = (K - Omega^2 M + i Omega C)^-1 at t = kT (phase 0), K = E, C = 0.1 E. */
+ * H = (K - Omega^2 M + i Omega C)^-1 at t = kT (phase 0), K = [2 -1; -1 1],
+ * C = 0.1 K; relative 1e-8 (the transient of 400 periods has decayed). */
 static void harmonic_response(void **state)
 {
   (void)state;
-  const char *sets[] = {"run.method=exact", "stop.xs=100"};
-  vi_sweep_spec sp = spec("forcing.omega", 0.2, 3.0, 15);
-  sp.transient = 400;
-  sp.record = 4;
-  vi_sweep *sw = run(&sp, sets, 2);
-  for (int k = 0; k < sp.steps; k++) {
-    const vi_sweep_point *pt = &sw->lines[0].pt[k];
-    double Om = sw->param[k];
-    assert_int_equal(pt->n, 1);
-    assert_int_equal(pt->m, 0);
-    assert_int_equal(pt->nimp, 0);
-    /* 2x2 complex solve (Cramer) */
+  vi_model *m = vi_test_fig2();
+  vi_sweep *sw = study(m, 400, 4);
+  assert_int_equal(vi_sweep_set_param(sw, "stop.xs", 100.0), VI_OK);
+  for (int k = 0; k < 15; k++) {
+    double Om = 0.2 + 0.2 * k, got;
+    int n, mm, ld, R;
+    assert_int_equal(vi_sweep_set_param(sw, "forcing.omega", Om), VI_OK);
+    assert_int_equal(vi_sweep_param(sw, "forcing.omega", &got), VI_OK);
+    assert_true(got == Om);
+    assert_int_equal(vi_sweep_iterate(sw), VI_OK);
+    assert_int_equal(vi_sweep_period(sw, &n, &mm), VI_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(mm, 0);
     double complex h11 = 2 - Om * Om + I * Om * 0.2, h12 = -1 - I * Om * 0.1,
                    h22 = 1 - Om * Om + I * Om * 0.1, det = h11 * h22 - h12 * h12;
     double complex X1 = h22 * 0.5 / det, X2 = -h12 * 0.5 / det;
     double want[4] = {creal(X1), creal(X2), creal(I * Om * X1), creal(I * Om * X2)};
     double amp = cabs(X1) + cabs(X2);
-    for (int j = 0; j < sp.record; j++)
+    const double *z = vi_sweep_strobe(sw, &ld, &R);
+    assert_int_equal(ld, 4);
+    assert_int_equal(R, 4);
+    for (int j = 0; j < R; j++)
       for (int i = 0; i < 4; i++)
-        assert_close(sw->lines[0].strobe[((size_t)k * sp.record + j) * 4 + i],
-                     want[i], 1e-8 * amp * (1 + Om));
+        assert_close(z[j * ld + i], want[i], 1e-8 * amp * (1 + Om));
   }
-  vi_sweep_free(&sw);
+  vi_sweep_destroy(&sw);
+  vi_model_destroy(&m);
 }
 
-/* Up and down sweeps over 0.88..0.95, where the P(1,1) orbit is the only
- * attractor, agree value by value; --both gives the same as two runs. */
+/* Up and down over 0.88..0.95, where the P(1,1) orbit is the only
+ * attractor, agree value by value (warm start both ways). */
 static void up_down_agree(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.88, 0.95, 8);
-  sp.dirs = 3;
-  vi_sweep *sw = run(&sp, exact, 1);
-  assert_int_equal(sw->nlines, 2);
-  assert_int_equal(sw->lines[0].dir, 1);
-  assert_int_equal(sw->lines[1].dir, -1);
-  for (int k = 0; k < sp.steps; k++) {
-    const vi_sweep_point *u = &sw->lines[0].pt[k], *d = &sw->lines[1].pt[k];
-    assert_int_equal(u->n, 1);
-    assert_int_equal(u->m, 1);
-    assert_int_equal(d->n, 1);
-    assert_int_equal(d->m, 1);
-    assert_close(u->vn[u->nimp - 1], d->vn[d->nimp - 1], 1e-9);
-    assert_close(u->phase[u->nimp - 1], d->phase[d->nimp - 1], 1e-9);
+  vi_model *m = vi_test_fig2();
+  vi_sweep *up = study(m, 500, 100), *down = study(m, 500, 100);
+  double vu[8], pu[8], vd, pd;
+  for (int k = 0; k < 8; k++) {
+    assert_int_equal(vi_sweep_set_param(up, "forcing.omega", 0.88 + 0.01 * k), VI_OK);
+    assert_int_equal(vi_sweep_iterate(up), VI_OK);
+    last_impact(up, &vu[k], &pu[k]);
   }
-  vi_sweep_free(&sw);
+  for (int k = 7; k >= 0; k--) {
+    int n, mm;
+    assert_int_equal(vi_sweep_set_param(down, "forcing.omega", 0.88 + 0.01 * k), VI_OK);
+    assert_int_equal(vi_sweep_iterate(down), VI_OK);
+    assert_int_equal(vi_sweep_period(down, &n, &mm), VI_OK);
+    assert_int_equal(n, 1);
+    assert_int_equal(mm, 1);
+    last_impact(down, &vd, &pd);
+    assert_close(vd, vu[k], 1e-9);
+    assert_close(pd, pu[k], 1e-9);
+  }
+  vi_sweep_destroy(&up);
+  vi_sweep_destroy(&down);
+  vi_model_destroy(&m);
 }
 
-/* Warm start: value 2 starts where value 1 ended (same forcing phase), so
+/* Warm start: point 2 starts where point 1 ended (same forcing phase), so
  * with Omega unchanged it continues the same trajectory: its states equal
- * one run with transient P + R + P, while a cold start (from rest, transient
- * P) is elsewhere.  Short runs, so the transient has not yet died out. */
+ * one point with transient P + R + P, while a cold start (from rest) is
+ * elsewhere.  Short runs, so the transient has not yet died out. */
 static void warm_start(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 2);
-  sp.transient = 5;
-  sp.record = 5;
-  vi_sweep *warm = run(&sp, exact, 1);
-  sp.steps = 1;
-  sp.transient = 15;
-  vi_sweep *longer = run(&sp, exact, 1);
-  sp.transient = 5;
-  vi_sweep *cold = run(&sp, exact, 1);
-  const double *w = warm->lines[0].strobe + 20, /* value 5 of 2 x 2 */ *l = longer->lines[0].strobe,
-               *c = cold->lines[0].strobe;
-  double far = 0;
-  for (int i = 0; i < 5 * 4; i++) {
-    assert_close(w[i], l[i], 1e-10);
-    far = fmax(far, fabs(w[i] - c[i]));
-  }
+  vi_model *m = vi_test_fig2();
+  vi_sweep *warm = study(m, 5, 5), *longer = study(m, 15, 5);
+  int ld, R;
+  assert_int_equal(vi_sweep_iterate(warm), VI_OK);
+  assert_int_equal(vi_sweep_iterate(warm), VI_OK);
+  assert_int_equal(vi_sweep_iterate(longer), VI_OK);
+  const double *w = vi_sweep_strobe(warm, &ld, &R), *l = vi_sweep_strobe(longer, &ld, &R);
+  for (int i = 0; i < 5 * 4; i++) assert_close(w[i], l[i], 1e-10);
+  double keep[20], far = 0;
+  memcpy(keep, w, sizeof keep);
+  assert_int_equal(vi_sweep_reset(warm), VI_OK); /* cold again */
+  assert_int_equal(vi_sweep_iterate(warm), VI_OK);
+  double cold[20];
+  memcpy(cold, vi_sweep_strobe(warm, &ld, &R), sizeof cold);
+  for (int i = 0; i < 5 * 4; i++) far = fmax(far, fabs(keep[i] - cold[i]));
   assert_true(far > 1e-3);
-  vi_sweep_free(&warm);
-  vi_sweep_free(&longer);
-  vi_sweep_free(&cold);
+  /* without warm start every point is the cold one, bit for bit */
+  assert_int_equal(vi_sweep_set_warm(warm, 0), VI_OK);
+  assert_int_equal(vi_sweep_iterate(warm), VI_OK);
+  assert_int_equal(vi_sweep_iterate(warm), VI_OK);
+  assert_memory_equal(vi_sweep_strobe(warm, &ld, &R), cold, sizeof cold);
+  vi_sweep_destroy(&warm);
+  vi_sweep_destroy(&longer);
+  vi_model_destroy(&m);
 }
 
-/* Pieces run on any number of threads give bit-identical diagrams; the
- * chunk rule (each chunk starts from the scene's initial state) is what a
- * serial run with the same --chunks reproduces. */
-static void threads_identical(void **state)
+/* The P(1,1) census at Omega = 0.9: one admissible orbit, stable, the one
+ * the simulation settles on (v_N of the 40-digit reference). */
+static void p11_census(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.7, 1.3, 12);
-  sp.transient = 100;
-  sp.record = 20;
-  sp.chunks = 3;
-  sp.dirs = 3;
-  sp.threads = 1;
-  vi_sweep *a = run(&sp, exact, 1);
-  sp.threads = 2;
-  vi_sweep *b = run(&sp, exact, 1);
-  for (int l = 0; l < 2; l++) {
-    assert_memory_equal(a->lines[l].strobe, b->lines[l].strobe,
-                        sizeof(double) * 12 * 20 * 4);
-    for (int k = 0; k < 12; k++) {
-      const vi_sweep_point *p = &a->lines[l].pt[k], *q = &b->lines[l].pt[k];
-      assert_int_equal(p->n, q->n);
-      assert_int_equal(p->m, q->m);
-      assert_int_equal(p->nimp, q->nimp);
-      if (p->nimp) assert_memory_equal(p->vn, q->vn, sizeof(double) * p->nimp);
+  vi_model *m = vi_test_fig2();
+  vi_sweep *sw = study(m, 300, 10);
+  const double *vn, *ph;
+  const int *stable, *adm;
+  int count, found = 0;
+  double v, p;
+  assert_int_equal(vi_sweep_set_orbits(sw, 360), VI_OK);
+  assert_int_equal(vi_sweep_iterate(sw), VI_OK);
+  assert_int_equal(vi_sweep_orbits(sw, &count, &vn, &ph, &stable, &adm), VI_OK);
+  last_impact(sw, &v, &p);
+  for (int i = 0; i < count; i++)
+    if (adm[i]) {
+      found++;
+      assert_true(stable[i]);
+      assert_close(vn[i], FIG2_VN, 1e-12);
+      assert_close(vn[i], v, 1e-9);
+      assert_close(ph[i], FIG2_PHASE, 1e-9);
     }
+  assert_int_equal(found, 1);
+  vi_sweep_destroy(&sw);
+  vi_model_destroy(&m);
+}
+
+/* --lyapunov: the study's exponent is vi_orbit_lyapunov's from the
+ * point's end state, bit for bit; on the stable P(1,1) orbit of Fig. 2 it
+ * is log|mu_max| / T (Floquet multipliers of the orbit API), to 2e-3
+ * relative over 400 periods (the tangent's initial alignment, a term
+ * O(1) / (400 T), is what is left); without the option it is NaN. */
+static void lyapunov_exponent(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_sweep *sw = study(m, 300, 400);
+  assert_true(isnan(vi_sweep_lyapunov(sw)));
+  assert_int_equal(vi_sweep_set_lyapunov(sw, 1), VI_OK);
+  assert_int_equal(vi_sweep_iterate(sw), VI_OK);
+  double lam = vi_sweep_lyapunov(sw), T = 2 * M_PI / 0.9;
+  /* the same from the end state by the orbit API */
+  int ld, R;
+  const double *z = vi_sweep_strobe(sw, &ld, &R);
+  vi_orbit *o = NULL;
+  double ref;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_set_tolerances(o, 1e-8, 1e-10), VI_OK);
+  assert_int_equal(vi_orbit_set_initial(o, z + (size_t)(R - 1) * ld, z + (size_t)(R - 1) * ld + 2), VI_OK);
+  assert_int_equal(vi_orbit_lyapunov(o, 0.0, R, &ref, NULL), VI_OK);
+  assert_true(lam == ref);
+  vi_orbit_destroy(&o);
+  /* Floquet: the multipliers of the orbit the orbit API finds */
+  double re[4], im[4], mu = 0;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_OK);
+  assert_int_equal(vi_orbit_multipliers(o, re, im), VI_OK);
+  vi_orbit_destroy(&o);
+  for (int i = 0; i < 4; i++) mu = fmax(mu, hypot(re[i], im[i]));
+  assert_close(lam, log(mu) / T, 2e-3 * fabs(log(mu) / T));
+  assert_true(lam < 0);
+  vi_sweep_destroy(&sw);
+  vi_model_destroy(&m);
+}
+
+typedef struct seen {
+  int64_t calls, last;
+  int stop_at;
+} seen;
+
+static int monitor(const vi_sweep *sw, int64_t point, int status, void *user)
+{
+  seen *s = user;
+  int n, m;
+  assert_int_equal(status, VI_OK);
+  assert_int_equal(vi_sweep_period(sw, &n, &m), VI_OK);
+  s->calls++;
+  s->last = point;
+  return point == s->stop_at;
+}
+
+/* The monitor sees every point, numbered from 1, and can stop the loop;
+ * the study's model is a copy: the caller's is unchanged. */
+static void monitor_and_copy(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_sweep *sw = study(m, 2, 2);
+  seen s = {0, 0, 3};
+  assert_int_equal(vi_sweep_set_monitor(sw, monitor, &s, NULL), VI_OK);
+  for (int k = 0; k < 2; k++) {
+    assert_int_equal(vi_sweep_set_param(sw, "forcing.omega", 1.0 + 0.1 * k), VI_OK);
+    assert_int_equal(vi_sweep_iterate(sw), VI_OK);
   }
-  vi_sweep_free(&a);
-  vi_sweep_free(&b);
-}
-
-/* A two-parameter map: rows of the second key; row x_s = 100 is impact
- * free, row x_s = 0.1 at Omega = 0.9 is the Fig. 2 orbit. */
-static void two_parameter_map(void **state)
-{
-  (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.85, 0.9, 2);
-  sp.key2 = "stop.xs";
-  sp.from2 = 0.1;
-  sp.to2 = 100;
-  sp.steps2 = 2;
-  vi_sweep *sw = run(&sp, exact, 1);
-  assert_int_equal(sw->nlines, 2);
-  const vi_sweep_point *p = &sw->lines[0].pt[1], *q = &sw->lines[1].pt[1];
-  assert_int_equal(p->n, 1);
-  assert_int_equal(p->m, 1);
-  assert_close(p->vn[p->nimp - 1], FIG2_VN, 1e-9);
-  assert_int_equal(q->m, 0);
-  vi_sweep_free(&sw);
-}
-
-/* --orbits: every P(1,1) orbit at each value.  Fig. 2 at 0.9: one, stable
- * and admissible, the one the brute-force sweep settles on.  chatter.yaml
- * (written out here): the stable one the sweep reaches and the unstable one
- * no simulation shows (tests/orbit/ref_sdof_p11.py). */
-static void p11_orbits(void **state)
-{
-  (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
-  sp.transient = 300;
-  sp.record = 10;
-  sp.orbits = 360;
-  vi_sweep *sw = run(&sp, exact, 1);
-  const vi_sweep_point *pt = &sw->lines[0].pt[0];
-  int adm = 0;
-  for (int i = 0; i < pt->norb; i++)
-    if (pt->oadm[i]) {
-      adm++;
-      assert_true(pt->ostable[i]);
-      assert_close(pt->ovn[i], FIG2_VN, 1e-12);
-      assert_close(pt->ovn[i], pt->vn[pt->nimp - 1], 1e-9);
-    }
-  assert_int_equal(adm, 1);
-  vi_sweep_free(&sw);
-  static const char *chatter =
-      "name: chatter\nmodel: {M: [[1.0]], C: [[0.02]], K: [[0.1]]}\n"
-      "forcing: {omega: 1.0, a: [0.6], f0: [0.3]}\n"
-      "stop: {w: [1.0], xs: 0.0, r: 0.5}\nrun: {method: exact}\n";
-  char err[2048];
-  sp = spec("forcing.omega", 1.0, 1.0, 1);
-  sp.transient = 10;
-  sp.record = 2;
-  sp.orbits = 360;
-  assert_int_equal(vi_sweep_run(chatter, "chatter.yaml", NULL, 0, &sp, NULL, &sw, err, sizeof err), 0);
-  pt = &sw->lines[0].pt[0];
-  assert_int_equal(pt->norb, 2);
-  int u = pt->ostable[0] ? 1 : 0;
-  assert_false(pt->ostable[u]);
-  assert_true(pt->ostable[1 - u]);
-  assert_close(pt->ovn[u], 1.6134056745831746208, 1e-11);
-  assert_close(pt->ovn[1 - u], 2.1562495000219778789, 1e-11);
-  vi_sweep_free(&sw);
-}
-
-/* JSON: the keys the issue names, null for an unclassified value. */
-static void json_form(void **state)
-{
-  (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
-  sp.transient = 0;
-  sp.record = 4;
-  vi_sweep *sw = run(&sp, exact, 1);
-  char *buf = NULL;
-  size_t len = 0;
-  FILE *f = open_memstream(&buf, &len);
-  vi_sweep_print_json(sw, f);
-  fclose(f);
-  assert_non_null(strstr(buf, "\"param\": [0.90000000000000002]"));
-  assert_non_null(strstr(buf, "\"n\": [null]"));
-  assert_non_null(strstr(buf, "\"m\": [null]"));
-  assert_non_null(strstr(buf, "\"vn\": [["));
-  free(buf);
-  vi_sweep_free(&sw);
-}
-
-/* Bad input: unknown key named at its place; no output file on failure. */
-static void bad_input(void **state)
-{
-  (void)state;
-  vi_sweep *sw = NULL;
-  char err[2048];
-  vi_sweep_spec sp = spec("forcing.omgea", 0.8, 0.9, 2);
-  int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", exact, 1, &sp,
-                        NULL, &sw, err, sizeof err);
-  assert_int_equal(rc, 2);
-  assert_null(sw);
-  assert_non_null(strstr(err, "fig2.yaml:9:"));
-  assert_non_null(strstr(err, "forcing.omgea"));
-  sp = spec("stop.r", 0.5, 1.5, 3); /* r = 1.5 is not a restitution */
-  rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", exact, 1, &sp, NULL,
-                    &sw, err, sizeof err);
-  assert_int_equal(rc, 2);
-  assert_non_null(strstr(err, "fig2.yaml:10:"));
-  assert_non_null(strstr(err, "stop.r = 1.5"));
-}
-
-/* HDF5: the layout of share/doc/sweep-layout.md read back. */
-static void hdf5_layout(void **state)
-{
-  (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.88, 0.9, 3);
-  sp.transient = 200;
-  sp.record = 10;
-  vi_sweep *sw = run(&sp, exact, 1);
-  char err[256];
-  const char *path = "test_sweep_out.h5";
-  assert_int_equal(vi_sweep_write_h5(sw, path, err, sizeof err), 0);
-  hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-  assert_true(f >= 0);
-  int n[3], m[3];
-  long long cnt[3];
-  double vn[30], param[3];
-  hid_t d = H5Dopen2(f, "/sweep/n", H5P_DEFAULT);
-  H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, n);
-  H5Dclose(d);
-  d = H5Dopen2(f, "/sweep/m", H5P_DEFAULT);
-  H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, m);
-  H5Dclose(d);
-  d = H5Dopen2(f, "/sweep/param", H5P_DEFAULT);
-  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, param);
-  H5Dclose(d);
-  d = H5Dopen2(f, "/sweep/impact_count", H5P_DEFAULT);
-  H5Dread(d, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, cnt);
-  H5Dclose(d);
-  d = H5Dopen2(f, "/sweep/impacts/v_n", H5P_DEFAULT);
-  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, vn);
-  H5Dclose(d);
-  H5Fclose(f);
-  assert_close(param[2], 0.9, 1e-15);
-  for (int k = 0; k < 3; k++) {
-    assert_int_equal(n[k], 1);
-    assert_int_equal(m[k], 1);
-    assert_int_equal(cnt[k], 10);
-  }
-  assert_close(vn[29], FIG2_VN, 1e-9);
-  remove(path);
-  vi_sweep_free(&sw);
+  assert_int_equal(vi_sweep_iterate(sw), VI_STOPPED);
+  assert_int_equal(s.calls, 3);
+  assert_int_equal(s.last, 3);
+  assert_true(vi_model_omega_forcing(m) == 0.9);
+  assert_true(vi_model_omega_forcing(vi_sweep_model(sw)) == 1.1);
+  vi_sweep_destroy(&sw);
+  vi_model_destroy(&m);
 }
 
 int main(void)
 {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(fig2_p11),         cmocka_unit_test(harmonic_response),
-      cmocka_unit_test(up_down_agree),    cmocka_unit_test(warm_start),
-      cmocka_unit_test(threads_identical), cmocka_unit_test(two_parameter_map),
-      cmocka_unit_test(json_form),        cmocka_unit_test(p11_orbits),        cmocka_unit_test(bad_input),
-      cmocka_unit_test(hdf5_layout),
+      cmocka_unit_test(fig2_p11),      cmocka_unit_test(harmonic_response),
+      cmocka_unit_test(up_down_agree), cmocka_unit_test(warm_start),
+      cmocka_unit_test(p11_census),    cmocka_unit_test(monitor_and_copy),
+      cmocka_unit_test(lyapunov_exponent),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
