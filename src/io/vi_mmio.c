@@ -338,7 +338,7 @@ static int read_entries(reader *r, const header *h, triplets *t)
       return rd_fail(r, VI_ERR_PARSE, key, "expected %s, got %d word%s",
                      h->array ? "one value" : "'row column value'", nw,
                      nw == 1 ? "" : "s");
-    double v;
+    double v = 0.0;
     int i, j;
     if (h->array) {
       i = ai;

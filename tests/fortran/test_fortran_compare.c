@@ -65,7 +65,12 @@ static void test_same_impacts(void **state)
   assert_int_equal(na, nb);
   assert_true(na >= 99);
   for (int i = 0; i < 7 * na; i++)
-    assert_close(a[i], b[i], 1e-15 * fmax(1.0, fabs(b[i]))); /* round-off */
+    /* round-off only: the modal set-up's BLAS products may sum in an
+     * order that depends on the arrays' alignment (OpenBLAS kernels), so
+     * two processes agree to a few ulps, not bit for bit (measured 1.6e-15
+     * under ASan's allocator), and 100 periods of a stable orbit carry
+     * that unchanged; any other difference of settings is >> 1e-14 */
+    assert_close(a[i], b[i], 1e-14 * fmax(1.0, fabs(b[i])));
 }
 
 int main(int argc, char **argv)
