@@ -15,6 +15,7 @@
 #ifndef VI_FLOW_INTERNAL_H
 #define VI_FLOW_INTERNAL_H
 
+#include "vi_forcing.h"
 #include "vi_internal.h"
 
 typedef struct vi_general vi_general; /* vi_general.c */
@@ -43,11 +44,11 @@ int vi_xflow_modal(const vi_xflow *f, const vi_model *m, double t0,
  * for proportional damping), 0 if not or out of memory. */
 int vi_xflow_available(const vi_model *m);
 
-/* Closed-form mode j (vi_flow.c): particular solution at t, with tau = t - t0
- * for the polynomial part of a rigid-body mode, and the homogeneous solution
- * from (u0, v0) after tau. */
+/* Closed-form mode j (vi_flow.c): particular solution at the forcing's
+ * phase p of t, with tau = t - t0 for the polynomial part of a rigid-body
+ * mode, and the homogeneous solution from (u0, v0) after tau. */
 void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
-                        double cos_t, double sin_t, double tau, double *qp,
+                        const vi_phase *p, double tau, double *qp,
                         double *qpd);
 void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
                          double tau, double *u, double *ud);

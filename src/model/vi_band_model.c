@@ -15,6 +15,7 @@
 
 #include <lapacke.h>
 
+#include "vi_forcing.h"
 #include "vi_internal.h"
 
 /* A PSD matrix plus this fraction of its infinity norm (a bound of its
@@ -199,19 +200,17 @@ void vi_band_apply(const vi_model *m, const double *x, int incx,
 void vi_band_accel(const vi_model *m, double t, const double *z, double *acc)
 {
   int n = m->n;
-  double c = 1.0, sn = 0.0;
-  if (m->omega_f > 0.0) {
-    c = cos(m->omega_f * t);
-    sn = sin(m->omega_f * t);
-  }
+  vi_phase p = m->omega_f > 0.0 ? vi_phase_at(m->omega_f, t)
+                                : vi_phase_none(m->omega_f);
   rows_apply(m, z, 2, z + 1, 2, acc);
   if (m->kdm == 0) {
     for (int i = 0; i < n; i++)
-      acc[i] = m->Minv_a[i] * c + m->Minv_b[i] * sn + m->Minv_f0[i] - acc[i];
+      acc[i] = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]) -
+               acc[i];
     return;
   }
   for (int i = 0; i < n; i++)
-    acc[i] = m->a[i] * c + m->b[i] * sn + m->f0[i] - acc[i];
+    acc[i] = vi_harm(&p, 0, m->a[i], m->b[i], m->f0[i]) - acc[i];
   minv(m, 1, acc);
 }
 
@@ -219,12 +218,10 @@ void vi_band_accel_rate(const vi_model *m, double t, int k, const double *u,
                         const double *ud, double *out)
 {
   int n = m->n;
-  double W = m->omega_f, c = cos(W * t), sn = sin(W * t);
+  vi_phase p = vi_phase_at(m->omega_f, t);
   vi_band_apply(m, u, 1, ud, 1, out);
   for (int i = 0; i < n; i++)
-    out[i] = (k == 1 ? W * (m->Minv_b[i] * c - m->Minv_a[i] * sn)
-                     : -W * W * (m->Minv_a[i] * c + m->Minv_b[i] * sn)) -
-             out[i];
+    out[i] = vi_harm(&p, k, m->Minv_a[i], m->Minv_b[i], 0.0) - out[i];
 }
 
 double vi_band_energy(const vi_model *m, const double *x, const double *v)

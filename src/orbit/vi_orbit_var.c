@@ -142,10 +142,10 @@ int vi_var_stm(const vi_model *m, double tau, double *Phi)
 void vi_var_field(const vi_model *m, double t, const double *z, double *f)
 {
   int n = m->n;
-  double c = cos(m->omega_f * t), s = sin(m->omega_f * t);
+  vi_phase p = vi_phase_at(m->omega_f, t);
   memcpy(f, z + n, sizeof(double) * n);
   for (int i = 0; i < n; i++) {
-    double a = m->Minv_a[i] * c + m->Minv_b[i] * s + m->Minv_f0[i];
+    double a = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
     for (int k = 0; k < n; k++)
       a -= m->MinvK[i + (size_t)k * n] * z[k] + m->MinvC[i + (size_t)k * n] * z[n + k];
     f[n + i] = a;

@@ -108,8 +108,9 @@ static const double *ex_level(ex_data *d, int l)
   double *t = malloc(sizeof(double) * 3 * (size_t)(d->na ? d->na : 1));
   if (!t) return NULL;
   double dt = ldexp(d->h0, -l);
-  d->lc[l] = cos(d->Om * dt);
-  d->ls[l] = sin(d->Om * dt);
+  vi_phase r = vi_phase_at(d->Om, dt); /* the rotation by Om dt */
+  d->lc[l] = r.c;
+  d->ls[l] = r.s;
   for (int i = 0; i < d->na; i++)
     vi_flow_basis(d->lam[i], d->dmp[i], dt, t + i, t + d->na + i,
                   t + 2 * (size_t)d->na + i);
@@ -121,8 +122,9 @@ static const double *ex_level(ex_data *d, int l)
 static inline void ex_harm(const ex_data *d, const ex_stop *e, double c,
                            double sn, double *g, double *gd)
 {
-  *g = e->GA * c + e->GB * sn;
-  *gd = d->Om * (e->GB * c - e->GA * sn);
+  vi_phase p = {d->Om, c, sn};
+  *g = vi_harm(&p, 0, e->GA, e->GB, 0.0);
+  *gd = vi_harm(&p, 1, e->GA, e->GB, 0.0);
 }
 
 /* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and stop
@@ -203,8 +205,9 @@ static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
                       double *sn, double *g, double *gd)
 {
   for (int i = 0; i < d->na; i++) ex_mode(d, d->act[i], t, w + i, wd + i);
-  *c = cos(d->Om * t);
-  *sn = sin(d->Om * t);
+  vi_phase p = vi_phase_at(d->Om, t);
+  *c = p.c;
+  *sn = p.s;
   for (int k = 0; k < d->ns; k++) {
     const ex_stop *e = d->st + k;
     double a = 0.0, b = 0.0, hg, hgd;
@@ -222,12 +225,12 @@ static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
 /* Every mode's q, q' at t. */
 static void ex_modes_at(ex_data *d, double t, double *q, double *qd)
 {
-  double c = cos(d->Om * t), sn = sin(d->Om * t);
+  vi_phase p = vi_phase_at(d->Om, t);
   for (int j = 0; j < d->n; j++) {
     double w, wd;
     ex_mode(d, j, t, &w, &wd);
-    q[j] = w + d->pA[j] * c + d->pB[j] * sn;
-    qd[j] = wd + d->Om * (d->pB[j] * c - d->pA[j] * sn);
+    q[j] = w + vi_harm(&p, 0, d->pA[j], d->pB[j], 0.0);
+    qd[j] = wd + vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
   }
   d->evals++;
 }
@@ -599,7 +602,8 @@ static int ex_start(vi_sim *s)
   d->tq = s->t;
   d->z_ok = 0;
   d->t0 = s->t;
-  double Om = d->Om, c = cos(Om * s->t), sn = sin(Om * s->t);
+  vi_phase p = vi_phase_at(d->Om, s->t);
+  double Om = d->Om, c = p.c, sn = p.s;
   /* A mode forced near its resonance with little damping has a harmonic
    * particular solution amplified by A = max(lambda, Omega^2) / |lambda -
    * Omega^2 + i d Omega| over its static scale, which q = H + w cancels
@@ -608,8 +612,8 @@ static int ex_start(vi_sim *s)
   double worst = 0.0;
   int jw = -1;
   for (int j = 0; j < n; j++) {
-    double H = d->pA[j] * c + d->pB[j] * sn;
-    double Hd = Om * (d->pB[j] * c - d->pA[j] * sn);
+    double H = vi_harm(&p, 0, d->pA[j], d->pB[j], 0.0);
+    double Hd = vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
     d->w0[j] = d->q[j] - H;
     d->wd0[j] = d->qd[j] - Hd;
     double lam = m->lambda[j], dm = m->D[j + (size_t)j * n];
@@ -697,8 +701,9 @@ static int ex_start(vi_sim *s)
   d->hp = ldexp(d->h0, -d->p);
   d->tg = tg; /* +inf: every g recedes for ever */
   d->k = 0;
-  d->cr = cos(Om * d->hp);
-  d->sr = sin(Om * d->hp);
+  vi_phase r = vi_phase_at(Om, d->hp); /* the grid step's rotation */
+  d->cr = r.c;
+  d->sr = r.s;
   if (d->tg > s->t && isfinite(d->tg))
     ex_anchor(d, d->tg, d->wk, d->wdk, &d->ck, &d->sk, d->gk, d->gdk);
   else {
@@ -739,14 +744,15 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
  * grid points); the bisection stack is free then. */
 static double ex_gap_at(ex_data *d, double t)
 {
-  double *w = d->stk, *wd = w + d->na, c = cos(d->Om * t), sn = sin(d->Om * t);
+  double *w = d->stk, *wd = w + d->na;
+  vi_phase p = vi_phase_at(d->Om, t);
   double *g = d->gs;
   for (int i = 0; i < d->na; i++) ex_mode(d, d->act[i], t, w + i, wd + i);
   for (int k = 0; k < d->ns; k++) {
     const ex_stop *e = d->st + k;
     double a = 0.0;
     for (int i = 0; i < d->na; i++) a += e->psi[i] * w[i];
-    g[k] = a + e->GA * c + e->GB * sn - e->xs;
+    g[k] = a + vi_harm(&p, 0, e->GA, e->GB, 0.0) - e->xs;
   }
   d->evals++;
   return ex_report(d, g, 0);

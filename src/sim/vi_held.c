@@ -148,8 +148,9 @@ static inline void hd_eval(const vi_held *H, const hd_fun *e, const double *w,
       v += a[i] * wd[i];
     }
   }
-  *f = x + e->GA * c + e->GB * sn + e->f0 - e->off;
-  *fd = v + H->Om * (e->GB * c - e->GA * sn);
+  vi_phase p = {H->Om, c, sn};
+  *f = x + vi_harm(&p, 0, e->GA, e->GB, e->f0) - e->off;
+  *fd = v + vi_harm(&p, 1, e->GA, e->GB, 0.0);
 }
 
 /* Active modes at t directly, and every function there. */
@@ -157,8 +158,9 @@ static void hd_anchor(vi_held *H, double t, double *w, double *wd, double *c,
                       double *sn, double *f, double *fd)
 {
   for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, w + i, wd + i);
-  *c = cos(H->Om * t);
-  *sn = sin(H->Om * t);
+  vi_phase p = vi_phase_at(H->Om, t);
+  *c = p.c;
+  *sn = p.s;
   for (int j = 0; j < H->nf; j++) hd_eval(H, H->f + j, w, wd, *c, *sn, f + j, fd + j);
   H->evals++;
 }
@@ -167,7 +169,8 @@ static void hd_anchor(vi_held *H, double t, double *w, double *wd, double *c,
 static void hd_at(vi_held *H, const hd_fun *e, double t, double *f, double *fd)
 {
   for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, H->wa + i, H->wda + i);
-  hd_eval(H, e, H->wa, H->wda, cos(H->Om * t), sin(H->Om * t), f, fd);
+  vi_phase p = vi_phase_at(H->Om, t);
+  hd_eval(H, e, H->wa, H->wda, p.c, p.s, f, fd);
   H->evals++;
 }
 
@@ -408,8 +411,9 @@ static int hd_setup(vi_sim *s, vi_held *H)
   for (int i = 0; i < na; i++)
     vi_flow_basis(H->lam[i], H->dmp[i], H->h, H->T + i, H->T + na + i,
                   H->T + 2 * (size_t)na + i);
-  H->cr = cos(Om * H->h);
-  H->sr = sin(Om * H->h);
+  vi_phase r = vi_phase_at(Om, H->h); /* the grid step's rotation */
+  H->cr = r.c;
+  H->sr = r.s;
   return VI_OK;
 }
 
@@ -417,12 +421,12 @@ static int hd_setup(vi_sim *s, vi_held *H)
 static void hd_modes_at(vi_held *H, double t, double *u, double *ud)
 {
   const vi_cmodes *c = H->cm;
-  double cs = cos(H->Om * t), sn = sin(H->Om * t);
+  vi_phase p = vi_phase_at(H->Om, t);
   for (int i = 0; i < H->m; i++) {
     double w, wd;
     hd_mode(H, i, t, &w, &wd);
-    u[i] = w + c->pA[i] * cs + c->pB[i] * sn;
-    ud[i] = wd + H->Om * (c->pB[i] * cs - c->pA[i] * sn);
+    u[i] = w + vi_harm(&p, 0, c->pA[i], c->pB[i], 0.0);
+    ud[i] = wd + vi_harm(&p, 1, c->pA[i], c->pB[i], 0.0);
   }
 }
 
@@ -476,7 +480,7 @@ int vi_held_start(vi_sim *s)
     return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
   int n = c->n, mm = c->m, na = H->na;
   vi_modal_project(s->m, s->z, H->q, H->qd);
-  double Om = H->Om, cs = cos(Om * s->t), sn = sin(Om * s->t);
+  vi_phase p = vi_phase_at(H->Om, s->t);
   for (int i = 0; i < mm; i++) {
     const double *col = c->Phi + (size_t)i * n;
     double u = 0.0, ud = 0.0;
@@ -484,8 +488,8 @@ int vi_held_start(vi_sim *s)
       u += col[r] * (H->q[r] - c->qc[r]);
       ud += col[r] * H->qd[r];
     }
-    H->w0[i] = u - (c->pA[i] * cs + c->pB[i] * sn);
-    H->wd0[i] = ud - Om * (c->pB[i] * cs - c->pA[i] * sn);
+    H->w0[i] = u - vi_harm(&p, 0, c->pA[i], c->pB[i], 0.0);
+    H->wd0[i] = ud - vi_harm(&p, 1, c->pA[i], c->pB[i], 0.0);
   }
   H->t0 = s->t;
   for (int i = 0; i < na; i++) {
@@ -498,7 +502,7 @@ int vi_held_start(vi_sim *s)
   for (int j = 0; j < H->nf; j++) {
     hd_fun *e = H->f + j;
     e->off = 0.0;
-    hd_eval(H, e, H->wk, H->wdk, cs, sn, H->fk + j, H->fdk + j);
+    hd_eval(H, e, H->wk, H->wdk, p.c, p.s, H->fk + j, H->fdk + j);
     double sc = e->GH + fabs(e->f0);
     for (int i = 0; i < na; i++)
       sc += fabs(e->a[i] * H->wk[i]) + (e->c ? fabs(e->c[i] * H->wdk[i]) : 0.0);
@@ -517,8 +521,8 @@ int vi_held_start(vi_sim *s)
   s->gap = H->nf > H->cm->cnt ? worst + tol0 : 0.0;
   hd_bounds(H, H->wk, H->wdk);
   H->k = 0;
-  H->ck = cs;
-  H->sk = sn;
+  H->ck = p.c;
+  H->sk = p.s;
   H->next_ok = 0;
   H->srch = 0;
   H->since = 0;
@@ -568,10 +572,10 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
       hd_modes_at(H, t, H->u, H->ud);
       hd_free_modal(c, H->u, H->ud, H->q, H->qd);
       vi_ledger_accumulate(s->led, t, H->qd, 0.0, wgt);
-      double cs = cos(H->Om * t), sn = sin(H->Om * t);
+      vi_phase p = vi_phase_at(H->Om, t);
       for (int q = 0; q < c->cnt; q++) {
         const double *R = c->R + (size_t)q * c->m;
-        double lam = c->lc[q] + c->lA[q] * cs + c->lB[q] * sn;
+        double lam = vi_harm(&p, 0, c->lA[q], c->lB[q], c->lc[q]);
         for (int r = 0; r < c->m; r++) lam -= R[r] * (H->u[r] + c->brl * H->ud[r]);
         const double *psi = vi_stop_psi(m, c->set[q]);
         for (int r = 0; r < n; r++) Q[r] -= wgt * lam * psi[r] * H->qd[r];
@@ -583,11 +587,11 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
 /* The reported gap at t between grid points, directly. */
 static double hd_gap_at(vi_sim *s, vi_held *H, double t)
 {
-  double cs = cos(H->Om * t), sn = sin(H->Om * t);
+  vi_phase p = vi_phase_at(H->Om, t);
   for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, H->wa + i, H->wda + i);
   for (int j = 0; j < H->nf; j++) {
     double fd;
-    hd_eval(H, H->f + j, H->wa, H->wda, cs, sn, H->fn + j, &fd);
+    hd_eval(H, H->f + j, H->wa, H->wda, p.c, p.s, H->fn + j, &fd);
   }
   H->evals++;
   H->next_ok = 0; /* fn was scratch */

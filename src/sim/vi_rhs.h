@@ -2,18 +2,17 @@
 #ifndef VI_RHS_H
 #define VI_RHS_H
 
+#include "vi_forcing.h"
 #include "vi_sim_internal.h"
 
-/* Stage times a 13-stage step revisits: c = 1/6 and c = 1 twice, and its
- * c = 0 is the last step's c = 1, ten evaluations back. */
-#define VI_RHS_TRIG 12
 /* Widest band packed (coefficients per row, 2 (2 bw + 1)): bw <= 15 */
 #define VI_RHS_WIDTH_MAX 62
 
 /* M^-1 K and M^-1 C packed by rows over their band, interleaved like the
  * state so that each acceleration is one short dot product with z, and a
- * small cache of cos/sin of the forcing (a Runge-Kutta step asks for the
- * same stage times again). */
+ * small cache of the forcing's phase (a Runge-Kutta step asks for the same
+ * stage times again: a 13-stage step revisits c = 1/6 and c = 1 twice, and
+ * its c = 0 is the last step's c = 1, ten evaluations back). */
 typedef struct vi_rhs {
   int n, width;     /* width: coefficients per row, 2 (2 bw + 1) or 2n */
   int *lo;          /* [n] first state index each row reads */
@@ -23,11 +22,7 @@ typedef struct vi_rhs {
   double *acc;      /* [n] scratch: a backend may evaluate the right-hand
                        side while the driver holds s->vp (dense output) */
   int harmonic;
-  double W;
-  double tc[VI_RHS_TRIG], cc[VI_RHS_TRIG], sc[VI_RHS_TRIG]; /* cache: t,
-                                               cos(W t), sin(W t) */
-  double ta, ca, sa; /* the anchor: the last cos, sin evaluated by libm */
-  int next;
+  vi_phase_cache phase;
 } vi_rhs;
 
 int vi_rhs_create(const vi_sim *s, vi_rhs **out);

@@ -63,8 +63,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
     const double *w = vi_stop_w(model, k);
     s->wnorms[k] = k ? sqrt(vi_dot(n, w, w)) : s->wnorm;
   }
-  for (int i = 0; i < n && !s->harmonic; i++)
-    s->harmonic = model->a[i] != 0.0 || model->b[i] != 0.0;
+  s->harmonic = vi_forcing_harmonic(model);
   *out = s;
   return VI_OK;
 }
@@ -510,14 +509,10 @@ static void accel_rate(const vi_sim *s, double t, int k, const double *u,
   const vi_model *m = s->m;
   if (m->band) { vi_band_accel_rate(m, t, k, u, ud, out); return; }
   int n = s->n, bw = m->bw;
-  double W = m->omega_f, c = 0.0, sn = 0.0;
-  if (s->harmonic) {
-    c = cos(W * t);
-    sn = sin(W * t);
-  }
+  vi_phase p = s->harmonic ? vi_phase_at(m->omega_f, t)
+                           : vi_phase_none(m->omega_f);
   for (int i = 0; i < n; i++) {
-    double f = k == 1 ? W * (m->Minv_b[i] * c - m->Minv_a[i] * sn)
-                      : -W * W * (m->Minv_a[i] * c + m->Minv_b[i] * sn);
+    double f = vi_harm(&p, k, m->Minv_a[i], m->Minv_b[i], 0.0);
     int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
     for (int j = j0; j <= j1; j++) {
       size_t ij = (size_t)i + (size_t)j * (size_t)n;

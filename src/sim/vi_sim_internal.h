@@ -6,6 +6,7 @@
 
 #include <gsl/gsl_roots.h>
 
+#include "vi_forcing.h"
 #include "vi_internal.h"
 #include "vi_ledger_internal.h"
 
@@ -254,20 +255,20 @@ static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
 {
   const vi_model *m = s->m;
   int n = s->n, bw = m->bw;
-  double c = 1.0, sn = 0.0;
-  if (s->harmonic) {
-    c = cos(m->omega_f * t);
-    sn = sin(m->omega_f * t);
-  }
   if (m->band) vi_band_accel(m, t, z, acc); /* band storage: vi_band.c */
-  else for (int i = 0; i < n; i++) {
-    double a = m->Minv_a[i] * c + m->Minv_b[i] * sn + m->Minv_f0[i];
-    int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
-    for (int j = j0; j <= j1; j++) {
-      size_t ij = (size_t)i + (size_t)j * n;
-      a -= m->MinvK[ij] * z[2 * (size_t)j] + m->MinvC[ij] * z[2 * (size_t)j + 1];
+  else {
+    vi_phase p = s->harmonic ? vi_phase_at(m->omega_f, t)
+                             : vi_phase_none(m->omega_f);
+    for (int i = 0; i < n; i++) {
+      double a = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
+      int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
+      for (int j = j0; j <= j1; j++) {
+        size_t ij = (size_t)i + (size_t)j * n;
+        a -= m->MinvK[ij] * z[2 * (size_t)j] +
+             m->MinvC[ij] * z[2 * (size_t)j + 1];
+      }
+      acc[i] = a;
     }
-    acc[i] = a;
   }
   if (s->nforces) vi_force_add_accel(s, t, z, acc);
   if (sticking) vi_sim_constrain(s, acc, NULL);
