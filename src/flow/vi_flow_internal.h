@@ -15,8 +15,8 @@
 #ifndef VI_FLOW_INTERNAL_H
 #define VI_FLOW_INTERNAL_H
 
-#include "vi_forcing.h"
 #include "vi_internal.h"
+#include "vi_storage.h"
 
 typedef struct vi_general vi_general; /* vi_general.c */
 

@@ -26,10 +26,10 @@ int vi_rhs_create(const vi_sim *s, vi_rhs **out)
   }
   int width = 2 * (2 * bw + 1);
   if (width > 2 * n) width = 2 * n;
-  /* band storage has no dense M^-1 K (vi_band.c evaluates it in O(n kd));
-   * a wide band gains nothing from packing but the memory of a third copy:
-   * both take vi_sim_accel */
-  if (m->band || width > VI_RHS_WIDTH_MAX) {
+  /* a storage without dense M^-1 K has no rows to pack (band storage
+   * evaluates it in O(n kd)); a wide band gains nothing from packing but
+   * the memory of a third copy: both take vi_sim_accel */
+  if (!m->ops->pack_rows || width > VI_RHS_WIDTH_MAX) {
     *out = r;
     return VI_OK;
   }
@@ -40,20 +40,7 @@ int vi_rhs_create(const vi_sim *s, vi_rhs **out)
     vi_rhs_destroy(&r);
     return VI_ERR_NOMEM;
   }
-  for (int i = 0; i < n; i++) {
-    int lo = 2 * (i - bw);
-    if (lo > 2 * n - width) lo = 2 * n - width;
-    if (lo < 0) lo = 0;
-    r->lo[i] = lo;
-    double *row = r->R + (size_t)i * (size_t)width;
-    for (int j = 0; j < n; j++) {
-      int q = 2 * j - lo;
-      if (q < 0 || q >= width || j < i - bw || j > i + bw) continue;
-      size_t ij = (size_t)i + (size_t)j * (size_t)n;
-      row[q] = -m->MinvK[ij];
-      row[q + 1] = -m->MinvC[ij];
-    }
-  }
+  m->ops->pack_rows(m, width, r->lo, r->R);
   r->fa = m->Minv_a;
   r->fb = m->Minv_b;
   r->f0 = m->Minv_f0;

@@ -506,20 +506,8 @@ static void emit(vi_sim *s, int kind, int stop, double vn, double ie)
 static void accel_rate(const vi_sim *s, double t, int k, const double *u,
                        const double *ud, double *out)
 {
-  const vi_model *m = s->m;
-  if (m->band) { vi_band_accel_rate(m, t, k, u, ud, out); return; }
-  int n = s->n, bw = m->bw;
-  vi_phase p = s->harmonic ? vi_phase_at(m->omega_f, t)
-                           : vi_phase_none(m->omega_f);
-  for (int i = 0; i < n; i++) {
-    double f = vi_harm(&p, k, m->Minv_a[i], m->Minv_b[i], 0.0);
-    int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
-    for (int j = j0; j <= j1; j++) {
-      size_t ij = (size_t)i + (size_t)j * (size_t)n;
-      f -= m->MinvK[ij] * u[j] + m->MinvC[ij] * ud[j];
-    }
-    out[i] = f;
-  }
+  vi_phase p = vi_sim_phase(s, t);
+  s->m->ops->accel_rate(s->m, &p, k, u, ud, out);
 }
 
 /* Sticking after a summed chattering tail begins at its accumulation point:
@@ -1270,7 +1258,7 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
   VI_SIM_IDLE(s);
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
-  if (on && s->m->band)
+  if (on && !s->m->ops->modal)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the energy ledger needs "
                    "the modes, which a band-storage model does not have");
   vi_ledger_destroy(s->led);

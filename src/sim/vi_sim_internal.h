@@ -6,9 +6,9 @@
 
 #include <gsl/gsl_roots.h>
 
-#include "vi_forcing.h"
 #include "vi_internal.h"
 #include "vi_ledger_internal.h"
+#include "vi_storage.h"
 
 /* What a backend step ended on.  HANDOVER: the backend cannot go on
  * accurately from s->t (the closed form lost its conditioning); s->t and the
@@ -246,30 +246,21 @@ static inline void vi_sim_constrain(const vi_sim *s, double *a, double *lam)
   if (lam) lam[0] = l;
 }
 
-/* Free acceleration M^-1 (f - C v - K x) at t for interleaved z; in a
- * sticking phase the components along M^-1 w_k of the sticking stops are
- * removed so that w_k.x'' = 0.  This is the right-hand side's hot loop,
- * hence inline. */
+/* The forcing's phase at t (no cos/sin without harmonic forcing). */
+static inline vi_phase vi_sim_phase(const vi_sim *s, double t)
+{
+  return s->harmonic ? vi_phase_at(s->m->omega_f, t)
+                     : vi_phase_none(s->m->omega_f);
+}
+
+/* Free acceleration M^-1 (f - C v - K x) at t for interleaved z, by the
+ * model's storage; in a sticking phase the components along M^-1 w_k of
+ * the sticking stops are removed so that w_k.x'' = 0. */
 static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
                                 int sticking, double *acc)
 {
-  const vi_model *m = s->m;
-  int n = s->n, bw = m->bw;
-  if (m->band) vi_band_accel(m, t, z, acc); /* band storage: vi_band.c */
-  else {
-    vi_phase p = s->harmonic ? vi_phase_at(m->omega_f, t)
-                             : vi_phase_none(m->omega_f);
-    for (int i = 0; i < n; i++) {
-      double a = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
-      int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
-      for (int j = j0; j <= j1; j++) {
-        size_t ij = (size_t)i + (size_t)j * n;
-        a -= m->MinvK[ij] * z[2 * (size_t)j] +
-             m->MinvC[ij] * z[2 * (size_t)j + 1];
-      }
-      acc[i] = a;
-    }
-  }
+  vi_phase p = vi_sim_phase(s, t);
+  s->m->ops->accel(s->m, &p, z, acc);
   if (s->nforces) vi_force_add_accel(s, t, z, acc);
   if (sticking) vi_sim_constrain(s, acc, NULL);
 }
