@@ -9,12 +9,13 @@
  * eigenvectors Y (dsyevd) give Phi = Z Y (dormqr again).  Everything is
  * O(n^2 |S|) but the one eigenproblem of size n - |S|. */
 #include <float.h>
+#include <math.h>
 #include <lapacke.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_exact_internal.h"
+#include "vi_flow_internal.h"
 
 void vi_cmodes_destroy(vi_cmodes **cm)
 {

@@ -7,7 +7,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "vi_band_internal.h"
-#include "vi_sim_internal.h"
+#include "vi_sim_state.h"
 
 /* Column jz of the Jacobian [[0, I], [-M^-1 K, -M^-1 C]] (interleaved)
  * on the band [j - bw, j + bw] of rows, projected while sticking.  With a

@@ -8,7 +8,7 @@
 
 #include <cblas.h>
 
-#include "vi_sim_internal.h"
+#include "vi_force_internal.h"
 
 /* From this many coordinates on, BLAS dgemv/dgemm beat the hand-written
  * loops (measured: 0.2x at n = 2, 1x at n = 8, 2.5x at 16, 6x at 200). */

@@ -24,7 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_exact_internal.h"
+#include "vi_held_internal.h"
 
 #define HD_CACHE 8       /* held sets kept */
 #define HD_ANCHOR 64     /* grid steps between direct evaluations */

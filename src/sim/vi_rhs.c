@@ -102,3 +102,13 @@ void vi_rhs_rate(vi_sim *s, vi_rhs *r, double t, const double *z, double *zd)
     zd[2 * (size_t)i + 1] = acc[i];
   }
 }
+
+/* out = M^-1 (f^(k)(t) - K u - C ud): the k-th time derivative (k = 1, 2)
+ * of the free acceleration M^-1 (f - K x - C v) along a motion whose k-th
+ * and (k+1)-th derivatives of x are u and ud. */
+void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
+                       const double *ud, double *out)
+{
+  vi_phase p = vi_sim_phase(s, t);
+  s->m->ops->accel_rate(s->m, &p, k, u, ud, out);
+}

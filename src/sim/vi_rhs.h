@@ -1,9 +1,30 @@
-/* vi_rhs.h - the SUNDIALS backends' right-hand side, laid out for speed. */
+/* vi_rhs.h - the one right-hand side: the free acceleration of the
+ * simulator (vi_sim_accel, its rates vi_sim_accel_rate) by the model's
+ * storage, and the SUNDIALS backends' form of it, laid out for speed. */
 #ifndef VI_RHS_H
 #define VI_RHS_H
 
+#include "vi_force_internal.h"
 #include "vi_forcing.h"
-#include "vi_sim_internal.h"
+#include "vi_sim_state.h"
+
+/* Free acceleration M^-1 (f - C v - K x) at t for interleaved z, by the
+ * model's storage; in a sticking phase the components along M^-1 w_k of
+ * the sticking stops are removed so that w_k.x'' = 0. */
+static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
+                                int sticking, double *acc)
+{
+  vi_phase p = vi_sim_phase(s, t);
+  s->m->ops->accel(s->m, &p, z, acc);
+  if (s->nforces) vi_force_add_accel(s, t, z, acc);
+  if (sticking) vi_sim_constrain(s, acc, NULL);
+}
+
+/* out = M^-1 (f^(k)(t) - K u - C ud), k = 1, 2: the k-th time derivative
+ * of the free acceleration along a motion whose k-th and (k+1)-th
+ * derivatives of x are u and ud (vi_rhs.c). */
+void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
+                       const double *ud, double *out);
 
 /* Widest band packed (coefficients per row, 2 (2 bw + 1)): bw <= 15 */
 #define VI_RHS_WIDTH_MAX 62

@@ -160,13 +160,6 @@ static void use_backend(vi_sim *s, const vi_backend *be)
   s->be_data = pd;
 }
 
-int vi_sim_busy(vi_sim *s, const char *name)
-{
-  return vi_fail(s->errmsg, VI_ERR_STATE, "%s called from inside a callback "
-                 "of this sim's own run: refused (only the queries listed in "
-                 "vi_sim.h may be called there)", name);
-}
-
 void vi_sim_destroy(vi_sim **sim)
 {
   if (!sim || !*sim) return;
@@ -443,41 +436,6 @@ int64_t vi_sim_stat(const vi_sim *s, int which)
   return v + vi_held_stat(s, which);
 }
 
-/* ---- root bracketing shared by the backends ----------------------------- */
-int vi_sim_bracket(vi_sim *s, double (*f)(double, void *), void *params,
-                   double lo, double hi, double *root)
-{
-  double flo = f(lo, params), fhi = f(hi, params);
-  if (fhi == 0.0) { *root = hi; return VI_OK; }
-  if (flo == 0.0) { *root = lo; return VI_OK; }
-  if ((flo < 0.0) == (fhi < 0.0) || !isfinite(flo) || !isfinite(fhi))
-    return vi_fail(s->errmsg, VI_ERR_ROOT,
-                   "event not bracketed in [%.17g, %.17g]: f = %g, %g", lo, hi,
-                   flo, fhi);
-  gsl_function F = {f, params};
-  gsl_root_fsolver_set(s->brent, &F, lo, hi);
-  for (int it = 0; it < 200; it++) {
-    if (gsl_root_fsolver_iterate(s->brent) != 0) break;
-    double a = gsl_root_fsolver_x_lower(s->brent);
-    double b = gsl_root_fsolver_x_upper(s->brent);
-    if (b - a <= 4.0 * DBL_EPSILON * fmax(fabs(a), fabs(b)) + DBL_MIN) {
-      *root = gsl_root_fsolver_root(s->brent);
-      return VI_OK;
-    }
-  }
-  *root = gsl_root_fsolver_root(s->brent);
-  return VI_OK; /* Brent's bracket still holds the root: report its best */
-}
-
-/* accel_rate() below, for the chatter map (vi_chatter.c) */
-static void accel_rate(const vi_sim *s, double t, int k, const double *u,
-                       const double *ud, double *out);
-void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
-                       const double *ud, double *out)
-{
-  accel_rate(s, t, k, u, ud, out);
-}
-
 /* ---- events ------------------------------------------------------------- */
 static void split(vi_sim *s, const double *z)
 {
@@ -498,16 +456,6 @@ static void emit(vi_sim *s, int kind, int stop, double vn, double ie)
     s->stop = 1;
     s->event_stop = 0; /* the user's request: the run returns VI_STOPPED */
   }
-}
-
-/* out = M^-1 (f^(k)(t) - K u - C ud): the k-th time derivative (k = 1, 2)
- * of the free acceleration M^-1 (f - K x - C v) along a motion whose k-th
- * and (k+1)-th derivatives of x are u and ud. */
-static void accel_rate(const vi_sim *s, double t, int k, const double *u,
-                       const double *ud, double *out)
-{
-  vi_phase p = vi_sim_phase(s, t);
-  s->m->ops->accel_rate(s->m, &p, k, u, ud, out);
 }
 
 /* Sticking after a summed chattering tail begins at its accumulation point:
