@@ -69,10 +69,12 @@ void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
   int n = L->n;
   vi_phase p = L->harmonic ? vi_phase_at(m->omega_f, t)
                            : vi_phase_none(m->omega_f);
+  const double *Fa, *Fb, *F0;
+  vi_forcing_vectors(m, VI_FORCING_MODAL, &Fa, &Fb, &F0);
   double *FE = rates, *DE = rates + n, *XE = rates + 2 * (size_t)n;
   double *CE = rates + 3 * (size_t)n, *NE = gq ? rates + 4 * (size_t)n : NULL;
   for (int j = 0; j < n; j++) {
-    double F = vi_harm(&p, 0, m->Fa[j], m->Fb[j], m->F0[j]);
+    double F = vi_harm(&p, 0, Fa[j], Fb[j], F0[j]);
     FE[j] = qd[j] * F;                                           /* WB 7 */
     DE[j] = m->D[j + (size_t)j * (size_t)n] * qd[j] * qd[j];     /* WB 8 */
     CE[j] = -Lambda * m->psi[j] * qd[j];

@@ -201,25 +201,26 @@ static void band_accel(const vi_model *m, const vi_phase *p, const double *z,
                        double *acc)
 {
   int n = m->n;
+  const double *fa, *fb, *f0;
   rows_apply(m, z, 2, z + 1, 2, acc);
-  if (m->kdm == 0) {
-    for (int i = 0; i < n; i++)
-      acc[i] = vi_harm(p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]) -
-               acc[i];
-    return;
-  }
+  /* diagonal M: the rows are M^-1's already; else the physical forcing
+   * and one band solve */
+  vi_forcing_vectors(m, m->kdm == 0 ? VI_FORCING_MINV : VI_FORCING_PHYS,
+                     &fa, &fb, &f0);
   for (int i = 0; i < n; i++)
-    acc[i] = vi_harm(p, 0, m->a[i], m->b[i], m->f0[i]) - acc[i];
-  minv(m, 1, acc);
+    acc[i] = vi_harm(p, 0, fa[i], fb[i], f0[i]) - acc[i];
+  if (m->kdm > 0) minv(m, 1, acc);
 }
 
 static void band_accel_rate(const vi_model *m, const vi_phase *p, int k,
                             const double *u, const double *ud, double *out)
 {
   int n = m->n;
+  const double *fa, *fb, *f0;
+  vi_forcing_vectors(m, VI_FORCING_MINV, &fa, &fb, &f0);
   band_apply(m, u, 1, ud, 1, out);
   for (int i = 0; i < n; i++)
-    out[i] = vi_harm(p, k, m->Minv_a[i], m->Minv_b[i], 0.0) - out[i];
+    out[i] = vi_harm(p, k, fa[i], fb[i], 0.0) - out[i];
 }
 
 static double band_energy(const vi_model *m, const double *x, const double *v)

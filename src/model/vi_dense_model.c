@@ -15,8 +15,10 @@ static void dense_accel(const vi_model *m, const vi_phase *p, const double *z,
                         double *acc)
 {
   int n = m->n, bw = m->bw;
+  const double *fa, *fb, *f0;
+  vi_forcing_vectors(m, VI_FORCING_MINV, &fa, &fb, &f0);
   for (int i = 0; i < n; i++) {
-    double a = vi_harm(p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
+    double a = vi_harm(p, 0, fa[i], fb[i], f0[i]);
     int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
     for (int j = j0; j <= j1; j++) {
       size_t ij = (size_t)i + (size_t)j * n;
@@ -31,8 +33,10 @@ static void dense_accel_rate(const vi_model *m, const vi_phase *p, int k,
                              const double *u, const double *ud, double *out)
 {
   int n = m->n, bw = m->bw;
+  const double *fa, *fb, *f0;
+  vi_forcing_vectors(m, VI_FORCING_MINV, &fa, &fb, &f0);
   for (int i = 0; i < n; i++) {
-    double f = vi_harm(p, k, m->Minv_a[i], m->Minv_b[i], 0.0);
+    double f = vi_harm(p, k, fa[i], fb[i], 0.0);
     int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
     for (int j = j0; j <= j1; j++) {
       size_t ij = (size_t)i + (size_t)j * (size_t)n;

@@ -9,13 +9,6 @@ vi_phase vi_phase_at(double W, double t)
   return p;
 }
 
-void vi_harm_vec(const vi_phase *p, int k, int n, const double *A,
-                 const double *B, const double *C, double *out)
-{
-  for (int i = 0; i < n; i++)
-    out[i] = vi_harm(p, k, A[i], B[i], C && k == 0 ? C[i] : 0.0);
-}
-
 void vi_forcing_vectors(const vi_model *m, int form, const double **A,
                         const double **B, const double **C)
 {
@@ -39,16 +32,6 @@ int vi_forcing_harmonic(const vi_model *m)
   for (int i = 0; i < m->n; i++)
     if (m->a[i] != 0.0 || m->b[i] != 0.0) return 1;
   return 0;
-}
-
-void vi_forcing_eval(const vi_model *m, int form, int k, double t,
-                     double *out)
-{
-  const double *A, *B, *C;
-  vi_forcing_vectors(m, form, &A, &B, &C);
-  vi_phase p = vi_forcing_harmonic(m) ? vi_phase_at(m->omega_f, t)
-                                      : vi_phase_none(m->omega_f);
-  vi_harm_vec(&p, k, m->n, A, B, C, out);
 }
 
 void vi_phase_cache_init(vi_phase_cache *pc, double W)

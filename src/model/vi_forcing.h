@@ -37,23 +37,17 @@ static inline double vi_harm(const vi_phase *p, int k, double A, double B,
   return -p->W * p->W * (A * p->c + B * p->s);
 }
 
-/* out [n] = k-th derivative of A cos + B sin + C at p (C may be NULL). */
-void vi_harm_vec(const vi_phase *p, int k, int n, const double *A,
-                 const double *B, const double *C, double *out);
-
 /* Which form of the model's forcing: as set (a, b, f0), premultiplied by
  * M^-1 (Minv_a, Minv_b, Minv_f0) or modal Psi^T (Fa, Fb, F0). */
 enum { VI_FORCING_PHYS = 0, VI_FORCING_MINV = 1, VI_FORCING_MODAL = 2 };
 
-/* The vectors A, B, C [n] of a form (the modal ones are NULL for a model
+/* The vectors A, B, C [n] of a form, so that its f^(k) at phase p is
+ * vi_harm(p, k, A[i], B[i], C[i]) (the modal ones are NULL for a model
  * without modes). */
 void vi_forcing_vectors(const vi_model *m, int form, const double **A,
                         const double **B, const double **C);
 /* 1 if a or b is non-zero: cos/sin are needed at all. */
 int vi_forcing_harmonic(const vi_model *m);
-/* out [n] = f^(k)(t), k = 0, 1, 2, in the given form. */
-void vi_forcing_eval(const vi_model *m, int form, int k, double t,
-                     double *out);
 
 /* A small cache of phases for a Runge-Kutta step, which asks for the same
  * stage times again, and nearby times by the angle addition theorem from

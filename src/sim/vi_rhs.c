@@ -41,9 +41,7 @@ int vi_rhs_create(const vi_sim *s, vi_rhs **out)
     return VI_ERR_NOMEM;
   }
   m->ops->pack_rows(m, width, r->lo, r->R);
-  r->fa = m->Minv_a;
-  r->fb = m->Minv_b;
-  r->f0 = m->Minv_f0;
+  vi_forcing_vectors(m, VI_FORCING_MINV, &r->fa, &r->fb, &r->f0);
   r->harmonic = s->harmonic;
   vi_phase_cache_init(&r->phase, m->omega_f);
   *out = r;
