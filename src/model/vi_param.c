@@ -138,7 +138,7 @@ static int band_extent(const double *AB, int n, int kd, int ldb)
 }
 
 /* A new band C: its rows CR (scaled by 1/m_i for a diagonal M) and the
- * Jacobian's half-bandwidth, as vi_band_setup makes them. */
+ * Jacobian's half-bandwidth, as the band setup (vi_band_model.c) makes them. */
 static void refresh_band_damping(vi_model *m)
 {
   int n = m->n, kd = m->kd, ldb = m->ldb, w = 2 * kd + 1;
