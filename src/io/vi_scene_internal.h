@@ -1,5 +1,6 @@
 /* vi_scene_internal.h - the scene description shared by the scene files of
- * libvibroimpact_io; never installed.
+ * libvibroimpact_scene (and read, never written, by vi_writer.c of
+ * libvibroimpact_h5 for an FE scene's files); never installed.
  *
  *   vi_scene.c          YAML (libyaml) -> struct vi_scene, with file:line:col
  *                       diagnostics; the only file that knows YAML

@@ -1,5 +1,5 @@
 /* test_misuse_io.c - every exported function of the companion library
- * vibroimpact_io (scenes, scene edits, the HDF5 writer) called as a careless
+ * vibroimpact_scene and vibroimpact_h5 (scenes, scene edits, the HDF5 writer) called as a careless
  * or hostile host would: NULL handles, arrays and strings, zero and negative
  * lengths, non-finite values, calls out of order and after finishing.  Each
  * must return an error code (never VI_OK) and the documented sentinel, and
