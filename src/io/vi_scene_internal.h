@@ -78,10 +78,4 @@ struct vi_scene {
 /* Coordinates of the scene's model: n, or the kept modes of an FE model. */
 int vi_scene_model_n(const vi_scene *s);
 
-/* The run options' defaults, before the YAML is read. */
-void vi_scene_options_init(vi_scene *s);
-/* After a successful parse: t_end from run.periods (default 100 periods)
- * when run.t_end was not given. */
-void vi_scene_options_finish(vi_scene *s);
-
 #endif
