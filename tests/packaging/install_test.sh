@@ -18,6 +18,7 @@ cmake --build "$tmp/c" >/dev/null
 "$tmp/c/consumer_scene"
 "$tmp/c/consumer_h5" "$tmp/h5.h5"
 "$tmp/c/consumer_io" "$tmp/io.h5"
+"$tmp/c/consumer_io_old" "$tmp/io_old.h5"
 # the scene library needs no HDF5, the HDF5 one brings the scene library
 if readelf -d "$tmp/c/consumer_scene" | grep 'libvibroimpact_h5\|libhdf5' >/dev/null; then
   echo "FAIL: consumer_scene links HDF5"; exit 1
