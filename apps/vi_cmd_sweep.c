@@ -323,6 +323,11 @@ static int report(const args *a, vi_diagram *sw)
     fprintf(stderr, "vibroimpact: %s: %s\n", cmd, err);
     return 1;
   }
+  if (sw->incomplete)
+    fprintf(stderr, "vibroimpact: %s: interrupted (%s) after %lld of %lld points%s\n",
+            cmd, interrupted == SIGTERM ? "SIGTERM" : "SIGINT",
+            (long long)sw->points_done, (long long)sw->nlines * a->sp.steps,
+            a->out ? "; the file is marked incomplete" : "");
   if (a->json && a->basins) vi_basins_print_json(sw, stdout);
   else if (a->json) vi_sweep_print_json(sw, stdout);
   else if (!a->quiet) {
@@ -370,9 +375,10 @@ int vi_cmd_sweep_main(int argc, char **argv)
   rc = vi_sweep_run(text, a.scene ? a.scene : "<default scene: fig2>", a.sets,
                     a.nsets, &a.sp, &interrupted, &sw, err, sizeof err);
   free(text);
-  if (rc && !mpi_rank(mpi)) /* once */
+  if (rc && rc != 3 && !mpi_rank(mpi)) /* once */
     fprintf(stderr, "vibroimpact: %s: %s\n", a.basins ? "basins" : "sweep", err);
-  if (!rc && !sw->rank) rc = report(&a, sw); /* rank 0 reports and writes */
+  /* rank 0 reports and writes, an interrupted sweep's points too */
+  if ((!rc || rc == 3) && !sw->rank) rc = report(&a, sw);
   vi_sweep_free(&sw);
   free(a.sets);
   if (interrupted) rc = 128 + (int)interrupted; /* 130 SIGINT, 143 SIGTERM */

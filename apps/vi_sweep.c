@@ -53,7 +53,7 @@ typedef struct piece {
   vi_diagram_line *ln;
   int pos0, pos1; /* positions in the line's sweep order */
   volatile sig_atomic_t *cancel;
-  int code; /* 0, 1 run-time, 2 input */
+  int code; /* 0, 1 run-time, 2 input, 3 cancelled */
   char err[1400];
 } piece;
 
@@ -164,7 +164,7 @@ static void run_piece(piece *p)
     }
     st = vi_sweep_iterate(study);
     if (st == VI_CANCELLED || st == VI_STOPPED || st == VI_ERR_NOMEM) {
-      p->code = 1;
+      p->code = st == VI_ERR_NOMEM ? 1 : 3; /* the value in progress is dropped */
       if (st == VI_ERR_NOMEM) msg(p->err, sizeof p->err, "out of memory");
       else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
       goto done;
@@ -174,6 +174,7 @@ static void run_piece(piece *p)
       msg(p->err, sizeof p->err, "out of memory");
       goto done;
     }
+    ln->pt[k].done = 1;
     if (st) {
       /* one value's failure does not sink the diagram: it is marked, and
        * the next value starts cold (from the scene's initial state) */
@@ -276,7 +277,7 @@ static void pack_piece(const vi_diagram *sw, const piece *pc, pbuf *p)
   for (int pos = pc->pos0; pos < pc->pos1; pos++) {
     int k = pc->ln->dir > 0 ? pos : K - 1 - pos;
     const vi_diagram_point *pt = &pc->ln->pt[k];
-    int hdr[3] = {pt->n, pt->m, pt->failed};
+    int hdr[4] = {pt->n, pt->m, pt->failed, pt->done};
     int64_t ni = pt->nimp, el = pt->error ? (int64_t)strlen(pt->error) : -1;
     put_bytes(p, hdr, sizeof hdr);
     put_bytes(p, &pt->T, sizeof pt->T);
@@ -306,13 +307,14 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
   int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
 #define TAKE(dst, k) do { if (*off + (k) > len) return 1; memcpy((dst), b + *off, (k)); *off += (k); } while (0)
   for (int pos = pc->pos0; pos < pc->pos1; pos++) {
-    int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[3];
+    int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[4];
     vi_diagram_point *pt = &pc->ln->pt[k];
     int64_t ni, el;
     TAKE(hdr, sizeof hdr);
     pt->n = hdr[0];
     pt->m = hdr[1];
     pt->failed = hdr[2];
+    pt->done = hdr[3];
     TAKE(&pt->T, sizeof pt->T);
     TAKE(&pt->lyap, sizeof pt->lyap);
     TAKE(&ni, sizeof ni);
@@ -356,8 +358,10 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
 static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
                            int size, int code, char *err, int errlen)
 {
-  int all = 0;
-  MPI_Allreduce(&code, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  /* a cancelled rank (code 3) still sends the points it did */
+  int all = 0, mine[2] = {code == 3 ? 0 : code, code == 3}, both[2];
+  MPI_Allreduce(mine, both, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  all = both[0];
   if (all) {
     if (!code) msg(err, errlen, "another MPI rank failed (its message is on its stderr)");
     else if (rank) fprintf(stderr, "vibroimpact: sweep (rank %d): %s\n", rank, err);
@@ -370,7 +374,7 @@ static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
     MPI_Send(&len, 1, MPI_LONG_LONG, 0, 1, MPI_COMM_WORLD);
     if (len > 0) MPI_Send(p.b, (int)len, MPI_BYTE, 0, 2, MPI_COMM_WORLD);
     free(p.b);
-    return len < 0 ? 1 : 0;
+    return len < 0 ? 1 : both[1] ? 3 : 0;
   }
   int bad = 0;
   for (int r = 1; r < size; r++) {
@@ -393,7 +397,7 @@ static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
     free(b);
   }
   if (bad) msg(err, errlen, "gathering the results of the MPI ranks failed");
-  return bad;
+  return bad ? 1 : both[1] ? 3 : 0;
 }
 #endif
 
@@ -519,9 +523,9 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
     sw->piece_cpu[rank + q * size] = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
   }
-  int code = 0;
-  for (int i = 0; i < ntask && !code; i++)
-    if (ps[i].code) {
+  int code = 0; /* a failure before a cancellation */
+  for (int i = 0; i < ntask; i++)
+    if (ps[i].code && (!code || code == 3)) {
       code = ps[i].code;
       msg(err, errlen, "%s", ps[i].err);
     }
@@ -563,13 +567,17 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     code = 1;
   }
   if (!code) code = deal(sw, cancel, err, errlen);
-  if (code) {
+  if (code && code != 3) {
     vi_sweep_free(&sw);
     return code;
   }
+  /* cancelled: the diagram of the points done, marked incomplete */
+  for (int l = 0; l < sw->nlines; l++)
+    for (int k = 0; k < sw->spec.steps; k++) sw->points_done += sw->lines[l].pt[k].done;
+  sw->incomplete = code == 3;
   sw->wall = now() - w0;
   *out = sw;
-  return 0;
+  return code;
 }
 
 /* ---- JSON ------------------------------------------------------------------ */
@@ -654,8 +662,9 @@ void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
   json_str(f, sw->name);
   fprintf(f, ", \"key\": ");
   json_str(f, sp->key);
-  fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, ",
-          sp->transient, sp->record, sp->chunks);
+  fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, "
+          "\"complete\": %s, \"points_done\": %lld, ", sp->transient, sp->record,
+          sp->chunks, sw->incomplete ? "false" : "true", (long long)sw->points_done);
   if (!sp->key2) {
     json_line(sw, &sw->lines[0], f);
     if (sw->nlines > 1) {
@@ -719,8 +728,9 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
   fprintf(f, ", \"key2\": ");
   json_str(f, sp->key2);
   fprintf(f, ", \"transient\": %d, \"record\": %d, \"steps\": %d, "
-          "\"steps2\": %d, \"attractors\": %d", sp->transient, sp->record,
-          K, sp->steps2, sw->nattr);
+          "\"steps2\": %d, \"attractors\": %d, \"complete\": %s, "
+          "\"points_done\": %lld", sp->transient, sp->record, K, sp->steps2,
+          sw->nattr, sw->incomplete ? "false" : "true", (long long)sw->points_done);
   static const char *what[] = {"param", "param2", "n", "m", "attractor"};
   for (int w = 0; w < 5; w++) {
     fprintf(f, ", \"%s\": [", what[w]);

@@ -64,6 +64,8 @@ typedef struct vi_diagram_point {
   int norb;
   double *ovn, *ophase;  /* [norb] approach velocity w.v, impact time mod T */
   int *ostable, *oadm;   /* [norb] stable (all |mu| < 1), admissible */
+  int done;             /* 1: computed (failed or not); 0: an interrupted
+                           sweep never reached it */
 } vi_diagram_point;
 
 typedef struct vi_diagram_line {
@@ -94,12 +96,16 @@ typedef struct vi_diagram {
   int *attractor;         /* spec.cold: [nlines x K] attractor ids (-1:
                              none), vi_sweep_attractors; rank 0 only */
   int nattr;
+  int incomplete;         /* 1: interrupted, only the points marked done */
+  int64_t points_done;    /* points computed (of nlines x K) */
 } vi_diagram;
 
 /* Run the sweep on the scene text (name: its file, for messages) after
  * the KEY=VALUE assignments sets[nsets].  Returns 0, or 2 for bad input
  * (message in err, naming file:line:key where known), 1 for a run-time
- * failure or cancellation (*cancel set non-zero by a signal handler). */
+ * failure, 3 when cancelled (*cancel set non-zero by a signal handler):
+ * then *out holds the points done so far (incomplete = 1; the point in
+ * progress in each piece is dropped). */
 int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int nsets, const vi_sweep_spec *spec,
                  volatile sig_atomic_t *cancel, vi_diagram **out, char *err,

@@ -645,16 +645,94 @@ static void test_every_command(void **state)
     H5Fclose(f);
     remove(out);
   }
-  /* signals: a long sweep answers SIGINT and SIGTERM with 130 and 143 */
-  const char *lng[] = {"--param", "forcing.omega", "--from", "0.8", "--to",
-                       "1.0", "--steps", "200000", "--quiet", NULL};
-  cmd_case sweep_long = {"sweep", {NULL}, 1};
-  expect(signal_in("sweep (200000 steps)", cmd_argv(&sweep_long, scene, lng), 0.5,
-                   SIGINT), 130, NULL);
-  expect(signal_in("sweep (200000 steps)", cmd_argv(&sweep_long, scene, lng), 0.5,
-                   SIGTERM), 143, NULL);
   unlink(fifo);
   rmdir(sub);
+}
+
+/* An integer root attribute of an HDF5 file (-1 if absent). */
+static long long h5_attr(hid_t f, const char *name)
+{
+  long long v = -1;
+  if (H5Aexists(f, name) <= 0) return -1;
+  hid_t a = H5Aopen(f, name, H5P_DEFAULT);
+  H5Aread(a, H5T_NATIVE_LLONG, &v);
+  H5Aclose(a);
+  return v;
+}
+
+/* The interrupted study's file: valid, complete = 0, points_done of
+ * points_total matching the /sweep/done flags, no .part left. */
+static void check_incomplete(const char *h5, long long total)
+{
+  char part[700];
+  snprintf(part, sizeof part, "%s.part", h5);
+  assert_false(exists(part));
+  hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  long long done = h5_attr(f, "points_done");
+  assert_int_equal(h5_attr(f, "complete"), 0);
+  assert_int_equal(h5_attr(f, "points_total"), total);
+  assert_true(done >= 0 && done < total);
+  int *flags = malloc(sizeof(int) * (size_t)total);
+  assert_non_null(flags);
+  hid_t d = H5Dopen2(f, "sweep/done", H5P_DEFAULT);
+  assert_true(d >= 0);
+  assert_true(H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, flags) >= 0);
+  long long sum = 0;
+  for (long long i = 0; i < total; i++) sum += flags[i];
+  assert_int_equal(sum, done);
+  print_message("  interrupted file: complete = 0, %lld of %lld points\n", done, total);
+  free(flags);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+
+/* Interrupted studies: SIGINT and SIGTERM answered with 130 and 143, the
+ * points done written to a valid file marked incomplete (and in JSON),
+ * through .part; orbits answers with the program's common handler. */
+static void test_interrupted_studies(void **state)
+{
+  (void)state;
+  char scene[600];
+  snprintf(scene, sizeof scene, "%s/fig2.yaml", VI_SCENE_DIR);
+  char *h5 = path("intr.h5");
+  const char *lng[] = {"--param", "forcing.omega", "--from", "0.8", "--to",
+                       "1.0", "--steps", "20000", "--transient", "500", "--record",
+                       "4", "--threads", "1", "--quiet", "-o", h5, NULL};
+  cmd_case sweep_long = {"sweep", {NULL}, 1};
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 1.0,
+                   SIGINT), 130, "marked incomplete");
+  check_incomplete(h5, 20000);
+  remove(h5);
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 1.0,
+                   SIGTERM), 143, "interrupted (SIGTERM)");
+  check_incomplete(h5, 20000);
+  remove(h5);
+  /* basins: a 150 x 150 grid of initial states */
+  const char *bas[] = {"--param", "initial.x[2]", "--from", "-1", "--to", "0.09",
+                       "--steps", "150", "--param2", "initial.v[2]", "--from2",
+                       "-1", "--to2", "1", "--steps2", "150", "--transient", "500",
+                       "--record", "4", "--threads", "1", "--quiet", "-o", h5, NULL};
+  cmd_case basins = {"basins", {NULL}, 1};
+  expect(signal_in("basins -o (150 x 150)", cmd_argv(&basins, scene, bas), 1.0,
+                   SIGINT), 130, "marked incomplete");
+  check_incomplete(h5, 150 * 150);
+  remove(h5);
+  /* JSON: the points done, flagged */
+  const char *js[] = {"--param", "forcing.omega", "--from", "0.8", "--to", "1.0",
+                      "--steps", "20000", "--transient", "500", "--record", "4",
+                      "--threads", "1", "--json", NULL};
+  expect(signal_in("sweep --json", cmd_argv(&sweep_long, scene, js), 1.0, SIGINT),
+         130, NULL);
+  const char *out = slurp(path("stdout"));
+  assert_non_null(strstr(out, "\"complete\": false"));
+  assert_non_null(strstr(out, "\"points_done\": "));
+  /* orbits: the common handler (a continuation of a million steps) */
+  const char *orb[] = {"--continue", "forcing.omega", "--to", "1.5", "--steps",
+                       "1000000", "--json", NULL};
+  cmd_case orbits = {"orbits", {NULL}, 0};
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGTERM), 143, NULL);
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGINT), 130, NULL);
 }
 
 int main(int argc, char **argv)
@@ -681,6 +759,7 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_ranges),
       cmocka_unit_test(test_command_line),
       cmocka_unit_test(test_every_command),
+      cmocka_unit_test(test_interrupted_studies),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   remove(path("stdout"));
