@@ -401,6 +401,73 @@ static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
 }
 #endif
 
+/* MemAvailable of /proc/meminfo in bytes; 0 when unknown. */
+static double mem_available(void)
+{
+  FILE *f = fopen("/proc/meminfo", "r");
+  char line[256];
+  double kb = 0;
+  while (f && fgets(line, sizeof line, f))
+    if (!strncmp(line, "MemAvailable:", 13)) {
+      char *end;
+      kb = strtod(line + 13, &end);
+      if (end == line + 13 || !(kb > 0)) kb = 0;
+      break;
+    }
+  if (f) fclose(f);
+  return kb * 1024.0;
+}
+
+static int threads_of(const vi_sweep_spec *sp)
+{
+  int nth = sp->threads > 0 ? sp->threads : 1;
+#ifdef _OPENMP
+  if (sp->threads <= 0) nth = omp_get_max_threads();
+#endif
+  return nth;
+}
+
+double vi_sweep_memory_estimate(const vi_sweep_spec *sp, int N,
+                                double scene_bytes, int writes)
+{
+  double L = (double)(sp->key2 ? sp->steps2 : 1) * (sp->dirs == 3 ? 2 : 1),
+         K = sp->steps, R = sp->record, n2 = 2.0 * N,
+         pieces = L * (sp->chunks < sp->steps ? sp->chunks : sp->steps),
+         run = fmin(threads_of(sp), pieces);
+  double strobe = 8 * L * K * R * n2, /* the stroboscopic states */
+         impacts = 24 * L * K * R,    /* one impact a recorded period */
+         points = L * K * (double)sizeof(vi_diagram_point);
+  /* the base model, then per running thread its copy, a simulation and
+   * the study's own record; the file is built in memory (a copy of the
+   * arrays and HDF5's image); basins compare copies of the strobes */
+  return scene_bytes + run * (scene_bytes + 8 * R * (n2 + 3)) + strobe +
+         impacts + points + (writes ? 2 * (strobe + impacts) : 0) +
+         (sp->cold ? strobe : 0);
+}
+
+/* Refuse a diagram larger than the limit before anything is allocated:
+ * 0, or 2 with the flags and the figures in err. */
+static int check_memory(const vi_diagram *sw, char *err, int errlen)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  double lim = sw->max_memory > 0 ? sw->max_memory : mem_available();
+  if (!(lim > 0)) return 0; /* not known: nothing to compare */
+  double scene = vi_scene_memory_estimate(sw->sc),
+         need = vi_sweep_memory_estimate(sp, sw->N, scene, sw->writes);
+  if (need <= lim) return 0;
+  char rows[64] = "";
+  if (sp->key2) snprintf(rows, sizeof rows, " x --steps2 %d", sp->steps2);
+  msg(err, errlen, "%s: --steps %d%s x --record %d%s (%d coordinates%s%s) would "
+      "need about %.3g MB (%.3g MB of stroboscopic states), more than the %.3g "
+      "MB %s (--max-memory raises the limit)", sw->name, sp->steps, rows,
+      sp->record, sp->dirs == 3 ? " x --both" : "", sw->N, sw->writes ? ", -o" : "",
+      sp->cold ? ", basins" : "", need / 1048576.0,
+      8.0 * sp->steps * sp->steps2 * (sp->dirs == 3 ? 2 : 1) * sp->record * 2 *
+          sw->N / 1048576.0,
+      lim / 1048576.0, sw->max_memory > 0 ? "allowed" : "available on this machine");
+  return 2;
+}
+
 /* The base scene (text with the --set assignments), its model built
  * once, the values, and the keys tried at both ends.  0, 1 (memory), 2
  * (input) with err. */
@@ -443,6 +510,8 @@ static int prepare(vi_diagram *sw, const char *text, const char *name,
         "P(1,1) orbits are found with the linear closed-form flow", sw->name);
     return 2;
   }
+  /* the memory the whole study needs, before any of it is allocated */
+  if (check_memory(sw, err, errlen)) return 2;
   /* the model, once: every value is a parameter change on a copy */
   if ((st = vi_scene_create_model(sw->sc, &sw->model, &d))) {
     diag_msg(&d, st, err, errlen);
@@ -542,6 +611,16 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
                  int errlen)
 {
+  return vi_sweep_run_limited(text, name, sets, nsets, spec, 0, 0, cancel, out,
+                              err, errlen);
+}
+
+int vi_sweep_run_limited(const char *text, const char *name,
+                         const char *const *sets, int nsets,
+                         const vi_sweep_spec *spec, double max_memory,
+                         int writes, volatile sig_atomic_t *cancel,
+                         vi_diagram **out, char *err, int errlen)
+{
   double w0 = now();
   *out = NULL;
   err[0] = '\0';
@@ -559,6 +638,8 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     return 1;
   }
   sw->spec = *sp;
+  sw->max_memory = max_memory;
+  sw->writes = writes;
   if (!sw->spec.key2) sw->spec.steps2 = 1;
   if (sw->spec.chunks > sw->spec.steps) sw->spec.chunks = sw->spec.steps;
   int code = prepare(sw, text, name, sets, nsets, err, errlen);

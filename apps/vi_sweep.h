@@ -96,6 +96,8 @@ typedef struct vi_diagram {
   int *attractor;         /* spec.cold: [nlines x K] attractor ids (-1:
                              none), vi_sweep_attractors; rank 0 only */
   int nattr;
+  double max_memory;      /* the memory check's limit (vi_sweep_run_limited) */
+  int writes;             /* 1: the file will be built in memory too */
   int incomplete;         /* 1: interrupted, only the points marked done */
   int64_t points_done;    /* points computed (of nlines x K) */
 } vi_diagram;
@@ -110,6 +112,22 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int nsets, const vi_sweep_spec *spec,
                  volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
                  int errlen);
+/* vi_sweep_run with the memory check's limit: before the model and the
+ * diagram are allocated, their size (the model and a simulation per
+ * thread, the stroboscopic states, one impact per recorded period, and
+ * with `writes` the file built in memory) is compared with max_memory
+ * bytes (<= 0: MemAvailable of /proc/meminfo); more is refused (2, the
+ * flags and the figures in err).  vi_sweep_run: max_memory 0, writes 0. */
+int vi_sweep_run_limited(const char *text, const char *name,
+                         const char *const *sets, int nsets,
+                         const vi_sweep_spec *spec, double max_memory,
+                         int writes, volatile sig_atomic_t *cancel,
+                         vi_diagram **out, char *err, int errlen);
+/* The bytes a diagram of spec with N coordinates holds (the estimate
+ * vi_sweep_run_limited checks), scene_bytes the model's and one
+ * simulation's (vi_scene_memory_estimate). */
+double vi_sweep_memory_estimate(const vi_sweep_spec *spec, int N,
+                                double scene_bytes, int writes);
 void vi_sweep_free(vi_diagram **sw);
 
 /* Basins (spec.cold): the attractor of every cell, sw->attractor and

@@ -452,6 +452,34 @@ static void test_limits(void **state)
   expect(run(ARGV(chain), NULL), 2, "model.K: an n x n matrix needs its n^2 numbers");
   remove(deep);
   remove(chain);
+  /* studies: the memory a sweep or basins plans, refused before it is
+   * allocated (10^7 points x 100 periods x 4 doubles: 30 GB of strobes) */
+  expect(run(ARGV("sweep", fig2, "--param", "forcing.omega", "--from", "0.8",
+                  "--to", "1", "--steps", "10000", "--param2", "forcing.a[1]",
+                  "--from2", "0.1", "--to2", "0.5", "--steps2", "1000", "--record",
+                  "100", "--max-memory", "16G", "-o", h5), NULL),
+         2, "--steps 10000 x --steps2 1000 x --record 100 (2 coordinates, -o) "
+            "would need about");
+  assert_non_null(strstr(slurp(path("stderr")), "(3.05e+04 MB of stroboscopic states)"));
+  assert_non_null(strstr(slurp(path("stderr")), "more than the 1.64e+04 MB allowed"));
+  assert_false(exists(h5));
+  /* the same without --max-memory: more than any machine this runs on */
+  expect(run(ARGV("sweep", fig2, "--param", "forcing.omega", "--from", "0.8",
+                  "--to", "1", "--steps", "100000", "--param2", "forcing.a[1]",
+                  "--from2", "0.1", "--to2", "0.5", "--steps2", "100000", "--record",
+                  "100"), NULL), 2, "available on this machine");
+  expect(run(ARGV("basins", fig2, "--param", "initial.x[2]", "--from", "-1", "--to",
+                  "0.09", "--steps", "1000", "--param2", "initial.v[2]", "--from2",
+                  "-1", "--to2", "1", "--steps2", "1000", "--max-memory", "100M"),
+             NULL), 2, "basins) would need about");
+  /* orbits: the model's own estimate, as for run */
+  write_file(chain, "model:\n  chain: {n: 100000, m: 1, k: 1, c: 0.1}\n"
+                    "stop: {mass: 1, xs: 0.1, r: 0.7}\n"
+                    "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\n"
+                    "run: {method: exact}\n");
+  expect(run(ARGV("orbits", chain), NULL), 2, "model.chain.n = 100000");
+  assert_non_null(strstr(slurp(path("stderr")), "the model would need about"));
+  remove(chain);
 }
 
 /* ---- values the numerics cannot honour: exit 2 naming the key ----------- */
