@@ -261,12 +261,20 @@ double vi_sweep_lyapunov(const vi_sweep *sw)
  * matrices and saltation matrices); the forcing phase there is t0's, so t0
  * must be a whole number of periods.  NaN where it is refused (no
  * closed-form flow, sticking, a grazing impact). */
+static int lyap_poll(const vi_progress *p, void *user) /* cancel, per period */
+{
+  const vi_sweep *sw = user;
+  (void)p;
+  return sw->cancel && sw->cancel(sw->cancel_user);
+}
+
 static double lyapunov(vi_sweep *sw)
 {
   vi_orbit *o = NULL;
   double lambda = NAN, ph = fmod(sw->t0, sw->T);
   if (fmin(ph, sw->T - ph) > 1e-12 * sw->T) return NAN;
   if (!vi_orbit_create(sw->m, &o) &&
+      !vi_orbit_set_monitor(o, lyap_poll, sw, NULL) &&
       !vi_orbit_set_tolerances(o, sw->rtol, sw->atol) &&
       !vi_orbit_set_initial(o, sw->xw, sw->vw) &&
       vi_orbit_lyapunov(o, 0.0, sw->record, &lambda, NULL))
@@ -444,6 +452,7 @@ static int point(vi_sweep *sw)
     return vi_fail(sw->errmsg, VI_ERR_FREQUENCY, "no harmonic forcing, so "
                    "no forcing period to sample");
   sw->T = 2 * M_PI / omega;
+  if (sw->cancel && sw->cancel(sw->cancel_user)) return VI_CANCELLED;
   if (sw->nphase > 0 && (st = p11_orbits(sw)))
     return vi_fail(sw->errmsg, st, "P(1,1) orbits: %s", vi_strerror(st));
   vi_sim *s = make_sim(sw, &st);
@@ -458,6 +467,7 @@ static int point(vi_sweep *sw)
   }
   vi_sim_destroy(&s);
   if (!st && sw->lyap) sw->lambda = lyapunov(sw);
+  if (!st && sw->cancel && sw->cancel(sw->cancel_user)) st = VI_CANCELLED;
   return st;
 }
 

@@ -33,7 +33,7 @@ files=(
   tests/stress/test_stress_mdof.c tests/stress/test_stress_soft.c
   tests/stress/test_stress_start.c tests/stress/test_stress_chain.c
   tests/stress/test_stress_energy.c tests/stress/test_stress_stops.c
-  tests/stress/test_stress_chatref.c
+  tests/stress/test_stress_chatref.c tests/stress/test_stress_cancel.c
   apps/vi_app_h5.c apps/vi_cmd_orbits.c
   apps/vi_sweep_cont.c apps/vi_sweep_h5.c apps/vi_sweep_main.c bench/vi_bench_sweep.c
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
