@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mount.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -78,6 +79,7 @@ static char *slurp(const char *p)
 /* Start the app with argv; stdout to out_path (NULL: a file in dir),
  * stderr to dir/stderr; env_extra (NULL or "NAME=VALUE") added. */
 static const char *env_extra3; /* a third NAME=VALUE for the next start */
+static long fsize_limit; /* > 0: RLIMIT_FSIZE of the next start, SIGXFSZ ignored */
 static pid_t start(char *const argv[], const char *out_path,
                    const char *env_extra, const char *env_extra2)
 {
@@ -98,6 +100,11 @@ static pid_t start(char *const argv[], const char *out_path,
     if (env_extra) putenv((char *)env_extra);
     if (env_extra2) putenv((char *)env_extra2);
     if (env_extra3) putenv((char *)env_extra3);
+    if (fsize_limit > 0) { /* writes past it fail with EFBIG, as on a full disk */
+      struct rlimit rl = {(rlim_t)fsize_limit, (rlim_t)fsize_limit};
+      signal(SIGXFSZ, SIG_IGN);
+      if (setrlimit(RLIMIT_FSIZE, &rl) != 0) _exit(126);
+    }
     execv(app, argv);
     _exit(127);
   }
@@ -677,6 +684,56 @@ static void test_every_command(void **state)
   rmdir(sub);
 }
 
+/* A file size limit (RLIMIT_FSIZE, SIGXFSZ ignored): every write past it
+ * fails with EFBIG as on a full disk, HDF5's own writes included, with no
+ * tmpfs and no root.  Each command's file grows past the limit mid-write:
+ * exit 1 naming the file, no partial file, the old file kept. */
+static void test_file_size_limit(void **state)
+{
+  (void)state;
+  char scene[600];
+  snprintf(scene, sizeof scene, "%s/fig2.yaml", VI_SCENE_DIR);
+  char *out = path("fsize.h5"), part[700];
+  snprintf(part, sizeof part, "%s.part", out);
+  /* limits below each file's size (run 1.7 MB, energy 21 kB, sweep and
+   * basins 30 kB) and above what the start writes */
+  const struct { long limit; const char *args[24]; } cases[] = {
+      {524288, {"run", scene, "--periods", "1000", NULL}},
+      {40000, {"energy", scene, NULL}},
+      {16384, {"sweep", scene, "--param", "forcing.omega", "--from", "0.8",
+               "--to", "1.0", "--steps", "3", NULL}},
+      {16384, {"basins", scene, "--param", "initial.x[2]", "--from", "-1", "--to",
+               "0.09", "--steps", "3", "--param2", "initial.v[2]", "--from2", "-1",
+               "--to2", "1", "--steps2", "3", NULL}},
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    char *argv[32];
+    int k = 0;
+    argv[k++] = (char *)app;
+    for (int i = 0; cases[c].args[i]; i++) argv[k++] = (char *)cases[c].args[i];
+    argv[k++] = (char *)"-o";
+    argv[k++] = out;
+    argv[k++] = (char *)"--quiet";
+    argv[k] = NULL;
+    write_file(out, "old contents\n");
+    fsize_limit = cases[c].limit;
+    int rc = finish(start(argv, NULL, NULL, NULL));
+    fsize_limit = 0;
+    print_message("%-7s over a %ld-byte file size limit: exit %d\n", cases[c].args[0],
+                  cases[c].limit, rc);
+    expect(rc, 1, "File too large");
+    assert_non_null(strstr(slurp(path("stderr")), "fsize.h5.part"));
+    assert_string_equal(slurp(out), "old contents\n");
+    assert_false(exists(part));
+    /* and with no limit the same command writes a valid file */
+    expect(run(argv, NULL), 0, NULL);
+    hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+    assert_true(f >= 0);
+    H5Fclose(f);
+  }
+  remove(out);
+}
+
 /* An integer root attribute of an HDF5 file (-1 if absent). */
 static long long h5_attr(hid_t f, const char *name)
 {
@@ -788,6 +845,7 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_command_line),
       cmocka_unit_test(test_every_command),
       cmocka_unit_test(test_interrupted_studies),
+      cmocka_unit_test(test_file_size_limit),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   remove(path("stdout"));
