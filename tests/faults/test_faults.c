@@ -80,6 +80,7 @@ static char *slurp(const char *p)
  * stderr to dir/stderr; env_extra (NULL or "NAME=VALUE") added. */
 static const char *env_extra3; /* a third NAME=VALUE for the next start */
 static long fsize_limit; /* > 0: RLIMIT_FSIZE of the next start, SIGXFSZ ignored */
+static long cpu_limit;   /* > 0: RLIMIT_CPU (s) of the next start: a hang bound */
 static pid_t start(char *const argv[], const char *out_path,
                    const char *env_extra, const char *env_extra2)
 {
@@ -104,6 +105,10 @@ static pid_t start(char *const argv[], const char *out_path,
       struct rlimit rl = {(rlim_t)fsize_limit, (rlim_t)fsize_limit};
       signal(SIGXFSZ, SIG_IGN);
       if (setrlimit(RLIMIT_FSIZE, &rl) != 0) _exit(126);
+    }
+    if (cpu_limit > 0) {
+      struct rlimit rl = {(rlim_t)cpu_limit, (rlim_t)cpu_limit};
+      if (setrlimit(RLIMIT_CPU, &rl) != 0) _exit(126);
     }
     execv(app, argv);
     _exit(127);
@@ -734,6 +739,50 @@ static void test_file_size_limit(void **state)
   remove(out);
 }
 
+/* One nesting limit for every reader of scenes: the loader (run), the
+ * --set editor (run --set, a --set value), sweep and orbits refuse 100 000
+ * levels with the same message at the same place, before loading the
+ * document (which takes minutes at that depth: 10 s of CPU bound it). */
+static void test_nesting(void **state)
+{
+  (void)state;
+  char *deep = path("nest.yaml");
+  FILE *f = fopen(deep, "w");
+  assert_non_null(f);
+  fputs("a: ", f);
+  for (int k = 0; k < 100000; k++) fputc('[', f);
+  for (int k = 0; k < 100000; k++) fputc(']', f);
+  fputc('\n', f);
+  assert_int_equal(fclose(f), 0);
+  char scene[600], msg[200];
+  snprintf(scene, sizeof scene, "%s/fig2.yaml", VI_SCENE_DIR);
+  snprintf(msg, sizeof msg, "%s:1:35: nesting deeper than 32 levels (the limit; "
+           "a scene needs 5)", deep);
+  cpu_limit = 10;
+  expect(run(ARGV(deep), NULL), 2, msg);
+  expect(run(ARGV(deep, "--set", "forcing.omega=0.9"), NULL), 2, msg);
+  expect(run(ARGV("sweep", deep, "--param", "forcing.omega", "--from", "0.8",
+                  "--to", "1", "--steps", "2"), NULL), 2, msg);
+  expect(run(ARGV("orbits", deep), NULL), 2, msg);
+  expect(run(ARGV("orbits", deep, "--set", "forcing.omega=0.9"), NULL), 2, msg);
+  /* a --set value 60 000 levels deep (one argument holds 128 KiB) */
+  size_t len = 2 * 60000 + 32;
+  char *val = malloc(len);
+  assert_non_null(val);
+  int k = snprintf(val, len, "forcing.omega=");
+  for (int i = 0; i < 60000; i++) val[k++] = '[';
+  for (int i = 0; i < 60000; i++) val[k++] = ']';
+  val[k] = '\0';
+  expect(run(ARGV(scene, "--set", val), NULL), 2,
+         "nesting deeper than 32 levels (the limit; a scene needs 5)");
+  expect(run(ARGV("sweep", scene, "--set", val, "--param", "forcing.a[1]",
+                  "--from", "0.1", "--to", "0.2", "--steps", "2"), NULL), 2,
+         "nesting deeper than 32 levels (the limit; a scene needs 5)");
+  cpu_limit = 0;
+  free(val);
+  remove(deep);
+}
+
 /* An integer root attribute of an HDF5 file (-1 if absent). */
 static long long h5_attr(hid_t f, const char *name)
 {
@@ -846,6 +895,7 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_every_command),
       cmocka_unit_test(test_interrupted_studies),
       cmocka_unit_test(test_file_size_limit),
+      cmocka_unit_test(test_nesting),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   remove(path("stdout"));
