@@ -286,6 +286,8 @@ static int ark_start(vi_sim *s)
     ARK_TRY(ERKStepReset(d->mem, s->t, d->y));
   }
   ark_data *d = s->be_data;
+  /* a rebound's low flight: tolerances tightened (vi_sim.c, on_contact_one) */
+  ARK_TRY(ERKStepSStolerances(d->mem, s->rtol * s->tol_scale, s->atol * s->tol_scale));
   int nr = s->sticking ? 1 : 2 * s->ns;
   if (nr != d->nroots) {
     int *dir = d->rinfo;

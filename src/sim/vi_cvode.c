@@ -332,6 +332,8 @@ static int cv_start(vi_sim *s)
   for (int k = 0; k <= VI_STAT_ROOT_EVALS; k++) d->base[k] += cv_live(d, k);
   CV_TRY(CVodeReInit(d->mem, s->t, d->y));
   if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));
+  /* a rebound's low flight: tolerances tightened (vi_sim.c, on_contact_one) */
+  CV_TRY(CVodeSStolerances(d->mem, s->rtol * s->tol_scale, s->atol * s->tol_scale));
   if (s->ns == 1) {
     int nr = s->sticking ? 1 : 2;
     if (nr != d->nroots) {

@@ -92,6 +92,8 @@ struct vi_sim {
   int press_next; /* initial_contact: at rest on the stop, pressed next */
   double h_flight; /* first step after an impact: within the rebound's
                       flight (0: none); consumed by the backend's start */
+  double tol_scale; /* rtol and atol of the integrators' flight after the
+                       last contact, times this (<= 1; on_contact_one) */
   int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
   int last_event; /* kind of the last event emitted */
 
