@@ -42,7 +42,7 @@ files=(
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/app/test_sweep_app.c tests/study/test_sweep.c
   src/flow/vi_constrained.c src/sim/vi_held.c tests/stress/test_stress_held.c
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/study/test_sweep.c
-  bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
+  bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c bench/vi_bench_chatter.c
   src/model/vi_param.c tests/model/test_param.c
   src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
   src/io/vi_truncation_h5.c
