@@ -701,7 +701,8 @@ static void test_file_size_limit(void **state)
   char *out = path("fsize.h5"), part[700];
   snprintf(part, sizeof part, "%s.part", out);
   /* limits below each file's size (run 1.7 MB, energy 21 kB, sweep and
-   * basins 30 kB) and above what the start writes */
+   * basins 30 kB, truncation 29 kB: built in memory, vi_h5_image.h) and
+   * above what the start writes */
   const struct { long limit; const char *args[24]; } cases[] = {
       {524288, {"run", scene, "--periods", "1000", NULL}},
       {40000, {"energy", scene, NULL}},
@@ -710,6 +711,7 @@ static void test_file_size_limit(void **state)
       {16384, {"basins", scene, "--param", "initial.x[2]", "--from", "-1", "--to",
                "0.09", "--steps", "3", "--param2", "initial.v[2]", "--from2", "-1",
                "--to2", "1", "--steps2", "3", NULL}},
+      {8000, {"truncation", scene, NULL}}, /* 29 kB */
   };
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
     char *argv[32];
