@@ -110,6 +110,7 @@ static int inum(const char *opt, const char *s, int lo, int *out)
 static int bytes(const char *s, double *out)
 {
   char *end;
+  if (!s) return 0;
   errno = 0;
   double v = strtod(s, &end), mul = 1;
   if (end != s && *end && !end[1] && strchr("kKmMgG", *end)) {

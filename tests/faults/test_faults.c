@@ -852,7 +852,7 @@ static void test_interrupted_studies(void **state)
   cmd_case basins = {"basins", {NULL}, 1};
   expect(signal_in("basins -o (150 x 150)", cmd_argv(&basins, scene, bas), 1.0,
                    SIGINT), 130, "marked incomplete");
-  check_incomplete(h5, 150 * 150);
+  check_incomplete(h5, 150LL * 150);
   remove(h5);
   /* JSON: the points done, flagged */
   const char *js[] = {"--param", "forcing.omega", "--from", "0.8", "--to", "1.0",

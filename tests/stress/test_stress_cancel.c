@@ -271,7 +271,7 @@ static void test_study(void **state)
   sw = fig2_study(&r, 1);
   int st = vi_sweep_iterate(sw);
   print_message("  study: cancelled at poll %lld: %s after %lld polls\n",
-                (long long)(C + 1), vi_strerror(st), (long long)r.calls);
+                (long long)C + 1, vi_strerror(st), (long long)r.calls);
   st_check(st == VI_CANCELLED);
   st_check(r.calls <= C + 2);
   vi_sweep_destroy(&sw);
