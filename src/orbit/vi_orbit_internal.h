@@ -19,7 +19,10 @@ void vi_var_field(const vi_model *m, double t, const double *z, double *f);
  * may be z. */
 void vi_var_impact(const vi_model *m, int k, const double *z, double *zp);
 /* Saltation matrix S [2n x 2n] of an impact on stop k at t from the state
- * z [2n] just before it; work [8n]. */
+ * z [2n] just before it; work [8n].  vi_var_salt_jump: its pieces for
+ * vi_impact_salt_apply, the jump d [2n] and the return value v_n; work [4n]. */
+double vi_var_salt_jump(const vi_model *m, int k, double t, const double *z,
+                        double *d, double *work);
 void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
                       double *S, double *work);
 /* D z(tb) / D z(ta) [2n x 2n] of the motion from ta to tb through mi

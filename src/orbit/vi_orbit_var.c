@@ -20,20 +20,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
 #include <lapacke.h>
 
+#include "vi_impact_internal.h"
 #include "vi_orbit_internal.h"
 
 /* C = A B, all n x n column-major */
 static void mul(int n, const double *A, const double *B, double *C)
 {
-  for (size_t i = 0; i < (size_t)n * n; i++) C[i] = 0.0;
-  for (int j = 0; j < n; j++)
-    for (int k = 0; k < n; k++) {
-      double b = B[k + (size_t)j * n];
-      if (b == 0.0) continue;
-      for (int i = 0; i < n; i++) C[i + (size_t)j * n] += A[i + (size_t)k * n] * b;
-    }
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, n, n, 1.0, A, n,
+              B, n, 0.0, C, n);
 }
 
 static int stm_modal(const vi_model *m, double tau, double *Phi)
@@ -152,14 +149,15 @@ void vi_var_field(const vi_model *m, double t, const double *z, double *f)
   }
 }
 
+/* the impact map of stop k on an approaching state: Newton's law on the
+ * one contact, v+ = Q_k v- (vi_impact_internal.h) */
 void vi_var_impact(const vi_model *m, int k, const double *z, double *zp)
 {
   int n = m->n;
-  const double *w = vi_stop_w(m, k), *Mw = vi_stop_minvw(m, k);
-  double g = m->G[k + (size_t)k * m->ns], vn = vi_dot(n, w, z + n);
-  double c = (1.0 + m->rv[k]) * vn / g;
+  double work;
   memmove(zp, z, sizeof(double) * n);
-  for (int i = 0; i < n; i++) zp[n + i] = z[n + i] - c * Mw[i];
+  memmove(zp + n, z + n, sizeof(double) * n);
+  vi_impact_q_left(m, k, 1, zp + n, n, &work);
 }
 
 /* Saltation matrix of an impact on stop k (gap h(z) = g.z - x_k,
@@ -174,26 +172,26 @@ void vi_var_impact(const vi_model *m, int k, const double *z, double *zp)
  * difference is the perturbation carried past the impact:
  *   dz+ = R dz + (R f- - f+) dt = [R + (f+ - R f-) g^T / (g.f-)] dz = S dz
  * with f-+ the vector field before and after the impact at t*.  S has the
- * factor 1 / v_n: the square-root singularity of grazing (v_n -> 0). */
+ * factor 1 / v_n: the square-root singularity of grazing (v_n -> 0).
+ * vi_var_salt_jump gives d = f+ - R f- [2n] and v_n; work [4n]. */
+double vi_var_salt_jump(const vi_model *m, int k, double t, const double *z,
+                        double *d, double *work)
+{
+  int n = m->n, n2 = 2 * n;
+  double *zp = work, *fp = zp + n2, one;
+  vi_var_impact(m, k, z, zp);
+  vi_var_field(m, t, z, d);
+  vi_var_field(m, t, zp, fp);
+  vi_impact_salt_jump(m, k, d, fp, d, &one);
+  return vi_dot(n, vi_stop_w(m, k), z + n);
+}
+
 void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
                       double *S, double *work)
 {
-  int n = m->n, n2 = 2 * n;
-  double *zp = work, *fm = zp + n2, *fp = fm + n2, *Rf = fp + n2;
-  const double *w = vi_stop_w(m, k), *Mw = vi_stop_minvw(m, k);
-  double gk = m->G[k + (size_t)k * m->ns], c = (1.0 + m->rv[k]) / gk;
-  vi_var_impact(m, k, z, zp);
-  vi_var_field(m, t, z, fm);
-  vi_var_field(m, t, zp, fp);
-  vi_var_impact(m, k, fm, Rf);
-  double gf = vi_dot(n, w, z + n);
-  for (int b = 0; b < n2; b++)
-    for (int a = 0; a < n2; a++) {
-      double R = a == b;
-      if (a >= n && b >= n) R -= c * Mw[a - n] * w[b - n];
-      double g = b < n ? w[b] : 0.0;
-      S[a + (size_t)b * n2] = R + (fp[a] - Rf[a]) * g / gf;
-    }
+  double *d = work + 4 * (size_t)m->n;
+  double vn = vi_var_salt_jump(m, k, t, z, d, work);
+  vi_impact_salt_matrix(m, k, vn, d, S);
 }
 
 /* D z(tb) / D z(ta) of the motion from ta to tb through mi impacts at
