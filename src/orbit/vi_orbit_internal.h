@@ -6,7 +6,18 @@
 #ifndef VI_ORBIT_INTERNAL_H
 #define VI_ORBIT_INTERNAL_H
 
+#include <math.h>
+
 #include "vi_flow_internal.h"
+
+/* The stops' length scale max_k |x_k| (every stop, not stop 0 alone):
+ * tolerances on states are relative to it and to the states' own size. */
+static inline double vi_orbit_xs_scale(const vi_model *m)
+{
+  double s = 0.0;
+  for (int k = 0; k < m->ns; k++) s = fmax(s, fabs(m->xsv[k]));
+  return s;
+}
 
 /* State-transition matrix e^{A tau} [2n x 2n] (z = (x, v), column-major,
  * leading dimension 2n) of the free motion: closed form per mode for
@@ -100,8 +111,9 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m);
 int vi_balance_run(vi_orbit *o);
 
 /* P(n, m) of a recorded motion: R + 1 stroboscopic states z [n2 each],
- * impacts t [nimp]; returns n (0: none <= nmax), *m (vi_classify.c). */
-int vi_classify_strobes(int R, int n2, const double *z, double xs, double tol,
+ * impacts t [nimp], the stops' scale xscale; returns n (0: none <= nmax),
+ * *m (vi_classify.c). */
+int vi_classify_strobes(int R, int n2, const double *z, double xscale, double tol,
                         int nmax, const double *t, int64_t nimp, double T,
                         double t_end, int *m);
 
