@@ -24,6 +24,10 @@ static inline double vi_orbit_xs_scale(const vi_model *m)
  * proportional damping, Pade scaling and squaring otherwise.  VI_OK,
  * VI_ERR_TIME (tau < 0), VI_ERR_NOMEM, VI_ERR_LAPACK. */
 int vi_var_stm(const vi_model *m, double tau, double *Phi);
+/* u [2n] <- e^{A tau} u without forming e^{A tau}: O(n^2) through the
+ * modes of a proportional model; work [2n].  VI_ERR_UNSUPPORTED for any
+ * other damping (then vi_var_stm), VI_ERR_TIME (tau < 0). */
+int vi_var_stm_apply(const vi_model *m, double tau, double *u, double *work);
 /* Vector field f = z' [2n] of the free motion at t (z, f stacked (x, v)). */
 void vi_var_field(const vi_model *m, double t, const double *z, double *f);
 /* Post-impact state zp [2n] of z on stop k (WB 2, stop k's own r_k); zp

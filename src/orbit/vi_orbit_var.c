@@ -136,17 +136,34 @@ int vi_var_stm(const vi_model *m, double tau, double *Phi)
   return m->proportional ? stm_modal(m, tau, Phi) : stm_pade(m, tau, Phi);
 }
 
+int vi_var_stm_apply(const vi_model *m, double tau, double *u, double *work)
+{
+  if (!(tau >= 0.0) || !isfinite(tau)) return VI_ERR_TIME;
+  if (!m->proportional) return VI_ERR_UNSUPPORTED;
+  int n = m->n;
+  /* [q qd] = Psi^T M [x v], the 2 x 2 flow of each mode, [x v] = Psi [q qd] */
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, 2, n, 1.0,
+              m->PsiTM, n, u, n, 0.0, work, n);
+  for (int j = 0; j < n; j++)
+    vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], work[j],
+                        work[n + j], tau, &work[j], &work[n + j]);
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, 2, n, 1.0,
+              m->Psi, n, work, n, 0.0, u, n);
+  return VI_OK;
+}
+
 void vi_var_field(const vi_model *m, double t, const double *z, double *f)
 {
   int n = m->n;
   double c = cos(m->omega_f * t), s = sin(m->omega_f * t);
   memcpy(f, z + n, sizeof(double) * n);
-  for (int i = 0; i < n; i++) {
-    double a = m->Minv_a[i] * c + m->Minv_b[i] * s + m->Minv_f0[i];
-    for (int k = 0; k < n; k++)
-      a -= m->MinvK[i + (size_t)k * n] * z[k] + m->MinvC[i + (size_t)k * n] * z[n + k];
-    f[n + i] = a;
-  }
+  /* M^-1 (f(t) - K x - C v) */
+  for (int i = 0; i < n; i++)
+    f[n + i] = m->Minv_a[i] * c + m->Minv_b[i] * s + m->Minv_f0[i];
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, -1.0, m->MinvK, n, z, 1,
+              1.0, f + n, 1);
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, -1.0, m->MinvC, n, z + n, 1,
+              1.0, f + n, 1);
 }
 
 /* the impact map of stop k on an approaching state: Newton's law on the
