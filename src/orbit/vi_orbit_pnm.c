@@ -115,11 +115,11 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
     vi_var_field(m, t1, ze, f1);
     /* rows of segment j: columns of block j (t, x, v) and of block k;
      * d/dv_j through the impact map: Phi_v Q_k */
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n2, n2, -1.0, Phi, n2, f0, 1,
+                0.0, wk, 1); /* d/dt_j: -Phi f(t_j+) */
     for (int i = 0; i < n2; i++) {
       size_t row = (size_t)j * B + i;
-      double dt0 = 0.0;
-      for (int q = 0; q < n2; q++) dt0 -= Phi[i + (size_t)q * n2] * f0[q];
-      J[row + (size_t)(j * B) * D] += dt0;
+      J[row + (size_t)(j * B) * D] += wk[i];
       J[row + (size_t)(k * B) * D] += f1[i];
       J[row + (size_t)(k * B + 1 + i) * D] -= 1.0;
     }
@@ -334,8 +334,8 @@ int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
         for (int i = 0; i < n2; i++) Fj[i] += f1[i] * (-np * T / m->omega_f);
       }
     }
-    for (int i = 0; i < n2; i++)
-      for (int q = 0; q < n2; q++) Fj[i] += Phi[i + (size_t)q * n2] * dp[q];
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n2, n2, 1.0, Phi, n2, dp, 1, 1.0,
+                Fj, 1);
   }
   free(Phi);
   ws_free(&w);

@@ -2,6 +2,7 @@
  * natural-parameter continuation with step halving and events located by
  * bisection, or pseudo-arclength around folds; the parameter changes on
  * the handle's own model (vi_param.h), nothing is rebuilt. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -54,17 +55,19 @@ struct vi_cont {
  * the 0-based stop of stop.* (stop 0) and stops[K].* (1-based K). */
 static int exact_param(const char *key, int *pk)
 {
-  int k = 1, len = 0;
-  char what[3] = "";
+  const char *f = NULL;
   *pk = 0;
   if (!strcmp(key, "forcing.omega")) return VI_ORBIT_PARAM_OMEGA;
-  if (sscanf(key, "stop.%2[xsr]%n", what, &len) != 1 &&
-      sscanf(key, "stops[%d].%2[xsr]%n", &k, what, &len) != 2)
-    return -1;
-  if (key[len] != '\0' || k < 1) return -1;
-  *pk = k - 1;
-  if (!strcmp(what, "xs")) return VI_ORBIT_PARAM_XS;
-  if (!strcmp(what, "r")) return VI_ORBIT_PARAM_R;
+  if (strncmp(key, "stop.", 5) == 0) f = key + 5;
+  if (strncmp(key, "stops[", 6) == 0) {
+    char *end = NULL;
+    long k = strtol(key + 6, &end, 10);
+    if (end == key + 6 || k < 1 || k > INT_MAX || strncmp(end, "].", 2) != 0) return -1;
+    *pk = (int)(k - 1);
+    f = end + 2;
+  }
+  if (f && strcmp(f, "xs") == 0) return VI_ORBIT_PARAM_XS;
+  if (f && strcmp(f, "r") == 0) return VI_ORBIT_PARAM_R;
   return -1;
 }
 

@@ -174,10 +174,10 @@ static void hand_lcp(const double *M, const double *W, const double *r,
 {
   double Mi[9], MW[6];
   inv3(M, Mi);
-  for (int k = 0; k < 2; k++) mv3(Mi, W + 3 * k, MW + 3 * k);
+  for (int k = 0; k < 2; k++) mv3(Mi, W + 3 * (size_t)k, MW + 3 * (size_t)k);
   for (int a = 0; a < 2; a++) {
-    for (int b = 0; b < 2; b++) L->G[a + 2 * b] = dot3(W + 3 * a, MW + 3 * b);
-    L->u[a] = dot3(W + 3 * a, v);
+    for (int b = 0; b < 2; b++) L->G[a + 2 * b] = dot3(W + 3 * (size_t)a, MW + 3 * (size_t)b);
+    L->u[a] = dot3(W + 3 * (size_t)a, v);
     L->e[a] = L->u[a] > 0.0 ? (1.0 + r[a]) * L->u[a] : L->u[a];
   }
   const double *G = L->G;
@@ -211,7 +211,7 @@ static void check_two(const double *M, const double *W, const double *r,
    * y_k = -(u+_k + r_k u_k) >= 0 (r_k -> 0 for a contact not approaching)
    * vanishes where the contact takes an impulse */
   for (int k = 0; k < 2; k++) {
-    double up = dot3(W + 3 * k, vp), y = -(up + (L->u[k] > 0 ? r[k] * L->u[k] : 0.0));
+    double up = dot3(W + 3 * (size_t)k, vp), y = -(up + (L->u[k] > 0 ? r[k] * L->u[k] : 0.0));
     if (P[k] > 0.0) assert_close(y, 0.0, 1e-14 * (fabs(L->u[0]) + fabs(L->u[1])));
     else assert_true(y > 0.0);
   }

@@ -153,7 +153,7 @@ static void impact_on_stop_1(void **state)
                             {"stops[1].xs", "stops[2].xs"}};
   const double to[2] = {0.7, 0.2};
   for (int q = 0; q < 2; q++) {
-    double a[4 * 16], b[4 * 16];
+    double a[4 * 16] = {0}, b[4 * 16] = {0};
     int na, nb;
     int method = q ? VI_CONT_ARCLENGTH : VI_CONT_NATURAL;
     branch(one, keys[q][0], method, to[q], a, 16, &na);
