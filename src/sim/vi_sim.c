@@ -56,7 +56,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->t_last_contact = -HUGE_VAL;
   s->stick_at = HUGE_VAL;
   s->fast_nvector = 1;
-  s->wnorm = sqrt(vi_dot(n, model->w, model->w));
+  s->wnorm = sqrt(vi_dot(n, model->Ws, model->Ws));
   s->ns = model->ns;
   s->wnorms = s->sbuf + 4 * (size_t)n;
   s->ie_stop = s->wnorms + s->ns;

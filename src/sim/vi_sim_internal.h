@@ -281,10 +281,10 @@ static inline void vi_sim_gap(const vi_sim *s, const double *z, double *g,
 {
   double a = 0.0, b = 0.0;
   for (int i = 0; i < s->n; i++) {
-    a += s->m->w[i] * z[2 * (size_t)i];
-    b += s->m->w[i] * z[2 * (size_t)i + 1];
+    a += s->m->Ws[i] * z[2 * (size_t)i];
+    b += s->m->Ws[i] * z[2 * (size_t)i + 1];
   }
-  *g = a - s->m->xs;
+  *g = a - s->m->xsv[0];
   *gd = b;
 }
 

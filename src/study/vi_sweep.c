@@ -353,7 +353,8 @@ static int p11_orbits(vi_sweep *sw)
         vi_orbit_pnm_multipliers(m, 1, 1, &t[i], xi, vi, n, re, im))
       continue;
     for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
-    for (int j = 0; j < n; j++) vn += m->w[j] * vi[j];
+    /* the scan's orbits hit the one stop (ns = 1) */
+    for (int j = 0; j < n; j++) vn += vi_stop_w(m, 0)[j] * vi[j];
     sw->ovn[sw->norb] = vn;
     sw->ophase[sw->norb] = fmod(t[i], sw->T);
     sw->ostable[sw->norb] = rho < 1.0;
@@ -460,7 +461,7 @@ static int point(vi_sweep *sw)
   st = simulate(sw, s);
   if (!st) {
     double t_end = sw->t0 + (sw->transient + R) * sw->T;
-    sw->pn = vi_classify_strobes(R, 2 * N, sw->z, sw->m->xs, sw->tol,
+    sw->pn = vi_classify_strobes(R, 2 * N, sw->z, vi_orbit_xs_scale(sw->m), sw->tol,
                                  sw->nmax, sw->t, sw->nimp, sw->T, t_end,
                                  &sw->pm);
     vi_sim_state(s, NULL, sw->xw, sw->vw);
