@@ -364,7 +364,7 @@ static int orbits_model(const oargs *a, vi_scene **sc, vi_model **mdl)
             a->scene ? a->scene : "the scene");
     return 2;
   }
-  if (vi_scene_create_model(*sc, mdl, &d)) {
+  if (vi_scene_check_memory(*sc, 0, &d) || vi_scene_create_model(*sc, mdl, &d)) {
     vi_diag_format(&d, err, sizeof err);
     fprintf(stderr, "vibroimpact: %s\n", err);
     return 2;

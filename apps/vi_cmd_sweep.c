@@ -43,7 +43,8 @@ static void usage(FILE *f, int basins)
       "recorded forcing periods, classified P(n,m), and its attractor identified\n"
       "across cells (same orbit, same id; -1: none found).\n\n"
       "  --transient P, --record R, --threads T, --tol TOL, --nmax N, --method M,\n"
-      "  --set KEY=VALUE, --json, -o FILE, --quiet   as for sweep (--help there)\n"
+      "  --set KEY=VALUE, --json, -o FILE, --max-memory B, --quiet   as for sweep\n"
+      "                        (--help there)\n"
       "Plot: /usr/bin/python3 share/plot_basins.py OUT.h5\n");
     return;
   }
@@ -73,6 +74,8 @@ static void usage(FILE *f, int basins)
     "  --set KEY=VALUE       override a scene key (repeatable)\n"
     "  --json                print the diagram as one JSON object\n"
     "  -o, --output FILE     write the diagram to HDF5 (share/doc/sweep-layout.md)\n"
+    "  --max-memory B        memory the sweep may plan (default: the machine's\n"
+    "                        MemAvailable); B may end in K, M or G\n"
     "  --quiet               no table\n");
 }
 
@@ -100,6 +103,27 @@ static int inum(const char *opt, const char *s, int lo, int *out)
     return 0;
   }
   *out = (int)v;
+  return 1;
+}
+
+/* --max-memory B: bytes, or with K, M, G. */
+static int bytes(const char *s, double *out)
+{
+  char *end;
+  if (!s) return 0;
+  errno = 0;
+  double v = strtod(s, &end), mul = 1;
+  if (end != s && *end && !end[1] && strchr("kKmMgG", *end)) {
+    mul = *end == 'k' || *end == 'K' ? 1024.0 : *end == 'm' || *end == 'M'
+          ? 1048576.0 : 1073741824.0;
+    end++;
+  }
+  if (errno || end == s || *end || !isfinite(v) || !(v > 0)) {
+    fprintf(stderr, "vibroimpact: sweep: --max-memory: '%s' is not a size > 0 "
+            "(bytes, or with K, M, G)\n", s);
+    return 0;
+  }
+  *out = v * mul;
   return 1;
 }
 
@@ -137,6 +161,7 @@ typedef struct args {
   vi_sweep_spec sp;
   const char *out, *scene, **sets;
   int nsets, json, quiet, basins, chunks_set;
+  double max_memory; /* --max-memory bytes; 0: what the machine has */
   char method_set[64];
   char target[4096]; /* the output's final path (vi_output_check) */
 } args;
@@ -156,7 +181,7 @@ static int parse(int argc, char **argv, args *a)
       {"json", no_argument, 0, 'J'},          {"output", required_argument, 0, 'o'},
       {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
       {"orbits", optional_argument, 0, 'O'},  {"basins", no_argument, 0, 'B'},
-      {"lyapunov", no_argument, 0, 'L'},
+      {"lyapunov", no_argument, 0, 'L'},     {"max-memory", required_argument, 0, 'M'},
       {0, 0, 0, 0}};
   vi_sweep_spec *sp = &a->sp;
   int c;
@@ -198,6 +223,7 @@ static int parse(int argc, char **argv, args *a)
       break;
     case 'B': a->basins = 1; break;
     case 'L': sp->lyapunov = 1; break;
+    case 'M': ok = bytes(optarg, &a->max_memory); break;
     case 'h': usage(stdout, a->basins); return -1;
     default:
       fprintf(stderr, "vibroimpact: sweep: unknown or incomplete option '%s'\n",
@@ -323,6 +349,11 @@ static int report(const args *a, vi_diagram *sw)
     fprintf(stderr, "vibroimpact: %s: %s\n", cmd, err);
     return 1;
   }
+  if (sw->incomplete)
+    fprintf(stderr, "vibroimpact: %s: interrupted (%s) after %lld of %lld points%s\n",
+            cmd, interrupted == SIGTERM ? "SIGTERM" : "SIGINT",
+            (long long)sw->points_done, (long long)sw->nlines * a->sp.steps,
+            a->out ? "; the file is marked incomplete" : "");
   if (a->json && a->basins) vi_basins_print_json(sw, stdout);
   else if (a->json) vi_sweep_print_json(sw, stdout);
   else if (!a->quiet) {
@@ -367,12 +398,14 @@ int vi_cmd_sweep_main(int argc, char **argv)
   sigaction(SIGTERM, &sa, NULL);
   vi_diagram *sw = NULL;
   int mpi = mpi_start(&a.sp);
-  rc = vi_sweep_run(text, a.scene ? a.scene : "<default scene: fig2>", a.sets,
-                    a.nsets, &a.sp, &interrupted, &sw, err, sizeof err);
+  rc = vi_sweep_run_limited(text, a.scene ? a.scene : "<default scene: fig2>",
+                            a.sets, a.nsets, &a.sp, a.max_memory, a.out != NULL,
+                            &interrupted, &sw, err, sizeof err);
   free(text);
-  if (rc && !mpi_rank(mpi)) /* once */
+  if (rc && rc != 3 && !mpi_rank(mpi)) /* once */
     fprintf(stderr, "vibroimpact: %s: %s\n", a.basins ? "basins" : "sweep", err);
-  if (!rc && !sw->rank) rc = report(&a, sw); /* rank 0 reports and writes */
+  /* rank 0 reports and writes, an interrupted sweep's points too */
+  if ((!rc || rc == 3) && !sw->rank) rc = report(&a, sw);
   vi_sweep_free(&sw);
   free(a.sets);
   if (interrupted) rc = 128 + (int)interrupted; /* 130 SIGINT, 143 SIGTERM */

@@ -53,7 +53,7 @@ typedef struct piece {
   vi_diagram_line *ln;
   int pos0, pos1; /* positions in the line's sweep order */
   volatile sig_atomic_t *cancel;
-  int code; /* 0, 1 run-time, 2 input */
+  int code; /* 0, 1 run-time, 2 input, 3 cancelled */
   char err[1400];
 } piece;
 
@@ -164,7 +164,7 @@ static void run_piece(piece *p)
     }
     st = vi_sweep_iterate(study);
     if (st == VI_CANCELLED || st == VI_STOPPED || st == VI_ERR_NOMEM) {
-      p->code = 1;
+      p->code = st == VI_ERR_NOMEM ? 1 : 3; /* the value in progress is dropped */
       if (st == VI_ERR_NOMEM) msg(p->err, sizeof p->err, "out of memory");
       else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
       goto done;
@@ -174,6 +174,7 @@ static void run_piece(piece *p)
       msg(p->err, sizeof p->err, "out of memory");
       goto done;
     }
+    ln->pt[k].done = 1;
     if (st) {
       /* one value's failure does not sink the diagram: it is marked, and
        * the next value starts cold (from the scene's initial state) */
@@ -276,7 +277,7 @@ static void pack_piece(const vi_diagram *sw, const piece *pc, pbuf *p)
   for (int pos = pc->pos0; pos < pc->pos1; pos++) {
     int k = pc->ln->dir > 0 ? pos : K - 1 - pos;
     const vi_diagram_point *pt = &pc->ln->pt[k];
-    int hdr[3] = {pt->n, pt->m, pt->failed};
+    int hdr[4] = {pt->n, pt->m, pt->failed, pt->done};
     int64_t ni = pt->nimp, el = pt->error ? (int64_t)strlen(pt->error) : -1;
     put_bytes(p, hdr, sizeof hdr);
     put_bytes(p, &pt->T, sizeof pt->T);
@@ -306,13 +307,14 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
   int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
 #define TAKE(dst, k) do { if (*off + (k) > len) return 1; memcpy((dst), b + *off, (k)); *off += (k); } while (0)
   for (int pos = pc->pos0; pos < pc->pos1; pos++) {
-    int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[3];
+    int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[4];
     vi_diagram_point *pt = &pc->ln->pt[k];
     int64_t ni, el;
     TAKE(hdr, sizeof hdr);
     pt->n = hdr[0];
     pt->m = hdr[1];
     pt->failed = hdr[2];
+    pt->done = hdr[3];
     TAKE(&pt->T, sizeof pt->T);
     TAKE(&pt->lyap, sizeof pt->lyap);
     TAKE(&ni, sizeof ni);
@@ -356,8 +358,10 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
 static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
                            int size, int code, char *err, int errlen)
 {
-  int all = 0;
-  MPI_Allreduce(&code, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  /* a cancelled rank (code 3) still sends the points it did */
+  int all = 0, mine[2] = {code == 3 ? 0 : code, code == 3}, both[2];
+  MPI_Allreduce(mine, both, 2, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  all = both[0];
   if (all) {
     if (!code) msg(err, errlen, "another MPI rank failed (its message is on its stderr)");
     else if (rank) fprintf(stderr, "vibroimpact: sweep (rank %d): %s\n", rank, err);
@@ -370,7 +374,7 @@ static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
     MPI_Send(&len, 1, MPI_LONG_LONG, 0, 1, MPI_COMM_WORLD);
     if (len > 0) MPI_Send(p.b, (int)len, MPI_BYTE, 0, 2, MPI_COMM_WORLD);
     free(p.b);
-    return len < 0 ? 1 : 0;
+    return len < 0 ? 1 : both[1] ? 3 : 0;
   }
   int bad = 0;
   for (int r = 1; r < size; r++) {
@@ -393,9 +397,76 @@ static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
     free(b);
   }
   if (bad) msg(err, errlen, "gathering the results of the MPI ranks failed");
-  return bad;
+  return bad ? 1 : both[1] ? 3 : 0;
 }
 #endif
+
+/* MemAvailable of /proc/meminfo in bytes; 0 when unknown. */
+static double mem_available(void)
+{
+  FILE *f = fopen("/proc/meminfo", "r");
+  char line[256];
+  double kb = 0;
+  while (f && fgets(line, sizeof line, f))
+    if (!strncmp(line, "MemAvailable:", 13)) {
+      char *end;
+      kb = strtod(line + 13, &end);
+      if (end == line + 13 || !(kb > 0)) kb = 0;
+      break;
+    }
+  if (f) fclose(f);
+  return kb * 1024.0;
+}
+
+static int threads_of(const vi_sweep_spec *sp)
+{
+  int nth = sp->threads > 0 ? sp->threads : 1;
+#ifdef _OPENMP
+  if (sp->threads <= 0) nth = omp_get_max_threads();
+#endif
+  return nth;
+}
+
+double vi_sweep_memory_estimate(const vi_sweep_spec *sp, int N,
+                                double scene_bytes, int writes)
+{
+  double L = (double)(sp->key2 ? sp->steps2 : 1) * (sp->dirs == 3 ? 2 : 1),
+         K = sp->steps, R = sp->record, n2 = 2.0 * N,
+         pieces = L * (sp->chunks < sp->steps ? sp->chunks : sp->steps),
+         run = fmin(threads_of(sp), pieces);
+  double strobe = 8 * L * K * R * n2, /* the stroboscopic states */
+         impacts = 24 * L * K * R,    /* one impact a recorded period */
+         points = L * K * (double)sizeof(vi_diagram_point);
+  /* the base model, then per running thread its copy, a simulation and
+   * the study's own record; the file is built in memory (a copy of the
+   * arrays and HDF5's image); basins compare copies of the strobes */
+  return scene_bytes + run * (scene_bytes + 8 * R * (n2 + 3)) + strobe +
+         impacts + points + (writes ? 2 * (strobe + impacts) : 0) +
+         (sp->cold ? strobe : 0);
+}
+
+/* Refuse a diagram larger than the limit before anything is allocated:
+ * 0, or 2 with the flags and the figures in err. */
+static int check_memory(const vi_diagram *sw, char *err, int errlen)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  double lim = sw->max_memory > 0 ? sw->max_memory : mem_available();
+  if (!(lim > 0)) return 0; /* not known: nothing to compare */
+  double scene = vi_scene_memory_estimate(sw->sc),
+         need = vi_sweep_memory_estimate(sp, sw->N, scene, sw->writes);
+  if (need <= lim) return 0;
+  char rows[64] = "";
+  if (sp->key2) snprintf(rows, sizeof rows, " x --steps2 %d", sp->steps2);
+  msg(err, errlen, "%s: --steps %d%s x --record %d%s (%d coordinates%s%s) would "
+      "need about %.3g MB (%.3g MB of stroboscopic states), more than the %.3g "
+      "MB %s (--max-memory raises the limit)", sw->name, sp->steps, rows,
+      sp->record, sp->dirs == 3 ? " x --both" : "", sw->N, sw->writes ? ", -o" : "",
+      sp->cold ? ", basins" : "", need / 1048576.0,
+      8.0 * sp->steps * sp->steps2 * (sp->dirs == 3 ? 2 : 1) * sp->record * 2 *
+          sw->N / 1048576.0,
+      lim / 1048576.0, sw->max_memory > 0 ? "allowed" : "available on this machine");
+  return 2;
+}
 
 /* The base scene (text with the --set assignments), its model built
  * once, the values, and the keys tried at both ends.  0, 1 (memory), 2
@@ -439,6 +510,8 @@ static int prepare(vi_diagram *sw, const char *text, const char *name,
         "P(1,1) orbits are found with the linear closed-form flow", sw->name);
     return 2;
   }
+  /* the memory the whole study needs, before any of it is allocated */
+  if (check_memory(sw, err, errlen)) return 2;
   /* the model, once: every value is a parameter change on a copy */
   if ((st = vi_scene_create_model(sw->sc, &sw->model, &d))) {
     diag_msg(&d, st, err, errlen);
@@ -519,9 +592,9 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
     sw->piece_cpu[rank + q * size] = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
   }
-  int code = 0;
-  for (int i = 0; i < ntask && !code; i++)
-    if (ps[i].code) {
+  int code = 0; /* a failure before a cancellation */
+  for (int i = 0; i < ntask; i++)
+    if (ps[i].code && (!code || code == 3)) {
       code = ps[i].code;
       msg(err, errlen, "%s", ps[i].err);
     }
@@ -537,6 +610,16 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int nsets, const vi_sweep_spec *spec,
                  volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
                  int errlen)
+{
+  return vi_sweep_run_limited(text, name, sets, nsets, spec, 0, 0, cancel, out,
+                              err, errlen);
+}
+
+int vi_sweep_run_limited(const char *text, const char *name,
+                         const char *const *sets, int nsets,
+                         const vi_sweep_spec *spec, double max_memory,
+                         int writes, volatile sig_atomic_t *cancel,
+                         vi_diagram **out, char *err, int errlen)
 {
   double w0 = now();
   *out = NULL;
@@ -555,6 +638,8 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     return 1;
   }
   sw->spec = *sp;
+  sw->max_memory = max_memory;
+  sw->writes = writes;
   if (!sw->spec.key2) sw->spec.steps2 = 1;
   if (sw->spec.chunks > sw->spec.steps) sw->spec.chunks = sw->spec.steps;
   int code = prepare(sw, text, name, sets, nsets, err, errlen);
@@ -563,13 +648,17 @@ int vi_sweep_run(const char *text, const char *name, const char *const *sets,
     code = 1;
   }
   if (!code) code = deal(sw, cancel, err, errlen);
-  if (code) {
+  if (code && code != 3) {
     vi_sweep_free(&sw);
     return code;
   }
+  /* cancelled: the diagram of the points done, marked incomplete */
+  for (int l = 0; l < sw->nlines; l++)
+    for (int k = 0; k < sw->spec.steps; k++) sw->points_done += sw->lines[l].pt[k].done;
+  sw->incomplete = code == 3;
   sw->wall = now() - w0;
   *out = sw;
-  return 0;
+  return code;
 }
 
 /* ---- JSON ------------------------------------------------------------------ */
@@ -654,8 +743,9 @@ void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
   json_str(f, sw->name);
   fprintf(f, ", \"key\": ");
   json_str(f, sp->key);
-  fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, ",
-          sp->transient, sp->record, sp->chunks);
+  fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, "
+          "\"complete\": %s, \"points_done\": %lld, ", sp->transient, sp->record,
+          sp->chunks, sw->incomplete ? "false" : "true", (long long)sw->points_done);
   if (!sp->key2) {
     json_line(sw, &sw->lines[0], f);
     if (sw->nlines > 1) {
@@ -719,8 +809,9 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
   fprintf(f, ", \"key2\": ");
   json_str(f, sp->key2);
   fprintf(f, ", \"transient\": %d, \"record\": %d, \"steps\": %d, "
-          "\"steps2\": %d, \"attractors\": %d", sp->transient, sp->record,
-          K, sp->steps2, sw->nattr);
+          "\"steps2\": %d, \"attractors\": %d, \"complete\": %s, "
+          "\"points_done\": %lld", sp->transient, sp->record, K, sp->steps2,
+          sw->nattr, sw->incomplete ? "false" : "true", (long long)sw->points_done);
   static const char *what[] = {"param", "param2", "n", "m", "attractor"};
   for (int w = 0; w < 5; w++) {
     fprintf(f, ", \"%s\": [", what[w]);

@@ -64,6 +64,8 @@ typedef struct vi_diagram_point {
   int norb;
   double *ovn, *ophase;  /* [norb] approach velocity w.v, impact time mod T */
   int *ostable, *oadm;   /* [norb] stable (all |mu| < 1), admissible */
+  int done;             /* 1: computed (failed or not); 0: an interrupted
+                           sweep never reached it */
 } vi_diagram_point;
 
 typedef struct vi_diagram_line {
@@ -94,16 +96,38 @@ typedef struct vi_diagram {
   int *attractor;         /* spec.cold: [nlines x K] attractor ids (-1:
                              none), vi_sweep_attractors; rank 0 only */
   int nattr;
+  double max_memory;      /* the memory check's limit (vi_sweep_run_limited) */
+  int writes;             /* 1: the file will be built in memory too */
+  int incomplete;         /* 1: interrupted, only the points marked done */
+  int64_t points_done;    /* points computed (of nlines x K) */
 } vi_diagram;
 
 /* Run the sweep on the scene text (name: its file, for messages) after
  * the KEY=VALUE assignments sets[nsets].  Returns 0, or 2 for bad input
  * (message in err, naming file:line:key where known), 1 for a run-time
- * failure or cancellation (*cancel set non-zero by a signal handler). */
+ * failure, 3 when cancelled (*cancel set non-zero by a signal handler):
+ * then *out holds the points done so far (incomplete = 1; the point in
+ * progress in each piece is dropped). */
 int vi_sweep_run(const char *text, const char *name, const char *const *sets,
                  int nsets, const vi_sweep_spec *spec,
                  volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
                  int errlen);
+/* vi_sweep_run with the memory check's limit: before the model and the
+ * diagram are allocated, their size (the model and a simulation per
+ * thread, the stroboscopic states, one impact per recorded period, and
+ * with `writes` the file built in memory) is compared with max_memory
+ * bytes (<= 0: MemAvailable of /proc/meminfo); more is refused (2, the
+ * flags and the figures in err).  vi_sweep_run: max_memory 0, writes 0. */
+int vi_sweep_run_limited(const char *text, const char *name,
+                         const char *const *sets, int nsets,
+                         const vi_sweep_spec *spec, double max_memory,
+                         int writes, volatile sig_atomic_t *cancel,
+                         vi_diagram **out, char *err, int errlen);
+/* The bytes a diagram of spec with N coordinates holds (the estimate
+ * vi_sweep_run_limited checks), scene_bytes the model's and one
+ * simulation's (vi_scene_memory_estimate). */
+double vi_sweep_memory_estimate(const vi_sweep_spec *spec, int N,
+                                double scene_bytes, int writes);
 void vi_sweep_free(vi_diagram **sw);
 
 /* Basins (spec.cold): the attractor of every cell, sw->attractor and

@@ -141,6 +141,11 @@ static int put_extra(hid_t g, const vi_diagram *sw, const hsize_t *dLK)
     bad |= put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor);
     bad |= attr_num(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr);
   }
+  /* which points were computed: all but those an interruption never reached */
+  int *done = malloc(sizeof(int) * (size_t)L * K);
+  for (int i = 0; done && i < L * K; i++) done[i] = sw->lines[i / K].pt[i % K].done;
+  bad |= !done || put(g, "done", H5T_NATIVE_INT, 2, dLK, done);
+  free(done);
   return bad;
 }
 
@@ -222,8 +227,13 @@ static int put_file_attrs(hid_t f, const vi_diagram *sw)
   int bad = 0;
   char creator[64];
   snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
-  int fmt = 1;
+  int fmt = 1, complete = !sw->incomplete;
+  int64_t total = (int64_t)sw->nlines * sw->spec.steps;
   bad |= attr_str(f, "creator", creator);
+  /* an interrupted study is still a valid file, marked incomplete */
+  bad |= attr_num(f, "complete", H5T_NATIVE_INT, &complete);
+  bad |= attr_num(f, "points_done", H5T_NATIVE_INT64, &sw->points_done);
+  bad |= attr_num(f, "points_total", H5T_NATIVE_INT64, &total);
   bad |= attr_str(f, "kind", sw->attractor ? "basins" : "sweep");
   bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
   /* an attribute holds at most 64 KiB: a longer scene goes to the

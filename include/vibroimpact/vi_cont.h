@@ -24,7 +24,9 @@
  *   }
  *
  * The continuation works on its own copy of the model; the orbit is the
- * pre-impact state at an impact on stop 0 (vi_orbit_pnm_solve).
+ * pre-impact state at an impact on the stop whose gap w_k.x - x_k at the
+ * starting orbit is nearest zero: the impact's own stop, any of the model's
+ * (vi_orbit_pnm_solve_stops).
  */
 #ifndef VI_CONT_H
 #define VI_CONT_H

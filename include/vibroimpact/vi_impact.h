@@ -4,7 +4,9 @@
  *   x'(t+) = x'(t-) - (1 + r) v_n M^-1 w / (w^T M^-1 w)               (WB 2)
  *   IE     = 1/2 v_n^2 (1 - r^2) / (w^T M^-1 w)                        (WB 10)
  *
- * They know nothing of the integrator; vi_sim calls them at each contact.
+ * They know nothing of the integrator.  They and the simulation's impacts
+ * run one solver, Newton's law for simultaneous contacts below: the
+ * single-stop functions are its case of one contact on stop 0.
  *
  * Several stops touching at once (Newton's law for multiple contacts,
  * Glocker & Pfeiffer): with W = [w_k] over the contacts, G = W^T M^-1 W

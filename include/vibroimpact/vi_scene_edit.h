@@ -35,7 +35,8 @@ typedef struct vi_scene_edit vi_scene_edit;
 /** Start editing a copy of the YAML `text` (len < 0: NUL-terminated);
  *  `name` is the file name used in messages.  The text must be valid YAML
  *  (not necessarily a valid scene).  @return VI_OK, VI_ERR_ARG, VI_ERR_PARSE
- *  (YAML syntax, at its line in diag), VI_ERR_NOMEM. */
+ *  (YAML syntax, at its line in diag), VI_ERR_LIMIT (nested deeper than
+ *  the scene reader's VI_SCENE_MAX_DEPTH, with its message), VI_ERR_NOMEM. */
 VI_API int vi_scene_edit_create(const char *text, int64_t len, const char *name,
                                 vi_scene_edit **out, vi_diag *diag);
 /** Destroy and set *e to NULL; NULL-safe. */

@@ -30,23 +30,21 @@ struct vi_model {
   const vi_storage_ops *ops; /* dense or band, set at creation */
   int n;
   int frozen;
-  int has_stop;
-  double omega_f, xs, r;
+  double omega_f;
   /* as set; column-major, leading dimension n */
   double *M, *C, *K;
-  double *a, *b, *f0, *w;
+  double *a, *b, *f0;
   /* derived at setup */
   double *MinvK, *MinvC;          /* M^-1 K, M^-1 C */
-  double *Minv_a, *Minv_b, *Minv_f0, *Minv_w;
-  double wMw;                     /* w^T M^-1 w */
-  /* every stop w_k.x <= xs_k (restitution r_k); stop 0 is mirrored in w,
-   * xs, r, Minv_w, wMw and psi above for the single-stop code paths */
+  double *Minv_a, *Minv_b, *Minv_f0;
+  /* every stop w_k.x <= xs_k (restitution r_k), ns >= 1 once set up; the
+   * single-stop API ("the stop") is stop 0 of these arrays */
   int ns, ns_cap;
   double *Ws, *xsv, *rv;          /* W [n x ns], x_s [ns], r [ns] as set */
   double *MinvW, *G, *PsiW;       /* M^-1 W [n x ns], W^T M^-1 W [ns x ns],
                                      Psi^T W [n x ns]: at setup */
   int bw;                         /* half-bandwidth of M^-1 K and M^-1 C */
-  double *omega, *lambda, *Psi, *PsiTM, *D, *zeta, *psi;
+  double *omega, *lambda, *Psi, *PsiTM, *D, *zeta;
   double *Fa, *Fb, *F0;           /* Psi^T a, Psi^T b, Psi^T f0 */
   int proportional;               /* modes decouple (the exact flow, built
                                      on the model: vi_flow_internal.h) */

@@ -117,8 +117,8 @@ int vi_general_create(const vi_model *m, vi_general **out, char *why)
       bc += vij * m->Minv_a[j];
       bs += vij * m->Minv_b[j];
       b0 += vij * m->Minv_f0[j];
-      cw += m->w[j] * g->V[j + (size_t)k * n2];
-      cv += m->w[j] * g->V[(n + j) + (size_t)k * n2];
+      cw += m->Ws[j] * g->V[j + (size_t)k * n2];
+      cv += m->Ws[j] * g->V[(n + j) + (size_t)k * n2];
     }
     cplx l = g->lam[k], den = l * l + Om * Om;
     beta0[k] = b0;
@@ -221,7 +221,7 @@ void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
     a += g->cw[k] * f->y[k];
     b += g->cv[k] * f->y[k];
   }
-  *gap = creal(a) - m->xs;
+  *gap = creal(a) - m->xsv[0];
   *rate = creal(b);
   if (!z) return;
   for (int i = 0; i < n; i++) {

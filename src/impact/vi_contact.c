@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "vi_internal.h"
+#include "vi_impact_internal.h"
 
 /* In-place Cholesky of the k x k matrix A (column-major, leading dimension
  * k); 0 if positive definite to round-off relative to its diagonal. */
@@ -50,9 +50,13 @@ static int popcount(unsigned v)
   return c;
 }
 
-int vi_contact_solve(const vi_model *m, int nc, const int *idx,
-                     const double *v, double *vp, double *P, double *vn,
-                     double *ie)
+/* The one home of Newton's law (MODEL.md section 11; vi_impact.h): every
+ * impact of the simulation, of the public wrappers (one contact: WB 2 and
+ * WB 10) and, through its linearisation Q_k (vi_impact.c), of the orbit
+ * code comes here. */
+int vi_contact_solve_r(const vi_model *m, int nc, const int *idx,
+                       const double *r, const double *v, double *vp,
+                       double *P, double *vn, double *ie)
 {
   int n = m->n, ns = m->ns;
   if (nc > VI_CONTACT_MAX) return VI_ERR_LIMIT;
@@ -64,28 +68,18 @@ int vi_contact_solve(const vi_model *m, int nc, const int *idx,
     u[k] = vi_dot(n, vi_stop_w(m, idx[k]), v);
     /* Newton: w_k.v+ <= -r_k w_k.v- on an approaching contact; a closed
      * contact that is not approaching must not start to (plastic rule) */
-    e[k] = u[k] > 0.0 ? (1.0 + m->rv[idx[k]]) * u[k] : u[k];
+    double rk = r ? r[k] : m->rv[idx[k]];
+    e[k] = u[k] > 0.0 ? (1.0 + rk) * u[k] : u[k];
     emax = fmax(emax, fabs(e[k]));
     p[k] = 0.0;
-  }
-  if (nc == 1 && u[0] > 0.0) {
-    /* one contact: WB 2 and WB 10 exactly as vi_impact_apply computes them */
-    int k = idx[0];
-    double g = m->G[k + (size_t)k * ns], r = m->rv[k];
-    p[0] = (1.0 + r) * u[0] / g;
-    const double *mw = vi_stop_minvw(m, k);
-    for (int i = 0; i < n; i++) vp[i] = v[i] - p[0] * mw[i];
-    if (P) P[0] = p[0];
-    if (vn) vn[0] = u[0];
-    if (ie) ie[0] = 0.5 * u[0] * u[0] * (1.0 - r * r) / g;
-    return VI_OK;
   }
   /* Enumerate active sets S by increasing size: on S the impulses make
    * (G P)_S = e_S, and the set fits if P_S >= 0 and y_k = (G P)_k - e_k >= 0
    * off S.  G positive definite (independent stop vectors) makes the
    * solution unique, so the first set that fits is it; the empty set
-   * (nothing approaching) comes first.  2^nc sets of at most nc x nc
-   * solves: hence the limit VI_CONTACT_MAX. */
+   * (nothing approaching) comes first.  A single approaching contact is
+   * the set {k}: P = (1 + r) v_n / G_kk, WB 2.  2^nc sets of at most
+   * nc x nc solves: hence the limit VI_CONTACT_MAX. */
   double tol = 1e-11 * emax;
   int found = 0;
   for (int size = 0; size <= nc && !found; size++) {
@@ -99,8 +93,13 @@ int vi_contact_solve(const vi_model *m, int nc, const int *idx,
           A[a + b * k] = m->G[idx[act[a]] + (size_t)idx[act[b]] * ns];
         ps[a] = e[act[a]];
       }
-      if (k && vi_small_cholesky(k, A)) continue;
-      if (k) vi_small_solve(k, A, ps);
+      if (k == 1) {
+        if (!(A[0] > 0.0)) continue; /* a zero stop vector */
+        ps[0] /= A[0];               /* exactly WB 2 */
+      } else if (k) {
+        if (vi_small_cholesky(k, A)) continue;
+        vi_small_solve(k, A, ps);
+      }
       int ok = 1;
       for (int a = 0; a < k && ok; a++)
         ok = ps[a] * m->G[idx[act[a]] + (size_t)idx[act[a]] * ns] >= -tol;
@@ -128,8 +127,15 @@ int vi_contact_solve(const vi_model *m, int nc, const int *idx,
     if (vn) vn[k] = u[k];
     /* KE- - KE+ = P.u - P.G P / 2 and (G P)_k = e_k on the active set:
      * each contact takes P_k (u_k - e_k / 2), 1/2 P_k u_k (1 - r_k) for an
-     * approaching one */
+     * approaching one (WB 10 for one contact) */
     if (ie) ie[k] = p[k] * (u[k] - 0.5 * e[k]);
   }
   return VI_OK;
+}
+
+int vi_contact_solve(const vi_model *m, int nc, const int *idx,
+                     const double *v, double *vp, double *P, double *vn,
+                     double *ie)
+{
+  return vi_contact_solve_r(m, nc, idx, NULL, v, vp, P, vn, ie);
 }

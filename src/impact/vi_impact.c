@@ -1,7 +1,13 @@
-/* vi_impact.c - Newton restitution law (WB 2), energy loss (WB 10), WB 13. */
+/* vi_impact.c - the public face of Newton's law (WB 2, WB 10, WB 13) and
+ * its linearisation for the orbit code (vi_impact_internal.h).  The law
+ * itself is solved in one place, vi_contact_solve_r (vi_contact.c): one
+ * contact is its case nc = 1. */
 #include <math.h>
+#include <string.h>
 
-#include "vi_internal.h"
+#include <cblas.h>
+
+#include "vi_impact_internal.h"
 
 int vi_impact_apply_r(const vi_model *m, double r, const double *v_minus,
                       double *v_plus, double *vn, double *ie)
@@ -9,26 +15,18 @@ int vi_impact_apply_r(const vi_model *m, double r, const double *v_minus,
   if (!m || !v_minus || !v_plus) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (!(r >= 0.0 && r <= 1.0)) return VI_ERR_RESTITUTION;
-  int n = m->n;
-  double u = vi_dot(n, m->w, v_minus);
-  if (vn) *vn = u;
-  if (u <= 0.0) { /* separating or tangent: no impulse */
-    for (int i = 0; i < n; i++) v_plus[i] = v_minus[i];
-    if (ie) *ie = 0.0;
-    return VI_OK;
-  }
-  /* WB 2: rank-one M^-1 w update, so that w.v+ = -r u */
-  double s = (1.0 + r) * u / m->wMw;
-  for (int i = 0; i < n; i++) v_plus[i] = v_minus[i] - s * m->Minv_w[i];
-  if (ie) *ie = 0.5 * u * u * (1.0 - r * r) / m->wMw; /* WB 10 */
-  return VI_OK;
+  if (v_plus != v_minus && vi_overlap(v_minus, v_plus, m->n)) return VI_ERR_ARG;
+  /* "the stop" of the single-stop API is stop 0 */
+  const int k = 0;
+  return vi_contact_solve_r(m, 1, &k, &r, v_minus, v_plus, NULL, vn, ie);
 }
 
 int vi_impact_apply(const vi_model *m, const double *v_minus, double *v_plus,
                     double *vn, double *ie)
 {
   if (!m) return VI_ERR_ARG;
-  return vi_impact_apply_r(m, m->r, v_minus, v_plus, vn, ie);
+  if (!m->frozen) return VI_ERR_STATE;
+  return vi_impact_apply_r(m, m->rv[0], v_minus, v_plus, vn, ie);
 }
 
 int vi_impact_apply_multi(const vi_model *m, int nc, const int *stops,
@@ -60,4 +58,80 @@ int vi_restitution_from_energy(double re, double ke_i, double *r)
     return VI_ERR_ARG;
   *r = sqrt(1.0 - re / ke_i); /* WB 13 */
   return VI_OK;
+}
+
+/* ---- the linearisation: Q_k = I - c_k M^-1 w_k w_k^T ------------------- */
+
+/* c_k = (1 + r_k) / G_kk: the impulse per unit approach velocity (WB 2) */
+static double q_coef(const vi_model *m, int k)
+{
+  return (1.0 + m->rv[k]) / m->G[k + (size_t)k * m->ns];
+}
+
+void vi_impact_q_left(const vi_model *m, int k, int nrhs, double *V, int ldv,
+                      double *work)
+{
+  int n = m->n;
+  /* work = V^T w_k, then V -= c_k (M^-1 w_k) work^T */
+  cblas_dgemv(CblasColMajor, CblasTrans, n, nrhs, 1.0, V, ldv,
+              vi_stop_w(m, k), 1, 0.0, work, 1);
+  cblas_dger(CblasColMajor, n, nrhs, -q_coef(m, k), vi_stop_minvw(m, k), 1,
+             work, 1, V, ldv);
+}
+
+void vi_impact_q_right(const vi_model *m, int k, int nr, double *A, int lda,
+                       double *work)
+{
+  int n = m->n;
+  /* work = A M^-1 w_k, then A -= c_k work w_k^T */
+  cblas_dgemv(CblasColMajor, CblasNoTrans, nr, n, 1.0, A, lda,
+              vi_stop_minvw(m, k), 1, 0.0, work, 1);
+  cblas_dger(CblasColMajor, nr, n, -q_coef(m, k), work, 1, vi_stop_w(m, k),
+             1, A, lda);
+}
+
+void vi_impact_q_dr(const vi_model *m, int k, const double *v, double *out)
+{
+  int n = m->n;
+  double c = -vi_dot(n, vi_stop_w(m, k), v) / m->G[k + (size_t)k * m->ns];
+  const double *Mw = vi_stop_minvw(m, k);
+  for (int i = 0; i < n; i++) out[i] = c * Mw[i];
+}
+
+/* ---- the saltation matrix S = R + d g^T / v_n (MODEL.md section 13) ---- */
+
+void vi_impact_salt_jump(const vi_model *m, int k, const double *fm,
+                         const double *fp, double *d, double *work)
+{
+  int n = m->n, n2 = 2 * n;
+  if (d != fm) memcpy(d, fm, sizeof(double) * (size_t)n2);
+  vi_impact_q_left(m, k, 1, d + n, n, work); /* R f- */
+  for (int i = 0; i < n2; i++) d[i] = fp[i] - d[i];
+}
+
+void vi_impact_salt_apply(const vi_model *m, int k, double vn,
+                          const double *d, int nrhs, double *Z, int ldz,
+                          double *work)
+{
+  int n = m->n;
+  /* work = (g^T Z) / v_n from the positions before R acts on the
+   * velocities, then Z <- R Z + d work^T */
+  cblas_dgemv(CblasColMajor, CblasTrans, n, nrhs, 1.0 / vn, Z, ldz,
+              vi_stop_w(m, k), 1, 0.0, work, 1);
+  vi_impact_q_left(m, k, nrhs, Z + n, ldz, work + nrhs);
+  cblas_dger(CblasColMajor, 2 * n, nrhs, 1.0, d, 1, work, 1, Z, ldz);
+}
+
+void vi_impact_salt_matrix(const vi_model *m, int k, double vn,
+                           const double *d, double *S)
+{
+  int n = m->n, n2 = 2 * n;
+  memset(S, 0, sizeof(double) * (size_t)n2 * (size_t)n2);
+  for (int i = 0; i < n2; i++) S[i + (size_t)i * n2] = 1.0;
+  /* R = diag(I, Q_k): the velocity block I - c_k M^-1 w_k w_k^T */
+  cblas_dger(CblasColMajor, n, n, -q_coef(m, k), vi_stop_minvw(m, k), 1,
+             vi_stop_w(m, k), 1, S + n + (size_t)n * n2, n2);
+  /* + d g^T / v_n: g = (w_k, 0) touches the position columns only */
+  cblas_dger(CblasColMajor, n2, n, 1.0 / vn, d, 1, vi_stop_w(m, k), 1, S,
+             n2);
 }

@@ -8,6 +8,7 @@
 
 #include <hdf5.h>
 
+#include "vi_h5_image.h"
 #include "vi_io_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_identify_io.h"
@@ -95,8 +96,7 @@ int vi_identify_write_h5(const char *path, const vi_identify *id,
     free(buf);
     return VI_ERR_LIMIT;
   }
-  remove(part);
-  hid_t f = H5Fcreate(part, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t f = vi_h5_image_create(part); /* in memory: vi_h5_image.h */
   hid_t g = f < 0 ? -1 : H5Gcreate2(f, "identify", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   int bad = g < 0;
   if (!bad) {
@@ -115,12 +115,9 @@ int vi_identify_write_h5(const char *path, const vi_identify *id,
            attr(g, "r_energy_balance", r12) | attr(g, "vN_recorded", vN);
   }
   if (g >= 0) H5Gclose(g);
-  if (f >= 0 && H5Fclose(f) < 0) bad = 1;
   free(buf);
-  if (bad || f < 0 || rename(part, target) != 0) {
-    remove(part);
+  if (f < 0)
     return vi_diag_set(diag, target, VI_ERR_IO, 0, 0, "", "",
-                       "cannot write %s (disk full?)", part);
-  }
-  return VI_OK;
+                       "cannot create %s", part);
+  return vi_h5_image_commit(f, bad, target, diag); /* through TARGET.part */
 }

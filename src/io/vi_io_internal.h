@@ -46,4 +46,15 @@ static inline int vi_diag_nomem(vi_diag *d, const char *file)
                      "out of memory");
 }
 
+/* YAML nested deeper than max_depth levels: the one refusal of every
+ * scene reader (the loader's composer, vi_scene_edit's scan), at the
+ * collection that crosses the limit.  Returns VI_ERR_LIMIT. */
+static inline int vi_diag_too_deep(vi_diag *d, const char *file, int line,
+                                   int col, int max_depth)
+{
+  return vi_diag_set(d, file, VI_ERR_LIMIT, line, col, "", "",
+                     "nesting deeper than %d levels (the limit; a scene "
+                     "needs 5)", max_depth);
+}
+
 #endif

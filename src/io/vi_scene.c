@@ -1031,10 +1031,8 @@ static int compose(ctx *c, const char *text, size_t len, int max_depth)
     case YAML_SEQUENCE_START_EVENT:
     case YAML_MAPPING_START_EVENT:
       if (depth >= max_depth) {
-        char msg[160];
-        snprintf(msg, sizeof msg, "nesting deeper than %d levels (the limit; "
-                 "a scene needs 5)", max_depth);
-        st = ev_fail(c, &e, VI_ERR_LIMIT, msg);
+        st = vi_diag_too_deep(c->d, c->file, (int)e.start_mark.line + 1,
+                              (int)e.start_mark.column + 1, max_depth);
         break;
       }
       id = e.type == YAML_SEQUENCE_START_EVENT

@@ -79,9 +79,10 @@ static size_t byte_of(const char *text, size_t len, size_t chars)
   return b;
 }
 
-/* The nesting limit of the scene reader (VI_SCENE_MAX_DEPTH), applied
- * before the document is loaded: an event scan that stops at the first
- * level too deep, so 100 000 levels cost what 33 do, as with `run`. */
+/* The scene reader's nesting limit (VI_SCENE_MAX_DEPTH, refused with its
+ * message, vi_diag_too_deep), applied before the document is loaded: an
+ * event scan that stops at the first level too deep, so 100 000 levels
+ * cost what 33 do, as with `run`. */
 static int too_deep(const char *text, size_t len, yaml_mark_t *where)
 {
   yaml_parser_t p;
@@ -110,8 +111,8 @@ static int too_deep(const char *text, size_t len, yaml_mark_t *where)
 static int load(const char *text, size_t len, yaml_document_t *doc,
                 yaml_mark_t *where, const char **problem)
 {
-  if (too_deep(text, len, where)) {
-    if (problem) *problem = "nested deeper than the scene reader's limit (32 levels)";
+  if (too_deep(text, len, where)) { /* never loaded: quadratic in the depth */
+    if (problem) *problem = "nested too deep";
     return 0;
   }
   yaml_parser_t p;
@@ -147,6 +148,12 @@ int vi_scene_edit_create(const char *text, int64_t len, const char *name,
   yaml_document_t doc;
   yaml_mark_t mk = {0, 0, 0};
   const char *why = "";
+  if (too_deep(e->text, e->len, &mk)) {
+    int st = vi_diag_too_deep(d, e->name, (int)mk.line + 1, (int)mk.column + 1,
+                              VI_SCENE_MAX_DEPTH);
+    vi_scene_edit_destroy(&e);
+    return st;
+  }
   if (!load(e->text, e->len, &doc, &mk, &why)) {
     int st = vi_diag_set(d, e->name, VI_ERR_PARSE, (int)mk.line + 1,
                          (int)mk.column + 1, "", "", "YAML syntax: %s", why);
@@ -262,6 +269,14 @@ static int check_value(const vi_scene_edit *e, const char *key,
                        "the value must be one YAML value on one line "
                        "(no comment)");
   yaml_document_t doc;
+  if (too_deep(value, strlen(value), NULL)) {
+    vi_diag_too_deep(d, e->name, 0, 0, VI_SCENE_MAX_DEPTH);
+    if (d) {
+      snprintf(d->key, sizeof d->key, "%s", key);
+      snprintf(d->value, sizeof d->value, "%s", value);
+    }
+    return VI_ERR_LIMIT;
+  }
   if (!load(value, strlen(value), &doc, NULL, NULL))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
                        "the value is not valid YAML");

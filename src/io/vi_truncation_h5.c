@@ -7,6 +7,7 @@
 
 #include <hdf5.h>
 
+#include "vi_h5_image.h"
 #include "vi_io_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_output.h"
@@ -119,8 +120,7 @@ int vi_truncation_write_h5(const char *path, const char *scene_name,
   if (st) return st;
   double *buf = malloc(sizeof(double) * 3 * ((size_t)nrows + 1));
   if (!buf) return VI_ERR_NOMEM;
-  remove(part);
-  hid_t f = H5Fcreate(part, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t f = vi_h5_image_create(part); /* in memory: vi_h5_image.h */
   hid_t g = f < 0 ? -1
                   : H5Gcreate2(f, "truncation", H5P_DEFAULT, H5P_DEFAULT,
                                H5P_DEFAULT);
@@ -134,12 +134,9 @@ int vi_truncation_write_h5(const char *path, const char *scene_name,
     bad |= put_table(g, "reference", reference, 1, 1, buf);
   }
   if (g >= 0) H5Gclose(g);
-  if (f >= 0 && H5Fclose(f) < 0) bad = 1;
   free(buf);
-  if (bad || f < 0 || rename(part, target) != 0) {
-    remove(part);
+  if (f < 0)
     return vi_diag_set(diag, target, VI_ERR_IO, 0, 0, "", "",
-                       "cannot write %s (disk full?)", part);
-  }
-  return VI_OK;
+                       "cannot create %s", part);
+  return vi_h5_image_commit(f, bad, target, diag); /* through TARGET.part */
 }

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <fcntl.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -114,6 +115,12 @@ static int reserve(vi_writer *w, double bytes)
   double end = (double)eoa > (double)st.st_size ? (double)eoa
                                                 : (double)st.st_size;
   double need = end + bytes + RESERVE_MARGIN;
+  /* a file size limit (ulimit -f) fails writes as a full disk does */
+  struct rlimit fl;
+  if (getrlimit(RLIMIT_FSIZE, &fl) == 0 && fl.rlim_cur != RLIM_INFINITY &&
+      need > (double)fl.rlim_cur)
+    return werr(w, VI_ERR_IO, "cannot write %s: %s (%.0f more bytes needed)",
+                w->part, strerror(EFBIG), bytes);
   if (need <= (double)w->reserved) return VI_OK;
   /* grow in steps of at least 1/8 of the file, not one batch at a time */
   double more = need - (double)st.st_size;

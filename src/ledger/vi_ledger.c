@@ -77,7 +77,7 @@ void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
     double F = vi_harm(&p, 0, Fa[j], Fb[j], F0[j]);
     FE[j] = qd[j] * F;                                           /* WB 7 */
     DE[j] = m->D[j + (size_t)j * (size_t)n] * qd[j] * qd[j];     /* WB 8 */
-    CE[j] = -Lambda * m->psi[j] * qd[j];
+    CE[j] = -Lambda * m->PsiW[j] * qd[j];
     if (NE) NE[j] = qd[j] * gq[j];
     XE[j] = 0.0;
     if (!m->proportional) {

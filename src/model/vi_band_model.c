@@ -127,11 +127,10 @@ static int band_setup(vi_model *m)
                      "column %d)", (int)info);
   }
 
-  /* M^-1 [a b f0 w]: the four vectors are contiguous, as their images */
-  memcpy(m->Minv_a, m->a, sizeof(double) * 4 * (size_t)n);
-  if (minv(m, 4, m->Minv_a))
+  /* M^-1 [a b f0]: the three vectors are contiguous, as their images */
+  memcpy(m->Minv_a, m->a, sizeof(double) * 3 * (size_t)n);
+  if (minv(m, 3, m->Minv_a))
     return vi_fail(m->errmsg, VI_ERR_LAPACK, "dpbtrs failed");
-  m->wMw = vi_dot(n, m->w, m->Minv_w);
 
   /* the stops: M^-1 W and the Delassus matrix G = W^T M^-1 W */
   size_t nS = (size_t)n * ns;
@@ -151,7 +150,6 @@ static int band_setup(vi_model *m)
     for (int j = k + 1; j < ns; j++)
       m->G[j + (size_t)k * ns] = m->G[k + (size_t)j * ns] =
           0.5 * (m->G[j + (size_t)k * ns] + m->G[k + (size_t)j * ns]);
-  m->wMw = m->G[0];
 
   /* rows of K and C (of M^-1 K, M^-1 C for a diagonal M) */
   int w = 2 * kd + 1;

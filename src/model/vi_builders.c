@@ -108,7 +108,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
     M[p + p * k] = 1.0;
     K[p + p * k] = full->lambda[j];
     for (int q = 0; q < k; q++) C[p + q * k] = full->D[j + (size_t)modes[q] * n];
-    w[p] = full->psi[j];
+    w[p] = full->PsiW[j];
     a[p] = full->Fa[j];
     b[p] = full->Fb[j];
     f0[p] = full->F0[j];
@@ -119,7 +119,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   if (!st) st = vi_model_set_stiffness(m, K, k);
   if (!st) st = vi_model_set_damping(m, C, k);
   if (!st) st = vi_model_set_forcing(m, full->omega_f, a, b, f0);
-  if (!st) st = vi_model_set_stop(m, w, full->xs, r);
+  if (!st) st = vi_model_set_stop(m, w, full->xsv[0], r);
   if (!st) st = vi_model_setup(m);
   free(buf);
   if (st) vi_model_destroy(&m);

@@ -112,7 +112,6 @@ int vi_modal_setup(vi_model *m, int c_zero)
     int st = check_damping(m, Kw);
     if (st) return st;
   }
-  vi_matvec_t(n, m->Psi, m->w, m->psi);
   vi_matvec_t(n, m->Psi, m->a, m->Fa);
   vi_matvec_t(n, m->Psi, m->b, m->Fb);
   vi_matvec_t(n, m->Psi, m->f0, m->F0);

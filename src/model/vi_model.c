@@ -21,8 +21,8 @@ int vi_model_create(int n, vi_model **out)
   vi_model *m = calloc(1, sizeof *m);
   if (!m) return VI_ERR_NOMEM;
   size_t nn = (size_t)n * n;
-  /* 10 n x n matrices and 17 vectors in one block */
-  m->block = calloc(10 * nn + 15 * (size_t)n, sizeof(double));
+  /* 10 n x n matrices and 14 vectors in one block */
+  m->block = calloc(10 * nn + 12 * (size_t)n, sizeof(double));
   if (!m->block) {
     free(m);
     return VI_ERR_NOMEM;
@@ -40,24 +40,21 @@ int vi_model_create(int n, vi_model **out)
   m->a = p; p += n;
   m->b = p; p += n;
   m->f0 = p; p += n;
-  m->w = p; p += n;
   m->Minv_a = p; p += n;
   m->Minv_b = p; p += n;
   m->Minv_f0 = p; p += n;
-  m->Minv_w = p; p += n;
   m->omega = p; p += n;
   m->lambda = p; p += n;
   m->zeta = p; p += n;
-  m->psi = p; p += n;
   m->Fa = p; p += n;
   m->Fb = p; p += n;
   m->F0 = p;
   m->ops = &vi_storage_dense;
   m->n = n;
   m->kd = -1;
-  m->nblock = 10 * nn + 15 * (size_t)n;
+  m->nblock = 10 * nn + 12 * (size_t)n;
   m->bytes = (int64_t)(sizeof *m +
-                       (10 * nn + 17 * (size_t)n) * sizeof(double));
+                       (10 * nn + 14 * (size_t)n) * sizeof(double));
   for (int i = 0; i < n; i++) m->M[i + (size_t)i * n] = 1.0;
   *out = m;
   return VI_OK;
@@ -73,8 +70,8 @@ int vi_model_create_band(int n, int kd, vi_model **out)
   if (!m) return VI_ERR_NOMEM;
   size_t ldb = (size_t)kd + 1, w = 2 * (size_t)kd + 1, nb = ldb * n;
   /* M, C, K and M's factor [ldb x n], the rows KR, CR [w x n] and the
-   * eight vectors a, b, f0, w, M^-1 a, M^-1 b, M^-1 f0, M^-1 w */
-  size_t count = 4 * nb + 2 * w * n + 8 * (size_t)n;
+   * six vectors a, b, f0, M^-1 a, M^-1 b, M^-1 f0 */
+  size_t count = 4 * nb + 2 * w * n + 6 * (size_t)n;
   m->block = calloc(count, sizeof(double));
   if (!m->block) {
     free(m);
@@ -90,11 +87,9 @@ int vi_model_create_band(int n, int kd, vi_model **out)
   m->a = p; p += n;
   m->b = p; p += n;
   m->f0 = p; p += n;
-  m->w = p; p += n;
   m->Minv_a = p; p += n;
   m->Minv_b = p; p += n;
-  m->Minv_f0 = p; p += n;
-  m->Minv_w = p;
+  m->Minv_f0 = p;
   m->n = n;
   m->nblock = count;
   m->ops = &vi_storage_band;
@@ -366,12 +361,6 @@ static int store_stop(vi_model *m, int k, const double *w, double x_s,
   m->xsv[k] = x_s;
   m->rv[k] = r;
   if (k == m->ns) m->ns++;
-  if (k == 0) { /* stop 0 is mirrored for the single-stop code paths */
-    memcpy(m->w, w, sizeof(double) * (size_t)n);
-    m->xs = x_s;
-    m->r = r;
-  }
-  m->has_stop = 1;
   return VI_OK;
 }
 
@@ -419,22 +408,16 @@ static int setup_stops(vi_model *m, const double *L)
   if (!m->MinvW) return vi_fail(m->errmsg, VI_ERR_NOMEM, "out of memory");
   m->PsiW = m->MinvW + nS;
   m->G = m->PsiW + nS;
-  memcpy(m->MinvW, m->Minv_w, sizeof(double) * (size_t)n);
-  if (ns > 1) {
-    memcpy(m->MinvW + n, m->Ws + n, sizeof(double) * (nS - n));
-    lapack_int info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n,
-                                     (lapack_int)(ns - 1), L, n,
-                                     m->MinvW + n, n);
-    if (info != 0)
-      return vi_fail(m->errmsg, VI_ERR_LAPACK, "dpotrs failed on the stops "
-                     "(info %d)", (int)info);
-  }
+  memcpy(m->MinvW, m->Ws, sizeof(double) * nS);
+  lapack_int info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, (lapack_int)ns,
+                                   L, n, m->MinvW, n);
+  if (info != 0)
+    return vi_fail(m->errmsg, VI_ERR_LAPACK, "dpotrs failed on the stops "
+                   "(info %d)", (int)info);
   for (int k = 0; k < ns; k++)
     for (int j = 0; j < ns; j++)
       m->G[j + (size_t)k * ns] =
-          j == k && k == 0 ? m->wMw
-                           : vi_dot(n, m->Ws + (size_t)j * n,
-                                    m->MinvW + (size_t)k * n);
+          vi_dot(n, m->Ws + (size_t)j * n, m->MinvW + (size_t)k * n);
   /* exactly symmetric, as the LCP's Cholesky factorisations expect */
   for (int k = 0; k < ns; k++)
     for (int j = k + 1; j < ns; j++)
@@ -447,7 +430,7 @@ int vi_model_setup(vi_model *m)
 {
   int st = check_open(m);
   if (st) return st;
-  if (!m->has_stop)
+  if (m->ns < 1)
     return vi_fail(m->errmsg, VI_ERR_STOP_VECTOR,
                    "no stop: call vi_model_set_stop before setup");
   /* dense: the modal analysis; band: O(n kd), no modes */
@@ -475,24 +458,23 @@ int vi_dense_setup(vi_model *m)
     return vi_fail(m->errmsg, VI_ERR_NOT_SPD,
                    "M is not positive definite (Cholesky fails at column %d)",
                    (int)info);
-  /* right-hand sides [K C a b f0 w] solved in one dpotrs call (C only if
+  /* right-hand sides [K C a b f0] solved in one dpotrs call (C only if
    * non-zero); the solve runs in place in the model's own arrays */
   memcpy(m->MinvK, m->K, sizeof(double) * nn);
   if (!c_zero) memcpy(m->MinvC, m->C, sizeof(double) * nn);
-  const double *vecs[4] = {m->a, m->b, m->f0, m->w};
-  double *outs[4] = {m->Minv_a, m->Minv_b, m->Minv_f0, m->Minv_w};
-  for (int k = 0; k < 4; k++) memcpy(outs[k], vecs[k], sizeof(double) * n);
+  const double *vecs[3] = {m->a, m->b, m->f0};
+  double *outs[3] = {m->Minv_a, m->Minv_b, m->Minv_f0};
+  for (int k = 0; k < 3; k++) memcpy(outs[k], vecs[k], sizeof(double) * n);
   info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, n, L, n, m->MinvK, n);
   if (info == 0 && !c_zero)
     info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, n, L, n, m->MinvC, n);
   if (c_zero) memset(m->MinvC, 0, sizeof(double) * nn);
-  /* the four vectors are contiguous in the block: one solve */
+  /* the three vectors are contiguous in the block: one solve */
   if (info == 0)
-    info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, 4, L, n, m->Minv_a, n);
+    info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, 3, L, n, m->Minv_a, n);
   if (info != 0)
     return vi_fail(m->errmsg, VI_ERR_LAPACK, "dpotrs failed (info %d)",
                    (int)info);
-  m->wMw = vi_dot(n, m->w, m->Minv_w);
   if ((st = setup_stops(m, L))) return st;
 
   /* half-bandwidth of the RHS matrices: a chain with diagonal M is
@@ -505,8 +487,7 @@ int vi_dense_setup(vi_model *m)
         m->bw = abs(i - j);
 
   if ((st = vi_modal_setup(m, c_zero))) return st;
-  memcpy(m->PsiW, m->psi, sizeof(double) * (size_t)n);
-  for (int k = 1; k < m->ns; k++)
+  for (int k = 0; k < m->ns; k++)
     vi_matvec_t(n, m->Psi, m->Ws + (size_t)k * n, m->PsiW + (size_t)k * n);
   return VI_OK;
 }
@@ -516,23 +497,23 @@ int vi_dense_setup(vi_model *m)
 
 int vi_model_n(const vi_model *m) { return m ? m->n : 0; }
 double vi_model_omega_forcing(const vi_model *m) { return FROZEN_OR(m, m->omega_f); }
-double vi_model_clearance(const vi_model *m) { return FROZEN_OR(m, m->xs); }
-double vi_model_restitution(const vi_model *m) { return FROZEN_OR(m, m->r); }
+double vi_model_clearance(const vi_model *m) { return FROZEN_OR(m, m->xsv[0]); }
+double vi_model_restitution(const vi_model *m) { return FROZEN_OR(m, m->rv[0]); }
 const double *vi_model_mass(const vi_model *m) { return FROZEN_OR(m, m->M); }
 const double *vi_model_damping(const vi_model *m) { return FROZEN_OR(m, m->C); }
 const double *vi_model_stiffness(const vi_model *m) { return FROZEN_OR(m, m->K); }
-const double *vi_model_stop_vector(const vi_model *m) { return FROZEN_OR(m, m->w); }
+const double *vi_model_stop_vector(const vi_model *m) { return FROZEN_OR(m, m->Ws); }
 const double *vi_model_forcing_cos(const vi_model *m) { return FROZEN_OR(m, m->a); }
 const double *vi_model_forcing_sin(const vi_model *m) { return FROZEN_OR(m, m->b); }
 const double *vi_model_forcing_const(const vi_model *m) { return FROZEN_OR(m, m->f0); }
 const double *vi_model_omega(const vi_model *m) { return FROZEN_OR(m, m->omega); }
 const double *vi_model_zeta(const vi_model *m) { return FROZEN_OR(m, m->zeta); }
-const double *vi_model_modal_stop(const vi_model *m) { return FROZEN_OR(m, m->psi); }
+const double *vi_model_modal_stop(const vi_model *m) { return FROZEN_OR(m, m->PsiW); }
 const double *vi_model_modal_forcing_cos(const vi_model *m) { return FROZEN_OR(m, m->Fa); }
 const double *vi_model_modal_forcing_sin(const vi_model *m) { return FROZEN_OR(m, m->Fb); }
 const double *vi_model_modal_forcing_const(const vi_model *m) { return FROZEN_OR(m, m->F0); }
 int vi_model_is_proportional(const vi_model *m) { return FROZEN_OR(m, m->proportional); }
-double vi_model_stop_compliance(const vi_model *m) { return FROZEN_OR(m, m->wMw); }
+double vi_model_stop_compliance(const vi_model *m) { return FROZEN_OR(m, m->G[0]); }
 
 const double *vi_model_modal_shapes(const vi_model *m, int *ld)
 {

@@ -339,11 +339,9 @@ int vi_model_set_param(vi_model *m, const char *key, double value)
     break;
   case P_XS:
     m->xsv[p.idx - 1] = value;
-    if (p.idx == 1) m->xs = value; /* the stop-0 mirror */
     break;
   case P_R:
     m->rv[p.idx - 1] = value;
-    if (p.idx == 1) m->r = value;
     break;
   case P_ALPHA: case P_BETA: {
     double a = m->damp_kind == 1 ? m->ray_alpha : 0.0;
@@ -485,13 +483,13 @@ int vi_model_copy(const vi_model *m, vi_model **out)
   memcpy(c->block, m->block, sizeof(double) * m->nblock);
   double *const fields_m[] = {
       m->M, m->C, m->K, m->MinvK, m->MinvC, m->Psi, m->PsiTM, m->D,
-      m->a, m->b, m->f0, m->w, m->Minv_a, m->Minv_b, m->Minv_f0, m->Minv_w,
-      m->omega, m->lambda, m->zeta, m->psi, m->Fa, m->Fb, m->F0,
+      m->a, m->b, m->f0, m->Minv_a, m->Minv_b, m->Minv_f0,
+      m->omega, m->lambda, m->zeta, m->Fa, m->Fb, m->F0,
       m->MB, m->CB, m->KB, m->LB, m->KR, m->CR};
   double **fields_c[] = {
       &c->M, &c->C, &c->K, &c->MinvK, &c->MinvC, &c->Psi, &c->PsiTM, &c->D,
-      &c->a, &c->b, &c->f0, &c->w, &c->Minv_a, &c->Minv_b, &c->Minv_f0,
-      &c->Minv_w, &c->omega, &c->lambda, &c->zeta, &c->psi, &c->Fa, &c->Fb,
+      &c->a, &c->b, &c->f0, &c->Minv_a, &c->Minv_b, &c->Minv_f0,
+      &c->omega, &c->lambda, &c->zeta, &c->Fa, &c->Fb,
       &c->F0, &c->MB, &c->CB, &c->KB, &c->LB, &c->KR, &c->CR};
   for (size_t i = 0; i < sizeof fields_c / sizeof *fields_c; i++)
     *fields_c[i] = rebase(fields_m[i], m->block, m->nblock, c->block);

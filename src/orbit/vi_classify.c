@@ -41,7 +41,7 @@ double *vi_classify_strobe(const vi_orbit *o, int64_t k)
  * windows between them to repeat, shifted by n T. */
 int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
 {
-  double nT = n * o->T, t_now = kp * o->T, zscale = fabs(o->m->xs);
+  double nT = n * o->T, t_now = kp * o->T, zscale = vi_orbit_xs_scale(o->m);
   const double *zk = vi_classify_strobe(o, kp);
   for (int i = 0; i < 2 * o->n; i++) zscale = fmax(zscale, fabs(zk[i]));
   for (int j = 1; j <= 3; j++)
@@ -52,7 +52,7 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
   if (k0 <= o->nimp - RING) return 0; /* the ring no longer holds them */
   int64_t c = k3 - k2;
   if (k2 - k1 != c || k1 - k0 != c) return 0;
-  double scale = fabs(o->m->xs);
+  double scale = vi_orbit_xs_scale(o->m);
   for (int64_t k = k0; k < k3; k++)
     for (int i = 0; i < 2 * o->n; i++)
       scale = fmax(scale, fabs(o->rz[(size_t)(k % RING) * 2 * o->n + i]));
@@ -70,14 +70,15 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
 
 /* P(n, m) of a recorded motion (the studies, vi_study.h): the smallest
  * n <= nmax, n <= R, with z_{k+n} = z_k for every recorded stroboscopic
- * state z_0..z_R [n2 each] (to tol relative to the largest entry or |x_s|);
+ * state z_0..z_R [n2 each] (to tol relative to the largest entry or the
+ * stops' scale xscale, vi_orbit_xs_scale);
  * m the impacts t [nimp] in the last n periods before t_end.  0 for n
  * when none repeats. */
-int vi_classify_strobes(int R, int n2, const double *z, double xs, double tol,
+int vi_classify_strobes(int R, int n2, const double *z, double xscale, double tol,
                         int nmax, const double *t, int64_t nimp, double T,
                         double t_end, int *m)
 {
-  double scale = fabs(xs);
+  double scale = fabs(xscale);
   for (size_t i = 0; i < (size_t)(R + 1) * n2; i++) scale = fmax(scale, fabs(z[i]));
   double eps = tol * scale;
   *m = 0;

@@ -2,13 +2,20 @@
  * (MODEL.md section 13).
  *
  * A tangent vector u is carried along the simulated trajectory: between
- * impacts by the exact state-transition matrix e^{A tau} (vi_var_stm), at
- * each impact by its saltation matrix (vi_var_saltation), and renormalised
+ * impacts by the exact state-transition matrix e^{A tau}, at each impact by
+ * its saltation matrix S = R + d g^T / v_n (vi_impact_salt_apply), and
+ * renormalised
  * after every factor (Benettin, Galgani, Giorgilli and Strelcyn, Meccanica
  * 15 (1980) 9).  The exponent is the mean growth rate of log |u|.  Nothing
  * is differenced, so the estimate is limited by the length of the run, not
  * by a perturbation size.  A flight longer than one forcing period is cut
  * into periods so that e^{A tau} u neither underflows nor overflows.
+ *
+ * Nothing 2n x 2n is formed per step: S acts on u as R plus a rank-one
+ * term, O(n^2) with the vector fields f-, f+; e^{A tau} u goes through the
+ * modes of a proportional model (vi_var_stm_apply, O(n^2)).  Other damping
+ * needs e^{A tau} itself: the one of a whole forcing period, the common
+ * step, is built once per call and applied by dgemv.
  *
  * Sliding (sticking) and summed chattering tails have no saltation matrix
  * of this form: a motion that meets them is refused (VI_ERR_UNSUPPORTED),
@@ -17,31 +24,48 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
+
+#include "vi_impact_internal.h"
 #include "vi_orbit_internal.h"
 
 typedef struct {
   const vi_model *m;
   int n2;
   double t_prev, cap, sum, t_last_impact;
-  double *u, *w, *Phi, *S, *z, *work;
-  int bad_kind, simultaneous, st;
+  /* u, the tangent [2n]; d, the saltation jump [2n]; z [2n], work [4n];
+   * Phi, Pcap [2n x 2n]: non-proportional damping only */
+  double *u, *d, *z, *work, *Phi, *Pcap;
+  int have_cap, bad_kind, simultaneous, st;
 } tangent;
 
-/* u <- A u, then renormalised; the logarithm of the growth is summed */
-static int apply(tangent *L, const double *A)
+/* u renormalised; the logarithm of its growth is summed */
+static int renorm(tangent *L)
 {
-  int n2 = L->n2;
-  for (int i = 0; i < n2; i++) L->w[i] = 0.0;
-  for (int j = 0; j < n2; j++) {
-    double uj = L->u[j];
-    for (int i = 0; i < n2; i++) L->w[i] += A[i + (size_t)j * n2] * uj;
-  }
-  double s = 0.0;
-  for (int i = 0; i < n2; i++) s += L->w[i] * L->w[i];
-  double nrm = sqrt(s);
+  double nrm = cblas_dnrm2(L->n2, L->u, 1);
   if (!(nrm > 0.0) || !isfinite(nrm)) return VI_ERR_NONFINITE;
   L->sum += log(nrm);
-  for (int i = 0; i < n2; i++) L->u[i] = L->w[i] / nrm;
+  cblas_dscal(L->n2, 1.0 / nrm, L->u, 1);
+  return VI_OK;
+}
+
+/* u <- e^{A tau} u */
+static int flow(tangent *L, double tau)
+{
+  const vi_model *m = L->m;
+  if (m->proportional) return vi_var_stm_apply(m, tau, L->u, L->work);
+  const double *Phi = L->Pcap;
+  int st;
+  if (tau != L->cap) {
+    if ((st = vi_var_stm(m, tau, L->Phi))) return st;
+    Phi = L->Phi;
+  } else if (!L->have_cap) {
+    if ((st = vi_var_stm(m, tau, L->Pcap))) return st;
+    L->have_cap = 1;
+  }
+  cblas_dgemv(CblasColMajor, CblasNoTrans, L->n2, L->n2, 1.0, Phi, L->n2,
+              L->u, 1, 0.0, L->work, 1);
+  memcpy(L->u, L->work, sizeof(double) * (size_t)L->n2);
   return VI_OK;
 }
 
@@ -50,9 +74,8 @@ static int advance(tangent *L, double t)
 {
   while (L->t_prev < t) {
     double tau = t - L->t_prev > L->cap ? L->cap : t - L->t_prev;
-    int st = vi_var_stm(L->m, tau, L->Phi);
-    if (st) return st;
-    if ((st = apply(L, L->Phi))) return st;
+    int st = flow(L, tau);
+    if (st || (st = renorm(L))) return st;
     L->t_prev = tau == t - L->t_prev ? t : L->t_prev + tau;
   }
   return VI_OK;
@@ -75,8 +98,9 @@ static int on_event(const vi_event *ev, void *user)
   if ((L->st = advance(L, ev->t))) return 1;
   memcpy(L->z, ev->x, sizeof(double) * (size_t)n);
   memcpy(L->z + n, ev->v_minus, sizeof(double) * (size_t)n);
-  vi_var_saltation(L->m, ev->stop, ev->t, L->z, L->S, L->work);
-  if ((L->st = apply(L, L->S))) return 1;
+  double vn = vi_var_salt_jump(L->m, ev->stop, ev->t, L->z, L->d, L->work);
+  vi_impact_salt_apply(L->m, ev->stop, vn, L->d, 1, L->u, L->n2, L->work);
+  if ((L->st = renorm(L))) return 1;
   L->t_last_impact = ev->t;
   return 0;
 }
@@ -117,18 +141,18 @@ int vi_orbit_lyapunov(vi_orbit *o, double transient, double periods,
                    transient, periods);
   const vi_model *m = o->m;
   int n = m->n, n2 = 2 * n;
-  size_t nn = (size_t)n2 * n2;
+  /* the work area of the whole call: no allocation per step */
+  size_t nn = m->proportional ? 0 : (size_t)n2 * n2, len = 2 * nn + 5 * (size_t)n2;
   tangent L = {.m = m, .n2 = n2, .cap = o->T, .bad_kind = -1,
                .t_last_impact = -HUGE_VAL};
-  double *blk = malloc(sizeof(double) * (2 * nn + 5 * (size_t)n2 + 8 * (size_t)n));
-  if (!blk) return vi_fail(o->errmsg, VI_ERR_NOMEM, "lyapunov: %zu doubles",
-                           2 * nn + 5 * (size_t)n2 + 8 * (size_t)n);
-  L.Phi = blk;
-  L.S = L.Phi + nn;
-  L.u = L.S + nn;
-  L.w = L.u + n2;
-  L.z = L.w + n2;
-  L.work = L.z + 3 * (size_t)n2;
+  double *blk = malloc(sizeof(double) * len);
+  if (!blk) return vi_fail(o->errmsg, VI_ERR_NOMEM, "lyapunov: %zu doubles", len);
+  L.u = blk;
+  L.d = L.u + n2;
+  L.z = L.d + n2;
+  L.work = L.z + n2;
+  L.Phi = nn ? L.work + 2 * (size_t)n2 : NULL;
+  L.Pcap = nn ? L.Phi + nn : NULL;
   /* a start vector with a component along every direction */
   for (int i = 0; i < n2; i++) L.u[i] = 1.0 / sqrt((double)n2) * (1.0 + 0.1 * i);
 

@@ -231,7 +231,7 @@ static int refine(vi_orbit *o)
     status = vi_fail(o->errmsg, VI_ERR_NOMEM, "out of memory");
     goto done;
   }
-  double scale = fabs(o->m->xs);
+  double scale = vi_orbit_xs_scale(o->m);
   for (int i = 0; i < n2; i++) {
     gsl_vector_set(z, i, o->zfix[i]);
     scale = fmax(scale, fabs(o->zfix[i]));

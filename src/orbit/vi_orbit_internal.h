@@ -6,21 +6,39 @@
 #ifndef VI_ORBIT_INTERNAL_H
 #define VI_ORBIT_INTERNAL_H
 
+#include <math.h>
+
 #include "vi_flow_internal.h"
 #include "vi_orbit_handle.h"
+
+/* The stops' length scale max_k |x_k| (every stop, not stop 0 alone):
+ * tolerances on states are relative to it and to the states' own size. */
+static inline double vi_orbit_xs_scale(const vi_model *m)
+{
+  double s = 0.0;
+  for (int k = 0; k < m->ns; k++) s = fmax(s, fabs(m->xsv[k]));
+  return s;
+}
 
 /* State-transition matrix e^{A tau} [2n x 2n] (z = (x, v), column-major,
  * leading dimension 2n) of the free motion: closed form per mode for
  * proportional damping, Pade scaling and squaring otherwise.  VI_OK,
  * VI_ERR_TIME (tau < 0), VI_ERR_NOMEM, VI_ERR_LAPACK. */
 int vi_var_stm(const vi_model *m, double tau, double *Phi);
+/* u [2n] <- e^{A tau} u without forming e^{A tau}: O(n^2) through the
+ * modes of a proportional model; work [2n].  VI_ERR_UNSUPPORTED for any
+ * other damping (then vi_var_stm), VI_ERR_TIME (tau < 0). */
+int vi_var_stm_apply(const vi_model *m, double tau, double *u, double *work);
 /* Vector field f = z' [2n] of the free motion at t (z, f stacked (x, v)). */
 void vi_var_field(const vi_model *m, double t, const double *z, double *f);
 /* Post-impact state zp [2n] of z on stop k (WB 2, stop k's own r_k); zp
  * may be z. */
 void vi_var_impact(const vi_model *m, int k, const double *z, double *zp);
 /* Saltation matrix S [2n x 2n] of an impact on stop k at t from the state
- * z [2n] just before it; work [8n]. */
+ * z [2n] just before it; work [8n].  vi_var_salt_jump: its pieces for
+ * vi_impact_salt_apply, the jump d [2n] and the return value v_n; work [4n]. */
+double vi_var_salt_jump(const vi_model *m, int k, double t, const double *z,
+                        double *d, double *work);
 void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
                       double *S, double *work);
 /* D z(tb) / D z(ta) [2n x 2n] of the motion from ta to tb through mi
@@ -47,8 +65,9 @@ double *vi_classify_strobe(const vi_orbit *o, int64_t k);
 int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m);
 
 /* P(n, m) of a recorded motion: R + 1 stroboscopic states z [n2 each],
- * impacts t [nimp]; returns n (0: none <= nmax), *m (vi_classify.c). */
-int vi_classify_strobes(int R, int n2, const double *z, double xs, double tol,
+ * impacts t [nimp], the stops' scale xscale; returns n (0: none <= nmax),
+ * *m (vi_classify.c). */
+int vi_classify_strobes(int R, int n2, const double *z, double xscale, double tol,
                         int nmax, const double *t, int64_t nimp, double T,
                         double t_end, int *m);
 

@@ -13,8 +13,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
 #include <lapacke.h>
 
+#include "vi_impact_internal.h"
 #include "vi_orbit_internal.h"
 
 typedef struct ws {
@@ -82,14 +84,15 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
   const vi_model *m = w->m;
   int n = w->n, n2 = w->n2, B = n2 + 1, D = mi * B, st;
   double T = 2.0 * M_PI / m->omega_f;
-  double *zp = malloc(sizeof(double) * ((size_t)n2 * n2 + 4 * (size_t)n2));
+  double *zp = malloc(sizeof(double) * ((size_t)n2 * n2 + 5 * (size_t)n2));
   if (!zp) return VI_ERR_NOMEM;
-  double *ze = zp + n2, *f0 = ze + n2, *f1 = f0 + n2, *Phi = f1 + n2;
+  double *ze = zp + n2, *f0 = ze + n2, *f1 = f0 + n2, *wk = f1 + n2,
+         *Phi = wk + n2;
   if (want_j) memset(J, 0, sizeof(double) * (size_t)D * D);
   for (int j = 0; j < mi; j++) {
     int k = (j + 1) % mi, s = stop_of(w, j);
     const double *uj = u + (size_t)j * B, *uk = u + (size_t)k * B;
-    const double *ws_ = vi_stop_w(m, s), *Mw = vi_stop_minvw(m, s);
+    const double *ws_ = vi_stop_w(m, s);
     double t0 = uj[0], t1 = uk[0] + (j + 1 == mi ? np * T : 0.0);
     if (!(t1 > t0)) {
       free(zp);
@@ -111,22 +114,20 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
     vi_var_field(m, t0, zp, f0);
     vi_var_field(m, t1, ze, f1);
     /* rows of segment j: columns of block j (t, x, v) and of block k;
-     * d/dv_j through Q = I - c M^-1 w w^T: Phi_v Q = Phi_v - c (Phi_v M^-1 w) w^T */
-    double c = (1.0 + m->rv[s]) / m->G[s + (size_t)s * m->ns];
+     * d/dv_j through the impact map: Phi_v Q_k */
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n2, n2, -1.0, Phi, n2, f0, 1,
+                0.0, wk, 1); /* d/dt_j: -Phi f(t_j+) */
     for (int i = 0; i < n2; i++) {
       size_t row = (size_t)j * B + i;
-      double dt0 = 0.0, pm = 0.0;
-      for (int q = 0; q < n2; q++) dt0 -= Phi[i + (size_t)q * n2] * f0[q];
-      for (int p = 0; p < n; p++) pm += Phi[i + (size_t)(n + p) * n2] * Mw[p];
-      J[row + (size_t)(j * B) * D] += dt0;
+      J[row + (size_t)(j * B) * D] += wk[i];
       J[row + (size_t)(k * B) * D] += f1[i];
-      for (int q = 0; q < n; q++) /* d/dx_j */
-        J[row + (size_t)(j * B + 1 + q) * D] += Phi[i + (size_t)q * n2];
-      for (int q = 0; q < n; q++)
-        J[row + (size_t)(j * B + 1 + n + q) * D] +=
-            Phi[i + (size_t)(n + q) * n2] - c * pm * ws_[q];
       J[row + (size_t)(k * B + 1 + i) * D] -= 1.0;
     }
+    vi_impact_q_right(m, s, n2, Phi + (size_t)n * n2, n2, wk);
+    for (int q = 0; q < n2; q++) /* d/dx_j, d/dv_j */
+      for (int i = 0; i < n2; i++)
+        J[(size_t)j * B + i + (size_t)(j * B + 1 + q) * D] +=
+            Phi[i + (size_t)q * n2];
     for (int q = 0; q < n; q++) /* the impact condition w.x_j = x_s */
       J[(size_t)j * B + n2 + (size_t)(j * B + 1 + q) * D] = ws_[q];
   }
@@ -318,9 +319,7 @@ int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
     memset(dp, 0, sizeof(double) * n2);
     if (param == VI_ORBIT_PARAM_R) {
       if (s != k) continue;
-      const double *Mw = vi_stop_minvw(m, s);
-      double c = -vi_dot(n, vi_stop_w(m, s), v + (size_t)j * ld) / m->G[s + (size_t)s * m->ns];
-      for (int i = 0; i < n; i++) dp[n + i] = c * Mw[i];
+      vi_impact_q_dr(m, s, v + (size_t)j * ld, dp + n);
     } else {
       double tt[2] = {t0, t1};
       if ((st = vi_var_dpart_domega(m, 2, tt, d))) break;
@@ -335,8 +334,8 @@ int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
         for (int i = 0; i < n2; i++) Fj[i] += f1[i] * (-np * T / m->omega_f);
       }
     }
-    for (int i = 0; i < n2; i++)
-      for (int q = 0; q < n2; q++) Fj[i] += Phi[i + (size_t)q * n2] * dp[q];
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n2, n2, 1.0, Phi, n2, dp, 1, 1.0,
+                Fj, 1);
   }
   free(Phi);
   ws_free(&w);
@@ -373,16 +372,10 @@ int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
     double t1 = j + 1 < mi ? t[j + 1] : t[0] + np * T;
     if ((st = vi_var_stm(m, t1 - t[j], Phi))) break;
     /* Mo <- Phi S Mo */
-    for (size_t i = 0; i < nn; i++) tmp[i] = 0.0;
-    for (int b = 0; b < n2; b++)
-      for (int k = 0; k < n2; k++)
-        for (int a = 0; a < n2; a++)
-          tmp[a + (size_t)b * n2] += S[a + (size_t)k * n2] * Mo[k + (size_t)b * n2];
-    for (size_t i = 0; i < nn; i++) Mo[i] = 0.0;
-    for (int b = 0; b < n2; b++)
-      for (int k = 0; k < n2; k++)
-        for (int a = 0; a < n2; a++)
-          Mo[a + (size_t)b * n2] += Phi[a + (size_t)k * n2] * tmp[k + (size_t)b * n2];
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n2, n2, n2, 1.0, S,
+                n2, Mo, n2, 0.0, tmp, n2);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n2, n2, n2, 1.0,
+                Phi, n2, tmp, n2, 0.0, Mo, n2);
   }
   free(S);
   ws_free(&w);
@@ -509,35 +502,27 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
   if (st) return st;
   size_t nn = (size_t)n2 * n2;
   double T = 2.0 * M_PI / m->omega_f, P = np * T;
-  double *A = malloc(sizeof(double) * (3 * nn + 8 * (size_t)n2 + 2 * (size_t)nphase + 2));
+  double *A = malloc(sizeof(double) * (2 * nn + 8 * (size_t)n2 + 2 * (size_t)nphase + 2));
   lapack_int *piv = malloc(sizeof(lapack_int) * (size_t)n2);
   if (!A || !piv) {
     st = VI_ERR_NOMEM;
     goto cleanup;
   }
-  double *Phi = A + nn, *Q = Phi + nn, *c = Q + nn, *e = c + n2, *zs = e + n2,
+  double *Phi = A + nn, *c = Phi + nn, *e = c + n2, *zs = e + n2,
          *h = zs + n2, *vn = h + nphase + 1;
-  /* velocity impact map Q = I - (1 + r) M^-1 w w^T / (w^T M^-1 w) (WB 2) */
-  for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++)
-      Q[i + (size_t)j * n] = (i == j) - (1.0 + m->r) * m->Minv_w[i] * m->w[j] / m->wMw;
+  const double *w0 = vi_stop_w(m, 0);
   memset(e, 0, sizeof(double) * n2);
   /* the affine map z -> flow(phi, J z, phi + P) has one fixed point for
    * each phase phi: the periodic motion with an impact at phi.  It is a
    * P(np,1) orbit where its gap h(phi) = w.x - x_s vanishes.  The
    * transition matrix over one orbit period is the same for every phase. */
   if ((st = vi_var_stm(m, P, Phi))) goto cleanup;
-  /* A = I - Phi J, J = diag(I, Q): factored once (a singular A, a
-   * resonance of the impact map, leaves no isolated fixed points) */
-  for (int b = 0; b < n2; b++)
-    for (int a = 0; a < n2; a++) {
-      double s = 0.0;
-      if (b < n) s = Phi[a + (size_t)b * n2];
-      else
-        for (int p = 0; p < n; p++)
-          s += Phi[a + (size_t)(n + p) * n2] * Q[p + (size_t)(b - n) * n];
-      A[a + (size_t)b * n2] = (a == b) - s;
-    }
+  /* A = I - Phi J, J = diag(I, Q_0), the impact map of the stop (WB 2):
+   * factored once (a singular A, a resonance of the impact map, leaves no
+   * isolated fixed points) */
+  vi_impact_q_right(m, 0, n2, Phi + (size_t)n * n2, n2, c);
+  for (size_t i = 0; i < nn; i++) A[i] = -Phi[i];
+  for (int i = 0; i < n2; i++) A[i + (size_t)i * n2] += 1.0;
   if (LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, A, n2, piv) != 0) goto cleanup;
   for (int k = 0; k <= nphase && !st; k++) {
     double phi = P * k / nphase;
@@ -548,8 +533,8 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
       vn[k] = NAN;
       continue;
     }
-    h[k] = vi_dot(n, m->w, zs) - m->xs;
-    vn[k] = vi_dot(n, m->w, zs + n);
+    h[k] = vi_dot(n, w0, zs) - m->xsv[0];
+    vn[k] = vi_dot(n, w0, zs + n);
   }
   if (st) goto cleanup;
   for (int k = 0; k < nphase; k++) {
@@ -564,7 +549,7 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
     memcpy(xx, zs, sizeof(double) * n);
     memcpy(vv, zs + n, sizeof(double) * n);
     if (vi_orbit_pnm_solve(m, np, 1, &tt, xx, vv, n, 0.0, NULL) != VI_OK) continue;
-    if (!(vi_dot(n, m->w, vv) > 0.0)) continue; /* not an approach */
+    if (!(vi_dot(n, w0, vv) > 0.0)) continue; /* not an approach */
     tt = fmod(tt, P);
     if (tt < 0) tt += P;
     int dup = 0;

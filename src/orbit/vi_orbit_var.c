@@ -20,20 +20,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
 #include <lapacke.h>
 
+#include "vi_impact_internal.h"
 #include "vi_orbit_internal.h"
 
 /* C = A B, all n x n column-major */
 static void mul(int n, const double *A, const double *B, double *C)
 {
-  for (size_t i = 0; i < (size_t)n * n; i++) C[i] = 0.0;
-  for (int j = 0; j < n; j++)
-    for (int k = 0; k < n; k++) {
-      double b = B[k + (size_t)j * n];
-      if (b == 0.0) continue;
-      for (int i = 0; i < n; i++) C[i + (size_t)j * n] += A[i + (size_t)k * n] * b;
-    }
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, n, n, 1.0, A, n,
+              B, n, 0.0, C, n);
 }
 
 static int stm_modal(const vi_model *m, double tau, double *Phi)
@@ -139,27 +136,45 @@ int vi_var_stm(const vi_model *m, double tau, double *Phi)
   return m->proportional ? stm_modal(m, tau, Phi) : stm_pade(m, tau, Phi);
 }
 
+int vi_var_stm_apply(const vi_model *m, double tau, double *u, double *work)
+{
+  if (!(tau >= 0.0) || !isfinite(tau)) return VI_ERR_TIME;
+  if (!m->proportional) return VI_ERR_UNSUPPORTED;
+  int n = m->n;
+  /* [q qd] = Psi^T M [x v], the 2 x 2 flow of each mode, [x v] = Psi [q qd] */
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, 2, n, 1.0,
+              m->PsiTM, n, u, n, 0.0, work, n);
+  for (int j = 0; j < n; j++)
+    vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], work[j],
+                        work[n + j], tau, &work[j], &work[n + j]);
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, 2, n, 1.0,
+              m->Psi, n, work, n, 0.0, u, n);
+  return VI_OK;
+}
+
 void vi_var_field(const vi_model *m, double t, const double *z, double *f)
 {
   int n = m->n;
   vi_phase p = vi_phase_at(m->omega_f, t);
   memcpy(f, z + n, sizeof(double) * n);
-  for (int i = 0; i < n; i++) {
-    double a = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
-    for (int k = 0; k < n; k++)
-      a -= m->MinvK[i + (size_t)k * n] * z[k] + m->MinvC[i + (size_t)k * n] * z[n + k];
-    f[n + i] = a;
-  }
+  /* M^-1 (f(t) - K x - C v) */
+  for (int i = 0; i < n; i++)
+    f[n + i] = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, -1.0, m->MinvK, n, z, 1,
+              1.0, f + n, 1);
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, -1.0, m->MinvC, n, z + n, 1,
+              1.0, f + n, 1);
 }
 
+/* the impact map of stop k on an approaching state: Newton's law on the
+ * one contact, v+ = Q_k v- (vi_impact_internal.h) */
 void vi_var_impact(const vi_model *m, int k, const double *z, double *zp)
 {
   int n = m->n;
-  const double *w = vi_stop_w(m, k), *Mw = vi_stop_minvw(m, k);
-  double g = m->G[k + (size_t)k * m->ns], vn = vi_dot(n, w, z + n);
-  double c = (1.0 + m->rv[k]) * vn / g;
+  double work;
   memmove(zp, z, sizeof(double) * n);
-  for (int i = 0; i < n; i++) zp[n + i] = z[n + i] - c * Mw[i];
+  memmove(zp + n, z + n, sizeof(double) * n);
+  vi_impact_q_left(m, k, 1, zp + n, n, &work);
 }
 
 /* Saltation matrix of an impact on stop k (gap h(z) = g.z - x_k,
@@ -174,26 +189,26 @@ void vi_var_impact(const vi_model *m, int k, const double *z, double *zp)
  * difference is the perturbation carried past the impact:
  *   dz+ = R dz + (R f- - f+) dt = [R + (f+ - R f-) g^T / (g.f-)] dz = S dz
  * with f-+ the vector field before and after the impact at t*.  S has the
- * factor 1 / v_n: the square-root singularity of grazing (v_n -> 0). */
+ * factor 1 / v_n: the square-root singularity of grazing (v_n -> 0).
+ * vi_var_salt_jump gives d = f+ - R f- [2n] and v_n; work [4n]. */
+double vi_var_salt_jump(const vi_model *m, int k, double t, const double *z,
+                        double *d, double *work)
+{
+  int n = m->n, n2 = 2 * n;
+  double *zp = work, *fp = zp + n2, one;
+  vi_var_impact(m, k, z, zp);
+  vi_var_field(m, t, z, d);
+  vi_var_field(m, t, zp, fp);
+  vi_impact_salt_jump(m, k, d, fp, d, &one);
+  return vi_dot(n, vi_stop_w(m, k), z + n);
+}
+
 void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
                       double *S, double *work)
 {
-  int n = m->n, n2 = 2 * n;
-  double *zp = work, *fm = zp + n2, *fp = fm + n2, *Rf = fp + n2;
-  const double *w = vi_stop_w(m, k), *Mw = vi_stop_minvw(m, k);
-  double gk = m->G[k + (size_t)k * m->ns], c = (1.0 + m->rv[k]) / gk;
-  vi_var_impact(m, k, z, zp);
-  vi_var_field(m, t, z, fm);
-  vi_var_field(m, t, zp, fp);
-  vi_var_impact(m, k, fm, Rf);
-  double gf = vi_dot(n, w, z + n);
-  for (int b = 0; b < n2; b++)
-    for (int a = 0; a < n2; a++) {
-      double R = a == b;
-      if (a >= n && b >= n) R -= c * Mw[a - n] * w[b - n];
-      double g = b < n ? w[b] : 0.0;
-      S[a + (size_t)b * n2] = R + (fp[a] - Rf[a]) * g / gf;
-    }
+  double *d = work + 4 * (size_t)m->n;
+  double vn = vi_var_salt_jump(m, k, t, z, d, work);
+  vi_impact_salt_matrix(m, k, vn, d, S);
 }
 
 /* D z(tb) / D z(ta) of the motion from ta to tb through mi impacts at

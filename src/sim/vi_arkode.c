@@ -129,7 +129,7 @@ static void erk_f(vi_sim *s, ark_data *d, double t, const double *z,
     double Lambda = 0.0, *gq = NULL;
     if (s->sticking) {
       vi_sim_accel(s, t, z, 0, d->rhs->acc);
-      Lambda = vi_dot(s->n, s->m->w, d->rhs->acc) / s->m->wMw;
+      Lambda = vi_dot(s->n, s->m->Ws, d->rhs->acc) / s->m->G[0];
     }
     if (s->nforces) {
       gq = s->fbuf + 3 * n;
@@ -155,7 +155,7 @@ static int roots(double t, N_Vector y, double *g, void *user)
   const double *z = N_VGetArrayPointer(y);
   if (s->sticking) {
     vi_sim_accel(s, t, z, 0, s->vp);
-    g[0] = vi_dot(s->n, s->m->w, s->vp);
+    g[0] = vi_dot(s->n, s->m->Ws, s->vp);
     return 0;
   }
   for (size_t k = 0; k < (size_t)s->ns; k++)
@@ -286,6 +286,8 @@ static int ark_start(vi_sim *s)
     ARK_TRY(ERKStepReset(d->mem, s->t, d->y));
   }
   ark_data *d = s->be_data;
+  /* a rebound's low flight: tolerances tightened (vi_sim.c, on_contact_one) */
+  ARK_TRY(ERKStepSStolerances(d->mem, s->rtol * s->tol_scale, s->atol * s->tol_scale));
   int nr = s->sticking ? 1 : 2 * s->ns;
   if (nr != d->nroots) {
     int *dir = d->rinfo;

@@ -57,7 +57,7 @@ static int roots(double t, N_Vector y, double *g, void *user)
   if (s->ns == 1) {
     if (s->sticking) {
       vi_sim_accel(s, t, z, 0, s->vp);
-      g[0] = vi_dot(s->n, s->m->w, s->vp);
+      g[0] = vi_dot(s->n, s->m->Ws, s->vp);
     } else {
       vi_sim_gap(s, z, &g[0], &g[1]);
     }
@@ -165,7 +165,7 @@ static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
   if (s->sticking && own_stop) { /* contact force magnitude, pressing into
                                     the stop */
     vi_sim_accel(s, t, z, 0, s->vp);
-    Lambda = vi_dot(s->n, s->m->w, s->vp) / s->m->wMw;
+    Lambda = vi_dot(s->n, s->m->Ws, s->vp) / s->m->G[0];
   }
   double *gq = NULL;
   if (s->nforces) { /* the modal force, for the NE column */
@@ -333,6 +333,8 @@ static int cv_start(vi_sim *s)
   for (int k = 0; k <= VI_STAT_ROOT_EVALS; k++) d->base[k] += cv_live(d, k);
   CV_TRY(CVodeReInit(d->mem, s->t, d->y));
   if (d->yQ) CV_TRY(CVodeQuadReInit(d->mem, d->yQ));
+  /* a rebound's low flight: tolerances tightened (vi_sim.c, on_contact_one) */
+  CV_TRY(CVodeSStolerances(d->mem, s->rtol * s->tol_scale, s->atol * s->tol_scale));
   if (s->ns == 1) {
     int nr = s->sticking ? 1 : 2;
     if (nr != d->nroots) {

@@ -60,18 +60,18 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
   vi_phase p = vi_phase_at(m->omega_f, t);
   double a = 0.0, b = 0.0;
   for (int j = 0; j < n; j++) {
-    if (!full && m->psi[j] == 0.0) continue;
+    if (!full && m->PsiW[j] == 0.0) continue;
     double qp, qpd, u, ud;
     vi_flow_particular(m, d->s->flow, j, &p, tau, &qp, &qpd);
     vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], d->u0[j],
                         d->v0[j], tau, &u, &ud);
     d->q[j] = qp + u;
     d->qd[j] = qpd + ud;
-    a += m->psi[j] * d->q[j];
-    b += m->psi[j] * d->qd[j];
+    a += m->PsiW[j] * d->q[j];
+    b += m->PsiW[j] * d->qd[j];
   }
   d->evals++;
-  *g = a - m->xs;
+  *g = a - m->xsv[0];
   *gd = b;
 }
 
@@ -218,8 +218,8 @@ static int ex_start(vi_sim *s)
      * when a static offset or a resonant response dwarfs the motion (a
      * very soft structure under load): hand over to CVODE rather than lose
      * those digits (issue 9). */
-    double hsc = vi_general_particular_scale(s->flow->gen), msc = fabs(m->xs);
-    for (int i = 0; i < n; i++) msc += fabs(m->w[i] * s->z[2 * (size_t)i]);
+    double hsc = vi_general_particular_scale(s->flow->gen), msc = fabs(m->xsv[0]);
+    for (int i = 0; i < n; i++) msc += fabs(m->Ws[i] * s->z[2 * (size_t)i]);
     d->handover = hsc > 1e6 * (msc + s->atol * s->wnorm);
     if (d->handover)
       snprintf(s->handover_why, sizeof s->handover_why,

@@ -99,6 +99,8 @@ struct vi_sim {
   int press_next; /* initial_contact: at rest on the stop, pressed next */
   double h_flight; /* first step after an impact: within the rebound's
                       flight (0: none); consumed by the backend's start */
+  double tol_scale; /* rtol and atol of the integrators' flight after the
+                       last contact, times this (<= 1; on_contact_one) */
   int event_stop; /* vi_sim_run_to_event: stop after the step of an event */
   int last_event; /* kind of the last event emitted */
 
@@ -228,10 +230,10 @@ static inline void vi_sim_gap(const vi_sim *s, const double *z, double *g,
 {
   double a = 0.0, b = 0.0;
   for (int i = 0; i < s->n; i++) {
-    a += s->m->w[i] * z[2 * (size_t)i];
-    b += s->m->w[i] * z[2 * (size_t)i + 1];
+    a += s->m->Ws[i] * z[2 * (size_t)i];
+    b += s->m->Ws[i] * z[2 * (size_t)i + 1];
   }
-  *g = a - s->m->xs;
+  *g = a - s->m->xsv[0];
   *gd = b;
 }
 

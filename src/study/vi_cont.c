@@ -2,6 +2,7 @@
  * natural-parameter continuation with step halving and events located by
  * bisection, or pseudo-arclength around folds; the parameter changes on
  * the handle's own model (vi_param.h), nothing is rebuilt. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,6 +31,8 @@ struct vi_cont {
   vi_model *m;
   char key[64];
   int n, N, method, par;          /* par: vi_orbit_pnm_dparam's, or -1 */
+  int pk;                         /* the stop of a stop parameter */
+  int stop;                       /* the stop the orbit's impact hits */
   double p0, to, h;
   int steps, have_orbit, have_range, state;
   int64_t npts, iter;
@@ -48,12 +51,23 @@ struct vi_cont {
   char errmsg[VI_MSG_LEN];
 };
 
-/* The parameter vi_orbit_pnm_dparam differentiates exactly, or -1. */
-static int exact_param(const char *key)
+/* The parameter vi_orbit_pnm_dparam differentiates exactly, or -1; *pk
+ * the 0-based stop of stop.* (stop 0) and stops[K].* (1-based K). */
+static int exact_param(const char *key, int *pk)
 {
+  const char *f = NULL;
+  *pk = 0;
   if (!strcmp(key, "forcing.omega")) return VI_ORBIT_PARAM_OMEGA;
-  if (!strcmp(key, "stop.xs") || !strcmp(key, "stops[1].xs")) return VI_ORBIT_PARAM_XS;
-  if (!strcmp(key, "stop.r") || !strcmp(key, "stops[1].r")) return VI_ORBIT_PARAM_R;
+  if (strncmp(key, "stop.", 5) == 0) f = key + 5;
+  if (strncmp(key, "stops[", 6) == 0) {
+    char *end = NULL;
+    long k = strtol(key + 6, &end, 10);
+    if (end == key + 6 || k < 1 || k > INT_MAX || strncmp(end, "].", 2) != 0) return -1;
+    *pk = (int)(k - 1);
+    f = end + 2;
+  }
+  if (f && strcmp(f, "xs") == 0) return VI_ORBIT_PARAM_XS;
+  if (f && strcmp(f, "r") == 0) return VI_ORBIT_PARAM_R;
   return -1;
 }
 
@@ -95,7 +109,8 @@ int vi_cont_create(const vi_model *m, const char *key, int n, int method,
   c->n = n;
   c->N = N;
   c->method = method;
-  c->par = exact_param(key);
+  c->par = exact_param(key, &c->pk);
+  if (c->pk >= c->m->ns) c->par = -1; /* vi_model_param refused it above */
   *out = c;
   return VI_OK;
 }
@@ -132,6 +147,17 @@ int vi_cont_set_orbit(vi_cont *c, double t, const double *x, const double *v)
   c->t = t;
   memcpy(c->x, x, sizeof(double) * c->N);
   memcpy(c->v, v, sizeof(double) * c->N);
+  /* the impact's own stop: the one whose gap w_k.x - x_k is nearest 0 */
+  const vi_model *m = c->m;
+  double best = HUGE_VAL;
+  c->stop = 0;
+  for (int k = 0; k < m->ns; k++) {
+    double g = fabs(vi_dot(c->N, vi_stop_w(m, k), x) - m->xsv[k]);
+    if (g < best) {
+      best = g;
+      c->stop = k;
+    }
+  }
   c->have_orbit = 1;
   c->npts = c->iter = 0;
   c->state = VI_CONT_RUNNING;
@@ -157,11 +183,14 @@ static int solve_at(vi_cont *c, double p, double *t, double *x, double *v,
   int N = c->N, np = c->n, ok = 0;
   if (vi_model_set_param(c->m, c->key, p)) return -1;
   vi_model *m = c->m;
-  int st = vi_orbit_pnm_solve(m, np, 1, t, x, v, N, 0.0, NULL);
-  if (!st) st = vi_orbit_pnm_multipliers(m, np, 1, t, x, v, N, c->re, c->im);
-  if (!st) st = vi_orbit_pnm_admissible(m, np, 1, t, x, v, N, &cs->gmax, &ok);
+  const int *sk = &c->stop;
+  int st = vi_orbit_pnm_solve_stops(m, np, 1, sk, t, x, v, N, 0.0, NULL);
+  if (!st)
+    st = vi_orbit_pnm_multipliers_stops(m, np, 1, sk, t, x, v, N, c->re, c->im);
+  if (!st)
+    st = vi_orbit_pnm_admissible_stops(m, np, 1, sk, t, x, v, N, &cs->gmax, &ok);
   if (!st) {
-    const double *w = vi_model_stop_vector(m);
+    const double *w = vi_stop_w(m, c->stop); /* v_n on the impact's stop */
     cs->p = p;
     cs->t = *t;
     cs->vn = 0;
@@ -330,10 +359,11 @@ static int ext_residual(vi_cont *c, const double *U, double *F, double *Ja)
   /* J [D x D] and two residuals (one spare: never a size of 0) */
   double *J = Ja ? malloc(sizeof(double) * ((size_t)D * D + 2 * (size_t)D + 1)) : NULL;
   if (Ja && !J) return VI_ERR_NOMEM;
-  st = vi_orbit_pnm_residual(c->m, np, 1, U, U + 1, U + 1 + N, N, F, J);
+  st = vi_orbit_pnm_residual_stops(c->m, np, 1, &c->stop, U, U + 1, U + 1 + N, N, F, J);
   if (!st && Ja && c->par >= 0) {
     double *dF = J + (size_t)D * D;
-    st = vi_orbit_pnm_dparam(c->m, np, 1, NULL, U, U + 1, U + 1 + N, N, c->par, 0, dF);
+    st = vi_orbit_pnm_dparam(c->m, np, 1, &c->stop, U, U + 1, U + 1 + N, N,
+                             c->par, c->pk, dF);
     for (int r = 0; r < D && !st; r++) Ja[r + (size_t)D * K] = dF[r];
   }
   if (st || !Ja) {
@@ -348,9 +378,9 @@ static int ext_residual(vi_cont *c, const double *U, double *F, double *Ja)
   }
   double dp = 1e-6 * fmax(1.0, fabs(p)), *Fp = J + (size_t)D * D, *Fm = Fp + D;
   st = vi_model_set_param(c->m, c->key, p + dp) ? -1
-       : vi_orbit_pnm_residual(c->m, np, 1, U, U + 1, U + 1 + N, N, Fp, NULL);
+       : vi_orbit_pnm_residual_stops(c->m, np, 1, &c->stop, U, U + 1, U + 1 + N, N, Fp, NULL);
   if (!st) st = vi_model_set_param(c->m, c->key, p - dp) ? -1
-                : vi_orbit_pnm_residual(c->m, np, 1, U, U + 1, U + 1 + N, N, Fm, NULL);
+                : vi_orbit_pnm_residual_stops(c->m, np, 1, &c->stop, U, U + 1, U + 1 + N, N, Fm, NULL);
   for (int r = 0; r < D && !st; r++) Ja[r + (size_t)D * K] = (Fp[r] - Fm[r]) / (2 * dp);
   free(J);
   return st;

@@ -261,12 +261,20 @@ double vi_sweep_lyapunov(const vi_sweep *sw)
  * matrices and saltation matrices); the forcing phase there is t0's, so t0
  * must be a whole number of periods.  NaN where it is refused (no
  * closed-form flow, sticking, a grazing impact). */
+static int lyap_poll(const vi_progress *p, void *user) /* cancel, per period */
+{
+  const vi_sweep *sw = user;
+  (void)p;
+  return sw->cancel && sw->cancel(sw->cancel_user);
+}
+
 static double lyapunov(vi_sweep *sw)
 {
   vi_orbit *o = NULL;
   double lambda = NAN, ph = fmod(sw->t0, sw->T);
   if (fmin(ph, sw->T - ph) > 1e-12 * sw->T) return NAN;
   if (!vi_orbit_create(sw->m, &o) &&
+      !vi_orbit_set_monitor(o, lyap_poll, sw, NULL) &&
       !vi_orbit_set_tolerances(o, sw->rtol, sw->atol) &&
       !vi_orbit_set_initial(o, sw->xw, sw->vw) &&
       vi_orbit_lyapunov(o, 0.0, sw->record, &lambda, NULL))
@@ -345,7 +353,8 @@ static int p11_orbits(vi_sweep *sw)
         vi_orbit_pnm_multipliers(m, 1, 1, &t[i], xi, vi, n, re, im))
       continue;
     for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
-    for (int j = 0; j < n; j++) vn += m->w[j] * vi[j];
+    /* the scan's orbits hit the one stop (ns = 1) */
+    for (int j = 0; j < n; j++) vn += vi_stop_w(m, 0)[j] * vi[j];
     sw->ovn[sw->norb] = vn;
     sw->ophase[sw->norb] = fmod(t[i], sw->T);
     sw->ostable[sw->norb] = rho < 1.0;
@@ -444,6 +453,7 @@ static int point(vi_sweep *sw)
     return vi_fail(sw->errmsg, VI_ERR_FREQUENCY, "no harmonic forcing, so "
                    "no forcing period to sample");
   sw->T = 2 * M_PI / omega;
+  if (sw->cancel && sw->cancel(sw->cancel_user)) return VI_CANCELLED;
   if (sw->nphase > 0 && (st = p11_orbits(sw)))
     return vi_fail(sw->errmsg, st, "P(1,1) orbits: %s", vi_strerror(st));
   vi_sim *s = make_sim(sw, &st);
@@ -451,13 +461,14 @@ static int point(vi_sweep *sw)
   st = simulate(sw, s);
   if (!st) {
     double t_end = sw->t0 + (sw->transient + R) * sw->T;
-    sw->pn = vi_classify_strobes(R, 2 * N, sw->z, sw->m->xs, sw->tol,
+    sw->pn = vi_classify_strobes(R, 2 * N, sw->z, vi_orbit_xs_scale(sw->m), sw->tol,
                                  sw->nmax, sw->t, sw->nimp, sw->T, t_end,
                                  &sw->pm);
     vi_sim_state(s, NULL, sw->xw, sw->vw);
   }
   vi_sim_destroy(&s);
   if (!st && sw->lyap) sw->lambda = lyapunov(sw);
+  if (!st && sw->cancel && sw->cancel(sw->cancel_user)) st = VI_CANCELLED;
   return st;
 }
 

@@ -33,7 +33,7 @@ files=(
   tests/stress/test_stress_mdof.c tests/stress/test_stress_soft.c
   tests/stress/test_stress_start.c tests/stress/test_stress_chain.c
   tests/stress/test_stress_energy.c tests/stress/test_stress_stops.c
-  tests/stress/test_stress_chatref.c
+  tests/stress/test_stress_chatref.c tests/stress/test_stress_cancel.c
   apps/vi_app_h5.c apps/vi_cmd_orbits.c
   apps/vi_sweep_cont.c apps/vi_sweep_h5.c apps/vi_sweep_main.c bench/vi_bench_sweep.c
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
@@ -43,7 +43,7 @@ files=(
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/app/test_sweep_app.c tests/study/test_sweep.c
   src/flow/vi_constrained.c src/sim/vi_held.c tests/stress/test_stress_held.c
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/study/test_sweep.c
-  bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c
+  bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c bench/vi_bench_chatter.c
   src/model/vi_param.c tests/model/test_param.c
   src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
   src/io/vi_truncation_h5.c
@@ -57,7 +57,7 @@ files=(
 )
 # Headers whose findings count (a finding in another header is silent until
 # the header joins this list): a regex for clang-tidy's --header-filter.
-headers='(include/vibroimpact/[^/]*|src/[a-z]+/vi_[a-z_]*internal|src/orbit/vi_orbit_handle|src/sim/vi_rhs|src/sim/vi_sim_state|src/sim/vi_grid|src/model/vi_forcing|src/model/vi_storage|apps/vi_app|tests/io/vi_io_testutil)\.h$'
+headers='(include/vibroimpact/[^/]*|src/[a-z]+/vi_[a-z_]*internal|src/orbit/vi_orbit_handle|src/sim/vi_rhs|src/sim/vi_sim_state|src/sim/vi_grid|src/model/vi_forcing|src/model/vi_storage|src/io/vi_h5_image|apps/vi_app|tests/io/vi_io_testutil)\.h$'
 
 for tool in clang-tidy cppcheck; do
   if ! command -v "$tool" >/dev/null; then

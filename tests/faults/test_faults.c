@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mount.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -78,6 +79,8 @@ static char *slurp(const char *p)
 /* Start the app with argv; stdout to out_path (NULL: a file in dir),
  * stderr to dir/stderr; env_extra (NULL or "NAME=VALUE") added. */
 static const char *env_extra3; /* a third NAME=VALUE for the next start */
+static long fsize_limit; /* > 0: RLIMIT_FSIZE of the next start, SIGXFSZ ignored */
+static long cpu_limit;   /* > 0: RLIMIT_CPU (s) of the next start: a hang bound */
 static pid_t start(char *const argv[], const char *out_path,
                    const char *env_extra, const char *env_extra2)
 {
@@ -98,6 +101,15 @@ static pid_t start(char *const argv[], const char *out_path,
     if (env_extra) putenv((char *)env_extra);
     if (env_extra2) putenv((char *)env_extra2);
     if (env_extra3) putenv((char *)env_extra3);
+    if (fsize_limit > 0) { /* writes past it fail with EFBIG, as on a full disk */
+      struct rlimit rl = {(rlim_t)fsize_limit, (rlim_t)fsize_limit};
+      signal(SIGXFSZ, SIG_IGN);
+      if (setrlimit(RLIMIT_FSIZE, &rl) != 0) _exit(126);
+    }
+    if (cpu_limit > 0) {
+      struct rlimit rl = {(rlim_t)cpu_limit, (rlim_t)cpu_limit};
+      if (setrlimit(RLIMIT_CPU, &rl) != 0) _exit(126);
+    }
     execv(app, argv);
     _exit(127);
   }
@@ -452,6 +464,34 @@ static void test_limits(void **state)
   expect(run(ARGV(chain), NULL), 2, "model.K: an n x n matrix needs its n^2 numbers");
   remove(deep);
   remove(chain);
+  /* studies: the memory a sweep or basins plans, refused before it is
+   * allocated (10^7 points x 100 periods x 4 doubles: 30 GB of strobes) */
+  expect(run(ARGV("sweep", fig2, "--param", "forcing.omega", "--from", "0.8",
+                  "--to", "1", "--steps", "10000", "--param2", "forcing.a[1]",
+                  "--from2", "0.1", "--to2", "0.5", "--steps2", "1000", "--record",
+                  "100", "--max-memory", "16G", "-o", h5), NULL),
+         2, "--steps 10000 x --steps2 1000 x --record 100 (2 coordinates, -o) "
+            "would need about");
+  assert_non_null(strstr(slurp(path("stderr")), "(3.05e+04 MB of stroboscopic states)"));
+  assert_non_null(strstr(slurp(path("stderr")), "more than the 1.64e+04 MB allowed"));
+  assert_false(exists(h5));
+  /* the same without --max-memory: more than any machine this runs on */
+  expect(run(ARGV("sweep", fig2, "--param", "forcing.omega", "--from", "0.8",
+                  "--to", "1", "--steps", "100000", "--param2", "forcing.a[1]",
+                  "--from2", "0.1", "--to2", "0.5", "--steps2", "100000", "--record",
+                  "100"), NULL), 2, "available on this machine");
+  expect(run(ARGV("basins", fig2, "--param", "initial.x[2]", "--from", "-1", "--to",
+                  "0.09", "--steps", "1000", "--param2", "initial.v[2]", "--from2",
+                  "-1", "--to2", "1", "--steps2", "1000", "--max-memory", "100M"),
+             NULL), 2, "basins) would need about");
+  /* orbits: the model's own estimate, as for run */
+  write_file(chain, "model:\n  chain: {n: 100000, m: 1, k: 1, c: 0.1}\n"
+                    "stop: {mass: 1, xs: 0.1, r: 0.7}\n"
+                    "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\n"
+                    "run: {method: exact}\n");
+  expect(run(ARGV("orbits", chain), NULL), 2, "model.chain.n = 100000");
+  assert_non_null(strstr(slurp(path("stderr")), "the model would need about"));
+  remove(chain);
 }
 
 /* ---- values the numerics cannot honour: exit 2 naming the key ----------- */
@@ -645,16 +685,190 @@ static void test_every_command(void **state)
     H5Fclose(f);
     remove(out);
   }
-  /* signals: a long sweep answers SIGINT and SIGTERM with 130 and 143 */
-  const char *lng[] = {"--param", "forcing.omega", "--from", "0.8", "--to",
-                       "1.0", "--steps", "200000", "--quiet", NULL};
-  cmd_case sweep_long = {"sweep", {NULL}, 1};
-  expect(signal_in("sweep (200000 steps)", cmd_argv(&sweep_long, scene, lng), 0.5,
-                   SIGINT), 130, NULL);
-  expect(signal_in("sweep (200000 steps)", cmd_argv(&sweep_long, scene, lng), 0.5,
-                   SIGTERM), 143, NULL);
   unlink(fifo);
   rmdir(sub);
+}
+
+/* A file size limit (RLIMIT_FSIZE, SIGXFSZ ignored): every write past it
+ * fails with EFBIG as on a full disk, HDF5's own writes included, with no
+ * tmpfs and no root.  Each command's file grows past the limit mid-write:
+ * exit 1 naming the file, no partial file, the old file kept. */
+static void test_file_size_limit(void **state)
+{
+  (void)state;
+  char scene[600];
+  snprintf(scene, sizeof scene, "%s/fig2.yaml", VI_SCENE_DIR);
+  char *out = path("fsize.h5"), part[700];
+  snprintf(part, sizeof part, "%s.part", out);
+  /* limits below each file's size (run 1.7 MB, energy 21 kB, sweep and
+   * basins 30 kB, truncation 29 kB: built in memory, vi_h5_image.h) and
+   * above what the start writes */
+  const struct { long limit; const char *args[24]; } cases[] = {
+      {524288, {"run", scene, "--periods", "1000", NULL}},
+      {40000, {"energy", scene, NULL}},
+      {16384, {"sweep", scene, "--param", "forcing.omega", "--from", "0.8",
+               "--to", "1.0", "--steps", "3", NULL}},
+      {16384, {"basins", scene, "--param", "initial.x[2]", "--from", "-1", "--to",
+               "0.09", "--steps", "3", "--param2", "initial.v[2]", "--from2", "-1",
+               "--to2", "1", "--steps2", "3", NULL}},
+      {8000, {"truncation", scene, NULL}}, /* 29 kB */
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    char *argv[32];
+    int k = 0;
+    argv[k++] = (char *)app;
+    for (int i = 0; cases[c].args[i]; i++) argv[k++] = (char *)cases[c].args[i];
+    argv[k++] = (char *)"-o";
+    argv[k++] = out;
+    argv[k++] = (char *)"--quiet";
+    argv[k] = NULL;
+    write_file(out, "old contents\n");
+    fsize_limit = cases[c].limit;
+    int rc = finish(start(argv, NULL, NULL, NULL));
+    fsize_limit = 0;
+    print_message("%-7s over a %ld-byte file size limit: exit %d\n", cases[c].args[0],
+                  cases[c].limit, rc);
+    expect(rc, 1, "File too large");
+    assert_non_null(strstr(slurp(path("stderr")), "fsize.h5.part"));
+    assert_string_equal(slurp(out), "old contents\n");
+    assert_false(exists(part));
+    /* and with no limit the same command writes a valid file */
+    expect(run(argv, NULL), 0, NULL);
+    hid_t f = H5Fopen(out, H5F_ACC_RDONLY, H5P_DEFAULT);
+    assert_true(f >= 0);
+    H5Fclose(f);
+  }
+  remove(out);
+}
+
+/* One nesting limit for every reader of scenes: the loader (run), the
+ * --set editor (run --set, a --set value), sweep and orbits refuse 100 000
+ * levels with the same message at the same place, before loading the
+ * document (which takes minutes at that depth: 10 s of CPU bound it). */
+static void test_nesting(void **state)
+{
+  (void)state;
+  char *deep = path("nest.yaml");
+  FILE *f = fopen(deep, "w");
+  assert_non_null(f);
+  fputs("a: ", f);
+  for (int k = 0; k < 100000; k++) fputc('[', f);
+  for (int k = 0; k < 100000; k++) fputc(']', f);
+  fputc('\n', f);
+  assert_int_equal(fclose(f), 0);
+  char scene[600], msg[200];
+  snprintf(scene, sizeof scene, "%s/fig2.yaml", VI_SCENE_DIR);
+  snprintf(msg, sizeof msg, "%s:1:35: nesting deeper than 32 levels (the limit; "
+           "a scene needs 5)", deep);
+  cpu_limit = 10;
+  expect(run(ARGV(deep), NULL), 2, msg);
+  expect(run(ARGV(deep, "--set", "forcing.omega=0.9"), NULL), 2, msg);
+  expect(run(ARGV("sweep", deep, "--param", "forcing.omega", "--from", "0.8",
+                  "--to", "1", "--steps", "2"), NULL), 2, msg);
+  expect(run(ARGV("orbits", deep), NULL), 2, msg);
+  expect(run(ARGV("orbits", deep, "--set", "forcing.omega=0.9"), NULL), 2, msg);
+  /* a --set value 60 000 levels deep (one argument holds 128 KiB) */
+  size_t len = 2 * 60000 + 32;
+  char *val = malloc(len);
+  assert_non_null(val);
+  int k = snprintf(val, len, "forcing.omega=");
+  for (int i = 0; i < 60000; i++) val[k++] = '[';
+  for (int i = 0; i < 60000; i++) val[k++] = ']';
+  val[k] = '\0';
+  expect(run(ARGV(scene, "--set", val), NULL), 2,
+         "nesting deeper than 32 levels (the limit; a scene needs 5)");
+  expect(run(ARGV("sweep", scene, "--set", val, "--param", "forcing.a[1]",
+                  "--from", "0.1", "--to", "0.2", "--steps", "2"), NULL), 2,
+         "nesting deeper than 32 levels (the limit; a scene needs 5)");
+  cpu_limit = 0;
+  free(val);
+  remove(deep);
+}
+
+/* An integer root attribute of an HDF5 file (-1 if absent). */
+static long long h5_attr(hid_t f, const char *name)
+{
+  long long v = -1;
+  if (H5Aexists(f, name) <= 0) return -1;
+  hid_t a = H5Aopen(f, name, H5P_DEFAULT);
+  H5Aread(a, H5T_NATIVE_LLONG, &v);
+  H5Aclose(a);
+  return v;
+}
+
+/* The interrupted study's file: valid, complete = 0, points_done of
+ * points_total matching the /sweep/done flags, no .part left. */
+static void check_incomplete(const char *h5, long long total)
+{
+  char part[700];
+  snprintf(part, sizeof part, "%s.part", h5);
+  assert_false(exists(part));
+  hid_t f = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(f >= 0);
+  long long done = h5_attr(f, "points_done");
+  assert_int_equal(h5_attr(f, "complete"), 0);
+  assert_int_equal(h5_attr(f, "points_total"), total);
+  assert_true(done >= 0 && done < total);
+  int *flags = malloc(sizeof(int) * (size_t)total);
+  assert_non_null(flags);
+  hid_t d = H5Dopen2(f, "sweep/done", H5P_DEFAULT);
+  assert_true(d >= 0);
+  assert_true(H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, flags) >= 0);
+  long long sum = 0;
+  for (long long i = 0; i < total; i++) sum += flags[i];
+  assert_int_equal(sum, done);
+  print_message("  interrupted file: complete = 0, %lld of %lld points\n", done, total);
+  free(flags);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+
+/* Interrupted studies: SIGINT and SIGTERM answered with 130 and 143, the
+ * points done written to a valid file marked incomplete (and in JSON),
+ * through .part; orbits answers with the program's common handler. */
+static void test_interrupted_studies(void **state)
+{
+  (void)state;
+  char scene[600];
+  snprintf(scene, sizeof scene, "%s/fig2.yaml", VI_SCENE_DIR);
+  char *h5 = path("intr.h5");
+  const char *lng[] = {"--param", "forcing.omega", "--from", "0.8", "--to",
+                       "1.0", "--steps", "20000", "--transient", "500", "--record",
+                       "4", "--threads", "1", "--quiet", "-o", h5, NULL};
+  cmd_case sweep_long = {"sweep", {NULL}, 1};
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 1.0,
+                   SIGINT), 130, "marked incomplete");
+  check_incomplete(h5, 20000);
+  remove(h5);
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 1.0,
+                   SIGTERM), 143, "interrupted (SIGTERM)");
+  check_incomplete(h5, 20000);
+  remove(h5);
+  /* basins: a 150 x 150 grid of initial states */
+  const char *bas[] = {"--param", "initial.x[2]", "--from", "-1", "--to", "0.09",
+                       "--steps", "150", "--param2", "initial.v[2]", "--from2",
+                       "-1", "--to2", "1", "--steps2", "150", "--transient", "500",
+                       "--record", "4", "--threads", "1", "--quiet", "-o", h5, NULL};
+  cmd_case basins = {"basins", {NULL}, 1};
+  expect(signal_in("basins -o (150 x 150)", cmd_argv(&basins, scene, bas), 1.0,
+                   SIGINT), 130, "marked incomplete");
+  check_incomplete(h5, 150LL * 150);
+  remove(h5);
+  /* JSON: the points done, flagged */
+  const char *js[] = {"--param", "forcing.omega", "--from", "0.8", "--to", "1.0",
+                      "--steps", "20000", "--transient", "500", "--record", "4",
+                      "--threads", "1", "--json", NULL};
+  expect(signal_in("sweep --json", cmd_argv(&sweep_long, scene, js), 1.0, SIGINT),
+         130, NULL);
+  const char *out = slurp(path("stdout"));
+  assert_non_null(strstr(out, "\"complete\": false"));
+  assert_non_null(strstr(out, "\"points_done\": "));
+  /* orbits: the common handler (a continuation of a million steps) */
+  const char *orb[] = {"--continue", "forcing.omega", "--to", "1.5", "--steps",
+                       "1000000", "--json", NULL};
+  cmd_case orbits = {"orbits", {NULL}, 0};
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGTERM), 143, NULL);
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGINT), 130, NULL);
 }
 
 int main(int argc, char **argv)
@@ -681,6 +895,9 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_ranges),
       cmocka_unit_test(test_command_line),
       cmocka_unit_test(test_every_command),
+      cmocka_unit_test(test_interrupted_studies),
+      cmocka_unit_test(test_file_size_limit),
+      cmocka_unit_test(test_nesting),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   remove(path("stdout"));

@@ -3,7 +3,8 @@
  * simulation settles on (a study with 500 transient periods), the period
  * doubling found by bisection has its multiplier at -1, a pseudo-arclength
  * point is an orbit (residual of the shooting map at round-off), and the
- * start is the 40-digit reference orbit (tests/orbit/ref_fig2_p11.py). */
+ * start is the 40-digit reference orbit (tests/orbit/ref_fig2_p11.py); on
+ * a two-stop model whose orbit hits stop 1 the branch is the same. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -108,9 +109,70 @@ static void arclength_orbits(void **state)
   vi_model_destroy(&at);
 }
 
+/* Fig. 2 with a second stop that the orbit never reaches put first: stop 0
+ * holds mass 1 above x_1 = -5, stop 1 is the paper's on mass 2.  The orbit
+ * impacts stop 1, so continuation must follow the impact on its own stop
+ * (v_n = w_1.v, the shooting map with stop 1's law), not on stop 0: the
+ * branch is Fig. 2's, point for point, in Omega and in stop 1's clearance
+ * (stops[2].xs against stops[1].xs of the one-stop model, both with their
+ * exact dF/dp). */
+static vi_model *fig2_second_stop(void)
+{
+  vi_model *f = vi_test_fig2();
+  const double a[2] = {0.5, 0.0}, W[4] = {-1.0, 0.0, 0.0, 1.0},
+               xs[2] = {5.0, 0.1}, r[2] = {0.5, 0.7};
+  vi_model *m = vi_test_model_stops(2, vi_model_mass(f), vi_model_damping(f),
+                                    vi_model_stiffness(f), 0.9, a, NULL, 2, W,
+                                    xs, r);
+  vi_model_destroy(&f);
+  return m;
+}
+
+static void branch(const vi_model *m, const char *key, int method, double to,
+                   double *out, int cap, int *npts)
+{
+  vi_cont *c = NULL;
+  assert_int_equal(vi_cont_create(m, key, 1, method, &c), VI_OK);
+  assert_int_equal(vi_cont_set_range(c, to, 12), VI_OK);
+  assert_int_equal(vi_cont_set_orbit(c, T0, X0, V0), VI_OK);
+  *npts = 0;
+  while (!vi_cont_done(c) && *npts < cap) {
+    if (vi_cont_iterate(c) != VI_OK) continue;
+    double *o = out + 4 * (size_t)*npts;
+    assert_int_equal(vi_cont_point(c, &o[0], &o[1], &o[2], &o[3], NULL), VI_OK);
+    (*npts)++;
+  }
+  vi_cont_destroy(&c);
+}
+
+static void impact_on_stop_1(void **state)
+{
+  (void)state;
+  vi_model *one = vi_test_fig2(), *two = fig2_second_stop();
+  const char *keys[2][2] = {{"forcing.omega", "forcing.omega"},
+                            {"stops[1].xs", "stops[2].xs"}};
+  const double to[2] = {0.7, 0.2};
+  for (int q = 0; q < 2; q++) {
+    double a[4 * 16] = {0}, b[4 * 16] = {0};
+    int na, nb;
+    int method = q ? VI_CONT_ARCLENGTH : VI_CONT_NATURAL;
+    branch(one, keys[q][0], method, to[q], a, 16, &na);
+    branch(two, keys[q][1], method, to[q], b, 16, &nb);
+    assert_true(na >= 10);
+    assert_int_equal(nb, na);
+    assert_close(b[1], FIG2_VN, 1e-12); /* v_n of stop 1 at the start */
+    for (int i = 0; i < na; i++)
+      for (int j = 0; j < 4; j++) /* p, v_n, t, rho: the same orbits */
+        assert_close(b[4 * i + j], a[4 * i + j], 1e-10 * fmax(1.0, fabs(a[4 * i + j])));
+  }
+  vi_model_destroy(&one);
+  vi_model_destroy(&two);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {cmocka_unit_test(natural_down),
-                                     cmocka_unit_test(arclength_orbits)};
+                                     cmocka_unit_test(arclength_orbits),
+                                     cmocka_unit_test(impact_on_stop_1)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

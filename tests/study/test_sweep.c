@@ -161,6 +161,48 @@ static void warm_start(void **state)
   vi_model_destroy(&m);
 }
 
+/* A warm sweep of the clearance of the stop the motion hits, on Fig. 2
+ * with a stop it never reaches put first (stop 0 holds mass 1 above
+ * x_1 = -5): stops[2].xs from 0.1 to 0.02, each point started from the
+ * last, is the one-stop model's sweep of stops[1].xs to the integrator's
+ * tolerance (rtol 1e-8: v_n to 1e-7): the same P(n, m) and impact
+ * velocities, with the classification's scale taken over every stop. */
+static void warm_second_stop(void **state)
+{
+  (void)state;
+  vi_model *one = vi_test_fig2(), *f = vi_test_fig2();
+  const double a[2] = {0.5, 0.0}, W[4] = {-1.0, 0.0, 0.0, 1.0},
+               xs[2] = {5.0, 0.1}, r[2] = {0.5, 0.7};
+  vi_model *two = vi_test_model_stops(2, vi_model_mass(f), vi_model_damping(f),
+                                      vi_model_stiffness(f), 0.9, a, NULL, 2,
+                                      W, xs, r);
+  vi_model_destroy(&f);
+  vi_sweep *s1 = study(one, 200, 8), *s2 = study(two, 200, 8);
+  const double vals[3] = {0.1, 0.05, 0.02};
+  for (int k = 0; k < 3; k++) {
+    assert_int_equal(vi_sweep_set_param(s1, "stops[1].xs", vals[k]), VI_OK);
+    assert_int_equal(vi_sweep_set_param(s2, "stops[2].xs", vals[k]), VI_OK);
+    assert_int_equal(vi_sweep_iterate(s1), VI_OK);
+    assert_int_equal(vi_sweep_iterate(s2), VI_OK);
+    int n1, m1, n2, m2;
+    assert_int_equal(vi_sweep_period(s1, &n1, &m1), VI_OK);
+    assert_int_equal(vi_sweep_period(s2, &n2, &m2), VI_OK);
+    assert_true(n1 >= 1 && m1 >= 1);
+    assert_int_equal(n2, n1);
+    assert_int_equal(m2, m1);
+    int64_t c1, c2;
+    const double *v1, *v2;
+    assert_int_equal(vi_sweep_impacts(s1, &c1, NULL, NULL, &v1), VI_OK);
+    assert_int_equal(vi_sweep_impacts(s2, &c2, NULL, NULL, &v2), VI_OK);
+    assert_true(c1 == c2 && c1 > 0);
+    for (int64_t i = 0; i < c1; i++) assert_close(v2[i], v1[i], 1e-7);
+  }
+  vi_sweep_destroy(&s1);
+  vi_sweep_destroy(&s2);
+  vi_model_destroy(&one);
+  vi_model_destroy(&two);
+}
+
 /* The P(1,1) census at Omega = 0.9: one admissible orbit, stable, the one
  * the simulation settles on (v_N of the 40-digit reference). */
 static void p11_census(void **state)
@@ -271,7 +313,7 @@ int main(void)
       cmocka_unit_test(fig2_p11),      cmocka_unit_test(harmonic_response),
       cmocka_unit_test(up_down_agree), cmocka_unit_test(warm_start),
       cmocka_unit_test(p11_census),    cmocka_unit_test(monitor_and_copy),
-      cmocka_unit_test(lyapunov_exponent),
+      cmocka_unit_test(lyapunov_exponent), cmocka_unit_test(warm_second_stop),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,296 @@
+/* test_stress_cancel.c - cancellation polled in every loop (issue 20,
+ * item 2): a host's cancel poll (vi_sim_set_cancel, vi_sweep_set_cancel)
+ * must be answered within one step of every backend and study, never after
+ * a loop of many.
+ *
+ * The poll counts its calls and asks to cancel at call P.  A backend that
+ * polls before each of its steps (the driver's loop, the exact method's
+ * and the held phases' batches of grid steps) has taken at most P steps
+ * when the run returns VI_CANCELLED; one that ran an inner loop of many
+ * steps unpolled would return later, with more.  Step counts are what is
+ * asserted, not times.
+ *
+ * a. Every method on a forced impacting oscillator (m = k = 1, c = 0.05,
+ *    0.6 cos 0.8 t, stop x <= 0.1, r = 0.7), cancelled at poll 40: at most
+ *    40 steps, time past t0, and a later run continues from the state
+ *    (VI_OK to the end, the invariants checked).
+ * b. The exact method on a non-proportionally damped 2-DOF chain (the
+ *    scanned closed form, vi_exact_scan.c).
+ * c. A held phase: an oscillator under a preload (f = 0.8 + 0.6 cos 0.3 t,
+ *    stop x <= 0.5, r = 0.5) chatters into sticking (the chatter map sums
+ *    its tail) and is held; the poll cancels at the first call after the
+ *    STICK event: no step is taken after it, the time is the stick's.
+ * d. Cancelled from the monitor: the monitor sets the flag the poll reads;
+ *    the run stops at the time the monitor saw, with that many steps.
+ * e. The study (vi_sweep): a point of a 2-DOF chain with P(1,1) orbits
+ *    takes C polls; with its Lyapunov exponent too, the same C and then
+ *    one at least per period of the Lyapunov run: cancelled at poll C + 1
+ *    the point returns VI_CANCELLED; cancelled at poll 1, before its orbit
+ *    scan and any simulation. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "stress_util.h"
+#include <vibroimpact/vi_study.h>
+
+typedef struct poll {
+  int64_t calls, at; /* cancel at call `at` (0: never) */
+  int flag;          /* or when set (by a callback) */
+  int64_t calls_at_flag;
+} poll;
+
+static int poll_fn(void *user)
+{
+  poll *p = user;
+  p->calls++;
+  return p->flag || (p->at > 0 && p->calls >= p->at);
+}
+
+static int64_t steps(const vi_sim *s) { return vi_sim_stat(s, VI_STAT_STEPS); }
+
+/* a. and b.: cancelled at poll 40, then continued to the end. */
+static void cancel_at_poll(const vi_model *m, int method, double t_end,
+                           const char *what)
+{
+  int n = vi_model_n(m);
+  double x0[2] = {0, 0}, v0[2] = {0, 0};
+  poll p = {0, 40, 0, 0};
+  vi_sim *s = st_sim(m, method, 1e-10, 1e-12, 0.0, x0, v0, NULL, NULL);
+  assert_int_equal(vi_sim_set_cancel(s, poll_fn, &p, NULL), VI_OK);
+  int st = vi_sim_run(s, t_end);
+  double t;
+  double x[2], v[2];
+  assert_int_equal(vi_sim_state(s, &t, x, v), VI_OK);
+  print_message("  %-24s %-6s cancelled at poll %lld: %lld steps, t = %.6g\n",
+                what, vi_method_name(method), (long long)p.calls,
+                (long long)steps(s), t);
+  st_check(st == VI_CANCELLED);
+  st_check(steps(s) >= 1 && steps(s) <= p.at);
+  st_check(t > 0.0 && t < t_end);
+  /* consistent: the run goes on from there */
+  p.at = 0;
+  st = vi_sim_run(s, t_end);
+  st_check(st == VI_OK);
+  assert_int_equal(vi_sim_state(s, &t, x, v), VI_OK);
+  st_check(t == t_end);
+  (void)n;
+  vi_sim_destroy(&s);
+}
+
+static void test_every_method(void **state)
+{
+  (void)state;
+  vi_model *m = st_sdof(1.0, 0.05, 1.0, 0.8, 0.6, 0.0, 0.0, 0.1, 0.7);
+  const int methods[] = {VI_METHOD_ADAMS, VI_METHOD_BDF, VI_METHOD_ERK,
+                         VI_METHOD_EXACT, VI_METHOD_AUTO};
+  for (int k = 0; k < 5; k++)
+    if (st_method_ok(m, methods[k])) cancel_at_poll(m, methods[k], 2000.0, "oscillator");
+  vi_model_destroy(&m);
+  /* b. non-proportional damping: the exact method scans its closed form */
+  vi_model *c = NULL;
+  double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1}, C[4] = {0.3, 0, 0, 0.01};
+  double w[2] = {0, 1}, a[2] = {0, 0.6}, b[2] = {0, 0}, f0[2] = {0, 0};
+  assert_int_equal(vi_model_create(2, &c), VI_OK);
+  assert_int_equal(vi_model_set_mass(c, M, 2), VI_OK);
+  assert_int_equal(vi_model_set_damping(c, C, 2), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(c, K, 2), VI_OK);
+  assert_int_equal(vi_model_set_forcing(c, 0.9, a, b, f0), VI_OK);
+  assert_int_equal(vi_model_set_stop(c, w, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_setup(c), VI_OK);
+  cancel_at_poll(c, VI_METHOD_EXACT, 2000.0, "chain, non-proportional");
+  cancel_at_poll(c, VI_METHOD_ADAMS, 2000.0, "chain, non-proportional");
+  vi_model_destroy(&c);
+  st_end();
+}
+
+/* c. The STICK event sets the flag: nothing is stepped after it. */
+typedef struct stick_watch {
+  poll *p;
+  const vi_sim *s;
+  double t_stick;
+  int64_t steps_at, polls_at;
+} stick_watch;
+
+static int on_stick(const vi_event *ev, void *user)
+{
+  stick_watch *sw = user;
+  if (ev->kind == VI_EVENT_STICK && sw->steps_at < 0) { /* the first */
+    sw->p->flag = 1;
+    sw->t_stick = ev->t;
+    sw->steps_at = steps(sw->s);
+    sw->polls_at = sw->p->calls;
+  }
+  return 0;
+}
+
+static void test_held_phase(void **state)
+{
+  (void)state;
+  vi_model *m = st_sdof(1.0, 0.05, 1.0, 0.3, 0.6, 0.0, 0.8, 0.5, 0.5);
+  const int methods[] = {VI_METHOD_EXACT, VI_METHOD_ADAMS, VI_METHOD_BDF};
+  for (int k = 0; k < 3; k++) {
+    double x0 = 0.0, v0 = 0.0;
+    poll p = {0, 0, 0, 0};
+    vi_sim *s = st_sim(m, methods[k], 1e-10, 1e-12, 0.0, &x0, &v0, NULL, NULL);
+    assert_int_equal(vi_sim_set_impact_resolution(s, 1e-5), VI_OK);
+    stick_watch sw = {&p, s, NAN, -1, -1};
+    assert_int_equal(vi_sim_set_event_callback(s, on_stick, &sw, NULL), VI_OK);
+    assert_int_equal(vi_sim_set_cancel(s, poll_fn, &p, NULL), VI_OK);
+    int st = vi_sim_run(s, 500.0);
+    double t, x, v;
+    assert_int_equal(vi_sim_state(s, &t, &x, &v), VI_OK);
+    print_message("  held phase %-6s STICK at t = %.9g (%lld steps), returned "
+                  "%s at t = %.9g (%lld steps)\n", vi_method_name(methods[k]),
+                  sw.t_stick, (long long)sw.steps_at, vi_strerror(st), t,
+                  (long long)steps(s));
+    st_check(st == VI_CANCELLED);
+    st_check(sw.steps_at >= 0 && steps(s) == sw.steps_at);
+    st_check(fabs(t - sw.t_stick) <= 1e-12 * fmax(1.0, t));
+    /* and from there the held phase runs on to its release and beyond */
+    p.flag = 0;
+    st_check(vi_sim_run(s, 500.0) == VI_OK);
+    st_check(vi_sim_stat(s, VI_STAT_STICKS) >= 2);
+    vi_sim_destroy(&s);
+    /* inside the held phase: cancelled 5 polls after the STICK, at most 5
+     * held steps later, before the release */
+    poll q = {0, sw.polls_at + 5, 0, 0};
+    s = st_sim(m, methods[k], 1e-10, 1e-12, 0.0, &x0, &v0, NULL, NULL);
+    assert_int_equal(vi_sim_set_impact_resolution(s, 1e-5), VI_OK);
+    assert_int_equal(vi_sim_set_cancel(s, poll_fn, &q, NULL), VI_OK);
+    st = vi_sim_run(s, 500.0);
+    assert_int_equal(vi_sim_state(s, &t, &x, &v), VI_OK);
+    print_message("  held phase %-6s cancelled at poll %lld: t = %.9g, %lld "
+                  "steps\n", vi_method_name(methods[k]), (long long)q.at, t,
+                  (long long)steps(s));
+    st_check(st == VI_CANCELLED);
+    st_check(steps(s) - sw.steps_at >= 1 && steps(s) - sw.steps_at <= 5);
+    st_check(t > sw.t_stick && vi_sim_stat(s, VI_STAT_STICKS) == 1);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+  st_end();
+}
+
+/* d. The monitor asks for the cancel. */
+typedef struct mon_watch {
+  poll *p;
+  int calls;
+  double t;
+  int64_t steps;
+} mon_watch;
+
+static int on_monitor(const vi_progress *pr, void *user)
+{
+  mon_watch *mw = user;
+  if (++mw->calls == 5) {
+    mw->p->flag = 1;
+    mw->t = pr->t;
+    mw->steps = pr->steps;
+  }
+  return 0;
+}
+
+static void test_from_monitor(void **state)
+{
+  (void)state;
+  vi_model *m = st_sdof(1.0, 0.05, 1.0, 0.8, 0.6, 0.0, 0.0, 0.1, 0.7);
+  const int methods[] = {VI_METHOD_ADAMS, VI_METHOD_BDF, VI_METHOD_ERK,
+                         VI_METHOD_EXACT};
+  for (int k = 0; k < 4; k++) {
+    double x0 = 0.0, v0 = 0.0;
+    poll p = {0, 0, 0, 0};
+    mon_watch mw = {&p, 0, NAN, -1};
+    vi_sim *s = st_sim(m, methods[k], 1e-10, 1e-12, 0.0, &x0, &v0, NULL, NULL);
+    assert_int_equal(vi_sim_set_monitor(s, 10.0, on_monitor, &mw, NULL), VI_OK);
+    assert_int_equal(vi_sim_set_cancel(s, poll_fn, &p, NULL), VI_OK);
+    int st = vi_sim_run(s, 1e4);
+    double t, x, v;
+    assert_int_equal(vi_sim_state(s, &t, &x, &v), VI_OK);
+    print_message("  monitor %-6s flag at t = %.9g (%lld steps), cancelled at "
+                  "t = %.9g (%lld steps)\n", vi_method_name(methods[k]), mw.t,
+                  (long long)mw.steps, t, (long long)steps(s));
+    st_check(st == VI_CANCELLED);
+    st_check(t == mw.t && steps(s) == mw.steps);
+    st_check(t >= 40.0 && t < 60.0);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+  st_end();
+}
+
+/* e. The study: the polls after the simulation (Lyapunov run, end of
+ * point) and before the orbit scan. */
+static vi_sweep *fig2_study(poll *p, int lyap)
+{
+  /* Fig. 2's chain: 2 unit masses, k = 1, c = 0.1 K-proportional... as
+   * the default scene: m = 1, k = 1, stop on mass 2 */
+  static const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1},
+                      C[4] = {0.2, -0.1, -0.1, 0.1};
+  double w[2] = {0, 1}, a[2] = {0, 0.5}, b[2] = {0, 0}, f0[2] = {0, 0};
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(2, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 0.9, a, b, f0), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  vi_sweep *sw = NULL;
+  assert_int_equal(vi_sweep_create(m, &sw), VI_OK);
+  vi_model_destroy(&m); /* the study keeps its own copy */
+  assert_int_equal(vi_sweep_set_run(sw, VI_METHOD_EXACT, 1e-8, 1e-10), VI_OK);
+  assert_int_equal(vi_sweep_set_periods(sw, 20, 20), VI_OK);
+  assert_int_equal(vi_sweep_set_lyapunov(sw, lyap), VI_OK);
+  assert_int_equal(vi_sweep_set_orbits(sw, 64), VI_OK);
+  assert_int_equal(vi_sweep_set_cancel(sw, poll_fn, p, NULL), VI_OK);
+  return sw;
+}
+
+static void test_study(void **state)
+{
+  (void)state;
+  /* C polls in a point without the Lyapunov run; with it the same C come
+   * first (the same simulation), then those of the Lyapunov run */
+  poll p = {0, 0, 0, 0};
+  vi_sweep *sw = fig2_study(&p, 0);
+  assert_int_equal(vi_sweep_iterate(sw), VI_OK);
+  int64_t C = p.calls;
+  vi_sweep_destroy(&sw);
+  poll q = {0, 0, 0, 0};
+  sw = fig2_study(&q, 1);
+  assert_int_equal(vi_sweep_iterate(sw), VI_OK);
+  st_check(isfinite(vi_sweep_lyapunov(sw)));
+  print_message("  study: %lld polls in a point, %lld with its Lyapunov run\n",
+                (long long)C, (long long)q.calls);
+  st_check(q.calls > C + 10); /* one at least per period of the 20 */
+  vi_sweep_destroy(&sw);
+  /* cancelled at the Lyapunov run's first poll: the point is cancelled */
+  poll r = {0, C + 1, 0, 0};
+  sw = fig2_study(&r, 1);
+  int st = vi_sweep_iterate(sw);
+  print_message("  study: cancelled at poll %lld: %s after %lld polls\n",
+                (long long)C + 1, vi_strerror(st), (long long)r.calls);
+  st_check(st == VI_CANCELLED);
+  st_check(r.calls <= C + 2);
+  vi_sweep_destroy(&sw);
+  /* and at the first, before the orbit scan and any simulation */
+  poll u = {0, 1, 0, 0};
+  sw = fig2_study(&u, 1);
+  st = vi_sweep_iterate(sw);
+  st_check(st == VI_CANCELLED && u.calls == 1);
+  vi_sweep_destroy(&sw);
+  st_end();
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_every_method),
+      cmocka_unit_test(test_held_phase),
+      cmocka_unit_test(test_from_monitor),
+      cmocka_unit_test(test_study),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
