@@ -83,6 +83,10 @@ module vibroimpact
   public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
             vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_iterate, vi_cont_done, &
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
+  public :: vi_census_create, vi_census_destroy, vi_census_errmsg, vi_census_set_phases, &
+            vi_census_set_initial, vi_census_set_sim_hook, vi_census_set_monitor, &
+            vi_census_set_cancel, vi_census_run, vi_census_count, vi_census_orbit, &
+            vi_census_stability
   public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
             vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
   public :: vi_identify_create, vi_identify_destroy, vi_identify_errmsg, &
@@ -1338,6 +1342,80 @@ module vibroimpact
       integer(c_int), value :: i
       integer(c_int), intent(out), optional :: type, admissible
       real(c_double), intent(out), optional :: param, vn, re, im
+    end function
+    ! ---- the orbit census (vi_census.h)
+    integer(c_int) function vi_census_create(model, n, m, out) bind(C, name="vi_census_create")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, m
+      type(c_ptr), intent(out) :: out
+    end function
+    subroutine vi_census_destroy(c) bind(C, name="vi_census_destroy")
+      import :: c_ptr
+      type(c_ptr) :: c
+    end subroutine
+    !> a C string (vi_string converts it)
+    type(c_ptr) function vi_census_errmsg(c) bind(C, name="vi_census_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_census_set_phases(c, nphase) bind(C, name="vi_census_set_phases")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+      integer(c_int), value :: nphase
+    end function
+    integer(c_int) function vi_census_set_initial(c, t0, x, v) bind(C, name="vi_census_set_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: t0
+      real(c_double), intent(in), optional :: x(*), v(*)
+    end function
+    !> fn: integer(c_int) function f(sim, user) bind(C), both type(c_ptr), value
+    integer(c_int) function vi_census_set_sim_hook(c, fn, user, destroy) &
+        bind(C, name="vi_census_set_sim_hook")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> fn: integer(c_int) function f(c, index, user) bind(C), all by value
+    !> (c a c_ptr, index integer(c_int), 0-based)
+    integer(c_int) function vi_census_set_monitor(c, fn, user, destroy) &
+        bind(C, name="vi_census_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_census_set_cancel(c, fn, user, destroy) &
+        bind(C, name="vi_census_set_cancel")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_census_run(c) bind(C, name="vi_census_run")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_census_count(c) bind(C, name="vi_census_count")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    !> i is 0-based, stop receives 0-based stops; x, v are [ld x m]
+    integer(c_int) function vi_census_orbit(c, i, t, x, v, ld, stop, vn) &
+        bind(C, name="vi_census_orbit")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      integer(c_int), value :: i, ld
+      real(c_double), intent(out), optional :: t(*), x(*), v(*), vn(*)
+      integer(c_int), intent(out), optional :: stop(*)
+    end function
+    !> i is 0-based; re, im are [2n]
+    integer(c_int) function vi_census_stability(c, i, re, im, stable, admissible, gmax) &
+        bind(C, name="vi_census_stability")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      integer(c_int), value :: i
+      real(c_double), intent(out), optional :: re(*), im(*), gmax
+      integer(c_int), intent(out), optional :: stable, admissible
     end function
 
     ! ---- finite-element structures in (vi_sparse.h) --------------------------

@@ -48,6 +48,7 @@ files=(
   src/io/vi_truncation_h5.c
   tests/study/test_identify.c bench/vi_bench_identify.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
+  src/orbit/vi_census.c tests/orbit/test_census.c
   src/model/vi_param.c tests/model/test_param.c src/study/vi_sweep.c
   src/study/vi_cont.c tests/study/test_cont.c tests/study/test_basins.c src/io/vi_scene_param.c
   src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c
