@@ -371,7 +371,8 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
   memset(&o, 0, sizeof o);
   o.method = -1;
   o.re = o.ke = NAN;
-  const app_cmd *cmd;
+  const app_cmd *cmd = &cmds[0];
+  *cmdp = cmd; /* never left unset, whatever is returned */
   int first, c, rc = pick_command(argc, argv, &cmd, &first);
   if (rc) return rc;
   optind = 0; /* 0: glibc starts afresh (a second call, the fuzz target) */
