@@ -287,25 +287,12 @@ static void json_num(double v)
   else printf("null");
 }
 
+/* The forcing phase the recording's f column implies (NaN without one). */
 static double forcing_shift(const recording *r, double omega)
 {
-  /* f = alpha cos(Omega t) + beta sin(Omega t) by least squares: the
-   * forcing phase of the recording, f = A cos(Omega (t + t0)) */
-  if (!r->f) return NAN;
-  double cc = 0, cs = 0, ss = 0, fc = 0, fs = 0;
-  for (int i = 0; i < r->ns; i++) {
-    double c = cos(omega * r->t[i]), s = sin(omega * r->t[i]);
-    cc += c * c;
-    cs += c * s;
-    ss += s * s;
-    fc += r->f[i] * c;
-    fs += r->f[i] * s;
-  }
-  double det = cc * ss - cs * cs;
-  if (!(fabs(det) > 0)) return NAN;
-  double al = (fc * ss - fs * cs) / det, be = (fs * cc - fc * cs) / det;
-  double T = 2 * M_PI / omega, t0 = fmod(atan2(-be, al) / omega, T);
-  return t0 < 0 ? t0 + T : t0;
+  double t0 = NAN;
+  if (r->f) vi_identify_forcing_phase(r->ns, r->t, r->f, omega, &t0);
+  return t0;
 }
 
 typedef int (*write_h5_fn)(const char *, const vi_identify *, const char *,

@@ -95,7 +95,7 @@ module vibroimpact
             vi_identify_set_data, vi_identify_run, vi_identify_params, vi_identify_shift, &
             vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
             vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution, &
-            vi_identify_set_stable_only, vi_identify_stability
+            vi_identify_set_stable_only, vi_identify_stability, vi_identify_forcing_phase
   public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
             vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
             vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
@@ -1071,6 +1071,14 @@ module vibroimpact
       real(c_double), intent(in) :: t(*)
       real(c_double) :: x(*)
       real(c_double), optional :: v(*)
+    end function
+    integer(c_int) function vi_identify_forcing_phase(ns, t, f, omega, t0) &
+        bind(C, name="vi_identify_forcing_phase")
+      import :: c_int, c_double
+      integer(c_int), value :: ns
+      real(c_double), intent(in) :: t(*), f(*)
+      real(c_double), value :: omega
+      real(c_double), intent(out) :: t0
     end function
     integer(c_int) function vi_identify_energy_restitution(id, r12, vn, ke, re) &
         bind(C, name="vi_identify_energy_restitution")

@@ -1318,6 +1318,21 @@ static void test_identify_misuse(void **state)
   assert_int_equal(vi_identify_response(NULL, 1, t, x, NULL), VI_ERR_ARG);
   assert_int_equal(vi_identify_energy_restitution(id, NULL, NULL, NULL, NULL), VI_ERR_STATE);
   assert_int_equal(vi_identify_energy_restitution(NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  { /* the forcing phase of a recorded signal */
+    double tt[3] = {0, 1, 2}, ff[3] = {1, 0, -1}, same[3] = {0, 0, 0}, ph;
+    assert_err(vi_identify_forcing_phase(3, tt, ff, 1.0, NULL));
+    assert_err(vi_identify_forcing_phase(3, NULL, ff, 1.0, &ph));
+    assert_true(isnan(ph));
+    assert_err(vi_identify_forcing_phase(3, tt, NULL, 1.0, &ph));
+    assert_err(vi_identify_forcing_phase(1, tt, ff, 1.0, &ph));
+    assert_int_equal(vi_identify_forcing_phase(3, tt, ff, 0.0, &ph), VI_ERR_FREQUENCY);
+    assert_int_equal(vi_identify_forcing_phase(3, tt, ff, NAN, &ph), VI_ERR_NONFINITE);
+    ff[1] = INFINITY;
+    assert_int_equal(vi_identify_forcing_phase(3, tt, ff, 1.0, &ph), VI_ERR_NONFINITE);
+    /* every sample at t = 0: sin is 0 throughout, no phase */
+    assert_int_equal(vi_identify_forcing_phase(3, same, tt, 1.0, &ph), VI_ERR_ARG);
+    assert_true(isnan(ph));
+  }
   vi_identify_destroy(&id);
   assert_null(id);
   vi_model_destroy(&m);
