@@ -28,7 +28,8 @@
  * compliances w^T M^-1 w and w^T K^-1 w are the full model's (the sparse
  * factorisations of vi_fe_stop_compliance; for a dense model w^T M^-1 w
  * and the sum over all its modes).  Everything is in the reference's modal
- * coordinates, where M = I: reduced models keep its first k coordinates. */
+ * coordinates, where M = I: reduced models keep its first k coordinates
+ * (vi_model_create_truncated builds them, static vector included). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,101 +65,6 @@ static void find_orbit(const vi_model *m, response *r, vi_orbit **keep)
     *keep = o;
   else
     vi_orbit_destroy(&o);
-}
-
-/* k modes of the reference R (n_R modal coordinates, M = I) plus, when
- * `corr`, the static residual vector at the stop: c_j = psi_j / omega_j^2
- * for j > k (K^-1 w less its part in the kept modes, in modal coordinates),
- * normalised.  Projected: M = I, K = T^T K T, C = T^T C T, stop T^T psi,
- * forcing T^T (a, b, f0), the stop's x_s and the given r.  Small dense
- * matrices (k + 1 <= a few hundred): plain loops. */
-static int build_model(const vi_model *R, int k, int corr, double r,
-                       const double *q0R, vi_model **out, double *carried,
-                       double *q0)
-{
-  int nR = vi_model_n(R), n = k + corr, st;
-  const double *K = vi_model_stiffness(R), *C = vi_model_damping(R),
-               *psi = vi_model_stop_vector(R), *fa = vi_model_forcing_cos(R),
-               *fb = vi_model_forcing_sin(R), *fc = vi_model_forcing_const(R);
-  /* the reference's own coordinates are its modes (M = I, K diagonal) */
-  double *T = calloc((size_t)nR * n + 5 * (size_t)n * n + 5 * (size_t)n,
-                     sizeof(double));
-  if (!T) return VI_ERR_NOMEM;
-  double *Mn = T + (size_t)nR * n, *Kn = Mn + (size_t)n * n,
-         *Cn = Kn + (size_t)n * n, *tmp = Cn + (size_t)n * n,
-         *w = tmp + 2 * (size_t)n * n, *a = w + n, *b = a + n, *f0 = b + n;
-  for (int j = 0; j < k; j++) T[j + (size_t)j * nR] = 1.0;
-  if (corr) {
-    double nrm = 0;
-    for (int j = k; j < nR; j++) {
-      double lam = K[j + (size_t)j * nR];
-      double c = lam > 0 ? psi[j] / lam : 0.0;
-      T[j + (size_t)k * nR] = c;
-      nrm += c * c;
-    }
-    nrm = sqrt(nrm);
-    if (!(nrm > 0)) {
-      free(T);
-      return VI_ERR_ARG; /* no residual: nothing beyond the kept modes */
-    }
-    for (int j = k; j < nR; j++) T[j + (size_t)k * nR] /= nrm;
-  }
-  /* X_n = T^T X T for X = I, K, C; vectors T^T v */
-  for (int p = 0; p < n; p++) {
-    for (int q = 0; q < n; q++) {
-      double sm = 0, sk = 0, sc = 0;
-      for (int i = 0; i < nR; i++) {
-        double ti = T[i + (size_t)p * nR];
-        if (ti == 0) continue;
-        sm += ti * T[i + (size_t)q * nR];
-        for (int j = 0; j < nR; j++) {
-          double tj = T[j + (size_t)q * nR];
-          if (tj == 0) continue;
-          sk += ti * K[i + (size_t)j * nR] * tj;
-          sc += ti * C[i + (size_t)j * nR] * tj;
-        }
-      }
-      Mn[p + (size_t)q * n] = sm;
-      Kn[p + (size_t)q * n] = sk;
-      Cn[p + (size_t)q * n] = sc;
-    }
-    double sw = 0, sa = 0, sb = 0, sf = 0;
-    for (int i = 0; i < nR; i++) {
-      double ti = T[i + (size_t)p * nR];
-      sw += ti * psi[i];
-      sa += ti * fa[i];
-      sb += ti * fb[i];
-      sf += ti * fc[i];
-    }
-    w[p] = sw;
-    a[p] = sa;
-    b[p] = sb;
-    f0[p] = sf;
-  }
-  double g = 0;
-  for (int p = 0; p < n; p++) g += w[p] * w[p]; /* w^T M^-1 w, M = I */
-  /* the reference's initial state [2 nR] projected: T^T q (T orthonormal) */
-  for (int h = 0; q0R && q0 && h < 2; h++)
-    for (int p = 0; p < n; p++) {
-      double sum = 0;
-      for (int i = 0; i < nR; i++)
-        sum += T[i + (size_t)p * nR] * q0R[i + (size_t)h * nR];
-      q0[p + (size_t)h * n] = sum;
-    }
-  if (carried) *carried = g;
-  vi_model *m = NULL;
-  if (!(st = vi_model_create(n, &m)) && !(st = vi_model_set_mass(m, Mn, n)) &&
-      !(st = vi_model_set_stiffness(m, Kn, n)) &&
-      !(st = vi_model_set_damping(m, Cn, n)) &&
-      !(st = vi_model_set_forcing(m, vi_model_omega_forcing(R), a, b, f0)) &&
-      !(st = vi_model_set_stop(m, w, vi_model_clearance(R), r)))
-    st = vi_model_setup(m);
-  free(T);
-  if (st)
-    vi_model_destroy(&m);
-  else
-    *out = m;
-  return st;
 }
 
 /* The first impacts from the scene's initial state (projected onto each
@@ -518,15 +424,15 @@ static void compute_row(study *S, row *w, const int *modes_idx)
   vi_model *mk = NULL, *ms = NULL, *mc = NULL;
   w->rk.vN = w->rk.phase = w->rs.vN = w->rs.phase = w->rc2.vN = w->rc2.phase = NAN;
   w->rS = NAN;
-  if (!build_model(S->R, k, 0, S->r, S->q0R, &mk, NULL, S->qk))
+  if (!vi_model_create_truncated(S->R, k, 0, S->r, S->q0R, S->qk, NULL, &mk))
     first_impacts(mk, S->t0, S->tend, S->qk, &w->fk);
   if (S->forced) {
     if (mk) find_orbit(mk, &w->rk, NULL);
     if (S->p11 && !vi_orbit_reduced_restitution(S->oref, modes_idx, k, &w->rS) &&
-        !build_model(S->R, k, 0, w->rS, NULL, &ms, NULL, NULL))
+        !vi_model_create_truncated(S->R, k, 0, w->rS, NULL, NULL, NULL, &ms))
       find_orbit(ms, &w->rs, NULL);
   }
-  if (k < S->nR && !build_model(S->R, k, 1, S->r, S->q0R, &mc, &carried, S->qk)) {
+  if (k < S->nR && !vi_model_create_truncated(S->R, k, 1, S->r, S->q0R, S->qk, &carried, &mc)) {
     first_impacts(mc, S->t0, S->tend, S->qk, &w->fc1);
     if (S->forced) find_orbit(mc, &w->rc2, NULL);
   }

@@ -68,7 +68,7 @@ module vibroimpact
             vi_model_forcing_cos, vi_model_forcing_sin, vi_model_forcing_const, &
             vi_model_modal_damping, vi_model_modal_forcing_cos, &
             vi_model_modal_forcing_sin, vi_model_modal_forcing_const, &
-            vi_model_create_reduced
+            vi_model_create_reduced, vi_model_create_truncated
   public :: vi_model_create_band, vi_model_set_mass_band, vi_model_set_damping_band, &
             vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
             vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
@@ -407,6 +407,17 @@ module vibroimpact
       import :: c_ptr, c_int
       type(c_ptr), value :: model
       integer(c_int) :: ld
+    end function
+    !> model in modal coordinates (n_R of them); z [2 nR] and zt [2 (k + static_vector)] optional together
+    integer(c_int) function vi_model_create_truncated(model, k, static_vector, r, z, zt, &
+        carried, out) bind(C, name="vi_model_create_truncated")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: k, static_vector
+      real(c_double), value :: r
+      real(c_double), intent(in), optional :: z(*)
+      real(c_double), intent(out), optional :: zt(*), carried
+      type(c_ptr), intent(out) :: out
     end function
     !> The reduced model of the modes modes(1:k) (0-based mode numbers).
     integer(c_int) function vi_model_create_reduced(full, modes, k, r, model) &

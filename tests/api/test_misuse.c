@@ -1096,6 +1096,39 @@ static void test_sweep_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* The truncated model: NULL, k out of range, a model not set up, a band
+ * model, no residual beyond the kept modes, a state without its output. */
+static void test_truncated_misuse(void **state)
+{
+  (void)state;
+  vi_model *f = vi_test_fig2(), *R = NULL, *t = NULL, *raw = NULL;
+  const int all[2] = {0, 1};
+  double z[4] = {0}, zt[4], g;
+  assert_int_equal(vi_model_create_reduced(f, all, 2, 0.7, &R), VI_OK);
+  assert_err(vi_model_create_truncated(NULL, 1, 0, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 1, 0, 0.7, NULL, NULL, NULL, NULL));
+  assert_err(vi_model_create_truncated(R, 0, 0, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 3, 0, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 1, 2, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 2, 1, 0.7, NULL, NULL, NULL, &t)); /* nothing beyond */
+  assert_err(vi_model_create_truncated(R, 1, 0, 0.7, z, NULL, NULL, &t));
+  assert_int_equal(vi_model_create_truncated(R, 1, 0, 1.5, z, zt, &g, &t), VI_ERR_RESTITUTION);
+  assert_null(t);
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_model_create_truncated(raw, 1, 0, 0.7, NULL, NULL, NULL, &t), VI_ERR_STATE);
+  vi_model_destroy(&raw);
+  double mass[2] = {1, 1}, k[2] = {1, 1}, w[2] = {0, 1}, a[2] = {0.5, 0};
+  assert_int_equal(vi_model_create_chain(2, mass, k, NULL, &raw), VI_OK);
+  assert_int_equal(vi_model_set_forcing(raw, 0.9, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_set_stop(raw, w, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_setup(raw), VI_OK);
+  assert_int_equal(vi_model_create_truncated(raw, 1, 0, 0.7, NULL, NULL, NULL, &t),
+                   VI_ERR_UNSUPPORTED); /* band: no modal coordinates */
+  vi_model_destroy(&raw);
+  vi_model_destroy(&R);
+  vi_model_destroy(&f);
+}
+
 static int census_stop(const vi_census *c, int index, void *user)
 {
   (void)c, (void)index, (void)user;
@@ -1352,6 +1385,7 @@ int main(void)
       cmocka_unit_test(test_param_misuse),
       cmocka_unit_test(test_sweep_misuse),
       cmocka_unit_test(test_census_misuse),
+      cmocka_unit_test(test_truncated_misuse),
       cmocka_unit_test(test_cont_misuse),
       cmocka_unit_test(test_identify_misuse),
   };
