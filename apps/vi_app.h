@@ -39,8 +39,7 @@ typedef struct app_cmd {
 } app_cmd;
 
 /* ---- the HDF5 writer (vi_app_h5.c) -------------------------------------
- * The vi_writer_* functions of libvibroimpact_io, opened with dlopen on
- * first use so that a run without -o never loads HDF5. */
+ * The vi_writer_* functions of libvibroimpact_h5, as a table. */
 typedef struct app_writer_api {
   int (*create)(const char *, const vi_model *, int, vi_writer **, vi_diag *);
   int (*write_header)(vi_writer *, const vi_scene *, double, double, int);
@@ -55,11 +54,11 @@ typedef struct app_writer_api {
   const char *(*errmsg)(const vi_writer *);
   int (*fe_shapes)(vi_writer *, const vi_fe *);
 } app_writer_api;
-/* The writer's functions; NULL (with a message printed) if the library
- * cannot be loaded. */
+/* The writer's functions (never NULL since the program links the library;
+ * the callers' NULL checks stay harmless). */
 const app_writer_api *vi_app_writer(void);
-/* The function `name` of libvibroimpact_io (opened on first use), or NULL
- * after a message on stderr. */
+/* The study writer `name` of libvibroimpact_h5 (vi_truncation_write_h5),
+ * or NULL after a message on stderr. */
 void *vi_app_io_symbol(const char *name);
 
 /* ---- signals (vibroimpact.c) ---------------------------------------------

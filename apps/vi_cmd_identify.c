@@ -13,7 +13,6 @@
  * copy of the model, any other by re-reading the edited scene.  The fit
  * itself is vi_identify.h.  Exit status: 0 converged, 1 a run-time failure
  * or a fit that did not converge, 2 bad input. */
-#include <dlfcn.h>
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -298,31 +297,8 @@ static double forcing_shift(const recording *r, double omega)
 typedef int (*write_h5_fn)(const char *, const vi_identify *, const char *,
                            int, const double *, const double *, vi_diag *);
 
-/* vi_identify_write_h5 from libvibroimpact_io, loaded only for -o. */
-static write_h5_fn load_writer(void)
-{
-  void *h = NULL;
-  Dl_info info;
-  union { int (*f)(void); void *p; } core = {vi_version_number};
-  if (dladdr(core.p, &info) && info.dli_fname) {
-    const char *slash = strrchr(info.dli_fname, '/');
-    if (slash) {
-      char lib[4096];
-      snprintf(lib, sizeof lib, "%.*s/%s", (int)(slash - info.dli_fname),
-               info.dli_fname, VI_IO_SONAME);
-      h = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
-    }
-  }
-  if (!h) h = dlopen(VI_IO_SONAME, RTLD_NOW | RTLD_LOCAL);
-  if (!h) {
-    fprintf(stderr, "vibroimpact: cannot load the HDF5 writer: %s\n", dlerror());
-    return NULL;
-  }
-  union { void *p; write_h5_fn f; } u;
-  u.p = dlsym(h, "vi_identify_write_h5");
-  if (!u.p) fprintf(stderr, "vibroimpact: %s lacks vi_identify_write_h5\n", VI_IO_SONAME);
-  return u.p ? u.f : NULL;
-}
+/* vi_identify_write_h5 (libvibroimpact_h5). */
+static write_h5_fn load_writer(void) { return vi_identify_write_h5; }
 
 static void usage(FILE *f)
 {

@@ -178,8 +178,8 @@ typedef int (*trunc_h5_fn)(const char *, const char *, const char *,
                            const double *, const double *, int,
                            const double *, int, vi_diag *);
 
-/* -o: the study through vi_truncation_write_h5 (libvibroimpact_io, loaded
- * now); 0 or 1 after a message. */
+/* -o: the study through vi_truncation_write_h5 (libvibroimpact_h5); 0 or 1
+ * after a message. */
 static int write_h5(const app_opts *o, const vi_scene *sc, const double *info,
                     const double *ref, int nrows, const double *rows, int ld)
 {

@@ -31,7 +31,7 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DVI_BUILD_TESTS=OFF \
   -DVI_SUNDIALS_PREFIX="${VI_SUNDIALS_PREFIX:-$root/build/sundials}" >/dev/null
 cmake --build "$build" -j"$(nproc)" >/dev/null
 gcc -O2 -std=c99 -Wall -Wextra -D_GNU_SOURCE "$root/bench/vi_wp.c" \
-  -I"$root/include" -I"$build/include" -L"$build" -lvibroimpact_io -lvibroimpact \
+  -I"$root/include" -I"$build/include" -L"$build" -lvibroimpact_h5 -lvibroimpact_scene -lvibroimpact \
   -Wl,-rpath,"$build" -o "$build/vi_wp"
 gcc -O2 -shared -fPIC -Wall "$root/bench/vi_siconos_plugin.c" \
   -o "$build/vi_siconos_plugin.so" -lm

@@ -11,7 +11,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build/release}
 wp=$build/vi_wp
 gcc -O2 -std=c99 -D_GNU_SOURCE "$root/bench/vi_wp.c" -I"$root/include" \
-  -I"$build/include" -L"$build" -lvibroimpact_io -lvibroimpact \
+  -I"$build/include" -L"$build" -lvibroimpact_h5 -lvibroimpact_scene -lvibroimpact \
   -Wl,-rpath,"$build" -o "$wp"
 debian=/usr/lib/$(gcc -print-multiarch)
 echo "optimised: $(ldd "$wp" | awk '/sundials_cvodes/{print $3}')"

@@ -1,5 +1,5 @@
 /** @file vi_identify_io.h
- * HDF5 output of an identification (companion library vibroimpact_io):
+ * HDF5 output of an identification (companion library vibroimpact_h5):
  * the recording, the fitted model's response at its times and the fit.
  *
  * Layout (one group /identify):

@@ -1,7 +1,7 @@
 /** @file vi_mmio.h
  * Matrix Market files (NIST's exchange format, math.nist.gov/MatrixMarket)
  * read into compressed sparse columns: part of the companion library
- * vibroimpact_io, so that a finite-element model's M, C and K can come from
+ * vibroimpact_scene, so that a finite-element model's M, C and K can come from
  * the host's own code as files.
  *
  * The grammar read, in full:

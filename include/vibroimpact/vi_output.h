@@ -1,5 +1,5 @@
 /** @file vi_output.h
- * Where a program's output may go (companion library vibroimpact_io): the
+ * Where a program's output may go (companion library vibroimpact_scene): the
  * one output path of every command.
  *
  * A regular file is written as TARGET.part and renamed to TARGET once

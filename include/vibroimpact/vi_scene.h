@@ -1,6 +1,6 @@
 /** @file vi_scene.h
  * scene files (YAML, read with libyaml): part of the companion
- * library vibroimpact_io, so that the numerical core links no YAML.
+ * library vibroimpact_scene, so that the numerical core links no YAML.
  *
  * A scene is plain, validated data: the model (explicit M, C, K or a
  * builder), forcing, stop, initial state, run settings and what to output.

@@ -1,6 +1,6 @@
 /** @file vi_scene_edit.h
  * Command-line overrides of scene keys (`--set KEY=VALUE`): part of the
- * companion library vibroimpact_io.
+ * companion library vibroimpact_scene.
  *
  * KEY is a dotted path into the YAML document, with 1-based list indices in
  * brackets: `forcing.omega`, `stop.xs`, `forcing.a[1]`, `model.chain.c`.

@@ -1,6 +1,6 @@
 /** @file vi_scene_param.h
  * Scene keys as parameters (vi_param.h): part of the companion library
- * vibroimpact_io.  A study changes a parameter on its model (no scene text
+ * vibroimpact_scene.  A study changes a parameter on its model (no scene text
  * is rewritten, no model rebuilt); this maps the scene's own key onto the
  * parameter key.
  *

@@ -1,5 +1,5 @@
 /** @file vi_truncation_io.h
- * HDF5 output of a truncation study (companion library vibroimpact_io),
+ * HDF5 output of a truncation study (companion library vibroimpact_h5),
  * the content of `vibroimpact truncation --json` (doc/truncation-layout.md).
  *
  * The study is passed as caller-owned column-major tables: one row per

@@ -1,5 +1,5 @@
 /** @file vi_writer.h
- * HDF5 output of a run (companion library vibroimpact_io).
+ * HDF5 output of a run (companion library vibroimpact_h5).
  * The layout is documented in share/doc/hdf5-layout.md.
  *
  * Output goes to regular files only: a symbolic link is followed to its

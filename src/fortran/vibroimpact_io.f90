@@ -1,9 +1,12 @@
-! vibroimpact_io.f90 - Fortran 2003 interface to the companion library
-! vibroimpact_io: YAML scene files and HDF5 output (include/vibroimpact/
-! vi_scene.h, vi_writer.h).
+! vibroimpact_io.f90 - Fortran 2003 interface to the companion libraries
+! vibroimpact_scene (YAML scene files, scene edits, Matrix Market files,
+! output paths: vi_scene.h, vi_scene_edit.h, vi_mmio.h, vi_output.h) and
+! vibroimpact_h5 (HDF5 output: vi_writer.h, vi_truncation_io.h,
+! vi_identify_io.h).
 !
 !   use vibroimpact
-!   use vibroimpact_io        ! and link -lvibroimpact_io (vibroimpact::io)
+!   use vibroimpact_io        ! and link -lvibroimpact_scene (vibroimpact::scene),
+!                             ! with -lvibroimpact_h5 (vibroimpact::h5) for HDF5
 !
 ! It holds interfaces (and vi_chars) only, so the Fortran library itself needs no HDF5 or
 ! YAML: a program that uses none of these routines links as before.
@@ -253,7 +256,7 @@ module vibroimpact_io
       import :: c_ptr
     end function
 
-    ! ---- HDF5 writer ------------------------------------------------------------
+    ! ---- HDF5 writer (libvibroimpact_h5) ----------------------------------------
     !> path: C string; scene of vi_writer_write_header may be c_null_ptr
     integer(c_int) function vi_writer_create(path, model, compress, writer, diag) &
         bind(C, name="vi_writer_create")

@@ -1,9 +1,8 @@
-/* vi_io_internal.h - helpers shared by the files of libvibroimpact_io;
- * never installed.
+/* vi_io_internal.h - helpers shared by the files of libvibroimpact_scene and
+ * libvibroimpact_h5; never installed.
  *
- * Header-only on purpose: vi_scene_edit.c is also compiled into the
- * program's CLI library, which must link without libvibroimpact_io (whose
- * non-API symbols are hidden), so a shared helper cannot live in one .c. */
+ * Header-only on purpose: each library hides its non-API symbols, so a
+ * helper both use cannot live in a .c of one of them. */
 #ifndef VI_IO_INTERNAL_H
 #define VI_IO_INTERNAL_H
 

@@ -2,8 +2,8 @@
  * composer) into the plain description of vi_scene_internal.h, every value
  * checked where it is read and every error reported with file:line:column
  * and key.  The only file of the scene that knows YAML; the model is
- * assembled in vi_scene_model.c, the run options live in
- * vi_scene_options.c. */
+ * assembled in vi_scene_model.c, the run options' getters and overrides
+ * live in vi_scene_options.c (above this file: it calls nothing there). */
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -1113,6 +1113,26 @@ static int compose(ctx *c, const char *text, size_t len, int max_depth)
   if (st && have_doc) yaml_document_delete(&c->doc);
   return st;
 }
+/* The run options' defaults, before the YAML is read (their getters and
+ * overrides: vi_scene_options.c). */
+static void options_init(vi_scene *s)
+{
+  s->rtol = 1e-8;
+  s->atol = 1e-10;
+  s->impact_resolution = 1e-5;
+  s->method = VI_METHOD_AUTO;
+  s->outputs = VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_COMPRESS;
+}
+
+/* After a successful parse: t_end from run.periods (default 100 periods)
+ * when run.t_end was not given. */
+static void options_finish(vi_scene *s)
+{
+  if (s->periods > 0 || !(s->t_end > 0))
+    s->t_end =
+        s->t0 + (s->periods > 0 ? s->periods : 100.0) * 2 * M_PI / s->omega;
+}
+
 
 int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
                            int max_depth, vi_scene **out, vi_diag *d)
@@ -1134,7 +1154,7 @@ int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
   }
   memcpy(s->text, text, (size_t)len);
   s->text[len] = '\0';
-  vi_scene_options_init(s);
+  options_init(s);
   ctx c = {.d = d, .file = s->file};
   int st = compose(&c, s->text, (size_t)len, max_depth);
   if (st) {
@@ -1149,7 +1169,7 @@ int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
     vi_scene_destroy(&s);
     return st;
   }
-  vi_scene_options_finish(s);
+  options_finish(s);
   if (s->kind == VI_SCENE_FE) {
     s->fe.at_rest = 1;
     for (int i = 0; i < s->n; i++)

@@ -1,5 +1,6 @@
 /* vi_scene_internal.h - the scene description shared by the scene files of
- * libvibroimpact_io; never installed.
+ * libvibroimpact_scene (and read, never written, by vi_writer.c of
+ * libvibroimpact_h5 for an FE scene's files); never installed.
  *
  *   vi_scene.c          YAML (libyaml) -> struct vi_scene, with file:line:col
  *                       diagnostics; the only file that knows YAML
@@ -76,12 +77,6 @@ struct vi_scene {
 
 /* Coordinates of the scene's model: n, or the kept modes of an FE model. */
 int vi_scene_model_n(const vi_scene *s);
-
-/* The run options' defaults, before the YAML is read. */
-void vi_scene_options_init(vi_scene *s);
-/* After a successful parse: t_end from run.periods (default 100 periods)
- * when run.t_end was not given. */
-void vi_scene_options_finish(vi_scene *s);
 
 /* A chain's m, k, c as model parameters (vi_scene_param.c): the mask of
  * those a study may change (bit 0 m, 1 k, 2 c: uniform, and not replaced

@@ -1,28 +1,13 @@
 /* vi_scene_options.c - a scene's run options: method, tolerances, times,
  * sampling and outputs (typed getters), overrides from the command line,
- * and applying them to a simulation.  No YAML here. */
+ * and applying them to a simulation.  No YAML here; their defaults are
+ * set by the reader (vi_scene.c), which calls nothing of this file. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
-
-void vi_scene_options_init(vi_scene *s)
-{
-  s->rtol = 1e-8;
-  s->atol = 1e-10;
-  s->impact_resolution = 1e-5;
-  s->method = VI_METHOD_AUTO;
-  s->outputs = VI_SCENE_OUT_IMPACTS | VI_SCENE_OUT_COMPRESS;
-}
-
-void vi_scene_options_finish(vi_scene *s)
-{
-  if (s->periods > 0 || !(s->t_end > 0))
-    s->t_end =
-        s->t0 + (s->periods > 0 ? s->periods : 100.0) * 2 * M_PI / s->omega;
-}
 
 int vi_scene_configure_sim(const vi_scene *s, vi_sim *sim, vi_diag *d)
 {

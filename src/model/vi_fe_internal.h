@@ -4,6 +4,8 @@
 #ifndef VI_FE_INTERNAL_H
 #define VI_FE_INTERNAL_H
 
+#include <string.h>
+
 #include "vi_internal.h"
 #include "vibroimpact/vi_sparse.h"
 
@@ -56,8 +58,24 @@ struct vi_fe {
   char errmsg[VI_MSG_LEN];
 };
 
-/* y = A x for a stored symmetric matrix (lower triangle). */
-void vi_csc_symv(int n, const vi_csc *A, const double *x, double *y);
+/* y = A x for a stored symmetric matrix (lower triangle).  Here, below
+ * both vi_sparse.c (projections) and vi_eigs.c (the Lanczos operator), so
+ * that the two call one way: vi_sparse.c -> vi_eigs.c. */
+static inline void vi_csc_symv(int n, const vi_csc *A, const double *x,
+                               double *y)
+{
+  memset(y, 0, sizeof(double) * (size_t)n);
+  for (int j = 0; j < n; j++) {
+    double xj = x[j], acc = 0.0;
+    for (int p = A->colptr[j]; p < A->colptr[j + 1]; p++) {
+      int i = A->rowind[p];
+      double v = A->val[p];
+      y[i] += v * xj;
+      if (i != j) acc += v * x[i]; /* the mirrored upper entry (j, i) */
+    }
+    y[j] += acc;
+  }
+}
 
 /* The sparse path of vi_fe_setup (vi_eigs.c): factorise, solve for the k
  * lowest modes, and fill fe->omega, fe->lambda, the stops' compliances and

@@ -82,21 +82,6 @@ static int check_open(vi_fe *fe)
   return VI_OK;
 }
 
-void vi_csc_symv(int n, const vi_csc *A, const double *x, double *y)
-{
-  memset(y, 0, sizeof(double) * (size_t)n);
-  for (int j = 0; j < n; j++) {
-    double xj = x[j], acc = 0.0;
-    for (int p = A->colptr[j]; p < A->colptr[j + 1]; p++) {
-      int i = A->rowind[p];
-      double v = A->val[p];
-      y[i] += v * xj;
-      if (i != j) acc += v * x[i]; /* the mirrored upper entry (j, i) */
-    }
-    y[j] += acc;
-  }
-}
-
 /* ---- CSC input ------------------------------------------------------------ */
 
 /* Structure and values of one CSC array set: colptr from base and

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_orbit_internal.h"
+#include "vi_orbit_handle.h"
 
 typedef struct bal_ctx {
   vi_orbit *o;

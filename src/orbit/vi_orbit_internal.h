@@ -7,6 +7,7 @@
 #define VI_ORBIT_INTERNAL_H
 
 #include "vi_flow_internal.h"
+#include "vi_orbit_handle.h"
 
 /* State-transition matrix e^{A tau} [2n x 2n] (z = (x, v), column-major,
  * leading dimension 2n) of the free motion: closed form per mode for
@@ -33,53 +34,7 @@ int vi_var_map_jacobian(const vi_model *m, double ta, double tb, int mi,
  * (an undamped mode forced at resonance), VI_ERR_LAPACK. */
 int vi_var_dpart_domega(const vi_model *m, int nt, const double *t, double *dz);
 
-#define RING 4096 /* impacts remembered for classification */
-#define MAX_N 8   /* longest orbit period looked for, in forcing periods */
-
-#define MAX_M 8 /* most impacts per period analysed (several stops) */
-
-struct vi_orbit {
-  const vi_model *m;
-  int n, ns, method;
-  double rtol, atol, max_periods, tol, T;
-  double *x0, *v0;
-  vi_sim *sim;
-  /* classification */
-  int pn, pm, analysed;
-  int classified; /* vi_orbit_find classified a transient */
-  /* impact ring: t, stop, then x, v per impact */
-  int64_t nimp;
-  double *rt, *rz;
-  int *rs;
-  /* states at the last 3 MAX_N + 1 forcing-period ends (stroboscopic) */
-  double *pz;
-  /* the analysed P(1, m) orbit: section time, its mi impacts in the period
-   * from t_s (time, stop, x, v-, v+ [n x MAX_M], v_n, energy lost) and the
-   * ledger of the interval ending at each (its approach: FE, DE, XE
-   * [n x MAX_M]) */
-  double t_s, KEi, RE, IE, r_rec, closure, gmin;
-  int mi, istop[MAX_M];
-  double it[MAX_M], ivn[MAX_M], iie[MAX_M];
-  double *ix, *iv, *ivp, *aFE, *aDE, *aXE;
-  double *mz; /* a shooting map's pre-impact states, stacked [2n x MAX_M] */
-  /* totals over the period [n] and per stop [n x ns], [ns] */
-  double *zfix, *FE, *DE, *XE, *reff, *mre, *mim, *kFE, *kDE, *kXE;
-  double *kKE, *kRE, *kIE, *kr, *kcl;
-  int *kcnt;
-  double *scr, *dE; /* scratch: map output [2n], impact jumps [n] */
-  double *block;
-  int map_impacts;
-  /* direct search: the transient's own classification, and whether the
-   * analysed orbit came from the impact-phase scan */
-  int direct, tn, tm, by_scan;
-  char errmsg[VI_MSG_LEN];
-};
-
-/* the P(1,1) getters: one impact per period; the rest: any analysed orbit */
-#define NEED_ORBIT(o) \
-  do { if (!(o)) return VI_ERR_ARG; if (!(o)->analysed) return VI_ERR_STATE; } while (0)
-#define NEED_P11(o) \
-  do { NEED_ORBIT(o); if ((o)->mi != 1) return VI_ERR_STATE; } while (0)
+/* the handle itself: vi_orbit_handle.h */
 
 /* Classification of the transient (vi_classify.c): the event callback that
  * records impacts into the ring; the ring index of the first impact at or
@@ -90,11 +45,6 @@ int vi_classify_record(const vi_event *ev, void *user);
 int64_t vi_classify_first_after(const vi_orbit *o, double t);
 double *vi_classify_strobe(const vi_orbit *o, int64_t k);
 int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m);
-
-/* One period from the refined fixed point o->zfix at o->t_s with the
- * ledger: the impacts of the period and WB 11-13 in total and per stop
- * (vi_balance.c).  VI_OK or a code with o->errmsg set. */
-int vi_balance_run(vi_orbit *o);
 
 /* P(n, m) of a recorded motion: R + 1 stroboscopic states z [n2 each],
  * impacts t [nimp]; returns n (0: none <= nmax), *m (vi_classify.c). */

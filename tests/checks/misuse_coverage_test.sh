@@ -1,8 +1,9 @@
 #!/bin/bash
-# Every function exported by libvibroimpact and libvibroimpact_io is called
+# Every function exported by libvibroimpact and the I/O libraries
+# (libvibroimpact_scene, libvibroimpact_h5) is called
 # in the misuse tests (test_misuse.c, test_misuse_io.c), so that a new
 # function cannot be added without its NULL / range / order checks.
-# usage: misuse_coverage_test.sh TESTS_DIR LIBVIBROIMPACT LIBVIBROIMPACT_IO
+# usage: misuse_coverage_test.sh TESTS_DIR LIBVIBROIMPACT IOLIB...
 set -u
 dir=$1
 shift

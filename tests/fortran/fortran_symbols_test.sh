@@ -1,18 +1,19 @@
 #!/usr/bin/env bash
 # The Fortran modules bind the whole public API: every vi_ function that
-# libvibroimpact and libvibroimpact_io export has a bind(C, name="...")
+# libvibroimpact, libvibroimpact_scene and libvibroimpact_h5 export has a bind(C, name="...")
 # interface in src/fortran/*.f90, every such interface names an exported
 # function and matches its C prototype (fortran_signatures.py: arguments,
 # by value or by reference, result), and every enumerator of the public
 # headers is a generated Fortran constant.  Fails listing what is wrong.
-#   fortran_symbols_test.sh SRC BUILD LIB IOLIB
+#   fortran_symbols_test.sh SRC BUILD LIB IOLIB...
 set -euo pipefail
-src=$1 build=$2 lib=$3 iolib=$4
+src=$1 build=$2 lib=$3
+shift 3 # then the I/O libraries
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
 
-for l in "$lib" "$iolib"; do
+for l in "$lib" "$@"; do
   nm -D --defined-only "$l" | awk '$2 == "T" && $3 ~ /^vi_/ {print $3}'
 done | sort -u > "$tmp/c"
 grep -ho 'bind(C, *name *= *"[^"]*")' "$src"/src/fortran/*.f90 \

@@ -1,5 +1,5 @@
 /* test_misuse_io.c - every exported function of the companion library
- * vibroimpact_io (scenes, scene edits, the HDF5 writer) called as a careless
+ * vibroimpact_scene and vibroimpact_h5 (scenes, scene edits, the HDF5 writer) called as a careless
  * or hostile host would: NULL handles, arrays and strings, zero and negative
  * lengths, non-finite values, calls out of order and after finishing.  Each
  * must return an error code (never VI_OK) and the documented sentinel, and
@@ -12,6 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "vi_io_testutil.h"
 #include "vi_testutil.h"
 #include "vibroimpact/vi_mmio.h"
 #include "vibroimpact/vi_orbit.h"
@@ -202,13 +203,11 @@ static void test_scene_edit_misuse(void **state)
 static void test_writer_misuse(void **state)
 {
   (void)state;
-  vi_model *m = vi_test_fig2(), *unset = NULL;
+  vi_model *m = vi_test_fig2();
   vi_writer *w = NULL;
   vi_diag d;
   char path[] = "/tmp/vi_misuse_io_XXXXXX", target[512];
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
+  vi_test_temp_file(path);
   assert_int_equal(vi_output_resolve(NULL, target, (int)sizeof target, &d), VI_ERR_ARG);
   assert_int_equal(vi_output_resolve(path, NULL, (int)sizeof target, &d), VI_ERR_ARG);
   assert_int_equal(vi_output_resolve(path, target, 0, &d), VI_ERR_ARG);
@@ -243,32 +242,14 @@ static void test_writer_misuse(void **state)
   vi_output_discard(&f, path, 9);
   assert_int_equal(vi_output_commit(NULL, &d), VI_ERR_ARG);
   assert_int_equal(vi_output_commit("/nonexistent/dir/x.h5", &d), VI_ERR_IO);
-  assert_int_equal(vi_writer_create(NULL, m, 0, &w, &d), VI_ERR_ARG);
-  assert_int_equal(vi_writer_create(path, NULL, 0, &w, &d), VI_ERR_ARG);
-  assert_int_equal(vi_writer_create(path, m, 0, NULL, &d), VI_ERR_ARG);
-  assert_int_equal(vi_model_create(2, &unset), VI_OK);
-  assert_int_equal(vi_writer_create(path, unset, 0, &w, &d), VI_ERR_STATE);
-  assert_null(w);
+  /* the bad arguments of vi_writer_create, every call on a NULL writer */
+  vi_test_writer_refusals(path, m);
   assert_err_diag(vi_writer_create("/", m, 0, &w, &d), d);
   assert_null(w);
 
-  /* every call on a NULL writer */
   vi_event ev = {0};
   vi_ledger_interval iv = {0};
   double x[2] = {0, 0};
-  assert_int_equal(vi_writer_write_header(NULL, NULL, 1e-8, 1e-10, 0), VI_ERR_ARG);
-  assert_int_equal(vi_writer_event(NULL, &ev), VI_ERR_ARG);
-  assert_int_equal(vi_writer_sample(NULL, 0, x, x), VI_ERR_ARG);
-  assert_int_equal(vi_writer_ledger(NULL, &iv), VI_ERR_ARG);
-  assert_int_equal(vi_writer_orbit(NULL, NULL), VI_ERR_ARG);
-  assert_int_equal(vi_writer_run_info(NULL, NULL), VI_ERR_ARG);
-  assert_int_equal((int)vi_writer_rows(NULL, "impacts"), -1);
-  assert_int_equal(vi_writer_finish(NULL, 1), VI_ERR_ARG);
-  assert_int_equal(vi_writer_close(NULL, 1), VI_ERR_ARG);
-  assert_int_equal(vi_writer_close(&w, 1), VI_ERR_ARG);
-  vi_writer_abort(NULL);
-  vi_writer_abort(&w);
-  assert_string_equal(vi_writer_errmsg(NULL), "");
 
   /* a live writer given wrong things, each with a message */
   assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
@@ -313,7 +294,6 @@ static void test_writer_misuse(void **state)
   assert_int_not_equal(access(path, F_OK), 0); /* aborted: no file */
   vi_orbit_destroy(&o);
   vi_model_destroy(&sdof);
-  vi_model_destroy(&unset);
   vi_model_destroy(&m);
 }
 
@@ -411,9 +391,7 @@ static void test_fe_shapes_misuse(void **state)
 {
   (void)state;
   char path[] = "/tmp/vi_misuse_fe_XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
+  vi_test_temp_file(path);
   static const int cp[4] = {0, 1, 2, 3}, ri[3] = {0, 1, 2};
   static const double mv[3] = {1, 2, 3}, kv[3] = {4, 5, 6};
   double w[3] = {0, 0, 1};

@@ -10,6 +10,7 @@
 #include <gsl/gsl_errno.h>
 #include <hdf5.h>
 
+#include "vi_io_testutil.h"
 #include "vi_testutil.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_output.h"
@@ -47,23 +48,28 @@ static hsize_t rows(hid_t f, const char *name, int *rank, hsize_t *cols)
   return dims[0];
 }
 
-static double *read_all(hid_t f, const char *name, size_t count)
+/* The whole dataset `name` as `type` (count values of size bytes). */
+static void *read_as(hid_t f, const char *name, hid_t type, size_t size,
+                     size_t count)
 {
-  double *buf = malloc(sizeof(double) * count);
+  void *buf = malloc(size * (count ? count : 1));
   hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
   assert_true(d >= 0);
-  assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
+  assert_true(H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
   H5Dclose(d);
   return buf;
+}
+
+static double *read_all(hid_t f, const char *name, size_t count)
+{
+  return read_as(f, name, H5T_NATIVE_DOUBLE, sizeof(double), count);
 }
 
 static void test_fig2_round_trip(void **state)
 {
   (void)state;
   char path[] = "/tmp/vi_test_writer_XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
+  vi_test_temp_file(path);
   vi_scene *sc = NULL;
   vi_model *m = NULL;
   vi_sim *s = NULL;
@@ -159,8 +165,7 @@ static void test_unwritable_and_abort(void **state)
   assert_null(w);
   assert_non_null(strstr(d.message, "cannot write /nonexistent-dir/x.h5"));
   char path[] = "/tmp/vi_test_abort_XXXXXX", part[64];
-  int fd = mkstemp(path);
-  close(fd);
+  vi_test_temp_file(path);
   remove(path);
   snprintf(part, sizeof part, "%s.part", path);
   assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
@@ -179,39 +184,18 @@ static void test_unwritable_and_abort(void **state)
 static void test_misuse(void **state)
 {
   (void)state;
-  vi_model *m = vi_test_fig2(), *unset = NULL;
+  vi_model *m = vi_test_fig2();
   vi_writer *w = NULL;
   vi_diag d;
   char path[] = "/tmp/vi_test_misuse_XXXXXX", target[16];
-  int fd = mkstemp(path);
-  close(fd);
+  vi_test_temp_file(path);
   assert_int_equal(vi_output_resolve(NULL, target, sizeof target, &d), VI_ERR_ARG);
   assert_int_equal(vi_output_resolve("", target, sizeof target, &d), VI_ERR_ARG);
   assert_int_equal(vi_output_resolve(path, NULL, 100, &d), VI_ERR_ARG);
   assert_int_equal(vi_output_resolve(path, target, 0, NULL), VI_ERR_ARG);
   assert_int_equal(vi_output_resolve(path, target, sizeof target, &d), VI_ERR_LIMIT);
-  assert_int_equal(vi_writer_create(NULL, m, 0, &w, &d), VI_ERR_ARG);
-  assert_int_equal(vi_writer_create(path, NULL, 0, &w, &d), VI_ERR_ARG);
-  assert_int_equal(vi_writer_create(path, m, 0, NULL, &d), VI_ERR_ARG);
-  assert_int_equal(vi_model_create(2, &unset), VI_OK);
-  assert_int_equal(vi_writer_create(path, unset, 0, &w, &d), VI_ERR_STATE);
-  assert_null(w);
-  /* calls on NULL */
-  vi_event ev = {0};
+  vi_test_writer_refusals(path, m);
   vi_ledger_interval iv = {0};
-  assert_int_equal(vi_writer_write_header(NULL, NULL, 1e-8, 1e-10, 0), VI_ERR_ARG);
-  assert_int_equal(vi_writer_event(NULL, &ev), VI_ERR_ARG);
-  assert_int_equal(vi_writer_sample(NULL, 0, NULL, NULL), VI_ERR_ARG);
-  assert_int_equal(vi_writer_ledger(NULL, &iv), VI_ERR_ARG);
-  assert_int_equal(vi_writer_orbit(NULL, NULL), VI_ERR_ARG);
-  assert_int_equal(vi_writer_run_info(NULL, NULL), VI_ERR_ARG);
-  assert_int_equal((int)vi_writer_rows(NULL, "impacts"), -1);
-  assert_int_equal(vi_writer_finish(NULL, 1), VI_ERR_ARG);
-  assert_int_equal(vi_writer_close(NULL, 1), VI_ERR_ARG);
-  assert_int_equal(vi_writer_close(&w, 1), VI_ERR_ARG);
-  vi_writer_abort(NULL);
-  vi_writer_abort(&w);
-  assert_string_equal(vi_writer_errmsg(NULL), "");
   /* a live writer given wrong things */
   assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
   vi_scene *sc3 = NULL;
@@ -252,7 +236,6 @@ static void test_misuse(void **state)
   assert_int_not_equal(access(path, F_OK), 0);
   assert_int_equal((int)H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
   vi_scene_destroy(&sc3);
-  vi_model_destroy(&unset);
   vi_model_destroy(&m);
 }
 
@@ -262,8 +245,7 @@ static void test_rank_and_size(void **state)
 {
   (void)state;
   char path[] = "/tmp/vi_test_rank_XXXXXX";
-  int fd = mkstemp(path);
-  close(fd);
+  vi_test_temp_file(path);
   vi_model *m = vi_test_sdof(1, 0.05, 1, 0.5, 0, 0.9, 0.1, 0.7);
   vi_writer *w = NULL;
   vi_sim *s = NULL;
@@ -333,8 +315,7 @@ static void test_large_scene_text(void **state)
   assert_int_equal(vi_scene_parse(text, -1, "big", &sc, &d), VI_OK);
   assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
   char path[] = "/tmp/vi_test_big_XXXXXX";
-  int fd = mkstemp(path);
-  close(fd);
+  vi_test_temp_file(path);
   assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
   assert_int_equal(vi_writer_write_header(w, sc, 1e-8, 1e-10, 0), VI_OK);
   assert_int_equal(vi_writer_close(&w, 1), VI_OK);
@@ -370,9 +351,7 @@ static void test_stops_round_trip(void **state)
 {
   (void)state;
   char path[] = "/tmp/vi_test_writer_XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
+  vi_test_temp_file(path);
   vi_scene *sc = NULL;
   vi_model *m = NULL;
   vi_sim *s = NULL;
@@ -535,9 +514,7 @@ static void test_free_body(void **state)
   assert_int_equal(vi_model_setup(m), VI_OK);
   assert_true(vi_model_omega_bound(m) == 0.0); /* the old "set up" test */
   char path[] = "/tmp/vi_free_XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
+  vi_test_temp_file(path);
   vi_writer *wr = NULL;
   vi_diag d;
   assert_int_equal(vi_writer_create(path, m, 0, &wr, &d), VI_OK);
@@ -560,9 +537,7 @@ static void test_refused_rows(void **state)
   (void)state;
   vi_model *m = vi_test_fig2();
   char path[] = "/tmp/vi_rows_XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
+  vi_test_temp_file(path);
   vi_writer *w = NULL;
   vi_diag d;
   assert_int_equal(vi_writer_create(path, m, 0, &w, &d), VI_OK);
@@ -615,12 +590,7 @@ static int attr_int_of(hid_t obj, const char *name)
 
 static int *read_ints(hid_t f, const char *name, size_t count)
 {
-  int *buf = malloc(sizeof(int) * (count ? count : 1));
-  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
-  assert_true(d >= 0);
-  assert_true(H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
-  H5Dclose(d);
-  return buf;
+  return read_as(f, name, H5T_NATIVE_INT, sizeof(int), count);
 }
 
 /* A finite-element scene (the shipped 100-element beam, 200 dofs, 4
@@ -633,9 +603,7 @@ static void test_fe_round_trip(void **state)
 {
   (void)state;
   char path[] = "/tmp/vi_test_writer_fe_XXXXXX";
-  int fd = mkstemp(path);
-  assert_true(fd >= 0);
-  close(fd);
+  vi_test_temp_file(path);
   vi_scene *sc = NULL;
   vi_model *m = NULL;
   vi_writer *w = NULL;

@@ -2,7 +2,8 @@
 # Header hygiene: every public header compiles on its own as C99 (pedantic)
 # and as C++; the shared libraries export nothing but the vi_ prefix.
 set -euo pipefail
-src=$1 build=$2 lib=$3 iolib=$4
+src=$1 build=$2 lib=$3
+shift 3 # then the I/O libraries (scene, h5)
 inc=(-I"$src/include" -I"$build/include")
 fail=0
 for h in "$src"/include/vibroimpact.h "$src"/include/vibroimpact/*.h; do
@@ -27,7 +28,7 @@ for lang in c c++; do
     echo "FAIL: VI_DEPRECATED does not warn ($lang)"; fail=1
   fi
 done
-for l in "$lib" "$iolib"; do
+for l in "$lib" "$@"; do
   bad=$(nm -D --defined-only "$l" | awk '{print $3}' | grep -Ev '^(vi_|_init$|_fini$)' || true)
   if [ -n "$bad" ]; then echo "FAIL: $l exports: $bad"; fail=1; fi
   echo "$(basename "$l"): $(nm -D --defined-only "$l" | awk '$3 ~ /^vi_/' | wc -l) exported vi_ symbols"
