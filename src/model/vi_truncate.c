@@ -14,7 +14,7 @@
 static int columns(const vi_model *R, int k, int corr, double *T)
 {
   int nR = R->n;
-  const double *K = R->K, *psi = R->w;
+  const double *K = R->K, *psi = vi_stop_w(R, 0);
   for (int j = 0; j < k; j++) T[j + (size_t)j * nR] = 1.0;
   if (!corr) return VI_OK;
   double nrm = 0;
@@ -60,7 +60,7 @@ static void project(const vi_model *R, int n, const double *T, double *Mn,
     double sw = 0, sa = 0, sb = 0, sf = 0;
     for (int i = 0; i < nR; i++) {
       double ti = T[i + (size_t)p * nR];
-      sw += ti * R->w[i];
+      sw += ti * vi_stop_w(R, 0)[i];
       sa += ti * R->a[i];
       sb += ti * R->b[i];
       sf += ti * R->f0[i];
@@ -109,7 +109,7 @@ int vi_model_create_truncated(const vi_model *R, int k, int static_vector,
       !(st = vi_model_set_stiffness(m, Kn, n)) &&
       !(st = vi_model_set_damping(m, Cn, n)) &&
       !(st = vi_model_set_forcing(m, R->omega_f, a, b, f0)) &&
-      !(st = vi_model_set_stop(m, w, R->xs, r)))
+      !(st = vi_model_set_stop(m, w, R->xsv[0], r)))
     st = vi_model_setup(m);
   free(T);
   if (st)
