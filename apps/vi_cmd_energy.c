@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "vi_app.h"
 #include "vi_sweep.h"
@@ -137,25 +138,14 @@ static int write_orbit(const app_opts *o, const vi_scene *sc, const vi_model *m,
   return 0;
 }
 
-int vi_cmd_energy(const app_opts *o)
+/* The scene can be analysed: harmonic forcing, no nonlinear springs.  0,
+ * or 2 with the message printed. */
+static int energy_scene_ok(const vi_scene *sc, const vi_model *m)
 {
-  vi_scene *sc = NULL;
-  vi_model *m = NULL;
-  vi_orbit *orb = NULL;
-  int rc = vi_app_load(o, &sc, &m), st;
-  if (rc) return rc;
-  rc = 1;
-  int n = vi_model_n(m);
-  enum { KMAX = 4 }; /* reduced models with the first 1..4 modes */
-  double *buf = calloc(4 * (size_t)n, sizeof(double)), rS[KMAX];
-  int ok[KMAX], modes[KMAX] = {0, 1, 2, 3};
-  if (!buf) goto done;
-  double *FE = buf, *DE = FE + n, *XE = DE + n, *reff = XE + n;
   if (!(vi_model_omega_forcing(m) > 0)) {
     fprintf(stderr, "vibroimpact: energy: the scene has no harmonic forcing, "
                     "so no P(1,1) orbit\n");
-    rc = 2;
-    goto done;
+    return 2;
   }
   if (vi_sweep_text_nonlinear(vi_scene_text(sc))) {
     /* the orbit analysis integrates M, C, K and the stops only: a balance
@@ -163,156 +153,213 @@ int vi_cmd_energy(const app_opts *o)
     fprintf(stderr, "vibroimpact: energy: scene %s has nonlinear springs "
                     "(springs:); the WB 11-13 analysis is of the linear model "
                     "and would ignore them\n", vi_scene_name(sc));
-    rc = 2;
-    goto done;
+    return 2;
   }
-  if ((st = vi_orbit_create(m, &orb)) ||
-      (o->method >= 0 && (st = vi_orbit_set_method(orb, o->method))) ||
+  return 0;
+}
+
+/* The orbit analysis with the command line's method and tolerances; 0, or
+ * 1 with the message printed.  No file exists while the orbit is sought:
+ * SIGINT/SIGTERM end the process at once (vi_app_arm_parts). */
+static int energy_find(const app_opts *o, const vi_model *m, vi_orbit **orb)
+{
+  int st;
+  if ((st = vi_orbit_create(m, orb)) ||
+      (o->method >= 0 && (st = vi_orbit_set_method(*orb, o->method))) ||
       (o->rtol > 0 &&
        (st = vi_orbit_set_tolerances(
-            orb, o->rtol, o->atol > 0 ? o->atol : o->rtol * 1e-2))) ||
-      (st = vi_orbit_set_initial(orb, NULL, NULL)) ||
-      (st = vi_orbit_find(orb))) {
-    /* no file exists while the orbit is sought: SIGINT/SIGTERM end the
-     * process at once (vi_app_arm_parts) */
+            *orb, o->rtol, o->atol > 0 ? o->atol : o->rtol * 1e-2))) ||
+      (st = vi_orbit_set_initial(*orb, NULL, NULL)) ||
+      (st = vi_orbit_find(*orb))) {
     /* without a handle the code is all there is: say what it needs */
-    const char *why = orb ? vi_orbit_errmsg(orb)
+    const char *why = *orb ? vi_orbit_errmsg(*orb)
                     : st == VI_ERR_FREQUENCY
                         ? "the analysis needs harmonic forcing (forcing.omega)"
                         : "the orbit analysis could not start";
     fprintf(stderr, "vibroimpact: energy: %s: %s\n", vi_strerror(st), why);
-    goto done;
+    return 1;
   }
-  /* the file holds what was found, P(1,1) or not */
-  if (o->out && write_orbit(o, sc, m, orb)) goto done;
-  int pn, pm;
-  vi_orbit_classify(orb, &pn, &pm);
-  if (pn != 1 || pm != 1) {
-    rc = 3; /* not P(1,1): a result, not a failure */
-    int ana = vi_orbit_stop_balance(orb, 0, NULL, NULL, NULL, NULL, NULL, NULL) == VI_OK;
-    if (o->json) {
-      printf("{\"scene\": ");
-      json_str(vi_scene_name(sc));
-      printf(", \"P11\": false, \"periodic\": %s, ", pn ? "true" : "false");
-      if (pn) printf("\"n\": %d, \"m\": %d", pn, pm);
-      else printf("\"n\": null, \"m\": null, \"impacts_per_period\": %d", pm);
-      if (ana) { /* a P(1, m) orbit over several stops: WB 11-13 per stop */
-        print_stops(orb, m, 1);
-        print_multipliers(orb, n, 1);
-      }
-      printf("}\n");
-    } else if (ana) {
-      printf("P(1,%d) orbit, scene %s: WB 11-13 per stop (%d; numbered from 1 "
-             "in the scene's order, from 0 in JSON and HDF5)\n", pm,
-             vi_scene_name(sc), vi_model_num_stops(m));
-      print_stops(orb, m, 0);
-      print_multipliers(orb, n, 0);
-    }
-    if (ana) goto done;
-    if (pn == 0)
-      fprintf(
-          stderr,
-          "vibroimpact: energy: the motion is not periodic within the "
-          "transient allowed (about %d impacts per forcing period); no P(1,1) "
-          "balance\n",
-          pm);
-    else
-      fprintf(stderr,
-              "vibroimpact: energy: the motion is P(%d,%d): period %d forcing "
-              "periods with %d impacts; the balance of WB 11-13 needs P(1,1)\n",
-              pn, pm, pn, pm);
-    goto done;
-  }
-  int tn, tm, by_scan; /* found by the direct search (vi_orbit.h)? */
-  vi_orbit_search_info(orb, &tn, &tm, &by_scan);
-  double T, ph, vN, KE, RE, IE, rr, cl;
-  vi_orbit_balance(orb, &T, &ph, &vN, &KE, &RE, &IE, &rr, &cl);
-  vi_orbit_modal_balance(orb, FE, DE, XE, reff);
-  const double *om = vi_model_omega(m), *ze = vi_model_zeta(m);
-  int kmax = n < KMAX ? n : KMAX;
-  for (int k = 1; k <= kmax; k++)
-    ok[k - 1] =
-        vi_orbit_reduced_restitution(orb, modes, k, &rS[k - 1]) == VI_OK;
-  /* check the one-mode reduced model: simulate it with its r_S */
-  double cv = NAN, cg = NAN, cp = NAN, gmin;
-  int cpn = 0, cpm = 0,
-      checked = n > 1 && ok[0] &&
-                !reduced_check(m, 1, rS[0], &cv, &cg, &cp, &cpn, &cpm);
-  vi_orbit_min_gap(orb, &gmin);
+  return 0;
+}
+
+/* A motion that is not P(1,1): a P(1, m) orbit over several stops is
+ * reported per stop (exit 3); anything else is said on stderr (exit 1). */
+static int energy_not_p11(const app_opts *o, const vi_scene *sc,
+                          const vi_model *m, const vi_orbit *orb, int pn, int pm)
+{
+  int n = vi_model_n(m);
+  int ana = vi_orbit_stop_balance(orb, 0, NULL, NULL, NULL, NULL, NULL, NULL) == VI_OK;
   if (o->json) {
     printf("{\"scene\": ");
     json_str(vi_scene_name(sc));
-    printf(", \"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, ");
-    if (by_scan)
-      printf("\"found_by\": \"scan\", \"transient_n\": %d, \"transient_m\": %d", tn, tm);
-    else
-      printf("\"found_by\": \"transient\"");
-    printf(", \"period\": %.17g, \"impact_phase\": %.17g, "
-           "\"impact_phase_fraction\": %.17g, "
-           "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
-           "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, "
-           "\"min_gap\": %.17g, "
-           "\"modes\": [",
-           T, ph, ph / T, vN, KE, RE, IE, vi_model_restitution(m),
-           rr, cl, gmin);
-    for (int j = 0; j < n; j++)
-      printf(
-          "%s{\"omega\": %.17g, \"zeta\": %.17g, \"FE\": %.17g, \"DE\": %.17g, "
-          "\"XE\": %.17g, \"r_eff\": %.17g}",
-          j ? ", " : "", om[j], ze[j], FE[j], DE[j], XE[j], reff[j]);
-    printf("], \"reduced\": [");
-    for (int k = 1, first = 1; k <= kmax; k++)
-      if (ok[k - 1]) {
-        printf("%s{\"modes\": %d, \"r_S\": %.17g}", first ? "" : ", ", k,
-               rS[k - 1]);
-        first = 0;
-      }
-    printf("]");
-    print_multipliers(orb, n, 1); /* Floquet multipliers (vi_orbit.h) */
-    if (checked)
-      printf(
-          ", \"reduced_check\": {\"modes\": 1, \"r_S\": %.17g, \"vN\": %.17g, "
-          "\"min_gap\": %.17g, \"impact_phase\": %.17g}",
-          rS[0], cv, cg, cp);
-    printf("}\n");
-  } else {
-    printf("P(1,1) energy balance, scene %s (Wagg & Bishop 2000, eqs. 11-13)\n",
-           vi_scene_name(sc));
-    if (by_scan)
-      printf("  (the transient settled on %s; this stable P(1,1) orbit was "
-             "found by a scan of impact phases)\n",
-             tn ? "another motion" : "no periodic motion");
-    printf("  period T = %.10g; impact time mod T = %.10g (%.6f T); v_N %.10g\n"
-           "  deepest excursion from the stop min(w.x - x_s) over a period "
-           "%.6g\n",
-           T, ph, ph / T, vN, gmin);
-    printf("  %4s %12s %10s %14s %14s %14s %14s %10s\n", "mode", "omega",
-           "zeta", "FE", "DE", "XE", "FE-DE-XE", "r_eff");
-    for (int j = 0; j < n; j++)
-      printf("  %4d %12.6g %10.4g %14.8g %14.8g %14.8g %14.8g %10.5g\n", j + 1,
-             om[j], ze[j], FE[j], DE[j], XE[j], FE[j] - DE[j] - XE[j], reff[j]);
-    printf("  KE_i = %.10g   RE = %.10g   IE = %.10g\n", KE, RE, IE);
-    printf("  r recovered (WB 12) = %.12f   (scene r = %g)   closure "
-           "|RE-IE|/KE_i = %.3g\n",
-           rr, vi_model_restitution(m), cl);
-    print_multipliers(orb, n, 0);
-    for (int k = 1; k <= kmax; k++) {
-      if (ok[k - 1])
-        printf("  reduced model, first %d mode%s: r_S = %.8f\n", k,
-               k > 1 ? "s" : "", rS[k - 1]);
-      else
-        printf("  reduced model, first %d mode%s: no real r_S (RE_S outside "
-               "[0, KE_S])\n",
-               k, k > 1 ? "s" : "");
+    printf(", \"P11\": false, \"periodic\": %s, ", pn ? "true" : "false");
+    if (pn) printf("\"n\": %d, \"m\": %d", pn, pm);
+    else printf("\"n\": null, \"m\": null, \"impacts_per_period\": %d", pm);
+    if (ana) { /* a P(1, m) orbit over several stops: WB 11-13 per stop */
+      print_stops(orb, m, 1);
+      print_multipliers(orb, n, 1);
     }
-    if (checked)
-      printf("  1-mode model run with r_S: v_N %.8g (full %.8g), deepest "
-             "excursion %.6g "
-             "(full %.6g), impact time mod T %.6g T (full %.6g T)\n",
-             cv, vN, cg, gmin, cp / T, ph / T);
-    else if (n > 1 && ok[0])
-      printf("  1-mode model run with r_S: not P(1,1) (P(%d,%d))\n", cpn, cpm);
+    printf("}\n");
+  } else if (ana) {
+    printf("P(1,%d) orbit, scene %s: WB 11-13 per stop (%d; numbered from 1 "
+           "in the scene's order, from 0 in JSON and HDF5)\n", pm,
+           vi_scene_name(sc), vi_model_num_stops(m));
+    print_stops(orb, m, 0);
+    print_multipliers(orb, n, 0);
   }
+  if (ana) return 3; /* not P(1,1): a result, not a failure */
+  if (pn == 0)
+    fprintf(stderr,
+            "vibroimpact: energy: the motion is not periodic within the "
+            "transient allowed (about %d impacts per forcing period); no P(1,1) "
+            "balance\n", pm);
+  else
+    fprintf(stderr,
+            "vibroimpact: energy: the motion is P(%d,%d): period %d forcing "
+            "periods with %d impacts; the balance of WB 11-13 needs P(1,1)\n",
+            pn, pm, pn, pm);
+  return 3;
+}
+
+enum { KMAX = 4 }; /* reduced models with the first 1..4 modes */
+
+/* What the P(1,1) report prints, read from the analysed orbit. */
+typedef struct balance {
+  int n, kmax, tn, tm, by_scan, ok[KMAX], checked, cpn, cpm;
+  double T, ph, vN, KE, RE, IE, rr, cl, gmin, rS[KMAX], cv, cg, cp;
+  double *FE, *DE, *XE, *reff; /* [n] each */
+  const double *om, *ze;
+} balance;
+
+static void energy_results(const vi_model *m, const vi_orbit *orb, balance *b)
+{
+  static const int modes[KMAX] = {0, 1, 2, 3};
+  int n = b->n;
+  vi_orbit_search_info(orb, &b->tn, &b->tm, &b->by_scan); /* by the direct search? */
+  vi_orbit_balance(orb, &b->T, &b->ph, &b->vN, &b->KE, &b->RE, &b->IE, &b->rr, &b->cl);
+  vi_orbit_modal_balance(orb, b->FE, b->DE, b->XE, b->reff);
+  b->om = vi_model_omega(m);
+  b->ze = vi_model_zeta(m);
+  b->kmax = n < KMAX ? n : KMAX;
+  for (int k = 1; k <= b->kmax; k++)
+    b->ok[k - 1] = vi_orbit_reduced_restitution(orb, modes, k, &b->rS[k - 1]) == VI_OK;
+  /* check the one-mode reduced model: simulate it with its r_S */
+  b->cv = b->cg = b->cp = NAN;
+  b->cpn = b->cpm = 0;
+  b->checked = n > 1 && b->ok[0] &&
+               !reduced_check(m, 1, b->rS[0], &b->cv, &b->cg, &b->cp, &b->cpn, &b->cpm);
+  vi_orbit_min_gap(orb, &b->gmin);
+}
+
+static void energy_json(const vi_scene *sc, const vi_model *m,
+                        const vi_orbit *orb, const balance *b)
+{
+  printf("{\"scene\": ");
+  json_str(vi_scene_name(sc));
+  printf(", \"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, ");
+  if (b->by_scan)
+    printf("\"found_by\": \"scan\", \"transient_n\": %d, \"transient_m\": %d", b->tn, b->tm);
+  else
+    printf("\"found_by\": \"transient\"");
+  printf(", \"period\": %.17g, \"impact_phase\": %.17g, "
+         "\"impact_phase_fraction\": %.17g, "
+         "\"vN\": %.17g, \"KE_i\": %.17g, \"RE\": %.17g, \"IE\": %.17g, "
+         "\"r\": %.17g, \"r_recovered\": %.17g, \"closure\": %.6g, "
+         "\"min_gap\": %.17g, "
+         "\"modes\": [",
+         b->T, b->ph, b->ph / b->T, b->vN, b->KE, b->RE, b->IE,
+         vi_model_restitution(m), b->rr, b->cl, b->gmin);
+  for (int j = 0; j < b->n; j++)
+    printf("%s{\"omega\": %.17g, \"zeta\": %.17g, \"FE\": %.17g, \"DE\": %.17g, "
+           "\"XE\": %.17g, \"r_eff\": %.17g}",
+           j ? ", " : "", b->om[j], b->ze[j], b->FE[j], b->DE[j], b->XE[j], b->reff[j]);
+  printf("], \"reduced\": [");
+  for (int k = 1, first = 1; k <= b->kmax; k++)
+    if (b->ok[k - 1]) {
+      printf("%s{\"modes\": %d, \"r_S\": %.17g}", first ? "" : ", ", k, b->rS[k - 1]);
+      first = 0;
+    }
+  printf("]");
+  print_multipliers(orb, b->n, 1); /* Floquet multipliers (vi_orbit.h) */
+  if (b->checked)
+    printf(", \"reduced_check\": {\"modes\": 1, \"r_S\": %.17g, \"vN\": %.17g, "
+           "\"min_gap\": %.17g, \"impact_phase\": %.17g}",
+           b->rS[0], b->cv, b->cg, b->cp);
+  printf("}\n");
+}
+
+static void energy_text(const vi_scene *sc, const vi_model *m,
+                        const vi_orbit *orb, const balance *b)
+{
+  double T = b->T, ph = b->ph;
+  printf("P(1,1) energy balance, scene %s (Wagg & Bishop 2000, eqs. 11-13)\n",
+         vi_scene_name(sc));
+  if (b->by_scan)
+    printf("  (the transient settled on %s; this stable P(1,1) orbit was "
+           "found by a scan of impact phases)\n",
+           b->tn ? "another motion" : "no periodic motion");
+  printf("  period T = %.10g; impact time mod T = %.10g (%.6f T); v_N %.10g\n"
+         "  deepest excursion from the stop min(w.x - x_s) over a period "
+         "%.6g\n",
+         T, ph, ph / T, b->vN, b->gmin);
+  printf("  %4s %12s %10s %14s %14s %14s %14s %10s\n", "mode", "omega",
+         "zeta", "FE", "DE", "XE", "FE-DE-XE", "r_eff");
+  for (int j = 0; j < b->n; j++)
+    printf("  %4d %12.6g %10.4g %14.8g %14.8g %14.8g %14.8g %10.5g\n", j + 1,
+           b->om[j], b->ze[j], b->FE[j], b->DE[j], b->XE[j],
+           b->FE[j] - b->DE[j] - b->XE[j], b->reff[j]);
+  printf("  KE_i = %.10g   RE = %.10g   IE = %.10g\n", b->KE, b->RE, b->IE);
+  printf("  r recovered (WB 12) = %.12f   (scene r = %g)   closure "
+         "|RE-IE|/KE_i = %.3g\n",
+         b->rr, vi_model_restitution(m), b->cl);
+  print_multipliers(orb, b->n, 0);
+  for (int k = 1; k <= b->kmax; k++) {
+    if (b->ok[k - 1])
+      printf("  reduced model, first %d mode%s: r_S = %.8f\n", k,
+             k > 1 ? "s" : "", b->rS[k - 1]);
+    else
+      printf("  reduced model, first %d mode%s: no real r_S (RE_S outside "
+             "[0, KE_S])\n",
+             k, k > 1 ? "s" : "");
+  }
+  if (b->checked)
+    printf("  1-mode model run with r_S: v_N %.8g (full %.8g), deepest "
+           "excursion %.6g "
+           "(full %.6g), impact time mod T %.6g T (full %.6g T)\n",
+           b->cv, b->vN, b->cg, b->gmin, b->cp / T, ph / T);
+  else if (b->n > 1 && b->ok[0])
+    printf("  1-mode model run with r_S: not P(1,1) (P(%d,%d))\n", b->cpn, b->cpm);
+}
+
+int vi_cmd_energy(const app_opts *o)
+{
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_orbit *orb = NULL;
+  int rc = vi_app_load(o, &sc, &m), pn, pm;
+  if (rc) return rc;
+  rc = 1;
+  balance b;
+  memset(&b, 0, sizeof b);
+  b.n = vi_model_n(m);
+  double *buf = calloc(4 * (size_t)b.n, sizeof(double));
+  if (!buf) goto done;
+  b.FE = buf;
+  b.DE = b.FE + b.n;
+  b.XE = b.DE + b.n;
+  b.reff = b.XE + b.n;
+  if ((rc = energy_scene_ok(sc, m)) || (rc = energy_find(o, m, &orb))) goto done;
+  rc = 1;
+  /* the file holds what was found, P(1,1) or not */
+  if (o->out && write_orbit(o, sc, m, orb)) goto done;
+  vi_orbit_classify(orb, &pn, &pm);
+  if (pn != 1 || pm != 1) {
+    rc = energy_not_p11(o, sc, m, orb, pn, pm);
+    goto done;
+  }
+  energy_results(m, orb, &b);
+  if (o->json) energy_json(sc, m, orb, &b);
+  else energy_text(sc, m, orb, &b);
   rc = 0;
 done:
   free(buf);

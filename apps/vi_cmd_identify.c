@@ -55,7 +55,140 @@ static void trim(const char **a, const char **b)
     (*b)--;
 }
 
-/* Read the CSV; 0, or 2 after printing file:line:column: why. */
+/* The CSV being read: its columns (t, x, v, f; -1 absent), where. */
+typedef struct csv {
+  const char *path;
+  const char *line;
+  long lno;
+  int ncol, col[4];
+} csv;
+
+static const char *const csv_names[4] = {"t", "x", "v", "f"};
+
+/* Header field k [fa, fb): note which column it is; 0, or 2 after a
+ * message (a column twice). */
+static int csv_header_field(csv *c, int k, const char *fa, const char *fb)
+{
+  for (int j = 0; j < 4; j++)
+    if ((size_t)(fb - fa) == strlen(csv_names[j]) && !strncmp(fa, csv_names[j], fb - fa)) {
+      if (c->col[j] >= 0) {
+        fprintf(stderr, "vibroimpact: %s:%ld:%d: column '%s' twice\n",
+                c->path, c->lno, (int)(fa - c->line) + 1, csv_names[j]);
+        return 2;
+      }
+      c->col[j] = k;
+    }
+  return 0;
+}
+
+/* Data field k [fa, fb) into val[] if it is a column we read; 0, or 2
+ * after a message naming file:line:column. */
+static int csv_data_field(const csv *c, int k, const char *fa, const char *fb,
+                          double *val)
+{
+  for (int j = 0; j < 4; j++) {
+    if (c->col[j] != k) continue;
+    char buf[128], *end;
+    int len = (int)(fb - fa), at = (int)(fa - c->line) + 1;
+    if (len <= 0 || len >= (int)sizeof buf) {
+      fprintf(stderr, "vibroimpact: %s:%ld:%d: %s: empty or overlong "
+              "field\n", c->path, c->lno, at, csv_names[j]);
+      return 2;
+    }
+    memcpy(buf, fa, len);
+    buf[len] = 0;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (end == buf || *end) {
+      fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not a number\n",
+              c->path, c->lno, at, csv_names[j], buf);
+      return 2;
+    }
+    if (!isfinite(v)) {
+      fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not finite\n",
+              c->path, c->lno, at, csv_names[j], buf);
+      return 2;
+    }
+    val[j] = v;
+  }
+  return 0;
+}
+
+/* The fields of one line (the header while c->ncol = 0): *k receives
+ * their number; 0, or 2 after a message. */
+static int csv_fields(csv *c, double *val, int *k)
+{
+  const char *a = c->line;
+  for (*k = 0;; (*k)++) {
+    const char *b = strchr(a, ',');
+    if (!b) b = a + strlen(a);
+    const char *fa = a, *fb = b;
+    trim(&fa, &fb);
+    int rc = !c->ncol ? csv_header_field(c, *k, fa, fb) : csv_data_field(c, *k, fa, fb, val);
+    if (rc) return rc;
+    if (!*b) break;
+    a = b + 1;
+  }
+  (*k)++;
+  return 0;
+}
+
+/* Append a sample (t, x and the optional v, f); 0, or 1 out of memory. */
+static int rec_push(recording *r, const csv *c, const double *val)
+{
+  if (r->ns == r->cap) {
+    int nc = r->cap ? 2 * r->cap : 1024;
+    double **q[4] = {&r->t, &r->x, &r->v, &r->f};
+    for (int j = 0; j < 4; j++) {
+      if (j >= 2 && c->col[j] < 0) continue;
+      double *nq = realloc(*q[j], sizeof(double) * nc);
+      if (!nq) {
+        fprintf(stderr, "vibroimpact: %s: out of memory\n", c->path);
+        return 1;
+      }
+      *q[j] = nq;
+    }
+    r->cap = nc;
+  }
+  r->t[r->ns] = val[0];
+  r->x[r->ns] = val[1];
+  if (r->v) r->v[r->ns] = val[2];
+  if (r->f) r->f[r->ns] = val[3];
+  r->ns++;
+  return 0;
+}
+
+/* One non-comment line: the header, or a sample; 0, or the exit status
+ * after a message. */
+static int csv_line(csv *c, recording *r)
+{
+  double val[4] = {0, 0, 0, 0};
+  int k, rc = csv_fields(c, val, &k);
+  if (rc) return rc;
+  if (!c->ncol) {
+    c->ncol = k;
+    if (c->col[0] < 0 || c->col[1] < 0) {
+      fprintf(stderr, "vibroimpact: %s:%ld: the header needs columns t and "
+              "x (has: %s)", c->path, c->lno, c->line);
+      return 2;
+    }
+    return 0;
+  }
+  if (k != c->ncol) {
+    fprintf(stderr, "vibroimpact: %s:%ld: %d fields, the header has %d\n",
+            c->path, c->lno, k, c->ncol);
+    return 2;
+  }
+  if (r->ns > 0 && !(val[0] > r->t[r->ns - 1])) {
+    fprintf(stderr, "vibroimpact: %s:%ld:%d: t = %.17g does not increase "
+            "(the sample before: %.17g)\n", c->path, c->lno, 1, val[0], r->t[r->ns - 1]);
+    return 2;
+  }
+  return rec_push(r, c, val);
+}
+
+/* Read the CSV; 0, or 2 after printing file:line:column: why (1 out of
+ * memory). */
 static int read_csv(const char *path, recording *r)
 {
   memset(r, 0, sizeof *r);
@@ -66,124 +199,24 @@ static int read_csv(const char *path, recording *r)
   }
   char *line = NULL;
   size_t lcap = 0;
-  long lno = 0;
-  int ncol = 0, col[4] = {-1, -1, -1, -1}; /* t, x, v, f */
-  static const char *names[4] = {"t", "x", "v", "f"};
+  csv c = {path, NULL, 0, 0, {-1, -1, -1, -1}};
   int rc = 0;
-  while (getline(&line, &lcap, fp) >= 0) {
-    lno++;
+  while (!rc && getline(&line, &lcap, fp) >= 0) {
+    c.lno++;
+    c.line = line;
     const char *p = line;
     while (*p == ' ' || *p == '\t') p++;
     if (*p == '#' || *p == '\n' || *p == '\r' || !*p) continue;
-    int k = 0;
-    const char *a = line;
-    double val[4] = {0, 0, 0, 0};
-    for (;;) {
-      const char *b = strchr(a, ',');
-      if (!b) b = a + strlen(a);
-      const char *fa = a, *fb = b;
-      trim(&fa, &fb);
-      if (!ncol) { /* the header */
-        for (int c = 0; c < 4; c++)
-          if ((size_t)(fb - fa) == strlen(names[c]) && !strncmp(fa, names[c], fb - fa)) {
-            if (col[c] >= 0) {
-              fprintf(stderr, "vibroimpact: %s:%ld:%d: column '%s' twice\n",
-                      path, lno, (int)(fa - line) + 1, names[c]);
-              rc = 2;
-              goto done;
-            }
-            col[c] = k;
-          }
-      } else {
-        for (int c = 0; c < 4; c++) {
-          if (col[c] != k) continue;
-          char buf[128], *end;
-          int len = (int)(fb - fa);
-          if (len <= 0 || len >= (int)sizeof buf) {
-            fprintf(stderr, "vibroimpact: %s:%ld:%d: %s: empty or overlong "
-                    "field\n", path, lno, (int)(fa - line) + 1, names[c]);
-            rc = 2;
-            goto done;
-          }
-          memcpy(buf, fa, len);
-          buf[len] = 0;
-          errno = 0;
-          double v = strtod(buf, &end);
-          if (end == buf || *end) {
-            fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not a number\n",
-                    path, lno, (int)(fa - line) + 1, names[c], buf);
-            rc = 2;
-            goto done;
-          }
-          if (!isfinite(v)) {
-            fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not finite\n",
-                    path, lno, (int)(fa - line) + 1, names[c], buf);
-            rc = 2;
-            goto done;
-          }
-          val[c] = v;
-        }
-      }
-      k++;
-      if (!*b) break;
-      a = b + 1;
-    }
-    if (!ncol) {
-      ncol = k;
-      if (col[0] < 0 || col[1] < 0) {
-        fprintf(stderr, "vibroimpact: %s:%ld: the header needs columns t and "
-                "x (has: %s)", path, lno, line);
-        rc = 2;
-        goto done;
-      }
-      continue;
-    }
-    if (k != ncol) {
-      fprintf(stderr, "vibroimpact: %s:%ld: %d fields, the header has %d\n",
-              path, lno, k, ncol);
-      rc = 2;
-      goto done;
-    }
-    if (r->ns > 0 && !(val[0] > r->t[r->ns - 1])) {
-      fprintf(stderr, "vibroimpact: %s:%ld:%d: t = %.17g does not increase "
-              "(the sample before: %.17g)\n", path, lno, 1, val[0], r->t[r->ns - 1]);
-      rc = 2;
-      goto done;
-    }
-    if (r->ns == r->cap) {
-      int nc = r->cap ? 2 * r->cap : 1024;
-      double *q[4] = {r->t, r->x, r->v, r->f};
-      for (int c = 0; c < 4; c++) {
-        if (c >= 2 && col[c] < 0) continue;
-        double *nq = realloc(q[c], sizeof(double) * nc);
-        if (!nq) {
-          fprintf(stderr, "vibroimpact: %s: out of memory\n", path);
-          rc = 1;
-          goto done;
-        }
-        q[c] = nq;
-      }
-      r->t = q[0];
-      r->x = q[1];
-      r->v = q[2];
-      r->f = q[3];
-      r->cap = nc;
-    }
-    r->t[r->ns] = val[0];
-    r->x[r->ns] = val[1];
-    if (r->v) r->v[r->ns] = val[2];
-    if (r->f) r->f[r->ns] = val[3];
-    r->ns++;
+    rc = csv_line(&c, r);
   }
-  if (!ncol) {
+  if (!rc && !c.ncol) {
     fprintf(stderr, "vibroimpact: %s: no header line (t,x[,v][,f])\n", path);
     rc = 2;
-  } else if (r->ns < 16) {
+  } else if (!rc && r->ns < 16) {
     fprintf(stderr, "vibroimpact: %s: too few samples: %d (at least 16)\n",
             path, r->ns);
     rc = 2;
   }
-done:
   free(line);
   fclose(fp);
   if (rc) rec_free(r);
@@ -253,25 +286,12 @@ static void json_num(double v)
   else printf("null");
 }
 
+/* The forcing phase the recording's f column implies (NaN without one). */
 static double forcing_shift(const recording *r, double omega)
 {
-  /* f = alpha cos(Omega t) + beta sin(Omega t) by least squares: the
-   * forcing phase of the recording, f = A cos(Omega (t + t0)) */
-  if (!r->f) return NAN;
-  double cc = 0, cs = 0, ss = 0, fc = 0, fs = 0;
-  for (int i = 0; i < r->ns; i++) {
-    double c = cos(omega * r->t[i]), s = sin(omega * r->t[i]);
-    cc += c * c;
-    cs += c * s;
-    ss += s * s;
-    fc += r->f[i] * c;
-    fs += r->f[i] * s;
-  }
-  double det = cc * ss - cs * cs;
-  if (!(fabs(det) > 0)) return NAN;
-  double al = (fc * ss - fs * cs) / det, be = (fs * cc - fc * cs) / det;
-  double T = 2 * M_PI / omega, t0 = fmod(atan2(-be, al) / omega, T);
-  return t0 < 0 ? t0 + T : t0;
+  double t0 = NAN;
+  if (r->f) vi_identify_forcing_phase(r->ns, r->t, r->f, omega, &t0);
+  return t0;
 }
 
 typedef int (*write_h5_fn)(const char *, const vi_identify *, const char *,
@@ -307,12 +327,60 @@ static void usage(FILE *f)
     "input.\n");
 }
 
-int vi_cmd_identify_main(int argc, char **argv)
-{
-  const char *data = NULL, *fit = NULL, *out = NULL, *scene_path = NULL;
+/* The command line. */
+typedef struct id_args {
+  const char *data, *fit, *out, *scene_path;
   const char *sets[64];
-  int nsets = 0, json = 0, dof = 0, unstable = 0;
-  double noise = 0.0;
+  int nsets, json, dof, unstable;
+  double noise;
+} id_args;
+
+/* One option c into a: -1 to go on, else the exit status (0 after --help,
+ * 2 for a bad value, with the message). */
+static int identify_option(int c, int argc, char **argv, id_args *a)
+{
+  char *end;
+  switch (c) {
+  case 'd': a->data = optarg; break;
+  case 'F': a->fit = optarg; break;
+  case 'o': a->out = optarg; break;
+  case 'j': a->json = 1; break;
+  case 'u': a->unstable = 1; break;
+  case 'D':
+    a->dof = (int)strtol(optarg, &end, 10);
+    if (end == optarg || *end || a->dof < 1) {
+      fprintf(stderr, "vibroimpact: --dof: '%s' is not a coordinate number "
+              "(1, 2, ...)\n", optarg);
+      return 2;
+    }
+    break;
+  case 'n':
+    a->noise = strtod(optarg, &end);
+    if (end == optarg || *end || !(a->noise > 0) || !isfinite(a->noise)) {
+      fprintf(stderr, "vibroimpact: --noise: '%s' is not a number > 0\n", optarg);
+      return 2;
+    }
+    break;
+  case 's':
+    if (a->nsets == 64) {
+      fprintf(stderr, "vibroimpact: more than 64 --set\n");
+      return 2;
+    }
+    a->sets[a->nsets++] = optarg;
+    break;
+  case 'h': usage(stdout); return 0;
+  default:
+    fprintf(stderr, "vibroimpact: identify: unknown or incomplete option '%s'\n",
+            optind > 0 && optind <= argc ? argv[optind - 1] : "?");
+    usage(stderr);
+    return 2;
+  }
+  return -1;
+}
+
+/* -1 to go on, else the exit status. */
+static int identify_parse(int argc, char **argv, id_args *a)
+{
   static const struct option lo[] = {
       {"data", required_argument, 0, 'd'}, {"fit", required_argument, 0, 'F'},
       {"dof", required_argument, 0, 'D'},  {"noise", required_argument, 0, 'n'},
@@ -320,276 +388,313 @@ int vi_cmd_identify_main(int argc, char **argv)
       {"output", required_argument, 0, 'o'}, {"help", no_argument, 0, 'h'},
       {"unstable", no_argument, 0, 'u'},
       {0, 0, 0, 0}};
-  int c;
-  char *end;
+  int c, rc;
   optind = 0;
   opterr = 0;
-  while ((c = getopt_long(argc, argv, "o:", lo, NULL)) != -1) {
-    switch (c) {
-    case 'd': data = optarg; break;
-    case 'F': fit = optarg; break;
-    case 'o': out = optarg; break;
-    case 'j': json = 1; break;
-    case 'u': unstable = 1; break;
-    case 'D':
-      dof = (int)strtol(optarg, &end, 10);
-      if (end == optarg || *end || dof < 1) {
-        fprintf(stderr, "vibroimpact: --dof: '%s' is not a coordinate number "
-                "(1, 2, ...)\n", optarg);
-        return 2;
-      }
-      break;
-    case 'n':
-      noise = strtod(optarg, &end);
-      if (end == optarg || *end || !(noise > 0) || !isfinite(noise)) {
-        fprintf(stderr, "vibroimpact: --noise: '%s' is not a number > 0\n", optarg);
-        return 2;
-      }
-      break;
-    case 's':
-      if (nsets == 64) {
-        fprintf(stderr, "vibroimpact: more than 64 --set\n");
-        return 2;
-      }
-      sets[nsets++] = optarg;
-      break;
-    case 'h': usage(stdout); return 0;
-    default:
-      fprintf(stderr, "vibroimpact: identify: unknown or incomplete option '%s'\n",
-              optind > 0 && optind <= argc ? argv[optind - 1] : "?");
-      usage(stderr);
-      return 2;
-    }
-  }
-  if (optind < argc) scene_path = argv[optind++];
-  if (optind < argc || !scene_path || !data || !fit) {
+  while ((c = getopt_long(argc, argv, "o:", lo, NULL)) != -1)
+    if ((rc = identify_option(c, argc, argv, a)) >= 0) return rc;
+  if (optind < argc) a->scene_path = argv[optind++];
+  if (optind < argc || !a->scene_path || !a->data || !a->fit) {
     fprintf(stderr, "vibroimpact: identify needs SCENE, --data and --fit\n");
     usage(stderr);
     return 2;
   }
-  char target[VI_APP_PATH];
-  vi_diag d;
-  if (out && vi_output_resolve(out, target, sizeof target, &d)) {
-    fprintf(stderr, "vibroimpact: %s\n", d.message);
-    return 1;
-  }
-  /* the scene, with --set applied, kept as text for the builder */
+  return -1;
+}
+
+/* The identification's state. */
+typedef struct ident {
+  id_args a;
+  char *text, *keys, *edited;
+  vi_scene_edit *ed;
+  vi_scene *sc;
+  vi_model *model;
+  vi_identify *id;
+  recording rec;
+  builder b;
+  int use_builder;
+  double start[MAXKEY];
+} ident;
+
+/* The scene with --set applied (kept as text for the builder) and its
+ * model; 0 or 2 after a message. */
+static int identify_scene(ident *I)
+{
   char err[600];
-  int rc = 2, st;
-  char *text = vi_sweep_read_text(scene_path, err, sizeof err);
-  if (!text) {
+  vi_diag d;
+  int st;
+  I->text = vi_sweep_read_text(I->a.scene_path, err, sizeof err);
+  if (!I->text) {
     fprintf(stderr, "vibroimpact: %s\n", err);
     return 2;
   }
-  vi_scene_edit *ed = NULL;
-  vi_scene *sc = NULL;
-  vi_model *model = NULL;
-  vi_identify *id = NULL;
-  recording rec;
-  memset(&rec, 0, sizeof rec);
-  builder b;
-  memset(&b, 0, sizeof b);
-  char *keys = strdup(fit), *edited = NULL;
-  st = keys ? vi_scene_edit_create(text, -1, scene_path, &ed, &d) : VI_ERR_NOMEM;
-  for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
-  if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
-  if (!st) st = vi_scene_create_model(sc, &model, &d);
+  I->keys = strdup(I->a.fit);
+  st = I->keys ? vi_scene_edit_create(I->text, -1, I->a.scene_path, &I->ed, &d) : VI_ERR_NOMEM;
+  for (int i = 0; i < I->a.nsets && !st; i++) st = vi_scene_edit_assign(I->ed, I->a.sets[i], &d);
+  if (!st) st = vi_scene_edit_parse(I->ed, &I->sc, &d);
+  if (!st) st = vi_scene_create_model(I->sc, &I->model, &d);
   if (st) {
     vi_app_print_diag(&d, st);
-    goto done;
+    return 2;
   }
-  edited = strdup(vi_scene_edit_text(ed));
-  b.text = edited;
-  b.name = scene_path;
-  /* the keys: numeric scene values, or vi_param.h keys of the model */
-  int use_builder = 0;
-  double start[MAXKEY];
-  for (char *save = NULL, *k = strtok_r(keys, ",", &save); k;
+  I->edited = strdup(vi_scene_edit_text(I->ed));
+  I->b.text = I->edited;
+  I->b.name = I->a.scene_path;
+  return 0;
+}
+
+/* One --fit key: a numeric scene value, or a vi_param.h key of the model;
+ * its starting value into I->start.  0 or 2 after a message. */
+static int identify_key(ident *I, const char *k)
+{
+  char buf[128];
+  vi_diag kd;
+  int gs = vi_scene_edit_get(I->ed, k, buf, sizeof buf, &kd);
+  if (gs == VI_OK) {
+    char *e2;
+    double v = strtod(buf, &e2);
+    if (e2 == buf || *e2 || !isfinite(v)) {
+      int line, col;
+      locate(I->edited, k, buf, &line, &col);
+      fprintf(stderr, "vibroimpact: %s:%d:%d: %s = %s: not a number, cannot "
+              "be fitted\n", I->a.scene_path, line, col, k, buf);
+      return 2;
+    }
+    I->start[I->b.nk] = v;
+    if (vi_param_kind(k) != VI_PARAM_MODEL) I->use_builder = 1;
+  } else if (vi_param_kind(k) == VI_PARAM_MODEL &&
+             vi_model_param(I->model, k, &I->start[I->b.nk]) == VI_OK) {
+    /* a model key the scene does not write (stops[2].r, damping.zeta) */
+  } else {
+    fprintf(stderr, "vibroimpact: %s: --fit %s: %s\n", I->a.scene_path, k,
+            gs == VI_ERR_PARSE ? kd.message : "not a numeric key");
+    return 2;
+  }
+  return 0;
+}
+
+/* The --fit keys, comma-separated; 0 or 2 after a message. */
+static int identify_keys(ident *I)
+{
+  for (char *save = NULL, *k = strtok_r(I->keys, ",", &save); k;
        k = strtok_r(NULL, ",", &save)) {
-    if (b.nk == MAXKEY) {
+    if (I->b.nk == MAXKEY) {
       fprintf(stderr, "vibroimpact: --fit: more than %d keys\n", MAXKEY);
-      goto done;
+      return 2;
     }
-    char buf[128];
-    vi_diag kd;
-    int gs = vi_scene_edit_get(ed, k, buf, sizeof buf, &kd);
-    if (gs == VI_OK) {
-      char *e2;
-      double v = strtod(buf, &e2);
-      if (e2 == buf || *e2 || !isfinite(v)) {
-        int line, col;
-        locate(edited, k, buf, &line, &col);
-        fprintf(stderr, "vibroimpact: %s:%d:%d: %s = %s: not a number, cannot "
-                "be fitted\n", scene_path, line, col, k, buf);
-        goto done;
-      }
-      start[b.nk] = v;
-      if (vi_param_kind(k) != VI_PARAM_MODEL) use_builder = 1;
-    } else if (vi_param_kind(k) == VI_PARAM_MODEL &&
-               vi_model_param(model, k, &start[b.nk]) == VI_OK) {
-      /* a model key the scene does not write (stops[2].r, damping.zeta) */
-    } else {
-      fprintf(stderr, "vibroimpact: %s: --fit %s: %s\n", scene_path, k,
-              gs == VI_ERR_PARSE ? kd.message : "not a numeric key");
-      goto done;
-    }
-    b.key[b.nk++] = k;
+    if (identify_key(I, k)) return 2;
+    I->b.key[I->b.nk++] = k;
   }
-  if ((rc = read_csv(data, &rec))) goto done;
-  int n = vi_model_n(model);
-  if (dof > n) {
-    fprintf(stderr, "vibroimpact: --dof %d: the model has %d coordinates\n", dof, n);
-    rc = 2;
-    goto done;
+  return 0;
+}
+
+/* The fit set up: parameters, builder, observation, noise, data; 0 or the
+ * exit status after a message. */
+static int identify_setup(ident *I)
+{
+  const id_args *a = &I->a;
+  int n = vi_model_n(I->model), st, nk = I->b.nk;
+  if (a->dof > n) {
+    fprintf(stderr, "vibroimpact: --dof %d: the model has %d coordinates\n", a->dof, n);
+    return 2;
   }
-  if ((st = vi_identify_create(model, b.nk, &id))) {
+  if ((st = vi_identify_create(I->model, nk, &I->id))) {
     fprintf(stderr, "vibroimpact: %s: cannot identify this model: %s\n",
-            scene_path, vi_strerror(st));
-    rc = st == VI_ERR_NOMEM ? 1 : 2;
-    goto done;
+            a->scene_path, vi_strerror(st));
+    return st == VI_ERR_NOMEM ? 1 : 2;
   }
-  for (int j = 0; j < b.nk && !st; j++) {
-    st = vi_identify_set_param_key(id, j, b.key[j], NAN, NAN);
-    if (st) { /* a scene key vi_param.h does not know: the builder sets it */
-      int kind = VI_IDENTIFY_OTHER;
-      st = vi_identify_set_param(id, j, kind, 0, start[j], -HUGE_VAL, HUGE_VAL);
-    }
+  for (int j = 0; j < nk && !st; j++) {
+    st = vi_identify_set_param_key(I->id, j, I->b.key[j], NAN, NAN);
+    if (st) /* a scene key vi_param.h does not know: the builder sets it */
+      st = vi_identify_set_param(I->id, j, VI_IDENTIFY_OTHER, 0, I->start[j],
+                                 -HUGE_VAL, HUGE_VAL);
   }
-  if (!st && use_builder) st = vi_identify_set_builder(id, build, &b, NULL);
-  if (!st && dof) {
+  if (!st && I->use_builder) st = vi_identify_set_builder(I->id, build, &I->b, NULL);
+  if (!st && a->dof) {
     double *cv = calloc(n, sizeof(double));
     st = cv ? VI_OK : VI_ERR_NOMEM;
     if (cv) {
-      cv[dof - 1] = 1.0;
-      st = vi_identify_set_observation(id, cv);
+      cv[a->dof - 1] = 1.0;
+      st = vi_identify_set_observation(I->id, cv);
       free(cv);
     }
   }
-  if (!st) st = vi_identify_set_noise(id, noise);
-  if (!st && unstable) st = vi_identify_set_stable_only(id, 0);
-  if (!st) st = vi_identify_set_data(id, rec.ns, rec.t, rec.x, rec.v);
+  if (!st) st = vi_identify_set_noise(I->id, a->noise);
+  if (!st && a->unstable) st = vi_identify_set_stable_only(I->id, 0);
+  if (!st) st = vi_identify_set_data(I->id, I->rec.ns, I->rec.t, I->rec.x, I->rec.v);
   if (st) {
-    fprintf(stderr, "vibroimpact: %s: %s\n", data, vi_identify_errmsg(id));
-    rc = st == VI_ERR_NOMEM ? 1 : 2;
-    goto done;
+    fprintf(stderr, "vibroimpact: %s: %s\n", a->data, vi_identify_errmsg(I->id));
+    return st == VI_ERR_NOMEM ? 1 : 2;
   }
-  st = vi_identify_run(id);
-  if (st) {
-    fprintf(stderr, "vibroimpact: identify %s with %s: %s\n", scene_path, data,
-            vi_identify_errmsg(id));
-    rc = st == VI_ERR_ARG || st == VI_ERR_NOT_CONVERGED || st == VI_ERR_STATE ? 2 : 1;
-    goto done;
-  }
-  /* the results */
-  int np = b.nk, conv, iters, on, om;
+  return 0;
+}
+
+/* What the fit gives, read from the identification. */
+typedef struct fit_result {
+  int np, conv, iters, on, om, fl[MAXKEY];
   double p[MAXKEY], se[MAXKEY], l95[MAXKEY], h95[MAXKEY], R[MAXKEY * MAXKEY];
-  int fl[MAXKEY];
-  double rms, nz, rcond, t0, t0se, r12, vN, KE, RE, P, mu = NAN;
-  vi_identify_params(id, p, se, l95, h95, fl);
-  vi_identify_correlation(id, R, np);
-  vi_identify_summary(id, &conv, &iters, &rms, &nz, &rcond, &on, &om);
-  vi_identify_shift(id, &t0, &t0se);
-  vi_identify_energy_restitution(id, &r12, &vN, &KE, &RE);
-  vi_identify_orbit_period(id, &P, NULL);
-  vi_identify_stability(id, &mu);
-  double tf = forcing_shift(&rec, vi_model_omega_forcing(model));
-  if (json) {
-    printf("{\"fit\": {");
-    for (int j = 0; j < np; j++) {
-      printf("%s\"%s\": {\"value\": ", j ? ", " : "", b.key[j]);
-      json_num(p[j]);
-      printf(", \"stderr\": ");
-      json_num(se[j]);
-      printf(", \"ci95\": [");
-      json_num(l95[j]);
-      printf(", ");
-      json_num(h95[j]);
-      printf("], \"on_bound\": %s, \"undetermined\": %s}",
-             fl[j] & VI_IDENTIFY_ON_BOUND ? "true" : "false",
-             fl[j] & VI_IDENTIFY_UNDETERMINED ? "true" : "false");
-    }
-    printf("}, \"converged\": %s, \"iterations\": %d, \"rms_residual\": ",
-           conv ? "true" : "false", iters);
-    json_num(rms);
-    printf(", \"noise\": ");
-    json_num(nz);
-    printf(", \"shift\": ");
-    json_num(t0);
-    printf(", \"shift_stderr\": ");
-    json_num(t0se);
-    printf(", \"shift_forcing\": ");
-    json_num(tf);
-    printf(", \"period\": ");
-    json_num(P);
-    printf(", \"orbit\": {\"n\": %d, \"m\": %d, \"stable\": %s, \"multiplier\": ",
-           on, om, mu < 1.0 ? "true" : "false");
-    json_num(mu);
-    printf("}, \"samples\": %d, \"correlation\": [", rec.ns);
-    for (int i = 0; i < np; i++) {
-      printf("%s[", i ? ", " : "");
-      for (int j = 0; j < np; j++) {
-        printf("%s", j ? ", " : "");
-        json_num(R[i + j * np]);
-      }
-      printf("]");
-    }
-    printf("], \"rcond\": ");
-    json_num(rcond);
-    printf(", \"r_energy_balance\": ");
-    json_num(r12);
-    printf(", \"vN_recorded\": ");
-    json_num(vN);
-    printf("}\n");
-  } else {
-    printf("identify: scene %s, recording %s: %d samples over %.1f periods of "
-           "the fitted P(%d,%d) orbit\n", vi_scene_name(sc), data, rec.ns,
-           (rec.t[rec.ns - 1] - rec.t[0]) / P, on, om);
-    for (int j = 0; j < np; j++) {
-      printf("  %-22s = %.6g +- %.2g   (95 %%: [%.6g, %.6g])%s%s%s\n", b.key[j],
-             p[j], se[j], l95[j], h95[j],
-             fl[j] & VI_IDENTIFY_ON_BOUND ? "  ON A BOUND" : "",
-             fl[j] & VI_IDENTIFY_UNDETERMINED ? "  NOT DETERMINED by the data" : "",
-             fl[j] & VI_IDENTIFY_CORRELATED ? "  correlated > 0.99" : "");
-    }
-    printf("  shift t0               = %.6g +- %.2g (model time = t + t0)", t0, t0se);
-    if (isfinite(tf)) printf("; forcing column's phase: %.6g", tf);
-    printf("\n  %s in %d iterations; residual RMS %.3g", conv ? "converged" : "NOT CONVERGED",
-           iters, rms);
-    if (isfinite(nz)) printf(" against a noise level %.3g (ratio %.2f%s)", nz, rms / nz,
-                             rms > 1.5 * nz ? ": the model does not explain the data" : "");
-    printf("\n");
-    if (np > 1) {
-      printf("  correlations:");
-      for (int i = 0; i < np; i++)
-        for (int j = i + 1; j < np; j++) printf(" %s/%s %.3f", b.key[i], b.key[j], R[i + j * np]);
-      printf("\n");
-    }
-    if (isfinite(vN))
-      printf("  WB 12 route: recorded v_N %.6g, KE_i %.6g, the model's RE %.6g: "
-             "r = %.6g\n", vN, KE, RE, r12);
-    if (!(mu < 1.0))
-      printf("  the fitted orbit is UNSTABLE (largest |multiplier| %.3g): the "
-             "model cannot show this motion\n", mu);
-    if (rcond < 1e-10)
-      printf("  warning: the Jacobian is ill-conditioned (rcond %.2g): the data "
-             "do not determine every parameter\n", rcond);
+  double rms, nz, rcond, t0, t0se, r12, vN, KE, RE, P, mu, tf;
+} fit_result;
+
+static void identify_results(const ident *I, fit_result *f)
+{
+  const vi_identify *id = I->id;
+  f->np = I->b.nk;
+  f->mu = NAN;
+  vi_identify_params(id, f->p, f->se, f->l95, f->h95, f->fl);
+  vi_identify_correlation(id, f->R, f->np);
+  vi_identify_summary(id, &f->conv, &f->iters, &f->rms, &f->nz, &f->rcond, &f->on, &f->om);
+  vi_identify_shift(id, &f->t0, &f->t0se);
+  vi_identify_energy_restitution(id, &f->r12, &f->vN, &f->KE, &f->RE);
+  vi_identify_orbit_period(id, &f->P, NULL);
+  vi_identify_stability(id, &f->mu);
+  f->tf = forcing_shift(&I->rec, vi_model_omega_forcing(I->model));
+}
+
+static void identify_json(const ident *I, const fit_result *f)
+{
+  int np = f->np;
+  printf("{\"fit\": {");
+  for (int j = 0; j < np; j++) {
+    printf("%s\"%s\": {\"value\": ", j ? ", " : "", I->b.key[j]);
+    json_num(f->p[j]);
+    printf(", \"stderr\": ");
+    json_num(f->se[j]);
+    printf(", \"ci95\": [");
+    json_num(f->l95[j]);
+    printf(", ");
+    json_num(f->h95[j]);
+    printf("], \"on_bound\": %s, \"undetermined\": %s}",
+           f->fl[j] & VI_IDENTIFY_ON_BOUND ? "true" : "false",
+           f->fl[j] & VI_IDENTIFY_UNDETERMINED ? "true" : "false");
   }
-  rc = conv ? 0 : 1;
-  if (out) {
+  printf("}, \"converged\": %s, \"iterations\": %d, \"rms_residual\": ",
+         f->conv ? "true" : "false", f->iters);
+  json_num(f->rms);
+  printf(", \"noise\": ");
+  json_num(f->nz);
+  printf(", \"shift\": ");
+  json_num(f->t0);
+  printf(", \"shift_stderr\": ");
+  json_num(f->t0se);
+  printf(", \"shift_forcing\": ");
+  json_num(f->tf);
+  printf(", \"period\": ");
+  json_num(f->P);
+  printf(", \"orbit\": {\"n\": %d, \"m\": %d, \"stable\": %s, \"multiplier\": ",
+         f->on, f->om, f->mu < 1.0 ? "true" : "false");
+  json_num(f->mu);
+  printf("}, \"samples\": %d, \"correlation\": [", I->rec.ns);
+  for (int i = 0; i < np; i++) {
+    printf("%s[", i ? ", " : "");
+    for (int j = 0; j < np; j++) {
+      printf("%s", j ? ", " : "");
+      json_num(f->R[i + j * np]);
+    }
+    printf("]");
+  }
+  printf("], \"rcond\": ");
+  json_num(f->rcond);
+  printf(", \"r_energy_balance\": ");
+  json_num(f->r12);
+  printf(", \"vN_recorded\": ");
+  json_num(f->vN);
+  printf("}\n");
+}
+
+/* The text report's warnings: the fit's noise ratio, correlations, the
+ * WB 12 route, stability and conditioning. */
+static void identify_text_notes(const ident *I, const fit_result *f)
+{
+  int np = f->np;
+  if (isfinite(f->nz)) printf(" against a noise level %.3g (ratio %.2f%s)", f->nz, f->rms / f->nz,
+                              f->rms > 1.5 * f->nz ? ": the model does not explain the data" : "");
+  printf("\n");
+  if (np > 1) {
+    printf("  correlations:");
+    for (int i = 0; i < np; i++)
+      for (int j = i + 1; j < np; j++)
+        printf(" %s/%s %.3f", I->b.key[i], I->b.key[j], f->R[i + j * np]);
+    printf("\n");
+  }
+  if (isfinite(f->vN))
+    printf("  WB 12 route: recorded v_N %.6g, KE_i %.6g, the model's RE %.6g: "
+           "r = %.6g\n", f->vN, f->KE, f->RE, f->r12);
+  if (!(f->mu < 1.0))
+    printf("  the fitted orbit is UNSTABLE (largest |multiplier| %.3g): the "
+           "model cannot show this motion\n", f->mu);
+  if (f->rcond < 1e-10)
+    printf("  warning: the Jacobian is ill-conditioned (rcond %.2g): the data "
+           "do not determine every parameter\n", f->rcond);
+}
+
+static void identify_text(const ident *I, const fit_result *f)
+{
+  const recording *rec = &I->rec;
+  printf("identify: scene %s, recording %s: %d samples over %.1f periods of "
+         "the fitted P(%d,%d) orbit\n", vi_scene_name(I->sc), I->a.data, rec->ns,
+         (rec->t[rec->ns - 1] - rec->t[0]) / f->P, f->on, f->om);
+  for (int j = 0; j < f->np; j++) {
+    int fl = f->fl[j];
+    printf("  %-22s = %.6g +- %.2g   (95 %%: [%.6g, %.6g])%s%s%s\n", I->b.key[j],
+           f->p[j], f->se[j], f->l95[j], f->h95[j],
+           fl & VI_IDENTIFY_ON_BOUND ? "  ON A BOUND" : "",
+           fl & VI_IDENTIFY_UNDETERMINED ? "  NOT DETERMINED by the data" : "",
+           fl & VI_IDENTIFY_CORRELATED ? "  correlated > 0.99" : "");
+  }
+  printf("  shift t0               = %.6g +- %.2g (model time = t + t0)", f->t0, f->t0se);
+  if (isfinite(f->tf)) printf("; forcing column's phase: %.6g", f->tf);
+  printf("\n  %s in %d iterations; residual RMS %.3g", f->conv ? "converged" : "NOT CONVERGED",
+         f->iters, f->rms);
+  identify_text_notes(I, f);
+}
+
+/* Run the fit; 0, or the exit status after a message. */
+static int identify_run(ident *I)
+{
+  int st = vi_identify_run(I->id);
+  if (!st) return 0;
+  fprintf(stderr, "vibroimpact: identify %s with %s: %s\n", I->a.scene_path, I->a.data,
+          vi_identify_errmsg(I->id));
+  return st == VI_ERR_ARG || st == VI_ERR_NOT_CONVERGED || st == VI_ERR_STATE ? 2 : 1;
+}
+
+int vi_cmd_identify_main(int argc, char **argv)
+{
+  ident I;
+  memset(&I, 0, sizeof I);
+  int rc = identify_parse(argc, argv, &I.a);
+  if (rc >= 0) return rc;
+  char target[VI_APP_PATH];
+  vi_diag d;
+  if (I.a.out && vi_output_resolve(I.a.out, target, sizeof target, &d)) {
+    fprintf(stderr, "vibroimpact: %s\n", d.message);
+    return 1;
+  }
+  if ((rc = identify_scene(&I)) || (rc = identify_keys(&I)) ||
+      (rc = read_csv(I.a.data, &I.rec)) || (rc = identify_setup(&I)) ||
+      (rc = identify_run(&I)))
+    goto done;
+  fit_result f;
+  identify_results(&I, &f);
+  if (I.a.json) identify_json(&I, &f);
+  else identify_text(&I, &f);
+  rc = f.conv ? 0 : 1;
+  if (I.a.out) {
     write_h5_fn w = load_writer();
-    if (!w || w(target, id, fit, rec.ns, rec.t, rec.x, &d)) {
+    if (!w || w(target, I.id, I.a.fit, I.rec.ns, I.rec.t, I.rec.x, &d)) {
       if (w) fprintf(stderr, "vibroimpact: %s\n", d.message);
       rc = 1;
     }
   }
 done:
-  vi_identify_destroy(&id);
-  vi_model_destroy(&model);
-  vi_scene_destroy(&sc);
-  vi_scene_edit_destroy(&ed);
-  rec_free(&rec);
-  free(text);
-  free(keys);
-  free(edited);
+  vi_identify_destroy(&I.id);
+  vi_model_destroy(&I.model);
+  vi_scene_destroy(&I.sc);
+  vi_scene_edit_destroy(&I.ed);
+  rec_free(&I.rec);
+  free(I.text);
+  free(I.keys);
+  free(I.edited);
   return rc;
 }

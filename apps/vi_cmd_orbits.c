@@ -3,14 +3,11 @@
  *   vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json] [--phases K]
  *                      [--set KEY=VALUE]... [--continue KEY --to B [--steps K]]
  *
- * Seeds: for m = 1 an exhaustive scan of impact phases (vi_orbit_p1_scan:
- * every P(n,1) orbit, unstable and inadmissible ones included); for any m
- * the motions that transients settle on, from the scene's `initial:` and
- * from rest at 8 forcing phases.  Each seed is refined by Newton
- * (vi_orbit_pnm_solve_stops), checked for admissibility, and its Floquet
- * multipliers come from the monodromy matrix with saltation matrices.
- * With several stops each impact keeps the stop it hit (the seeds are
- * transients only: the scan is for one stop). */
+ * The census itself (seeds, Newton, duplicates, multipliers,
+ * admissibility) is the library's (vi_census.h); this command parses the
+ * arguments, hands the scene's run settings and initial state to the
+ * census, and prints (text or JSON) or follows each admissible orbit
+ * (--continue, vi_sweep_cont.c). */
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -18,37 +15,18 @@
 #include <string.h>
 
 #include "vibroimpact.h"
+#include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vi_sweep.h"
 
-#define MAXORB 64
-#define RINGN 4096
-
-typedef struct orbit {
-  int n, m, admissible, stable;
-  int *stop;                   /* [m] the stop of each impact */
-  double *t, *x, *v, *re, *im; /* [m], [N x m], [N x m], [2N], [2N] */
-  double gmax;
-} orbit;
-
+/* The census (vi_census.h) and the model it was run on. */
 typedef struct list {
   const vi_model *mdl;
+  vi_census *c;
   int N, n, m, count;
-  orbit o[MAXORB];
 } list;
-
-static void orbit_free(orbit *o)
-{
-  free(o->stop);
-  free(o->t);
-  free(o->x);
-  free(o->v);
-  free(o->re);
-  free(o->im);
-  memset(o, 0, sizeof *o);
-}
 
 /* A whole number in [lo, hi] or -1. */
 static int whole(const char *s, int lo, int hi)
@@ -58,226 +36,96 @@ static int whole(const char *s, int lo, int hi)
   return end != s && !*end && v >= lo && v <= hi ? (int)v : -1;
 }
 
-/* Same orbit: the same impacts up to a cyclic shift of their order and a
- * shift of time by whole forcing periods (the forcing is T-periodic, so a
- * P(n, m) orbit and its copy started T later are one orbit). */
-static int same(const list *L, const orbit *a, const double *t, const double *v,
-                const int *stop)
+/* One orbit's impacts and stability, read from the census into buffers of
+ * m and 2N entries (no numerics here). */
+typedef struct orbit_view {
+  int *stop, stable, admissible;
+  double *t, *vn, *re, *im, gmax;
+} orbit_view;
+
+static int view_alloc(const list *L, orbit_view *o)
 {
-  double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
-  int N = L->N;
-  for (int s = 0; s < L->m; s++) {
-    int ok = 1;
-    for (int j = 0; j < L->m && ok; j++) {
-      int k = (j + s) % L->m;
-      if (a->stop[j] != stop[k]) {
-        ok = 0;
-        break;
-      }
-      double d = fmod(fabs(a->t[j] - t[k]), T), dv = 0, sv = 1;
-      for (int q = 0; q < N; q++) {
-        dv = fmax(dv, fabs(a->v[(size_t)j * N + q] - v[(size_t)k * N + q]));
-        sv = fmax(sv, fabs(v[(size_t)k * N + q]));
-      }
-      ok = fmin(d, T - d) < 1e-7 * T && dv < 1e-6 * sv;
-    }
-    if (ok) return 1;
-  }
-  return 0;
+  memset(o, 0, sizeof *o);
+  o->stop = malloc(sizeof(int) * (size_t)L->m);
+  o->t = malloc(sizeof(double) * (size_t)L->m);
+  o->vn = malloc(sizeof(double) * (size_t)L->m);
+  o->re = malloc(sizeof(double) * 2 * (size_t)L->N);
+  o->im = malloc(sizeof(double) * 2 * (size_t)L->N);
+  return o->stop && o->t && o->vn && o->re && o->im ? 0 : 1;
 }
 
-/* Refine a seed (stop: the stop of each impact, NULL for stop 0); keep it
- * if new. */
-static void add(list *L, double *t, double *x, double *v, const int *stop)
+static void view_free(orbit_view *o)
+{
+  free(o->stop);
+  free(o->t);
+  free(o->vn);
+  free(o->re);
+  free(o->im);
+}
+
+static void view_read(const list *L, int i, orbit_view *o)
+{
+  vi_census_orbit(L->c, i, o->t, NULL, NULL, L->N, o->stop, o->vn);
+  vi_census_stability(L->c, i, o->re, o->im, &o->stable, &o->admissible, &o->gmax);
+}
+
+static void print_json_orbit(const list *L, const orbit_view *o, int i)
 {
   int N = L->N, m = L->m;
-  int *sp = calloc((size_t)m, sizeof(int));
-  if (!sp) return;
-  for (int j = 0; stop && j < m; j++) sp[j] = stop[j];
-  if (vi_orbit_pnm_solve_stops(L->mdl, L->n, m, sp, t, x, v, N, 0.0, NULL)) {
-    free(sp);
-    return;
-  }
-  double P = L->n * 2 * M_PI / vi_model_omega_forcing(L->mdl);
-  /* impact times into [0, nT), order kept cyclically */
-  double sh = floor(t[0] / P) * P;
-  for (int j = 0; j < m; j++) t[j] -= sh;
-  for (int i = 0; i < L->count; i++)
-    if (same(L, &L->o[i], t, v, sp)) {
-      free(sp);
-      return;
-    }
-  if (L->count == MAXORB) {
-    free(sp);
-    return;
-  }
-  orbit *o = &L->o[L->count];
-  memset(o, 0, sizeof *o);
-  o->stop = sp;
-  o->t = malloc(sizeof(double) * m);
-  o->x = malloc(sizeof(double) * N * m);
-  o->v = malloc(sizeof(double) * N * m);
-  o->re = malloc(sizeof(double) * 2 * N);
-  o->im = malloc(sizeof(double) * 2 * N);
-  if (!o->t || !o->x || !o->v || !o->re || !o->im) {
-    orbit_free(o);
-    return;
-  }
-  memcpy(o->t, t, sizeof(double) * m);
-  memcpy(o->x, x, sizeof(double) * N * m);
-  memcpy(o->v, v, sizeof(double) * N * m);
-  o->n = L->n;
-  o->m = m;
-  if (vi_orbit_pnm_multipliers_stops(L->mdl, L->n, m, sp, t, x, v, N, o->re, o->im) ||
-      vi_orbit_pnm_admissible_stops(L->mdl, L->n, m, sp, t, x, v, N, &o->gmax,
-                                    &o->admissible)) {
-    orbit_free(o);
-    return;
-  }
-  double mx = 0;
-  for (int i = 0; i < 2 * N; i++) mx = fmax(mx, hypot(o->re[i], o->im[i]));
-  o->stable = mx < 1.0;
-  L->count++;
+  double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
+  printf("%s{\"n\": %d, \"m\": %d, \"vN\": [", i ? ", " : "", L->n, m);
+  for (int j = 0; j < m; j++) printf("%s%.17g", j ? ", " : "", o->vn[j]);
+  printf("], \"stop\": [");
+  for (int j = 0; j < m; j++) printf("%s%d", j ? ", " : "", o->stop[j]);
+  printf("], \"impact_time_mod_T\": [");
+  for (int j = 0; j < m; j++) printf("%s%.17g", j ? ", " : "", fmod(o->t[j], T));
+  printf("], \"impact_time\": [");
+  for (int j = 0; j < m; j++) printf("%s%.17g", j ? ", " : "", o->t[j]);
+  printf("], \"multipliers\": [");
+  for (int j = 0; j < 2 * N; j++)
+    printf("%s[%.17g, %.17g]", j ? ", " : "", o->re[j], o->im[j]);
+  printf("], \"stable\": %s, \"admissible\": %s, \"max_gap_between_impacts\": %.17g}",
+         o->stable ? "true" : "false", o->admissible ? "true" : "false", o->gmax);
 }
 
-/* ---- seeds from transients ---------------------------------------------- */
-typedef struct ring {
-  int N;
-  int64_t k;
-  double t[RINGN], *z; /* z: RINGN x 2N, pre-impact (x, v) */
-  int stop[RINGN];
-} ring;
-
-static int on_impact(const vi_event *ev, void *user)
-{
-  ring *r = user;
-  if (ev->kind != VI_EVENT_IMPACT) return 0;
-  int i = (int)(r->k % RINGN);
-  r->t[i] = ev->t;
-  r->stop[i] = ev->stop;
-  memcpy(r->z + (size_t)i * 2 * r->N, ev->x, sizeof(double) * r->N);
-  memcpy(r->z + (size_t)i * 2 * r->N + r->N, ev->v_minus, sizeof(double) * r->N);
-  r->k++;
-  return 0;
-}
-
-/* Run from (t0, x0, v0) until the stroboscopic states repeat with period n
- * (3 times, 1e-9 relative) with m impacts per n periods; seed from them. */
-static void transient_seed(list *L, const vi_scene *sc, double t0,
-                           const double *x0, const double *v0, int maxp)
-{
-  int N = L->N, n = L->n, m = L->m;
-  vi_sim *s = NULL;
-  ring *r = calloc(1, sizeof *r);
-  double *z = malloc(sizeof(double) * 2 * N * (3 * n + 1)), T;
-  double *st = malloc(sizeof(double) * (2 * N + 1) * m + 1);
-  if (!r || !z || !st) goto done;
-  r->N = N;
-  r->z = malloc(sizeof(double) * RINGN * 2 * N);
-  if (!r->z || vi_sim_create(L->mdl, &s) || vi_scene_configure_sim(sc, s, NULL) ||
-      vi_sim_set_method(s, VI_METHOD_EXACT) || vi_sim_set_initial(s, t0, x0, v0))
-    goto done;
-  vi_sim_set_event_callback(s, on_impact, r, NULL);
-  T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
-  int W = 3 * n + 1;
-  for (int k = 1; k <= maxp; k++) {
-    if (vi_sim_run(s, t0 + k * T)) goto done;
-    double *zk = z + (size_t)(k % W) * 2 * N;
-    vi_sim_state(s, NULL, zk, zk + N);
-    if (k < W || r->k < m) continue;
-    double scl = 1e-9;
-    for (int i = 0; i < 2 * N; i++) scl = fmax(scl, fabs(zk[i]));
-    int ok = 1;
-    for (int j = 1; j <= 3 && ok; j++)
-      for (int i = 0; i < 2 * N && ok; i++)
-        ok = fabs(z[(size_t)((k - j * n) % W) * 2 * N + i] - zk[i]) <= 1e-9 * scl;
-    if (!ok) continue;
-    int cnt = 0;
-    double tn = t0 + (k - n) * T;
-    for (int64_t q = r->k - 1; q >= 0 && q > r->k - RINGN && r->t[q % RINGN] >= tn; q--) cnt++;
-    if (cnt != m) goto done; /* periodic, but another P(n, m') */
-    double *tt = st, *xx = tt + m, *vv = xx + (size_t)N * m;
-    int *sp = malloc(sizeof(int) * (size_t)m);
-    if (!sp) goto done;
-    for (int j = 0; j < m; j++) {
-      int64_t q = r->k - m + j;
-      tt[j] = r->t[q % RINGN];
-      sp[j] = r->stop[q % RINGN];
-      memcpy(xx + (size_t)j * N, r->z + (size_t)(q % RINGN) * 2 * N, sizeof(double) * N);
-      memcpy(vv + (size_t)j * N, r->z + (size_t)(q % RINGN) * 2 * N + N, sizeof(double) * N);
-    }
-    add(L, tt, xx, vv, sp);
-    free(sp);
-    goto done;
-  }
-done:
-  vi_sim_destroy(&s);
-  if (r) free(r->z);
-  free(r);
-  free(z);
-  free(st);
-}
-
-/* the approach velocity w_k.v of impact j on its stop k */
-static double approach(const list *L, const orbit *o, int j)
-{
-  int N = L->N;
-  double *w = malloc(sizeof(double) * (size_t)N), vn = NAN;
-  if (w && !vi_model_stop(L->mdl, o->stop[j], w, NULL, NULL)) {
-    vn = 0;
-    for (int q = 0; q < N; q++) vn += w[q] * o->v[(size_t)j * N + q];
-  }
-  free(w);
-  return vn;
-}
-
-static void print_json(const list *L)
-{
-  int N = L->N;
-  printf("{\"orbits\": [");
-  for (int i = 0; i < L->count; i++) {
-    const orbit *o = &L->o[i];
-    double P = o->n * 2 * M_PI / vi_model_omega_forcing(L->mdl),
-           T = P / o->n;
-    printf("%s{\"n\": %d, \"m\": %d, \"vN\": [", i ? ", " : "", o->n, o->m);
-    for (int j = 0; j < o->m; j++)
-      printf("%s%.17g", j ? ", " : "", approach(L, o, j));
-    printf("], \"stop\": [");
-    for (int j = 0; j < o->m; j++) printf("%s%d", j ? ", " : "", o->stop[j]);
-    printf("], \"impact_time_mod_T\": [");
-    for (int j = 0; j < o->m; j++) printf("%s%.17g", j ? ", " : "", fmod(o->t[j], T));
-    printf("], \"impact_time\": [");
-    for (int j = 0; j < o->m; j++) printf("%s%.17g", j ? ", " : "", o->t[j]);
-    printf("], \"multipliers\": [");
-    for (int j = 0; j < 2 * N; j++)
-      printf("%s[%.17g, %.17g]", j ? ", " : "", o->re[j], o->im[j]);
-    printf("], \"stable\": %s, \"admissible\": %s, \"max_gap_between_impacts\": %.17g}",
-           o->stable ? "true" : "false", o->admissible ? "true" : "false", o->gmax);
-  }
-  printf("]}\n");
-}
-
-static void print_text(const list *L, const char *name)
+static void print_text_orbit(const list *L, const orbit_view *o, int i)
 {
   int N = L->N, ns = vi_model_num_stops(L->mdl);
   double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
-  printf("P(%d,%d) orbits of %s (Omega = %.10g, T = %.10g): %d found\n", L->n,
-         L->m, name, vi_model_omega_forcing(L->mdl), T, L->count);
-  for (int i = 0; i < L->count; i++) {
-    const orbit *o = &L->o[i];
-    printf("  orbit %d: %s, %s\n", i + 1, o->stable ? "stable" : "unstable",
-           o->admissible ? "admissible" : "NOT admissible (contact between impacts, or no approach)");
-    for (int j = 0; j < o->m; j++) {
-      printf("    impact %d: t mod T = %.12g, v_N = %.12g", j + 1, fmod(o->t[j], T),
-             approach(L, o, j));
-      if (ns > 1) printf(" (stop %d)", o->stop[j] + 1);
-      printf("\n");
-    }
-    printf("    multipliers:");
-    for (int j = 0; j < 2 * N; j++)
-      printf(" %.8g%+.8gi (|%.6g|)", o->re[j], o->im[j], hypot(o->re[j], o->im[j]));
-    printf("\n    largest gap between impacts %.3g\n", o->gmax);
+  printf("  orbit %d: %s, %s\n", i + 1, o->stable ? "stable" : "unstable",
+         o->admissible ? "admissible" : "NOT admissible (contact between impacts, or no approach)");
+  for (int j = 0; j < L->m; j++) {
+    printf("    impact %d: t mod T = %.12g, v_N = %.12g", j + 1, fmod(o->t[j], T), o->vn[j]);
+    if (ns > 1) printf(" (stop %d)", o->stop[j] + 1);
+    printf("\n");
   }
+  printf("    multipliers:");
+  for (int j = 0; j < 2 * N; j++)
+    printf(" %.8g%+.8gi (|%.6g|)", o->re[j], o->im[j], hypot(o->re[j], o->im[j]));
+  printf("\n    largest gap between impacts %.3g\n", o->gmax);
+}
+
+/* The census as text (name: the scene) or JSON; 0, or 1 out of memory. */
+static int print_orbits(const list *L, int json, const char *name)
+{
+  orbit_view o;
+  if (view_alloc(L, &o)) {
+    view_free(&o);
+    return 1;
+  }
+  double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
+  if (json) printf("{\"orbits\": [");
+  else
+    printf("P(%d,%d) orbits of %s (Omega = %.10g, T = %.10g): %d found\n", L->n,
+           L->m, name, vi_model_omega_forcing(L->mdl), T, L->count);
+  for (int i = 0; i < L->count; i++) {
+    view_read(L, i, &o);
+    if (json) print_json_orbit(L, &o, i);
+    else print_text_orbit(L, &o, i);
+  }
+  if (json) printf("]}\n");
+  view_free(&o);
+  return 0;
 }
 
 typedef struct oargs {
@@ -376,42 +224,33 @@ static int orbits_model(const oargs *a, vi_scene **sc, vi_model **mdl)
   return 0;
 }
 
-/* Seeds: the phase scan (m = 1, one stop), then transients from the
- * scene's initial state and from rest at 8 forcing phases.  0, or the exit
- * status with the message printed. */
+/* The sim hook: the scene's run settings on each transient. */
+static int configure(vi_sim *sim, void *user)
+{
+  return vi_scene_configure_sim(user, sim, NULL);
+}
+
+/* The census (vi_census.h) seeded also from the scene's initial state;
+ * 0, or the exit status with the message printed. */
 static int census(list *L, const vi_scene *sc, int phases)
 {
-  const vi_model *mdl = L->mdl;
-  int N = L->N, st;
-  if (L->m == 1 && vi_model_num_stops(mdl) == 1) { /* the scan: one stop */
-    double *t = malloc(sizeof(double) * MAXORB * (2 * N + 1));
-    int found = 0;
-    if (!t) return 1;
-    double *x = t + MAXORB, *v = x + (size_t)MAXORB * N;
-    st = vi_orbit_p1_scan(mdl, L->n, phases, t, x, v, N, MAXORB, &found);
-    if (st) {
-      fprintf(stderr, "vibroimpact: orbits: %s\n", vi_strerror(st));
-      free(t);
-      return st == VI_ERR_UNSUPPORTED ? 2 : 1;
-    }
-    for (int i = 0; i < found && i < MAXORB; i++)
-      add(L, &t[i], x + (size_t)i * N, v + (size_t)i * N, NULL);
-    free(t);
-  }
-  double *x0 = calloc((size_t)N * 2, sizeof(double));
-  if (!x0) return 0;
-  double T = 2 * M_PI / vi_model_omega_forcing(mdl);
+  int st = vi_census_create(L->mdl, L->n, L->m, &L->c);
+  if (!st) st = vi_census_set_phases(L->c, phases);
+  if (!st) st = vi_census_set_sim_hook(L->c, configure, (void *)sc, NULL);
   vi_sim *s0 = NULL;
-  /* the scene's initial state, then rest at 8 forcing phases */
-  if (!vi_sim_create(mdl, &s0) && !vi_scene_configure_sim(sc, s0, NULL)) {
-    double t0, *xs = malloc(sizeof(double) * 2 * N);
-    if (xs && !vi_sim_state(s0, &t0, xs, xs + N))
-      transient_seed(L, sc, t0, xs, xs + N, 2000);
-    free(xs);
-  }
+  double t0, *xs = malloc(sizeof(double) * 2 * (size_t)L->N);
+  if (!st && xs && !vi_sim_create(L->mdl, &s0) && !vi_scene_configure_sim(sc, s0, NULL) &&
+      !vi_sim_state(s0, &t0, xs, xs + L->N))
+    st = vi_census_set_initial(L->c, t0, xs, xs + L->N);
   vi_sim_destroy(&s0);
-  for (int k = 0; k < 8; k++) transient_seed(L, sc, k * T / 8, x0, x0 + N, 2000);
-  free(x0);
+  free(xs);
+  if (!st) st = vi_census_run(L->c);
+  if (st) {
+    fprintf(stderr, "vibroimpact: orbits: %s\n",
+            L->c ? vi_census_errmsg(L->c) : vi_strerror(st));
+    return st == VI_ERR_UNSUPPORTED || st == VI_ERR_STATE ? 2 : 1;
+  }
+  L->count = vi_census_count(L->c);
   return 0;
 }
 
@@ -419,14 +258,17 @@ static int census(list *L, const vi_scene *sc, int phases)
 static int follow_all(const list *L, const vi_scene *sc, const oargs *a)
 {
   char err[2048];
-  int rc = 0;
+  int rc = 0, adm;
+  double t, *x = malloc(sizeof(double) * 2 * (size_t)L->N);
+  if (!x) return 1;
   if (a->json) printf("{\"branches\": [");
   for (int i = 0, k = 0; i < L->count; i++) {
-    if (!L->o[i].admissible) continue;
+    vi_census_stability(L->c, i, NULL, NULL, NULL, &adm, NULL);
+    if (!adm) continue;
     if (a->json && k++) printf(", ");
+    vi_census_orbit(L->c, i, &t, x, x + L->N, L->N, NULL, NULL);
     int r = vi_sweep_follow(L->mdl, sc, a->ckey, a->arclength, a->cto, a->csteps,
-                            a->np, *L->o[i].t, L->o[i].x, L->o[i].v, a->json, err,
-                            sizeof err);
+                            a->np, t, x, x + L->N, a->json, err, sizeof err);
     if (r) {
       fprintf(stderr, "vibroimpact: orbits: --continue: %s\n", err);
       rc = r;
@@ -434,6 +276,7 @@ static int follow_all(const list *L, const vi_scene *sc, const oargs *a)
     }
   }
   if (a->json) printf("]}\n");
+  free(x);
   return rc;
 }
 
@@ -456,9 +299,9 @@ int vi_cmd_orbits_main(int argc, char **argv)
     L->m = a.mi;
     rc = census(L, sc, a.phases);
     if (!rc && a.ckey) rc = follow_all(L, sc, &a);
-    else if (!rc && a.json) print_json(L);
-    else if (!rc) print_text(L, a.scene ? a.scene : "the default scene (Fig. 2)");
-    for (int i = 0; i < L->count; i++) orbit_free(&L->o[i]);
+    else if (!rc)
+      rc = print_orbits(L, a.json, a.scene ? a.scene : "the default scene (Fig. 2)");
+    vi_census_destroy(&L->c);
     free(L);
   }
   vi_model_destroy(&mdl);

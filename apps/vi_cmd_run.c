@@ -177,6 +177,149 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
             o->out, rows[0], rows[1], rows[2]);
 }
 
+/* The sim of the scene's model with the scene's settings; 0 or the exit
+ * status with the message printed. */
+static int create_sim(const vi_scene *sc, const vi_model *m, vi_sim **s)
+{
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  int st = vi_sim_create(m, s);
+  if (!st) st = vi_scene_configure_sim(sc, *s, &d);
+  if (!st) return 0;
+  if (!d.message[0]) snprintf(d.message, sizeof d.message, "%s", vi_sim_errmsg(*s));
+  vi_app_print_diag(&d, st);
+  return st == VI_ERR_NOMEM ? 1 : 2;
+}
+
+/* The full Psi into the HDF5 file, only when asked: the reduction is
+ * solved again with its shapes kept (the model made for the run kept
+ * none).  0 or the exit status with the message printed. */
+static int write_shapes(run_ctx *c, const vi_scene *sc)
+{
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  vi_fe *fe = NULL;
+  int fst = vi_scene_create_fe(sc, 0, 1, &fe, &d), wst = VI_OK;
+  if (fst)
+    vi_app_print_diag(&d, fst);
+  else if ((wst = c->wa->fe_shapes(c->w, fe)))
+    fprintf(stderr, "vibroimpact: %s\n", c->wa->errmsg(c->w));
+  vi_fe_destroy(&fe);
+  if (fst || wst) return fst && fst != VI_ERR_NOMEM ? 2 : 1;
+  return 0;
+}
+
+/* -o: the HDF5 writer, its header and the shapes if asked; 0 or the exit
+ * status with the message printed. */
+static int open_writer(run_ctx *c, const vi_scene *sc, const vi_model *m, int outs)
+{
+  const app_opts *o = c->o;
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  if (!(c->wa = vi_app_writer())) return 1;
+  if (c->wa->create(o->out_target, m, (outs & VI_SCENE_OUT_COMPRESS) != 0, &c->w, &d)) {
+    fprintf(stderr, "vibroimpact: %s\n", d.message);
+    return 1;
+  }
+  if (c->wa->write_header(c->w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
+                          vi_scene_method(sc))) {
+    fprintf(stderr, "vibroimpact: %s\n", c->wa->errmsg(c->w));
+    return 1;
+  }
+  return outs & VI_SCENE_OUT_SHAPES ? write_shapes(c, sc) : 0;
+}
+
+/* --csv: the impacts table opened and its header written; 0, or 1 with
+ * the message printed (and part cleared: nothing of ours to remove). */
+static int open_csv(run_ctx *c, char *part)
+{
+  const app_opts *o = c->o;
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  if (vi_output_open(o->csv_target, o->csv_kind, &c->csv, &d)) {
+    fprintf(stderr, "vibroimpact: %s\n", d.message);
+    part[0] = '\0';
+    return 1;
+  }
+  fprintf(c->csv, "k,t,vn");
+  for (int i = 1; i <= c->n; i++) fprintf(c->csv, ",x_%d", i);
+  for (int i = 1; i <= c->n; i++) fprintf(c->csv, ",v_%d", i);
+  fputc('\n', c->csv);
+  return 0;
+}
+
+/* The callbacks on the sim (events, progress, cancel, samples, ledger),
+ * then the run; the status of vi_sim_run, *wall its seconds. */
+static int simulate(run_ctx *c, vi_sim *s, double period, int spp, int ledger,
+                    double *wall)
+{
+  vi_sim_set_event_callback(s, on_event, c, NULL);
+  if (c->o->progress) vi_sim_set_monitor(s, period, on_monitor, c, NULL);
+  vi_sim_set_cancel(s, vi_app_cancel, NULL, NULL);
+  if (spp > 0) vi_sim_set_sampling(s, period / spp, on_sample, c, NULL);
+  if (ledger) {
+    vi_sim_enable_ledger(s, 1);
+    vi_sim_set_ledger_callback(s, on_ledger, c, NULL);
+  }
+  c->wall0 = now();
+  vi_app_set_polling(1);
+  int st = vi_sim_run(s, c->t_end);
+  *wall = now() - c->wall0;
+  if (c->o->progress) fputc('\n', stderr);
+  return st;
+}
+
+/* After the run: write errors reported, the HDF5 file's row counts and
+ * its completion, the CSV closed (renamed into place; part cleared).  0
+ * or 1 with the message printed. */
+static int close_outputs(run_ctx *c, const vi_sim *s, int complete, long *rows,
+                         char *part)
+{
+  const app_opts *o = c->o;
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  if (c->io_err) {
+    fprintf(stderr, "vibroimpact: writing output failed: %s\n",
+            c->io_err == 1 && c->w ? c->wa->errmsg(c->w)
+            : c->csv == stdout     ? "cannot write the standard output"
+                                   : "cannot write the impacts CSV (disk full?)");
+    return 1;
+  }
+  static const char *tables[3] = {"impacts", "trajectory", "ledger"};
+  for (int k = 0; k < 3 && c->w; k++) rows[k] = c->wa->rows(c->w, tables[k]);
+  if (c->w && (c->wa->run_info(c->w, s) || c->wa->finish(c->w, complete))) {
+    fprintf(stderr, "vibroimpact: %s\n", c->wa->errmsg(c->w));
+    return 1;
+  }
+  if (c->csv) {
+    /* every write, the flush, the sync and the close checked; renamed */
+    int to_stdout = c->csv == stdout;
+    if (vi_output_close(&c->csv, o->csv_target, o->csv_kind, &d)) {
+      fprintf(stderr, "vibroimpact: %s\n", d.message);
+      return 1;
+    }
+    if (to_stdout) c->csv = stdout; /* the summary then goes to stderr */
+    part[0] = '\0';
+  }
+  return 0;
+}
+
+/* A run cut short by a signal, or a signal after it finished: the exit
+ * status (the message printed); 0 for none. */
+static int interrupted(const run_ctx *c, const vi_sim *s, int complete)
+{
+  if (!complete) {
+    double t;
+    vi_sim_state(s, &t, NULL, NULL);
+    fprintf(stderr, "vibroimpact: interrupted (%s) at t = %g%s\n",
+            vi_app_signal == SIGTERM ? "SIGTERM" : "SIGINT", t,
+            c->o->out ? "; the output file is valid and marked incomplete" : "");
+    return vi_app_interrupt_status();
+  }
+  /* after the run had finished: the file is whole */
+  return vi_app_signal ? vi_app_interrupt_status() : 0;
+}
+
 int vi_cmd_run(const app_opts *o)
 {
   vi_scene *sc = NULL;
@@ -186,13 +329,9 @@ int vi_cmd_run(const app_opts *o)
   memset(&c, 0, sizeof c);
   c.o = o;
   char part[VI_APP_PATH + 8] = "", h5part[VI_APP_PATH + 8] = "";
-  vi_diag d;
-  memset(&d, 0, sizeof d);
   int rc = vi_app_load(o, &sc, &m), st;
   if (rc) return rc;
-  rc = 1;
-  int n = vi_model_n(m);
-  c.n = n;
+  c.n = vi_model_n(m);
   c.t0 = vi_scene_t0(sc);
   c.t_end = vi_scene_t_end(sc);
   /* only what something consumes: the ledger feeds the file and the
@@ -201,114 +340,26 @@ int vi_cmd_run(const app_opts *o)
   int ledger = (outs & VI_SCENE_OUT_LEDGER) && (o->out || !o->quiet);
   c.store_events = (outs & VI_SCENE_OUT_IMPACTS) != 0;
   int spp = o->out ? vi_scene_samples_per_period(sc) : 0;
-  if ((st = vi_sim_create(m, &s)) || (st = vi_scene_configure_sim(sc, s, &d))) {
-    if (!d.message[0]) snprintf(d.message, sizeof d.message, "%s", vi_sim_errmsg(s));
-    vi_app_print_diag(&d, st);
-    rc = st == VI_ERR_NOMEM ? 1 : 2;
-    goto done;
-  }
+  if ((rc = create_sim(sc, m, &s))) goto done;
   /* from here files exist: a signal before the run polls removes them */
   if (o->out) vi_output_part(o->out_target, h5part, (int)sizeof h5part);
   if (o->csv && o->csv_kind == VI_OUTPUT_FILE)
     vi_output_part(o->csv_target, part, (int)sizeof part);
   vi_app_arm_parts(h5part, part);
-  if (o->out) {
-    if (!(c.wa = vi_app_writer())) goto done;
-    if (c.wa->create(o->out_target, m, (outs & VI_SCENE_OUT_COMPRESS) != 0,
-                     &c.w, &d)) {
-      fprintf(stderr, "vibroimpact: %s\n", d.message);
-      goto done;
-    }
-    if (c.wa->write_header(c.w, sc, vi_scene_rtol(sc), vi_scene_atol(sc),
-                           vi_scene_method(sc))) {
-      fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
-      goto done;
-    }
-    if (outs & VI_SCENE_OUT_SHAPES) {
-      /* the full Psi only when asked: the reduction is solved again with
-       * its shapes kept (the model made above kept none) */
-      vi_fe *fe = NULL;
-      int fst = vi_scene_create_fe(sc, 0, 1, &fe, &d), wst = VI_OK;
-      if (fst)
-        vi_app_print_diag(&d, fst);
-      else if ((wst = c.wa->fe_shapes(c.w, fe)))
-        fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
-      vi_fe_destroy(&fe);
-      if (fst || wst) {
-        rc = fst && fst != VI_ERR_NOMEM ? 2 : 1;
-        goto done;
-      }
-    }
-  }
-  if (o->csv && vi_output_open(o->csv_target, o->csv_kind, &c.csv, &d)) {
-    fprintf(stderr, "vibroimpact: %s\n", d.message);
-    part[0] = '\0';
+  if ((o->out && (rc = open_writer(&c, sc, m, outs))) || (o->csv && (rc = open_csv(&c, part))))
     goto done;
-  }
-  if (o->csv) {
-    fprintf(c.csv, "k,t,vn");
-    for (int i = 1; i <= n; i++) fprintf(c.csv, ",x_%d", i);
-    for (int i = 1; i <= n; i++) fprintf(c.csv, ",v_%d", i);
-    fputc('\n', c.csv);
-  }
-  double omega = vi_model_omega_forcing(m);
+  double omega = vi_model_omega_forcing(m), wall;
   double period = omega > 0 ? 2 * M_PI / omega : (c.t_end - c.t0) / 100;
-  vi_sim_set_event_callback(s, on_event, &c, NULL);
-  if (o->progress) vi_sim_set_monitor(s, period, on_monitor, &c, NULL);
-  vi_sim_set_cancel(s, vi_app_cancel, NULL, NULL);
-  if (spp > 0) vi_sim_set_sampling(s, period / spp, on_sample, &c, NULL);
-  if (ledger) {
-    vi_sim_enable_ledger(s, 1);
-    vi_sim_set_ledger_callback(s, on_ledger, &c, NULL);
-  }
-  c.wall0 = now();
-  vi_app_set_polling(1);
-  st = vi_sim_run(s, c.t_end);
-  double wall = now() - c.wall0;
-  if (o->progress) fputc('\n', stderr);
+  st = simulate(&c, s, period, spp, ledger, &wall);
+  rc = 1;
   if (st < 0) {
     /* VI_ERR_INVARIANT: a non-finite or penetrating state, said where */
     fprintf(stderr, "vibroimpact: %s: %s\n", vi_strerror(st), vi_sim_errmsg(s));
     goto done;
   }
-  if (c.io_err) {
-    fprintf(stderr, "vibroimpact: writing output failed: %s\n",
-            c.io_err == 1 && c.w ? c.wa->errmsg(c.w)
-            : c.csv == stdout    ? "cannot write the standard output"
-                                 : "cannot write the impacts CSV (disk full?)");
-    goto done;
-  }
-  int complete = st == VI_OK;
   long rows[3] = {0, 0, 0};
-  static const char *tables[3] = {"impacts", "trajectory", "ledger"};
-  for (int k = 0; k < 3 && c.w; k++) rows[k] = c.wa->rows(c.w, tables[k]);
-  if (c.w && (c.wa->run_info(c.w, s) || c.wa->finish(c.w, complete))) {
-    fprintf(stderr, "vibroimpact: %s\n", c.wa->errmsg(c.w));
-    goto done;
-  }
-  if (c.csv) {
-    /* every write, the flush, the sync and the close checked; renamed */
-    int to_stdout = c.csv == stdout;
-    if (vi_output_close(&c.csv, o->csv_target, o->csv_kind, &d)) {
-      fprintf(stderr, "vibroimpact: %s\n", d.message);
-      goto done;
-    }
-    if (to_stdout) c.csv = stdout; /* the summary then goes to stderr */
-    part[0] = '\0';
-  }
-  if (!complete) {
-    double t;
-    vi_sim_state(s, &t, NULL, NULL);
-    fprintf(stderr, "vibroimpact: interrupted (%s) at t = %g%s\n",
-            vi_app_signal == SIGTERM ? "SIGTERM" : "SIGINT", t,
-            o->out ? "; the output file is valid and marked incomplete" : "");
-    rc = vi_app_interrupt_status();
-    goto done;
-  }
-  if (vi_app_signal) { /* after the run had finished: the file is whole */
-    rc = vi_app_interrupt_status();
-    goto done;
-  }
+  if (close_outputs(&c, s, st == VI_OK, rows, part)) goto done;
+  if ((rc = interrupted(&c, s, st == VI_OK))) goto done;
   if (!o->quiet)
     summary(c.csv == stdout ? stderr : stdout, o, sc, m, s, &c, period, ledger,
             wall, rows);

@@ -28,7 +28,8 @@
  * compliances w^T M^-1 w and w^T K^-1 w are the full model's (the sparse
  * factorisations of vi_fe_stop_compliance; for a dense model w^T M^-1 w
  * and the sum over all its modes).  Everything is in the reference's modal
- * coordinates, where M = I: reduced models keep its first k coordinates. */
+ * coordinates, where M = I: reduced models keep its first k coordinates
+ * (vi_model_create_truncated builds them, static vector included). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,101 +65,6 @@ static void find_orbit(const vi_model *m, response *r, vi_orbit **keep)
     *keep = o;
   else
     vi_orbit_destroy(&o);
-}
-
-/* k modes of the reference R (n_R modal coordinates, M = I) plus, when
- * `corr`, the static residual vector at the stop: c_j = psi_j / omega_j^2
- * for j > k (K^-1 w less its part in the kept modes, in modal coordinates),
- * normalised.  Projected: M = I, K = T^T K T, C = T^T C T, stop T^T psi,
- * forcing T^T (a, b, f0), the stop's x_s and the given r.  Small dense
- * matrices (k + 1 <= a few hundred): plain loops. */
-static int build_model(const vi_model *R, int k, int corr, double r,
-                       const double *q0R, vi_model **out, double *carried,
-                       double *q0)
-{
-  int nR = vi_model_n(R), n = k + corr, st;
-  const double *K = vi_model_stiffness(R), *C = vi_model_damping(R),
-               *psi = vi_model_stop_vector(R), *fa = vi_model_forcing_cos(R),
-               *fb = vi_model_forcing_sin(R), *fc = vi_model_forcing_const(R);
-  /* the reference's own coordinates are its modes (M = I, K diagonal) */
-  double *T = calloc((size_t)nR * n + 5 * (size_t)n * n + 5 * (size_t)n,
-                     sizeof(double));
-  if (!T) return VI_ERR_NOMEM;
-  double *Mn = T + (size_t)nR * n, *Kn = Mn + (size_t)n * n,
-         *Cn = Kn + (size_t)n * n, *tmp = Cn + (size_t)n * n,
-         *w = tmp + 2 * (size_t)n * n, *a = w + n, *b = a + n, *f0 = b + n;
-  for (int j = 0; j < k; j++) T[j + (size_t)j * nR] = 1.0;
-  if (corr) {
-    double nrm = 0;
-    for (int j = k; j < nR; j++) {
-      double lam = K[j + (size_t)j * nR];
-      double c = lam > 0 ? psi[j] / lam : 0.0;
-      T[j + (size_t)k * nR] = c;
-      nrm += c * c;
-    }
-    nrm = sqrt(nrm);
-    if (!(nrm > 0)) {
-      free(T);
-      return VI_ERR_ARG; /* no residual: nothing beyond the kept modes */
-    }
-    for (int j = k; j < nR; j++) T[j + (size_t)k * nR] /= nrm;
-  }
-  /* X_n = T^T X T for X = I, K, C; vectors T^T v */
-  for (int p = 0; p < n; p++) {
-    for (int q = 0; q < n; q++) {
-      double sm = 0, sk = 0, sc = 0;
-      for (int i = 0; i < nR; i++) {
-        double ti = T[i + (size_t)p * nR];
-        if (ti == 0) continue;
-        sm += ti * T[i + (size_t)q * nR];
-        for (int j = 0; j < nR; j++) {
-          double tj = T[j + (size_t)q * nR];
-          if (tj == 0) continue;
-          sk += ti * K[i + (size_t)j * nR] * tj;
-          sc += ti * C[i + (size_t)j * nR] * tj;
-        }
-      }
-      Mn[p + (size_t)q * n] = sm;
-      Kn[p + (size_t)q * n] = sk;
-      Cn[p + (size_t)q * n] = sc;
-    }
-    double sw = 0, sa = 0, sb = 0, sf = 0;
-    for (int i = 0; i < nR; i++) {
-      double ti = T[i + (size_t)p * nR];
-      sw += ti * psi[i];
-      sa += ti * fa[i];
-      sb += ti * fb[i];
-      sf += ti * fc[i];
-    }
-    w[p] = sw;
-    a[p] = sa;
-    b[p] = sb;
-    f0[p] = sf;
-  }
-  double g = 0;
-  for (int p = 0; p < n; p++) g += w[p] * w[p]; /* w^T M^-1 w, M = I */
-  /* the reference's initial state [2 nR] projected: T^T q (T orthonormal) */
-  for (int h = 0; q0R && q0 && h < 2; h++)
-    for (int p = 0; p < n; p++) {
-      double sum = 0;
-      for (int i = 0; i < nR; i++)
-        sum += T[i + (size_t)p * nR] * q0R[i + (size_t)h * nR];
-      q0[p + (size_t)h * n] = sum;
-    }
-  if (carried) *carried = g;
-  vi_model *m = NULL;
-  if (!(st = vi_model_create(n, &m)) && !(st = vi_model_set_mass(m, Mn, n)) &&
-      !(st = vi_model_set_stiffness(m, Kn, n)) &&
-      !(st = vi_model_set_damping(m, Cn, n)) &&
-      !(st = vi_model_set_forcing(m, vi_model_omega_forcing(R), a, b, f0)) &&
-      !(st = vi_model_set_stop(m, w, vi_model_clearance(R), r)))
-    st = vi_model_setup(m);
-  free(T);
-  if (st)
-    vi_model_destroy(&m);
-  else
-    *out = m;
-  return st;
 }
 
 /* The first impacts from the scene's initial state (projected onto each
@@ -302,16 +208,350 @@ static const char *text_response(const response *r, char *buf, size_t len)
 }
 
 
+/* The study's state: the scene, the reference model R (and what it was
+ * made from), the compliances, the rows for -o. */
+typedef struct study {
+  const app_opts *o;
+  vi_scene *sc;
+  vi_model *R, *dense;
+  vi_fe *fe;
+  vi_orbit *oref;
+  int lo, hi, nR, dofs, ldt, nrows, forced, p11;
+  double Gd, Gs, r, t0, tend;      /* the full model's w^T M^-1 w, w^T K^-1 w */
+  double *x0, *q0R, *qk, *tab, *tref;
+  response ref;
+  first fref;
+} study;
+
+/* One row: the k-mode model with r and with r_S, the static variant. */
+typedef struct row {
+  int k;
+  double omk, fd, fs, fc, rS;
+  response rk, rs, rc2;
+  first fk, fc1;
+} row;
+
+/* The scene (with --set and the run overrides); 0 or 2 after a message. */
+static int study_scene(study *S)
+{
+  const app_opts *o = S->o;
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  int st = vi_sets_active() ? vi_sets_load(o->scene, &S->sc, &d) /* --set */
+           : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
+                                              o->max_depth, &S->sc, &d)
+                      : vi_scene_parse(vi_scene_default_text(), -1,
+                                       "<default scene: fig2>", &S->sc, &d);
+  if (!st) st = vi_scene_set_run(S->sc, o->rtol, o->atol, 0, o->method);
+  if (!st) st = vi_scene_check_memory(S->sc, o->max_memory, &d);
+  if (st) {
+    vi_app_print_diag(&d, st);
+    return 2;
+  }
+  return 0;
+}
+
+/* An FE scene's reference: its nref lowest modes; 0 or the exit status. */
+static int reference_fe(study *S)
+{
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  int hi = S->hi, dofs = vi_scene_dofs(S->sc), st;
+  int nref = 2 * hi > hi + 20 ? 2 * hi : hi + 20;
+  nref = nref < dofs ? nref : dofs;
+  if (S->o->modes_ref > 0) nref = S->o->modes_ref;
+  if (nref < hi || nref > dofs) {
+    fprintf(stderr, "vibroimpact: truncation: --reference %d: need B = %d "
+            "<= N <= %d (the dofs)\n", nref, hi, dofs);
+    return 2;
+  }
+  if ((st = vi_scene_create_fe(S->sc, nref, 1, &S->fe, &d))) {
+    vi_app_print_diag(&d, st);
+    return st == VI_ERR_NOMEM ? 1 : 2;
+  }
+  if (vi_fe_create_model(S->fe, &S->R) != VI_OK) {
+    fprintf(stderr, "vibroimpact: truncation: %s\n", vi_fe_errmsg(S->fe));
+    return 1;
+  }
+  vi_fe_stop_compliance(S->fe, 0, &S->Gd, &S->Gs);
+  return 0;
+}
+
+/* Any other scene's reference: its model in its own modal coordinates,
+ * all modes; 0 or the exit status. */
+static int reference_dense(study *S)
+{
+  vi_diag d;
+  memset(&d, 0, sizeof d);
+  int st;
+  if ((st = vi_scene_create_model(S->sc, &S->dense, &d))) {
+    vi_app_print_diag(&d, st);
+    return st == VI_ERR_NOMEM ? 1 : 2;
+  }
+  if (!vi_model_omega(S->dense)) {
+    fprintf(stderr, "vibroimpact: truncation: the scene's model has no "
+            "modes (band storage): ask for them (output.modes: true)\n");
+    return 2;
+  }
+  int n = vi_model_n(S->dense), all[4096];
+  if (n > 4096) {
+    fprintf(stderr, "vibroimpact: truncation: more than 4096 coordinates "
+            "in a dense scene: write it as Matrix Market files\n");
+    return 2;
+  }
+  for (int j = 0; j < n; j++) all[j] = j;
+  if ((st = vi_model_create_reduced(S->dense, all, n,
+                                    vi_model_restitution(S->dense), &S->R))) {
+    fprintf(stderr, "vibroimpact: truncation: %s\n", vi_strerror(st));
+    return 1;
+  }
+  const double *om = vi_model_omega(S->dense), *ps = vi_model_modal_stop(S->dense);
+  S->Gd = vi_model_stop_compliance(S->dense);
+  S->Gs = 0;
+  for (int j = 0; j < n; j++)
+    S->Gs += om[j] > 0 ? ps[j] * ps[j] / (om[j] * om[j])
+                       : (ps[j] != 0 ? INFINITY : 0);
+  return 0;
+}
+
+/* The modes asked for, checked, and the reference; 0 or the exit status. */
+static int study_reference(study *S)
+{
+  const app_opts *o = S->o;
+  S->lo = o->modes_lo > 0 ? o->modes_lo : 1;
+  S->hi = o->modes_hi;
+  /* an FE scene refuses -1 modes, any other kind the FE reduction */
+  int is_fe = vi_scene_create_fe(S->sc, -1, 0, &S->fe, NULL) != VI_ERR_UNSUPPORTED;
+  if (S->hi <= 0) S->hi = is_fe ? vi_scene_n(S->sc) : vi_scene_dofs(S->sc);
+  if (S->lo > S->hi || S->hi > vi_scene_dofs(S->sc)) {
+    fprintf(stderr, "vibroimpact: truncation: --modes %d..%d: need 1 <= A <= "
+            "B <= %d (the model's coordinates)\n", S->lo, S->hi, vi_scene_dofs(S->sc));
+    return 2;
+  }
+  S->Gd = S->Gs = NAN;
+  return is_fe ? reference_fe(S) : reference_dense(S);
+}
+
+/* The buffers, and the scene's initial state in the reference's
+ * coordinates: q = Psi^T M x (the FE reduction's kept shapes, or the dense
+ * model's modes); 0 or 1 after a message. */
+static int study_initial(study *S)
+{
+  int dofs = S->dofs = vi_scene_dofs(S->sc), nR = S->nR, hi = S->hi;
+  S->ldt = hi - S->lo + 1 > 0 ? hi - S->lo + 1 : 1; /* -o: rows */
+  S->x0 = calloc(2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4 +
+                     (S->o->out ? (size_t)(S->ldt + 1) * VI_TRUNCATION_COLUMNS : 0),
+                 sizeof(double));
+  if (!S->x0) return 1;
+  double *x0 = S->x0;
+  S->tab = x0 + 2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4;
+  S->tref = S->tab + (size_t)S->ldt * VI_TRUNCATION_COLUMNS;
+  S->q0R = x0 + 2 * (size_t)dofs;
+  S->qk = S->q0R + 2 * (size_t)nR;
+  vi_scene_initial(S->sc, x0, x0 + dofs);
+  if ((S->fe && (vi_fe_to_modal(S->fe, x0, S->q0R) ||
+                 vi_fe_to_modal(S->fe, x0 + dofs, S->q0R + nR))) ||
+      (S->dense && (vi_model_to_modal(S->dense, x0, S->q0R) ||
+                    vi_model_to_modal(S->dense, x0 + dofs, S->q0R + nR)))) {
+    fprintf(stderr, "vibroimpact: truncation: cannot project the initial "
+            "state onto the modes\n");
+    return 1;
+  }
+  if (nR > 4096) {
+    fprintf(stderr, "vibroimpact: truncation: a reference of %d modes: at "
+            "most 4096\n", nR);
+    return 1;
+  }
+  return 0;
+}
+
+/* The reference orbit (the balance every reduced model is measured by)
+ * and the reference's first impacts. */
+static void study_reference_runs(study *S)
+{
+  memset(&S->ref, 0, sizeof S->ref);
+  S->ref.vN = S->ref.phase = NAN;
+  S->r = vi_model_restitution(S->R);
+  S->forced = vi_model_omega_forcing(S->R) > 0;
+  if (S->forced) {
+    vi_app_set_polling(0);
+    find_orbit(S->R, &S->ref, &S->oref);
+  }
+  S->p11 = S->oref && S->ref.pn == 1 && S->ref.pm == 1;
+  S->t0 = vi_scene_t0(S->sc);
+  S->tend = vi_scene_t_end(S->sc);
+  first_impacts(S->R, S->t0, S->tend, S->q0R, &S->fref);
+}
+
+static void print_header(const study *S)
+{
+  const vi_scene *sc = S->sc;
+  if (S->o->json) {
+    printf("{\"scene\": \"%s\", \"dofs\": %d, \"modes\": [%d, %d], "
+           "\"restitution\": %.17g, ", vi_scene_name(sc), vi_scene_dofs(sc),
+           S->lo, S->hi, S->r);
+    json_num("compliance_dynamic", S->Gd, 1);
+    json_num("compliance_static", S->Gs, 1);
+    printf("\"reference\": ");
+    json_response(&S->ref);
+    printf(", ");
+    json_first("first_impacts", &S->fref, NULL);
+    printf(", \"rows\": [");
+    return;
+  }
+  printf("truncation study, scene %s: %d dofs, reference %d modes, r = %g\n",
+         vi_scene_name(sc), vi_scene_dofs(sc), S->nR, S->r);
+  printf("  stop compliance w^T M^-1 w = %.6g, w^T K^-1 w = %.6g; "
+         "reference orbit: ", S->Gd, S->Gs);
+  char b[64];
+  printf("%s\n", S->forced ? text_response(&S->ref, b, sizeof b)
+                           : "none (no harmonic forcing)");
+  if (S->fref.n > 0)
+    printf("  reference's first impact from the initial state: t = %.10g, "
+           "v_n = %.8g\n", S->fref.t[0], S->fref.vn[0]);
+  printf("  %3s %12s %9s %9s %22s %10s %22s | %9s %22s | %9s %9s\n", "k",
+         "omega_k", "dyn.frac", "stat.frac", "v_N @phase (r)", "r_S",
+         "v_N @phase (r_S)", "+static", "v_N @phase (+static)", "dt1",
+         "dt1+stat");
+}
+
+/* Row k's models run: k modes with r and with r_S, and k modes plus the
+ * static vector (k < nR). */
+static void compute_row(study *S, row *w, const int *modes_idx)
+{
+  int k = w->k;
+  double carried = NAN;
+  vi_model *mk = NULL, *ms = NULL, *mc = NULL;
+  w->rk.vN = w->rk.phase = w->rs.vN = w->rs.phase = w->rc2.vN = w->rc2.phase = NAN;
+  w->rS = NAN;
+  if (!vi_model_create_truncated(S->R, k, 0, S->r, S->q0R, S->qk, NULL, &mk))
+    first_impacts(mk, S->t0, S->tend, S->qk, &w->fk);
+  if (S->forced) {
+    if (mk) find_orbit(mk, &w->rk, NULL);
+    if (S->p11 && !vi_orbit_reduced_restitution(S->oref, modes_idx, k, &w->rS) &&
+        !vi_model_create_truncated(S->R, k, 0, w->rS, NULL, NULL, NULL, &ms))
+      find_orbit(ms, &w->rs, NULL);
+  }
+  if (k < S->nR && !vi_model_create_truncated(S->R, k, 1, S->r, S->q0R, S->qk, &carried, &mc)) {
+    first_impacts(mc, S->t0, S->tend, S->qk, &w->fc1);
+    if (S->forced) find_orbit(mc, &w->rc2, NULL);
+  }
+  w->fc = carried / S->Gd;
+  vi_model_destroy(&mk);
+  vi_model_destroy(&ms);
+  vi_model_destroy(&mc);
+}
+
+/* Row k into the -o table (vi_truncation_io.h: its column layout). */
+static void table_row(study *S, const row *w)
+{
+  int ldt = S->ldt, k = w->k;
+  double *t = S->tab + S->nrows++;
+  t[0] = k;
+  t[ldt] = w->omk;
+  t[2 * (size_t)ldt] = w->fd;
+  t[3 * (size_t)ldt] = w->fs;
+  tab_response(t, ldt, 4, &w->rk);
+  tab_first(t, ldt, 8, &w->fk, &S->fref);
+  t[22 * (size_t)ldt] = w->rS;
+  tab_response(t, ldt, 23, &w->rs);
+  t[27 * (size_t)ldt] = k < S->nR;
+  t[28 * (size_t)ldt] = k < S->nR ? w->fc : NAN;
+  tab_response(t, ldt, 29, &w->rc2);
+  tab_first(t, ldt, 33, &w->fc1, &S->fref);
+  if (k >= S->nR) /* no mode beyond k: no variant */
+    for (int c = 29; c < VI_TRUNCATION_COLUMNS; c++) t[(size_t)c * ldt] = NAN;
+}
+
+static void json_row(const study *S, const row *w)
+{
+  printf("%s{\"k\": %d, ", w->k > S->lo ? ", " : "", w->k);
+  json_num("omega", w->omk, 1);
+  json_num("dynamic_fraction", w->fd, 1);
+  json_num("static_fraction", w->fs, 1);
+  printf("\"response\": ");
+  json_response(&w->rk);
+  printf(", ");
+  json_first("first_impacts", &w->fk, &S->fref);
+  printf(", ");
+  json_num("r_S", w->rS, 1);
+  printf("\"response_r_S\": ");
+  json_response(&w->rs);
+  if (w->k < S->nR) {
+    printf(", \"static_corrected\": {");
+    json_num("dynamic_fraction", w->fc, 1);
+    printf("\"response\": ");
+    json_response(&w->rc2);
+    printf(", ");
+    json_first("first_impacts", &w->fc1, &S->fref);
+    printf("}}");
+  } else /* no mode beyond k: no residual */
+    printf(", \"static_corrected\": null}");
+}
+
+static void text_row(const study *S, const row *w)
+{
+  int k = w->k, nR = S->nR;
+  char b1[64], b2[64], b3[64], f3[32] = "-", d1[32] = "-", d2[32] = "-";
+  if (k < nR) snprintf(f3, sizeof f3, "%.6f", w->fc);
+  if (w->fk.n > 0 && S->fref.n > 0)
+    snprintf(d1, sizeof d1, "%.2e", w->fk.t[0] - S->fref.t[0]);
+  if (w->fc1.n > 0 && S->fref.n > 0)
+    snprintf(d2, sizeof d2, "%.2e", w->fc1.t[0] - S->fref.t[0]);
+  printf("  %3d %12.6g %9.6f %9.6f %22s %10.6f %22s | %9s %22s | %9s "
+         "%9s\n", k, w->omk, w->fd, w->fs,
+         S->forced ? text_response(&w->rk, b1, sizeof b1) : "-", w->rS,
+         S->forced && S->p11 ? text_response(&w->rs, b2, sizeof b2) : "-", f3,
+         S->forced && k < nR ? text_response(&w->rc2, b3, sizeof b3) : "-", d1,
+         d2);
+}
+
+/* The rows k = lo..hi (the compliance fractions summed from k = 1),
+ * until a signal. */
+static void study_rows(study *S)
+{
+  int modes_idx[4096];
+  const double *K = vi_model_stiffness(S->R), *psi = vi_model_stop_vector(S->R);
+  int nR = S->nR;
+  for (int j = 0; j < nR && j < 4096; j++) modes_idx[j] = j;
+  double cd = 0, cs = 0;
+  for (int k = 1; k <= S->hi; k++) {
+    double lam = K[(k - 1) + (size_t)(k - 1) * nR];
+    cd += psi[k - 1] * psi[k - 1];
+    cs += lam > 0 ? psi[k - 1] * psi[k - 1] / lam : INFINITY;
+    if (k < S->lo) continue;
+    if (vi_app_signal) break;
+    row w;
+    memset(&w, 0, sizeof w);
+    w.k = k;
+    w.fd = cd / S->Gd;
+    w.fs = isfinite(S->Gs) && isfinite(cs) ? cs / S->Gs : NAN;
+    compute_row(S, &w, modes_idx);
+    w.omk = sqrt(lam > 0 ? lam : 0);
+    if (S->o->out) table_row(S, &w);
+    if (S->o->json) json_row(S, &w);
+    else text_row(S, &w);
+    fflush(stdout);
+  }
+}
+
+/* -o: the reference's row and the table into the file. */
+static int study_write(study *S)
+{
+  double info[VI_TRUNCATION_INFO] = {S->dofs, S->lo, S->hi, S->nR, S->r, S->Gd, S->Gs};
+  for (int c = 0; c < VI_TRUNCATION_COLUMNS; c++) S->tref[c] = NAN;
+  S->tref[0] = S->nR;
+  tab_response(S->tref, 1, 4, &S->ref);
+  tab_first(S->tref, 1, 8, &S->fref, NULL);
+  return write_h5(S->o, S->sc, info, S->tref, S->nrows, S->tab, S->ldt);
+}
+
 int vi_cmd_truncation(const app_opts *o)
 {
-  vi_scene *sc = NULL;
-  vi_model *R = NULL, *dense = NULL;
-  vi_fe *fe = NULL;
-  vi_orbit *oref = NULL;
-  vi_diag d;
-  int rc = 2, st;
-  memset(&d, 0, sizeof d);
-  int lo = o->modes_lo > 0 ? o->modes_lo : 1, hi = o->modes_hi;
+  study S;
+  memset(&S, 0, sizeof S);
+  S.o = o;
+  int rc;
   if (o->csv || o->periods > 0) {
     /* the study's machine-readable forms are --json (share/plot_truncation.py
      * reads it) and -o; nothing is silently ignored */
@@ -320,262 +560,22 @@ int vi_cmd_truncation(const app_opts *o)
             o->csv ? "--impacts-csv" : "--periods");
     return 2;
   }
-  st = vi_sets_active() ? vi_sets_load(o->scene, &sc, &d) /* --set */
-       : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
-                                          o->max_depth, &sc, &d)
-                  : vi_scene_parse(vi_scene_default_text(), -1,
-                                   "<default scene: fig2>", &sc, &d);
-  if (!st) st = vi_scene_set_run(sc, o->rtol, o->atol, 0, o->method);
-  if (!st) st = vi_scene_check_memory(sc, o->max_memory, &d);
-  if (st) {
-    vi_app_print_diag(&d, st);
-    goto done;
-  }
-  /* an FE scene refuses -1 modes, any other kind the FE reduction */
-  int is_fe = vi_scene_create_fe(sc, -1, 0, &fe, NULL) != VI_ERR_UNSUPPORTED;
-  if (hi <= 0) hi = is_fe ? vi_scene_n(sc) : vi_scene_dofs(sc);
-  if (lo > hi || hi > vi_scene_dofs(sc)) {
-    fprintf(stderr, "vibroimpact: truncation: --modes %d..%d: need 1 <= A <= "
-            "B <= %d (the model's coordinates)\n", lo, hi, vi_scene_dofs(sc));
-    goto done;
-  }
-  double Gd = NAN, Gs = NAN; /* the full model's w^T M^-1 w, w^T K^-1 w */
-  rc = 1;
-  if (is_fe) {
-    int nref = 2 * hi > hi + 20 ? 2 * hi : hi + 20;
-    nref = nref < vi_scene_dofs(sc) ? nref : vi_scene_dofs(sc);
-    if (o->modes_ref > 0) nref = o->modes_ref;
-    if (nref < hi || nref > vi_scene_dofs(sc)) {
-      fprintf(stderr, "vibroimpact: truncation: --reference %d: need B = %d "
-              "<= N <= %d (the dofs)\n", nref, hi, vi_scene_dofs(sc));
-      rc = 2;
-      goto done;
-    }
-    if ((st = vi_scene_create_fe(sc, nref, 1, &fe, &d))) {
-      vi_app_print_diag(&d, st);
-      rc = st == VI_ERR_NOMEM ? 1 : 2;
-      goto done;
-    }
-    if (vi_fe_create_model(fe, &R) != VI_OK) {
-      fprintf(stderr, "vibroimpact: truncation: %s\n", vi_fe_errmsg(fe));
-      goto done;
-    }
-    vi_fe_stop_compliance(fe, 0, &Gd, &Gs);
-  } else {
-    if ((st = vi_scene_create_model(sc, &dense, &d))) {
-      vi_app_print_diag(&d, st);
-      rc = st == VI_ERR_NOMEM ? 1 : 2;
-      goto done;
-    }
-    if (!vi_model_omega(dense)) {
-      fprintf(stderr, "vibroimpact: truncation: the scene's model has no "
-              "modes (band storage): ask for them (output.modes: true)\n");
-      rc = 2;
-      goto done;
-    }
-    /* the dense model in its own modal coordinates: the reference */
-    int n = vi_model_n(dense), all[4096];
-    if (n > 4096) {
-      fprintf(stderr, "vibroimpact: truncation: more than 4096 coordinates "
-              "in a dense scene: write it as Matrix Market files\n");
-      rc = 2;
-      goto done;
-    }
-    for (int j = 0; j < n; j++) all[j] = j;
-    if ((st = vi_model_create_reduced(dense, all, n,
-                                      vi_model_restitution(dense), &R))) {
-      fprintf(stderr, "vibroimpact: truncation: %s\n", vi_strerror(st));
-      goto done;
-    }
-    const double *om = vi_model_omega(dense), *ps = vi_model_modal_stop(dense);
-    Gd = vi_model_stop_compliance(dense);
-    Gs = 0;
-    for (int j = 0; j < n; j++)
-      Gs += om[j] > 0 ? ps[j] * ps[j] / (om[j] * om[j])
-                      : (ps[j] != 0 ? INFINITY : 0);
-  }
-  int nR = vi_model_n(R);
-  if (hi > nR) hi = nR;
-  /* the scene's initial state in the reference's coordinates: q = Psi^T M x
-   * (the FE reduction's kept shapes, or the dense model's modes) */
-  int dofs = vi_scene_dofs(sc);
-  int nrows = 0, ldt = hi - lo + 1 > 0 ? hi - lo + 1 : 1; /* -o: rows */
-  double *x0 = calloc(2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4 +
-                          (o->out ? (size_t)(ldt + 1) * VI_TRUNCATION_COLUMNS
-                                  : 0),
-                      sizeof(double));
-  if (!x0) goto done;
-  double *tab = x0 + 2 * (size_t)dofs + 2 * (size_t)nR + 4 * (size_t)hi + 4,
-         *tref = tab + (size_t)ldt * VI_TRUNCATION_COLUMNS;
-  double *q0R = x0 + 2 * (size_t)dofs, *qk = q0R + 2 * (size_t)nR;
-  vi_scene_initial(sc, x0, x0 + dofs);
-  if ((fe && (vi_fe_to_modal(fe, x0, q0R) ||
-              vi_fe_to_modal(fe, x0 + dofs, q0R + nR))) ||
-      (dense && (vi_model_to_modal(dense, x0, q0R) ||
-                 vi_model_to_modal(dense, x0 + dofs, q0R + nR)))) {
-    fprintf(stderr, "vibroimpact: truncation: cannot project the initial "
-            "state onto the modes\n");
-    free(x0);
-    goto done;
-  }
-  if (nR > 4096) {
-    fprintf(stderr, "vibroimpact: truncation: a reference of %d modes: at "
-            "most 4096\n", nR);
-    free(x0);
-    goto done;
-  }
-  const double *K = vi_model_stiffness(R), *psi = vi_model_stop_vector(R);
-  double r = vi_model_restitution(R);
-  int forced = vi_model_omega_forcing(R) > 0;
-  /* the reference orbit: the balance every reduced model is measured by */
-  response ref;
-  memset(&ref, 0, sizeof ref);
-  ref.vN = ref.phase = NAN;
-  if (forced) {
-    vi_app_set_polling(0);
-    find_orbit(R, &ref, &oref);
-  }
-  int p11 = oref && ref.pn == 1 && ref.pm == 1;
-  double t0 = vi_scene_t0(sc), tend = vi_scene_t_end(sc);
-  first fref;
-  first_impacts(R, t0, tend, q0R, &fref);
-  if (o->json) {
-    printf("{\"scene\": \"%s\", \"dofs\": %d, \"modes\": [%d, %d], "
-           "\"restitution\": %.17g, ", vi_scene_name(sc), vi_scene_dofs(sc),
-           lo, hi, r);
-    json_num("compliance_dynamic", Gd, 1);
-    json_num("compliance_static", Gs, 1);
-    printf("\"reference\": ");
-    json_response(&ref);
-    printf(", ");
-    json_first("first_impacts", &fref, NULL);
-    printf(", \"rows\": [");
-  } else {
-    printf("truncation study, scene %s: %d dofs, reference %d modes, r = %g\n",
-           vi_scene_name(sc), vi_scene_dofs(sc), nR, r);
-    printf("  stop compliance w^T M^-1 w = %.6g, w^T K^-1 w = %.6g; "
-           "reference orbit: ", Gd, Gs);
-    char b[64];
-    printf("%s\n", forced ? text_response(&ref, b, sizeof b)
-                          : "none (no harmonic forcing)");
-    if (fref.n > 0)
-      printf("  reference's first impact from the initial state: t = %.10g, "
-             "v_n = %.8g\n", fref.t[0], fref.vn[0]);
-    printf("  %3s %12s %9s %9s %22s %10s %22s | %9s %22s | %9s %9s\n", "k",
-           "omega_k", "dyn.frac", "stat.frac", "v_N @phase (r)", "r_S",
-           "v_N @phase (r_S)", "+static", "v_N @phase (+static)", "dt1",
-           "dt1+stat");
-  }
-  int modes_idx[4096];
-  for (int j = 0; j < nR && j < 4096; j++) modes_idx[j] = j;
-  double cd = 0, cs = 0;
-  for (int k = 1; k <= hi; k++) {
-    double lam = K[(k - 1) + (size_t)(k - 1) * nR];
-    cd += psi[k - 1] * psi[k - 1];
-    cs += lam > 0 ? psi[k - 1] * psi[k - 1] / lam : INFINITY;
-    if (k < lo) continue;
-    if (vi_app_signal) break;
-    double fd = cd / Gd, fs = isfinite(Gs) && isfinite(cs) ? cs / Gs : NAN;
-    response rk, rs, rc2;
-    memset(&rk, 0, sizeof rk);
-    memset(&rs, 0, sizeof rs);
-    memset(&rc2, 0, sizeof rc2);
-    rk.vN = rk.phase = rs.vN = rs.phase = rc2.vN = rc2.phase = NAN;
-    double rS = NAN, carried = NAN;
-    vi_model *mk = NULL, *ms = NULL, *mc = NULL;
-    first fk, fc1;
-    memset(&fk, 0, sizeof fk);
-    memset(&fc1, 0, sizeof fc1);
-    if (!build_model(R, k, 0, r, q0R, &mk, NULL, qk))
-      first_impacts(mk, t0, tend, qk, &fk);
-    if (forced) {
-      if (mk) find_orbit(mk, &rk, NULL);
-      if (p11 && !vi_orbit_reduced_restitution(oref, modes_idx, k, &rS) &&
-          !build_model(R, k, 0, rS, NULL, &ms, NULL, NULL))
-        find_orbit(ms, &rs, NULL);
-    }
-    if (k < nR && !build_model(R, k, 1, r, q0R, &mc, &carried, qk)) {
-      first_impacts(mc, t0, tend, qk, &fc1);
-      if (forced) find_orbit(mc, &rc2, NULL);
-    }
-    double fc = carried / Gd;
-    vi_model_destroy(&mk);
-    vi_model_destroy(&ms);
-    vi_model_destroy(&mc);
-    double omk = sqrt(lam > 0 ? lam : 0);
-    if (o->out) {
-      double *t = tab + nrows++;
-      t[0] = k;
-      t[ldt] = omk;
-      t[2 * (size_t)ldt] = fd;
-      t[3 * (size_t)ldt] = fs;
-      tab_response(t, ldt, 4, &rk);
-      tab_first(t, ldt, 8, &fk, &fref);
-      t[22 * (size_t)ldt] = rS;
-      tab_response(t, ldt, 23, &rs);
-      t[27 * (size_t)ldt] = k < nR;
-      t[28 * (size_t)ldt] = k < nR ? fc : NAN;
-      tab_response(t, ldt, 29, &rc2);
-      tab_first(t, ldt, 33, &fc1, &fref);
-      if (k >= nR) /* no mode beyond k: no variant */
-        for (int c = 29; c < VI_TRUNCATION_COLUMNS; c++)
-          t[(size_t)c * ldt] = NAN;
-    }
-    if (o->json) {
-      printf("%s{\"k\": %d, ", k > lo ? ", " : "", k);
-      json_num("omega", omk, 1);
-      json_num("dynamic_fraction", fd, 1);
-      json_num("static_fraction", fs, 1);
-      printf("\"response\": ");
-      json_response(&rk);
-      printf(", ");
-      json_first("first_impacts", &fk, &fref);
-      printf(", ");
-      json_num("r_S", rS, 1);
-      printf("\"response_r_S\": ");
-      json_response(&rs);
-      if (k < nR) {
-        printf(", \"static_corrected\": {");
-        json_num("dynamic_fraction", fc, 1);
-        printf("\"response\": ");
-        json_response(&rc2);
-        printf(", ");
-        json_first("first_impacts", &fc1, &fref);
-        printf("}}");
-      } else /* no mode beyond k: no residual */
-        printf(", \"static_corrected\": null}");
-    } else {
-      char b1[64], b2[64], b3[64], f3[32] = "-", d1[32] = "-", d2[32] = "-";
-      if (k < nR) snprintf(f3, sizeof f3, "%.6f", fc);
-      if (fk.n > 0 && fref.n > 0)
-        snprintf(d1, sizeof d1, "%.2e", fk.t[0] - fref.t[0]);
-      if (fc1.n > 0 && fref.n > 0)
-        snprintf(d2, sizeof d2, "%.2e", fc1.t[0] - fref.t[0]);
-      printf("  %3d %12.6g %9.6f %9.6f %22s %10.6f %22s | %9s %22s | %9s "
-             "%9s\n", k, omk, fd, fs,
-             forced ? text_response(&rk, b1, sizeof b1) : "-", rS,
-             forced && p11 ? text_response(&rs, b2, sizeof b2) : "-", f3,
-             forced && k < nR ? text_response(&rc2, b3, sizeof b3) : "-", d1,
-             d2);
-    }
-    fflush(stdout);
-  }
+  if ((rc = study_scene(&S)) || (rc = study_reference(&S))) goto done;
+  S.nR = vi_model_n(S.R);
+  if (S.hi > S.nR) S.hi = S.nR;
+  if ((rc = study_initial(&S))) goto done;
+  study_reference_runs(&S);
+  print_header(&S);
+  study_rows(&S);
   if (o->json) printf("]}\n");
   rc = vi_app_signal ? vi_app_interrupt_status() : 0;
-  if (o->out && !rc) { /* interrupted: no file */
-    double info[VI_TRUNCATION_INFO] = {dofs, lo, hi, nR, r, Gd, Gs};
-    for (int c = 0; c < VI_TRUNCATION_COLUMNS; c++) tref[c] = NAN;
-    tref[0] = nR;
-    tab_response(tref, 1, 4, &ref);
-    tab_first(tref, 1, 8, &fref, NULL);
-    rc = write_h5(o, sc, info, tref, nrows, tab, ldt);
-  }
-  free(x0);
+  if (o->out && !rc) rc = study_write(&S); /* interrupted: no file */
 done:
-  vi_orbit_destroy(&oref);
-  vi_model_destroy(&R);
-  vi_model_destroy(&dense);
-  vi_fe_destroy(&fe);
-  vi_scene_destroy(&sc);
+  free(S.x0);
+  vi_orbit_destroy(&S.oref);
+  vi_model_destroy(&S.R);
+  vi_model_destroy(&S.dense);
+  vi_fe_destroy(&S.fe);
+  vi_scene_destroy(&S.sc);
   return rc;
 }

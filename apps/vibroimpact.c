@@ -250,6 +250,121 @@ static int close_stdout(int rc)
   return rc;
 }
 
+/* The command named by argv[1] (run if none); *first = 2 when argv[1]
+ * named one.  0, or 2 when argv[1] looks like a misspelt command. */
+static int pick_command(int argc, char **argv, const app_cmd **cmd, int *first)
+{
+  *cmd = &cmds[0];
+  *first = 1;
+  if (argc <= 1) return 0;
+  for (int k = 0; k < NCMD; k++)
+    if (!strcmp(argv[1], cmds[k].name)) {
+      *cmd = &cmds[k];
+      *first = 2;
+    }
+  const char *s = *first == 1 ? suggest(argv[1]) : NULL;
+  if (s) {
+    fprintf(stderr, "vibroimpact: '%s' is neither a command nor a file; "
+            "did you mean 'vibroimpact %s'?\n", argv[1], s);
+    return 2;
+  }
+  return 0;
+}
+
+enum { O_MAXSIZE = 256, O_MAXDEPTH, O_MAXMEM, O_MODES, O_REF };
+static const struct option long_opts[] = {
+    {"output", required_argument, 0, 'o'}, {"impacts-csv", required_argument, 0, 'c'},
+    {"periods", required_argument, 0, 'p'}, {"rtol", required_argument, 0, 'r'},
+    {"atol", required_argument, 0, 'a'},   {"method", required_argument, 0, 'm'},
+    {"json", no_argument, 0, 'j'},         {"quiet", no_argument, 0, 'q'},
+    {"re", required_argument, 0, 'R'},     {"ke", required_argument, 0, 'K'},
+    {"max-scene-size", required_argument, 0, O_MAXSIZE},
+    {"max-depth", required_argument, 0, O_MAXDEPTH},
+    {"max-memory", required_argument, 0, O_MAXMEM},
+    {"modes", required_argument, 0, O_MODES},
+    {"reference", required_argument, 0, O_REF},
+    {"version", no_argument, 0, 'V'},      {"help", no_argument, 0, 'h'},
+    {0, 0, 0, 0}};
+
+/* --method NAME: 1, or 0 with the known names printed. */
+static int method_arg(const char *arg, int *method)
+{
+  if ((*method = vi_method_from_name(arg)) >= 0) return 1;
+  fprintf(stderr, "vibroimpact: --method: '%s' is not one of", arg);
+  for (int m = 0; vi_method_name(m); m++)
+    fprintf(stderr, "%s %s", m ? "," : "", vi_method_name(m));
+  fputc('\n', stderr);
+  return 0;
+}
+
+/* A whole number in [1, hi] for option name: 1, or 0 with a message. */
+static int whole_arg(const char *name, const char *arg, double hi, int *out)
+{
+  double v;
+  if (!num(name, arg, &v)) return 0;
+  if (!(v >= 1 && v <= hi) || v != floor(v)) {
+    fprintf(stderr, "vibroimpact: %s must be a whole number in [1, %.0f]\n", name, hi);
+    return 0;
+  }
+  *out = (int)v;
+  return 1;
+}
+
+/* --modes K (= 1..K) or A..B: 1, or 0 with a message. */
+static int modes_arg(const char *arg, app_opts *o)
+{
+  char *end;
+  const char *dots = strstr(arg, "..");
+  long a = strtol(arg, &end, 10), b = a;
+  if (dots && end == dots) b = strtol(dots + 2, &end, 10);
+  if (end == arg || *end || a < 1 || b < a || b > 100000) {
+    fprintf(stderr, "vibroimpact: --modes: '%s' is not K or A..B with "
+            "1 <= A <= B <= 100000\n", arg);
+    return 0;
+  }
+  o->modes_lo = dots ? (int)a : 1;
+  o->modes_hi = (int)b;
+  return 1;
+}
+
+/* One option c (getopt_long's) into o: -1 to go on, else the exit status
+ * (0 after --version or --help, 2 for a bad value, with the message). */
+static int parse_option(int c, int argc, char **argv, app_opts *o)
+{
+  double v;
+  int ok = 1;
+  switch (c) {
+  case 'o': o->out = optarg; break;
+  case 'c': o->csv = optarg; break;
+  case 'p': ok = positive("--periods", optarg, &o->periods); break;
+  case 'r': ok = positive("--rtol", optarg, &o->rtol); break;
+  case 'a': ok = positive("--atol", optarg, &o->atol); break;
+  case 'm': ok = method_arg(optarg, &o->method); break;
+  case 'j': o->json = 1; break;
+  case 'q': o->quiet = 1; break;
+  case 'R': ok = num("--re", optarg, &o->re); break;
+  case 'K': ok = num("--ke", optarg, &o->ke); break;
+  case O_MAXSIZE:
+    if ((ok = bytes("--max-scene-size", optarg, &v)))
+      o->max_scene_bytes = v > 9e18 ? INT64_MAX : (int64_t)v;
+    break;
+  case O_MAXDEPTH: ok = whole_arg("--max-depth", optarg, 1e6, &o->max_depth); break;
+  case O_MAXMEM: ok = bytes("--max-memory", optarg, &o->max_memory); break;
+  case O_MODES: ok = modes_arg(optarg, o); break;
+  case O_REF: ok = whole_arg("--reference", optarg, 1e5, &o->modes_ref); break;
+  case 'V':
+    printf("vibroimpact %s (SUNDIALS %s)\n", vi_version_string(), vi_sundials_version());
+    return 0;
+  case 'h': usage(stdout); return 0;
+  default:
+    fprintf(stderr, "vibroimpact: unknown or incomplete option '%s'\n",
+            optind > 0 && optind <= argc ? argv[optind - 1] : "?");
+    usage(stderr);
+    return 2;
+  }
+  return ok ? -1 : 2;
+}
+
 int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
 {
   app_opts o;
@@ -257,36 +372,9 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
   o.method = -1;
   o.re = o.ke = NAN;
   const app_cmd *cmd = &cmds[0];
-  int first = 1;
-  if (argc > 1) {
-    for (int k = 0; k < NCMD; k++)
-      if (!strcmp(argv[1], cmds[k].name)) {
-        cmd = &cmds[k];
-        first = 2;
-      }
-    const char *s = first == 1 ? suggest(argv[1]) : NULL;
-    if (s) {
-      fprintf(stderr, "vibroimpact: '%s' is neither a command nor a file; "
-              "did you mean 'vibroimpact %s'?\n", argv[1], s);
-      return 2;
-    }
-  }
-  enum { O_MAXSIZE = 256, O_MAXDEPTH, O_MAXMEM, O_MODES, O_REF };
-  static const struct option lo[] = {
-      {"output", required_argument, 0, 'o'}, {"impacts-csv", required_argument, 0, 'c'},
-      {"periods", required_argument, 0, 'p'}, {"rtol", required_argument, 0, 'r'},
-      {"atol", required_argument, 0, 'a'},   {"method", required_argument, 0, 'm'},
-      {"json", no_argument, 0, 'j'},         {"quiet", no_argument, 0, 'q'},
-      {"re", required_argument, 0, 'R'},     {"ke", required_argument, 0, 'K'},
-      {"max-scene-size", required_argument, 0, O_MAXSIZE},
-      {"max-depth", required_argument, 0, O_MAXDEPTH},
-      {"max-memory", required_argument, 0, O_MAXMEM},
-      {"modes", required_argument, 0, O_MODES},
-      {"reference", required_argument, 0, O_REF},
-      {"version", no_argument, 0, 'V'},      {"help", no_argument, 0, 'h'},
-      {0, 0, 0, 0}};
-  int c;
-  double v;
+  *cmdp = cmd; /* never left unset, whatever is returned */
+  int first, c, rc = pick_command(argc, argv, &cmd, &first);
+  if (rc) return rc;
   optind = 0; /* 0: glibc starts afresh (a second call, the fuzz target) */
   opterr = 0;
   /* "+": stop at the first non-option, as POSIX; then skip the command */
@@ -294,76 +382,8 @@ int vi_app_parse(int argc, char **argv, app_opts *op, const app_cmd **cmdp)
     argv++;
     argc--;
   }
-  while ((c = getopt_long(argc, argv, "o:", lo, NULL)) != -1) {
-    switch (c) {
-    case 'o': o.out = optarg; break;
-    case 'c': o.csv = optarg; break;
-    case 'p': if (!positive("--periods", optarg, &o.periods)) return 2; break;
-    case 'r': if (!positive("--rtol", optarg, &o.rtol)) return 2; break;
-    case 'a': if (!positive("--atol", optarg, &o.atol)) return 2; break;
-    case 'm':
-      if ((o.method = vi_method_from_name(optarg)) < 0) {
-        fprintf(stderr, "vibroimpact: --method: '%s' is not one of", optarg);
-        for (int m = 0; vi_method_name(m); m++)
-          fprintf(stderr, "%s %s", m ? "," : "", vi_method_name(m));
-        fputc('\n', stderr);
-        return 2;
-      }
-      break;
-    case 'j': o.json = 1; break;
-    case 'q': o.quiet = 1; break;
-    case 'R': if (!num("--re", optarg, &o.re)) return 2; break;
-    case 'K': if (!num("--ke", optarg, &o.ke)) return 2; break;
-    case O_MAXSIZE:
-      if (!bytes("--max-scene-size", optarg, &v)) return 2;
-      o.max_scene_bytes = v > 9e18 ? INT64_MAX : (int64_t)v;
-      break;
-    case O_MAXDEPTH:
-      if (!num("--max-depth", optarg, &v)) return 2;
-      if (!(v >= 1 && v <= 1e6) || v != floor(v)) {
-        fprintf(stderr, "vibroimpact: --max-depth must be a whole number in "
-                "[1, 1000000]\n");
-        return 2;
-      }
-      o.max_depth = (int)v;
-      break;
-    case O_MAXMEM:
-      if (!bytes("--max-memory", optarg, &o.max_memory)) return 2;
-      break;
-    case O_MODES: { /* K (= 1..K) or A..B */
-      char *end;
-      const char *dots = strstr(optarg, "..");
-      long a = strtol(optarg, &end, 10), b = a;
-      if (dots && end == dots) b = strtol(dots + 2, &end, 10);
-      if (end == optarg || *end || a < 1 || b < a || b > 100000) {
-        fprintf(stderr, "vibroimpact: --modes: '%s' is not K or A..B with "
-                "1 <= A <= B <= 100000\n", optarg);
-        return 2;
-      }
-      o.modes_lo = dots ? (int)a : 1;
-      o.modes_hi = (int)b;
-      break;
-    }
-    case O_REF:
-      if (!num("--reference", optarg, &v)) return 2;
-      if (!(v >= 1 && v <= 100000) || v != floor(v)) {
-        fprintf(stderr, "vibroimpact: --reference must be a whole number in "
-                "[1, 100000]\n");
-        return 2;
-      }
-      o.modes_ref = (int)v;
-      break;
-    case 'V':
-      printf("vibroimpact %s (SUNDIALS %s)\n", vi_version_string(), vi_sundials_version());
-      return 0;
-    case 'h': usage(stdout); return 0;
-    default:
-      fprintf(stderr, "vibroimpact: unknown or incomplete option '%s'\n",
-              optind > 0 && optind <= argc ? argv[optind - 1] : "?");
-      usage(stderr);
-      return 2;
-    }
-  }
+  while ((c = getopt_long(argc, argv, "o:", long_opts, NULL)) != -1)
+    if ((rc = parse_option(c, argc, argv, &o)) >= 0) return rc;
   if (optind < argc) o.scene = argv[optind++];
   if (optind < argc) {
     fprintf(stderr, "vibroimpact: unexpected argument '%s'\n", argv[optind]);

@@ -20,6 +20,26 @@ extern "C" {
 VI_API int vi_model_create_reduced(const vi_model *full, const int *modes,
                                    int k, double r, vi_model **out);
 
+/** A truncated model of a model R in modal coordinates (M = I, K
+ * diagonal: vi_model_create_reduced with every mode, vi_fe_create_model),
+ * as `vibroimpact truncation` studies it (MODEL.md section 5): R's first k
+ * coordinates and, with static_vector = 1, the static residual vector at
+ * the stop, c_j = psi_j / K_jj for j >= k (K^-1 w less its part in the
+ * kept modes), normalised.  With T [n_R x (k + static_vector)] those
+ * columns: M = T^T T (= I), K = T^T K T, C = T^T C T, stop T^T psi with
+ * R's x_s and restitution r, forcing T^T (a, b, f0).  z [2 n_R] (x then v
+ * of R; may be NULL) is projected into zt [2 (k + static_vector)] (T^T,
+ * T orthonormal); *carried (may be NULL) receives the stop's compliance
+ * the truncated coordinates carry, |T^T psi|^2.  A new, set-up model.
+ * @return VI_OK, VI_ERR_ARG (NULL, k outside 1..n_R, static_vector not 0
+ * or 1, or no residual: k = n_R or psi zero beyond k), VI_ERR_STATE (R not
+ * set up), VI_ERR_UNSUPPORTED (band storage), VI_ERR_NOMEM, or the
+ * model's own error (r outside [0, 1]: VI_ERR_RESTITUTION). */
+VI_API int vi_model_create_truncated(const vi_model *R, int k,
+                                     int static_vector, double r,
+                                     const double *z, double *zt,
+                                     double *carried, vi_model **out);
+
 /** The paper's beam: a clamped-free Euler-Bernoulli cantilever.
  * Mode j (0-based) of a unit-length, unit-mass-per-length cantilever: beta_j
  * solves cos(beta) cosh(beta) = -1 and the mass-normalised shape is

@@ -215,6 +215,15 @@ VI_API int vi_identify_response(const vi_identify *id, int nt,
  *  NULL.  @return VI_OK, VI_ERR_STATE. */
 VI_API int vi_identify_energy_restitution(const vi_identify *id, double *r12,
                                           double *vN, double *KE, double *RE);
+/** The forcing phase a recorded forcing signal implies: f [ns] at times
+ *  t [ns] fitted by least squares as alpha cos(Omega t) + beta sin(Omega t)
+ *  = A cos(Omega (t + t0)), *t0 in [0, 2 pi / Omega): the shift that maps
+ *  the recording's time onto a model forced by a cos(Omega t) (compare
+ *  vi_identify_shift).  *t0 is NaN on an error.  @return VI_OK, VI_ERR_ARG
+ *  (NULL, ns < 2, or samples that do not determine a phase: all at one
+ *  phase modulo pi), VI_ERR_FREQUENCY (omega <= 0), VI_ERR_NONFINITE. */
+VI_API int vi_identify_forcing_phase(int ns, const double *t, const double *f,
+                                     double omega, double *t0);
 
 #ifdef __cplusplus
 }

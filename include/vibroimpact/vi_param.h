@@ -22,6 +22,25 @@
  *                          modes): C = M Psi diag(2 zeta_j omega_j) Psi^T M,
  *                          set-up dense model with proportional damping
  *                          only                         M^-1 C, modal D
+ *   mass.scale, stiffness.scale   M = s M_0, K = s K_0: the matrix as it
+ *                          was given (M_0, K_0) times s (mass.scale > 0,
+ *                          stiffness.scale >= 0; 1 until set).  The modes
+ *                          change: the whole set-up is redone (M^-1 K, the
+ *                          stops' M^-1 W and Delassus matrix, the modal
+ *                          analysis, or the band set-up), on a copy that
+ *                          replaces the model only if it succeeds.
+ *                          Rayleigh damping follows (C = alpha M + beta K),
+ *                          modal damping keeps its ratios on the new modes,
+ *                          a matrix C stays as it is.   everything
+ *   damping.scale          C = s C_0 (s >= 0) of a damping given as a
+ *                          matrix (VI_ERR_UNSUPPORTED for Rayleigh or modal
+ *                          damping: change their own keys)   M^-1 C, D
+ *
+ *   A scene builds a uniform chain from unit matrices and sets its m, k,
+ *   c through these keys, so that `vibroimpact sweep --param model.chain.k`
+ *   gets, at each value, the model the scene would build with it.  A
+ *   matrix given again (vi_model_set_stiffness before setup) becomes the
+ *   new base, with scale 1.
  *
  * The initial state is not the model's: the keys initial.t0, initial.x[i]
  * and initial.v[i] are handled by vi_param_set_initial on caller arrays
@@ -61,7 +80,8 @@ typedef enum vi_param_kind_t {
  *  harmonic forcing), VI_ERR_RESTITUTION, VI_ERR_NOT_PSD (negative
  *  damping), VI_ERR_STATE (damping.zeta before setup),
  *  VI_ERR_UNSUPPORTED (damping.zeta of a band or non-proportional
- *  model), VI_ERR_NOMEM. */
+ *  model, damping.scale of Rayleigh or modal damping), VI_ERR_NOT_SPD
+ *  (mass.scale <= 0, or the set-up redone fails), VI_ERR_NOMEM. */
 VI_API int vi_model_set_param(vi_model *m, const char *key, double value);
 /** The parameter `key` of model m into *value (also before setup; NaN
  *  for damping.alpha/beta of a matrix C).  @return VI_OK, VI_ERR_ARG,

@@ -9,6 +9,12 @@
  *   stop.xs, stop.r, stops[k].xs, stops[k].r                   the same
  *   model.rayleigh.alpha, model.rayleigh.beta   damping.alpha, damping.beta
  *   model.cantilever.zeta                       damping.zeta
+ *   model.chain.m, model.chain.k, model.chain.c  mass.scale, stiffness.scale,
+ *       damping.scale, the same value: a uniform chain is built from unit
+ *       elements scaled by them, so a study changing one gets the model the
+ *       scene builds with that value (the modes redone); refused for a
+ *       chain given element by element, and model.chain.c when Rayleigh
+ *       damping replaces C
  *   initial.t0, initial.x[i], initial.v[i]                     the same
  *   damping.*                                                  the same
  */
@@ -24,7 +30,7 @@ extern "C" {
 
 /** The parameter key of the scene key `key` into out [len].  @return
  *  VI_OK, VI_ERR_ARG (NULL), VI_ERR_PARSE (not a parameter: a key such as
- *  model.chain.k that needs the model rebuilt, or one that is not a
+ *  model.chain.n that changes the model's size, or one that is not a
  *  number; diag names the key and lists the parameters), VI_ERR_LIMIT
  *  (len too small). */
 VI_API int vi_scene_param_key(const vi_scene *sc, const char *key, char *out,

@@ -66,6 +66,11 @@ struct vi_model {
    * ratios (vi_param.c: the keys damping.alpha, .beta, .zeta) */
   int damp_kind;
   double ray_alpha, ray_beta;
+  /* structural keys mass.scale, stiffness.scale, damping.scale (vi_param.c):
+   * M, K, C = scale * base; sbase [3 x len] (NULL until one is set), the
+   * bit j of shave when base j is captured */
+  double *sbase, sscale[3];
+  int shave;
   char errmsg[VI_MSG_LEN];
 };
 

@@ -68,7 +68,7 @@ module vibroimpact
             vi_model_forcing_cos, vi_model_forcing_sin, vi_model_forcing_const, &
             vi_model_modal_damping, vi_model_modal_forcing_cos, &
             vi_model_modal_forcing_sin, vi_model_modal_forcing_const, &
-            vi_model_create_reduced
+            vi_model_create_reduced, vi_model_create_truncated
   public :: vi_model_create_band, vi_model_set_mass_band, vi_model_set_damping_band, &
             vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
             vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
@@ -83,6 +83,10 @@ module vibroimpact
   public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
             vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_iterate, vi_cont_done, &
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
+  public :: vi_census_create, vi_census_destroy, vi_census_errmsg, vi_census_set_phases, &
+            vi_census_set_initial, vi_census_set_sim_hook, vi_census_set_monitor, &
+            vi_census_set_cancel, vi_census_run, vi_census_count, vi_census_orbit, &
+            vi_census_stability
   public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
             vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
   public :: vi_identify_create, vi_identify_destroy, vi_identify_errmsg, &
@@ -91,7 +95,7 @@ module vibroimpact
             vi_identify_set_data, vi_identify_run, vi_identify_params, vi_identify_shift, &
             vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
             vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution, &
-            vi_identify_set_stable_only, vi_identify_stability
+            vi_identify_set_stable_only, vi_identify_stability, vi_identify_forcing_phase
   public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
             vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
             vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
@@ -403,6 +407,17 @@ module vibroimpact
       import :: c_ptr, c_int
       type(c_ptr), value :: model
       integer(c_int) :: ld
+    end function
+    !> model in modal coordinates (n_R of them); z [2 nR] and zt [2 (k + static_vector)] optional together
+    integer(c_int) function vi_model_create_truncated(model, k, static_vector, r, z, zt, &
+        carried, out) bind(C, name="vi_model_create_truncated")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: k, static_vector
+      real(c_double), value :: r
+      real(c_double), intent(in), optional :: z(*)
+      real(c_double), intent(out), optional :: zt(*), carried
+      type(c_ptr), intent(out) :: out
     end function
     !> The reduced model of the modes modes(1:k) (0-based mode numbers).
     integer(c_int) function vi_model_create_reduced(full, modes, k, r, model) &
@@ -1068,6 +1083,14 @@ module vibroimpact
       real(c_double) :: x(*)
       real(c_double), optional :: v(*)
     end function
+    integer(c_int) function vi_identify_forcing_phase(ns, t, f, omega, t0) &
+        bind(C, name="vi_identify_forcing_phase")
+      import :: c_int, c_double
+      integer(c_int), value :: ns
+      real(c_double), intent(in) :: t(*), f(*)
+      real(c_double), value :: omega
+      real(c_double), intent(out) :: t0
+    end function
     integer(c_int) function vi_identify_energy_restitution(id, r12, vn, ke, re) &
         bind(C, name="vi_identify_energy_restitution")
       import :: c_int, c_ptr, c_double
@@ -1338,6 +1361,80 @@ module vibroimpact
       integer(c_int), value :: i
       integer(c_int), intent(out), optional :: type, admissible
       real(c_double), intent(out), optional :: param, vn, re, im
+    end function
+    ! ---- the orbit census (vi_census.h)
+    integer(c_int) function vi_census_create(model, n, m, out) bind(C, name="vi_census_create")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, m
+      type(c_ptr), intent(out) :: out
+    end function
+    subroutine vi_census_destroy(c) bind(C, name="vi_census_destroy")
+      import :: c_ptr
+      type(c_ptr) :: c
+    end subroutine
+    !> a C string (vi_string converts it)
+    type(c_ptr) function vi_census_errmsg(c) bind(C, name="vi_census_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_census_set_phases(c, nphase) bind(C, name="vi_census_set_phases")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+      integer(c_int), value :: nphase
+    end function
+    integer(c_int) function vi_census_set_initial(c, t0, x, v) bind(C, name="vi_census_set_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: t0
+      real(c_double), intent(in), optional :: x(*), v(*)
+    end function
+    !> fn: integer(c_int) function f(sim, user) bind(C), both type(c_ptr), value
+    integer(c_int) function vi_census_set_sim_hook(c, fn, user, destroy) &
+        bind(C, name="vi_census_set_sim_hook")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> fn: integer(c_int) function f(c, index, user) bind(C), all by value
+    !> (c a c_ptr, index integer(c_int), 0-based)
+    integer(c_int) function vi_census_set_monitor(c, fn, user, destroy) &
+        bind(C, name="vi_census_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_census_set_cancel(c, fn, user, destroy) &
+        bind(C, name="vi_census_set_cancel")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_census_run(c) bind(C, name="vi_census_run")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_census_count(c) bind(C, name="vi_census_count")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    !> i is 0-based, stop receives 0-based stops; x, v are [ld x m]
+    integer(c_int) function vi_census_orbit(c, i, t, x, v, ld, stop, vn) &
+        bind(C, name="vi_census_orbit")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      integer(c_int), value :: i, ld
+      real(c_double), intent(out), optional :: t(*), x(*), v(*), vn(*)
+      integer(c_int), intent(out), optional :: stop(*)
+    end function
+    !> i is 0-based; re, im are [2n]
+    integer(c_int) function vi_census_stability(c, i, re, im, stable, admissible, gmax) &
+        bind(C, name="vi_census_stability")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      integer(c_int), value :: i
+      real(c_double), intent(out), optional :: re(*), im(*), gmax
+      integer(c_int), intent(out), optional :: stable, admissible
     end function
 
     ! ---- finite-element structures in (vi_sparse.h) --------------------------

@@ -78,4 +78,13 @@ struct vi_scene {
 /* Coordinates of the scene's model: n, or the kept modes of an FE model. */
 int vi_scene_model_n(const vi_scene *s);
 
+/* A chain's m, k, c as model parameters (vi_scene_param.c): the mask of
+ * those a study may change (bit 0 m, 1 k, 2 c: uniform, and not replaced
+ * by Rayleigh damping), the per-element values to build M, K, C from, u
+ * [3 n] (1 for each such parameter), and their values set on the model as
+ * mass.scale, stiffness.scale, damping.scale (before setup). */
+int vi_scene_chain_scalable(const vi_scene *s);
+void vi_scene_chain_elements(const vi_scene *s, double *u);
+int vi_scene_chain_scale(const vi_scene *s, vi_model *m);
+
 #endif

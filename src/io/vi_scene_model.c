@@ -147,7 +147,14 @@ typedef struct dense {
  * chain can take its place without touching the other kinds. */
 static int assemble_chain(const vi_scene *s, dense *x)
 {
-  vi_build_chain(s->n, s->cm, s->ck, s->cc, x->M, x->C, x->K, s->n);
+  /* uniform m, k, c from unit elements, scaled in fill_model (their
+   * parameters mass.scale ...: vi_scene_param.c) */
+  int n = s->n;
+  double *u = malloc(sizeof(double) * 3 * (size_t)n);
+  if (!u) return VI_ERR_NOMEM;
+  vi_scene_chain_elements(s, u);
+  vi_build_chain(n, u, u + n, u + 2 * (size_t)n, x->M, x->C, x->K, n);
+  free(u);
   return VI_OK;
 }
 
@@ -204,6 +211,7 @@ static int fill_model(const vi_scene *s, const dense *x, vi_model *m,
   }
   *line = s->line_model;
   snprintf(key, klen, "%s", "model");
+  if ((st = vi_scene_chain_scale(s, m))) return st; /* a chain's m, k, c */
   /* the model keeps alpha and beta as parameters (vi_param.h): the same
    * C = alpha M + beta K, so that a study can change one of them */
   if (s->has_rayleigh && s->ra >= 0.0 && s->rb >= 0.0 &&
@@ -217,10 +225,11 @@ static int fill_model(const vi_scene *s, const dense *x, vi_model *m,
 static int create_band_chain(const vi_scene *s, vi_model **m)
 {
   int n = s->n, st;
-  double *B = malloc(sizeof(double) * 6 * (size_t)n);
+  double *B = malloc(sizeof(double) * 9 * (size_t)n);
   if (!B) return VI_ERR_NOMEM;
-  double *MB = B, *CB = B + 2 * (size_t)n, *KB = B + 4 * (size_t)n;
-  st = vi_build_chain_band(n, s->cm, s->ck, s->cc, MB, CB, KB, 2);
+  double *MB = B, *CB = B + 2 * (size_t)n, *KB = B + 4 * (size_t)n, *u = B + 6 * (size_t)n;
+  vi_scene_chain_elements(s, u); /* scaled in fill_model, as assemble_chain */
+  st = vi_build_chain_band(n, u, u + n, u + 2 * (size_t)n, MB, CB, KB, 2);
   if (!st && s->has_rayleigh)
     for (size_t i = 0; i < 2 * (size_t)n; i++)
       CB[i] = s->ra * MB[i] + s->rb * KB[i];

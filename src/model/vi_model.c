@@ -107,6 +107,7 @@ void vi_model_destroy(vi_model **model)
   if (!model || !*model) return;
   free((*model)->Ws);
   free((*model)->MinvW);
+  free((*model)->sbase); /* vi_param.c: the structural keys */
   free((*model)->block);
   free(*model);
   *model = NULL;

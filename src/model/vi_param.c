@@ -11,7 +11,7 @@
 
 enum {
   P_OMEGA, P_A, P_B, P_F0, P_XS, P_R, P_ALPHA, P_BETA, P_ZETA, P_ZETA_ALL,
-  P_T0, P_X, P_V, P_COUNT
+  P_MSCALE, P_KSCALE, P_CSCALE, P_T0, P_X, P_V, P_COUNT
 };
 
 /* The key patterns: "[]" stands for a 1-based index. */
@@ -30,6 +30,9 @@ static const struct {
     {"damping.beta", "damping.beta", VI_PARAM_MODEL},
     {"damping.zeta[]", "damping.zeta[j]", VI_PARAM_MODEL},
     {"damping.zeta", "damping.zeta", VI_PARAM_MODEL},
+    {"mass.scale", "mass.scale", VI_PARAM_MODEL},
+    {"stiffness.scale", "stiffness.scale", VI_PARAM_MODEL},
+    {"damping.scale", "damping.scale", VI_PARAM_MODEL},
     {"initial.t0", "initial.t0", VI_PARAM_INITIAL_STATE},
     {"initial.x[]", "initial.x[i]", VI_PARAM_INITIAL_STATE},
     {"initial.v[]", "initial.v[i]", VI_PARAM_INITIAL_STATE},
@@ -229,6 +232,115 @@ static int set_modal_damping(vi_model *m, const double *zeta)
   return VI_OK;
 }
 
+/* ---- structural keys: M, K or C scaled, the set-up redone -----------------
+ * mass.scale, stiffness.scale and damping.scale multiply the matrix as it
+ * was given (its base, captured at the first change: a scene builds a
+ * uniform chain from unit matrices and sets m, k, c this way, so a study
+ * changing one gets the model the scene would build with that value, bit
+ * for bit).  A new M or K changes the modes: the whole set-up (M^-1 K,
+ * the stops' M^-1 W and G, the modal analysis, or the band set-up) is
+ * redone on a copy that replaces the model only when it succeeds;
+ * Rayleigh damping follows M and K (C = alpha M + beta K), modal damping
+ * keeps its ratios on the new modes, a matrix C stays. */
+
+/* Matrix j (0 M, 1 K, 2 C) as stored and its length. */
+static double *scaled_matrix(vi_model *m, int j, size_t *len)
+{
+  *len = m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n;
+  if (m->band) return j == 0 ? m->MB : j == 1 ? m->KB : m->CB;
+  return j == 0 ? m->M : j == 1 ? m->K : m->C;
+}
+
+/* The base of matrix j: captured now if it was not, or if the matrix is no
+ * longer scale * base (given again since, or damping made Rayleigh). */
+static int capture_base(vi_model *m, int j)
+{
+  size_t len;
+  const double *X = scaled_matrix(m, j, &len);
+  if (!m->sbase && !(m->sbase = calloc(3 * len, sizeof(double))))
+    return vi_fail(m->errmsg, VI_ERR_NOMEM, "out of memory");
+  double *B = m->sbase + (size_t)j * len;
+  int ok = (m->shave >> j) & 1;
+  for (size_t i = 0; ok && i < len; i++) ok = X[i] == m->sscale[j] * B[i];
+  if (!ok) {
+    memcpy(B, X, sizeof(double) * len);
+    m->sscale[j] = 1.0;
+    m->shave |= 1 << j;
+  }
+  return VI_OK;
+}
+
+static int check_scale(vi_model *m, int j, const char *key, double v)
+{
+  if (j == 0 ? !(v > 0.0) : v < 0.0)
+    return vi_fail(m->errmsg, j == 0 ? VI_ERR_NOT_SPD : VI_ERR_NOT_PSD,
+                   "%s = %.17g: the %s must be %s", key, v,
+                   j == 0 ? "mass" : j == 1 ? "stiffness" : "damping",
+                   j == 0 ? "positive definite (scale > 0)"
+                          : "semidefinite (scale >= 0)");
+  if (j == 2 && m->damp_kind != 0)
+    return vi_fail(m->errmsg, VI_ERR_UNSUPPORTED, "%s: the damping is %s; "
+                   "change %s instead", key,
+                   m->damp_kind == 1 ? "Rayleigh" : "given by modal ratios",
+                   m->damp_kind == 1 ? "damping.alpha, damping.beta"
+                                     : "damping.zeta");
+  return VI_OK;
+}
+
+/* Matrix j = s * base on a model not set up (or a copy being redone), C
+ * following M and K when it is Rayleigh damping. */
+static int apply_scale(vi_model *m, int j, double s)
+{
+  int st = capture_base(m, j);
+  if (st) return st;
+  size_t len;
+  double *X = scaled_matrix(m, j, &len);
+  const double *B = m->sbase + (size_t)j * len;
+  for (size_t i = 0; i < len; i++) X[i] = s * B[i];
+  m->sscale[j] = s;
+  if (j < 2 && m->damp_kind == 1) return set_rayleigh(m, m->ray_alpha, m->ray_beta);
+  return VI_OK;
+}
+
+/* On a set-up model: a copy scaled and set up again, which replaces the
+ * model on success (the caller's pointer stays valid); the model is
+ * unchanged on an error. */
+static int set_scale(vi_model *m, int j, const char *key, double s)
+{
+  if (!m->frozen) return apply_scale(m, j, s);
+  vi_model *c = NULL;
+  double *zeta = NULL;
+  int st = vi_model_copy(m, &c);
+  if (!st && m->damp_kind == 2) { /* the ratios outlive the modes */
+    zeta = malloc(sizeof(double) * (size_t)m->n);
+    if (zeta) memcpy(zeta, m->zeta, sizeof(double) * (size_t)m->n);
+    else st = VI_ERR_NOMEM;
+  }
+  if (!st) {
+    c->frozen = 0;
+    st = apply_scale(c, j, s);
+  }
+  if (!st) st = vi_model_setup(c);
+  if (!st && zeta) st = set_modal_damping(c, zeta);
+  free(zeta);
+  if (st) {
+    vi_fail(m->errmsg, st, "%s = %.17g: %s", key, s,
+            c && c->errmsg[0] ? c->errmsg : vi_strerror(st));
+    vi_model_destroy(&c);
+    return st;
+  }
+  vi_model old = *m;
+  *m = *c;
+  *c = old;
+  vi_model_destroy(&c);
+  return VI_OK;
+}
+
+static double get_scale(const vi_model *m, int j)
+{
+  return (m->shave >> j) & 1 ? m->sscale[j] : 1.0;
+}
+
 /* ---- checks ---------------------------------------------------------------- */
 
 static int check_index(char *buf, const char *key, int idx, int count,
@@ -303,6 +415,8 @@ static int check_set(vi_model *m, const pkey *p, const char *key, double v)
       return vi_fail(m->errmsg, VI_ERR_NOT_PSD, "%s = %.17g: a negative "
                      "damping ratio makes C indefinite", key, v);
     return VI_OK;
+  case P_MSCALE: case P_KSCALE: case P_CSCALE:
+    return check_scale(m, p->id - P_MSCALE, key, v);
   default:
     return vi_fail(m->errmsg, VI_ERR_ARG, "%s is the initial state, not a "
                    "parameter of the model (vi_param_set_initial)", key);
@@ -350,6 +464,9 @@ int vi_model_set_param(vi_model *m, const char *key, double value)
                       p.id == P_BETA ? value : b);
     break;
   }
+  case P_MSCALE: case P_KSCALE: case P_CSCALE:
+    st = set_scale(m, p.id - P_MSCALE, key, value);
+    break;
   default: { /* P_ZETA, P_ZETA_ALL */
     double *z = malloc(sizeof(double) * (size_t)m->n);
     if (!z) return vi_fail(m->errmsg, VI_ERR_NOMEM, "out of memory");
@@ -398,6 +515,9 @@ int vi_model_param(const vi_model *m, const char *key, double *value)
         return vi_fail(mm->errmsg, VI_ERR_UNSUPPORTED, "%s: the modes have "
                        "different ratios (read damping.zeta[j])", key);
     *value = m->zeta[0];
+    return VI_OK;
+  case P_MSCALE: case P_KSCALE: case P_CSCALE:
+    *value = get_scale(m, p.id - P_MSCALE);
     return VI_OK;
   default:
     st = vi_fail(buf, VI_ERR_ARG, "%s is the initial state, not a parameter "
@@ -473,13 +593,18 @@ int vi_model_copy(const vi_model *m, vi_model **out)
   size_t nmw = (size_t)m->ops->stop_vectors * nS + (size_t)m->ns * m->ns;
   if (m->ns_cap) c->Ws = malloc(sizeof(double) * nw);
   if (m->MinvW) c->MinvW = malloc(sizeof(double) * nmw);
-  if (!c->block || (m->ns_cap && !c->Ws) || (m->MinvW && !c->MinvW)) {
+  size_t nb = 3 * (m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n);
+  c->sbase = m->sbase ? malloc(sizeof(double) * nb) : NULL;
+  if (!c->block || (m->ns_cap && !c->Ws) || (m->MinvW && !c->MinvW) ||
+      (m->sbase && !c->sbase)) {
     free(c->block);
     free(c->Ws);
     free(c->MinvW);
+    free(c->sbase);
     free(c);
     return VI_ERR_NOMEM;
   }
+  if (m->sbase) memcpy(c->sbase, m->sbase, sizeof(double) * nb);
   memcpy(c->block, m->block, sizeof(double) * m->nblock);
   double *const fields_m[] = {
       m->M, m->C, m->K, m->MinvK, m->MinvC, m->Psi, m->PsiTM, m->D,

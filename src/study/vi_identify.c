@@ -1339,3 +1339,32 @@ int vi_identify_energy_restitution(const vi_identify *id, double *r12,
   if (RE) *RE = id->RE;
   return VI_OK;
 }
+
+/* Least squares on the two columns cos, sin (normal equations: a 2 x 2
+ * system, solved by Cramer's rule). */
+int vi_identify_forcing_phase(int ns, const double *t, const double *f,
+                              double omega, double *t0)
+{
+  if (!t0) return VI_ERR_ARG;
+  *t0 = NAN;
+  if (!t || !f || ns < 2) return VI_ERR_ARG;
+  if (!(omega > 0.0)) return isfinite(omega) ? VI_ERR_FREQUENCY : VI_ERR_NONFINITE;
+  double cc = 0, cs = 0, ss = 0, fc = 0, fs = 0;
+  for (int i = 0; i < ns; i++) {
+    if (!isfinite(t[i]) || !isfinite(f[i])) return VI_ERR_NONFINITE;
+    double c = cos(omega * t[i]), s = sin(omega * t[i]);
+    cc += c * c;
+    cs += c * s;
+    ss += s * s;
+    fc += f[i] * c;
+    fs += f[i] * s;
+  }
+  double det = cc * ss - cs * cs;
+  if (!(fabs(det) > 0)) return VI_ERR_ARG;
+  double al = (fc * ss - fs * cs) / det, be = (fs * cc - fc * cs) / det;
+  /* alpha cos + beta sin = A cos(Omega t - phi), phi = atan2(beta, alpha):
+   * t0 = -phi / Omega, into [0, T) */
+  double T = 2 * M_PI / omega, s0 = fmod(atan2(-be, al) / omega, T);
+  *t0 = s0 < 0 ? s0 + T : s0;
+  return VI_OK;
+}

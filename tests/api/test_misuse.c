@@ -10,6 +10,7 @@
 
 #include "vi_testutil.h"
 #include "vibroimpact/vi_builders.h"
+#include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_version.h"
 
@@ -1095,6 +1096,102 @@ static void test_sweep_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* The truncated model: NULL, k out of range, a model not set up, a band
+ * model, no residual beyond the kept modes, a state without its output. */
+static void test_truncated_misuse(void **state)
+{
+  (void)state;
+  vi_model *f = vi_test_fig2(), *R = NULL, *t = NULL, *raw = NULL;
+  const int all[2] = {0, 1};
+  double z[4] = {0}, zt[4], g;
+  assert_int_equal(vi_model_create_reduced(f, all, 2, 0.7, &R), VI_OK);
+  assert_err(vi_model_create_truncated(NULL, 1, 0, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 1, 0, 0.7, NULL, NULL, NULL, NULL));
+  assert_err(vi_model_create_truncated(R, 0, 0, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 3, 0, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 1, 2, 0.7, NULL, NULL, NULL, &t));
+  assert_err(vi_model_create_truncated(R, 2, 1, 0.7, NULL, NULL, NULL, &t)); /* nothing beyond */
+  assert_err(vi_model_create_truncated(R, 1, 0, 0.7, z, NULL, NULL, &t));
+  assert_int_equal(vi_model_create_truncated(R, 1, 0, 1.5, z, zt, &g, &t), VI_ERR_RESTITUTION);
+  assert_null(t);
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_model_create_truncated(raw, 1, 0, 0.7, NULL, NULL, NULL, &t), VI_ERR_STATE);
+  vi_model_destroy(&raw);
+  double mass[2] = {1, 1}, k[2] = {1, 1}, w[2] = {0, 1}, a[2] = {0.5, 0};
+  assert_int_equal(vi_model_create_chain(2, mass, k, NULL, &raw), VI_OK);
+  assert_int_equal(vi_model_set_forcing(raw, 0.9, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_set_stop(raw, w, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_setup(raw), VI_OK);
+  assert_int_equal(vi_model_create_truncated(raw, 1, 0, 0.7, NULL, NULL, NULL, &t),
+                   VI_ERR_UNSUPPORTED); /* band: no modal coordinates */
+  vi_model_destroy(&raw);
+  vi_model_destroy(&R);
+  vi_model_destroy(&f);
+}
+
+static int census_stop(const vi_census *c, int index, void *user)
+{
+  (void)c, (void)index, (void)user;
+  return 1;
+}
+
+/* The orbit census: NULL handles, out-of-range n, m, phases and indices,
+ * non-finite seeds, a model without forcing or stop, a stopping monitor. */
+static void test_census_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *raw = NULL;
+  vi_census *c = NULL;
+  double t, x[4], v[4], re[4], im[4], gmax, nanx[2] = {NAN, 0};
+  int stop, st, ad;
+  assert_err(vi_census_create(NULL, 1, 1, &c));
+  assert_err(vi_census_create(m, 1, 1, NULL));
+  assert_err(vi_census_create(m, 0, 1, &c));
+  assert_err(vi_census_create(m, 1, 65, &c));
+  assert_null(c);
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_census_create(raw, 1, 1, &c), VI_ERR_STATE);
+  vi_model_destroy(&raw);
+  raw = vi_test_sdof(1, 0.1, 1, 0, 0.5, 0, 0.1, 0.7); /* no harmonic forcing */
+  assert_int_equal(vi_census_create(raw, 1, 1, &c), VI_ERR_FREQUENCY);
+  assert_null(c);
+  vi_model_destroy(&raw);
+  assert_int_equal(vi_census_create(m, 1, 1, &c), VI_OK);
+  assert_err(vi_census_set_phases(NULL, 720));
+  assert_err_msg(vi_census_set_phases(c, 7), vi_census_errmsg(c));
+  assert_err(vi_census_set_initial(NULL, 0, NULL, NULL));
+  assert_err_msg(vi_census_set_initial(c, INFINITY, NULL, NULL), vi_census_errmsg(c));
+  assert_err_msg(vi_census_set_initial(c, 0, nanx, NULL), vi_census_errmsg(c));
+  assert_err_msg(vi_census_set_initial(c, 0, NULL, nanx), vi_census_errmsg(c));
+  assert_err(vi_census_set_sim_hook(NULL, hook_fails, NULL, NULL));
+  assert_err(vi_census_set_monitor(NULL, census_stop, NULL, NULL));
+  assert_err(vi_census_set_cancel(NULL, never_cancel, NULL, NULL));
+  assert_err(vi_census_run(NULL));
+  assert_int_equal(vi_census_count(NULL), 0);
+  assert_int_equal(vi_census_count(c), 0);
+  assert_string_equal(vi_census_errmsg(NULL), "");
+  /* no orbit before a run */
+  assert_err(vi_census_orbit(c, 0, &t, x, v, 2, &stop, NULL));
+  assert_err(vi_census_stability(c, 0, re, im, &st, &ad, &gmax));
+  assert_err(vi_census_orbit(NULL, 0, &t, x, v, 2, &stop, NULL));
+  assert_err(vi_census_stability(NULL, 0, re, im, &st, &ad, &gmax));
+  /* a failing hook skips the transient seeds; a monitor stops at the
+   * first orbit (the phase scan's), which is kept */
+  assert_int_equal(vi_census_set_sim_hook(c, hook_fails, NULL, NULL), VI_OK);
+  assert_int_equal(vi_census_set_monitor(c, census_stop, NULL, NULL), VI_OK);
+  assert_int_equal(vi_census_run(c), VI_STOPPED);
+  assert_int_equal(vi_census_count(c), 1);
+  assert_int_equal(vi_census_orbit(c, 0, &t, x, v, 1, &stop, NULL), VI_ERR_DIM);
+  assert_err(vi_census_orbit(c, 1, &t, x, v, 2, &stop, NULL));
+  assert_err(vi_census_orbit(c, -1, &t, NULL, NULL, 0, NULL, NULL));
+  assert_err(vi_census_stability(c, 1, re, im, &st, &ad, &gmax));
+  assert_int_equal(vi_census_orbit(c, 0, &t, NULL, NULL, 0, NULL, NULL), VI_OK);
+  vi_census_destroy(&c);
+  vi_census_destroy(&c); /* NULL-safe */
+  vi_census_destroy(NULL);
+  vi_model_destroy(&m);
+}
+
 static int stop_cont(const vi_cont *c, int64_t point, void *user)
 {
   (void)c, (void)user;
@@ -1254,6 +1351,21 @@ static void test_identify_misuse(void **state)
   assert_int_equal(vi_identify_response(NULL, 1, t, x, NULL), VI_ERR_ARG);
   assert_int_equal(vi_identify_energy_restitution(id, NULL, NULL, NULL, NULL), VI_ERR_STATE);
   assert_int_equal(vi_identify_energy_restitution(NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  { /* the forcing phase of a recorded signal */
+    double tt[3] = {0, 1, 2}, ff[3] = {1, 0, -1}, same[3] = {0, 0, 0}, ph;
+    assert_err(vi_identify_forcing_phase(3, tt, ff, 1.0, NULL));
+    assert_err(vi_identify_forcing_phase(3, NULL, ff, 1.0, &ph));
+    assert_true(isnan(ph));
+    assert_err(vi_identify_forcing_phase(3, tt, NULL, 1.0, &ph));
+    assert_err(vi_identify_forcing_phase(1, tt, ff, 1.0, &ph));
+    assert_int_equal(vi_identify_forcing_phase(3, tt, ff, 0.0, &ph), VI_ERR_FREQUENCY);
+    assert_int_equal(vi_identify_forcing_phase(3, tt, ff, NAN, &ph), VI_ERR_NONFINITE);
+    ff[1] = INFINITY;
+    assert_int_equal(vi_identify_forcing_phase(3, tt, ff, 1.0, &ph), VI_ERR_NONFINITE);
+    /* every sample at t = 0: sin is 0 throughout, no phase */
+    assert_int_equal(vi_identify_forcing_phase(3, same, tt, 1.0, &ph), VI_ERR_ARG);
+    assert_true(isnan(ph));
+  }
   vi_identify_destroy(&id);
   assert_null(id);
   vi_model_destroy(&m);
@@ -1272,6 +1384,8 @@ int main(void)
       cmocka_unit_test(test_orbit_misuse),
       cmocka_unit_test(test_param_misuse),
       cmocka_unit_test(test_sweep_misuse),
+      cmocka_unit_test(test_census_misuse),
+      cmocka_unit_test(test_truncated_misuse),
       cmocka_unit_test(test_cont_misuse),
       cmocka_unit_test(test_identify_misuse),
   };

@@ -49,7 +49,9 @@ files=(
   src/io/vi_truncation_h5.c
   tests/study/test_identify.c bench/vi_bench_identify.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c
-  src/model/vi_param.c tests/model/test_param.c src/study/vi_sweep.c
+  src/orbit/vi_census.c tests/orbit/test_census.c
+  src/model/vi_param.c tests/model/test_param.c src/study/vi_sweep.c tests/model/test_param_modes.c
+  src/model/vi_truncate.c tests/model/test_truncate.c
   src/study/vi_cont.c tests/study/test_cont.c tests/study/test_basins.c src/io/vi_scene_param.c
   src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c
   bench/vi_bench_sparse.c examples/c/fe_host.c

@@ -311,9 +311,9 @@ static void test_scene_param_misuse(void **state)
   assert_int_equal(vi_scene_param_key(sc, NULL, out, 64, &d), VI_ERR_ARG);
   assert_int_equal(vi_scene_param_key(sc, "stop.xs", NULL, 64, &d), VI_ERR_ARG);
   assert_int_equal(vi_scene_param_key(sc, "stop.xs", out, 0, NULL), VI_ERR_ARG);
-  assert_int_equal(vi_scene_param_key(sc, "model.chain.k", out, 64, &d),
-                   VI_ERR_PARSE);
-  assert_string_equal(d.key, "model.chain.k");
+  assert_int_equal(vi_scene_param_key(sc, "model.chain.n", out, 64, &d),
+                   VI_ERR_PARSE); /* the size: not a parameter */
+  assert_string_equal(d.key, "model.chain.n");
   assert_non_null(strstr(d.message, "forcing.omega"));
   assert_int_equal(vi_scene_param_key(sc, "run.method", out, 64, &d), VI_ERR_PARSE);
   assert_int_equal(vi_scene_param_key(sc, "model.rayleigh.alpha", out, 5, &d),
@@ -321,6 +321,8 @@ static void test_scene_param_misuse(void **state)
   assert_int_equal(vi_scene_param_key(sc, "model.rayleigh.alpha", out, 64, &d),
                    VI_OK);
   assert_string_equal(out, "damping.alpha");
+  assert_int_equal(vi_scene_param_key(sc, "model.chain.k", out, 64, &d), VI_OK);
+  assert_string_equal(out, "stiffness.scale"); /* a structural key */
   vi_scene_destroy(&sc);
 }
 

@@ -451,6 +451,30 @@ static void clearance(void **state)
   vi_model_destroy(&m);
 }
 
+/* The forcing phase of a recorded f = A cos(Omega (t + t0)): exact data
+ * at uneven times give t0 to round-off, a negative shift wraps into
+ * [0, T), and noise of 1 % moves it by about 1 % of a radian / Omega. */
+static void forcing_phase(void **state)
+{
+  (void)state;
+  const double Om = 0.9, T = 2 * M_PI / Om;
+  double t[200], f[200], ph;
+  static const double shifts[3] = {0.4, -0.4, 5.0};
+  for (int q = 0; q < 3; q++) {
+    for (int i = 0; i < 200; i++) {
+      t[i] = 3.0 + 0.137 * i + 0.01 * sin(7.0 * i); /* uneven */
+      f[i] = 0.7 * cos(Om * (t[i] + shifts[q]));
+    }
+    assert_int_equal(vi_identify_forcing_phase(200, t, f, Om, &ph), VI_OK);
+    double want = fmod(shifts[q] + T, T);
+    assert_close(ph, want, 1e-12 * T);
+  }
+  /* 1 % deterministic "noise": the phase moves by O(1e-2) / Omega at most */
+  for (int i = 0; i < 200; i++) f[i] = 0.7 * cos(Om * (t[i] + 0.4)) + 0.007 * sin(13.1 * i);
+  assert_int_equal(vi_identify_forcing_phase(200, t, f, Om, &ph), VI_OK);
+  assert_true(fabs(ph - 0.4) < 0.02 / Om);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -458,6 +482,7 @@ int main(void)
       cmocka_unit_test(bad_data),     cmocka_unit_test(undetermined),
       cmocka_unit_test(beam_jitter),  cmocka_unit_test(beam_r_xs),
       cmocka_unit_test(beam_noise),    cmocka_unit_test(clearance),
+      cmocka_unit_test(forcing_phase),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
