@@ -95,7 +95,10 @@ static double *dense_matrix(const vi_model *m, int which, size_t *len)
   return which == 0 ? m->M : which == 1 ? m->C : m->K;
 }
 
-static double dense_omega_bound(const vi_model *m) { return m->omega[m->n - 1]; }
+static double dense_omega_bound(const vi_model *m)
+{
+  return m->omega[m->n - 1];
+}
 
 static const double *dense_minv_col(const vi_model *m, int which, int j)
 {

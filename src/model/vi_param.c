@@ -246,9 +246,7 @@ static int set_modal_damping(vi_model *m, const double *zeta)
 /* Matrix j (0 M, 1 K, 2 C) as stored and its length. */
 static double *scaled_matrix(vi_model *m, int j, size_t *len)
 {
-  *len = m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n;
-  if (m->band) return j == 0 ? m->MB : j == 1 ? m->KB : m->CB;
-  return j == 0 ? m->M : j == 1 ? m->K : m->C;
+  return m->ops->matrix(m, j == 0 ? 0 : j == 1 ? 2 : 1, len);
 }
 
 /* The base of matrix j: captured now if it was not, or if the matrix is no
@@ -593,7 +591,9 @@ int vi_model_copy(const vi_model *m, vi_model **out)
   size_t nmw = (size_t)m->ops->stop_vectors * nS + (size_t)m->ns * m->ns;
   if (m->ns_cap) c->Ws = malloc(sizeof(double) * nw);
   if (m->MinvW) c->MinvW = malloc(sizeof(double) * nmw);
-  size_t nb = 3 * (m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n);
+  size_t nb;
+  m->ops->matrix(m, 0, &nb);
+  nb *= 3;
   c->sbase = m->sbase ? malloc(sizeof(double) * nb) : NULL;
   if (!c->block || (m->ns_cap && !c->Ws) || (m->MinvW && !c->MinvW) ||
       (m->sbase && !c->sbase)) {

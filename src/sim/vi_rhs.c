@@ -1,8 +1,10 @@
-/* vi_rhs.c - the SUNDIALS backends' right-hand side.
+/* vi_rhs.c - the SUNDIALS backends' right-hand side, and the rates of the
+ * free acceleration.
  *
  * The generic acceleration (vi_sim_accel) walks the dense column-major
  * M^-1 K and M^-1 C inside the band with a varying inner trip count, and
- * takes the forcing's phase afresh at every evaluation.  Here each row of the band is stored
+ * takes the forcing's phase afresh at every evaluation.  Here each row of
+ * the band is stored (the storage's pack_rows, vi_storage.h)
  * contiguously, already interleaved as the state is (x_j, v_j), so a row is
  * a fixed-length dot product with a contiguous slice of z; edge rows read a
  * slice shifted inwards, with zero coefficients where the band ends. */

@@ -39,7 +39,7 @@ typedef struct vi_rhs {
   int *lo;          /* [n] first state index each row reads */
   double *R;        /* [n * width] -(M^-1 K), -(M^-1 C) interleaved; NULL:
                        band storage or a wide band, vi_sim_accel instead */
-  const double *fa, *fb, *f0; /* M^-1 a, M^-1 b, M^-1 f0 [n] (the model's) */
+  const double *fa, *fb, *f0; /* M^-1 a, M^-1 b, M^-1 f0 [n] (model's) */
   double *acc;      /* [n] scratch: a backend may evaluate the right-hand
                        side while the driver holds s->vp (dense output) */
   int harmonic;
