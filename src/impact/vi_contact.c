@@ -45,6 +45,15 @@ int vi_contact_solve_r(const vi_model *m, int nc, const int *idx,
    * nc x nc solves: hence the limit VI_CONTACT_MAX. */
   double tol = 1e-11 * emax;
   int found = 0;
+  if (nc == 1) { /* the enumeration below in closed form, every impact's case:
+                    {} fits iff e <= tol, else {k} with P = e / G_kk (WB 2) */
+    if (!(e[0] <= tol)) {
+      double g = m->G[idx[0] + (size_t)idx[0] * ns];
+      p[0] = e[0] / g;
+      if (!(g > 0.0) || !(p[0] >= 0.0)) return VI_ERR_NOT_CONVERGED;
+    }
+    found = 1;
+  }
   for (int size = 0; size <= nc && !found; size++) {
     for (unsigned mask = 0; mask < (1u << nc) && !found; mask++) {
       if (popcount(mask) != size) continue;

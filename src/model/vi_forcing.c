@@ -3,12 +3,6 @@
 
 #include "vi_forcing.h"
 
-vi_phase vi_phase_at(double W, double t)
-{
-  vi_phase p = {W, cos(W * t), sin(W * t)};
-  return p;
-}
-
 void vi_forcing_vectors(const vi_model *m, int form, const double **A,
                         const double **B, const double **C)
 {

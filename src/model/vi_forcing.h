@@ -9,6 +9,8 @@
 #ifndef VI_FORCING_H
 #define VI_FORCING_H
 
+#include <math.h>
+
 #include "vi_internal.h"
 
 typedef struct vi_phase {
@@ -16,8 +18,13 @@ typedef struct vi_phase {
   double c, s; /* cos(W t), sin(W t) */
 } vi_phase;
 
-/* cos(W t), sin(W t): one cos/sin pair */
-vi_phase vi_phase_at(double W, double t);
+/* cos(W t), sin(W t): one cos/sin pair (inline: the closed-form flight
+ * takes it at every grid point) */
+static inline vi_phase vi_phase_at(double W, double t)
+{
+  vi_phase p = {W, cos(W * t), sin(W * t)};
+  return p;
+}
 
 /* The phase of an unforced harmonic (a = b = 0): no cos/sin needed, the
  * harmonic terms vanish whatever the phase. */
