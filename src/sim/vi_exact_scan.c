@@ -285,7 +285,7 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
   for (int k = 0; k < 8; k++) {
     double t = mid + (k < 4 ? -gx[k] : gx[k - 4]) * h;
     ex_eval(d, t, &g, &gd, 1);
-    vi_ledger_accumulate(s->led, t, d->qd, 0.0, gw[k % 4] * h);
+    vi_ledger_accumulate(s->led, t, d->qd, NULL, gw[k % 4] * h);
   }
 }
 
