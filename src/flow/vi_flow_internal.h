@@ -53,7 +53,9 @@ void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
 void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
                          double tau, double *u, double *ud);
 /* Mode u'' + d u' + lambda u = F relative to its start (vi_flow.c):
- * u = u0 + B v0 + phi (F - lambda u0), u' = Bp v0 + B (F - lambda u0). */
+ * u = u0 + B v0 + phi (F - lambda u0), u' = Bp v0 + B (F - lambda u0).
+ * One propagator computes both this basis and the homogeneous solution
+ * above (its F = 0 case). */
 void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
                    double *phi);
 
