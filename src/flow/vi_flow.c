@@ -209,7 +209,7 @@ static int flow_general(const vi_general *gen, const vi_model *m, double t0,
                         double *x, double *v)
 {
   int n = m->n;
-  double *z = malloc(sizeof(double) * 2 * (size_t)n), g, gd;
+  double *z = malloc(sizeof(double) * 2 * (size_t)n);
   vi_gflow *f = vi_gflow_create(gen);
   if (!z || !f) {
     free(z);
@@ -221,7 +221,7 @@ static int flow_general(const vi_general *gen, const vi_model *m, double t0,
     z[2 * (size_t)i + 1] = v0[i];
   }
   vi_gflow_start(f, m, t0, z);
-  vi_gflow_eval(f, m, t, &g, &gd, z);
+  vi_gflow_eval(f, m, t, 0, NULL, NULL, z);
   for (int i = 0; i < n; i++) {
     x[i] = z[2 * (size_t)i];
     v[i] = z[2 * (size_t)i + 1];
