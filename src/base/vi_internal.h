@@ -97,7 +97,7 @@ static inline const double *vi_stop_psi(const vi_model *m, int k)
  * VI_ERR_NOT_CONVERGED (no active set fits: G singular on the contacts). */
 #define VI_CONTACT_MAX 12
 /* Cholesky of a small SPD k x k matrix in place (0, or -1 if a pivot is
- * lost to round-off) and the solve with its factor (vi_contact.c). */
+ * lost to round-off) and the solve with its factor (vi_dense.c). */
 int vi_small_cholesky(int k, double *A);
 void vi_small_solve(int k, const double *L, double *b);
 int vi_contact_solve(const vi_model *m, int nc, const int *idx,
