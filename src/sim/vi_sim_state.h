@@ -56,7 +56,6 @@ struct vi_sim {
    * accuracy-driven summing */
   double impact_ratio, vscale, vres;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
-  double wnorm;  /* |w|, the scale of gap tolerances */
   int ns;        /* number of stops (vi_model_add_stop) */
   double *wnorms, *ie_stop; /* |w_k| and the energy lost at stop k [ns] */
   double *sbuf;  /* scratch of the several-stop code [4n + 4 ns] */
