@@ -84,53 +84,28 @@ int vi_xflow_available(const vi_model *m)
   return ok;
 }
 
-/* u'' + d u' + lambda u = 0 from u(0) = u0, u'(0) = v0, after tau >= 0.
- * With mu^2 = lambda - d^2/4 and w = v0 + d u0 / 2:
- *   u = e^{-d tau/2} (u0 C + w S),  u' = e^{-d tau/2} (v0 C - (d/2 v0 + lambda u0) S)
- * where C = cos, cosh or 1 and S = sin/mu, sinh/kappa or tau for under-,
- * over- and critically damped modes (rigid-body modes included).  The
- * overdamped branch folds the exponential into the hyperbolic functions so
- * that a heavily damped mode cannot overflow. */
-void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
-                         double tau, double *u, double *ud)
-{
-  double h = 0.5 * d, mu2 = lambda - h * h, w = v0 + h * u0;
-  double eC, eS; /* e^{-h tau} C and e^{-h tau} S */
-  if (mu2 > 0.0) {
-    double mu = sqrt(mu2), e = exp(-h * tau);
-    eC = e * cos(mu * tau);
-    eS = e * sin(mu * tau) / mu;
-  } else if (mu2 < 0.0) {
-    double ka = sqrt(-mu2);
-    double ep = exp((ka - h) * tau), em = exp(-(ka + h) * tau);
-    eC = 0.5 * (ep + em);
-    eS = 0.5 * (ep - em) / ka;
-  } else {
-    double e = exp(-h * tau);
-    eC = e;
-    eS = e * tau;
-  }
-  *u = u0 * eC + w * eS;
-  *ud = v0 * eC - (h * v0 + lambda * u0) * eS;
-}
-
-/* Basis of the mode u'' + d u' + lambda u = F (d, lambda >= 0) after tau:
- * B = response from (u, u') = (0, 1), Bp = B', and phi = response to F = 1
- * from rest, so that from (u0, v0) with f = F - lambda u0
- *   u = u0 + B v0 + phi f,   u' = Bp v0 + B f.
+/* The one propagator of a damped mode u'' + d u' + lambda u = F (d, lambda
+ * >= 0) after tau: B = response from (u, u') = (0, 1), Bp = B', A =
+ * response from (1, 0) when F = 0, and phi = response to F = 1 from rest,
+ * so that from (u0, v0) with f = F - lambda u0
+ *   u = u0 + B v0 + phi f,   u' = Bp v0 + B f,
+ * and, unforced, u = A u0 + B v0, u' = Bp v0 - lambda B u0.
  * Written relative to the start, a static offset F/lambda of any size (a
  * very soft structure, lambda -> 0, a rigid-body mode) never enters: there
  * is nothing to cancel (issue 9).  phi is the second divided difference of
  * e^{r tau} over the roots (0, r1, r2); for short times (d tau, lambda
- * tau^2 <= 1) its Taylor series from the ODE, else the closed forms, each
- * evaluated where it has no cancellation. */
-void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
-                   double *phi)
+ * tau^2 <= 1) its Taylor series from the ODE, else the closed forms for
+ * under-, over- and critically damped modes, each evaluated where it has
+ * no cancellation (A = 1 - lambda phi only on the short-time branch, where
+ * lambda phi <= 1/2; the overdamped branch folds the exponential into the
+ * hyperbolic functions, so that a heavily damped mode cannot overflow). */
+static void propagate(double lambda, double d, double tau, double *A,
+                      double *B, double *Bp, double *phi)
 {
   double D = d * tau, L = lambda * tau * tau;
   if (tau == 0.0) {
     *B = *phi = 0.0;
-    *Bp = 1.0;
+    *A = *Bp = 1.0;
     return;
   }
   if (D <= 1.0 && L <= 1.0) {
@@ -147,14 +122,16 @@ void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
     *phi = ph;
     *B = b / tau;
     *Bp = 1.0 - d * *B - lambda * ph;
+    *A = 1.0 - lambda * ph;
     return;
   }
-  double h = 0.5 * d, mu2 = lambda - h * h, A;
+  double h = 0.5 * d, mu2 = lambda - h * h;
   if (mu2 > 0.0) {
     double mu = sqrt(mu2), e = exp(-h * tau), c = cos(mu * tau);
     double sn = sin(mu * tau), sh = sin(0.5 * mu * tau);
     *B = e * sn / mu;
     *Bp = e * (c - h * sn / mu);
+    *A = e * (c + h * sn / mu);
     /* 1 - A = (1 - e) + e (1 - cos) - h B */
     *phi = (-expm1(-h * tau) + 2.0 * e * sh * sh - h * *B) / lambda;
     return;
@@ -165,14 +142,14 @@ void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
     if (ka * tau < 0.5) {
       double e = exp(-h * tau);
       *B = e * sinh(ka * tau) / ka;
-      A = e * (cosh(ka * tau) + h * sinh(ka * tau) / ka);
+      *A = e * (cosh(ka * tau) + h * sinh(ka * tau) / ka);
     } else {
       *B = (e1 - e2) / (2.0 * ka);
-      A = (r1 * e2 - r2 * e1) / (2.0 * ka);
+      *A = (r1 * e2 - r2 * e1) / (2.0 * ka);
     }
     *Bp = (r1 * e1 - r2 * e2) / (2.0 * ka);
     if (L >= 0.1) {
-      *phi = (1.0 - A) / lambda;
+      *phi = (1.0 - *A) / lambda;
     } else { /* (E(r1) - E(r2)) / (r1 - r2), E(r) = expm1(r tau) / r */
       double E1 = r1 != 0.0 ? expm1(r1 * tau) / r1 : tau;
       double E2 = expm1(r2 * tau) / r2;
@@ -183,8 +160,24 @@ void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
   double e = exp(-h * tau); /* critical damping, lambda = h^2 > 0 */
   *B = tau * e;
   *Bp = e * (1.0 - h * tau);
-  A = e * (1.0 + h * tau);
-  *phi = (1.0 - A) / lambda;
+  *A = e * (1.0 + h * tau);
+  *phi = (1.0 - *A) / lambda;
+}
+
+void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
+                         double tau, double *u, double *ud)
+{
+  double A, B, Bp, phi;
+  propagate(lambda, d, tau, &A, &B, &Bp, &phi);
+  *u = A * u0 + B * v0;
+  *ud = Bp * v0 - lambda * B * u0;
+}
+
+void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
+                   double *phi)
+{
+  double A;
+  propagate(lambda, d, tau, &A, B, Bp, phi);
 }
 
 void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
@@ -216,7 +209,7 @@ static int flow_general(const vi_general *gen, const vi_model *m, double t0,
                         double *x, double *v)
 {
   int n = m->n;
-  double *z = malloc(sizeof(double) * 2 * (size_t)n), g, gd;
+  double *z = malloc(sizeof(double) * 2 * (size_t)n);
   vi_gflow *f = vi_gflow_create(gen);
   if (!z || !f) {
     free(z);
@@ -228,7 +221,7 @@ static int flow_general(const vi_general *gen, const vi_model *m, double t0,
     z[2 * (size_t)i + 1] = v0[i];
   }
   vi_gflow_start(f, m, t0, z);
-  vi_gflow_eval(f, m, t, &g, &gd, z);
+  vi_gflow_eval(f, m, t, 0, NULL, NULL, z);
   for (int i = 0; i < n; i++) {
     x[i] = z[2 * (size_t)i];
     v[i] = z[2 * (size_t)i + 1];

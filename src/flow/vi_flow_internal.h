@@ -53,7 +53,9 @@ void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
 void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
                          double tau, double *u, double *ud);
 /* Mode u'' + d u' + lambda u = F relative to its start (vi_flow.c):
- * u = u0 + B v0 + phi (F - lambda u0), u' = Bp v0 + B (F - lambda u0). */
+ * u = u0 + B v0 + phi (F - lambda u0), u' = Bp v0 + B (F - lambda u0).
+ * One propagator computes both this basis and the homogeneous solution
+ * above (its F = 0 case). */
 void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
                    double *phi);
 
@@ -66,16 +68,18 @@ typedef struct vi_gflow vi_gflow;
 int vi_general_create(const vi_model *m, vi_general **out, char *why);
 void vi_general_destroy(vi_general **g);
 double vi_general_top_frequency(const vi_general *g, double omega_f);
-/* sum_k |w.V_k| (|P_k| + |Q_k| + |R_k|): the size of the particular
- * solution as the gap sees it, against which the flow cancels */
-double vi_general_particular_scale(const vi_general *g);
+/* sum_k |w_q.V_k| (|P_k| + |Q_k| + |R_k|): the size of the particular
+ * solution as stop q's gap sees it, against which the flow cancels */
+double vi_general_particular_scale(const vi_general *g, int q);
 vi_gflow *vi_gflow_create(const vi_general *g);
 void vi_gflow_free(vi_gflow *f);
 /* z: interleaved state (x_1, v_1, ...) at t0 */
 void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z);
-/* gap w.x - x_s and rate w.x' at t; with z != NULL the state too */
-void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
-                   double *rate, double *z);
+/* At t: stop q's gap w_q.x - x_q and rate w_q.x' (q >= 0), or every
+ * stop's (q < 0: gap, rate [ns]); gap NULL: none; with z != NULL the state
+ * too */
+void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, int q,
+                   double *gap, double *rate, double *z);
 
 /* The constrained modes of a held set S of stops (MODEL.md section 9;
  * vi_constrained.c).  In the free modal coordinates q (Psi^T M

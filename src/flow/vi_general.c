@@ -25,7 +25,9 @@ struct vi_general {
   int n2;
   cplx *lam, *V, *Vinv; /* eigenvalues [n2], V and V^-1 [n2 x n2] col-major */
   cplx *P, *Q, *R;      /* particular solution per complex mode [n2] */
-  cplx *cw, *cv;        /* w^T V restricted to positions / velocities [n2] */
+  int ns;
+  cplx *cw, *cv;        /* w_k^T V restricted to positions / velocities, per
+                           stop k [n2 x ns] */
 };
 
 struct vi_gflow {
@@ -49,7 +51,8 @@ int vi_general_create(const vi_model *m, vi_general **out, char *why)
   size_t nn2 = (size_t)n2 * n2;
   double *A = calloc(nn2 * 2 + 2 * (size_t)n2, sizeof(double));
   struct vi_general *g = calloc(1, sizeof *g);
-  cplx *mem = calloc(3 * nn2 + 7 * (size_t)n2, sizeof(cplx));
+  int ns = m->ns;
+  cplx *mem = calloc(3 * nn2 + (5 + 2 * (size_t)ns) * n2, sizeof(cplx));
   lapack_int *ipiv = malloc(sizeof(lapack_int) * n2);
   if (!A || !g || !mem || !ipiv) {
     st = vi_fail(why, VI_ERR_NOMEM, "out of memory");
@@ -64,9 +67,10 @@ int vi_general_create(const vi_model *m, vi_general **out, char *why)
   g->P = LU + nn2;
   g->Q = g->P + n2;
   g->R = g->Q + n2;
-  g->cw = g->R + n2;
-  g->cv = g->cw + n2;
-  cplx *beta0 = g->cv + n2;
+  g->ns = ns;
+  cplx *beta0 = g->R + n2;
+  g->cw = beta0 + n2;
+  g->cv = g->cw + (size_t)n2 * ns;
   for (int i = 0; i < n; i++) {
     A[i + (size_t)(n + i) * n2] = 1.0;
     for (int j = 0; j < n; j++) {
@@ -111,19 +115,25 @@ int vi_general_create(const vi_model *m, vi_general **out, char *why)
   /* beta = V^-1 [0; M^-1 f]: only the velocity half of V^-1's columns */
   double Om = m->omega_f;
   for (int k = 0; k < n2; k++) {
-    cplx bc = 0, bs = 0, b0 = 0, cw = 0, cv = 0;
+    cplx bc = 0, bs = 0, b0 = 0;
     for (int j = 0; j < n; j++) {
       cplx vij = g->Vinv[k + (size_t)(n + j) * n2];
       bc += vij * m->Minv_a[j];
       bs += vij * m->Minv_b[j];
       b0 += vij * m->Minv_f0[j];
-      cw += m->Ws[j] * g->V[j + (size_t)k * n2];
-      cv += m->Ws[j] * g->V[(n + j) + (size_t)k * n2];
+    }
+    for (int q = 0; q < ns; q++) { /* every stop's gap in these modes */
+      const double *w = vi_stop_w(m, q);
+      cplx cw = 0, cv = 0;
+      for (int j = 0; j < n; j++) {
+        cw += w[j] * g->V[j + (size_t)k * n2];
+        cv += w[j] * g->V[(n + j) + (size_t)k * n2];
+      }
+      g->cw[k + (size_t)q * n2] = cw;
+      g->cv[k + (size_t)q * n2] = cv;
     }
     cplx l = g->lam[k], den = l * l + Om * Om;
     beta0[k] = b0;
-    g->cw[k] = cw;
-    g->cv[k] = cv;
     if ((bc != 0 || bs != 0) && cabs(den) <= 1e-14 * (cabs(l * l) + Om * Om)) {
       st = vi_fail(why, VI_ERR_UNSUPPORTED,
                    "a mode is undamped and forced at resonance");
@@ -157,11 +167,12 @@ double vi_general_top_frequency(const vi_general *g, double omega_f)
   return top;
 }
 
-double vi_general_particular_scale(const vi_general *g)
+double vi_general_particular_scale(const vi_general *g, int q)
 {
   double sc = 0.0;
+  const cplx *cw = g->cw + (size_t)q * g->n2;
   for (int k = 0; k < g->n2; k++)
-    sc += cabs(g->cw[k]) * (cabs(g->P[k]) + cabs(g->Q[k]) + cabs(g->R[k]));
+    sc += cabs(cw[k]) * (cabs(g->P[k]) + cabs(g->Q[k]) + cabs(g->R[k]));
   return sc;
 }
 
@@ -208,21 +219,26 @@ void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z)
   }
 }
 
-void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
-                   double *rate, double *z)
+void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, int q,
+                   double *gap, double *rate, double *z)
 {
   const struct vi_general *g = f->g;
   int n = m->n, n2 = g->n2;
   double tau = t - f->t0;
   vi_phase p = vi_phase_at(m->omega_f, t);
-  cplx a = 0, b = 0;
-  for (int k = 0; k < n2; k++) {
+  for (int k = 0; k < n2; k++)
     f->y[k] = particular(g, k, &p) + cexp(g->lam[k] * tau) * f->u[k];
-    a += g->cw[k] * f->y[k];
-    b += g->cv[k] * f->y[k];
+  int q0 = q < 0 ? 0 : q, q1 = q < 0 ? g->ns : q + 1;
+  for (int j = q0; gap && j < q1; j++) {
+    const cplx *cw = g->cw + (size_t)j * n2, *cv = g->cv + (size_t)j * n2;
+    cplx a = 0, b = 0;
+    for (int k = 0; k < n2; k++) {
+      a += cw[k] * f->y[k];
+      b += cv[k] * f->y[k];
+    }
+    gap[j - q0] = creal(a) - m->xsv[j];
+    rate[j - q0] = creal(b);
   }
-  *gap = creal(a) - m->xsv[0];
-  *rate = creal(b);
   if (!z) return;
   for (int i = 0; i < n; i++) {
     cplx x = 0, v = 0;

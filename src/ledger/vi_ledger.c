@@ -62,22 +62,35 @@ double vi_ledger_open_since(const vi_ledger *L) { return L->ta; }
 
 double vi_ledger_max_residual(const vi_ledger *L) { return L->maxres; }
 
-void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
-                     const double *gq, double *rates)
+void vi_ledger_rates(vi_ledger *L, double t, const double *qd,
+                     const vi_ledger_held *h, const double *gq, double *rates)
+{
+  const vi_model *m = L->m;
+  vi_phase p = L->harmonic ? vi_phase_at(m->omega_f, t)
+                           : vi_phase_none(m->omega_f);
+  vi_ledger_rates_phase(L, &p, qd, h, gq, rates);
+}
+
+void vi_ledger_rates_phase(vi_ledger *L, const vi_phase *p, const double *qd,
+                           const vi_ledger_held *h, const double *gq,
+                           double *rates)
 {
   const vi_model *m = L->m;
   int n = L->n;
-  vi_phase p = L->harmonic ? vi_phase_at(m->omega_f, t)
-                           : vi_phase_none(m->omega_f);
   const double *Fa, *Fb, *F0;
   vi_forcing_vectors(m, VI_FORCING_MODAL, &Fa, &Fb, &F0);
   double *FE = rates, *DE = rates + n, *XE = rates + 2 * (size_t)n;
   double *CE = rates + 3 * (size_t)n, *NE = gq ? rates + 4 * (size_t)n : NULL;
   for (int j = 0; j < n; j++) {
-    double F = vi_harm(&p, 0, Fa[j], Fb[j], F0[j]);
+    double F = vi_harm(p, 0, Fa[j], Fb[j], F0[j]);
     FE[j] = qd[j] * F;                                           /* WB 7 */
     DE[j] = m->D[j + (size_t)j * (size_t)n] * qd[j] * qd[j];     /* WB 8 */
-    CE[j] = -Lambda * m->PsiW[j] * qd[j];
+    /* the held stops' reactions on mode j, each along its own psi_k
+     * (MODEL.md section 9): CE_j = -sum_k lambda_k psi_kj q_j' */
+    double c = 0.0;
+    for (int i = 0; h && i < h->cnt; i++)
+      c += h->lam[i] * vi_stop_psi(m, h->set[i])[j];
+    CE[j] = -c * qd[j];
     if (NE) NE[j] = qd[j] * gq[j];
     XE[j] = 0.0;
     if (!m->proportional) {
@@ -90,16 +103,25 @@ void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
 }
 
 void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
-                           double Lambda, const double *gq, double *rates)
+                           const vi_ledger_held *h, const double *gq,
+                           double *rates)
 {
   vi_modal_project(L->m, z, NULL, L->qds);
-  vi_ledger_rates(L, t, L->qds, Lambda, gq, rates);
+  vi_ledger_rates(L, t, L->qds, h, gq, rates);
 }
 
 void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,
-                          double Lambda, double weight)
+                          const vi_ledger_held *h, double weight)
 {
-  vi_ledger_rates(L, t, qd, Lambda, NULL, L->R);
+  vi_ledger_rates(L, t, qd, h, NULL, L->R);
+  for (int k = 0; k < 4 * L->n; k++) L->Q[k] += weight * L->R[k];
+}
+
+void vi_ledger_accumulate_phase(vi_ledger *L, const vi_phase *p,
+                                const double *qd, const vi_ledger_held *h,
+                                double weight)
+{
+  vi_ledger_rates_phase(L, p, qd, h, NULL, L->R);
   for (int k = 0; k < 4 * L->n; k++) L->Q[k] += weight * L->R[k];
 }
 

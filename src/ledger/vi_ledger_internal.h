@@ -6,6 +6,7 @@
 #ifndef VI_LEDGER_INTERNAL_H
 #define VI_LEDGER_INTERNAL_H
 
+#include "vi_forcing.h"
 #include "vi_internal.h"
 
 typedef struct vi_ledger vi_ledger;
@@ -22,18 +23,36 @@ void vi_ledger_set_callback(vi_ledger *L, vi_ledger_fn fn, void *user);
  * the backends integrate into. */
 double *vi_ledger_integrals(vi_ledger *L);
 
+/* The held stops while sticking (MODEL.md section 9): cnt stops set [cnt]
+ * with their reactions lam [cnt] (the multipliers G_SS^-1 W_S^T a_free,
+ * pressing into the stops).  NULL, or cnt = 0, in free flight. */
+typedef struct vi_ledger_held {
+  int cnt;
+  const int *set;
+  const double *lam;
+} vi_ledger_held;
+
 /* Rates of FE, DE, XE, CE [4n] at t from modal velocities qd [n], or from
- * an interleaved state z [2n]; Lambda is the contact force magnitude while
- * sticking (0 in free flight).  With the modal nonlinear force gq = Psi^T g
+ * an interleaved state z [2n]; h the held stops, whose reactions give CE
+ * (NULL in free flight).  With the modal nonlinear force gq = Psi^T g
  * also NE (rates [5n]); gq = NULL leaves NE out (and at zero), so that a
  * run without nonlinear forces integrates 4n quadratures, as it always did. */
-void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
-                     const double *gq, double *rates);
+void vi_ledger_rates(vi_ledger *L, double t, const double *qd,
+                     const vi_ledger_held *h, const double *gq, double *rates);
+/* The same with the forcing's phase at t already taken (vi_forcing.h). */
+void vi_ledger_rates_phase(vi_ledger *L, const vi_phase *p, const double *qd,
+                           const vi_ledger_held *h, const double *gq,
+                           double *rates);
 void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
-                           double Lambda, const double *gq, double *rates);
-/* Q += weight * rates(t, qd) (no NE): one node of a quadrature rule. */
+                           const vi_ledger_held *h, const double *gq,
+                           double *rates);
+/* Q += weight * rates(t, qd) (no NE): one node of a quadrature rule; the
+ * _phase form with the forcing's phase at the node already taken. */
 void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,
-                          double Lambda, double weight);
+                          const vi_ledger_held *h, double weight);
+void vi_ledger_accumulate_phase(vi_ledger *L, const vi_phase *p,
+                                const double *qd, const vi_ledger_held *h,
+                                double weight);
 
 /* An interval starts at t in state z. */
 void vi_ledger_begin(vi_ledger *L, double t, const double *z);

@@ -13,6 +13,40 @@
  * catch typos. */
 #define VI_SYM_TOL 1e-12
 
+/* Doubles of a model's one block.  Dense: 10 n x n matrices (M, C, K,
+ * M^-1 K, M^-1 C, Psi, Psi^T M, D and two of setup workspace) and 12
+ * vectors (a, b, f0, M^-1 a, M^-1 b, M^-1 f0, omega, lambda, zeta, Fa, Fb,
+ * F0).  Band (kd >= 0, at most n - 1): M, C, K and M's factor [kd + 1 x n],
+ * the rows KR, CR [2 kd + 1 x n] and the six vectors a, b, f0, M^-1 a,
+ * M^-1 b, M^-1 f0.  vi_model_memory_estimate counts the same. */
+static double block_doubles(int n, int kd)
+{
+  double dn = n;
+  if (kd < 0) return 10.0 * dn * dn + 12.0 * dn;
+  double ldb = (double)kd + 1.0, w = 2.0 * kd + 1.0;
+  return 4.0 * ldb * dn + 2.0 * w * dn + 6.0 * dn;
+}
+
+/* Capacity of the stop arrays holding ns stops (store_stop's growth). */
+static double stop_capacity(int ns)
+{
+  if (ns < 1) return 0.0;
+  double cap = 2.0;
+  while (cap < ns) cap *= 2.0;
+  return cap;
+}
+
+/* Bytes of a model of n coordinates in storage kd (as block_doubles) with
+ * ns stops held in arrays of capacity cap: the struct, the block, the
+ * stops [W | x_s | r] and, set up, M^-1 W and G (dense: also Psi^T W). */
+static double model_bytes(double n, double nblock, double ns, double cap,
+                          int stop_vectors, int set_up)
+{
+  double d = nblock + cap * (n + 2.0);
+  if (set_up) d += stop_vectors * n * ns + ns * ns;
+  return (double)sizeof(vi_model) + d * (double)sizeof(double);
+}
+
 int vi_model_create(int n, vi_model **out)
 {
   if (!out) return VI_ERR_ARG;
@@ -21,8 +55,9 @@ int vi_model_create(int n, vi_model **out)
   vi_model *m = calloc(1, sizeof *m);
   if (!m) return VI_ERR_NOMEM;
   size_t nn = (size_t)n * n;
-  /* 10 n x n matrices and 14 vectors in one block */
-  m->block = calloc(10 * nn + 12 * (size_t)n, sizeof(double));
+  /* n beyond the address space: refused, not wrapped around */
+  double nb = block_doubles(n, -1);
+  m->block = nb < 0x1p60 ? calloc((size_t)nb, sizeof(double)) : NULL;
   if (!m->block) {
     free(m);
     return VI_ERR_NOMEM;
@@ -52,9 +87,8 @@ int vi_model_create(int n, vi_model **out)
   m->ops = &vi_storage_dense;
   m->n = n;
   m->kd = -1;
-  m->nblock = 10 * nn + 12 * (size_t)n;
-  m->bytes = (int64_t)(sizeof *m +
-                       (10 * nn + 14 * (size_t)n) * sizeof(double));
+  m->nblock = (size_t)nb;
+  m->bytes = (int64_t)(sizeof *m + m->nblock * sizeof(double));
   for (int i = 0; i < n; i++) m->M[i + (size_t)i * n] = 1.0;
   *out = m;
   return VI_OK;
@@ -69,10 +103,9 @@ int vi_model_create_band(int n, int kd, vi_model **out)
   vi_model *m = calloc(1, sizeof *m);
   if (!m) return VI_ERR_NOMEM;
   size_t ldb = (size_t)kd + 1, w = 2 * (size_t)kd + 1, nb = ldb * n;
-  /* M, C, K and M's factor [ldb x n], the rows KR, CR [w x n] and the
-   * six vectors a, b, f0, M^-1 a, M^-1 b, M^-1 f0 */
-  size_t count = 4 * nb + 2 * w * n + 6 * (size_t)n;
-  m->block = calloc(count, sizeof(double));
+  double nbd = block_doubles(n, kd);
+  size_t count = (size_t)nbd;
+  m->block = nbd < 0x1p60 ? calloc(count, sizeof(double)) : NULL;
   if (!m->block) {
     free(m);
     return VI_ERR_NOMEM;
@@ -622,11 +655,8 @@ double vi_model_omega_bound(const vi_model *m)
 int64_t vi_model_memory(const vi_model *m)
 {
   if (!m) return 0;
-  int64_t b = m->bytes, n = m->n, ns = m->ns;
-  b += (int64_t)m->ns_cap * (n + 2) * (int64_t)sizeof(double); /* stops */
-  if (m->MinvW) /* M^-1 W, G (and Psi^T W with the modes) */
-    b += (m->ops->stop_vectors * n * ns + ns * ns) * (int64_t)sizeof(double);
-  return b;
+  return (int64_t)model_bytes(m->n, (double)m->nblock, m->ns, m->ns_cap,
+                              m->ops->stop_vectors, m->MinvW != NULL);
 }
 
 /* What the integrators allocate per method, in doubles, for a state of
@@ -650,13 +680,18 @@ int vi_model_memory_estimate(int n, int kd, int ns, int method, int ledger,
   if (n < 1 || ns < 0) return VI_ERR_DIM;
   if (method < 0 || method >= VI_METHOD_COUNT || (ledger != 0 && ledger != 1))
     return VI_ERR_ARG;
-  double dn = n, s = ns < 1 ? 1 : ns, d;
-  double stops = s * (dn + 2.0) + 2.0 * s * dn + s * s;
+  double dn = n, d;
+  int kb = kd < 0 ? -1 : kd > n - 1 ? n - 1 : kd;
+  /* the model itself, set up, exactly as vi_model_memory will count it */
+  double model = model_bytes(
+      dn, block_doubles(n, kb), ns, stop_capacity(ns),
+      kb >= 0 ? vi_storage_band.stop_vectors : vi_storage_dense.stop_vectors,
+      1);
   if (kd >= 0) { /* band storage */
     if (method == VI_METHOD_EXACT || ledger) return VI_ERR_UNSUPPORTED;
-    double k = kd > n - 1 ? n - 1 : kd, ldb = k + 1.0, w = 2.0 * k + 1.0;
-    /* MB, CB, KB, LB, KR, CR, 8 vectors; the PSD check's copy at setup */
-    d = 4.0 * ldb * dn + 2.0 * w * dn + 8.0 * dn + ldb * dn + stops;
+    double k = kb, ldb = k + 1.0;
+    /* the PSD check's copy at setup */
+    d = ldb * dn;
     if (method == VI_METHOD_BDF) { /* SUNBandMatrix(N, 2k, 2k + 1) stores
                                       smu + ml + 1 rows (smu = mu + ml),
                                       and CVODE keeps a saved copy */
@@ -664,9 +699,10 @@ int vi_model_memory_estimate(int n, int kd, int ns, int method, int ledger,
       double smu = fmin(N - 1.0, 2.0 * k + ml);
       d += 2.0 * (smu + ml + 1.0) * N + N;
     }
-  } else { /* dense: 10 n x n in the model, dsygvd's 2 n^2 at setup and
-              LAPACK's workspaces: 14 n^2 measured (max RSS at n = 1000) */
-    d = 14.0 * dn * dn + 23.0 * dn + stops;
+  } else { /* dense: beside the model's 10 n^2, dsygvd's 2 n^2 at setup
+              and LAPACK's workspaces: 14 n^2 in all measured (max RSS at
+              n = 1000) */
+    d = 4.0 * dn * dn + 8.0 * dn;
     if (method == VI_METHOD_BDF) d += 2.0 * 4.0 * dn * dn + 2.0 * dn;
     /* non-proportional damping: the complex 2n x 2n eigenvectors and their
      * inverse of the closed form (an upper bound: proportional needs none) */
@@ -676,7 +712,7 @@ int vi_model_memory_estimate(int n, int kd, int ns, int method, int ledger,
   }
   d += integrator_doubles(method == VI_METHOD_AUTO ? VI_METHOD_ADAMS : method,
                           dn, ledger);
-  double b = d * (double)sizeof(double) + 4096.0;
+  double b = model + d * (double)sizeof(double) + 4096.0;
   if (!(b < 9.0e18)) return VI_ERR_LIMIT;
   *bytes = (int64_t)b;
   return VI_OK;

@@ -108,8 +108,8 @@ typedef struct ark_data {
   double *y0, *yt, *yo, *K; /* polishing: step start, stage input, output
                                [N each], stages [stages * N] */
   N_Vector y, yd;
-  int nroots;     /* 2 per stop in free flight, 1 while sticking (one stop;
-                     the driver runs sticking on CVODE); 0 before a start */
+  int nroots;     /* 2 per stop not held, 1 per held stop (the driver runs
+                     sticking on CVODE today); 0 before a start */
   int *rinfo;     /* [2 ns]: root directions at a start, then root info */
   int k;          /* the stop whose gap the contact search looks at */
   long polish_rhs;
@@ -126,16 +126,14 @@ static void erk_f(vi_sim *s, ark_data *d, double t, const double *z,
   size_t n = (size_t)s->n;
   vi_rhs_rate(s, d->rhs, t, z, zd);
   if (s->led) {
-    double Lambda = 0.0, *gq = NULL;
-    if (s->sticking) {
-      vi_sim_accel(s, t, z, 0, d->rhs->acc);
-      Lambda = vi_dot(s->n, s->m->Ws, d->rhs->acc) / s->m->G[0];
-    }
+    double lam[VI_CONTACT_MAX], *gq = NULL;
+    vi_ledger_held h;
+    vi_sim_held_reactions(s, t, z, lam, &h);
     if (s->nforces) {
       gq = s->fbuf + 3 * n;
       vi_force_modal(s, t, z, gq);
     }
-    vi_ledger_rates_state(s->led, t, z, Lambda, gq, zd + 2 * n);
+    vi_ledger_rates_state(s->led, t, z, &h, gq, zd + 2 * n);
   }
 }
 
@@ -147,19 +145,12 @@ static int rhs(double t, N_Vector y, N_Vector yd, void *user)
 }
 
 /* As vi_cvode.c: per stop k, contact (g_k rising) and gap maxima (g_k'
- * falling); while sticking on the one stop, the free normal acceleration
- * falling through zero. */
+ * falling); while sticking, first the reaction of each held stop falling
+ * through zero, then the pairs of the stops not held (vi_sim_gap_root). */
 static int roots(double t, N_Vector y, double *g, void *user)
 {
   vi_sim *s = user;
-  const double *z = N_VGetArrayPointer(y);
-  if (s->sticking) {
-    vi_sim_accel(s, t, z, 0, s->vp);
-    g[0] = vi_dot(s->n, s->m->Ws, s->vp);
-    return 0;
-  }
-  for (size_t k = 0; k < (size_t)s->ns; k++)
-    vi_sim_gap_k(s, (int)k, z, &g[2 * k], &g[2 * k + 1]);
+  vi_sim_roots_layout(s, t, N_VGetArrayPointer(y), g);
   return 0;
 }
 
@@ -288,10 +279,11 @@ static int ark_start(vi_sim *s)
   ark_data *d = s->be_data;
   /* a rebound's low flight: tolerances tightened (vi_sim.c, on_contact_one) */
   ARK_TRY(ERKStepSStolerances(d->mem, s->rtol * s->tol_scale, s->atol * s->tol_scale));
-  int nr = s->sticking ? 1 : 2 * s->ns;
-  if (nr != d->nroots) {
+  int nr = s->nstick + 2 * (s->ns - s->nstick);
+  if (nr != d->nroots) { /* the directions depend on nstick alone */
     int *dir = d->rinfo;
-    for (int i = 0; i < nr; i++) dir[i] = i % 2 || s->sticking ? -1 : 1;
+    for (int i = 0; i < nr; i++)
+      dir[i] = i < s->nstick ? -1 : (i - s->nstick) % 2 ? -1 : 1;
     ARK_TRY(ERKStepRootInit(d->mem, nr, roots));
     ARK_TRY(ERKStepSetRootDirection(d->mem, dir));
     ARK_TRY(ERKStepSetNoInactiveRootWarn(d->mem));
@@ -560,20 +552,28 @@ static int ark_step(vi_sim *s, double t_end, int *event)
   if (flag == ARK_ROOT_RETURN) {
     int *info = d->rinfo, kc = -1;
     ERKStepGetRootInfo(d->mem, info);
-    if (s->sticking) *event = info[0] ? VI_STEP_RELEASE : VI_STEP_NONE;
-    else {
-      /* a contact first (the driver looks at the other stops at that
-       * instant), else the gap maxima's grazing checks in stop order */
-      for (int k = 0; k < s->ns && kc < 0; k++)
-        if (info[2 * (size_t)k]) kc = k;
-      if (kc >= 0) {
-        double tn, hu;
-        ERKStepGetCurrentTime(d->mem, &tn);
-        ERKStepGetLastStep(d->mem, &hu);
-        st = on_root_contact(s, d, kc, fmax(d->t_prev, tn - hu), tn, event);
-      }
-      for (int k = 0; k < s->ns && kc < 0 && *event == VI_STEP_NONE && !st; k++)
-        if (info[2 * (size_t)k + 1]) st = graze_check(s, d, k, event);
+    /* a contact first (the driver looks at the other stops at that
+     * instant), then a held stop's release, else the gap maxima's grazing
+     * checks in stop order (layout of vi_sim_gap_root) */
+    int rel = -1;
+    for (int i = 0; i < s->nstick; i++)
+      if (info[i] && rel < 0) rel = s->stick_k[i];
+    for (int k = 0; k < s->ns && kc < 0; k++) {
+      int i = vi_sim_gap_root(s, k);
+      if (i >= 0 && info[i]) kc = k;
+    }
+    if (kc >= 0) {
+      double tn, hu;
+      ERKStepGetCurrentTime(d->mem, &tn);
+      ERKStepGetLastStep(d->mem, &hu);
+      st = on_root_contact(s, d, kc, fmax(d->t_prev, tn - hu), tn, event);
+    } else if (rel >= 0) {
+      *event = VI_STEP_RELEASE;
+      s->contact_stop = rel;
+    }
+    for (int k = 0; k < s->ns && kc < 0 && *event == VI_STEP_NONE && !st; k++) {
+      int i = vi_sim_gap_root(s, k);
+      if (i >= 0 && info[i + 1]) st = graze_check(s, d, k, event);
     }
     d->continued = *event == VI_STEP_NONE;
   }

@@ -63,37 +63,8 @@ static int roots(double t, N_Vector y, double *g, void *user)
     }
     return 0;
   }
-  int i = 0;
-  if (s->sticking) {
-    vi_sim_accel(s, t, z, 0, s->vp);
-    vi_sim_constrain(s, s->vp, g);
-    i = s->nstick;
-  }
-  for (int k = 0; k < s->ns; k++) {
-    int held = 0;
-    for (int j = 0; j < s->nstick; j++) held |= s->stick_k[j] == k;
-    if (held) continue;
-    vi_sim_gap_k(s, k, z, &g[i], &g[i + 1]);
-    i += 2;
-  }
+  vi_sim_roots_layout(s, t, z, g);
   return 0;
-}
-
-/* Root slot of stop k's gap in the layout of roots(), or -1 (held). */
-static int gap_root(const vi_sim *s, int k)
-{
-  int i = s->nstick;
-  for (int j = 0; j < s->ns; j++) {
-    int held = 0;
-    for (int q = 0; q < s->nstick; q++) held |= s->stick_k[q] == j;
-    if (held) {
-      if (j == k) return -1;
-      continue;
-    }
-    if (j == k) return i;
-    i += 2;
-  }
-  return -1;
 }
 
 /* J = [[0, I], [-M^-1 K, -M^-1 C]] in interleaved order; while sticking the
@@ -155,37 +126,21 @@ static int jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void *user,
   return 0;
 }
 
-/* Ledger integrands FE', DE', XE', CE', NE' (vi_ledger.c). */
+/* Ledger integrands FE', DE', XE', CE', NE' (vi_ledger.c); CE from the
+ * reactions of whichever stops are held. */
 static int qrhs(double t, N_Vector y, N_Vector yQd, void *user)
 {
   vi_sim *s = user;
   const double *z = N_VGetArrayPointer(y);
-  double Lambda = 0.0;
-  int own_stop = s->nstick == 1 && s->stick_k[0] == 0;
-  if (s->sticking && own_stop) { /* contact force magnitude, pressing into
-                                    the stop */
-    vi_sim_accel(s, t, z, 0, s->vp);
-    Lambda = vi_dot(s->n, s->m->Ws, s->vp) / s->m->G[0];
-  }
+  double lam[VI_CONTACT_MAX];
+  vi_ledger_held h;
+  vi_sim_held_reactions(s, t, z, lam, &h);
   double *gq = NULL;
   if (s->nforces) { /* the modal force, for the NE column */
     gq = s->fbuf + 3 * (size_t)s->n;
     vi_force_modal(s, t, z, gq);
   }
-  double *R = N_VGetArrayPointer(yQd);
-  vi_ledger_rates_state(s->led, t, z, Lambda, gq, R);
-  if (s->sticking && !own_stop) {
-    /* other stops held: CE_j = -sum_k lambda_k psi_kj q_j' */
-    int n = s->n;
-    double lam[VI_CONTACT_MAX], *qd = s->sbuf + 3 * (size_t)n;
-    vi_sim_accel(s, t, z, 0, s->vp);
-    vi_sim_constrain(s, s->vp, lam);
-    vi_modal_project(s->m, z, NULL, qd);
-    for (int i = 0; i < s->nstick; i++) {
-      const double *psi = vi_stop_psi(s->m, s->stick_k[i]);
-      for (int j = 0; j < n; j++) R[3 * n + j] -= lam[i] * psi[j] * qd[j];
-    }
-  }
+  vi_ledger_rates_state(s->led, t, z, &h, gq, N_VGetArrayPointer(yQd));
   return 0;
 }
 
@@ -393,7 +348,7 @@ static void save_prev(vi_sim *s, cv_data *d)
 static int cv_polish(vi_sim *s)
 {
   cv_data *d = s->be_data;
-  int st = VI_OK, n = s->n, k = s->contact_stop, groot = gap_root(s, k);
+  int st = VI_OK, n = s->n, k = s->contact_stop, groot = vi_sim_gap_root(s, k);
   double tc = s->t, t = d->t_prev, g, gd, xs = s->m->xsv[k];
   if (groot < 0) return VI_OK;
   vi_sim_gap_k(s, k, s->z, &g, &gd);
@@ -557,7 +512,7 @@ static int cv_step(vi_sim *s, double t_end, int *event)
     for (int i = 0; i < nst; i++)
       if (info[i] && rel < 0) rel = s->stick_k[i];
     for (int k = 0; k < s->ns && *event == VI_STEP_NONE; k++) {
-      int i = gap_root(s, k);
+      int i = vi_sim_gap_root(s, k);
       if (i >= 0 && info[i]) {
         *event = VI_STEP_CONTACT;
         s->contact_stop = k;
@@ -568,7 +523,7 @@ static int cv_step(vi_sim *s, double t_end, int *event)
       s->contact_stop = rel;
     }
     for (int k = 0; k < s->ns && *event == VI_STEP_NONE && !st; k++) {
-      int i = gap_root(s, k);
+      int i = vi_sim_gap_root(s, k);
       if (i >= 0 && info[i + 1]) st = graze_check(s, d, k, event);
     }
     d->continued = *event == VI_STEP_NONE;

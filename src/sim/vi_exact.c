@@ -696,7 +696,7 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
     for (int i = 0; i < 8; i++) {
       double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h;
       ex_modes_at(d, t, d->qs, d->qds);
-      vi_ledger_accumulate(s->led, t, d->qds, 0.0, gw[i % 4] * h);
+      vi_ledger_accumulate(s->led, t, d->qds, NULL, gw[i % 4] * h);
     }
   }
 }

@@ -35,15 +35,19 @@ typedef struct ex_data {
   int64_t steps, evals;
 } ex_data;
 
-/* Gap and its rate at t; with full != 0 also the modal state in q, qd. */
-static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
+/* At t: stop k's gap and rate (k >= 0), or every stop's (k < 0: g, gd
+ * [ns]); with full != 0 (and always for k < 0) also the modal state in q,
+ * qd.  No stop is special: each gap comes straight from the closed form
+ * (the complex modes' w_k.V, or the modes stop k sees). */
+static void ex_eval(ex_data *d, double t, int k, double *g, double *gd,
+                    int full)
 {
   const vi_model *m = d->s->m;
   int n = m->n;
   if (d->gf) {
-    vi_gflow_eval(d->gf, m, t, g, gd, full ? d->zfull : NULL);
+    vi_gflow_eval(d->gf, m, t, k, g, gd, full || k < 0 ? d->zfull : NULL);
     d->evals++;
-    if (full) /* modal velocities for the ledger */
+    if (full || k < 0) /* modal velocities for the ledger */
       for (int j = 0; j < n; j++) {
         double q = 0.0, qd = 0.0;
         for (int i = 0; i < n; i++) {
@@ -58,69 +62,40 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
   }
   double tau = t - d->t0;
   vi_phase p = vi_phase_at(m->omega_f, t);
-  double a = 0.0, b = 0.0;
+  const double *psi = vi_stop_psi(m, k < 0 ? 0 : k);
   for (int j = 0; j < n; j++) {
-    if (!full && m->PsiW[j] == 0.0) continue;
+    if (!full && k >= 0 && psi[j] == 0.0) continue;
     double qp, qpd, u, ud;
     vi_flow_particular(m, d->s->flow, j, &p, tau, &qp, &qpd);
     vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], d->u0[j],
                         d->v0[j], tau, &u, &ud);
     d->q[j] = qp + u;
     d->qd[j] = qpd + ud;
-    a += m->PsiW[j] * d->q[j];
-    b += m->PsiW[j] * d->qd[j];
   }
   d->evals++;
-  *g = a - m->xsv[0];
-  *gd = b;
+  int k0 = k < 0 ? 0 : k, k1 = k < 0 ? d->ns : k + 1;
+  for (int q = k0; q < k1; q++) {
+    const double *pq = vi_stop_psi(m, q);
+    double a = 0.0, b = 0.0;
+    for (int j = 0; j < n; j++) {
+      if (pq[j] == 0.0) continue;
+      a += pq[j] * d->q[j];
+      b += pq[j] * d->qd[j];
+    }
+    g[q - k0] = a - m->xsv[q];
+    gd[q - k0] = b;
+  }
 }
 
-/* Gap and rate of stop k at t: stop 0's directly, another's from the
- * whole state. */
 static void ex_eval_k(ex_data *d, double t, int k, double *g, double *gd)
 {
-  const vi_model *m = d->s->m;
-  int n = m->n;
-  if (k == 0) {
-    ex_eval(d, t, g, gd, 0);
-    return;
-  }
-  ex_eval(d, t, g, gd, 1);
-  const double *w = vi_stop_w(m, k), *psi = vi_stop_psi(m, k);
-  double a = 0.0, b = 0.0;
-  for (int i = 0; i < n; i++) {
-    if (d->gf) {
-      a += w[i] * d->zfull[2 * (size_t)i];
-      b += w[i] * d->zfull[2 * (size_t)i + 1];
-    } else {
-      a += psi[i] * d->q[i];
-      b += psi[i] * d->qd[i];
-    }
-  }
-  *g = a - m->xsv[k];
-  *gd = b;
+  ex_eval(d, t, k, g, gd, 0);
 }
 
 /* Every stop's gap and rate at t into g, gd [ns]. */
 static void ex_eval_all(ex_data *d, double t, double *g, double *gd)
 {
-  ex_eval(d, t, g, gd, d->ns > 1);
-  for (int k = 1; k < d->ns; k++) {
-    const vi_model *m = d->s->m;
-    const double *w = vi_stop_w(m, k), *psi = vi_stop_psi(m, k);
-    double a = 0.0, b = 0.0;
-    for (int i = 0; i < m->n; i++) {
-      if (d->gf) {
-        a += w[i] * d->zfull[2 * (size_t)i];
-        b += w[i] * d->zfull[2 * (size_t)i + 1];
-      } else {
-        a += psi[i] * d->q[i];
-        b += psi[i] * d->qd[i];
-      }
-    }
-    g[k] = a - m->xsv[k];
-    gd[k] = b;
-  }
+  ex_eval(d, t, -1, g, gd, 1);
 }
 
 static double gap_fn(double t, void *p)
@@ -218,14 +193,19 @@ static int ex_start(vi_sim *s)
      * when a static offset or a resonant response dwarfs the motion (a
      * very soft structure under load): hand over to CVODE rather than lose
      * those digits (issue 9). */
-    double hsc = vi_general_particular_scale(s->flow->gen), msc = fabs(m->xsv[0]);
-    for (int i = 0; i < n; i++) msc += fabs(m->Ws[i] * s->z[2 * (size_t)i]);
-    d->handover = hsc > 1e6 * (msc + s->atol * s->wnorm);
-    if (d->handover)
-      snprintf(s->handover_why, sizeof s->handover_why,
-               "the particular solution (%.3g) is %.2g times the gap's scale "
-               "at t = %.9g: the closed form would cancel it", hsc,
-               hsc / (msc + s->atol * s->wnorm), s->t);
+    d->handover = 0;
+    for (int k = 0; k < m->ns && !d->handover; k++) { /* every stop's gap */
+      const double *w = vi_stop_w(m, k);
+      double hsc = vi_general_particular_scale(s->flow->gen, k);
+      double msc = fabs(m->xsv[k]) + s->atol * s->wnorms[k];
+      for (int i = 0; i < n; i++) msc += fabs(w[i] * s->z[2 * (size_t)i]);
+      d->handover = hsc > 1e6 * msc;
+      if (d->handover)
+        snprintf(s->handover_why, sizeof s->handover_why,
+                 "the particular solution (%.3g) is %.2g times the scale "
+                 "of stop %d's gap at t = %.9g: the closed form would cancel "
+                 "it", hsc, hsc / msc, k + 1, s->t);
+    }
     return VI_OK;
   }
   /* modal state now, minus the particular solution: the homogeneous part */
@@ -284,8 +264,8 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
   double h = 0.5 * (b - a), mid = 0.5 * (a + b), g, gd;
   for (int k = 0; k < 8; k++) {
     double t = mid + (k < 4 ? -gx[k] : gx[k - 4]) * h;
-    ex_eval(d, t, &g, &gd, 1);
-    vi_ledger_accumulate(s->led, t, d->qd, 0.0, gw[k % 4] * h);
+    ex_eval(d, t, 0, &g, &gd, 1);
+    vi_ledger_accumulate(s->led, t, d->qd, NULL, gw[k % 4] * h);
   }
 }
 
@@ -317,7 +297,7 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   s->t = hit ? tc : b;
   if (s->led) ex_quadrature(s, d, d->ta, s->t);
   double g, gd;
-  ex_eval(d, s->t, &g, &gd, 1);
+  ex_eval(d, s->t, 0, &g, &gd, 1);
   to_state(s->m, d, s->z);
   s->gap = g;
   s->z_stale = 0;
@@ -333,7 +313,7 @@ static int ex_dense(vi_sim *s, double t)
 {
   ex_data *d = s->be_data;
   double g, gd;
-  ex_eval(d, t, &g, &gd, 1);
+  ex_eval(d, t, 0, &g, &gd, 1);
   to_state(s->m, d, s->zs);
   return VI_OK;
 }

@@ -387,16 +387,22 @@ static int hd_setup(vi_sim *s, vi_held *H)
 }
 
 /* Every constrained mode's u, u' at t. */
-static void hd_modes_at(vi_held *H, double t, double *u, double *ud)
+static void hd_modes_phase(vi_held *H, const vi_phase *p, double t,
+                           double *u, double *ud)
 {
   const vi_cmodes *c = H->cm;
-  vi_phase p = vi_phase_at(H->Om, t);
   for (int i = 0; i < H->m; i++) {
     double w, wd;
     hd_mode(H, i, t, &w, &wd);
-    u[i] = w + vi_harm(&p, 0, c->pA[i], c->pB[i], 0.0);
-    ud[i] = wd + vi_harm(&p, 1, c->pA[i], c->pB[i], 0.0);
+    u[i] = w + vi_harm(p, 0, c->pA[i], c->pB[i], 0.0);
+    ud[i] = wd + vi_harm(p, 1, c->pA[i], c->pB[i], 0.0);
   }
+}
+
+static void hd_modes_at(vi_held *H, double t, double *u, double *ud)
+{
+  vi_phase p = vi_phase_at(H->Om, t);
+  hd_modes_phase(H, &p, t, u, ud);
 }
 
 /* Free modal q, q' [n] of the constrained state (u, ud). */
@@ -524,9 +530,8 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
                                0.2223810344533745, 0.1012285362903763};
   if (!(b > a)) return;
   const vi_cmodes *c = H->cm;
-  const vi_model *m = s->m;
-  int n = c->n;
-  double *Q = vi_ledger_integrals(s->led) + 3 * (size_t)n;
+  double lam[VI_CONTACT_MAX];
+  const vi_ledger_held held = {c->cnt, c->set, lam};
   double npf = ceil((b - a) / H->hq);
   int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
   for (int64_t k = 0; k < np; k++) {
@@ -535,17 +540,19 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
     double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
     for (int i = 0; i < 8; i++) {
       double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h, wgt = gw[i % 4] * h;
-      hd_modes_at(H, t, H->u, H->ud);
-      hd_free_modal(c, H->u, H->ud, H->q, H->qd);
-      vi_ledger_accumulate(s->led, t, H->qd, 0.0, wgt);
+      /* one cos/sin per node: the modes, the reactions and the ledger's
+       * forcing all take this phase (an unforced model's harmonic terms
+       * vanish whatever it is) */
       vi_phase p = vi_phase_at(H->Om, t);
+      hd_modes_phase(H, &p, t, H->u, H->ud);
+      hd_free_modal(c, H->u, H->ud, H->q, H->qd);
       for (int q = 0; q < c->cnt; q++) {
         const double *R = c->R + (size_t)q * c->m;
-        double lam = vi_harm(&p, 0, c->lA[q], c->lB[q], c->lc[q]);
-        for (int r = 0; r < c->m; r++) lam -= R[r] * (H->u[r] + c->brl * H->ud[r]);
-        const double *psi = vi_stop_psi(m, c->set[q]);
-        for (int r = 0; r < n; r++) Q[r] -= wgt * lam * psi[r] * H->qd[r];
+        lam[q] = vi_harm(&p, 0, c->lA[q], c->lB[q], c->lc[q]);
+        for (int r = 0; r < c->m; r++)
+          lam[q] -= R[r] * (H->u[r] + c->brl * H->ud[r]);
       }
+      vi_ledger_accumulate_phase(s->led, &p, H->qd, &held, wgt);
     }
   }
 }

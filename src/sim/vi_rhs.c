@@ -112,3 +112,18 @@ void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
   vi_phase p = vi_sim_phase(s, t);
   s->m->ops->accel_rate(s->m, &p, k, u, ud, out);
 }
+
+void vi_sim_roots_layout(vi_sim *s, double t, const double *z, double *g)
+{
+  int i = 0;
+  if (s->sticking) {
+    vi_sim_accel(s, t, z, 0, s->vp);
+    vi_sim_constrain(s, s->vp, g); /* the held stops' reactions */
+    i = s->nstick;
+  }
+  for (int k = 0; k < s->ns; k++) {
+    if (vi_sim_in_stick_set(s, k)) continue;
+    vi_sim_gap_k(s, k, z, &g[i], &g[i + 1]);
+    i += 2;
+  }
+}

@@ -20,6 +20,26 @@ static inline void vi_sim_accel(vi_sim *s, double t, const double *z,
   if (sticking) vi_sim_constrain(s, acc, NULL);
 }
 
+/* The held stops at (t, z) for the ledger's CE column: the sticking set
+ * and its reactions lam [nstick] = G_SS^-1 W_S^T a_free (MODEL.md section
+ * 9), whichever stops are held; in free flight h->cnt = 0.  Uses s->vp. */
+static inline void vi_sim_held_reactions(vi_sim *s, double t, const double *z,
+                                         double *lam, vi_ledger_held *h)
+{
+  h->cnt = 0;
+  h->set = s->stick_k;
+  h->lam = lam;
+  if (!s->sticking) return;
+  vi_sim_accel(s, t, z, 0, s->vp);
+  vi_sim_constrain(s, s->vp, lam);
+  h->cnt = s->nstick;
+}
+
+/* The root functions of the layout of vi_sim_gap_root (vi_sim_state.h)
+ * at (t, z) into g [nstick + 2 (ns - nstick)]; while sticking the free
+ * acceleration goes through s->vp (vi_rhs.c). */
+void vi_sim_roots_layout(vi_sim *s, double t, const double *z, double *g);
+
 /* out = M^-1 (f^(k)(t) - K u - C ud), k = 1, 2: the k-th time derivative
  * of the free acceleration along a motion whose k-th and (k+1)-th
  * derivatives of x are u and ud (vi_rhs.c). */

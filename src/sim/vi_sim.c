@@ -56,13 +56,12 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->t_last_contact = -HUGE_VAL;
   s->stick_at = HUGE_VAL;
   s->fast_nvector = 1;
-  s->wnorm = sqrt(vi_dot(n, model->Ws, model->Ws));
   s->ns = model->ns;
   s->wnorms = s->sbuf + 4 * (size_t)n;
   s->ie_stop = s->wnorms + s->ns;
   for (int k = 0; k < s->ns; k++) {
     const double *w = vi_stop_w(model, k);
-    s->wnorms[k] = k ? sqrt(vi_dot(n, w, w)) : s->wnorm;
+    s->wnorms[k] = sqrt(vi_dot(n, w, w));
   }
   s->harmonic = vi_forcing_harmonic(model);
   *out = s;

@@ -56,7 +56,6 @@ struct vi_sim {
    * accuracy-driven summing */
   double impact_ratio, vscale, vres;
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
-  double wnorm;  /* |w|, the scale of gap tolerances */
   int ns;        /* number of stops (vi_model_add_stop) */
   double *wnorms, *ie_stop; /* |w_k| and the energy lost at stop k [ns] */
   double *sbuf;  /* scratch of the several-stop code [4n + 4 ns] */
@@ -249,6 +248,26 @@ static inline void vi_sim_gap_k(const vi_sim *s, int k, const double *z,
   }
   *g = a - s->m->xsv[k];
   *gd = b;
+}
+
+/* The root layout of the SUNDIALS backends with several stops or while
+ * sticking: first the reaction of each held stop (its multiplier, falling
+ * through zero), then the pair (gap rising, rate falling) of every stop
+ * not held, in stop order.  The slot of stop k's gap there, or -1 (held). */
+static inline int vi_sim_gap_root(const vi_sim *s, int k)
+{
+  int i = s->nstick;
+  for (int j = 0; j < s->ns; j++) {
+    int held = 0;
+    for (int q = 0; q < s->nstick; q++) held |= s->stick_k[q] == j;
+    if (held) {
+      if (j == k) return -1;
+      continue;
+    }
+    if (j == k) return i;
+    i += 2;
+  }
+  return -1;
 }
 
 /* How far beyond stop k a state may sit: the integration error. */

@@ -8,6 +8,7 @@
  * across its impacts; the model's memory is linear in n; what needs the
  * modes is refused with a message. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -424,6 +425,78 @@ static void memory_linear(void **state)
   assert_true(bdf <= (int64_t)sizeof(double) * 250 * 20000);
 }
 
+/* The estimate counts the model exactly as vi_model_memory reports it once
+ * built and set up: what it adds is the setup's and the integrator's
+ * workspace, which does not depend on the stops (est - mem the same for
+ * 1, 2, 3 and 5 stops, the stop arrays growing 2, 2, 4, 8) and is, for
+ * Adams without the ledger, dense 4 n^2 + 8 n (dsygvd, LAPACK) and band
+ * (kd + 1) n (the PSD check's copy), plus (23 + 8) 2 n doubles of CVODE and
+ * the sim, and 4096 bytes.  (The old estimate counted three removed
+ * per-model vectors, 24 n bytes too many.) */
+static void memory_exact(void **state)
+{
+  (void)state;
+  for (int band = 0; band < 2; band++) {
+    int n = band ? 40 : 6, kd = band ? 1 : -1;
+    int64_t extra = -1;
+    const int nss[4] = {1, 2, 3, 5};
+    for (int q = 0; q < 4; q++) {
+      int ns = nss[q];
+      vi_model *m = NULL;
+      double *mass, *k, *c;
+      chain_data(n, 1.0, 1.0, 0.01, &mass, &k, &c);
+      if (band) {
+        assert_int_equal(vi_model_create_chain(n, mass, k, c, &m), VI_OK);
+      } else {
+        double *M = calloc((size_t)n * n, sizeof(double));
+        double *K = calloc((size_t)n * n, sizeof(double));
+        assert_non_null(M);
+        assert_non_null(K);
+        for (int i = 0; i < n; i++) {
+          M[i + (size_t)i * n] = 1.0;
+          K[i + (size_t)i * n] = 2.0;
+          if (i) K[i + (size_t)(i - 1) * n] = K[i - 1 + (size_t)i * n] = -1.0;
+        }
+        assert_int_equal(vi_model_create(n, &m), VI_OK);
+        assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
+        assert_int_equal(vi_model_set_stiffness(m, K, n), VI_OK);
+        free(M);
+        free(K);
+      }
+      double *w = calloc((size_t)n, sizeof(double)), *a = calloc((size_t)n, sizeof(double));
+      assert_non_null(w);
+      assert_non_null(a);
+      a[0] = 0.5;
+      assert_int_equal(vi_model_set_forcing(m, 0.9, a, NULL, NULL), VI_OK);
+      for (int j = 0; j < ns; j++) { /* stops on distinct coordinates */
+        memset(w, 0, sizeof(double) * (size_t)n);
+        w[n - 1 - j] = 1.0;
+        assert_int_equal(j ? vi_model_add_stop(m, w, 0.1, 0.7)
+                           : vi_model_set_stop(m, w, 0.1, 0.7), VI_OK);
+      }
+      assert_int_equal(vi_model_setup(m), VI_OK);
+      int64_t est = 0, mem = vi_model_memory(m);
+      assert_int_equal(vi_model_memory_estimate(n, kd, ns, VI_METHOD_ADAMS, 0,
+                                                &est), VI_OK);
+      double dn = n;
+      double work = band ? 2.0 * dn : 4.0 * dn * dn + 8.0 * dn;
+      int64_t want = (int64_t)((work + 31.0 * 2.0 * dn) * sizeof(double)) +
+                     4096;
+      printf("memory %s n = %d, %d stops: model %lld bytes, estimate %lld, "
+             "difference %lld (workspace %lld)\n", band ? "band" : "dense", n,
+             ns, (long long)mem, (long long)est, (long long)(est - mem),
+             (long long)want);
+      if (extra < 0) extra = est - mem;
+      assert_int_equal(est - mem, extra);
+      assert_int_equal(est - mem, want);
+      vi_model_destroy(&m);
+      free(w);
+      free(a);
+      free(mass);
+    }
+  }
+}
+
 /* What needs the modes says so; the dense getters return NULL. */
 static void refusals(void **state)
 {
@@ -551,6 +624,7 @@ int main(void)
       cmocka_unit_test(banded_mass),
       cmocka_unit_test(long_chain_energy),
       cmocka_unit_test(memory_linear),
+      cmocka_unit_test(memory_exact),
       cmocka_unit_test(refusals),
       cmocka_unit_test(misuse),
   };

@@ -507,6 +507,43 @@ static void test_nonproportional_soft(void **state)
   vi_model_destroy(&m);
 }
 
+/* The same soft structure with the stop it hits second: stop 0, -x1 <=
+ * 1e8, is never reached and its gap sees the offset as small against its
+ * clearance, so only stop 1's gap would cancel it.  Every stop's scale is
+ * looked at: the exact method still hands over and agrees with Adams. */
+static void test_nonproportional_soft_stop1(void **state)
+{
+  (void)state;
+  double K[9];
+  const double f0[3] = {0.0, 0.0, 0.5}, w[3] = {0.2, -0.5, 1.0};
+  const double w0[3] = {-1.0, 0.0, 0.0};
+  for (int i = 0; i < 9; i++) K[i] = 1e-6 * vi_test_np3_K[i];
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(3, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, vi_test_np3_M, 3), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, vi_test_np3_C, 3), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, 3), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 0.8, vi_test_np3_a, NULL, f0), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w0, 1e8, 0.6), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, w, 0.05, 0.6), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  vi_test_events ex = {0}, ad = {0};
+  vi_sim *s = vi_test_sim(m, VI_METHOD_EXACT, 1e-12, 1e-14, NULL, NULL, &ex);
+  int st = vi_sim_run(s, 60.0);
+  print_message("non-proportional soft, stop 1: exact status %d (%s), %d "
+                "events\n", st, vi_sim_method_note(s), ex.count);
+  assert_int_equal(st, VI_OK);
+  assert_non_null(strstr(vi_sim_method_note(s), "stop 2's gap"));
+  vi_sim_destroy(&s);
+  assert_int_equal(vi_test_run(m, VI_METHOD_ADAMS, 1e-12, 1e-14, NULL, NULL, 60.0, &ad), VI_OK);
+  assert_true(ad.count > 5);
+  assert_int_equal(ex.count, ad.count);
+  for (int i = 0; i < ad.count; i++) assert_close(ex.t[i], ad.t[i], 1e-8);
+  vi_test_events_free(&ex);
+  vi_test_events_free(&ad);
+  vi_model_destroy(&m);
+}
+
 /* A free-free chain of three masses (a rigid-body mode, K singular) falling
  * under gravity on a floor under mass 1, C = 0.01 K: the exact method
  * against Adams at tight tolerances, impact for impact. */
@@ -688,6 +725,7 @@ int main(void)
       cmocka_unit_test(test_handover_near_resonance),
       cmocka_unit_test(test_cancel),
       cmocka_unit_test(test_nonproportional_soft),
+      cmocka_unit_test(test_nonproportional_soft_stop1),
       cmocka_unit_test(test_resting_on_stop),
       cmocka_unit_test(test_two_mass_stop_at_origin),
       cmocka_unit_test(test_free_free_chain_gravity),
