@@ -105,8 +105,14 @@ VI_API int vi_sweep_set_monitor(vi_sweep *sw, vi_sweep_monitor_fn fn,
 /** Hook on each simulation (fn NULL: none).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sweep_set_sim_hook(vi_sweep *sw, vi_sweep_sim_fn fn,
                                  void *user, vi_destroy_fn destroy);
-/** Cancellation, polled by the simulations (vi_sim_set_cancel); a
- *  cancelled point returns VI_CANCELLED.  @return VI_OK, VI_ERR_ARG. */
+/** Cancellation (fn NULL: none).  vi_sweep_iterate polls it before the
+ *  point starts; then the P(1,1) census polls it once per scan phase
+ *  (vi_census_set_cancel, vi_orbit_p1_scan_polled), the point's
+ *  simulation at every step (vi_sim_set_cancel), the Lyapunov run once
+ *  per forcing period (a cancelled one leaves NaN), and vi_sweep_iterate
+ *  once more after the point.  A cancelled point returns VI_CANCELLED and
+ *  its results are not to be used.  user is handed over as vi_sweep_set_monitor does.
+ *  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sweep_set_cancel(vi_sweep *sw, vi_cancel_fn fn, void *user,
                                vi_destroy_fn destroy);
 

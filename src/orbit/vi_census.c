@@ -392,9 +392,11 @@ static int scan_seeds(vi_census *c)
   double *t = malloc(sizeof(double) * SCAN_CAP * (2 * N + 1));
   if (!t) return VI_ERR_NOMEM;
   double *x = t + SCAN_CAP, *v = x + (size_t)SCAN_CAP * N;
-  int st = vi_orbit_p1_scan(c->m, c->n, c->nphase, t, x, v, N, SCAN_CAP, &found);
+  int st = vi_orbit_p1_scan_polled(c->m, c->n, c->nphase, t, x, v, N, SCAN_CAP,
+                                   &found, c->cancel, c->cancel_user);
   if (st) {
     free(t);
+    if (st == VI_CANCELLED) return st;
     return vi_fail(c->errmsg, st, "the phase scan: %s", vi_strerror(st));
   }
   for (int i = 0; i < found && i < SCAN_CAP && !rc; i++)

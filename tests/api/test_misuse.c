@@ -924,6 +924,9 @@ static void test_orbit_misuse(void **state)
   assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, vs4, 2, -1, &found));
   assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, vs4, 2, 4, NULL));
   assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, xs4, 2, 4, &found)); /* overlap */
+  assert_err(vi_orbit_p1_scan_polled(NULL, 1, 64, ts, xs4, vs4, 2, 4, &found, NULL, NULL));
+  assert_err(vi_orbit_p1_scan_polled(m, 1, 7, ts, xs4, vs4, 2, 4, &found, NULL, NULL));
+  assert_err(vi_orbit_p1_scan_polled(m, 1, 64, ts, xs4, vs4, 2, 4, NULL, NULL, NULL));
   /* a model that is not set up */
   assert_int_equal(vi_orbit_pnm_residual(raw, 1, 1, t, x1, v1, 2, F, J),
                    VI_ERR_STATE);
@@ -1231,6 +1234,7 @@ static void test_cont_misuse(void **state)
   assert_err(vi_cont_set_orbit(c, 0, x, x));
   x[0] = 0;
   assert_err(vi_cont_set_monitor(NULL, NULL, NULL, NULL));
+  assert_err(vi_cont_set_cancel(NULL, NULL, NULL, NULL));
   assert_err(vi_cont_iterate(NULL));
   assert_err_msg(vi_cont_iterate(c), vi_cont_errmsg(c)); /* nothing set */
   assert_err(vi_cont_point(NULL, &p, NULL, NULL, NULL, NULL));
@@ -1303,6 +1307,7 @@ static void test_identify_misuse(void **state)
   assert_err(vi_identify_set_param_key(id, 0, "no.such.key", NAN, NAN));
   assert_err(vi_identify_set_param_key(id, 0, "stop.r", 0.8, 0.9));
   assert_err(vi_identify_set_builder(NULL, ident_builder, NULL, NULL));
+  assert_err(vi_identify_set_cancel(NULL, NULL, NULL, NULL));
   assert_err(vi_identify_set_observation(NULL, NULL));
   assert_err(vi_identify_set_observation(id, c));
   c[0] = NAN;
