@@ -237,7 +237,7 @@ static int study_scene(study *S)
   const app_opts *o = S->o;
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_sets_active() ? vi_sets_load(o->scene, &S->sc, &d) /* --set */
+  int st = vi_sets_active() ? vi_sets_load(o->scene, o->max_depth, &S->sc, &d) /* --set */
            : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
                                               o->max_depth, &S->sc, &d)
                       : vi_scene_parse(vi_scene_default_text(), -1,
