@@ -68,7 +68,8 @@ module vibroimpact
             vi_model_forcing_cos, vi_model_forcing_sin, vi_model_forcing_const, &
             vi_model_modal_damping, vi_model_modal_forcing_cos, &
             vi_model_modal_forcing_sin, vi_model_modal_forcing_const, &
-            vi_model_create_reduced, vi_model_create_truncated
+            vi_model_create_reduced, vi_model_create_truncated, &
+            vi_model_modal_compliance
   public :: vi_model_create_band, vi_model_set_mass_band, vi_model_set_damping_band, &
             vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
             vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
@@ -420,6 +421,14 @@ module vibroimpact
       real(c_double), intent(in), optional :: z(*)
       real(c_double), intent(out), optional :: zt(*), carried
       type(c_ptr), intent(out) :: out
+    end function
+    !> stop 0-based; dynamic, static_part [k] cumulative (optional)
+    integer(c_int) function vi_model_modal_compliance(model, stop, k, dynamic, &
+        static_part) bind(C, name="vi_model_modal_compliance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: stop, k
+      real(c_double), intent(out), optional :: dynamic(*), static_part(*)
     end function
     !> The reduced model of the modes modes(1:k) (0-based mode numbers).
     integer(c_int) function vi_model_create_reduced(full, modes, k, r, model) &

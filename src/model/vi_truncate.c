@@ -98,3 +98,35 @@ int vi_model_create_truncated(const vi_model *R, int k, int static_vector,
     *out = m;
   return st;
 }
+
+int vi_model_modal_compliance(const vi_model *R, int stop, int k,
+                              double *dynamic, double *static_part)
+{
+  if (!R || k < 1 || k > R->n || stop < 0 || stop >= R->ns)
+    return VI_ERR_ARG;
+  if (!R->frozen) return VI_ERR_STATE;
+  if (R->band) return VI_ERR_UNSUPPORTED; /* no modal coordinates */
+  int n = R->n;
+  /* modal coordinates: M = I and K diagonal (to round-off of its scale) */
+  double kmax = 0;
+  for (int j = 0; j < n; j++) kmax = fmax(kmax, fabs(R->K[j + (size_t)j * n]));
+  for (int q = 0; q < n; q++)
+    for (int p = 0; p < n; p++) {
+      double mi = R->M[p + (size_t)q * n] - (p == q);
+      if (fabs(mi) > 1e-12 || (p != q && fabs(R->K[p + (size_t)q * n]) > 1e-12 * kmax))
+        return VI_ERR_ARG;
+    }
+  const double *psi = vi_stop_w(R, stop);
+  double cd = 0, cs = 0;
+  for (int j = 0; j < k; j++) {
+    /* MODEL.md section 5: mode j carries psi_j^2 of w^T M^-1 w and
+     * psi_j^2 / omega_j^2 of w^T K^-1 w (a rigid mode with psi_j != 0
+     * makes the static compliance infinite) */
+    double lam = R->K[j + (size_t)j * n], p2 = psi[j] * psi[j];
+    cd += p2;
+    cs += lam > 0 ? p2 / lam : (p2 != 0 ? INFINITY : 0.0);
+    if (dynamic) dynamic[j] = cd;
+    if (static_part) static_part[j] = cs;
+  }
+  return VI_OK;
+}

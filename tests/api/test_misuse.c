@@ -1115,6 +1115,12 @@ static void test_truncated_misuse(void **state)
   assert_err(vi_model_create_truncated(R, 1, 2, 0.7, NULL, NULL, NULL, &t));
   assert_err(vi_model_create_truncated(R, 2, 1, 0.7, NULL, NULL, NULL, &t)); /* nothing beyond */
   assert_err(vi_model_create_truncated(R, 1, 0, 0.7, z, NULL, NULL, &t));
+  double cd[2], cs[2];
+  assert_err(vi_model_modal_compliance(NULL, 0, 1, cd, cs));
+  assert_err(vi_model_modal_compliance(R, 0, 0, cd, cs));
+  assert_err(vi_model_modal_compliance(R, 0, 3, cd, cs));
+  assert_err(vi_model_modal_compliance(R, 1, 1, cd, cs)); /* one stop */
+  assert_err(vi_model_modal_compliance(f, 0, 2, cd, cs)); /* not modal: M != I */
   assert_int_equal(vi_model_create_truncated(R, 1, 0, 1.5, z, zt, &g, &t), VI_ERR_RESTITUTION);
   assert_null(t);
   assert_int_equal(vi_model_create(2, &raw), VI_OK);
