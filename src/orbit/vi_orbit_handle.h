@@ -5,6 +5,8 @@
 #ifndef VI_ORBIT_HANDLE_H
 #define VI_ORBIT_HANDLE_H
 
+#include <math.h>
+
 #include "vi_flow_internal.h"
 
 #define RING 4096 /* impacts remembered for classification */
@@ -59,5 +61,14 @@ struct vi_orbit {
  * ledger: the impacts of the period and WB 11-13 in total and per stop
  * (vi_balance.c).  VI_OK or a code with o->errmsg set. */
 int vi_balance_run(vi_orbit *o);
+
+/* The stops' length scale max_k |x_k| (every stop, not stop 0 alone):
+ * tolerances on states are relative to it and to the states' own size. */
+static inline double vi_orbit_xs_scale(const vi_model *m)
+{
+  double s = 0.0;
+  for (int k = 0; k < m->ns; k++) s = fmax(s, fabs(m->xsv[k]));
+  return s;
+}
 
 #endif

@@ -11,15 +11,6 @@
 #include "vi_flow_internal.h"
 #include "vi_orbit_handle.h"
 
-/* The stops' length scale max_k |x_k| (every stop, not stop 0 alone):
- * tolerances on states are relative to it and to the states' own size. */
-static inline double vi_orbit_xs_scale(const vi_model *m)
-{
-  double s = 0.0;
-  for (int k = 0; k < m->ns; k++) s = fmax(s, fabs(m->xsv[k]));
-  return s;
-}
-
 /* State-transition matrix e^{A tau} [2n x 2n] (z = (x, v), column-major,
  * leading dimension 2n) of the free motion: closed form per mode for
  * proportional damping, Pade scaling and squaring otherwise.  VI_OK,
