@@ -83,4 +83,18 @@ vi_sim *vi_test_sim_stops(const vi_model *m, int method, double rtol,
                           double atol, double t0, const double *x0,
                           const double *v0, vi_test_rec *ev);
 
+/* Chattering (Budd & Dux): a free mass pressed on the stop x <= 0 by a
+ * load g = 2, leaving it at V = 1 with r = 0.5, bounces at 2V/g (1 + r +
+ * ... + r^(k-1)) with speed V r^(k-1); the impacts accumulate at
+ * T = 2V / (g (1 - r)) = 2.  Runs it to t = 5 with the method at rtol
+ * 1e-12, atol 1e-14 and the accuracy-driven summing, and asserts what
+ * every method must give: more than 4 resolved impacts (those with v_n >
+ * 10 atol / rtol = 0.1 at least) at those times and speeds (1e-9; 1e-6 for
+ * the late, grazing bounces, where a position error dx is a velocity error
+ * g dx / v), a last STICK event at T (1e-10), and the mass at rest on the
+ * stop.  Returns the sim for further checks (the caller destroys it, ev and
+ * *m); *last is the index of the STICK event. */
+vi_sim *vi_test_chatter_sticks(int method, vi_model **m, vi_test_events *ev,
+                               int *last);
+
 #endif

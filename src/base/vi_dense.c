@@ -1,21 +1,21 @@
 /* vi_dense.c - dense column-major helpers (leading dimension n) and the
- * modal projection of an interleaved state: shared by the model, the modal
+ * modal projection of an interleaved state (BLAS), and the small Cholesky
+ * solves of the contact and constraint sets: shared by the model, the modal
  * analysis, the ledger, the orbits and the closed-form backend. */
+#include <math.h>
+
+#include <cblas.h>
+
 #include "vi_internal.h"
 
 void vi_matvec(int n, const double *A, const double *x, double *y)
 {
-  for (int i = 0; i < n; i++) y[i] = 0.0;
-  for (int j = 0; j < n; j++) {
-    double xj = x[j];
-    const double *col = A + (size_t)j * (size_t)n;
-    for (int i = 0; i < n; i++) y[i] += col[i] * xj;
-  }
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, A, n, x, 1, 0.0, y, 1);
 }
 
 void vi_matvec_t(int n, const double *A, const double *x, double *y)
 {
-  for (int j = 0; j < n; j++) y[j] = vi_dot(n, A + (size_t)j * (size_t)n, x);
+  cblas_dgemv(CblasColMajor, CblasTrans, n, n, 1.0, A, n, x, 1, 0.0, y, 1);
 }
 
 double vi_dot(int n, const double *x, const double *y)
@@ -28,16 +28,49 @@ double vi_dot(int n, const double *x, const double *y)
 void vi_modal_project(const vi_model *m, const double *z, double *q,
                       double *qd)
 {
+  /* z interleaves (x_i, v_i): stride 2 picks either */
   int n = m->n;
-  for (int j = 0; j < n; j++) {
-    const double *row = m->PsiTM + j; /* row j of Psi^T M, stride n */
-    double a = 0.0, b = 0.0;
-    for (int i = 0; i < n; i++) {
-      double p = row[(size_t)i * (size_t)n];
-      a += p * z[2 * (size_t)i];
-      b += p * z[2 * (size_t)i + 1];
+  if (q)
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->PsiTM, n, z, 2,
+                0.0, q, 1);
+  if (qd)
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->PsiTM, n, z + 1,
+                2, 0.0, qd, 1);
+}
+
+/* In-place Cholesky of the k x k matrix A (column-major, leading dimension
+ * k); 0 if positive definite to round-off relative to its diagonal. */
+int vi_small_cholesky(int k, double *A)
+{
+  double dmax = 0.0;
+  for (int i = 0; i < k; i++) dmax = fmax(dmax, A[i + i * k]);
+  for (int j = 0; j < k; j++) {
+    double d = A[j + j * k];
+    for (int p = 0; p < j; p++) d -= A[j + p * k] * A[j + p * k];
+    /* a pivot lost to cancellation: G singular on this set (dependent
+     * stop vectors), no unique impulses */
+    if (!(d > 1e-12 * dmax)) return -1;
+    d = sqrt(d);
+    A[j + j * k] = d;
+    for (int i = j + 1; i < k; i++) {
+      double a = A[i + j * k];
+      for (int p = 0; p < j; p++) a -= A[i + p * k] * A[j + p * k];
+      A[i + j * k] = a / d;
     }
-    if (q) q[j] = a;
-    if (qd) qd[j] = b;
+  }
+  return 0;
+}
+
+void vi_small_solve(int k, const double *L, double *b)
+{
+  for (int i = 0; i < k; i++) {
+    double a = b[i];
+    for (int p = 0; p < i; p++) a -= L[i + p * k] * b[p];
+    b[i] = a / L[i + i * k];
+  }
+  for (int i = k - 1; i >= 0; i--) {
+    double a = b[i];
+    for (int p = i + 1; p < k; p++) a -= L[p + i * k] * b[p];
+    b[i] = a / L[i + i * k];
   }
 }

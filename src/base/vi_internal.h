@@ -8,6 +8,9 @@
 
 #define VI_MSG_LEN 512
 
+/* How a model stores M, C, K (src/model/vi_storage.h). */
+typedef struct vi_storage_ops vi_storage_ops;
+
 /* Format a message into a fixed buffer (truncating) and return code, so that
  * a check reads  if (bad) return vi_fail(m->errmsg, VI_ERR_X, "...", ...); */
 int vi_fail(char *buf, int code, const char *fmt, ...)
@@ -24,6 +27,7 @@ int vi_fail(char *buf, int code, const char *fmt, ...)
   } while (0)
 
 struct vi_model {
+  const vi_storage_ops *ops; /* dense or band, set at creation */
   int n;
   int frozen;
   double omega_f;
@@ -93,30 +97,12 @@ static inline const double *vi_stop_psi(const vi_model *m, int k)
  * VI_ERR_NOT_CONVERGED (no active set fits: G singular on the contacts). */
 #define VI_CONTACT_MAX 12
 /* Cholesky of a small SPD k x k matrix in place (0, or -1 if a pivot is
- * lost to round-off) and the solve with its factor (vi_contact.c). */
+ * lost to round-off) and the solve with its factor (vi_dense.c). */
 int vi_small_cholesky(int k, double *A);
 void vi_small_solve(int k, const double *L, double *b);
 int vi_contact_solve(const vi_model *m, int nc, const int *idx,
                      const double *v, double *vp, double *P, double *vn,
                      double *ie);
-
-/* Band models (vi_band.c).  vi_band_setup replaces the dense setup: band
- * Cholesky of M, positive semidefiniteness of K and C by shifted band
- * Cholesky, M^-1 of the forcing and the stops, the row form KR, CR. */
-int vi_band_setup(vi_model *m);
-/* x [n x nrhs] <- M^-1 x with the model's band factor (vi_param.c) */
-int vi_band_solve_mass(const vi_model *m, int nrhs, double *x);
-/* acc = M^-1 (f(t) - K x - C v) for an interleaved state z (x_1, v_1, ..) */
-void vi_band_accel(const vi_model *m, double t, const double *z, double *acc);
-/* y = M^-1 (K x + C v), x and v with strides incx, incv (O(n kd)) */
-void vi_band_apply(const vi_model *m, const double *x, int incx,
-                   const double *v, int incv, double *y);
-/* 1/2 v^T M v + 1/2 x^T K x from the band storage */
-double vi_band_energy(const vi_model *m, const double *x, const double *v);
-/* out = M^-1 (f^(k)(t) - K u - C ud), k = 1, 2 (the rates of the
- * acceleration that the sim's chatter and release tests read). */
-void vi_band_accel_rate(const vi_model *m, double t, int k, const double *u,
-                        const double *ud, double *out);
 
 /* Modal analysis (vi_modal.c), called by vi_model_setup after M's
  * Cholesky factorisation; checks K and C (c_zero: C = 0) semidefinite. */

@@ -9,12 +9,13 @@
  * eigenvectors Y (dsyevd) give Phi = Z Y (dormqr again).  Everything is
  * O(n^2 |S|) but the one eigenproblem of size n - |S|. */
 #include <float.h>
+#include <math.h>
 #include <lapacke.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_exact_internal.h"
+#include "vi_flow_internal.h"
 
 void vi_cmodes_destroy(vi_cmodes **cm)
 {
@@ -100,7 +101,7 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
   memcpy(c->set, set, sizeof(int) * (size_t)cnt);
   double *tau = Pw + (size_t)n * cnt, *v1 = tau + n, *v2 = v1 + n, *v3 = v2 + n, *v4 = v3 + n;
   double a, b;
-  if (!m->proportional || m->band || !m->lambda) {
+  if (!m->proportional || !m->ops->modal || !m->lambda) {
     snprintf(c->why, sizeof c->why, "the held structure has no modes of "
              "its own in closed form (damping not proportional)");
     goto done;

@@ -35,7 +35,7 @@ int vi_xflow_create(const vi_model *m, vi_xflow **out)
   }
   f->pB = f->pA + n;
   f->ok = 1;
-  if (m->band) { /* vi_band.c */
+  if (!m->ops->modal) { /* band storage (vi_band_model.c) */
     f->ok = 0;
     vi_fail(f->why, VI_ERR_UNSUPPORTED, "the model is in band storage: it "
             "has no modes, so no closed-form flow");
@@ -188,12 +188,12 @@ void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
 }
 
 void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
-                        double cos_t, double sin_t, double tau, double *qp,
+                        const vi_phase *p, double tau, double *qp,
                         double *qpd)
 {
-  double Om = m->omega_f, lam = m->lambda[j], d = m->D[j + (size_t)j * m->n];
-  double q = f->pA[j] * cos_t + f->pB[j] * sin_t;
-  double qd = Om * (f->pB[j] * cos_t - f->pA[j] * sin_t);
+  double lam = m->lambda[j], d = m->D[j + (size_t)j * m->n];
+  double q = vi_harm(p, 0, f->pA[j], f->pB[j], 0.0);
+  double qd = vi_harm(p, 1, f->pA[j], f->pB[j], 0.0);
   double F0 = m->F0[j];
   if (F0 != 0.0) {
     if (lam > 0.0) {
@@ -259,16 +259,16 @@ int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
   /* q = H(t) + w: H the harmonic particular solution, w the rest, which
    * obeys w'' + d w' + lambda w = F0 and runs relative to its start */
   double tau = t - t0, Om = m->omega_f;
-  double c0 = cos(Om * t0), s0 = sin(Om * t0), c1 = cos(Om * t), s1 = sin(Om * t);
+  vi_phase p0 = vi_phase_at(Om, t0), p1 = vi_phase_at(Om, t);
   const double *pA = fl->pA, *pB = fl->pB;
   for (int j = 0; j < m->n; j++) {
     double lam = m->lambda[j], d = m->D[j + (size_t)j * m->n], B, Bp, phi;
-    double w0 = q0[j] - (pA[j] * c0 + pB[j] * s0);
-    double wd0 = qd0[j] - Om * (pB[j] * c0 - pA[j] * s0);
+    double w0 = q0[j] - vi_harm(&p0, 0, pA[j], pB[j], 0.0);
+    double wd0 = qd0[j] - vi_harm(&p0, 1, pA[j], pB[j], 0.0);
     double f = m->F0[j] - lam * w0;
     vi_flow_basis(lam, d, tau, &B, &Bp, &phi);
-    q[j] = pA[j] * c1 + pB[j] * s1 + (w0 + B * wd0 + phi * f);
-    qd[j] = Om * (pB[j] * c1 - pA[j] * s1) + (Bp * wd0 + B * f);
+    q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (w0 + B * wd0 + phi * f);
+    qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * wd0 + B * f);
   }
   return VI_OK;
 }

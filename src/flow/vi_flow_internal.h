@@ -16,6 +16,7 @@
 #define VI_FLOW_INTERNAL_H
 
 #include "vi_internal.h"
+#include "vi_storage.h"
 
 typedef struct vi_general vi_general; /* vi_general.c */
 
@@ -43,11 +44,11 @@ int vi_xflow_modal(const vi_xflow *f, const vi_model *m, double t0,
  * for proportional damping), 0 if not or out of memory. */
 int vi_xflow_available(const vi_model *m);
 
-/* Closed-form mode j (vi_flow.c): particular solution at t, with tau = t - t0
- * for the polynomial part of a rigid-body mode, and the homogeneous solution
- * from (u0, v0) after tau. */
+/* Closed-form mode j (vi_flow.c): particular solution at the forcing's
+ * phase p of t, with tau = t - t0 for the polynomial part of a rigid-body
+ * mode, and the homogeneous solution from (u0, v0) after tau. */
 void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
-                        double cos_t, double sin_t, double tau, double *qp,
+                        const vi_phase *p, double tau, double *qp,
                         double *qpd);
 void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
                          double tau, double *u, double *ud);
@@ -75,5 +76,42 @@ void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z);
 /* gap w.x - x_s and rate w.x' at t; with z != NULL the state too */
 void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
                    double *rate, double *z);
+
+/* The constrained modes of a held set S of stops (MODEL.md section 9;
+ * vi_constrained.c).  In the free modal coordinates q (Psi^T M
+ * Psi = I) the held gaps are P^T q = x_S with P = [psi_k], k in S; the
+ * motions that keep them are q = q_c + Phi u, q_c = P G^-1 x_S (G = P^T P,
+ * the Delassus block), Phi an orthonormal basis of null(P^T) that
+ * diagonalises Phi^T Lambda Phi.  Rayleigh damping D = a I + b Lambda
+ * stays diagonal in u, so each constrained mode is a damped oscillator:
+ *   u_i'' + dmp_i u_i' + om2_i u_i = Phi_i^T (F(t) - Lambda q_c)
+ * and the reactions lambda_S = G^-1 P^T (F - D q' - Lambda q) are
+ *   lambda_k = lc_k + lA_k cos + lB_k sin - R_k.(u + b u')
+ * (P^T Phi = 0 removes the a part of the damping). */
+typedef struct vi_cmodes {
+  int cnt, set[VI_CONTACT_MAX]; /* the held stops, in the driver's order */
+  int ok;                       /* the closed form applies */
+  char why[VI_MSG_LEN];         /* if not, why */
+  int n, m;                     /* free modes; constrained modes n - cnt */
+  double brl;                   /* Rayleigh b */
+  double *Phi;                  /* [n x m], orthonormal columns */
+  double *om2, *dmp;            /* Omega_i^2, a + b Omega_i^2 [m] */
+  double *F0, *pA, *pB;         /* constant forcing, harmonic particular
+                                   solution pA cos + pB sin [m] */
+  double *qc;                   /* q_c [n] */
+  double *R;                    /* reaction weights, stop i's at [i m] */
+  double *Pg;                   /* Phi^T psi_k of every stop, at [k m] */
+  double *gc;                   /* psi_k.q_c - x_k of every stop [ns] */
+  double lc[VI_CONTACT_MAX], lA[VI_CONTACT_MAX], lB[VI_CONTACT_MAX];
+  double lscale[VI_CONTACT_MAX]; /* size of the terms lambda_k sums */
+  double top;                   /* fastest rate of the constrained modes */
+} vi_cmodes;
+
+/* Build the constrained modes of the stops set [cnt] of a set-up model
+ * with modes: VI_OK with *out (out->ok says whether the closed form
+ * applies, out->why why not), VI_ERR_NOMEM or VI_ERR_LAPACK. */
+int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
+                     vi_cmodes **out, char *errmsg);
+void vi_cmodes_destroy(vi_cmodes **cm);
 
 #endif

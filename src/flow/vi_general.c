@@ -186,24 +186,25 @@ void vi_gflow_free(vi_gflow *f)
   free(f);
 }
 
-/* Particular solution of complex mode k at t. */
-static cplx particular(const struct vi_general *g, int k, double c, double s)
+/* Particular solution of complex mode k at t (the forcing's phase p of t):
+ * complex amplitudes, so vi_harm's real form does not apply. */
+static cplx particular(const struct vi_general *g, int k, const vi_phase *p)
 {
-  return g->P[k] * c + g->Q[k] * s + g->R[k];
+  return g->P[k] * p->c + g->Q[k] * p->s + g->R[k];
 }
 
 void vi_gflow_start(vi_gflow *f, const vi_model *m, double t0, const double *z)
 {
   const struct vi_general *g = f->g;
   int n = m->n, n2 = g->n2;
-  double c = cos(m->omega_f * t0), s = sin(m->omega_f * t0);
+  vi_phase p = vi_phase_at(m->omega_f, t0);
   f->t0 = t0;
   for (int k = 0; k < n2; k++) {
     cplx y = 0;
     for (int i = 0; i < n; i++)
       y += g->Vinv[k + (size_t)i * n2] * z[2 * (size_t)i] +
            g->Vinv[k + (size_t)(n + i) * n2] * z[2 * (size_t)i + 1];
-    f->u[k] = y - particular(g, k, c, s);
+    f->u[k] = y - particular(g, k, &p);
   }
 }
 
@@ -212,10 +213,11 @@ void vi_gflow_eval(vi_gflow *f, const vi_model *m, double t, double *gap,
 {
   const struct vi_general *g = f->g;
   int n = m->n, n2 = g->n2;
-  double c = cos(m->omega_f * t), s = sin(m->omega_f * t), tau = t - f->t0;
+  double tau = t - f->t0;
+  vi_phase p = vi_phase_at(m->omega_f, t);
   cplx a = 0, b = 0;
   for (int k = 0; k < n2; k++) {
-    f->y[k] = particular(g, k, c, s) + cexp(g->lam[k] * tau) * f->u[k];
+    f->y[k] = particular(g, k, &p) + cexp(g->lam[k] * tau) * f->u[k];
     a += g->cw[k] * f->y[k];
     b += g->cv[k] * f->y[k];
   }

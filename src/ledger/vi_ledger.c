@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_forcing.h"
 #include "vi_ledger_internal.h"
 
 struct vi_ledger {
@@ -43,8 +44,7 @@ vi_ledger *vi_ledger_create(const vi_model *m)
   L->qds = p;
   L->m = m;
   L->n = n;
-  for (int i = 0; i < n && !L->harmonic; i++)
-    L->harmonic = m->a[i] != 0.0 || m->b[i] != 0.0;
+  L->harmonic = vi_forcing_harmonic(m);
   return L;
 }
 
@@ -67,15 +67,14 @@ void vi_ledger_rates(vi_ledger *L, double t, const double *qd, double Lambda,
 {
   const vi_model *m = L->m;
   int n = L->n;
-  double c = 1.0, sn = 0.0;
-  if (L->harmonic) {
-    c = cos(m->omega_f * t);
-    sn = sin(m->omega_f * t);
-  }
+  vi_phase p = L->harmonic ? vi_phase_at(m->omega_f, t)
+                           : vi_phase_none(m->omega_f);
+  const double *Fa, *Fb, *F0;
+  vi_forcing_vectors(m, VI_FORCING_MODAL, &Fa, &Fb, &F0);
   double *FE = rates, *DE = rates + n, *XE = rates + 2 * (size_t)n;
   double *CE = rates + 3 * (size_t)n, *NE = gq ? rates + 4 * (size_t)n : NULL;
   for (int j = 0; j < n; j++) {
-    double F = m->Fa[j] * c + m->Fb[j] * sn + m->F0[j];
+    double F = vi_harm(&p, 0, Fa[j], Fb[j], F0[j]);
     FE[j] = qd[j] * F;                                           /* WB 7 */
     DE[j] = m->D[j + (size_t)j * (size_t)n] * qd[j] * qd[j];     /* WB 8 */
     CE[j] = -Lambda * m->PsiW[j] * qd[j];

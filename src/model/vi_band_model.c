@@ -8,14 +8,17 @@
  * hot loops the rows of K and C (of M^-1 K and M^-1 C when M is diagonal,
  * a row scaling) are kept contiguous, [n x (2kd+1)].  A banded M that is
  * not diagonal is applied by a band Cholesky solve per evaluation
- * (dpbtrs, O(n kdm)): M^-1 K would be dense. */
+ * (dpbtrs, O(n kdm)): M^-1 K would be dense.
+ *
+ * The operations are the model's storage table vi_storage_band
+ * (vi_storage.h), set by vi_model_create_band. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <lapacke.h>
 
-#include "vi_internal.h"
+#include "vi_storage.h"
 
 /* A PSD matrix plus this fraction of its infinity norm (a bound of its
  * largest eigenvalue) has a band Cholesky factor; an indefinite one with a
@@ -86,12 +89,10 @@ static int minv(const vi_model *m, int nrhs, double *x)
                                   m->LB, m->kdm + 1, x, n);
 }
 
-int vi_band_solve_mass(const vi_model *m, int nrhs, double *x)
-{
-  return minv(m, nrhs, x);
-}
-
-int vi_band_setup(vi_model *m)
+/* The band setup: band Cholesky of M, positive semidefiniteness of K and
+ * C by shifted band Cholesky, M^-1 of the forcing and the stops, the row
+ * form KR, CR. */
+static int band_setup(vi_model *m)
 {
   int n = m->n, kd = m->kd, ldb = m->ldb, ns = m->ns, st;
   double *work = malloc(sizeof(double) * (size_t)ldb * n);
@@ -187,45 +188,40 @@ static void rows_apply(const vi_model *m, const double *x, int incx,
   }
 }
 
-void vi_band_apply(const vi_model *m, const double *x, int incx,
-                   const double *v, int incv, double *y)
+static void band_apply(const vi_model *m, const double *x, int incx,
+                       const double *v, int incv, double *y)
 {
   rows_apply(m, x, incx, v, incv, y);
   if (m->kdm > 0) minv(m, 1, y);
 }
 
-void vi_band_accel(const vi_model *m, double t, const double *z, double *acc)
+static void band_accel(const vi_model *m, const vi_phase *p, const double *z,
+                       double *acc)
 {
   int n = m->n;
-  double c = 1.0, sn = 0.0;
-  if (m->omega_f > 0.0) {
-    c = cos(m->omega_f * t);
-    sn = sin(m->omega_f * t);
-  }
+  const double *fa, *fb, *f0;
   rows_apply(m, z, 2, z + 1, 2, acc);
-  if (m->kdm == 0) {
-    for (int i = 0; i < n; i++)
-      acc[i] = m->Minv_a[i] * c + m->Minv_b[i] * sn + m->Minv_f0[i] - acc[i];
-    return;
-  }
+  /* diagonal M: the rows are M^-1's already; else the physical forcing
+   * and one band solve */
+  vi_forcing_vectors(m, m->kdm == 0 ? VI_FORCING_MINV : VI_FORCING_PHYS,
+                     &fa, &fb, &f0);
   for (int i = 0; i < n; i++)
-    acc[i] = m->a[i] * c + m->b[i] * sn + m->f0[i] - acc[i];
-  minv(m, 1, acc);
+    acc[i] = vi_harm(p, 0, fa[i], fb[i], f0[i]) - acc[i];
+  if (m->kdm > 0) minv(m, 1, acc);
 }
 
-void vi_band_accel_rate(const vi_model *m, double t, int k, const double *u,
-                        const double *ud, double *out)
+static void band_accel_rate(const vi_model *m, const vi_phase *p, int k,
+                            const double *u, const double *ud, double *out)
 {
   int n = m->n;
-  double W = m->omega_f, c = cos(W * t), sn = sin(W * t);
-  vi_band_apply(m, u, 1, ud, 1, out);
+  const double *fa, *fb, *f0;
+  vi_forcing_vectors(m, VI_FORCING_MINV, &fa, &fb, &f0);
+  band_apply(m, u, 1, ud, 1, out);
   for (int i = 0; i < n; i++)
-    out[i] = (k == 1 ? W * (m->Minv_b[i] * c - m->Minv_a[i] * sn)
-                     : -W * W * (m->Minv_a[i] * c + m->Minv_b[i] * sn)) -
-             out[i];
+    out[i] = vi_harm(p, k, fa[i], fb[i], 0.0) - out[i];
 }
 
-double vi_band_energy(const vi_model *m, const double *x, const double *v)
+static double band_energy(const vi_model *m, const double *x, const double *v)
 {
   int n = m->n, kd = m->kd, ldb = m->ldb;
   double e = 0.0;
@@ -240,3 +236,52 @@ double vi_band_energy(const vi_model *m, const double *x, const double *v)
   return e;
 }
 
+
+static double *band_matrix(const vi_model *m, int which, size_t *len)
+{
+  if (len) *len = (size_t)m->ldb * (size_t)m->n;
+  return which == 0 ? m->MB : which == 1 ? m->CB : m->KB;
+}
+
+/* Gershgorin: lambda_max(M^-1 K) <= max row sum of |K| / lambda_min(M),
+ * with lambda_min(M) >= min_i (M_ii - sum_j!=i |M_ij|) */
+static double band_omega_bound(const vi_model *m)
+{
+  int n = m->n, kd = m->kd, w = 2 * kd + 1;
+  double kmax = 0.0, mmin = HUGE_VAL;
+  for (int i = 0; i < n; i++) {
+    const double *kr = m->KR + (size_t)i * w;
+    double r = 0.0;
+    for (int d = 0; d < w; d++) r += fabs(kr[d]);
+    if (m->kdm == 0) { /* KR holds M^-1 K: its rows bound the spectrum */
+      kmax = fmax(kmax, r);
+      continue;
+    }
+    kmax = fmax(kmax, r);
+    double mi = m->MB[kd + (size_t)i * m->ldb], off = 0.0;
+    for (int j = i - kd < 0 ? 0 : i - kd; j <= (i + kd < n ? i + kd : n - 1); j++)
+      if (j != i)
+        off += fabs(j > i ? m->MB[kd + i - j + (size_t)j * m->ldb]
+                          : m->MB[kd + j - i + (size_t)i * m->ldb]);
+    mmin = fmin(mmin, mi - off);
+  }
+  if (m->kdm == 0) return sqrt(kmax);
+  return mmin > 0.0 ? sqrt(kmax / mmin) : HUGE_VAL;
+}
+
+const vi_storage_ops vi_storage_band = {
+    .name = "band",
+    .modal = 0,
+    .stop_vectors = 1,
+    .dense_jac_max = 2000,
+    .setup = band_setup,
+    .accel = band_accel,
+    .accel_rate = band_accel_rate,
+    .apply = band_apply,
+    .energy = band_energy,
+    .solve_mass = minv,
+    .matrix = band_matrix,
+    .omega_bound = band_omega_bound,
+    .minv_col = NULL,  /* M^-1 K: the row form, or dense for a banded M */
+    .pack_rows = NULL, /* band_accel is the O(n kd) kernel already */
+};

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "vi_internal.h"
+#include "vi_storage.h"
 
 double vi_cantilever_beta(int j)
 {
@@ -93,7 +93,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
   if (!full->frozen) return VI_ERR_STATE;
   if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
-  if (full->band) return VI_ERR_UNSUPPORTED; /* no modes: vi_band.c */
+  if (!full->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;

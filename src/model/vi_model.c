@@ -6,7 +6,7 @@
 
 #include <lapacke.h>
 
-#include "vi_internal.h"
+#include "vi_storage.h"
 
 /* Relative tolerance for symmetry (semidefiniteness: vi_modal.c): generous
  * enough for matrices read from text with 15-17 digits, tight enough to
@@ -49,6 +49,7 @@ int vi_model_create(int n, vi_model **out)
   m->Fa = p; p += n;
   m->Fb = p; p += n;
   m->F0 = p;
+  m->ops = &vi_storage_dense;
   m->n = n;
   m->kd = -1;
   m->nblock = 10 * nn + 12 * (size_t)n;
@@ -91,6 +92,7 @@ int vi_model_create_band(int n, int kd, vi_model **out)
   m->Minv_f0 = p;
   m->n = n;
   m->nblock = count;
+  m->ops = &vi_storage_band;
   m->band = 1;
   m->kd = kd;
   m->ldb = (int)ldb;
@@ -213,8 +215,7 @@ static int set_band(vi_model *m, const char *name, int which, int kd,
                        "the model's half-bandwidth %d", name, i + 1, j + 1, v,
                        m->kd);
     }
-  double *dst = m->band ? (which == 0 ? m->MB : which == 1 ? m->CB : m->KB)
-                        : (which == 0 ? m->M : which == 1 ? m->C : m->K);
+  double *dst = m->ops->matrix(m, which, NULL);
   if (m->band) {
     memset(dst, 0, sizeof(double) * (size_t)m->ldb * n);
     int k = kd < m->kd ? kd : m->kd;
@@ -241,8 +242,9 @@ int vi_model_set_damping_band(vi_model *m, int kd, const double *AB, int ldab)
 {
   if (m && !m->frozen) m->damp_kind = 0; /* C as a matrix */
   if (m && !AB && !m->frozen) { /* C = 0 */
-    size_t sz = m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n;
-    memset(m->band ? m->CB : m->C, 0, sizeof(double) * sz);
+    size_t sz;
+    double *C = m->ops->matrix(m, 1, &sz);
+    memset(C, 0, sizeof(double) * sz);
     return VI_OK;
   }
   return set_band(m, "C", 1, kd, AB, ldab);
@@ -256,19 +258,19 @@ int vi_model_set_stiffness_band(vi_model *m, int kd, const double *AB,
 
 int vi_model_set_mass(vi_model *m, const double *M, int ldm)
 {
-  return set_symmetric(m, "M", m ? (m->band ? m->MB : m->M) : NULL, M, ldm);
+  return set_symmetric(m, "M", m ? m->ops->matrix(m, 0, NULL) : NULL, M, ldm);
 }
 
 int vi_model_set_damping(vi_model *m, const double *C, int ldc)
 {
   if (m && !m->frozen) m->damp_kind = 0; /* C as a matrix */
   if (m && !C) return vi_model_set_damping_band(m, 0, NULL, 1);
-  return set_symmetric(m, "C", m ? (m->band ? m->CB : m->C) : NULL, C, ldc);
+  return set_symmetric(m, "C", m ? m->ops->matrix(m, 1, NULL) : NULL, C, ldc);
 }
 
 int vi_model_set_stiffness(vi_model *m, const double *K, int ldk)
 {
-  return set_symmetric(m, "K", m ? (m->band ? m->KB : m->K) : NULL, K, ldk);
+  return set_symmetric(m, "K", m ? m->ops->matrix(m, 2, NULL) : NULL, K, ldk);
 }
 
 static int is_zero(int n, const double *v)
@@ -429,19 +431,22 @@ int vi_model_setup(vi_model *m)
 {
   int st = check_open(m);
   if (st) return st;
-  int n = m->n;
-  size_t nn = (size_t)n * n;
-  double *work = m->band ? NULL : m->D + nn; /* the two spare n x n blocks */
-  double *L = m->band ? NULL : work + nn;
   if (m->ns < 1)
     return vi_fail(m->errmsg, VI_ERR_STOP_VECTOR,
                    "no stop: call vi_model_set_stop before setup");
-  if (m->band) { /* O(n kd): no modal analysis (vi_band.c) */
-    if ((st = vi_band_setup(m))) return st;
-    m->frozen = 1;
-    m->errmsg[0] = '\0';
-    return VI_OK;
-  }
+  /* dense: the modal analysis; band: O(n kd), no modes */
+  if ((st = m->ops->setup(m))) return st;
+  m->frozen = 1;
+  m->errmsg[0] = '\0';
+  return VI_OK;
+}
+
+int vi_dense_setup(vi_model *m)
+{
+  int st, n = m->n;
+  size_t nn = (size_t)n * n;
+  double *work = m->D + nn; /* the two spare n x n blocks */
+  double *L = work + nn;
   /* K and C are checked semidefinite on the modes (vi_modal.c), at no
    * extra O(n^3) cost */
   int c_zero = 1;
@@ -485,8 +490,6 @@ int vi_model_setup(vi_model *m)
   if ((st = vi_modal_setup(m, c_zero))) return st;
   for (int k = 0; k < m->ns; k++)
     vi_matvec_t(n, m->Psi, m->Ws + (size_t)k * n, m->PsiW + (size_t)k * n);
-  m->frozen = 1;
-  m->errmsg[0] = '\0';
   return VI_OK;
 }
 
@@ -529,7 +532,7 @@ int vi_model_to_modal(const vi_model *m, const double *x, double *q)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
-  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes */
+  if (!m->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
   if (vi_overlap(x, q, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->PsiTM, x, q);
   return VI_OK;
@@ -539,7 +542,7 @@ int vi_model_from_modal(const vi_model *m, const double *q, double *x)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
-  if (m->band) return VI_ERR_UNSUPPORTED; /* no modes */
+  if (!m->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
   if (vi_overlap(q, x, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->Psi, q, x);
   return VI_OK;
@@ -548,14 +551,7 @@ int vi_model_from_modal(const vi_model *m, const double *q, double *x)
 double vi_model_energy(const vi_model *m, const double *x, const double *v)
 {
   if (!m || !x || !v) return NAN;
-  if (m->band) return vi_band_energy(m, x, v);
-  int n = m->n;
-  double e = 0.0;
-  for (int j = 0; j < n; j++)
-    for (int i = 0; i < n; i++)
-      e += 0.5 * (v[i] * m->M[i + (size_t)j * n] * v[j] +
-                  x[i] * m->K[i + (size_t)j * n] * x[j]);
-  return e;
+  return m->ops->energy(m, x, v);
 }
 
 /* ---- builders ----------------------------------------------------------- */
@@ -620,29 +616,7 @@ const double *vi_model_stiffness_band(const vi_model *m, int *kd, int *ldab)
 double vi_model_omega_bound(const vi_model *m)
 {
   if (!m || !m->frozen) return 0.0;
-  if (!m->band) return m->omega[m->n - 1];
-  /* Gershgorin: lambda_max(M^-1 K) <= max row sum of |K| / lambda_min(M),
-   * with lambda_min(M) >= min_i (M_ii - sum_j!=i |M_ij|) */
-  int n = m->n, kd = m->kd, w = 2 * kd + 1;
-  double kmax = 0.0, mmin = HUGE_VAL;
-  for (int i = 0; i < n; i++) {
-    const double *kr = m->KR + (size_t)i * w;
-    double r = 0.0;
-    for (int d = 0; d < w; d++) r += fabs(kr[d]);
-    if (m->kdm == 0) { /* KR holds M^-1 K: its rows bound the spectrum */
-      kmax = fmax(kmax, r);
-      continue;
-    }
-    kmax = fmax(kmax, r);
-    double mi = m->MB[kd + (size_t)i * m->ldb], off = 0.0;
-    for (int j = i - kd < 0 ? 0 : i - kd; j <= (i + kd < n ? i + kd : n - 1); j++)
-      if (j != i)
-        off += fabs(j > i ? m->MB[kd + i - j + (size_t)j * m->ldb]
-                          : m->MB[kd + j - i + (size_t)i * m->ldb]);
-    mmin = fmin(mmin, mi - off);
-  }
-  if (m->kdm == 0) return sqrt(kmax);
-  return mmin > 0.0 ? sqrt(kmax / mmin) : HUGE_VAL;
+  return m->ops->omega_bound(m);
 }
 
 int64_t vi_model_memory(const vi_model *m)
@@ -650,8 +624,8 @@ int64_t vi_model_memory(const vi_model *m)
   if (!m) return 0;
   int64_t b = m->bytes, n = m->n, ns = m->ns;
   b += (int64_t)m->ns_cap * (n + 2) * (int64_t)sizeof(double); /* stops */
-  if (m->MinvW) /* M^-1 W, G (and Psi^T W for dense storage) */
-    b += ((m->band ? 1 : 2) * n * ns + ns * ns) * (int64_t)sizeof(double);
+  if (m->MinvW) /* M^-1 W, G (and Psi^T W with the modes) */
+    b += (m->ops->stop_vectors * n * ns + ns * ns) * (int64_t)sizeof(double);
   return b;
 }
 

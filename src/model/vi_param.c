@@ -6,10 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <lapacke.h>
-
 #include "vibroimpact/vi_param.h"
-#include "vi_internal.h"
+#include "vi_storage.h"
 
 enum {
   P_OMEGA, P_A, P_B, P_F0, P_XS, P_R, P_ALPHA, P_BETA, P_ZETA, P_ZETA_ALL,
@@ -114,14 +112,9 @@ static int refresh_vector(vi_model *m, const double *f, double *minvf,
 {
   int n = m->n;
   memcpy(minvf, f, sizeof(double) * (size_t)n);
-  if (m->band) return vi_band_solve_mass(m, 1, minvf) ? VI_ERR_LAPACK : VI_OK;
-  double *L = malloc(sizeof(double) * (size_t)n * n);
-  if (!L) return VI_ERR_NOMEM;
-  memcpy(L, m->M, sizeof(double) * (size_t)n * n);
-  lapack_int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', n, L, n);
-  if (!info) info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', n, 1, L, n, minvf, n);
-  free(L);
-  if (info) return VI_ERR_LAPACK;
+  int info = m->ops->solve_mass(m, 1, minvf);
+  if (info) return info < 0 ? VI_ERR_NOMEM : VI_ERR_LAPACK;
+  if (!m->ops->modal) return VI_OK;
   vi_matvec_t(n, m->Psi, f, modal);
   return VI_OK;
 }
@@ -148,7 +141,7 @@ static int band_extent(const double *AB, int n, int kd, int ldb)
 }
 
 /* A new band C: its rows CR (scaled by 1/m_i for a diagonal M) and the
- * Jacobian's half-bandwidth, as vi_band_setup makes them. */
+ * Jacobian's half-bandwidth, as the band setup (vi_band_model.c) makes them. */
 static void refresh_band_damping(vi_model *m)
 {
   int n = m->n, kd = m->kd, ldb = m->ldb, w = 2 * kd + 1;
@@ -184,15 +177,15 @@ static void refresh_zeta(vi_model *m)
 static int set_rayleigh(vi_model *m, double alpha, double beta)
 {
   int n = m->n;
-  size_t len = m->band ? (size_t)m->ldb * n : (size_t)n * n;
-  const double *M = m->band ? m->MB : m->M, *K = m->band ? m->KB : m->K;
-  double *C = m->band ? m->CB : m->C;
+  size_t len;
+  const double *M = m->ops->matrix(m, 0, NULL), *K = m->ops->matrix(m, 2, NULL);
+  double *C = m->ops->matrix(m, 1, &len);
   for (size_t i = 0; i < len; i++) C[i] = alpha * M[i] + beta * K[i];
   m->damp_kind = 1;
   m->ray_alpha = alpha;
   m->ray_beta = beta;
   if (!m->frozen) return VI_OK;
-  if (m->band) {
+  if (!m->ops->modal) { /* band: its row form; no modes to redo */
     refresh_band_damping(m);
     return VI_OK;
   }
@@ -253,9 +246,7 @@ static int set_modal_damping(vi_model *m, const double *zeta)
 /* Matrix j (0 M, 1 K, 2 C) as stored and its length. */
 static double *scaled_matrix(vi_model *m, int j, size_t *len)
 {
-  *len = m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n;
-  if (m->band) return j == 0 ? m->MB : j == 1 ? m->KB : m->CB;
-  return j == 0 ? m->M : j == 1 ? m->K : m->C;
+  return m->ops->matrix(m, j == 0 ? 0 : j == 1 ? 2 : 1, len);
 }
 
 /* The base of matrix j: captured now if it was not, or if the matrix is no
@@ -367,7 +358,7 @@ static int is_zero(int n, const double *v)
 
 static int check_modal(vi_model *m, const char *key)
 {
-  if (m->band)
+  if (!m->ops->modal)
     return vi_fail(m->errmsg, VI_ERR_UNSUPPORTED, "%s: a band model has no "
                    "modes (use damping.alpha, damping.beta)", key);
   if (!m->frozen)
@@ -597,10 +588,12 @@ int vi_model_copy(const vi_model *m, vi_model **out)
   c->MinvW = NULL;
   size_t nw = (size_t)m->ns_cap * (size_t)(m->n + 2);
   size_t nS = (size_t)m->n * m->ns;
-  size_t nmw = (m->band ? nS : 2 * nS) + (size_t)m->ns * m->ns;
+  size_t nmw = (size_t)m->ops->stop_vectors * nS + (size_t)m->ns * m->ns;
   if (m->ns_cap) c->Ws = malloc(sizeof(double) * nw);
   if (m->MinvW) c->MinvW = malloc(sizeof(double) * nmw);
-  size_t nb = 3 * (m->band ? (size_t)m->ldb * m->n : (size_t)m->n * m->n);
+  size_t nb;
+  m->ops->matrix(m, 0, &nb);
+  nb *= 3;
   c->sbase = m->sbase ? malloc(sizeof(double) * nb) : NULL;
   if (!c->block || (m->ns_cap && !c->Ws) || (m->MinvW && !c->MinvW) ||
       (m->sbase && !c->sbase)) {

@@ -8,7 +8,7 @@
 #include <cblas.h>
 
 #include "vibroimpact/vi_builders.h"
-#include "vi_internal.h"
+#include "vi_storage.h"
 
 /* The columns T [nR x n]: unit vectors for the kept coordinates, then the
  * static vector c_j = psi_j / K_jj (j >= k), normalised; VI_ERR_ARG when
@@ -64,7 +64,7 @@ int vi_model_create_truncated(const vi_model *R, int k, int static_vector,
   *out = NULL;
   if (!R || (z && !zt)) return VI_ERR_ARG;
   if (!R->frozen) return VI_ERR_STATE;
-  if (R->band) return VI_ERR_UNSUPPORTED; /* no modal coordinates */
+  if (!R->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
   int nR = R->n, corr = static_vector, n = k + corr, st;
   if (k < 1 || k > nR || (corr != 0 && corr != 1) || n > nR) return VI_ERR_ARG;
   double *T = calloc(2 * (size_t)nR * n + 3 * (size_t)n * n + 4 * (size_t)n,

@@ -155,11 +155,11 @@ int vi_var_stm_apply(const vi_model *m, double tau, double *u, double *work)
 void vi_var_field(const vi_model *m, double t, const double *z, double *f)
 {
   int n = m->n;
-  double c = cos(m->omega_f * t), s = sin(m->omega_f * t);
+  vi_phase p = vi_phase_at(m->omega_f, t);
   memcpy(f, z + n, sizeof(double) * n);
   /* M^-1 (f(t) - K x - C v) */
   for (int i = 0; i < n; i++)
-    f[n + i] = m->Minv_a[i] * c + m->Minv_b[i] * s + m->Minv_f0[i];
+    f[n + i] = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
   cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, -1.0, m->MinvK, n, z, 1,
               1.0, f + n, 1);
   cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, -1.0, m->MinvC, n, z + n, 1,

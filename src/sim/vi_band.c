@@ -7,7 +7,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "vi_band_internal.h"
-#include "vi_sim_internal.h"
+#include "vi_sim_state.h"
 
 /* Column jz of the Jacobian [[0, I], [-M^-1 K, -M^-1 C]] (interleaved)
  * on the band [j - bw, j + bw] of rows, projected while sticking.  With a
@@ -25,8 +25,8 @@ int vi_band_jac(vi_sim *s, SUNMatrix J)
     for (int jz = 0; jz < 2 * n; jz++) {
       int j = jz / 2;
       e[j] = 1.0;
-      if (jz % 2) vi_band_apply(m, &zero, 0, e, 1, col);
-      else vi_band_apply(m, e, 1, &zero, 0, col);
+      if (jz % 2) m->ops->apply(m, &zero, 0, e, 1, col);
+      else m->ops->apply(m, e, 1, &zero, 0, col);
       e[j] = 0.0;
       for (int i = 0; i < n; i++) col[i] = -col[i];
       if (s->sticking) vi_sim_constrain(s, col, NULL);

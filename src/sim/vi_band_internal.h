@@ -5,7 +5,7 @@
 
 #include <sundials/sundials_matrix.h>
 
-#include "vi_sim_internal.h"
+#include "vi_sim_state.h"
 
 /* The Jacobian of the interleaved first-order system into J (band or
  * dense), projected while sticking like the right-hand side; 0 on success. */

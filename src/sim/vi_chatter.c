@@ -1,68 +1,12 @@
-/* vi_chatter.c - the sticking set and the chatter map: which stops are held,
- * the constrained acceleration, and the closed-form sum of a chattering
+/* vi_chatter.c - the chatter map: the push and normal dynamics of a stop
+ * under the sticking set (vi_sim_state.c), and the closed-form sum of a chattering
  * tail (Nordmark & Piiroinen 2009) that puts the start of sticking at its
  * accumulation point. */
 #include <float.h>
 #include <string.h>
 
-#include "vi_sim_internal.h"
-
-/* a - M^-1 W_L G_LL^-1 W_L^T a for the stops list [cnt], L the Cholesky
- * factor of their Delassus block G_LL: what remains of a with w_k.a = 0 on
- * each (lam [cnt], may be NULL: the multipliers G_LL^-1 W_L^T a). */
-static void project(const vi_sim *s, int cnt, const int *list,
-                    const double *L, double *a, double *lam)
-{
-  const vi_model *m = s->m;
-  int n = s->n;
-  double b[VI_CONTACT_MAX];
-  for (int i = 0; i < cnt; i++) b[i] = vi_dot(n, vi_stop_w(m, list[i]), a);
-  vi_small_solve(cnt, L, b);
-  for (int i = 0; i < cnt; i++) {
-    const double *mw = vi_stop_minvw(m, list[i]);
-    for (int j = 0; j < n; j++) a[j] -= b[i] * mw[j];
-    if (lam) lam[i] = b[i];
-  }
-}
-
-/* The Cholesky factor of the Delassus block G_LL of the stops list [cnt]:
- * 0, or -1 if their stop vectors are dependent. */
-static int factor(const vi_model *m, int cnt, const int *list, double *L)
-{
-  for (int i = 0; i < cnt; i++)
-    for (int j = 0; j < cnt; j++)
-      L[i + j * cnt] = m->G[list[i] + (size_t)list[j] * m->ns];
-  return vi_small_cholesky(cnt, L);
-}
-
-void vi_sim_constrain_set(const vi_sim *s, double *a, double *lam)
-{
-  project(s, s->nstick, s->stick_k, s->stick_L, a, lam);
-}
-
-/* Make the stops list [cnt] the sticking set: the projection of the
- * right-hand side needs the factor of their Delassus block. */
-int vi_sim_set_sticking(vi_sim *s, const int *list, int cnt)
-{
-  for (int i = 0; i < cnt; i++) s->stick_k[i] = list[i];
-  s->nstick = cnt;
-  s->sticking = cnt > 0;
-  if (factor(s->m, cnt, list, s->stick_L)) {
-    s->nstick = 0;
-    s->sticking = 0;
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "sticking on %d stops at "
-                   "once at t = %.17g, whose stop vectors are dependent "
-                   "(Delassus block singular)", cnt, s->t);
-  }
-  return VI_OK;
-}
-
-int vi_sim_in_stick_set(const vi_sim *s, int k)
-{
-  for (int i = 0; i < s->nstick; i++)
-    if (s->stick_k[i] == k) return 1;
-  return 0;
-}
+#include "vi_chatter_internal.h"
+#include "vi_rhs.h"
 
 /* Stop k's view of the sticking set: the other held stops S (their factor
  * in LS) and S with k (in Lk), k last.  Stop k chatters while S holds, so
@@ -80,10 +24,10 @@ static void held_around(const vi_sim *s, int k, held *h)
   for (int i = 0; i < s->nstick; i++)
     if (s->stick_k[i] != k) h->list[h->ns++] = s->stick_k[i];
   h->list[h->ns] = k;
-  if (h->ns > 0 && (factor(s->m, h->ns, h->list, h->LS) ||
-                    factor(s->m, h->ns + 1, h->list, h->Lk)))
+  if (h->ns > 0 && (vi_sim_stick_factor(s->m, h->ns, h->list, h->LS) ||
+                    vi_sim_stick_factor(s->m, h->ns + 1, h->list, h->Lk)))
     h->ns = 0;
-  if (h->ns == 0) factor(s->m, 1, h->list, h->Lk);
+  if (h->ns == 0) vi_sim_stick_factor(s->m, 1, h->list, h->Lk);
 }
 
 /* The gap's free acceleration p = w_k.a of stop k, a = M^-1 (f - C v - K x)
@@ -104,15 +48,15 @@ void vi_chatter_push(vi_sim *s, int k, double t, const double *x,
     zz[2 * (size_t)i + 1] = v[i];
   }
   vi_sim_accel(s, t, zz, 0, acc);
-  project(s, h.ns, h.list, h.LS, acc, NULL);
+  vi_sim_project(s, h.ns, h.list, h.LS, acc, NULL);
   p[0] = vi_dot(n, w, acc);
-  project(s, h.ns + 1, h.list, h.Lk, acc, NULL);
+  vi_sim_project(s, h.ns + 1, h.list, h.Lk, acc, NULL);
   vi_sim_accel_rate(s, t, 1, v, acc, jerk);
-  project(s, h.ns, h.list, h.LS, jerk, NULL);
+  vi_sim_project(s, h.ns, h.list, h.LS, jerk, NULL);
   p[1] = vi_dot(n, w, jerk);
-  project(s, h.ns + 1, h.list, h.Lk, jerk, NULL);
+  vi_sim_project(s, h.ns + 1, h.list, h.Lk, jerk, NULL);
   vi_sim_accel_rate(s, t, 2, acc, jerk, snap);
-  project(s, h.ns, h.list, h.LS, snap, NULL);
+  vi_sim_project(s, h.ns, h.list, h.LS, snap, NULL);
   p[2] = vi_dot(n, w, snap);
 }
 
@@ -205,7 +149,7 @@ void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma)
   held_around(s, k, &h);
   double *nu = s->w1, *yk = s->w2, *yc = s->w3, *f1 = s->zs, *zero = s->zs + n;
   memcpy(nu, vi_stop_minvw(m, k), sizeof(double) * (size_t)n);
-  project(s, h.ns, h.list, h.LS, nu, NULL);
+  vi_sim_project(s, h.ns, h.list, h.LS, nu, NULL);
   double wnu = vi_dot(n, w, nu);
   memset(zero, 0, sizeof(double) * (size_t)n);
   vi_sim_accel_rate(s, 0.0, 1, zero, zero, f1);
@@ -215,8 +159,8 @@ void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma)
     yk[i] = f1[i] - yk[i];
     yc[i] = f1[i] - yc[i];
   }
-  project(s, h.ns, h.list, h.LS, yk, NULL);
-  project(s, h.ns, h.list, h.LS, yc, NULL);
+  vi_sim_project(s, h.ns, h.list, h.LS, yk, NULL);
+  vi_sim_project(s, h.ns, h.list, h.LS, yc, NULL);
   *kappa = vi_dot(n, w, yk) / wnu;
   *gamma = vi_dot(n, w, yc) / wnu;
 }

@@ -105,7 +105,7 @@ static void jac_entries(vi_sim *s, SUNMatrix J, int band)
   double *col = s->zs; /* 2n scratch: one column of d(acc)/dz */
   for (int jz = 0; jz < 2 * n; jz++) {
     int j = jz / 2;
-    const double *src = (jz % 2 ? m->MinvC : m->MinvK) + (size_t)j * n;
+    const double *src = m->ops->minv_col(m, jz % 2, j);
     for (int i = 0; i < n; i++) col[i] = -src[i];
     if (s->sticking) vi_sim_constrain(s, col, NULL);
     int i0 = j - bw < 0 ? 0 : j - bw, i1 = j + bw >= n ? n - 1 : j + bw;
@@ -132,7 +132,7 @@ static int jac_forced(vi_sim *s, double t, const double *z, SUNMatrix J)
   double *col = s->zs;
   for (int jz = 0; jz < 2 * n; jz++) {
     int j = jz / 2;
-    const double *lin = (jz % 2 ? m->MinvC : m->MinvK) + (size_t)j * n;
+    const double *lin = m->ops->minv_col(m, jz % 2, j);
     const double *nl = (jz % 2 ? Av : Ax) + (size_t)j * n;
     for (int i = 0; i < n; i++) col[i] = nl[i] - lin[i];
     if (s->sticking) vi_sim_constrain(s, col, NULL);
@@ -148,7 +148,8 @@ static int jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void *user,
   (void)fy; (void)t1; (void)t2; (void)t3;
   vi_sim *s = user;
   SUNMatZero(J);
-  if (s->m->band) return vi_band_jac(s, J); /* band storage: vi_band.c */
+  /* no dense M^-1 K (band storage): assembled by vi_band.c */
+  if (!s->m->ops->minv_col) return vi_band_jac(s, J);
   if (s->nforces) return jac_forced(s, t, N_VGetArrayPointer(y), J);
   jac_entries(s, J, SUNMatGetID(J) == SUNMATRIX_BAND);
   return 0;
@@ -266,7 +267,7 @@ static int cv_create(vi_sim *s)
   CV_TRY(CVodeSetNoInactiveRootWarn(d->mem));
   if (s->method == VI_METHOD_BDF) {
     int bw = s->m->bw;
-    VI_CHECK(!s->m->band || use_band(s) || s->n <= 2000, s->errmsg,
+    VI_CHECK(use_band(s) || s->n <= s->m->ops->dense_jac_max, s->errmsg,
              VI_ERR_UNSUPPORTED, "BDF on this band model needs a dense "
              "Jacobian (M not diagonal, or a stop on several coordinates): "
              "use adams or erk");

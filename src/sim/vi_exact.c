@@ -37,6 +37,7 @@
 #include <string.h>
 
 #include "vi_exact_internal.h"
+#include "vi_grid.h"
 
 #define EX_LEVELS 100 /* dyadic table levels h0 2^-l */
 #define EX_DEPTH 44   /* bisection levels below the grid's */
@@ -68,20 +69,17 @@ typedef struct ex_data {
   double lc[EX_LEVELS], ls[EX_LEVELS]; /* cos, sin of Omega h0 2^-l */
   /* the flight */
   double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
-  int p, lmax, since, handover;
-  double hp, tg, cr, sr;            /* grid start, step, rotation by Om hp */
-  int64_t k;                        /* grid index: t_k = tg + k hp */
-  double *wk, *wdk, ck, sk;         /* at t_k [na] */
-  double *wn, *wdn, cn, sn;         /* at t_{k+1} [na] */
-  double *gk, *gdk, *gn, *gdn;      /* every g_k, g_k' there [ns] */
+  int p, lmax, handover;
+  double hp, tg;                    /* grid step and start */
+  vi_grid g;                        /* the grid t_k = tg + k hp: active
+                                       modes [na] and every stop's g_k,
+                                       g_k' [ns] (fk, fdk) there */
   double *gs;                       /* scratch [ns] */
-  int next_ok, srch, anch;          /* t_{k+1} computed; search done */
-  double tstar;                     /* its first crossing (srch == 2) */
   double *stk;                      /* bisection states [(EX_DEPTH+2) 2 na] */
   /* modal state at tq and the physical state handed out at tz */
   double *q, *qd, tq, *z, tz, *qs, *qds;
   int q_ok, z_ok;
-  int64_t steps, evals;
+  int64_t evals;
 } ex_data;
 
 static void ex_destroy(vi_sim *s)
@@ -108,8 +106,9 @@ static const double *ex_level(ex_data *d, int l)
   double *t = malloc(sizeof(double) * 3 * (size_t)(d->na ? d->na : 1));
   if (!t) return NULL;
   double dt = ldexp(d->h0, -l);
-  d->lc[l] = cos(d->Om * dt);
-  d->ls[l] = sin(d->Om * dt);
+  vi_phase r = vi_phase_at(d->Om, dt); /* the rotation by Om dt */
+  d->lc[l] = r.c;
+  d->ls[l] = r.s;
   for (int i = 0; i < d->na; i++)
     vi_flow_basis(d->lam[i], d->dmp[i], dt, t + i, t + d->na + i,
                   t + 2 * (size_t)d->na + i);
@@ -121,8 +120,9 @@ static const double *ex_level(ex_data *d, int l)
 static inline void ex_harm(const ex_data *d, const ex_stop *e, double c,
                            double sn, double *g, double *gd)
 {
-  *g = e->GA * c + e->GB * sn;
-  *gd = d->Om * (e->GB * c - e->GA * sn);
+  vi_phase p = {d->Om, c, sn};
+  *g = vi_harm(&p, 0, e->GA, e->GB, 0.0);
+  *gd = vi_harm(&p, 1, e->GA, e->GB, 0.0);
 }
 
 /* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and stop
@@ -203,8 +203,9 @@ static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
                       double *sn, double *g, double *gd)
 {
   for (int i = 0; i < d->na; i++) ex_mode(d, d->act[i], t, w + i, wd + i);
-  *c = cos(d->Om * t);
-  *sn = sin(d->Om * t);
+  vi_phase p = vi_phase_at(d->Om, t);
+  *c = p.c;
+  *sn = p.s;
   for (int k = 0; k < d->ns; k++) {
     const ex_stop *e = d->st + k;
     double a = 0.0, b = 0.0, hg, hgd;
@@ -222,12 +223,12 @@ static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
 /* Every mode's q, q' at t. */
 static void ex_modes_at(ex_data *d, double t, double *q, double *qd)
 {
-  double c = cos(d->Om * t), sn = sin(d->Om * t);
+  vi_phase p = vi_phase_at(d->Om, t);
   for (int j = 0; j < d->n; j++) {
     double w, wd;
     ex_mode(d, j, t, &w, &wd);
-    q[j] = w + d->pA[j] * c + d->pB[j] * sn;
-    qd[j] = wd + d->Om * (d->pB[j] * c - d->pA[j] * sn);
+    q[j] = w + vi_harm(&p, 0, d->pA[j], d->pB[j], 0.0);
+    qd[j] = wd + vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
   }
   d->evals++;
 }
@@ -277,38 +278,6 @@ static inline double herm_quick(double ga, double gda, double gb, double gdb,
   return mx(ga, gb) + w * (4.0 / 27.0) * (mx(gda, 0.0) + mx(-gdb, 0.0));
 }
 
-/* Maximum on [0, 1] of the cubic Hermite through (ga, w gda) at 0 and
- * (gb, w gdb) at 1, and its coefficients c[4] in s = (t - a) / w. */
-static double herm_max(double ga, double gda, double gb, double gdb, double w,
-                       double *c)
-{
-  c[0] = ga;
-  c[1] = w * gda;
-  c[2] = 3.0 * (gb - ga) - w * (2.0 * gda + gdb);
-  c[3] = 2.0 * (ga - gb) + w * (gda + gdb);
-  double top = mx(ga, gb);
-  /* stationary points: c1 + 2 c2 s + 3 c3 s^2 = 0 */
-  double A = 3.0 * c[3], B = 2.0 * c[2], C = c[1], r[2];
-  int nr = 0;
-  if (A == 0.0) {
-    if (B != 0.0) r[nr++] = -C / B;
-  } else {
-    double disc = B * B - 4.0 * A * C;
-    if (disc >= 0.0) {
-      double qq = -0.5 * (B + copysign(sqrt(disc), B));
-      if (qq != 0.0) r[nr++] = qq / A;
-      if (qq != 0.0) r[nr++] = C / qq;
-      else r[nr++] = 0.0;
-    }
-  }
-  for (int i = 0; i < nr; i++)
-    if (r[i] > 0.0 && r[i] < 1.0) {
-      double s = r[i];
-      top = mx(top, c[0] + s * (c[1] + s * (c[2] + s * c[3])));
-    }
-  return top;
-}
-
 /* Root of g on a piece [a, a + h0 2^-l] where g' > 0 is proven, ga < 0 <=
  * gb, from the active state (w, wd) at a: halve it until the Hermite cubic
  * is exact to round-off, then Newton on the cubic, safeguarded by its
@@ -349,7 +318,7 @@ static int ex_polish(ex_data *d, int l, double a, const double *w,
     }
   }
   double cf[4];
-  herm_max(ga, gda, gb, gdb, wdt, cf);
+  vi_herm_max(ga, gda, gb, gdb, wdt, cf);
   double lo = 0.0, hi = 1.0, x = ga / (ga - gb);
   for (int it = 0; it < 60; it++) {
     double p = cf[0] + x * (cf[1] + x * (cf[2] + x * cf[3]));
@@ -377,7 +346,7 @@ static int ex_search(ex_data *d, int l, double a, const double *w,
    * within round-off is no contact, and a motion resting on the stop must
    * not send the bisection into every leaf) */
   if (herm_quick(ga, gda, gb, gdb, wdt) + e4 < d->cs->gnoise ||
-      herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < d->cs->gnoise)
+      vi_herm_max(ga, gda, gb, gdb, wdt, cf) + e4 < d->cs->gnoise)
     return 0;
   /* g' on [a, b] lies within the two lines of slope B2 through the ends */
   double gdlo = 0.5 * (gda + gdb - d->cs->B2 * wdt);
@@ -454,10 +423,10 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->dmp = p; p += na;
   d->F0 = p; p += na;
   d->psi = p; p += (size_t)ns * na;
-  d->wk = p; p += na;
-  d->wdk = p; p += na;
-  d->wn = p; p += na;
-  d->wdn = p; p += na;
+  d->g.wk = p; p += na;
+  d->g.wdk = p; p += na;
+  d->g.wn = p; p += na;
+  d->g.wdn = p; p += na;
   p += 2 * (size_t)na; /* spare */
   d->stk = p; p += (size_t)(EX_DEPTH + 2) * 2 * na;
   d->w0 = p; p += n;
@@ -466,10 +435,10 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->qd = p; p += n;
   d->qs = p; p += n;
   d->qds = p; p += n;
-  d->gk = p; p += ns;
-  d->gdk = p; p += ns;
-  d->gn = p; p += ns;
-  d->gdn = p; p += ns;
+  d->g.fk = p; p += ns;
+  d->g.fdk = p; p += ns;
+  d->g.fn = p; p += ns;
+  d->g.fdn = p; p += ns;
   d->gs = p; p += ns;
   d->z = p;
   d->kind = EX_KIND_FAST;
@@ -599,7 +568,8 @@ static int ex_start(vi_sim *s)
   d->tq = s->t;
   d->z_ok = 0;
   d->t0 = s->t;
-  double Om = d->Om, c = cos(Om * s->t), sn = sin(Om * s->t);
+  vi_phase p = vi_phase_at(d->Om, s->t);
+  double Om = d->Om, c = p.c, sn = p.s;
   /* A mode forced near its resonance with little damping has a harmonic
    * particular solution amplified by A = max(lambda, Omega^2) / |lambda -
    * Omega^2 + i d Omega| over its static scale, which q = H + w cancels
@@ -608,8 +578,8 @@ static int ex_start(vi_sim *s)
   double worst = 0.0;
   int jw = -1;
   for (int j = 0; j < n; j++) {
-    double H = d->pA[j] * c + d->pB[j] * sn;
-    double Hd = Om * (d->pB[j] * c - d->pA[j] * sn);
+    double H = vi_harm(&p, 0, d->pA[j], d->pB[j], 0.0);
+    double Hd = vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
     d->w0[j] = d->q[j] - H;
     d->wd0[j] = d->qd[j] - Hd;
     double lam = m->lambda[j], dm = m->D[j + (size_t)j * n];
@@ -633,10 +603,10 @@ static int ex_start(vi_sim *s)
              worst);
   for (int i = 0; i < na; i++) {
     int j = d->act[i];
-    d->wk[i] = d->w0[j];
-    d->wdk[i] = d->wd0[j];
+    d->g.wk[i] = d->w0[j];
+    d->g.wdk[i] = d->wd0[j];
   }
-  ex_bounds(d, d->wk, d->wdk);
+  ex_bounds(d, d->g.wk, d->g.wdk);
   /* Each stop: g, g', g'' now.  On the stop (after an impact, or a start
    * there): measure g from here, and skip the time in which g provably
    * recedes, g' tau + g'' tau^2 / 2 + B3 tau^3 / 6 < 0.  The grid starts
@@ -647,21 +617,21 @@ static int ex_start(vi_sim *s)
     const double *w = vi_stop_w(m, k);
     double a = 0.0, b = 0.0, b2 = 0.0, hg, hgd;
     for (int i = 0; i < na; i++) {
-      a += e->psi[i] * d->wk[i];
-      b += e->psi[i] * d->wdk[i];
+      a += e->psi[i] * d->g.wk[i];
+      b += e->psi[i] * d->g.wdk[i];
       b2 += e->psi[i] *
-            (d->F0[i] - d->dmp[i] * d->wdk[i] - d->lam[i] * d->wk[i]);
+            (d->F0[i] - d->dmp[i] * d->g.wdk[i] - d->lam[i] * d->g.wk[i]);
     }
     e->goff = 0.0;
     e->tol = vi_sim_gap_tol(s, k);
     ex_harm(d, e, c, sn, &hg, &hgd);
     double g = a + hg - e->xs, gd = b + hgd, gdd = b2 - Om * Om * hg;
-    d->gk[k] = g;
-    d->gdk[k] = gd;
+    d->g.fk[k] = g;
+    d->g.fdk[k] = gd;
     /* the round-off of g: of its terms, physical and modal */
     double scale = fabs(e->xs) + e->GH + 1e-3 * s->atol * s->wnorms[k];
     for (int i = 0; i < n; i++) scale += fabs(w[i] * s->z[2 * (size_t)i]);
-    for (int i = 0; i < na; i++) scale += fabs(e->psi[i] * d->wk[i]);
+    for (int i = 0; i < na; i++) scale += fabs(e->psi[i] * d->g.wk[i]);
     double tr = 0.0;
     e->gnoise = 64.0 * DBL_EPSILON * scale;
     /* on the stop: within round-off, or beyond it by no more than the
@@ -669,7 +639,7 @@ static int ex_start(vi_sim *s)
      * which read as a contact would restart here for ever */
     if (fabs(g) <= e->gnoise || (g > 0.0 && g <= e->tol)) {
       e->goff = g;
-      d->gk[k] = 0.0;
+      d->g.fk[k] = 0.0;
       double A = e->B3 / 6.0, B = 0.5 * gdd, C = gd;
       if (C < 0.0) {
         if (A > 0.0) tr = 2.0 * -C / (B + sqrt(B * B - 4.0 * A * C));
@@ -687,7 +657,7 @@ static int ex_start(vi_sim *s)
     if (tr > 0.0 && gdd > 0.0 && gd < 0.0)
       tf = fmin(tf, fmax(tr, -2.0 * gd / gdd));
   }
-  s->gap = ex_report(d, d->gk, 1);
+  s->gap = ex_report(d, d->g.fk, 1);
   s->z_stale = 0;
   d->p = 0;
   while (d->p < 40 && ldexp(d->h0, -d->p) > 4.0 * tf &&
@@ -696,18 +666,14 @@ static int ex_start(vi_sim *s)
   d->lmax = d->p + EX_DEPTH;
   d->hp = ldexp(d->h0, -d->p);
   d->tg = tg; /* +inf: every g recedes for ever */
-  d->k = 0;
-  d->cr = cos(Om * d->hp);
-  d->sr = sin(Om * d->hp);
+  vi_grid_start(&d->g, d->tg, d->hp, Om);
   if (d->tg > s->t && isfinite(d->tg))
-    ex_anchor(d, d->tg, d->wk, d->wdk, &d->ck, &d->sk, d->gk, d->gdk);
+    ex_anchor(d, d->tg, d->g.wk, d->g.wdk, &d->g.ck, &d->g.sk, d->g.fk,
+              d->g.fdk);
   else {
-    d->ck = c;
-    d->sk = sn;
+    d->g.ck = c;
+    d->g.sk = sn;
   }
-  d->next_ok = 0;
-  d->srch = 0;
-  d->since = 0;
   return VI_OK;
 }
 
@@ -739,14 +705,15 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
  * grid points); the bisection stack is free then. */
 static double ex_gap_at(ex_data *d, double t)
 {
-  double *w = d->stk, *wd = w + d->na, c = cos(d->Om * t), sn = sin(d->Om * t);
+  double *w = d->stk, *wd = w + d->na;
+  vi_phase p = vi_phase_at(d->Om, t);
   double *g = d->gs;
   for (int i = 0; i < d->na; i++) ex_mode(d, d->act[i], t, w + i, wd + i);
   for (int k = 0; k < d->ns; k++) {
     const ex_stop *e = d->st + k;
     double a = 0.0;
     for (int i = 0; i < d->na; i++) a += e->psi[i] * w[i];
-    g[k] = a + e->GA * c + e->GB * sn - e->xs;
+    g[k] = a + vi_harm(&p, 0, e->GA, e->GB, 0.0) - e->xs;
   }
   d->evals++;
   return ex_report(d, g, 0);
@@ -761,6 +728,116 @@ static void ex_move(vi_sim *s, ex_data *d, double t, double g)
   s->z_stale = 1;
   d->q_ok = 0;
 }
+
+/* The grid scanner's view of the flight (vi_grid.h): the active modes
+ * advance by the maps of level p, every stop's gap is followed. */
+static void ex_g_anchor(void *dp, double t)
+{
+  ex_data *d = dp;
+  ex_anchor(d, t, d->g.wn, d->g.wdn, &d->g.cn, &d->g.sn, d->g.fn, d->g.fdn);
+}
+
+static int ex_g_advance(void *dp)
+{
+  ex_data *d = dp;
+  int st = ex_advance(d, d->p, d->g.wk, d->g.wdk, d->g.wn, d->g.wdn, d->g.cn,
+                      d->g.sn, d->st, d->g.fn, d->g.fdn);
+  if (st) return st;
+  if (d->ns > 1)
+    ex_other_gaps(d, d->g.wn, d->g.wdn, d->g.cn, d->g.sn, d->g.fn, d->g.fdn);
+  return VI_OK;
+}
+
+/* Stop by stop: the earliest crossing over all of them. */
+static int ex_g_search(void *dp, double tk, double tb, double *tstar,
+                       int *which)
+{
+  ex_data *d = dp;
+  double best = HUGE_VAL, hp = d->hp;
+  const double *gk = d->g.fk, *gdk = d->g.fdk, *gn = d->g.fn, *gdn = d->g.fdn;
+  int found = -1;
+  for (int k = 0, ns = d->ns; k < ns; k++) {
+    ex_stop *e = d->st + k;
+    double tc, cf[4], e4 = herm_err(e, hp);
+    if (tb <= e->skip ||
+        herm_quick(gk[k], gdk[k], gn[k], gdn[k], hp) + e4 < e->gnoise ||
+        vi_herm_max(gk[k], gdk[k], gn[k], gdn[k], hp, cf) + e4 < e->gnoise)
+      continue;
+    d->cs = e;
+    int hit = ex_search(d, d->p, tk, d->g.wk, d->g.wdk, d->g.ck, d->g.sk,
+                        gk[k], gdk[k], gn[k], gdn[k], &tc);
+    if (hit < 0) return hit;
+    if (hit && tc < best) {
+      best = tc;
+      found = k;
+    }
+  }
+  *tstar = best;
+  *which = found;
+  if (found >= 0) d->hit = found;
+  return VI_OK;
+}
+
+/* Contact at tc: the modes there, every stop's gap from them. */
+static int ex_g_crossing(vi_sim *s, void *dp, double tc, int which,
+                         int *event)
+{
+  ex_data *d = dp;
+  (void)which; /* d->hit */
+  if (s->led) ex_quadrature(s, d, s->t, tc);
+  s->t = tc;
+  ex_modes_at(d, tc, d->q, d->qd);
+  d->tq = tc;
+  d->q_ok = 1;
+  double *g = d->gs;
+  for (int k = 0; k < d->ns; k++) {
+    const double *psi = vi_stop_psi(s->m, k);
+    g[k] = -d->st[k].xs;
+    for (int j = 0; j < d->n; j++) g[k] += psi[j] * d->q[j];
+  }
+  s->gap = ex_report(d, g, 0);
+  s->contact_stop = d->hit;
+  s->z_stale = 1;
+  d->g.steps++;
+  *event = VI_STEP_CONTACT;
+  return VI_OK;
+}
+
+static double ex_g_gap_at(vi_sim *s, void *dp, double t)
+{
+  (void)s;
+  return ex_gap_at(dp, t);
+}
+
+static double ex_g_report(vi_sim *s, void *dp, const double *f)
+{
+  (void)s;
+  return ex_report(dp, f, 1);
+}
+
+static void ex_g_move(vi_sim *s, void *dp, double t, double g)
+{
+  ex_move(s, dp, t, g);
+}
+
+static void ex_g_bounds(void *dp)
+{
+  ex_data *d = dp;
+  ex_bounds(d, d->g.wk, d->g.wdk);
+}
+
+static const vi_grid_ops ex_grid = {
+    .anchor_every = EX_ANCHOR,
+    .batch = EX_BATCH,
+    .anchor = ex_g_anchor,
+    .advance = ex_g_advance,
+    .search = ex_g_search,
+    .crossing = ex_g_crossing,
+    .gap_at = ex_g_gap_at,
+    .report = ex_g_report,
+    .move = ex_g_move,
+    .bounds = ex_g_bounds,
+};
 
 static int ex_step(vi_sim *s, double t_end, int *event)
 {
@@ -777,105 +854,9 @@ static int ex_step(vi_sim *s, double t_end, int *event)
       ex_move(s, d, t_end, ex_gap_at(d, t_end));
       return VI_OK;
     }
-    ex_move(s, d, d->tg, ex_report(d, d->gk, 1));
+    ex_move(s, d, d->tg, ex_report(d, d->g.fk, 1));
   }
-  for (int it = 0; it < EX_BATCH; it++) {
-    /* the host's poll between grid steps: a pointer test without one */
-    if (it > 0 && vi_sim_cancelled(s)) return VI_CANCELLED;
-    double tk = d->tg + (double)d->k * d->hp, tb = d->tg + (double)(d->k + 1) * d->hp;
-    if (!d->next_ok) {
-      d->anch = ++d->since >= EX_ANCHOR;
-      if (d->anch) {
-        ex_anchor(d, tb, d->wn, d->wdn, &d->cn, &d->sn, d->gn, d->gdn);
-      } else {
-        d->cn = d->ck * d->cr - d->sk * d->sr;
-        d->sn = d->sk * d->cr + d->ck * d->sr;
-        int st = ex_advance(d, d->p, d->wk, d->wdk, d->wn, d->wdn, d->cn,
-                            d->sn, d->st, d->gn, d->gdn);
-        if (st) return st;
-        if (d->ns > 1)
-          ex_other_gaps(d, d->wn, d->wdn, d->cn, d->sn, d->gn, d->gdn);
-      }
-      d->next_ok = 1;
-      d->srch = 0;
-    }
-    if (!d->srch) {
-      /* stop by stop: the earliest crossing over all of them */
-      double best = HUGE_VAL, hp = d->hp;
-      const double *gk = d->gk, *gdk = d->gdk, *gn = d->gn, *gdn = d->gdn;
-      int found = -1;
-      for (int k = 0, ns = d->ns; k < ns; k++) {
-        ex_stop *e = d->st + k;
-        double tc, cf[4], e4 = herm_err(e, hp);
-        if (tb <= e->skip ||
-            herm_quick(gk[k], gdk[k], gn[k], gdn[k], hp) + e4 < e->gnoise ||
-            herm_max(gk[k], gdk[k], gn[k], gdn[k], hp, cf) + e4 < e->gnoise)
-          continue;
-        d->cs = e;
-        int hit = ex_search(d, d->p, tk, d->wk, d->wdk, d->ck, d->sk, gk[k],
-                            gdk[k], gn[k], gdn[k], &tc);
-        if (hit < 0) return hit;
-        if (hit && tc < best) {
-          best = tc;
-          found = k;
-        }
-      }
-      d->tstar = best;
-      d->srch = 1;
-      if (found >= 0) {
-        d->hit = found;
-        d->srch = 2;
-      }
-    }
-    if (d->srch == 2 && d->tstar <= t_end) { /* contact */
-      double tc = fmax(d->tstar, s->t);
-      if (s->led) ex_quadrature(s, d, s->t, tc);
-      s->t = tc;
-      ex_modes_at(d, tc, d->q, d->qd);
-      d->tq = tc;
-      d->q_ok = 1;
-      double *g = d->gs;
-      for (int k = 0; k < d->ns; k++) {
-        const double *psi = vi_stop_psi(s->m, k);
-        g[k] = -d->st[k].xs;
-        for (int j = 0; j < d->n; j++) g[k] += psi[j] * d->q[j];
-      }
-      s->gap = ex_report(d, g, 0);
-      s->contact_stop = d->hit;
-      s->z_stale = 1;
-      d->steps++;
-      *event = VI_STEP_CONTACT;
-      return VI_OK;
-    }
-    if (t_end < tb) { /* the run ends inside this interval */
-      ex_move(s, d, t_end, ex_gap_at(d, t_end));
-      return VI_OK;
-    }
-    ex_move(s, d, tb, ex_report(d, d->gn, 1));
-    /* commit t_{k+1} */
-    double *t1 = d->wk, *t2 = d->wdk;
-    d->wk = d->wn;
-    d->wdk = d->wdn;
-    d->wn = t1;
-    d->wdn = t2;
-    t1 = d->gk;
-    t2 = d->gdk;
-    d->gk = d->gn;
-    d->gdk = d->gdn;
-    d->gn = t1;
-    d->gdn = t2;
-    d->ck = d->cn;
-    d->sk = d->sn;
-    d->k++;
-    d->steps++;
-    d->next_ok = 0;
-    if (d->anch) {
-      d->since = 0;
-      ex_bounds(d, d->wk, d->wdk);
-    }
-    if (s->t >= t_end) return VI_OK;
-  }
-  return VI_OK;
+  return vi_grid_step(s, &d->g, &ex_grid, d, t_end, event);
 }
 
 /* Physical state x = Psi q, v = Psi q' of the modal state (q, qd). */
@@ -928,7 +909,7 @@ static int64_t ex_stat(const void *data, int which)
 {
   const ex_data *d = data;
   if (d->kind != EX_KIND_FAST) return vi_backend_exact_scan.stat(data, which);
-  if (which == VI_STAT_STEPS) return d->steps;
+  if (which == VI_STAT_STEPS) return d->g.steps;
   if (which == VI_STAT_ROOT_EVALS) return d->evals;
   return 0;
 }

@@ -56,12 +56,13 @@ static void ex_eval(ex_data *d, double t, double *g, double *gd, int full)
       }
     return;
   }
-  double tau = t - d->t0, c = cos(m->omega_f * t), sn = sin(m->omega_f * t);
+  double tau = t - d->t0;
+  vi_phase p = vi_phase_at(m->omega_f, t);
   double a = 0.0, b = 0.0;
   for (int j = 0; j < n; j++) {
     if (!full && m->PsiW[j] == 0.0) continue;
     double qp, qpd, u, ud;
-    vi_flow_particular(m, d->s->flow, j, c, sn, tau, &qp, &qpd);
+    vi_flow_particular(m, d->s->flow, j, &p, tau, &qp, &qpd);
     vi_flow_homogeneous(m->lambda[j], m->D[j + (size_t)j * n], d->u0[j],
                         d->v0[j], tau, &u, &ud);
     d->q[j] = qp + u;
@@ -228,7 +229,7 @@ static int ex_start(vi_sim *s)
     return VI_OK;
   }
   /* modal state now, minus the particular solution: the homogeneous part */
-  double c = cos(m->omega_f * s->t), sn = sin(m->omega_f * s->t);
+  vi_phase ph = vi_phase_at(m->omega_f, s->t);
   for (int j = 0; j < n; j++) {
     double q = 0.0, qd = 0.0, qp, qpd;
     for (int i = 0; i < n; i++) {
@@ -236,7 +237,7 @@ static int ex_start(vi_sim *s)
       q += p * s->z[2 * (size_t)i];
       qd += p * s->z[2 * (size_t)i + 1];
     }
-    vi_flow_particular(m, d->s->flow, j, c, sn, 0.0, &qp, &qpd);
+    vi_flow_particular(m, d->s->flow, j, &ph, 0.0, &qp, &qpd);
     d->u0[j] = q - qp;
     d->v0[j] = qd - qpd;
   }

@@ -8,7 +8,7 @@
 
 #include <cblas.h>
 
-#include "vi_sim_internal.h"
+#include "vi_force_internal.h"
 
 /* From this many coordinates on, BLAS dgemv/dgemm beat the hand-written
  * loops (measured: 0.2x at n = 2, 1x at n = 8, 2.5x at 16, 6x at 200). */
@@ -43,7 +43,7 @@ int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
 {
   if (!s) return VI_ERR_ARG;
   VI_SIM_IDLE(s);
-  if (fn && s->m->band) /* M^-1 g = Psi Psi^T g needs the modes */
+  if (fn && !s->m->ops->modal) /* M^-1 g = Psi Psi^T g needs the modes */
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
                    "which a band-storage model does not have");
   if (fn && exact_in_use(s))
@@ -66,7 +66,7 @@ int vi_sim_add_spring(vi_sim *s, int type, int i, int j, double k, double gap)
 {
   if (!s) return VI_ERR_ARG;
   VI_SIM_IDLE(s);
-  if (s->m->band) /* M^-1 g = Psi Psi^T g needs the modes */
+  if (!s->m->ops->modal) /* M^-1 g = Psi Psi^T g needs the modes */
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
                    "which a band-storage model does not have");
   if (type != VI_SPRING_CUBIC && type != VI_SPRING_BILINEAR)

@@ -24,7 +24,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "vi_exact_internal.h"
+#include "vi_grid.h"
+#include "vi_held_internal.h"
 
 #define HD_CACHE 8       /* held sets kept */
 #define HD_ANCHOR 64     /* grid steps between direct evaluations */
@@ -49,20 +50,19 @@ struct vi_held {
   const vi_cmodes *cm;
   int m, na, nf, *act;
   /* per phase */
-  double t0, Om, h, cr, sr;
+  double t0, Om, h;
   double *w0, *wd0;              /* every constrained mode at t0 [m] */
   double *lam, *dmp, *F0;        /* of the active modes [na] */
   double *wts;                   /* weights of the functions [2 nf na] */
-  double *wk, *wdk, *wn, *wdn;   /* active modes at t_k, t_{k+1} [na] */
+  vi_grid g;                     /* the grid t_k = t0 + k h: the active
+                                    modes [na] and the functions [nf]
+                                    there */
   double *wa, *wda;              /* scratch [na] */
   double *T;                     /* the grid step's maps B, Bp, phi [3 na] */
   double *u, *ud, *q, *qd;       /* [m], [m], [n], [n] */
-  double *fk, *fdk, *fn, *fdn;   /* the functions there [nf] */
   hd_fun f[2 * VI_CONTACT_MAX + 64];
-  int64_t k;
-  double ck, sk, cn, sn, tstar, hq;
-  int next_ok, srch, since, found, anch;
-  int64_t steps, evals;
+  double hq;
+  int64_t evals;
 };
 
 static void hd_phase_free(vi_held *H)
@@ -148,8 +148,9 @@ static inline void hd_eval(const vi_held *H, const hd_fun *e, const double *w,
       v += a[i] * wd[i];
     }
   }
-  *f = x + e->GA * c + e->GB * sn + e->f0 - e->off;
-  *fd = v + H->Om * (e->GB * c - e->GA * sn);
+  vi_phase p = {H->Om, c, sn};
+  *f = x + vi_harm(&p, 0, e->GA, e->GB, e->f0) - e->off;
+  *fd = v + vi_harm(&p, 1, e->GA, e->GB, 0.0);
 }
 
 /* Active modes at t directly, and every function there. */
@@ -157,8 +158,9 @@ static void hd_anchor(vi_held *H, double t, double *w, double *wd, double *c,
                       double *sn, double *f, double *fd)
 {
   for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, w + i, wd + i);
-  *c = cos(H->Om * t);
-  *sn = sin(H->Om * t);
+  vi_phase p = vi_phase_at(H->Om, t);
+  *c = p.c;
+  *sn = p.s;
   for (int j = 0; j < H->nf; j++) hd_eval(H, H->f + j, w, wd, *c, *sn, f + j, fd + j);
   H->evals++;
 }
@@ -167,7 +169,8 @@ static void hd_anchor(vi_held *H, double t, double *w, double *wd, double *c,
 static void hd_at(vi_held *H, const hd_fun *e, double t, double *f, double *fd)
 {
   for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, H->wa + i, H->wda + i);
-  hd_eval(H, e, H->wa, H->wda, cos(H->Om * t), sin(H->Om * t), f, fd);
+  vi_phase p = vi_phase_at(H->Om, t);
+  hd_eval(H, e, H->wa, H->wda, p.c, p.s, f, fd);
   H->evals++;
 }
 
@@ -196,35 +199,6 @@ static void hd_bounds(vi_held *H, const double *w, const double *wd)
     e->B3 = (b3 + e->GH * O2 * O) * (1.0 + 1e-9);
     e->B4 = (b4 + e->GH * O2 * O2) * (1.0 + 1e-9);
   }
-}
-
-static inline double mx(double a, double b) { return a > b ? a : b; }
-
-/* Maximum on [0, 1] of the cubic Hermite through (fa, w fda), (fb, w fdb). */
-static double herm_max(double fa, double fda, double fb, double fdb, double w)
-{
-  double c1 = w * fda, c2 = 3.0 * (fb - fa) - w * (2.0 * fda + fdb);
-  double c3 = 2.0 * (fa - fb) + w * (fda + fdb), top = mx(fa, fb);
-  double A = 3.0 * c3, B = 2.0 * c2, C = c1, r[2];
-  int nr = 0;
-  if (A == 0.0) {
-    if (B != 0.0) r[nr++] = -C / B;
-  } else {
-    double disc = B * B - 4.0 * A * C;
-    if (disc >= 0.0) {
-      double qq = -0.5 * (B + copysign(sqrt(disc), B));
-      if (qq != 0.0) {
-        r[nr++] = qq / A;
-        r[nr++] = C / qq;
-      }
-    }
-  }
-  for (int i = 0; i < nr; i++)
-    if (r[i] > 0.0 && r[i] < 1.0) {
-      double s = r[i];
-      top = mx(top, fa + s * (c1 + s * (c2 + s * c3)));
-    }
-  return top;
 }
 
 /* Root of e in [a, b], f(a) < 0 <= f(b), f increasing: regula falsi
@@ -261,7 +235,8 @@ static int hd_search(vi_held *H, const hd_fun *e, int depth, double a,
                      double *tc)
 {
   double w = b - a, w2 = w * w;
-  if (herm_max(fa, fda, fb, fdb, w) + e->B4 * w2 * w2 / 384.0 < e->noise)
+  if (vi_herm_max(fa, fda, fb, fdb, w, NULL) + e->B4 * w2 * w2 / 384.0 <
+      e->noise)
     return 0;
   double fdlo = 0.5 * (fda + fdb - e->B2 * w);
   double fdhi = 0.5 * (fda + fdb + e->B2 * w);
@@ -319,10 +294,10 @@ static int hd_setup(vi_sim *s, vi_held *H)
   H->dmp = p; p += mm;
   H->F0 = p; p += mm;
   H->wts = p; p += 2 * (size_t)nf * mm;
-  H->wk = p; p += mm;
-  H->wdk = p; p += mm;
-  H->wn = p; p += mm;
-  H->wdn = p; p += mm;
+  H->g.wk = p; p += mm;
+  H->g.wdk = p; p += mm;
+  H->g.wn = p; p += mm;
+  H->g.wdn = p; p += mm;
   H->wa = p; p += mm;
   H->wda = p; p += mm;
   H->T = p; p += 3 * (size_t)mm;
@@ -330,10 +305,10 @@ static int hd_setup(vi_sim *s, vi_held *H)
   H->ud = p; p += mm;
   H->q = p; p += c->n;
   H->qd = p; p += c->n;
-  H->fk = p; p += nf;
-  H->fdk = p; p += nf;
-  H->fn = p; p += nf;
-  H->fdn = p;
+  H->g.fk = p; p += nf;
+  H->g.fdk = p; p += nf;
+  H->g.fn = p; p += nf;
+  H->g.fdn = p;
   H->m = mm;
   H->na = na;
   H->Om = m->omega_f;
@@ -408,8 +383,6 @@ static int hd_setup(vi_sim *s, vi_held *H)
   for (int i = 0; i < na; i++)
     vi_flow_basis(H->lam[i], H->dmp[i], H->h, H->T + i, H->T + na + i,
                   H->T + 2 * (size_t)na + i);
-  H->cr = cos(Om * H->h);
-  H->sr = sin(Om * H->h);
   return VI_OK;
 }
 
@@ -417,12 +390,12 @@ static int hd_setup(vi_sim *s, vi_held *H)
 static void hd_modes_at(vi_held *H, double t, double *u, double *ud)
 {
   const vi_cmodes *c = H->cm;
-  double cs = cos(H->Om * t), sn = sin(H->Om * t);
+  vi_phase p = vi_phase_at(H->Om, t);
   for (int i = 0; i < H->m; i++) {
     double w, wd;
     hd_mode(H, i, t, &w, &wd);
-    u[i] = w + c->pA[i] * cs + c->pB[i] * sn;
-    ud[i] = wd + H->Om * (c->pB[i] * cs - c->pA[i] * sn);
+    u[i] = w + vi_harm(&p, 0, c->pA[i], c->pB[i], 0.0);
+    ud[i] = wd + vi_harm(&p, 1, c->pA[i], c->pB[i], 0.0);
   }
 }
 
@@ -476,7 +449,7 @@ int vi_held_start(vi_sim *s)
     return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
   int n = c->n, mm = c->m, na = H->na;
   vi_modal_project(s->m, s->z, H->q, H->qd);
-  double Om = H->Om, cs = cos(Om * s->t), sn = sin(Om * s->t);
+  vi_phase p = vi_phase_at(H->Om, s->t);
   for (int i = 0; i < mm; i++) {
     const double *col = c->Phi + (size_t)i * n;
     double u = 0.0, ud = 0.0;
@@ -484,13 +457,13 @@ int vi_held_start(vi_sim *s)
       u += col[r] * (H->q[r] - c->qc[r]);
       ud += col[r] * H->qd[r];
     }
-    H->w0[i] = u - (c->pA[i] * cs + c->pB[i] * sn);
-    H->wd0[i] = ud - Om * (c->pB[i] * cs - c->pA[i] * sn);
+    H->w0[i] = u - vi_harm(&p, 0, c->pA[i], c->pB[i], 0.0);
+    H->wd0[i] = ud - vi_harm(&p, 1, c->pA[i], c->pB[i], 0.0);
   }
   H->t0 = s->t;
   for (int i = 0; i < na; i++) {
-    H->wk[i] = H->w0[H->act[i]];
-    H->wdk[i] = H->wd0[H->act[i]];
+    H->g.wk[i] = H->w0[H->act[i]];
+    H->g.wdk[i] = H->wd0[H->act[i]];
   }
   /* each function now, its round-off, and an offset when it starts on
    * zero (a release or contact at the start is one beyond round-off) */
@@ -498,30 +471,27 @@ int vi_held_start(vi_sim *s)
   for (int j = 0; j < H->nf; j++) {
     hd_fun *e = H->f + j;
     e->off = 0.0;
-    hd_eval(H, e, H->wk, H->wdk, cs, sn, H->fk + j, H->fdk + j);
+    hd_eval(H, e, H->g.wk, H->g.wdk, p.c, p.s, H->g.fk + j, H->g.fdk + j);
     double sc = e->GH + fabs(e->f0);
     for (int i = 0; i < na; i++)
-      sc += fabs(e->a[i] * H->wk[i]) + (e->c ? fabs(e->c[i] * H->wdk[i]) : 0.0);
+      sc += fabs(e->a[i] * H->g.wk[i]) + (e->c ? fabs(e->c[i] * H->g.wdk[i]) : 0.0);
     if (e->kind == 0) sc += c->lscale[e->slot];
     else sc += 1e-3 * s->atol * s->wnorms[e->stop];
     e->noise = 64.0 * DBL_EPSILON * sc;
     /* a hold the driver began with its force at zero and rising (pressed
      * at a higher order) starts on zero too */
-    if (fabs(H->fk[j]) <= e->noise || (e->kind == 0 && H->fk[j] > 0.0) ||
-        (e->kind == 1 && H->fk[j] > 0.0 && H->fk[j] <= e->tol)) {
-      e->off = H->fk[j];
-      H->fk[j] = 0.0;
+    if (fabs(H->g.fk[j]) <= e->noise || (e->kind == 0 && H->g.fk[j] > 0.0) ||
+        (e->kind == 1 && H->g.fk[j] > 0.0 && H->g.fk[j] <= e->tol)) {
+      e->off = H->g.fk[j];
+      H->g.fk[j] = 0.0;
     }
-    if (e->kind == 1) worst = fmax(worst, H->fk[j] + e->off - e->tol);
+    if (e->kind == 1) worst = fmax(worst, H->g.fk[j] + e->off - e->tol);
   }
   s->gap = H->nf > H->cm->cnt ? worst + tol0 : 0.0;
-  hd_bounds(H, H->wk, H->wdk);
-  H->k = 0;
-  H->ck = cs;
-  H->sk = sn;
-  H->next_ok = 0;
-  H->srch = 0;
-  H->since = 0;
+  hd_bounds(H, H->g.wk, H->g.wdk);
+  vi_grid_start(&H->g, H->t0, H->h, H->Om);
+  H->g.ck = p.c;
+  H->g.sk = p.s;
   s->z_stale = 0;
   return VI_OK;
 }
@@ -568,10 +538,10 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
       hd_modes_at(H, t, H->u, H->ud);
       hd_free_modal(c, H->u, H->ud, H->q, H->qd);
       vi_ledger_accumulate(s->led, t, H->qd, 0.0, wgt);
-      double cs = cos(H->Om * t), sn = sin(H->Om * t);
+      vi_phase p = vi_phase_at(H->Om, t);
       for (int q = 0; q < c->cnt; q++) {
         const double *R = c->R + (size_t)q * c->m;
-        double lam = c->lc[q] + c->lA[q] * cs + c->lB[q] * sn;
+        double lam = vi_harm(&p, 0, c->lA[q], c->lB[q], c->lc[q]);
         for (int r = 0; r < c->m; r++) lam -= R[r] * (H->u[r] + c->brl * H->ud[r]);
         const double *psi = vi_stop_psi(m, c->set[q]);
         for (int r = 0; r < n; r++) Q[r] -= wgt * lam * psi[r] * H->qd[r];
@@ -583,15 +553,15 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
 /* The reported gap at t between grid points, directly. */
 static double hd_gap_at(vi_sim *s, vi_held *H, double t)
 {
-  double cs = cos(H->Om * t), sn = sin(H->Om * t);
+  vi_phase p = vi_phase_at(H->Om, t);
   for (int i = 0; i < H->na; i++) hd_mode(H, H->act[i], t, H->wa + i, H->wda + i);
   for (int j = 0; j < H->nf; j++) {
     double fd;
-    hd_eval(H, H->f + j, H->wa, H->wda, cs, sn, H->fn + j, &fd);
+    hd_eval(H, H->f + j, H->wa, H->wda, p.c, p.s, H->g.fn + j, &fd);
   }
   H->evals++;
-  H->next_ok = 0; /* fn was scratch */
-  return hd_report(s, H, H->fn);
+  H->g.next_ok = 0; /* fn was scratch */
+  return hd_report(s, H, H->g.fn);
 }
 
 static void hd_move(vi_sim *s, vi_held *H, double t, double g)
@@ -602,92 +572,105 @@ static void hd_move(vi_sim *s, vi_held *H, double t, double g)
   s->z_stale = 1;
 }
 
+/* The grid scanner's view of a held phase (vi_grid.h): the constrained
+ * modes advance by the grid step's maps, every function (the held stops'
+ * reactions, the free stops' gaps) is followed. */
+static void hd_g_anchor(void *hp, double t)
+{
+  vi_held *H = hp;
+  hd_anchor(H, t, H->g.wn, H->g.wdn, &H->g.cn, &H->g.sn, H->g.fn, H->g.fdn);
+}
+
+static int hd_g_advance(void *hp)
+{
+  vi_held *H = hp;
+  const double *B = H->T, *Bp = H->T + H->na, *ph = H->T + 2 * (size_t)H->na;
+  for (int i = 0; i < H->na; i++) {
+    double f = H->F0[i] - H->lam[i] * H->g.wk[i];
+    H->g.wn[i] = H->g.wk[i] + B[i] * H->g.wdk[i] + ph[i] * f;
+    H->g.wdn[i] = Bp[i] * H->g.wdk[i] + B[i] * f;
+  }
+  for (int j = 0; j < H->nf; j++)
+    hd_eval(H, H->f + j, H->g.wn, H->g.wdn, H->g.cn, H->g.sn, H->g.fn + j,
+            H->g.fdn + j);
+  H->evals++;
+  return VI_OK;
+}
+
+static int hd_g_search(void *hp, double tk, double tb, double *tstar,
+                       int *which)
+{
+  vi_held *H = hp;
+  double best = HUGE_VAL;
+  int found = -1;
+  for (int j = 0; j < H->nf; j++) {
+    double tc;
+    if (hd_search(H, H->f + j, 0, tk, H->g.fk[j], H->g.fdk[j], tb,
+                  H->g.fn[j], H->g.fdn[j], &tc) &&
+        tc < best) {
+      best = tc;
+      found = j;
+    }
+  }
+  *tstar = best;
+  *which = found;
+  return VI_OK;
+}
+
+/* Function `which` crosses zero at tc: a held stop releases (kind 0) or
+ * a free one makes contact. */
+static int hd_g_crossing(vi_sim *s, void *hp, double tc, int which,
+                         int *event)
+{
+  vi_held *H = hp;
+  const hd_fun *e = H->f + which;
+  if (s->led) hd_quadrature(s, H, s->t, tc);
+  s->t = tc;
+  s->gap = 0.0;
+  s->contact_stop = e->stop;
+  s->z_stale = 1;
+  H->g.steps++;
+  *event = e->kind == 0 ? VI_STEP_RELEASE : VI_STEP_CONTACT;
+  return VI_OK;
+}
+
+static double hd_g_gap_at(vi_sim *s, void *hp, double t)
+{
+  return hd_gap_at(s, hp, t);
+}
+
+static double hd_g_report(vi_sim *s, void *hp, const double *f)
+{
+  return hd_report(s, hp, f);
+}
+
+static void hd_g_move(vi_sim *s, void *hp, double t, double g)
+{
+  hd_move(s, hp, t, g);
+}
+
+static void hd_g_bounds(void *hp)
+{
+  vi_held *H = hp;
+  hd_bounds(H, H->g.wk, H->g.wdk);
+}
+
+static const vi_grid_ops hd_grid = {
+    .anchor_every = HD_ANCHOR,
+    .batch = HD_BATCH,
+    .anchor = hd_g_anchor,
+    .advance = hd_g_advance,
+    .search = hd_g_search,
+    .crossing = hd_g_crossing,
+    .gap_at = hd_g_gap_at,
+    .report = hd_g_report,
+    .move = hd_g_move,
+    .bounds = hd_g_bounds,
+};
+
 int vi_held_step(vi_sim *s, double t_end, int *event)
 {
-  vi_held *H = s->held;
-  *event = VI_STEP_NONE;
-  for (int it = 0; it < HD_BATCH; it++) {
-    if (it > 0 && vi_sim_cancelled(s)) return VI_CANCELLED;
-    double tk = H->t0 + (double)H->k * H->h;
-    double tb = H->t0 + (double)(H->k + 1) * H->h;
-    if (!H->next_ok) {
-      H->anch = ++H->since >= HD_ANCHOR;
-      if (H->anch) {
-        hd_anchor(H, tb, H->wn, H->wdn, &H->cn, &H->sn, H->fn, H->fdn);
-      } else {
-        const double *B = H->T, *Bp = H->T + H->na, *ph = H->T + 2 * (size_t)H->na;
-        for (int i = 0; i < H->na; i++) {
-          double f = H->F0[i] - H->lam[i] * H->wk[i];
-          H->wn[i] = H->wk[i] + B[i] * H->wdk[i] + ph[i] * f;
-          H->wdn[i] = Bp[i] * H->wdk[i] + B[i] * f;
-        }
-        H->cn = H->ck * H->cr - H->sk * H->sr;
-        H->sn = H->sk * H->cr + H->ck * H->sr;
-        for (int j = 0; j < H->nf; j++)
-          hd_eval(H, H->f + j, H->wn, H->wdn, H->cn, H->sn, H->fn + j, H->fdn + j);
-        H->evals++;
-      }
-      H->next_ok = 1;
-      H->srch = 0;
-    }
-    if (!H->srch) {
-      double best = HUGE_VAL;
-      int found = -1;
-      for (int j = 0; j < H->nf; j++) {
-        double tc;
-        if (hd_search(H, H->f + j, 0, tk, H->fk[j], H->fdk[j], tb, H->fn[j],
-                      H->fdn[j], &tc) &&
-            tc < best) {
-          best = tc;
-          found = j;
-        }
-      }
-      H->tstar = best;
-      H->found = found;
-      H->srch = 1;
-    }
-    if (H->found >= 0 && H->tstar <= t_end) {
-      const hd_fun *e = H->f + H->found;
-      double tc = fmax(H->tstar, s->t);
-      if (s->led) hd_quadrature(s, H, s->t, tc);
-      s->t = tc;
-      s->gap = 0.0;
-      s->contact_stop = e->stop;
-      s->z_stale = 1;
-      H->steps++;
-      *event = e->kind == 0 ? VI_STEP_RELEASE : VI_STEP_CONTACT;
-      return VI_OK;
-    }
-    if (t_end < tb) {
-      /* keep t_{k+1}: the run ends inside this interval */
-      double g = hd_gap_at(s, H, t_end);
-      hd_move(s, H, t_end, g);
-      return VI_OK;
-    }
-    hd_move(s, H, tb, hd_report(s, H, H->fn));
-    double *t1 = H->wk, *t2 = H->wdk;
-    H->wk = H->wn;
-    H->wdk = H->wdn;
-    H->wn = t1;
-    H->wdn = t2;
-    t1 = H->fk;
-    t2 = H->fdk;
-    H->fk = H->fn;
-    H->fdk = H->fdn;
-    H->fn = t1;
-    H->fdn = t2;
-    H->ck = H->cn;
-    H->sk = H->sn;
-    H->k++;
-    H->steps++;
-    H->next_ok = 0;
-    if (H->anch) {
-      H->since = 0;
-      hd_bounds(H, H->wk, H->wdk);
-    }
-    if (s->t >= t_end) return VI_OK;
-  }
-  return VI_OK;
+  return vi_grid_step(s, &s->held->g, &hd_grid, s->held, t_end, event);
 }
 
 int vi_held_sync(vi_sim *s)
@@ -706,7 +689,7 @@ int64_t vi_held_stat(const vi_sim *s, int which)
 {
   const vi_held *H = s->held;
   if (!H) return 0;
-  if (which == VI_STAT_STEPS) return H->steps;
+  if (which == VI_STAT_STEPS) return H->g.steps;
   if (which == VI_STAT_ROOT_EVALS) return H->evals;
   return 0;
 }

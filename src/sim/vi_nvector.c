@@ -10,7 +10,7 @@
 
 #include <nvector/nvector_serial.h>
 
-#include "vi_sim_internal.h"
+#include "vi_sim_state.h"
 
 #define LEN(v) NV_LENGTH_S(v)
 #define DAT(v) NV_DATA_S(v)

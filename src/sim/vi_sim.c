@@ -64,8 +64,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
     const double *w = vi_stop_w(model, k);
     s->wnorms[k] = k ? sqrt(vi_dot(n, w, w)) : s->wnorm;
   }
-  for (int i = 0; i < n && !s->harmonic; i++)
-    s->harmonic = model->a[i] != 0.0 || model->b[i] != 0.0;
+  s->harmonic = vi_forcing_harmonic(model);
   *out = s;
   return VI_OK;
 }
@@ -160,13 +159,6 @@ static void use_backend(vi_sim *s, const vi_backend *be)
   s->park_data = s->be_data;
   s->be = be;
   s->be_data = pd;
-}
-
-int vi_sim_busy(vi_sim *s, const char *name)
-{
-  return vi_fail(s->errmsg, VI_ERR_STATE, "%s called from inside a callback "
-                 "of this sim's own run: refused (only the queries listed in "
-                 "vi_sim.h may be called there)", name);
 }
 
 void vi_sim_destroy(vi_sim **sim)
@@ -445,41 +437,6 @@ int64_t vi_sim_stat(const vi_sim *s, int which)
   return v + vi_held_stat(s, which);
 }
 
-/* ---- root bracketing shared by the backends ----------------------------- */
-int vi_sim_bracket(vi_sim *s, double (*f)(double, void *), void *params,
-                   double lo, double hi, double *root)
-{
-  double flo = f(lo, params), fhi = f(hi, params);
-  if (fhi == 0.0) { *root = hi; return VI_OK; }
-  if (flo == 0.0) { *root = lo; return VI_OK; }
-  if ((flo < 0.0) == (fhi < 0.0) || !isfinite(flo) || !isfinite(fhi))
-    return vi_fail(s->errmsg, VI_ERR_ROOT,
-                   "event not bracketed in [%.17g, %.17g]: f = %g, %g", lo, hi,
-                   flo, fhi);
-  gsl_function F = {f, params};
-  gsl_root_fsolver_set(s->brent, &F, lo, hi);
-  for (int it = 0; it < 200; it++) {
-    if (gsl_root_fsolver_iterate(s->brent) != 0) break;
-    double a = gsl_root_fsolver_x_lower(s->brent);
-    double b = gsl_root_fsolver_x_upper(s->brent);
-    if (b - a <= 4.0 * DBL_EPSILON * fmax(fabs(a), fabs(b)) + DBL_MIN) {
-      *root = gsl_root_fsolver_root(s->brent);
-      return VI_OK;
-    }
-  }
-  *root = gsl_root_fsolver_root(s->brent);
-  return VI_OK; /* Brent's bracket still holds the root: report its best */
-}
-
-/* accel_rate() below, for the chatter map (vi_chatter.c) */
-static void accel_rate(const vi_sim *s, double t, int k, const double *u,
-                       const double *ud, double *out);
-void vi_sim_accel_rate(const vi_sim *s, double t, int k, const double *u,
-                       const double *ud, double *out)
-{
-  accel_rate(s, t, k, u, ud, out);
-}
-
 /* ---- events ------------------------------------------------------------- */
 static void split(vi_sim *s, const double *z)
 {
@@ -499,32 +456,6 @@ static void emit(vi_sim *s, int kind, int stop, double vn, double ie)
   if (s->ev_fn(&ev, s->ev_user)) {
     s->stop = 1;
     s->event_stop = 0; /* the user's request: the run returns VI_STOPPED */
-  }
-}
-
-/* out = M^-1 (f^(k)(t) - K u - C ud): the k-th time derivative (k = 1, 2)
- * of the free acceleration M^-1 (f - K x - C v) along a motion whose k-th
- * and (k+1)-th derivatives of x are u and ud. */
-static void accel_rate(const vi_sim *s, double t, int k, const double *u,
-                       const double *ud, double *out)
-{
-  const vi_model *m = s->m;
-  if (m->band) { vi_band_accel_rate(m, t, k, u, ud, out); return; }
-  int n = s->n, bw = m->bw;
-  double W = m->omega_f, c = 0.0, sn = 0.0;
-  if (s->harmonic) {
-    c = cos(W * t);
-    sn = sin(W * t);
-  }
-  for (int i = 0; i < n; i++) {
-    double f = k == 1 ? W * (m->Minv_b[i] * c - m->Minv_a[i] * sn)
-                      : -W * W * (m->Minv_a[i] * c + m->Minv_b[i] * sn);
-    int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
-    for (int j = j0; j <= j1; j++) {
-      size_t ij = (size_t)i + (size_t)j * (size_t)n;
-      f -= m->MinvK[ij] * u[j] + m->MinvC[ij] * ud[j];
-    }
-    out[i] = f;
   }
 }
 
@@ -1288,7 +1219,7 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
   VI_SIM_IDLE(s);
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
-  if (on && s->m->band)
+  if (on && !s->m->ops->modal)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the energy ledger needs "
                    "the modes, which a band-storage model does not have");
   vi_ledger_destroy(s->led);

@@ -104,7 +104,8 @@ int vi_identify_create(const vi_model *base, int np, vi_identify **out)
   if (!base) return VI_ERR_ARG;
   if (np < 1 || np > MAXP) return VI_ERR_DIM;
   if (!base->frozen || base->ns < 1) return VI_ERR_STATE;
-  if (base->band || !vi_xflow_available(base)) return VI_ERR_UNSUPPORTED;
+  if (!base->ops->modal || !vi_xflow_available(base))
+    return VI_ERR_UNSUPPORTED;
   if (!(base->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   vi_identify *id = calloc(1, sizeof *id);
   if (!id) return VI_ERR_NOMEM;
@@ -376,7 +377,7 @@ static int make_model(vi_identify *id, const double *p, vi_model **out)
     return st ? st : VI_ERR_CALLBACK;
   }
   const vi_model *m = *out;
-  if (!m->frozen || m->n != id->N || m->ns != id->base->ns || m->band ||
+  if (!m->frozen || m->n != id->N || m->ns != id->base->ns || !m->ops->modal ||
       !(m->omega_f > 0.0)) {
     vi_model_destroy(out);
     return vi_fail(id->errmsg, VI_ERR_CALLBACK,

@@ -150,45 +150,19 @@ static void test_fig2_erk_vs_exact(void **state)
   vi_model_destroy(&m);
 }
 
-/* Chattering (Budd & Dux): a free mass pressed on the stop by a load g and
- * leaving it at V bounces at 2V/g (1 + r + ... + r^(k-1)) with speed V r^(k-1);
- * the impacts accumulate at T = 2V / (g (1 - r)).  The resolved impacts
- * match that; the unresolved tail is summed by the driver and sticking
- * starts at T itself, the sim staying on the stop. */
+/* Chattering (Budd & Dux, vi_test_chatter_sticks): the resolved impacts
+ * match the closed form; the unresolved tail is summed by the driver and
+ * sticking starts at the accumulation point itself, the sim staying on the
+ * stop. */
 static void test_chattering_sticks(void **state)
 {
   (void)state;
-  double g = 2.0, V = 1.0, r = 0.5;
-  vi_model *m = vi_test_sdof(1.0, 0.0, 0.0, 0.0, g, 0.0, 0.0, r);
-  double Tacc = 2 * V / (g * (1 - r));
+  vi_model *m = NULL;
   vi_test_events ev = {0};
-  double x0 = 0.0, v0 = -V;
-  vi_sim *s = vi_test_sim(m, VI_METHOD_ERK, 1e-12, 1e-14, &x0, &v0, &ev);
-  /* the accumulation point to rtol: the accuracy-driven summing (the
-   * default resolves every impact above 1e-5 V, at the cost of timing
-   * the late, grazing ones to dx / v_n only) */
-  assert_int_equal(vi_sim_set_impact_resolution(s, 0.0), VI_OK);
-  assert_int_equal(vi_sim_run(s, 5.0), VI_OK);
-  int last = ev.count - 1;
-  /* resolved while v_n > 10 atol / rtol = 0.1 at least: 4 impacts */
-  assert_true(ev.count > 4);
-  assert_int_equal(ev.kind[last], VI_EVENT_STICK);
-  double tk = 0, vk = V;
-  for (int i = 0; i < last; i++) {
-    tk += 2 * vk / g;
-    double tol = vk > 1e-2 ? 1e-9 : 1e-6; /* late bounces graze */
-    assert_close(ev.t[i], tk, tol);
-    assert_close(ev.vn[i], vk, tol);
-    vk *= r;
-  }
-  print_message("chatter erk: %d impacts, stick at %.15g (T_acc %.15g)\n", last,
-                ev.t[last], Tacc);
-  assert_close(ev.t[last], Tacc, 1e-10);
-  double t, x, v;
-  vi_sim_state(s, &t, &x, &v);
-  assert_close(x, 0.0, 1e-12);
-  assert_close(v, 0.0, 1e-12);
-  assert_int_equal(vi_sim_is_sticking(s), 1);
+  int last;
+  vi_sim *s = vi_test_chatter_sticks(VI_METHOD_ERK, &m, &ev, &last);
+  print_message("chatter erk: %d impacts, stick at %.15g (T_acc 2)\n", last,
+                ev.t[last]);
   vi_sim_destroy(&s);
   vi_test_events_free(&ev);
   vi_model_destroy(&m);
