@@ -1,80 +1,16 @@
 /* vi_sweep_h5.c - a sweep to HDF5 (layout: share/doc/sweep-layout.md).
  * Whole arrays are known when the sweep ends, so each is one contiguous
  * dataset written at once; the file is FILE.part until it is complete. */
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include <hdf5.h>
 
 #include "vibroimpact.h"
+#include "vi_h5_util.h"
 #include "vi_sweep.h"
 #include "vibroimpact/vi_output.h"
-
-static int put(hid_t loc, const char *name, hid_t type, int rank,
-               const hsize_t *dims, const void *data)
-{
-  int bad = 1;
-  hid_t sp = -1, ds = -1;
-  H5E_BEGIN_TRY {
-    sp = H5Screate_simple(rank, dims, NULL);
-    if (sp >= 0) ds = H5Dcreate2(loc, name, type, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    bad = ds < 0 || H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
-    if (ds >= 0) H5Dclose(ds);
-    if (sp >= 0) H5Sclose(sp);
-  } H5E_END_TRY;
-  return bad;
-}
-
-static int dset_str(hid_t loc, const char *name, const char *val)
-{
-  int bad = 1;
-  hid_t t = -1, sp = -1, d = -1;
-  H5E_BEGIN_TRY {
-    t = H5Tcopy(H5T_C_S1);
-    if (t >= 0 && H5Tset_size(t, strlen(val) + 1) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
-      sp = H5Screate(H5S_SCALAR);
-    if (sp >= 0) d = H5Dcreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    bad = d < 0 || H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, val) < 0;
-    if (d >= 0) H5Dclose(d);
-    if (sp >= 0) H5Sclose(sp);
-    if (t >= 0) H5Tclose(t);
-  } H5E_END_TRY;
-  return bad;
-}
-
-static int attr_str(hid_t loc, const char *name, const char *val)
-{
-  int bad = 1;
-  hid_t t = -1, sp = -1, a = -1;
-  H5E_BEGIN_TRY {
-    t = H5Tcopy(H5T_C_S1);
-    if (t >= 0 && H5Tset_size(t, strlen(val) + 1) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
-      sp = H5Screate(H5S_SCALAR);
-    if (sp >= 0) a = H5Acreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
-    bad = a < 0 || H5Awrite(a, t, val) < 0;
-    if (a >= 0) H5Aclose(a);
-    if (sp >= 0) H5Sclose(sp);
-    if (t >= 0) H5Tclose(t);
-  } H5E_END_TRY;
-  return bad;
-}
-
-static int attr_num(hid_t loc, const char *name, hid_t type, const void *val)
-{
-  int bad = 1;
-  hid_t sp = -1, a = -1;
-  H5E_BEGIN_TRY {
-    sp = H5Screate(H5S_SCALAR);
-    if (sp >= 0) a = H5Acreate2(loc, name, type, sp, H5P_DEFAULT, H5P_DEFAULT);
-    bad = a < 0 || H5Awrite(a, type, val) < 0;
-    if (a >= 0) H5Aclose(a);
-    if (sp >= 0) H5Sclose(sp);
-  } H5E_END_TRY;
-  return bad;
-}
 
 /* /sweep/p11: every P(1,1) orbit at each value (sweep --orbits) */
 static int put_p11(hid_t g, const vi_diagram *sw)
@@ -105,21 +41,20 @@ static int put_p11(hid_t g, const vi_diagram *sw)
       ad[off] = pt->oadm[j];
     }
   }
-  hid_t h = -1;
-  H5E_BEGIN_TRY { h = H5Gcreate2(g, "p11", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT); } H5E_END_TRY;
+  hid_t h = vi_h5_group(g, "p11");
   if (h < 0) {
     bad = 1;
     goto done;
   }
   hsize_t dLK[2] = {(hsize_t)L, (hsize_t)K}, dJ[1] = {(hsize_t)J};
-  bad |= attr_num(h, "phases", H5T_NATIVE_INT, &sw->spec.orbits);
-  bad |= put(h, "count", H5T_NATIVE_INT, 2, dLK, cnt);
-  bad |= put(h, "start", H5T_NATIVE_INT64, 2, dLK, start);
-  bad |= put(h, "v_n", H5T_NATIVE_DOUBLE, 1, dJ, d);
-  bad |= put(h, "phase", H5T_NATIVE_DOUBLE, 1, dJ, d + J);
-  bad |= put(h, "stable", H5T_NATIVE_INT, 1, dJ, st);
-  bad |= put(h, "admissible", H5T_NATIVE_INT, 1, dJ, ad);
-  H5E_BEGIN_TRY { H5Gclose(h); } H5E_END_TRY;
+  bad |= vi_h5_attr(h, "phases", H5T_NATIVE_INT, &sw->spec.orbits, 1);
+  bad |= vi_h5_put(h, "count", H5T_NATIVE_INT, 2, dLK, cnt, NULL);
+  bad |= vi_h5_put(h, "start", H5T_NATIVE_INT64, 2, dLK, start, NULL);
+  bad |= vi_h5_put(h, "v_n", H5T_NATIVE_DOUBLE, 1, dJ, d, NULL);
+  bad |= vi_h5_put(h, "phase", H5T_NATIVE_DOUBLE, 1, dJ, d + J, NULL);
+  bad |= vi_h5_put(h, "stable", H5T_NATIVE_INT, 1, dJ, st, NULL);
+  bad |= vi_h5_put(h, "admissible", H5T_NATIVE_INT, 1, dJ, ad, NULL);
+  bad |= vi_h5_close(h);
 done:
   free(cnt);
   free(start);
@@ -134,47 +69,19 @@ static int put_extra(hid_t g, const vi_diagram *sw, const hsize_t *dLK)
   if (sw->spec.lyapunov) { /* the largest Lyapunov exponent, NaN where refused */
     double *l = malloc(sizeof(double) * (size_t)L * K);
     for (int i = 0; l && i < L * K; i++) l[i] = sw->lines[i / K].pt[i % K].lyap;
-    bad |= !l || put(g, "lyapunov", H5T_NATIVE_DOUBLE, 2, dLK, l);
+    bad |= !l || vi_h5_put(g, "lyapunov", H5T_NATIVE_DOUBLE, 2, dLK, l, NULL);
     free(l);
   }
   if (sw->attractor) { /* basins: the attractor of each cell */
-    bad |= put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor);
-    bad |= attr_num(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr);
+    bad |= vi_h5_put(g, "attractor", H5T_NATIVE_INT, 2, dLK, sw->attractor, NULL);
+    bad |= vi_h5_attr(g, "n_attractors", H5T_NATIVE_INT, &sw->nattr, 1);
   }
   /* which points were computed: all but those an interruption never reached */
   int *done = malloc(sizeof(int) * (size_t)L * K);
   for (int i = 0; done && i < L * K; i++) done[i] = sw->lines[i / K].pt[i % K].done;
-  bad |= !done || put(g, "done", H5T_NATIVE_INT, 2, dLK, done);
+  bad |= !done || vi_h5_put(g, "done", H5T_NATIVE_INT, 2, dLK, done, NULL);
   free(done);
   return bad;
-}
-
-/* The file's image through the output module (vi_output.h): PATH.part
- * in large write()s of the descriptor itself, synced, renamed; removed on
- * any failure.  0, or 1 with err. */
-static int write_image(const char *path, const void *image, size_t size,
-                       char *err, int errlen)
-{
-  FILE *fp = NULL;
-  vi_diag od;
-  memset(&od, 0, sizeof od);
-  int wbad = vi_output_open(path, VI_OUTPUT_FILE, &fp, &od) != VI_OK;
-  for (size_t at = 0; !wbad && at < size;) {
-    ssize_t k = write(fileno(fp), (const char *)image + at, size - at);
-    if (k <= 0) {
-      snprintf(od.message, sizeof od.message, "cannot write %.300s.part: %s",
-               path, strerror(k < 0 ? errno : EIO));
-      wbad = 1;
-    } else {
-      at += (size_t)k;
-    }
-  }
-  if (wbad || vi_output_close(&fp, path, VI_OUTPUT_FILE, &od)) {
-    if (fp) vi_output_discard(&fp, path, VI_OUTPUT_FILE);
-    snprintf(err, (size_t)errlen, "%s", od.message[0] ? od.message : "writing failed");
-    return 1;
-  }
-  return 0;
 }
 
 /* The arrays of a diagram, flattened for HDF5. */
@@ -193,28 +100,28 @@ static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays 
           dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
           dS[4] = {(hsize_t)L, (hsize_t)K, (hsize_t)R, (hsize_t)n2},
           dI[1] = {(hsize_t)a->I};
-  bad |= attr_str(g, "key", sp->key);
-  if (sp->key2) bad |= attr_str(g, "key2", sp->key2);
-  bad |= attr_num(g, "transient", H5T_NATIVE_INT, &sp->transient);
-  bad |= attr_num(g, "record", H5T_NATIVE_INT, &sp->record);
-  bad |= attr_num(g, "chunks", H5T_NATIVE_INT, &sp->chunks);
-  bad |= attr_num(g, "nmax", H5T_NATIVE_INT, &sp->nmax);
-  bad |= attr_num(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol);
-  bad |= attr_num(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0);
-  bad |= attr_num(g, "n_coordinates", H5T_NATIVE_INT, &sw->N);
-  bad |= put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param);
-  if (sp->key2) bad |= put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2);
-  bad |= put(g, "direction", H5T_NATIVE_INT, 1, dL, a->dir);
-  bad |= put(g, "row", H5T_NATIVE_INT, 1, dL, a->row);
-  bad |= put(g, "n", H5T_NATIVE_INT, 2, dLK, a->n);
-  bad |= put(g, "m", H5T_NATIVE_INT, 2, dLK, a->m);
-  bad |= put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, a->T);
-  bad |= put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, a->strobe);
-  bad |= put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, a->cnt);
-  bad |= put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, a->start);
-  bad |= put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, a->flat);
-  bad |= put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, a->flat + a->I);
-  bad |= put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, a->flat + 2 * a->I);
+  bad |= vi_h5_str(g, "key", sp->key, VI_H5_UTF8);
+  if (sp->key2) bad |= vi_h5_str(g, "key2", sp->key2, VI_H5_UTF8);
+  bad |= vi_h5_attr(g, "transient", H5T_NATIVE_INT, &sp->transient, 1);
+  bad |= vi_h5_attr(g, "record", H5T_NATIVE_INT, &sp->record, 1);
+  bad |= vi_h5_attr(g, "chunks", H5T_NATIVE_INT, &sp->chunks, 1);
+  bad |= vi_h5_attr(g, "nmax", H5T_NATIVE_INT, &sp->nmax, 1);
+  bad |= vi_h5_attr(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol, 1);
+  bad |= vi_h5_attr(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0, 1);
+  bad |= vi_h5_attr(g, "n_coordinates", H5T_NATIVE_INT, &sw->N, 1);
+  bad |= vi_h5_put(g, "param", H5T_NATIVE_DOUBLE, 1, dK, sw->param, NULL);
+  if (sp->key2) bad |= vi_h5_put(g, "param2", H5T_NATIVE_DOUBLE, 1, dR2, sw->param2, NULL);
+  bad |= vi_h5_put(g, "direction", H5T_NATIVE_INT, 1, dL, a->dir, NULL);
+  bad |= vi_h5_put(g, "row", H5T_NATIVE_INT, 1, dL, a->row, NULL);
+  bad |= vi_h5_put(g, "n", H5T_NATIVE_INT, 2, dLK, a->n, NULL);
+  bad |= vi_h5_put(g, "m", H5T_NATIVE_INT, 2, dLK, a->m, NULL);
+  bad |= vi_h5_put(g, "period", H5T_NATIVE_DOUBLE, 2, dLK, a->T, NULL);
+  bad |= vi_h5_put(g, "strobe", H5T_NATIVE_DOUBLE, 4, dS, a->strobe, NULL);
+  bad |= vi_h5_put(g, "impact_count", H5T_NATIVE_INT64, 2, dLK, a->cnt, NULL);
+  bad |= vi_h5_put(g, "impact_start", H5T_NATIVE_INT64, 2, dLK, a->start, NULL);
+  bad |= vi_h5_put(gi, "time", H5T_NATIVE_DOUBLE, 1, dI, a->flat, NULL);
+  bad |= vi_h5_put(gi, "phase", H5T_NATIVE_DOUBLE, 1, dI, a->flat + a->I, NULL);
+  bad |= vi_h5_put(gi, "v_n", H5T_NATIVE_DOUBLE, 1, dI, a->flat + 2 * a->I, NULL);
   if (sp->orbits > 0) bad |= put_p11(g, sw);
   bad |= put_extra(g, sw, dLK);
   return bad;
@@ -229,18 +136,18 @@ static int put_file_attrs(hid_t f, const vi_diagram *sw)
   snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
   int fmt = 1, complete = !sw->incomplete;
   int64_t total = (int64_t)sw->nlines * sw->spec.steps;
-  bad |= attr_str(f, "creator", creator);
+  bad |= vi_h5_str(f, "creator", creator, VI_H5_UTF8);
   /* an interrupted study is still a valid file, marked incomplete */
-  bad |= attr_num(f, "complete", H5T_NATIVE_INT, &complete);
-  bad |= attr_num(f, "points_done", H5T_NATIVE_INT64, &sw->points_done);
-  bad |= attr_num(f, "points_total", H5T_NATIVE_INT64, &total);
-  bad |= attr_str(f, "kind", sw->attractor ? "basins" : "sweep");
-  bad |= attr_num(f, "format_version", H5T_NATIVE_INT, &fmt);
+  bad |= vi_h5_attr(f, "complete", H5T_NATIVE_INT, &complete, 1);
+  bad |= vi_h5_attr(f, "points_done", H5T_NATIVE_INT64, &sw->points_done, 1);
+  bad |= vi_h5_attr(f, "points_total", H5T_NATIVE_INT64, &total, 1);
+  bad |= vi_h5_str(f, "kind", sw->attractor ? "basins" : "sweep", VI_H5_UTF8);
+  bad |= vi_h5_attr(f, "format_version", H5T_NATIVE_INT, &fmt, 1);
   /* an attribute holds at most 64 KiB: a longer scene goes to the
    * dataset /scene (a scalar string), as in a run's file */
-  if (strlen(sw->text) < 60000) bad |= attr_str(f, "scene", sw->text);
-  else bad |= dset_str(f, "scene", sw->text);
-  bad |= attr_str(f, "scene_file", sw->name);
+  if (strlen(sw->text) < 60000) bad |= vi_h5_str(f, "scene", sw->text, VI_H5_UTF8);
+  else bad |= vi_h5_str(f, "scene", sw->text, VI_H5_DATASET | VI_H5_UTF8);
+  bad |= vi_h5_str(f, "scene_file", sw->name, VI_H5_UTF8);
   return bad;
 }
 
@@ -292,47 +199,27 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int err
     dir[l] = sw->lines[l].dir;
     row[l] = sw->lines[l].row;
   }
-  hid_t f = -1, g = -1, gi = -1;
-  /* the file is built in memory (HDF5's core driver, no backing store) and
-   * its image written through the output module: HDF5 never meets a full
-   * disk (whose failed close crashed in its atexit handler), and every
-   * write, the sync and the rename are checked */
-  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  if (fapl >= 0 && H5Pset_fapl_core(fapl, (size_t)1 << 20, 0) >= 0)
-    H5E_BEGIN_TRY { f = H5Fcreate(part, H5F_ACC_TRUNC, H5P_DEFAULT, fapl); } H5E_END_TRY;
-  if (fapl >= 0) H5Pclose(fapl);
+  /* built in memory and committed through the output module (vi_h5_util.h):
+   * HDF5 never meets a full disk; every write, the sync and the rename are
+   * checked; 1 MiB steps for files of some MB */
+  hid_t f = vi_h5_image_create(part, (size_t)1 << 20);
   if (f < 0) {
     snprintf(err, (size_t)errlen, "cannot create '%s'", part);
     bad = 1;
     goto done;
   }
   bad |= put_file_attrs(f, sw);
-  H5E_BEGIN_TRY {
-    g = H5Gcreate2(f, "sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (g >= 0) gi = H5Gcreate2(g, "impacts", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  } H5E_END_TRY;
+  hid_t g = vi_h5_group(f, "sweep"), gi = g < 0 ? -1 : vi_h5_group(g, "impacts");
   bad |= g < 0 || gi < 0;
   flat_arrays a = {nn, mm, dir, row, cnt, start, I, T, flat, strobe};
   if (!bad) bad = put_sweep(g, gi, sw, &a);
-  void *image = NULL;
-  ssize_t size = -1;
-  H5E_BEGIN_TRY {
-    if (gi >= 0) H5Gclose(gi);
-    if (g >= 0) H5Gclose(g);
-    if (!bad && H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0 &&
-        (size = H5Fget_file_image(f, NULL, 0)) > 0 &&
-        (image = malloc((size_t)size)) != NULL &&
-        H5Fget_file_image(f, image, (size_t)size) != size)
-      size = -1;
-    bad |= H5Fclose(f) < 0;
-  } H5E_END_TRY;
-  if (bad || size <= 0 || !image) {
-    snprintf(err, (size_t)errlen, "building the file for '%s' failed", path);
+  bad |= vi_h5_close(gi) | vi_h5_close(g);
+  vi_diag od;
+  memset(&od, 0, sizeof od);
+  if (vi_h5_image_commit(f, bad, path, &od)) {
+    snprintf(err, (size_t)errlen, "%s", od.message);
     bad = 1;
-  } else {
-    bad = write_image(path, image, (size_t)size, err, errlen);
   }
-  free(image);
 done:
   free(ni);
   free(cnt);

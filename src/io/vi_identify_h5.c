@@ -8,48 +8,17 @@
 
 #include <hdf5.h>
 
-#include "vi_h5_image.h"
+#include "vi_h5_util.h"
 #include "vi_io_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_identify_io.h"
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_writer.h"
 
-static int put(hid_t g, const char *name, const double *a, hsize_t n0,
-               hsize_t n1)
+/* A vector [n] of doubles. */
+static int vec(hid_t g, const char *name, const double *a, hsize_t n)
 {
-  hsize_t dims[2] = {n0, n1};
-  hid_t sp = H5Screate_simple(n1 ? 2 : 1, dims, NULL);
-  hid_t ds = sp < 0 ? -1 : H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT,
-                                      H5P_DEFAULT, H5P_DEFAULT);
-  int bad = ds < 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
-                               H5P_DEFAULT, a) < 0;
-  if (ds >= 0) H5Dclose(ds);
-  if (sp >= 0) H5Sclose(sp);
-  return bad;
-}
-
-static int attr(hid_t g, const char *name, double v)
-{
-  hid_t sp = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  int bad = a < 0 || H5Awrite(a, H5T_NATIVE_DOUBLE, &v) < 0;
-  if (a >= 0) H5Aclose(a);
-  H5Sclose(sp);
-  return bad;
-}
-
-static int attr_str(hid_t g, const char *name, const char *s)
-{
-  hid_t ty = H5Tcopy(H5T_C_S1);
-  H5Tset_size(ty, strlen(s) + 1);
-  hid_t sp = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(g, name, ty, sp, H5P_DEFAULT, H5P_DEFAULT);
-  int bad = a < 0 || H5Awrite(a, ty, s) < 0;
-  if (a >= 0) H5Aclose(a);
-  H5Sclose(sp);
-  H5Tclose(ty);
-  return bad;
+  return vi_h5_put(g, name, H5T_NATIVE_DOUBLE, 1, &n, a, NULL);
 }
 
 int vi_identify_write_h5(const char *path, const vi_identify *id,
@@ -96,25 +65,28 @@ int vi_identify_write_h5(const char *path, const vi_identify *id,
     free(buf);
     return VI_ERR_LIMIT;
   }
-  hid_t f = vi_h5_image_create(part); /* in memory: vi_h5_image.h */
-  hid_t g = f < 0 ? -1 : H5Gcreate2(f, "identify", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t f = vi_h5_image_create(part, (size_t)1 << 16); /* in memory */
+  hid_t g = f < 0 ? -1 : vi_h5_group(f, "identify");
   int bad = g < 0;
   if (!bad) {
-    bad |= put(g, "t", t, nsz, 0) | put(g, "x", x, nsz, 0) |
-           put(g, "model", mo, nsz, 0) | put(g, "residual", res, nsz, 0) |
-           put(g, "phase", ph, nsz, 0);
-    bad |= put(g, "value", val, np, 0) | put(g, "stderr", se, np, 0) |
-           put(g, "lo95", lo, np, 0) | put(g, "hi95", hi, np, 0) |
-           put(g, "flags", fl, np, 0) | put(g, "correlation", R, np, np);
-    bad |= attr_str(g, "keys", keys ? keys : "");
-    bad |= attr(g, "shift", t0) | attr(g, "shift_stderr", t0se) |
-           attr(g, "period", period) | attr(g, "orbit_n", n) |
-           attr(g, "orbit_m", m) | attr(g, "converged", conv) |
-           attr(g, "iterations", it) | attr(g, "rms_residual", rms) |
-           attr(g, "noise", noise) | attr(g, "rcond", rcond) |
-           attr(g, "r_energy_balance", r12) | attr(g, "vN_recorded", vN);
+    hsize_t dR[2] = {(hsize_t)np, (hsize_t)np};
+    bad |= vec(g, "t", t, nsz) | vec(g, "x", x, nsz) |
+           vec(g, "model", mo, nsz) | vec(g, "residual", res, nsz) |
+           vec(g, "phase", ph, nsz);
+    bad |= vec(g, "value", val, np) | vec(g, "stderr", se, np) |
+           vec(g, "lo95", lo, np) | vec(g, "hi95", hi, np) |
+           vec(g, "flags", fl, np) |
+           vi_h5_put(g, "correlation", H5T_NATIVE_DOUBLE, 2, dR, R, NULL);
+    bad |= vi_h5_attr_str(g, "keys", keys ? keys : "");
+    static const char *const names[12] = {
+        "shift", "shift_stderr", "period", "orbit_n", "orbit_m", "converged",
+        "iterations", "rms_residual", "noise", "rcond", "r_energy_balance",
+        "vN_recorded"};
+    const double v[12] = {t0, t0se, period, n, m, conv, it, rms, noise, rcond,
+                          r12, vN};
+    for (int k = 0; k < 12; k++) bad |= vi_h5_attr_double(g, names[k], v[k]);
   }
-  if (g >= 0) H5Gclose(g);
+  bad |= vi_h5_close(g);
   free(buf);
   if (f < 0)
     return vi_diag_set(diag, target, VI_ERR_IO, 0, 0, "", "",

@@ -7,7 +7,7 @@
 
 #include <hdf5.h>
 
-#include "vi_h5_image.h"
+#include "vi_h5_util.h"
 #include "vi_io_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_output.h"
@@ -51,58 +51,18 @@ static int put_column(hid_t g, const column *c, const double *t, int n,
     for (int w = 0; w < c->width; w++)
       buf[(size_t)i * c->width + w] = t[i + (size_t)(c->col + w) * ld];
   hsize_t dims[2] = {(hsize_t)n, (hsize_t)c->width};
-  hid_t sp = H5Screate_simple(c->width > 1 ? 2 : 1, dims, NULL);
-  hid_t ds = sp < 0 ? -1
-                    : H5Dcreate2(g, c->name, H5T_IEEE_F64LE, sp, H5P_DEFAULT,
-                                 H5P_DEFAULT, H5P_DEFAULT);
-  int bad = ds < 0 || (n > 0 && H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL,
-                                         H5S_ALL, H5P_DEFAULT, buf) < 0);
-  if (ds >= 0) H5Dclose(ds);
-  if (sp >= 0) H5Sclose(sp);
-  return bad;
+  return vi_h5_put(g, c->name, H5T_NATIVE_DOUBLE, c->width > 1 ? 2 : 1, dims,
+                   buf, NULL);
 }
 
 static int put_table(hid_t parent, const char *name, const double *t, int n,
                      int ld, double *buf)
 {
-  hid_t g = H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t g = vi_h5_group(parent, name);
   int bad = g < 0;
   for (size_t j = 0; !bad && j < sizeof cols / sizeof cols[0]; j++)
     bad |= put_column(g, &cols[j], t, n, ld, buf);
-  if (g >= 0) H5Gclose(g);
-  return bad;
-}
-
-static int attr(hid_t g, const char *name, double v)
-{
-  hid_t sp = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  int bad = a < 0 || H5Awrite(a, H5T_NATIVE_DOUBLE, &v) < 0;
-  if (a >= 0) H5Aclose(a);
-  H5Sclose(sp);
-  return bad;
-}
-
-/* A string as a scalar dataset (a scene may exceed an attribute's 64 KiB)
- * or attribute. */
-static int put_str(hid_t g, const char *name, const char *s, int dataset)
-{
-  hid_t ty = H5Tcopy(H5T_C_S1);
-  H5Tset_size(ty, strlen(s) + 1);
-  hid_t sp = H5Screate(H5S_SCALAR), o;
-  int bad;
-  if (dataset) {
-    o = H5Dcreate2(g, name, ty, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    bad = o < 0 || H5Dwrite(o, ty, H5S_ALL, H5S_ALL, H5P_DEFAULT, s) < 0;
-    if (o >= 0) H5Dclose(o);
-  } else {
-    o = H5Acreate2(g, name, ty, sp, H5P_DEFAULT, H5P_DEFAULT);
-    bad = o < 0 || H5Awrite(o, ty, s) < 0;
-    if (o >= 0) H5Aclose(o);
-  }
-  H5Sclose(sp);
-  H5Tclose(ty);
-  return bad;
+  return vi_h5_close(g) | bad;
 }
 
 int vi_truncation_write_h5(const char *path, const char *scene_name,
@@ -120,20 +80,20 @@ int vi_truncation_write_h5(const char *path, const char *scene_name,
   if (st) return st;
   double *buf = malloc(sizeof(double) * 3 * ((size_t)nrows + 1));
   if (!buf) return VI_ERR_NOMEM;
-  hid_t f = vi_h5_image_create(part); /* in memory: vi_h5_image.h */
-  hid_t g = f < 0 ? -1
-                  : H5Gcreate2(f, "truncation", H5P_DEFAULT, H5P_DEFAULT,
-                               H5P_DEFAULT);
+  hid_t f = vi_h5_image_create(part, (size_t)1 << 16); /* in memory */
+  hid_t g = f < 0 ? -1 : vi_h5_group(f, "truncation");
   int bad = g < 0;
   if (!bad) {
-    bad |= put_str(g, "scene", scene_name ? scene_name : "", 0);
-    bad |= put_str(g, "scene_text", scene_text ? scene_text : "", 1);
+    bad |= vi_h5_attr_str(g, "scene", scene_name ? scene_name : "");
+    /* a dataset: a scene may exceed an attribute's 64 KiB */
+    bad |= vi_h5_str(g, "scene_text", scene_text ? scene_text : "",
+                     VI_H5_DATASET);
     for (int j = 0; j < VI_TRUNCATION_INFO; j++)
-      bad |= attr(g, info_names[j], info[j]);
+      bad |= vi_h5_attr_double(g, info_names[j], info[j]);
     bad |= put_table(g, "rows", rows, nrows, ldrows, buf);
     bad |= put_table(g, "reference", reference, 1, 1, buf);
   }
-  if (g >= 0) H5Gclose(g);
+  bad |= vi_h5_close(g);
   free(buf);
   if (f < 0)
     return vi_diag_set(diag, target, VI_ERR_IO, 0, 0, "", "",

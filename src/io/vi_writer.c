@@ -14,6 +14,7 @@
 
 #include <hdf5.h>
 
+#include "vi_h5_util.h"
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_mmio.h"
@@ -158,61 +159,7 @@ static double row_bytes(const table *t)
   return b;
 }
 
-/* ---- attributes and fixed datasets -------------------------------------- */
-static int attr_str(hid_t obj, const char *name, const char *val)
-{
-  hid_t t = H5Tcopy(H5T_C_S1), sp = H5Screate(H5S_SCALAR);
-  H5Tset_size(t, strlen(val) + 1);
-  hid_t a = H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t e = a < 0 ? -1 : H5Awrite(a, t, val);
-  if (a >= 0) H5Aclose(a);
-  H5Sclose(sp);
-  H5Tclose(t);
-  return e < 0;
-}
-
-/* An attribute of len values (len 1: a scalar) of file type ftype from
- * memory of type mtype; nonzero on failure. */
-static int attr_put(hid_t obj, const char *name, hid_t ftype, hid_t mtype,
-                    const void *v, hsize_t len)
-{
-  hid_t sp = len == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &len, NULL);
-  hid_t a = H5Acreate2(obj, name, ftype, sp, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t e = a < 0 ? -1 : H5Awrite(a, mtype, v);
-  if (a >= 0 && H5Aclose(a) < 0) e = -1;
-  H5Sclose(sp);
-  return e < 0;
-}
-
-static int attr_num(hid_t obj, const char *name, const double *v, hsize_t len)
-{
-  return attr_put(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v, len);
-}
-
-static int attr_int(hid_t obj, const char *name, int v)
-{
-  return attr_put(obj, name, H5T_STD_I32LE, H5T_NATIVE_INT, &v, 1);
-}
-
-static int attr_i64(hid_t obj, const char *name, int64_t v)
-{
-  return attr_put(obj, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &v, 1);
-}
-
-/* Text of any length as a scalar string dataset. */
-static int text_dataset(hid_t obj, const char *name, const char *val)
-{
-  hid_t t = H5Tcopy(H5T_C_S1), sp = H5Screate(H5S_SCALAR);
-  H5Tset_size(t, strlen(val) + 1);
-  hid_t d = H5Dcreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT,
-                       H5P_DEFAULT);
-  herr_t e = d < 0 ? -1 : H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, val);
-  if (d >= 0 && H5Dclose(d) < 0) e = -1;
-  H5Sclose(sp);
-  H5Tclose(t);
-  return e < 0;
-}
-
+/* ---- fixed datasets (the helpers: vi_h5_util.h) ---------------------------- */
 /* A fixed array: a vector [rows] (cols = 0) or a column-major matrix written
  * in C order, so that element [i][j] of the dataset is A(i, j). */
 static int put(hid_t g, const char *name, const double *A, int rows, int cols,
@@ -220,48 +167,17 @@ static int put(hid_t g, const char *name, const double *A, int rows, int cols,
 {
   hsize_t dims[2] = {(hsize_t)rows, (hsize_t)cols};
   double *buf = NULL;
-  const double *src = A;
   if (cols > 0) {
     buf = malloc(sizeof(double) * rows * cols);
     if (!buf) return 1;
     for (int i = 0; i < rows; i++)
       for (int j = 0; j < cols; j++)
         buf[(size_t)i * cols + j] = A[i + (size_t)j * rows];
-    src = buf;
   }
-  hid_t sp = H5Screate_simple(cols > 0 ? 2 : 1, dims, NULL);
-  hid_t d = H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT,
-                       H5P_DEFAULT);
-  herr_t e = d < 0 ? -1
-                   : H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
-                              H5P_DEFAULT, src);
-  if (d >= 0) {
-    if (meaning) attr_str(d, "meaning", meaning);
-    H5Dclose(d);
-  }
-  H5Sclose(sp);
+  int bad = vi_h5_put(g, name, H5T_NATIVE_DOUBLE, cols > 0 ? 2 : 1, dims,
+                      buf ? buf : A, meaning);
   free(buf);
-  return e < 0;
-}
-
-/* An int array [len] (CSC indices). */
-static int put_int(hid_t g, const char *name, const int *v, int len,
-                   const char *meaning)
-{
-  hsize_t dims = (hsize_t)len;
-  hid_t sp = H5Screate_simple(1, &dims, NULL);
-  hid_t d = H5Dcreate2(g, name, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT,
-                       H5P_DEFAULT);
-  herr_t e = d < 0 || len == 0
-                 ? (d < 0 ? -1 : 0)
-                 : H5Dwrite(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                            v);
-  if (d >= 0) {
-    if (meaning) attr_str(d, "meaning", meaning);
-    H5Dclose(d);
-  }
-  H5Sclose(sp);
-  return e < 0;
+  return bad;
 }
 
 /* A sparse symmetric matrix as group `name`: colptr [n + 1], rowind [nnz],
@@ -271,18 +187,19 @@ static int put_int(hid_t g, const char *name, const int *v, int len,
 static int put_csc(hid_t parent, const char *name, int n, int nnz,
                    const int *colptr, const int *rowind, const double *val)
 {
-  hid_t g = H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t g = vi_h5_group(parent, name);
   if (g < 0) return 1;
-  int bad = attr_int(g, "rows", n) | attr_int(g, "cols", n) |
-            attr_int(g, "nnz", nnz) | attr_str(g, "storage", "lower") |
-            attr_int(g, "index_base", 0);
-  bad |= put_int(g, "colptr", colptr, n + 1, "column j: entries colptr[j] "
-                 ".. colptr[j+1]-1");
-  bad |= put_int(g, "rowind", rowind, nnz, "row of each entry, ascending "
-                 "within a column");
+  int bad = vi_h5_attr_int(g, "rows", n) | vi_h5_attr_int(g, "cols", n) |
+            vi_h5_attr_int(g, "nnz", nnz) |
+            vi_h5_attr_str(g, "storage", "lower") |
+            vi_h5_attr_int(g, "index_base", 0);
+  hsize_t dp = (hsize_t)n + 1, dn = (hsize_t)nnz;
+  bad |= vi_h5_put(g, "colptr", H5T_NATIVE_INT, 1, &dp, colptr, "column j: "
+                   "entries colptr[j] .. colptr[j+1]-1");
+  bad |= vi_h5_put(g, "rowind", H5T_NATIVE_INT, 1, &dn, rowind, "row of each "
+                   "entry, ascending within a column");
   bad |= put(g, "values", val, nnz, 0, "value of each entry");
-  H5Gclose(g);
-  return bad;
+  return vi_h5_close(g) | bad;
 }
 
 /* /fe of a model.matrix_market scene: the physical model as it came in,
@@ -291,10 +208,11 @@ static int put_csc(hid_t parent, const char *name, int n, int nnz,
 static int write_fe(vi_writer *w, const vi_scene *s)
 {
   static const char *const names[3] = {"M", "C", "K"};
-  hid_t g = H5Gcreate2(w->file, "fe", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t g = vi_h5_group(w->file, "fe");
   if (g < 0) return 1;
-  int bad = attr_int(g, "dofs", s->n) | attr_int(g, "modes", s->fe.modes);
-  bad |= attr_str(g, "meaning", "the finite-element model (physical dofs, "
+  int bad = vi_h5_attr_int(g, "dofs", s->n) |
+            vi_h5_attr_int(g, "modes", s->fe.modes);
+  bad |= vi_h5_attr_str(g, "meaning", "the finite-element model (physical dofs, "
                   "sparse); the run's model is its reduction to the lowest "
                   "modes (/model)");
   for (int k = 0; k < 3 && !bad; k++) {
@@ -308,7 +226,7 @@ static int write_fe(vi_writer *w, const vi_scene *s)
     }
     bad |= put_csc(g, names[k], vi_mm_rows(mm), vi_mm_nnz(mm),
                    vi_mm_colptr(mm), vi_mm_rowind(mm), vi_mm_values(mm));
-    bad |= attr_str(g, names[k][0] == 'M' ? "M_file"
+    bad |= vi_h5_attr_str(g, names[k][0] == 'M' ? "M_file"
                        : names[k][0] == 'C' ? "C_file" : "K_file",
                     s->fe.path[k]);
     vi_mm_destroy(&mm);
@@ -336,8 +254,7 @@ int vi_writer_fe_shapes(vi_writer *w, const vi_fe *fe)
   {
     hid_t g = H5Lexists(w->file, "fe", H5P_DEFAULT) > 0
                   ? H5Gopen2(w->file, "fe", H5P_DEFAULT)
-                  : H5Gcreate2(w->file, "fe", H5P_DEFAULT, H5P_DEFAULT,
-                               H5P_DEFAULT);
+                  : vi_h5_group(w->file, "fe");
     bad = g < 0;
     if (g >= 0) {
       /* [n][k] in C order: row i = dof i, as Psi(i, j) */
@@ -377,8 +294,7 @@ static int table_init(vi_writer *w, table *t, const char *group, int compress)
 static int table_make(vi_writer *w, table *t, hsize_t chunk_rows)
 {
   if (t->group <= 0) {
-    t->group = H5Gcreate2(w->file, t->gname, H5P_DEFAULT, H5P_DEFAULT,
-                          H5P_DEFAULT);
+    t->group = vi_h5_group(w->file, t->gname);
     if (t->group < 0) {
       t->group = 0;
       return werr(w, VI_ERR_IO, "cannot create group /%s in %s (disk full?)",
@@ -412,8 +328,8 @@ static int table_make(vi_writer *w, table *t, hsize_t chunk_rows)
       return werr(w, VI_ERR_IO, "cannot create dataset /%s/%s in %s "
                   "(disk full?)", t->gname, c->name, w->part);
     }
-    if (attr_str(c->dset, "units", c->units) ||
-        attr_str(c->dset, "meaning", c->meaning))
+    if (vi_h5_attr_str(c->dset, "units", c->units) ||
+        vi_h5_attr_str(c->dset, "meaning", c->meaning))
       return werr(w, VI_ERR_IO, "cannot write attributes of /%s/%s in %s "
                   "(disk full?)", t->gname, c->name, w->part);
   }
@@ -636,22 +552,23 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
   snprintf(creator, sizeof creator, "vibroimpact %s", vi_version_string());
   H5E_BEGIN_TRY
   {
-    bad |= attr_str(w->file, "creator", creator);
-    bad |= attr_int(w->file, "format_version", FORMAT_VERSION);
-    bad |= attr_str(w->file, "sundials", vi_sundials_version());
+    bad |= vi_h5_attr_str(w->file, "creator", creator);
+    bad |= vi_h5_attr_int(w->file, "format_version", FORMAT_VERSION);
+    bad |= vi_h5_attr_str(w->file, "sundials", vi_sundials_version());
     if (scene) {
       /* a dataset, not an attribute: attributes stop at 64 KiB */
-      bad |= text_dataset(w->file, "scene", vi_scene_text(scene));
-      bad |= attr_str(w->file, "scene_name", vi_scene_name(scene));
+      bad |= vi_h5_str(w->file, "scene", vi_scene_text(scene),
+                       VI_H5_DATASET);
+      bad |= vi_h5_attr_str(w->file, "scene_name", vi_scene_name(scene));
     }
-    bad |= attr_num(w->file, "rtol", &rtol, 1);
-    bad |= attr_num(w->file, "atol", &atol, 1);
-    bad |= attr_str(w->file, "method", mname);
-    bad |= attr_int(w->file, "complete", 0);
-    bad |= attr_str(w->file, "units",
+    bad |= vi_h5_attr_double(w->file, "rtol", rtol);
+    bad |= vi_h5_attr_double(w->file, "atol", atol);
+    bad |= vi_h5_attr_str(w->file, "method", mname);
+    bad |= vi_h5_attr_int(w->file, "complete", 0);
+    bad |= vi_h5_attr_str(w->file, "units",
                     "consistent model units: any length, mass and time");
     hid_t g =
-        H5Gcreate2(w->file, "model", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        vi_h5_group(w->file, "model");
     bad |= g < 0;
     if (g >= 0) {
       double v;
@@ -668,7 +585,7 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
         bad |= put(g, "C_band", B, ldab, n, "damping matrix, band as M_band");
         B = vi_model_stiffness_band(m, &bk, &ldab);
         bad |= put(g, "K_band", B, ldab, n, "stiffness matrix, band as M_band");
-        bad |= attr_int(g, "kd", kd);
+        bad |= vi_h5_attr_int(g, "kd", kd);
       }
       bad |=
           put(g, "w", vi_model_stop_vector(m), n, 0, "stop vector: w.x <= x_s");
@@ -678,11 +595,11 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
           put(g, "b", vi_model_forcing_sin(m), n, 0, "forcing b sin(Omega t)");
       bad |= put(g, "f0", vi_model_forcing_const(m), n, 0, "constant load");
       v = vi_model_clearance(m);
-      bad |= attr_num(g, "x_s", &v, 1);
+      bad |= vi_h5_attr_double(g, "x_s", v);
       v = vi_model_restitution(m);
-      bad |= attr_num(g, "r", &v, 1);
+      bad |= vi_h5_attr_double(g, "r", v);
       v = vi_model_omega_forcing(m);
-      bad |= attr_num(g, "Omega", &v, 1);
+      bad |= vi_h5_attr_double(g, "Omega", v);
       int ns = vi_model_num_stops(m);
       if (ns > 1) { /* several stops: all of them, row k = stop k */
         double *sw = malloc(sizeof(double) * ((size_t)ns * (n + 2) + n));
@@ -707,8 +624,7 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
      * and the model has them (a band model has none) */
     g = kd >= 0 || (scene && !(vi_scene_outputs(scene) & VI_SCENE_OUT_MODES))
             ? 0
-            : H5Gcreate2(w->file, "modal", H5P_DEFAULT, H5P_DEFAULT,
-                         H5P_DEFAULT);
+            : vi_h5_group(w->file, "modal");
     bad |= g < 0;
     if (g > 0) {
       bad |= put(g, "omega", vi_model_omega(m), n, 0,
@@ -720,7 +636,7 @@ int vi_writer_write_header(vi_writer *w, const vi_scene *scene, double rtol,
       bad |= put(g, "D", vi_model_modal_damping(m, &ld), n, n, "Psi^T C Psi");
       bad |= put(g, "psi", vi_model_modal_stop(m), n, 0,
                  "modal impact vector Psi^T w");
-      bad |= attr_int(g, "proportional", vi_model_is_proportional(m));
+      bad |= vi_h5_attr_int(g, "proportional", vi_model_is_proportional(m));
       H5Gclose(g);
     }
     if (fe) bad |= write_fe(w, scene);
@@ -818,17 +734,16 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
                 "coordinates than the writer's (%d)", n);
   }
   H5E_BEGIN_TRY {
-    hid_t g = H5Gcreate2(w->file, "orbits", H5P_DEFAULT, H5P_DEFAULT,
-                         H5P_DEFAULT);
-    bad |= g < 0 || attr_int(g, "period_n", pn) || attr_int(g, "impacts_m", pm);
+    hid_t g = vi_h5_group(w->file, "orbits");
+    bad |= g < 0 || vi_h5_attr_int(g, "period_n", pn) || vi_h5_attr_int(g, "impacts_m", pm);
     double v[9];
     if (g >= 0 && !vi_orbit_balance(o, &v[0], &v[1], &v[2], &v[3], &v[4],
                                     &v[5], &v[6], &v[7])) {
       static const char *names[8] = {"period", "impact_phase", "vN", "KE_i",
                                      "RE", "IE", "r_recovered", "closure"};
-      hid_t p = H5Gcreate2(g, "P1_1", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      hid_t p = vi_h5_group(g, "P1_1");
       bad |= p < 0;
-      for (int k = 0; k < 8 && p >= 0; k++) bad |= attr_num(p, names[k], &v[k], 1);
+      for (int k = 0; k < 8 && p >= 0; k++) bad |= vi_h5_attr_double(p, names[k], v[k]);
       double *x = buf, *vel = x + n, *re = vel + n, *im = re + (size_t)2 * n;
       double *FE = im + (size_t)2 * n, *DE = FE + n, *XE = DE + n, *reff = XE + n;
       double *rS = reff + n, gmin, t;
@@ -841,7 +756,7 @@ int vi_writer_orbit(vi_writer *w, const vi_orbit *o)
       for (int k = 1; k <= kmax; k++)
         if (vi_orbit_reduced_restitution(o, modes, k, &rS[k - 1])) rS[k - 1] = NAN;
       if (p >= 0) {
-        bad |= attr_num(p, "t_impact", &t, 1) || attr_num(p, "min_gap", &gmin, 1);
+        bad |= vi_h5_attr_double(p, "t_impact", t) || vi_h5_attr_double(p, "min_gap", gmin);
         bad |= put(p, "x_impact", x, n, 0, "positions at the impact");
         bad |= put(p, "v_impact", vel, n, 0, "velocities just before it");
         bad |= put(p, "multipliers_re", re, 2 * n, 0, "Floquet multipliers, real parts");
@@ -880,15 +795,14 @@ int vi_writer_run_info(vi_writer *w, const vi_sim *sim)
              *note = vi_sim_method_note(sim);
   H5E_BEGIN_TRY
   {
-    hid_t g = H5Gcreate2(w->file, "run", H5P_DEFAULT, H5P_DEFAULT,
-                         H5P_DEFAULT);
+    hid_t g = vi_h5_group(w->file, "run");
     bad |= g < 0;
     if (g >= 0) {
-      bad |= attr_str(g, "method_used", used ? used : "none");
-      bad |= attr_str(g, "method_note", note ? note : "");
+      bad |= vi_h5_attr_str(g, "method_used", used ? used : "none");
+      bad |= vi_h5_attr_str(g, "method_note", note ? note : "");
       for (int k = 0; k < VI_STAT_COUNT; k++) {
         const char *name = vi_stat_name(k);
-        if (name) bad |= attr_i64(g, name, vi_sim_stat(sim, k));
+        if (name) bad |= vi_h5_attr_i64(g, name, vi_sim_stat(sim, k));
       }
       bad |= H5Gclose(g) < 0;
     }

@@ -701,7 +701,7 @@ static void test_file_size_limit(void **state)
   char *out = path("fsize.h5"), part[700];
   snprintf(part, sizeof part, "%s.part", out);
   /* limits below each file's size (run 1.7 MB, energy 21 kB, sweep and
-   * basins 30 kB, truncation 29 kB: built in memory, vi_h5_image.h) and
+   * basins 30 kB, truncation 29 kB: built in memory, vi_h5_util.h) and
    * above what the start writes */
   const struct { long limit; const char *args[24]; } cases[] = {
       {524288, {"run", scene, "--periods", "1000", NULL}},
