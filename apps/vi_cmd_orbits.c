@@ -129,7 +129,7 @@ static int print_orbits(const list *L, int json, const char *name)
 }
 
 typedef struct oargs {
-  int np, mi, json, phases, nsets, csteps, arclength;
+  int np, mi, json, phases, nsets, csteps, arclength, max_depth;
   const char *scene, *ckey, **sets;
   double cto;
 } oargs;
@@ -145,7 +145,9 @@ static void orbits_usage(void)
          "--continue KEY --to B [--steps K]: follow each admissible P(n,1) orbit in KEY\n"
          "to B (K steps, default 50), locating where it loses stability (period\n"
          "doubling, fold, Neimark-Sacker) or grazes; --arclength: pseudo-arclength,\n"
-         "around folds.\n");
+         "around folds.\n"
+         "--max-depth D: deepest YAML nesting of the scene and the --set values\n"
+         "(default %d).\n", VI_SCENE_MAX_DEPTH);
 }
 
 /* The command line; 0 to go on, -1 after --help, else the exit status. */
@@ -157,7 +159,7 @@ static int orbits_parse(int argc, char **argv, oargs *a)
       {"set", required_argument, 0, 's'},    {"help", no_argument, 0, 'h'},
       {"continue", required_argument, 0, 'C'}, {"to", required_argument, 0, 'T'},
       {"steps", required_argument, 0, 'S'},  {"arclength", no_argument, 0, 'A'},
-      {0, 0, 0, 0}};
+      {"max-depth", required_argument, 0, 'D'}, {0, 0, 0, 0}};
   int c;
   optind = 1;
   opterr = 0;
@@ -177,6 +179,7 @@ static int orbits_parse(int argc, char **argv, oargs *a)
       break;
     }
     case 'S': a->csteps = whole(optarg, 1, 1000000); break;
+    case 'D': a->max_depth = whole(optarg, 1, 1000000); break;
     case 'h': orbits_usage(); return -1;
     default:
       fprintf(stderr, "vibroimpact: orbits: unknown or incomplete option '%s'\n",
@@ -186,9 +189,9 @@ static int orbits_parse(int argc, char **argv, oargs *a)
   }
   if (optind < argc) a->scene = argv[optind++];
   if (optind < argc || a->np < 1 || a->np > 64 || a->mi < 1 || a->mi > 64 ||
-      a->phases < 8 || a->csteps < 1 || (a->ckey && (isnan(a->cto) || a->mi != 1))) {
+      a->phases < 8 || a->csteps < 1 || a->max_depth < 0 || (a->ckey && (isnan(a->cto) || a->mi != 1))) {
     fprintf(stderr, "vibroimpact: orbits: bad arguments (need 1 <= n, m <= 64, "
-            "--phases >= 8, one scene; --continue KEY needs --to B, --steps K >= 1 "
+            "--phases >= 8, --max-depth >= 1, one scene; --continue KEY needs --to B, --steps K >= 1 "
             "and m = 1)\n");
     return 2;
   }
@@ -201,7 +204,8 @@ static int orbits_model(const oargs *a, vi_scene **sc, vi_model **mdl)
 {
   char err[2048];
   vi_diag d;
-  int rc = vi_sweep_load_scene(a->scene, a->sets, a->nsets, sc, err, sizeof err);
+  int rc = vi_sweep_load_scene(a->scene, a->sets, a->nsets, a->max_depth, sc, err,
+                               sizeof err);
   if (rc) {
     fprintf(stderr, "vibroimpact: %s\n", err);
     return rc;
@@ -282,7 +286,7 @@ static int follow_all(const list *L, const vi_scene *sc, const oargs *a)
 
 int vi_cmd_orbits_main(int argc, char **argv)
 {
-  oargs a = {1, 1, 0, 720, 0, 50, 0, NULL, NULL, NULL, NAN};
+  oargs a = {1, 1, 0, 720, 0, 50, 0, 0, NULL, NULL, NULL, NAN};
   a.sets = calloc((size_t)argc + 1, sizeof *a.sets);
   if (!a.sets) return 1;
   vi_scene *sc = NULL;

@@ -26,7 +26,7 @@ int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model)
 {
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_sets_active() ? vi_sets_load(o->scene, scene, &d) /* --set */
+  int st = vi_sets_active() ? vi_sets_load(o->scene, o->max_depth, scene, &d) /* --set */
          : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
                                             o->max_depth, scene, &d)
                     : vi_scene_parse(vi_scene_default_text(), -1,

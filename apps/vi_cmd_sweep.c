@@ -43,8 +43,8 @@ static void usage(FILE *f, int basins)
       "recorded forcing periods, classified P(n,m), and its attractor identified\n"
       "across cells (same orbit, same id; -1: none found).\n\n"
       "  --transient P, --record R, --threads T, --tol TOL, --nmax N, --method M,\n"
-      "  --set KEY=VALUE, --json, -o FILE, --max-memory B, --quiet   as for sweep\n"
-      "                        (--help there)\n"
+      "  --set KEY=VALUE, --json, -o FILE, --max-memory B, --max-depth D, --quiet\n"
+      "                        as for sweep (--help there)\n"
       "Plot: /usr/bin/python3 share/plot_basins.py OUT.h5\n");
     return;
   }
@@ -54,7 +54,9 @@ static void usage(FILE *f, int basins)
     "stop.xs, stop.r, stops[k].xs, model.rayleigh.alpha, initial.x[i], ...) takes K\n"
     "values from A to B, changed on the model built once; each value starts from\n"
     "the state the previous one ended in (warm start), runs P transient and R recorded\n"
-    "forcing periods, and is classified P(n,m).\n\n"
+    "forcing periods, and is classified P(n,m).  Structural keys of a chain scene:\n"
+    "model.chain.m, model.chain.k, model.chain.c scale its mass, stiffness and damping\n"
+    "matrices (the model's mass.scale, stiffness.scale, damping.scale; modes redone).\n\n"
     "  --down | --both       sweep B -> A, or both ways (hysteresis)\n"
     "  --transient P         transient forcing periods per value (default 500)\n"
     "  --record R            recorded forcing periods per value (default 100)\n"
@@ -76,6 +78,8 @@ static void usage(FILE *f, int basins)
     "  -o, --output FILE     write the diagram to HDF5 (share/doc/sweep-layout.md)\n"
     "  --max-memory B        memory the sweep may plan (default: the machine's\n"
     "                        MemAvailable); B may end in K, M or G\n"
+    "  --max-depth D         deepest YAML nesting of the scene and the --set\n"
+    "                        values (default 32)\n"
     "  --quiet               no table\n");
 }
 
@@ -182,7 +186,7 @@ static int parse(int argc, char **argv, args *a)
       {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
       {"orbits", optional_argument, 0, 'O'},  {"basins", no_argument, 0, 'B'},
       {"lyapunov", no_argument, 0, 'L'},     {"max-memory", required_argument, 0, 'M'},
-      {0, 0, 0, 0}};
+      {"max-depth", required_argument, 0, 'D'}, {0, 0, 0, 0}};
   vi_sweep_spec *sp = &a->sp;
   int c;
   optind = 1;
@@ -224,6 +228,7 @@ static int parse(int argc, char **argv, args *a)
     case 'B': a->basins = 1; break;
     case 'L': sp->lyapunov = 1; break;
     case 'M': ok = bytes(optarg, &a->max_memory); break;
+    case 'D': ok = inum("--max-depth", optarg, 1, &sp->max_depth); break;
     case 'h': usage(stdout, a->basins); return -1;
     default:
       fprintf(stderr, "vibroimpact: sweep: unknown or incomplete option '%s'\n",
@@ -375,10 +380,17 @@ int vi_cmd_sweep_main(int argc, char **argv)
   args a;
   memset(&a, 0, sizeof a);
   vi_sweep_spec sp0 = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0,
-                       1e-6, 32, 0, 0, 0};
+                       1e-6, 32, 0, 0, 0, 0};
   a.sp = sp0;
   a.sets = calloc((size_t)argc + 2, sizeof *a.sets);
   if (!a.sets) return 1;
+  /* the handler first: check() creates and removes OUT.part (the output
+   * check), and a signal then must not leave it behind */
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
   int rc = parse(argc, argv, &a);
   if (!rc) rc = check(&a);
   char err[2048];
@@ -387,15 +399,12 @@ int vi_cmd_sweep_main(int argc, char **argv)
     fprintf(stderr, "vibroimpact: %s\n", err);
     rc = 1;
   }
-  if (rc) {
+  if (rc || interrupted) {
     free(a.sets);
+    free(text);
+    if (interrupted) return 128 + (int)interrupted; /* nothing written yet */
     return rc < 0 ? 0 : rc;
   }
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
   vi_diagram *sw = NULL;
   int mpi = mpi_start(&a.sp);
   rc = vi_sweep_run_limited(text, a.scene ? a.scene : "<default scene: fig2>",

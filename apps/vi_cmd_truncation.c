@@ -237,7 +237,7 @@ static int study_scene(study *S)
   const app_opts *o = S->o;
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_sets_active() ? vi_sets_load(o->scene, &S->sc, &d) /* --set */
+  int st = vi_sets_active() ? vi_sets_load(o->scene, o->max_depth, &S->sc, &d) /* --set */
            : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
                                               o->max_depth, &S->sc, &d)
                       : vi_scene_parse(vi_scene_default_text(), -1,
@@ -305,12 +305,17 @@ static int reference_dense(study *S)
     fprintf(stderr, "vibroimpact: truncation: %s\n", vi_strerror(st));
     return 1;
   }
-  const double *om = vi_model_omega(S->dense), *ps = vi_model_modal_stop(S->dense);
+  /* w^T K^-1 w: the sum over all the modes (vi_model_modal_compliance) */
+  double *cs = malloc(sizeof(double) * (size_t)n);
   S->Gd = vi_model_stop_compliance(S->dense);
-  S->Gs = 0;
-  for (int j = 0; j < n; j++)
-    S->Gs += om[j] > 0 ? ps[j] * ps[j] / (om[j] * om[j])
-                       : (ps[j] != 0 ? INFINITY : 0);
+  if (!cs || (st = vi_model_modal_compliance(S->R, 0, n, NULL, cs))) {
+    fprintf(stderr, "vibroimpact: truncation: %s\n",
+            vi_strerror(cs ? st : VI_ERR_NOMEM));
+    free(cs);
+    return 1;
+  }
+  S->Gs = cs[n - 1];
+  free(cs);
   return 0;
 }
 
@@ -507,25 +512,30 @@ static void text_row(const study *S, const row *w)
 }
 
 /* The rows k = lo..hi (the compliance fractions summed from k = 1),
- * until a signal. */
-static void study_rows(study *S)
+ * until a signal; 1 when the compliances cannot be had. */
+static int study_rows(study *S)
 {
   int modes_idx[4096];
-  const double *K = vi_model_stiffness(S->R), *psi = vi_model_stop_vector(S->R);
+  const double *K = vi_model_stiffness(S->R);
   int nR = S->nR;
   for (int j = 0; j < nR && j < 4096; j++) modes_idx[j] = j;
-  double cd = 0, cs = 0;
+  /* the compliance the first k modes carry, k = 1..hi (the library's) */
+  double *cd = malloc(sizeof(double) * 2 * (size_t)S->hi), *cs = cd + S->hi;
+  int st = cd ? vi_model_modal_compliance(S->R, 0, S->hi, cd, cs) : VI_ERR_NOMEM;
+  if (st) {
+    fprintf(stderr, "vibroimpact: truncation: %s\n", vi_strerror(st));
+    free(cd);
+    return 1;
+  }
   for (int k = 1; k <= S->hi; k++) {
     double lam = K[(k - 1) + (size_t)(k - 1) * nR];
-    cd += psi[k - 1] * psi[k - 1];
-    cs += lam > 0 ? psi[k - 1] * psi[k - 1] / lam : INFINITY;
     if (k < S->lo) continue;
     if (vi_app_signal) break;
     row w;
     memset(&w, 0, sizeof w);
     w.k = k;
-    w.fd = cd / S->Gd;
-    w.fs = isfinite(S->Gs) && isfinite(cs) ? cs / S->Gs : NAN;
+    w.fd = cd[k - 1] / S->Gd;
+    w.fs = isfinite(S->Gs) && isfinite(cs[k - 1]) ? cs[k - 1] / S->Gs : NAN;
     compute_row(S, &w, modes_idx);
     w.omk = sqrt(lam > 0 ? lam : 0);
     if (S->o->out) table_row(S, &w);
@@ -533,6 +543,8 @@ static void study_rows(study *S)
     else text_row(S, &w);
     fflush(stdout);
   }
+  free(cd);
+  return 0;
 }
 
 /* -o: the reference's row and the table into the file. */
@@ -566,9 +578,9 @@ int vi_cmd_truncation(const app_opts *o)
   if ((rc = study_initial(&S))) goto done;
   study_reference_runs(&S);
   print_header(&S);
-  study_rows(&S);
+  int bad = study_rows(&S);
   if (o->json) printf("]}\n");
-  rc = vi_app_signal ? vi_app_interrupt_status() : 0;
+  rc = bad ? 1 : vi_app_signal ? vi_app_interrupt_status() : 0;
   if (o->out && !rc) rc = study_write(&S); /* interrupted: no file */
 done:
   free(S.x0);

@@ -232,7 +232,8 @@ static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
   vi_model *m = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_scene_edit_create(sw->text, -1, sw->name, &ed, &d);
+  int st = vi_scene_edit_create_limited(sw->text, -1, sw->name,
+                                        sw->spec.max_depth, &ed, &d);
   if (!st) st = vi_scene_edit_set_number(ed, key, val, &d);
   if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
   if (!st) st = vi_scene_param_key(sw->sc, key, pkey, 64, &d);
@@ -479,7 +480,7 @@ static int prepare(vi_diagram *sw, const char *text, const char *name,
   vi_scene_edit *ed = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_scene_edit_create(text, -1, name, &ed, &d);
+  int st = vi_scene_edit_create_limited(text, -1, name, sp->max_depth, &ed, &d);
   for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
   if (!st) st = vi_scene_edit_parse(ed, &sw->sc, &d);
   if (!st) {

@@ -47,6 +47,8 @@ typedef struct vi_sweep_spec {
                            basin of attraction), no warm start */
   int lyapunov;         /* 1: the largest Lyapunov exponent of each value
                            (vi_sweep_set_lyapunov) */
+  int max_depth;        /* deepest YAML nesting of the scene and the --set
+                           values (<= 0: VI_SCENE_MAX_DEPTH) */
 } vi_sweep_spec;
 
 /* One parameter value of one line. */
@@ -149,22 +151,26 @@ int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err,
  * with a message in err. */
 char *vi_sweep_read_text(const char *path, char *err, int errlen);
 /* Read a scene file (NULL: the default) with KEY=VALUE overrides applied
- * (vi_scene_edit) and parse it.  Returns 0, 2 for bad input, 1 for I/O;
+ * (vi_scene_edit, at most max_depth levels of nesting, <= 0: the default)
+ * and parse it.  Returns 0, 2 for bad input, 1 for I/O;
  * err names file:line:key. */
 struct vi_scene;
 int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
-                        struct vi_scene **out, char *err, int errlen);
+                        int max_depth, struct vi_scene **out, char *err,
+                        int errlen);
 
 /* --set KEY=VALUE for run and energy: vi_sets_take removes every
  * `--set KEY=VALUE` (or `--set=KEY=VALUE`) from argv and keeps them;
  * returns the new argc, -1 for a --set without its value.  vi_sets_load
  * then loads a scene (NULL: the default) as vi_scene_load does, with them
- * applied (vi_scene_edit: errors keep the file:line of the key). */
+ * applied (vi_scene_edit: errors keep the file:line of the key) and at most
+ * max_depth levels of nesting (<= 0: the default, --max-depth). */
 int vi_sets_take(int argc, char **argv);
 /* Number of --set assignments taken (0: load scenes as usual). */
 int vi_sets_active(void);
 struct vi_diag;
-int vi_sets_load(const char *path, struct vi_scene **out, struct vi_diag *d);
+int vi_sets_load(const char *path, int max_depth, struct vi_scene **out,
+                 struct vi_diag *d);
 
 /* 1 if the scene text has nonlinear springs (`springs:`): the closed-form
  * orbit machinery (orbits, sweep --orbits) covers linear scenes only. */

@@ -57,7 +57,7 @@ char *vi_sweep_read_text(const char *path, char *err, int errlen)
 }
 
 int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
-                        vi_scene **out, char *err, int errlen)
+                        int max_depth, vi_scene **out, char *err, int errlen)
 {
   vi_scene_edit *ed = NULL;
   vi_diag d;
@@ -65,8 +65,8 @@ int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
   *out = NULL;
   char *text = vi_sweep_read_text(path, err, errlen);
   if (!text) return 1;
-  int st = vi_scene_edit_create(text, -1, path ? path : "<default scene: fig2>",
-                                &ed, &d);
+  int st = vi_scene_edit_create_limited(text, -1, path ? path : "<default "
+                                        "scene: fig2>", max_depth, &ed, &d);
   for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
   if (!st) st = vi_scene_edit_parse(ed, out, &d);
   free(text);
@@ -108,7 +108,7 @@ int vi_sets_take(int argc, char **argv)
 
 int vi_sets_active(void) { return set_count; }
 
-int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
+int vi_sets_load(const char *path, int max_depth, vi_scene **out, vi_diag *d)
 {
   if (!set_count)
     return path ? vi_scene_load(path, out, d)
@@ -129,8 +129,8 @@ int vi_sets_load(const char *path, vi_scene **out, vi_diag *d)
     }
     return VI_ERR_IO;
   }
-  int st = vi_scene_edit_create(text, -1, path ? path : "<default scene: fig2>",
-                                &ed, d);
+  int st = vi_scene_edit_create_limited(text, -1, path ? path : "<default "
+                                        "scene: fig2>", max_depth, &ed, d);
   for (int i = 0; i < set_count && !st; i++) st = vi_scene_edit_assign(ed, set_list[i], d);
   if (!st) st = vi_scene_edit_parse(ed, out, d);
   free(text);

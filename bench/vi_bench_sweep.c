@@ -140,7 +140,7 @@ static int chain_bench(int n, int K)
   double w_one = one_run(text, NULL, 0, 7);
   printf("  one run (parse, model, 7 periods):   %8.3f s\n", w_one);
   vi_sweep_spec sp = {"forcing.omega", 0.03, 0.05, K, NULL, NAN, NAN, 1, 1,
-                      5, 2, 1, 1, 1e-6, 32, 0, 0, 0};
+                      5, 2, 1, 1, 1e-6, 32, 0, 0, 0, 0};
   vi_diagram *sw = NULL;
   char err[2048];
   double t = now();
@@ -192,7 +192,7 @@ int main(int argc, char **argv)
   T = 1;
 #endif
   vi_sweep_spec sp = {"forcing.omega", 0.5, 1.8, K, NULL, NAN, NAN, 1, 1, P, R,
-                      1, 1, 1e-6, 32, 0, 0, 0};
+                      1, 1, 1e-6, 32, 0, 0, 0, 0};
   double periods = (double)K * (P + R), w1, w2, w3;
   printf("vi_bench_sweep: Fig. 2, Omega 0.5..1.8 in %d values, %d transient + "
          "%d recorded periods each (%.3g forcing periods), exact method; %d "

@@ -40,6 +40,22 @@ VI_API int vi_model_create_truncated(const vi_model *R, int k,
                                      const double *z, double *zt,
                                      double *carried, vi_model **out);
 
+/** The stop's compliance carried by the first modes of a model R in modal
+ * coordinates (M = I, K diagonal: vi_model_create_reduced with every
+ * mode, vi_fe_create_model), as `vibroimpact truncation` reports it
+ * (MODEL.md section 5): with psi the stop's vector in R, for j = 1..k
+ * dynamic[j-1] = sum_{i<=j} psi_i^2 (of w^T M^-1 w, the Delassus number
+ * of Newton's law, WB 2, 10) and static_part[j-1] = sum_{i<=j}
+ * psi_i^2 / K_ii (of w^T K^-1 w; INFINITY once a mode with K_ii <= 0 and
+ * psi_i != 0 is included).  With k = n the sums are R's whole
+ * compliances.  dynamic, static_part [k] (either may be NULL).
+ * @return VI_OK, VI_ERR_ARG (NULL R, k outside 1..n, stop outside
+ * 0..stops-1, or R not in modal coordinates: M != I or K not diagonal, to
+ * 1e-12), VI_ERR_STATE (R not set up), VI_ERR_UNSUPPORTED (band
+ * storage). */
+VI_API int vi_model_modal_compliance(const vi_model *R, int stop, int k,
+                                     double *dynamic, double *static_part);
+
 /** The paper's beam: a clamped-free Euler-Bernoulli cantilever.
  * Mode j (0-based) of a unit-length, unit-mass-per-length cantilever: beta_j
  * solves cos(beta) cosh(beta) = -1 and the mass-normalised shape is

@@ -86,8 +86,9 @@ VI_API int vi_census_set_sim_hook(vi_census *c, vi_census_sim_fn fn,
  *  VI_ERR_ARG. */
 VI_API int vi_census_set_monitor(vi_census *c, vi_census_monitor_fn fn,
                                  void *user, vi_destroy_fn destroy);
-/** Cancellation, polled by the transient simulations (vi_sim_set_cancel).
- *  @return VI_OK, VI_ERR_ARG. */
+/** Cancellation, polled by the phase scan (vi_orbit_p1_scan_polled) and
+ *  by the transient simulations (vi_sim_set_cancel): vi_census_run then
+ *  returns VI_CANCELLED.  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_census_set_cancel(vi_census *c, vi_cancel_fn fn, void *user,
                                 vi_destroy_fn destroy);
 

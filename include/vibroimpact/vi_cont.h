@@ -19,7 +19,9 @@
  *   vi_cont_set_orbit(c, t, x, v)     an impact of the orbit at the
  *                                     model's value of the key
  *   while (!vi_cont_done(c)) {
- *     if (vi_cont_iterate(c) == VI_OK) vi_cont_point(c, ...);
+ *     int st = vi_cont_iterate(c);
+ *     if (st == VI_CANCELLED) break;   with vi_cont_set_cancel
+ *     if (st == VI_OK) vi_cont_point(c, ...);
  *     for (i < vi_cont_num_events(c)) vi_cont_event(c, i, ...);
  *   }
  *
@@ -100,11 +102,20 @@ VI_API int vi_cont_set_orbit(vi_cont *c, double t, const double *x,
 /** Monitor after each point (fn NULL: none).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_cont_set_monitor(vi_cont *c, vi_cont_monitor_fn fn, void *user,
                                vi_destroy_fn destroy);
+/** Cancellation (fn NULL: none): polled at the start of each
+ *  vi_cont_iterate, before each trial step of the natural method and each
+ *  Newton iteration of the pseudo-arclength corrector.  A cancelled step
+ *  returns VI_CANCELLED and leaves the continuation at its last point
+ *  (vi_cont_done stays 0: iterating again resumes).  user is handed over
+ *  as vi_cont_set_monitor does.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_cont_set_cancel(vi_cont *c, vi_cancel_fn fn, void *user,
+                              vi_destroy_fn destroy);
 /** One step along the branch.  @return VI_OK with a new point (and the
  *  events since the last one), VI_STOPPED when the step found no new
  *  point (vi_cont_done says why; events may say where) or the monitor
- *  asked, VI_ERR_STATE (no orbit or range set, or done), VI_ERR_NOT_CONVERGED
- *  (the first point: Newton failed from the orbit given), VI_ERR_NOMEM. */
+ *  asked, VI_CANCELLED (vi_cont_set_cancel), VI_ERR_STATE (no orbit or
+ *  range set, or done), VI_ERR_NOT_CONVERGED (the first point: Newton
+ *  failed from the orbit given), VI_ERR_NOMEM. */
 VI_API int vi_cont_iterate(vi_cont *c);
 /** A vi_cont_state: 0 while running (also for NULL). */
 VI_API int vi_cont_done(const vi_cont *c);

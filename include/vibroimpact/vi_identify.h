@@ -127,6 +127,15 @@ VI_API int vi_identify_set_param_key(vi_identify *id, int j, const char *key,
  *  VI_ERR_ARG. */
 VI_API int vi_identify_set_builder(vi_identify *id, vi_identify_model_fn fn,
                                    void *user, vi_destroy_fn destroy);
+/** Cancellation (fn NULL: none), polled by vi_identify_run before it
+ *  starts, once per forcing period of the transient that seeks the
+ *  orbit, once per phase of the impact-phase scan
+ *  (vi_orbit_p1_scan_polled) and at every residual and Jacobian
+ *  evaluation of the least-squares (GSL) iterations: vi_identify_run
+ *  then returns VI_CANCELLED with no result.  user is handed over as
+ *  vi_identify_set_builder does.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_identify_set_cancel(vi_identify *id, vi_cancel_fn fn,
+                                  void *user, vi_destroy_fn destroy);
 /** Observation vector c [n]: the recording is c.x (default, c NULL: stop
  *  0's w, the gap coordinate; e_i for coordinate i).  @return VI_OK,
  *  VI_ERR_ARG (c zero), VI_ERR_NONFINITE. */
@@ -162,7 +171,7 @@ VI_API int vi_identify_set_data(vi_identify *id, int ns, const double *t,
  *  one orbit period, or one that does not repeat with the model's orbit
  *  period: message), VI_ERR_NOT_CONVERGED (the model's motion at the
  *  starting values is not periodic, or its orbit cannot be held), the
- *  builder's code, VI_ERR_NOMEM. */
+ *  builder's code, VI_CANCELLED (vi_identify_set_cancel), VI_ERR_NOMEM. */
 VI_API int vi_identify_run(vi_identify *id);
 
 /* ---- results: VI_ERR_STATE before a completed vi_identify_run -------- */

@@ -285,6 +285,16 @@ VI_API int vi_orbit_pnm_dparam(const vi_model *m, int n, int mi,
  *  vi_orbit_pnm_solve. */
 VI_API int vi_orbit_p1_scan(const vi_model *m, int n, int nphase, double *t,
                             double *x, double *v, int ld, int cap, int *found);
+/** vi_orbit_p1_scan with cancellation: cancel (NULL: never) is polled
+ *  once per phase in each of the scan's two passes (the gaps, then the
+ *  sign changes refined); when it
+ *  returns non-zero the scan stops and returns VI_CANCELLED (t, x, v and
+ *  *found then hold the orbits refined so far).  @return as
+ *  vi_orbit_p1_scan, or VI_CANCELLED. */
+VI_API int vi_orbit_p1_scan_polled(const vi_model *m, int n, int nphase,
+                                   double *t, double *x, double *v, int ld,
+                                   int cap, int *found, vi_cancel_fn cancel,
+                                   void *user);
 
 #ifdef __cplusplus
 }

@@ -39,6 +39,15 @@ typedef struct vi_scene_edit vi_scene_edit;
  *  the scene reader's VI_SCENE_MAX_DEPTH, with its message), VI_ERR_NOMEM. */
 VI_API int vi_scene_edit_create(const char *text, int64_t len, const char *name,
                                 vi_scene_edit **out, vi_diag *diag);
+/** vi_scene_edit_create with a nesting limit, as vi_scene_parse_limited:
+ *  at most max_depth levels of YAML nesting (<= 0: VI_SCENE_MAX_DEPTH), in
+ *  the text, in every value set, and in vi_scene_edit_parse.  The limit
+ *  is checked by a scan that stops at the first level too deep, before
+ *  the document is loaded.  @return as vi_scene_edit_create (VI_ERR_LIMIT
+ *  naming max_depth). */
+VI_API int vi_scene_edit_create_limited(const char *text, int64_t len,
+                                        const char *name, int max_depth,
+                                        vi_scene_edit **out, vi_diag *diag);
 /** Destroy and set *e to NULL; NULL-safe. */
 VI_API void vi_scene_edit_destroy(vi_scene_edit **e);
 

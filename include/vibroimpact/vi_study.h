@@ -105,15 +105,22 @@ VI_API int vi_sweep_set_monitor(vi_sweep *sw, vi_sweep_monitor_fn fn,
 /** Hook on each simulation (fn NULL: none).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sweep_set_sim_hook(vi_sweep *sw, vi_sweep_sim_fn fn,
                                  void *user, vi_destroy_fn destroy);
-/** Cancellation, polled by the simulations (vi_sim_set_cancel); a
- *  cancelled point returns VI_CANCELLED.  @return VI_OK, VI_ERR_ARG. */
+/** Cancellation (fn NULL: none).  vi_sweep_iterate polls it before the
+ *  point starts; then the P(1,1) census polls it once per scan phase
+ *  (vi_census_set_cancel, vi_orbit_p1_scan_polled), the point's
+ *  simulation at every step (vi_sim_set_cancel), the Lyapunov run once
+ *  per forcing period (a cancelled one leaves NaN), and vi_sweep_iterate
+ *  once more after the point.  A cancelled point returns VI_CANCELLED and
+ *  its results are not to be used.  user is handed over as vi_sweep_set_monitor does.
+ *  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sweep_set_cancel(vi_sweep *sw, vi_cancel_fn fn, void *user,
                                vi_destroy_fn destroy);
 
 /** Also find every P(1,1) orbit at each point, unstable ones included
- *  (vi_orbit_p1_scan with nphase impact phases; 0: off, the default):
+ *  (the orbit census, vi_census.h, seeded by its phase scan alone,
+ *  vi_orbit_p1_scan with nphase impact phases; 0: off, the default):
  *  the branches a diagram cannot reach by simulation.
- *  @return VI_OK, VI_ERR_ARG (nphase < 0). */
+ *  @return VI_OK, VI_ERR_ARG (nphase < 0 or 1 .. 7). */
 VI_API int vi_sweep_set_orbits(vi_sweep *sw, int nphase);
 
 /** Also the largest Lyapunov exponent of each point (on = 1; default 0):
@@ -158,7 +165,8 @@ VI_API int vi_sweep_impacts(const vi_sweep *sw, int64_t *count,
 VI_API const double *vi_sweep_strobe(const vi_sweep *sw, int *ld,
                                      int *record);
 /** The P(1,1) orbits of the last point (vi_sweep_set_orbits): *count
- *  receives their number (-1: the model has no closed-form flow, 0 without
+ *  receives their number (-1: the model has no closed-form flow or not
+ *  one stop, 0 without
  *  the census), and vn (approach velocity w.v), phase (impact time mod T),
  *  stable (all |mu| < 1) and admissible point to [count] arrays (each may
  *  be NULL).  @return VI_OK, VI_ERR_ARG. */

@@ -68,7 +68,8 @@ module vibroimpact
             vi_model_forcing_cos, vi_model_forcing_sin, vi_model_forcing_const, &
             vi_model_modal_damping, vi_model_modal_forcing_cos, &
             vi_model_modal_forcing_sin, vi_model_modal_forcing_const, &
-            vi_model_create_reduced, vi_model_create_truncated
+            vi_model_create_reduced, vi_model_create_truncated, &
+            vi_model_modal_compliance
   public :: vi_model_create_band, vi_model_set_mass_band, vi_model_set_damping_band, &
             vi_model_set_stiffness_band, vi_model_create_chain, vi_model_memory_estimate, &
             vi_model_memory, vi_model_bandwidth, vi_model_mass_band, vi_model_omega_bound, &
@@ -81,7 +82,7 @@ module vibroimpact
             vi_sweep_strobe, vi_sweep_orbits, vi_sweep_model, vi_sweep_attractors, &
             vi_sweep_set_lyapunov, vi_sweep_lyapunov
   public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
-            vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_iterate, vi_cont_done, &
+            vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_set_cancel, vi_cont_iterate, vi_cont_done, &
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
   public :: vi_census_create, vi_census_destroy, vi_census_errmsg, vi_census_set_phases, &
             vi_census_set_initial, vi_census_set_sim_hook, vi_census_set_monitor, &
@@ -91,6 +92,7 @@ module vibroimpact
             vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
   public :: vi_identify_create, vi_identify_destroy, vi_identify_errmsg, &
             vi_identify_set_param, vi_identify_set_param_key, vi_identify_set_builder, &
+            vi_identify_set_cancel, &
             vi_identify_set_observation, vi_identify_set_shift, vi_identify_set_noise, &
             vi_identify_set_data, vi_identify_run, vi_identify_params, vi_identify_shift, &
             vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
@@ -130,6 +132,7 @@ module vibroimpact
             vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
   public :: vi_orbit_set_direct_search, vi_orbit_search_info, vi_orbit_pnm_solve, &
             vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
+            vi_orbit_p1_scan_polled, &
             vi_orbit_pnm_residual, vi_orbit_pnm_monodromy, vi_orbit_pnm_solve_stops, &
             vi_orbit_pnm_residual_stops, vi_orbit_pnm_multipliers_stops, &
             vi_orbit_pnm_admissible_stops, vi_orbit_pnm_dparam, vi_orbit_impacts, &
@@ -418,6 +421,14 @@ module vibroimpact
       real(c_double), intent(in), optional :: z(*)
       real(c_double), intent(out), optional :: zt(*), carried
       type(c_ptr), intent(out) :: out
+    end function
+    !> stop 0-based; dynamic, static_part [k] cumulative (optional)
+    integer(c_int) function vi_model_modal_compliance(model, stop, k, dynamic, &
+        static_part) bind(C, name="vi_model_modal_compliance")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: model
+      integer(c_int), value :: stop, k
+      real(c_double), intent(out), optional :: dynamic(*), static_part(*)
     end function
     !> The reduced model of the modes modes(1:k) (0-based mode numbers).
     integer(c_int) function vi_model_create_reduced(full, modes, k, r, model) &
@@ -955,6 +966,18 @@ module vibroimpact
       real(c_double) :: t(*), x(*), v(*)
       integer(c_int) :: found
     end function
+    !> as vi_orbit_p1_scan; cancel: integer(c_int) function f(user) bind(C),
+    !> user by value (c_null_funptr: never cancelled)
+    integer(c_int) function vi_orbit_p1_scan_polled(model, n, nphase, t, x, v, ld, cap, &
+        found, cancel, user) bind(C, name="vi_orbit_p1_scan_polled")
+      import :: c_int, c_ptr, c_double, c_funptr
+      type(c_ptr), value :: model
+      integer(c_int), value :: n, nphase, ld, cap
+      real(c_double) :: t(*), x(*), v(*)
+      integer(c_int) :: found
+      type(c_funptr), value :: cancel
+      type(c_ptr), value :: user
+    end function
     ! ---- parameters by key (vi_param.h); keys are C strings,
     ! e.g. 'forcing.omega'//c_null_char, with 1-based indices 'forcing.a[1]'
     ! ---- identification (vi_identify.h) ----------------------------------------
@@ -991,6 +1014,13 @@ module vibroimpact
     end function
     integer(c_int) function vi_identify_set_builder(id, fn, user, destroy) &
         bind(C, name="vi_identify_set_builder")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: id, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> fn: integer(c_int) function f(user) bind(C), user by value
+    integer(c_int) function vi_identify_set_cancel(id, fn, user, destroy) &
+        bind(C, name="vi_identify_set_cancel")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: id, user
       type(c_funptr), value :: fn, destroy
@@ -1325,6 +1355,13 @@ module vibroimpact
     !> fn: integer(c_int) function f(c, point, user) bind(C), all by value
     integer(c_int) function vi_cont_set_monitor(c, fn, user, destroy) &
         bind(C, name="vi_cont_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: c, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> fn: integer(c_int) function f(user) bind(C), user by value
+    integer(c_int) function vi_cont_set_cancel(c, fn, user, destroy) &
+        bind(C, name="vi_cont_set_cancel")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: c, user
       type(c_funptr), value :: fn, destroy

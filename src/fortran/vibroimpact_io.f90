@@ -39,7 +39,8 @@ module vibroimpact_io
             vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
             vi_scene_create_fe, vi_scene_initial, &
             vi_scene_param_key
-  public :: vi_scene_edit_create, vi_scene_edit_destroy, vi_scene_edit_set, &
+  public :: vi_scene_edit_create, vi_scene_edit_create_limited, &
+            vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
   public :: vi_identify_write_h5
@@ -107,6 +108,16 @@ module vibroimpact_io
       import :: c_int, c_int64_t, c_ptr, c_char, vi_diag
       character(kind=c_char), intent(in) :: text(*), name(*)
       integer(c_int64_t), value :: len
+      type(c_ptr) :: edit
+      type(vi_diag), optional :: diag
+    end function
+    !> as vi_scene_edit_create, at most max_depth levels of nesting (<= 0: default)
+    integer(c_int) function vi_scene_edit_create_limited(text, len, name, max_depth, &
+        edit, diag) bind(C, name="vi_scene_edit_create_limited")
+      import :: c_int, c_int64_t, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: text(*), name(*)
+      integer(c_int64_t), value :: len
+      integer(c_int), value :: max_depth
       type(c_ptr) :: edit
       type(vi_diag), optional :: diag
     end function

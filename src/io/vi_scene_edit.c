@@ -21,6 +21,7 @@
 struct vi_scene_edit {
   char *text, *name;
   size_t len;
+  int max_depth; /* the nesting limit (vi_scene_edit_create_limited) */
   int nedits, lines[MAX_EDITS];
 };
 
@@ -79,11 +80,12 @@ static size_t byte_of(const char *text, size_t len, size_t chars)
   return b;
 }
 
-/* The scene reader's nesting limit (VI_SCENE_MAX_DEPTH, refused with its
- * message, vi_diag_too_deep), applied before the document is loaded: an
- * event scan that stops at the first level too deep, so 100 000 levels
- * cost what 33 do, as with `run`. */
-static int too_deep(const char *text, size_t len, yaml_mark_t *where)
+/* The scene reader's nesting limit (max_depth, VI_SCENE_MAX_DEPTH by
+ * default, refused with its message, vi_diag_too_deep), applied before the
+ * document is loaded: an event scan that stops at the first level too
+ * deep, so 100 000 levels cost what 33 do, as with `run`. */
+static int too_deep(const char *text, size_t len, int max_depth,
+                    yaml_mark_t *where)
 {
   yaml_parser_t p;
   if (!yaml_parser_initialize(&p)) return 0;
@@ -93,7 +95,7 @@ static int too_deep(const char *text, size_t len, yaml_mark_t *where)
     yaml_event_t ev;
     if (!yaml_parser_parse(&p, &ev)) break; /* the loader reports it */
     if (ev.type == YAML_MAPPING_START_EVENT || ev.type == YAML_SEQUENCE_START_EVENT) {
-      if (++depth > VI_SCENE_MAX_DEPTH) {
+      if (++depth > max_depth) {
         deep = 1;
         if (where) *where = ev.start_mark;
       }
@@ -108,10 +110,10 @@ static int too_deep(const char *text, size_t len, yaml_mark_t *where)
   return deep;
 }
 
-static int load(const char *text, size_t len, yaml_document_t *doc,
-                yaml_mark_t *where, const char **problem)
+static int load(const char *text, size_t len, int max_depth,
+                yaml_document_t *doc, yaml_mark_t *where, const char **problem)
 {
-  if (too_deep(text, len, where)) { /* never loaded: quadratic in the depth */
+  if (too_deep(text, len, max_depth, where)) { /* never loaded: quadratic in the depth */
     if (problem) *problem = "nested too deep";
     return 0;
   }
@@ -130,6 +132,13 @@ static int load(const char *text, size_t len, yaml_document_t *doc,
 int vi_scene_edit_create(const char *text, int64_t len, const char *name,
                          vi_scene_edit **out, vi_diag *d)
 {
+  return vi_scene_edit_create_limited(text, len, name, 0, out, d);
+}
+
+int vi_scene_edit_create_limited(const char *text, int64_t len,
+                                 const char *name, int max_depth,
+                                 vi_scene_edit **out, vi_diag *d)
+{
   if (d) memset(d, 0, sizeof *d);
   if (!out || !text) return VI_ERR_ARG;
   *out = NULL;
@@ -145,16 +154,17 @@ int vi_scene_edit_create(const char *text, int64_t len, const char *name,
   memcpy(e->text, text, (size_t)len);
   e->text[len] = '\0';
   e->len = (size_t)len;
+  e->max_depth = max_depth > 0 ? max_depth : VI_SCENE_MAX_DEPTH;
   yaml_document_t doc;
   yaml_mark_t mk = {0, 0, 0};
   const char *why = "";
-  if (too_deep(e->text, e->len, &mk)) {
+  if (too_deep(e->text, e->len, e->max_depth, &mk)) {
     int st = vi_diag_too_deep(d, e->name, (int)mk.line + 1, (int)mk.column + 1,
-                              VI_SCENE_MAX_DEPTH);
+                              e->max_depth);
     vi_scene_edit_destroy(&e);
     return st;
   }
-  if (!load(e->text, e->len, &doc, &mk, &why)) {
+  if (!load(e->text, e->len, e->max_depth, &doc, &mk, &why)) {
     int st = vi_diag_set(d, e->name, VI_ERR_PARSE, (int)mk.line + 1,
                          (int)mk.column + 1, "", "", "YAML syntax: %s", why);
     vi_scene_edit_destroy(&e);
@@ -189,8 +199,7 @@ static int splice(vi_scene_edit *e, size_t a, size_t b, const char *s)
   memcpy(t + a, s, k);
   memcpy(t + a + k, e->text + b, e->len - b);
   t[nl] = '\0';
-  free(e->text);
-  e->text = t;
+  e->text = t; /* the old text is the caller's: vi_scene_edit_set */
   e->len = nl;
   return VI_OK;
 }
@@ -269,15 +278,15 @@ static int check_value(const vi_scene_edit *e, const char *key,
                        "the value must be one YAML value on one line "
                        "(no comment)");
   yaml_document_t doc;
-  if (too_deep(value, strlen(value), NULL)) {
-    vi_diag_too_deep(d, e->name, 0, 0, VI_SCENE_MAX_DEPTH);
+  if (too_deep(value, strlen(value), e->max_depth, NULL)) {
+    vi_diag_too_deep(d, e->name, 0, 0, e->max_depth);
     if (d) {
       snprintf(d->key, sizeof d->key, "%s", key);
       snprintf(d->value, sizeof d->value, "%s", value);
     }
     return VI_ERR_LIMIT;
   }
-  if (!load(value, strlen(value), &doc, NULL, NULL))
+  if (!load(value, strlen(value), e->max_depth, &doc, NULL, NULL))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
                        "the value is not valid YAML");
   yaml_node_t *r = yaml_document_get_root_node(&doc);
@@ -306,9 +315,13 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
                        "1-based list indices such as forcing.a[1]");
   if ((st = check_value(e, key, value, d))) return st;
   yaml_document_t doc;
-  if (!load(e->text, e->len, &doc, NULL, NULL))
+  if (!load(e->text, e->len, e->max_depth, &doc, NULL, NULL))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, value,
                        "the scene is no longer valid YAML");
+  char *old = e->text; /* kept until the edited text is known to nest
+                          within the limit (a value at a deep key) */
+  size_t olen = e->len;
+  int onedits = e->nedits;
   yaml_node_t *nd = NULL;
   if ((st = walk(e, &doc, t, nt, key, &nd, &found, d))) goto done;
   if (found == nt) {
@@ -378,6 +391,23 @@ int vi_scene_edit_set(vi_scene_edit *e, const char *key, const char *value,
   }
 done:
   yaml_document_delete(&doc);
+  if (e->text != old) {
+    yaml_mark_t mk = {0, 0, 0};
+    if (!st && too_deep(e->text, e->len, e->max_depth, &mk)) {
+      free(e->text);
+      e->text = old;
+      e->len = olen;
+      e->nedits = onedits;
+      st = vi_diag_too_deep(d, e->name, (int)mk.line + 1, (int)mk.column + 1,
+                            e->max_depth);
+      if (d) {
+        snprintf(d->key, sizeof d->key, "%s", key);
+        snprintf(d->value, sizeof d->value, "%s", value);
+      }
+    } else {
+      free(old);
+    }
+  }
   return st;
 }
 
@@ -415,7 +445,7 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "%s",
                        "malformed key");
   yaml_document_t doc;
-  if (!load(e->text, e->len, &doc, NULL, NULL))
+  if (!load(e->text, e->len, e->max_depth, &doc, NULL, NULL))
     return vi_diag_set(d, e->name, VI_ERR_PARSE, 0, 0, key, "", "invalid YAML");
   yaml_node_t *nd = NULL;
   st = walk(e, &doc, t, nt, key, &nd, &found, d);
@@ -440,7 +470,8 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
 int vi_scene_edit_parse(const vi_scene_edit *e, vi_scene **out, vi_diag *d)
 {
   if (!e || !out) return VI_ERR_ARG;
-  int st = vi_scene_parse(e->text, (long)e->len, e->name, out, d);
+  int st = vi_scene_parse_limited(e->text, (long)e->len, e->name, e->max_depth,
+                                  out, d);
   if (st && d)
     for (int i = 0; i < e->nedits; i++)
       if (d->line == e->lines[i]) {

@@ -25,7 +25,7 @@ struct vi_census {
   const vi_model *m;
   int N, n, mi, nphase;
   double T;                          /* forcing period */
-  int has_init;
+  int has_init, scan_only;          /* scan_only: vi_census_scan_only */
   double t0, *x0;                    /* [2N]: the caller's seed (x, v) */
   int count, cap;
   census_orbit *o;
@@ -392,9 +392,11 @@ static int scan_seeds(vi_census *c)
   double *t = malloc(sizeof(double) * SCAN_CAP * (2 * N + 1));
   if (!t) return VI_ERR_NOMEM;
   double *x = t + SCAN_CAP, *v = x + (size_t)SCAN_CAP * N;
-  int st = vi_orbit_p1_scan(c->m, c->n, c->nphase, t, x, v, N, SCAN_CAP, &found);
+  int st = vi_orbit_p1_scan_polled(c->m, c->n, c->nphase, t, x, v, N, SCAN_CAP,
+                                   &found, c->cancel, c->cancel_user);
   if (st) {
     free(t);
+    if (st == VI_CANCELLED) return st;
     return vi_fail(c->errmsg, st, "the phase scan: %s", vi_strerror(st));
   }
   for (int i = 0; i < found && i < SCAN_CAP && !rc; i++)
@@ -403,13 +405,22 @@ static int scan_seeds(vi_census *c)
   return rc;
 }
 
+void vi_census_scan_only(vi_census *c) { c->scan_only = 1; }
+
 int vi_census_run(vi_census *c)
 {
   if (!c) return VI_ERR_ARG;
   int N = c->N, rc = VI_OK;
   forget(c);
   c->errmsg[0] = '\0';
+  if (c->scan_only && !(c->mi == 1 && c->m->ns == 1))
+    return vi_fail(c->errmsg, VI_ERR_UNSUPPORTED, "the phase scan is for "
+                   "P(n, 1) orbits on one stop");
   if (c->mi == 1 && c->m->ns == 1) rc = scan_seeds(c);
+  if (c->scan_only) {
+    if (rc && !c->errmsg[0]) vi_fail(c->errmsg, rc, "%s", vi_strerror(rc));
+    return rc;
+  }
   if (!rc && c->has_init) rc = transient_seed(c, c->t0, c->x0, c->x0 + N);
   double *rest = calloc(2 * (size_t)N, sizeof(double));
   if (!rest && !rc) rc = VI_ERR_NOMEM;

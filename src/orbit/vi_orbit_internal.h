@@ -62,4 +62,10 @@ int vi_classify_strobes(int R, int n2, const double *z, double xscale, double to
                         int nmax, const double *t, int64_t nimp, double T,
                         double t_end, int *m);
 
+/* Seeds of a census from the phase scan only, no transients (the sweep's
+ * P(1,1) orbits at each point): vi_census_run then returns
+ * VI_ERR_UNSUPPORTED unless m = 1 and the model has one stop. */
+struct vi_census;
+void vi_census_scan_only(struct vi_census *c);
+
 #endif

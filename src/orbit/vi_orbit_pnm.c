@@ -484,6 +484,14 @@ int vi_orbit_pnm_admissible(const vi_model *m, int np, int mi,
 int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
                      double *x, double *v, int ld, int cap, int *found)
 {
+  return vi_orbit_p1_scan_polled(m, np, nphase, t, x, v, ld, cap, found, NULL,
+                                 NULL);
+}
+
+int vi_orbit_p1_scan_polled(const vi_model *m, int np, int nphase, double *t,
+                            double *x, double *v, int ld, int cap, int *found,
+                            vi_cancel_fn cancel, void *user)
+{
   if (!m || !t || !x || !v || !found || np < 1 || nphase < 8 || cap < 0 ||
       ld < (m ? m->n : 1))
     return VI_ERR_ARG;
@@ -525,6 +533,10 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
   for (int i = 0; i < n2; i++) A[i + (size_t)i * n2] += 1.0;
   if (LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, A, n2, piv) != 0) goto cleanup;
   for (int k = 0; k <= nphase && !st; k++) {
+    if (cancel && cancel(user)) { /* polled once a phase */
+      st = VI_CANCELLED;
+      break;
+    }
     double phi = P * k / nphase;
     if ((st = flow(&w, phi, e, phi + P, c))) break;
     memcpy(zs, c, sizeof(double) * n2);
@@ -538,6 +550,10 @@ int vi_orbit_p1_scan(const vi_model *m, int np, int nphase, double *t,
   }
   if (st) goto cleanup;
   for (int k = 0; k < nphase; k++) {
+    if (cancel && cancel(user)) {
+      st = VI_CANCELLED;
+      break;
+    }
     if (!(h[k] * h[k + 1] <= 0.0) || h[k] == h[k + 1]) continue;
     /* linear interpolation of the root, then Newton on the full system */
     double s = h[k] / (h[k] - h[k + 1]), phi = P * (k + s) / nphase;

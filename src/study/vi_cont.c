@@ -48,8 +48,17 @@ struct vi_cont {
   vi_cont_monitor_fn mon;
   void *mon_user;
   vi_destroy_fn mon_free;
+  vi_cancel_fn cancel;
+  void *cancel_user;
+  vi_destroy_fn cancel_free;
   char errmsg[VI_MSG_LEN];
 };
+
+/* 1 if the caller asked to cancel (vi_cont_set_cancel). */
+static int cancelled(const vi_cont *c)
+{
+  return c->cancel && c->cancel(c->cancel_user);
+}
 
 /* The parameter vi_orbit_pnm_dparam differentiates exactly, or -1; *pk
  * the 0-based stop of stop.* (stop 0) and stops[K].* (1-based K). */
@@ -120,6 +129,7 @@ void vi_cont_destroy(vi_cont **cp)
   if (!cp || !*cp) return;
   vi_cont *c = *cp;
   vi_user_set(&c->mon_user, &c->mon_free, NULL, NULL);
+  vi_user_set(&c->cancel_user, &c->cancel_free, NULL, NULL);
   vi_model_destroy(&c->m);
   free(c->x);
   free(c);
@@ -170,6 +180,15 @@ int vi_cont_set_monitor(vi_cont *c, vi_cont_monitor_fn fn, void *user,
   if (!c) return VI_ERR_ARG;
   c->mon = fn;
   vi_user_set(&c->mon_user, &c->mon_free, user, destroy);
+  return VI_OK;
+}
+
+int vi_cont_set_cancel(vi_cont *c, vi_cancel_fn fn, void *user,
+                       vi_destroy_fn destroy)
+{
+  if (!c) return VI_ERR_ARG;
+  c->cancel = fn;
+  vi_user_set(&c->cancel_user, &c->cancel_free, user, destroy);
   return VI_OK;
 }
 
@@ -290,6 +309,13 @@ static int natural_step(vi_cont *c)
   double tp = c->t;
   int got = 0;
   while (!got && fabs(c->step) >= fabs(c->h) / 64) {
+    if (cancelled(c)) { /* back to the last point: iterate again resumes */
+      c->t = tp;
+      memcpy(c->x, c->xp, sizeof(double) * N);
+      memcpy(c->v, c->vp, sizeof(double) * N);
+      c->c = c->prev;
+      return VI_CANCELLED;
+    }
     double pn = (c->to - (c->prev.p + c->step)) * c->h < 0 ? c->to : c->prev.p + c->step;
     c->t = tp;
     memcpy(c->x, c->xp, sizeof(double) * N);
@@ -416,7 +442,7 @@ static int tangent(vi_cont *c)
 
 /* Predictor-corrector from U along tau: Newton on F = 0,
  * tau.(U - Up) = 0, halving ds on failure.  0, or 1 if it fails. */
-static int corrector(vi_cont *c)
+static int corrector(vi_cont *c)  /* 0, 1 (no point) or VI_CANCELLED */
 {
   int D = 2 * c->N + 1, K = D + 1, ok = 0;
   double *Un = c->Un, *F = c->F, *A = c->A, *tau = c->tau;
@@ -424,6 +450,7 @@ static int corrector(vi_cont *c)
     for (int r = 0; r < K; r++) c->Up[r] = c->U[r] + c->ds * tau[r];
     memcpy(Un, c->Up, sizeof(double) * K);
     for (int it = 0; it < 20; it++) {
+      if (cancelled(c)) return VI_CANCELLED; /* c->U is still the last point */
       if (ext_residual(c, Un, F, A)) break;
       double fn = 0, sc = 1e-12;
       for (int r = 0; r < D; r++) fn = fmax(fn, fabs(F[r]));
@@ -557,6 +584,7 @@ int vi_cont_iterate(vi_cont *c)
                    "is done" : "set the orbit and the range first");
   c->nev = 0;
   c->errmsg[0] = '\0';
+  if (cancelled(c)) return VI_CANCELLED;
   int st;
   if (!c->iter++) {
     if ((st = first_point(c))) {
@@ -570,7 +598,8 @@ int vi_cont_iterate(vi_cont *c)
       c->state = VI_CONT_STALLED;
       return VI_STOPPED;
     }
-    if (corrector(c)) {
+    if ((st = corrector(c)) == VI_CANCELLED) return st;
+    if (st) {
       c->state = VI_CONT_CORRECTOR;
       return VI_STOPPED;
     }

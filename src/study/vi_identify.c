@@ -59,8 +59,26 @@ struct vi_identify {
   double p[MAXP], se[MAXP], l95[MAXP], h95[MAXP], t0, t0se, rms, noise, rcond;
   int flags[MAXP];
   double corr[MAXP * MAXP], r12, vN, KE, RE;
+  vi_cancel_fn cancel;          /* vi_identify_set_cancel */
+  void *cancel_user;
+  vi_destroy_fn cancel_free;
+  int cancel_hit;               /* the poll said cancel during this run */
   char errmsg[VI_MSG_LEN];
 };
+
+/* The cancel poll, sticky within a run (GSL and the scans stop on it). */
+static int poll_cancel(vi_identify *id)
+{
+  if (id->cancel && !id->cancel_hit && id->cancel(id->cancel_user))
+    id->cancel_hit = 1;
+  return id->cancel_hit;
+}
+static int poll_fn(void *user) { return poll_cancel(user); }
+static int poll_mon(const vi_progress *p, void *user)
+{
+  (void)p;
+  return poll_cancel(user);
+}
 
 static int orb_alloc(orb *o, int N)
 {
@@ -124,6 +142,7 @@ void vi_identify_destroy(vi_identify **idp)
   vi_identify *id = *idp;
   drop_cur(id);
   if (id->destroy) id->destroy(id->user);
+  vi_user_set(&id->cancel_user, &id->cancel_free, NULL, NULL);
   free(id->c);
   free(id->t);
   free(id->y);
@@ -229,6 +248,15 @@ int vi_identify_set_builder(vi_identify *id, vi_identify_model_fn fn,
   vi_user_set(&id->user, &id->destroy, fn ? user : NULL, fn ? destroy : NULL);
   id->fn = fn;
   id->done = 0;
+  return VI_OK;
+}
+
+int vi_identify_set_cancel(vi_identify *id, vi_cancel_fn fn, void *user,
+                           vi_destroy_fn destroy)
+{
+  if (!id) return VI_ERR_ARG;
+  id->cancel = fn;
+  vi_user_set(&id->cancel_user, &id->cancel_free, user, destroy);
   return VI_OK;
 }
 
@@ -483,6 +511,10 @@ static int res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
   double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
   if (!zz) return GSL_ENOMEM;
   double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
+  if (poll_cancel(id)) { /* stops the GSL iteration */
+    if (zz != z) free(zz);
+    return GSL_EBADFUNC;
+  }
   split(id, th, p, &t0);
   if (ensure(id, p)) {
     /* no admissible orbit there: a cost no step can accept */
@@ -551,6 +583,7 @@ static int res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   vi_identify *id = ctx;
   int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
   double p[MAXP], t0;
+  if (poll_cancel(id)) return GSL_EBADFUNC;
   split(id, th, p, &t0);
   if (ensure(id, p)) return GSL_EBADFUNC;
   const vi_model *m = id->cur;
@@ -684,6 +717,7 @@ static int seed_orbit(vi_identify *id, orb *o)
   vi_orbit *ob = NULL;
   const vi_model *m = id->cur;
   int st = vi_orbit_create(m, &ob), pn = 0, pm = 0, N = id->N, cnt = 0;
+  if (!st && id->cancel) st = vi_orbit_set_monitor(ob, poll_mon, id, NULL);
   if (!st) st = vi_orbit_find(ob);
   if (!st) st = vi_orbit_classify(ob, &pn, &pm);
   if (st) {
@@ -1068,7 +1102,8 @@ static int choose_orbit(vi_identify *id, int nd)
   } else {
     snprintf(why, sizeof why, "%s", id->errmsg);
   }
-  st = vi_orbit_p1_scan(m, nd, 256, st_, sx, sv, N, cap, &found);
+  st = vi_orbit_p1_scan_polled(m, nd, 256, st_, sx, sv, N, cap, &found,
+                               poll_fn, id);
   for (int k = 0; !st && k < found && k < cap; k++) {
     orb c1;
     c1.n = nd;
@@ -1137,6 +1172,8 @@ int vi_identify_run(vi_identify *id)
   }
   int np = id->np, P = np + id->fit_shift, nr = nres(id), st;
   id->errmsg[0] = 0;
+  id->cancel_hit = 0;
+  if (poll_cancel(id)) return vi_fail(id->errmsg, VI_CANCELLED, "cancelled");
   /* the model and its orbit at the starting values */
   drop_cur(id);
   id->have_pred = 0;
@@ -1161,7 +1198,9 @@ int vi_identify_run(vi_identify *id)
     return vi_fail(id->errmsg, VI_ERR_ARG,
                    "the recording spans %g time units, less than one period "
                    "%g of its motion", span, nd * T);
-  if ((st = choose_orbit(id, nd))) return st;
+  if ((st = choose_orbit(id, nd)))
+    return id->cancel_hit ? vi_fail(id->errmsg, VI_CANCELLED, "cancelled "
+                                    "while seeking the orbit") : st;
   memcpy(id->pcur, id->p0, sizeof(double) * np);
   id->have_cur = 1;
   double t0 = id->fit_shift && isnan(id->shift0) ? scan_shift(id, NULL) : id->shift0;
@@ -1190,6 +1229,12 @@ int vi_identify_run(vi_identify *id)
   if (!st) st = gsl_multifit_nlinear_driver(200, 1e-10, 1e-10, 0.0, NULL, NULL,
                                             &info, w);
   id->iters = (int)gsl_multifit_nlinear_niter(w);
+  if (id->cancel_hit) {
+    gsl_multifit_nlinear_free(w);
+    gsl_vector_free(x0);
+    return vi_fail(id->errmsg, VI_CANCELLED, "cancelled after %d least-squares "
+                   "iterations", id->iters);
+  }
   /* GSL_ENOPROG: no step lowers the cost any more (the optimum to round-off) */
   id->conv = st == GSL_SUCCESS || st == GSL_ENOPROG;
   if (st && st != GSL_ENOPROG && st != GSL_EMAXITER) {

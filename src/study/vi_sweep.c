@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_param.h"
 #include "vibroimpact/vi_study.h"
 #include "vi_orbit_internal.h"
@@ -286,8 +287,9 @@ static double lyapunov(vi_sweep *sw)
 int vi_sweep_set_orbits(vi_sweep *sw, int nphase)
 {
   if (!sw) return VI_ERR_ARG;
-  if (nphase < 0)
-    return vi_fail(sw->errmsg, VI_ERR_ARG, "orbits: %d phases", nphase);
+  if (nphase < 0 || (nphase > 0 && nphase < 8))
+    return vi_fail(sw->errmsg, VI_ERR_ARG, "orbits: %d phases (0: none, "
+                   "else at least 8)", nphase);
   sw->nphase = nphase;
   return VI_OK;
 }
@@ -320,25 +322,26 @@ static int on_event(const vi_event *ev, void *user)
   return 0;
 }
 
-/* Every P(1,1) orbit at this point (vi_orbit_p1_scan), unstable ones
- * included, for the diagram's unstable branches; -1: no closed-form flow. */
+/* Every P(1,1) orbit at this point, unstable ones included, for the
+ * diagram's unstable branches: the orbit census (vi_census.h) seeded by the
+ * phase scan alone; -1: no closed-form flow or not one stop. */
 static int p11_orbits(vi_sweep *sw)
 {
-  enum { CAP = 16 };
-  const vi_model *m = sw->m;
-  int n = m->n, found = 0, st;
-  double *buf = malloc(sizeof(double) * ((size_t)CAP * (2 * n + 1) + 4 * (size_t)n));
-  if (!buf) return VI_ERR_NOMEM;
-  double *t = buf, *x = t + CAP, *v = x + (size_t)CAP * n,
-         *re = v + (size_t)CAP * n, *im = re + 2 * (size_t)n;
-  st = vi_orbit_p1_scan(m, 1, sw->nphase, t, x, v, n, CAP, &found);
-  if (st == VI_ERR_UNSUPPORTED) {
+  vi_census *c = NULL;
+  int st = vi_census_create(sw->m, 1, 1, &c);
+  if (!st) {
+    vi_census_scan_only(c);
+    if (!(st = vi_census_set_phases(c, sw->nphase)) && sw->cancel)
+      st = vi_census_set_cancel(c, sw->cancel, sw->cancel_user, NULL);
+    if (!st) st = vi_census_run(c);
+  }
+  if (st == VI_ERR_UNSUPPORTED || st == VI_ERR_STATE) { /* band, or ns != 1 */
     sw->norb = -1;
-    free(buf);
+    vi_census_destroy(&c);
     return VI_OK;
   }
-  if (found > CAP) found = CAP;
-  if (!st && found) {
+  int found = st ? 0 : vi_census_count(c);
+  if (found) {
     sw->ovn = malloc(sizeof(double) * found);
     sw->ophase = malloc(sizeof(double) * found);
     sw->ostable = malloc(sizeof(int) * found);
@@ -346,22 +349,13 @@ static int p11_orbits(vi_sweep *sw)
     if (!sw->ovn || !sw->ophase || !sw->ostable || !sw->oadm) st = VI_ERR_NOMEM;
   }
   for (int i = 0; !st && i < found; i++) {
-    const double *xi = x + (size_t)i * n, *vi = v + (size_t)i * n;
-    int ok = 0;
-    double rho = 0, vn = 0;
-    if (vi_orbit_pnm_admissible(m, 1, 1, &t[i], xi, vi, n, NULL, &ok) ||
-        vi_orbit_pnm_multipliers(m, 1, 1, &t[i], xi, vi, n, re, im))
-      continue;
-    for (int j = 0; j < 2 * n; j++) rho = fmax(rho, hypot(re[j], im[j]));
-    /* the scan's orbits hit the one stop (ns = 1) */
-    for (int j = 0; j < n; j++) vn += vi_stop_w(m, 0)[j] * vi[j];
-    sw->ovn[sw->norb] = vn;
-    sw->ophase[sw->norb] = fmod(t[i], sw->T);
-    sw->ostable[sw->norb] = rho < 1.0;
-    sw->oadm[sw->norb] = ok;
+    double t = 0;
+    vi_census_orbit(c, i, &t, NULL, NULL, 0, NULL, &sw->ovn[i]);
+    vi_census_stability(c, i, NULL, NULL, &sw->ostable[i], &sw->oadm[i], NULL);
+    sw->ophase[i] = fmod(t, sw->T);
     sw->norb++;
   }
-  free(buf);
+  vi_census_destroy(&c);
   return st;
 }
 

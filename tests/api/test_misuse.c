@@ -924,6 +924,9 @@ static void test_orbit_misuse(void **state)
   assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, vs4, 2, -1, &found));
   assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, vs4, 2, 4, NULL));
   assert_err(vi_orbit_p1_scan(m, 1, 64, ts, xs4, xs4, 2, 4, &found)); /* overlap */
+  assert_err(vi_orbit_p1_scan_polled(NULL, 1, 64, ts, xs4, vs4, 2, 4, &found, NULL, NULL));
+  assert_err(vi_orbit_p1_scan_polled(m, 1, 7, ts, xs4, vs4, 2, 4, &found, NULL, NULL));
+  assert_err(vi_orbit_p1_scan_polled(m, 1, 64, ts, xs4, vs4, 2, 4, NULL, NULL, NULL));
   /* a model that is not set up */
   assert_int_equal(vi_orbit_pnm_residual(raw, 1, 1, t, x1, v1, 2, F, J),
                    VI_ERR_STATE);
@@ -1112,6 +1115,12 @@ static void test_truncated_misuse(void **state)
   assert_err(vi_model_create_truncated(R, 1, 2, 0.7, NULL, NULL, NULL, &t));
   assert_err(vi_model_create_truncated(R, 2, 1, 0.7, NULL, NULL, NULL, &t)); /* nothing beyond */
   assert_err(vi_model_create_truncated(R, 1, 0, 0.7, z, NULL, NULL, &t));
+  double cd[2], cs[2];
+  assert_err(vi_model_modal_compliance(NULL, 0, 1, cd, cs));
+  assert_err(vi_model_modal_compliance(R, 0, 0, cd, cs));
+  assert_err(vi_model_modal_compliance(R, 0, 3, cd, cs));
+  assert_err(vi_model_modal_compliance(R, 1, 1, cd, cs)); /* one stop */
+  assert_err(vi_model_modal_compliance(f, 0, 2, cd, cs)); /* not modal: M != I */
   assert_int_equal(vi_model_create_truncated(R, 1, 0, 1.5, z, zt, &g, &t), VI_ERR_RESTITUTION);
   assert_null(t);
   assert_int_equal(vi_model_create(2, &raw), VI_OK);
@@ -1231,6 +1240,7 @@ static void test_cont_misuse(void **state)
   assert_err(vi_cont_set_orbit(c, 0, x, x));
   x[0] = 0;
   assert_err(vi_cont_set_monitor(NULL, NULL, NULL, NULL));
+  assert_err(vi_cont_set_cancel(NULL, NULL, NULL, NULL));
   assert_err(vi_cont_iterate(NULL));
   assert_err_msg(vi_cont_iterate(c), vi_cont_errmsg(c)); /* nothing set */
   assert_err(vi_cont_point(NULL, &p, NULL, NULL, NULL, NULL));
@@ -1303,6 +1313,7 @@ static void test_identify_misuse(void **state)
   assert_err(vi_identify_set_param_key(id, 0, "no.such.key", NAN, NAN));
   assert_err(vi_identify_set_param_key(id, 0, "stop.r", 0.8, 0.9));
   assert_err(vi_identify_set_builder(NULL, ident_builder, NULL, NULL));
+  assert_err(vi_identify_set_cancel(NULL, NULL, NULL, NULL));
   assert_err(vi_identify_set_observation(NULL, NULL));
   assert_err(vi_identify_set_observation(id, c));
   c[0] = NAN;

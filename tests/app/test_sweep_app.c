@@ -23,7 +23,7 @@ static const char *exact[] = {"run.method=exact"};
 
 static vi_sweep_spec spec(const char *key, double from, double to, int steps)
 {
-  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0, 0, 0};
+  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0, 0, 0, 0};
   return s;
 }
 

@@ -767,6 +767,24 @@ static void test_nesting(void **state)
                   "--to", "1", "--steps", "2"), NULL), 2, msg);
   expect(run(ARGV("orbits", deep), NULL), 2, msg);
   expect(run(ARGV("orbits", deep, "--set", "forcing.omega=0.9"), NULL), 2, msg);
+  /* --max-depth D holds on the --set path too, in every command: the
+   * limit named is the one given */
+  expect(run(ARGV(deep, "--set", "forcing.omega=0.9", "--max-depth", "40"), NULL), 2,
+         "nesting deeper than 40 levels");
+  expect(run(ARGV("sweep", deep, "--set", "forcing.omega=0.9", "--max-depth", "40",
+                  "--param", "forcing.omega", "--from", "0.8", "--to", "1", "--steps",
+                  "2"), NULL), 2, "nesting deeper than 40 levels");
+  expect(run(ARGV("orbits", deep, "--set", "forcing.omega=0.9", "--max-depth", "40"),
+             NULL), 2, "nesting deeper than 40 levels");
+  /* and below a scene's own nesting (fig2's model: chain: {...}, 3
+   * levels), fig2 itself is refused */
+  expect(run(ARGV(scene, "--set", "forcing.omega=0.9", "--max-depth", "2"), NULL), 2,
+         "nesting deeper than 2 levels");
+  expect(run(ARGV("sweep", scene, "--set", "forcing.omega=0.9", "--max-depth", "2",
+                  "--param", "forcing.a[1]", "--from", "0.1", "--to", "0.2",
+                  "--steps", "2"), NULL), 2, "nesting deeper than 2 levels");
+  expect(run(ARGV("orbits", scene, "--set", "forcing.omega=0.9", "--max-depth", "2"),
+             NULL), 2, "nesting deeper than 2 levels");
   /* a --set value 60 000 levels deep (one argument holds 128 KiB) */
   size_t len = 2 * 60000 + 32;
   char *val = malloc(len);

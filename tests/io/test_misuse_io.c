@@ -144,6 +144,11 @@ static void test_scene_edit_misuse(void **state)
   assert_int_equal(vi_scene_edit_create(NULL, -1, "x", &e, &d), VI_ERR_ARG);
   assert_null(e);
   assert_int_equal(vi_scene_edit_create(text, -1, "x", NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_create_limited(NULL, -1, "x", 4, &e, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_create_limited(text, -1, "x", 4, NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_edit_create_limited("a: [[[[[1]]]]]", -1, "x", 3, &e, &d), d);
+  assert_int_equal(d.code, VI_ERR_LIMIT);
+  assert_null(e);
   assert_err_diag(vi_scene_edit_create("a: [", -1, "x", &e, &d), d);
   assert_int_equal(d.code, VI_ERR_PARSE);
   assert_null(e);

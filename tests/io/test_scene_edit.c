@@ -207,13 +207,49 @@ static void nesting_limit(void **state)
   free(text);
 }
 
+/* The limit is the caller's (vi_scene_edit_create_limited, `--max-depth`
+ * on the --set path): a text 40 levels deep is refused by the default 32
+ * and edited under 50; under 4 the text "a: [[[[1]]]]" (5 levels) is
+ * refused at its 5th level, and a value that would nest deeper than the
+ * limit is refused by vi_scene_edit_set. */
+static void nesting_limit_set(void **state)
+{
+  (void)state;
+  char text[128] = "a: ";
+  memset(text + 3, '[', 39);
+  text[42] = '1';
+  memset(text + 43, ']', 39);
+  strcpy(text + 82, "\nb: 1\n");
+  vi_scene_edit *e = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_edit_create(text, -1, "d.yaml", &e, &d), VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_edit_create_limited(text, -1, "d.yaml", 0, &e, &d),
+                   VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_edit_create_limited(text, -1, "d.yaml", 50, &e, &d), VI_OK);
+  assert_int_equal(vi_scene_edit_set(e, "b", "2", &d), VI_OK);
+  assert_non_null(strstr(vi_scene_edit_text(e), "b: 2"));
+  vi_scene_edit_destroy(&e);
+  assert_int_equal(vi_scene_edit_create_limited("a: [[[[1]]]]\nb: 1\n", -1,
+                                                "d.yaml", 4, &e, &d), VI_ERR_LIMIT);
+  assert_null(e);
+  assert_string_equal(d.message, "nesting deeper than 4 levels (the limit; a "
+                      "scene needs 5)");
+  assert_int_equal(d.line, 1);
+  assert_int_equal(d.column, 3 + 4); /* level 5: the mapping, then 4 brackets */
+  assert_int_equal(vi_scene_edit_create_limited("a: [[1]]\nb: 1\n", -1,
+                                                "d.yaml", 4, &e, &d), VI_OK);
+  assert_int_equal(vi_scene_edit_set(e, "b", "[[[[2]]]]", &d), VI_ERR_LIMIT);
+  assert_int_equal(vi_scene_edit_set(e, "b", "[[2]]", &d), VI_OK);
+  vi_scene_edit_destroy(&e);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(one_value_changes), cmocka_unit_test(errors_keep_lines),
       cmocka_unit_test(adds_missing_keys), cmocka_unit_test(bad_edits),
       cmocka_unit_test(byte_order_mark),
-      cmocka_unit_test(nesting_limit),
+      cmocka_unit_test(nesting_limit), cmocka_unit_test(nesting_limit_set),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,7 +8,14 @@
  * - on a 12-mass chain, k modes plus the static vector reproduce the
  *   static compliance w^T K^-1 w = sum_j psi_j^2 / omega_j^2 exactly (the
  *   static response K^-1 w lies in their span), which k modes alone do not;
- * - a state is projected onto the kept coordinates. */
+ * - a state is projected onto the kept coordinates;
+ * - vi_model_modal_compliance: on a fixed-free chain of n masses m and
+ *   springs k with the stop at its tip, the static compliance of all the
+ *   modes is n / k (springs in series) and the dynamic one 1 / m (w = e_n,
+ *   w^T M^-1 w), both rising with each mode added; fig2's first mode
+ *   carries psi_1^2 = (5 + sqrt 5) / 10 of its unit dynamic compliance
+ *   (the tip's share of the normalised mode (1, phi) / sqrt(1 + phi^2),
+ *   phi the golden ratio). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -91,11 +98,45 @@ static void chain_static_correction(void **state)
   vi_model_destroy(&f);
 }
 
+static void modal_compliance(void **state)
+{
+  (void)state;
+  const int n = 7;
+  const double m = 2.5, k = 4.0;
+  double a[7] = {0}, cd[7], cs[7];
+  a[n - 1] = 0.3;
+  vi_model *f = vi_test_chain(n, m, k, 0.02, 0.1, 0.7, 0.9, a), *R = NULL;
+  int all[7];
+  for (int j = 0; j < n; j++) all[j] = j;
+  assert_int_equal(vi_model_create_reduced(f, all, n, 0.7, &R), VI_OK);
+  assert_int_equal(vi_model_modal_compliance(R, 0, n, cd, cs), VI_OK);
+  assert_close(cs[n - 1], n / k, 1e-13 * n / k);
+  assert_close(cd[n - 1], 1.0 / m, 1e-13 / m);
+  for (int j = 1; j < n; j++) assert_true(cd[j] > cd[j - 1] && cs[j] > cs[j - 1]);
+  assert_true(cs[0] < n / k && cd[0] < 1.0 / m);
+  double one = 0;
+  assert_int_equal(vi_model_modal_compliance(R, 0, 1, NULL, &one), VI_OK);
+  assert_true(one == cs[0]);
+  vi_model_destroy(&R);
+  vi_model_destroy(&f);
+  /* fig2 (unit masses and springs, stop on mass 2) */
+  vi_model *g = vi_test_fig2();
+  const int two[2] = {0, 1};
+  assert_int_equal(vi_model_create_reduced(g, two, 2, 0.7, &R), VI_OK);
+  assert_int_equal(vi_model_modal_compliance(R, 0, 2, cd, cs), VI_OK);
+  assert_close(cd[0], (5 + sqrt(5)) / 10, 1e-14);
+  assert_close(cd[1], 1.0, 1e-14);
+  assert_close(cs[1], 2.0, 1e-14); /* two unit springs in series */
+  vi_model_destroy(&R);
+  vi_model_destroy(&g);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fig2_truncations),
       cmocka_unit_test(chain_static_correction),
+      cmocka_unit_test(modal_compliance),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Install the build tree into a temporary prefix, then build and run
 # outside consumers against it: C with CMake's find_package (the core, the
-# scene and HDF5 libraries, and vibroimpact::io), C and Fortran with
-# pkg-config and a plain compiler command line.
+# scene and HDF5 libraries, and vibroimpact::io), Fortran with
+# find_package (vibroimpact::fortran), C and Fortran with pkg-config and a
+# plain compiler command line.
 set -euo pipefail
 build=$1 src=$2
 tmp=$(mktemp -d)
@@ -23,6 +24,12 @@ cmake --build "$tmp/c" >/dev/null
 if readelf -d "$tmp/c/consumer_scene" | grep 'libvibroimpact_h5\|libhdf5' >/dev/null; then
   echo "FAIL: consumer_scene links HDF5"; exit 1
 fi
+
+echo "== Fortran consumer (find_package, vibroimpact::fortran)"
+cmake -S "$src/tests/consumers/fortran" -B "$tmp/f" -DCMAKE_PREFIX_PATH="$tmp/prefix" >/dev/null
+cmake --build "$tmp/f" >/dev/null
+"$tmp/f/fconsumer"
+"$tmp/f/fconsumer_old"
 
 echo "== Fortran consumer (pkg-config)"
 export PKG_CONFIG_PATH="$libdir/pkgconfig"

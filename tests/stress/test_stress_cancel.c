@@ -26,13 +26,29 @@
  *    takes C polls; with its Lyapunov exponent too, the same C and then
  *    one at least per period of the Lyapunov run: cancelled at poll C + 1
  *    the point returns VI_CANCELLED; cancelled at poll 1, before its orbit
- *    scan and any simulation. */
+ *    scan and any simulation.
+ * f. The impact-phase scan (vi_orbit_p1_scan_polled) on that chain: a
+ *    whole scan of 720 phases polls at least 721 times; cancelled at poll
+ *    5 it returns VI_CANCELLED at that very poll.
+ * g. Continuation (vi_cont_set_cancel), natural and pseudo-arclength, from
+ *    the scan's orbit: a step cancelled at its K-th poll returns
+ *    VI_CANCELLED at that poll, is not done, and iterating again (cancel
+ *    off) gives the point an uncancelled run gives, to 1e-12.
+ * h. Identification (vi_identify_set_cancel) of r on that chain, from a
+ *    recording of its settled motion: a whole fit takes C polls; cancelled
+ *    at poll C / 2 (inside the least-squares iterations) it returns
+ *    VI_CANCELLED at that very poll, and at poll 1 before any work.
+ *    (The recording is the library's own: what is asserted is the
+ *    cancellation, not the fitted value.) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "stress_util.h"
+#include <vibroimpact/vi_cont.h>
+#include <vibroimpact/vi_identify.h>
+#include <vibroimpact/vi_orbit.h>
 #include <vibroimpact/vi_study.h>
 
 typedef struct poll {
@@ -284,6 +300,156 @@ static void test_study(void **state)
   st_end();
 }
 
+/* Fig. 2's chain as in e., the model alone. */
+static vi_model *fig2_model(void)
+{
+  static const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1},
+                      C[4] = {0.2, -0.1, -0.1, 0.1};
+  double w[2] = {0, 1}, a[2] = {0, 0.5}, b[2] = {0, 0}, f0[2] = {0, 0};
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(2, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 0.9, a, b, f0), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  return m;
+}
+
+/* f. The phase scan. */
+static void test_scan(void **state)
+{
+  (void)state;
+  vi_model *m = fig2_model();
+  double t[8], x[16], v[16];
+  int found = 0;
+  poll p = {0, 0, 0, 0};
+  assert_int_equal(vi_orbit_p1_scan_polled(m, 1, 720, t, x, v, 2, 8, &found,
+                                           poll_fn, &p), VI_OK);
+  print_message("  scan: %lld polls, %d orbit(s)\n", (long long)p.calls, found);
+  st_check(p.calls >= 721 && found >= 1);
+  poll q = {0, 5, 0, 0};
+  int st = vi_orbit_p1_scan_polled(m, 1, 720, t, x, v, 2, 8, &found, poll_fn, &q);
+  st_check(st == VI_CANCELLED && q.calls == 5);
+  vi_model_destroy(&m);
+  st_end();
+}
+
+/* g. One continuation, its step cancelled at poll `at` of the run, then
+ * resumed; the point after the resumed step. */
+static int cont_run(const vi_model *m, int method, int64_t at, double *pt)
+{
+  double t[8], x[16], v[16];
+  int found = 0;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, t, x, v, 2, 8, &found), VI_OK);
+  assert_true(found >= 1);
+  vi_cont *c = NULL;
+  assert_int_equal(vi_cont_create(m, "forcing.omega", 1, method, &c), VI_OK);
+  assert_int_equal(vi_cont_set_range(c, 1.0, 10), VI_OK);
+  assert_int_equal(vi_cont_set_orbit(c, t[0], x, v), VI_OK);
+  poll p = {0, at, 0, 0};
+  assert_int_equal(vi_cont_set_cancel(c, poll_fn, &p, NULL), VI_OK);
+  int cancelled = 0;
+  for (int i = 0; i < 3; i++) {
+    int st = vi_cont_iterate(c);
+    if (st == VI_CANCELLED) {
+      cancelled++;
+      st_check(p.calls == at && vi_cont_done(c) == 0);
+      p.at = 0; /* off: the same step again */
+      st = vi_cont_iterate(c);
+    }
+    assert_int_equal(st, VI_OK);
+  }
+  assert_int_equal(vi_cont_point(c, &pt[0], &pt[1], &pt[2], NULL, NULL), VI_OK);
+  vi_cont_destroy(&c);
+  return cancelled;
+}
+
+static void test_cont(void **state)
+{
+  (void)state;
+  vi_model *m = fig2_model();
+  const int methods[2] = {VI_CONT_NATURAL, VI_CONT_ARCLENGTH};
+  for (int k = 0; k < 2; k++) {
+    double ref[3], got[3], got1[3];
+    assert_int_equal(cont_run(m, methods[k], 0, ref), 0);
+    /* poll 1: the first step, before anything; poll 3: inside the third
+     * step of the natural method, the corrector of the second point */
+    assert_int_equal(cont_run(m, methods[k], 1, got1), 1);
+    assert_int_equal(cont_run(m, methods[k], 3, got), 1);
+    print_message("  cont %d: omega %.12g, resumed %.12g, %.12g\n", k, ref[0],
+                  got1[0], got[0]);
+    for (int i = 0; i < 3; i++) {
+      st_check(fabs(got[i] - ref[i]) <= 1e-12 * fmax(1.0, fabs(ref[i])));
+      st_check(fabs(got1[i] - ref[i]) <= 1e-12 * fmax(1.0, fabs(ref[i])));
+    }
+  }
+  vi_model_destroy(&m);
+  st_end();
+}
+
+/* h. Identification. */
+typedef struct recd {
+  int ns;
+  double t[512], y[512];
+} recd;
+
+static int on_sample(double t, int n, const double *x, const double *v, void *user)
+{
+  recd *r = user;
+  (void)n;
+  (void)v;
+  if (r->ns < 512) {
+    r->t[r->ns] = t;
+    r->y[r->ns++] = x[1]; /* the gap coordinate w.x */
+  }
+  return 0;
+}
+
+static int identify_polls(const vi_model *m, const recd *r, int64_t at,
+                          int64_t *calls)
+{
+  vi_identify *id = NULL;
+  poll p = {0, at, 0, 0};
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, r->ns, r->t, r->y, NULL), VI_OK);
+  assert_int_equal(vi_identify_set_cancel(id, poll_fn, &p, NULL), VI_OK);
+  int st = vi_identify_run(id);
+  if (st && st != VI_CANCELLED) print_message("  identify: %s\n", vi_identify_errmsg(id));
+  *calls = p.calls;
+  vi_identify_destroy(&id);
+  return st;
+}
+
+static void test_identify(void **state)
+{
+  (void)state;
+  vi_model *m = fig2_model();
+  double T = 2 * M_PI / 0.9, x0[2] = {0, 0}, v0[2] = {0, 0};
+  recd *r = calloc(1, sizeof *r);
+  assert_non_null(r);
+  vi_sim *s = st_sim(m, VI_METHOD_EXACT, 1e-12, 1e-14, 0.0, x0, v0, NULL, NULL);
+  assert_int_equal(vi_sim_run(s, 300 * T), VI_OK);
+  assert_int_equal(vi_sim_set_sampling(s, T / 64, on_sample, r, NULL), VI_OK);
+  assert_int_equal(vi_sim_run(s, 304 * T), VI_OK);
+  vi_sim_destroy(&s);
+  int64_t C = 0, c2 = 0, c1 = 0;
+  assert_int_equal(identify_polls(m, r, 0, &C), VI_OK);
+  int st = identify_polls(m, r, C / 2, &c2);
+  print_message("  identify: %lld polls in a fit (%d samples); cancelled at "
+                "%lld: %s after %lld\n", (long long)C, r->ns, (long long)(C / 2),
+                vi_strerror(st), (long long)c2);
+  st_check(C >= 4);
+  st_check(st == VI_CANCELLED && c2 == C / 2);
+  st = identify_polls(m, r, 1, &c1);
+  st_check(st == VI_CANCELLED && c1 == 1);
+  free(r);
+  vi_model_destroy(&m);
+  st_end();
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -291,6 +457,9 @@ int main(void)
       cmocka_unit_test(test_held_phase),
       cmocka_unit_test(test_from_monitor),
       cmocka_unit_test(test_study),
+      cmocka_unit_test(test_scan),
+      cmocka_unit_test(test_cont),
+      cmocka_unit_test(test_identify),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -28,7 +28,7 @@ static const char *sets[] = {"run.method=exact", "forcing.omega=2.4"};
 static vi_diagram *basins(int threads)
 {
   vi_sweep_spec sp = {"initial.x[2]", -4.0, 0.09, NX, "initial.v[2]", -6.0, 6.0,
-                      NV, 1, 1000, 30, NX, threads, 1e-6, 32, 0, 1, 0};
+                      NV, 1, 1000, 30, NX, threads, 1e-6, 32, 0, 1, 0, 0};
   vi_diagram *sw = NULL;
   char err[2048];
   int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, 2, &sp,
