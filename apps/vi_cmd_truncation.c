@@ -548,9 +548,10 @@ static int study_rows(study *S)
 }
 
 /* -o: the reference's row and the table into the file. */
-static int study_write(study *S)
+static int study_write(study *S, int complete)
 {
-  double info[VI_TRUNCATION_INFO] = {S->dofs, S->lo, S->hi, S->nR, S->r, S->Gd, S->Gs};
+  double info[VI_TRUNCATION_INFO] = {S->dofs, S->lo, S->hi, S->nR,
+                                     S->r,    S->Gd, S->Gs, complete};
   for (int c = 0; c < VI_TRUNCATION_COLUMNS; c++) S->tref[c] = NAN;
   S->tref[0] = S->nR;
   tab_response(S->tref, 1, 4, &S->ref);
@@ -578,10 +579,17 @@ int vi_cmd_truncation(const app_opts *o)
   if ((rc = study_initial(&S))) goto done;
   study_reference_runs(&S);
   print_header(&S);
-  int bad = study_rows(&S);
-  if (o->json) printf("]}\n");
-  rc = bad ? 1 : vi_app_signal ? vi_app_interrupt_status() : 0;
-  if (o->out && !rc) rc = study_write(&S); /* interrupted: no file */
+  vi_app_set_polling(1); /* a signal ends the rows, not the process */
+  int bad = study_rows(&S), intr = vi_app_signal != 0;
+  if (o->json) printf("], \"complete\": %s}\n", intr ? "false" : "true");
+  rc = bad ? 1 : intr ? vi_app_interrupt_status() : 0;
+  if (o->out && !bad) {
+    /* interrupted: the rows done, marked incomplete */
+    if (study_write(&S, !intr)) rc = 1;
+    else if (intr)
+      fprintf(stderr, "vibroimpact: truncation: interrupted after %d rows; "
+              "the output file is valid and marked incomplete\n", S.nrows);
+  }
 done:
   free(S.x0);
   vi_orbit_destroy(&S.oref);

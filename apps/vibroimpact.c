@@ -417,16 +417,16 @@ int main(int argc, char **argv)
   /* sweep and orbits parse their own arguments (apps/vi_sweep.h) */
   if (argc > 1 && (!strcmp(argv[1], "sweep") || !strcmp(argv[1], "basins")))
     return vi_sweep_exec(argc - 1, argv + 1);
-  if (argc > 1 && !strcmp(argv[1], "orbits")) { /* the common handler: 130/143 */
+  if (argc > 1 && (!strcmp(argv[1], "orbits") || !strcmp(argv[1], "identify"))) {
+    /* the common handler: 130/143, nothing left on disk */
     struct sigaction so;
     memset(&so, 0, sizeof so);
     so.sa_handler = on_signal;
     sigaction(SIGINT, &so, NULL);
     sigaction(SIGTERM, &so, NULL);
-    return vi_cmd_orbits_main(argc - 1, argv + 1);
-  }
-  if (argc > 1 && !strcmp(argv[1], "identify"))
+    if (argv[1][0] == 'o') return vi_cmd_orbits_main(argc - 1, argv + 1);
     return close_stdout(vi_cmd_identify_main(argc - 1, argv + 1));
+  }
   if ((argc = vi_sets_take(argc, argv)) < 0) {
     fprintf(stderr, "vibroimpact: --set needs KEY=VALUE\n");
     return 2;

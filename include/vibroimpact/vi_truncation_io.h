@@ -35,7 +35,8 @@ extern "C" {
 /** Sizes of the tables of vi_truncation_write_h5. */
 enum vi_truncation_size {
   VI_TRUNCATION_COLUMNS = 47, /**< columns of a row (the layout above) */
-  VI_TRUNCATION_INFO = 7      /**< entries of info */
+  VI_TRUNCATION_INFO = 8      /**< entries of info (the last: 1 for a
+                                   complete study, 0 for one interrupted) */
 };
 
 /** Write a truncation study to the HDF5 file `path` (a regular file; see

@@ -40,7 +40,7 @@ static const column cols[] = {
 
 static const char *const info_names[VI_TRUNCATION_INFO] = {
     "dofs", "modes_lo", "modes_hi", "reference_modes", "restitution",
-    "compliance_dynamic", "compliance_static"};
+    "compliance_dynamic", "compliance_static", "complete"};
 
 /* One column group of the table as a [n] or [n x width] dataset (row-major
  * in the file: row i of the study is row i of the dataset). */
@@ -88,8 +88,12 @@ int vi_truncation_write_h5(const char *path, const char *scene_name,
     /* a dataset: a scene may exceed an attribute's 64 KiB */
     bad |= vi_h5_str(g, "scene_text", scene_text ? scene_text : "",
                      VI_H5_DATASET);
-    for (int j = 0; j < VI_TRUNCATION_INFO; j++)
+    for (int j = 0; j < VI_TRUNCATION_INFO - 1; j++)
       bad |= vi_h5_attr_double(g, info_names[j], info[j]);
+    /* complete: an int, as the sweep's (an interrupted study holds the
+     * rows done) */
+    bad |= vi_h5_attr_int(g, info_names[VI_TRUNCATION_INFO - 1],
+                          info[VI_TRUNCATION_INFO - 1] != 0.0);
     bad |= put_table(g, "rows", rows, nrows, ldrows, buf);
     bad |= put_table(g, "reference", reference, 1, 1, buf);
   }
