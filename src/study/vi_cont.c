@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <lapacke.h>
+
 #include "vibroimpact/vi_cont.h"
 #include "vibroimpact/vi_param.h"
 #include "vi_internal.h"
@@ -339,39 +341,15 @@ static int natural_step(vi_cont *c)
 
 /* ---- pseudo-arclength ---------------------------------------------------------- */
 
-/* Dense solve A y = b (A [k x k] column-major, overwritten) by Gaussian
- * elimination with partial pivoting (k = 2n + 2 is small); 0 or 1 if
- * singular. */
+/* Dense solve A y = b (A [k x k] column-major, overwritten) by LAPACK's
+ * LU with partial pivoting; 0, or 1 if singular (or out of memory). */
 static int gauss(int k, double *A, double *b)
 {
-  for (int c = 0; c < k; c++) {
-    int p = c;
-    for (int r = c + 1; r < k; r++)
-      if (fabs(A[r + (size_t)c * k]) > fabs(A[p + (size_t)c * k])) p = r;
-    if (!(fabs(A[p + (size_t)c * k]) > 0)) return 1;
-    if (p != c) {
-      for (int j = 0; j < k; j++) {
-        double tmp = A[c + (size_t)j * k];
-        A[c + (size_t)j * k] = A[p + (size_t)j * k];
-        A[p + (size_t)j * k] = tmp;
-      }
-      double tmp = b[c];
-      b[c] = b[p];
-      b[p] = tmp;
-    }
-    for (int r = c + 1; r < k; r++) {
-      double f = A[r + (size_t)c * k] / A[c + (size_t)c * k];
-      if (f == 0) continue;
-      for (int j = c; j < k; j++) A[r + (size_t)j * k] -= f * A[c + (size_t)j * k];
-      b[r] -= f * b[c];
-    }
-  }
-  for (int c = k - 1; c >= 0; c--) {
-    double s = b[c];
-    for (int j = c + 1; j < k; j++) s -= A[c + (size_t)j * k] * b[j];
-    b[c] = s / A[c + (size_t)c * k];
-  }
-  return 0;
+  lapack_int *ipiv = malloc(sizeof(lapack_int) * (size_t)k);
+  if (!ipiv) return 1;
+  lapack_int info = LAPACKE_dgesv(LAPACK_COL_MAJOR, k, 1, A, k, ipiv, b, k);
+  free(ipiv);
+  return info != 0;
 }
 
 /* F(u; p) [D] and, with Ja, the extended Jacobian's first D rows
