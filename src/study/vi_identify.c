@@ -14,6 +14,7 @@
 #include <gsl/gsl_multifit_nlinear.h>
 #include <lapacke.h>
 
+#include "vi_forcing.h"
 #include "vi_orbit_internal.h"
 #include "vibroimpact/vi_identify.h"
 #include "vibroimpact/vi_param.h"
@@ -1397,7 +1398,8 @@ int vi_identify_forcing_phase(int ns, const double *t, const double *f,
   double cc = 0, cs = 0, ss = 0, fc = 0, fs = 0;
   for (int i = 0; i < ns; i++) {
     if (!isfinite(t[i]) || !isfinite(f[i])) return VI_ERR_NONFINITE;
-    double c = cos(omega * t[i]), s = sin(omega * t[i]);
+    vi_phase p = vi_phase_at(omega, t[i]); /* the forcing phase */
+    double c = p.c, s = p.s;
     cc += c * c;
     cs += c * s;
     ss += s * s;
