@@ -36,6 +36,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
+
 #include "vi_exact_internal.h"
 #include "vi_grid.h"
 
@@ -859,23 +861,15 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   return vi_grid_step(s, &d->g, &ex_grid, d, t_end, event);
 }
 
-/* Physical state x = Psi q, v = Psi q' of the modal state (q, qd). */
-static void ex_physical(const vi_model *m, const double *q, const double *qd,
-                        double *z)
+/* Physical state x = Psi q, v = Psi q' of the modal state Q = [q qd]
+ * [n x 2] (ex_data keeps q, qd and qs, qds adjacent).  z = (x_1, v_1, ...)
+ * is Z^T [2 x n] for Z = Psi Q: one dgemm, Z^T = Q^T Psi^T, one pass over
+ * Psi. */
+static void ex_physical(const vi_model *m, const double *Q, double *z)
 {
   int n = m->n;
-  for (int i = 0; i < n; i++) {
-    z[2 * (size_t)i] = 0.0;
-    z[2 * (size_t)i + 1] = 0.0;
-  }
-  for (int j = 0; j < n; j++) { /* column order: Psi is column-major */
-    const double *col = m->Psi + (size_t)j * n;
-    double a = q[j], b = qd[j];
-    for (int i = 0; i < n; i++) {
-      z[2 * (size_t)i] += col[i] * a;
-      z[2 * (size_t)i + 1] += col[i] * b;
-    }
-  }
+  cblas_dgemm(CblasColMajor, CblasTrans, CblasTrans, 2, n, n, 1.0, Q, n,
+              m->Psi, n, 0.0, z, 2);
 }
 
 static int ex_sync(vi_sim *s)
@@ -888,7 +882,7 @@ static int ex_sync(vi_sim *s)
     d->tq = s->t;
     d->q_ok = 1;
   }
-  ex_physical(s->m, d->q, d->qd, s->z);
+  ex_physical(s->m, d->q, s->z);
   memcpy(d->z, s->z, sizeof(double) * 2 * (size_t)d->n);
   d->tz = s->t;
   d->z_ok = 1;
@@ -901,7 +895,7 @@ static int ex_dense(vi_sim *s, double t)
   if (!s->m->proportional) return vi_backend_exact_scan.dense(s, t);
   ex_data *d = s->be_data;
   ex_modes_at(d, t, d->qs, d->qds);
-  ex_physical(s->m, d->qs, d->qds, s->zs);
+  ex_physical(s->m, d->qs, s->zs);
   return VI_OK;
 }
 
