@@ -63,6 +63,35 @@ static int rayleigh_fit(const vi_model *m, double *a, double *b)
   return 1;
 }
 
+/* What depends on Omega: the particular solution pA cos + pB sin of each
+ * constrained mode under its forcing amplitudes fa, fb, and the fastest
+ * rate; 0 (c->why says) at an undamped resonance. */
+static int particular(vi_cmodes *c, double Om)
+{
+  c->Om = Om;
+  c->top = Om;
+  for (int i = 0; i < c->m; i++) {
+    c->top = fmax(c->top, fmax(sqrt(c->om2[i]), c->dmp[i]));
+    double k = c->om2[i] - Om * Om, dd = c->dmp[i] * Om, det = k * k + dd * dd;
+    double fa = c->fa[i], fb = c->fb[i];
+    if ((fa != 0.0 || fb != 0.0) && !(det > 0.0)) {
+      snprintf(c->why, sizeof c->why, "held mode %d is forced at its natural "
+               "frequency without damping (resonance)", i + 1);
+      return 0;
+    }
+    c->pA[i] = det > 0.0 ? (k * fa - dd * fb) / det : 0.0;
+    c->pB[i] = det > 0.0 ? (k * fb + dd * fa) / det : 0.0;
+  }
+  return 1;
+}
+
+void vi_cmodes_retune(vi_cmodes *c, double Om)
+{
+  if (c->Om == Om || !c->built) return;
+  c->why[0] = '\0';
+  c->ok = particular(c, Om);
+}
+
 int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
                      vi_cmodes **out, char *errmsg)
 {
@@ -70,7 +99,7 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
   *out = NULL;
   vi_cmodes *c = calloc(1, sizeof *c);
   size_t nw = (size_t)n * (size_t)(mm > 0 ? mm : 1) /* Phi */ +
-              5 * (size_t)mm + (size_t)n + (size_t)cnt * (size_t)mm +
+              7 * (size_t)mm + (size_t)n + (size_t)cnt * (size_t)mm +
               (size_t)ns * (size_t)mm + (size_t)ns + 8;
   double *blk = malloc(sizeof(double) * nw);
   double *A = malloc(sizeof(double) * (size_t)n * (size_t)n);
@@ -91,6 +120,8 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
   c->F0 = p; p += mm;
   c->pA = p; p += mm;
   c->pB = p; p += mm;
+  c->fa = p; p += mm;
+  c->fb = p; p += mm;
   c->qc = p; p += n;
   c->R = p; p += (size_t)cnt * mm;
   c->Pg = p; p += (size_t)ns * mm;
@@ -184,12 +215,10 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
     }
   }
   double Om = m->omega_f;
-  c->top = Om;
   for (int i = 0; i < mm; i++) {
     /* the constrained structure is semi-definite: round-off below zero */
     if (c->om2[i] < 0.0) c->om2[i] = 0.0;
     c->dmp[i] = a + b * c->om2[i];
-    c->top = fmax(c->top, fmax(sqrt(c->om2[i]), c->dmp[i]));
   }
   /* forcing: Phi^T (F0 - Lambda q_c), Phi^T Fa, Phi^T Fb; with Omega = 0 the
    * cosine part is constant */
@@ -202,15 +231,12 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
     const double *ph = c->Phi + (size_t)i * n;
     double f0 = vi_dot(n, ph, v1), fa = vi_dot(n, ph, v2), fb = vi_dot(n, ph, v3);
     c->F0[i] = f0;
-    double k = c->om2[i] - Om * Om, dd = c->dmp[i] * Om, det = k * k + dd * dd;
-    if ((fa != 0.0 || fb != 0.0) && !(det > 0.0)) {
-      snprintf(c->why, sizeof c->why, "held mode %d is forced at its natural "
-               "frequency without damping (resonance)", i + 1);
-      goto done;
-    }
-    c->pA[i] = det > 0.0 ? (k * fa - dd * fb) / det : 0.0;
-    c->pB[i] = det > 0.0 ? (k * fb + dd * fa) / det : 0.0;
+    c->fa[i] = fa;
+    c->fb[i] = fb;
   }
+  /* at an undamped resonance of this Omega the rest is still built: a
+   * study's next Omega may retune it */
+  int tuned = particular(c, Om);
   /* reactions: R = G^-1 P^T Lambda Phi, and the forcing part */
   for (int i = 0; i < cnt; i++) {
     const double *ps = vi_stop_psi(m, set[i]);
@@ -267,7 +293,8 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
       c->Pg[(size_t)k * mm + q] = vi_dot(n, ps, c->Phi + (size_t)q * n);
     c->gc[k] = vi_dot(n, ps, c->qc) - m->xsv[k];
   }
-  c->ok = 1;
+  c->built = 1;
+  c->ok = tuned;
 done:
   free(A);
   free(Pw);

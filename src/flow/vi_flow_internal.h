@@ -102,6 +102,10 @@ typedef struct vi_cmodes {
   double *om2, *dmp;            /* Omega_i^2, a + b Omega_i^2 [m] */
   double *F0, *pA, *pB;         /* constant forcing, harmonic particular
                                    solution pA cos + pB sin [m] */
+  double *fa, *fb;              /* harmonic forcing amplitudes [m] */
+  double Om;                    /* the Omega of pA, pB and top */
+  int built;                    /* every part but pA, pB, top is set: a
+                                   new non-zero Omega may retune them */
   double *qc;                   /* q_c [n] */
   double *R;                    /* reaction weights, stop i's at [i m] */
   double *Pg;                   /* Phi^T psi_k of every stop, at [k m] */
@@ -110,6 +114,11 @@ typedef struct vi_cmodes {
   double lscale[VI_CONTACT_MAX]; /* size of the terms lambda_k sums */
   double top;                   /* fastest rate of the constrained modes */
 } vi_cmodes;
+
+/* pA, pB, top (and ok) for a new forcing frequency Om, both it and the
+ * one the modes were built for non-zero: the eigen-solve is kept (a
+ * study sweeping Omega shares the modes across its points). */
+void vi_cmodes_retune(vi_cmodes *c, double Om);
 
 /* Build the constrained modes of the stops set [cnt] of a set-up model
  * with modes: VI_OK with *out (out->ok says whether the closed form

@@ -44,9 +44,15 @@ typedef struct hd_fun {
   double B2, B3, B4;             /* bounds of |f''|, |f'''|, |f''''| */
 } hd_fun;
 
-struct vi_held {
+/* Constrained modes of held sets: a simulation's own, or one a study
+ * shares across the simulations of its points (vi_held_share_cache). */
+struct vi_held_cache {
   vi_cmodes *cache[HD_CACHE];
   int ncache, next;
+};
+
+struct vi_held {
+  vi_held_cache own, *hc;        /* hc: own, or a study's */
   const vi_cmodes *cm;
   int m, na, nf, *act;
   /* per phase */
@@ -73,11 +79,46 @@ static void hd_phase_free(vi_held *H)
   H->w0 = NULL;
 }
 
+void vi_held_cache_clear(vi_held_cache *hc)
+{
+  if (!hc) return;
+  for (int i = 0; i < hc->ncache; i++) vi_cmodes_destroy(&hc->cache[i]);
+  hc->ncache = hc->next = 0;
+}
+
+vi_held_cache *vi_held_cache_create(void)
+{
+  return calloc(1, sizeof(vi_held_cache));
+}
+
+void vi_held_cache_destroy(vi_held_cache **hc)
+{
+  if (!hc || !*hc) return;
+  vi_held_cache_clear(*hc);
+  free(*hc);
+  *hc = NULL;
+}
+
+static vi_held *hd_get(vi_sim *s)
+{
+  if (!s->held && (s->held = calloc(1, sizeof *s->held)))
+    s->held->hc = &s->held->own;
+  return s->held;
+}
+
+int vi_held_share_cache(vi_sim *s, vi_held_cache *hc)
+{
+  vi_held *H = hd_get(s);
+  if (!H) return VI_ERR_NOMEM;
+  H->hc = hc ? hc : &H->own;
+  return VI_OK;
+}
+
 void vi_held_free(vi_sim *s)
 {
   vi_held *H = s->held;
   if (!H) return;
-  for (int i = 0; i < H->ncache; i++) vi_cmodes_destroy(&H->cache[i]);
+  vi_held_cache_clear(&H->own);
   hd_phase_free(H);
   free(H);
   s->held = NULL;
@@ -87,23 +128,26 @@ void vi_held_free(vi_sim *s)
  * (NULL with s->errmsg on failure). */
 static const vi_cmodes *hd_modes(vi_sim *s)
 {
-  if (!s->held && !(s->held = calloc(1, sizeof *s->held))) return NULL;
-  vi_held *H = s->held;
-  for (int i = 0; i < H->ncache; i++) {
-    const vi_cmodes *c = H->cache[i];
+  vi_held *H = hd_get(s);
+  if (!H) return NULL;
+  vi_held_cache *hc = H->hc;
+  for (int i = 0; i < hc->ncache; i++) {
+    vi_cmodes *c = hc->cache[i];
     if (c->cnt == s->nstick &&
-        !memcmp(c->set, s->stick_k, sizeof(int) * (size_t)s->nstick))
+        !memcmp(c->set, s->stick_k, sizeof(int) * (size_t)s->nstick)) {
+      vi_cmodes_retune(c, s->m->omega_f); /* a shared cache's new Omega */
       return c;
+    }
   }
   vi_cmodes *c = NULL;
   if (vi_cmodes_create(s->m, s->stick_k, s->nstick, &c, s->errmsg)) return NULL;
-  if (H->ncache < HD_CACHE) {
-    H->cache[H->ncache++] = c;
+  if (hc->ncache < HD_CACHE) {
+    hc->cache[hc->ncache++] = c;
   } else { /* a few sets per run: replace round-robin */
-    if (H->cm == H->cache[H->next]) H->next = (H->next + 1) % HD_CACHE;
-    vi_cmodes_destroy(&H->cache[H->next]);
-    H->cache[H->next] = c;
-    H->next = (H->next + 1) % HD_CACHE;
+    if (H->cm == hc->cache[hc->next]) hc->next = (hc->next + 1) % HD_CACHE;
+    vi_cmodes_destroy(&hc->cache[hc->next]);
+    hc->cache[hc->next] = c;
+    hc->next = (hc->next + 1) % HD_CACHE;
   }
   return c;
 }

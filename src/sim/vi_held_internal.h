@@ -20,4 +20,16 @@ int vi_held_sync(vi_sim *s);
 int64_t vi_held_stat(const vi_sim *s, int which);
 void vi_held_free(vi_sim *s);
 
+/* A cache of constrained modes that a study shares across the simulations
+ * of its points, one at a time (not for concurrent simulations).  Its modes
+ * stay valid while the model's M, K, C, stops, x_s and forcing vectors do
+ * and Omega stays non-zero: a new Omega retunes them (vi_cmodes_retune),
+ * r does not enter them; any other change needs vi_held_cache_clear.
+ * vi_held_share_cache(s, NULL): the sim's own again. */
+typedef struct vi_held_cache vi_held_cache;
+vi_held_cache *vi_held_cache_create(void);
+void vi_held_cache_clear(vi_held_cache *hc);
+void vi_held_cache_destroy(vi_held_cache **hc);
+int vi_held_share_cache(vi_sim *s, vi_held_cache *hc);
+
 #endif

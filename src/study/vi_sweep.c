@@ -9,10 +9,13 @@
 #include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_param.h"
 #include "vibroimpact/vi_study.h"
+#include "vi_held_internal.h"
 #include "vi_orbit_internal.h"
 
 struct vi_sweep {
   vi_model *m;                 /* the study's own copy */
+  vi_held_cache *hc;           /* constrained modes of held sets, shared by
+                                  the points' simulations */
   int n;
   int transient, record, nmax, method;
   double tol, rtol, atol;
@@ -56,7 +59,8 @@ int vi_sweep_create(const vi_model *m, vi_sweep **out)
   if (!sw) return VI_ERR_NOMEM;
   int n = m->n, st = vi_model_copy(m, &sw->m);
   sw->x0 = calloc(4 * (size_t)n, sizeof(double));
-  if (st || !sw->x0) {
+  sw->hc = vi_held_cache_create();
+  if (st || !sw->x0 || !sw->hc) {
     vi_sweep_destroy(&sw);
     return VI_ERR_NOMEM;
   }
@@ -95,6 +99,7 @@ void vi_sweep_destroy(vi_sweep **swp)
   vi_user_set(&sw->hook_user, &sw->hook_free, NULL, NULL);
   vi_user_set(&sw->cancel_user, &sw->cancel_free, NULL, NULL);
   vi_model_destroy(&sw->m);
+  vi_held_cache_destroy(&sw->hc);
   free_orbits(sw);
   free(sw->x0);
   free(sw->t);
@@ -197,8 +202,16 @@ int vi_sweep_set_param(vi_sweep *sw, const char *key, double value)
     sw->have_state = 0; /* a new initial state: a cold start */
     return VI_OK;
   }
+  double om = sw->m->omega_f;
   int st = vi_model_set_param(sw->m, key, value);
   if (st) return vi_fail(sw->errmsg, st, "%s", vi_model_errmsg(sw->m));
+  /* the shared constrained modes survive a new non-zero Omega (retuned)
+   * and a new r; anything else rebuilds them (vi_held_internal.h) */
+  const char *r = strstr(key, "].r");
+  int keep = (!strcmp(key, "forcing.omega") &&
+              (om == 0.0) == (sw->m->omega_f == 0.0)) ||
+             (!strncmp(key, "stops[", 6) && r && !strcmp(r, "].r"));
+  if (!keep) vi_held_cache_clear(sw->hc);
   return VI_OK;
 }
 
@@ -399,6 +412,11 @@ static vi_sim *make_sim(vi_sweep *sw, int *st)
                                 warm ? sw->vw : sw->v0))) {
     vi_fail(sw->errmsg, *st, "%s: %s", warm ? "warm start" : "initial state",
             vi_sim_errmsg(s));
+    vi_sim_destroy(&s);
+    return NULL;
+  }
+  if ((*st = vi_held_share_cache(s, sw->hc))) {
+    vi_fail(sw->errmsg, *st, "out of memory");
     vi_sim_destroy(&s);
     return NULL;
   }

@@ -274,6 +274,63 @@ typedef struct seen {
   int stop_at;
 } seen;
 
+static int count_sticks(const vi_event *ev, void *user)
+{
+  if (ev->kind == VI_EVENT_STICK) (*(int *)user)++;
+  return 0;
+}
+
+/* The constrained modes of a held set are shared by the points of a sweep
+ * over Omega (built once, retuned per Omega): every point equals, bit for
+ * bit, a study of its own value alone.  A 3-mass chain (Rayleigh damping,
+ * the closed form of held phases) pressed onto the stop on mass 3 by a
+ * preload sticks at every value, checked on a plain simulation. */
+static void held_modes_shared(void **state)
+{
+  (void)state;
+  const double M[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const double K[9] = {2, -1, 0, -1, 2, -1, 0, -1, 1};
+  double C[9];
+  for (int i = 0; i < 9; i++) C[i] = 0.05 * K[i];
+  const double a[3] = {0.6, 0, 0}, f0[3] = {0, 0, 0.3}, w[3] = {0, 0, 1};
+  const double om[3] = {0.3, 0.45, 0.6};
+  vi_model *m = vi_test_model(3, M, C, K, om[0], a, f0, w, 0.0, 0.5);
+  for (int j = 0; j < 3; j++) { /* it sticks at each value */
+    vi_model *mj = NULL;
+    vi_sim *s = NULL;
+    int sticks = 0;
+    assert_int_equal(vi_model_copy(m, &mj), VI_OK);
+    assert_int_equal(vi_model_set_param(mj, "forcing.omega", om[j]), VI_OK);
+    assert_int_equal(vi_sim_create(mj, &s), VI_OK);
+    assert_int_equal(vi_sim_set_method(s, VI_METHOD_EXACT), VI_OK);
+    assert_int_equal(vi_sim_set_event_callback(s, count_sticks, &sticks, NULL), VI_OK);
+    assert_int_equal(vi_sim_run(s, 8 * 2 * M_PI / om[j]), VI_OK);
+    assert_true(sticks >= 1);
+    vi_sim_destroy(&s);
+    vi_model_destroy(&mj);
+  }
+  vi_sweep *all = study(m, 0, 8);
+  assert_int_equal(vi_sweep_set_warm(all, 0), VI_OK);
+  for (int j = 0; j < 3; j++) {
+    vi_sweep *one = study(m, 0, 8);
+    assert_int_equal(vi_sweep_set_param(all, "forcing.omega", om[j]), VI_OK);
+    assert_int_equal(vi_sweep_set_param(one, "forcing.omega", om[j]), VI_OK);
+    assert_int_equal(vi_sweep_iterate(all), VI_OK);
+    assert_int_equal(vi_sweep_iterate(one), VI_OK);
+    int64_t na, no;
+    const double *ta, *va, *to, *vo;
+    assert_int_equal(vi_sweep_impacts(all, &na, &ta, NULL, &va), VI_OK);
+    assert_int_equal(vi_sweep_impacts(one, &no, &to, NULL, &vo), VI_OK);
+    assert_true(na > 0);
+    assert_int_equal(na, no);
+    assert_memory_equal(ta, to, sizeof(double) * (size_t)na);
+    assert_memory_equal(va, vo, sizeof(double) * (size_t)na);
+    vi_sweep_destroy(&one);
+  }
+  vi_sweep_destroy(&all);
+  vi_model_destroy(&m);
+}
+
 static int monitor(const vi_sweep *sw, int64_t point, int status, void *user)
 {
   seen *s = user;
@@ -314,6 +371,7 @@ int main(void)
       cmocka_unit_test(up_down_agree), cmocka_unit_test(warm_start),
       cmocka_unit_test(p11_census),    cmocka_unit_test(monitor_and_copy),
       cmocka_unit_test(lyapunov_exponent), cmocka_unit_test(warm_second_stop),
+      cmocka_unit_test(held_modes_shared),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
