@@ -862,14 +862,16 @@ static int ex_step(vi_sim *s, double t_end, int *event)
 }
 
 /* Physical state x = Psi q, v = Psi q' of the modal state Q = [q qd]
- * [n x 2] (ex_data keeps q, qd and qs, qds adjacent).  z = (x_1, v_1, ...)
- * is Z^T [2 x n] for Z = Psi Q: one dgemm, Z^T = Q^T Psi^T, one pass over
- * Psi. */
+ * [n x 2] (ex_data keeps q, qd and qs, qds adjacent) into the interleaved
+ * z = (x_1, v_1, ...): two dgemv with stride 2 (a dgemm would pack Psi at
+ * every call). */
 static void ex_physical(const vi_model *m, const double *Q, double *z)
 {
   int n = m->n;
-  cblas_dgemm(CblasColMajor, CblasTrans, CblasTrans, 2, n, n, 1.0, Q, n,
-              m->Psi, n, 0.0, z, 2);
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->Psi, n, Q, 1, 0.0,
+              z, 2);
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->Psi, n, Q + n, 1,
+              0.0, z + 1, 2);
 }
 
 static int ex_sync(vi_sim *s)
