@@ -909,9 +909,9 @@ static void test_interrupted_truncation(void **state)
     char line[512];
     rows = 0;
     while (f && fgets(line, sizeof line, f)) {
-      int k;
-      char c;
-      if (sscanf(line, " %d %c", &k, &c) == 2 && k >= 1) rows++;
+      char *end; /* a row: its k, then the columns */
+      long k = strtol(line, &end, 10);
+      if (end != line && k >= 1 && *end == ' ') rows++;
     }
     if (f) fclose(f);
   }
