@@ -143,14 +143,10 @@ static double chain_lambda(double t)
   return 0.2 + 0.3 * cos(0.7 * t) + x1 + 0.02 * v1 - 0.1;
 }
 
-static void test_chain_mass2(void **state)
+/* The reference release: the first root of chain_lambda, scanned in steps
+ * of 1e-3 then bisected to round-off. */
+static double chain_release(void)
 {
-  (void)state;
-  const double f0[2] = {0.0, 0.2}, a[2] = {0.0, 0.3}, w[2] = {0.0, 1.0};
-  vi_model *m = chain2(0.02, f0, 0.7, a);
-  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.5), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
-  /* the reference: first root of lambda, scanned then bisected */
   double lo = 0.0, hi = 0.0;
   for (int i = 0; i < 20000; i++)
     if (chain_lambda(1e-3 * (i + 1)) < 0.0) {
@@ -164,6 +160,17 @@ static void test_chain_mass2(void **state)
     if (chain_lambda(mid) < 0.0) hi = mid;
     else lo = mid;
   }
+  return hi;
+}
+
+static void test_chain_mass2(void **state)
+{
+  (void)state;
+  const double f0[2] = {0.0, 0.2}, a[2] = {0.0, 0.3}, w[2] = {0.0, 1.0};
+  vi_model *m = chain2(0.02, f0, 0.7, a);
+  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  const double hi = chain_release(); /* the reference */
   const double x0[2] = {0.0, 0.1}, v0[2] = {0.0, 0.0};
   const int methods[2] = {VI_METHOD_EXACT, VI_METHOD_ADAMS};
   double ce_exact = 0.0;
@@ -442,19 +449,7 @@ static int g_sample(double t, int n, const double *x, const double *v,
 static void test_held_not_stop0(void **state)
 {
   (void)state;
-  double lo = 0.0, hi = 0.0;
-  for (int i = 0; i < 20000; i++)
-    if (chain_lambda(1e-3 * (i + 1)) < 0.0) {
-      lo = 1e-3 * i;
-      hi = 1e-3 * (i + 1);
-      break;
-    }
-  assert_true(hi > 0.0);
-  for (int it = 0; it < 200 && hi - lo > 4e-16 * hi; it++) {
-    double mid = 0.5 * (lo + hi);
-    if (chain_lambda(mid) < 0.0) hi = mid;
-    else lo = mid;
-  }
+  const double hi = chain_release(); /* the reference */
   const double f0[2] = {0.0, 0.2}, a[2] = {0.0, 0.3};
   const double w0[2] = {1.0, 0.0}, wl[2] = {0.0, -1.0}, wh[2] = {0.0, 1.0};
   const double x0[2] = {0.0, 0.1}, v0[2] = {0.0, 0.0};
