@@ -157,9 +157,14 @@ int vi_test_record(const vi_event *ev, void *user)
   e->t[k] = ev->t;
   e->vn[k] = ev->vn;
   e->ie[k] = ev->ie;
-  memcpy(e->x + k * n, ev->x, sizeof(double) * n);
-  memcpy(e->vm + k * n, ev->v_minus, sizeof(double) * n);
-  memcpy(e->vp + k * n, ev->v_plus, sizeof(double) * n);
+  /* events without states (vi_sim_set_event_states 0): NaN rows */
+  const double *src[3] = {ev->x, ev->v_minus, ev->v_plus};
+  double *dst[3] = {e->x + k * n, e->vm + k * n, e->vp + k * n};
+  for (int j = 0; j < 3; j++) {
+    if (src[j]) memcpy(dst[j], src[j], sizeof(double) * n);
+    else
+      for (size_t i = 0; i < n; i++) dst[j][i] = NAN;
+  }
   return 0;
 }
 

@@ -63,7 +63,8 @@ int vi_test_run(const vi_model *m, int method, double rtol, double atol,
                 vi_test_events *ev);
 
 /* Events with their stop: kind, stop, t, vn, ie [count]; x, v_minus (vm),
- * v_plus (vp) [count x n].  vi_test_record is the event callback. */
+ * v_plus (vp) [count x n], NaN for events without states.  vi_test_record
+ * is the event callback. */
 typedef struct vi_test_rec {
   int count, cap, n;
   int *kind, *stop;

@@ -238,6 +238,13 @@ VI_API int vi_sim_set_native_vector_ops(vi_sim *sim, int on);
 /** Call fn at every event (impact, stick, release); NULL turns it off. */
 VI_API int vi_sim_set_event_callback(vi_sim *sim, vi_event_fn fn, void *user,
                                      vi_destroy_fn destroy);
+/** 1 (default): events carry the state (x, v_minus, v_plus); 0: those are
+ *  NULL, for a host that reads only t, vn and ie (a sweep).  The exact
+ *  method then takes a bounce in modal coordinates, O(n), without building
+ *  the physical state (O(n^2) on a dense model); the motion is bit for bit
+ *  the same either way.  vi_sim_state is valid in callbacks in both cases.
+ *  @return VI_OK, VI_ERR_ARG (on not 0 or 1), VI_ERR_STATE (in a run). */
+VI_API int vi_sim_set_event_states(vi_sim *sim, int on);
 /** Call fn at t0 + k dt (k = 0, 1, ...), states taken from the integrator's
  *  interpolant without forcing steps on it; a sample at an impact time sees
  *  the state before the impact.  dt <= 0 or fn NULL turns sampling off.

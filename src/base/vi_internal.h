@@ -103,6 +103,13 @@ void vi_small_solve(int k, const double *L, double *b);
 int vi_contact_solve(const vi_model *m, int nc, const int *idx,
                      const double *v, double *vp, double *P, double *vn,
                      double *ie);
+/* The law itself on the contacts' normal velocities u_k = w_k.v- [nc]:
+ * the impulses P [nc] (v+ = v- - sum_k P_k M^-1 w_k) and the energies ie
+ * [nc] (may be NULL) they take, with the restitutions r [nc] (NULL: the
+ * model's).  For a caller that holds the velocities in other coordinates
+ * (the exact method's modes, where q'+ = q'- - P_k psi_k). */
+int vi_contact_law(const vi_model *m, int nc, const int *idx,
+                   const double *r, const double *u, double *P, double *ie);
 
 /* Modal analysis (vi_modal.c), called by vi_model_setup after M's
  * Cholesky factorisation; checks K and C (c_zero: C = 0) semidefinite. */

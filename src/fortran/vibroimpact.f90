@@ -120,7 +120,8 @@ module vibroimpact
             vi_sim_set_chatter_threshold, vi_sim_set_restart_step, vi_sim_set_max_step, &
             vi_sim_set_cancel, vi_sim_set_floors, vi_sim_method_used, vi_sim_method_note, &
             vi_sim_setup, vi_sim_run_to_event, vi_sim_n, &
-            vi_sim_set_impact_resolution, vi_sim_velocity_scale
+            vi_sim_set_impact_resolution, vi_sim_velocity_scale, &
+            vi_sim_set_event_states
   public :: vi_sim_enable_ledger, vi_sim_ledger, vi_sim_ledger_max_residual, &
             vi_sim_set_ledger_callback
   public :: vi_sim_set_force, vi_sim_add_spring, vi_sim_clear_springs, &
@@ -577,6 +578,13 @@ module vibroimpact
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: sim, user
       type(c_funptr), value :: fn, destroy
+    end function
+    !> on = 1 (default): events carry x, v_minus, v_plus; 0: null pointers
+    !> (the exact method then keeps a bounce in modal coordinates)
+    integer(c_int) function vi_sim_set_event_states(sim, on) bind(C, name="vi_sim_set_event_states")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: sim
+      integer(c_int), value :: on
     end function
     !> fn: integer(c_int) function f(t, n, x, v, user) bind(C) with t, n by value
     integer(c_int) function vi_sim_set_sampling(sim, dt, fn, user, destroy) bind(C, name="vi_sim_set_sampling")

@@ -17,18 +17,16 @@ static int popcount(unsigned v)
  * impact of the simulation, of the public wrappers (one contact: WB 2 and
  * WB 10) and, through its linearisation Q_k (vi_impact.c), of the orbit
  * code comes here. */
-int vi_contact_solve_r(const vi_model *m, int nc, const int *idx,
-                       const double *r, const double *v, double *vp,
-                       double *P, double *vn, double *ie)
+int vi_contact_law(const vi_model *m, int nc, const int *idx,
+                   const double *r, const double *u, double *p, double *ie)
 {
-  int n = m->n, ns = m->ns;
+  int ns = m->ns;
   if (nc > VI_CONTACT_MAX) return VI_ERR_LIMIT;
-  double u[VI_CONTACT_MAX], e[VI_CONTACT_MAX], p[VI_CONTACT_MAX];
+  double e[VI_CONTACT_MAX];
   double A[VI_CONTACT_MAX * VI_CONTACT_MAX], ps[VI_CONTACT_MAX];
   int act[VI_CONTACT_MAX];
   double emax = 0.0;
   for (int k = 0; k < nc; k++) {
-    u[k] = vi_dot(n, vi_stop_w(m, idx[k]), v);
     /* Newton: w_k.v+ <= -r_k w_k.v- on an approaching contact; a closed
      * contact that is not approaching must not start to (plastic rule) */
     double rk = r ? r[k] : m->rv[idx[k]];
@@ -88,6 +86,23 @@ int vi_contact_solve_r(const vi_model *m, int nc, const int *idx,
     }
   }
   if (!found) return VI_ERR_NOT_CONVERGED;
+  /* KE- - KE+ = P.u - P.G P / 2 and (G P)_k = e_k on the active set: each
+   * contact takes P_k (u_k - e_k / 2), 1/2 P_k u_k (1 - r_k) for an
+   * approaching one (WB 10 for one contact) */
+  for (int k = 0; k < nc && ie; k++) ie[k] = p[k] * (u[k] - 0.5 * e[k]);
+  return VI_OK;
+}
+
+int vi_contact_solve_r(const vi_model *m, int nc, const int *idx,
+                       const double *r, const double *v, double *vp,
+                       double *P, double *vn, double *ie)
+{
+  int n = m->n;
+  if (nc > VI_CONTACT_MAX) return VI_ERR_LIMIT;
+  double u[VI_CONTACT_MAX], p[VI_CONTACT_MAX];
+  for (int k = 0; k < nc; k++) u[k] = vi_dot(n, vi_stop_w(m, idx[k]), v);
+  int st = vi_contact_law(m, nc, idx, r, u, p, ie);
+  if (st) return st;
   if (vp != v) memcpy(vp, v, sizeof(double) * (size_t)n);
   for (int k = 0; k < nc; k++) {
     if (p[k] == 0.0) continue;
@@ -97,10 +112,6 @@ int vi_contact_solve_r(const vi_model *m, int nc, const int *idx,
   for (int k = 0; k < nc; k++) {
     if (P) P[k] = p[k];
     if (vn) vn[k] = u[k];
-    /* KE- - KE+ = P.u - P.G P / 2 and (G P)_k = e_k on the active set:
-     * each contact takes P_k (u_k - e_k / 2), 1/2 P_k u_k (1 - r_k) for an
-     * approaching one (WB 10 for one contact) */
-    if (ie) ie[k] = p[k] * (u[k] - 0.5 * e[k]);
   }
   return VI_OK;
 }

@@ -552,6 +552,25 @@ static double ex_report(const ex_data *d, const double *g, int off)
   return worst + e->tol;
 }
 
+/* sum_i |w_i x_i| of stop vector w, the round-off scale of w.x: from s->z,
+ * or, where the modes are the state (after a kick), from the rows of Psi
+ * that w sees (one row for a stop on one coordinate). */
+static double ex_wx_scale(const ex_data *d, const double *w, int modal)
+{
+  const vi_sim *s = d->s;
+  int n = d->n;
+  double sc = 0.0;
+  for (int i = 0; i < n; i++) {
+    if (w[i] == 0.0) continue;
+    double x = 0.0;
+    if (!modal) x = s->z[2 * (size_t)i];
+    else
+      for (int j = 0; j < n; j++) x += s->m->Psi[i + (size_t)j * n] * d->q[j];
+    sc += fabs(w[i] * x);
+  }
+  return sc;
+}
+
 static int ex_start(vi_sim *s)
 {
   const vi_model *m = s->m;
@@ -565,7 +584,10 @@ static int ex_start(vi_sim *s)
     s->be_data = d;
   }
   int n = d->n, na = d->na;
-  ex_modal_from_z(d);
+  /* the driver writes s->z only after a sync: a stale s->z with the modes
+   * at s->t means the modes were kicked (ex_kick) and are the state */
+  int modal = s->z_stale && d->q_ok && d->tq == s->t;
+  if (!modal) ex_modal_from_z(d);
   d->q_ok = 1;
   d->tq = s->t;
   d->z_ok = 0;
@@ -632,7 +654,7 @@ static int ex_start(vi_sim *s)
     d->g.fdk[k] = gd;
     /* the round-off of g: of its terms, physical and modal */
     double scale = fabs(e->xs) + e->GH + 1e-3 * s->atol * s->wnorms[k];
-    for (int i = 0; i < n; i++) scale += fabs(w[i] * s->z[2 * (size_t)i]);
+    scale += ex_wx_scale(d, w, modal);
     for (int i = 0; i < na; i++) scale += fabs(e->psi[i] * d->g.wk[i]);
     double tr = 0.0;
     e->gnoise = 64.0 * DBL_EPSILON * scale;
@@ -660,7 +682,7 @@ static int ex_start(vi_sim *s)
       tf = fmin(tf, fmax(tr, -2.0 * gd / gdd));
   }
   s->gap = ex_report(d, d->g.fk, 1);
-  s->z_stale = 0;
+  s->z_stale = modal;
   d->p = 0;
   while (d->p < 40 && ldexp(d->h0, -d->p) > 4.0 * tf &&
          ldexp(d->h0, -d->p - 1) >= 64.0 * DBL_EPSILON * fabs(s->t))
@@ -901,6 +923,49 @@ static int ex_dense(vi_sim *s, double t)
   return VI_OK;
 }
 
+/* Stop k's gap, rate and acceleration at a contact from the modes there:
+ * q'' = w'' + H'' with w'' = F0 - d w' - lambda w and H'' = -Omega^2 H. */
+static int ex_normal(vi_sim *s, int k, double *g, double *gd, double *gdd)
+{
+  ex_data *d = s->be_data;
+  if (s->sticking || !s->m->proportional || !d || d->kind != EX_KIND_FAST ||
+      !d->q_ok || d->tq != s->t)
+    return 1;
+  const double *psi = d->st[k].psi;
+  vi_phase p = vi_phase_at(d->Om, s->t);
+  double a = 0.0, b = 0.0, c = 0.0;
+  for (int i = 0; i < d->na; i++) {
+    int j = d->act[i];
+    double H = vi_harm(&p, 0, d->pA[j], d->pB[j], 0.0);
+    double Hd = vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
+    double Hdd = vi_harm(&p, 2, d->pA[j], d->pB[j], 0.0);
+    double wdd = d->F0[i] - d->dmp[i] * (d->qd[j] - Hd) -
+                 d->lam[i] * (d->q[j] - H);
+    a += psi[i] * d->q[j];
+    b += psi[i] * d->qd[j];
+    c += psi[i] * (wdd + Hdd);
+  }
+  *g = a - d->st[k].xs;
+  *gd = b;
+  *gdd = c;
+  return 0;
+}
+
+/* dx = a M^-1 w_k, dv = b M^-1 w_k in modes: q += a psi_k, q' += b psi_k
+ * (M^-1 w_k = Psi psi_k); after ex_normal, before ex_start. */
+static void ex_kick(vi_sim *s, int k, double a, double b)
+{
+  ex_data *d = s->be_data;
+  const double *psi = vi_stop_psi(s->m, k);
+  for (int j = 0; j < d->n; j++) {
+    d->q[j] += a * psi[j];
+    d->qd[j] += b * psi[j];
+  }
+  d->hit = k;
+  d->z_ok = 0;
+  s->z_stale = 1;
+}
+
 static int64_t ex_stat(const void *data, int which)
 {
   const ex_data *d = data;
@@ -911,4 +976,5 @@ static int64_t ex_stat(const void *data, int which)
 }
 
 const vi_backend vi_backend_exact = {"exact", ex_start, ex_step, ex_dense,
-                                     ex_stat, ex_destroy, ex_sync, NULL};
+                                     ex_stat, ex_destroy, ex_sync, NULL,
+                                     ex_normal, ex_kick};

@@ -328,4 +328,4 @@ static int64_t ex_stat(const void *data, int which)
 
 const vi_backend vi_backend_exact_scan = {"exact", ex_start, ex_step,
                                           ex_dense, ex_stat, ex_destroy, NULL,
-                                          NULL};
+                                          NULL, NULL, NULL};

@@ -52,6 +52,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->atol = 1e-10;
   s->vchat = 1e-7;
   s->impact_ratio = 1e-5;
+  s->ev_states = 1;
   s->tol_scale = 1.0;
   s->t_last_contact = -HUGE_VAL;
   s->stick_at = HUGE_VAL;
@@ -374,6 +375,17 @@ int vi_sim_set_event_callback(vi_sim *s, vi_event_fn fn, void *user,
   return VI_OK;
 }
 
+int vi_sim_set_event_states(vi_sim *s, int on)
+{
+  if (!s) return VI_ERR_ARG;
+  VI_SIM_IDLE(s);
+  if (on != 0 && on != 1)
+    return vi_fail(s->errmsg, VI_ERR_ARG, "event states switch %d is not 0 "
+                   "or 1", on);
+  s->ev_states = on;
+  return VI_OK;
+}
+
 int vi_sim_set_sampling(vi_sim *s, double dt, vi_sample_fn fn, void *user,
                         vi_destroy_fn destroy)
 {
@@ -408,6 +420,11 @@ int vi_sim_set_monitor(vi_sim *s, double every, vi_monitor_fn fn, void *user,
 int vi_sim_state(const vi_sim *s, double *t, double *x, double *v)
 {
   if (!s) return VI_ERR_ARG;
+  /* s->z is a view of the backend's state, built when read (from a
+   * callback, after a bounce kept in modes): building it changes nothing
+   * that a caller can see, so the handle counts as const here */
+  int st = vi_sim_sync((vi_sim *)s);
+  if (st) return st;
   if (t) *t = s->t;
   for (int i = 0; i < s->n; i++) {
     if (x) x[i] = s->z[2 * (size_t)i];
@@ -451,7 +468,9 @@ static void emit(vi_sim *s, int kind, int stop, double vn, double ie)
   s->last_event = kind;
   if (s->event_stop) s->stop = 1;
   if (!s->ev_fn || (s->stop && !s->event_stop)) return;
-  vi_event ev = {kind, s->n, idx, s->t, vn, ie, s->x, s->v, s->vp, stop};
+  int x = s->ev_states;
+  vi_event ev = {kind, s->n, idx, s->t, vn, ie, x ? s->x : NULL,
+                 x ? s->v : NULL, x ? s->vp : NULL, stop};
   if (s->ev_fn(&ev, s->ev_user)) {
     s->stop = 1;
     s->event_stop = 0; /* the user's request: the run returns VI_STOPPED */
@@ -466,6 +485,7 @@ static void emit_stick(vi_sim *s, int k)
   if (!s->pend[k].on) return;
   double vn = s->pend[k].vn, ie = s->pend[k].ie;
   vi_chatter_unpend(s, k);
+  vi_sim_sync(s); /* a bounce in the backend's coordinates left s->z stale */
   split(s, s->z);
   memcpy(s->vp, s->v, sizeof(double) * (size_t)s->n);
   emit(s, VI_EVENT_STICK, k, vn, ie);
@@ -488,39 +508,76 @@ static void close_interval(vi_sim *s, int jump, double ie)
   }
 }
 
+/* The physical state at s->t into s->x, s->v (built now where the backend
+ * keeps its own coordinates). */
+static int physical(vi_sim *s)
+{
+  int st = vi_sim_sync(s);
+  if (!st) split(s, s->z);
+  return st;
+}
+
 /* A contact with stop k alone, located at s->t: impact, start of sticking,
  * or a tangential touch that needs nothing but a restart past it.  (With
- * one stop, the arithmetic of the single-stop simulator.) */
+ * one stop, the arithmetic of the single-stop simulator.)  Where the
+ * backend keeps its own coordinates (vi_backend.normal), a bounce is made
+ * there, in O(n), and the physical state is built only for whoever reads
+ * it (the event's states, the ledger, a stick); the motion is the same
+ * whether or not it is built. */
 static int on_contact_one(vi_sim *s, int k)
 {
   const vi_model *m = s->m;
-  int n = s->n;
+  int n = s->n, st;
   const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
   double r = m->rv[k], wmw = m->G[k + (size_t)k * m->ns], xs = m->xsv[k];
   emit_sticks_due(s, HUGE_VAL); /* an earlier stop's tail, if any, ends */
-  if (s->led) vi_ledger_pre_jump(s->led, s->z);
-  split(s, s->z);
-  double vn = vi_dot(n, w, s->v);
-  vi_sim_accel(s, s->t, s->z, 0, s->vp);
-  double push = vi_dot(n, w, s->vp); /* > 0: pressed into the stop */
+  /* gap, approach velocity and push (> 0: pressed into the stop) */
+  double g, vn, push;
+  int own = s->be->normal && !s->be->normal(s, k, &g, &vn, &push);
+  int have_x = !own; /* s->x, s->v hold the state */
+  if (!own) {
+    if ((st = physical(s))) return st;
+    vn = vi_dot(n, w, s->v);
+    vi_sim_accel(s, s->t, s->z, 0, s->vp);
+    push = vi_dot(n, w, s->vp);
+  }
+  if (s->led) {
+    if ((st = vi_sim_sync(s))) return st;
+    vi_ledger_pre_jump(s->led, s->z);
+  }
   double dt_prev = s->t - s->t_last_contact;
   s->t_last_contact = s->t;
+  /* the accuracy-driven chatter test (no impact resolution) reads x, v */
+  if (!have_x && !(s->impact_ratio > 0.0)) {
+    if ((st = physical(s))) return st;
+    have_x = 1;
+  }
   int floor_hit;
   int chatter = vi_chatter_wanted(s, k, vn, push, dt_prev, s->x, s->v,
                                   &floor_hit);
   if (floor_hit) s->stats[VI_STAT_FLOORS]++;
-  double ie = 0.0;
-  if (vn > 0.0) {
-    int st = vi_contact_solve(m, 1, &k, s->v, s->vp, NULL, &vn, &ie);
-    if (st) return st; /* one contact: always solvable */
-    s->stats[VI_STAT_IMPACTS]++;
-    emit(s, VI_EVENT_IMPACT, k, vn, ie);
-  } else {
-    memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
-  }
+  double ie = 0.0, P = 0.0;
+  if (vn > 0.0 && (st = vi_contact_law(m, 1, &k, NULL, &vn, &P, &ie)))
+    return st; /* one contact: always solvable */
   int stick = chatter || (vn > 0.0 && r == 0.0 && push > 0.0) ||
               (vn <= 0.0 && s->press_next);
   s->press_next = 0;
+  /* the physical state: for the event's states, a plastic impact's or a
+   * stick's tests below */
+  if (!have_x && (stick || (vn > 0.0 && r == 0.0) ||
+                  (vn > 0.0 && s->ev_fn && s->ev_states))) {
+    if ((st = physical(s))) return st;
+    have_x = 1;
+  }
+  if (have_x) {
+    memcpy(s->vp, s->v, sizeof(double) * (size_t)n);
+    if (P != 0.0)
+      for (int i = 0; i < n; i++) s->vp[i] -= P * mw[i];
+  }
+  if (vn > 0.0) {
+    s->stats[VI_STAT_IMPACTS]++;
+    emit(s, VI_EVENT_IMPACT, k, vn, ie);
+  }
   if (!stick && vn > 0.0 && r == 0.0) {
     /* a plastic impact leaves the mass on the stop at rest along w: it
      * sticks if pressed with the velocity after the impact (damping), else
@@ -581,11 +638,16 @@ static int on_contact_one(vi_sim *s, int k)
    * amplified into the next approach velocity as dv ~ g'' dx / v (the
    * square-root singularity), so put the state back on the stop: the
    * M-orthogonal projection, the smallest change in kinetic-energy norm. */
-  double g = vi_dot(n, w, s->x) - xs;
-  for (int i = 0; i < n; i++) s->x[i] -= g * mw[i] / wmw;
-  for (int i = 0; i < n; i++) {
-    s->z[2 * (size_t)i] = s->x[i];
-    s->z[2 * (size_t)i + 1] = s->vp[i];
+  if (own && !stick) {
+    s->be->kick(s, k, -g / wmw, -P);
+    if (s->led && (st = vi_sim_sync(s))) return st;
+  } else {
+    g = vi_dot(n, w, s->x) - xs;
+    for (int i = 0; i < n; i++) s->x[i] -= g * mw[i] / wmw;
+    for (int i = 0; i < n; i++) {
+      s->z[2 * (size_t)i] = s->x[i];
+      s->z[2 * (size_t)i + 1] = s->vp[i];
+    }
   }
   close_interval(s, vn > 0.0 || stick, ie + ie_tail);
   emit_sticks_due(s, s->t); /* a tail of no duration */
@@ -771,8 +833,9 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
  * several at once (within the gap tolerance, or while sticking). */
 static int on_contact(vi_sim *s)
 {
-  int k0 = s->contact_stop;
+  int k0 = s->contact_stop, st;
   if (s->ns == 1 && !s->sticking) return on_contact_one(s, 0);
+  if ((st = vi_sim_sync(s))) return st;
   int idx[VI_CONTACT_MAX], nc = 0;
   for (int k = 0; k < s->ns; k++) {
     double g, gd;
@@ -1158,7 +1221,12 @@ static int run(vi_sim *s, double t_end)
       if (st != VI_CANCELLED) return st;
       cancelled = 1; /* the step is complete: its events are applied below */
     }
-    if (event != VI_STEP_NONE && (st = vi_sim_sync(s))) return st;
+    /* a lone contact on a backend with its own coordinates builds the
+     * physical state only where it reads it (on_contact_one) */
+    if (event != VI_STEP_NONE &&
+        !(event == VI_STEP_CONTACT && s->be->normal) &&
+        (st = vi_sim_sync(s)))
+      return st;
     if (event == VI_STEP_CONTACT && s->be->refine && (st = s->be->refine(s)))
       return st;
     if (event == VI_STEP_CONTACT) st = on_contact(s);

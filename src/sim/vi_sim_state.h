@@ -40,6 +40,17 @@ typedef struct vi_backend {
   /* After a contact step's samples went out: locate the contact (s->t,
    * s->z) more accurately, or leave it (NULL: nothing to refine). */
   int (*refine)(vi_sim *s);
+  /* A backend that keeps its own coordinates (the exact method's modes)
+   * can take a lone impact there, in O(n) where the physical state costs
+   * O(n^2) to build and to convert back (NULL: the driver works on s->z).
+   * normal: stop k's gap g = w_k.x - x_k, its rate and its acceleration at
+   * s->t, from the backend's state; non-zero: not available now (the
+   * driver then reads s->z).  kick: the state at s->t changed by dx = a
+   * M^-1 w_k, dv = b M^-1 w_k (an impulse and the projection on the stop)
+   * in those coordinates, which stay the state's own: s->z goes stale and
+   * start() continues from them. */
+  int (*normal)(vi_sim *s, int k, double *g, double *gd, double *gdd);
+  void (*kick)(vi_sim *s, int k, double a, double b);
 } vi_backend;
 
 extern const vi_backend vi_backend_cvode;
@@ -68,7 +79,9 @@ struct vi_sim {
   int fast_nvector; /* our vector ops instead of Debian's -O0 ones */
 
   double t, *z;   /* current time and state [2n] */
-  int z_stale;    /* s->z lags s->t: call vi_sim_sync() before reading it */
+  int z_stale;    /* s->z lags s->t: call vi_sim_sync() before reading it;
+                     the driver writes s->z only after a sync */
+  int ev_states;  /* events carry x, v-, v+ (vi_sim_set_event_states) */
   double gap;     /* g = w.x - x_s at s->t as the backend last saw it */
   int sticking, started;
   int method_used;                 /* VI_METHOD_* actually running */

@@ -421,6 +421,7 @@ static vi_sim *make_sim(vi_sweep *sw, int *st)
     return NULL;
   }
   vi_sim_set_event_callback(s, on_event, sw, NULL);
+  vi_sim_set_event_states(s, 0); /* on_event reads t and vn only */
   if (sw->cancel) vi_sim_set_cancel(s, sw->cancel, sw->cancel_user, NULL);
   return s;
 }

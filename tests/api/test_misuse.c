@@ -287,6 +287,7 @@ static void test_sim_misuse(void **state)
   assert_err(vi_sim_set_max_step(NULL, 0));
   assert_err(vi_sim_set_native_vector_ops(NULL, 1));
   assert_err(vi_sim_set_event_callback(NULL, never, NULL, NULL));
+  assert_err(vi_sim_set_event_states(NULL, 0));
   assert_err(vi_sim_set_sampling(NULL, 1.0, sample_count, NULL, NULL));
   assert_err(vi_sim_set_monitor(NULL, 1.0, NULL, NULL, NULL));
   assert_err(vi_sim_set_cancel(NULL, NULL, NULL, NULL));
@@ -332,6 +333,8 @@ static void test_sim_misuse(void **state)
   assert_err_msg(vi_sim_set_restart_step(s, NAN), msg);
   assert_err_msg(vi_sim_set_max_step(s, -1), msg);
   assert_err_msg(vi_sim_set_native_vector_ops(s, 2), msg);
+  assert_err_msg(vi_sim_set_event_states(s, 2), msg);
+  assert_err_msg(vi_sim_set_event_states(s, -1), msg);
   int count = 0;
   assert_err_msg(vi_sim_set_sampling(s, 0.0, sample_count, &count, NULL), msg);
   assert_err_msg(vi_sim_set_sampling(s, -1.0, sample_count, &count, NULL), msg);

@@ -3,6 +3,7 @@
  * law (WB 2, energy loss WB 10) is the case nc = 1, on diagonal and
  * non-diagonal mass matrices; two-contact cases against hand-solved 2 x 2
  * LCPs; the impacts a simulation reports; WB 13. */
+#include <float.h>
 #include <math.h>
 
 #include "vi_testutil.h"
@@ -257,7 +258,9 @@ static void test_two_contacts_hand_lcp(void **state)
 /* The impacts a simulation reports obey the law: Fig. 2 (M = I, w = e_2,
  * r = 0.7) under the closed-form and the CVODE backends: w.v+ = -r w.v-,
  * v_1 unchanged, IE = 1/2 v_n^2 (1 - r^2) (WB 10, G = 1), the kinetic
- * energy lost. */
+ * energy lost.  The closed form takes the bounce in modes: its v_n is
+ * psi.q' and the event's v- the physical view Psi q', the same sum in
+ * another order, so they agree to a rounding (CVODE's exactly). */
 static void test_simulation_impacts(void **state)
 {
   (void)state;
@@ -272,7 +275,7 @@ static void test_simulation_impacts(void **state)
       const double *vm = ev.vm + 2 * (size_t)i, *vp = ev.vp + 2 * (size_t)i;
       assert_int_equal(ev.kind[i], VI_EVENT_IMPACT);
       assert_int_equal(ev.stop[i], 0);
-      assert_close(ev.vn[i], vm[1], 0.0);
+      assert_close(ev.vn[i], vm[1], k == 0 ? 4.0 * DBL_EPSILON * vm[1] : 0.0);
       assert_true(vm[1] > 0.0);
       assert_close(vp[1], -0.7 * vm[1], 1e-15 * vm[1]);
       assert_close(vp[0], vm[0], 0.0);

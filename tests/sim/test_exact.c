@@ -480,6 +480,104 @@ static void test_cancel(void **state)
   vi_model_destroy(&m);
 }
 
+/* ---- a bounce in modes ------------------------------------------------- */
+/* A 6-mass chain, M = diag(1..6), C = 0.02 K, forced on mass 1, against an
+ * oblique stop w = (0, 0, 0.3, 0, 0, 1): the exact method takes a bounce in
+ * modal coordinates (q' -= P psi, q -= g psi / G), and builds the physical
+ * state only for whoever reads it.  (i) The motion is bit for bit the same
+ * with and without the event's states and with the ledger on; (ii) the
+ * state just after the first impact, read back from the modes, obeys
+ * Newton's law (w.v+ = -r w.v-, v+ - v- along M^-1 w) and lies on the
+ * stop, to round-off; (iii) each impact takes the kinetic energy it
+ * reports, 1/2 (v-.M v- - v+.M v+) = IE, to 1e-12. */
+enum { MB_N = 6 };
+static vi_model *mb_model(void)
+{
+  double M[MB_N * MB_N] = {0}, K[MB_N * MB_N] = {0}, C[MB_N * MB_N];
+  double a[MB_N] = {1.0}, W[MB_N] = {0, 0, 0.3, 0, 0, 1};
+  double xs = 0.02, r = 0.8;
+  for (int i = 0; i < MB_N; i++) {
+    M[i + i * MB_N] = 1.0 + i;
+    K[i + i * MB_N] = i + 1 < MB_N ? 2.0 : 1.0;
+    if (i + 1 < MB_N) K[i + 1 + i * MB_N] = K[i + (i + 1) * MB_N] = -1.0;
+  }
+  for (int i = 0; i < MB_N * MB_N; i++) C[i] = 0.02 * K[i];
+  return vi_test_model_stops(MB_N, M, C, K, 0.4, a, NULL, 1, W, &xs, &r);
+}
+
+static vi_sim *mb_run(const vi_model *m, int states, int ledger,
+                      vi_test_rec *ev, double t_end, double *z)
+{
+  vi_sim *s = vi_test_sim_stops(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, NULL,
+                                NULL, ev);
+  assert_int_equal(vi_sim_set_event_states(s, states), VI_OK);
+  assert_int_equal(vi_sim_enable_ledger(s, ledger), VI_OK);
+  assert_int_equal(vi_sim_run(s, t_end), VI_OK);
+  double t;
+  assert_int_equal(vi_sim_state(s, &t, z, z + MB_N), VI_OK);
+  return s;
+}
+
+static void test_modal_bounce(void **state)
+{
+  (void)state;
+  vi_model *m = mb_model();
+  const double W[MB_N] = {0, 0, 0.3, 0, 0, 1}, r = 0.8;
+  double za[2 * MB_N], zb[2 * MB_N], zc[2 * MB_N], t_end = 40.0 * 2.0 * M_PI / 0.4;
+  vi_test_rec a = {0}, b = {0}, c = {0};
+  vi_sim *sa = mb_run(m, 1, 0, &a, t_end, za);
+  vi_sim *sb = mb_run(m, 0, 0, &b, t_end, zb);
+  vi_sim *sc = mb_run(m, 0, 1, &c, t_end, zc);
+  /* (i) */
+  print_message("modal bounce: %d impacts\n", a.count);
+  assert_true(a.count > 25);
+  assert_true(vi_sim_stat(sa, VI_STAT_IMPACTS) == a.count);
+  assert_int_equal(b.count, a.count);
+  assert_int_equal(c.count, a.count);
+  assert_memory_equal(b.t, a.t, sizeof(double) * a.count);
+  assert_memory_equal(b.vn, a.vn, sizeof(double) * a.count);
+  assert_memory_equal(c.t, a.t, sizeof(double) * a.count);
+  assert_memory_equal(zb, za, sizeof za);
+  assert_memory_equal(zc, za, sizeof za);
+  assert_true(isnan(b.x[0]) && isnan(b.vm[0]) && isnan(b.vp[0]));
+  /* (iii) */
+  for (int i = 0; i < a.count; i++) {
+    const double *vm = a.vm + (size_t)i * MB_N, *vp = a.vp + (size_t)i * MB_N;
+    double ke = 0.0;
+    for (int j = 0; j < MB_N; j++) ke += 0.5 * (1.0 + j) * (vm[j] * vm[j] - vp[j] * vp[j]);
+    assert_close(ke, a.ie[i], 1e-12 * fmax(a.ie[i], 1e-3));
+  }
+  /* (ii): stopped after the step of the first impact, the state is the
+   * modes' own, read back through Psi */
+  vi_sim_destroy(&sb);
+  sb = vi_test_sim_stops(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, NULL, NULL,
+                         NULL);
+  assert_int_equal(vi_sim_set_event_states(sb, 0), VI_OK);
+  int kind;
+  assert_int_equal(vi_sim_run_to_event(sb, t_end, &kind), VI_OK);
+  assert_int_equal(kind, VI_EVENT_IMPACT);
+  double t, x[MB_N], v[MB_N], wx = 0.0, wv = 0.0, vn = a.vn[0];
+  assert_int_equal(vi_sim_state(sb, &t, x, v), VI_OK);
+  assert_true(t == a.t[0]);
+  for (int j = 0; j < MB_N; j++) {
+    wx += W[j] * x[j];
+    wv += W[j] * v[j];
+    /* v+ - v- = -P M^-1 w: zero off the stop's coordinates */
+    if (W[j] == 0.0) assert_close(v[j], a.vm[j], 1e-14 * vn);
+    assert_close(v[j], a.vp[j], 1e-14 * vn);
+    assert_close(x[j], a.x[j], 1e-14);
+  }
+  assert_close(wv, -r * vn, 1e-14 * vn);
+  assert_close(wx, 0.02, 1e-15);
+  vi_test_rec_free(&a);
+  vi_test_rec_free(&b);
+  vi_test_rec_free(&c);
+  vi_sim_destroy(&sa);
+  vi_sim_destroy(&sb);
+  vi_sim_destroy(&sc);
+  vi_model_destroy(&m);
+}
+
 /* ---- non-proportional damping on a very soft structure ----------------- */
 /* The 3-DOF non-proportional fixture with K scaled by 1e-6 and a constant
  * push of 0.5 on mass 3 towards the stop: the static offset f0 / K is ~1e6
@@ -724,6 +822,7 @@ int main(void)
       cmocka_unit_test(test_long_free_flight),
       cmocka_unit_test(test_handover_near_resonance),
       cmocka_unit_test(test_cancel),
+      cmocka_unit_test(test_modal_bounce),
       cmocka_unit_test(test_nonproportional_soft),
       cmocka_unit_test(test_nonproportional_soft_stop1),
       cmocka_unit_test(test_resting_on_stop),
