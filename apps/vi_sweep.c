@@ -222,14 +222,14 @@ void vi_sweep_free(vi_diagram **swp)
 }
 
 /* The key at a value: the scene text (its ranges, with file:line) and the
- * model's parameter (vi_param.h) on a copy; catches an unknown key or a bad
- * value before any simulation.  *pkey [64] receives the parameter key. */
+ * model's parameter (vi_model_check_param: no copy of the model unless the
+ * key redoes its set-up); catches an unknown key or a bad value before any
+ * simulation.  *pkey [64] receives the parameter key. */
 static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
                  char *err, int len)
 {
   vi_scene_edit *ed = NULL;
   vi_scene *sc = NULL;
-  vi_model *m = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
   int st = vi_scene_edit_create_limited(sw->text, -1, sw->name,
@@ -237,18 +237,16 @@ static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
   if (!st) st = vi_scene_edit_set_number(ed, key, val, &d);
   if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
   if (!st) st = vi_scene_param_key(sw->sc, key, pkey, 64, &d);
+  int omega = !st && !strcmp(pkey, "forcing.omega");
   if (st) diag_msg(&d, st, err, len);
-  else if ((st = vi_model_copy(sw->model, &m)))
-    msg(err, len, "out of memory");
   else if (vi_param_kind(pkey) == VI_PARAM_MODEL &&
-           (st = vi_model_set_param(m, pkey, val)))
-    msg(err, len, "%s: %s", sw->name, vi_model_errmsg(m));
-  else if (!(vi_model_omega_forcing(m) > 0)) {
+           (st = vi_model_check_param(sw->model, pkey, val)))
+    msg(err, len, "%s: %s", sw->name, vi_model_errmsg(sw->model));
+  else if (!((omega ? val : vi_model_omega_forcing(sw->model)) > 0)) {
     st = VI_ERR_FREQUENCY;
     msg(err, len, "%s: %s = %.17g leaves no harmonic forcing (forcing.omega "
         "must be > 0 for a sweep)", sw->name, key, val);
   }
-  vi_model_destroy(&m);
   vi_scene_destroy(&sc);
   vi_scene_edit_destroy(&ed);
   return st;

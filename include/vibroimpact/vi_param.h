@@ -83,6 +83,16 @@ typedef enum vi_param_kind_t {
  *  model, damping.scale of Rayleigh or modal damping), VI_ERR_NOT_SPD
  *  (mass.scale <= 0, or the set-up redone fails), VI_ERR_NOMEM. */
 VI_API int vi_model_set_param(vi_model *m, const char *key, double value);
+/** What vi_model_set_param(m, key, value) would return, with its message
+ *  in vi_model_errmsg, without changing m: the key's checks, and for the
+ *  keys that redo part of a set-up model (damping.*, mass.scale,
+ *  stiffness.scale) the change itself on a copy, since only doing it can
+ *  tell (C indefinite, M not SPD).  The others cost nothing: a study
+ *  checks its range's ends with it before it starts.  Like
+ *  vi_model_param, it writes only m's message.  @return as
+ *  vi_model_set_param. */
+VI_API int vi_model_check_param(const vi_model *m, const char *key,
+                                double value);
 /** The parameter `key` of model m into *value (also before setup; NaN
  *  for damping.alpha/beta of a matrix C).  @return VI_OK, VI_ERR_ARG,
  *  VI_ERR_DIM, VI_ERR_STATE, VI_ERR_UNSUPPORTED as vi_model_set_param

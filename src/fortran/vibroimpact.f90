@@ -89,6 +89,7 @@ module vibroimpact
             vi_census_set_cancel, vi_census_run, vi_census_count, vi_census_orbit, &
             vi_census_stability
   public :: vi_model_set_param, vi_model_param, vi_model_copy, vi_param_kind, &
+            vi_model_check_param, &
             vi_param_set_initial, vi_param_initial, vi_param_key_count, vi_param_key_name
   public :: vi_identify_create, vi_identify_destroy, vi_identify_errmsg, &
             vi_identify_set_param, vi_identify_set_param_key, vi_identify_set_builder, &
@@ -1139,6 +1140,13 @@ module vibroimpact
     ! e.g. 'forcing.omega'//c_null_char, with 1-based indices 'forcing.a[1]'
     integer(c_int) function vi_model_set_param(model, key, val) &
         bind(C, name="vi_model_set_param")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: model
+      character(kind=c_char), intent(in) :: key(*)
+      real(c_double), value :: val
+    end function
+    !> what vi_model_set_param would return, m unchanged
+    integer(c_int) function vi_model_check_param(model, key, val) bind(C, name="vi_model_check_param")
       import :: c_int, c_ptr, c_char, c_double
       type(c_ptr), value :: model
       character(kind=c_char), intent(in) :: key(*)

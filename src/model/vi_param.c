@@ -478,6 +478,23 @@ int vi_model_set_param(vi_model *m, const char *key, double value)
   return st;
 }
 
+int vi_model_check_param(const vi_model *m, const char *key, double value)
+{
+  pkey p;
+  if (!m) return VI_ERR_ARG;
+  vi_model *mm = (vi_model *)m; /* only errmsg is written */
+  if (parse_key(key, &p)) return unknown(mm->errmsg, key);
+  int st = check_set(mm, &p, key, value);
+  if (st || !m->frozen || p.id <= P_R) return st; /* nothing derived fails */
+  vi_model *c = NULL;
+  if ((st = vi_model_copy(m, &c)))
+    return vi_fail(mm->errmsg, st, "out of memory");
+  if ((st = vi_model_set_param(c, key, value)))
+    snprintf(mm->errmsg, VI_MSG_LEN, "%s", c->errmsg);
+  vi_model_destroy(&c);
+  return st;
+}
+
 int vi_model_param(const vi_model *m, const char *key, double *value)
 {
   pkey p;

@@ -959,6 +959,19 @@ static void test_param_misuse(void **state)
   assert_err_msg(vi_model_set_param(m, "forcing.omega", INFINITY), vi_model_errmsg(m));
   assert_err_msg(vi_model_set_param(m, "damping.zeta[3]", 0.1), vi_model_errmsg(m));
   assert_err_msg(vi_model_set_param(m, "damping.zeta", -0.1), vi_model_errmsg(m));
+  /* the check says what the setter would, and changes nothing */
+  assert_err(vi_model_check_param(NULL, "forcing.omega", 1.0));
+  assert_err_msg(vi_model_check_param(m, "forcing.omgea", 1.0), vi_model_errmsg(m));
+  assert_int_equal(vi_model_check_param(m, "forcing.omega", -1.0), VI_ERR_FREQUENCY);
+  assert_int_equal(vi_model_check_param(m, "stops[1].r", 1.5), VI_ERR_RESTITUTION);
+  assert_int_equal(vi_model_check_param(m, "mass.scale", 0.0), VI_ERR_NOT_SPD);
+  assert_int_equal(vi_model_check_param(m, "damping.beta", -0.1), VI_ERR_NOT_PSD);
+  assert_int_equal(vi_model_check_param(m, "forcing.omega", 2.0), VI_OK);
+  assert_int_equal(vi_model_check_param(m, "stiffness.scale", 2.0), VI_OK);
+  assert_int_equal(vi_model_param(m, "forcing.omega", &val), VI_OK);
+  assert_true(val == 0.9);
+  assert_int_equal(vi_model_param(m, "stiffness.scale", &val), VI_OK);
+  assert_true(val == 1.0);
   assert_err(vi_model_param(NULL, "forcing.omega", &val));
   assert_err(vi_model_param(m, "forcing.omega", NULL));
   assert_err_msg(vi_model_param(m, "forcing.omgea", &val), vi_model_errmsg(m));
