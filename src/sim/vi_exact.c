@@ -40,6 +40,7 @@
 
 #include "vi_exact_internal.h"
 #include "vi_grid.h"
+#include "vi_vec.h"
 
 #define EX_LEVELS 100 /* dyadic table levels h0 2^-l */
 #define EX_DEPTH 44   /* bisection levels below the grid's */
@@ -127,18 +128,6 @@ static inline void ex_harm(const ex_data *d, const ex_stop *e, double c,
   *gd = vi_harm(&p, 1, e->GA, e->GB, 0.0);
 }
 
-/* Two doubles at once (GCC/Clang vector extensions, SSE2 on x86-64), two
- * pairs per iteration: lane u of the sums takes the modes i = u mod 4, the
- * partial sums that keep the adds of one sum from chaining. */
-typedef double ex_v2 __attribute__((vector_size(16)));
-static inline ex_v2 ex_ld(const double *p)
-{
-  ex_v2 v;
-  memcpy(&v, p, sizeof v);
-  return v;
-}
-static inline void ex_st(double *p, ex_v2 v) { memcpy(p, &v, sizeof v); }
-
 /* Active modes advanced over h0 2^-l from (w, wd) to (wo, wdo), and stop
  * e's g, g' at the new time (cos, sin of Omega t there: c, sn). */
 static int ex_advance(ex_data *d, int l, const double *restrict w,
@@ -152,19 +141,20 @@ static int ex_advance(ex_data *d, int l, const double *restrict w,
   const double *restrict ph = T + 2 * (size_t)d->na;
   const double *restrict lam = d->lam, *restrict F0 = d->F0;
   const double *restrict psi = e->psi;
-  ex_v2 A[2] = {{0.0, 0.0}, {0.0, 0.0}}, V[2] = {{0.0, 0.0}, {0.0, 0.0}};
+  /* four partial sums in two pairs (vi_vec.h) */
+  vi_v2 A[2] = {{0.0, 0.0}, {0.0, 0.0}}, V[2] = {{0.0, 0.0}, {0.0, 0.0}};
   int na = d->na, i = 0;
   for (; i + 4 <= na; i += 4)
     for (int h = 0; h < 2; h++) {
       int k = i + 2 * h;
-      ex_v2 wi = ex_ld(w + k), wdi = ex_ld(wd + k), Bi = ex_ld(B + k);
-      ex_v2 f = ex_ld(F0 + k) - ex_ld(lam + k) * wi;
-      ex_v2 x = wi + Bi * wdi + ex_ld(ph + k) * f;
-      ex_v2 v = ex_ld(Bp + k) * wdi + Bi * f;
-      ex_st(wo + k, x);
-      ex_st(wdo + k, v);
-      A[h] += ex_ld(psi + k) * x;
-      V[h] += ex_ld(psi + k) * v;
+      vi_v2 wi = vi_v2_ld(w + k), wdi = vi_v2_ld(wd + k), Bi = vi_v2_ld(B + k);
+      vi_v2 f = vi_v2_ld(F0 + k) - vi_v2_ld(lam + k) * wi;
+      vi_v2 x = wi + Bi * wdi + vi_v2_ld(ph + k) * f;
+      vi_v2 v = vi_v2_ld(Bp + k) * wdi + Bi * f;
+      vi_v2_st(wo + k, x);
+      vi_v2_st(wdo + k, v);
+      A[h] += vi_v2_ld(psi + k) * x;
+      V[h] += vi_v2_ld(psi + k) * v;
     }
   double a[4] = {A[0][0], A[0][1], A[1][0], A[1][1]};
   double b[4] = {V[0][0], V[0][1], V[1][0], V[1][1]};

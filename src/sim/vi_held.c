@@ -26,6 +26,7 @@
 
 #include "vi_grid.h"
 #include "vi_held_internal.h"
+#include "vi_vec.h"
 
 #define HD_CACHE 8       /* held sets kept */
 #define HD_ANCHOR 64     /* grid steps between direct evaluations */
@@ -177,19 +178,32 @@ static inline void hd_eval(const vi_held *H, const hd_fun *e, const double *w,
                            const double *wd, double c, double sn, double *f,
                            double *fd)
 {
-  double x = 0.0, v = 0.0;
-  const double *a = e->a;
-  if (e->c) {
-    const double *cc = e->c;
-    for (int i = 0; i < H->na; i++) {
-      double acc = H->F0[i] - H->dmp[i] * wd[i] - H->lam[i] * w[i];
-      x += a[i] * w[i] + cc[i] * wd[i];
-      v += a[i] * wd[i] + cc[i] * acc;
+  const double *restrict a = e->a, *restrict cc = e->c;
+  const double *restrict F0 = H->F0, *restrict dm = H->dmp, *restrict lam = H->lam;
+  /* four partial sums in two pairs (vi_vec.h) */
+  vi_v2 X[2] = {{0.0, 0.0}, {0.0, 0.0}}, V[2] = {{0.0, 0.0}, {0.0, 0.0}};
+  int na = H->na, i = 0;
+  for (; i + 4 <= na; i += 4)
+    for (int h = 0; h < 2; h++) {
+      int k = i + 2 * h;
+      vi_v2 ak = vi_v2_ld(a + k), wk = vi_v2_ld(w + k), wdk = vi_v2_ld(wd + k);
+      X[h] += ak * wk;
+      V[h] += ak * wdk;
+      if (cc) {
+        vi_v2 ck = vi_v2_ld(cc + k);
+        vi_v2 acc = vi_v2_ld(F0 + k) - vi_v2_ld(dm + k) * wdk - vi_v2_ld(lam + k) * wk;
+        X[h] += ck * wdk;
+        V[h] += ck * acc;
+      }
     }
-  } else {
-    for (int i = 0; i < H->na; i++) {
-      x += a[i] * w[i];
-      v += a[i] * wd[i];
+  double x = vi_v2_sum4(X), v = vi_v2_sum4(V);
+  for (; i < na; i++) {
+    x += a[i] * w[i];
+    v += a[i] * wd[i];
+    if (cc) {
+      double acc = F0[i] - dm[i] * wd[i] - lam[i] * w[i];
+      x += cc[i] * wd[i];
+      v += cc[i] * acc;
     }
   }
   vi_phase p = {H->Om, c, sn};
@@ -635,11 +649,22 @@ static void hd_g_anchor(void *hp, double t)
 static int hd_g_advance(void *hp)
 {
   vi_held *H = hp;
-  const double *B = H->T, *Bp = H->T + H->na, *ph = H->T + 2 * (size_t)H->na;
-  for (int i = 0; i < H->na; i++) {
-    double f = H->F0[i] - H->lam[i] * H->g.wk[i];
-    H->g.wn[i] = H->g.wk[i] + B[i] * H->g.wdk[i] + ph[i] * f;
-    H->g.wdn[i] = Bp[i] * H->g.wdk[i] + B[i] * f;
+  const double *restrict B = H->T, *restrict Bp = H->T + H->na;
+  const double *restrict ph = H->T + 2 * (size_t)H->na;
+  const double *restrict F0 = H->F0, *restrict lam = H->lam;
+  const double *restrict wk = H->g.wk, *restrict wdk = H->g.wdk;
+  double *restrict wn = H->g.wn, *restrict wdn = H->g.wdn;
+  int na = H->na, i = 0;
+  for (; i + 2 <= na; i += 2) {
+    vi_v2 w = vi_v2_ld(wk + i), wd = vi_v2_ld(wdk + i), b = vi_v2_ld(B + i);
+    vi_v2 f = vi_v2_ld(F0 + i) - vi_v2_ld(lam + i) * w;
+    vi_v2_st(wn + i, w + b * wd + vi_v2_ld(ph + i) * f);
+    vi_v2_st(wdn + i, vi_v2_ld(Bp + i) * wd + b * f);
+  }
+  for (; i < na; i++) {
+    double f = F0[i] - lam[i] * wk[i];
+    wn[i] = wk[i] + B[i] * wdk[i] + ph[i] * f;
+    wdn[i] = Bp[i] * wdk[i] + B[i] * f;
   }
   for (int j = 0; j < H->nf; j++)
     hd_eval(H, H->f + j, H->g.wn, H->g.wdn, H->g.cn, H->g.sn, H->g.fn + j,
