@@ -7,7 +7,10 @@
  * |S| columns Z span null(P^T) orthonormally, Z^T Lambda Z is the
  * constrained stiffness (dormqr from both sides of the diagonal), its
  * eigenvectors Y (dsyevd) give Phi = Z Y (dormqr again).  Everything is
- * O(n^2 |S|) but the one eigenproblem of size n - |S|. */
+ * O(n^2 |S|) but the one eigenproblem of size n - |S|.  One held stop on
+ * a large structure skips that eigenproblem: the constrained modes are
+ * then the roots of a secular equation and vectors built from them
+ * (cm_secular), O(n^2). */
 #include <float.h>
 #include <math.h>
 #include <lapacke.h>
@@ -92,6 +95,114 @@ void vi_cmodes_retune(vi_cmodes *c, double Om)
   c->ok = particular(c, Om);
 }
 
+/* LAPACK's root of a secular equation (no LAPACKE wrapper). */
+extern void dlaed4_(const int *n, const int *i, const double *d,
+                    const double *z, double *delta, const double *rho,
+                    double *dlam, int *info);
+
+/* Below this many modes the dense eigen-solve costs little. */
+#define CM_SECULAR_MIN 64
+
+/* One held stop k on n >= CM_SECULAR_MIN modes.  With z = psi_k / |psi_k|,
+ * the constrained modes are the limit rho -> inf of diag(lambda) + rho z
+ * z^T without its one infinite eigenvalue: the roots mu_i in (lambda_i,
+ * lambda_i+1) of sum_j z_j^2 / (lambda_j - mu) = 0, found by dlaed4 with
+ * 1 / rho below round-off (it returns lambda_j - mu_i to full relative
+ * accuracy), and the vectors y_i = zh / (lambda - mu_i), normalised, where
+ * zh_j^2 = prod_i (mu_i - lambda_j) / prod_{k != j} (lambda_k - lambda_j)
+ * is the vector for which the computed mu_i are exact, so that the y_i
+ * are orthogonal to working precision (Gu & Eisenstat, SIAM J. Matrix
+ * Anal. Appl. 15, 1994).  Phi [n x n-1] and om2 of c; z, zh [n] scratch.
+ * 0, or 1 where the problem is not generic (lambda not strictly
+ * increasing, a mode the stop barely sees, a root dlaed4 cannot place):
+ * the caller then solves it densely. */
+static int cm_secular(const vi_model *m, const double *psi, vi_cmodes *c,
+                      double *z, double *zh)
+{
+  int n = m->n, mm = n - 1;
+  const double *d = m->lambda;
+  double nz = 0.0, dmax = 0.0;
+  for (int j = 0; j < n; j++) {
+    nz = hypot(nz, psi[j]);
+    dmax = fmax(dmax, fabs(d[j]));
+  }
+  if (!(nz > 0.0)) return 1;
+  for (int j = 0; j < n; j++) {
+    z[j] = psi[j] / nz;
+    if (!(fabs(z[j]) >= 1e-7)) return 1;
+    if (j && !(d[j] - d[j - 1] > 1e-12 * dmax)) return 1;
+  }
+  /* 1 / rho far below the secular function's size (>= 1 / (d_n - d_1)
+   * near every root): the roots are those of rho = inf to round-off */
+  const double rho = 1e250 / fmax(dmax, 1.0);
+  for (int i = 0; i < mm; i++) {
+    int ii = i + 1, info = 0;
+    dlaed4_(&n, &ii, d, z, c->Phi + (size_t)i * n, &rho, c->om2 + i, &info);
+    if (info || !isfinite(c->om2[i])) return 1;
+  }
+  /* zh_j^2 as a product of ratios in (0, 1): root i pairs with pole i
+   * below d_j and with pole i + 1 above it */
+  for (int j = 0; j < n; j++) {
+    double pr = 1.0;
+    for (int i = 0; i < mm; i++) {
+      int k = i < j ? i : i + 1;
+      pr *= c->Phi[j + (size_t)i * n] / (d[j] - d[k]);
+    }
+    if (!(pr > 0.0) || !isfinite(pr)) return 1;
+    zh[j] = copysign(sqrt(pr), z[j]);
+  }
+  for (int i = 0; i < mm; i++) {
+    double *y = c->Phi + (size_t)i * n, s = 0.0;
+    for (int j = 0; j < n; j++) {
+      y[j] = zh[j] / y[j];
+      s = hypot(s, y[j]);
+    }
+    if (!(s > 0.0) || !isfinite(s)) return 1;
+    for (int j = 0; j < n; j++) y[j] /= s;
+  }
+  return 0;
+}
+
+/* The general case: Q of a QR of P = [psi_k] (Pw [n x cnt], tau [n]),
+ * Q^T Lambda Q's trailing block (A [n x n] scratch) solved by dsyevd,
+ * Phi = Q [0; Y]. */
+static int cm_dense(const vi_model *m, int cnt, vi_cmodes *c, double *Pw,
+                    double *tau, double *A, char *errmsg)
+{
+  int n = m->n, mm = n - cnt;
+  lapack_int info = LAPACKE_dgeqrf(LAPACK_COL_MAJOR, n, cnt, Pw, n, tau);
+  if (info)
+    return vi_fail(errmsg, VI_ERR_LAPACK, "dgeqrf failed (info %d) on the "
+                   "held stops' modal vectors", (int)info);
+  /* A = Q^T Lambda Q */
+  memset(A, 0, sizeof(double) * (size_t)n * n);
+  for (int j = 0; j < n; j++) A[j + (size_t)j * n] = m->lambda[j];
+  info = LAPACKE_dormqr(LAPACK_COL_MAJOR, 'L', 'T', n, n, cnt, Pw, n, tau, A, n);
+  if (!info)
+    info = LAPACKE_dormqr(LAPACK_COL_MAJOR, 'R', 'N', n, n, cnt, Pw, n, tau, A, n);
+  if (info)
+    return vi_fail(errmsg, VI_ERR_LAPACK, "dormqr failed (info %d)", (int)info);
+  /* the trailing block, symmetrised, into Phi's lower rows as scratch:
+   * Y (mm x mm) sits at Phi[cnt.., :] with leading dimension n */
+  double *Y = c->Phi + cnt;
+  for (int j = 0; j < mm; j++)
+    for (int i = 0; i < mm; i++)
+      Y[i + (size_t)j * n] = 0.5 * (A[cnt + i + (size_t)(cnt + j) * n] +
+                                    A[cnt + j + (size_t)(cnt + i) * n]);
+  if (mm <= 0) return VI_OK;
+  info = LAPACKE_dsyevd(LAPACK_COL_MAJOR, 'V', 'U', mm, Y, n, c->om2);
+  if (info)
+    return vi_fail(errmsg, VI_ERR_LAPACK, "dsyevd failed (info %d) on the "
+                   "held structure (n = %d)", (int)info, mm);
+  for (int j = 0; j < mm; j++)
+    for (int i = 0; i < cnt; i++) c->Phi[i + (size_t)j * n] = 0.0;
+  info = LAPACKE_dormqr(LAPACK_COL_MAJOR, 'L', 'N', n, mm, cnt, Pw, n, tau,
+                        c->Phi, n);
+  if (info)
+    return vi_fail(errmsg, VI_ERR_LAPACK, "dormqr failed (info %d)", (int)info);
+  return VI_OK;
+}
+
 int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
                      vi_cmodes **out, char *errmsg)
 {
@@ -173,46 +284,11 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
       c->qc[r] = q;
     }
   }
-  for (int i = 0; i < cnt; i++)
-    memcpy(Pw + (size_t)i * n, vi_stop_psi(m, set[i]), sizeof(double) * n);
-  lapack_int info = LAPACKE_dgeqrf(LAPACK_COL_MAJOR, n, cnt, Pw, n, tau);
-  if (info) {
-    st = vi_fail(errmsg, VI_ERR_LAPACK, "dgeqrf failed (info %d) on the held "
-                 "stops' modal vectors", (int)info);
-    goto done;
-  }
-  /* A = Q^T Lambda Q */
-  memset(A, 0, sizeof(double) * (size_t)n * n);
-  for (int j = 0; j < n; j++) A[j + (size_t)j * n] = m->lambda[j];
-  info = LAPACKE_dormqr(LAPACK_COL_MAJOR, 'L', 'T', n, n, cnt, Pw, n, tau, A, n);
-  if (!info)
-    info = LAPACKE_dormqr(LAPACK_COL_MAJOR, 'R', 'N', n, n, cnt, Pw, n, tau, A, n);
-  if (info) {
-    st = vi_fail(errmsg, VI_ERR_LAPACK, "dormqr failed (info %d)", (int)info);
-    goto done;
-  }
-  /* the trailing block, symmetrised, into Phi's lower rows as scratch:
-   * Y (mm x mm) sits at Phi[cnt.., :] with leading dimension n */
-  double *Y = c->Phi + cnt;
-  for (int j = 0; j < mm; j++)
-    for (int i = 0; i < mm; i++)
-      Y[i + (size_t)j * n] = 0.5 * (A[cnt + i + (size_t)(cnt + j) * n] +
-                                    A[cnt + j + (size_t)(cnt + i) * n]);
-  if (mm > 0) {
-    info = LAPACKE_dsyevd(LAPACK_COL_MAJOR, 'V', 'U', mm, Y, n, c->om2);
-    if (info) {
-      st = vi_fail(errmsg, VI_ERR_LAPACK, "dsyevd failed (info %d) on the "
-                   "held structure (n = %d)", (int)info, mm);
-      goto done;
-    }
-    for (int j = 0; j < mm; j++)
-      for (int i = 0; i < cnt; i++) c->Phi[i + (size_t)j * n] = 0.0;
-    info = LAPACKE_dormqr(LAPACK_COL_MAJOR, 'L', 'N', n, mm, cnt, Pw, n, tau,
-                          c->Phi, n);
-    if (info) {
-      st = vi_fail(errmsg, VI_ERR_LAPACK, "dormqr failed (info %d)", (int)info);
-      goto done;
-    }
+  if (cnt != 1 || n < CM_SECULAR_MIN ||
+      cm_secular(m, vi_stop_psi(m, set[0]), c, Pw, tau)) {
+    for (int i = 0; i < cnt; i++)
+      memcpy(Pw + (size_t)i * n, vi_stop_psi(m, set[i]), sizeof(double) * n);
+    if ((st = cm_dense(m, cnt, c, Pw, tau, A, errmsg))) goto done;
   }
   double Om = m->omega_f;
   for (int i = 0; i < mm; i++) {
