@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "vibroimpact/vi_census.h"
+#include "vi_held_internal.h"
 #include "vi_orbit_internal.h"
 
 #define SCAN_CAP 64      /* orbits the phase scan hands over */
@@ -38,6 +39,7 @@ struct vi_census {
   vi_cancel_fn cancel;
   void *cancel_user;
   vi_destroy_fn cancel_free;
+  vi_held_cache *hc;                 /* held sets' modes, shared by seeds */
   char errmsg[VI_MSG_LEN];
 };
 
@@ -52,7 +54,10 @@ int vi_census_create(const vi_model *model, int n, int m, vi_census **out)
   vi_census *c = calloc(1, sizeof *c);
   if (!c) return VI_ERR_NOMEM;
   c->x0 = calloc(2 * (size_t)model->n, sizeof(double));
-  if (!c->x0) {
+  c->hc = vi_held_cache_create();
+  if (!c->x0 || !c->hc) {
+    free(c->x0);
+    vi_held_cache_destroy(&c->hc);
     free(c);
     return VI_ERR_NOMEM;
   }
@@ -94,6 +99,7 @@ void vi_census_destroy(vi_census **cp)
   forget(c);
   free(c->o);
   free(c->x0);
+  vi_held_cache_destroy(&c->hc);
   free(c);
   *cp = NULL;
 }
@@ -320,7 +326,8 @@ static vi_sim *seed_sim(vi_census *c, ring *r, double t0, const double *x0,
 {
   vi_sim *s = NULL;
   if (vi_sim_create(c->m, &s) || (c->hook && c->hook(s, c->hook_user)) ||
-      vi_sim_set_method(s, VI_METHOD_EXACT) || vi_sim_set_initial(s, t0, x0, v0)) {
+      vi_sim_set_method(s, VI_METHOD_EXACT) || vi_sim_set_initial(s, t0, x0, v0) ||
+      vi_held_share_cache(s, c->hc)) {
     vi_sim_destroy(&s);
     return NULL;
   }
@@ -412,6 +419,7 @@ int vi_census_run(vi_census *c)
   if (!c) return VI_ERR_ARG;
   int N = c->N, rc = VI_OK;
   forget(c);
+  vi_held_cache_clear(c->hc); /* the model may have changed since */
   c->errmsg[0] = '\0';
   if (c->scan_only && !(c->mi == 1 && c->m->ns == 1))
     return vi_fail(c->errmsg, VI_ERR_UNSUPPORTED, "the phase scan is for "
