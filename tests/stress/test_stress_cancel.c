@@ -240,19 +240,7 @@ static void test_from_monitor(void **state)
  * point) and before the orbit scan. */
 static vi_sweep *fig2_study(poll *p, int lyap)
 {
-  /* Fig. 2's chain: 2 unit masses, k = 1, c = 0.1 K-proportional... as
-   * the default scene: m = 1, k = 1, stop on mass 2 */
-  static const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1},
-                      C[4] = {0.2, -0.1, -0.1, 0.1};
-  double w[2] = {0, 1}, a[2] = {0, 0.5}, b[2] = {0, 0}, f0[2] = {0, 0};
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(2, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, 0.9, a, b, f0), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.7), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
+  vi_model *m = vi_test_fig2();
   vi_sweep *sw = NULL;
   assert_int_equal(vi_sweep_create(m, &sw), VI_OK);
   vi_model_destroy(&m); /* the study keeps its own copy */
@@ -301,27 +289,11 @@ static void test_study(void **state)
 }
 
 /* Fig. 2's chain as in e., the model alone. */
-static vi_model *fig2_model(void)
-{
-  static const double M[4] = {1, 0, 0, 1}, K[4] = {2, -1, -1, 1},
-                      C[4] = {0.2, -0.1, -0.1, 0.1};
-  double w[2] = {0, 1}, a[2] = {0, 0.5}, b[2] = {0, 0}, f0[2] = {0, 0};
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(2, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, 0.9, a, b, f0), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.7), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
-  return m;
-}
-
 /* f. The phase scan. */
 static void test_scan(void **state)
 {
   (void)state;
-  vi_model *m = fig2_model();
+  vi_model *m = vi_test_fig2();
   double t[8], x[16], v[16];
   int found = 0;
   poll p = {0, 0, 0, 0};
@@ -369,7 +341,7 @@ static int cont_run(const vi_model *m, int method, int64_t at, double *pt)
 static void test_cont(void **state)
 {
   (void)state;
-  vi_model *m = fig2_model();
+  vi_model *m = vi_test_fig2();
   const int methods[2] = {VI_CONT_NATURAL, VI_CONT_ARCLENGTH};
   for (int k = 0; k < 2; k++) {
     double ref[3], got[3], got1[3];
@@ -426,7 +398,7 @@ static int identify_polls(const vi_model *m, const recd *r, int64_t at,
 static void test_identify(void **state)
 {
   (void)state;
-  vi_model *m = fig2_model();
+  vi_model *m = vi_test_fig2();
   double T = 2 * M_PI / 0.9, x0[2] = {0, 0}, v0[2] = {0, 0};
   recd *r = calloc(1, sizeof *r);
   assert_non_null(r);
