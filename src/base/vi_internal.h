@@ -60,7 +60,6 @@ struct vi_model {
   double *KR, *CR;                /* rows of K, C, scaled by 1/m_i when M is
                                      diagonal (then rows of M^-1 K, M^-1 C):
                                      row i, column j at [i (2kd+1) + j-i+kd] */
-  int64_t bytes;                  /* bytes the model holds (vi_model_memory) */
   size_t nblock;                  /* doubles in block (vi_model_copy) */
   /* how C was given: 0 a matrix, 1 Rayleigh alpha M + beta K, 2 modal
    * ratios (vi_param.c: the keys damping.alpha, .beta, .zeta) */

@@ -88,7 +88,6 @@ int vi_model_create(int n, vi_model **out)
   m->n = n;
   m->kd = -1;
   m->nblock = (size_t)nb;
-  m->bytes = (int64_t)(sizeof *m + m->nblock * sizeof(double));
   for (int i = 0; i < n; i++) m->M[i + (size_t)i * n] = 1.0;
   *out = m;
   return VI_OK;
@@ -129,7 +128,6 @@ int vi_model_create_band(int n, int kd, vi_model **out)
   m->band = 1;
   m->kd = kd;
   m->ldb = (int)ldb;
-  m->bytes = (int64_t)(sizeof *m + count * sizeof(double));
   for (int i = 0; i < n; i++) m->MB[kd + (size_t)i * ldb] = 1.0;
   *out = m;
   return VI_OK;
