@@ -682,6 +682,10 @@ int vi_cmd_identify_main(int argc, char **argv)
   rc = f.conv ? 0 : 1;
   if (I.a.out) {
     write_h5_fn w = load_writer();
+    /* the writer commits through TARGET.part: a signal now removes it */
+    char part[VI_APP_PATH + 8] = "";
+    vi_output_part(target, part, (int)sizeof part);
+    vi_app_arm_parts(part, NULL);
     if (!w || w(target, I.id, I.a.fit, I.rec.ns, I.rec.t, I.rec.x, &d)) {
       if (w) fprintf(stderr, "vibroimpact: %s\n", d.message);
       rc = 1;
