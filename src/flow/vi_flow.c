@@ -127,13 +127,19 @@ static void propagate(double lambda, double d, double tau, double *A,
   }
   double h = 0.5 * d, mu2 = lambda - h * h;
   if (mu2 > 0.0) {
-    double mu = sqrt(mu2), e = exp(-h * tau), c = cos(mu * tau);
-    double sn = sin(mu * tau), sh = sin(0.5 * mu * tau);
+    /* one sincos of the half angle: sin = 2 s c, cos = (c - s)(c + s),
+     * 1 - cos = 2 s^2 (no cancellation); e from expm1 where that keeps
+     * its relative accuracy (e >= 1/2) */
+    double mu = sqrt(mu2), th = 0.5 * mu * tau, sh, ch;
+    sh = sin(th);
+    ch = cos(th);
+    double em1 = expm1(-h * tau), e = em1 >= -0.5 ? 1.0 + em1 : exp(-h * tau);
+    double c = (ch - sh) * (ch + sh), sn = 2.0 * sh * ch;
     *B = e * sn / mu;
     *Bp = e * (c - h * sn / mu);
     *A = e * (c + h * sn / mu);
     /* 1 - A = (1 - e) + e (1 - cos) - h B */
-    *phi = (-expm1(-h * tau) + 2.0 * e * sh * sh - h * *B) / lambda;
+    *phi = (-em1 + 2.0 * e * sh * sh - h * *B) / lambda;
     return;
   }
   if (mu2 < 0.0) {
