@@ -302,7 +302,10 @@ VI_API int vi_sim_setup(vi_sim *sim);
  *  callback asked to stop). */
 VI_API int vi_sim_run_to_event(vi_sim *sim, double t_end, int *kind);
 
-/** Current time and state; t, x [n], v [n] may be NULL.  @return VI_OK. */
+/** Current time and state; t, x [n], v [n] may be NULL.  Valid from
+ *  callbacks too.  The exact method may build the physical state from its
+ *  modes here, so one sim is not for concurrent calls (as for every other
+ *  call on it).  @return VI_OK. */
 VI_API int vi_sim_state(const vi_sim *sim, double *t, double *x, double *v);
 /** Number of coordinates n of the sim's model; 0 for NULL. */
 VI_API int vi_sim_n(const vi_sim *sim);
