@@ -132,6 +132,15 @@ int vi_test_run(const vi_model *m, int method, double rtol, double atol,
   return st;
 }
 
+/* A state row of an event, NaN for events without states
+ * (vi_sim_set_event_states 0). */
+static void put_row(double *dst, const double *src, size_t n)
+{
+  if (src) memcpy(dst, src, sizeof(double) * n);
+  else
+    for (size_t i = 0; i < n; i++) dst[i] = NAN;
+}
+
 int vi_test_record(const vi_event *ev, void *user)
 {
   vi_test_rec *e = user;
@@ -157,14 +166,9 @@ int vi_test_record(const vi_event *ev, void *user)
   e->t[k] = ev->t;
   e->vn[k] = ev->vn;
   e->ie[k] = ev->ie;
-  /* events without states (vi_sim_set_event_states 0): NaN rows */
-  const double *src[3] = {ev->x, ev->v_minus, ev->v_plus};
-  double *dst[3] = {e->x + k * n, e->vm + k * n, e->vp + k * n};
-  for (int j = 0; j < 3; j++) {
-    if (src[j]) memcpy(dst[j], src[j], sizeof(double) * n);
-    else
-      for (size_t i = 0; i < n; i++) dst[j][i] = NAN;
-  }
+  put_row(e->x + k * n, ev->x, n);
+  put_row(e->vm + k * n, ev->v_minus, n);
+  put_row(e->vp + k * n, ev->v_plus, n);
   return 0;
 }
 
