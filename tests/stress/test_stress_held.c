@@ -592,6 +592,82 @@ static void test_two_held(void **state)
   }
 }
 
+/* The held modes two ways.  One held stop on a 70-mass chain takes them
+ * from the secular equation (64 modes or more, simple eigenvalues); the
+ * same chain beside an identical, uncoupled copy at rest (140 modes, every
+ * eigenvalue double) from the dense eigen-solve (vi_constrained.c).  The
+ * copy takes no part in the motion, so the first chain's stick, release
+ * and later impacts must agree: pressed on the stop at rest by f0 = 0.5
+ * with a cos(0.5 t), a = 1, on its last mass, r = 0. */
+static vi_model *twin_chains(int n, int copies)
+{
+  int N = n * copies;
+  double *M = calloc((size_t)N * N, sizeof(double));
+  double *K = calloc((size_t)N * N, sizeof(double));
+  double *C = calloc((size_t)N * N, sizeof(double));
+  double *a = calloc((size_t)N, sizeof(double));
+  double *f0 = calloc((size_t)N, sizeof(double));
+  double *W = calloc((size_t)N, sizeof(double));
+  assert_true(M && K && C && a && f0 && W);
+  for (int c = 0; c < copies; c++)
+    for (int i = 0; i < n; i++) {
+      size_t j = (size_t)c * n + i;
+      M[j + j * N] = 1.0;
+      K[j + j * N] = i + 1 < n ? 2.0 : 1.0;
+      if (i + 1 < n) K[j + 1 + j * N] = K[j + (j + 1) * N] = -1.0;
+    }
+  for (size_t i = 0; i < (size_t)N * N; i++) C[i] = 0.02 * K[i];
+  a[n - 1] = 1.0;
+  f0[n - 1] = 0.5;
+  W[n - 1] = 1.0;
+  double xs = 0.0, r = 0.0;
+  vi_model *m = vi_test_model_stops(N, M, C, K, 0.5, a, f0, 1, W, &xs, &r);
+  free(M);
+  free(K);
+  free(C);
+  free(a);
+  free(f0);
+  free(W);
+  return m;
+}
+
+static void test_secular_vs_dense(void **state)
+{
+  (void)state;
+  hlog *lg[2];
+  vi_sim *s[2];
+  vi_model *m[2];
+  for (int c = 0; c < 2; c++) {
+    m[c] = twin_chains(70, c + 1);
+    lg[c] = calloc(1, sizeof *lg[c]);
+    assert_non_null(lg[c]);
+    s[c] = held_sim(m[c], VI_METHOD_EXACT, 1e-10, 1e-12, NULL, NULL, lg[c]);
+    assert_int_equal(vi_sim_run(s[c], 60.0), VI_OK);
+    assert_int_equal(vi_sim_stat(s[c], VI_STAT_RHS_EVALS), 0);
+  }
+  int rel = 0, imp = 0;
+  double et = 0.0, ev = 0.0;
+  assert_int_equal(lg[1]->count, lg[0]->count);
+  for (int i = 0; i < lg[0]->count; i++) {
+    assert_int_equal(lg[1]->kind[i], lg[0]->kind[i]);
+    rel += lg[0]->kind[i] == VI_EVENT_RELEASE;
+    imp += lg[0]->kind[i] == VI_EVENT_IMPACT;
+    et = fmax(et, fabs(lg[1]->t[i] - lg[0]->t[i]));
+    ev = fmax(ev, fabs(lg[1]->vn[i] - lg[0]->vn[i]));
+  }
+  printf("held chain of 70, secular (alone) against dense (beside its twin): "
+         "%d events (%d releases, %d impacts), times agree to %.3g, speeds "
+         "to %.3g\n", lg[0]->count, rel, imp, et, ev);
+  assert_true(rel >= 2 && imp >= 1);
+  assert_true(et <= 1e-11 * 60.0);
+  assert_true(ev <= 1e-10);
+  for (int c = 0; c < 2; c++) {
+    vi_sim_destroy(&s[c]);
+    vi_model_destroy(&m[c]);
+    free(lg[c]);
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -603,6 +679,7 @@ int main(void)
       cmocka_unit_test(test_impacting_bar),
       cmocka_unit_test(test_bar_stiff_methods),
       cmocka_unit_test(test_bar_chatter),
+      cmocka_unit_test(test_secular_vs_dense),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
