@@ -42,6 +42,8 @@ contains
     if (st == VI_OK) st = vi_sim_set_tolerances(sim, 1d-11, 1d-16)
     if (st == VI_OK) st = vi_sim_set_event_callback(sim, c_funloc(on_event), c_null_ptr, &
                                                     c_null_funptr)
+    ! on_event reads t and vn only: events without states (O(n) bounces)
+    if (st == VI_OK) st = vi_sim_set_event_states(sim, 0)
     if (st == VI_OK) st = vi_sim_run(sim, t_end)
     if (st < 0) then
       print *, 'run: ', vi_string(vi_sim_errmsg(sim))
