@@ -21,8 +21,11 @@
  * until the Hermite cubic is exact to round-off and polished by Newton on
  * it.  After an impact the time in which g provably recedes (a cubic bound
  * from g', g'' and B3) is skipped.  Physical states are built only when the
- * driver reads them, and an impact made by the driver is recognised as the
- * rank-one change of the modal velocities that it is.
+ * driver reads them: a lone bounce is made in the modes themselves
+ * (ex_normal gives the driver the gap's rate and push, ex_kick applies the
+ * impulse and the projection on the stop, q' -= P psi_k, q -= g psi_k /
+ * G_kk), and an impact the driver made on s->z is recognised as the
+ * rank-one change of the modal state that it is.
  *
  * Several stops w_k.x <= x_k: every gap g_k is a sum over the same modes
  * with its own weights psi_k = Psi^T w_k, so the modes advance once per
