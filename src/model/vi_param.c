@@ -485,7 +485,10 @@ int vi_model_check_param(const vi_model *m, const char *key, double value)
   vi_model *mm = (vi_model *)m; /* only errmsg is written */
   if (parse_key(key, &p)) return unknown(mm->errmsg, key);
   int st = check_set(mm, &p, key, value);
-  if (st || !m->frozen || p.id <= P_R) return st; /* nothing derived fails */
+  /* Omega, the forcing entries, x_s and r (the table's first keys, up to
+   * P_R) and any key of a model not yet set up derive nothing that can
+   * fail; damping and the scales redo a set-up, which only doing tells */
+  if (st || !m->frozen || p.id <= P_R) return st;
   vi_model *c = NULL;
   if ((st = vi_model_copy(m, &c)))
     return vi_fail(mm->errmsg, st, "out of memory");
