@@ -132,8 +132,9 @@ static int cm_secular(const vi_model *m, const double *psi, vi_cmodes *c,
     if (!(fabs(z[j]) >= 1e-7)) return 1;
     if (j && !(d[j] - d[j - 1] > 1e-12 * dmax)) return 1;
   }
-  /* 1 / rho far below the secular function's size (>= 1 / (d_n - d_1)
-   * near every root): the roots are those of rho = inf to round-off */
+  /* 1 / rho far below the round-off of the secular function's terms
+   * (each z_j^2 / |d_j - mu| >= 1e-14 / (d_n - d_1) with |z_j| >= 1e-7):
+   * the roots are those of rho = inf to round-off */
   const double rho = 1e250 / fmax(dmax, 1.0);
   for (int i = 0; i < mm; i++) {
     int ii = i + 1, info = 0;
