@@ -254,6 +254,9 @@ static int simulate(run_ctx *c, vi_sim *s, double period, int spp, int ledger,
                     double *wall)
 {
   vi_sim_set_event_callback(s, on_event, c, NULL);
+  /* states only for the files that store them: else the exact method
+   * keeps each bounce in modes */
+  vi_sim_set_event_states(s, c->csv || (c->w && c->store_events));
   if (c->o->progress) vi_sim_set_monitor(s, period, on_monitor, c, NULL);
   vi_sim_set_cancel(s, vi_app_cancel, NULL, NULL);
   if (spp > 0) vi_sim_set_sampling(s, period / spp, on_sample, c, NULL);

@@ -99,7 +99,8 @@ static void first_impacts(const vi_model *m, double t0, double t_end,
   if (!vi_sim_create(m, &s) &&
       !vi_sim_set_initial(s, t0, q0, q0 ? q0 + n : NULL) &&
       !vi_sim_set_tolerances(s, 1e-11, 1e-14) &&
-      !vi_sim_set_event_callback(s, on_first, f, NULL)) {
+      !vi_sim_set_event_callback(s, on_first, f, NULL) &&
+      !vi_sim_set_event_states(s, 0)) { /* on_first reads t and vn */
     int st = vi_sim_run(s, t_end);
     if (st != VI_OK && st != VI_STOPPED) f->n = -1;
   }
