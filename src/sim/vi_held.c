@@ -56,6 +56,8 @@ struct vi_held {
   vi_held_cache own, *hc;        /* hc: own, or a study's */
   const vi_cmodes *cm;
   int m, na, nf, *act;
+  size_t cap_act, cap_w;         /* capacities of act and w0's block: a
+                                    phase reuses the last one's */
   /* per phase */
   double t0, Om, h;
   double *w0, *wd0;              /* every constrained mode at t0 [m] */
@@ -78,6 +80,18 @@ static void hd_phase_free(vi_held *H)
   free(H->w0);
   H->act = NULL;
   H->w0 = NULL;
+  H->cap_act = H->cap_w = 0;
+}
+
+/* p with room for n elements of size sz: grown, never shrunk, so that a
+ * held phase allocates nothing after the first of its size.  NULL when
+ * out of memory (p is then still valid). */
+static void *hd_grow(void *p, size_t *cap, size_t n, size_t sz)
+{
+  if (p && n <= *cap) return p;
+  void *q = realloc(p, n * sz);
+  if (q) *cap = n;
+  return q;
 }
 
 void vi_held_cache_clear(vi_held_cache *hc)
@@ -326,15 +340,16 @@ static int hd_setup(vi_sim *s, vi_held *H)
   const vi_model *m = s->m;
   const vi_cmodes *c = H->cm;
   int mm = c->m, nst = s->nstick, nf = s->ns;
-  hd_phase_free(H);
   /* active: some function sees the mode */
   int na = 0;
-  H->act = malloc(sizeof(int) * (size_t)(mm + 1));
   size_t nd = 2 * (size_t)mm + 3 * (size_t)mm + 2 * (size_t)nf * mm +
               6 * (size_t)mm + 3 * (size_t)mm + 2 * (size_t)mm +
               2 * (size_t)c->n + 4 * (size_t)nf + 8;
-  H->w0 = malloc(sizeof(double) * nd);
-  if (!H->act || !H->w0) {
+  int *act = hd_grow(H->act, &H->cap_act, (size_t)mm + 1, sizeof(int));
+  if (act) H->act = act;
+  double *w0 = act ? hd_grow(H->w0, &H->cap_w, nd, sizeof(double)) : NULL;
+  if (w0) H->w0 = w0;
+  if (!act || !w0) {
     hd_phase_free(H);
     return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
   }
@@ -509,8 +524,6 @@ int vi_held_start(vi_sim *s)
   int st;
   H->cm = c; /* the stops not held may differ: set up every time */
   if ((st = hd_setup(s, H))) return st;
-  if (!H->w0 || !H->act)
-    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
   int n = c->n, mm = c->m, na = H->na;
   vi_modal_project(s->m, s->z, H->q, H->qd);
   vi_phase p = vi_phase_at(H->Om, s->t);
