@@ -524,6 +524,8 @@ int vi_held_start(vi_sim *s)
   int st;
   H->cm = c; /* the stops not held may differ: set up every time */
   if ((st = hd_setup(s, H))) return st;
+  if (!H->w0 || !H->act) /* hd_setup's success says so; the analyzer */
+    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory"); /* can't */
   int n = c->n, mm = c->m, na = H->na;
   vi_modal_project(s->m, s->z, H->q, H->qd);
   vi_phase p = vi_phase_at(H->Om, s->t);
