@@ -76,11 +76,25 @@ typedef enum vi_fe_matrix {
   VI_FE_STIFFNESS = 2  /**< K */
 } vi_fe_matrix;
 
+/** How the number of kept modes was chosen (vi_fe_summary). */
+typedef enum vi_fe_modes_rule {
+  /** Every finite mode: no vi_fe_set_modes, and at most 1000 dofs with
+   *  mass (beyond, setup refuses with VI_ERR_STATE rather than cut). */
+  VI_FE_MODES_WHOLE = 0,
+  /** As set by vi_fe_set_modes. */
+  VI_FE_MODES_GIVEN = 1,
+  /** As many as the host's modes (vi_fe_set_host_modes). */
+  VI_FE_MODES_HOST = 2
+} vi_fe_modes_rule;
+
 /** Opaque finite-element reduction handle. */
 typedef struct vi_fe vi_fe;
 
 /** Create a reduction for a structure of n >= 1 dofs: no matrices, no modes,
- *  no stop, no forcing, 6 kept modes (or all n when n < 6), undamped.
+ *  no stop, no forcing, undamped; the number of kept modes undecided
+ *  (vi_fe_set_modes; without it every finite mode is kept where there are
+ *  at most 1000, and setup refuses beyond), the rigid-body modes decided
+ *  from K, an accuracy of 1e-8 asked of the modes (vi_fe_set_accuracy).
  *  *out is NULL on failure.
  *  @return VI_OK, VI_ERR_DIM (n < 1), VI_ERR_ARG, VI_ERR_NOMEM. */
 VI_API int vi_fe_create(int n, vi_fe **out);
@@ -108,7 +122,18 @@ VI_API const char *vi_fe_errmsg(const vi_fe *fe);
  *  VI_ERR_STATE (frozen, or host modes set), VI_ERR_NOMEM.  Positive
  *  definiteness of M and semidefiniteness of K are checked at setup.
  *  @{ */
-/** Set the mass matrix M (symmetric positive definite). */
+/** Set the mass matrix M (symmetric positive semidefinite).  A lumped
+ *  mass may leave dofs massless (a zero row and column, e.g. rotations
+ *  without rotary inertia): their eigenvalues are infinite and never among
+ *  the kept modes, whose shapes carry them statically (x_z = -K_zz^-1 K_zm
+ *  x_m).  A stop on a massless dof therefore acts through the massive dofs
+ *  it is tied to, with the effective mass 1 / (t^T M_mm^-1 t), t = w_m -
+ *  K_mz K_zz^-1 w_z (vi_fe_stop_compliance); a load on one reaches the
+ *  modes through Psi^T f, and its local static deflection K_zz^-1 f_z,
+ *  which no mode spans, is dropped as every truncation drops the static
+ *  residual.  Setup refuses a dof with neither mass nor stiffness, massless
+ *  dofs whose own stiffness K_zz is singular, and an M singular beyond its
+ *  zero rows. */
 VI_API int vi_fe_set_mass_csc(vi_fe *fe, int storage, int base,
                               const int *colptr, const int *rowind,
                               const double *values);
@@ -140,12 +165,29 @@ VI_API int vi_fe_set_modal_damping(vi_fe *fe, int nzeta, const double *zeta);
 
 /** @name Eigensolver settings (sparse source)
  *  @{ */
-/** Keep the k lowest modes, 1 <= k <= n.  Lanczos needs k <= n - 2; for
- *  k >= n - 1 the modes come from LAPACK's dense dsygvd on the expanded
- *  matrices instead (n <= 4000).  A per-mode zeta set before must have k
+/** Keep the k lowest modes, 1 <= k <= n (and, at setup, at most the
+ *  number of finite modes: dofs with mass).  Lanczos needs k <= nf - 2;
+ *  for k >= nf - 1 the modes come from LAPACK's dense dsygvd on the
+ *  reversed pencil M v = mu (K - sigma M) v instead (n <= 4000), which
+ *  takes a singular M and gives the lowest modes to full relative accuracy
+ *  however ill-conditioned K is.  A per-mode zeta set before must have k
  *  entries at setup.  @return VI_OK, VI_ERR_DIM, VI_ERR_STATE (frozen, or
  *  host modes set: they fix k). */
 VI_API int vi_fe_set_modes(vi_fe *fe, int k);
+/** The number of rigid-body modes the structure has, if the user knows it:
+ *  count >= 0 makes setup check that exactly the lowest `count` kept modes
+ *  are rigid (VI_ERR_ARG naming the first that disagrees); -1 (default)
+ *  decides from K alone.  A mode is rigid when K psi is at round-off row by
+ *  row: max_i |K psi|_i / (|K| |psi|)_i <= 1e-11 (vi_fe_mode_rigidity), a
+ *  property of K's null space, never of the spectrum's scale; only such a
+ *  mode is given omega = 0.  @return VI_OK, VI_ERR_ARG (count < -1 or >
+ *  n), VI_ERR_STATE. */
+VI_API int vi_fe_set_rigid_modes(vi_fe *fe, int count);
+/** The accuracy asked of the modes, 0 < tol < 1 (default 1e-8): setup fails
+ *  with VI_ERR_NOT_CONVERGED, naming the mode, when a kept mode's residual
+ *  (vi_fe_mode_residuals) or the modes' M-orthonormality error exceeds it.
+ *  @return VI_OK, VI_ERR_TOLERANCE, VI_ERR_STATE. */
+VI_API int vi_fe_set_accuracy(vi_fe *fe, double tol);
 /** The shift sigma of the shift-invert (K - sigma M)^-1 M, finite and
  *  below the lowest eigenvalue (lambda = omega^2); a shift at or above it
  *  makes the factorisation indefinite, refused at setup (VI_ERR_NOT_SPD).
@@ -224,14 +266,19 @@ VI_API int vi_fe_set_keep_shapes(vi_fe *fe, int keep);
 
 /** Validate, factorise, solve for the kept modes and project the stops,
  *  forcing, damping and outputs; freeze.  Sparse source: M is checked
- *  positive definite (its own Cholesky factorisation, also giving the stops'
- *  compliance w^T M^-1 w), K - sigma M factorised, the k lowest modes found
- *  and checked (residual, K semidefinite).  @return VI_OK,
- *  VI_ERR_STOP_VECTOR (no stop), VI_ERR_STATE (no matrices or modes),
- *  VI_ERR_NOT_SPD (M, or K - sigma M for a shift at or above the lowest
- *  eigenvalue), VI_ERR_NOT_PSD (K or C indefinite), VI_ERR_DIM,
- *  VI_ERR_NOT_CONVERGED (Lanczos), VI_ERR_LAPACK, VI_ERR_LIMIT,
- *  VI_ERR_NOMEM. */
+ *  semidefinite and its massless dofs counted (its Cholesky factorisation
+ *  on the massive dofs also gives the stops' compliance w^T M^-1 w), K
+ *  factorised (a pivot below 1e-13 of its own diagonal entry marks K
+ *  singular: a negative shift), the k lowest modes found, the rigid ones
+ *  decided from K psi, and every mode checked (residual, orthonormality,
+ *  K semidefinite).  @return VI_OK, VI_ERR_STOP_VECTOR (no stop),
+ *  VI_ERR_STATE (no matrices or modes; no vi_fe_set_modes beyond 1000 dofs
+ *  with mass), VI_ERR_NOT_SPD (M singular beyond its zero rows, massless
+ *  dofs that cannot be condensed, K - sigma M for a shift at or above the
+ *  lowest eigenvalue), VI_ERR_NOT_PSD (M, K or C indefinite), VI_ERR_DIM
+ *  (more modes than finite ones), VI_ERR_ARG (a stated rigid-mode count K
+ *  contradicts), VI_ERR_NOT_CONVERGED (Lanczos; a mode less accurate than
+ *  vi_fe_set_accuracy asks), VI_ERR_LAPACK, VI_ERR_LIMIT, VI_ERR_NOMEM. */
 VI_API int vi_fe_setup(vi_fe *fe);
 
 /** The reduced modal model of a set-up reduction: k coordinates, M = I,
@@ -268,6 +315,21 @@ VI_API double vi_fe_shift(const vi_fe *fe);
  *  max_j ||K psi_j - lambda_j M psi_j|| / ((||K|| + |lambda_j| ||M||)
  *  ||psi_j||) (infinity norms); 0 with host modes. */
 VI_API double vi_fe_residual(const vi_fe *fe);
+/** What the reduction did to the model, for its report: *massless, the
+ *  dofs with no mass (zero rows of M); *rigid, the kept modes found rigid
+ *  (omega = 0); *rule, a vi_fe_modes_rule; *orthogonality, max |Psi^T M
+ *  Psi - I| over the kept modes (0 with host modes).  Any pointer may be
+ *  NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE (not set up). */
+VI_API int vi_fe_summary(const vi_fe *fe, int *massless, int *rigid,
+                         int *rule, double *orthogonality);
+/** Each kept mode's backward error [k], ||K psi - lambda M psi|| / ((||K||
+ *  + |lambda| ||M||) ||psi||) (infinity norms), computed before a rigid
+ *  mode's lambda is set to 0; zeros with host modes. */
+VI_API const double *vi_fe_mode_residuals(const vi_fe *fe);
+/** Each kept mode's rigidity [k], max_i |K psi|_i / (|K| |psi|)_i: round-off
+ *  (<= 1e-11) for a rigid-body mode, the mode's own lambda M psi against
+ *  K's entries otherwise; zeros with host modes. */
+VI_API const double *vi_fe_mode_rigidity(const vi_fe *fe);
 /** Stop s's compliance (WB 10): *dynamic = w^T M^-1 w, the inverse of its
  *  effective mass, against which sum_j psi_sj^2 over the kept modes is the
  *  fraction the modes carry; *statik = w^T K^-1 w (static flexibility,

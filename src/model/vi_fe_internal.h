@@ -21,8 +21,13 @@ enum { VI_FE_SRC_NONE = 0, VI_FE_SRC_SPARSE = 1, VI_FE_SRC_HOST = 2 };
 enum { VI_FE_DAMP_NONE = 0, VI_FE_DAMP_C = 1, VI_FE_DAMP_RAYLEIGH = 2,
        VI_FE_DAMP_ZETA = 3, VI_FE_DAMP_HOST_D = 4 };
 
+enum { VI_FE_K_UNSET = 0 }; /* k before vi_fe_set_modes: decided at setup */
+
 struct vi_fe {
   int n, k, frozen, source;
+  int k_rule;               /* vi_fe_modes_rule: how k was chosen */
+  int rigid_in;             /* the user's count of rigid-body modes, -1 */
+  double accuracy;          /* largest residual / orthogonality accepted */
   vi_csc mat[3];            /* VI_FE_MASS, VI_FE_DAMPING, VI_FE_STIFFNESS */
   int damping;              /* VI_FE_DAMP_* */
   double alpha, beta;       /* Rayleigh */
@@ -54,7 +59,13 @@ struct vi_fe {
   double *Pout;             /* [nout x k] */
   double *Psi;              /* [n x k] when kept */
   double *wMw, *wKw;        /* [ns] */
-  double shift, resid;
+  double *mresid, *mrigid;  /* [k]: backward error, componentwise |K psi| */
+  double shift, resid, orth;
+  /* the structure as inspected at setup (vi_fe_inspect) */
+  int n0, first_massless;   /* massless dofs (zero rows of M), the first */
+  int nrigid;               /* modes found rigid (|K psi| at round-off) */
+  int k_singular;           /* K singular to working precision */
+  double scale;             /* max K_jj / M_jj over the massive dofs */
   char errmsg[VI_MSG_LEN];
 };
 
@@ -76,6 +87,10 @@ static inline void vi_csc_symv(int n, const vi_csc *A, const double *x,
     y[j] += acc;
   }
 }
+
+/* Inspect M and K before any solve (vi_eigs.c): the massless dofs (zero
+ * rows and columns of M), the diagonal signs, the spectrum's scale. */
+int vi_fe_inspect(vi_fe *fe);
 
 /* The sparse path of vi_fe_setup (vi_eigs.c): factorise, solve for the k
  * lowest modes, and fill fe->omega, fe->lambda, the stops' compliances and

@@ -17,6 +17,12 @@
 #define VI_FE_SYM_TOL 1e-12
 /* Relative tolerance of semidefiniteness of the modal damping. */
 #define VI_FE_PSD_TOL 1e-12
+/* Without vi_fe_set_modes, structures of up to this many dofs with mass
+ * keep every mode (the dense solve takes ~0.5 s at 1000), larger ones
+ * must say how many: a default cut would change the model silently. */
+#define VI_FE_WHOLE_MAX 1000
+/* The default accuracy asked of the modes (residual, orthonormality). */
+#define VI_FE_ACCURACY 1e-8
 
 static const char *const mat_name[3] = {"M", "C", "K"};
 
@@ -28,7 +34,10 @@ int vi_fe_create(int n, vi_fe **out)
   vi_fe *fe = calloc(1, sizeof *fe);
   if (!fe) return VI_ERR_NOMEM;
   fe->n = n;
-  fe->k = n < 6 ? n : 6;
+  fe->k = VI_FE_K_UNSET;
+  fe->k_rule = VI_FE_MODES_WHOLE;
+  fe->rigid_in = -1;
+  fe->accuracy = VI_FE_ACCURACY;
   *out = fe;
   return VI_OK;
 }
@@ -47,7 +56,8 @@ static void free_results(vi_fe *fe)
   free(fe->omega);
   free(fe->Psi);
   fe->omega = fe->lambda = fe->D = fe->PsiW = fe->Fa = fe->Fb = fe->F0 =
-      fe->Pout = fe->Psi = fe->wMw = fe->wKw = NULL;
+      fe->Pout = fe->Psi = fe->wMw = fe->wKw = fe->mresid = fe->mrigid =
+          NULL;
 }
 
 void vi_fe_destroy(vi_fe **pfe)
@@ -335,6 +345,29 @@ int vi_fe_set_modes(vi_fe *fe, int k)
     return vi_fail(fe->errmsg, VI_ERR_DIM, "%d modes: need 1 <= k <= n = %d",
                    k, fe->n);
   fe->k = k;
+  fe->k_rule = VI_FE_MODES_GIVEN;
+  return VI_OK;
+}
+
+int vi_fe_set_rigid_modes(vi_fe *fe, int count)
+{
+  int st = check_open(fe);
+  if (st) return st;
+  if (count < -1 || count > fe->n)
+    return vi_fail(fe->errmsg, VI_ERR_ARG, "%d rigid-body modes: need -1 "
+                   "(decide from K) or 0..%d", count, fe->n);
+  fe->rigid_in = count;
+  return VI_OK;
+}
+
+int vi_fe_set_accuracy(vi_fe *fe, double tol)
+{
+  int st = check_open(fe);
+  if (st) return st;
+  if (!(tol > 0.0 && tol < 1.0))
+    return vi_fail(fe->errmsg, VI_ERR_TOLERANCE, "accuracy %g: need 0 < tol "
+                   "< 1 (0 is not attainable in floating point)", tol);
+  fe->accuracy = tol;
   return VI_OK;
 }
 
@@ -485,6 +518,7 @@ int vi_fe_set_host_modes(vi_fe *fe, int k, const double *omega,
   fe->Prow = P;
   fe->nrows = nrows;
   fe->k = k;
+  fe->k_rule = VI_FE_MODES_HOST;
   fe->Dhost = Dh;
   if (z) {
     free(fe->zeta_in);
@@ -676,11 +710,12 @@ int vi_fe_set_keep_shapes(vi_fe *fe, int keep)
 /* ---- setup ---------------------------------------------------------------- */
 
 /* One block for the results: omega, lambda [k], D [k x k], PsiW [k x ns],
- * Fa, Fb, F0 [k], Pout [nout x k], wMw, wKw [ns]. */
+ * Fa, Fb, F0 [k], Pout [nout x k], wMw, wKw [ns], mresid, mrigid [k]. */
 static int alloc_results(vi_fe *fe)
 {
   size_t k = (size_t)fe->k, ns = (size_t)fe->ns;
-  size_t count = 2 * k + k * k + k * ns + 3 * k + (size_t)fe->nout * k + 2 * ns;
+  size_t count = 2 * k + k * k + k * ns + 3 * k + (size_t)fe->nout * k +
+                 2 * ns + 2 * k;
   double *p = calloc(count, sizeof(double));
   if (!p) return vi_fail(fe->errmsg, VI_ERR_NOMEM, "out of memory");
   fe->omega = p; p += k;
@@ -692,7 +727,9 @@ static int alloc_results(vi_fe *fe)
   fe->F0 = p; p += k;
   fe->Pout = p; p += (size_t)fe->nout * k;
   fe->wMw = p; p += ns;
-  fe->wKw = p;
+  fe->wKw = p; p += ns;
+  fe->mresid = p; p += k;
+  fe->mrigid = p;
   return VI_OK;
 }
 
@@ -829,8 +866,34 @@ static int setup_host(vi_fe *fe)
   }
   for (int s = 0; s < fe->ns; s++) fe->wMw[s] = fe->wKw[s] = NAN;
   fe->shift = 0.0;
-  fe->resid = 0.0;
+  fe->resid = fe->orth = 0.0;
+  fe->n0 = fe->nrigid = 0;
+  for (int j = 0; j < fe->k; j++) fe->nrigid += fe->omega_in[j] == 0.0;
   return projections(fe, NULL);
+}
+
+/* The number of kept modes of a sparse reduction: as set, or by default
+ * the whole model where that is cheap; never more than the finite modes
+ * (the massless dofs' eigenvalues are infinite). */
+static int decide_modes(vi_fe *fe)
+{
+  int nf = fe->n - fe->n0;
+  if (fe->k_rule == VI_FE_MODES_GIVEN && fe->k > nf)
+    return vi_fail(fe->errmsg, VI_ERR_DIM, "%d modes asked, but the "
+                   "structure has only %d finite ones (%d of its %d dofs are "
+                   "massless: M's row %d is zero)", fe->k, nf, fe->n0, fe->n,
+                   fe->first_massless + 1);
+  if (fe->k_rule == VI_FE_MODES_GIVEN) return VI_OK;
+  if (nf > VI_FE_WHOLE_MAX)
+    return vi_fail(fe->errmsg, VI_ERR_STATE, "how many modes? The structure "
+                   "has %d dofs with mass, more than the %d up to which the "
+                   "whole model is kept by default: choose the lowest k "
+                   "with vi_fe_set_modes (scene key model.modes; `vibroimpact"
+                   " truncation` tells how many a stop needs)", nf,
+                   VI_FE_WHOLE_MAX);
+  fe->k = nf;
+  fe->k_rule = VI_FE_MODES_WHOLE;
+  return VI_OK;
 }
 
 int vi_fe_setup(vi_fe *fe)
@@ -848,6 +911,9 @@ int vi_fe_setup(vi_fe *fe)
   if (fe->ns < 1)
     return vi_fail(fe->errmsg, VI_ERR_STOP_VECTOR, "no stop: call "
                    "vi_fe_add_stop or vi_fe_add_stop_dof before setup");
+  if (fe->source == VI_FE_SRC_SPARSE &&
+      ((st = vi_fe_inspect(fe)) || (st = decide_modes(fe))))
+    return st;
   if (fe->damping == VI_FE_DAMP_ZETA && fe->nzeta != 1 && fe->nzeta != fe->k)
     return vi_fail(fe->errmsg, VI_ERR_DIM, "%d modal damping ratios for %d "
                    "kept modes: give 1 or %d", fe->nzeta, fe->k, fe->k);
@@ -928,6 +994,31 @@ const double *vi_fe_shapes(const vi_fe *fe, int *ld)
 {
   if (ld) *ld = fe ? fe->n : 0;
   return FROZEN_OR(fe, fe->Psi);
+}
+
+int vi_fe_summary(const vi_fe *fe, int *massless, int *rigid, int *rule,
+                  double *orthogonality)
+{
+  if (massless) *massless = 0;
+  if (rigid) *rigid = 0;
+  if (rule) *rule = fe ? fe->k_rule : 0;
+  if (orthogonality) *orthogonality = NAN;
+  if (!fe) return VI_ERR_ARG;
+  if (!fe->frozen) return VI_ERR_STATE;
+  if (massless) *massless = fe->n0;
+  if (rigid) *rigid = fe->nrigid;
+  if (orthogonality) *orthogonality = fe->orth;
+  return VI_OK;
+}
+
+const double *vi_fe_mode_residuals(const vi_fe *fe)
+{
+  return FROZEN_OR(fe, fe->mresid);
+}
+
+const double *vi_fe_mode_rigidity(const vi_fe *fe)
+{
+  return FROZEN_OR(fe, fe->mrigid);
 }
 
 int vi_fe_stop_compliance(const vi_fe *fe, int s, double *dynamic,

@@ -356,7 +356,7 @@ static void test_bad_fe_scenes(void **state)
       {"stop dof beyond", MM("cM.mtx", "cK.mtx") "stop: {dof: 4, xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop.dof"},
       {"stop without dof", MM("cM.mtx", "cK.mtx") "stop: {xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop"},
       {"initial length", MM("cM.mtx", "cK.mtx") STOP3 "initial: {x: [1, 2]}\n", VI_ERR_DIM, "scene", 5, "initial.x"},
-      {"M not positive definite", MM("notspd.mtx", "cK.mtx") STOP3, VI_ERR_NOT_SPD, "scene", 2, "model"},
+      {"M not semidefinite", MM("notspd.mtx", "cK.mtx") STOP3, VI_ERR_NOT_PSD, "scene", 2, "model"},
   };
   for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
     char path[256], want[256];

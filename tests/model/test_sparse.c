@@ -500,11 +500,17 @@ static void test_bad_csc(void **state)
   assert_int_equal(vi_fe_add_stop_dof(fe, 2, 1, 0.0, 0.5), VI_OK);
   assert_int_equal(vi_fe_setup(fe), VI_ERR_NOT_SPD);
   assert_fe_msg(fe, "M is not positive definite");
-  /* a zero diagonal of M, caught before any factorisation */
-  double vz[5] = {0, 0, 1, 0, 1};
+  /* a zero diagonal of M with a non-zero in its row: indefinite, caught
+   * before any factorisation (a whole zero row is a massless dof) */
+  double vz[5] = {0, 0.5, 1, 0, 1};
   assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, p, i, vz), VI_OK);
-  assert_int_equal(vi_fe_setup(fe), VI_ERR_NOT_SPD);
-  assert_fe_msg(fe, "M(1,1) = 0");
+  assert_int_equal(vi_fe_setup(fe), VI_ERR_NOT_PSD);
+  assert_fe_msg(fe, "M(1,1) = 0 while its row has non-zero entries");
+  /* a negative mass */
+  double vng[5] = {1, 0, -2, 0, 1};
+  assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, p, i, vng), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_ERR_NOT_PSD);
+  assert_fe_msg(fe, "M(2,2) = -2");
   /* K indefinite */
   double vk[5] = {1, 0, -1, 0, 1}, vmo[5] = {1, 0, 1, 0, 1};
   assert_int_equal(vi_fe_set_mass_csc(fe, VI_CSC_LOWER, 0, p, i, vmo), VI_OK);
