@@ -49,6 +49,7 @@ int main(int argc, char **argv)
   K_(VI_IDENTIFY_UNDETERMINED); K_(VI_IDENTIFY_CORRELATED);
   K_(VI_CSC_FULL); K_(VI_CSC_LOWER);
   K_(VI_FE_MASS); K_(VI_FE_DAMPING); K_(VI_FE_STIFFNESS);
+  K_(VI_FE_MODES_WHOLE); K_(VI_FE_MODES_GIVEN); K_(VI_FE_MODES_HOST);
   /* Fortran is case-insensitive: VI_VERSION_NUMBER would clash with the
    * function vi_version_number */
   constant(f, "VI_HEADER_VERSION", VI_VERSION_NUMBER);

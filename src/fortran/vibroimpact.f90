@@ -108,7 +108,9 @@ module vibroimpact
             vi_fe_num_modes, vi_fe_omega, vi_fe_modal_damping, vi_fe_modal_stops, &
             vi_fe_num_stops, vi_fe_output_shapes, vi_fe_shapes, vi_fe_shift, &
             vi_fe_residual, vi_fe_stop_compliance, vi_fe_matrix_csc, vi_fe_to_outputs, &
-            vi_fe_to_modal, vi_fe_memory_estimate, vi_model_create_modal
+            vi_fe_to_modal, vi_fe_memory_estimate, vi_model_create_modal, &
+            vi_fe_set_rigid_modes, vi_fe_set_accuracy, vi_fe_summary, &
+            vi_fe_mode_residuals, vi_fe_mode_rigidity
   public :: vi_build_chain, vi_build_cantilever, vi_cantilever_beta, &
             vi_cantilever_shape, vi_cantilever_participation
   public :: vi_impact_apply, vi_impact_apply_r, vi_impact_apply_multi, vi_restitution_from_energy, &
@@ -1546,6 +1548,32 @@ module vibroimpact
       import :: c_int, c_ptr
       type(c_ptr), value :: fe
       integer(c_int), value :: k
+    end function
+    integer(c_int) function vi_fe_set_rigid_modes(fe, count) &
+        bind(C, name="vi_fe_set_rigid_modes")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      integer(c_int), value :: count
+    end function
+    integer(c_int) function vi_fe_set_accuracy(fe, tol) bind(C, name="vi_fe_set_accuracy")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      real(c_double), value :: tol
+    end function
+    integer(c_int) function vi_fe_summary(fe, massless, rigid, rule, orthogonality) &
+        bind(C, name="vi_fe_summary")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: fe
+      integer(c_int), optional :: massless, rigid, rule
+      real(c_double), optional :: orthogonality
+    end function
+    type(c_ptr) function vi_fe_mode_residuals(fe) bind(C, name="vi_fe_mode_residuals")
+      import :: c_ptr
+      type(c_ptr), value :: fe
+    end function
+    type(c_ptr) function vi_fe_mode_rigidity(fe) bind(C, name="vi_fe_mode_rigidity")
+      import :: c_ptr
+      type(c_ptr), value :: fe
     end function
     integer(c_int) function vi_fe_set_shift(fe, sigma) bind(C, name="vi_fe_set_shift")
       import :: c_int, c_ptr, c_double

@@ -335,6 +335,53 @@ static char *scene_relative(const char *scene_file, const char *path)
   return out;
 }
 
+/* Without model.modes an FE scene keeps every finite mode (vi_fe_create's
+ * rule): the dofs with mass, counted from M now, since the model's size is
+ * the scene's.  Beyond VI_SCENE_FE_WHOLE_MAX dofs the user must choose:
+ * a cut made by default would change the model without a word. */
+#define VI_SCENE_FE_WHOLE_MAX 1000
+static int whole_model(ctx *c, vi_scene *s, yaml_node_t *mm)
+{
+  char why[256];
+  if (s->n > VI_SCENE_FE_WHOLE_MAX) {
+    snprintf(why, sizeof why, "missing: the structure has %d dofs, more than "
+             "the %d up to which the whole model is kept by default; say how "
+             "many of its lowest modes to keep (`vibroimpact truncation` "
+             "tells how many a stop needs)", s->n, VI_SCENE_FE_WHOLE_MAX);
+    return fail(c, mm, VI_ERR_PARSE, "model.modes", "%s", why);
+  }
+  vi_mm *M = NULL;
+  vi_diag d;
+  int st = vi_mm_load(s->fe.path[VI_FE_MASS], VI_CSC_LOWER, &M, &d);
+  if (st) { /* a place in the matrix file, with the scene's key in front */
+    if (c->d) {
+      *c->d = d;
+      snprintf(c->d->key, sizeof c->d->key, "model.matrix_market.M %.60s",
+               d.key);
+    }
+    return st;
+  }
+  const int *cp = vi_mm_colptr(M), *ri = vi_mm_rowind(M);
+  const double *v = vi_mm_values(M);
+  char *massive = calloc((size_t)s->n, 1);
+  if (!massive) {
+    vi_mm_destroy(&M);
+    return fail(c, mm, VI_ERR_NOMEM, "model", "%s", "out of memory");
+  }
+  for (int j = 0; j < s->n; j++)
+    for (int p = cp[j]; p < cp[j + 1]; p++)
+      if (v[p] != 0.0) massive[j] = massive[ri[p]] = 1;
+  s->fe.massless = 0;
+  for (int j = 0; j < s->n; j++) s->fe.massless += !massive[j];
+  free(massive);
+  vi_mm_destroy(&M);
+  s->fe.modes = s->n - s->fe.massless;
+  if (s->fe.modes < 1)
+    return fail(c, mm, VI_ERR_NOT_SPD, "model.matrix_market.M", "%s",
+                "M is zero: no dof has mass");
+  return VI_OK;
+}
+
 /* model.matrix_market: {M: FILE, K: FILE, C: FILE} with modes and zeta
  * beside it.  The files' headers are read now (their size is the model's n
  * and, with the modes, its memory); their entries when the model is made. */
@@ -393,10 +440,11 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm)
     s->n = rows;
     s->fe.entries = entries > s->fe.entries ? entries : s->fe.entries;
   }
-  s->fe.modes = s->n < 6 ? s->n : 6; /* vi_fe_create's default */
   yaml_node_t *mo = find(c, mod, "modes"), *ze = find(c, mod, "zeta");
+  s->fe.modes_given = mo != NULL;
   if (mo && (st = integer(c, mo, "model.modes", 1, s->n, &s->fe.modes)))
     return st;
+  if (!mo && (st = whole_model(c, s, mm))) return st;
   if (s->fe.modes > 100000)
     return fail(c, mo, VI_ERR_LIMIT, "model.modes", "%s",
                 "more than 100000 modes");

@@ -26,6 +26,9 @@ typedef struct vi_scene_fe {
   int line[3];         /* their lines in the scene */
   int64_t entries;     /* the most values any of the files holds */
   int modes, nzeta;    /* kept modes; 0, 1 or `modes` damping ratios */
+  int modes_given;     /* model.modes was written; else every finite mode */
+  int massless;        /* dofs without mass (counted when modes is not
+                        * given: the whole model's size needs it) */
   double *zeta;
   /* the initial state in modal coordinates, q0 [2 modes + 1]: positions,
    * velocities, then 1 once vi_scene_create_model has projected the

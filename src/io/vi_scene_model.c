@@ -318,7 +318,9 @@ int vi_scene_create_fe(const vi_scene *s, int modes, int keep, vi_fe **out,
                              "%s", vi_strerror(st));
   const int line = s->line_model;
   if ((st = fe_matrices(s, fe, d))) goto out;
-  if ((st = vi_fe_set_modes(fe, modes))) {
+  /* without model.modes the reduction keeps every finite mode itself */
+  if ((s->fe.modes_given || modes != s->fe.modes) &&
+      (st = vi_fe_set_modes(fe, modes))) {
     fe_fail(d, s, line, "model.modes", st, fe);
     goto out;
   }

@@ -68,6 +68,14 @@ static void test_fe_misuse(void **state)
   assert_null(vi_fe_shapes(NULL, &ld));
   assert_true(vi_fe_shift(NULL) == 0.0);
   assert_true(vi_fe_residual(NULL) == 0.0);
+  assert_null(vi_fe_mode_residuals(NULL));
+  assert_null(vi_fe_mode_rigidity(NULL));
+  int nml = 7, nrg = 7, rule = 7;
+  double orth = 0.0;
+  assert_err(vi_fe_summary(NULL, &nml, &nrg, &rule, &orth));
+  assert_true(nml == 0 && nrg == 0 && isnan(orth));
+  assert_err(vi_fe_set_rigid_modes(NULL, 1));
+  assert_err(vi_fe_set_accuracy(NULL, 1e-8));
   double dyn, sta;
   assert_err(vi_fe_stop_compliance(NULL, 0, &dyn, &sta));
   int nnz;
@@ -115,6 +123,11 @@ static void test_fe_misuse(void **state)
   assert_err_msg(vi_fe_set_modes(fe, 0), vi_fe_errmsg(fe));
   assert_err_msg(vi_fe_set_modes(fe, 4), vi_fe_errmsg(fe));
   assert_err_msg(vi_fe_set_shift(fe, INFINITY), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_rigid_modes(fe, -2), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_rigid_modes(fe, 4), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_accuracy(fe, 0.0), vi_fe_errmsg(fe));
+  assert_err_msg(vi_fe_set_accuracy(fe, NAN), vi_fe_errmsg(fe));
+  assert_int_equal(vi_fe_summary(fe, NULL, NULL, NULL, NULL), VI_ERR_STATE);
   assert_err_msg(vi_fe_set_eigensolver(fe, -1.0, 0, 0), vi_fe_errmsg(fe));
   assert_err_msg(vi_fe_set_eigensolver(fe, 0.0, 4, 0), vi_fe_errmsg(fe));
   assert_err_msg(vi_fe_set_eigensolver(fe, 0.0, 0, -1), vi_fe_errmsg(fe));
