@@ -84,6 +84,11 @@ int vi_app_interrupt_status(void);
 int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model);
 /* Print "vibroimpact: file:line:col: key = value: message". */
 void vi_app_print_diag(const vi_diag *d, int st);
+/* What the reduction of a finite-element scene did (nothing for others):
+ * a summary line "  reduction ...", or a JSON member "fe": {...} followed
+ * by ", ". */
+void vi_app_fe_report(FILE *f, const vi_scene *sc);
+void vi_app_fe_json(FILE *f, const vi_scene *sc);
 
 /* Parse the command line into *o and the command; -1 to go on, else the
  * exit status (after --help, --version or a usage error).  No files are

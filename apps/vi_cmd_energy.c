@@ -192,7 +192,9 @@ static int energy_not_p11(const app_opts *o, const vi_scene *sc,
   if (o->json) {
     printf("{\"scene\": ");
     json_str(vi_scene_name(sc));
-    printf(", \"P11\": false, \"periodic\": %s, ", pn ? "true" : "false");
+    printf(", ");
+    vi_app_fe_json(stdout, sc);
+    printf("\"P11\": false, \"periodic\": %s, ", pn ? "true" : "false");
     if (pn) printf("\"n\": %d, \"m\": %d", pn, pm);
     else printf("\"n\": null, \"m\": null, \"impacts_per_period\": %d", pm);
     if (ana) { /* a P(1, m) orbit over several stops: WB 11-13 per stop */
@@ -256,7 +258,9 @@ static void energy_json(const vi_scene *sc, const vi_model *m,
 {
   printf("{\"scene\": ");
   json_str(vi_scene_name(sc));
-  printf(", \"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, ");
+  printf(", ");
+  vi_app_fe_json(stdout, sc);
+  printf("\"P11\": true, \"periodic\": true, \"n\": 1, \"m\": 1, ");
   if (b->by_scan)
     printf("\"found_by\": \"scan\", \"transient_n\": %d, \"transient_m\": %d", b->tn, b->tm);
   else

@@ -125,6 +125,7 @@ static void summary(FILE *f, const app_opts *o, const vi_scene *sc,
              *note = vi_sim_method_note(s);
   fprintf(f, "vibroimpact %s: scene %s (n = %d)\n", vi_version_string(),
           vi_scene_name(sc), n);
+  vi_app_fe_report(f, sc);
   if (om) {
     fprintf(f, "  modes     omega =");
     for (int j = 0; j < n && j < 8; j++) fprintf(f, " %.6g", om[j]);

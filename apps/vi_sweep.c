@@ -18,6 +18,7 @@
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vibroimpact/vi_scene_param.h"
+#include "vi_app.h"
 #include "vi_sweep.h"
 
 static double now(void)
@@ -740,7 +741,9 @@ void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
   const vi_sweep_spec *sp = &sw->spec;
   fprintf(f, "{\"scene\": ");
   json_str(f, sw->name);
-  fprintf(f, ", \"key\": ");
+  fprintf(f, ", ");
+  vi_app_fe_json(f, sw->sc);
+  fprintf(f, "\"key\": ");
   json_str(f, sp->key);
   fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, "
           "\"complete\": %s, \"points_done\": %lld, ", sp->transient, sp->record,

@@ -166,6 +166,18 @@ VI_API int vi_scene_n(const vi_scene *sc);
  *  Matrix Market files' size for a model.matrix_market, else as
  *  vi_scene_n. */
 VI_API int vi_scene_dofs(const vi_scene *sc);
+/** What the reduction of a model.matrix_market scene did, once
+ *  vi_scene_create_model has made its model (each pointer may be NULL):
+ *  *modes kept of vi_scene_dofs, *rule how they were chosen (a
+ *  vi_fe_modes_rule: VI_FE_MODES_GIVEN by model.modes, VI_FE_MODES_WHOLE
+ *  without it), *massless dofs, *rigid modes found (K psi at round-off),
+ *  the largest residual of a kept mode and the modes' M-orthonormality
+ *  error (vi_fe_summary).  @return VI_OK, VI_ERR_ARG (NULL scene),
+ *  VI_ERR_UNSUPPORTED (not a model.matrix_market scene), VI_ERR_STATE (no
+ *  model made yet). */
+VI_API int vi_scene_fe_summary(const vi_scene *sc, int *modes, int *rule,
+                               int *massless, int *rigid,
+                               double *max_residual, double *orthogonality);
 /** The scene's initial state as written: x0 and v0 [vi_scene_dofs] (either
  *  may be NULL), physical coordinates (a model.matrix_market's dofs; its
  *  model starts from their projection onto the modes).  @return VI_OK,

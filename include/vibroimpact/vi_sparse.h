@@ -167,10 +167,8 @@ VI_API int vi_fe_set_modal_damping(vi_fe *fe, int nzeta, const double *zeta);
  *  @{ */
 /** Keep the k lowest modes, 1 <= k <= n (and, at setup, at most the
  *  number of finite modes: dofs with mass).  Lanczos needs k <= nf - 2;
- *  for k >= nf - 1 the modes come from LAPACK's dense dsygvd on the
- *  reversed pencil M v = mu (K - sigma M) v instead (n <= 4000), which
- *  takes a singular M and gives the lowest modes to full relative accuracy
- *  however ill-conditioned K is.  A per-mode zeta set before must have k
+ *  for k >= nf - 1 the modes come from LAPACK's dense dsygvd instead (n <=
+ *  4000), after the massless dofs are condensed statically.  A per-mode zeta set before must have k
  *  entries at setup.  @return VI_OK, VI_ERR_DIM, VI_ERR_STATE (frozen, or
  *  host modes set: they fix k). */
 VI_API int vi_fe_set_modes(vi_fe *fe, int k);

@@ -37,6 +37,7 @@ module vibroimpact_io
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, &
             vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
+            vi_scene_fe_summary, &
             vi_scene_create_fe, vi_scene_initial, &
             vi_scene_param_key
   public :: vi_scene_edit_create, vi_scene_edit_create_limited, &
@@ -209,6 +210,13 @@ module vibroimpact_io
     integer(c_int) function vi_scene_dofs(scene) bind(C, name="vi_scene_dofs")
       import :: c_int, c_ptr
       type(c_ptr), value :: scene
+    end function
+    integer(c_int) function vi_scene_fe_summary(scene, modes, rule, massless, rigid, &
+        max_residual, orthogonality) bind(C, name="vi_scene_fe_summary")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: scene
+      integer(c_int), optional :: modes, rule, massless, rigid
+      real(c_double), optional :: max_residual, orthogonality
     end function
     !> modes 0: the scene's model.modes; keep 1: the full Psi; fe receives
     !> the set-up reduction (module vibroimpact's vi_fe_* routines)

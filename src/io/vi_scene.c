@@ -462,7 +462,8 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm)
         return fail(c, ze, VI_ERR_ARG, "model.zeta", "%s",
                     "damping ratios must lie in [0, 1e6]");
   }
-  if (!(s->fe.q0 = calloc(2 * (size_t)s->fe.modes + 1, sizeof(double))))
+  if (!(s->fe.q0 = calloc(2 * (size_t)s->fe.modes + 1, sizeof(double))) ||
+      !(s->fe.report = calloc(1, sizeof *s->fe.report)))
     return fail(c, mm, VI_ERR_NOMEM, "model", "%s", "out of memory");
   return VI_OK;
 }
@@ -1307,6 +1308,7 @@ void vi_scene_destroy(vi_scene **scene)
   for (int k = 0; k < 3; k++) free(s->fe.path[k]);
   free(s->fe.zeta);
   free(s->fe.q0);
+  free(s->fe.report);
   free(s);
   *scene = NULL;
 }
@@ -1320,3 +1322,21 @@ int vi_scene_model_n(const vi_scene *s)
 }
 int vi_scene_n(const vi_scene *s) { return s ? vi_scene_model_n(s) : 0; }
 int vi_scene_dofs(const vi_scene *s) { return s ? s->n : 0; }
+
+int vi_scene_fe_summary(const vi_scene *s, int *modes, int *rule,
+                        int *massless, int *rigid, double *max_residual,
+                        double *orthogonality)
+{
+  const struct vi_scene_fe_report *r =
+      s && s->kind == VI_SCENE_FE ? s->fe.report : NULL;
+  int ok = r && r->done;
+  if (modes) *modes = ok ? r->modes : 0;
+  if (rule) *rule = ok ? r->rule : 0;
+  if (massless) *massless = ok ? r->massless : 0;
+  if (rigid) *rigid = ok ? r->rigid : 0;
+  if (max_residual) *max_residual = ok ? r->resid : NAN;
+  if (orthogonality) *orthogonality = ok ? r->orth : NAN;
+  if (!s) return VI_ERR_ARG;
+  if (s->kind != VI_SCENE_FE) return VI_ERR_UNSUPPORTED;
+  return ok ? VI_OK : VI_ERR_STATE;
+}

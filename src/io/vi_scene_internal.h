@@ -37,6 +37,12 @@ typedef struct vi_scene_fe {
    * const there); at rest it needs no projection: all zeros. */
   double *q0;
   int at_rest;
+  /* what the reduction did, for the report (vi_scene_fe_summary): filled
+   * by create_model through this pointer, as q0 */
+  struct vi_scene_fe_report {
+    int done, modes, rule, massless, rigid;
+    double resid, orth;
+  } *report;
 } vi_scene_fe;
 
 /* A built-in nonlinear spring (vi_force.h), applied to the sim. */

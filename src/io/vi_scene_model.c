@@ -376,6 +376,13 @@ static int create_fe_model(const vi_scene *s, vi_model **out, vi_diag *d)
             (st = vi_fe_to_modal(fe, s->v0, s->fe.q0 + k))))
     fe_fail(d, s, s->line_initial, "initial", st, fe);
   if (!st) s->fe.q0[(size_t)2 * k] = 1.0; /* projected */
+  if (!st) {
+    struct vi_scene_fe_report *r = s->fe.report;
+    r->modes = vi_fe_num_modes(fe);
+    r->resid = vi_fe_residual(fe);
+    vi_fe_summary(fe, &r->massless, &r->rigid, &r->rule, &r->orth);
+    r->done = 1;
+  }
   vi_fe_destroy(&fe);
   return st;
 }

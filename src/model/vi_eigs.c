@@ -6,8 +6,8 @@
  *
  * M need only be semidefinite: FE codes write lumped masses with massless
  * dofs (zero rows and columns).  Their eigenvalues are infinite; shift-invert
- * maps them to 0, so Lanczos never meets them, and the dense path solves the
- * reversed pencil M v = mu (K - sigma M) v for the same reason.  Whether a
+ * maps them to 0, so Lanczos never meets them, and the dense path condenses
+ * them statically first.  Whether a
  * mode is rigid is read off the mode itself: K psi at round-off, row by row
  * (a stiff and a soft layer side by side make K's norm useless for it). */
 #include <math.h>
@@ -507,61 +507,83 @@ static int finish(vi_fe *fe, const double *lam, const double *Z, double *Psi)
   return VI_OK;
 }
 
-/* Every finite mode from LAPACK's dense dsygvd on the reversed pencil
- * M v = mu (K - sigma M) v, mu = 1 / (lambda - sigma): K - sigma M is
- * positive definite where M need not be, massless dofs give mu = 0, and the
- * lowest modes, the largest mu, come out to full relative accuracy however
- * ill-conditioned K is.  The n - n0 largest mu are the finite modes. */
+/* Every finite mode from LAPACK's dense dsygvd (k >= nf - 1: no room for
+ * Lanczos).  Massless dofs z are condensed first: K_r = K_mm - K_mz X with
+ * X = K_zz^-1 K_zm, the pencil (K_r, M_mm) solved, and psi = [v; -X v]
+ * (the static slaving the shapes must carry). */
 static int eigs_dense(vi_fe *fe, double *Psi)
 {
-  int n = fe->n, k = fe->k, nf = n - fe->n0, st = VI_OK;
+  int n = fe->n, k = fe->k, nz = fe->n0, nm = n - nz, st = VI_OK;
   if (n > VI_EIGS_DENSE_MAX)
     return vi_fail(fe->errmsg, VI_ERR_DIM, "%d modes of %d dofs with mass: "
-                   "keep at most %d for the sparse solver", k, nf, nf - 2);
+                   "keep at most %d for the sparse solver", k, nm, nm - 2);
   size_t nn = (size_t)n * n;
-  double *A = malloc(sizeof(double) * (2 * nn + 2 * (size_t)n));
-  if (!A) return vi_fail(fe->errmsg, VI_ERR_NOMEM, "out of memory");
-  double *B = A + nn, *mu = B + nn, *lam = mu + n;
-  const vi_csc *K = &fe->mat[VI_FE_STIFFNESS], *M = &fe->mat[VI_FE_MASS];
-  lapack_int info = 0;
-  for (int attempt = 0; attempt < 2; attempt++) {
-    double sigma = attempt == 0 && !fe->k_singular
-                       ? 0.0 : -VI_EIGS_AUTO_SHIFT * fe->scale;
-    if (fe->shift_set) sigma = fe->sigma_in;
-    memset(A, 0, sizeof(double) * 2 * nn);
-    for (int j = 0; j < n; j++) {
-      for (int p = M->colptr[j]; p < M->colptr[j + 1]; p++)
-        A[M->rowind[p] + (size_t)j * n] = M->val[p];
-      for (int p = K->colptr[j]; p < K->colptr[j + 1]; p++)
-        B[K->rowind[p] + (size_t)j * n] = K->val[p];
-      for (int p = M->colptr[j]; p < M->colptr[j + 1]; p++)
-        B[M->rowind[p] + (size_t)j * n] -= sigma * M->val[p];
-    }
-    fe->shift = sigma;
-    info = LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', n, A, n, B, n, mu);
-    if (info <= n || fe->shift_set || sigma != 0.0) break;
+  double *A = calloc(3 * nn + (size_t)n, sizeof(double));
+  double *X = malloc(sizeof(double) * ((size_t)nz * nm + 1));
+  int *map = malloc(sizeof(int) * (size_t)n);
+  if (!A || !map || !X) {
+    free(A);
+    free(X);
+    free(map);
+    return vi_fail(fe->errmsg, VI_ERR_NOMEM, "out of memory");
   }
-  if (info > n) {
-    st = vi_fail(fe->errmsg, fe->shift_set ? VI_ERR_NOT_SPD : VI_ERR_NOT_PSD,
-                 "K - sigma M is not positive definite with sigma = %.6g "
-                 "(Cholesky fails at column %d): %s", fe->shift,
-                 (int)info - n, fe->shift_set ? "the shift must lie below "
-                 "the lowest eigenvalue" : "K is not positive semidefinite");
+  /* the dofs renumbered massive first: K = [Kmm Kmz; Kzm Kzz] in A */
+  double *B = A + nn, *Z = B + nn, *lam = Z + nn;
+  const vi_csc *K = &fe->mat[VI_FE_STIFFNESS], *M = &fe->mat[VI_FE_MASS];
+  for (int j = 0, a = 0, b = nm; j < n; j++)
+    map[j] = diag_of(M, j) == 0.0 ? b++ : a++;
+  for (int j = 0; j < n; j++) {
+    for (int p = K->colptr[j]; p < K->colptr[j + 1]; p++) {
+      int r = map[K->rowind[p]], c = map[j];
+      A[r + (size_t)c * n] = A[c + (size_t)r * n] = K->val[p];
+    }
+    for (int p = M->colptr[j]; p < M->colptr[j + 1]; p++) {
+      int r = map[M->rowind[p]], c = map[j];
+      if (r < nm && c < nm)
+        B[r + (size_t)c * nm] = B[c + (size_t)r * nm] = M->val[p];
+    }
+  }
+  lapack_int info = 0;
+  double *Kzz = A + (size_t)nm * n + nm, *Kzm = A + nm, *Kmz = A + (size_t)nm * n;
+  if (nz > 0) { /* X = Kzz^-1 Kzm into Kzm's place; Kmm -= Kmz X */
+    info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', nz, Kzz, n);
+    if (!info)
+      info = LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', nz, nm, Kzz, n, Kzm, n);
+    if (info) {
+      st = vi_fail(fe->errmsg, VI_ERR_NOT_SPD, "the %d massless dofs cannot "
+                   "be condensed: their own stiffness is singular (dpotrf "
+                   "info %d)", nz, (int)info);
+      goto cleanup;
+    }
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, nm, nm, nz, -1.0,
+                Kmz, n, Kzm, n, 1.0, A, n);
+    LAPACKE_dlacpy(LAPACK_COL_MAJOR, 'A', nz, nm, Kzm, n, X, nz);
+  }
+  fe->shift = 0.0;
+  info = LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', nm, A, n, B, nm, lam);
+  if (info > nm) {
+    st = vi_fail(fe->errmsg, VI_ERR_NOT_SPD, "M is not positive definite "
+                 "on its %d dofs with mass (Cholesky fails at the %d-th)", nm,
+                 (int)info - nm);
   } else if (info != 0) {
     st = vi_fail(fe->errmsg, VI_ERR_LAPACK, "dsygvd failed (info %d)",
                  (int)info);
   } else {
-    /* mu ascending: the finite modes are the last nf, lowest lambda last */
-    double *Z = A + (size_t)(n - k) * n;
-    for (int j = 0; j < k; j++) lam[j] = fe->shift + 1.0 / mu[n - k + j];
-    if (!(mu[n - nf] > 0.0))
-      st = vi_fail(fe->errmsg, VI_ERR_NOT_PSD, "the pencil (K, M) has %d "
-                   "finite modes where M has %d dofs with mass: M is "
-                   "singular beyond its massless dofs", n - fe->n0, nf);
-    else
-      st = finish(fe, lam, Z, Psi);
+    /* the k lowest: v on the massive dofs, -X v on the massless ones,
+     * back in the original numbering */
+    for (int j = 0; j < k; j++) {
+      double *v = A + (size_t)j * n, *z = Z + (size_t)j * n;
+      if (nz > 0)
+        cblas_dgemv(CblasColMajor, CblasNoTrans, nz, nm, -1.0, X, nz, v, 1,
+                    0.0, v + nm, 1);
+      for (int i = 0; i < n; i++) z[i] = v[map[i]];
+    }
+    st = finish(fe, lam, Z, Psi);
   }
+cleanup:
   free(A);
+  free(X);
+  free(map);
   return st;
 }
 

@@ -375,6 +375,7 @@ static void test_fe_scene_misuse(void **state)
   vi_fe *fe = NULL;
   vi_diag d;
   assert_int_equal(vi_scene_dofs(NULL), 0);
+  assert_int_equal(vi_scene_fe_summary(NULL, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
   assert_err_diag(vi_scene_create_fe(NULL, 0, 0, &fe, &d), d);
   assert_int_equal(vi_scene_parse(chain3, -1, "chain3", &sc, &d), VI_OK);
   assert_int_equal(vi_scene_dofs(sc), 3);
