@@ -318,6 +318,13 @@ int vi_scene_create_fe(const vi_scene *s, int modes, int keep, vi_fe **out,
                              "%s", vi_strerror(st));
   const int line = s->line_model;
   if ((st = fe_matrices(s, fe, d))) goto out;
+  /* the modes as accurate as the run asks (run.rtol), and no looser than
+   * the library's default */
+  if ((st = vi_fe_set_accuracy(fe, s->rtol < 1e-12 ? 1e-12
+                                   : s->rtol > 1e-8 ? 1e-8 : s->rtol))) {
+    fe_fail(d, s, line, "run.rtol", st, fe);
+    goto out;
+  }
   /* without model.modes the reduction keeps every finite mode itself */
   if ((s->fe.modes_given || modes != s->fe.modes) &&
       (st = vi_fe_set_modes(fe, modes))) {
