@@ -21,6 +21,8 @@
  * keep every mode (the dense solve takes ~0.5 s at 1000), larger ones
  * must say how many: a default cut would change the model silently. */
 #define VI_FE_WHOLE_MAX 1000
+/* Two frequencies squared this close (relative) are one, for a cut. */
+#define VI_FE_SAME_FREQ 1e-8
 /* The default accuracy asked of the modes (residual, orthonormality). */
 #define VI_FE_ACCURACY 1e-8
 
@@ -896,6 +898,22 @@ static int decide_modes(vi_fe *fe)
   return VI_OK;
 }
 
+/* A cut after mode kcut must not split modes of one frequency: which of
+ * them the model keeps would be an accident of the eigensolver (a free
+ * structure's rigid modes, a symmetric structure's pairs). */
+static int check_cut(vi_fe *fe, int kcut)
+{
+  double a = fe->lambda[kcut - 1], b = fe->lambda[kcut];
+  if (fabs(b - a) > VI_FE_SAME_FREQ * fmax(fabs(a), fabs(b)) ||
+      (a != b && (a == 0.0 || b == 0.0)))
+    return VI_OK;
+  return vi_fail(fe->errmsg, VI_ERR_DIM, "keeping %d modes cuts through a "
+                 "group of equal frequencies: modes %d and %d both have "
+                 "omega = %.9g; keep all of the group or none of it (the "
+                 "kept part would be arbitrary)", kcut, kcut, kcut + 1,
+                 fe->omega[kcut - 1]);
+}
+
 int vi_fe_setup(vi_fe *fe)
 {
   int st = check_open(fe);
@@ -917,13 +935,25 @@ int vi_fe_setup(vi_fe *fe)
   if (fe->damping == VI_FE_DAMP_ZETA && fe->nzeta != 1 && fe->nzeta != fe->k)
     return vi_fail(fe->errmsg, VI_ERR_DIM, "%d modal damping ratios for %d "
                    "kept modes: give 1 or %d", fe->nzeta, fe->k, fe->k);
+  /* the sparse source solves for one mode beyond the cut where there is
+   * one, to see whether the cut splits a group of equal frequencies */
+  int kcut = fe->k, nf = fe->n - fe->n0;
+  if (fe->source == VI_FE_SRC_SPARSE && kcut < nf &&
+      (kcut + 1 < nf - 1 || fe->n <= 4000))
+    fe->k = kcut + 1;
   free_results(fe);
-  if ((st = alloc_results(fe))) return st;
+  st = alloc_results(fe);
+  if (st) {
+    fe->k = kcut;
+    return st;
+  }
   if (fe->source == VI_FE_SRC_HOST) {
     st = setup_host(fe);
   } else {
     double *Psi = NULL;
     st = vi_fe_eigs(fe, &Psi);
+    if (!st && fe->k > kcut) st = check_cut(fe, kcut);
+    fe->k = kcut;
     if (!st) st = projections(fe, Psi);
     if (!st && fe->keep) fe->Psi = Psi;
     else free(Psi);

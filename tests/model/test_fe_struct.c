@@ -262,6 +262,35 @@ static void test_rigid_count(void **state)
   }
 }
 
+/* Ten free masses beside a pair on a spring: eleven rigid modes.  Four of
+ * them would be an arbitrary part of the group (once a run went on with
+ * its first impact at t = 17.04 instead of 4.53): refused; all eleven and
+ * the elastic one are kept. */
+static void test_cut_in_group(void **state)
+{
+  (void)state;
+  double kspr[12] = {0}, mass[12];
+  for (int i = 0; i < 12; i++) mass[i] = 1.0;
+  kspr[11] = 1.0; /* between masses 11 and 12 (1-based) */
+  chain g;
+  chain_build(&g, 12, kspr, mass);
+  vi_fe *fe = chain_fe(&g, 4);
+  assert_int_equal(vi_fe_add_stop_dof(fe, 11, 1, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_ERR_DIM);
+  assert_fe_msg(fe, "cuts through a group of equal frequencies");
+  print_message("modes: 4 of 11 rigid: %s\n", vi_fe_errmsg(fe));
+  vi_fe_destroy(&fe);
+  fe = chain_fe(&g, 12);
+  assert_int_equal(vi_fe_add_stop_dof(fe, 11, 1, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_fe_setup(fe), VI_OK);
+  int rigid;
+  assert_int_equal(vi_fe_summary(fe, NULL, &rigid, NULL, NULL), VI_OK);
+  assert_int_equal(rigid, 11);
+  /* the pair's relative motion: lambda = k (1/m + 1/m) = 2 */
+  assert_true(fabs(vi_fe_omega(fe)[11] - sqrt(2.0)) < 1e-13);
+  vi_fe_destroy(&fe);
+}
+
 /* Without vi_fe_set_modes a large structure is refused, not cut; an
  * accuracy nothing attains is refused; more modes than finite ones too. */
 static void test_defaults_and_checks(void **state)
@@ -379,6 +408,7 @@ int main(void)
       cmocka_unit_test(test_massless_run),
       cmocka_unit_test(test_tiny_masses),
       cmocka_unit_test(test_rigid_count),
+      cmocka_unit_test(test_cut_in_group),
       cmocka_unit_test(test_defaults_and_checks),
       cmocka_unit_test(test_threads),
   };
