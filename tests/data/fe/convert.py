@@ -27,6 +27,8 @@ MIRRORS = sys.argv[1] if len(sys.argv) > 1 else "/work/.mirror"
 SUITESPARSE = ("DrTimothyAldenDavis+SuiteSparse", "038d6635096409538260f71986a8ab4a42e0514e")
 PYSS = ("ibara1454+pyss", "69b47d89f88f04876bdabd504d202a1ced7bb5e4")
 NLEVP = ("ftisseur+nlevp", "1284e6738ebacd80e028d53aa94757f1d41ae983")
+EXUDYN = ("jgerstmayr+EXUDYN", "e44aca1b4fe3e5f4d820ff407fb3fd30b6581c1c")
+EXUDYN_DATA = "main/pythonDev/TestModels/testData/"
 
 XZ_ABOVE = 200 * 1024
 
@@ -74,6 +76,26 @@ def read_rsa(data):
     cols = np.repeat(np.arange(ncol), np.diff(ptr))
     low = sp.coo_matrix((val, (ind, cols)), shape=(nrow, ncol))
     return low + sp.tril(low, -1).T
+
+
+def read_abaqus_coordinate(data):
+    """Abaqus *MATRIX OUTPUT, FORMAT=COORDINATE: 'row col value' per line,
+    1-based global dof numbers, both triangles written."""
+    rows, cols, vals = [], [], []
+    for lineno, line in enumerate(data.decode("ascii").splitlines(), 1):
+        parts = line.replace(",", " ").split()
+        if not parts:
+            continue
+        if len(parts) != 3:
+            raise ValueError(f"line {lineno}: expected 'row col value': {line!r}")
+        rows.append(int(parts[0]) - 1)
+        cols.append(int(parts[1]) - 1)
+        vals.append(float(parts[2]))
+    n = max(max(rows), max(cols)) + 1
+    A = sp.coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsr()
+    if A.nnz != len(vals):
+        raise ValueError("duplicate entries")
+    return A
 
 
 def read_mtx(data):
@@ -194,6 +216,32 @@ def main():
         "M": (d["M"], 0, "NLEVP foundation M (diagonal), private/foundation.mat"),
         "C": (d["D"].imag, 0, "NLEVP foundation Im(D) (D = i*Cv, 211 soil dashpots)"),
     }, nl)
+
+    ex = f"github.com/jgerstmayr/EXUDYN@{EXUDYN[1][:12]}"
+    for elem in ("C3D8", "C3D4", "C3D10", "C3D20R"):
+        base = f"{EXUDYN_DATA}abaqus/block{elem}"
+        emit(f"abaqus_block{elem}", {
+            "K": (read_abaqus_coordinate(blob(EXUDYN, base + "_STIF1.mtx")), 0,
+                  f"Abaqus *MATRIX GENERATE stiffness of a free steel block, {elem} elements,"
+                  f" {base}_STIF1.mtx"),
+            "M": (read_abaqus_coordinate(blob(EXUDYN, base + "_MASS1.mtx")), 0,
+                  f"Abaqus *MATRIX GENERATE mass, {base}_MASS1.mtx"),
+        }, ex)
+    base = f"{EXUDYN_DATA}rotorDisc"
+    emit("abaqus_rotorDisc", {
+        "K": (read_abaqus_coordinate(blob(EXUDYN, base + "TestSTIF1.mtx")), 0,
+              f"Abaqus *MATRIX GENERATE stiffness of a free rotor with disc, {base}TestSTIF1.mtx"),
+        "M": (read_abaqus_coordinate(blob(EXUDYN, base + "TestMASS1.mtx")), 0,
+              f"Abaqus *MATRIX GENERATE lumped mass, {base}TestMASS1.mtx"),
+    }, ex)
+    base = f"{EXUDYN_DATA}rotorAnsys"
+    emit("ansys_rotor", {
+        "K": (read_mtx(blob(EXUDYN, base + "StiffnessMatrixSparse.txt")), 0,
+              f"ANSYS stiffness of a free rotor (ANSYS's own dof order),"
+              f" {base}StiffnessMatrixSparse.txt"),
+        "M": (read_mtx(blob(EXUDYN, base + "MassMatrixSparse.txt")), 0,
+              f"ANSYS lumped mass, {base}MassMatrixSparse.txt"),
+    }, ex)
 
     d = loadmat(blob(NLEVP, "private/disk_brake100.mat"))
     emit("nlevp_disk_brake100", {
