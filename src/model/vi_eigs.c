@@ -448,6 +448,9 @@ static int finish(vi_fe *fe, const double *lam, const double *Z, double *Psi)
      * ||z||), before l is decided */
     vi_csc_symv(n, M, z, t);
     vi_csc_symv(n, K, z, t + n);
+    /* the Rayleigh quotient: the best lambda for this psi (the Ritz value
+     * carries the Lanczos tolerance once more) */
+    l = cblas_ddot(n, z, 1, t + n, 1) / cblas_ddot(n, z, 1, t, 1);
     double r = 0.0, zn = 0.0;
     for (int i = 0; i < n; i++) {
       r = fmax(r, fabs(t[n + i] - l * t[i]));
@@ -457,7 +460,9 @@ static int finish(vi_fe *fe, const double *lam, const double *Z, double *Psi)
     fe->mresid[jj] = r;
     fe->resid = fmax(fe->resid, r);
     fe->mrigid[jj] = rigidity(n, K, z, t);
-    int rigid = fe->mrigid[jj] <= VI_EIGS_RIGID;
+    /* only a singular K has rigid modes: an elastic mode of a fine mesh
+     * can have K psi as small as 1e-12 of |K| |psi| (a sandwich beam) */
+    int rigid = fe->k_singular && fe->mrigid[jj] <= VI_EIGS_RIGID;
     if (fe->rigid_in >= 0 && rigid != (jj < fe->rigid_in)) {
       st = vi_fail(fe->errmsg, VI_ERR_ARG, "%d rigid-body modes stated, "
                    "but mode %d (omega^2 = %.6g) is %s: its |K psi| is %.2g "
@@ -697,6 +702,34 @@ static int lanczos(vi_fe *fe, cholmod_factor *L, cholmod_common *c,
   return st;
 }
 
+/* Factorise K - sigma M (sigma = fe->shift) and run Lanczos on it. */
+static int shift_invert(vi_fe *fe, cholmod_sparse *Ks, cholmod_sparse *Ms,
+                        cholmod_common *c, double *Psi)
+{
+  double alpha[2] = {1.0, 0.0}, beta[2] = {-fe->shift, 0.0}, piv;
+  int minor, st;
+  cholmod_factor *L = NULL;
+  cholmod_sparse *A = cholmod_add(Ks, Ms, alpha, beta, 1, 1, c);
+  if (!A)
+    return vi_fail(fe->errmsg, VI_ERR_NOMEM, "K - sigma M: CHOLMOD fails "
+                   "(status %d)", c->status);
+  st = factor(fe, "K - sigma M", A, NULL, c, &L, &piv, &minor);
+  if (st == 1) {
+    st = fe->shift_set
+             ? vi_fail(fe->errmsg, VI_ERR_NOT_SPD, "K - sigma M is not "
+                       "positive definite (column %d) with sigma = %.6g: "
+                       "the shift must lie below the lowest eigenvalue",
+                       minor, fe->shift)
+             : vi_fail(fe->errmsg, VI_ERR_NOT_PSD, "K is not positive "
+                       "semidefinite: K - sigma M with sigma = %.6g fails "
+                       "at column %d", fe->shift, minor);
+  }
+  if (!st) st = lanczos(fe, L, c, Psi);
+  cholmod_free_factor(&L, c);
+  cholmod_free_sparse(&A, c);
+  return st;
+}
+
 int vi_fe_eigs(vi_fe *fe, double **pPsi)
 {
   int n = fe->n, k = fe->k, st = VI_OK, minor;
@@ -709,7 +742,7 @@ int vi_fe_eigs(vi_fe *fe, double **pPsi)
   cholmod_start(c);
   c->print = 0; /* the library never prints: statuses are read below */
   c->error_handler = NULL;
-  cholmod_sparse Ms, Ks, *A = NULL;
+  cholmod_sparse Ms, Ks;
   cholmod_factor *L = NULL;
   wrap(n, &fe->mat[VI_FE_MASS], &Ms);
   wrap(n, &fe->mat[VI_FE_STIFFNESS], &Ks);
@@ -742,29 +775,19 @@ int vi_fe_eigs(vi_fe *fe, double **pPsi)
   }
   fe->shift = fe->shift_set ? fe->sigma_in
               : fe->k_singular ? -VI_EIGS_AUTO_SHIFT * fe->scale : 0.0;
-  double alpha[2] = {1.0, 0.0}, beta[2] = {-fe->shift, 0.0};
-  A = cholmod_add(&Ks, &Ms, alpha, beta, 1, 1, c);
-  if (!A) {
-    st = vi_fail(fe->errmsg, VI_ERR_NOMEM, "K - sigma M: CHOLMOD fails "
-                 "(status %d)", c->status);
-    goto cleanup;
+  st = shift_invert(fe, &Ks, &Ms, c, Psi);
+  /* A free structure's first shift is a guess far below its first elastic
+   * mode, and K - sigma M then as ill-conditioned as 1 / |sigma|: the
+   * elastic modes come out with residuals near 1e-10.  Half the first
+   * elastic eigenvalue, now known, makes them exact. */
+  int e = 0;
+  while (!st && e < k && fe->lambda[e] == 0.0) e++;
+  if (!st && fe->k_singular && !fe->shift_set && e < k) {
+    fe->shift = -0.5 * fe->lambda[e];
+    st = shift_invert(fe, &Ks, &Ms, c, Psi);
   }
-  st = factor(fe, "K - sigma M", A, NULL, c, &L, &piv, &minor);
-  if (st == 1) {
-    st = fe->shift_set
-             ? vi_fail(fe->errmsg, VI_ERR_NOT_SPD, "K - sigma M is not "
-                       "positive definite (column %d) with sigma = %.6g: "
-                       "the shift must lie below the lowest eigenvalue",
-                       minor, fe->shift)
-             : vi_fail(fe->errmsg, VI_ERR_NOT_PSD, "K is not positive "
-                       "semidefinite: K - sigma M with sigma = %.6g fails "
-                       "at column %d", fe->shift, minor);
-  }
-  if (st) goto cleanup;
-  st = lanczos(fe, L, c, Psi);
 cleanup:
   cholmod_free_factor(&L, c);
-  if (A) cholmod_free_sparse(&A, c);
   cholmod_finish(c);
   if (st) free(Psi);
   else *pPsi = Psi;
