@@ -48,6 +48,26 @@ static int check_damping(vi_model *m, double *work)
   return VI_OK;
 }
 
+/* A rigid-body mode has K psi at round-off row by row: max_i |K psi|_i /
+ * (|K| |psi|)_i at a few eps (see vi_eigs.c).  Asked only of the modes
+ * whose eigenvalue is within dsygvd's absolute error of zero. */
+#define VI_MODAL_RIGID 1e-11
+static double rigidity(int n, const double *K, const double *z)
+{
+  double r = 0.0, amax = 0.0;
+  for (int i = 0; i < n; i++) {
+    double y = 0.0, a = 0.0;
+    for (int j = 0; j < n; j++) { /* row i of the symmetric K = column i */
+      double v = K[j + (size_t)i * n] * z[j];
+      y += v;
+      a += fabs(v);
+    }
+    amax = fmax(amax, a);
+    if (a > 0.0) r = fmax(r, fabs(y) / a);
+  }
+  return amax > 0.0 ? r : 0.0;
+}
+
 int vi_modal_setup(vi_model *m, int c_zero)
 {
   int n = m->n;
@@ -61,6 +81,12 @@ int vi_modal_setup(vi_model *m, int c_zero)
   if (info != 0)
     return vi_fail(m->errmsg, VI_ERR_LAPACK, "dsygvd failed (info %d)",
                    (int)info);
+  for (int j = 0; j < n; j++)
+    if (!isfinite(m->lambda[j]))
+      return vi_fail(m->errmsg, VI_ERR_NONFINITE, "the modal analysis gives "
+                     "omega^2 = %g for mode %d: M and K are beyond what "
+                     "double precision resolves (rescale their units)",
+                     m->lambda[j], j + 1);
   /* K is PSD iff M^-1 K's eigenvalues are >= 0 (Sylvester's inertia): the
    * check costs nothing beyond the eigenproblem */
   double big = fmax(fabs(m->lambda[0]), fabs(m->lambda[n - 1]));
@@ -76,12 +102,21 @@ int vi_modal_setup(vi_model *m, int c_zero)
       if (fabs(col[i]) > fabs(col[imax]) * (1.0 + 1e-12)) imax = i;
     double s = col[imax] < 0.0 ? -1.0 : 1.0;
     for (int i = 0; i < n; i++) m->Psi[i + (size_t)j * n] = s * col[i];
-    /* K is PSD, so a negative eigenvalue is round-off of a rigid mode, and
-     * so is one within dsygvd's absolute error, a few n eps lambda_max: a
-     * free FE bar's rigid mode came out at omega ~ 0.5 (lambda_max 1e15),
-     * which bends its rigid translation by omega^2 t^2 / 2 */
-    if (m->lambda[j] < 4.0 * n * DBL_EPSILON * m->lambda[n - 1])
-      m->lambda[j] = 0.0;
+    /* an eigenvalue within dsygvd's absolute error of zero, a few n eps
+     * lambda_max, is a rigid mode's round-off (a free FE bar's came out at
+     * omega ~ 0.5 with lambda_max 1e15, bending its rigid translation by
+     * omega^2 t^2 / 2) if K psi is at round-off too; otherwise it is an
+     * elastic mode the solver cannot resolve, which must not become 0 */
+    if (m->lambda[j] < 4.0 * n * DBL_EPSILON * m->lambda[n - 1]) {
+      if (rigidity(n, m->K, m->Psi + (size_t)j * n) <= VI_MODAL_RIGID)
+        m->lambda[j] = 0.0;
+      else if (!(m->lambda[j] > 0.0))
+        return vi_fail(m->errmsg, VI_ERR_NOT_PSD, "mode %d: omega^2 = %.3g "
+                       "is within round-off of 0 (largest %.3g) but K psi "
+                       "is not: M and K span more orders than double "
+                       "precision resolves (rescale the model)", j + 1,
+                       m->lambda[j], m->lambda[n - 1]);
+    }
     m->omega[j] = sqrt(m->lambda[j]);
   }
   /* PsiTM = Psi^T M (x -> q) */
