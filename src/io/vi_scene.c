@@ -13,6 +13,7 @@
 
 #include <yaml.h>
 
+#include "vi_matrix_internal.h"
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_mmio.h"
@@ -335,21 +336,59 @@ static char *scene_relative(const char *scene_file, const char *path)
   return out;
 }
 
-/* model.matrix_market: {M: FILE, K: FILE, C: FILE} with modes and zeta
- * beside it.  The files' headers are read now (their size is the model's n
- * and, with the modes, its memory); their entries when the model is made. */
-static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm)
+/* A matrix file's error at the scene's key: a place in the file, there
+ * with the scene's key in front; none (it cannot be opened, or the
+ * coordinate files' map), at the scene's key. */
+static int file_fail(ctx *c, yaml_node_t *v, const char *key, int st,
+                     const vi_diag *hd, const char *path)
 {
-  static const char *const fk[] = {"M", "K", "C", NULL};
+  if (!hd->line)
+    return vi_diag_set(c->d, c->file, st, v ? LINE(v) : 0, v ? COL(v) : 0,
+                       key, v ? (const char *)v->data.scalar.value : "",
+                       "%s: %s", hd->file[0] ? hd->file : path, hd->message);
+  if (c->d) {
+    *c->d = *hd;
+    snprintf(c->d->key, sizeof c->d->key, "%.60s %.60s", key, hd->key);
+  }
+  return st;
+}
+
+/* model.matrices: {M: FILE, K: FILE, C: FILE, format: auto|matrix_market|
+ * harwell_boeing|coordinate} (model.matrix_market: the same keys, the
+ * old name) with modes and zeta beside it.  Each file's format is told by
+ * its content unless format names it; coordinate files (all of a model's,
+ * or none) are numbered by one dof map built over all of them.  The
+ * files' headers are read now (their size is the model's n and, with the
+ * modes, its memory); their entries when the model is made. */
+static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
+                    const char *section)
+{
+  static const char *const fk[] = {"M", "K", "C", "format", NULL};
   static const char *const names[3] = {"M", "K", "C"};
   static const int slot[3] = {VI_FE_MASS, VI_FE_STIFFNESS, VI_FE_DAMPING};
-  int st = check_map(c, mm, "model.matrix_market", fk);
+  static const char *const fmts[] = {"auto", "matrix_market",
+                                     "harwell_boeing", "coordinate"};
+  int st = check_map(c, mm, section, fk);
   if (st) return st;
   s->kind = VI_SCENE_FE;
-  for (int k = 0; k < 3; k++) {
-    char key[64];
-    snprintf(key, sizeof key, "model.matrix_market.%s", names[k]);
-    yaml_node_t *v = find(c, mm, names[k]);
+  s->fe.section = section;
+  char key[64];
+  int format = VI_MATRIX_AUTO;
+  yaml_node_t *fn = find(c, mm, "format");
+  if (fn) {
+    snprintf(key, sizeof key, "%s.format", section);
+    const char *fv = fn->type == YAML_SCALAR_NODE
+                         ? (const char *)fn->data.scalar.value : "";
+    for (format = 0; format < 4 && strcmp(fv, fmts[format]); format++) {
+    }
+    if (format == 4)
+      return fail(c, fn, VI_ERR_PARSE, key, "%s", "expected auto, "
+                  "matrix_market, harwell_boeing or coordinate");
+  }
+  yaml_node_t *nodes[3] = {NULL, NULL, NULL};
+  for (int k = 0; k < 3; k++) { /* the paths and formats */
+    snprintf(key, sizeof key, "%s.%s", section, names[k]);
+    yaml_node_t *v = nodes[k] = find(c, mm, names[k]);
     if (!v) {
       if (k == 2) continue; /* C is optional */
       return fail(c, mm, VI_ERR_PARSE, key, "%s",
@@ -358,41 +397,60 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm)
     if (v->type != YAML_SCALAR_NODE || !v->data.scalar.length ||
         strlen((const char *)v->data.scalar.value) != v->data.scalar.length)
       return fail(c, v, VI_ERR_PARSE, key, "%s",
-                  "expected the path of a Matrix Market file");
+                  "expected the path of a matrix file");
     char *path = scene_relative(c->file, (const char *)v->data.scalar.value);
     if (!path) return fail(c, v, VI_ERR_NOMEM, key, "%s", "out of memory");
     s->fe.path[slot[k]] = path;
     s->fe.line[slot[k]] = LINE(v);
     vi_diag hd;
-    int rows = 0, cols = 0, sym = 0;
-    int64_t entries = 0;
-    if ((st = vi_mm_read_header(path, &rows, &cols, &entries, &sym, &hd))) {
-      /* a place in the matrix file: there, the scene's key in front;
-       * none (it cannot be opened): at the scene's key */
-      if (!hd.line)
-        return vi_diag_set(c->d, c->file, st, LINE(v), COL(v), key,
-                           (const char *)v->data.scalar.value, "%s: %s", path,
-                           hd.message);
-      if (c->d) {
-        *c->d = hd;
-        snprintf(c->d->key, sizeof c->d->key, "%.60s %.60s", key, hd.key);
-      }
-      return st;
-    }
-    char why[160];
-    if (rows != cols) {
-      snprintf(why, sizeof why, "a %d x %d matrix: M, C and K are square",
-               rows, cols);
-      return fail(c, v, VI_ERR_DIM, key, "%s", why);
-    }
-    if (k > 0 && rows != s->n) {
-      snprintf(why, sizeof why, "%d x %d, but M is %d x %d", rows, rows, s->n,
-               s->n);
-      return fail(c, v, VI_ERR_DIM, key, "%s", why);
-    }
-    s->n = rows;
-    s->fe.entries = entries > s->fe.entries ? entries : s->fe.entries;
+    int f = format;
+    if (!f && (st = vi_matrix_detect(path, &f, &hd)))
+      return file_fail(c, v, key, st, &hd, path);
+    s->fe.format[slot[k]] = f;
+    if (k > 0 && (f == VI_MATRIX_COORDINATE) !=
+                     (s->fe.format[VI_FE_MASS] == VI_MATRIX_COORDINATE))
+      return fail(c, v, VI_ERR_PARSE, key, "%s", "coordinate files "
+                  "(node, dof, node, dof, value) number their dofs by one "
+                  "map over all of a model's files: M, K and C must all be "
+                  "coordinate files or none");
   }
+  if (s->fe.format[VI_FE_MASS] == VI_MATRIX_COORDINATE) {
+    /* one numbering for M, K and C: their (node, dof) pairs, sorted */
+    const char *paths[3];
+    int np = 0;
+    for (int k = 0; k < 3; k++)
+      if (s->fe.path[slot[k]]) paths[np++] = s->fe.path[slot[k]];
+    vi_diag hd;
+    if ((st = vi_dofmap_scan(np, paths, 0, &s->fe.map, &hd)))
+      return file_fail(c, NULL, section, st, &hd, paths[0]);
+    s->n = vi_dofmap_n(s->fe.map);
+    s->fe.entries = vi_dofmap_entries(s->fe.map);
+  } else
+    for (int k = 0; k < 3; k++) {
+      yaml_node_t *v = nodes[k];
+      if (!v) continue;
+      snprintf(key, sizeof key, "%s.%s", section, names[k]);
+      const char *path = s->fe.path[slot[k]];
+      vi_diag hd;
+      int rows = 0, cols = 0, sym = 0;
+      int64_t entries = 0;
+      if ((st = vi_matrix_read_header(path, s->fe.format[slot[k]], &rows,
+                                      &cols, &entries, &sym, &hd)))
+        return file_fail(c, v, key, st, &hd, path);
+      char why[160];
+      if (rows != cols) {
+        snprintf(why, sizeof why, "a %d x %d matrix: M, C and K are square",
+                 rows, cols);
+        return fail(c, v, VI_ERR_DIM, key, "%s", why);
+      }
+      if (k > 0 && rows != s->n) {
+        snprintf(why, sizeof why, "%d x %d, but M is %d x %d", rows, rows,
+                 s->n, s->n);
+        return fail(c, v, VI_ERR_DIM, key, "%s", why);
+      }
+      s->n = rows;
+      s->fe.entries = entries > s->fe.entries ? entries : s->fe.entries;
+    }
   s->fe.modes = s->n < 6 ? s->n : 6; /* vi_fe_create's default */
   yaml_node_t *mo = find(c, mod, "modes"), *ze = find(c, mod, "zeta");
   if (mo && (st = integer(c, mo, "model.modes", 1, s->n, &s->fe.modes)))
@@ -423,32 +481,37 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
 {
   static const char *const keys[] = {"M",        "C",        "K",
                                      "chain",    "cantilever", "rayleigh",
-                                     "matrix_market", "modes", "zeta", NULL};
+                                     "matrix_market", "matrices", "modes",
+                                     "zeta", NULL};
   int st = check_map(c, mod, "model", keys);
   if (st) return st;
   s->line_model = LINE(mod);
   yaml_node_t *K = find(c, mod, "K"), *ch = find(c, mod, "chain"),
               *ca = find(c, mod, "cantilever"),
-              *mm = find(c, mod, "matrix_market");
-  if ((K != NULL) + (ch != NULL) + (ca != NULL) + (mm != NULL) != 1)
+              *mm = find(c, mod, "matrices"),
+              *mmold = find(c, mod, "matrix_market");
+  if ((K != NULL) + (ch != NULL) + (ca != NULL) + (mm != NULL) +
+          (mmold != NULL) != 1)
     return fail(c, mod, VI_ERR_PARSE, "model", "%s",
                 "give exactly one of K (with M, C), chain, cantilever or "
-                "matrix_market");
+                "matrices (or its old name matrix_market)");
+  const char *section = mm ? "model.matrices" : "model.matrix_market";
+  mm = mm ? mm : mmold;
   if (!mm) {
     yaml_node_t *x = find(c, mod, "modes");
     x = x ? x : find(c, mod, "zeta");
     if (x)
       return fail(c, x, VI_ERR_PARSE, find(c, mod, "modes") ? "model.modes"
                                                              : "model.zeta",
-                  "%s", "modes and zeta go with matrix_market (a "
+                  "%s", "modes and zeta go with matrices (a "
                   "cantilever takes them in cantilever:)");
   }
   if (mm) {
     if (find(c, mod, "M") || find(c, mod, "C"))
       return fail(c, mod, VI_ERR_PARSE, "model", "%s",
-                  "matrix_market gives M, K and C: no explicit matrices "
-                  "beside it");
-    if ((st = parse_fe(c, s, mod, mm))) return st;
+                  "matrices give M, K and C: no explicit matrices beside "
+                  "them");
+    if ((st = parse_fe(c, s, mod, mm, section))) return st;
   } else if (K) {
     s->kind = VI_SCENE_EXPLICIT;
     if (K->type != YAML_SEQUENCE_NODE)
@@ -862,7 +925,7 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
       return st;
     if ((s->outputs & VI_SCENE_OUT_SHAPES) && s->kind != VI_SCENE_FE)
       return fail(c, find(c, out, "shapes"), VI_ERR_PARSE, "output.shapes",
-                  "%s", "the shapes of a model.matrix_market: other models "
+                  "%s", "the shapes of a model.matrices: other models "
                   "write theirs in /modal (output.modes)");
     if ((v = find(c, out, "samples_per_period")) &&
         (st = integer(c, v, "output.samples_per_period", 0, 1000000,
@@ -1257,6 +1320,7 @@ void vi_scene_destroy(vi_scene **scene)
   free(s->xw);
   free(s->xint);
   for (int k = 0; k < 3; k++) free(s->fe.path[k]);
+  vi_dofmap_destroy(&s->fe.map);
   free(s->fe.zeta);
   free(s->fe.q0);
   free(s);

@@ -1,0 +1,342 @@
+/* vi_coordio.c - the element-free text export of FE codes (vi_mmio.h:
+ * VI_MATRIX_COORDINATE): lines "node, dof, node, dof, value" as Abaqus'
+ * *MATRIX OUTPUT, FORMAT=MATRIX INPUT writes them, and the numbering of
+ * their (node, dof) pairs as global dofs (vi_dofmap), which M, K and C of
+ * one model share.  Our own reader, after Abaqus' description of the
+ * format ("Matrix generation", Abaqus Analysis User's Guide). */
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_matrix_internal.h"
+
+typedef vi_mx_reader reader;
+
+/* A pair's key: the node in the high 32 bits, the dof (>= 1) in the low:
+ * ascending keys are sorted by node, then dof. */
+static int64_t pair_key(int node, int dof)
+{
+  return (int64_t)node * 4294967296LL + (int64_t)dof;
+}
+
+struct vi_dofmap {
+  int n;
+  int64_t *key;    /* [n] ascending */
+  int64_t entries; /* lines of the largest file scanned */
+};
+
+/* A line to skip: blank, or a comment (Abaqus' **, or # or %). */
+static int skip_line(const char *s)
+{
+  s += strspn(s, " \t");
+  return !*s || *s == '#' || *s == '%' || (s[0] == '*' && s[1] == '*');
+}
+
+/* One parsed line: the two pairs, the value, and where each field starts. */
+typedef struct cline {
+  int node[2], dof[2];
+  double v;
+} cline;
+
+/* Split the line at commas into five trimmed fields and read them. */
+static int parse_line(reader *r, const char *key, cline *c)
+{
+  char copy[sizeof r->buf];
+  memcpy(copy, r->buf, sizeof copy);
+  char *f[6];
+  int col[6], nf = 0;
+  for (char *p = copy;; p++) {
+    char *e = strchr(p, ',');
+    if (nf < 6) {
+      while (*p == ' ' || *p == '\t') p++;
+      f[nf] = p;
+      col[nf] = (int)(p - copy) + 1;
+    }
+    nf++;
+    if (!e) break;
+    *e = '\0';
+    p = e;
+  }
+  for (int k = 0; k < (nf < 6 ? nf : 6); k++) {
+    size_t n = strlen(f[k]);
+    while (n && (f[k][n - 1] == ' ' || f[k][n - 1] == '\t')) f[k][--n] = '\0';
+  }
+  if (nf != 5)
+    return vi_mx_fail(r, VI_ERR_PARSE, key, "expected 'node, dof, node, dof, "
+                      "value' (5 comma-separated fields), got %d", nf);
+  static const char *const what[4] = {"row node", "row dof", "column node",
+                                      "column dof"};
+  for (int k = 0; k < 4; k++) {
+    char *end;
+    errno = 0;
+    long long v = strtoll(f[k], &end, 10);
+    if (end == f[k] || *end || errno == ERANGE || v < INT_MIN || v > INT_MAX)
+      return vi_mx_fail_at(r, VI_ERR_PARSE, col[k], key, "%s '%s' is not a "
+                           "whole number", what[k], f[k]);
+    if (k % 2 && (v < 1 || v > INT_MAX))
+      return vi_mx_fail_at(r, VI_ERR_PARSE, col[k], key, "%s %lld: dofs "
+                           "are numbered from 1", what[k], v);
+    if (k % 2)
+      c->dof[k / 2] = (int)v;
+    else
+      c->node[k / 2] = (int)v;
+  }
+  char *end;
+  errno = 0;
+  c->v = strtod(f[4], &end);
+  if (end == f[4] || *end)
+    return vi_mx_fail_at(r, VI_ERR_PARSE, col[4], key, "value '%s' is not a "
+                         "number", f[4]);
+  if (!isfinite(c->v) || (errno == ERANGE && fabs(c->v) > 1.0))
+    return vi_mx_fail_at(r, VI_ERR_NONFINITE, col[4], key, "value '%s' is "
+                         "not a finite number", f[4]);
+  return VI_OK;
+}
+
+/* The next entry line (1), or 0 at the end / on an error (*st). */
+static int next_entry(reader *r, int64_t k, cline *c, int *st)
+{
+  while (vi_mx_next_line(r, st)) {
+    if (skip_line(r->buf)) continue;
+    char key[48];
+    snprintf(key, sizeof key, "entry %lld", (long long)k + 1);
+    *st = parse_line(r, key, c);
+    return *st == VI_OK;
+  }
+  return 0;
+}
+
+static int cmp_i64(const void *a, const void *b)
+{
+  int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+  return (x > y) - (x < y);
+}
+
+/* Sort and drop repeats: the count left. */
+static int64_t sort_unique(int64_t *k, int64_t n)
+{
+  if (n < 2) return n;
+  qsort(k, (size_t)n, sizeof *k, cmp_i64);
+  int64_t m = 1;
+  for (int64_t q = 1; q < n; q++)
+    if (k[q] != k[m - 1]) k[m++] = k[q];
+  return m;
+}
+
+int vi_dofmap_scan(int nfiles, const char *const *paths, double max_bytes,
+                   vi_dofmap **out, vi_diag *d)
+{
+  if (d) memset(d, 0, sizeof *d);
+  if (out) *out = NULL;
+  if (nfiles < 1 || !paths || !out || isnan(max_bytes))
+    return vi_diag_set(d, "", VI_ERR_ARG, 0, 0, "", "", "%s",
+                       "vi_dofmap_scan: one file or more, their paths, out "
+                       "and a limit that is a number are required");
+  for (int f = 0; f < nfiles; f++)
+    if (!paths[f])
+      return vi_diag_set(d, "", VI_ERR_ARG, 0, 0, "", "", "vi_dofmap_scan: "
+                         "path %d is NULL", f + 1);
+  int64_t cap = 1024, n = 0, most = 0;
+  int64_t *key = malloc((size_t)cap * sizeof *key);
+  if (!key) return vi_diag_nomem(d, paths[0]);
+  int st = VI_OK;
+  for (int f = 0; f < nfiles && !st; f++) {
+    reader r;
+    if ((st = vi_mx_open(&r, paths[f], d))) break;
+    cline c;
+    int64_t k = 0;
+    for (; next_entry(&r, k, &c, &st); k++) {
+      if (n + 2 > cap) { /* compact, then grow if still half full */
+        n = sort_unique(key, n);
+        if (n + 2 > cap / 2) {
+          if (max_bytes > 0 && 16.0 * (double)cap > max_bytes) {
+            st = vi_mx_fail(&r, VI_ERR_LIMIT, "entry", "more than %lld "
+                            "distinct (node, dof) pairs: their map would "
+                            "need more than the %.3g MB allowed",
+                            (long long)n, max_bytes / 1048576.0);
+            break;
+          }
+          int64_t *nk = realloc(key, 2 * (size_t)cap * sizeof *key);
+          if (!nk) {
+            st = vi_diag_nomem(d, paths[f]);
+            break;
+          }
+          key = nk;
+          cap *= 2;
+        }
+      }
+      key[n++] = pair_key(c.node[0], c.dof[0]);
+      key[n++] = pair_key(c.node[1], c.dof[1]);
+    }
+    if (!st && k == 0) {
+      r.line = 0;
+      st = vi_diag_set(d, paths[f], VI_ERR_PARSE, 0, 0, "entry", "", "%s",
+                       "no entries: a coordinate file holds lines 'node, "
+                       "dof, node, dof, value'");
+    }
+    most = k > most ? k : most;
+    fclose(r.f);
+  }
+  n = sort_unique(key, n);
+  if (!st && n > INT_MAX / 2)
+    st = vi_diag_set(d, paths[0], VI_ERR_LIMIT, 0, 0, "", "", "%lld dofs: "
+                     "more than int indices hold", (long long)n);
+  vi_dofmap *m = st ? NULL : calloc(1, sizeof *m);
+  if (!st && !m) st = vi_diag_nomem(d, paths[0]);
+  if (st) {
+    free(key);
+    return st;
+  }
+  m->n = (int)n;
+  m->key = key;
+  m->entries = most;
+  *out = m;
+  return VI_OK;
+}
+
+void vi_dofmap_destroy(vi_dofmap **map)
+{
+  if (!map || !*map) return;
+  free((*map)->key);
+  free(*map);
+  *map = NULL;
+}
+
+int vi_dofmap_n(const vi_dofmap *map) { return map ? map->n : 0; }
+
+int64_t vi_dofmap_entries(const vi_dofmap *map)
+{
+  return map ? map->entries : 0;
+}
+
+int vi_dofmap_label(const vi_dofmap *map, int index, int *node, int *dof)
+{
+  if (!map || !node || !dof) return VI_ERR_ARG;
+  if (index < 1 || index > map->n) return VI_ERR_DIM;
+  int64_t k = map->key[index - 1];
+  int64_t nd = k >= 0 ? k / 4294967296LL : -((-k + 4294967295LL) / 4294967296LL);
+  *node = (int)nd;
+  *dof = (int)(k - nd * 4294967296LL);
+  return VI_OK;
+}
+
+int vi_dofmap_index(const vi_dofmap *map, int node, int dof)
+{
+  if (!map || dof < 1) return 0;
+  int64_t k = pair_key(node, dof);
+  int lo = 0, hi = map->n - 1;
+  while (lo <= hi) {
+    int mid = lo + (hi - lo) / 2;
+    if (map->key[mid] == k) return mid + 1;
+    if (map->key[mid] < k)
+      lo = mid + 1;
+    else
+      hi = mid - 1;
+  }
+  return 0;
+}
+
+/* ---- a file into CSC -------------------------------------------------- */
+/* 1 when some off-diagonal pair is written both ways (the file holds the
+ * whole matrix), 0 when each once (one triangle), -1 out of memory. */
+static int both_ways(const vi_mx_triplets *t, int n)
+{
+  int64_t m = 0, *k = malloc(((size_t)t->count + 1) * sizeof *k);
+  if (!k) return -1;
+  for (int64_t q = 0; q < t->count; q++) {
+    int i = t->i[q], j = t->j[q];
+    if (i == j) continue;
+    int lo = i < j ? i : j, hi = i < j ? j : i;
+    k[m++] = 2 * ((int64_t)hi * n + lo) + (i > j);
+  }
+  qsort(k, (size_t)m, sizeof *k, cmp_i64);
+  int both = 0;
+  for (int64_t q = 1; q < m && !both; q++)
+    both = k[q] / 2 == k[q - 1] / 2 && k[q] != k[q - 1];
+  free(k);
+  return both;
+}
+
+static int coord_read(reader *r, const vi_dofmap *map, int storage,
+                      double max_bytes, vi_mm **out)
+{
+  /* count the entries first: the memory is known before it is taken */
+  int st;
+  int64_t count = 0;
+  while (vi_mx_next_line(r, &st))
+    count += !skip_line(r->buf);
+  if (st) return st;
+  int64_t cap = storage == VI_CSC_FULL ? 2 * count : count;
+  double need = 48.0 * (double)cap + 12.0 * map->n;
+  if (max_bytes > 0 && need > max_bytes)
+    return vi_diag_set(r->d, r->path, VI_ERR_LIMIT, 0, 0, "", "", "reading "
+                       "%lld entries needs about %.3g MB, more than the "
+                       "%.3g MB allowed", (long long)count, need / 1048576.0,
+                       max_bytes / 1048576.0);
+  if (count == 0)
+    return vi_diag_set(r->d, r->path, VI_ERR_PARSE, 0, 0, "entry", "", "%s",
+                       "no entries: a coordinate file holds lines 'node, "
+                       "dof, node, dof, value'");
+  if (2.0 * (double)count > INT_MAX)
+    return vi_diag_set(r->d, r->path, VI_ERR_LIMIT, 0, 0, "", "", "%lld "
+                       "entries: more than int indices hold",
+                       (long long)count);
+  rewind(r->f);
+  r->line = 0;
+  vi_mx_triplets t;
+  if (!vi_mx_trip_alloc(&t, cap)) {
+    vi_mx_trip_free(&t);
+    return vi_diag_nomem(r->d, r->path);
+  }
+  cline c;
+  for (int64_t k = 0; k < count && next_entry(r, k, &c, &st); k++) {
+    int ij[2];
+    for (int s = 0; s < 2; s++)
+      if (!(ij[s] = vi_dofmap_index(map, c.node[s], c.dof[s]))) {
+        vi_mx_trip_free(&t);
+        return vi_mx_fail(r, VI_ERR_DIM, "entry", "(node %d, dof %d) is not "
+                          "a dof of the model's map (the pairs of its "
+                          "files)", c.node[s], c.dof[s]);
+      }
+    t.i[t.count] = ij[0] - 1;
+    t.j[t.count] = ij[1] - 1;
+    t.v[t.count] = c.v;
+    t.line[t.count] = r->line;
+    t.count++;
+  }
+  if (!st && t.count != count) /* the file changed between the passes */
+    st = vi_diag_set(r->d, r->path, VI_ERR_IO, 0, 0, "", "", "%s",
+                     "the file changed while it was read");
+  int full = st ? 0 : both_ways(&t, map->n);
+  if (full < 0) st = vi_diag_nomem(r->d, r->path);
+  if (!st && !full) /* one triangle: stored as the lower */
+    for (int64_t q = 0; q < t.count; q++)
+      if (t.i[q] < t.j[q]) {
+        int s = t.i[q];
+        t.i[q] = t.j[q];
+        t.j[q] = s;
+      }
+  if (!st) st = vi_mx_build(r, map->n, map->n, !full, &t, storage, out);
+  vi_mx_trip_free(&t);
+  return st;
+}
+
+int vi_coord_load(const char *path, const vi_dofmap *map, int storage,
+                  double max_bytes, vi_mm **out, vi_diag *d)
+{
+  vi_dofmap *own = NULL;
+  int st;
+  if (!map) { /* the file's own pairs */
+    if ((st = vi_dofmap_scan(1, &path, max_bytes, &own, d))) return st;
+    map = own;
+  }
+  reader r;
+  if (!(st = vi_mx_open(&r, path, d))) {
+    st = coord_read(&r, map, storage, max_bytes, out);
+    fclose(r.f);
+  }
+  vi_dofmap_destroy(&own);
+  return st;
+}
