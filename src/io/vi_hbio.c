@@ -332,11 +332,11 @@ static int read_hb_header(reader *r, hb_header *h)
     if (sec[k].have != want)
       return vi_diag_set(r->d, r->path, VI_ERR_PARSE, 2, sec[k].col, "header",
                          "", "%s = %d, but %lld %s in the format %s take "
-                         "%lld lines", sec[k].name, sec[k].have,
+                         "%lld line%s", sec[k].name, sec[k].have,
                          (long long)sec[k].count,
                          k == 0 ? "pointers (NCOL + 1)"
                          : k == 1 ? "row indices (NNZERO)" : "values (NNZERO)",
-                         sec[k].f->text, (long long)want);
+                         sec[k].f->text, (long long)want, want == 1 ? "" : "s");
   }
   int64_t sum = (int64_t)h->ptrcrd + h->indcrd + h->valcrd + h->rhscrd;
   if (h->totcrd != sum)

@@ -488,10 +488,14 @@ int vi_mx_build(reader *r, int rows, int cols, int symmetric,
         l1 = sw;
       }
       /* report at the later line, naming the earlier */
+      char at[48];
+      if (l0 == l1) /* a fixed-width file holds several entries a line */
+        snprintf(at, sizeof at, "both on line %d", l0);
+      else
+        snprintf(at, sizeof at, "at lines %d and %d", l0, l1);
       st = vi_diag_set(r->d, r->path, VI_ERR_PARSE, l1, 1, "entry", "",
-                       "entry (%d, %d) given twice, at lines %d and %d "
-                       "(duplicates are refused, not summed)",
-                       t->i[e] + 1, t->j[e] + 1, l0, l1);
+                       "entry (%d, %d) given twice, %s (duplicates are "
+                       "refused, not summed)", t->i[e] + 1, t->j[e] + 1, at);
       goto out;
     }
   }
