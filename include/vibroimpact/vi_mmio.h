@@ -171,11 +171,12 @@ VI_API const double *vi_mm_values(const vi_mm *mm);
  * starting %%MatrixMarket; else a Harwell-Boeing header (line 2 numbers
  * only, line 3 a three-letter type such as RSA); else a first data line
  * of five comma-separated fields. */
+/** A matrix file's format (the grammar of each: the comment above). */
 enum vi_matrix_format {
-  VI_MATRIX_AUTO = 0,
-  VI_MATRIX_MARKET = 1,
-  VI_MATRIX_HARWELL_BOEING = 2,
-  VI_MATRIX_COORDINATE = 3
+  VI_MATRIX_AUTO = 0,           /**< told by the file's content */
+  VI_MATRIX_MARKET = 1,         /**< Matrix Market */
+  VI_MATRIX_HARWELL_BOEING = 2, /**< Harwell-Boeing, Rutherford-Boeing */
+  VI_MATRIX_COORDINATE = 3      /**< node, dof, node, dof, value lines */
 };
 
 /** The (node, dof) -> global dof numbering of coordinate files. */

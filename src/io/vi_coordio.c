@@ -145,7 +145,7 @@ int vi_dofmap_scan(int nfiles, const char *const *paths, double max_bytes,
   for (int f = 0; f < nfiles && !st; f++) {
     reader r;
     if ((st = vi_mx_open(&r, paths[f], d))) break;
-    cline c;
+    cline c = {{0, 0}, {0, 0}, 0.0};
     int64_t k = 0;
     for (; next_entry(&r, k, &c, &st); k++) {
       if (n + 2 > cap) { /* compact, then grow if still half full */
@@ -184,10 +184,9 @@ int vi_dofmap_scan(int nfiles, const char *const *paths, double max_bytes,
     st = vi_diag_set(d, paths[0], VI_ERR_LIMIT, 0, 0, "", "", "%lld dofs: "
                      "more than int indices hold", (long long)n);
   vi_dofmap *m = st ? NULL : calloc(1, sizeof *m);
-  if (!st && !m) st = vi_diag_nomem(d, paths[0]);
-  if (st) {
+  if (!m) {
     free(key);
-    return st;
+    return st ? st : vi_diag_nomem(d, paths[0]);
   }
   m->n = (int)n;
   m->key = key;
@@ -290,7 +289,7 @@ static int coord_read(reader *r, const vi_dofmap *map, int storage,
     vi_mx_trip_free(&t);
     return vi_diag_nomem(r->d, r->path);
   }
-  cline c;
+  cline c = {{0, 0}, {0, 0}, 0.0};
   for (int64_t k = 0; k < count && next_entry(r, k, &c, &st); k++) {
     int ij[2];
     for (int s = 0; s < 2; s++)
@@ -332,6 +331,7 @@ int vi_coord_load(const char *path, const vi_dofmap *map, int storage,
     if ((st = vi_dofmap_scan(1, &path, max_bytes, &own, d))) return st;
     map = own;
   }
+  if (!map) return vi_diag_nomem(d, path); /* a scan's success made one */
   reader r;
   if (!(st = vi_mx_open(&r, path, d))) {
     st = coord_read(&r, map, storage, max_bytes, out);

@@ -195,7 +195,8 @@ static int parse_format(const char *in, ffmt *f, const char **why)
 /* Lines a section of count fields takes in format f. */
 static int64_t lines_for(int64_t count, const ffmt *f)
 {
-  return (count + f->per_line - 1) / f->per_line;
+  int r = f->per_line > 0 ? f->per_line : 1; /* parse_format: >= 1 */
+  return (count + r - 1) / r;
 }
 
 static int check_format(reader *r, int col, int width, const char *name,
@@ -282,7 +283,7 @@ static int read_hb_header(reader *r, hb_header *h)
           (st = rest_blank(r, 70, "RHSCRD")))
         return st;
     } else if (k == 2) { /* line 3: type and sizes */
-      int neltvl, rows, cols, nnz;
+      int neltvl = 0, rows = 0, cols = 0, nnz = 0;
       if ((st = check_type(r, h))) return st;
       for (int c = 3; c < 14 && r->buf[c]; c++)
         if (r->buf[c] != ' ')
@@ -469,7 +470,7 @@ static int read_pointers(reader *r, const hb_header *h, int *colptr)
 {
   section sc = {"pointers", "pointer", &h->ptr, (int64_t)h->cols + 1};
   char s[VI_MM_MAX_LINE + 2], key[48];
-  int st, r_ = h->ptr.per_line, w = h->ptr.width;
+  int st, r_ = h->ptr.per_line > 0 ? h->ptr.per_line : 1, w = h->ptr.width;
   for (int64_t k = 0; k < sc.count; k++) {
     int q = (int)(k % r_);
     if (q == 0) {
@@ -504,7 +505,8 @@ static int read_entries(reader *r, const hb_header *h, const int *colptr,
   char s[VI_MM_MAX_LINE + 2], key[48];
   int st, j = 0;
   for (int64_t k = 0; k < h->nnz; k++) {
-    int r_ = h->ind.per_line, w = h->ind.width, q = (int)(k % r_);
+    int r_ = h->ind.per_line > 0 ? h->ind.per_line : 1, w = h->ind.width,
+        q = (int)(k % r_);
     if (q == 0) {
       int nf = h->nnz - k < r_ ? (int)(h->nnz - k) : r_;
       if ((st = section_line(r, &si, k, nf))) return st;
@@ -530,7 +532,8 @@ static int read_entries(reader *r, const hb_header *h, const int *colptr,
     t->line[k] = r->line;
   }
   for (int64_t k = 0; k < h->nnz; k++) {
-    int r_ = h->val.per_line, w = h->val.width, q = (int)(k % r_);
+    int r_ = h->val.per_line > 0 ? h->val.per_line : 1, w = h->val.width,
+        q = (int)(k % r_);
     if (q == 0) {
       int nf = h->nnz - k < r_ ? (int)(h->nnz - k) : r_;
       if ((st = section_line(r, &sv, k, nf))) return st;
@@ -609,7 +612,7 @@ int vi_hb_load(const char *path, int storage, double max_bytes, vi_mm **out,
     return st;
   }
   vi_mx_triplets t;
-  int *colptr = malloc(((size_t)h.cols + 1) * sizeof(int));
+  int *colptr = calloc((size_t)h.cols + 1, sizeof(int));
   if (!vi_mx_trip_alloc(&t, cap) || !colptr) {
     vi_mx_trip_free(&t);
     free(colptr);

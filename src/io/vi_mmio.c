@@ -229,27 +229,31 @@ int vi_mx_open(reader *r, const char *path, vi_diag *d)
   r->path = path;
   r->d = d;
   int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0)
-    return vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
-                       strerror(errno));
+  if (fd < 0) { /* the code returned as such: the analyser follows it */
+    vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
+                strerror(errno));
+    return VI_ERR_IO;
+  }
   struct stat sb;
   if (fstat(fd, &sb) || !S_ISREG(sb.st_mode)) {
     mode_t m = sb.st_mode;
     close(fd);
-    return vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "not a regular "
-                       "file (%s): a matrix is read from a file",
-                       S_ISFIFO(m)  ? "a FIFO"
-                       : S_ISCHR(m) ? "a character device"
-                       : S_ISDIR(m) ? "a directory"
-                                    : "not a plain file");
+    vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "not a regular file (%s): "
+                "a matrix is read from a file",
+                S_ISFIFO(m)  ? "a FIFO"
+                : S_ISCHR(m) ? "a character device"
+                : S_ISDIR(m) ? "a directory"
+                             : "not a plain file");
+    return VI_ERR_IO;
   }
   int fl = fcntl(fd, F_GETFL);
   if (fl >= 0) (void)fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
   r->f = fdopen(fd, "r");
   if (!r->f) {
     close(fd);
-    return vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
-                       strerror(errno));
+    vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
+                strerror(errno));
+    return VI_ERR_IO;
   }
   return VI_OK;
 }

@@ -379,8 +379,8 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
     snprintf(key, sizeof key, "%s.format", section);
     const char *fv = fn->type == YAML_SCALAR_NODE
                          ? (const char *)fn->data.scalar.value : "";
-    for (format = 0; format < 4 && strcmp(fv, fmts[format]); format++) {
-    }
+    format = 0;
+    while (format < 4 && strcmp(fv, fmts[format]) != 0) format++;
     if (format == 4)
       return fail(c, fn, VI_ERR_PARSE, key, "%s", "expected auto, "
                   "matrix_market, harwell_boeing or coordinate");

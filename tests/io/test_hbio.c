@@ -5,7 +5,7 @@
  * and what is wrong.  A real file: bcsstk01 of the Harwell-Boeing
  * collection (tests/data/hb, from SuiteSparse), as .rsa and as .rb,
  * compared entry by entry with the same matrix written independently as
- * triplets (bcsstk01.tri, read here with sscanf).
+ * triplets (bcsstk01.tri, read here with strtod).
  *   test_hbio DATA_DIR */
 #include <errno.h>
 #include <math.h>
@@ -394,7 +394,7 @@ static void test_limits(void **state)
  * hands: the original .rsa ((16I5), (4E20.12), values like
  * .283226851852E+07) and RBio's .rb ((20I4), (26I3), 0.2832...E+07), each
  * against the triplets of bcsstk01.tri (i j value, 1-based, 18 digits:
- * the same doubles, so equal exactly). */
+ * the same doubles, so equal exactly), read here with strtol and strtod. */
 static void test_bcsstk01(void **state)
 {
   (void)state;
@@ -406,7 +406,12 @@ static void test_bcsstk01(void **state)
   int n = 0, nc = 0, nz = 0, stype = 0, got = 0;
   while (fgets(line, sizeof line, f) && line[0] == '%') {
   }
-  assert_int_equal(sscanf(line, "%d %d %d %d", &n, &nc, &nz, &stype), 4);
+  char *end = line;
+  n = (int)strtol(end, &end, 10);
+  nc = (int)strtol(end, &end, 10);
+  nz = (int)strtol(end, &end, 10);
+  stype = (int)strtol(end, &end, 10);
+  assert_int_equal(stype, -1); /* lower triangle stored */
   assert_true(n == 48 && nc == 48 && nz == 224);
   double *A = calloc((size_t)n * n, sizeof *A);
   assert_non_null(A);
@@ -414,7 +419,11 @@ static void test_bcsstk01(void **state)
     int i, j;
     double v;
     assert_non_null(fgets(line, sizeof line, f));
-    assert_int_equal(sscanf(line, "%d %d %lf", &i, &j, &v), 3);
+    char *e1, *e2, *e3;
+    i = (int)strtol(line, &e1, 10);
+    j = (int)strtol(e1, &e2, 10);
+    v = strtod(e2, &e3);
+    assert_true(e1 != line && e2 != e1 && e3 != e2);
     assert_true(i >= 1 && i <= n && j >= 1 && j <= n);
     A[(size_t)(i - 1) + (size_t)(j - 1) * n] = v;
     A[(size_t)(j - 1) + (size_t)(i - 1) * n] = v;
