@@ -323,29 +323,16 @@ static int check_spread(ctx *c, yaml_node_t *nd, const char *key,
   return fail(c, nd, VI_ERR_LIMIT, key, "%s", why);
 }
 
-/* A matrix file named in the scene: relative to the scene's folder (the
- * folder of the name it was read under), absolute as written. */
-static char *scene_relative(const char *scene_file, const char *path)
-{
-  const char *slash = strrchr(scene_file, '/');
-  size_t dl = path[0] == '/' || !slash ? 0 : (size_t)(slash - scene_file) + 1;
-  char *out = malloc(dl + strlen(path) + 1);
-  if (!out) return NULL;
-  memcpy(out, scene_file, dl);
-  strcpy(out + dl, path);
-  return out;
-}
-
 /* A matrix file's error at the scene's key: a place in the file, there
  * with the scene's key in front; none (it cannot be opened, or the
- * coordinate files' map), at the scene's key. */
+ * coordinate files' map), at the scene's key (v; NULL: no place). */
 static int file_fail(ctx *c, yaml_node_t *v, const char *key, int st,
                      const vi_diag *hd, const char *path)
 {
   if (!hd->line)
-    return vi_diag_set(c->d, c->file, st, v ? LINE(v) : 0, v ? COL(v) : 0,
-                       key, v ? (const char *)v->data.scalar.value : "",
-                       "%s: %s", hd->file[0] ? hd->file : path, hd->message);
+    return vi_diag_set(c->d, c->file, st, v ? LINE(v) : 0, v ? COL(v) : 0, key,
+                       v ? (const char *)v->data.scalar.value : "", "%s: %s",
+                       hd->file[0] ? hd->file : path, hd->message);
   if (c->d) {
     *c->d = *hd;
     snprintf(c->d->key, sizeof c->d->key, "%.60s %.60s", key, hd->key);
@@ -353,15 +340,15 @@ static int file_fail(ctx *c, yaml_node_t *v, const char *key, int st,
   return st;
 }
 
-/* model.matrices: {M: FILE, K: FILE, C: FILE, format: auto|matrix_market|
- * harwell_boeing|coordinate} (model.matrix_market: the same keys, the
- * old name) with modes and zeta beside it.  Each file's format is told by
- * its content unless format names it; coordinate files (all of a model's,
- * or none) are numbered by one dof map built over all of them.  The
- * files' headers are read now (their size is the model's n and, with the
- * modes, its memory); their entries when the model is made. */
-static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
-                    const char *section)
+static char *scene_relative(const char *scene_file, const char *path);
+
+/* The files of model.matrices (or model.matrix_market): {M: FILE, K: FILE,
+ * C: FILE, format: auto|matrix_market|harwell_boeing|coordinate}.  Each
+ * path resolved, each format told by its content unless format names it;
+ * coordinate files (all of a model's, or none) numbered by one dof map
+ * built over all of them (vi_dofmap_scan: their (node, dof) pairs,
+ * sorted). */
+static int fe_files(ctx *c, vi_scene *s, yaml_node_t *mm, const char *section)
 {
   static const char *const fk[] = {"M", "K", "C", "format", NULL};
   static const char *const names[3] = {"M", "K", "C"};
@@ -385,10 +372,9 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
       return fail(c, fn, VI_ERR_PARSE, key, "%s", "expected auto, "
                   "matrix_market, harwell_boeing or coordinate");
   }
-  yaml_node_t *nodes[3] = {NULL, NULL, NULL};
-  for (int k = 0; k < 3; k++) { /* the paths and formats */
+  for (int k = 0; k < 3; k++) {
     snprintf(key, sizeof key, "%s.%s", section, names[k]);
-    yaml_node_t *v = nodes[k] = find(c, mm, names[k]);
+    yaml_node_t *v = find(c, mm, names[k]);
     if (!v) {
       if (k == 2) continue; /* C is optional */
       return fail(c, mm, VI_ERR_PARSE, key, "%s",
@@ -414,43 +400,72 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
                   "map over all of a model's files: M, K and C must all be "
                   "coordinate files or none");
   }
-  if (s->fe.format[VI_FE_MASS] == VI_MATRIX_COORDINATE) {
-    /* one numbering for M, K and C: their (node, dof) pairs, sorted */
-    const char *paths[3];
-    int np = 0;
-    for (int k = 0; k < 3; k++)
-      if (s->fe.path[slot[k]]) paths[np++] = s->fe.path[slot[k]];
+  if (s->fe.format[VI_FE_MASS] != VI_MATRIX_COORDINATE) return VI_OK;
+  const char *paths[3];
+  int np = 0;
+  for (int k = 0; k < 3; k++)
+    if (s->fe.path[slot[k]]) paths[np++] = s->fe.path[slot[k]];
+  vi_diag hd;
+  if ((st = vi_dofmap_scan(np, paths, 0, &s->fe.map, &hd)))
+    return file_fail(c, NULL, section, st, &hd, paths[0]);
+  return VI_OK;
+}
+
+/* A matrix file named in the scene: relative to the scene's folder (the
+ * folder of the name it was read under), absolute as written. */
+static char *scene_relative(const char *scene_file, const char *path)
+{
+  const char *slash = strrchr(scene_file, '/');
+  size_t dl = path[0] == '/' || !slash ? 0 : (size_t)(slash - scene_file) + 1;
+  char *out = malloc(dl + strlen(path) + 1);
+  if (!out) return NULL;
+  memcpy(out, scene_file, dl);
+  strcpy(out + dl, path);
+  return out;
+}
+
+/* model.matrix_market: {M: FILE, K: FILE, C: FILE} with modes and zeta
+ * beside it.  The files' headers are read now (their size is the model's n
+ * and, with the modes, its memory); their entries when the model is made.
+ * model.matrices is its new name (either may be used), with format:
+ * auto|matrix_market|harwell_boeing|coordinate (fe_files).  section: the
+ * name the scene used. */
+static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
+                    const char *section)
+{
+  static const char *const names[3] = {"M", "K", "C"};
+  static const int slot[3] = {VI_FE_MASS, VI_FE_STIFFNESS, VI_FE_DAMPING};
+  int st = fe_files(c, s, mm, section);
+  if (st) return st;
+  for (int k = 0; k < 3; k++) {
+    char key[64];
+    snprintf(key, sizeof key, "%s.%s", section, names[k]);
+    yaml_node_t *v = find(c, mm, names[k]);
+    const char *path = s->fe.path[slot[k]];
+    if (!v || !path) continue; /* C is optional (M and K: fe_files) */
     vi_diag hd;
-    if ((st = vi_dofmap_scan(np, paths, 0, &s->fe.map, &hd)))
-      return file_fail(c, NULL, section, st, &hd, paths[0]);
-    s->n = vi_dofmap_n(s->fe.map);
-    s->fe.entries = vi_dofmap_entries(s->fe.map);
-  } else
-    for (int k = 0; k < 3; k++) {
-      yaml_node_t *v = nodes[k];
-      if (!v) continue;
-      snprintf(key, sizeof key, "%s.%s", section, names[k]);
-      const char *path = s->fe.path[slot[k]];
-      vi_diag hd;
-      int rows = 0, cols = 0, sym = 0;
-      int64_t entries = 0;
-      if ((st = vi_matrix_read_header(path, s->fe.format[slot[k]], &rows,
-                                      &cols, &entries, &sym, &hd)))
-        return file_fail(c, v, key, st, &hd, path);
-      char why[160];
-      if (rows != cols) {
-        snprintf(why, sizeof why, "a %d x %d matrix: M, C and K are square",
-                 rows, cols);
-        return fail(c, v, VI_ERR_DIM, key, "%s", why);
-      }
-      if (k > 0 && rows != s->n) {
-        snprintf(why, sizeof why, "%d x %d, but M is %d x %d", rows, rows,
-                 s->n, s->n);
-        return fail(c, v, VI_ERR_DIM, key, "%s", why);
-      }
-      s->n = rows;
-      s->fe.entries = entries > s->fe.entries ? entries : s->fe.entries;
+    int rows = 0, cols = 0, sym = 0;
+    int64_t entries = 0;
+    if (s->fe.map) { /* coordinate files: the shared map's size */
+      rows = cols = vi_dofmap_n(s->fe.map);
+      entries = vi_dofmap_entries(s->fe.map);
+    } else if ((st = vi_matrix_read_header(path, s->fe.format[slot[k]], &rows,
+                                           &cols, &entries, &sym, &hd)))
+      return file_fail(c, v, key, st, &hd, path);
+    char why[160];
+    if (rows != cols) {
+      snprintf(why, sizeof why, "a %d x %d matrix: M, C and K are square",
+               rows, cols);
+      return fail(c, v, VI_ERR_DIM, key, "%s", why);
     }
+    if (k > 0 && rows != s->n) {
+      snprintf(why, sizeof why, "%d x %d, but M is %d x %d", rows, rows, s->n,
+               s->n);
+      return fail(c, v, VI_ERR_DIM, key, "%s", why);
+    }
+    s->n = rows;
+    s->fe.entries = entries > s->fe.entries ? entries : s->fe.entries;
+  }
   s->fe.modes = s->n < 6 ? s->n : 6; /* vi_fe_create's default */
   yaml_node_t *mo = find(c, mod, "modes"), *ze = find(c, mod, "zeta");
   if (mo && (st = integer(c, mo, "model.modes", 1, s->n, &s->fe.modes)))

@@ -467,14 +467,14 @@ static void test_bad_fe_scenes(void **state)
       {"explicit M beside", "model:\n  matrix_market: {M: cM.mtx, K: cK.mtx}\n  M: [[1]]\n" STOP3, VI_ERR_PARSE, "scene", 2, "model"},
       {"stop dof beyond", MM("cM.mtx", "cK.mtx") "stop: {dof: 4, xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop.dof"},
       {"stop without dof", MM("cM.mtx", "cK.mtx") "stop: {xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop"},
-      {"initial length", MM("cM.mtx", "cK.mtx") STOP3 "initial: {x: [1, 2]}\n", VI_ERR_DIM, "scene", 5, "initial.x"},
-      {"M not positive definite", MM("notspd.mtx", "cK.mtx") STOP3, VI_ERR_NOT_SPD, "scene", 2, "model"},
       {"unknown format", "model:\n  matrices: {M: cM.mtx, K: cK.mtx, format: nastran}\n" STOP3, VI_ERR_PARSE, "scene", 2, "model.matrices.format"},
       {"both keys", "model:\n  matrices: {M: cM.mtx, K: cK.mtx}\n  matrix_market: {M: cM.mtx, K: cK.mtx}\n" STOP3, VI_ERR_PARSE, "scene", 2, "model"},
       {"coordinate beside Matrix Market", "model:\n  matrices: {M: cM.txt, K: cK.mtx}\n" STOP3, VI_ERR_PARSE, "scene", 2, "model.matrices.K"},
       {"Harwell-Boeing format error", "model:\n  matrices: {M: cM.mtx, K: bad.rsa}\n" STOP3, VI_ERR_PARSE, "bad.rsa", 4, "model.matrices.K header"},
       {"format named wrongly", "model:\n  matrices: {M: cM.mtx, K: cK.rsa, format: matrix_market}\n" STOP3, VI_ERR_PARSE, "cK.rsa", 1, "model.matrices.K header"},
       {"coordinate line short", "model:\n  matrices: {M: cM.txt, K: bad.txt}\n" STOP3, VI_ERR_PARSE, "bad.txt", 2, "model.matrices entry 2"},
+      {"initial length", MM("cM.mtx", "cK.mtx") STOP3 "initial: {x: [1, 2]}\n", VI_ERR_DIM, "scene", 5, "initial.x"},
+      {"M not positive definite", MM("notspd.mtx", "cK.mtx") STOP3, VI_ERR_NOT_SPD, "scene", 2, "model"},
   };
   for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
     char path[256], want[256];
