@@ -181,6 +181,10 @@ static int parse_format(const char *in, ffmt *f, const char **why)
     *why = "more than one edit descriptor (or nested parentheses)";
     return 1;
   }
+  if (f->digits > f->width) { /* also bounds a value's text (fortran_real) */
+    *why = "more fraction digits than the field's width";
+    return 1;
+  }
   if (f->integer && f->scale) {
     *why = "a scale factor (P) with an integer field";
     return 1;

@@ -240,6 +240,7 @@ static const bad hb_bads[] = {
     {"value format without d", T1 L2 L3 "(4I5)           (5I3)           (5E16)\n", VI_ERR_PARSE, 4, 33, "w.d"},
     {"format without parentheses", T1 L2 L3 "4I5             (5I3)           (5E16.8)\n", VI_ERR_PARSE, 4, 1, "such as"},
     {"nested format", T1 L2 L3 "(4I5)           (5I3)           (5(E16.8))\n", VI_ERR_PARSE, 4, 33, "edit descriptor"},
+    {"more digits than width", T1 L2 L3 "(4I5)           (5I3)           (5E16.999)\n", VI_ERR_PARSE, 4, 33, "width"},
     {"format line too long", T1 L2 L3 "(4I5)           (5I3)           (99E16.8)\n", VI_ERR_PARSE, 4, 33, "1024"},
     {"PTRCRD against the format", T1 "             4             2             1             1\n" L3 L4 PTR IND VAL, VI_ERR_PARSE, 2, 15, "take 1 line"},
     {"TOTCRD against the sum", T1 "             9             1             1             1\n" L3 L4 PTR IND VAL, VI_ERR_PARSE, 2, 1, "TOTCRD = 9"},
