@@ -40,9 +40,16 @@ typedef struct cline {
   double v;
 } cline;
 
+/* An error of entry k (its key made only then: formatting it for every
+ * line would cost more than reading the line). */
+#define CFAIL(code, col, ...)                                            \
+  (snprintf(key, sizeof key, "entry %lld", (long long)k + 1),            \
+   vi_mx_fail_at(r, code, col, key, __VA_ARGS__))
+
 /* Split the line at commas into five trimmed fields and read them. */
-static int parse_line(reader *r, const char *key, cline *c)
+static int parse_line(reader *r, int64_t k, cline *c)
 {
+  char key[48];
   char copy[sizeof r->buf];
   memcpy(copy, r->buf, sizeof copy);
   char *f[6];
@@ -59,39 +66,38 @@ static int parse_line(reader *r, const char *key, cline *c)
     *e = '\0';
     p = e;
   }
-  for (int k = 0; k < (nf < 6 ? nf : 6); k++) {
-    size_t n = strlen(f[k]);
-    while (n && (f[k][n - 1] == ' ' || f[k][n - 1] == '\t')) f[k][--n] = '\0';
+  for (int q = 0; q < (nf < 6 ? nf : 6); q++) {
+    size_t n = strlen(f[q]);
+    while (n && (f[q][n - 1] == ' ' || f[q][n - 1] == '\t')) f[q][--n] = '\0';
   }
   if (nf != 5)
-    return vi_mx_fail(r, VI_ERR_PARSE, key, "expected 'node, dof, node, dof, "
-                      "value' (5 comma-separated fields), got %d", nf);
+    return CFAIL(VI_ERR_PARSE, 0, "expected 'node, dof, node, dof, value' "
+                 "(5 comma-separated fields), got %d", nf);
   static const char *const what[4] = {"row node", "row dof", "column node",
                                       "column dof"};
-  for (int k = 0; k < 4; k++) {
+  for (int q = 0; q < 4; q++) {
     char *end;
     errno = 0;
-    long long v = strtoll(f[k], &end, 10);
-    if (end == f[k] || *end || errno == ERANGE || v < INT_MIN || v > INT_MAX)
-      return vi_mx_fail_at(r, VI_ERR_PARSE, col[k], key, "%s '%s' is not a "
-                           "whole number", what[k], f[k]);
-    if (k % 2 && (v < 1 || v > INT_MAX))
-      return vi_mx_fail_at(r, VI_ERR_PARSE, col[k], key, "%s %lld: dofs "
-                           "are numbered from 1", what[k], v);
-    if (k % 2)
-      c->dof[k / 2] = (int)v;
+    long long v = strtoll(f[q], &end, 10);
+    if (end == f[q] || *end || errno == ERANGE || v < INT_MIN || v > INT_MAX)
+      return CFAIL(VI_ERR_PARSE, col[q], "%s '%s' is not a whole number",
+                   what[q], f[q]);
+    if (q % 2 && (v < 1 || v > INT_MAX))
+      return CFAIL(VI_ERR_PARSE, col[q], "%s %lld: dofs are numbered from 1",
+                   what[q], v);
+    if (q % 2)
+      c->dof[q / 2] = (int)v;
     else
-      c->node[k / 2] = (int)v;
+      c->node[q / 2] = (int)v;
   }
   char *end;
   errno = 0;
   c->v = strtod(f[4], &end);
   if (end == f[4] || *end)
-    return vi_mx_fail_at(r, VI_ERR_PARSE, col[4], key, "value '%s' is not a "
-                         "number", f[4]);
+    return CFAIL(VI_ERR_PARSE, col[4], "value '%s' is not a number", f[4]);
   if (!isfinite(c->v) || (errno == ERANGE && fabs(c->v) > 1.0))
-    return vi_mx_fail_at(r, VI_ERR_NONFINITE, col[4], key, "value '%s' is "
-                         "not a finite number", f[4]);
+    return CFAIL(VI_ERR_NONFINITE, col[4], "value '%s' is not a finite number",
+                 f[4]);
   return VI_OK;
 }
 
@@ -100,9 +106,7 @@ static int next_entry(reader *r, int64_t k, cline *c, int *st)
 {
   while (vi_mx_next_line(r, st)) {
     if (skip_line(r->buf)) continue;
-    char key[48];
-    snprintf(key, sizeof key, "entry %lld", (long long)k + 1);
-    *st = parse_line(r, key, c);
+    *st = parse_line(r, k, c);
     return *st == VI_OK;
   }
   return 0;

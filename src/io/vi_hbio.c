@@ -412,7 +412,14 @@ static int fortran_real(const char *s, const ffmt *f, double *out)
     if (*p) return 1;
     e = neg ? -e : e;
   }
-  snprintf(c + k, sizeof c - k, "e%ld", e);
+  char ed[16]; /* "e" and the exponent, written by hand: snprintf is slow */
+  int ne = 0;
+  for (long a = e < 0 ? -e : e; ne == 0 || a > 0; a /= 10)
+    ed[ne++] = (char)('0' + a % 10);
+  c[k++] = 'e';
+  if (e < 0) c[k++] = '-';
+  while (ne) c[k++] = ed[--ne];
+  c[k] = '\0';
   errno = 0;
   char *end;
   double v = strtod(c, &end);
@@ -434,20 +441,19 @@ static int get_field(reader *r, const section *sc, int q, int64_t k,
                      char *s, size_t len)
 {
   int w = sc->f->width, at;
-  char key[48];
-  snprintf(key, sizeof key, "%s %lld", sc->item, (long long)k + 1);
+  char key[48]; /* made only for a message: formatting costs more than parsing */
   field(r->buf, q * w, w, s, len, &at);
+  if (*s && !strpbrk(s, " \t")) return VI_OK;
+  snprintf(key, sizeof key, "%s %lld", sc->item, (long long)k + 1);
   if (!*s)
     return vi_mx_fail_at(r, VI_ERR_PARSE, q * w + 1, key, "%s %lld of %lld "
                          "missing: columns %d-%d blank (format %s)", sc->item,
                          (long long)k + 1, (long long)sc->count, q * w + 1,
                          q * w + w, sc->f->text);
-  if (strpbrk(s, " \t"))
-    return vi_mx_fail_at(r, VI_ERR_PARSE, at, key, "'%s': a blank inside "
+  return vi_mx_fail_at(r, VI_ERR_PARSE, at, key, "'%s': a blank inside "
                          "the field in columns %d-%d (does the format %s "
                          "match the file?)", s, q * w + 1, q * w + w,
                          sc->f->text);
-  return VI_OK;
 }
 
 /* The next line of a section, which must be there and hold nothing after
@@ -482,19 +488,21 @@ static int read_pointers(reader *r, const hb_header *h, int *colptr)
       if ((st = section_line(r, &sc, k, nf))) return st;
     }
     if ((st = get_field(r, &sc, q, k, s, sizeof s))) return st;
-    long long v;
+    long long v = 0, prev = k ? colptr[k - 1] + 1 : 1;
+    int ok = fortran_int(s, &v);
+    if (ok && !((k == 0 && v != 1) || v < prev || v > h->nnz + 1 ||
+                (k == sc.count - 1 && v != h->nnz + 1))) {
+      colptr[k] = (int)v - 1;
+      continue;
+    }
     snprintf(key, sizeof key, "pointer %lld", (long long)k + 1);
-    if (!fortran_int(s, &v))
+    if (!ok)
       return vi_mx_fail_at(r, VI_ERR_PARSE, q * w + 1, key, "'%s' is not a "
                            "whole number (format %s)", s, h->ptr.text);
-    long long prev = k ? colptr[k - 1] + 1 : 1;
-    if ((k == 0 && v != 1) || v < prev || v > h->nnz + 1 ||
-        (k == sc.count - 1 && v != h->nnz + 1))
-      return vi_mx_fail_at(r, VI_ERR_PARSE, q * w + 1, key, "column "
+    return vi_mx_fail_at(r, VI_ERR_PARSE, q * w + 1, key, "column "
                            "pointer %lld = %lld: pointers start at 1, never "
                            "decrease and end at NNZERO + 1 = %lld",
                            (long long)k + 1, v, (long long)h->nnz + 1);
-    colptr[k] = (int)v - 1;
   }
   return VI_OK;
 }
@@ -516,24 +524,26 @@ static int read_entries(reader *r, const hb_header *h, const int *colptr,
       if ((st = section_line(r, &si, k, nf))) return st;
     }
     if ((st = get_field(r, &si, q, k, s, sizeof s))) return st;
-    long long v;
+    long long v = 0;
+    int ok = fortran_int(s, &v);
+    while (colptr[j + 1] <= k) j++; /* the entry's column */
+    if (ok && v >= 1 && v <= h->rows && !(h->symmetric && v - 1 < j)) {
+      t->i[k] = (int)v - 1;
+      t->j[k] = j;
+      t->line[k] = r->line;
+      continue;
+    }
     snprintf(key, sizeof key, "row index %lld", (long long)k + 1);
-    if (!fortran_int(s, &v))
+    if (!ok)
       return vi_mx_fail_at(r, VI_ERR_PARSE, q * w + 1, key, "'%s' is not a "
                            "whole number (format %s)", s, h->ind.text);
-    while (colptr[j + 1] <= k) j++; /* the entry's column */
     if (v < 1 || v > h->rows)
       return vi_mx_fail_at(r, VI_ERR_DIM, q * w + 1, key, "row %lld of "
                            "column %d outside the %d rows (indices are "
                            "1-based)", v, j + 1, h->rows);
-    if (h->symmetric && v - 1 < j)
-      return vi_mx_fail_at(r, VI_ERR_NOT_SYMMETRIC, q * w + 1, key, "entry "
-                           "(%lld, %d) above the diagonal of a symmetric "
-                           "file (the format stores the lower triangle)",
-                           v, j + 1);
-    t->i[k] = (int)v - 1;
-    t->j[k] = j;
-    t->line[k] = r->line;
+    return vi_mx_fail_at(r, VI_ERR_NOT_SYMMETRIC, q * w + 1, key, "entry "
+                         "(%lld, %d) above the diagonal of a symmetric file "
+                         "(the format stores the lower triangle)", v, j + 1);
   }
   for (int64_t k = 0; k < h->nnz; k++) {
     int r_ = h->val.per_line > 0 ? h->val.per_line : 1, w = h->val.width,
@@ -543,7 +553,6 @@ static int read_entries(reader *r, const hb_header *h, const int *colptr,
       if ((st = section_line(r, &sv, k, nf))) return st;
     }
     if ((st = get_field(r, &sv, q, k, s, sizeof s))) return st;
-    snprintf(key, sizeof key, "value %lld", (long long)k + 1);
     long long iv = 0;
     int bad = 0;
     if (h->val.integer) {
@@ -551,6 +560,8 @@ static int read_entries(reader *r, const hb_header *h, const int *colptr,
       t->v[k] = (double)iv;
     } else
       bad = fortran_real(s, &h->val, &t->v[k]);
+    if (!bad) continue;
+    snprintf(key, sizeof key, "value %lld", (long long)k + 1);
     if (bad == 2)
       return vi_mx_fail_at(r, VI_ERR_NONFINITE, q * w + 1, key, "'%s' is "
                            "not a finite number", s);
