@@ -168,9 +168,9 @@ VI_API const double *vi_mm_values(const vi_mm *mm);
  *   in whatever order its code numbered the equations, and is mirrored.
  *
  * VI_MATRIX_AUTO chooses by content (vi_matrix_detect): a first line
- * starting %%MatrixMarket; else a Harwell-Boeing header (line 2 numbers
- * only, line 3 a three-letter type such as RSA); else a first data line
- * of five comma-separated fields. */
+ * starting %%MatrixMarket; else a Harwell-Boeing header (line 2 starting
+ * with a number, line 3 with a three-letter type such as RSA); else a
+ * first data line of five comma-separated fields. */
 /** A matrix file's format (the grammar of each: the comment above). */
 enum vi_matrix_format {
   VI_MATRIX_AUTO = 0,           /**< told by the file's content */

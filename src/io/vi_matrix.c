@@ -19,10 +19,11 @@ static int hb_type(const char *s)
          strchr("AE", toupper((unsigned char)s[2]));
 }
 
-/* Line 2 of a Harwell-Boeing header: whole numbers and blanks only. */
+/* Line 2 of a Harwell-Boeing header starts with a whole number (what
+ * follows is the reader's to check, with its columns). */
 static int hb_counts(const char *s)
 {
-  return strspn(s, " 0123456789") == strlen(s) && strpbrk(s, "0123456789");
+  return isdigit((unsigned char)s[strspn(s, " ")]);
 }
 
 /* A coordinate file's first data line: five comma-separated fields. */
