@@ -172,6 +172,33 @@ static int integer(ctx *c, yaml_node_t *nd, const char *key, int lo, int hi,
   return VI_OK;
 }
 
+/* A dof of the model (stop.dof, forcing.on): its 1-based index, or in a
+ * model of coordinate files a [node, dof] pair of its dof map. */
+static int dof_index(ctx *c, const vi_scene *s, yaml_node_t *nd,
+                     const char *key, int *out)
+{
+  if (!nd || nd->type != YAML_SEQUENCE_NODE)
+    return integer(c, nd, key, 1, s->n, out);
+  if (!s->fe.map)
+    return fail(c, nd, VI_ERR_PARSE, key, "%s", "a [node, dof] pair names "
+                "a dof of a model read from coordinate files; give the "
+                "dof's index");
+  yaml_node_item_t *it = nd->data.sequence.items.start;
+  int label = 0, comp = 0, st;
+  if (nd->data.sequence.items.top - it != 2)
+    return fail(c, nd, VI_ERR_PARSE, key, "%s", "expected [node, dof]");
+  if ((st = integer(c, node(c, it[0]), key, INT_MIN, INT_MAX, &label)) ||
+      (st = integer(c, node(c, it[1]), key, 1, INT_MAX, &comp)))
+    return st;
+  if (!(*out = vi_dofmap_index(s->fe.map, label, comp))) {
+    char why[128];
+    snprintf(why, sizeof why, "(node %d, dof %d) is not a dof of the model "
+             "(no file names it)", label, comp);
+    return fail(c, nd, VI_ERR_DIM, key, "%s", why);
+  }
+  return VI_OK;
+}
+
 static int boolean(ctx *c, yaml_node_t *nd, const char *key, int *out)
 {
   const char *s = nd && nd->type == YAML_SCALAR_NODE && nd->tag &&
@@ -666,7 +693,7 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
     for (yaml_node_item_t *it = on->data.sequence.items.start;
          it < on->data.sequence.items.top; it++) {
       int j = 1;
-      if ((st = integer(c, node(c, *it), "forcing.on", 1, s->n, &j))) return st;
+      if ((st = dof_index(c, s, node(c, *it), "forcing.on", &j))) return st;
       s->a[j - 1] = A;
     }
   }
@@ -680,7 +707,8 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
   return VI_OK;
 }
 
-/* One stop {w: [...] | dof: j (or its synonym mass: j, 1-based),
+/* One stop {w: [...] | dof: j (or its synonym mass: j, 1-based; in a
+ * model of coordinate files also [node, dof]),
  * direction: +1 | -1, xs, r} at `path` ("stop", "stops[2]") into w [n]
  * (zeroed), *has_w, *xs, *r.  direction -1 makes the stop push the other
  * way: w = -e_j, so that -x_j <= xs (a stop below the coordinate). */
@@ -725,7 +753,7 @@ static int parse_stop_at(ctx *c, vi_scene *s, yaml_node_t *sp,
   if (dof) {
     int j = 1;
     join(key, path, dname);
-    if ((st = integer(c, dof, key, 1, s->n, &j))) return st;
+    if ((st = dof_index(c, s, dof, key, &j))) return st;
     w[j - 1] = sign;
     *has_w = 1;
   }

@@ -179,7 +179,7 @@ static int remove_dir(void **state)
       "cM.mtx",  "cK.mtx",   "chain.yaml", "chain2.yaml", "bad.yaml",
       "nan.mtx", "two.mtx",  "rect.mtx",   "cplx.mtx",    "notspd.mtx",
       "cM.rsa",  "cK.rsa",   "cM.txt",     "cK.txt",      "hb.yaml",
-      "co.yaml", "mixed.yaml", "bad.rsa",  "bad.txt"};
+      "co.yaml", "mixed.yaml", "bad.rsa",  "bad.txt",     "co2.yaml"};
   for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
     char path[256];
     snprintf(path, sizeof path, "%s/%s", dir, names[k]);
@@ -403,18 +403,35 @@ static void test_chain_other_formats(void **state)
     assert_int_equal(vi_dofmap_label(map, i + 1, &node, &dof), VI_OK);
     assert_true(node == lab[i][0] && dof == lab[i][1]);
   }
-  hits *a = malloc(sizeof *a), *b = malloc(sizeof *b);
-  assert_true(a && b);
+  /* the stop and the forcing may name a dof by its pair: [30, 1] is 3 */
+  char yaml[256];
+  put("co2.yaml", "model:\n  matrices: {M: cM.txt, K: cK.txt}\n  modes: 3\n"
+                  "forcing: {omega: 1.3, on: [[30, 1]], amplitude: 0.4}\n"
+                  "stop: {dof: [30, 1], xs: 0.05, r: 0.8}\n"
+                  "initial: {x: 0.01, v: [0, 0.1, 0]}\n"
+                  "run: {periods: 30, rtol: 1.0e-11, atol: 1.0e-13, method: "
+                  "exact}\n");
+  snprintf(yaml, sizeof yaml, "%s/co2.yaml", dir);
+  vi_scene *s2 = NULL;
+  assert_int_equal(vi_scene_load(yaml, &s2, &d), VI_OK);
+  hits *a = malloc(sizeof *a), *b = malloc(sizeof *b), *e = malloc(sizeof *e);
+  assert_true(a && b && e);
   run_scene(sc[0], a);
   run_scene(sc[2], b);
-  print_message("chain as coordinate files: %d impacts, as Matrix Market: "
-                "%d\n", b->n, a->n);
+  run_scene(s2, e);
+  print_message("chain as coordinate files: %d impacts (stop and forcing "
+                "named by [node, dof]: %d), as Matrix Market: %d\n", b->n,
+                e->n, a->n);
   assert_int_equal(a->n, b->n);
+  assert_int_equal(a->n, e->n);
   assert_true(a->n > 10);
   for (int k = 0; k < a->n; k++)
-    assert_true(a->t[k] == b->t[k] && a->vn[k] == b->vn[k]);
+    assert_true(a->t[k] == b->t[k] && a->vn[k] == b->vn[k] &&
+                a->t[k] == e->t[k] && a->vn[k] == e->vn[k]);
   free(a);
   free(b);
+  free(e);
+  vi_scene_destroy(&s2);
   for (int q = 0; q < 4; q++) vi_scene_destroy(&sc[q]);
 }
 
@@ -472,6 +489,9 @@ static void test_bad_fe_scenes(void **state)
       {"coordinate beside Matrix Market", "model:\n  matrices: {M: cM.txt, K: cK.mtx}\n" STOP3, VI_ERR_PARSE, "scene", 2, "model.matrices.K"},
       {"Harwell-Boeing format error", "model:\n  matrices: {M: cM.mtx, K: bad.rsa}\n" STOP3, VI_ERR_PARSE, "bad.rsa", 4, "model.matrices.K header"},
       {"format named wrongly", "model:\n  matrices: {M: cM.mtx, K: cK.rsa, format: matrix_market}\n" STOP3, VI_ERR_PARSE, "cK.rsa", 1, "model.matrices.K header"},
+      {"dof pair without coordinate files", MM("cM.mtx", "cK.mtx") "stop: {dof: [3, 1], xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop.dof"},
+      {"dof pair not in the model", "model:\n  matrices: {M: cM.txt, K: cK.txt}\n  modes: 3\nstop: {dof: [30, 2], xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_DIM, "scene", 4, "stop.dof"},
+      {"forcing pair short", "model:\n  matrices: {M: cM.txt, K: cK.txt}\n  modes: 3\nforcing: {omega: 1, on: [[30]], amplitude: 1}\n" STOP3, VI_ERR_PARSE, "scene", 4, "forcing.on"},
       {"coordinate line short", "model:\n  matrices: {M: cM.txt, K: bad.txt}\n" STOP3, VI_ERR_PARSE, "bad.txt", 2, "model.matrices entry 2"},
       {"initial length", MM("cM.mtx", "cK.mtx") STOP3 "initial: {x: [1, 2]}\n", VI_ERR_DIM, "scene", 5, "initial.x"},
       {"M not positive definite", MM("notspd.mtx", "cK.mtx") STOP3, VI_ERR_NOT_SPD, "scene", 2, "model"},
