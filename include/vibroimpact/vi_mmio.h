@@ -152,12 +152,18 @@ VI_API const double *vi_mm_values(const vi_mm *mm);
  *   TOTCRD), pointers that do not start at 1, decrease or do not end at
  *   NNZERO + 1, indices out of range, values that are not finite.
  *
- * VI_MATRIX_COORDINATE: the element-free text export of FE codes
- *   (Abaqus' *MATRIX GENERATE with *MATRIX OUTPUT, FORMAT=MATRIX INPUT):
- *   one entry a line, comma-separated,
- *     row node, row dof, column node, column dof, value
- *   node labels any int (Abaqus writes internal nodes negative), dofs
- *   >= 1; blank lines and comment lines (starting **, # or %) skipped.
+ * VI_MATRIX_COORDINATE: the element-free text exports of FE codes
+ *   (Abaqus' *MATRIX GENERATE with *MATRIX OUTPUT), one entry a line,
+ *   fields separated by commas (or, in a line without one, by blanks):
+ *     row node, row dof, column node, column dof, value   (FORMAT=MATRIX
+ *                                                           INPUT)
+ *     row column value            (FORMAT=COORDINATE: global equations)
+ *   node labels any int (Abaqus writes internal nodes negative), dofs and
+ *   equations >= 1; blank lines and comment lines (starting **, # or %)
+ *   skipped; every line of a file, and every file of a model, of one kind.
+ *   Equation-numbered files: global dof i is equation i, n the largest
+ *   equation any of the model's files names (vi_dofmap_label gives (i, 0),
+ *   vi_dofmap_index(map, i, 0) gives i).
  *   The matrix's rows are the global dofs of a vi_dofmap: the (node, dof)
  *   pairs sorted by node, then dof, numbered from 1 (0-based in the CSC).
  *   M, K and C of one model must share one map, built over all of their
@@ -218,8 +224,8 @@ VI_API int vi_dofmap_n(const vi_dofmap *map);
  *  keys).  @return VI_OK, VI_ERR_ARG (NULL), VI_ERR_DIM (out of range). */
 VI_API int vi_dofmap_label(const vi_dofmap *map, int index, int *node,
                            int *dof);
-/** The 1-based global dof of (node, dof); 0 when the map does not hold it
- *  (or map is NULL). */
+/** The 1-based global dof of (node, dof) (equation-numbered files: (i, 0)
+ *  is i); 0 when the map does not hold it (or map is NULL). */
 VI_API int vi_dofmap_index(const vi_dofmap *map, int node, int dof);
 /** The dof numbering of a finite-element scene read from coordinate files
  *  (a view owned by the scene); NULL for any other scene. */

@@ -1,6 +1,7 @@
 /* vi_coordio.c - the element-free text export of FE codes (vi_mmio.h:
  * VI_MATRIX_COORDINATE): lines "node, dof, node, dof, value" as Abaqus'
- * *MATRIX OUTPUT, FORMAT=MATRIX INPUT writes them, and the numbering of
+ * *MATRIX OUTPUT, FORMAT=MATRIX INPUT writes them, or "row column value"
+ * (FORMAT=COORDINATE: global equation numbers), and the numbering of
  * their (node, dof) pairs as global dofs (vi_dofmap), which M, K and C of
  * one model share.  Our own reader, after Abaqus' description of the
  * format ("Matrix generation", Abaqus Analysis User's Guide). */
@@ -23,7 +24,8 @@ static int64_t pair_key(int node, int dof)
 
 struct vi_dofmap {
   int n;
-  int64_t *key;    /* [n] ascending */
+  int equations;   /* 1: 'row column value' files: dof i is equation i */
+  int64_t *key;    /* [n] ascending (NULL for equations) */
   int64_t entries; /* lines of the largest file scanned */
 };
 
@@ -46,67 +48,93 @@ typedef struct cline {
   (snprintf(key, sizeof key, "entry %lld", (long long)k + 1),            \
    vi_mx_fail_at(r, code, col, key, __VA_ARGS__))
 
-/* Split the line at commas into five trimmed fields and read them. */
-static int parse_line(reader *r, int64_t k, cline *c)
+/* Split the line into trimmed fields: at commas when it has one, else at
+ * blanks.  Five fields are 'node, dof, node, dof, value' (Abaqus' MATRIX
+ * INPUT), three 'row column value' (Abaqus' FORMAT=COORDINATE: global
+ * equation numbers, stored as node = the equation, dof = 0); *form, 0 at
+ * a file's first entry, is the file's (5 or 3), which every line keeps. */
+static int parse_line(reader *r, int64_t k, int *form, cline *c)
 {
   char key[48];
   char copy[sizeof r->buf];
   memcpy(copy, r->buf, sizeof copy);
-  char *f[6];
+  char *f[6], *save = NULL;
   int col[6], nf = 0;
-  for (char *p = copy;; p++) {
-    char *e = strchr(p, ',');
-    if (nf < 6) {
-      while (*p == ' ' || *p == '\t') p++;
-      f[nf] = p;
-      col[nf] = (int)(p - copy) + 1;
+  if (strchr(copy, ','))
+    for (char *p = copy;; p++) {
+      char *e = strchr(p, ',');
+      if (nf < 6) {
+        while (*p == ' ' || *p == '\t') p++;
+        f[nf] = p;
+        col[nf] = (int)(p - copy) + 1;
+      }
+      nf++;
+      if (!e) break;
+      *e = '\0';
+      p = e;
     }
-    nf++;
-    if (!e) break;
-    *e = '\0';
-    p = e;
-  }
+  else
+    for (char *t = strtok_r(copy, " \t", &save); t;
+         t = strtok_r(NULL, " \t", &save)) {
+      if (nf < 6) {
+        f[nf] = t;
+        col[nf] = (int)(t - copy) + 1;
+      }
+      nf++;
+    }
   for (int q = 0; q < (nf < 6 ? nf : 6); q++) {
     size_t n = strlen(f[q]);
     while (n && (f[q][n - 1] == ' ' || f[q][n - 1] == '\t')) f[q][--n] = '\0';
   }
-  if (nf != 5)
-    return CFAIL(VI_ERR_PARSE, 0, "expected 'node, dof, node, dof, value' "
-                 "(5 comma-separated fields), got %d", nf);
-  static const char *const what[4] = {"row node", "row dof", "column node",
-                                      "column dof"};
-  for (int q = 0; q < 4; q++) {
+  if (*form == 0 && (nf == 5 || nf == 3)) *form = nf;
+  if (nf != *form)
+    return *form ? CFAIL(VI_ERR_PARSE, 0, "expected %s (%d fields, as the "
+                         "file's first entry), got %d", *form == 5
+                         ? "'node, dof, node, dof, value'"
+                         : "'row column value'", *form, nf)
+                 : CFAIL(VI_ERR_PARSE, 0, "expected 'node, dof, node, dof, "
+                         "value' (5 fields) or 'row column value' (3), got "
+                         "%d", nf);
+  static const char *const what5[4] = {"row node", "row dof", "column node",
+                                       "column dof"};
+  static const char *const what3[2] = {"row", "column"};
+  int ni = nf - 1;
+  for (int q = 0; q < ni; q++) {
+    const char *what = nf == 5 ? what5[q] : what3[q];
     char *end;
     errno = 0;
     long long v = strtoll(f[q], &end, 10);
     if (end == f[q] || *end || errno == ERANGE || v < INT_MIN || v > INT_MAX)
       return CFAIL(VI_ERR_PARSE, col[q], "%s '%s' is not a whole number",
-                   what[q], f[q]);
-    if (q % 2 && (v < 1 || v > INT_MAX))
-      return CFAIL(VI_ERR_PARSE, col[q], "%s %lld: dofs are numbered from 1",
-                   what[q], v);
-    if (q % 2)
+                   what, f[q]);
+    if ((nf == 3 || q % 2) && (v < 1 || v > INT_MAX / 2))
+      return CFAIL(VI_ERR_PARSE, col[q], "%s %lld: %s are numbered from 1",
+                   what, v, nf == 3 ? "equations" : "dofs");
+    if (nf == 3) {
+      c->node[q] = (int)v;
+      c->dof[q] = 0;
+    } else if (q % 2)
       c->dof[q / 2] = (int)v;
     else
       c->node[q / 2] = (int)v;
   }
   char *end;
   errno = 0;
-  c->v = strtod(f[4], &end);
-  if (end == f[4] || *end)
-    return CFAIL(VI_ERR_PARSE, col[4], "value '%s' is not a number", f[4]);
+  c->v = strtod(f[ni], &end);
+  if (end == f[ni] || *end)
+    return CFAIL(VI_ERR_PARSE, col[ni], "value '%s' is not a number", f[ni]);
   if (!isfinite(c->v) || (errno == ERANGE && fabs(c->v) > 1.0))
-    return CFAIL(VI_ERR_NONFINITE, col[4], "value '%s' is not a finite number",
-                 f[4]);
+    return CFAIL(VI_ERR_NONFINITE, col[ni], "value '%s' is not a finite "
+                 "number", f[ni]);
   return VI_OK;
 }
 
 /* The next entry line (1), or 0 at the end / on an error (*st). */
-static int next_entry(reader *r, int64_t k, cline *c, int *st)
+static int next_entry(reader *r, int64_t k, int *form, cline *c, int *st)
 {
   while (vi_mx_next_line(r, st)) {
     if (skip_line(r->buf)) continue;
-    *st = parse_line(r, k, c);
+    *st = parse_line(r, k, form, c);
     return *st == VI_OK;
   }
   return 0;
@@ -145,13 +173,30 @@ int vi_dofmap_scan(int nfiles, const char *const *paths, double max_bytes,
   int64_t cap = 1024, n = 0, most = 0;
   int64_t *key = malloc((size_t)cap * sizeof *key);
   if (!key) return vi_diag_nomem(d, paths[0]);
-  int st = VI_OK;
+  int st = VI_OK, form = 0, eqmax = 0;
   for (int f = 0; f < nfiles && !st; f++) {
     reader r;
     if ((st = vi_mx_open(&r, paths[f], d))) break;
     cline c = {{0, 0}, {0, 0}, 0.0};
     int64_t k = 0;
-    for (; next_entry(&r, k, &c, &st); k++) {
+    int fform = 0;
+    for (; next_entry(&r, k, &fform, &c, &st); k++) {
+      if (form && fform != form) { /* one numbering: one kind of file */
+        st = vi_mx_fail(&r, VI_ERR_PARSE, "entry", "'%s' lines, but the "
+                        "model's first file has '%s' lines: the files of one "
+                        "model number their dofs alike",
+                        fform == 5 ? "node, dof, node, dof, value"
+                                   : "row column value",
+                        form == 5 ? "node, dof, node, dof, value"
+                                  : "row column value");
+        break;
+      }
+      form = fform;
+      if (form == 3) { /* equation numbers: the largest is n */
+        eqmax = c.node[0] > eqmax ? c.node[0] : eqmax;
+        eqmax = c.node[1] > eqmax ? c.node[1] : eqmax;
+        continue;
+      }
       if (n + 2 > cap) { /* compact, then grow if still half full */
         n = sort_unique(key, n);
         if (n + 2 > cap / 2) {
@@ -178,12 +223,16 @@ int vi_dofmap_scan(int nfiles, const char *const *paths, double max_bytes,
       r.line = 0;
       st = vi_diag_set(d, paths[f], VI_ERR_PARSE, 0, 0, "entry", "", "%s",
                        "no entries: a coordinate file holds lines 'node, "
-                       "dof, node, dof, value'");
+                       "dof, node, dof, value' or 'row column value'");
     }
     most = k > most ? k : most;
     fclose(r.f);
   }
-  n = sort_unique(key, n);
+  n = form == 3 ? eqmax : sort_unique(key, n);
+  if (form == 3) { /* no keys: dof i is equation i */
+    free(key);
+    key = NULL;
+  }
   if (!st && n > INT_MAX / 2)
     st = vi_diag_set(d, paths[0], VI_ERR_LIMIT, 0, 0, "", "", "%lld dofs: "
                      "more than int indices hold", (long long)n);
@@ -193,6 +242,7 @@ int vi_dofmap_scan(int nfiles, const char *const *paths, double max_bytes,
     return st ? st : vi_diag_nomem(d, paths[0]);
   }
   m->n = (int)n;
+  m->equations = form == 3;
   m->key = key;
   m->entries = most;
   *out = m;
@@ -218,6 +268,11 @@ int vi_dofmap_label(const vi_dofmap *map, int index, int *node, int *dof)
 {
   if (!map || !node || !dof) return VI_ERR_ARG;
   if (index < 1 || index > map->n) return VI_ERR_DIM;
+  if (map->equations) {
+    *node = index;
+    *dof = 0;
+    return VI_OK;
+  }
   int64_t k = map->key[index - 1];
   int64_t nd = k >= 0 ? k / 4294967296LL : -((-k + 4294967295LL) / 4294967296LL);
   *node = (int)nd;
@@ -227,7 +282,9 @@ int vi_dofmap_label(const vi_dofmap *map, int index, int *node, int *dof)
 
 int vi_dofmap_index(const vi_dofmap *map, int node, int dof)
 {
-  if (!map || dof < 1) return 0;
+  if (!map) return 0;
+  if (map->equations) return dof == 0 && node >= 1 && node <= map->n ? node : 0;
+  if (dof < 1) return 0;
   int64_t k = pair_key(node, dof);
   int lo = 0, hi = map->n - 1;
   while (lo <= hi) {
@@ -281,7 +338,7 @@ static int coord_read(reader *r, const vi_dofmap *map, int storage,
   if (count == 0)
     return vi_diag_set(r->d, r->path, VI_ERR_PARSE, 0, 0, "entry", "", "%s",
                        "no entries: a coordinate file holds lines 'node, "
-                       "dof, node, dof, value'");
+                       "dof, node, dof, value' or 'row column value'");
   if (2.0 * (double)count > INT_MAX)
     return vi_diag_set(r->d, r->path, VI_ERR_LIMIT, 0, 0, "", "", "%lld "
                        "entries: more than int indices hold",
@@ -294,14 +351,22 @@ static int coord_read(reader *r, const vi_dofmap *map, int storage,
     return vi_diag_nomem(r->d, r->path);
   }
   cline c = {{0, 0}, {0, 0}, 0.0};
-  for (int64_t k = 0; k < count && next_entry(r, k, &c, &st); k++) {
+  int form = 0;
+  for (int64_t k = 0; k < count && next_entry(r, k, &form, &c, &st); k++) {
     int ij[2];
     for (int s = 0; s < 2; s++)
       if (!(ij[s] = vi_dofmap_index(map, c.node[s], c.dof[s]))) {
         vi_mx_trip_free(&t);
-        return vi_mx_fail(r, VI_ERR_DIM, "entry", "(node %d, dof %d) is not "
-                          "a dof of the model's map (the pairs of its "
-                          "files)", c.node[s], c.dof[s]);
+        return c.dof[s] ? vi_mx_fail(r, VI_ERR_DIM, "entry", "(node %d, "
+                                     "dof %d) is not a dof of the model's "
+                                     "map (the pairs of its files)",
+                                     c.node[s], c.dof[s])
+                        : vi_mx_fail(r, VI_ERR_DIM, "entry", "equation %d "
+                                     "is not a dof of the model's map "
+                                     "(numbered by equations: %s)",
+                                     c.node[s], map->equations
+                                     ? "beyond its largest"
+                                     : "its files name (node, dof) pairs");
       }
     t.i[t.count] = ij[0] - 1;
     t.j[t.count] = ij[1] - 1;

@@ -26,12 +26,25 @@ static int hb_counts(const char *s)
   return isdigit((unsigned char)s[strspn(s, " ")]);
 }
 
-/* A coordinate file's first data line: five comma-separated fields. */
+/* A coordinate file's first data line: five comma-separated fields
+ * (node, dof, node, dof, value), or three fields 'row column value' whose
+ * first two are whole numbers (Abaqus' FORMAT=COORDINATE). */
 static int coord_line(const char *s)
 {
   int commas = 0;
-  for (; *s; s++) commas += *s == ',';
-  return commas == 4;
+  for (const char *p = s; *p; p++) commas += *p == ',';
+  if (commas == 4) return 1;
+  char *end;
+  const char *p = s;
+  for (int k = 0; k < 2; k++, p = end) { /* only the shape is looked at */
+    (void)strtoll(p, &end, 10);
+    if (end == p || (*end != ' ' && *end != '\t' && *end != ',')) return 0;
+    if (*end == ',') end++;
+  }
+  (void)strtod(p, &end);
+  if (end == p) return 0;
+  end += strspn(end, " \t");
+  return !*end;
 }
 
 static int coord_skip(const char *s)
@@ -76,7 +89,8 @@ int vi_matrix_detect(const char *path, int *format, vi_diag *d)
                      got ? "not a matrix file of a known format: Matrix "
                            "Market starts %%MatrixMarket, Harwell-Boeing "
                            "has a type such as RSA on line 3, a coordinate "
-                           "export has lines 'node, dof, node, dof, value'"
+                           "export has lines 'node, dof, node, dof, value' "
+                           "or 'row column value'"
                          : "an empty file: no matrix in it");
 }
 

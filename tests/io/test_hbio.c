@@ -102,6 +102,13 @@ static const struct form {
      "1,1,1,1,4\n2,1,1,1,-1\n1,1,2,1,-1\n2,1,2,1,4\n3,2,2,1,-2\n"
      "2,1,3,2,-2\n3,2,3,2,5\n",
      VI_MATRIX_COORDINATE},
+    {"equations, whole matrix (Abaqus FORMAT=COORDINATE)",
+     "1 1  4.000000000000000e+00\n1 2 -1.0\n2 1 -1.0\n2 2 4\n2 3 -2\n"
+     "3 2 -2\n3 3 5\n",
+     VI_MATRIX_COORDINATE},
+    {"equations, one triangle, commas, a comment",
+     "** K\n3, 3, 5\n1, 1, 4\n1, 2, -1\n2, 2, 4\n3, 2, -2\n",
+     VI_MATRIX_COORDINATE},
 };
 
 static void test_forms(void **state)
@@ -120,7 +127,7 @@ static void test_forms(void **state)
     if (st) print_error("%s: %s\n", forms[k].what, d.message);
     assert_int_equal(st, VI_OK);
     assert_true(rows == 3 && cols == 3);
-    assert_int_equal(sym, k != 2 && k != 5);
+    assert_int_equal(sym, k != 2 && k != 5 && k != 6);
     static const int storages[2] = {VI_CSC_LOWER, VI_CSC_FULL};
     for (int q = 0; q < 2; q++) {
       vi_mm *m = NULL;
@@ -200,6 +207,30 @@ static void test_dofmap(void **state)
   assert_non_null(strstr(d.message, "node 7, dof 2"));
   vi_dofmap_destroy(&mm);
   vi_dofmap_destroy(&map);
+  assert_null(map);
+  remove(pm);
+  remove(pk);
+  /* equation numbers: dof i is equation i, n the largest of all files
+   * (M here names 1..3, K 1..4: M's row 4 is empty, a massless dof) */
+  write_file(pm, "1 1 1.0\n2 2 2.0\n3 3 3.0\n", "map", 2);
+  write_file(pk, "1 1 4\n4 4 6\n4 1 -1\n1 4 -1\n2 2 5\n3 3 5\n", "map", 3);
+  assert_int_equal(vi_dofmap_scan(2, paths, 0, &map, &d), VI_OK);
+  assert_int_equal(vi_dofmap_n(map), 4);
+  assert_int_equal(vi_dofmap_label(map, 4, &node, &dof), VI_OK);
+  assert_true(node == 4 && dof == 0);
+  assert_int_equal(vi_dofmap_index(map, 3, 0), 3);
+  assert_int_equal(vi_dofmap_index(map, 3, 1), 0);
+  assert_int_equal(vi_dofmap_index(map, 5, 0), 0);
+  assert_int_equal(vi_matrix_load(pm, VI_MATRIX_AUTO, map, VI_CSC_LOWER, 0,
+                                  &m, &d), VI_OK);
+  assert_true(vi_mm_rows(m) == 4 && vi_mm_nnz(m) == 3);
+  assert_int_equal(vi_mm_colptr(m)[4], 3); /* column 4 empty */
+  vi_mm_destroy(&m);
+  vi_dofmap_destroy(&map);
+  /* one model's files number their dofs alike: pairs beside equations */
+  write_file(pk, "1, 1, 1, 1, 4\n", "map", 4);
+  assert_int_equal(vi_dofmap_scan(2, paths, 0, &map, &d), VI_ERR_PARSE);
+  assert_non_null(strstr(d.message, "number their dofs alike"));
   assert_null(map);
   remove(pm);
   remove(pk);
@@ -287,6 +318,11 @@ static const bad coord_bads[] = {
     {"not symmetric", "1,1,1,1,4\n2,1,1,1,-1\n1,1,2,1,-1.5\n2,1,2,1,4\n", VI_ERR_NOT_SYMMETRIC, 0, 0, "not symmetric"},
     {"mirror missing in a whole matrix", "1,1,1,1,4\n2,1,1,1,-1\n1,1,2,1,-1\n3,1,2,1,-1\n2,1,2,1,4\n", VI_ERR_NOT_SYMMETRIC, 4, 0, "absent"},
     {"only comments", "** nothing\n\n", VI_ERR_PARSE, 0, 0, "no entries"},
+    {"equation zero", "1 1 4\n0 1 4\n", VI_ERR_PARSE, 2, 1, "numbered from 1"},
+    {"equation text", "1 1 4\n2 b 4\n", VI_ERR_PARSE, 2, 3, "column 'b'"},
+    {"equations then pairs", "1 1 4\n2,1,2,1,4\n", VI_ERR_PARSE, 2, 0, "'row column value' (3 fields"},
+    {"four blank-separated fields", "1 1 4\n2 2 1 4\n", VI_ERR_PARSE, 2, 0, "got 4"},
+    {"equations not symmetric", "1 1 4\n1 2 -1\n2 1 -2\n2 2 4\n", VI_ERR_NOT_SYMMETRIC, 0, 0, "not symmetric"},
 };
 
 static void run_bads(const bad *b, size_t nb, int format, const char *tag)
@@ -466,6 +502,88 @@ static void test_bcsstk01(void **state)
   free(A);
 }
 
+/* A real Abaqus export (tests/data/abaqus: EXUDYN's free rotor with a
+ * disc, *MATRIX OUTPUT, FORMAT=COORDINATE, 345 equations): K (both
+ * triangles, xz-compressed in the tree) and the lumped M, detected as
+ * coordinate files and read through one map, against their lines read
+ * independently: every entry equal bit for bit, K stored as its lower
+ * triangle with every mirror equal. */
+static int read_lines(const char *path, int n, double *A)
+{
+  FILE *f = fopen(path, "r");
+  assert_non_null(f);
+  char line[256];
+  int count = 0;
+  while (fgets(line, sizeof line, f)) {
+    char *e1, *e2, *e3;
+    long i = strtol(line, &e1, 10), j = strtol(e1, &e2, 10);
+    double v = strtod(e2, &e3);
+    assert_true(e1 != line && e2 != e1 && e3 != e2);
+    assert_true(i >= 1 && i <= n && j >= 1 && j <= n);
+    A[(size_t)(i - 1) + (size_t)(j - 1) * n] = v;
+    count++;
+  }
+  fclose(f);
+  return count;
+}
+
+static void test_abaqus(void **state)
+{
+  (void)state;
+  char src[512], cmd[1200], pk[64], pm[512];
+  snprintf(src, sizeof src, "%s/abaqus/rotorDiscTestSTIF1.mtx.xz", data_dir);
+  snprintf(pk, sizeof pk, "hbio_%ld_rotorK.mtx", (long)getpid());
+  snprintf(pm, sizeof pm, "%s/abaqus/rotorDiscTestMASS1.mtx", data_dir);
+  snprintf(cmd, sizeof cmd, "xz -dc '%s' > '%s' 2>/dev/null", src, pk);
+  if (system(cmd) != 0) {
+    print_message("test_abaqus: skipped (xz -dc failed: is xz installed?)\n");
+    remove(pk);
+    return;
+  }
+  const int n = 345;
+  double *A = calloc(2 * (size_t)n * n, sizeof *A), *B = A + (size_t)n * n;
+  assert_non_null(A);
+  int lk = read_lines(pk, n, A), lm = read_lines(pm, n, B);
+  const char *paths[2] = {pm, pk};
+  vi_dofmap *map = NULL;
+  vi_diag d;
+  int fmt = -1;
+  assert_int_equal(vi_matrix_detect(pk, &fmt, &d), VI_OK);
+  assert_int_equal(fmt, VI_MATRIX_COORDINATE);
+  assert_int_equal(vi_dofmap_scan(2, paths, 0, &map, &d), VI_OK);
+  assert_int_equal(vi_dofmap_n(map), n);
+  const char *files[2] = {pk, pm};
+  double *ref[2] = {A, B};
+  for (int q = 0; q < 2; q++) {
+    vi_mm *m = NULL;
+    int st = vi_matrix_load(files[q], VI_MATRIX_AUTO, map, VI_CSC_LOWER, 0,
+                            &m, &d);
+    if (st) print_error("%s line %d: %s\n", files[q], d.line, d.message);
+    assert_int_equal(st, VI_OK);
+    const int *p = vi_mm_colptr(m), *ri = vi_mm_rowind(m);
+    const double *v = vi_mm_values(m);
+    int differ = 0, stored = 0;
+    for (int j = 0; j < n; j++)
+      for (int k = p[j]; k < p[j + 1]; k++) {
+        size_t at = (size_t)ri[k] + (size_t)j * n, mir = (size_t)j + (size_t)ri[k] * n;
+        differ += v[k] != ref[q][at] || v[k] != ref[q][mir];
+        stored++;
+      }
+    int lower = 0;
+    for (int j = 0; j < n; j++)
+      for (int i = j; i < n; i++) lower += ref[q][(size_t)i + (size_t)j * n] != 0;
+    print_message("Abaqus %s: %d lines, %d lower entries stored, %d differ "
+                  "from the lines\n", q ? "M" : "K", q ? lm : lk, stored,
+                  differ);
+    assert_int_equal(differ, 0);
+    assert_int_equal(stored, lower);
+    vi_mm_destroy(&m);
+  }
+  vi_dofmap_destroy(&map);
+  free(A);
+  remove(pk);
+}
+
 int main(int argc, char **argv)
 {
   if (argc > 1) data_dir = argv[1];
@@ -473,6 +591,7 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_forms),       cmocka_unit_test(test_dofmap),
       cmocka_unit_test(test_malformed_hb), cmocka_unit_test(test_malformed_coordinate),
       cmocka_unit_test(test_limits),      cmocka_unit_test(test_bcsstk01),
+      cmocka_unit_test(test_abaqus),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
