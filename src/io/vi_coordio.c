@@ -58,8 +58,8 @@ static int parse_line(reader *r, int64_t k, int *form, cline *c)
   char key[48];
   char copy[sizeof r->buf];
   memcpy(copy, r->buf, sizeof copy);
-  char *f[6], *save = NULL;
-  int col[6], nf = 0;
+  char *f[6] = {copy, copy, copy, copy, copy, copy}, *save = NULL;
+  int col[6] = {1, 1, 1, 1, 1, 1}, nf = 0;
   if (strchr(copy, ','))
     for (char *p = copy;; p++) {
       char *e = strchr(p, ',');
@@ -86,8 +86,9 @@ static int parse_line(reader *r, int64_t k, int *form, cline *c)
     size_t n = strlen(f[q]);
     while (n && (f[q][n - 1] == ' ' || f[q][n - 1] == '\t')) f[q][--n] = '\0';
   }
+  if (*form != 5 && *form != 3) *form = 0; /* none yet */
   if (*form == 0 && (nf == 5 || nf == 3)) *form = nf;
-  if (nf != *form)
+  if (nf != *form || *form == 0)
     return *form ? CFAIL(VI_ERR_PARSE, 0, "expected %s (%d fields, as the "
                          "file's first entry), got %d", *form == 5
                          ? "'node, dof, node, dof, value'"

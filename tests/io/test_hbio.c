@@ -8,14 +8,19 @@
  * triplets (bcsstk01.tri, read here with strtod).
  *   test_hbio DATA_DIR */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
+#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "vi_testutil.h"
+
+extern char **environ;
 #include "vibroimpact/vi_mmio.h"
 
 static const char *data_dir = ".";
@@ -530,12 +535,23 @@ static int read_lines(const char *path, int n, double *A)
 static void test_abaqus(void **state)
 {
   (void)state;
-  char src[512], cmd[1200], pk[64], pm[512];
+  char src[512], pk[64], pm[512];
   snprintf(src, sizeof src, "%s/abaqus/rotorDiscTestSTIF1.mtx.xz", data_dir);
   snprintf(pk, sizeof pk, "hbio_%ld_rotorK.mtx", (long)getpid());
   snprintf(pm, sizeof pm, "%s/abaqus/rotorDiscTestMASS1.mtx", data_dir);
-  snprintf(cmd, sizeof cmd, "xz -dc '%s' > '%s' 2>/dev/null", src, pk);
-  if (system(cmd) != 0) {
+  /* xz -dc SRC > PK, without a shell */
+  posix_spawn_file_actions_t fa;
+  pid_t pid;
+  int status = -1;
+  char *argv[] = {"xz", "-dc", src, NULL};
+  assert_int_equal(posix_spawn_file_actions_init(&fa), 0);
+  assert_int_equal(posix_spawn_file_actions_addopen(
+                       &fa, 1, pk, O_WRONLY | O_CREAT | O_TRUNC, 0600), 0);
+  if (posix_spawnp(&pid, "xz", &fa, NULL, argv, environ) != 0 ||
+      waitpid(pid, &status, 0) != pid)
+    status = -1;
+  posix_spawn_file_actions_destroy(&fa);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     print_message("test_abaqus: skipped (xz -dc failed: is xz installed?)\n");
     remove(pk);
     return;
