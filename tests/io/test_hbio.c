@@ -233,6 +233,7 @@ static void test_dofmap(void **state)
   vi_mm_destroy(&m);
   vi_dofmap_destroy(&map);
   /* one model's files number their dofs alike: pairs beside equations */
+  remove(pk);
   write_file(pk, "1, 1, 1, 1, 4\n", "map", 4);
   assert_int_equal(vi_dofmap_scan(2, paths, 0, &map, &d), VI_ERR_PARSE);
   assert_non_null(strstr(d.message, "number their dofs alike"));
