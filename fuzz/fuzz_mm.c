@@ -1,4 +1,5 @@
-/* fuzz_mm.c - libFuzzer target: a Matrix Market file through the reader
+/* fuzz_mm.c - libFuzzer target: a matrix file (Matrix Market,
+ * Harwell-Boeing or coordinate, told by content) through the readers
  * (vi_mmio.h) into both storages.  Any crash, leak or sanitizer report is a
  * bug; every rejection must come with a reason, and an accepted matrix must
  * be well-formed CSC: column pointers from 0 non-decreasing to nnz, rows in
@@ -51,7 +52,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     vi_mm *m = NULL;
     vi_diag d;
     /* the limit keeps a size line's promise from costing the fuzzer */
-    int st = vi_mm_load_limited(path, storages[q], 64e6, &m, &d);
+    int st = vi_matrix_load(path, VI_MATRIX_AUTO, NULL, storages[q], 64e6,
+                            &m, &d);
     if (st) {
       if (!d.message[0] || m) abort(); /* a rejection without a reason */
       continue;

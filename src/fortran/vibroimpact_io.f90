@@ -55,6 +55,9 @@ module vibroimpact_io
   public :: vi_mm_read_header, vi_mm_load, vi_mm_load_limited, vi_mm_destroy, &
             vi_mm_rows, vi_mm_cols, vi_mm_nnz, vi_mm_storage_kind, vi_mm_colptr, &
             vi_mm_rowind, vi_mm_values
+  public :: vi_matrix_detect, vi_matrix_read_header, vi_matrix_load, &
+            vi_dofmap_scan, vi_dofmap_destroy, vi_dofmap_n, vi_dofmap_label, &
+            vi_dofmap_index, vi_scene_dofmap, vi_scene_matrix_format
 
   interface
     ! ---- scenes ---------------------------------------------------------------
@@ -487,6 +490,81 @@ module vibroimpact_io
     type(c_ptr) function vi_mm_values(mm) bind(C, name="vi_mm_values")
       import :: c_ptr
       type(c_ptr), value :: mm
+    end function
+    ! ---- other formats: Harwell-Boeing, coordinate (vi_mmio.h) -------------
+    !> format receives VI_MATRIX_MARKET, VI_MATRIX_HARWELL_BOEING or
+    !> VI_MATRIX_COORDINATE
+    integer(c_int) function vi_matrix_detect(path, format, diag) &
+        bind(C, name="vi_matrix_detect")
+      import :: c_int, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: format
+      type(vi_diag), optional :: diag
+    end function
+    !> format: VI_MATRIX_AUTO or one of them; rows ... symmetric optional
+    integer(c_int) function vi_matrix_read_header(path, format, rows, cols, entries, &
+        symmetric, diag) bind(C, name="vi_matrix_read_header")
+      import :: c_int, c_int64_t, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: format
+      integer(c_int), optional :: rows, cols, symmetric
+      integer(c_int64_t), optional :: entries
+      type(vi_diag), optional :: diag
+    end function
+    !> map: c_null_ptr or a vi_dofmap_scan map (coordinate files)
+    integer(c_int) function vi_matrix_load(path, format, map, storage, max_bytes, mm, &
+        diag) bind(C, name="vi_matrix_load")
+      import :: c_int, c_double, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: format, storage
+      type(c_ptr), value :: map
+      real(c_double), value :: max_bytes
+      type(c_ptr) :: mm
+      type(vi_diag), optional :: diag
+    end function
+    !> paths: c_loc of each file name (NUL-terminated), nfiles of them
+    integer(c_int) function vi_dofmap_scan(nfiles, paths, max_bytes, map, diag) &
+        bind(C, name="vi_dofmap_scan")
+      import :: c_int, c_double, c_ptr, vi_diag
+      integer(c_int), value :: nfiles
+      type(c_ptr) :: paths(*)
+      real(c_double), value :: max_bytes
+      type(c_ptr) :: map
+      type(vi_diag), optional :: diag
+    end function
+    subroutine vi_dofmap_destroy(map) bind(C, name="vi_dofmap_destroy")
+      import :: c_ptr
+      type(c_ptr) :: map
+    end subroutine
+    integer(c_int) function vi_dofmap_n(map) bind(C, name="vi_dofmap_n")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: map
+    end function
+    !> index 1-based; node and dof receive the pair
+    integer(c_int) function vi_dofmap_label(map, index, node, dof) &
+        bind(C, name="vi_dofmap_label")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: map
+      integer(c_int), value :: index
+      integer(c_int) :: node, dof
+    end function
+    !> the 1-based global dof of (node, dof), 0 if absent
+    integer(c_int) function vi_dofmap_index(map, node, dof) bind(C, name="vi_dofmap_index")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: map
+      integer(c_int), value :: node, dof
+    end function
+    !> a view owned by the scene; c_null_ptr unless coordinate files
+    type(c_ptr) function vi_scene_dofmap(scene) bind(C, name="vi_scene_dofmap")
+      import :: c_ptr
+      type(c_ptr), value :: scene
+    end function
+    !> which: 0 M, 1 K, 2 C; -1 without that file
+    integer(c_int) function vi_scene_matrix_format(scene, which) &
+        bind(C, name="vi_scene_matrix_format")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: scene
+      integer(c_int), value :: which
     end function
   end interface
 

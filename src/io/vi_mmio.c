@@ -13,54 +13,43 @@
 #include <strings.h>
 #include <sys/stat.h>
 
-#include "vi_io_internal.h"
-#include "vibroimpact/vi_mmio.h"
+#include <fcntl.h>
+#include <unistd.h>
 
-struct vi_mm {
-  int rows, cols, nnz, storage;
-  int *colptr, *rowind;
-  double *val;
-};
+#include "vi_matrix_internal.h"
 
 /* Symmetry of a general file checked as vi_model_set_mass checks a dense
  * matrix: |A(i,j) - A(j,i)| <= 1e-12 max |A|. */
 #define VI_MM_SYM_TOL 1e-12
 
-/* ---- reading lines ------------------------------------------------------ */
-typedef struct reader {
-  FILE *f;
-  const char *path;
-  vi_diag *d;
-  int line;                      /* 1-based number of the line in buf */
-  char buf[VI_MM_MAX_LINE + 2];  /* the line, NUL-terminated, no line end */
-} reader;
+/* ---- reading lines (shared by every format) --------------------------- */
+typedef vi_mx_reader reader;
 
-static int rd_fail(reader *r, int code, const char *key, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-
-/* An error at the current line: key names the part, value is the line. */
-static int rd_fail(reader *r, int code, const char *key, const char *fmt, ...)
+int vi_mx_fail_at(reader *r, int code, int col, const char *key,
+                  const char *fmt, ...)
 {
   char msg[400];
   va_list ap;
   va_start(ap, fmt);
   vsnprintf(msg, sizeof msg, fmt, ap);
   va_end(ap);
-  return vi_diag_set(r->d, r->path, code, r->line, r->line ? 1 : 0, key,
+  return vi_diag_set(r->d, r->path, code, r->line,
+                     r->line ? (col > 0 ? col : 1) : 0, key,
                      r->line ? r->buf : "", "%s", msg);
 }
 
 /* The next line into r->buf: 1, or 0 at the end of the file (or an
  * error, reported: *st).  Read a byte at a time so that a NUL (a binary
- * file) is seen and a long line is refused without storing it. */
-static int next_line(reader *r, int *st)
+ * file) is seen and a long line is refused as soon as it is too long. */
+int vi_mx_next_line(reader *r, int *st)
 {
   *st = VI_OK;
   size_t len = 0;
   int ch = EOF, nul = 0;
   while ((ch = getc_unlocked(r->f)) != EOF && ch != '\n') {
-    if (len < VI_MM_MAX_LINE + 1) r->buf[len++] = (char)ch;
+    r->buf[len++] = (char)ch;
     nul |= ch == 0;
+    if (len > VI_MM_MAX_LINE + 1) break; /* too long (CR included): stop */
   }
   r->buf[len] = '\0';
   if (ch == EOF && ferror(r->f)) {
@@ -73,12 +62,12 @@ static int next_line(reader *r, int *st)
   if (len > 0 && r->buf[len - 1] == '\r') r->buf[--len] = '\0';
   if (len > VI_MM_MAX_LINE) {
     r->buf[60] = '\0';
-    *st = rd_fail(r, VI_ERR_PARSE, "", "a line longer than %d characters",
+    *st = vi_mx_fail(r, VI_ERR_PARSE, "", "a line longer than %d characters",
                   VI_MM_MAX_LINE);
     return 0;
   }
   if (nul) {
-    *st = rd_fail(r, VI_ERR_PARSE, "", "%s",
+    *st = vi_mx_fail(r, VI_ERR_PARSE, "", "%s",
                   "a NUL byte in the line: not a text file");
     return 0;
   }
@@ -94,7 +83,7 @@ static int blank_or_comment(const char *s)
 /* The next line that is neither blank nor a comment: 1, or 0 at the end. */
 static int next_data(reader *r, int *st)
 {
-  while (next_line(r, st))
+  while (vi_mx_next_line(r, st))
     if (!blank_or_comment(r->buf)) return 1;
   return 0;
 }
@@ -136,81 +125,81 @@ static int read_header(reader *r, header *h)
 {
   int st;
   char copy[sizeof r->buf], *w[6];
-  if (!next_line(r, &st)) {
+  if (!vi_mx_next_line(r, &st)) {
     if (st) return st;
     r->line = 1;
     r->buf[0] = '\0';
-    return rd_fail(r, VI_ERR_PARSE, "header", "an empty file: expected the "
+    return vi_mx_fail(r, VI_ERR_PARSE, "header", "an empty file: expected the "
                    "header %%%%MatrixMarket matrix coordinate real symmetric");
   }
   memcpy(copy, r->buf, sizeof copy);
   int nw = words(copy, w, 5);
   if (nw < 1 || strcasecmp(w[0], "%%MatrixMarket") != 0)
-    return rd_fail(r, VI_ERR_PARSE, "header", "not a Matrix Market file: the "
+    return vi_mx_fail(r, VI_ERR_PARSE, "header", "not a Matrix Market file: the "
                    "first line must start with %%%%MatrixMarket");
   if (nw != 5)
-    return rd_fail(r, VI_ERR_PARSE, "header", "expected %%%%MatrixMarket "
+    return vi_mx_fail(r, VI_ERR_PARSE, "header", "expected %%%%MatrixMarket "
                    "matrix <coordinate|array> <real|integer> "
                    "<general|symmetric>");
   if (!strcasecmp(w[1], "vector"))
-    return rd_fail(r, VI_ERR_UNSUPPORTED, "header",
+    return vi_mx_fail(r, VI_ERR_UNSUPPORTED, "header",
                    "a vector object: M, C and K are matrices");
   if (strcasecmp(w[1], "matrix") != 0)
-    return rd_fail(r, VI_ERR_PARSE, "header", "unknown object '%s' (expected "
+    return vi_mx_fail(r, VI_ERR_PARSE, "header", "unknown object '%s' (expected "
                    "matrix)", w[1]);
   if (!strcasecmp(w[2], "array"))
     h->array = 1;
   else if (!strcasecmp(w[2], "coordinate"))
     h->array = 0;
   else
-    return rd_fail(r, VI_ERR_PARSE, "header", "unknown format '%s' (expected "
+    return vi_mx_fail(r, VI_ERR_PARSE, "header", "unknown format '%s' (expected "
                    "coordinate or array)", w[2]);
   if (!strcasecmp(w[3], "real") || !strcasecmp(w[3], "double"))
     h->field = MM_REAL;
   else if (!strcasecmp(w[3], "integer"))
     h->field = MM_INTEGER;
   else if (!strcasecmp(w[3], "complex"))
-    return rd_fail(r, VI_ERR_UNSUPPORTED, "header", "a complex matrix: M, C "
+    return vi_mx_fail(r, VI_ERR_UNSUPPORTED, "header", "a complex matrix: M, C "
                    "and K are real");
   else if (!strcasecmp(w[3], "pattern"))
-    return rd_fail(r, VI_ERR_UNSUPPORTED, "header", "a pattern (structure "
+    return vi_mx_fail(r, VI_ERR_UNSUPPORTED, "header", "a pattern (structure "
                    "only, no values): M, C and K need their values");
   else
-    return rd_fail(r, VI_ERR_PARSE, "header", "unknown field '%s' (expected "
+    return vi_mx_fail(r, VI_ERR_PARSE, "header", "unknown field '%s' (expected "
                    "real, integer, complex or pattern)", w[3]);
   if (!strcasecmp(w[4], "general"))
     h->symmetric = 0;
   else if (!strcasecmp(w[4], "symmetric"))
     h->symmetric = 1;
   else if (!strcasecmp(w[4], "skew-symmetric"))
-    return rd_fail(r, VI_ERR_UNSUPPORTED, "header", "a skew-symmetric matrix: "
+    return vi_mx_fail(r, VI_ERR_UNSUPPORTED, "header", "a skew-symmetric matrix: "
                    "M, C and K are symmetric");
   else if (!strcasecmp(w[4], "hermitian"))
-    return rd_fail(r, VI_ERR_UNSUPPORTED, "header", "a hermitian matrix (a "
+    return vi_mx_fail(r, VI_ERR_UNSUPPORTED, "header", "a hermitian matrix (a "
                    "complex one): M, C and K are real symmetric");
   else
-    return rd_fail(r, VI_ERR_PARSE, "header", "unknown symmetry '%s' "
+    return vi_mx_fail(r, VI_ERR_PARSE, "header", "unknown symmetry '%s' "
                    "(expected general or symmetric)", w[4]);
   /* the size line, after any comments */
   if (!next_data(r, &st))
-    return st ? st : rd_fail(r, VI_ERR_PARSE, "size", "the file ends before "
+    return st ? st : vi_mx_fail(r, VI_ERR_PARSE, "size", "the file ends before "
                              "its size line");
   memcpy(copy, r->buf, sizeof copy);
   nw = words(copy, w, 3);
   long long v[3] = {0, 0, 0};
   if (nw != 3 - h->array)
-    return rd_fail(r, VI_ERR_PARSE, "size", "expected %s",
+    return vi_mx_fail(r, VI_ERR_PARSE, "size", "expected %s",
                    h->array ? "'rows cols'" : "'rows cols entries'");
   for (int k = 0; k < nw; k++)
     if (!whole(w[k], k < 2 ? 1 : 0, &v[k]))
-      return rd_fail(r, VI_ERR_PARSE, "size", "'%s' is not a whole number "
+      return vi_mx_fail(r, VI_ERR_PARSE, "size", "'%s' is not a whole number "
                      "%s", w[k], k < 2 ? ">= 1" : ">= 0");
   if (v[0] > INT_MAX || v[1] > INT_MAX)
-    return rd_fail(r, VI_ERR_LIMIT, "size", "a dimension above %d", INT_MAX);
+    return vi_mx_fail(r, VI_ERR_LIMIT, "size", "a dimension above %d", INT_MAX);
   h->rows = (int)v[0];
   h->cols = (int)v[1];
   if (h->symmetric && h->rows != h->cols)
-    return rd_fail(r, VI_ERR_DIM, "size", "a symmetric matrix must be "
+    return vi_mx_fail(r, VI_ERR_DIM, "size", "a symmetric matrix must be "
                    "square (%d x %d)", h->rows, h->cols);
   double cap = h->symmetric ? 0.5 * (double)h->rows * (h->rows + 1.0)
                             : (double)h->rows * h->cols;
@@ -218,28 +207,67 @@ static int read_header(reader *r, header *h)
     h->entries = (int64_t)cap;
   else {
     if ((double)v[2] > cap)
-      return rd_fail(r, VI_ERR_DIM, "size", "%lld entries, more than the "
+      return vi_mx_fail(r, VI_ERR_DIM, "size", "%lld entries, more than the "
                      "%.0f a %s %d x %d matrix holds", v[2], cap,
                      h->symmetric ? "symmetric" : "general", h->rows, h->cols);
     h->entries = v[2];
   }
   /* VI_CSC_FULL doubles a symmetric file's entries; CSC indices are int */
   if (2.0 * (double)h->entries > INT_MAX)
-    return rd_fail(r, VI_ERR_LIMIT, "size", "%lld entries: more than the "
+    return vi_mx_fail(r, VI_ERR_LIMIT, "size", "%lld entries: more than the "
                    "%d that int indices hold", (long long)h->entries,
                    INT_MAX / 2);
   return VI_OK;
 }
 
-static int open_reader(reader *r, const char *path, vi_diag *d)
+/* Regular files only: opened without blocking (a FIFO with no writer
+ * would wait for ever) and refused unless fstat says regular (a FIFO, a
+ * device such as /dev/zero that never ends, a directory). */
+int vi_mx_open(reader *r, const char *path, vi_diag *d)
 {
   memset(r, 0, sizeof *r);
   r->path = path;
   r->d = d;
-  r->f = fopen(path, "r");
-  if (!r->f)
-    return vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
-                       strerror(errno));
+  int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) { /* the code returned as such: the analyser follows it */
+    vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
+                strerror(errno));
+    return VI_ERR_IO;
+  }
+  struct stat sb;
+  if (fstat(fd, &sb) || !S_ISREG(sb.st_mode)) {
+    mode_t m = sb.st_mode;
+    close(fd);
+    vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "not a regular file (%s): "
+                "a matrix is read from a file",
+                S_ISFIFO(m)  ? "a FIFO"
+                : S_ISCHR(m) ? "a character device"
+                : S_ISDIR(m) ? "a directory"
+                             : "not a plain file");
+    return VI_ERR_IO;
+  }
+  int fl = fcntl(fd, F_GETFL);
+  if (fl >= 0) (void)fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
+  r->f = fdopen(fd, "r");
+  if (!r->f) {
+    close(fd);
+    vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot open: %s",
+                strerror(errno));
+    return VI_ERR_IO;
+  }
+  return VI_OK;
+}
+
+int vi_mx_check_room(reader *r, double least, int64_t entries,
+                     const char *key)
+{
+  struct stat sb;
+  long at = ftell(r->f);
+  if (!fstat(fileno(r->f), &sb) && S_ISREG(sb.st_mode) && at >= 0 &&
+      (double)(sb.st_size - at) < least)
+    return vi_mx_fail(r, VI_ERR_PARSE, key, "%lld entries need at least %.0f "
+                   "more bytes, the file has %lld (truncated?)",
+                   (long long)entries, least, (long long)(sb.st_size - at));
   return VI_OK;
 }
 
@@ -253,7 +281,7 @@ int vi_mm_read_header(const char *path, int *rows, int *cols,
   reader r;
   header h;
   memset(&h, 0, sizeof h);
-  int st = open_reader(&r, path, d);
+  int st = vi_mx_open(&r, path, d);
   if (st) return st;
   st = read_header(&r, &h);
   fclose(r.f);
@@ -266,13 +294,7 @@ int vi_mm_read_header(const char *path, int *rows, int *cols,
 }
 
 /* ---- the entries -------------------------------------------------------- */
-typedef struct triplets {
-  int *i, *j, *line; /* 0-based indices, the 1-based line of each entry */
-  double *v;
-  int64_t count;
-} triplets;
-
-static void trip_free(triplets *t)
+void vi_mx_trip_free(vi_mx_triplets *t)
 {
   free(t->i);
   free(t->j);
@@ -281,7 +303,7 @@ static void trip_free(triplets *t)
   memset(t, 0, sizeof *t);
 }
 
-static int trip_alloc(triplets *t, int64_t cap)
+int vi_mx_trip_alloc(vi_mx_triplets *t, int64_t cap)
 {
   size_t c = (size_t)(cap > 0 ? cap : 1);
   t->i = malloc(c * sizeof(int));
@@ -289,6 +311,7 @@ static int trip_alloc(triplets *t, int64_t cap)
   t->line = malloc(c * sizeof(int));
   t->v = malloc(c * sizeof(double));
   t->count = 0;
+  t->cap = (int64_t)c;
   return t->i && t->j && t->line && t->v;
 }
 
@@ -301,7 +324,7 @@ static int parse_value(reader *r, const header *h, const char *s,
     errno = 0;
     long long v = strtoll(s, &end, 10);
     if (end == s || *end || errno == ERANGE)
-      return rd_fail(r, VI_ERR_PARSE, key, "'%s' is not a whole number (the "
+      return vi_mx_fail(r, VI_ERR_PARSE, key, "'%s' is not a whole number (the "
                      "field is integer)", s);
     *out = (double)v;
     return VI_OK;
@@ -309,15 +332,15 @@ static int parse_value(reader *r, const header *h, const char *s,
   errno = 0;
   double v = strtod(s, &end);
   if (end == s || *end)
-    return rd_fail(r, VI_ERR_PARSE, key, "'%s' is not a number", s);
+    return vi_mx_fail(r, VI_ERR_PARSE, key, "'%s' is not a number", s);
   if (!isfinite(v) || (errno == ERANGE && fabs(v) > 1.0))
-    return rd_fail(r, VI_ERR_NONFINITE, key, "'%s' is not a finite number",
+    return vi_mx_fail(r, VI_ERR_NONFINITE, key, "'%s' is not a finite number",
                    s);
   *out = v;
   return VI_OK;
 }
 
-static int read_entries(reader *r, const header *h, triplets *t)
+static int read_entries(reader *r, const header *h, vi_mx_triplets *t)
 {
   char key[48], *w[4];
   int st;
@@ -327,7 +350,7 @@ static int read_entries(reader *r, const header *h, triplets *t)
     snprintf(key, sizeof key, "entry %lld", (long long)k + 1);
     if (!next_data(r, &st)) {
       if (st) return st;
-      return rd_fail(r, VI_ERR_PARSE, key, "the file ends after %lld of its "
+      return vi_mx_fail(r, VI_ERR_PARSE, key, "the file ends after %lld of its "
                      "%lld entries (truncated?)", (long long)k,
                      (long long)h->entries);
     }
@@ -335,7 +358,7 @@ static int read_entries(reader *r, const header *h, triplets *t)
     memcpy(copy, r->buf, sizeof copy);
     int want = h->array ? 1 : 3, nw = words(copy, w, 3);
     if (nw != want)
-      return rd_fail(r, VI_ERR_PARSE, key, "expected %s, got %d word%s",
+      return vi_mx_fail(r, VI_ERR_PARSE, key, "expected %s, got %d word%s",
                      h->array ? "one value" : "'row column value'", nw,
                      nw == 1 ? "" : "s");
     double v = 0.0;
@@ -353,14 +376,14 @@ static int read_entries(reader *r, const header *h, triplets *t)
     } else {
       long long li, lj;
       if (!whole(w[0], LLONG_MIN, &li) || !whole(w[1], LLONG_MIN, &lj))
-        return rd_fail(r, VI_ERR_PARSE, key, "'%s %s' are not whole numbers",
+        return vi_mx_fail(r, VI_ERR_PARSE, key, "'%s %s' are not whole numbers",
                        w[0], w[1]);
       if (li < 1 || li > h->rows || lj < 1 || lj > h->cols)
-        return rd_fail(r, VI_ERR_DIM, key, "index (%lld, %lld) outside the "
+        return vi_mx_fail(r, VI_ERR_DIM, key, "index (%lld, %lld) outside the "
                        "%d x %d matrix (indices are 1-based)", li, lj,
                        h->rows, h->cols);
       if (h->symmetric && li < lj)
-        return rd_fail(r, VI_ERR_NOT_SYMMETRIC, key, "entry (%lld, %lld) above "
+        return vi_mx_fail(r, VI_ERR_NOT_SYMMETRIC, key, "entry (%lld, %lld) above "
                        "the diagonal of a symmetric file (the format stores "
                        "the lower triangle, i >= j)", li, lj);
       if ((st = parse_value(r, h, w[2], key, &v))) return st;
@@ -375,7 +398,7 @@ static int read_entries(reader *r, const header *h, triplets *t)
   }
   /* nothing but comments may follow */
   if (next_data(r, &st))
-    return rd_fail(r, VI_ERR_PARSE, "entry", "more entries than the %lld "
+    return vi_mx_fail(r, VI_ERR_PARSE, "entry", "more entries than the %lld "
                    "of the size line", (long long)h->entries);
   return st;
 }
@@ -383,7 +406,7 @@ static int read_entries(reader *r, const header *h, triplets *t)
 /* ---- sorting into columns ----------------------------------------------- */
 /* perm: the entries ordered by column, then row (two stable counting
  * sorts); colptr [cols + 1] the columns' starts. */
-static int sort_csc(const triplets *t, int rows, int cols, int *colptr,
+static int sort_csc(const vi_mx_triplets *t, int rows, int cols, int *colptr,
                     int *perm)
 {
   size_t nb = (size_t)(rows > cols ? rows : cols) + 1;
@@ -429,10 +452,10 @@ static int find_entry(const int *colptr, const int *rowind, int i, int j)
  * arrays; duplicates refused; a general file kept whole or, for
  * VI_CSC_LOWER, checked for symmetry and its lower triangle averaged.  The
  * arrays are made first and handed to a new vi_mm only on success. */
-static int build(reader *r, const header *h, triplets *t, int storage,
-                 vi_mm **out)
+int vi_mx_build(reader *r, int rows, int cols, int symmetric,
+                vi_mx_triplets *t, int storage, vi_mm **out)
 {
-  if (h->symmetric && storage == VI_CSC_FULL) {
+  if (symmetric && storage == VI_CSC_FULL) {
     int64_t n0 = t->count;
     for (int64_t k = 0; k < n0; k++)
       if (t->i[k] != t->j[k]) {
@@ -445,12 +468,12 @@ static int build(reader *r, const header *h, triplets *t, int storage,
   }
   size_t cnt = (size_t)t->count + 1;
   int *perm = malloc(cnt * sizeof(int)),
-      *colptr = malloc(((size_t)h->cols + 1) * sizeof(int)),
+      *colptr = malloc(((size_t)cols + 1) * sizeof(int)),
       *rowind = malloc(cnt * sizeof(int));
   double *val = malloc(cnt * sizeof(double)), *avg = NULL;
   int st = VI_OK, nnz = (int)t->count;
   if (!perm || !colptr || !rowind || !val ||
-      sort_csc(t, h->rows, h->cols, colptr, perm)) {
+      sort_csc(t, rows, cols, colptr, perm)) {
     st = vi_diag_nomem(r->d, r->path);
     goto out;
   }
@@ -469,18 +492,22 @@ static int build(reader *r, const header *h, triplets *t, int storage,
         l1 = sw;
       }
       /* report at the later line, naming the earlier */
+      char at[48];
+      if (l0 == l1) /* a fixed-width file holds several entries a line */
+        snprintf(at, sizeof at, "both on line %d", l0);
+      else
+        snprintf(at, sizeof at, "at lines %d and %d", l0, l1);
       st = vi_diag_set(r->d, r->path, VI_ERR_PARSE, l1, 1, "entry", "",
-                       "entry (%d, %d) given twice, at lines %d and %d "
-                       "(duplicates are refused, not summed)",
-                       t->i[e] + 1, t->j[e] + 1, l0, l1);
+                       "entry (%d, %d) given twice, %s (duplicates are "
+                       "refused, not summed)", t->i[e] + 1, t->j[e] + 1, at);
       goto out;
     }
   }
-  if (!h->symmetric && storage == VI_CSC_LOWER) {
-    if (h->rows != h->cols) {
+  if (!symmetric && storage == VI_CSC_LOWER) {
+    if (rows != cols) {
       st = vi_diag_set(r->d, r->path, VI_ERR_DIM, 0, 0, "size", "",
                        "a %d x %d matrix is not square: lower-triangle "
-                       "storage needs a symmetric matrix", h->rows, h->cols);
+                       "storage needs a symmetric matrix", rows, cols);
       goto out;
     }
     /* every entry against its mirror (absent: 0), the average kept ... */
@@ -488,7 +515,7 @@ static int build(reader *r, const header *h, triplets *t, int storage,
       st = vi_diag_nomem(r->d, r->path);
       goto out;
     }
-    for (int j = 0; j < h->cols; j++)
+    for (int j = 0; j < cols; j++)
       for (int k = colptr[j]; k < colptr[j + 1]; k++) {
         int i = rowind[k], q = find_entry(colptr, rowind, j, i);
         double a = val[k], b = q >= 0 ? val[q] : 0.0;
@@ -508,7 +535,7 @@ static int build(reader *r, const header *h, triplets *t, int storage,
     /* ... then the lower triangle, exactly symmetric as the model stores a
      * dense matrix */
     int kept = 0;
-    for (int j = 0; j < h->cols; j++) {
+    for (int j = 0; j < cols; j++) {
       int start = colptr[j], end = colptr[j + 1];
       colptr[j] = kept;
       for (int k = start; k < end; k++)
@@ -518,7 +545,7 @@ static int build(reader *r, const header *h, triplets *t, int storage,
           kept++;
         }
     }
-    colptr[h->cols] = kept;
+    colptr[cols] = kept;
     nnz = kept;
   }
   vi_mm *m = calloc(1, sizeof *m);
@@ -526,8 +553,8 @@ static int build(reader *r, const header *h, triplets *t, int storage,
     st = vi_diag_nomem(r->d, r->path);
     goto out;
   }
-  m->rows = h->rows;
-  m->cols = h->cols;
+  m->rows = rows;
+  m->cols = cols;
   m->storage = storage;
   m->nnz = nnz;
   m->colptr = colptr;
@@ -559,7 +586,7 @@ int vi_mm_load_limited(const char *path, int storage, double max_bytes,
   reader r;
   header h;
   memset(&h, 0, sizeof h);
-  int st = open_reader(&r, path, d);
+  int st = vi_mx_open(&r, path, d);
   if (st) return st;
   if ((st = read_header(&r, &h))) {
     fclose(r.f);
@@ -572,7 +599,7 @@ int vi_mm_load_limited(const char *path, int storage, double max_bytes,
   double need = 40.0 * (double)cap + 12.0 * (double)h.cols;
   if (max_bytes > 0 && need > max_bytes) {
     fclose(r.f);
-    return rd_fail(&r, VI_ERR_LIMIT, "size", "reading %lld entries needs "
+    return vi_mx_fail(&r, VI_ERR_LIMIT, "size", "reading %lld entries needs "
                    "about %.3g MB, more than the %.3g MB allowed",
                    (long long)h.entries, need / 1048576.0,
                    max_bytes / 1048576.0);
@@ -581,27 +608,21 @@ int vi_mm_load_limited(const char *path, int storage, double max_bytes,
    * promises ("i j v" or "v" and a line end each, the last line's end
    * optional), before storage for them
    * is allocated: a short file cannot ask for gigabytes */
-  struct stat sb;
-  long at = ftell(r.f);
   double least = (h.array ? 2.0 : 6.0) * (double)h.entries - 1.0;
-  if (!fstat(fileno(r.f), &sb) && S_ISREG(sb.st_mode) && at >= 0 &&
-      (double)(sb.st_size - at) < least) {
+  if ((st = vi_mx_check_room(&r, least, h.entries, "size"))) {
     fclose(r.f);
-    return rd_fail(&r, VI_ERR_PARSE, "size", "%lld entries need at least "
-                   "%.0f more bytes, the file has %lld (truncated?)",
-                   (long long)h.entries, least,
-                   (long long)(sb.st_size - at));
+    return st;
   }
-  triplets t;
-  if (!trip_alloc(&t, cap)) {
-    trip_free(&t);
+  vi_mx_triplets t;
+  if (!vi_mx_trip_alloc(&t, cap)) {
+    vi_mx_trip_free(&t);
     fclose(r.f);
     return vi_diag_nomem(d, path);
   }
   st = read_entries(&r, &h, &t);
   fclose(r.f);
-  if (!st) st = build(&r, &h, &t, storage, out);
-  trip_free(&t);
+  if (!st) st = vi_mx_build(&r, h.rows, h.cols, h.symmetric, &t, storage, out);
+  vi_mx_trip_free(&t);
   return st;
 }
 

@@ -13,6 +13,7 @@
 
 #include <yaml.h>
 
+#include "vi_matrix_internal.h"
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
 #include "vibroimpact/vi_mmio.h"
@@ -171,6 +172,33 @@ static int integer(ctx *c, yaml_node_t *nd, const char *key, int lo, int hi,
   return VI_OK;
 }
 
+/* A dof of the model (stop.dof, forcing.on): its 1-based index, or in a
+ * model of coordinate files a [node, dof] pair of its dof map. */
+static int dof_index(ctx *c, const vi_scene *s, yaml_node_t *nd,
+                     const char *key, int *out)
+{
+  if (!nd || nd->type != YAML_SEQUENCE_NODE)
+    return integer(c, nd, key, 1, s->n, out);
+  if (!s->fe.map)
+    return fail(c, nd, VI_ERR_PARSE, key, "%s", "a [node, dof] pair names "
+                "a dof of a model read from coordinate files; give the "
+                "dof's index");
+  yaml_node_item_t *it = nd->data.sequence.items.start;
+  int label = 0, comp = 0, st;
+  if (nd->data.sequence.items.top - it != 2)
+    return fail(c, nd, VI_ERR_PARSE, key, "%s", "expected [node, dof]");
+  if ((st = integer(c, node(c, it[0]), key, INT_MIN, INT_MAX, &label)) ||
+      (st = integer(c, node(c, it[1]), key, 1, INT_MAX, &comp)))
+    return st;
+  if (!(*out = vi_dofmap_index(s->fe.map, label, comp))) {
+    char why[128];
+    snprintf(why, sizeof why, "(node %d, dof %d) is not a dof of the model "
+             "(no file names it)", label, comp);
+    return fail(c, nd, VI_ERR_DIM, key, "%s", why);
+  }
+  return VI_OK;
+}
+
 static int boolean(ctx *c, yaml_node_t *nd, const char *key, int *out)
 {
   const char *s = nd && nd->type == YAML_SCALAR_NODE && nd->tag &&
@@ -322,6 +350,94 @@ static int check_spread(ctx *c, yaml_node_t *nd, const char *key,
   return fail(c, nd, VI_ERR_LIMIT, key, "%s", why);
 }
 
+/* A matrix file's error at the scene's key: a place in the file, there
+ * with the scene's key in front; none (it cannot be opened, or the
+ * coordinate files' map), at the scene's key (v; NULL: no place). */
+static int file_fail(ctx *c, yaml_node_t *v, const char *key, int st,
+                     const vi_diag *hd, const char *path)
+{
+  if (!hd->line)
+    return vi_diag_set(c->d, c->file, st, v ? LINE(v) : 0, v ? COL(v) : 0, key,
+                       v ? (const char *)v->data.scalar.value : "", "%s: %s",
+                       hd->file[0] ? hd->file : path, hd->message);
+  if (c->d) {
+    *c->d = *hd;
+    snprintf(c->d->key, sizeof c->d->key, "%.60s %.60s", key, hd->key);
+  }
+  return st;
+}
+
+static char *scene_relative(const char *scene_file, const char *path);
+
+/* The files of model.matrices (or model.matrix_market): {M: FILE, K: FILE,
+ * C: FILE, format: auto|matrix_market|harwell_boeing|coordinate}.  Each
+ * path resolved, each format told by its content unless format names it;
+ * coordinate files (all of a model's, or none) numbered by one dof map
+ * built over all of them (vi_dofmap_scan: their (node, dof) pairs,
+ * sorted). */
+static int fe_files(ctx *c, vi_scene *s, yaml_node_t *mm, const char *section)
+{
+  static const char *const fk[] = {"M", "K", "C", "format", NULL};
+  static const char *const names[3] = {"M", "K", "C"};
+  static const int slot[3] = {VI_FE_MASS, VI_FE_STIFFNESS, VI_FE_DAMPING};
+  static const char *const fmts[] = {"auto", "matrix_market",
+                                     "harwell_boeing", "coordinate"};
+  int st = check_map(c, mm, section, fk);
+  if (st) return st;
+  s->kind = VI_SCENE_FE;
+  s->fe.section = section;
+  char key[64];
+  int format = VI_MATRIX_AUTO;
+  yaml_node_t *fn = find(c, mm, "format");
+  if (fn) {
+    snprintf(key, sizeof key, "%s.format", section);
+    const char *fv = fn->type == YAML_SCALAR_NODE
+                         ? (const char *)fn->data.scalar.value : "";
+    format = 0;
+    while (format < 4 && strcmp(fv, fmts[format]) != 0) format++;
+    if (format == 4)
+      return fail(c, fn, VI_ERR_PARSE, key, "%s", "expected auto, "
+                  "matrix_market, harwell_boeing or coordinate");
+  }
+  for (int k = 0; k < 3; k++) {
+    snprintf(key, sizeof key, "%s.%s", section, names[k]);
+    yaml_node_t *v = find(c, mm, names[k]);
+    if (!v) {
+      if (k == 2) continue; /* C is optional */
+      return fail(c, mm, VI_ERR_PARSE, key, "%s",
+                  "missing: M and K are required (C is optional)");
+    }
+    if (v->type != YAML_SCALAR_NODE || !v->data.scalar.length ||
+        strlen((const char *)v->data.scalar.value) != v->data.scalar.length)
+      return fail(c, v, VI_ERR_PARSE, key, "%s",
+                  "expected the path of a matrix file");
+    char *path = scene_relative(c->file, (const char *)v->data.scalar.value);
+    if (!path) return fail(c, v, VI_ERR_NOMEM, key, "%s", "out of memory");
+    s->fe.path[slot[k]] = path;
+    s->fe.line[slot[k]] = LINE(v);
+    vi_diag hd;
+    int f = format;
+    if (!f && (st = vi_matrix_detect(path, &f, &hd)))
+      return file_fail(c, v, key, st, &hd, path);
+    s->fe.format[slot[k]] = f;
+    if (k > 0 && (f == VI_MATRIX_COORDINATE) !=
+                     (s->fe.format[VI_FE_MASS] == VI_MATRIX_COORDINATE))
+      return fail(c, v, VI_ERR_PARSE, key, "%s", "coordinate files "
+                  "(node, dof, node, dof, value) number their dofs by one "
+                  "map over all of a model's files: M, K and C must all be "
+                  "coordinate files or none");
+  }
+  if (s->fe.format[VI_FE_MASS] != VI_MATRIX_COORDINATE) return VI_OK;
+  const char *paths[3];
+  int np = 0;
+  for (int k = 0; k < 3; k++)
+    if (s->fe.path[slot[k]]) paths[np++] = s->fe.path[slot[k]];
+  vi_diag hd;
+  if ((st = vi_dofmap_scan(np, paths, 0, &s->fe.map, &hd)))
+    return file_fail(c, NULL, section, st, &hd, paths[0]);
+  return VI_OK;
+}
+
 /* A matrix file named in the scene: relative to the scene's folder (the
  * folder of the name it was read under), absolute as written. */
 static char *scene_relative(const char *scene_file, const char *path)
@@ -384,48 +500,32 @@ static int whole_model(ctx *c, vi_scene *s, yaml_node_t *mm)
 
 /* model.matrix_market: {M: FILE, K: FILE, C: FILE} with modes and zeta
  * beside it.  The files' headers are read now (their size is the model's n
- * and, with the modes, its memory); their entries when the model is made. */
-static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm)
+ * and, with the modes, its memory); their entries when the model is made.
+ * model.matrices is its new name (either may be used), with format:
+ * auto|matrix_market|harwell_boeing|coordinate (fe_files).  section: the
+ * name the scene used. */
+static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
+                    const char *section)
 {
-  static const char *const fk[] = {"M", "K", "C", NULL};
   static const char *const names[3] = {"M", "K", "C"};
   static const int slot[3] = {VI_FE_MASS, VI_FE_STIFFNESS, VI_FE_DAMPING};
-  int st = check_map(c, mm, "model.matrix_market", fk);
+  int st = fe_files(c, s, mm, section);
   if (st) return st;
-  s->kind = VI_SCENE_FE;
   for (int k = 0; k < 3; k++) {
     char key[64];
-    snprintf(key, sizeof key, "model.matrix_market.%s", names[k]);
+    snprintf(key, sizeof key, "%s.%s", section, names[k]);
     yaml_node_t *v = find(c, mm, names[k]);
-    if (!v) {
-      if (k == 2) continue; /* C is optional */
-      return fail(c, mm, VI_ERR_PARSE, key, "%s",
-                  "missing: M and K are required (C is optional)");
-    }
-    if (v->type != YAML_SCALAR_NODE || !v->data.scalar.length ||
-        strlen((const char *)v->data.scalar.value) != v->data.scalar.length)
-      return fail(c, v, VI_ERR_PARSE, key, "%s",
-                  "expected the path of a Matrix Market file");
-    char *path = scene_relative(c->file, (const char *)v->data.scalar.value);
-    if (!path) return fail(c, v, VI_ERR_NOMEM, key, "%s", "out of memory");
-    s->fe.path[slot[k]] = path;
-    s->fe.line[slot[k]] = LINE(v);
+    const char *path = s->fe.path[slot[k]];
+    if (!v || !path) continue; /* C is optional (M and K: fe_files) */
     vi_diag hd;
     int rows = 0, cols = 0, sym = 0;
     int64_t entries = 0;
-    if ((st = vi_mm_read_header(path, &rows, &cols, &entries, &sym, &hd))) {
-      /* a place in the matrix file: there, the scene's key in front;
-       * none (it cannot be opened): at the scene's key */
-      if (!hd.line)
-        return vi_diag_set(c->d, c->file, st, LINE(v), COL(v), key,
-                           (const char *)v->data.scalar.value, "%s: %s", path,
-                           hd.message);
-      if (c->d) {
-        *c->d = hd;
-        snprintf(c->d->key, sizeof c->d->key, "%.60s %.60s", key, hd.key);
-      }
-      return st;
-    }
+    if (s->fe.map) { /* coordinate files: the shared map's size */
+      rows = cols = vi_dofmap_n(s->fe.map);
+      entries = vi_dofmap_entries(s->fe.map);
+    } else if ((st = vi_matrix_read_header(path, s->fe.format[slot[k]], &rows,
+                                           &cols, &entries, &sym, &hd)))
+      return file_fail(c, v, key, st, &hd, path);
     char why[160];
     if (rows != cols) {
       snprintf(why, sizeof why, "a %d x %d matrix: M, C and K are square",
@@ -472,32 +572,37 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
 {
   static const char *const keys[] = {"M",        "C",        "K",
                                      "chain",    "cantilever", "rayleigh",
-                                     "matrix_market", "modes", "zeta", NULL};
+                                     "matrix_market", "matrices", "modes",
+                                     "zeta", NULL};
   int st = check_map(c, mod, "model", keys);
   if (st) return st;
   s->line_model = LINE(mod);
   yaml_node_t *K = find(c, mod, "K"), *ch = find(c, mod, "chain"),
               *ca = find(c, mod, "cantilever"),
-              *mm = find(c, mod, "matrix_market");
-  if ((K != NULL) + (ch != NULL) + (ca != NULL) + (mm != NULL) != 1)
+              *mm = find(c, mod, "matrices"),
+              *mmold = find(c, mod, "matrix_market");
+  if ((K != NULL) + (ch != NULL) + (ca != NULL) + (mm != NULL) +
+          (mmold != NULL) != 1)
     return fail(c, mod, VI_ERR_PARSE, "model", "%s",
                 "give exactly one of K (with M, C), chain, cantilever or "
-                "matrix_market");
+                "matrices (or its old name matrix_market)");
+  const char *section = mm ? "model.matrices" : "model.matrix_market";
+  mm = mm ? mm : mmold;
   if (!mm) {
     yaml_node_t *x = find(c, mod, "modes");
     x = x ? x : find(c, mod, "zeta");
     if (x)
       return fail(c, x, VI_ERR_PARSE, find(c, mod, "modes") ? "model.modes"
                                                              : "model.zeta",
-                  "%s", "modes and zeta go with matrix_market (a "
+                  "%s", "modes and zeta go with matrices (a "
                   "cantilever takes them in cantilever:)");
   }
   if (mm) {
     if (find(c, mod, "M") || find(c, mod, "C"))
       return fail(c, mod, VI_ERR_PARSE, "model", "%s",
-                  "matrix_market gives M, K and C: no explicit matrices "
-                  "beside it");
-    if ((st = parse_fe(c, s, mod, mm))) return st;
+                  "matrices give M, K and C: no explicit matrices beside "
+                  "them");
+    if ((st = parse_fe(c, s, mod, mm, section))) return st;
   } else if (K) {
     s->kind = VI_SCENE_EXPLICIT;
     if (K->type != YAML_SEQUENCE_NODE)
@@ -637,7 +742,7 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
     for (yaml_node_item_t *it = on->data.sequence.items.start;
          it < on->data.sequence.items.top; it++) {
       int j = 1;
-      if ((st = integer(c, node(c, *it), "forcing.on", 1, s->n, &j))) return st;
+      if ((st = dof_index(c, s, node(c, *it), "forcing.on", &j))) return st;
       s->a[j - 1] = A;
     }
   }
@@ -651,7 +756,8 @@ static int parse_forcing(ctx *c, vi_scene *s, yaml_node_t *f)
   return VI_OK;
 }
 
-/* One stop {w: [...] | dof: j (or its synonym mass: j, 1-based),
+/* One stop {w: [...] | dof: j (or its synonym mass: j, 1-based; in a
+ * model of coordinate files also [node, dof]),
  * direction: +1 | -1, xs, r} at `path` ("stop", "stops[2]") into w [n]
  * (zeroed), *has_w, *xs, *r.  direction -1 makes the stop push the other
  * way: w = -e_j, so that -x_j <= xs (a stop below the coordinate). */
@@ -696,7 +802,7 @@ static int parse_stop_at(ctx *c, vi_scene *s, yaml_node_t *sp,
   if (dof) {
     int j = 1;
     join(key, path, dname);
-    if ((st = integer(c, dof, key, 1, s->n, &j))) return st;
+    if ((st = dof_index(c, s, dof, key, &j))) return st;
     w[j - 1] = sign;
     *has_w = 1;
   }
@@ -911,7 +1017,7 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
       return st;
     if ((s->outputs & VI_SCENE_OUT_SHAPES) && s->kind != VI_SCENE_FE)
       return fail(c, find(c, out, "shapes"), VI_ERR_PARSE, "output.shapes",
-                  "%s", "the shapes of a model.matrix_market: other models "
+                  "%s", "the shapes of a model.matrices: other models "
                   "write theirs in /modal (output.modes)");
     if ((v = find(c, out, "samples_per_period")) &&
         (st = integer(c, v, "output.samples_per_period", 0, 1000000,
@@ -1306,6 +1412,7 @@ void vi_scene_destroy(vi_scene **scene)
   free(s->xw);
   free(s->xint);
   for (int k = 0; k < 3; k++) free(s->fe.path[k]);
+  vi_dofmap_destroy(&s->fe.map);
   free(s->fe.zeta);
   free(s->fe.q0);
   free(s->fe.report);

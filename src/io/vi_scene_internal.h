@@ -17,13 +17,18 @@
 
 enum { VI_SCENE_EXPLICIT, VI_SCENE_CHAIN, VI_SCENE_CANTILEVER, VI_SCENE_FE };
 
-/* A finite-element model from Matrix Market files (model.matrix_market):
- * the files' paths (resolved against the scene's folder; C may be NULL),
+/* A finite-element model from matrix files (model.matrices, or its alias
+ * model.matrix_market): the files' paths (resolved against the scene's
+ * folder; C may be NULL), their formats (VI_MATRIX_*, vi_mmio.h), the dof
+ * map of coordinate files (NULL for the others),
  * the modes kept and their damping.  Its vectors (forcing, stops, initial
  * state) are physical: n dofs; the model made has `modes` coordinates. */
 typedef struct vi_scene_fe {
   char *path[3];       /* M, K, C (VI_FE_MASS, VI_FE_STIFFNESS, ...) */
   int line[3];         /* their lines in the scene */
+  int format[3];       /* VI_MATRIX_MARKET, ..._HARWELL_BOEING, ... */
+  struct vi_dofmap *map;
+  const char *section; /* "model.matrices" or "model.matrix_market" */
   int64_t entries;     /* the most values any of the files holds */
   int modes, nzeta;    /* kept modes; 0, 1 or `modes` damping ratios */
   int modes_given;     /* model.modes was written; else every finite mode */

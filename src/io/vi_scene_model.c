@@ -65,7 +65,8 @@ double vi_scene_memory_estimate(const vi_scene *s)
   if (!s) return 0;
   int64_t bytes = 0;
   if (s->kind == VI_SCENE_FE) {
-    /* the files read (vi_mmio.h: 40 bytes an entry), the reduction
+    /* the files read (vi_mmio.h: 40 bytes an entry, 48 and the dof map
+     * for coordinate files), the reduction
      * without its sparse factor (vi_fe_memory_estimate; the factor is
      * known only after CHOLMOD's analysis), the scene's 7 vectors of n
      * and the modal model's run */
@@ -76,8 +77,8 @@ double vi_scene_memory_estimate(const vi_scene *s)
                                  (s->outputs & VI_SCENE_OUT_LEDGER) != 0,
                                  &run) != VI_OK)
       return HUGE_VAL;
-    return 40.0 * (double)s->fe.entries + (double)fe + (double)run +
-           56.0 * s->n;
+    return (s->fe.map ? 48.0 : 40.0) * (double)s->fe.entries + (double)fe +
+           (double)run + 56.0 * s->n + (s->fe.map ? 8.0 * s->n : 0.0);
   }
   int method = s->method == VI_METHOD_AUTO && uses_band(s) ? VI_METHOD_ADAMS
                                                            : s->method;
@@ -122,7 +123,7 @@ int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
   if (need <= max_bytes) return VI_OK;
   const char *key = s->kind == VI_SCENE_CHAIN        ? "model.chain.n"
                     : s->kind == VI_SCENE_CANTILEVER ? "model.cantilever.modes"
-                    : s->kind == VI_SCENE_FE         ? "model.matrix_market"
+                    : s->kind == VI_SCENE_FE         ? s->fe.section
                                                      : "model.K";
   char val[32];
   snprintf(val, sizeof val, "%d", s->n);
@@ -241,9 +242,10 @@ static int create_band_chain(const vi_scene *s, vi_model **m)
   return st;
 }
 
-/* ---- a finite-element model: Matrix Market files reduced to modes ------
- * Each file read into lower CSC storage and handed to the reduction
- * (vi_sparse.h), which copies it: one file's arrays at a time. */
+/* ---- a finite-element model: matrix files reduced to modes ------------
+ * Each file read (in its format, coordinate files through the scene's dof
+ * map) into lower CSC storage and handed to the reduction (vi_sparse.h),
+ * which copies it: one file's arrays at a time. */
 static int fe_fail(vi_diag *d, const vi_scene *s, int line, const char *key,
                    int st, const vi_fe *fe)
 {
@@ -258,10 +260,11 @@ static int fe_matrices(const vi_scene *s, vi_fe *fe, vi_diag *d)
   for (int k = 0; k < 3; k++) { /* VI_FE_MASS, _DAMPING, _STIFFNESS */
     if (!s->fe.path[k]) continue;
     char key[64];
-    snprintf(key, sizeof key, "model.matrix_market.%s", names[k]);
+    snprintf(key, sizeof key, "%s.%s", s->fe.section, names[k]);
     vi_mm *mm = NULL;
     vi_diag md;
-    int st = vi_mm_load(s->fe.path[k], VI_CSC_LOWER, &mm, &md);
+    int st = vi_matrix_load(s->fe.path[k], s->fe.format[k], s->fe.map,
+                            VI_CSC_LOWER, 0, &mm, &md);
     if (st) {
       if (!md.line) /* no place in the file: name it at the scene's key */
         return vi_diag_set(d, s->file, st, s->fe.line[k], 1, key,
@@ -302,7 +305,7 @@ int vi_scene_create_fe(const vi_scene *s, int modes, int keep, vi_fe **out,
   if (s->kind != VI_SCENE_FE)
     return vi_diag_set(d, s->file, VI_ERR_UNSUPPORTED, s->line_model, 1,
                        "model", "", "%s", "not a finite-element scene "
-                       "(model.matrix_market)");
+                       "(model.matrices)");
   if (modes == 0) modes = s->fe.modes;
   if (modes < 1 || modes > s->n)
     return vi_diag_set(d, s->file, VI_ERR_DIM, s->line_model, 1,

@@ -202,12 +202,33 @@ static int put_csc(hid_t parent, const char *name, int n, int nnz,
   return vi_h5_close(g) | bad;
 }
 
-/* /fe of a model.matrix_market scene: the physical model as it came in,
- * sparse: M, K (and C) from the scene's files, the dofs and kept modes.
- * The rows are the files' own (read again: O(nnz), no eigensolve). */
+/* /fe of an FE scene (model.matrices): the physical model as it came in,
+ * sparse: M, K (and C) from the scene's files, their formats, the dofs and
+ * kept modes, and for coordinate files the numbering of the dofs (node,
+ * dof of each).  The rows are the files' own (read again: O(nnz), no
+ * eigensolve). */
+static int write_dofmap(hid_t g, const vi_dofmap *map)
+{
+  int n = vi_dofmap_n(map), bad = 0;
+  int *nd = malloc(2 * sizeof(int) * ((size_t)n + 1));
+  if (!nd) return 1;
+  for (int i = 0; i < n; i++)
+    bad |= vi_dofmap_label(map, i + 1, nd + i, nd + n + i) != VI_OK;
+  hsize_t dn = (hsize_t)n;
+  bad |= vi_h5_put(g, "dof_node", H5T_NATIVE_INT, 1, &dn, nd, "node label "
+                   "of global dof i (row i of M, K, C): the (node, dof) "
+                   "pairs of the coordinate files, sorted by node then dof");
+  bad |= vi_h5_put(g, "dof_component", H5T_NATIVE_INT, 1, &dn, nd + n,
+                   "dof (component) at that node of global dof i");
+  free(nd);
+  return bad;
+}
+
 static int write_fe(vi_writer *w, const vi_scene *s)
 {
   static const char *const names[3] = {"M", "C", "K"};
+  static const char *const fmts[4] = {"auto", "matrix_market",
+                                      "harwell_boeing", "coordinate"};
   hid_t g = vi_h5_group(w->file, "fe");
   if (g < 0) return 1;
   int bad = vi_h5_attr_int(g, "dofs", s->n) |
@@ -215,20 +236,25 @@ static int write_fe(vi_writer *w, const vi_scene *s)
   bad |= vi_h5_attr_str(g, "meaning", "the finite-element model (physical dofs, "
                   "sparse); the run's model is its reduction to the lowest "
                   "modes (/model)");
+  if (s->fe.map) bad |= write_dofmap(g, s->fe.map);
   for (int k = 0; k < 3 && !bad; k++) {
     if (!s->fe.path[k]) continue;
     vi_mm *mm = NULL;
     vi_diag d;
-    if (vi_mm_load(s->fe.path[k], VI_CSC_LOWER, &mm, &d)) {
+    if (vi_matrix_load(s->fe.path[k], s->fe.format[k], s->fe.map,
+                       VI_CSC_LOWER, 0, &mm, &d)) {
       bad = 1;
       snprintf(w->errmsg, sizeof w->errmsg, "%s", d.message);
       break;
     }
     bad |= put_csc(g, names[k], vi_mm_rows(mm), vi_mm_nnz(mm),
                    vi_mm_colptr(mm), vi_mm_rowind(mm), vi_mm_values(mm));
-    bad |= vi_h5_attr_str(g, names[k][0] == 'M' ? "M_file"
-                       : names[k][0] == 'C' ? "C_file" : "K_file",
-                    s->fe.path[k]);
+    char an[16];
+    snprintf(an, sizeof an, "%s_file", names[k]);
+    bad |= vi_h5_attr_str(g, an, s->fe.path[k]);
+    snprintf(an, sizeof an, "%s_format", names[k]);
+    int f = s->fe.format[k];
+    bad |= vi_h5_attr_str(g, an, fmts[f >= 0 && f < 4 ? f : 0]);
     vi_mm_destroy(&mm);
   }
   H5Gclose(g);

@@ -1,8 +1,9 @@
-/* test_fe_scene.c - finite-element scenes (model.matrix_market): the
+/* test_fe_scene.c - finite-element scenes (model.matrices): the
  * 100-element Hermite beam reduced to 4 modes against the analytic 4-mode
  * cantilever; Siconos' impacting bar against rigid-body kinematics and the
  * bar's wave time; a small chain read from files against the same chain
- * written out; malformed FE scenes with their file, line and key.
+ * written out, and from Harwell-Boeing and coordinate files against the
+ * Matrix Market ones; malformed FE scenes with their file, line and key.
  *   test_fe_scene                 these
  *   test_fe_scene DIR             the long rod of DIR/rod.yaml against its
  *                                 closed-form modal twin DIR/rod_modal.yaml
@@ -15,6 +16,7 @@
 #include <unistd.h>
 
 #include "vi_testutil.h"
+#include "vibroimpact/vi_mmio.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_sparse.h"
@@ -175,7 +177,9 @@ static int remove_dir(void **state)
   (void)state;
   static const char *const names[] = {
       "cM.mtx",  "cK.mtx",   "chain.yaml", "chain2.yaml", "bad.yaml",
-      "nan.mtx", "two.mtx",  "rect.mtx",   "cplx.mtx",    "notspd.mtx"};
+      "nan.mtx", "two.mtx",  "rect.mtx",   "cplx.mtx",    "notspd.mtx",
+      "cM.rsa",  "cK.rsa",   "cM.txt",     "cK.txt",      "hb.yaml",
+      "co.yaml", "mixed.yaml", "bad.rsa",  "bad.txt",     "co2.yaml"};
   for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
     char path[256];
     snprintf(path, sizeof path, "%s/%s", dir, names[k]);
@@ -313,6 +317,124 @@ static void test_chain_from_files(void **state)
   vi_scene_destroy(&sf);
 }
 
+/* The same chain as Harwell-Boeing files (RSA), as coordinate files of
+ * an FE code (node, dof pairs (-5, 2), (7, 1), (30, 1): sorted, they are
+ * the chain's dofs 1, 2, 3; K written as one triangle in the code's own
+ * order), and as Matrix Market M beside Harwell-Boeing K: each reads the
+ * same matrices as the Matrix Market scene, so the reduction gives the
+ * same frequencies bit for bit, and the run the same impacts. */
+#define CHAIN_M_HB                                                           \
+  "chain M                                                                 CHAINM\n" \
+  "             3             1             1             1\n"               \
+  "RSA                        3             3             3             0\n" \
+  "(4I3)           (3I3)           (3E16.8)\n"                              \
+  "  1  2  3  4\n  1  2  3\n"                                               \
+  "  1.00000000E+00  2.00000000E+00  3.00000000E+00\n"
+#define CHAIN_K_HB                                                           \
+  "chain K, k = 4, 5, 6                                                    CHAINK\n" \
+  "             4             1             1             2\n"               \
+  "RSA                        3             3             5             0\n" \
+  "(4I3)           (5I3)           (1P3D16.8)\n"                            \
+  "  1  3  5  6\n  1  2  2  3  3\n"                                         \
+  "  9.00000000D+00 -5.00000000D+00  1.10000000D+01\n"                      \
+  " -6.00000000D+00  6.00000000D+00\n"
+#define CHAIN_M_CO "** chain M\n30, 1, 30, 1, 3.0\n-5, 2, -5, 2, 1.0\n7, 1, 7, 1, 2.0\n"
+#define CHAIN_K_CO                                                           \
+  "** chain K: one triangle, as the code numbered its equations\n"          \
+  "30, 1, 30, 1, 6.0\n7, 1, 30, 1, -6.0\n7, 1, 7, 1, 11.0\n"                 \
+  "-5, 2, 7, 1, -5.0\n-5, 2, -5, 2, 9.0\n"
+
+static void test_chain_other_formats(void **state)
+{
+  (void)state;
+  put("cM.mtx", CHAIN_M);
+  put("cK.mtx", CHAIN_K);
+  put("cM.rsa", CHAIN_M_HB);
+  put("cK.rsa", CHAIN_K_HB);
+  put("cM.txt", CHAIN_M_CO);
+  put("cK.txt", CHAIN_K_CO);
+  put("chain.yaml", "model:\n  matrix_market: {M: cM.mtx, K: cK.mtx}\n"
+                    "  modes: 3\n" TAIL);
+  put("hb.yaml", "model:\n  matrices: {M: cM.rsa, K: cK.rsa}\n"
+                 "  modes: 3\n" TAIL);
+  put("co.yaml", "model:\n  matrices: {M: cM.txt, K: cK.txt, format: "
+                 "coordinate}\n  modes: 3\n" TAIL);
+  put("mixed.yaml", "model:\n  matrices: {M: cM.mtx, K: cK.rsa, format: "
+                    "auto}\n  modes: 3\n" TAIL);
+  static const char *const names[4] = {"chain.yaml", "hb.yaml", "co.yaml",
+                                       "mixed.yaml"};
+  static const int fm[4][2] = {
+      {VI_MATRIX_MARKET, VI_MATRIX_MARKET},
+      {VI_MATRIX_HARWELL_BOEING, VI_MATRIX_HARWELL_BOEING},
+      {VI_MATRIX_COORDINATE, VI_MATRIX_COORDINATE},
+      {VI_MATRIX_MARKET, VI_MATRIX_HARWELL_BOEING}};
+  vi_scene *sc[4] = {NULL, NULL, NULL, NULL};
+  vi_fe *fe[4] = {NULL, NULL, NULL, NULL};
+  vi_diag d;
+  double om[3] = {0, 0, 0};
+  for (int q = 0; q < 4; q++) {
+    char yaml[256];
+    snprintf(yaml, sizeof yaml, "%s/%s", dir, names[q]);
+    int st = vi_scene_load(yaml, &sc[q], &d);
+    if (!st) st = vi_scene_create_fe(sc[q], 0, 0, &fe[q], &d);
+    if (st) {
+      char msg[1200];
+      vi_diag_format(&d, msg, sizeof msg);
+      print_error("%s\n", msg);
+    }
+    assert_int_equal(st, VI_OK);
+    assert_int_equal(vi_scene_dofs(sc[q]), 3);
+    assert_int_equal(vi_scene_matrix_format(sc[q], 0), fm[q][0]);
+    assert_int_equal(vi_scene_matrix_format(sc[q], 1), fm[q][1]);
+    assert_int_equal(vi_scene_matrix_format(sc[q], 2), -1); /* no C */
+    for (int j = 0; j < 3; j++) {
+      if (q == 0) om[j] = vi_fe_omega(fe[q])[j];
+      assert_true(vi_fe_omega(fe[q])[j] == om[j]);
+    }
+    vi_fe_destroy(&fe[q]);
+  }
+  /* the coordinate scene's dofs are its (node, dof) pairs, sorted */
+  const vi_dofmap *map = vi_scene_dofmap(sc[2]);
+  assert_non_null(map);
+  assert_null(vi_scene_dofmap(sc[0]));
+  static const int lab[3][2] = {{-5, 2}, {7, 1}, {30, 1}};
+  for (int i = 0; i < 3; i++) {
+    int node = 0, dof = 0;
+    assert_int_equal(vi_dofmap_label(map, i + 1, &node, &dof), VI_OK);
+    assert_true(node == lab[i][0] && dof == lab[i][1]);
+  }
+  /* the stop and the forcing may name a dof by its pair: [30, 1] is 3 */
+  char yaml[256];
+  put("co2.yaml", "model:\n  matrices: {M: cM.txt, K: cK.txt}\n  modes: 3\n"
+                  "forcing: {omega: 1.3, on: [[30, 1]], amplitude: 0.4}\n"
+                  "stop: {dof: [30, 1], xs: 0.05, r: 0.8}\n"
+                  "initial: {x: 0.01, v: [0, 0.1, 0]}\n"
+                  "run: {periods: 30, rtol: 1.0e-11, atol: 1.0e-13, method: "
+                  "exact}\n");
+  snprintf(yaml, sizeof yaml, "%s/co2.yaml", dir);
+  vi_scene *s2 = NULL;
+  assert_int_equal(vi_scene_load(yaml, &s2, &d), VI_OK);
+  hits *a = malloc(sizeof *a), *b = malloc(sizeof *b), *e = malloc(sizeof *e);
+  assert_true(a && b && e);
+  run_scene(sc[0], a);
+  run_scene(sc[2], b);
+  run_scene(s2, e);
+  print_message("chain as coordinate files: %d impacts (stop and forcing "
+                "named by [node, dof]: %d), as Matrix Market: %d\n", b->n,
+                e->n, a->n);
+  assert_int_equal(a->n, b->n);
+  assert_int_equal(a->n, e->n);
+  assert_true(a->n > 10);
+  for (int k = 0; k < a->n; k++)
+    assert_true(a->t[k] == b->t[k] && a->vn[k] == b->vn[k] &&
+                a->t[k] == e->t[k] && a->vn[k] == e->vn[k]);
+  free(a);
+  free(b);
+  free(e);
+  vi_scene_destroy(&s2);
+  for (int q = 0; q < 4; q++) vi_scene_destroy(&sc[q]);
+}
+
 /* Malformed FE scenes: the stage, the code, the file (the scene or the
  * matrix file), the line and the key. */
 typedef struct badfe {
@@ -338,6 +460,13 @@ static void test_bad_fe_scenes(void **state)
   put("cplx.mtx", "%%MatrixMarket matrix coordinate complex symmetric\n3 3 1\n1 1 1 0\n");
   put("notspd.mtx", "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n"
                     "1 1 1\n2 2 -2\n3 3 3\n");
+  put("cK.rsa", CHAIN_K_HB);
+  put("cM.txt", CHAIN_M_CO);
+  put("cK.txt", CHAIN_K_CO);
+  put("bad.rsa", "title\n             4             1             1             2\n"
+                 "RSA                        3             3             5\n"
+                 "(4I3)           (5I3)           (3E16)\n");
+  put("bad.txt", "1, 1, 1, 1, 2.0\n1, 1, 1, 1\n");
   static const badfe c[] = {
       {"missing file", MM("cM.mtx", "none.mtx") STOP3, VI_ERR_IO, "scene", 2, "model.matrix_market.K"},
       {"complex file", MM("cM.mtx", "cplx.mtx") STOP3, VI_ERR_UNSUPPORTED, "cplx.mtx", 1, "model.matrix_market.K header"},
@@ -355,6 +484,15 @@ static void test_bad_fe_scenes(void **state)
       {"explicit M beside", "model:\n  matrix_market: {M: cM.mtx, K: cK.mtx}\n  M: [[1]]\n" STOP3, VI_ERR_PARSE, "scene", 2, "model"},
       {"stop dof beyond", MM("cM.mtx", "cK.mtx") "stop: {dof: 4, xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop.dof"},
       {"stop without dof", MM("cM.mtx", "cK.mtx") "stop: {xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop"},
+      {"unknown format", "model:\n  matrices: {M: cM.mtx, K: cK.mtx, format: nastran}\n" STOP3, VI_ERR_PARSE, "scene", 2, "model.matrices.format"},
+      {"both keys", "model:\n  matrices: {M: cM.mtx, K: cK.mtx}\n  matrix_market: {M: cM.mtx, K: cK.mtx}\n" STOP3, VI_ERR_PARSE, "scene", 2, "model"},
+      {"coordinate beside Matrix Market", "model:\n  matrices: {M: cM.txt, K: cK.mtx}\n" STOP3, VI_ERR_PARSE, "scene", 2, "model.matrices.K"},
+      {"Harwell-Boeing format error", "model:\n  matrices: {M: cM.mtx, K: bad.rsa}\n" STOP3, VI_ERR_PARSE, "bad.rsa", 4, "model.matrices.K header"},
+      {"format named wrongly", "model:\n  matrices: {M: cM.mtx, K: cK.rsa, format: matrix_market}\n" STOP3, VI_ERR_PARSE, "cK.rsa", 1, "model.matrices.K header"},
+      {"dof pair without coordinate files", MM("cM.mtx", "cK.mtx") "stop: {dof: [3, 1], xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_PARSE, "scene", 3, "stop.dof"},
+      {"dof pair not in the model", "model:\n  matrices: {M: cM.txt, K: cK.txt}\n  modes: 3\nstop: {dof: [30, 2], xs: 0.05, r: 0.8}\nrun: {t_end: 5}\n", VI_ERR_DIM, "scene", 4, "stop.dof"},
+      {"forcing pair short", "model:\n  matrices: {M: cM.txt, K: cK.txt}\n  modes: 3\nforcing: {omega: 1, on: [[30]], amplitude: 1}\n" STOP3, VI_ERR_PARSE, "scene", 4, "forcing.on"},
+      {"coordinate line short", "model:\n  matrices: {M: cM.txt, K: bad.txt}\n" STOP3, VI_ERR_PARSE, "bad.txt", 2, "model.matrices entry 2"},
       {"initial length", MM("cM.mtx", "cK.mtx") STOP3 "initial: {x: [1, 2]}\n", VI_ERR_DIM, "scene", 5, "initial.x"},
       {"M not semidefinite", MM("notspd.mtx", "cK.mtx") STOP3, VI_ERR_NOT_PSD, "scene", 2, "model"},
   };
@@ -449,6 +587,7 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_beam_is_the_cantilever),
       cmocka_unit_test(test_impacting_bar),
       cmocka_unit_test(test_chain_from_files),
+      cmocka_unit_test(test_chain_other_formats),
       cmocka_unit_test(test_bad_fe_scenes),
   };
   return cmocka_run_group_tests(tests, setup_dir, remove_dir);

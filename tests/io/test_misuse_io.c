@@ -364,6 +364,47 @@ static void test_mm_misuse(void **state)
   assert_null(vi_mm_colptr(NULL));
   assert_null(vi_mm_rowind(NULL));
   assert_null(vi_mm_values(NULL));
+  /* the other formats, the dof map and the scene's view of them */
+  int fmt = 0, node = 0, dof = 0;
+  assert_err_diag(vi_matrix_detect(NULL, &fmt, &d), d);
+  assert_err_diag(vi_matrix_detect("/dev/null", NULL, &d), d);
+  assert_err_diag(vi_matrix_detect("/dev/null", &fmt, &d), d); /* a device */
+  assert_err_diag(vi_matrix_read_header(NULL, VI_MATRIX_AUTO, NULL, NULL,
+                                        NULL, NULL, &d), d);
+  assert_err_diag(vi_matrix_read_header("/", 9, NULL, NULL, NULL, NULL, &d),
+                  d);
+  assert_err_diag(vi_matrix_load(NULL, VI_MATRIX_AUTO, NULL, VI_CSC_LOWER, 0,
+                                 &m, &d), d);
+  assert_err_diag(vi_matrix_load("x", VI_MATRIX_AUTO, NULL, VI_CSC_LOWER, 0,
+                                 NULL, &d), d);
+  assert_err_diag(vi_matrix_load("x", VI_MATRIX_AUTO, NULL, 7, 0, &m, &d), d);
+  assert_err_diag(vi_matrix_load("x", VI_MATRIX_AUTO, NULL, VI_CSC_LOWER,
+                                 NAN, &m, &d), d);
+  assert_err_diag(vi_matrix_load("/nonexistent", -4, NULL, VI_CSC_LOWER, 0,
+                                 &m, &d), d);
+  assert_null(m);
+  vi_dofmap *map = NULL;
+  const char *paths[2] = {"/nonexistent", NULL};
+  assert_err_diag(vi_dofmap_scan(0, paths, 0, &map, &d), d);
+  assert_err_diag(vi_dofmap_scan(1, NULL, 0, &map, &d), d);
+  assert_err_diag(vi_dofmap_scan(1, paths, 0, NULL, &d), d);
+  assert_err_diag(vi_dofmap_scan(1, paths, NAN, &map, &d), d);
+  assert_err_diag(vi_dofmap_scan(2, paths, 0, &map, &d), d); /* a NULL path */
+  assert_err_diag(vi_dofmap_scan(1, paths, 0, &map, &d), d); /* missing */
+  assert_null(map);
+  vi_dofmap_destroy(&map);
+  vi_dofmap_destroy(NULL);
+  assert_int_equal(vi_dofmap_n(NULL), 0);
+  assert_int_equal(vi_dofmap_label(NULL, 1, &node, &dof), VI_ERR_ARG);
+  assert_int_equal(vi_dofmap_index(NULL, 1, 1), 0);
+  assert_null(vi_scene_dofmap(NULL));
+  assert_int_equal(vi_scene_matrix_format(NULL, 0), -1);
+  vi_scene *sc = NULL;
+  assert_int_equal(vi_scene_parse(vi_scene_default_text(), -1, "x", &sc, &d),
+                   VI_OK);
+  assert_null(vi_scene_dofmap(sc)); /* not an FE scene */
+  assert_int_equal(vi_scene_matrix_format(sc, 0), -1);
+  vi_scene_destroy(&sc);
 }
 
 /* FE scenes: vi_scene_create_fe on NULL, another kind of model, bad

@@ -694,6 +694,67 @@ static void test_fe_round_trip(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* An FE scene from coordinate files (node, dof, node, dof, value): /fe
+ * names each file's format and holds the dof numbering, dof_node and
+ * dof_component [n], the pairs sorted by node then dof. */
+static void test_fe_coordinate(void **state)
+{
+  (void)state;
+  char dir[] = "/tmp/vi_test_writer_co_XXXXXX", path[] =
+      "/tmp/vi_test_writer_coh5_XXXXXX", pm[96], pk[96], text[512];
+  assert_non_null(mkdtemp(dir));
+  vi_test_temp_file(path);
+  snprintf(pm, sizeof pm, "%s/M.txt", dir);
+  snprintf(pk, sizeof pk, "%s/K.txt", dir);
+  FILE *f = fopen(pm, "w");
+  assert_non_null(f);
+  fputs("12, 3, 12, 3, 2.0\n-1, 1, -1, 1, 1.0\n", f);
+  fclose(f);
+  assert_non_null(f = fopen(pk, "w"));
+  fputs("12, 3, 12, 3, 5.0\n-1, 1, 12, 3, -1.0\n-1, 1, -1, 1, 3.0\n", f);
+  fclose(f);
+  snprintf(text, sizeof text, "model:\n  matrices: {M: %s, K: %s}\n  "
+           "modes: 2\nstop: {dof: 2, xs: 0.1, r: 0.8}\nrun: {t_end: 1}\n",
+           pm, pk);
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_writer *w = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse(text, -1, "co.yaml", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_OK);
+  assert_int_equal(vi_writer_create(path, m, 1, &w, &d), VI_OK);
+  assert_int_equal(vi_writer_write_header(w, sc, 1e-8, 1e-10,
+                                          VI_METHOD_EXACT), VI_OK);
+  assert_int_equal(vi_writer_close(&w, 1), VI_OK);
+  hid_t h = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(h >= 0);
+  int *node = read_ints(h, "fe/dof_node", 2),
+      *dof = read_ints(h, "fe/dof_component", 2);
+  assert_true(node[0] == -1 && dof[0] == 1 && node[1] == 12 && dof[1] == 3);
+  hid_t g = H5Gopen2(h, "fe", H5P_DEFAULT);
+  char fmt[32] = "";
+  hid_t a = H5Aopen(g, "K_format", H5P_DEFAULT), t = H5Aget_type(a);
+  assert_true(H5Tget_size(t) < sizeof fmt);
+  assert_true(H5Aread(a, t, fmt) >= 0);
+  assert_string_equal(fmt, "coordinate");
+  H5Tclose(t);
+  H5Aclose(a);
+  H5Gclose(g);
+  /* K's lower triangle in that numbering: (1,1) 3, (2,1) -1, (2,2) 5 */
+  double *v = read_all(h, "fe/K/values", 3);
+  assert_true(v[0] == 3.0 && v[1] == -1.0 && v[2] == 5.0);
+  free(v);
+  free(node);
+  free(dof);
+  H5Fclose(h);
+  remove(path);
+  remove(pm);
+  remove(pk);
+  rmdir(dir);
+  vi_model_destroy(&m);
+  vi_scene_destroy(&sc);
+}
+
 int main(void)
 {
   gsl_set_error_handler_off();
@@ -708,6 +769,7 @@ int main(void)
       cmocka_unit_test(test_rank_and_size),
       cmocka_unit_test(test_large_scene_text),
       cmocka_unit_test(test_fe_round_trip),
+      cmocka_unit_test(test_fe_coordinate),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
