@@ -9,7 +9,8 @@ dashpots, NAME_C.mtx: 'coordinate real symmetric', lower triangle, values as
 
 Usage: convert.py [MIRROR_ROOT]   (default /work/.mirror)
 Needs python3-scipy (Debian); only reading / writing, no numerics that
-change values except where SOURCES.md says so (sandwich beam K, real parts).
+change values except where SOURCES.md says so (sandwich beam K = Ke + G0 Kv,
+real or imaginary parts of complex NLEVP data, the foundation's sign).
 """
 import io
 import lzma
