@@ -268,8 +268,8 @@ def analyse(name):
         res["cond_K_scaled"] = float(ks[-1] / ks[0])
         res["K_min_eig_direct"] = float(kev[0])
     else:
-        res["cond_K"] = float("inf")
-        res["cond_K_scaled"] = float("inf")
+        res["cond_K"] = None  # singular (JSON has no infinity)
+        res["cond_K_scaled"] = None
         res["cond_K_flexible_scaled"] = float(ks[-1] / ks[rigid])
 
     k = NMODES + rigid
@@ -384,8 +384,8 @@ def main():
         r["seconds"] = round(time.time() - t0, 1)
         om = ", ".join(f"{w:.6g}" for w in r["omega"][:6])
         print(f"{name}: n={r['n']} nnz(K)={r['nnz_K']} massless={r['massless']}"
-              f" rigid={r['rigid']} cond(K)={r['cond_K']:.3g}"
-              f" cond(Ks)={r['cond_K_scaled']:.3g} omega[:6]=[{om}]"
+              f" rigid={r['rigid']} cond(K)={r['cond_K'] or math.inf:.3g}"
+              f" cond(Ks)={r['cond_K_scaled'] or math.inf:.3g} omega[:6]=[{om}]"
               f" rel_acc={r['rel_accuracy']:.2g} rule_scale={r['threshold_rule_scale']:.3g}"
               f" misfires={r['threshold_rule_misfires']} gap={r['min_rel_gap']:.2g}"
               + f" dense_err={r['dense_error']:.2g} ref_acc={r['ref_accuracy']:.2g}"
