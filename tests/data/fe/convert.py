@@ -9,7 +9,8 @@ dashpots, NAME_C.mtx: 'coordinate real symmetric', lower triangle, values as
 
 Usage: convert.py [MIRROR_ROOT]   (default /work/.mirror)
 Needs python3-scipy (Debian); only reading / writing, no numerics that
-change values except where SOURCES.md says so (sandwich beam K, real parts).
+change values except where SOURCES.md says so (sandwich beam K = Ke + G0 Kv,
+real or imaginary parts of complex NLEVP data, the foundation's sign).
 """
 import io
 import lzma
@@ -209,12 +210,16 @@ def main():
         "C": (d["C_c1"].imag, 0, "NLEVP concrete Im(C_c1) (C_c1 = i*Cv, 36 dashpots)"),
     }, nl)
 
-    # Foundation: K = Kr (1 + i eta_e) element-wise hysteretic, D = i*Cv.
+    # Foundation: NLEVP stores the frequency-domain equation negated,
+    # K = -Ks (1 + i eta_e) (every diagonal entry negative), D = -i Cv, with
+    # K + w D + w^2 M = 0: stiffness -Re(K), dashpots -Im(D) (all > 0).
     d = loadmat(blob(NLEVP, "private/foundation.mat"))
     emit("nlevp_foundation", {
-        "K": (d["K"].real, 0, "NLEVP foundation Re(K) (Im(K) is hysteretic damping)"),
+        "K": (-d["K"].real, 0, "NLEVP foundation -Re(K): NLEVP's K is minus the stiffness"
+                               " (all diagonal entries < 0); Im(K) is hysteretic damping"),
         "M": (d["M"], 0, "NLEVP foundation M (diagonal), private/foundation.mat"),
-        "C": (d["D"].imag, 0, "NLEVP foundation Im(D) (D = i*Cv, 211 soil dashpots)"),
+        "C": (-d["D"].imag, 0, "NLEVP foundation -Im(D) (D = -i*Cv, negated like K;"
+                               " 211 soil dashpots)"),
     }, nl)
 
     ex = f"github.com/jgerstmayr/EXUDYN@{EXUDYN[1][:12]}"

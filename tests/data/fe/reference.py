@@ -4,9 +4,12 @@
 For each NAME_K.mtx / NAME_M.mtx this computes, with dense LAPACK through
 scipy (nothing of vibroimpact is used):
   * massless  - dofs whose row of M is entirely zero;
-  * rigid     - dim null(K), decided from K alone: eigenvalues of the
-                diagonally scaled K_s = D^-1/2 K D^-1/2 (unit diagonal) that
-                are at round-off, i.e. below n*eps*lambda_max(K_s);
+  * rigid     - dim null(K), decided from K alone: eigenvectors u of the
+                diagonally scaled K_s = D^-1/2 K D^-1/2 (unit diagonal) whose
+                eigenvalue is below sqrt(eps) lambda_max(K_s) are candidates;
+                one is a null vector when K u is at round-off entry by entry,
+                max_i |K u|_i / (|K||u|)_i <= 1e4 eps (also reported: the
+                count of scaled eigenvalues below n eps lambda_max(K_s));
   * cond(K)   - lambda_max/lambda_min of K itself and of K_s (the smallest
                 eigenvalue through a Cholesky-based inverse, which is accurate
                 to cond(K_s), not cond(K));
@@ -29,8 +32,13 @@ scipy (nothing of vibroimpact is used):
     quotient psi'K psi / psi'M psi summed EXACTLY (error-free products and
     math.fsum), which equals the eigenvalue of the stored matrices up to
     O(|error in psi|^2);
-  * for the small pairs (n <= 200) a fully extended-precision check:
-    subspace inverse iteration + Rayleigh-Ritz in mpmath at 40 digits.
+  * where n * bandwidth^2 <= FE_MP_BUDGET (2e7) after a reverse
+    Cuthill-McKee ordering, a fully extended-precision check: subspace
+    inverse iteration with a banded LDL' of K - sigma M and Rayleigh-Ritz in
+    mpmath at 40 digits, started from the dense vectors.
+  'lambda' is the mp result where there is one, else the exact Rayleigh
+  quotient; 'ref_accuracy' is its accuracy, 'rel_accuracy' = max eps*kappa
+  what a double-precision solver can be held to.
 Writes reference.json next to this file; prints a table.
 
 Usage: reference.py [NAME ...]   (default: every NAME_K.mtx[.xz] here)
@@ -230,10 +238,22 @@ def analyse(name):
         raise ValueError(f"{name}: K has a non-positive diagonal entry")
     s = 1.0 / np.sqrt(d)
     Ks = Kd * s[:, None] * s[None, :]
-    ks = sl.eigvalsh(Ks)
+    ks, kv = sl.eigh(Ks)
     tol = n * EPS * ks[-1]
-    rigid = int((ks <= tol).sum())
+    # a null vector u of K has K u at round-off entry by entry:
+    # |K u|_i <= c eps (|K||u|)_i; a flexible mode stays far above that
+    # (>= 1e-9 on these models) however large cond(K) is
+    cand = np.flatnonzero(ks <= math.sqrt(EPS) * ks[-1])
+    absK = abs(K)
+    cw_null = []
+    for c in cand:
+        u = s * kv[:, c]
+        den = absK @ abs(u)
+        cw_null.append(float(np.max(abs(K @ u)[den > 0] / den[den > 0])))
+    rigid = int(sum(1 for x in cw_null if x <= 1e4 * EPS))
     res["rigid"] = rigid
+    res["rigid_by_scaled_eigs"] = int((ks <= tol).sum())
+    res["null_candidates_Ku_componentwise"] = cw_null
     res["K_scaled_eigs_low"] = [float(x) for x in ks[:max(rigid + 3, 4)]]
     res["K_scaled_null_tol"] = float(tol)
     kev = sl.eigvalsh(Kd)
@@ -248,8 +268,8 @@ def analyse(name):
         res["cond_K_scaled"] = float(ks[-1] / ks[0])
         res["K_min_eig_direct"] = float(kev[0])
     else:
-        res["cond_K"] = float("inf")
-        res["cond_K_scaled"] = float("inf")
+        res["cond_K"] = None  # singular (JSON has no infinity)
+        res["cond_K_scaled"] = None
         res["cond_K_flexible_scaled"] = float(ks[-1] / ks[rigid])
 
     k = NMODES + rigid
@@ -275,7 +295,7 @@ def analyse(name):
     res["dense_two_shifts_agree"] = float(np.max(np.abs(lam1[rigid:k] - lam_dense[rigid:])
                                                  / lam_dense[rigid:]))
 
-    absK, absM = abs(K), abs(M)
+    absM = abs(M)
     Knorm2 = max(kev[-1], abs(kev[0]))
     resid, cw, kappa, lam_rq, rq_diff = [], [], [], [], []
     for j in range(k):
@@ -350,7 +370,7 @@ def analyse(name):
 
     # repeated / clustered eigenvalues among the ones reported
     fl = lam_ref[flex]
-    res["min_rel_gap"] = float(np.min(np.diff(fl) / fl[1:])) if fl.size > 1 else None
+    res["min_rel_gap"] = float(np.min(np.abs(np.diff(fl)) / fl[1:])) if fl.size > 1 else None
     return res
 
 
@@ -364,8 +384,8 @@ def main():
         r["seconds"] = round(time.time() - t0, 1)
         om = ", ".join(f"{w:.6g}" for w in r["omega"][:6])
         print(f"{name}: n={r['n']} nnz(K)={r['nnz_K']} massless={r['massless']}"
-              f" rigid={r['rigid']} cond(K)={r['cond_K']:.3g}"
-              f" cond(Ks)={r['cond_K_scaled']:.3g} omega[:6]=[{om}]"
+              f" rigid={r['rigid']} cond(K)={r['cond_K'] or math.inf:.3g}"
+              f" cond(Ks)={r['cond_K_scaled'] or math.inf:.3g} omega[:6]=[{om}]"
               f" rel_acc={r['rel_accuracy']:.2g} rule_scale={r['threshold_rule_scale']:.3g}"
               f" misfires={r['threshold_rule_misfires']} gap={r['min_rel_gap']:.2g}"
               + f" dense_err={r['dense_error']:.2g} ref_acc={r['ref_accuracy']:.2g}"
