@@ -468,11 +468,12 @@ static int whole_model(ctx *c, vi_scene *s, yaml_node_t *mm)
   }
   vi_mm *M = NULL;
   vi_diag d;
-  int st = vi_mm_load(s->fe.path[VI_FE_MASS], VI_CSC_LOWER, &M, &d);
+  int st = vi_matrix_load(s->fe.path[VI_FE_MASS], s->fe.format[VI_FE_MASS],
+                          s->fe.map, VI_CSC_LOWER, 0, &M, &d);
   if (st) { /* a place in the matrix file, with the scene's key in front */
     if (c->d) {
       *c->d = d;
-      snprintf(c->d->key, sizeof c->d->key, "model.matrix_market.M %.60s",
+      snprintf(c->d->key, sizeof c->d->key, "%s.M %.60s", s->fe.section,
                d.key);
     }
     return st;
@@ -493,7 +494,7 @@ static int whole_model(ctx *c, vi_scene *s, yaml_node_t *mm)
   vi_mm_destroy(&M);
   s->fe.modes = s->n - s->fe.massless;
   if (s->fe.modes < 1)
-    return fail(c, mm, VI_ERR_NOT_SPD, "model.matrix_market.M", "%s",
+    return fail(c, mm, VI_ERR_NOT_SPD, s->fe.section, "%s",
                 "M is zero: no dof has mass");
   return VI_OK;
 }
@@ -1415,6 +1416,7 @@ void vi_scene_destroy(vi_scene **scene)
   vi_dofmap_destroy(&s->fe.map);
   free(s->fe.zeta);
   free(s->fe.q0);
+  if (s->fe.report) free(s->fe.report->mresid);
   free(s->fe.report);
   free(s);
   *scene = NULL;

@@ -47,6 +47,7 @@ typedef struct vi_scene_fe {
   struct vi_scene_fe_report {
     int done, modes, rule, massless, rigid;
     double resid, orth;
+    double *mresid;   /* [modes]: each kept mode's residual */
   } *report;
 } vi_scene_fe;
 

@@ -391,6 +391,11 @@ static int create_fe_model(const vi_scene *s, vi_model **out, vi_diag *d)
     r->modes = vi_fe_num_modes(fe);
     r->resid = vi_fe_residual(fe);
     vi_fe_summary(fe, &r->massless, &r->rigid, &r->rule, &r->orth);
+    free(r->mresid);
+    r->mresid = malloc(sizeof(double) * (size_t)r->modes);
+    if (r->mresid)
+      memcpy(r->mresid, vi_fe_mode_residuals(fe),
+             sizeof(double) * (size_t)r->modes);
     r->done = 1;
   }
   vi_fe_destroy(&fe);

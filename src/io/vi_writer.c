@@ -224,6 +224,26 @@ static int write_dofmap(hid_t g, const vi_dofmap *map)
   return bad;
 }
 
+/* What the reduction did (vi_scene_fe_summary), once the model is made. */
+static int write_reduction(hid_t g, const struct vi_scene_fe_report *r)
+{
+  static const char *const rules[3] = {"whole", "given", "host"};
+  if (!r || !r->done) return 0;
+  int bad = vi_h5_attr_str(g, "modes_rule",
+                           rules[r->rule >= 0 && r->rule < 3 ? r->rule : 0]);
+  bad |= vi_h5_attr_int(g, "massless_dofs", r->massless);
+  bad |= vi_h5_attr_int(g, "rigid_modes", r->rigid);
+  bad |= vi_h5_attr_double(g, "orthogonality", r->orth);
+  bad |= vi_h5_attr_double(g, "max_residual", r->resid);
+  if (r->mresid) {
+    hsize_t k = (hsize_t)r->modes;
+    bad |= vi_h5_put(g, "mode_residual", H5T_NATIVE_DOUBLE, 1, &k, r->mresid,
+                     "backward error of each kept mode, ||K psi - lambda M "
+                     "psi|| / ((||K|| + |lambda| ||M||) ||psi||)");
+  }
+  return bad;
+}
+
 static int write_fe(vi_writer *w, const vi_scene *s)
 {
   static const char *const names[3] = {"M", "C", "K"};
@@ -237,6 +257,7 @@ static int write_fe(vi_writer *w, const vi_scene *s)
                   "sparse); the run's model is its reduction to the lowest "
                   "modes (/model)");
   if (s->fe.map) bad |= write_dofmap(g, s->fe.map);
+  bad |= write_reduction(g, s->fe.report);
   for (int k = 0; k < 3 && !bad; k++) {
     if (!s->fe.path[k]) continue;
     vi_mm *mm = NULL;
