@@ -542,7 +542,12 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
     s->fe.entries = entries > s->fe.entries ? entries : s->fe.entries;
   }
   yaml_node_t *mo = find(c, mod, "modes"), *ze = find(c, mod, "zeta");
+  yaml_node_t *rg = find(c, mod, "rigid_modes");
   s->fe.modes_given = mo != NULL;
+  s->fe.rigid = -1; /* decided from K */
+  if (rg && (st = integer(c, rg, "model.rigid_modes", 0, s->n, &s->fe.rigid)))
+    return st;
+  s->fe.line_rigid = rg ? LINE(rg) : 0;
   if (mo && (st = integer(c, mo, "model.modes", 1, s->n, &s->fe.modes)))
     return st;
   if (!mo && (st = whole_model(c, s, mm))) return st;
@@ -574,7 +579,7 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
   static const char *const keys[] = {"M",        "C",        "K",
                                      "chain",    "cantilever", "rayleigh",
                                      "matrix_market", "matrices", "modes",
-                                     "zeta", NULL};
+                                     "zeta", "rigid_modes", NULL};
   int st = check_map(c, mod, "model", keys);
   if (st) return st;
   s->line_model = LINE(mod);
@@ -592,11 +597,12 @@ static int parse_model(ctx *c, vi_scene *s, yaml_node_t *mod)
   if (!mm) {
     yaml_node_t *x = find(c, mod, "modes");
     x = x ? x : find(c, mod, "zeta");
+    x = x ? x : find(c, mod, "rigid_modes");
     if (x)
       return fail(c, x, VI_ERR_PARSE, find(c, mod, "modes") ? "model.modes"
-                                                             : "model.zeta",
-                  "%s", "modes and zeta go with matrices (a "
-                  "cantilever takes them in cantilever:)");
+                  : find(c, mod, "zeta") ? "model.zeta" : "model.rigid_modes",
+                  "%s", "modes, zeta and rigid_modes go with matrices (a "
+                  "cantilever takes its modes and zeta in cantilever:)");
   }
   if (mm) {
     if (find(c, mod, "M") || find(c, mod, "C"))

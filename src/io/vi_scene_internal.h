@@ -32,6 +32,7 @@ typedef struct vi_scene_fe {
   int64_t entries;     /* the most values any of the files holds */
   int modes, nzeta;    /* kept modes; 0, 1 or `modes` damping ratios */
   int modes_given;     /* model.modes was written; else every finite mode */
+  int rigid, line_rigid; /* model.rigid_modes (-1: decided from K), line */
   int massless;        /* dofs without mass (counted when modes is not
                         * given: the whole model's size needs it) */
   double *zeta;

@@ -328,6 +328,10 @@ int vi_scene_create_fe(const vi_scene *s, int modes, int keep, vi_fe **out,
     fe_fail(d, s, line, "run.rtol", st, fe);
     goto out;
   }
+  if ((st = vi_fe_set_rigid_modes(fe, s->fe.rigid))) {
+    fe_fail(d, s, s->fe.line_rigid, "model.rigid_modes", st, fe);
+    goto out;
+  }
   /* without model.modes the reduction keeps every finite mode itself */
   if ((s->fe.modes_given || modes != s->fe.modes) &&
       (st = vi_fe_set_modes(fe, modes))) {

@@ -759,8 +759,8 @@ int vi_fe_eigs(vi_fe *fe, double **pPsi)
     if ((st = compliances(fe, L, c, NULL, 0, NULL, fe->wKw))) goto cleanup;
   } else {
     for (int s = 0; s < fe->ns; s++) fe->wKw[s] = HUGE_VAL;
+    cholmod_free_factor(&L, c);
   }
-  cholmod_free_factor(&L, c);
   st = VI_OK;
   if (fe->shift_set && fe->sigma_in == 0.0 && fe->k_singular) {
     st = vi_fail(fe->errmsg, VI_ERR_NOT_SPD, "K is singular or not "
@@ -775,7 +775,9 @@ int vi_fe_eigs(vi_fe *fe, double **pPsi)
   }
   fe->shift = fe->shift_set ? fe->sigma_in
               : fe->k_singular ? -VI_EIGS_AUTO_SHIFT * fe->scale : 0.0;
-  st = shift_invert(fe, &Ks, &Ms, c, Psi);
+  /* sigma = 0: K's own factor is the operator's */
+  st = L && fe->shift == 0.0 ? lanczos(fe, L, c, Psi)
+                             : shift_invert(fe, &Ks, &Ms, c, Psi);
   /* A free structure's first shift is a guess far below its first elastic
    * mode, and K - sigma M then as ill-conditioned as 1 / |sigma|: the
    * elastic modes come out with residuals near 1e-10.  Half the first

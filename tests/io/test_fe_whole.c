@@ -79,6 +79,39 @@ static void test_bar_whole(void **state)
   vi_scene_destroy(&sc);
 }
 
+/* model.rigid_modes: the free bar has one; a scene that says none is
+ * refused, naming the mode K finds rigid. */
+static void test_rigid_modes_key(void **state)
+{
+  (void)state;
+  for (int said = 0; said <= 1; said++) {
+    char text[1024];
+    snprintf(text, sizeof text,
+             "model:\n"
+             "  matrix_market: {M: %s/bar_M.mtx, K: %s/bar_K.mtx}\n"
+             "  modes: 10\n"
+             "  rigid_modes: %d\n"
+             "stop: {dof: 1, direction: -1, xs: 0.0, r: 0.0}\n",
+             VI_SCENE_DIR, VI_SCENE_DIR, said);
+    vi_scene *sc = NULL;
+    vi_model *m = NULL;
+    vi_diag d;
+    assert_int_equal(vi_scene_parse(text, -1, "bar-rigid", &sc, &d), VI_OK);
+    int st = vi_scene_create_model(sc, &m, &d);
+    if (said == 1) {
+      assert_int_equal(st, VI_OK);
+    } else {
+      char msg[1200];
+      vi_diag_format(&d, msg, sizeof msg);
+      print_message("rigid_modes: 0 on the free bar: %s\n", msg);
+      assert_int_equal(st, VI_ERR_ARG);
+      assert_non_null(strstr(d.message, "mode 1"));
+    }
+    vi_model_destroy(&m);
+    vi_scene_destroy(&sc);
+  }
+}
+
 /* A 1001-dof chain in Matrix Market files without model.modes: refused at
  * the scene, naming the key and the way out. */
 static void test_large_without_modes(void **state)
@@ -125,6 +158,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_bar_whole),
+      cmocka_unit_test(test_rigid_modes_key),
       cmocka_unit_test(test_large_without_modes),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
