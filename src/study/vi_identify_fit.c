@@ -106,7 +106,7 @@ int vi_id_lm(vi_identify *id, const double *p, double t0, double *pout,
 int vi_id_local(vi_identify *id, const double *p, double t0, vi_id_sol *s)
 {
   int np = id->np, P = np + id->fit_shift, nr = vi_id_nres(id), st;
-  double pp[MAXP];
+  double pp[MAXP] = {0};
   vi_id_hold(id, -1, NAN);
   st = vi_id_lm(id, p, t0, pp, &id->t0, &s->ssr, &id->iters, &id->conv);
   if (st) return st;

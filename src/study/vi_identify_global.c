@@ -86,8 +86,8 @@ static int starts(vi_identify *id, double *u)
   if (np == 2) {
     for (int a = 0; a < 5; a++)
       for (int b = 0; b < 5; b++) {
-        u[2 * (a * 5 + b)] = (a + 0.5) / 5.0;
-        u[2 * (a * 5 + b) + 1] = (b + 0.5) / 5.0;
+        u[(size_t)2 * (a * 5 + b)] = (a + 0.5) / 5.0;
+        u[(size_t)2 * (a * 5 + b) + 1] = (b + 0.5) / 5.0;
       }
     return 25;
   }
@@ -192,6 +192,7 @@ static int same_min(const vi_identify *id, const vi_id_sol *a, const vi_id_sol *
 static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
 {
   int n = *ns_, keep = 0, P = id->np + id->fit_shift, dof = id->ns - P;
+  if (n < 1 || !s) return;
   qsort(s, n, sizeof *s, cmp_sol);
   for (int k = 0; k < n; k++) {
     int dup = 0;
@@ -223,7 +224,7 @@ int vi_id_global(vi_identify *id, int nd)
   int np = id->np, N = id->N, st = VI_OK, nc = 0, nsol = 0;
   for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j]);
   double *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
-  cand *c = calloc(8 * MAXP, sizeof *c);
+  cand *c = calloc((size_t)8 * MAXP, sizeof *c);
   char why[VI_MSG_LEN] = "";
   if (!u || !c) {
     free(u);
@@ -258,7 +259,7 @@ int vi_id_global(vi_identify *id, int nd)
   int want = st ? 0 : (qsort(c, nc, sizeof *c, cmp_cost), pick(id, c, nc, cell));
   vi_id_sol *s = want ? calloc(want, sizeof *s) : NULL;
   if (want && !s) st = vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
-  for (int k = 0; !st && k < nc; k++) {
+  for (int k = 0; !st && s && k < nc; k++) {
     if (!c[k].picked) continue;
     vi_id_sol *sk = &s[nsol];
     if ((st = vi_id_orb_alloc(&sk->o, N))) break;
@@ -297,7 +298,7 @@ int vi_id_global(vi_identify *id, int nd)
     st = vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED, "no fit from the %d best "
                  "starts converged (the last: %s)", want, why);
   if (st) {
-    for (int k = 0; k < nsol; k++) {
+    for (int k = 0; s && k < nsol; k++) {
       free(s[k].o.x);
       free(s[k].o.v);
     }

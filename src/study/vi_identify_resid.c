@@ -211,7 +211,7 @@ int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
 {
   vi_identify *id = ctx;
   int N = id->N, ns = id->ns, ord[3];
-  double p[MAXP], t0, z[64], zp[64], wt[3];
+  double p[MAXP] = {0}, t0, z[64], zp[64], wt[3];
   const double *d[3];
   double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
   if (!zz) return GSL_ENOMEM;
@@ -289,7 +289,7 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
 {
   vi_identify *id = ctx;
   int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
-  double p[MAXP], t0;
+  double p[MAXP] = {0}, t0;
   if (vi_id_poll_cancel(id)) return GSL_EBADFUNC;
   vi_id_split(id, th, p, &t0);
   if (vi_id_ensure(id, p)) return GSL_EBADFUNC;
@@ -390,7 +390,7 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
                   w.zeta, 1, 0.0, w.dz, 1);
       for (int b = 0; b < nb; b++) {
         if (ord[b] < 2) {
-          dc[b] = vi_dot(N, id->c, w.dz + ord[b] * N);
+          dc[b] = vi_dot(N, id->c, w.dz + (size_t)ord[b] * N);
         } else { /* the field is affine in the state: A dz */
           vi_var_field(m, tj + tau, w.dz, w.g1);
           dc[b] = vi_dot(N, id->c, w.g1 + N) - vi_dot(N, id->c, w.g0 + N);
@@ -425,7 +425,7 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
       for (int b = 0; b < nb; b++) {
         double dd;
         if (ord[b] < 2) {
-          dd = vi_dot(N, id->c, w.f + ord[b] * N);
+          dd = vi_dot(N, id->c, w.f + (size_t)ord[b] * N);
         } else { /* d/ds of the acceleration, centrally differenced */
           double h = 1e-6 * P;
           vi_id_orbit_state(m, id->xf, o, s + h, w.za, w.zt, NULL, NULL, NULL);
