@@ -732,9 +732,14 @@ static void identify_text_solutions(const ident *I, const fit_result *f)
   int ns = I->rec.ns;
   if (ex > 0.0 && isfinite(s2)) {
     double L = pow(1.645 * s2 * sqrt(2.0) / (ex * sqrt((double)ns)), 2.0);
-    printf("  to tell them apart: a record about %.0f times longer at this noise,"
-           " or a second sensor (another dof, v or a) or another forcing level"
-           " where their responses differ\n", fmax(L, 1.5));
+    if (L > 100.0)
+      printf("  to tell them apart: no practical record length at this noise (over "
+             "100 times longer); a second sensor (another dof, v or a) or another "
+             "forcing level where their responses differ\n");
+    else
+      printf("  to tell them apart: a record about %.0f times longer at this noise,"
+             " or a second sensor (another dof, v or a) or another forcing level"
+             " where their responses differ\n", fmax(L, 1.5));
   } else {
     printf("  to tell them apart: a second sensor (another dof, v or a) or another "
            "forcing level where their responses differ\n");
