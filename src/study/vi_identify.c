@@ -452,6 +452,7 @@ int vi_identify_run(vi_identify *id)
     for (int i = 0; i < 2 * id->N; i++)
       id->mumax = fmax(id->mumax, hypot(id->mre[i], id->mim[i]));
   }
+  id->errmsg[0] = 0; /* what failed at some starts is no error of the run */
   id->done = 1;
   return VI_OK;
 }
