@@ -180,6 +180,15 @@ VI_API int vi_identify_set_data(vi_identify *id, int ns, const double *t,
 VI_API int vi_identify_set_sensors(vi_identify *id, int ns, const double *t,
                                    const double *x, const double *v,
                                    const double *a);
+/** One more recorded channel (several sensors, several dofs at once):
+ *  samples y [ns] of c.x, c.x' or c.x'' (order 0, 1, 2; c [N], copied) at
+ *  the recording's times, a block of residuals weighted as
+ *  vi_identify_set_sensors's.  After vi_identify_set_data or _set_sensors
+ *  (which remove the channels added before).  @return VI_OK, VI_ERR_ARG
+ *  (NULL, order out of range, c zero), VI_ERR_STATE (no recording yet),
+ *  VI_ERR_DIM (more than 8), VI_ERR_NONFINITE, VI_ERR_NOMEM. */
+VI_API int vi_identify_add_channel(vi_identify *id, const double *c, int order,
+                                   const double *y);
 /** on = 1 (default): the global stage.  vi_identify_run then needs no
  *  good start: starts spread over each parameter's range (a grid of 8
  *  for one parameter, 5 x 5 for two, a Halton design of 8 np points for

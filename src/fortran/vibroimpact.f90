@@ -101,7 +101,7 @@ module vibroimpact
             vi_identify_set_stable_only, vi_identify_stability, vi_identify_forcing_phase, &
             vi_identify_set_sensors, vi_identify_set_global, vi_identify_profile, &
             vi_identify_nsolutions, vi_identify_solution, vi_identify_solution_profile, &
-            vi_identify_solution_summary, vi_identify_search_range
+            vi_identify_solution_summary, vi_identify_search_range, vi_identify_add_channel
   public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
             vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
             vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
@@ -1071,6 +1071,14 @@ module vibroimpact
       integer(c_int), value :: ns
       real(c_double), intent(in) :: t(*)
       real(c_double), intent(in), optional :: x(*), v(*), a(*)
+    end function
+    !> c [n], y [ns]
+    integer(c_int) function vi_identify_add_channel(id, c, order, y) &
+        bind(C, name="vi_identify_add_channel")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), intent(in) :: c(*), y(*)
+      integer(c_int), value :: order
     end function
     integer(c_int) function vi_identify_set_global(id, on) bind(C, name="vi_identify_set_global")
       import :: c_int, c_ptr

@@ -93,6 +93,7 @@ void vi_identify_destroy(vi_identify **idp)
   free(id->y);
   free(id->vy);
   free(id->ay);
+  vi_id_free_channels(id);
   vi_id_free_solutions(id);
   free(id->o.x);
   free(id->o.v);
@@ -315,6 +316,56 @@ int vi_identify_set_sensors(vi_identify *id, int ns, const double *t,
   id->ay = na;
   id->ych = ych;
   id->ns = ns;
+  vi_id_free_channels(id);
+  id->done = 0;
+  return VI_OK;
+}
+
+void vi_id_free_channels(vi_identify *id)
+{
+  for (int k = 0; k < id->nch; k++) {
+    free(id->chc[k]);
+    free(id->chy[k]);
+  }
+  id->nch = 0;
+}
+
+int vi_identify_add_channel(vi_identify *id, const double *c, int order,
+                            const double *y)
+{
+  if (!id) return VI_ERR_ARG;
+  if (!id->ns)
+    return vi_fail(id->errmsg, VI_ERR_STATE, "a channel before the recording");
+  if (!c || !y || order < 0 || order > 2)
+    return vi_fail(id->errmsg, VI_ERR_ARG, "a channel needs an observation, "
+                   "order 0, 1 or 2, and samples");
+  if (id->nch == MAXCH)
+    return vi_fail(id->errmsg, VI_ERR_DIM, "more than %d added channels", MAXCH);
+  double s = 0.0;
+  for (int i = 0; i < id->N; i++) {
+    if (!isfinite(c[i]))
+      return vi_fail(id->errmsg, VI_ERR_NONFINITE, "channel %d: observation %d: %g",
+                     id->nch + 1, i + 1, c[i]);
+    s += fabs(c[i]);
+  }
+  if (!(s > 0.0))
+    return vi_fail(id->errmsg, VI_ERR_ARG, "channel %d: the observation vector is zero",
+                   id->nch + 1);
+  for (int i = 0; i < id->ns; i++)
+    if (!isfinite(y[i]))
+      return vi_fail(id->errmsg, VI_ERR_NONFINITE, "channel %d: sample %d is not "
+                     "finite (t = %g, %g)", id->nch + 1, i + 1, id->t[i], y[i]);
+  double *nc = malloc(sizeof(double) * id->N), *ny = malloc(sizeof(double) * id->ns);
+  if (!nc || !ny) {
+    free(nc);
+    free(ny);
+    return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
+  }
+  memcpy(nc, c, sizeof(double) * id->N);
+  memcpy(ny, y, sizeof(double) * id->ns);
+  id->chc[id->nch] = nc;
+  id->chy[id->nch] = ny;
+  id->chord[id->nch++] = order;
   id->done = 0;
   return VI_OK;
 }

@@ -21,6 +21,7 @@
 #include "vibroimpact/vi_identify.h"
 
 #define MAXP 32
+#define MAXCH 8 /* channels beside the first three (vi_identify_add_channel) */
 
 /* A P(n, m) orbit: impact times, stops, pre-impact states [N x MAX_M]. */
 typedef struct orb {
@@ -55,6 +56,8 @@ struct vi_identify {
   int ns;
   double *t, *y, *vy, *ay; /* recording: y the first channel */
   int ych;                 /* y's order: 0 c.x, 1 c.x', 2 c.x'' */
+  int nch, chord[MAXCH];   /* more channels: order, observation, data */
+  double *chc[MAXCH], *chy[MAXCH];
   /* the model and orbit at pcur (continuation: each trial starts here) */
   vi_model *cur;
   vi_xflow *xf;
@@ -96,6 +99,7 @@ int vi_id_orb_alloc(orb *o, int N);
 void vi_id_orb_copy(orb *d, const orb *s, int N);
 void vi_id_drop_cur(vi_identify *id);
 void vi_id_free_solutions(vi_identify *id);
+void vi_id_free_channels(vi_identify *id);
 
 /* vi_identify_resid.c */
 int vi_id_make_model(vi_identify *id, const double *p, vi_model **out);

@@ -160,29 +160,52 @@ void vi_id_orbit_state(const vi_model *m, const vi_xflow *xf, const orb *o,
 
 int vi_id_nres(const vi_identify *id)
 {
-  return id->ns * (1 + (id->vy != NULL) + (id->ay != NULL));
+  return id->ns * (1 + (id->vy != NULL) + (id->ay != NULL) + id->nch);
 }
 
+#define NB (3 + MAXCH)
+
 /* The recorded channels as blocks of ns residuals: data, order of the
- * derivative (0 c.x, 1 c.x', 2 c.x'') and weight (Omega^(order of y -
- * order): each block on the scale of the first); their number. */
-static int blocks(const vi_identify *id, const double **d, int *ord, double *wt)
+ * derivative (0 c.x, 1 c.x', 2 c.x''), observation vector, and weight
+ * (Omega^(order of y - order): each block on the scale of the first);
+ * their number. */
+static int blocks(const vi_identify *id, const double **d, int *ord,
+                  double *wt, const double **cv)
 {
   int nb = 0;
   d[nb] = id->y;
   ord[nb] = id->ych;
+  cv[nb] = id->c;
   wt[nb++] = 1.0;
   if (id->vy) {
     d[nb] = id->vy;
     ord[nb] = 1;
+    cv[nb] = id->c;
     wt[nb++] = pow(id->Om0, id->ych - 1);
   }
   if (id->ay) {
     d[nb] = id->ay;
     ord[nb] = 2;
+    cv[nb] = id->c;
     wt[nb++] = pow(id->Om0, id->ych - 2);
   }
+  for (int k = 0; k < id->nch; k++) {
+    d[nb] = id->chy[k];
+    ord[nb] = id->chord[k];
+    cv[nb] = id->chc[k];
+    wt[nb++] = pow(id->Om0, id->ych - id->chord[k]);
+  }
   return nb;
+}
+
+/* c.x, c.x' or c.x'' (order 0, 1, 2) of the state z [2N] of m at model
+ * time s, for the observation c [N]; work [2N]. */
+static double chan(int N, const double *c, const vi_model *m, double s,
+                   const double *z, int order, double *work)
+{
+  if (order < 2) return vi_dot(N, c, z + (size_t)order * N);
+  vi_var_field(m, s, z, work);
+  return vi_dot(N, c, work + N);
 }
 
 /* c.x, c.x' or c.x'' (order 0, 1, 2) of the state z [2N] of m at model
@@ -190,11 +213,7 @@ static int blocks(const vi_identify *id, const double **d, int *ord, double *wt)
 double vi_id_channel(const vi_identify *id, const vi_model *m, double s,
                      const double *z, int order, double *work)
 {
-  int N = id->N;
-  if (order == 0) return vi_dot(N, id->c, z);
-  if (order == 1) return vi_dot(N, id->c, z + N);
-  vi_var_field(m, s, z, work);
-  return vi_dot(N, id->c, work + N);
+  return chan(id->N, id->c, m, s, z, order, work);
 }
 
 /* The parameters and shift of the fit's vector th (held ones at their
@@ -210,9 +229,9 @@ void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,
 int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
 {
   vi_identify *id = ctx;
-  int N = id->N, ns = id->ns, ord[3];
-  double p[MAXP] = {0}, t0, z[64], zp[64], wt[3];
-  const double *d[3];
+  int N = id->N, ns = id->ns, ord[NB];
+  double p[MAXP] = {0}, t0, z[64], zp[64], wt[NB];
+  const double *d[NB], *cv[NB];
   double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
   if (!zz) return GSL_ENOMEM;
   double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
@@ -227,13 +246,13 @@ int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
     if (zz != z) free(zz);
     return GSL_SUCCESS;
   }
-  int nb = blocks(id, d, ord, wt);
+  int nb = blocks(id, d, ord, wt, cv);
   for (int i = 0; i < ns; i++) {
     double s = id->t[i] + t0;
     vi_id_orbit_state(id->cur, id->xf, &id->o, s, zz, zzp, NULL, NULL, NULL);
     for (int b = 0; b < nb; b++)
       gsl_vector_set(f, b * ns + i,
-                     (d[b][i] - vi_id_channel(id, id->cur, s, zz, ord[b], zzp)) * wt[b]);
+                     (d[b][i] - chan(N, cv[b], id->cur, s, zz, ord[b], zzp)) * wt[b]);
   }
   if (zz != z) free(zz);
   return GSL_SUCCESS;
@@ -356,9 +375,9 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   memcpy(id->pacc, p, sizeof(double) * np);
   for (size_t i = 0; i < (size_t)D * np; i++) id->dudp[i] = -w.Fp[i];
   id->have_pred = 1;
-  double P = vi_id_period_of(m, o->n), wt[3];
-  const double *dat[3];
-  int ord[3], nb = blocks(id, dat, ord, wt), sc = id->nfree;
+  double P = vi_id_period_of(m, o->n), wt[NB];
+  const double *dat[NB], *cv[NB];
+  int ord[NB], nb = blocks(id, dat, ord, wt, cv), sc = id->nfree;
   for (int i = 0; i < ns; i++) {
     int j;
     double tau, kper, s = id->t[i] + t0;
@@ -376,7 +395,7 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
       /* du/dp of impact j, through the impact law, moved to the sample:
        * dz(s) = Phi(tau) [R (dx_j, dv_j) - dt_j f+] */
       const double *du = w.Fp + (size_t)q * D + (size_t)j * B;
-      double dt = -du[0], dc[3];
+      double dt = -du[0], dc[NB];
       for (int r = 0; r < N2; r++) w.dz[r] = -du[1 + r];
       vi_var_impact(m, sj, w.dz, w.zeta);
       for (int r = 0; r < N2; r++) w.zeta[r] -= dt * w.f[r];
@@ -390,10 +409,10 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
                   w.zeta, 1, 0.0, w.dz, 1);
       for (int b = 0; b < nb; b++) {
         if (ord[b] < 2) {
-          dc[b] = vi_dot(N, id->c, w.dz + (size_t)ord[b] * N);
+          dc[b] = vi_dot(N, cv[b], w.dz + (size_t)ord[b] * N);
         } else { /* the field is affine in the state: A dz */
           vi_var_field(m, tj + tau, w.dz, w.g1);
-          dc[b] = vi_dot(N, id->c, w.g1 + N) - vi_dot(N, id->c, w.g0 + N);
+          dc[b] = vi_dot(N, cv[b], w.g1 + N) - vi_dot(N, cv[b], w.g0 + N);
         }
       }
       if (w.mp[q]) {
@@ -414,8 +433,8 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
                           w.zb, w.zb + N);
         double h = w.hp[q] + w.hm[q];
         for (int b = 0; b < nb; b++)
-          dc[b] += (vi_id_channel(id, w.mp[q], tj + ta, w.za, ord[b], w.g1) -
-                    vi_id_channel(id, w.mm[q], tj + tb, w.zb, ord[b], w.zt)) / h;
+          dc[b] += (chan(N, cv[b], w.mp[q], tj + ta, w.za, ord[b], w.g1) -
+                    chan(N, cv[b], w.mm[q], tj + tb, w.zb, ord[b], w.zt)) / h;
       }
       for (int b = 0; b < nb; b++)
         gsl_matrix_set(J, b * ns + i, id->col[q], -dc[b] * wt[b]);
@@ -425,13 +444,13 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
       for (int b = 0; b < nb; b++) {
         double dd;
         if (ord[b] < 2) {
-          dd = vi_dot(N, id->c, w.f + (size_t)ord[b] * N);
+          dd = vi_dot(N, cv[b], w.f + (size_t)ord[b] * N);
         } else { /* d/ds of the acceleration, centrally differenced */
           double h = 1e-6 * P;
           vi_id_orbit_state(m, id->xf, o, s + h, w.za, w.zt, NULL, NULL, NULL);
           vi_id_orbit_state(m, id->xf, o, s - h, w.zb, w.zt, NULL, NULL, NULL);
-          dd = (vi_id_channel(id, m, s + h, w.za, 2, w.g1) -
-                vi_id_channel(id, m, s - h, w.zb, 2, w.g1)) / (2.0 * h);
+          dd = (chan(N, cv[b], m, s + h, w.za, 2, w.g1) -
+                chan(N, cv[b], m, s - h, w.zb, 2, w.g1)) / (2.0 * h);
         }
         gsl_matrix_set(J, b * ns + i, sc, -dd * wt[b]);
       }

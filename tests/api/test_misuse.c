@@ -1392,6 +1392,9 @@ static void test_identify_misuse(void **state)
   assert_int_equal(vi_identify_search_range(id, NULL, NULL), VI_ERR_STATE);
   assert_int_equal(vi_identify_search_range(NULL, NULL, NULL), VI_ERR_ARG);
   assert_err(vi_identify_set_global(NULL, 1));
+  assert_err(vi_identify_add_channel(NULL, c, 0, x));
+  assert_err(vi_identify_add_channel(id, c, 3, x));
+  assert_err(vi_identify_add_channel(id, NULL, 0, x));
   assert_err(vi_identify_set_global(id, 2));
   assert_err(vi_identify_set_sensors(NULL, 20, t, x, NULL, NULL));
   assert_err_msg(vi_identify_set_sensors(id, 20, t, NULL, NULL, NULL), "no times or values");
