@@ -1,15 +1,18 @@
 /* vi_cmd_identify.c - `vibroimpact identify`: scene parameters from a
  * recorded periodic response (issue 22; the paper's section 4).
  *
- *   vibroimpact identify SCENE --data REC.csv --fit KEY[,KEY...] [--dof I]
- *                        [--noise S] [--set KEY=VALUE]... [--json] [-o OUT.h5]
+ *   vibroimpact identify SCENE --data REC.csv --fit KEY[,KEY...] [--dof I[,J...]]
+ *                        [--noise S] [--set KEY=VALUE]... [--range KEY=LO:HI]...
+ *                        [--local] [--json] [-o OUT.h5]
  *
- * The recording is CSV with a header: t and x required (x = w.x at the
- * stop, or coordinate I with --dof I), v used when present (c.x'), f (the
- * forcing signal) used to report the forcing phase it implies.  '#' lines
- * are comments.  Each KEY is a numeric scene key (stop.r, stop.xs,
- * forcing.omega, forcing.a[1], model.cantilever.zeta, ...) whose scene
- * value is the starting guess; keys that vi_param.h knows are set on a
+ * The recording is CSV with a header: t and at least one of x (x = w.x at
+ * the stop, or coordinate I with --dof I), v (c.x') and a (c.x''), the
+ * columns xJ of further --dof coordinates, f (the forcing signal) used to
+ * report the forcing phase it implies.  '#' lines are comments.  Each KEY
+ * is a numeric scene key (stop.r, stop.xs, forcing.omega, forcing.a[1],
+ * model.cantilever.zeta, ...); the global stage searches its range from
+ * any start (--local: a fit from the scene's value); keys that vi_param.h
+ * knows are set on a
  * copy of the model, any other by re-reading the edited scene.  The fit
  * itself is vi_identify.h.  Exit status: 0 converged, 1 a run-time failure
  * or a fit that did not converge, 2 bad input. */
@@ -35,6 +38,8 @@
 typedef struct recording {
   int ns, cap;
   double *t, *x, *v, *f, *a; /* x, v, f, a NULL when absent */
+  int nxe;
+  double *xe[8]; /* columns xJ of the further --dof coordinates */
 } recording;
 
 static void rec_free(recording *r)
@@ -44,6 +49,7 @@ static void rec_free(recording *r)
   free(r->v);
   free(r->f);
   free(r->a);
+  for (int k = 0; k < r->nxe; k++) free(r->xe[k]);
   memset(r, 0, sizeof *r);
 }
 
@@ -61,7 +67,9 @@ typedef struct csv {
   const char *path;
   const char *line;
   long lno;
-  int ncol, col[5];
+  int ncol, col[13], nnames;
+  const char *names[13]; /* t, x, v, f, a and the xJ of --dof I,J,... */
+  char xn[8][16];
 } csv;
 
 static const char *const csv_names[5] = {"t", "x", "v", "f", "a"};
@@ -70,11 +78,11 @@ static const char *const csv_names[5] = {"t", "x", "v", "f", "a"};
  * message (a column twice). */
 static int csv_header_field(csv *c, int k, const char *fa, const char *fb)
 {
-  for (int j = 0; j < 5; j++)
-    if ((size_t)(fb - fa) == strlen(csv_names[j]) && !strncmp(fa, csv_names[j], fb - fa)) {
+  for (int j = 0; j < c->nnames; j++)
+    if ((size_t)(fb - fa) == strlen(c->names[j]) && !strncmp(fa, c->names[j], fb - fa)) {
       if (c->col[j] >= 0) {
         fprintf(stderr, "vibroimpact: %s:%ld:%d: column '%s' twice\n",
-                c->path, c->lno, (int)(fa - c->line) + 1, csv_names[j]);
+                c->path, c->lno, (int)(fa - c->line) + 1, c->names[j]);
         return 2;
       }
       c->col[j] = k;
@@ -87,13 +95,13 @@ static int csv_header_field(csv *c, int k, const char *fa, const char *fb)
 static int csv_data_field(const csv *c, int k, const char *fa, const char *fb,
                           double *val)
 {
-  for (int j = 0; j < 5; j++) {
+  for (int j = 0; j < c->nnames; j++) {
     if (c->col[j] != k) continue;
     char buf[128], *end;
     int len = (int)(fb - fa), at = (int)(fa - c->line) + 1;
     if (len <= 0 || len >= (int)sizeof buf) {
       fprintf(stderr, "vibroimpact: %s:%ld:%d: %s: empty or overlong "
-              "field\n", c->path, c->lno, at, csv_names[j]);
+              "field\n", c->path, c->lno, at, c->names[j]);
       return 2;
     }
     memcpy(buf, fa, len);
@@ -102,12 +110,12 @@ static int csv_data_field(const csv *c, int k, const char *fa, const char *fb,
     double v = strtod(buf, &end);
     if (end == buf || *end) {
       fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not a number\n",
-              c->path, c->lno, at, csv_names[j], buf);
+              c->path, c->lno, at, c->names[j], buf);
       return 2;
     }
     if (!isfinite(v)) {
       fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not finite\n",
-              c->path, c->lno, at, csv_names[j], buf);
+              c->path, c->lno, at, c->names[j], buf);
       return 2;
     }
     val[j] = v;
@@ -139,8 +147,9 @@ static int rec_push(recording *r, const csv *c, const double *val)
 {
   if (r->ns == r->cap) {
     int nc = r->cap ? 2 * r->cap : 1024;
-    double **q[5] = {&r->t, &r->x, &r->v, &r->f, &r->a};
-    for (int j = 0; j < 5; j++) {
+    double **q[13] = {&r->t, &r->x, &r->v, &r->f, &r->a};
+    for (int k = 0; k < r->nxe; k++) q[5 + k] = &r->xe[k];
+    for (int j = 0; j < 5 + r->nxe; j++) {
       if (j >= 1 && c->col[j] < 0) continue;
       double *nq = realloc(*q[j], sizeof(double) * nc);
       if (!nq) {
@@ -154,6 +163,7 @@ static int rec_push(recording *r, const csv *c, const double *val)
   r->t[r->ns] = val[0];
   if (r->x) r->x[r->ns] = val[1];
   if (r->a) r->a[r->ns] = val[4];
+  for (int k = 0; k < r->nxe; k++) r->xe[k][r->ns] = val[5 + k];
   if (r->v) r->v[r->ns] = val[2];
   if (r->f) r->f[r->ns] = val[3];
   r->ns++;
@@ -164,7 +174,7 @@ static int rec_push(recording *r, const csv *c, const double *val)
  * after a message. */
 static int csv_line(csv *c, recording *r)
 {
-  double val[5] = {0, 0, 0, 0, 0};
+  double val[13] = {0};
   int k, rc = csv_fields(c, val, &k);
   if (rc) return rc;
   if (!c->ncol) {
@@ -174,6 +184,13 @@ static int csv_line(csv *c, recording *r)
               "x, v or a (has: %s)", c->path, c->lno, c->line);
       return 2;
     }
+    for (int j = 5; j < c->nnames; j++)
+      if (c->col[j] < 0) {
+        fprintf(stderr, "vibroimpact: %s:%ld: --dof lists coordinate %s, the header "
+                "has no column '%s' (has: %s)", c->path, c->lno, c->names[j] + 1,
+                c->names[j], c->line);
+        return 2;
+      }
     return 0;
   }
   if (k != c->ncol) {
@@ -191,9 +208,10 @@ static int csv_line(csv *c, recording *r)
 
 /* Read the CSV; 0, or 2 after printing file:line:column: why (1 out of
  * memory). */
-static int read_csv(const char *path, recording *r)
+static int read_csv(const char *path, recording *r, int nxe, const int *dofs)
 {
   memset(r, 0, sizeof *r);
+  r->nxe = nxe;
   FILE *fp = fopen(path, "r");
   if (!fp) {
     fprintf(stderr, "vibroimpact: %s: cannot open: %s\n", path, strerror(errno));
@@ -201,7 +219,16 @@ static int read_csv(const char *path, recording *r)
   }
   char *line = NULL;
   size_t lcap = 0;
-  csv c = {path, NULL, 0, 0, {-1, -1, -1, -1, -1}};
+  csv c;
+  memset(&c, 0, sizeof c);
+  c.path = path;
+  for (int j = 0; j < 13; j++) c.col[j] = -1;
+  for (int j = 0; j < 5; j++) c.names[j] = csv_names[j];
+  for (int k = 0; k < nxe; k++) {
+    snprintf(c.xn[k], sizeof c.xn[k], "x%d", dofs[k]);
+    c.names[5 + k] = c.xn[k];
+  }
+  c.nnames = 5 + nxe;
   int rc = 0;
   while (!rc && getline(&line, &lcap, fp) >= 0) {
     c.lno++;
@@ -319,7 +346,8 @@ static void usage(FILE *f)
     "                are comments\n"
     "  --fit KEYS    numeric scene keys, comma-separated: stop.r, stop.xs,\n"
     "                forcing.omega, forcing.a[1], model.cantilever.zeta, ...\n"
-    "  --dof I       the recording is coordinate I (1-based), not w.x\n"
+    "  --dof I[,J..] the recording is coordinate I (1-based), not w.x; further\n"
+    "                coordinates J from columns named xJ (several dofs at once)\n"
     "  --noise S     the recording's noise standard deviation, if known\n"
     "                (else estimated from its 4th differences)\n"
     "  --unstable    also fit unstable orbits (a model that cannot hold the\n"
@@ -339,7 +367,7 @@ static void usage(FILE *f)
 typedef struct id_args {
   const char *data, *fit, *out, *scene_path;
   const char *sets[64], *ranges[MAXKEY];
-  int nsets, nranges, json, dof, unstable, local;
+  int nsets, nranges, json, dof, unstable, local, nxdof, xdof[8];
   double noise;
 } id_args;
 
@@ -364,9 +392,16 @@ static int identify_option(int c, int argc, char **argv, id_args *a)
     break;
   case 'D':
     a->dof = (int)strtol(optarg, &end, 10);
+    a->nxdof = 0;
+    while (*end == ',' && a->nxdof < 8 && a->dof >= 1) {
+      char *s0 = end + 1;
+      a->xdof[a->nxdof] = (int)strtol(s0, &end, 10);
+      if (end == s0 || a->xdof[a->nxdof] < 1) break;
+      a->nxdof++;
+    }
     if (end == optarg || *end || a->dof < 1) {
       fprintf(stderr, "vibroimpact: --dof: '%s' is not a coordinate number "
-              "(1, 2, ...)\n", optarg);
+              "(1, 2, ...) or a list of at most 9\n", optarg);
       return 2;
     }
     break;
@@ -551,6 +586,12 @@ static int identify_setup(ident *I)
     fprintf(stderr, "vibroimpact: --dof %d: the model has %d coordinates\n", a->dof, n);
     return 2;
   }
+  for (int k = 0; k < a->nxdof; k++)
+    if (a->xdof[k] > n) {
+      fprintf(stderr, "vibroimpact: --dof ...,%d: the model has %d coordinates\n",
+              a->xdof[k], n);
+      return 2;
+    }
   if ((st = vi_identify_create(I->model, nk, &I->id))) {
     fprintf(stderr, "vibroimpact: %s: cannot identify this model: %s\n",
             a->scene_path, vi_strerror(st));
@@ -577,6 +618,15 @@ static int identify_setup(ident *I)
   if (!st) st = vi_identify_set_noise(I->id, a->noise);
   if (!st && a->unstable) st = vi_identify_set_stable_only(I->id, 0);
   if (!st) st = vi_identify_set_sensors(I->id, I->rec.ns, I->rec.t, I->rec.x, I->rec.v, I->rec.a);
+  for (int k = 0; !st && k < I->rec.nxe; k++) { /* the further --dof columns */
+    double *cv = calloc(n, sizeof(double));
+    st = cv ? VI_OK : VI_ERR_NOMEM;
+    if (cv) {
+      cv[a->xdof[k] - 1] = 1.0;
+      st = vi_identify_add_channel(I->id, cv, 0, I->rec.xe[k]);
+      free(cv);
+    }
+  }
   if (st) {
     fprintf(stderr, "vibroimpact: %s: %s\n", a->data, vi_identify_errmsg(I->id));
     return st == VI_ERR_NOMEM ? 1 : 2;
@@ -822,7 +872,7 @@ int vi_cmd_identify_main(int argc, char **argv)
     return 1;
   }
   if ((rc = identify_scene(&I)) || (rc = identify_keys(&I)) ||
-      (rc = read_csv(I.a.data, &I.rec)) || (rc = identify_setup(&I)) ||
+      (rc = read_csv(I.a.data, &I.rec, I.a.nxdof, I.a.xdof)) || (rc = identify_setup(&I)) ||
       (rc = identify_run(&I)))
     goto done;
   fit_result f;

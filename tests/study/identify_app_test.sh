@@ -97,6 +97,27 @@ r = j["fit"]["stop.r"]
 assert abs(r["value"] - 0.75) < 0.02 and abs(r["value"] - 0.75) < 3 * r["stderr"], r
 PY
 
+# two dofs at once: Fig. 2's masses 1 and 2 (columns x and x2, --dof 1,2)
+$py - "$data/fig2_dof1.csv" "$data/fig2.csv" > "$dir/fig2both.csv" <<'PY' || bad "recording"
+import sys
+import numpy as np
+a, b = (np.loadtxt(f, delimiter=',', comments='#', skiprows=3) for f in sys.argv[1:])
+rng = np.random.default_rng(12)
+T = a[1, 0] * 64
+sa, sb = 0.002 * np.ptp(a[:, 1]), 0.002 * np.ptp(b[:, 1])
+print("t,x,x2")
+for p in range(20):
+    for i in range(64):
+        print("%r,%r,%r" % (a[i, 0] + p * T, a[i, 1] + rng.normal(0, sa), b[i, 1] + rng.normal(0, sb)))
+PY
+"$app" identify "$scenes/fig2.yaml" --data "$dir/fig2both.csv" --fit stop.r --dof 1,2 \
+  --json > "$dir/fig2both.json" || bad "fig2 --dof 1,2 exit $?"
+$py - "$dir/fig2both.json" <<'PY' || bad "fig2 --dof 1,2 JSON"
+import json, sys
+r = json.load(open(sys.argv[1]))["fit"]["stop.r"]
+assert abs(r["value"] - 0.7) < 3 * r["stderr"] and r["stderr"] < 0.001, r
+PY
+
 # bad input: exit 2 and where
 expect() { # expect PATTERN CMD...: exit 2, stderr matches
   local pat=$1; shift
@@ -127,5 +148,6 @@ expect "not one of the --fit keys" "$app" identify "$scenes/fig2.yaml" --data "$
 expect "want KEY=LO:HI" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.r --range stop.r=0.9:0.1
 expect "outside the range" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.r --range stop.r=0.8:0.9
 expect "writes the displacement column x" "$app" identify "$scenes/cantilever4.yaml" --data "$dir/acc.csv" --fit stop.r -o "$dir/acc.h5"
+expect "has no column 'x3'" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2both.csv" --fit stop.r --dof 1,3
 expect "needs SCENE, --data and --fit" "$app" identify "$scenes/fig2.yaml" --fit stop.r
 exit $fail
