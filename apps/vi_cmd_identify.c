@@ -1,15 +1,18 @@
 /* vi_cmd_identify.c - `vibroimpact identify`: scene parameters from a
  * recorded periodic response (issue 22; the paper's section 4).
  *
- *   vibroimpact identify SCENE --data REC.csv --fit KEY[,KEY...] [--dof I]
- *                        [--noise S] [--set KEY=VALUE]... [--json] [-o OUT.h5]
+ *   vibroimpact identify SCENE --data REC.csv --fit KEY[,KEY...] [--dof I[,J...]]
+ *                        [--noise S] [--set KEY=VALUE]... [--range KEY=LO:HI]...
+ *                        [--local] [--json] [-o OUT.h5]
  *
- * The recording is CSV with a header: t and x required (x = w.x at the
- * stop, or coordinate I with --dof I), v used when present (c.x'), f (the
- * forcing signal) used to report the forcing phase it implies.  '#' lines
- * are comments.  Each KEY is a numeric scene key (stop.r, stop.xs,
- * forcing.omega, forcing.a[1], model.cantilever.zeta, ...) whose scene
- * value is the starting guess; keys that vi_param.h knows are set on a
+ * The recording is CSV with a header: t and at least one of x (x = w.x at
+ * the stop, or coordinate I with --dof I), v (c.x') and a (c.x''), the
+ * columns xJ of further --dof coordinates, f (the forcing signal) used to
+ * report the forcing phase it implies.  '#' lines are comments.  Each KEY
+ * is a numeric scene key (stop.r, stop.xs, forcing.omega, forcing.a[1],
+ * model.cantilever.zeta, ...); the global stage searches its range from
+ * any start (--local: a fit from the scene's value); keys that vi_param.h
+ * knows are set on a
  * copy of the model, any other by re-reading the edited scene.  The fit
  * itself is vi_identify.h.  Exit status: 0 converged, 1 a run-time failure
  * or a fit that did not converge, 2 bad input. */
@@ -34,7 +37,9 @@
 
 typedef struct recording {
   int ns, cap;
-  double *t, *x, *v, *f; /* v, f NULL when absent */
+  double *t, *x, *v, *f, *a; /* x, v, f, a NULL when absent */
+  int nxe;
+  double *xe[8]; /* columns xJ of the further --dof coordinates */
 } recording;
 
 static void rec_free(recording *r)
@@ -43,6 +48,8 @@ static void rec_free(recording *r)
   free(r->x);
   free(r->v);
   free(r->f);
+  free(r->a);
+  for (int k = 0; k < r->nxe; k++) free(r->xe[k]);
   memset(r, 0, sizeof *r);
 }
 
@@ -60,20 +67,22 @@ typedef struct csv {
   const char *path;
   const char *line;
   long lno;
-  int ncol, col[4];
+  int ncol, col[13], nnames;
+  const char *names[13]; /* t, x, v, f, a and the xJ of --dof I,J,... */
+  char xn[8][16];
 } csv;
 
-static const char *const csv_names[4] = {"t", "x", "v", "f"};
+static const char *const csv_names[5] = {"t", "x", "v", "f", "a"};
 
 /* Header field k [fa, fb): note which column it is; 0, or 2 after a
  * message (a column twice). */
 static int csv_header_field(csv *c, int k, const char *fa, const char *fb)
 {
-  for (int j = 0; j < 4; j++)
-    if ((size_t)(fb - fa) == strlen(csv_names[j]) && !strncmp(fa, csv_names[j], fb - fa)) {
+  for (int j = 0; j < c->nnames; j++)
+    if ((size_t)(fb - fa) == strlen(c->names[j]) && !strncmp(fa, c->names[j], fb - fa)) {
       if (c->col[j] >= 0) {
         fprintf(stderr, "vibroimpact: %s:%ld:%d: column '%s' twice\n",
-                c->path, c->lno, (int)(fa - c->line) + 1, csv_names[j]);
+                c->path, c->lno, (int)(fa - c->line) + 1, c->names[j]);
         return 2;
       }
       c->col[j] = k;
@@ -86,13 +95,13 @@ static int csv_header_field(csv *c, int k, const char *fa, const char *fb)
 static int csv_data_field(const csv *c, int k, const char *fa, const char *fb,
                           double *val)
 {
-  for (int j = 0; j < 4; j++) {
+  for (int j = 0; j < c->nnames; j++) {
     if (c->col[j] != k) continue;
     char buf[128], *end;
     int len = (int)(fb - fa), at = (int)(fa - c->line) + 1;
     if (len <= 0 || len >= (int)sizeof buf) {
       fprintf(stderr, "vibroimpact: %s:%ld:%d: %s: empty or overlong "
-              "field\n", c->path, c->lno, at, csv_names[j]);
+              "field\n", c->path, c->lno, at, c->names[j]);
       return 2;
     }
     memcpy(buf, fa, len);
@@ -101,12 +110,12 @@ static int csv_data_field(const csv *c, int k, const char *fa, const char *fb,
     double v = strtod(buf, &end);
     if (end == buf || *end) {
       fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not a number\n",
-              c->path, c->lno, at, csv_names[j], buf);
+              c->path, c->lno, at, c->names[j], buf);
       return 2;
     }
     if (!isfinite(v)) {
       fprintf(stderr, "vibroimpact: %s:%ld:%d: %s = '%s': not finite\n",
-              c->path, c->lno, at, csv_names[j], buf);
+              c->path, c->lno, at, c->names[j], buf);
       return 2;
     }
     val[j] = v;
@@ -138,9 +147,10 @@ static int rec_push(recording *r, const csv *c, const double *val)
 {
   if (r->ns == r->cap) {
     int nc = r->cap ? 2 * r->cap : 1024;
-    double **q[4] = {&r->t, &r->x, &r->v, &r->f};
-    for (int j = 0; j < 4; j++) {
-      if (j >= 2 && c->col[j] < 0) continue;
+    double **q[13] = {&r->t, &r->x, &r->v, &r->f, &r->a};
+    for (int k = 0; k < r->nxe; k++) q[5 + k] = &r->xe[k];
+    for (int j = 0; j < 5 + r->nxe; j++) {
+      if (j >= 1 && c->col[j] < 0) continue;
       double *nq = realloc(*q[j], sizeof(double) * nc);
       if (!nq) {
         fprintf(stderr, "vibroimpact: %s: out of memory\n", c->path);
@@ -151,7 +161,9 @@ static int rec_push(recording *r, const csv *c, const double *val)
     r->cap = nc;
   }
   r->t[r->ns] = val[0];
-  r->x[r->ns] = val[1];
+  if (r->x) r->x[r->ns] = val[1];
+  if (r->a) r->a[r->ns] = val[4];
+  for (int k = 0; k < r->nxe; k++) r->xe[k][r->ns] = val[5 + k];
   if (r->v) r->v[r->ns] = val[2];
   if (r->f) r->f[r->ns] = val[3];
   r->ns++;
@@ -162,16 +174,23 @@ static int rec_push(recording *r, const csv *c, const double *val)
  * after a message. */
 static int csv_line(csv *c, recording *r)
 {
-  double val[4] = {0, 0, 0, 0};
+  double val[13] = {0};
   int k, rc = csv_fields(c, val, &k);
   if (rc) return rc;
   if (!c->ncol) {
     c->ncol = k;
-    if (c->col[0] < 0 || c->col[1] < 0) {
+    if (c->col[0] < 0 || (c->col[1] < 0 && c->col[2] < 0 && c->col[4] < 0)) {
       fprintf(stderr, "vibroimpact: %s:%ld: the header needs columns t and "
-              "x (has: %s)", c->path, c->lno, c->line);
+              "x, v or a (has: %s)", c->path, c->lno, c->line);
       return 2;
     }
+    for (int j = 5; j < c->nnames; j++)
+      if (c->col[j] < 0) {
+        fprintf(stderr, "vibroimpact: %s:%ld: --dof lists coordinate %s, the header "
+                "has no column '%s' (has: %s)", c->path, c->lno, c->names[j] + 1,
+                c->names[j], c->line);
+        return 2;
+      }
     return 0;
   }
   if (k != c->ncol) {
@@ -189,9 +208,10 @@ static int csv_line(csv *c, recording *r)
 
 /* Read the CSV; 0, or 2 after printing file:line:column: why (1 out of
  * memory). */
-static int read_csv(const char *path, recording *r)
+static int read_csv(const char *path, recording *r, int nxe, const int *dofs)
 {
   memset(r, 0, sizeof *r);
+  r->nxe = nxe;
   FILE *fp = fopen(path, "r");
   if (!fp) {
     fprintf(stderr, "vibroimpact: %s: cannot open: %s\n", path, strerror(errno));
@@ -199,7 +219,16 @@ static int read_csv(const char *path, recording *r)
   }
   char *line = NULL;
   size_t lcap = 0;
-  csv c = {path, NULL, 0, 0, {-1, -1, -1, -1}};
+  csv c;
+  memset(&c, 0, sizeof c);
+  c.path = path;
+  for (int j = 0; j < 13; j++) c.col[j] = -1;
+  for (int j = 0; j < 5; j++) c.names[j] = csv_names[j];
+  for (int k = 0; k < nxe; k++) {
+    snprintf(c.xn[k], sizeof c.xn[k], "x%d", dofs[k]);
+    c.names[5 + k] = c.xn[k];
+  }
+  c.nnames = 5 + nxe;
   int rc = 0;
   while (!rc && getline(&line, &lcap, fp) >= 0) {
     c.lno++;
@@ -210,7 +239,7 @@ static int read_csv(const char *path, recording *r)
     rc = csv_line(&c, r);
   }
   if (!rc && !c.ncol) {
-    fprintf(stderr, "vibroimpact: %s: no header line (t,x[,v][,f])\n", path);
+    fprintf(stderr, "vibroimpact: %s: no header line (t,x[,v][,a][,f])\n", path);
     rc = 2;
   } else if (!rc && r->ns < 16) {
     fprintf(stderr, "vibroimpact: %s: too few samples: %d (at least 16)\n",
@@ -305,21 +334,28 @@ static void usage(FILE *f)
   fprintf(f,
     "usage: vibroimpact identify SCENE.yaml --data REC.csv --fit KEY[,KEY...]\n"
     "                            [--dof I] [--noise S] [--unstable] [--set KEY=VALUE]...\n"
-    "                            [--json] [-o OUT.h5]\n"
+    "                            [--range KEY=LO:HI]... [--local] [--json] [-o OUT.h5]\n"
     "Fit scene parameters to a recorded periodic response (nonlinear least\n"
     "squares on the model's periodic orbit; an unknown forcing phase is\n"
-    "fitted as a time shift).  The scene's values are the starting guesses.\n\n"
-    "  --data FILE   CSV with a header: t, x required (x = w.x at the stop,\n"
-    "                or coordinate I with --dof); v (velocity), f (forcing)\n"
-    "                used when present; '#' lines are comments\n"
+    "fitted as a time shift).  Starts spread over each key's range find every\n"
+    "orbit the recording's period admits; every distinct fit the noise\n"
+    "explains is reported, best first.\n\n"
+    "  --data FILE   CSV with a header: t and at least one of x (x = w.x at\n"
+    "                the stop, or coordinate I with --dof), v (velocity), a\n"
+    "                (acceleration); f (forcing) used when present; '#' lines\n"
+    "                are comments\n"
     "  --fit KEYS    numeric scene keys, comma-separated: stop.r, stop.xs,\n"
     "                forcing.omega, forcing.a[1], model.cantilever.zeta, ...\n"
-    "  --dof I       the recording is coordinate I (1-based), not w.x\n"
+    "  --dof I[,J..] the recording is coordinate I (1-based), not w.x; further\n"
+    "                coordinates J from columns named xJ (several dofs at once)\n"
     "  --noise S     the recording's noise standard deviation, if known\n"
     "                (else estimated from its 4th differences)\n"
     "  --unstable    also fit unstable orbits (a model that cannot hold the\n"
     "                recorded motion: which shape would it need?)\n"
     "  --set K=V     override a scene key first\n"
+    "  --range K=LO:HI  the admissible range of a fitted key (default: r in\n"
+    "                [0, 1], a stop near the recording's top, else +-50 %%)\n"
+    "  --local       one fit from the scene's values only (no global stage)\n"
     "  --json        one JSON object on standard output\n"
     "  -o FILE.h5    the recording, fitted response, residuals and fit\n"
     "                (share/plot_identify.py plots it)\n"
@@ -330,8 +366,8 @@ static void usage(FILE *f)
 /* The command line. */
 typedef struct id_args {
   const char *data, *fit, *out, *scene_path;
-  const char *sets[64];
-  int nsets, json, dof, unstable;
+  const char *sets[64], *ranges[MAXKEY];
+  int nsets, nranges, json, dof, unstable, local, nxdof, xdof[8];
   double noise;
 } id_args;
 
@@ -346,11 +382,26 @@ static int identify_option(int c, int argc, char **argv, id_args *a)
   case 'o': a->out = optarg; break;
   case 'j': a->json = 1; break;
   case 'u': a->unstable = 1; break;
+  case 'l': a->local = 1; break;
+  case 'r':
+    if (a->nranges == MAXKEY) {
+      fprintf(stderr, "vibroimpact: more than %d --range\n", MAXKEY);
+      return 2;
+    }
+    a->ranges[a->nranges++] = optarg;
+    break;
   case 'D':
     a->dof = (int)strtol(optarg, &end, 10);
+    a->nxdof = 0;
+    while (*end == ',' && a->nxdof < 8 && a->dof >= 1) {
+      char *s0 = end + 1;
+      a->xdof[a->nxdof] = (int)strtol(s0, &end, 10);
+      if (end == s0 || a->xdof[a->nxdof] < 1) break;
+      a->nxdof++;
+    }
     if (end == optarg || *end || a->dof < 1) {
       fprintf(stderr, "vibroimpact: --dof: '%s' is not a coordinate number "
-              "(1, 2, ...)\n", optarg);
+              "(1, 2, ...) or a list of at most 9\n", optarg);
       return 2;
     }
     break;
@@ -386,7 +437,8 @@ static int identify_parse(int argc, char **argv, id_args *a)
       {"dof", required_argument, 0, 'D'},  {"noise", required_argument, 0, 'n'},
       {"set", required_argument, 0, 's'},  {"json", no_argument, 0, 'j'},
       {"output", required_argument, 0, 'o'}, {"help", no_argument, 0, 'h'},
-      {"unstable", no_argument, 0, 'u'},
+      {"unstable", no_argument, 0, 'u'},  {"local", no_argument, 0, 'l'},
+      {"range", required_argument, 0, 'r'},
       {0, 0, 0, 0}};
   int c, rc;
   optind = 0;
@@ -488,16 +540,58 @@ static int identify_keys(ident *I)
   return 0;
 }
 
+/* The --range KEY=LO:HI options onto the fitted keys; 0 or 2 after a
+ * message. */
+static int identify_ranges(ident *I)
+{
+  for (int i = 0; i < I->a.nranges; i++) {
+    const char *r = I->a.ranges[i], *eq = strchr(r, '=');
+    char *e1, *e2;
+    int j = -1;
+    double lo = NAN, hi = NAN;
+    if (eq) {
+      for (int q = 0; q < I->b.nk; q++)
+        if (strlen(I->b.key[q]) == (size_t)(eq - r) && !strncmp(I->b.key[q], r, eq - r)) j = q;
+      lo = strtod(eq + 1, &e1);
+      hi = *e1 == ':' ? strtod(e1 + 1, &e2) : NAN;
+      if (*e1 != ':' || *e2 || !isfinite(lo) || !isfinite(hi) || !(lo < hi)) j = -2;
+    }
+    if (j < 0) {
+      fprintf(stderr, "vibroimpact: --range %s: %s\n", r,
+              j == -2 ? "want KEY=LO:HI with finite LO < HI" : "not one of the --fit keys");
+      return 2;
+    }
+    int st = vi_identify_set_param_key(I->id, j, I->b.key[j], lo, hi);
+    if (st) st = vi_identify_set_param(I->id, j, VI_IDENTIFY_OTHER, 0, I->start[j], lo, hi);
+    if (st) {
+      fprintf(stderr, "vibroimpact: --range %s: %s\n", r, vi_identify_errmsg(I->id));
+      return 2;
+    }
+  }
+  return 0;
+}
+
 /* The fit set up: parameters, builder, observation, noise, data; 0 or the
  * exit status after a message. */
 static int identify_setup(ident *I)
 {
   const id_args *a = &I->a;
-  int n = vi_model_n(I->model), st, nk = I->b.nk;
+  int n = vi_model_n(I->model), st, nk = I->b.nk, rc;
+  if (a->out && !I->rec.x) {
+    fprintf(stderr, "vibroimpact: %s: -o writes the displacement column x, which "
+            "this recording has not\n", a->data);
+    return 2;
+  }
   if (a->dof > n) {
     fprintf(stderr, "vibroimpact: --dof %d: the model has %d coordinates\n", a->dof, n);
     return 2;
   }
+  for (int k = 0; k < a->nxdof; k++)
+    if (a->xdof[k] > n) {
+      fprintf(stderr, "vibroimpact: --dof ...,%d: the model has %d coordinates\n",
+              a->xdof[k], n);
+      return 2;
+    }
   if ((st = vi_identify_create(I->model, nk, &I->id))) {
     fprintf(stderr, "vibroimpact: %s: cannot identify this model: %s\n",
             a->scene_path, vi_strerror(st));
@@ -510,6 +604,8 @@ static int identify_setup(ident *I)
                                  -HUGE_VAL, HUGE_VAL);
   }
   if (!st && I->use_builder) st = vi_identify_set_builder(I->id, build, &I->b, NULL);
+  if (!st && (rc = identify_ranges(I))) return rc;
+  if (!st && a->local) st = vi_identify_set_global(I->id, 0);
   if (!st && a->dof) {
     double *cv = calloc(n, sizeof(double));
     st = cv ? VI_OK : VI_ERR_NOMEM;
@@ -521,7 +617,16 @@ static int identify_setup(ident *I)
   }
   if (!st) st = vi_identify_set_noise(I->id, a->noise);
   if (!st && a->unstable) st = vi_identify_set_stable_only(I->id, 0);
-  if (!st) st = vi_identify_set_data(I->id, I->rec.ns, I->rec.t, I->rec.x, I->rec.v);
+  if (!st) st = vi_identify_set_sensors(I->id, I->rec.ns, I->rec.t, I->rec.x, I->rec.v, I->rec.a);
+  for (int k = 0; !st && k < I->rec.nxe; k++) { /* the further --dof columns */
+    double *cv = calloc(n, sizeof(double));
+    st = cv ? VI_OK : VI_ERR_NOMEM;
+    if (cv) {
+      cv[a->xdof[k] - 1] = 1.0;
+      st = vi_identify_add_channel(I->id, cv, 0, I->rec.xe[k]);
+      free(cv);
+    }
+  }
   if (st) {
     fprintf(stderr, "vibroimpact: %s: %s\n", a->data, vi_identify_errmsg(I->id));
     return st == VI_ERR_NOMEM ? 1 : 2;
@@ -531,8 +636,9 @@ static int identify_setup(ident *I)
 
 /* What the fit gives, read from the identification. */
 typedef struct fit_result {
-  int np, conv, iters, on, om, fl[MAXKEY];
+  int np, conv, iters, on, om, fl[MAXKEY], pfl[MAXKEY], nsol, unique;
   double p[MAXKEY], se[MAXKEY], l95[MAXKEY], h95[MAXKEY], R[MAXKEY * MAXKEY];
+  double pl[MAXKEY], ph[MAXKEY];
   double rms, nz, rcond, t0, t0se, r12, vN, KE, RE, P, mu, tf;
 } fit_result;
 
@@ -542,6 +648,8 @@ static void identify_results(const ident *I, fit_result *f)
   f->np = I->b.nk;
   f->mu = NAN;
   vi_identify_params(id, f->p, f->se, f->l95, f->h95, f->fl);
+  vi_identify_profile(id, f->pl, f->ph, f->pfl);
+  f->nsol = vi_identify_nsolutions(id, &f->unique);
   vi_identify_correlation(id, f->R, f->np);
   vi_identify_summary(id, &f->conv, &f->iters, &f->rms, &f->nz, &f->rcond, &f->on, &f->om);
   vi_identify_shift(id, &f->t0, &f->t0se);
@@ -551,24 +659,65 @@ static void identify_results(const ident *I, fit_result *f)
   f->tf = forcing_shift(&I->rec, vi_model_omega_forcing(I->model));
 }
 
+/* One fit's keys: {KEY: {value, stderr, ci95, profile_ci95, ...}}. */
+static void json_keys(const ident *I, const double *p, const double *se,
+                      const double *l95, const double *h95, const double *pl,
+                      const double *ph, const int *fl, const int *pfl)
+{
+  printf("{");
+  for (int j = 0; j < I->b.nk; j++) {
+    printf("%s\"%s\": {\"value\": ", j ? ", " : "", I->b.key[j]);
+    json_num(p[j]);
+    printf(", \"stderr\": ");
+    json_num(se[j]);
+    printf(", \"ci95\": [");
+    json_num(l95[j]);
+    printf(", ");
+    json_num(h95[j]);
+    printf("], \"profile_ci95\": [");
+    json_num(pl[j]);
+    printf(", ");
+    json_num(ph[j]);
+    printf("], \"on_bound\": %s, \"undetermined\": %s, \"profile_differs\": %s, "
+           "\"profile_at_bound\": %s, \"profile_orbit_change\": %s}",
+           fl[j] & VI_IDENTIFY_ON_BOUND ? "true" : "false",
+           fl[j] & VI_IDENTIFY_UNDETERMINED ? "true" : "false",
+           pfl[j] & VI_IDENTIFY_PROFILE_DIFFERS ? "true" : "false",
+           pfl[j] & VI_IDENTIFY_PROFILE_BOUND ? "true" : "false",
+           pfl[j] & VI_IDENTIFY_PROFILE_ORBIT ? "true" : "false");
+  }
+  printf("}");
+}
+
+/* "solutions": every fit the data admit, best first. */
+static void json_solutions(const ident *I, const fit_result *f)
+{
+  printf(", \"unique\": %s, \"solutions\": [", f->unique ? "true" : "false");
+  for (int k = 0; k < f->nsol; k++) {
+    double p[MAXKEY], se[MAXKEY], l[MAXKEY], h[MAXKEY], pl[MAXKEY], ph[MAXKEY], rms, ratio, dc;
+    int fl[MAXKEY], pfl[MAXKEY], n, m;
+    vi_identify_solution(I->id, k, p, se, l, h, fl);
+    vi_identify_solution_profile(I->id, k, pl, ph, pfl);
+    vi_identify_solution_summary(I->id, k, &n, &m, &rms, &ratio, &dc, NULL);
+    printf("%s{\"fit\": ", k ? ", " : "");
+    json_keys(I, p, se, l, h, pl, ph, fl, pfl);
+    printf(", \"orbit\": {\"n\": %d, \"m\": %d}, \"rms_residual\": ", n, m);
+    json_num(rms);
+    printf(", \"residual_ratio\": ");
+    json_num(ratio);
+    printf(", \"delta_chi2\": ");
+    json_num(dc);
+    printf("}");
+  }
+  printf("]");
+}
+
 static void identify_json(const ident *I, const fit_result *f)
 {
   int np = f->np;
-  printf("{\"fit\": {");
-  for (int j = 0; j < np; j++) {
-    printf("%s\"%s\": {\"value\": ", j ? ", " : "", I->b.key[j]);
-    json_num(f->p[j]);
-    printf(", \"stderr\": ");
-    json_num(f->se[j]);
-    printf(", \"ci95\": [");
-    json_num(f->l95[j]);
-    printf(", ");
-    json_num(f->h95[j]);
-    printf("], \"on_bound\": %s, \"undetermined\": %s}",
-           f->fl[j] & VI_IDENTIFY_ON_BOUND ? "true" : "false",
-           f->fl[j] & VI_IDENTIFY_UNDETERMINED ? "true" : "false");
-  }
-  printf("}, \"converged\": %s, \"iterations\": %d, \"rms_residual\": ",
+  printf("{\"fit\": ");
+  json_keys(I, f->p, f->se, f->l95, f->h95, f->pl, f->ph, f->fl, f->pfl);
+  printf(", \"converged\": %s, \"iterations\": %d, \"rms_residual\": ",
          f->conv ? "true" : "false", f->iters);
   json_num(f->rms);
   printf(", \"noise\": ");
@@ -599,7 +748,52 @@ static void identify_json(const ident *I, const fit_result *f)
   json_num(f->r12);
   printf(", \"vN_recorded\": ");
   json_num(f->vN);
+  json_solutions(I, f);
   printf("}\n");
+}
+
+/* The fits the data admit beside the best: each, and what would separate
+ * them (a longer record: the residuals' difference grows with its length,
+ * the noise's spread with its square root). */
+static void identify_text_solutions(const ident *I, const fit_result *f)
+{
+  if (f->unique) return;
+  printf("  NOT UNIQUE: the recording is explained to its noise level by");
+  double rms0 = f->rms, worst = f->rms, dc[64];
+  for (int k = 0; k < f->nsol && k < 64; k++) {
+    double p[MAXKEY], se[MAXKEY], rms;
+    int n, m;
+    vi_identify_solution(I->id, k, p, se, NULL, NULL, NULL);
+    vi_identify_solution_summary(I->id, k, &n, &m, &rms, NULL, &dc[k], NULL);
+    worst = fmax(worst, rms);
+    printf("%s P(%d,%d) with", k ? (k + 1 == f->nsol ? " and by" : ", by") : "", n, m);
+    for (int j = 0; j < f->np; j++)
+      printf("%s %s = %.4g +- %.2g", j ? "," : "", I->b.key[j], p[j], se[j]);
+  }
+  printf("\n");
+  for (int k = 1; k < f->nsol && k < 64; k++)
+    if (dc[k] > 3.84) /* chi2_0.95(1) */
+      printf("  (solution %d's residual is at the noise level, but %.3g noise "
+             "variances above the best's: a likelihood-ratio test prefers the "
+             "best)\n", k + 1, dc[k]);
+  /* rejecting the worst at 95 %: its excess N (rms^2 - rms0^2) must pass
+   * 1.645 sqrt(2 N) s^2 */
+  double ex = worst * worst - rms0 * rms0, s2 = fmax(rms0 * rms0, f->nz * f->nz);
+  int ns = I->rec.ns;
+  if (ex > 0.0 && isfinite(s2)) {
+    double L = pow(1.645 * s2 * sqrt(2.0) / (ex * sqrt((double)ns)), 2.0);
+    if (L > 100.0)
+      printf("  to tell them apart: no practical record length at this noise (over "
+             "100 times longer); a second sensor (another dof, v or a) or another "
+             "forcing level where their responses differ\n");
+    else
+      printf("  to tell them apart: a record about %.0f times longer at this noise,"
+             " or a second sensor (another dof, v or a) or another forcing level"
+             " where their responses differ\n", fmax(L, 1.5));
+  } else {
+    printf("  to tell them apart: a second sensor (another dof, v or a) or another "
+           "forcing level where their responses differ\n");
+  }
 }
 
 /* The text report's warnings: the fit's noise ratio, correlations, the
@@ -641,12 +835,18 @@ static void identify_text(const ident *I, const fit_result *f)
            fl & VI_IDENTIFY_ON_BOUND ? "  ON A BOUND" : "",
            fl & VI_IDENTIFY_UNDETERMINED ? "  NOT DETERMINED by the data" : "",
            fl & VI_IDENTIFY_CORRELATED ? "  correlated > 0.99" : "");
+    if (isfinite(f->pl[j]) || isfinite(f->ph[j]))
+      printf("  %-22s   profile 95 %%: [%.6g, %.6g]%s%s%s\n", "", f->pl[j], f->ph[j],
+             f->pfl[j] & VI_IDENTIFY_PROFILE_DIFFERS ? "  differs from the Jacobian's by > 20 %" : "",
+             f->pfl[j] & VI_IDENTIFY_PROFILE_BOUND ? "  reaches the bound" : "",
+             f->pfl[j] & VI_IDENTIFY_PROFILE_ORBIT ? "  ends where the orbit changes" : "");
   }
   printf("  shift t0               = %.6g +- %.2g (model time = t + t0)", f->t0, f->t0se);
   if (isfinite(f->tf)) printf("; forcing column's phase: %.6g", f->tf);
   printf("\n  %s in %d iterations; residual RMS %.3g", f->conv ? "converged" : "NOT CONVERGED",
          f->iters, f->rms);
   identify_text_notes(I, f);
+  identify_text_solutions(I, f);
 }
 
 /* Run the fit; 0, or the exit status after a message. */
@@ -672,7 +872,7 @@ int vi_cmd_identify_main(int argc, char **argv)
     return 1;
   }
   if ((rc = identify_scene(&I)) || (rc = identify_keys(&I)) ||
-      (rc = read_csv(I.a.data, &I.rec)) || (rc = identify_setup(&I)) ||
+      (rc = read_csv(I.a.data, &I.rec, I.a.nxdof, I.a.xdof)) || (rc = identify_setup(&I)) ||
       (rc = identify_run(&I)))
     goto done;
   fit_result f;

@@ -78,7 +78,15 @@ enum {
                                      (reciprocal condition < 1e-10) in its
                                      direction, or its interval is wider
                                      than its range */
-  VI_IDENTIFY_CORRELATED = 4    /**< |correlation| > 0.99 with another */
+  VI_IDENTIFY_CORRELATED = 4,   /**< |correlation| > 0.99 with another */
+  /* the profile interval's (vi_identify_profile) */
+  VI_IDENTIFY_PROFILE_DIFFERS = 8, /**< a side differs from the Jacobian
+                                        interval's by more than 20 % */
+  VI_IDENTIFY_PROFILE_BOUND = 16,  /**< it reaches the parameter's bound */
+  VI_IDENTIFY_PROFILE_ORBIT = 32   /**< it ends where the orbit changes
+                                        type or stops being admissible and
+                                        stable (the data's 95 % level lies
+                                        beyond) */
 };
 
 /** Create an identification of np >= 1 parameters of the set-up model
@@ -162,10 +170,47 @@ VI_API int vi_identify_set_noise(vi_identify *id, double sigma);
  *  VI_ERR_NOMEM. */
 VI_API int vi_identify_set_data(vi_identify *id, int ns, const double *t,
                                 const double *x, const double *v);
-/** Fit.  Finds the model's periodic orbit at the starting values, checks
- *  that the recording repeats with that orbit's period, scans the shift,
- *  and runs the least squares (at most 200 iterations).  VI_OK when the
- *  fit completed, converged or not (vi_identify_summary tells).
+/** The recording from any of the sensors: ns samples at times t [ns]
+ *  (as vi_identify_set_data) of c.x (x), c.x' (v), c.x'' (a, an
+ *  accelerometer), each NULL when not recorded, at least one given.
+ *  Each channel is a block of residuals, weighted by Omega^(k0 - k) (k
+ *  its order, k0 the first recorded's) so that all are on the first's
+ *  scale; the noise estimate, the period and the shift scan use the first.
+ *  @return as vi_identify_set_data. */
+VI_API int vi_identify_set_sensors(vi_identify *id, int ns, const double *t,
+                                   const double *x, const double *v,
+                                   const double *a);
+/** One more recorded channel (several sensors, several dofs at once):
+ *  samples y [ns] of c.x, c.x' or c.x'' (order 0, 1, 2; c [N], copied) at
+ *  the recording's times, a block of residuals weighted as
+ *  vi_identify_set_sensors's.  After vi_identify_set_data or _set_sensors
+ *  (which remove the channels added before).  @return VI_OK, VI_ERR_ARG
+ *  (NULL, order out of range, c zero), VI_ERR_STATE (no recording yet),
+ *  VI_ERR_DIM (more than 8), VI_ERR_NONFINITE, VI_ERR_NOMEM. */
+VI_API int vi_identify_add_channel(vi_identify *id, const double *c, int order,
+                                   const double *y);
+/** on = 1 (default): the global stage.  vi_identify_run then needs no
+ *  good start: starts spread over each parameter's range (a grid of 8
+ *  for one parameter, 5 x 5 for two, a Halton design of 8 np points for
+ *  more; over r in [0, 1], a stop observed through its own gap
+ *  coordinate within 5 % of the recording's span of its top, the given
+ *  bounds, or +-50 % of the start where there are none:
+ *  vi_identify_search_range), at each the model's orbits with the
+ *  recording's period (its transient and the impact-phase scan) scored
+ *  against the recording, and the least squares from the best of each
+ *  orbit type and the next best distinct ones (2 + np fits in all).
+ *  Every distinct minimum whose displacement residual the noise explains
+ *  (SSR <= s^2 chi2_0.95(ns - P), s the noise or the best's residual
+ *  level if larger) is a solution (vi_identify_nsolutions), best first.
+ *  on = 0: one fit from the starting values (the orbit the model shows
+ *  there).  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_identify_set_global(vi_identify *id, int on);
+/** Fit.  Checks that the recording repeats with a multiple of the forcing
+ *  period, finds the model's orbits with that period (over the ranges, or
+ *  at the starting values: vi_identify_set_global), scans the shift,
+ *  runs the least squares (at most 200 iterations each) and the profile
+ *  intervals of each solution.  VI_OK when the fit completed, converged
+ *  or not (vi_identify_summary tells).
  *  @return VI_OK, VI_ERR_STATE (no data, a parameter not set),
  *  VI_ERR_ARG (too few samples per fitted value, a recording shorter than
  *  one orbit period, or one that does not repeat with the model's orbit
@@ -180,6 +225,44 @@ VI_API int vi_identify_run(vi_identify *id);
  *  pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
 VI_API int vi_identify_params(const vi_identify *id, double *p, double *se,
                               double *lo95, double *hi95, int *flags);
+/** Profile-likelihood 95 % intervals [plo95, phi95] [np] of the best
+ *  fit: the values of each parameter where the least cost with the
+ *  others and the shift re-fitted has risen by t^2 s^2 (t = t_{0.975,
+ *  N-P}, s^2 = SSR / (N - P): the Jacobian interval's level, so that the
+ *  two agree where the model is linear over the interval), flags [np]
+ *  (VI_IDENTIFY_PROFILE_*).  NaN for an undetermined parameter.  Any
+ *  pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
+VI_API int vi_identify_profile(const vi_identify *id, double *plo95,
+                               double *phi95, int *flags);
+/** Number of solutions the data admit (>= 1 after a completed run, 0
+ *  before or for NULL): the distinct minima whose residual the noise
+ *  explains, best (least residual) first; solution 0 is what
+ *  vi_identify_params and the other getters report.  *unique (may be
+ *  NULL) = 1 when there is one. */
+VI_API int vi_identify_nsolutions(const vi_identify *id, int *unique);
+/** Solution k (0-based, < vi_identify_nsolutions) as vi_identify_params.
+ *  @return VI_OK, VI_ERR_ARG (k out of range), VI_ERR_STATE. */
+VI_API int vi_identify_solution(const vi_identify *id, int k, double *p,
+                                double *se, double *lo95, double *hi95,
+                                int *flags);
+/** Solution k's profile intervals, as vi_identify_profile. */
+VI_API int vi_identify_solution_profile(const vi_identify *id, int k,
+                                        double *plo95, double *phi95,
+                                        int *flags);
+/** Solution k's orbit P(n, m), residual RMS (of the first recorded
+ *  channel), its ratio to the noise (NaN without one), *dchi2 = (SSR_k -
+ *  SSR_0) / s^2 its excess over the best in units of the noise variance
+ *  the test used (a likelihood-ratio statistic: large values mean the
+ *  best is preferred although both residuals are at the noise level) and
+ *  its shift.  Any pointer may be NULL.  @return VI_OK, VI_ERR_ARG,
+ *  VI_ERR_STATE. */
+VI_API int vi_identify_solution_summary(const vi_identify *id, int k, int *n,
+                                        int *m, double *rms, double *ratio,
+                                        double *dchi2, double *t0);
+/** The ranges [lo, hi] [np] the global stage's starts covered (the
+ *  starting values themselves without it). */
+VI_API int vi_identify_search_range(const vi_identify *id, double *lo,
+                                    double *hi);
 /** The fitted (or held) shift *t0 and its standard error *se (0 if held).
  *  Either pointer may be NULL. */
 VI_API int vi_identify_shift(const vi_identify *id, double *t0, double *se);

@@ -98,7 +98,10 @@ module vibroimpact
             vi_identify_set_data, vi_identify_run, vi_identify_params, vi_identify_shift, &
             vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
             vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution, &
-            vi_identify_set_stable_only, vi_identify_stability, vi_identify_forcing_phase
+            vi_identify_set_stable_only, vi_identify_stability, vi_identify_forcing_phase, &
+            vi_identify_set_sensors, vi_identify_set_global, vi_identify_profile, &
+            vi_identify_nsolutions, vi_identify_solution, vi_identify_solution_profile, &
+            vi_identify_solution_summary, vi_identify_search_range, vi_identify_add_channel
   public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
             vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
             vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
@@ -1061,6 +1064,73 @@ module vibroimpact
       integer(c_int), value :: ns
       real(c_double), intent(in) :: t(*), x(*)
       real(c_double), intent(in), optional :: v(*)
+    end function
+    !> t [ns]; x, v, a [ns] each optional (at least one)
+    integer(c_int) function vi_identify_set_sensors(id, ns, t, x, v, a) &
+        bind(C, name="vi_identify_set_sensors")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: ns
+      real(c_double), intent(in) :: t(*)
+      real(c_double), intent(in), optional :: x(*), v(*), a(*)
+    end function
+    !> c [n], y [ns]
+    integer(c_int) function vi_identify_add_channel(id, c, order, y) &
+        bind(C, name="vi_identify_add_channel")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), intent(in) :: c(*), y(*)
+      integer(c_int), value :: order
+    end function
+    integer(c_int) function vi_identify_set_global(id, on) bind(C, name="vi_identify_set_global")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: id
+      integer(c_int), value :: on
+    end function
+    !> arrays [np], each optional
+    integer(c_int) function vi_identify_profile(id, plo95, phi95, flags) &
+        bind(C, name="vi_identify_profile")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), optional :: plo95(*), phi95(*)
+      integer(c_int), optional :: flags(*)
+    end function
+    integer(c_int) function vi_identify_nsolutions(id, unique) bind(C, name="vi_identify_nsolutions")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: id
+      integer(c_int), optional :: unique
+    end function
+    !> k 0-based; arrays [np], each optional
+    integer(c_int) function vi_identify_solution(id, k, p, se, lo95, hi95, flags) &
+        bind(C, name="vi_identify_solution")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: k
+      real(c_double), optional :: p(*), se(*), lo95(*), hi95(*)
+      integer(c_int), optional :: flags(*)
+    end function
+    integer(c_int) function vi_identify_solution_profile(id, k, plo95, phi95, flags) &
+        bind(C, name="vi_identify_solution_profile")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: k
+      real(c_double), optional :: plo95(*), phi95(*)
+      integer(c_int), optional :: flags(*)
+    end function
+    integer(c_int) function vi_identify_solution_summary(id, k, n, m, rms, ratio, dchi2, t0) &
+        bind(C, name="vi_identify_solution_summary")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: k
+      integer(c_int), optional :: n, m
+      real(c_double), optional :: rms, ratio, dchi2, t0
+    end function
+    !> lo, hi [np], each optional
+    integer(c_int) function vi_identify_search_range(id, lo, hi) &
+        bind(C, name="vi_identify_search_range")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), optional :: lo(*), hi(*)
     end function
     integer(c_int) function vi_identify_run(id) bind(C, name="vi_identify_run")
       import :: c_int, c_ptr

@@ -1391,6 +1391,31 @@ static void test_identify_misuse(void **state)
   assert_int_equal(vi_identify_response(NULL, 1, t, x, NULL), VI_ERR_ARG);
   assert_int_equal(vi_identify_energy_restitution(id, NULL, NULL, NULL, NULL), VI_ERR_STATE);
   assert_int_equal(vi_identify_energy_restitution(NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  /* issue 28: the solutions, profile and sensors API */
+  assert_int_equal(vi_identify_profile(id, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_profile(NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_nsolutions(id, NULL), 0);
+  assert_int_equal(vi_identify_nsolutions(NULL, NULL), 0);
+  assert_int_equal(vi_identify_solution(id, 0, NULL, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_solution(NULL, 0, NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_solution_profile(id, 0, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_solution_profile(NULL, 0, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_solution_summary(id, 0, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_solution_summary(NULL, 0, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_search_range(id, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_search_range(NULL, NULL, NULL), VI_ERR_ARG);
+  assert_err(vi_identify_set_global(NULL, 1));
+  assert_err(vi_identify_add_channel(NULL, c, 0, x));
+  assert_err(vi_identify_add_channel(id, c, 3, x));
+  assert_err(vi_identify_add_channel(id, NULL, 0, x));
+  assert_err(vi_identify_set_global(id, 2));
+  assert_err(vi_identify_set_sensors(NULL, 20, t, x, NULL, NULL));
+  assert_err_msg(vi_identify_set_sensors(id, 20, t, NULL, NULL, NULL), "no times or values");
+  assert_err_msg(vi_identify_set_sensors(id, 15, t, NULL, x, NULL), "too few");
+  x[3] = NAN;
+  assert_int_equal(vi_identify_set_sensors(id, 20, t, NULL, NULL, x), VI_ERR_NONFINITE);
+  assert_non_null(strstr(vi_identify_errmsg(id), "a = nan"));
+  x[3] = 0.0;
   { /* the forcing phase of a recorded signal */
     double tt[3] = {0, 1, 2}, ff[3] = {1, 0, -1}, same[3] = {0, 0, 0}, ph;
     assert_err(vi_identify_forcing_phase(3, tt, ff, 1.0, NULL));

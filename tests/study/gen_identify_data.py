@@ -11,7 +11,7 @@ Each file holds one forcing period of the settled motion, 64 samples
 (t, x = w.x, v = w.x'), t = 0 at model time T0 (comment line); the tests
 repeat it over P periods (the motion is periodic) and add noise.  The
 jittered file holds 10 periods at non-uniform times.  Usage:
-  gen_identify_data.py OUTDIR"""
+  gen_identify_data.py OUTDIR [clearance|beam4_acc|fig2_dof1]"""
 import math
 import sys
 
@@ -45,10 +45,13 @@ def chain2():
     return np.eye(2), 0.1 * E, E, np.array([0.5, 0.0]), np.array([0.0, 1.0])
 
 
-def simulate(M, C, K, a, w, Om, xs, r, t_end, t_rec, times, stops=None):
+def simulate(M, C, K, a, w, Om, xs, r, t_end, t_rec, times, stops=None,
+             accel=None):
     """Run from rest to t_end; return w.x, w.v at the given times (all
     >= t_rec) by dense output between impacts.  stops: a list of (w_k,
-    xs_k, r_k) for several stops (w, xs, r then name the observation)."""
+    xs_k, r_k) for several stops (w, xs, r then name the observation).
+    accel: an array that receives w.x'' = w.M^-1 (a cos(Om t) - C v - K x)
+    at the times (an accelerometer's reading)."""
     n = len(w)
     Mi = np.linalg.inv(M)
     stops = stops or [(w, xs, r)]
@@ -78,6 +81,9 @@ def simulate(M, C, K, a, w, Om, xs, r, t_end, t_rec, times, stops=None):
             zz = sol.sol(times[sel])
             out_x[sel] = w @ zz[:n]
             out_v[sel] = w @ zz[n:]
+            if accel is not None:
+                for i, tt in zip(np.nonzero(sel)[0], times[sel]):
+                    accel[i] = w @ rhs(tt, zz[:, list(times[sel]).index(tt)])[n:]
         if sol.status == 1:  # an impact on stop k: WB 2
             k = [i for i, te in enumerate(sol.t_events) if len(te)][0]
             z = sol.y_events[k][0].copy()
@@ -97,6 +103,13 @@ def write(path, T0, t, x, v, note):
         f.write(f"# {note}\n# T0 = {T0!r}\nt,x,v\n")
         for a, b, c in zip(t, x, v):
             f.write(f"{a!r},{b!r},{c!r}\n")
+
+
+def write_acc(path, T0, t, x, v, acc, note):
+    with open(path, 'w') as f:
+        f.write(f"# {note}\n# T0 = {T0!r}\nt,x,v,a\n")
+        for a, b, c, d in zip(t, x, v, acc):
+            f.write(f"{a!r},{b!r},{c!r},{d!r}\n")
 
 
 def main():
@@ -120,6 +133,35 @@ def main():
               "a=(0.3,0) Omega=1.7 stops x_2 <= 0.1, -x_2 <= 0.1, r=0.8")
         if only:
             return
+    if only == 'beam4_acc':
+        # the beam's period with its tip acceleration (w.x''), for the
+        # accelerometer fits
+        M, C, K, a, w = beam()
+        Om, xs, r = 0.85, 0.05, 0.75
+        T = 2 * math.pi / Om
+        T0 = 300 * T + 0.3171 * T
+        t = np.arange(64) * T / 64
+        acc = np.full(64, np.nan)
+        x, v, _ = simulate(M, C, K, a, w, Om, xs, r, T0 + T, T0, T0 + t,
+                           accel=acc)
+        write_acc(f"{out}/beam4_acc.csv", T0, t, x, v, acc,
+                  "beam4: steady P(1,1), one period of 64 samples with the "
+                  f"acceleration a = w.x'', Omega={Om} xs={xs} r={r}")
+        return
+    if only == 'fig2_dof1':
+        # Fig. 2's chain recorded at mass 1 (x_1), not at the stop (x_2)
+        M, C, K, a, w = chain2()
+        Om, xs, r = 0.9, 0.1, 0.7
+        T = 2 * math.pi / Om
+        T0 = 200 * T + 0.3171 * T
+        t = np.arange(64) * T / 64
+        e1 = np.array([1.0, 0.0])
+        x, v, _ = simulate(M, C, K, a, e1, Om, xs, r, T0 + T, T0, T0 + t,
+                           stops=[(w, xs, r)])
+        write(f"{out}/fig2_dof1.csv", T0, t, x, v,
+              "fig2: steady P(1,1) recorded at x_1 (the stop is on x_2), one "
+              f"period of 64 samples, Omega={Om} xs={xs} r={r}")
+        return
     cases = [('beam4', beam(), 0.85, 0.05, 0.75, 300),
              ('fig2', chain2(), 0.9, 0.1, 0.7, 200)]
     for name, (M, C, K, a, w), Om, xs, r, settle in cases:

@@ -28,7 +28,7 @@
 
 typedef struct rec {
   int ns;
-  double T0, t[1024], x[1024], v[1024];
+  double T0, t[1024], x[1024], v[1024], a[1024]; /* a: NaN without */
 } rec;
 
 /* The generator's CSV: "# T0 = ..." then t,x,v rows. */
@@ -51,6 +51,7 @@ static void load(const char *name, rec *r)
     assert_true(*e2 == ',');
     r->v[r->ns] = strtod(e2 + 1, &e3);
     assert_true(e3 > e2 + 1);
+    r->a[r->ns] = *e3 == ',' ? strtod(e3 + 1, NULL) : NAN;
     r->ns++;
   }
   fclose(f);
@@ -124,12 +125,14 @@ typedef struct fit {
   int flags[2], conv, iters;
 } fit;
 
-static fit fit_r(const vi_model *m, const series *s, double r0, int with_v)
+static fit fit_rg(const vi_model *m, const series *s, double r0, int with_v,
+                  int global)
 {
   vi_identify *id = NULL;
   fit f;
   assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
   assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, r0, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_global(id, global), VI_OK);
   assert_int_equal(vi_identify_set_data(id, s->ns, s->t, s->x, with_v ? s->v : NULL), VI_OK);
   int st = vi_identify_run(id);
   if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
@@ -140,6 +143,11 @@ static fit fit_r(const vi_model *m, const series *s, double r0, int with_v)
                                        NULL, NULL, NULL), VI_OK);
   vi_identify_destroy(&id);
   return f;
+}
+
+static fit fit_r(const vi_model *m, const series *s, double r0, int with_v)
+{
+  return fit_rg(m, s, r0, with_v, 1);
 }
 
 /* Distance of two shifts modulo the period T. */
@@ -185,7 +193,11 @@ static void beam_exact(void **state)
 }
 
 /* 0.2 % noise over 50 periods: r within 0.01 (in fact within 3 stderr),
- * stderr about 0.003; and the intervals' coverage over 10 seeds. */
+ * stderr about 0.003; and the intervals' coverage over 10 seeds.  The
+ * fits here are local, from 0.6 (the statistics of the one minimum near
+ * the truth; at 1 % noise a second one, P(1,2) near r = 0.3, explains
+ * some seeds as well: beam_not_unique, and vi_bench_identify for the
+ * global stage over seeds and starts). */
 static void beam_noise(void **state)
 {
   (void)state;
@@ -199,7 +211,7 @@ static void beam_noise(void **state)
     int cover = 0;
     for (unsigned long seed = 1; seed <= 10; seed++) {
       series s = repeat(&r, cs[c].periods, cs[c].level * pp, seed);
-      fit f = fit_r(m, &s, 0.6, 0);
+      fit f = fit_rg(m, &s, 0.6, 0, 0);
       if (getenv("VI_DEBUG")) fprintf(stderr, "c%d seed %lu r %.5f se %.5f it %d rms %.3g noise %.3g\n", c, seed, f.p[0], f.se[0], f.iters, f.rms, f.noise);
       assert_true(f.conv);
       if (c == 0) assert_close(f.p[0], 0.75, 0.01);
@@ -253,6 +265,7 @@ static void beam_r_xs(void **state)
     int kr = way ? VI_IDENTIFY_OTHER : VI_IDENTIFY_R;
     int kx = way ? VI_IDENTIFY_OTHER : VI_IDENTIFY_XS;
     if (way) assert_int_equal(vi_identify_set_builder(id, build_r, &bc, NULL), VI_OK);
+    assert_int_equal(vi_identify_set_global(id, 0), VI_OK); /* one minimum, two ways */
     assert_int_equal(vi_identify_set_param(id, 0, kr, 0, 0.7, 0, 1), VI_OK);
     assert_int_equal(vi_identify_set_param(id, 1, kx, 0, 0.0495, 0.03, 0.07), VI_OK);
     assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
@@ -311,8 +324,9 @@ static void fig2(void **state)
   assert_true(f.conv);
   assert_true(fabs(f.p[0] - 0.7) < 3 * f.se[0] && f.se[0] < 0.01);
   assert_true(phase_err(f.t0, r.T0, 2 * M_PI / 0.9) < 0.01);
-  /* by vi_param.h keys: r (exact) and the forcing amplitude a_1
-   * (differenced), from 0.6 and 0.45 */
+  /* by vi_param.h keys: r (exact) and the unknown forcing amplitude a_1
+   * (differenced), from 0.6 and 0.32: the global stage's starts cover
+   * [0, 1] x [0.3, 0.7] */
   vi_identify *id = NULL;
   double p[2], se[2];
   int conv;
@@ -320,7 +334,7 @@ static void fig2(void **state)
   assert_int_equal(vi_identify_set_param_key(id, 0, "stop.r", NAN, NAN), VI_OK);
   assert_int_equal(vi_identify_set_param_key(id, 1, "forcing.a[1]", 0.3, 0.7), VI_OK);
   assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
-  assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_OTHER, 0, 0.45, 0.3, 0.7), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_OTHER, 0, 0.32, 0.3, 0.7), VI_OK);
   assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
   assert_int_equal(vi_identify_run(id), VI_OK);
   assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
@@ -475,6 +489,192 @@ static void forcing_phase(void **state)
   assert_true(fabs(ph - 0.4) < 0.02 / Om);
 }
 
+/* The global stage (issue 28): from r = 0.05, 0.5 and 0.95 (at 0.5 the
+ * model settles on P(4,6), far from the recording's P(1,1), and the local
+ * fit alone has nowhere to start) the same best fit, P(1,1) within 0.01
+ * and 1.96 stderr of the truth, over the range r in [0, 1]; the profile
+ * interval agrees with the Jacobian's within 20 % (r moves the response
+ * nearly linearly over +-0.01) and holds the fit. */
+static void beam_global(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4.csv", &r);
+  vi_model *m = beam(4, 0.05, 0.75);
+  series s = repeat(&r, 50, 0.002 * peak_to_peak(&r), 1);
+  static const double r0[3] = {0.05, 0.5, 0.95};
+  double first = NAN;
+  for (int k = 0; k < 3; k++) {
+    vi_identify *id = NULL;
+    double p, se, l, h, pl, ph, q, lo, hi, rms;
+    int fl, pfl, n, mm, uq;
+    assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, r0[k], 0, 1), VI_OK);
+    assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+    int st = vi_identify_run(id);
+    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+    assert_int_equal(st, VI_OK);
+    assert_int_equal(vi_identify_params(id, &p, &se, &l, &h, &fl), VI_OK);
+    assert_int_equal(vi_identify_profile(id, &pl, &ph, &pfl), VI_OK);
+    assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, &n, &mm), VI_OK);
+    assert_true(n == 1 && mm == 1);
+    assert_true(fabs(p - 0.75) < 0.01 && fabs(p - 0.75) < 1.96 * se);
+    if (k == 0) first = p;
+    else assert_close(p, first, 1e-6);
+    assert_false(pfl & VI_IDENTIFY_PROFILE_DIFFERS);
+    assert_true(pl < p && p < ph);
+    assert_close((ph - pl) / (h - l), 1.0, 0.2);
+    assert_int_equal(vi_identify_search_range(id, &lo, &hi), VI_OK);
+    assert_true(lo == 0.0 && hi == 1.0);
+    /* solution 0 is the best fit */
+    assert_true(vi_identify_nsolutions(id, &uq) >= 1);
+    assert_int_equal(vi_identify_solution(id, 0, &q, NULL, NULL, NULL, NULL), VI_OK);
+    assert_true(q == p);
+    assert_int_equal(vi_identify_solution(id, 99, &q, NULL, NULL, NULL, NULL), VI_ERR_ARG);
+    vi_identify_destroy(&id);
+  }
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
+/* Two explanations (issue 28): at 1 % noise over 20 periods the P(1,1)
+ * orbit near the truth and a P(1,2) orbit near r = 0.3 both leave a
+ * residual at the noise level (chi-square at 95 %); both are reported,
+ * best first, not unique, and the truth lies in one's 95 % interval. */
+static void beam_not_unique(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4.csv", &r);
+  vi_model *m = beam(4, 0.05, 0.75);
+  series s = repeat(&r, 20, 0.01 * peak_to_peak(&r), 3);
+  vi_identify *id = NULL;
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_OK);
+  int uq = 1, ns = vi_identify_nsolutions(id, &uq), cover = 0, types = 0;
+  assert_true(ns >= 2);
+  assert_false(uq);
+  double last = 0.0;
+  for (int k = 0; k < ns; k++) {
+    double p, se, l, h, rms, ratio, dc;
+    int n, mm;
+    assert_int_equal(vi_identify_solution(id, k, &p, &se, &l, &h, NULL), VI_OK);
+    assert_int_equal(vi_identify_solution_summary(id, k, &n, &mm, &rms, &ratio, &dc, NULL), VI_OK);
+    assert_true(rms >= last); /* best first */
+    last = rms;
+    assert_true(ratio < 1.1 && dc >= 0.0 && (k > 0 || dc == 0.0));
+    assert_true(se > 0.005);
+    cover += l <= 0.75 && 0.75 <= h;
+    types |= n == 1 && mm == 1 ? 1 : n == 1 && mm == 2 ? 2 : 4;
+  }
+  assert_true(cover >= 1);
+  assert_int_equal(types & 3, 3); /* P(1,1) and P(1,2) */
+  vi_identify_destroy(&id);
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
+/* An accelerometer at the tip (issue 28): the independent recording's
+ * w.x'' with 0.2 % noise over 50 periods, alone from r = 0.5, gives r
+ * within 0.02 (and 3 stderr); with the displacement beside it too. */
+static void beam_accel(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4_acc.csv", &r);
+  vi_model *m = beam(4, 0.05, 0.75);
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (int i = 0; i < r.ns; i++) {
+    lo = fmin(lo, r.a[i]);
+    hi = fmax(hi, r.a[i]);
+  }
+  series s = repeat(&r, 50, 0.0, 1), sa = repeat(&r, 50, 0.0, 1);
+  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(g, 21);
+  for (int i = 0; i < sa.ns; i++)
+    sa.x[i] = r.a[i % r.ns] + gsl_ran_gaussian(g, 0.002 * (hi - lo));
+  for (int i = 0; i < s.ns; i++)
+    s.x[i] += gsl_ran_gaussian(g, 0.002 * peak_to_peak(&r));
+  gsl_rng_free(g);
+  for (int way = 0; way < 2; way++) {
+    vi_identify *id = NULL;
+    double p, se, rms;
+    assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
+    assert_int_equal(vi_identify_set_sensors(id, s.ns, s.t, way ? s.x : NULL, NULL, sa.x), VI_OK);
+    int st = vi_identify_run(id);
+    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+    assert_int_equal(st, VI_OK);
+    assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, NULL, NULL), VI_OK);
+    if (getenv("VI_DEBUG")) fprintf(stderr, "accel way %d r %.5f +- %.5f rms %.3g\n", way, p, se, rms);
+    assert_true(fabs(p - 0.75) < 0.02 && fabs(p - 0.75) < 3 * se);
+    /* the residual is the first channel's noise: a's alone, x's with x */
+    assert_close(rms / (0.002 * (way ? peak_to_peak(&r) : hi - lo)), 1.0, 0.1);
+    vi_identify_destroy(&id);
+  }
+  series_free(&s);
+  series_free(&sa);
+  vi_model_destroy(&m);
+}
+
+/* Sensors elsewhere (issue 28): Fig. 2 recorded at mass 1 (x_1; the stop
+ * is on x_2), 0.2 % noise over 20 periods, r from 0.5; the velocity of
+ * x_2 alone; and both masses at once (x_1 with x_2 as an added channel:
+ * the same recordings, a smaller stderr than either alone). */
+static void fig2_sensors(void **state)
+{
+  (void)state;
+  static rec r1, r2;
+  load("fig2_dof1.csv", &r1);
+  load("fig2.csv", &r2);
+  vi_model *m = vi_test_fig2();
+  series s1 = repeat(&r1, 20, 0.002 * peak_to_peak(&r1), 5);
+  series s2 = repeat(&r2, 20, 0.0, 6);
+  double vlo = HUGE_VAL, vhi = -HUGE_VAL;
+  for (int i = 0; i < r2.ns; i++) {
+    vlo = fmin(vlo, r2.v[i]);
+    vhi = fmax(vhi, r2.v[i]);
+  }
+  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(g, 7);
+  for (int i = 0; i < s2.ns; i++) s2.v[i] += gsl_ran_gaussian(g, 0.002 * (vhi - vlo));
+  gsl_rng_free(g);
+  series s3 = repeat(&r2, 20, 0.002 * peak_to_peak(&r2), 8);
+  double se_alone[2] = {0, 0};
+  for (int way = 0; way < 3; way++) {
+    vi_identify *id = NULL;
+    double p, se, c[2] = {1.0, 0.0}, c2[2] = {0.0, 1.0};
+    assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
+    if (way == 0) {
+      assert_int_equal(vi_identify_set_observation(id, c), VI_OK);
+      assert_int_equal(vi_identify_set_data(id, s1.ns, s1.t, s1.x, NULL), VI_OK);
+    } else if (way == 1) {
+      assert_int_equal(vi_identify_set_sensors(id, s2.ns, s2.t, NULL, s2.v, NULL), VI_OK);
+    } else {
+      assert_int_equal(vi_identify_set_observation(id, c), VI_OK);
+      assert_int_equal(vi_identify_set_data(id, s1.ns, s1.t, s1.x, NULL), VI_OK);
+      assert_int_equal(vi_identify_add_channel(id, c2, 0, s3.x), VI_OK);
+    }
+    int st = vi_identify_run(id);
+    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+    assert_int_equal(st, VI_OK);
+    assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
+    if (getenv("VI_DEBUG")) fprintf(stderr, "fig2 way %d r %.5f +- %.5f\n", way, p, se);
+    assert_true(fabs(p - 0.7) < 3 * se && se < 0.02);
+    if (way < 2) se_alone[way] = se;
+    else assert_true(se < se_alone[0]);
+    vi_identify_destroy(&id);
+  }
+  series_free(&s1);
+  series_free(&s2);
+  series_free(&s3);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -482,7 +682,9 @@ int main(void)
       cmocka_unit_test(bad_data),     cmocka_unit_test(undetermined),
       cmocka_unit_test(beam_jitter),  cmocka_unit_test(beam_r_xs),
       cmocka_unit_test(beam_noise),    cmocka_unit_test(clearance),
-      cmocka_unit_test(forcing_phase),
+      cmocka_unit_test(forcing_phase), cmocka_unit_test(beam_global),
+      cmocka_unit_test(beam_not_unique), cmocka_unit_test(beam_accel),
+      cmocka_unit_test(fig2_sensors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,413 @@
+/* vi_identify_global.c - identification that needs no good guess: starts
+ * spread over every parameter's admissible range, the model's orbits with
+ * the recording's period at each (its transient and the impact-phase
+ * scan), scored against the recording; the trust-region fit from the best
+ * distinct candidates; the distinct minima whose residual the noise
+ * explains, best first; and profile-likelihood intervals (the others
+ * re-fitted along each parameter) beside the Jacobian's. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+
+#include "vi_identify_internal.h"
+
+/* A start: its values, the orbit chosen there and its score (the shift
+ * scan's cost on the recording's first two orbit periods). */
+typedef struct cand {
+  double p[MAXP], t0, cost;
+  orb o;
+  int picked;
+} cand;
+
+/* 1 when the observation is stop k's own gap coordinate w_k. */
+static int observes_stop(const vi_identify *id, int k)
+{
+  const double *w = vi_stop_w(id->base, k);
+  for (int i = 0; i < id->N; i++)
+    if (fabs(id->c[i] - w[i]) > 1e-12 * (fabs(w[i]) + 1e-300)) return 0;
+  return 1;
+}
+
+/* The range the starts cover for parameter j: r within [0, 1]; a stop
+ * observed through its own gap coordinate within 5 % of the recorded
+ * span of its top (the stop cannot lie below the motion, which would
+ * cross it, nor far above it, which would never reach it); otherwise the
+ * given bounds, or +-50 % of the starting value where there are none. */
+static void start_range(const vi_identify *id, int j, double *a, double *b)
+{
+  double lo = id->lo[j], hi = id->hi[j], p0 = id->p0[j];
+  if (id->kind[j] == VI_IDENTIFY_XS && id->ych == 0 && observes_stop(id, id->kst[j])) {
+    double ymin = HUGE_VAL, ymax = -HUGE_VAL;
+    for (int i = 0; i < id->ns; i++) {
+      ymin = fmin(ymin, id->y[i]);
+      ymax = fmax(ymax, id->y[i]);
+    }
+    double sp = ymax - ymin;
+    lo = fmax(lo, ymax - 0.05 * sp);
+    hi = fmin(hi, ymax + 0.05 * sp);
+  }
+  double h = p0 != 0.0 ? 0.5 * fabs(p0) : 0.5;
+  if (!isfinite(lo)) lo = fmax(id->lo[j], p0 - h);
+  if (!isfinite(hi)) hi = fmin(id->hi[j], p0 + h);
+  if (!(lo < hi)) { /* the data's range outside the bounds: the bounds */
+    lo = fmax(id->lo[j], p0 - h);
+    hi = fmin(id->hi[j], p0 + h);
+  }
+  *a = lo;
+  *b = hi;
+}
+
+/* Radical inverse of k in base b (a Halton coordinate in (0, 1)). */
+static double halton(int k, int b)
+{
+  double f = 1.0, r = 0.0;
+  for (int i = k; i > 0; i /= b) {
+    f /= b;
+    r += f * (i % b);
+  }
+  return r;
+}
+
+/* The starts: a grid of cell centres for one and two parameters (8, and
+ * 5 x 5), a Halton design of 8 np points for more; their number. */
+static int starts(vi_identify *id, double *u)
+{
+  int np = id->np;
+  static const int primes[MAXP] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31,
+                                   37, 41, 43, 47, 53, 59, 61, 67, 71, 73,
+                                   79, 83, 89, 97, 101, 103, 107, 109, 113,
+                                   127, 131};
+  if (np == 1) {
+    for (int k = 0; k < 8; k++) u[k] = (k + 0.5) / 8.0;
+    return 8;
+  }
+  if (np == 2) {
+    for (int a = 0; a < 5; a++)
+      for (int b = 0; b < 5; b++) {
+        u[(size_t)2 * (a * 5 + b)] = (a + 0.5) / 5.0;
+        u[(size_t)2 * (a * 5 + b) + 1] = (b + 0.5) / 5.0;
+      }
+    return 25;
+  }
+  int ns = 8 * np;
+  for (int k = 0; k < ns; k++)
+    for (int j = 0; j < np; j++) u[(size_t)k * np + j] = halton(k + 1, primes[j]);
+  return ns;
+}
+
+/* The model and its orbit at the start p: the candidate, or non-zero. */
+static int at_start(vi_identify *id, int nd, cand *c)
+{
+  vi_model *m = NULL;
+  vi_id_drop_cur(id);
+  id->have_pred = 0;
+  int st = vi_id_make_model(id, c->p, &m);
+  if (st) return st;
+  id->cur = m;
+  if ((st = vi_xflow_create(m, &id->xf))) return st;
+  if ((st = vi_id_choose_orbit(id, nd, &c->cost))) return st;
+  memcpy(id->pcur, c->p, sizeof(double) * id->np);
+  id->have_cur = 1;
+  c->t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : id->shift0;
+  vi_id_orb_copy(&c->o, &id->o, id->N);
+  return VI_OK;
+}
+
+static int cmp_cost(const void *a, const void *b)
+{
+  double x = ((const cand *)a)->cost, y = ((const cand *)b)->cost;
+  return (x > y) - (x < y);
+}
+
+/* Distance of two starts in units of the range. */
+static double udist(const vi_identify *id, const double *p, const double *q)
+{
+  double d = 0.0;
+  for (int j = 0; j < id->np; j++) {
+    double e = (p[j] - q[j]) / (id->ghi[j] - id->glo[j]);
+    d = fmax(d, fabs(e));
+  }
+  return d;
+}
+
+/* The candidates the fits start from: the best of each orbit type, then
+ * the next best by score that lie two grid cells from any picked one of
+ * the same type; at most 2 + np. */
+static int pick(vi_identify *id, cand *c, int nc, double cell)
+{
+  int want = 2 + id->np, got = 0;
+  for (int k = 0; k < nc && got < want; k++) {
+    int seen = 0;
+    for (int q = 0; q < k; q++)
+      seen |= c[q].o.n == c[k].o.n && c[q].o.m == c[k].o.m;
+    if (!seen) {
+      c[k].picked = 1;
+      got++;
+    }
+  }
+  for (int k = 0; k < nc && got < want; k++) {
+    if (c[k].picked) continue;
+    int near = 0;
+    for (int q = 0; q < nc; q++)
+      near |= c[q].picked && c[q].o.n == c[k].o.n && c[q].o.m == c[k].o.m &&
+              udist(id, c[q].p, c[k].p) < 1.5 * cell;
+    if (!near) {
+      c[k].picked = 1;
+      got++;
+    }
+  }
+  return got;
+}
+
+/* Sort key of a minimum: converged first, then by displacement residual. */
+static int cmp_sol(const void *a, const void *b)
+{
+  const vi_id_sol *x = a, *y = b;
+  if (x->conv != y->conv) return y->conv - x->conv;
+  return (x->rms > y->rms) - (x->rms < y->rms);
+}
+
+/* The same minimum: one orbit type, every value within 3 standard errors
+ * (or 1e-6 of its range). */
+static int same_min(const vi_identify *id, const vi_id_sol *a, const vi_id_sol *b)
+{
+  if (a->n != b->n || a->m != b->m) return 0;
+  for (int j = 0; j < id->np; j++) {
+    double se = fmax(isfinite(a->se[j]) ? a->se[j] : 0.0, isfinite(b->se[j]) ? b->se[j] : 0.0);
+    double tol = fmax(3.0 * se, 1e-6 * (id->ghi[j] - id->glo[j]));
+    if (fabs(a->p[j] - b->p[j]) > tol) return 0;
+  }
+  return 1;
+}
+
+/* Rank the minima, drop repeats, and count those whose residual the noise
+ * explains: sum of squared residuals of the first channel <= s^2
+ * chi2_0.95(ns - P), s the stated noise, or the estimated one capped at
+ * 1.1 times the best's residual level (the 4th differences hold the
+ * signal's own too: an accelerometer's, with the higher modes aliased at
+ * 64 samples per period, are mostly signal), and never below the best's
+ * level (a model error the best shares). */
+static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
+{
+  int n = *ns_, keep = 0, P = id->np + id->fit_shift, dof = id->ns - P;
+  if (n < 1 || !s) return;
+  qsort(s, n, sizeof *s, cmp_sol);
+  for (int k = 0; k < n; k++) {
+    int dup = 0;
+    for (int q = 0; q < keep && !dup; q++) dup = same_min(id, &s[q], &s[k]);
+    if (dup) {
+      free(s[k].o.x);
+      free(s[k].o.v);
+      continue;
+    }
+    if (keep != k) s[keep] = s[k];
+    keep++;
+  }
+  *ns_ = keep;
+  double nz = id->noise, best = s[0].rms * s[0].rms * id->ns / (dof > 0 ? dof : 1);
+  if (!(id->sigma > 0.0) && isfinite(nz)) nz = fmin(nz, 1.1 * sqrt(best));
+  double s2 = isfinite(nz) ? fmax(nz * nz, best) : best;
+  double lim = dof > 0 ? gsl_cdf_chisq_Pinv(0.95, dof) : HUGE_VAL;
+  id->nfound = 1;
+  for (int k = 0; k < keep; k++)
+    s[k].dchi2 = (s[k].rms * s[k].rms - s[0].rms * s[0].rms) * id->ns / s2;
+  for (int k = 1; k < keep; k++)
+    if (s[k].conv && s[k].rms * s[k].rms * id->ns / s2 <= lim) id->nfound = k + 1;
+    else break;
+  id->unique = id->nfound == 1;
+}
+
+int vi_id_global(vi_identify *id, int nd)
+{
+  int np = id->np, N = id->N, st = VI_OK, nc = 0, nsol = 0;
+  for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j]);
+  double *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
+  cand *c = calloc((size_t)8 * MAXP, sizeof *c);
+  char why[VI_MSG_LEN] = "";
+  if (!u || !c) {
+    free(u);
+    free(c);
+    return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
+  }
+  int ns = starts(id, u);
+  double cell = np == 1 ? 1.0 / 8 : np == 2 ? 1.0 / 5 : pow(1.0 / ns, 1.0 / np);
+  for (int k = 0; k < ns && !st; k++) {
+    cand *ck = &c[nc];
+    for (int j = 0; j < np; j++)
+      ck->p[j] = id->glo[j] + u[(size_t)k * np + j] * (id->ghi[j] - id->glo[j]);
+    if ((st = vi_id_orb_alloc(&ck->o, N))) break;
+    int sk = at_start(id, nd, ck);
+    if (id->cancel_hit) st = VI_CANCELLED;
+    else if (sk == VI_ERR_NOMEM) st = sk;
+    else if (sk) {
+      snprintf(why, sizeof why, "%s", id->errmsg);
+      free(ck->o.x);
+      free(ck->o.v);
+      ck->o.x = ck->o.v = NULL;
+    } else {
+        nc++;
+    }
+  }
+  free(u);
+  if (!st && nc == 0)
+    st = vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
+                 "at none of %d starts over the parameters' ranges does the "
+                 "model show a %sP(%d,m) orbit, the recording's period (the "
+                 "last: %s)", ns, id->stable_only ? "stable " : "", nd, why);
+  int want = st ? 0 : (qsort(c, nc, sizeof *c, cmp_cost), pick(id, c, nc, cell));
+  vi_id_sol *s = want ? calloc(want, sizeof *s) : NULL;
+  if (want && !s) st = vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
+  for (int k = 0; !st && s && k < nc; k++) {
+    if (!c[k].picked) continue;
+    vi_id_sol *sk = &s[nsol];
+    if ((st = vi_id_orb_alloc(&sk->o, N))) break;
+    /* the model and orbit at the candidate, current */
+    vi_model *m = NULL;
+    vi_id_drop_cur(id);
+    id->have_pred = 0;
+    int e = vi_id_make_model(id, c[k].p, &m);
+    if (!e) {
+      id->cur = m;
+      e = vi_xflow_create(m, &id->xf);
+    }
+    if (!e) {
+      vi_id_orb_copy(&id->o, &c[k].o, N);
+      memcpy(id->pcur, c[k].p, sizeof(double) * np);
+      id->have_cur = 1;
+      e = vi_id_local(id, c[k].p, c[k].t0, sk);
+    }
+    if (id->cancel_hit) st = VI_CANCELLED;
+    else if (e == VI_ERR_NOMEM) st = e;
+    else if (e) snprintf(why, sizeof why, "%s", id->errmsg);
+    if (e) {
+      free(sk->o.x);
+      free(sk->o.v);
+      sk->o.x = sk->o.v = NULL;
+    } else {
+      nsol++;
+    }
+  }
+  for (int k = 0; k < nc; k++) {
+    free(c[k].o.x);
+    free(c[k].o.v);
+  }
+  free(c);
+  if (!st && nsol == 0)
+    st = vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED, "no fit from the %d best "
+                 "starts converged (the last: %s)", want, why);
+  if (st) {
+    for (int k = 0; s && k < nsol; k++) {
+      free(s[k].o.x);
+      free(s[k].o.v);
+    }
+    free(s);
+    return st == VI_CANCELLED ? vi_fail(id->errmsg, st, "cancelled") : st;
+  }
+  rank(id, s, &nsol);
+  id->sol = s;
+  id->nsol = nsol;
+  return VI_OK;
+}
+
+/* ---- profile-likelihood intervals ---------------------------------------- */
+
+/* The model and orbit of solution s current again. */
+static int restore(vi_identify *id, const vi_id_sol *s)
+{
+  vi_id_hold(id, -1, NAN);
+  vi_id_drop_cur(id);
+  id->have_pred = 0;
+  vi_id_orb_copy(&id->o, &s->o, id->N);
+  return vi_id_ensure(id, s->p);
+}
+
+/* The profile's rise at p_j = v: the least cost with p_j held there, the
+ * others and the shift re-fitted from *q, *t0 (updated to the new
+ * optimum), minus the minimum's; NaN where the orbit cannot be continued
+ * there (a change of orbit type, or no admissible stable orbit). */
+static double rise(vi_identify *id, const vi_id_sol *s, int j, double v,
+                   double *q, double *t0)
+{
+  double pq[MAXP], ssr, t1;
+  int it, cv;
+  q[j] = v;
+  vi_id_hold(id, j, v);
+  if (vi_id_ensure(id, q)) return NAN;
+  if (vi_id_lm(id, q, *t0, pq, &t1, &ssr, &it, &cv)) return NAN;
+  if (vi_id_ensure(id, pq)) return NAN;
+  memcpy(q, pq, sizeof(double) * id->np);
+  *t0 = t1;
+  return ssr - s->ssr;
+}
+
+/* One side (dir +-1) of parameter j's profile interval: where the cost has
+ * risen by lim; *flag gets VI_IDENTIFY_PROFILE_BOUND or _ORBIT where the
+ * bound or a change of orbit ends it first. */
+static double side(vi_identify *id, const vi_id_sol *s, int j, int dir,
+                   double lim, int *flag)
+{
+  double q[MAXP], t0 = s->t0, bnd = dir > 0 ? id->hi[j] : id->lo[j];
+  double room = dir > 0 ? bnd - s->p[j] : s->p[j] - bnd;
+  double d = s->h95[j] - s->p[j], in = 0.0, out = HUGE_VAL;
+  if (!(d > 0.0) || !isfinite(d)) d = 1e-3 * (id->ghi[j] - id->glo[j]);
+  if (!(room > 0.0)) {
+    *flag |= VI_IDENTIFY_PROFILE_BOUND;
+    return s->p[j];
+  }
+  if (restore(id, s)) return NAN;
+  memcpy(q, s->p, sizeof(double) * id->np);
+  for (int it = 0; it < 12; it++) {
+    int atb = d >= room;
+    if (atb) d = room;
+    double r = rise(id, s, j, atb ? bnd : s->p[j] + dir * d, q, &t0);
+    if (isnan(r)) { /* no orbit there: back towards what continues */
+      out = d;
+      if (out - in < 0.02 * out) {
+        *flag |= VI_IDENTIFY_PROFILE_ORBIT;
+        return s->p[j] + dir * in;
+      }
+      d = 0.5 * (in + out);
+      continue;
+    }
+    if (r <= lim) {
+      in = d;
+      if (atb) {
+        *flag |= VI_IDENTIFY_PROFILE_BOUND;
+        return bnd;
+      }
+    } else {
+      out = d;
+    }
+    if (fabs(r - lim) < 0.005 * lim) return s->p[j] + dir * d;
+    /* the rise is quadratic near a minimum: d to lim's level on it, kept
+     * inside the bracket */
+    double dn = r > 0.0 ? d * sqrt(lim / r) : 2.0 * d;
+    if (dn <= in || dn >= out) dn = isfinite(out) ? 0.5 * (in + out) : 2.0 * in;
+    d = dn;
+  }
+  return s->p[j] + dir * d;
+}
+
+int vi_id_profile(vi_identify *id, vi_id_sol *s)
+{
+  int np = id->np, P = np + id->fit_shift, dof = vi_id_nres(id) - P;
+  if (dof < 1) return VI_OK;
+  double tq = gsl_cdf_tdist_Pinv(0.975, dof);
+  double lim = s->ssr / dof * tq * tq; /* a rise of t^2 s^2: the 95 % level */
+  for (int j = 0; j < np; j++) {
+    int fl = 0;
+    if (s->flags[j] & VI_IDENTIFY_UNDETERMINED) continue;
+    s->pl95[j] = side(id, s, j, -1, lim, &fl);
+    s->ph95[j] = side(id, s, j, +1, lim, &fl);
+    if (id->cancel_hit) return VI_CANCELLED;
+    double jl = s->p[j] - s->l95[j], jh = s->h95[j] - s->p[j];
+    double pl = s->p[j] - s->pl95[j], ph = s->ph95[j] - s->p[j];
+    if (!(fabs(pl - jl) <= 0.2 * jl) || !(fabs(ph - jh) <= 0.2 * jh))
+      fl |= VI_IDENTIFY_PROFILE_DIFFERS;
+    s->pflags[j] = fl;
+  }
+  vi_id_hold(id, -1, NAN);
+  return VI_OK;
+}

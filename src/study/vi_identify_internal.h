@@ -1,0 +1,140 @@
+/* vi_identify_internal.h - what the files of the identification share
+ * (private): the handle, the orbit record, and the steps of
+ * vi_identify_run split by concern:
+ *   vi_identify.c         set-up, the run's order, the result getters
+ *   vi_identify_resid.c   models at trial values, the orbit continued,
+ *                         residuals and their exact Jacobian
+ *   vi_identify_seed.c    the recording's period, the orbit the model
+ *                         shows at a start, the shift scan
+ *   vi_identify_stats.c   noise, uncertainty, the WB 12 route
+ *   vi_identify_fit.c     the trust-region fit from one start
+ *   vi_identify_global.c  starts over the admissible ranges, the distinct
+ *                         minima the data admit, profile intervals */
+#ifndef VI_IDENTIFY_INTERNAL_H
+#define VI_IDENTIFY_INTERNAL_H
+
+#include <gsl/gsl_matrix.h>
+#include <gsl/gsl_vector.h>
+
+#include "vi_forcing.h"
+#include "vi_orbit_internal.h"
+#include "vibroimpact/vi_identify.h"
+
+#define MAXP 32
+#define MAXCH 8 /* channels beside the first three (vi_identify_add_channel) */
+
+/* A P(n, m) orbit: impact times, stops, pre-impact states [N x MAX_M]. */
+typedef struct orb {
+  int n, m;
+  int stop[MAX_M];
+  double t[MAX_M];
+  double *x, *v;
+} orb;
+
+/* One local minimum: what a fit from one start ended on. */
+typedef struct vi_id_sol {
+  double p[MAXP], se[MAXP], l95[MAXP], h95[MAXP], pl95[MAXP], ph95[MAXP];
+  int flags[MAXP], pflags[MAXP];
+  double corr[MAXP * MAXP];
+  double t0, t0se, rms, ssr, rcond, dchi2; /* dchi2: its excess over the best */
+  int conv, iters, n, m;
+  orb o; /* its orbit (buffers owned) */
+} vi_id_sol;
+
+struct vi_identify {
+  const vi_model *base;
+  int N, np;
+  int kind[MAXP], kst[MAXP], pset[MAXP];
+  double p0[MAXP], lo[MAXP], hi[MAXP];
+  char key[MAXP][64]; /* the vi_param.h key of each parameter */
+  vi_identify_model_fn fn;
+  void *user;
+  vi_destroy_fn destroy;
+  double *c; /* observation [N] */
+  int fit_shift, stable_only;
+  double shift0, sigma, mumax; /* mumax: the fitted orbit's largest |multiplier| */
+  int ns;
+  double *t, *y, *vy, *ay; /* recording: y the first channel */
+  int ych;                 /* y's order: 0 c.x, 1 c.x', 2 c.x'' */
+  int nch, chord[MAXCH];   /* more channels: order, observation, data */
+  double *chc[MAXCH], *chy[MAXCH];
+  /* the model and orbit at pcur (continuation: each trial starts here) */
+  vi_model *cur;
+  vi_xflow *xf;
+  double pcur[MAXP];
+  int have_cur;
+  orb o, trial;
+  /* the last Jacobian's point: its orbit and du/dp [D x np], the
+   * predictor of the next trials' orbits */
+  orb acc;
+  double pacc[MAXP], *dudp, *mre, *mim;
+  int have_pred;
+  double Om0, scale; /* velocity scaling; largest |y| (penalty) */
+  /* parameters held during a profile: col[j] the Jacobian column of
+   * parameter j (-1 held at hval[j]), nfree the free ones */
+  int col[MAXP], nfree;
+  double hval[MAXP];
+  /* the global stage: on, and the ranges it searched */
+  int global;
+  double glo[MAXP], ghi[MAXP];
+  /* results */
+  int done, conv, iters;
+  double p[MAXP], se[MAXP], l95[MAXP], h95[MAXP], t0, t0se, rms, noise, rcond;
+  int flags[MAXP];
+  double corr[MAXP * MAXP], r12, vN, KE, RE;
+  vi_id_sol *sol; /* the minima the data admit, best first */
+  int nsol, nfound, unique;
+  vi_cancel_fn cancel;          /* vi_identify_set_cancel */
+  void *cancel_user;
+  vi_destroy_fn cancel_free;
+  int cancel_hit;               /* the poll said cancel during this run */
+  char errmsg[VI_MSG_LEN];
+};
+
+/* vi_identify.c */
+int vi_id_poll_cancel(vi_identify *id);
+int vi_id_poll_fn(void *user);
+int vi_id_poll_mon(const vi_progress *p, void *user);
+int vi_id_orb_alloc(orb *o, int N);
+void vi_id_orb_copy(orb *d, const orb *s, int N);
+void vi_id_drop_cur(vi_identify *id);
+void vi_id_free_solutions(vi_identify *id);
+void vi_id_free_channels(vi_identify *id);
+
+/* vi_identify_resid.c */
+int vi_id_make_model(vi_identify *id, const double *p, vi_model **out);
+double vi_id_period_of(const vi_model *m, int n);
+void vi_id_orb_normalise(orb *o, double P);
+int vi_id_ensure(vi_identify *id, const double *p);
+void vi_id_orbit_state(const vi_model *m, const vi_xflow *xf, const orb *o,
+                       double s, double *z, double *zp, int *jo,
+                       double *tauo, double *ko);
+double vi_id_channel(const vi_identify *id, const vi_model *m, double s,
+                     const double *z, int order, double *work);
+int vi_id_nres(const vi_identify *id);
+void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,
+                 double *t0);
+int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f);
+int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J);
+
+/* vi_identify_seed.c */
+int vi_id_data_period(vi_identify *id, double T);
+double vi_id_scan_shift(vi_identify *id, double *cost_out);
+int vi_id_choose_orbit(vi_identify *id, int nd, double *cost);
+
+/* vi_identify_stats.c */
+double vi_id_noise_estimate(const vi_identify *id);
+int vi_id_uncertainty(vi_identify *id, const gsl_matrix *J, double ssr);
+void vi_id_energy_route(vi_identify *id);
+
+/* vi_identify_fit.c */
+int vi_id_lm(vi_identify *id, const double *p, double t0, double *pout,
+             double *t0out, double *ssr, int *iters, int *conv);
+int vi_id_local(vi_identify *id, const double *p, double t0, vi_id_sol *s);
+void vi_id_hold(vi_identify *id, int j, double v);
+
+/* vi_identify_global.c */
+int vi_id_global(vi_identify *id, int nd);
+int vi_id_profile(vi_identify *id, vi_id_sol *s);
+
+#endif

@@ -1,0 +1,461 @@
+/* vi_identify_resid.c - the model at trial values, its orbit continued
+ * from trial to trial (Newton on the impact conditions from the last
+ * Jacobian's linear predictor), the residuals at the recording's samples
+ * and their Jacobian: the orbit's exact parameter sensitivities carried
+ * to every sample by the state-transition matrix. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_errno.h>
+#include <lapacke.h>
+
+#include "vi_identify_internal.h"
+
+/* ---- models at trial values ------------------------------------------- */
+
+/* A copy of the base model with the parameters set by key (vi_param.h:
+ * only what each touches is redone). */
+static int copy_model(vi_identify *id, const double *p, vi_model **out)
+{
+  vi_model *m = NULL;
+  int st = vi_model_copy(id->base, &m);
+  for (int j = 0; !st && j < id->np; j++)
+    if ((st = vi_model_set_param(m, id->key[j], p[j])))
+      vi_fail(id->errmsg, st, "%s", vi_model_errmsg(m));
+  if (st) vi_model_destroy(&m);
+  *out = m;
+  return st;
+}
+
+int vi_id_make_model(vi_identify *id, const double *p, vi_model **out)
+{
+  *out = NULL;
+  for (int j = 0; j < id->np; j++)
+    if (!(p[j] >= id->lo[j] && p[j] <= id->hi[j])) return VI_ERR_ARG;
+  if (!id->fn) return copy_model(id, p, out);
+  int st = id->fn(p, id->user, out);
+  if (st || !*out) {
+    vi_model_destroy(out);
+    return st ? st : VI_ERR_CALLBACK;
+  }
+  const vi_model *m = *out;
+  if (!m->frozen || m->n != id->N || m->ns != id->base->ns || !m->ops->modal ||
+      !(m->omega_f > 0.0)) {
+    vi_model_destroy(out);
+    return vi_fail(id->errmsg, VI_ERR_CALLBACK,
+                   "the builder's model is not set up like the base model "
+                   "(%d coordinates, %d stops, harmonic forcing)",
+                   id->N, id->base->ns);
+  }
+  return VI_OK;
+}
+
+double vi_id_period_of(const vi_model *m, int n) { return n * 2.0 * M_PI / m->omega_f; }
+
+/* Bring the orbit's first impact into [0, P): the same periodic orbit. */
+void vi_id_orb_normalise(orb *o, double P)
+{
+  double k = floor(o->t[0] / P);
+  for (int j = 0; j < o->m; j++) o->t[j] -= k * P;
+}
+
+/* The model and its orbit at p: continued by Newton on the impact
+ * conditions from the linear predictor u + du/dp (p - p_J) of the last
+ * Jacobian's point (else from the current orbit).  The orbit must stay
+ * admissible (one that hits a stop between impacts is not this motion)
+ * and stable (an unstable orbit is not what a recording shows; Newton
+ * may land on one from a far trial). */
+int vi_id_ensure(vi_identify *id, const double *p)
+{
+  if (id->have_cur && !memcmp(p, id->pcur, sizeof(double) * id->np))
+    return VI_OK;
+  vi_model *m = NULL;
+  vi_xflow *xf = NULL;
+  int st = vi_id_make_model(id, p, &m), ok = 0, N = id->N;
+  if (st) return st;
+  orb *tr = &id->trial;
+  if (id->have_pred) {
+    int B = 2 * N + 1, D = id->acc.m * B;
+    vi_id_orb_copy(tr, &id->acc, N);
+    for (int q = 0; q < id->np; q++) {
+      double dp = p[q] - id->pacc[q];
+      const double *du = id->dudp + (size_t)q * D;
+      for (int j = 0; j < tr->m; j++) {
+        tr->t[j] += du[(size_t)j * B] * dp;
+        for (int i = 0; i < N; i++) {
+          tr->x[i + (size_t)j * N] += du[(size_t)j * B + 1 + i] * dp;
+          tr->v[i + (size_t)j * N] += du[(size_t)j * B + 1 + N + i] * dp;
+        }
+      }
+    }
+  } else {
+    vi_id_orb_copy(tr, &id->o, N);
+  }
+  st = vi_orbit_pnm_solve_stops(m, tr->n, tr->m, tr->stop, tr->t, tr->x,
+                                tr->v, N, 0.0, NULL);
+  if (!st)
+    st = vi_orbit_pnm_admissible_stops(m, tr->n, tr->m, tr->stop, tr->t,
+                                       tr->x, tr->v, N, NULL, &ok);
+  if (!st && !ok) st = VI_ERR_NOT_CONVERGED;
+  if (!st)
+    st = vi_orbit_pnm_multipliers_stops(m, tr->n, tr->m, tr->stop, tr->t,
+                                        tr->x, tr->v, N, id->mre, id->mim);
+  for (int i = 0; !st && id->stable_only && i < 2 * N; i++)
+    if (!(hypot(id->mre[i], id->mim[i]) < 1.0)) st = VI_ERR_NOT_CONVERGED;
+  if (!st) st = vi_xflow_create(m, &xf);
+  if (st) {
+    vi_model_destroy(&m);
+    return st;
+  }
+  vi_id_drop_cur(id);
+  id->cur = m;
+  id->xf = xf;
+  vi_id_orb_normalise(tr, vi_id_period_of(m, tr->n));
+  vi_id_orb_copy(&id->o, tr, N);
+  memcpy(id->pcur, p, sizeof(double) * id->np);
+  id->have_cur = 1;
+  return VI_OK;
+}
+
+/* Where model time s falls on the orbit: after impact *j, *tau later, in
+ * the *k-th orbit period from the first impact. */
+static void locate(const orb *o, double P, double s, int *j, double *tau,
+                   double *k)
+{
+  double ph = s - o->t[0], kk = floor(ph / P);
+  ph -= kk * P;
+  if (ph >= P) {
+    ph -= P;
+    kk += 1.0;
+  }
+  if (ph < 0.0) ph = 0.0;
+  int jj = o->m - 1;
+  while (jj > 0 && o->t[jj] - o->t[0] > ph) jj--;
+  *j = jj;
+  *tau = ph - (o->t[jj] - o->t[0]);
+  *k = kk;
+}
+
+/* State z = (x, v) [2N] of the orbit of m at model time s; zp [2N] the
+ * post-impact state of the segment. */
+void vi_id_orbit_state(const vi_model *m, const vi_xflow *xf, const orb *o,
+                        double s, double *z, double *zp, int *jo,
+                        double *tauo, double *ko)
+{
+  int N = m->n, j;
+  double tau, k;
+  locate(o, vi_id_period_of(m, o->n), s, &j, &tau, &k);
+  memcpy(z, o->x + (size_t)j * N, sizeof(double) * N);
+  memcpy(z + N, o->v + (size_t)j * N, sizeof(double) * N);
+  vi_var_impact(m, o->stop[j], z, zp);
+  vi_xflow_physical(xf, m, o->t[j], zp, zp + N, o->t[j] + tau, z, z + N);
+  if (jo) *jo = j;
+  if (tauo) *tauo = tau;
+  if (ko) *ko = k;
+}
+
+/* ---- the least-squares problem ------------------------------------------- */
+
+int vi_id_nres(const vi_identify *id)
+{
+  return id->ns * (1 + (id->vy != NULL) + (id->ay != NULL) + id->nch);
+}
+
+#define NB (3 + MAXCH)
+
+/* The recorded channels as blocks of ns residuals: data, order of the
+ * derivative (0 c.x, 1 c.x', 2 c.x''), observation vector, and weight
+ * (Omega^(order of y - order): each block on the scale of the first);
+ * their number. */
+static int blocks(const vi_identify *id, const double **d, int *ord,
+                  double *wt, const double **cv)
+{
+  int nb = 0;
+  d[nb] = id->y;
+  ord[nb] = id->ych;
+  cv[nb] = id->c;
+  wt[nb++] = 1.0;
+  if (id->vy) {
+    d[nb] = id->vy;
+    ord[nb] = 1;
+    cv[nb] = id->c;
+    wt[nb++] = pow(id->Om0, id->ych - 1);
+  }
+  if (id->ay) {
+    d[nb] = id->ay;
+    ord[nb] = 2;
+    cv[nb] = id->c;
+    wt[nb++] = pow(id->Om0, id->ych - 2);
+  }
+  for (int k = 0; k < id->nch; k++) {
+    d[nb] = id->chy[k];
+    ord[nb] = id->chord[k];
+    cv[nb] = id->chc[k];
+    wt[nb++] = pow(id->Om0, id->ych - id->chord[k]);
+  }
+  return nb;
+}
+
+/* c.x, c.x' or c.x'' (order 0, 1, 2) of the state z [2N] of m at model
+ * time s, for the observation c [N]; work [2N]. */
+static double chan(int N, const double *c, const vi_model *m, double s,
+                   const double *z, int order, double *work)
+{
+  if (order < 2) return vi_dot(N, c, z + (size_t)order * N);
+  vi_var_field(m, s, z, work);
+  return vi_dot(N, c, work + N);
+}
+
+/* c.x, c.x' or c.x'' (order 0, 1, 2) of the state z [2N] of m at model
+ * time s; work [2N]. */
+double vi_id_channel(const vi_identify *id, const vi_model *m, double s,
+                     const double *z, int order, double *work)
+{
+  return chan(id->N, id->c, m, s, z, order, work);
+}
+
+/* The parameters and shift of the fit's vector th (held ones at their
+ * values). */
+void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,
+                 double *t0)
+{
+  for (int j = 0; j < id->np; j++)
+    p[j] = id->col[j] >= 0 ? gsl_vector_get(th, id->col[j]) : id->hval[j];
+  *t0 = id->fit_shift ? gsl_vector_get(th, id->nfree) : id->shift0;
+}
+
+int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
+{
+  vi_identify *id = ctx;
+  int N = id->N, ns = id->ns, ord[NB];
+  double p[MAXP] = {0}, t0, z[64], zp[64], wt[NB];
+  const double *d[NB], *cv[NB];
+  double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
+  if (!zz) return GSL_ENOMEM;
+  double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
+  if (vi_id_poll_cancel(id)) { /* stops the GSL iteration */
+    if (zz != z) free(zz);
+    return GSL_EBADFUNC;
+  }
+  vi_id_split(id, th, p, &t0);
+  if (vi_id_ensure(id, p)) {
+    /* no admissible orbit there: a cost no step can accept */
+    gsl_vector_set_all(f, 1e3 * id->scale);
+    if (zz != z) free(zz);
+    return GSL_SUCCESS;
+  }
+  int nb = blocks(id, d, ord, wt, cv);
+  for (int i = 0; i < ns; i++) {
+    double s = id->t[i] + t0;
+    vi_id_orbit_state(id->cur, id->xf, &id->o, s, zz, zzp, NULL, NULL, NULL);
+    for (int b = 0; b < nb; b++)
+      gsl_vector_set(f, b * ns + i,
+                     (d[b][i] - chan(N, cv[b], id->cur, s, zz, ord[b], zzp)) * wt[b]);
+  }
+  if (zz != z) free(zz);
+  return GSL_SUCCESS;
+}
+
+/* Difference step of parameter j at p, kept inside its range. */
+static void dstep(const vi_identify *id, const double *p, int j, double *hp,
+                  double *hm)
+{
+  double h = 1e-6 * fmax(fabs(p[j]), 1e-3);
+  *hp = p[j] + h <= id->hi[j] ? h : 0.0;
+  *hm = p[j] - h >= id->lo[j] ? h : 0.0;
+}
+
+typedef struct jac_ws {
+  double *Fu, *Fp, *F, *Fa, *Fb, *Phi, *zeta, *dz, *z, *zp, *f, *za, *zb, *zt;
+  double *g0, *g1, *zero; /* fields of the acceleration rows */
+  int *ipiv;
+  vi_model *mp[MAXP], *mm[MAXP];
+  vi_xflow *xp[MAXP], *xm[MAXP];
+  double hp[MAXP], hm[MAXP];
+} jac_ws;
+
+static void jac_free(jac_ws *w, int np)
+{
+  free(w->Fu);
+  free(w->ipiv);
+  for (int j = 0; j < np; j++) {
+    vi_xflow_destroy(&w->xp[j]);
+    vi_xflow_destroy(&w->xm[j]);
+    vi_model_destroy(&w->mp[j]);
+    vi_model_destroy(&w->mm[j]);
+  }
+}
+
+/* Models at p +- h e_j for the differenced parts (VI_IDENTIFY_OTHER: the
+ * conditions and the response; Omega: the response at a fixed orbit). */
+static int jac_models(vi_identify *id, const double *p, jac_ws *w, int j)
+{
+  double q[MAXP];
+  int st;
+  dstep(id, p, j, &w->hp[j], &w->hm[j]);
+  memcpy(q, p, sizeof(double) * id->np);
+  q[j] = p[j] + w->hp[j];
+  if ((st = vi_id_make_model(id, q, &w->mp[j]))) return st;
+  q[j] = p[j] - w->hm[j];
+  if ((st = vi_id_make_model(id, q, &w->mm[j]))) return st;
+  if ((st = vi_xflow_create(w->mp[j], &w->xp[j]))) return st;
+  return vi_xflow_create(w->mm[j], &w->xm[j]);
+}
+
+int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
+{
+  vi_identify *id = ctx;
+  int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
+  double p[MAXP] = {0}, t0;
+  if (vi_id_poll_cancel(id)) return GSL_EBADFUNC;
+  vi_id_split(id, th, p, &t0);
+  if (vi_id_ensure(id, p)) return GSL_EBADFUNC;
+  const vi_model *m = id->cur;
+  const orb *o = &id->o;
+  int B = N2 + 1, D = o->m * B;
+  jac_ws w;
+  memset(&w, 0, sizeof w);
+  size_t nd = (size_t)D * D + (size_t)D * np + 3 * (size_t)D +
+              (size_t)N2 * N2 + 12 * (size_t)N2;
+  w.Fu = malloc(sizeof(double) * nd);
+  w.ipiv = malloc(sizeof(int) * D);
+  if (!w.Fu || !w.ipiv) {
+    jac_free(&w, np);
+    return GSL_ENOMEM;
+  }
+  w.Fp = w.Fu + (size_t)D * D;
+  w.F = w.Fp + (size_t)D * np;
+  w.Fa = w.F + D;
+  w.Fb = w.Fa + D;
+  w.Phi = w.Fb + D;
+  w.zeta = w.Phi + (size_t)N2 * N2;
+  w.dz = w.zeta + N2;
+  w.z = w.dz + N2;
+  w.zp = w.z + N2;
+  w.f = w.zp + N2;
+  w.za = w.f + N2;
+  w.zb = w.za + N2;
+  w.zt = w.zb + N2;
+  w.g0 = w.zt + N2;
+  w.g1 = w.g0 + N2;
+  w.zero = w.g1 + N2;
+  memset(w.zero, 0, sizeof(double) * N2);
+  /* the orbit's sensitivity du/dp = -F_u^-1 F_p (exact F_u) */
+  st = vi_orbit_pnm_residual_stops(m, o->n, o->m, o->stop, o->t, o->x, o->v,
+                                   N, w.F, w.Fu);
+  for (int j = 0; !st && j < np; j++) {
+    double *Fpj = w.Fp + (size_t)j * D;
+    int k = id->kind[j];
+    if (k == VI_IDENTIFY_OMEGA || k == VI_IDENTIFY_OTHER)
+      st = jac_models(id, p, &w, j);
+    if (st) break;
+    if (k != VI_IDENTIFY_OTHER) {
+      st = vi_orbit_pnm_dparam(m, o->n, o->m, o->stop, o->t, o->x, o->v, N,
+                               k, id->kst[j], Fpj);
+      continue;
+    }
+    st = vi_orbit_pnm_residual_stops(w.mp[j], o->n, o->m, o->stop, o->t,
+                                     o->x, o->v, N, w.Fa, NULL);
+    if (!st)
+      st = vi_orbit_pnm_residual_stops(w.mm[j], o->n, o->m, o->stop, o->t,
+                                       o->x, o->v, N, w.Fb, NULL);
+    for (int i = 0; !st && i < D; i++)
+      Fpj[i] = (w.Fa[i] - w.Fb[i]) / (w.hp[j] + w.hm[j]);
+  }
+  if (!st && LAPACKE_dgesv(LAPACK_COL_MAJOR, D, np, w.Fu, D, w.ipiv, w.Fp, D))
+    st = VI_ERR_LAPACK;
+  if (st) {
+    jac_free(&w, np);
+    return GSL_EBADFUNC;
+  }
+  /* the predictor for the next trials */
+  vi_id_orb_copy(&id->acc, o, N);
+  memcpy(id->pacc, p, sizeof(double) * np);
+  for (size_t i = 0; i < (size_t)D * np; i++) id->dudp[i] = -w.Fp[i];
+  id->have_pred = 1;
+  double P = vi_id_period_of(m, o->n), wt[NB];
+  const double *dat[NB], *cv[NB];
+  int ord[NB], nb = blocks(id, dat, ord, wt, cv), sc = id->nfree;
+  for (int i = 0; i < ns; i++) {
+    int j;
+    double tau, kper, s = id->t[i] + t0;
+    vi_id_orbit_state(m, id->xf, o, s, w.z, w.zp, &j, &tau, &kper);
+    double tj = o->t[j];
+    int sj = o->stop[j];
+    vi_var_field(m, tj, w.zp, w.f);
+    if (vi_var_stm(m, tau, w.Phi)) {
+      jac_free(&w, np);
+      return GSL_EBADFUNC;
+    }
+    vi_var_field(m, tj + tau, w.zero, w.g0); /* the forcing alone */
+    for (int q = 0; q < np; q++) {
+      if (id->col[q] < 0) continue; /* held */
+      /* du/dp of impact j, through the impact law, moved to the sample:
+       * dz(s) = Phi(tau) [R (dx_j, dv_j) - dt_j f+] */
+      const double *du = w.Fp + (size_t)q * D + (size_t)j * B;
+      double dt = -du[0], dc[NB];
+      for (int r = 0; r < N2; r++) w.dz[r] = -du[1 + r];
+      vi_var_impact(m, sj, w.dz, w.zeta);
+      for (int r = 0; r < N2; r++) w.zeta[r] -= dt * w.f[r];
+      if (id->kind[q] == VI_IDENTIFY_R && id->kst[q] == sj) {
+        /* d v+/dr = -(w.v-) M^-1 w / (w^T M^-1 w) (WB 2) */
+        const double *vj = o->v + (size_t)j * N, *Mw = vi_stop_minvw(m, sj);
+        double g = vi_dot(N, vi_stop_w(m, sj), vj) / m->G[sj + (size_t)sj * m->ns];
+        for (int r = 0; r < N; r++) w.zeta[N + r] -= g * Mw[r];
+      }
+      cblas_dgemv(CblasColMajor, CblasNoTrans, N2, N2, 1.0, w.Phi, N2,
+                  w.zeta, 1, 0.0, w.dz, 1);
+      for (int b = 0; b < nb; b++) {
+        if (ord[b] < 2) {
+          dc[b] = vi_dot(N, cv[b], w.dz + (size_t)ord[b] * N);
+        } else { /* the field is affine in the state: A dz */
+          vi_var_field(m, tj + tau, w.dz, w.g1);
+          dc[b] = vi_dot(N, cv[b], w.g1 + N) - vi_dot(N, cv[b], w.g0 + N);
+        }
+      }
+      if (w.mp[q]) {
+        /* the response's own dependence at a fixed orbit (Omega: the
+         * forcing and the period, k periods on), differenced */
+        double *zt = w.zt;
+        double ta = tau + kper * (P - vi_id_period_of(w.mp[q], o->n));
+        double tb = tau + kper * (P - vi_id_period_of(w.mm[q], o->n));
+        memcpy(zt, o->x + (size_t)j * N, sizeof(double) * N);
+        memcpy(zt + N, o->v + (size_t)j * N, sizeof(double) * N);
+        vi_var_impact(w.mp[q], sj, zt, w.zeta);
+        vi_xflow_physical(w.xp[q], w.mp[q], tj, w.zeta, w.zeta + N, tj + ta,
+                          w.za, w.za + N);
+        memcpy(zt, o->x + (size_t)j * N, sizeof(double) * N);
+        memcpy(zt + N, o->v + (size_t)j * N, sizeof(double) * N);
+        vi_var_impact(w.mm[q], sj, zt, w.zeta);
+        vi_xflow_physical(w.xm[q], w.mm[q], tj, w.zeta, w.zeta + N, tj + tb,
+                          w.zb, w.zb + N);
+        double h = w.hp[q] + w.hm[q];
+        for (int b = 0; b < nb; b++)
+          dc[b] += (chan(N, cv[b], w.mp[q], tj + ta, w.za, ord[b], w.g1) -
+                    chan(N, cv[b], w.mm[q], tj + tb, w.zb, ord[b], w.zt)) / h;
+      }
+      for (int b = 0; b < nb; b++)
+        gsl_matrix_set(J, b * ns + i, id->col[q], -dc[b] * wt[b]);
+    }
+    if (id->fit_shift) {
+      vi_var_field(m, tj + tau, w.z, w.f);
+      for (int b = 0; b < nb; b++) {
+        double dd;
+        if (ord[b] < 2) {
+          dd = vi_dot(N, cv[b], w.f + (size_t)ord[b] * N);
+        } else { /* d/ds of the acceleration, centrally differenced */
+          double h = 1e-6 * P;
+          vi_id_orbit_state(m, id->xf, o, s + h, w.za, w.zt, NULL, NULL, NULL);
+          vi_id_orbit_state(m, id->xf, o, s - h, w.zb, w.zt, NULL, NULL, NULL);
+          dd = (chan(N, cv[b], m, s + h, w.za, 2, w.g1) -
+                chan(N, cv[b], m, s - h, w.zb, 2, w.g1)) / (2.0 * h);
+        }
+        gsl_matrix_set(J, b * ns + i, sc, -dd * wt[b]);
+      }
+    }
+  }
+  jac_free(&w, np);
+  return GSL_SUCCESS;
+}

@@ -1,0 +1,243 @@
+/* vi_identify_seed.c - where the fit starts: the period the recording
+ * repeats with, the model's orbit at a start (its transient and the
+ * impact-phase scan, the one closest to the recording) and the shift. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_identify_internal.h"
+
+/* ---- the steps of vi_identify_run ---------------------------------------- */
+
+/* The model's steady motion at the starting values: a transient classified
+ * P(n, m), its last m impacts refined by Newton. */
+static int seed_orbit(vi_identify *id, orb *o)
+{
+  vi_orbit *ob = NULL;
+  const vi_model *m = id->cur;
+  int st = vi_orbit_create(m, &ob), pn = 0, pm = 0, N = id->N, cnt = 0;
+  if (!st && id->cancel) st = vi_orbit_set_monitor(ob, vi_id_poll_mon, id, NULL);
+  if (!st) st = vi_orbit_find(ob);
+  if (!st) st = vi_orbit_classify(ob, &pn, &pm);
+  if (st) {
+    vi_fail(id->errmsg, st, "the transient at the starting values failed: %s",
+            vi_orbit_errmsg(ob));
+    vi_orbit_destroy(&ob);
+    return st;
+  }
+  if (pn < 1 || pm < 1 || pm > MAX_M) {
+    vi_orbit_destroy(&ob);
+    return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
+                   pn < 1 ? "the model's motion at the starting values is not "
+                            "periodic (no period up to %d forcing periods)"
+                          : "the model's motion at the starting values has "
+                            "%d impacts per period (1 to %d identifiable)",
+                   pn < 1 ? MAX_N : pm, MAX_M);
+  }
+  o->n = pn;
+  o->m = pm;
+  if (!vi_orbit_impacts(ob, &cnt, o->t, o->stop, NULL, o->x, o->v, N) &&
+      cnt == pm) {
+    /* the analysed P(1, m) orbit */
+  } else {
+    /* its last pm impacts in the transient's record */
+    for (int j = 0; j < pm; j++) {
+      size_t r = (size_t)((ob->nimp - pm + j) % RING);
+      o->t[j] = ob->rt[r];
+      o->stop[j] = ob->rs[r];
+      memcpy(o->x + (size_t)j * N, ob->rz + r * 2 * N, sizeof(double) * N);
+      memcpy(o->v + (size_t)j * N, ob->rz + r * 2 * N + N, sizeof(double) * N);
+    }
+  }
+  vi_orbit_destroy(&ob);
+  int ok = 0;
+  st = vi_orbit_pnm_solve_stops(m, o->n, o->m, o->stop, o->t, o->x, o->v, N,
+                                0.0, NULL);
+  if (!st)
+    st = vi_orbit_pnm_admissible_stops(m, o->n, o->m, o->stop, o->t, o->x,
+                                       o->v, N, NULL, &ok);
+  if (st || !ok)
+    return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
+                   "the model's P(%d,%d) motion at the starting values cannot "
+                   "be refined to a periodic orbit (%s)", pn, pm,
+                   st ? vi_strerror(st) : "not admissible");
+  vi_id_orb_normalise(o, vi_id_period_of(m, o->n));
+  return VI_OK;
+}
+
+/* Linear interpolation of the recording at time s (inside its span). */
+static double interp(const vi_identify *id, double s)
+{
+  int a = 0, b = id->ns - 1;
+  while (b - a > 1) {
+    int c = (a + b) / 2;
+    if (id->t[c] <= s) a = c;
+    else b = c;
+  }
+  double u = (s - id->t[a]) / (id->t[b] - id->t[a]);
+  return id->y[a] + u * (id->y[b] - id->y[a]);
+}
+
+/* RMS change of the recording over a time lag P against its RMS
+ * variation, over the samples that have a partner; NaN if fewer than 8. */
+static double repeat_ratio(const vi_identify *id, double P)
+{
+  int ns = id->ns, cnt = 0;
+  double mean = 0.0, var = 0.0, d = 0.0;
+  for (int i = 0; i < ns; i++) mean += id->y[i] / ns;
+  for (int i = 0; i < ns; i++) var += (id->y[i] - mean) * (id->y[i] - mean);
+  for (int i = 0; i < ns && id->t[i] + P <= id->t[ns - 1]; i++, cnt++) {
+    double e = interp(id, id->t[i] + P) - id->y[i];
+    d += e * e;
+  }
+  if (cnt < 8 || !(var > 0.0)) return NAN;
+  return sqrt(d / cnt) / sqrt(var / ns);
+}
+
+/* The recording's period in forcing periods T: the smallest n <= MAX_N it
+ * repeats with, as well as with the best one up to the noise (0 if none;
+ * 1 when it is too short to tell). */
+int vi_id_data_period(vi_identify *id, double T)
+{
+  double rat[MAX_N + 1], best = HUGE_VAL;
+  int known = 0;
+  for (int n = 1; n <= MAX_N; n++) {
+    rat[n] = repeat_ratio(id, n * T);
+    if (isfinite(rat[n])) {
+      best = fmin(best, rat[n]);
+      known = n;
+    }
+  }
+  if (!known) return 1;
+  for (int n = 1; n <= known; n++)
+    if (rat[n] < 0.3 && rat[n] <= fmax(1.5 * best, best + 0.05)) return n;
+  vi_fail(id->errmsg, VI_ERR_ARG,
+          "the recording does not repeat with any period up to %d forcing "
+          "periods (2 pi / Omega = %g): its change over one period is %.2g "
+          "of its RMS variation (a motion that is not periodic)", known, T,
+          rat[1]);
+  return 0;
+}
+
+/* Starting shift: the best of 128 over one orbit period, on the first two
+ * periods of the recording. */
+double vi_id_scan_shift(vi_identify *id, double *cost_out)
+{
+  if (cost_out) *cost_out = HUGE_VAL;
+  double P = vi_id_period_of(id->cur, id->o.n), best = 0.0, bc = HUGE_VAL;
+  int N = id->N, use = 0;
+  double z[64], zp[64];
+  double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
+  if (!zz) return 0.0;
+  double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
+  while (use < id->ns && id->t[use] - id->t[0] < 2.0 * P && use < 1024) use++;
+  for (int k = 0; k < 128; k++) {
+    double t0 = k * P / 128.0, cost = 0.0;
+    for (int i = 0; i < use; i++) {
+      vi_id_orbit_state(id->cur, id->xf, &id->o, id->t[i] + t0, zz, zzp, NULL, NULL,
+                  NULL);
+      double e = id->y[i] - vi_id_channel(id, id->cur, id->t[i] + t0, zz,
+                                          id->ych, zzp);
+      cost += e * e;
+    }
+    if (cost < bc) {
+      bc = cost;
+      best = t0;
+    }
+  }
+  if (zz != z) free(zz);
+  if (cost_out) *cost_out = bc;
+  return best;
+}
+
+int vi_id_choose_orbit(vi_identify *id, int nd, double *cost_out)
+{
+  const vi_model *m = id->cur;
+  int N = id->N, found = 0, best = -1, cap = 16, ok = 0, st;
+  double bc = HUGE_VAL, cost = HUGE_VAL;
+  orb cand;
+  memset(&cand, 0, sizeof cand);
+  cand.x = malloc(sizeof(double) * (size_t)N * (MAX_M + 2 * cap));
+  cand.v = malloc(sizeof(double) * (size_t)N * (MAX_M + 2 * cap));
+  double *st_ = malloc(sizeof(double) * cap);
+  orb keep = id->o; /* buffers of the chosen one */
+  if (!cand.x || !cand.v || !st_) {
+    free(cand.x);
+    free(cand.v);
+    free(st_);
+    return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
+  }
+  double *sx = cand.x + (size_t)N * MAX_M, *sv = cand.v + (size_t)N * MAX_M;
+  char why[VI_MSG_LEN] = "";
+  int tn = 0, tm = 0;
+  if (!seed_orbit(id, &cand)) {
+    tn = cand.n;
+    tm = cand.m;
+    if (cand.n == nd) {
+      id->o = cand; /* borrow the buffers for the cost */
+      vi_id_scan_shift(id, &cost);
+      id->o = keep;
+      bc = cost;
+      best = cap;
+      vi_id_orb_copy(&keep, &cand, N);
+    }
+  } else {
+    snprintf(why, sizeof why, "%s", id->errmsg);
+  }
+  st = vi_orbit_p1_scan_polled(m, nd, 256, st_, sx, sv, N, cap, &found,
+                               vi_id_poll_fn, id);
+  for (int k = 0; !st && k < found && k < cap; k++) {
+    orb c1;
+    c1.n = nd;
+    c1.m = 1;
+    c1.stop[0] = 0;
+    c1.t[0] = st_[k];
+    c1.x = sx + (size_t)k * N;
+    c1.v = sv + (size_t)k * N;
+    if (vi_orbit_pnm_admissible(m, nd, 1, c1.t, c1.x, c1.v, N, NULL, &ok) || !ok ||
+        vi_orbit_pnm_multipliers(m, nd, 1, c1.t, c1.x, c1.v, N, id->mre, id->mim))
+      continue;
+    int stable = 1;
+    for (int i = 0; i < 2 * N; i++)
+      if (!(hypot(id->mre[i], id->mim[i]) < 1.0)) stable = 0;
+    if (!stable && id->stable_only) continue;
+    vi_id_orb_normalise(&c1, vi_id_period_of(m, nd));
+    orb save = id->o;
+    id->o.n = c1.n;
+    id->o.m = 1;
+    id->o.stop[0] = 0;
+    id->o.t[0] = c1.t[0];
+    id->o.x = c1.x;
+    id->o.v = c1.v;
+    vi_id_scan_shift(id, &cost);
+    id->o = save;
+    if (cost < bc) {
+      bc = cost;
+      best = k;
+      keep.n = nd;
+      keep.m = 1;
+      keep.stop[0] = 0;
+      keep.t[0] = c1.t[0];
+      memcpy(keep.x, c1.x, sizeof(double) * N);
+      memcpy(keep.v, c1.v, sizeof(double) * N);
+    }
+  }
+  free(cand.x);
+  free(cand.v);
+  free(st_);
+  if (best < 0) {
+    if (tn)
+      return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
+                     "the recording repeats every %d forcing period(s), but "
+                     "the model at the starting values settles on P(%d,%d) "
+                     "and the impact-phase scan finds no %sP(%d,1) orbit: "
+                     "start nearer", nd, tn, tm,
+                     id->stable_only ? "stable " : "", nd);
+    return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED, "%s",
+                   why[0] ? why : "no periodic orbit at the starting values");
+  }
+  id->o = keep;
+  if (cost_out) *cost_out = bc;
+  return VI_OK;
+}
+

@@ -1,0 +1,232 @@
+/* vi_identify_stats.c - what a minimum holds: the recording's noise, the
+ * parameters' standard errors, intervals and correlations from the
+ * Jacobian, and the WB 12 energy route at the fitted orbit. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_linalg.h>
+#include <lapacke.h>
+
+#include "vi_identify_internal.h"
+
+static int cmp_double(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* Noise of a near-uniform recording from its 4th differences (a smooth
+ * signal's are ~ A (Omega dt)^4; noise's have variance 70 sigma^2), their
+ * median absolute value robust to the impacts' kinks. */
+double vi_id_noise_estimate(const vi_identify *id)
+{
+  int ns = id->ns;
+  double dmin = HUGE_VAL, dmax = 0.0;
+  for (int i = 1; i < ns; i++) {
+    dmin = fmin(dmin, id->t[i] - id->t[i - 1]);
+    dmax = fmax(dmax, id->t[i] - id->t[i - 1]);
+  }
+  if (dmax > 1.01 * dmin || ns < 16) return NAN;
+  double *d = malloc(sizeof(double) * ns);
+  if (!d) return NAN;
+  int k = 0;
+  for (int i = 0; i + 4 < ns; i++)
+    d[k++] = fabs(id->y[i] - 4 * id->y[i + 1] + 6 * id->y[i + 2] -
+                  4 * id->y[i + 3] + id->y[i + 4]);
+  qsort(d, k, sizeof(double), cmp_double);
+  double med = k % 2 ? d[k / 2] : 0.5 * (d[k / 2 - 1] + d[k / 2]);
+  free(d);
+  return 1.4826 * med / sqrt(70.0);
+}
+
+/* Standard errors, intervals, correlations and flags from the Jacobian at
+ * the optimum, columns scaled to unit norm, by its SVD: cov = s^2 V S^-2 V^T
+ * (scaled back); directions with no singular value are infinitely
+ * uncertain, not zero. */
+int vi_id_uncertainty(vi_identify *id, const gsl_matrix *J, double ssr)
+{
+  int nr = (int)J->size1, P = (int)J->size2, np = id->np, st = VI_OK;
+  gsl_matrix *A = gsl_matrix_alloc(nr, P), *V = gsl_matrix_alloc(P, P);
+  gsl_vector *S = gsl_vector_alloc(P), *wk = gsl_vector_alloc(P),
+             *D = gsl_vector_alloc(P);
+  gsl_matrix *C = gsl_matrix_calloc(P, P);
+  if (!A || !V || !S || !wk || !D || !C) {
+    st = VI_ERR_NOMEM;
+    goto done;
+  }
+  gsl_matrix_memcpy(A, J);
+  for (int q = 0; q < P; q++) {
+    gsl_vector_view col = gsl_matrix_column(A, q);
+    double nrm = gsl_blas_dnrm2(&col.vector);
+    gsl_vector_set(D, q, nrm > 0.0 ? nrm : 1.0);
+    gsl_vector_scale(&col.vector, 1.0 / gsl_vector_get(D, q));
+  }
+  if (gsl_linalg_SV_decomp(A, V, S, wk)) {
+    st = VI_ERR_NOT_CONVERGED;
+    goto done;
+  }
+  double smax = gsl_vector_get(S, 0), smin = gsl_vector_get(S, P - 1);
+  id->rcond = smax > 0.0 ? smin / smax : 0.0;
+  int dof = nr - P;
+  double s2 = dof > 0 ? ssr / dof : NAN;
+  double tq = dof > 0 ? gsl_cdf_tdist_Pinv(0.975, dof) : NAN;
+  int sing[MAXP + 1] = {0};
+  for (int k = 0; k < P; k++) {
+    double sk = gsl_vector_get(S, k);
+    int null = !(sk > 1e-13 * smax), ill = !(sk > 1e-10 * smax) || null;
+    for (int a = 0; a < P; a++) {
+      double va = gsl_matrix_get(V, a, k);
+      if (ill && fabs(va) > (null ? 1e-3 : 0.1)) sing[a] = null ? 2 : 1;
+      if (null) continue;
+      for (int b = 0; b < P; b++)
+        *gsl_matrix_ptr(C, a, b) += va * gsl_matrix_get(V, b, k) / (sk * sk);
+    }
+  }
+  for (int a = 0; a < P; a++)
+    for (int b = 0; b < P; b++)
+      *gsl_matrix_ptr(C, a, b) *= s2 / (gsl_vector_get(D, a) * gsl_vector_get(D, b));
+  for (int j = 0; j < np; j++) {
+    double se = sing[j] == 2 ? INFINITY : sqrt(gsl_matrix_get(C, j, j));
+    id->se[j] = se;
+    id->l95[j] = id->p[j] - tq * se;
+    id->h95[j] = id->p[j] + tq * se;
+    int fl = 0;
+    double range = id->hi[j] - id->lo[j], eps = 1e-6 * (isfinite(range) ? range : fmax(fabs(id->p[j]), 1.0));
+    if (id->p[j] - id->lo[j] <= eps || id->hi[j] - id->p[j] <= eps) fl |= VI_IDENTIFY_ON_BOUND;
+    if (sing[j] || !isfinite(se) || 2.0 * tq * se > range) fl |= VI_IDENTIFY_UNDETERMINED;
+    for (int q = 0; q < np; q++) {
+      double cc = gsl_matrix_get(C, j, q) /
+                  sqrt(gsl_matrix_get(C, j, j) * gsl_matrix_get(C, q, q));
+      if (sing[j] || sing[q]) cc = j == q ? 1.0 : NAN;
+      id->corr[j + (size_t)q * np] = cc;
+      if (q != j && fabs(cc) > 0.99) fl |= VI_IDENTIFY_CORRELATED;
+    }
+    id->flags[j] = fl;
+  }
+  id->t0se = id->fit_shift ? (sing[np] == 2 ? INFINITY : sqrt(gsl_matrix_get(C, np, np))) : 0.0;
+done:
+  gsl_matrix_free(A);
+  gsl_matrix_free(V);
+  gsl_vector_free(S);
+  gsl_vector_free(wk);
+  gsl_vector_free(D);
+  gsl_matrix_free(C);
+  return st;
+}
+
+/* Value (der = 0) or slope (der = 1) at time s of a least-squares
+ * polynomial of degree deg through the k samples of f before s. */
+static double local_poly(const vi_identify *id, const double *f, int last,
+                         int k, int deg, double s, int der)
+{
+  double A[25] = {0}, r[5] = {0}, h = id->t[last] - id->t[last - k + 1];
+  int d1 = deg + 1, ipiv[5];
+  for (int i = last - k + 1; i <= last; i++) {
+    double u = (id->t[i] - s) / h, pw[5] = {1.0, u, u * u, u * u * u, u * u * u * u};
+    for (int a = 0; a < d1; a++) {
+      r[a] += pw[a] * f[i];
+      for (int c = 0; c < d1; c++) A[a + d1 * c] += pw[a] * pw[c];
+    }
+  }
+  if (LAPACKE_dgesv(LAPACK_COL_MAJOR, d1, 1, A, d1, ipiv, r, d1)) return NAN;
+  return der ? r[1] / h : r[0];
+}
+
+/* The recorded approach velocity at time s.  When the model explains
+ * the recording (residual RMS within 1.5 times the noise): the fitted
+ * model's vN plus the recording's departure from it just before s (the
+ * slope of a line through the last 8 displacement residuals, or the mean
+ * of the last 3 velocity residuals: low-order, so that noise is averaged,
+ * not amplified); the model interpolates what 64 samples per period
+ * cannot, the higher modes ringing between impacts.  Otherwise NaN:
+ * 64 samples per period do not resolve the approach by themselves (a
+ * local polynomial of the 4-mode beam's samples is off by 2 % of vN, and
+ * a model that misses the motion puts its impacts elsewhere). */
+static double recorded_slope(const vi_identify *id, const double *e,
+                             const double *ev, double vNm, int assisted,
+                             double s)
+{
+  int b = 0, en = id->ns;
+  while (en - b > 1) {
+    int c = (b + en) / 2;
+    if (id->t[c] < s) b = c;
+    else en = c;
+  }
+  int last = b; /* last sample before s */
+  if (!(id->t[last] < s) || last < 8) return NAN;
+  if (!assisted) return NAN;
+  return vNm + (ev ? local_poly(id, ev, last, 3, 0, s, 0)
+                   : local_poly(id, e, last, 8, 1, s, 1));
+}
+
+/* WB 12 at the fitted orbit: the model's residual energy from its modal
+ * ledger over one period (vi_orbit_balance, started on the orbit), the
+ * recorded approach velocity averaged over the recorded impacts. */
+void vi_id_energy_route(vi_identify *id)
+{
+  id->r12 = id->vN = id->KE = id->RE = NAN;
+  const vi_model *m = id->cur;
+  const orb *o = &id->o;
+  int N = id->N;
+  if (o->n != 1 || o->m != 1 || o->stop[0] != 0 || id->ych != 0) return;
+  const double *w = vi_stop_w(m, 0);
+  for (int i = 0; i < N; i++)
+    if (fabs(id->c[i] - w[i]) > 1e-12 * (fabs(w[i]) + 1e-300)) return;
+  double P = vi_id_period_of(m, 1), sum = 0.0;
+  int cnt = 0, ns = id->ns;
+  double *e = malloc(sizeof(double) * (2 * (size_t)ns + 4 * (size_t)N));
+  if (!e) return;
+  double *ev = e + ns, *zz = ev + ns;
+  for (int i = 0; i < ns; i++) {
+    vi_id_orbit_state(m, id->xf, o, id->t[i] + id->t0, zz, zz + (size_t)2 * N, NULL, NULL,
+                NULL);
+    e[i] = id->y[i] - vi_dot(N, id->c, zz);
+    ev[i] = id->vy ? id->vy[i] - vi_dot(N, id->c, zz + N) : 0.0;
+  }
+  double vNm = vi_dot(N, w, o->v);
+  double nz = id->sigma > 0.0 ? id->sigma : vi_id_noise_estimate(id);
+  int assisted = !(id->rms > 1.5 * nz);
+  for (long k = (long)ceil((id->t[0] + id->t0 - o->t[0]) / P);; k++) {
+    double s = o->t[0] + (double)k * P - id->t0; /* recording time of impact k */
+    if (s > id->t[ns - 1]) break;
+    double v = recorded_slope(id, e, id->vy ? ev : NULL, vNm, assisted, s);
+    if (isfinite(v)) {
+      sum += v;
+      cnt++;
+    }
+  }
+  free(e);
+  if (cnt == 0) return;
+  id->vN = sum / cnt;
+  id->KE = 0.5 * id->vN * id->vN / m->G[0];
+  /* the modal ledger of one period, from the orbit's state at t = 0 */
+  double *z = malloc(sizeof(double) * 4 * N);
+  vi_orbit *ob = NULL;
+  double RE = NAN;
+  int pn = 0, pm = 0;
+  if (z) {
+    vi_id_orbit_state(m, id->xf, o, 0.0, z, z + (size_t)2 * N, NULL, NULL, NULL);
+    if (!vi_orbit_create(m, &ob) && !vi_orbit_set_initial(ob, z, z + N) &&
+        !vi_orbit_set_direct_search(ob, 0) && !vi_orbit_find(ob) &&
+        !vi_orbit_classify(ob, &pn, &pm) && pn == 1 && pm == 1)
+      vi_orbit_balance(ob, NULL, NULL, NULL, NULL, &RE, NULL, NULL, NULL);
+  }
+  vi_orbit_destroy(&ob);
+  free(z);
+  if (isnan(RE)) {
+    /* an orbit the transient cannot hold (unstable): its ledger over one
+     * period still closes, RE = IE = 1/2 vN^2 (1 - r^2) / G (WB 10, 11) */
+    double r = m->rv[0];
+    RE = 0.5 * vNm * vNm * (1.0 - r * r) / m->G[0];
+  }
+  id->RE = RE;
+  if (RE >= 0.0 && RE <= id->KE) id->r12 = sqrt(1.0 - RE / id->KE);
+}
+
+/* The model's orbit the recording shows, period nd forcing periods: the
+ * transient's motion and every stable admissible P(nd, 1) orbit of the
+ * impact-phase scan (the start may lie where several coexist, or where the
+ * transient settles on another), the one closest to the recording. */
