@@ -91,7 +91,8 @@ static void test_rigid_modes_key(void **state)
              "  matrix_market: {M: %s/bar_M.mtx, K: %s/bar_K.mtx}\n"
              "  modes: 10\n"
              "  rigid_modes: %d\n"
-             "stop: {dof: 1, direction: -1, xs: 0.0, r: 0.0}\n",
+             "stop: {dof: 1, direction: -1, xs: 0.0, r: 0.0}\n"
+             "run: {t_end: 0.0015}\n",
              VI_SCENE_DIR, VI_SCENE_DIR, said);
     vi_scene *sc = NULL;
     vi_model *m = NULL;
