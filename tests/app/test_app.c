@@ -266,6 +266,55 @@ static void test_free_body_run(void **state)
   remove(err);
 }
 
+/* An FE run says what its reduction did: on the summary line, and in /fe
+ * (the beam of share/scenes/beam_fe.yaml: 4 of its 200 modes, as
+ * model.modes asks, no rigid mode, no massless dof, residuals at
+ * round-off). */
+static void test_fe_report(void **state)
+{
+  (void)state;
+  char h5[256], out[256], err[256];
+  snprintf(h5, sizeof h5, "%s/beam.h5", dir);
+  snprintf(out, sizeof out, "%s/stdout", dir);
+  snprintf(err, sizeof err, "%s/stderr", dir);
+  char *argv[] = {(char *)app, VI_SCENE_DIR "/beam_fe.yaml", "-o", h5, NULL};
+  int rc = run_app(argv, out, err);
+  if (rc) printf("%s", slurp(err));
+  assert_int_equal(rc, 0);
+  const char *s = slurp(out);
+  assert_non_null(strstr(s, "reduction 4 of 200 modes (as model.modes asks); "
+                            "0 rigid (K psi at round-off), 0 massless dofs"));
+  hid_t file = H5Fopen(h5, H5F_ACC_RDONLY, H5P_DEFAULT);
+  assert_true(file >= 0);
+  hid_t g = H5Gopen2(file, "fe", H5P_DEFAULT);
+  assert_true(g >= 0);
+  int rigid = -1, massless = -1;
+  double res = 1.0, mres[4] = {1, 1, 1, 1};
+  hid_t a = H5Aopen(g, "rigid_modes", H5P_DEFAULT);
+  assert_true(H5Aread(a, H5T_NATIVE_INT, &rigid) >= 0);
+  H5Aclose(a);
+  a = H5Aopen(g, "massless_dofs", H5P_DEFAULT);
+  assert_true(H5Aread(a, H5T_NATIVE_INT, &massless) >= 0);
+  H5Aclose(a);
+  a = H5Aopen(g, "max_residual", H5P_DEFAULT);
+  assert_true(H5Aread(a, H5T_NATIVE_DOUBLE, &res) >= 0);
+  H5Aclose(a);
+  hid_t ds = H5Dopen2(g, "mode_residual", H5P_DEFAULT);
+  assert_true(ds >= 0);
+  assert_true(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                      mres) >= 0);
+  H5Dclose(ds);
+  H5Gclose(g);
+  H5Fclose(file);
+  assert_int_equal(rigid, 0);
+  assert_int_equal(massless, 0);
+  assert_true(res < 1e-12);
+  for (int j = 0; j < 4; j++) assert_true(mres[j] <= res && mres[j] > 0.0);
+  remove(h5);
+  remove(out);
+  remove(err);
+}
+
 int main(int argc, char **argv)
 {
   if (argc < 2) {
@@ -279,6 +328,7 @@ int main(int argc, char **argv)
       cmocka_unit_test(test_outputs),
       cmocka_unit_test(test_output_flags),
       cmocka_unit_test(test_free_body_run),
+      cmocka_unit_test(test_fe_report),
       cmocka_unit_test(test_sigint_leaves_valid_file),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
