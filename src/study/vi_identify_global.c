@@ -182,9 +182,13 @@ static int same_min(const vi_identify *id, const vi_id_sol *a, const vi_id_sol *
   return 1;
 }
 
-/* Rank the minima, drop repeats, and count those whose residual the noise
- * explains: sum of squared residuals of the first channel <= s^2
- * chi2_0.95(ns - P), s the stated noise, or the estimated one capped at
+/* Rank the minima, drop repeats, and count those the data cannot tell from
+ * the best: a residual the noise explains, sum of squared residuals of the
+ * first channel <= s^2 chi2_0.95(ns - P), and no worse than the best by
+ * more than the likelihood-ratio test allows, delta chi^2 <=
+ * chi2_0.95(P) (a minimum 145 noise variances worse is explained by the
+ * noise on its own, but the best explains the data better beyond doubt).
+ * s is the stated noise, or the estimated one capped at
  * 1.1 times the best's residual level (the 4th differences hold the
  * signal's own too: an accelerometer's, with the higher modes aliased at
  * 64 samples per period, are mostly signal), and never below the best's
@@ -210,11 +214,14 @@ static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
   if (!(id->sigma > 0.0) && isfinite(nz)) nz = fmin(nz, 1.1 * sqrt(best));
   double s2 = isfinite(nz) ? fmax(nz * nz, best) : best;
   double lim = dof > 0 ? gsl_cdf_chisq_Pinv(0.95, dof) : HUGE_VAL;
+  double dlim = gsl_cdf_chisq_Pinv(0.95, P);
   id->nfound = 1;
   for (int k = 0; k < keep; k++)
     s[k].dchi2 = (s[k].rms * s[k].rms - s[0].rms * s[0].rms) * id->ns / s2;
   for (int k = 1; k < keep; k++)
-    if (s[k].conv && s[k].rms * s[k].rms * id->ns / s2 <= lim) id->nfound = k + 1;
+    if (s[k].conv && s[k].rms * s[k].rms * id->ns / s2 <= lim &&
+        s[k].dchi2 <= dlim)
+      id->nfound = k + 1;
     else break;
   id->unique = id->nfound == 1;
 }
