@@ -559,6 +559,8 @@ static int parse_fe(ctx *c, vi_scene *s, yaml_node_t *mod, yaml_node_t *mm,
       return fail(c, ze, VI_ERR_PARSE, "model.zeta", "%s",
                   "give damping once: C or zeta, not both");
     s->fe.nzeta = ze->type == YAML_SCALAR_NODE ? 1 : s->fe.modes;
+    if (s->fe.nzeta < 1)
+      return fail(c, ze, VI_ERR_PARSE, "model.zeta", "%s", "no modes to damp");
     if (!(s->fe.zeta = malloc(sizeof(double) * (size_t)s->fe.nzeta)))
       return fail(c, ze, VI_ERR_NOMEM, "model.zeta", "%s", "out of memory");
     if ((st = vector(c, ze, "model.zeta", s->fe.nzeta, 1, s->fe.zeta)))

@@ -302,7 +302,7 @@ static int mass_compliance(vi_fe *fe, cholmod_common *c)
     return st;
   }
   int nz = fe->n0, nm = n - nz;
-  int *mmap = malloc(sizeof(int) * 2 * (size_t)n);
+  int *mmap = calloc(2 * (size_t)n, sizeof(int));
   double *T = malloc(sizeof(double) * (2 * (size_t)n + (size_t)n * fe->ns));
   vi_csc Mmm = {0}, Kzz = {0};
   if (!mmap || !T) {
@@ -430,7 +430,7 @@ static int finish(vi_fe *fe, const double *lam, const double *Z, double *Psi)
   fe->resid = 0.0;
   fe->nrigid = 0;
   for (int jj = 0; jj < k && !st; jj++) {
-    double *z = Psi + (size_t)jj * n, l = lam[ord[jj]];
+    double *z = Psi + (size_t)jj * n, l;
     memcpy(z, Z + (size_t)ord[jj] * n, sizeof(double) * (size_t)n);
     vi_csc_symv(n, M, z, t);
     double zMz = cblas_ddot(n, z, 1, t, 1);
@@ -761,7 +761,6 @@ int vi_fe_eigs(vi_fe *fe, double **pPsi)
     for (int s = 0; s < fe->ns; s++) fe->wKw[s] = HUGE_VAL;
     cholmod_free_factor(&L, c);
   }
-  st = VI_OK;
   if (fe->shift_set && fe->sigma_in == 0.0 && fe->k_singular) {
     st = vi_fail(fe->errmsg, VI_ERR_NOT_SPD, "K is singular or not "
                  "positive definite (column %d, smallest pivot %.3g of its "

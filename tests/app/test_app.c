@@ -277,7 +277,8 @@ static void test_fe_report(void **state)
   snprintf(h5, sizeof h5, "%s/beam.h5", dir);
   snprintf(out, sizeof out, "%s/stdout", dir);
   snprintf(err, sizeof err, "%s/stderr", dir);
-  char *argv[] = {(char *)app, VI_SCENE_DIR "/beam_fe.yaml", "-o", h5, NULL};
+  static char beam[] = VI_SCENE_DIR "/beam_fe.yaml";
+  char *argv[] = {(char *)app, beam, "-o", h5, NULL};
   int rc = run_app(argv, out, err);
   if (rc) printf("%s", slurp(err));
   assert_int_equal(rc, 0);

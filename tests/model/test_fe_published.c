@@ -216,14 +216,29 @@ static void test_published(void **state)
   while (fgets(line, sizeof line, f)) {
     if (line[0] == '#' || line[0] == '\n') continue;
     ref r;
-    int pos = 0;
-    assert_int_equal(sscanf(line, "%63s %d %d %d %lf %d%n", r.name, &r.n,
-                            &r.massless, &r.rigid, &r.tol, &r.nl, &pos), 6);
-    assert_true(r.nl >= 1 && r.nl <= 16);
+    char *p = line, *end;
+    size_t len = strcspn(p, " ");
+    assert_true(len > 0 && len < sizeof r.name);
+    memcpy(r.name, p, len);
+    r.name[len] = '\0';
+    p += len;
+    long v[3];
+    for (int i = 0; i < 3; i++, p = end) {
+      v[i] = strtol(p, &end, 10);
+      assert_true(end > p);
+    }
+    r.n = (int)v[0];
+    r.massless = (int)v[1];
+    r.rigid = (int)v[2];
+    r.tol = strtod(p, &end);
+    assert_true(end > p);
+    p = end;
+    r.nl = (int)strtol(p, &end, 10);
+    assert_true(end > p && r.nl >= 1 && r.nl <= 16);
     for (int j = 0; j < r.nl; j++) {
-      int used = 0;
-      assert_int_equal(sscanf(line + pos, "%lf%n", &r.lambda[j], &used), 1);
-      pos += used;
+      p = end;
+      r.lambda[j] = strtod(p, &end);
+      assert_true(end > p);
     }
     run_pair(&r);
     pairs++;

@@ -372,7 +372,7 @@ static void *setup_many(void *arg)
         vi_fe_setup(fe))
       jb->ok = 0;
     else
-      jb->ok = !memcmp(vi_fe_omega(fe), jb->want, 6 * sizeof(double));
+      for (int j = 0; j < 6; j++) jb->ok &= vi_fe_omega(fe)[j] == jb->want[j];
     vi_fe_destroy(&fe);
   }
   return NULL;
