@@ -21,7 +21,7 @@ quiet() { grep -Ev '^\[|^Consolidate|^Scanning|^Built target' || true; }
 echo "== configure"
 cmake -S "$root" -B "$rel" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON >/dev/null
 cmake -S "$root" -B "$asan" -DCMAKE_BUILD_TYPE=Debug -DVI_WERROR=ON -DVI_SANITIZE=ON \
-  -DCMAKE_C_FLAGS_DEBUG="-g -O1" -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
+  -DCMAKE_C_FLAGS_DEBUG="-g -O1" \
   -DCMAKE_Fortran_FLAGS_DEBUG="-g -O1" >/dev/null
 echo "== release build"
 cmake --build "$rel" -j"$jobs" 2>&1 | quiet
