@@ -9,9 +9,10 @@
 #    no assert() tells the analyser what holds); the sanitizer flags change
 #    nothing it reads.  Its files are checked on every core.
 #  - The sanitized build is compiled at -O1, the level AddressSanitizer's
-#    documentation advises for speed (-O0 made its tests N times slower).
+#    documentation advises for speed (at -O0 its slowest tests took about
+#    ten times as long).
 #  - It compiles while the Release tests run, and its tests follow.
-# About 6 minutes on a 2-core machine once SUNDIALS is built (README.md).
+# About 1 100 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$root/share/scripts/deps.sh"
