@@ -335,17 +335,48 @@ static int mpi_finish(int mpi, int rc)
   return rc;
 }
 
+/* The values (cells) that failed: one line, however many (a 40 x 40 map
+ * half beyond the stop printed 680): the count, the first message, what
+ * follows a failure and where every message is. */
+static void warn_failed(const args *a, const vi_diagram *sw)
+{
+  const char *cmd = a->basins ? "basins" : "sweep", *first = NULL;
+  long long nfail = 0, total = (long long)sw->nlines * a->sp.steps;
+  for (int l = 0; l < sw->nlines; l++)
+    for (int k = 0; k < a->sp.steps; k++)
+      if (sw->lines[l].pt[k].failed && !nfail++)
+        first = sw->lines[l].pt[k].error ? sw->lines[l].pt[k].error : "";
+  if (!nfail) return;
+  /* a basin's cells never warm-start; a diagram's value after a failed
+   * one starts from the scene's initial state */
+  const char *unit = a->basins ? "cell" : "value",
+             *then = a->basins ? "" : "; the next value starts from the scene's "
+                                      "initial state";
+  if (nfail == 1) {
+    fprintf(stderr, "vibroimpact: %s: warning: %s (marked failed%s)\n", cmd,
+            first, then);
+    return;
+  }
+  char where[4200];
+  if (a->json)
+    snprintf(where, sizeof where, "every message in the JSON's \"failed\"");
+  else if (a->out)
+    snprintf(where, sizeof where, "each marked n = -1 in %s; --json lists "
+             "every message", a->out);
+  else
+    snprintf(where, sizeof where, "--json lists every message");
+  fprintf(stderr, "vibroimpact: %s: warning: %lld of %lld %ss failed and are "
+          "marked so%s (%s); the first: %s\n", cmd, nfail, total, unit,
+          a->basins ? "" : "; the value after each starts from the scene's "
+                           "initial state", where, first);
+}
+
 /* Rank 0: warnings, then the file, JSON or table.  The exit status. */
 static int report(const args *a, vi_diagram *sw)
 {
   char err[2048];
   const char *cmd = a->basins ? "basins" : "sweep";
-  for (int l = 0; l < sw->nlines; l++)
-    for (int k = 0; k < a->sp.steps; k++)
-      if (sw->lines[l].pt[k].failed)
-        fprintf(stderr, "vibroimpact: %s: warning: %s (marked failed; the "
-                "next value starts from the scene's initial state)\n", cmd,
-                sw->lines[l].pt[k].error ? sw->lines[l].pt[k].error : "");
+  warn_failed(a, sw);
   if (a->basins && vi_basins_identify(sw)) {
     fprintf(stderr, "vibroimpact: basins: out of memory\n");
     return 1;

@@ -180,7 +180,11 @@ static void run_piece(piece *p)
       /* one value's failure does not sink the diagram: it is marked, and
        * the next value starts cold (from the scene's initial state) */
       char e[1400];
-      msg(e, sizeof e, "%s = %.17g: %s", sw->spec.key, val, vi_sweep_errmsg(study));
+      if (sw->spec.key2) /* a map's cell: both of its values */
+        msg(e, sizeof e, "%s = %.17g, %s = %.17g: %s", sw->spec.key, val,
+            sw->spec.key2, sw->param2[ln->row], vi_sweep_errmsg(study));
+      else
+        msg(e, sizeof e, "%s = %.17g: %s", sw->spec.key, val, vi_sweep_errmsg(study));
       ln->pt[k].failed = 1;
       ln->pt[k].error = strdup(e);
     }
@@ -829,7 +833,19 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
       }
     fprintf(f, "]");
   }
-  fprintf(f, "}\n");
+  /* every failed cell with its message (the terminal shows the first) */
+  fprintf(f, ", \"failed\": [");
+  for (int l = 0, first = 1; l < L; l++)
+    for (int k = 0; k < K; k++) {
+      const vi_diagram_point *pt = &sw->lines[l].pt[k];
+      if (!pt->failed) continue;
+      fprintf(f, "%s{\"param\": %.17g, \"param2\": %.17g, \"error\": ",
+              first ? "" : ", ", sw->param[k], sw->param2[sw->lines[l].row]);
+      json_str(f, pt->error ? pt->error : "");
+      fprintf(f, "}");
+      first = 0;
+    }
+  fprintf(f, "]}\n");
 }
 
 /* Basins as text: the attractors, then the grid of their ids. */

@@ -9,9 +9,11 @@
 
 #include "vibroimpact.h"
 #include "vi_sweep.h"
+#include "vi_app_blas.h"
 
 int main(int argc, char **argv)
 {
+  vi_app_blas_rest();
   gsl_set_error_handler_off();
   if (vi_version_number() != VI_VERSION_NUMBER) {
     fprintf(stderr, "vibroimpact-sweep: header %s and library %s differ\n",

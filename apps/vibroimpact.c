@@ -20,6 +20,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "vi_app.h"
+#include "vi_app_blas.h"
 #include "vi_sweep.h" /* sweep, orbits, --set */
 
 static int cmd_restitution(const app_opts *o);
@@ -408,6 +409,7 @@ int main(int argc, char **argv)
         close(k);
       }
     }
+  vi_app_blas_rest();
   gsl_set_error_handler_off();
   if (vi_version_number() != VI_VERSION_NUMBER) {
     fprintf(stderr, "vibroimpact: header %s and library %s differ\n",

@@ -8,6 +8,13 @@
 #
 # Where the sources cannot be had (no network, no deb-src, VI_SUNDIALS=system)
 # it says so and leaves the build on Debian's binary package.
+#
+# A build is also kept in a cache outside the tree ($VI_SUNDIALS_CACHE, by
+# default ~/.cache/vibroimpact), named by the SUNDIALS version and a hash
+# of this script, the compiler and the machine: another clone on the same
+# machine copies it (a second) instead of compiling it again (a minute or
+# two of a 2-core machine).  Any change to the recipe or the compiler
+# names another entry.  VI_SUNDIALS_CACHE=off: no cache.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 prefix=${VI_SUNDIALS_PREFIX:-$root/build/sundials}
@@ -22,6 +29,25 @@ ver=$(dpkg-query -W -f='${source:Version}' libsundials-dev 2>/dev/null) ||
   fallback "libsundials-dev is not installed"
 stamp="$prefix/.vi-sundials-version"
 [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$ver" ] && exit 0
+
+cache=${VI_SUNDIALS_CACHE:-${XDG_CACHE_HOME:-${HOME:-/nonexistent}/.cache}/vibroimpact}
+entry=""
+if [ "$cache" != off ]; then
+  key=$( { cat "$0"; cc --version 2>/dev/null | head -n1; uname -m; } | sha256sum | cut -c1-16)
+  entry="$cache/sundials-$ver-$key"
+  # complete entries only: an entry is renamed into place after its install
+  if [ -f "$entry/.vi-sundials-version" ] &&
+     [ "$(cat "$entry/.vi-sundials-version")" = "$ver" ]; then
+    rm -rf "$prefix"
+    mkdir -p "$(dirname "$prefix")"
+    if cp -a "$entry" "$prefix.tmp$$" && mv "$prefix.tmp$$" "$prefix"; then
+      say "optimised SUNDIALS $ver copied from $entry"
+      exit 0
+    fi
+    rm -rf "$prefix.tmp$$"
+    say "copying $entry failed; building SUNDIALS"
+  fi
+fi
 
 sudo=""
 [ "$(id -u)" -ne 0 ] && sudo="sudo"
@@ -75,3 +101,11 @@ rm -rf "$prefix"
 cmake --install build >>build.log 2>&1 || fallback "installing SUNDIALS failed"
 echo "$ver" >"$stamp"
 say "optimised SUNDIALS $ver in $prefix"
+# into the cache for the next clone (no cache: nothing lost)
+if [ -n "$entry" ] && mkdir -p "$cache" 2>/dev/null &&
+   cp -a "$prefix" "$entry.tmp$$" 2>/dev/null; then
+  rm -rf "$entry"
+  mv "$entry.tmp$$" "$entry" 2>/dev/null || rm -rf "$entry.tmp$$"
+else
+  rm -rf "$entry.tmp$$" 2>/dev/null || true
+fi

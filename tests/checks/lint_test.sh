@@ -7,7 +7,9 @@
 #                                     remains (not a pass/fail criterion)
 # BUILD must have compile_commands.json (CMAKE_EXPORT_COMPILE_COMMANDS, on
 # by default).  Exits 77 (ctest: skipped) if clang-tidy or cppcheck is
-# missing (Debian packages clang-tidy, cppcheck).
+# missing (Debian packages clang-tidy, cppcheck).  The files are checked
+# VI_LINT_JOBS at a time (default: every core), each file's report printed
+# in the order of the list.
 set -uo pipefail
 src=$(cd "$1" && pwd) build=$(cd "$2" && pwd)
 
@@ -81,26 +83,47 @@ if [ "${3:-}" = --all ]; then
   headers='(include|src|apps|bench)/.*\.h$'
 fi
 
+# One file: its report into $tmp/N.out, its finding count into $tmp/N.n.
+lint_one() {
+  local i=$1 f=$2 nt nc t0=${EPOCHREALTIME/[.,]/}
+  clang-tidy -p "$build" --quiet --header-filter="$headers" "$f" > "$tmp/$i.tidy" 2> /dev/null
+  cppcheck --project="$db" --file-filter="$f" --enable=warning,performance,portability \
+    --inline-suppr --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
+    2> "$tmp/$i.cpp" > /dev/null
+  # VI_LINT_TIMES=FILE: seconds per file (wall), to find the slow ones
+  [ -n "${VI_LINT_TIMES:-}" ] &&
+    echo "$(( (${EPOCHREALTIME/[.,]/} - t0) / 1000 )) ms $f" >> "$VI_LINT_TIMES"
+  nt=$(grep -cE ': (warning|error): ' "$tmp/$i.tidy")
+  nc=$(grep -cE ': (warning|error|performance|portability|style): ' "$tmp/$i.cpp")
+  echo $((nt + nc)) > "$tmp/$i.n"
+  if [ $((nt + nc)) -gt 0 ]; then
+    echo "FAIL $f: $nt clang-tidy, $nc cppcheck"
+    grep -E ': (warning|error): ' "$tmp/$i.tidy" | sed "s|^$src/||; s|^|  |"
+    sed "s|^$src/||; s|^|  |" "$tmp/$i.cpp"
+  else
+    echo "ok   $f"
+  fi > "$tmp/$i.out"
+}
+
 cd "$src"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# a file listed twice is checked once
+mapfile -t files < <(printf '%s\n' "${files[@]}" | awk '!seen[$0]++')
+export -f lint_one
+export src build db headers tmp
+jobs=${VI_LINT_JOBS:-$(nproc)}
+for i in "${!files[@]}"; do printf '%s %s\n' "$i" "${files[$i]}"; done |
+  xargs -P "$jobs" -L 1 bash -c 'lint_one "$1" "$2"' lint_one
 bad=0 total=0
-for f in "${files[@]}"; do
-  clang-tidy -p "$build" --quiet --header-filter="$headers" "$f" > "$tmp/tidy" 2> /dev/null
-  cppcheck --project="$db" --file-filter="$f" --enable=warning,performance,portability \
-    --inline-suppr --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
-    2> "$tmp/cpp" > /dev/null
-  nt=$(grep -cE ': (warning|error): ' "$tmp/tidy")
-  nc=$(grep -cE ': (warning|error|performance|portability|style): ' "$tmp/cpp")
-  total=$((total + nt + nc))
-  if [ $((nt + nc)) -gt 0 ]; then
-    bad=$((bad + 1))
-    echo "FAIL $f: $nt clang-tidy, $nc cppcheck"
-    grep -E ': (warning|error): ' "$tmp/tidy" | sed "s|^$src/||; s|^|  |"
-    sed "s|^$src/||; s|^|  |" "$tmp/cpp"
-  else
-    echo "ok   $f"
+for i in "${!files[@]}"; do
+  if [ ! -f "$tmp/$i.n" ]; then
+    echo "FAIL ${files[$i]}: not checked"; bad=$((bad + 1)); continue
   fi
+  cat "$tmp/$i.out"
+  n=$(cat "$tmp/$i.n")
+  total=$((total + n))
+  [ "$n" -gt 0 ] && bad=$((bad + 1))
 done
 echo "$((${#files[@]} - bad)) of ${#files[@]} files clean, $total findings"
 [ $bad -eq 0 ]
