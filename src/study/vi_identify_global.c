@@ -248,13 +248,13 @@ int vi_id_global(vi_identify *id, int nd)
     int sk = at_start(id, nd, ck);
     if (id->cancel_hit) st = VI_CANCELLED;
     else if (sk == VI_ERR_NOMEM) st = sk;
-    else if (sk) {
-      snprintf(why, sizeof why, "%s", id->errmsg);
+    else if (sk) snprintf(why, sizeof why, "%s", id->errmsg);
+    if (st || sk) { /* a start that gave no candidate, or the last one */
       free(ck->o.x);
       free(ck->o.v);
       ck->o.x = ck->o.v = NULL;
     } else {
-        nc++;
+      nc++;
     }
   }
   free(u);
