@@ -68,6 +68,11 @@ typedef struct vi_gflow vi_gflow;
 int vi_general_create(const vi_model *m, vi_general **out, char *why);
 void vi_general_destroy(vi_general **g);
 double vi_general_top_frequency(const vi_general *g, double omega_f);
+/* The largest |lambda_k| among the modes whose transient still moves some
+ * stop's gap by more than tol at t (vi_gflow_start's state): the rates a
+ * scan must resolve besides the oscillations, where modes are overdamped
+ * (real lambda, no period) */
+double vi_gflow_live_rate(const vi_gflow *f, double t, double tol);
 /* sum_k |w_q.V_k| (|P_k| + |Q_k| + |R_k|): the size of the particular
  * solution as stop q's gap sees it, against which the flow cancels */
 double vi_general_particular_scale(const vi_general *g, int q);

@@ -167,6 +167,19 @@ double vi_general_top_frequency(const vi_general *g, double omega_f)
   return top;
 }
 
+double vi_gflow_live_rate(const vi_gflow *f, double t, double tol)
+{
+  const struct vi_general *g = f->g;
+  double top = 0.0, tau = t - f->t0;
+  for (int k = 0; k < g->n2; k++) {
+    double a = cabs(f->u[k]) * exp(creal(g->lam[k]) * tau), w = 0.0;
+    for (int q = 0; q < g->ns; q++)
+      w = fmax(w, cabs(g->cw[(size_t)q * g->n2 + k]));
+    if (a * w > tol) top = fmax(top, cabs(g->lam[k]));
+  }
+  return top;
+}
+
 double vi_general_particular_scale(const vi_general *g, int q)
 {
   double sc = 0.0;

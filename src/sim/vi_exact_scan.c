@@ -276,7 +276,14 @@ static int ex_step(vi_sim *s, double t_end, int *event)
     *event = VI_STEP_HANDOVER;
     return VI_OK;
   }
-  double b = fmin(d->ta + d->h, t_end), tc = HUGE_VAL;
+  double step = d->h;
+  if (d->gf) { /* overdamped transients have no period, only a rate */
+    double tol = HUGE_VAL;
+    for (int k = 0; k < d->ns; k++) tol = fmin(tol, vi_sim_gap_tol(s, k));
+    double r = vi_gflow_live_rate(d->gf, d->ta, tol);
+    if (r > 0.0) step = fmin(step, M_PI / (8.0 * r));
+  }
+  double b = fmin(d->ta + step, t_end), tc = HUGE_VAL;
   double *gb = d->gb, *gdb = d->gdb;
   int hit = 0;
   ex_eval_all(d, b, gb, gdb);
