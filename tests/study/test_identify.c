@@ -212,7 +212,6 @@ static void beam_noise(void **state)
     for (unsigned long seed = 1; seed <= 10; seed++) {
       series s = repeat(&r, cs[c].periods, cs[c].level * pp, seed);
       fit f = fit_rg(m, &s, 0.6, 0, 0);
-      if (getenv("VI_DEBUG")) fprintf(stderr, "c%d seed %lu r %.5f se %.5f it %d rms %.3g noise %.3g\n", c, seed, f.p[0], f.se[0], f.iters, f.rms, f.noise);
       assert_true(f.conv);
       if (c == 0) assert_close(f.p[0], 0.75, 0.01);
       assert_true(f.se[0] > cs[c].se_lo && f.se[0] < cs[c].se_hi);
@@ -276,8 +275,6 @@ static void beam_r_xs(void **state)
     assert_int_equal(vi_identify_correlation(id, R, 2), VI_OK);
     assert_close(R[0], 1.0, 1e-12);
     assert_close(R[1], R[2], 1e-12);
-    { int cv, it; double rms; vi_identify_summary(id, &cv, &it, &rms, NULL, NULL, NULL, NULL); if (getenv("VI_DEBUG")) fprintf(stderr, "conv %d it %d rms %g\n", cv, it, rms); }
-    if (getenv("VI_DEBUG")) fprintf(stderr, "way %d r %.5f+-%.5f xs %.6f+-%.6f corr %.4f\n", way, p[way][0], se[way][0], p[way][1], se[way][1], R[1]);
     assert_true(fabs(p[way][0] - 0.75) < 3 * se[way][0]);
     assert_true(fabs(p[way][1] - 0.05) < 3 * se[way][1]);
     vi_identify_destroy(&id);
@@ -609,7 +606,7 @@ static void beam_accel(void **state)
     assert_int_equal(st, VI_OK);
     assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
     assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, NULL, NULL), VI_OK);
-    if (getenv("VI_DEBUG")) fprintf(stderr, "accel way %d r %.5f +- %.5f rms %.3g\n", way, p, se, rms);
+    print_message("accel way %d r %.5f +- %.5f rms %.3g\n", way, p, se, rms);
     assert_true(fabs(p - 0.75) < 0.02 && fabs(p - 0.75) < 3 * se);
     /* the residual is the first channel's noise: a's alone, x's with x */
     assert_close(rms / (0.002 * (way ? peak_to_peak(&r) : hi - lo)), 1.0, 0.1);
@@ -663,7 +660,7 @@ static void fig2_sensors(void **state)
     if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
     assert_int_equal(st, VI_OK);
     assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
-    if (getenv("VI_DEBUG")) fprintf(stderr, "fig2 way %d r %.5f +- %.5f\n", way, p, se);
+    print_message("fig2 way %d r %.5f +- %.5f\n", way, p, se);
     assert_true(fabs(p - 0.7) < 3 * se && se < 0.02);
     if (way < 2) se_alone[way] = se;
     else assert_true(se < se_alone[0]);
