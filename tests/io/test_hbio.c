@@ -18,43 +18,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "vi_testutil.h"
+#include "vi_mm_testutil.h"
 
 extern char **environ;
 #include "vibroimpact/vi_mmio.h"
 
 static const char *data_dir = ".";
 
-static void write_file(char *path, const char *text, const char *tag, int k)
-{
-  snprintf(path, 256, "hbio_%ld_%s%d", (long)getpid(), tag, k);
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
-  assert_int_equal(fclose(f), 0);
-}
-
-/* A = [4 -1 0; -1 4 -2; 0 -2 5] as test_mmio.c: lower and full CSC. */
-static const int lo_p[] = {0, 2, 4, 5}, lo_i[] = {0, 1, 1, 2, 2};
-static const double lo_v[] = {4, -1, 4, -2, 5};
-static const int fu_p[] = {0, 2, 5, 7}, fu_i[] = {0, 1, 0, 1, 2, 1, 2};
-static const double fu_v[] = {4, -1, -1, 4, -2, -2, 5};
-
-static void expect(const vi_mm *m, int storage)
-{
-  const int *p = storage == VI_CSC_LOWER ? lo_p : fu_p,
-            *ri = storage == VI_CSC_LOWER ? lo_i : fu_i;
-  const double *v = storage == VI_CSC_LOWER ? lo_v : fu_v;
-  int nnz = storage == VI_CSC_LOWER ? 5 : 7;
-  assert_int_equal(vi_mm_rows(m), 3);
-  assert_int_equal(vi_mm_cols(m), 3);
-  assert_int_equal(vi_mm_nnz(m), nnz);
-  for (int j = 0; j <= 3; j++) assert_int_equal(vi_mm_colptr(m)[j], p[j]);
-  for (int k = 0; k < nnz; k++) {
-    assert_int_equal(vi_mm_rowind(m)[k], ri[k]);
-    assert_true(vi_mm_values(m)[k] == v[k]); /* exact: read as written */
-  }
-}
 
 /* Headers: line 2 of I14 counts, line 3 the type and sizes (14 columns
  * each after the type's A3 and 11 blanks), line 4 the formats. */
@@ -121,7 +91,7 @@ static void test_forms(void **state)
   (void)state;
   for (size_t k = 0; k < sizeof forms / sizeof forms[0]; k++) {
     char path[256];
-    write_file(path, forms[k].text, "form", (int)k);
+    vi_test_write_text(path, "hbio_form", (int)k, forms[k].text);
     vi_diag d;
     int f = -1, rows = 0, cols = 0, sym = -1;
     int64_t entries = 0;
@@ -140,7 +110,7 @@ static void test_forms(void **state)
       if (st) print_error("%s: line %d: %s\n", forms[k].what, d.line,
                           d.message);
       assert_int_equal(st, VI_OK);
-      expect(m, storages[q]);
+      vi_test_expect_a3(m, storages[q]);
       vi_mm_destroy(&m);
     }
     /* named formats: the right one reads, a wrong one is refused */
@@ -162,9 +132,10 @@ static void test_dofmap(void **state)
 {
   (void)state;
   char pm[256], pk[256];
-  write_file(pm, "30,1,30,1,2.0\n-4,3,-4,3,1.5\n", "map", 0);
-  write_file(pk, "30, 1, 30, 1, 6\n7, 2, 7, 2, 9\n7, 2, 30, 1, -3\n"
-                 "-4, 3, -4, 3, 5\n", "map", 1);
+  vi_test_write_text(pm, "hbio_map", 0, "30,1,30,1,2.0\n-4,3,-4,3,1.5\n");
+  vi_test_write_text(pk, "hbio_map", 1,
+                     "30, 1, 30, 1, 6\n7, 2, 7, 2, 9\n7, 2, 30, 1, -3\n"
+                     "-4, 3, -4, 3, 5\n");
   const char *paths[2] = {pm, pk};
   vi_dofmap *map = NULL;
   vi_diag d;
@@ -217,8 +188,8 @@ static void test_dofmap(void **state)
   remove(pk);
   /* equation numbers: dof i is equation i, n the largest of all files
    * (M here names 1..3, K 1..4: M's row 4 is empty, a massless dof) */
-  write_file(pm, "1 1 1.0\n2 2 2.0\n3 3 3.0\n", "map", 2);
-  write_file(pk, "1 1 4\n4 4 6\n4 1 -1\n1 4 -1\n2 2 5\n3 3 5\n", "map", 3);
+  vi_test_write_text(pm, "hbio_map", 2, "1 1 1.0\n2 2 2.0\n3 3 3.0\n");
+  vi_test_write_text(pk, "hbio_map", 3, "1 1 4\n4 4 6\n4 1 -1\n1 4 -1\n2 2 5\n3 3 5\n");
   assert_int_equal(vi_dofmap_scan(2, paths, 0, &map, &d), VI_OK);
   assert_int_equal(vi_dofmap_n(map), 4);
   assert_int_equal(vi_dofmap_label(map, 4, &node, &dof), VI_OK);
@@ -234,7 +205,7 @@ static void test_dofmap(void **state)
   vi_dofmap_destroy(&map);
   /* one model's files number their dofs alike: pairs beside equations */
   remove(pk);
-  write_file(pk, "1, 1, 1, 1, 4\n", "map", 4);
+  vi_test_write_text(pk, "hbio_map", 4, "1, 1, 1, 1, 4\n");
   assert_int_equal(vi_dofmap_scan(2, paths, 0, &map, &d), VI_ERR_PARSE);
   assert_non_null(strstr(d.message, "number their dofs alike"));
   assert_null(map);
@@ -335,7 +306,7 @@ static void run_bads(const bad *b, size_t nb, int format, const char *tag)
 {
   for (size_t k = 0; k < nb; k++) {
     char path[256];
-    write_file(path, b[k].text, tag, (int)k);
+    vi_test_write_text(path, tag, (int)k, b[k].text);
     vi_mm *m = NULL;
     vi_diag d;
     int st = vi_matrix_load(path, format, NULL, VI_CSC_LOWER, 0, &m, &d);
@@ -376,17 +347,17 @@ static void test_limits(void **state)
 {
   (void)state;
   char path[256];
-  write_file(path, T1 "             3             1        200000        200000\n"
+  vi_test_write_text(path, "hbio_lim", 0, T1 "             3             1        200000        200000\n"
                       "RSA                  1000000       1000000       1000000\n"
-                      "(4I5)           (5I8)           (5E16.8)\n", "lim", 0);
+                      "(4I5)           (5I8)           (5E16.8)\n");
   vi_mm *m = NULL;
   vi_diag d;
   assert_int_equal(vi_matrix_load(path, VI_MATRIX_AUTO, NULL, VI_CSC_LOWER,
                                   1e6, &m, &d), VI_ERR_PARSE); /* PTRCRD */
   remove(path);
-  write_file(path, T1 "        600000        200000        200000        200000\n"
+  vi_test_write_text(path, "hbio_lim", 1, T1 "        600000        200000        200000        200000\n"
                       "RSA                   999999        999999       1000000\n"
-                      "(5I8)           (5I8)           (5E16.8)\n", "lim", 1);
+                      "(5I8)           (5I8)           (5E16.8)\n");
   assert_int_equal(vi_matrix_load(path, VI_MATRIX_AUTO, NULL, VI_CSC_LOWER,
                                   1e6, &m, &d), VI_ERR_LIMIT);
   assert_non_null(strstr(d.message, "MB"));
@@ -425,7 +396,7 @@ static void test_limits(void **state)
   remove(fifo);
   assert_int_equal(vi_matrix_detect(".", &fmt, &d), VI_ERR_IO);
   assert_non_null(strstr(d.message, "directory"));
-  write_file(path, "hello\nworld\n", "lim", 2);
+  vi_test_write_text(path, "hbio_lim", 2, "hello\nworld\n");
   assert_int_equal(vi_matrix_detect(path, &fmt, &d), VI_ERR_PARSE);
   assert_non_null(strstr(d.message, "RSA"));
   assert_int_equal(d.line, 1);

@@ -8,42 +8,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "vi_testutil.h"
+#include "vi_mm_testutil.h"
 #include "vibroimpact/vi_mmio.h"
 
-/* The file `text` under a name unique to this process; the path in
- * path[256]. */
-static void write_file(char *path, const char *text, int k)
-{
-  snprintf(path, 256, "mmio_%ld_%d.mtx", (long)getpid(), k);
-  FILE *f = fopen(path, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(text, 1, strlen(text), f), strlen(text));
-  assert_int_equal(fclose(f), 0);
-}
-
-/* A = [4 -1 0; -1 4 -2; 0 -2 5]: its lower triangle and its full CSC. */
-static const int lo_p[] = {0, 2, 4, 5}, lo_i[] = {0, 1, 1, 2, 2};
-static const double lo_v[] = {4, -1, 4, -2, 5};
-static const int fu_p[] = {0, 2, 5, 7}, fu_i[] = {0, 1, 0, 1, 2, 1, 2};
-static const double fu_v[] = {4, -1, -1, 4, -2, -2, 5};
-
-static void expect(const vi_mm *m, int storage)
-{
-  const int *p = storage == VI_CSC_LOWER ? lo_p : fu_p,
-            *ri = storage == VI_CSC_LOWER ? lo_i : fu_i;
-  const double *v = storage == VI_CSC_LOWER ? lo_v : fu_v;
-  int nnz = storage == VI_CSC_LOWER ? 5 : 7;
-  assert_int_equal(vi_mm_rows(m), 3);
-  assert_int_equal(vi_mm_cols(m), 3);
-  assert_int_equal(vi_mm_nnz(m), nnz);
-  assert_int_equal(vi_mm_storage_kind(m), storage);
-  for (int j = 0; j <= 3; j++) assert_int_equal(vi_mm_colptr(m)[j], p[j]);
-  for (int k = 0; k < nnz; k++) {
-    assert_int_equal(vi_mm_rowind(m)[k], ri[k]);
-    assert_true(vi_mm_values(m)[k] == v[k]); /* exact: read as written */
-  }
-}
 
 /* Every form the grammar allows for A, each read into both storages. */
 static void test_forms(void **state)
@@ -68,7 +35,7 @@ static void test_forms(void **state)
   };
   for (size_t k = 0; k < sizeof forms / sizeof forms[0]; k++) {
     char path[256];
-    write_file(path, forms[k], (int)k);
+    vi_test_write_text(path, "mmio", (int)k, forms[k]);
     int rows = 0, cols = 0, sym = -1;
     int64_t entries = -1;
     vi_diag d;
@@ -85,7 +52,7 @@ static void test_forms(void **state)
       int st = vi_mm_load(path, s, &m, &d);
       if (st) print_error("form %zu: %s\n", k, d.message);
       assert_int_equal(st, VI_OK);
-      expect(m, s);
+      vi_test_expect_a3(m, s);
       vi_mm_destroy(&m);
       assert_null(m);
     }
@@ -100,8 +67,8 @@ static void test_general(void **state)
 {
   (void)state;
   char path[256];
-  write_file(path, "%%MatrixMarket matrix coordinate real general\n2 2 4\n"
-                   "1 1 10\n2 1 -1.000000000000001\n1 2 -1\n2 2 10\n", 10);
+  vi_test_write_text(path, "mmio", 10, "%%MatrixMarket matrix coordinate real general\n2 2 4\n"
+                   "1 1 10\n2 1 -1.000000000000001\n1 2 -1\n2 2 10\n");
   vi_mm *m = NULL;
   vi_diag d;
   assert_int_equal(vi_mm_load(path, VI_CSC_LOWER, &m, &d), VI_OK);
@@ -109,8 +76,8 @@ static void test_general(void **state)
   assert_true(vi_mm_values(m)[1] == 0.5 * (-1.000000000000001 - 1.0));
   vi_mm_destroy(&m);
   remove(path);
-  write_file(path, "%%MatrixMarket matrix coordinate real general\n2 3 2\n"
-                   "2 3 7\n1 1 1\n", 11);
+  vi_test_write_text(path, "mmio", 11, "%%MatrixMarket matrix coordinate real general\n2 3 2\n"
+                   "2 3 7\n1 1 1\n");
   assert_int_equal(vi_mm_load(path, VI_CSC_FULL, &m, &d), VI_OK);
   assert_true(vi_mm_rows(m) == 2 && vi_mm_cols(m) == 3 && vi_mm_nnz(m) == 2);
   static const int p[] = {0, 1, 1, 2};
@@ -189,7 +156,7 @@ static void test_malformed(void **state)
       assert_int_equal(fwrite(b->text, 1, len, f), len);
       fclose(f);
     } else
-      write_file(path, b->text, 100 + (int)k);
+      vi_test_write_text(path, "mmio", 100 + (int)k, b->text);
     vi_mm *m = NULL;
     vi_diag d;
     int st = vi_mm_load(path, VI_CSC_LOWER, &m, &d);
@@ -214,7 +181,7 @@ static void test_limits(void **state)
 {
   (void)state;
   char path[256];
-  write_file(path, HS "100000 100000 200000\n1 1 1\n", 200);
+  vi_test_write_text(path, "mmio", 200, HS "100000 100000 200000\n1 1 1\n");
   vi_mm *m = NULL;
   vi_diag d;
   assert_int_equal(vi_mm_load_limited(path, VI_CSC_LOWER, 1e6, &m, &d),
@@ -234,7 +201,7 @@ static void test_limits(void **state)
   size_t len = strlen(big);
   memset(big + len, '1', VI_MM_MAX_LINE);
   strcpy(big + len + VI_MM_MAX_LINE, "\n");
-  write_file(path, big, 201);
+  vi_test_write_text(path, "mmio", 201, big);
   free(big);
   assert_int_equal(vi_mm_load(path, VI_CSC_LOWER, &m, &d), VI_ERR_PARSE);
   assert_int_equal(d.line, 3);
