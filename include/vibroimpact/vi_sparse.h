@@ -292,7 +292,7 @@ VI_API int vi_fe_create_model(const vi_fe *fe, vi_model **out);
  *  @{ */
 /** Number of physical dofs n (also before setup). */
 VI_API int vi_fe_n(const vi_fe *fe);
-/** Number of kept modes k (also before setup: as set). */
+/** Number of kept modes k (before setup: as set, 0 while undecided). */
 VI_API int vi_fe_num_modes(const vi_fe *fe);
 /** Natural frequencies omega_j [k], ascending for the sparse source. */
 VI_API const double *vi_fe_omega(const vi_fe *fe);
