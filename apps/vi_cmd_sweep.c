@@ -63,8 +63,12 @@ static void usage(FILE *f, int basins)
     "  --param2 KEY --from2 A --to2 B --steps2 K2   a two-parameter map: one sweep\n"
     "                        of KEY per value of the second key\n"
     "  --threads T           OpenMP threads (default: all cores)\n"
-    "  --chunks C            split each sweep into C pieces run in parallel, each\n"
-    "                        starting from the scene's initial state (default 1)\n"
+    "  --chunks C            split each line into C chunks run in parallel; a serial\n"
+    "                        chain through the chunks' first values seeds each with\n"
+    "                        its warm state.  Default: a chunk per 16 values (per\n"
+    "                        sqrt(K) when fewer than 256), the same for any thread\n"
+    "                        count; 1 (each line in order, warm start exact) with\n"
+    "                        --both or 16 lines or more\n"
     "  --tol TOL             classification tolerance, relative (default 1e-6)\n"
     "  --nmax N              longest period looked for (default 32)\n"
     "  --method M            adams, bdf, exact, auto, erk (sets run.method)\n"
@@ -135,9 +139,11 @@ static void table(const vi_diagram *sw)
 {
   const vi_sweep_spec *sp = &sw->spec;
   int K = sp->steps;
+  char split[160];
+  vi_sweep_split(sw, split, sizeof split);
   printf("sweep of %s over %d values, %d transient + %d recorded periods per "
-         "value, %d line%s, %.3f s\n", sp->key, K, sp->transient, sp->record,
-         sw->nlines, sw->nlines > 1 ? "s" : "", sw->wall);
+         "value, %d line%s (%s), %.3f s\n", sp->key, K, sp->transient, sp->record,
+         sw->nlines, sw->nlines > 1 ? "s" : "", split, sw->wall);
   for (int l = 0; l < sw->nlines; l++) {
     const vi_diagram_line *ln = &sw->lines[l];
     printf("%s%s", ln->dir > 0 ? "up" : "down", sp->key2 ? "" : "\n");
@@ -271,6 +277,8 @@ static int check(args *a)
   if (a->basins) { /* cells are independent: as many pieces as values */
     sp->cold = 1;
     if (!a->chunks_set) sp->chunks = sp->steps;
+  } else if (!a->chunks_set) {
+    sp->chunks = vi_sweep_default_chunks(sp);
   }
   /* the one output path (vi_output.h): checked before the sweep, the
    * links followed, devices, FIFOs, directories, a planted .part link and

@@ -2,6 +2,7 @@
  * start, stroboscopic sampling, impact map, P(n, m) classification) and
  * its JSON form.  The HDF5 form is in vi_sweep_h5.c. */
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,10 +50,28 @@ static void diag_msg(const vi_diag *d, int st, char *err, int len)
 }
 
 /* ---- one piece: consecutive values with warm start ---------------------- */
+/* Seeded chunks (spec.chunks > 1 with warm start): each line's first value
+ * of every chunk is computed by one serial chain along the line (a coarse
+ * sweep, warm-started value to value), which hands the state it ends in
+ * to the chunk; the chunk goes on from there.  Every value is computed
+ * once, each from a state that depends on the chunk count alone, so the
+ * diagram does not depend on the threads or ranks. */
+enum { SEED_PENDING = 0, SEED_STATE, SEED_COLD, SEED_NONE };
+typedef struct seedbox {
+  pthread_mutex_t mu;
+  pthread_cond_t cv;
+  int C, n;     /* chunks per line, coordinates */
+  int *state;   /* [nlines x C] SEED_* */
+  double *xv;   /* [nlines x C][2n]: x then v */
+} seedbox;
+
 typedef struct piece {
   const vi_diagram *sw;
   vi_diagram_line *ln;
   int pos0, pos1; /* positions in the line's sweep order */
+  int chain;      /* 1: the line's seed chain (first value of each chunk) */
+  int slot;       /* seedbox index of the chunk's seed (line x C + chunk) */
+  seedbox *box;   /* NULL: not seeded, the piece starts cold */
   volatile sig_atomic_t *cancel;
   int code; /* 0, 1 run-time, 2 input, 3 cancelled */
   char err[1400];
@@ -142,54 +161,109 @@ static int make_study(const vi_diagram *sw, vi_sweep **out, char *err, int len)
   return st ? 2 : 0;
 }
 
-static void run_piece(piece *p)
+/* Value at position pos of the piece's line: 0 to go on, else stop (the
+ * piece's code and err say why). */
+static int run_value(piece *p, vi_sweep *study, int pos)
 {
   const vi_diagram *sw = p->sw;
   vi_diagram_line *ln = p->ln;
-  int K = sw->spec.steps, st;
+  int K = sw->spec.steps, k = ln->dir > 0 ? pos : K - 1 - pos;
+  double val = sw->param[k];
+  if (vi_sweep_set_param(study, sw->pkey, val)) {
+    p->code = 2;
+    msg(p->err, sizeof p->err, "%s: %s", sw->name, vi_sweep_errmsg(study));
+    return 1;
+  }
+  int st = vi_sweep_iterate(study);
+  if (st == VI_CANCELLED || st == VI_STOPPED || st == VI_ERR_NOMEM) {
+    p->code = st == VI_ERR_NOMEM ? 1 : 3; /* the value in progress is dropped */
+    if (st == VI_ERR_NOMEM) msg(p->err, sizeof p->err, "out of memory");
+    else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
+    return 1;
+  }
+  if (keep_point(study, sw, ln, k)) {
+    p->code = 1;
+    msg(p->err, sizeof p->err, "out of memory");
+    return 1;
+  }
+  ln->pt[k].done = 1;
+  if (st) {
+    /* one value's failure does not sink the diagram: it is marked, and
+     * the next value starts cold (from the scene's initial state) */
+    char e[1400];
+    if (sw->spec.key2) /* a map's cell: both of its values */
+      msg(e, sizeof e, "%s = %.17g, %s = %.17g: %s", sw->spec.key, val,
+          sw->spec.key2, sw->param2[ln->row], vi_sweep_errmsg(study));
+    else
+      msg(e, sizeof e, "%s = %.17g: %s", sw->spec.key, val, vi_sweep_errmsg(study));
+    ln->pt[k].failed = 1;
+    ln->pt[k].error = strdup(e);
+  }
+  return 0;
+}
+
+/* Publish chunk c's seed: the chain's warm state, a cold start after a
+ * failed value, or none (the chain stopped). */
+static void put_seed(seedbox *b, int slot, const vi_sweep *study, int stopped)
+{
+  double *x = b->xv + (size_t)slot * 2 * b->n;
+  int s = stopped ? SEED_NONE
+                  : vi_sweep_warm_state(study, x, x + b->n) ? SEED_COLD : SEED_STATE;
+  pthread_mutex_lock(&b->mu);
+  b->state[slot] = s;
+  pthread_cond_broadcast(&b->cv);
+  pthread_mutex_unlock(&b->mu);
+}
+
+/* The chunk's seed, waited for; 1 when the chain stopped before it. */
+static int take_seed(piece *p, vi_sweep *study)
+{
+  seedbox *b = p->box;
+  pthread_mutex_lock(&b->mu);
+  while (b->state[p->slot] == SEED_PENDING) pthread_cond_wait(&b->cv, &b->mu);
+  int s = b->state[p->slot];
+  pthread_mutex_unlock(&b->mu);
+  if (s == SEED_NONE) return 1; /* the chain's code says why */
+  const double *x = b->xv + (size_t)p->slot * 2 * b->n;
+  if (s == SEED_STATE && vi_sweep_set_warm_state(study, x, x + b->n)) {
+    p->code = 1;
+    msg(p->err, sizeof p->err, "%s: %s", p->sw->name, vi_sweep_errmsg(study));
+    return 1;
+  }
+  return 0;
+}
+
+/* A piece: a chunk of values, or a line's seed chain (the first value of
+ * each of its chunks, p->slot the first chunk's seed). */
+static void run_piece(piece *p)
+{
+  const vi_diagram *sw = p->sw;
+  int K = sw->spec.steps, C = sw->spec.chunks, c = 0;
   vi_sweep *study = NULL;
   if ((p->code = make_study(sw, &study, p->err, sizeof p->err)) || !study) goto done;
   if (p->cancel) vi_sweep_set_cancel(study, on_cancel, (void *)p->cancel, NULL);
-  if (sw->spec.key2 && vi_sweep_set_param(study, sw->pkey2, sw->param2[ln->row])) {
+  if (sw->spec.key2 && vi_sweep_set_param(study, sw->pkey2, sw->param2[p->ln->row])) {
     p->code = 2;
     msg(p->err, sizeof p->err, "%s: %s", sw->name, vi_sweep_errmsg(study));
     goto done;
   }
-  for (int pos = p->pos0; pos < p->pos1; pos++) {
-    int k = ln->dir > 0 ? pos : K - 1 - pos;
-    double val = sw->param[k];
-    if (vi_sweep_set_param(study, sw->pkey, val)) {
-      p->code = 2;
-      msg(p->err, sizeof p->err, "%s: %s", sw->name, vi_sweep_errmsg(study));
-      goto done;
+  if (p->chain) {
+    for (; c < C; c++) {
+      if (run_value(p, study, (int)((int64_t)K * c / C))) break;
+      put_seed(p->box, p->slot + c, study, 0);
     }
-    st = vi_sweep_iterate(study);
-    if (st == VI_CANCELLED || st == VI_STOPPED || st == VI_ERR_NOMEM) {
-      p->code = st == VI_ERR_NOMEM ? 1 : 3; /* the value in progress is dropped */
-      if (st == VI_ERR_NOMEM) msg(p->err, sizeof p->err, "out of memory");
-      else msg(p->err, sizeof p->err, "interrupted at %s = %.17g", sw->spec.key, val);
-      goto done;
-    }
-    if (keep_point(study, sw, ln, k)) {
-      p->code = 1;
-      msg(p->err, sizeof p->err, "out of memory");
-      goto done;
-    }
-    ln->pt[k].done = 1;
-    if (st) {
-      /* one value's failure does not sink the diagram: it is marked, and
-       * the next value starts cold (from the scene's initial state) */
-      char e[1400];
-      if (sw->spec.key2) /* a map's cell: both of its values */
-        msg(e, sizeof e, "%s = %.17g, %s = %.17g: %s", sw->spec.key, val,
-            sw->spec.key2, sw->param2[ln->row], vi_sweep_errmsg(study));
-      else
-        msg(e, sizeof e, "%s = %.17g: %s", sw->spec.key, val, vi_sweep_errmsg(study));
-      ln->pt[k].failed = 1;
-      ln->pt[k].error = strdup(e);
-    }
+    goto done;
   }
+  int pos = p->pos0;
+  if (p->box) {
+    if (take_seed(p, study)) goto done;
+    pos++; /* the chain computed the chunk's first value */
+  }
+  for (; pos < p->pos1; pos++)
+    if (run_value(p, study, pos)) break;
 done:
+  /* chunks waiting on a chain that stopped are released */
+  for (; p->chain && c < C; c++) put_seed(p->box, p->slot + c, study, 1);
   vi_sweep_destroy(&study);
 }
 
@@ -278,7 +352,8 @@ static void put_bytes(pbuf *p, const void *x, size_t k)
 static void pack_piece(const vi_diagram *sw, const piece *pc, pbuf *p)
 {
   int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
-  for (int pos = pc->pos0; pos < pc->pos1; pos++) {
+  /* a seeded chunk's first value: every rank's chain computed it */
+  for (int pos = pc->pos0 + (pc->box != NULL); pos < pc->pos1; pos++) {
     int k = pc->ln->dir > 0 ? pos : K - 1 - pos;
     const vi_diagram_point *pt = &pc->ln->pt[k];
     int hdr[4] = {pt->n, pt->m, pt->failed, pt->done};
@@ -310,7 +385,7 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
 {
   int K = sw->spec.steps, R = sw->spec.record, n2 = 2 * sw->N;
 #define TAKE(dst, k) do { if (*off + (k) > len) return 1; memcpy((dst), b + *off, (k)); *off += (k); } while (0)
-  for (int pos = pc->pos0; pos < pc->pos1; pos++) {
+  for (int pos = pc->pos0 + (pc->box != NULL); pos < pc->pos1; pos++) {
     int k = pc->ln->dir > 0 ? pos : K - 1 - pos, hdr[4];
     vi_diagram_point *pt = &pc->ln->pt[k];
     int64_t ni, el;
@@ -429,6 +504,27 @@ static int threads_of(const vi_sweep_spec *sp)
   if (sp->threads <= 0) nth = omp_get_max_threads();
 #endif
   return nth;
+}
+
+int vi_sweep_default_chunks(const vi_sweep_spec *sp)
+{
+  int K = sp->steps, lines = (sp->key2 ? sp->steps2 : 1) * (sp->dirs == 3 ? 2 : 1);
+  if (K < 2 || sp->dirs == 3 || lines >= 16) return 1;
+  int L = (int)ceil(sqrt((double)K));
+  if (L > 16) L = 16;
+  return (K + L - 1) / L;
+}
+
+void vi_sweep_split(const vi_diagram *sw, char *s, int len)
+{
+  const vi_sweep_spec *sp = &sw->spec;
+  int C = sp->chunks;
+  if (sp->cold) snprintf(s, (size_t)len, "every value from the initial state, %d "
+                         "piece%s a line", C, C > 1 ? "s" : "");
+  else if (C > 1) snprintf(s, (size_t)len, "%d chunks a line of about %d values, "
+                           "seeded by a chain through their first values", C,
+                           (sp->steps + C - 1) / C);
+  else snprintf(s, (size_t)len, "each line in order, warm start exact");
 }
 
 double vi_sweep_memory_estimate(const vi_sweep_spec *sp, int N,
@@ -552,27 +648,74 @@ static int make_lines(vi_diagram *sw)
   return 0;
 }
 
-/* Deal the pieces: MPI ranks take them round-robin (rank r: pieces r,
- * r + size, ...), each rank's on its OpenMP threads; each piece is
- * computed the same way wherever it runs.  The exit code, err. */
+/* The seeds' mailbox: nlines x C slots of 2N doubles. */
+static int box_init(seedbox *b, const vi_diagram *sw)
+{
+  b->C = sw->spec.chunks;
+  b->n = sw->N;
+  size_t ns = (size_t)sw->nlines * b->C;
+  b->state = calloc(ns, sizeof *b->state);
+  b->xv = malloc(sizeof(double) * ns * 2 * b->n);
+  pthread_mutex_init(&b->mu, NULL);
+  pthread_cond_init(&b->cv, NULL);
+  return !b->state || !b->xv;
+}
+
+static void box_free(seedbox *b)
+{
+  free(b->state);
+  free(b->xv);
+  pthread_mutex_destroy(&b->mu);
+  pthread_cond_destroy(&b->cv);
+}
+
+/* The pieces: with seeds, each line's chain first (they never wait, so a
+ * thread that waits for a seed waits for a chain already running), then
+ * the chunks; *nchain receives the number of chains.  NULL out of memory. */
+static piece *make_pieces(vi_diagram *sw, seedbox *box, volatile sig_atomic_t *cancel,
+                          int *nchain)
+{
+  int K = sw->spec.steps, C = sw->spec.chunks, L = sw->nlines, nc = box ? L : 0;
+  piece *ps = calloc((size_t)(nc + L * C), sizeof *ps);
+  if (!ps) return NULL;
+  for (int i = 0; i < nc + L * C; i++) {
+    piece *p = &ps[i];
+    int chunk = i < nc ? 0 : (i - nc) % C, line = i < nc ? i : (i - nc) / C;
+    p->sw = sw;
+    p->ln = &sw->lines[line];
+    p->chain = i < nc;
+    p->box = box;
+    p->slot = line * C + chunk;
+    p->pos0 = (int)((int64_t)K * chunk / C);
+    p->pos1 = (int)((int64_t)K * (chunk + 1) / C);
+    p->cancel = cancel;
+  }
+  *nchain = nc;
+  return ps;
+}
+
+/* Deal the pieces: MPI ranks take the chunks round-robin (rank r: chunks
+ * r, r + size, ...), each rank's on its OpenMP threads, and every rank
+ * runs the seed chains itself (no messages, the same seeds); each piece
+ * is computed the same way wherever it runs.  The exit code, err. */
 static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
                 int errlen)
 {
-  int K = sw->spec.steps, C = sw->spec.chunks, ntask = sw->nlines * C;
-  piece *ps = calloc((size_t)ntask, sizeof *ps);
+  int C = sw->spec.chunks, ntask = sw->nlines * C, nchain = 0;
+  seedbox box, *bp = sw->spec.chunks > 1 && sw->warm ? &box : NULL;
+  if (bp && box_init(bp, sw)) {
+    box_free(bp);
+    msg(err, errlen, "out of memory");
+    return 1;
+  }
+  piece *ps = make_pieces(sw, bp, cancel, &nchain);
   sw->npieces = ntask;
   sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
   if (!ps || !sw->piece_cpu) {
     free(ps);
+    if (bp) box_free(bp);
     msg(err, errlen, "out of memory");
     return 1;
-  }
-  for (int i = 0; i < ntask; i++) {
-    ps[i].sw = sw;
-    ps[i].ln = &sw->lines[i / C];
-    ps[i].pos0 = (int)((int64_t)K * (i % C) / C);
-    ps[i].pos1 = (int)((int64_t)K * (i % C + 1) / C);
-    ps[i].cancel = cancel;
   }
   int rank = 0, size = 1;
 #ifdef VI_HAVE_MPI
@@ -583,30 +726,40 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
     MPI_Comm_size(MPI_COMM_WORLD, &size);
   }
 #endif
+  piece *chunks = ps + nchain;
   int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
+  int nq = nchain + nmine, next = 0;
 #ifdef _OPENMP
   int nth = sw->spec.threads;
   if (nth <= 0) nth = omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nth)
+  if (nth > nq) nth = nq > 0 ? nq : 1;
+#pragma omp parallel num_threads(nth)
 #endif
-  for (int q = 0; q < nmine; q++) {
+  /* taken in order, chains first (an explicit counter: OpenMP's dynamic
+   * schedule does not promise the order) */
+  for (;;) {
+    int q = __atomic_fetch_add(&next, 1, __ATOMIC_RELAXED);
+    if (q >= nq) break;
+    piece *p = q < nchain ? &ps[q] : &chunks[rank + (q - nchain) * size];
     struct timespec a, b;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
-    run_piece(&ps[rank + q * size]);
+    run_piece(p);
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
-    sw->piece_cpu[rank + q * size] = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+    double cpu = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+    if (!p->chain) sw->piece_cpu[p - chunks] += cpu;
   }
   int code = 0; /* a failure before a cancellation */
-  for (int i = 0; i < ntask; i++)
+  for (int i = 0; i < nchain + ntask; i++)
     if (ps[i].code && (!code || code == 3)) {
       code = ps[i].code;
       msg(err, errlen, "%s", ps[i].err);
     }
 #ifdef VI_HAVE_MPI
-  if (size > 1) code = vi_sweep_gather(sw, ps, ntask, rank, size, code, err, errlen);
+  if (size > 1) code = vi_sweep_gather(sw, chunks, ntask, rank, size, code, err, errlen);
   sw->rank = rank;
 #endif
   free(ps);
+  if (bp) box_free(bp);
   return code;
 }
 
@@ -749,9 +902,14 @@ void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
   vi_app_fe_json(f, sw->sc);
   fprintf(f, "\"key\": ");
   json_str(f, sp->key);
+  char split[160];
+  vi_sweep_split(sw, split, sizeof split);
   fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, "
-          "\"complete\": %s, \"points_done\": %lld, ", sp->transient, sp->record,
-          sp->chunks, sw->incomplete ? "false" : "true", (long long)sw->points_done);
+          "\"seeded\": %s, \"split\": ", sp->transient, sp->record, sp->chunks,
+          sp->chunks > 1 && sw->warm ? "true" : "false");
+  json_str(f, split);
+  fprintf(f, ", \"complete\": %s, \"points_done\": %lld, ",
+          sw->incomplete ? "false" : "true", (long long)sw->points_done);
   if (!sp->key2) {
     json_line(sw, &sw->lines[0], f);
     if (sw->nlines > 1) {
@@ -819,20 +977,32 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
           "\"points_done\": %lld", sp->transient, sp->record, K, sp->steps2,
           sw->nattr, sw->incomplete ? "false" : "true", (long long)sw->points_done);
   static const char *what[] = {"param", "param2", "n", "m", "attractor"};
+  /* each value printed once: a map of K x K2 cells repeats them K2 and K
+   * times, and their conversion was most of the serial time after the
+   * parallel cells */
+  char *v1 = malloc((size_t)K * 32), *v2 = malloc((size_t)sp->steps2 * 32);
+  for (int k = 0; v1 && k < K; k++) snprintf(v1 + 32 * k, 32, "%.17g", sw->param[k]);
+  for (int r = 0; v2 && r < sp->steps2; r++)
+    snprintf(v2 + 32 * r, 32, "%.17g", sw->param2[r]);
   for (int w = 0; w < 5; w++) {
     fprintf(f, ", \"%s\": [", what[w]);
     for (int l = 0; l < L; l++)
       for (int k = 0; k < K; k++) {
         const vi_diagram_point *pt = &sw->lines[l].pt[k];
-        fprintf(f, "%s", l || k ? ", " : "");
-        if (w == 0) fprintf(f, "%.17g", sw->param[k]);
-        else if (w == 1) fprintf(f, "%.17g", sw->param2[sw->lines[l].row]);
+        int row = sw->lines[l].row;
+        if (l || k) fputs(", ", f);
+        if (w == 0 && v1) fputs(v1 + 32 * k, f);
+        else if (w == 0) fprintf(f, "%.17g", sw->param[k]);
+        else if (w == 1 && v2) fputs(v2 + 32 * row, f);
+        else if (w == 1) fprintf(f, "%.17g", sw->param2[row]);
         else if (w == 4) fprintf(f, "%d", sw->attractor[(size_t)l * K + k]);
         else if (pt->n && !pt->failed) fprintf(f, "%d", w == 2 ? pt->n : pt->m);
-        else fprintf(f, "null");
+        else fputs("null", f);
       }
-    fprintf(f, "]");
+    fputc(']', f);
   }
+  free(v1);
+  free(v2);
   /* every failed cell with its message (the terminal shows the first) */
   fprintf(f, ", \"failed\": [");
   for (int l = 0, first = 1; l < L; l++)

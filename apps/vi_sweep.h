@@ -1,19 +1,20 @@
 /* vi_sweep.h - brute-force bifurcation diagrams (`vibroimpact sweep`).
  *
  * One scene key (any numeric one, e.g. forcing.omega, stop.xs, forcing.a[1])
- * takes K values from..to; at each value the scene is re-parsed with the
- * key set (vi_scene_edit), simulated for `transient` forcing periods and
+ * takes K values from..to; at each value the key is set on the model built
+ * once (vi_sweep_set_param, a copy per piece), simulated for `transient` forcing periods and
  * then `record` more, whose impacts (time mod T, v_n) and stroboscopic
  * states (at t0 + k T) are kept, and the motion is classified P(n, m).
  *
  * Warm start: each value starts from the state the previous value ended in
  * (at the same forcing phase, t0 mod T), so sweeps up and down show
- * hysteresis.  The first value of a piece starts from the scene's
+ * hysteresis.  The first value of a line starts from the scene's
  * `initial:`.  A piece is a whole line (one direction at one value of the
  * second parameter) or, with `chunks` C > 1, one of C contiguous runs of
- * values of the line in its direction; the pieces are independent, so any
- * number of threads (or a serial run) gives bit-identical results for the
- * same C.  Under MPI (`mpirun -np K vibroimpact sweep ...`, built with
+ * values of the line in its direction, seeded with the state a serial
+ * chain through the chunks' first values ends in; each value's start
+ * depends on C alone, so any number of threads (or a serial run) gives
+ * bit-identical results for the same C.  Under MPI (`mpirun -np K vibroimpact sweep ...`, built with
  * OpenMPI) the pieces are dealt round-robin to the ranks, each runs its
  * own on its OpenMP threads, and rank 0 gathers the diagram: identical
  * for any K.
@@ -131,6 +132,14 @@ int vi_sweep_run_limited(const char *text, const char *name,
 double vi_sweep_memory_estimate(const vi_sweep_spec *spec, int N,
                                 double scene_bytes, int writes);
 void vi_sweep_free(vi_diagram **sw);
+/* The chunks per line a warm sweep of spec gets without --chunks, fixed by
+ * its size alone (never by the threads, so the diagram is the same on any
+ * machine): one per min(16, ceil(sqrt(K))) values; 1 (each line exact, in
+ * order) for --both (hysteresis asked for) and for 16 lines or more (the
+ * lines are parallel enough). */
+int vi_sweep_default_chunks(const vi_sweep_spec *spec);
+/* How the sweep was split, in words, into s[len]. */
+void vi_sweep_split(const vi_diagram *sw, char *s, int len);
 
 /* Basins (spec.cold): the attractor of every cell, sw->attractor and
  * sw->nattr (vi_sweep_attractors); 0, or 1 out of memory.  Then JSON (flat

@@ -105,6 +105,8 @@ static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays 
   bad |= vi_h5_attr(g, "transient", H5T_NATIVE_INT, &sp->transient, 1);
   bad |= vi_h5_attr(g, "record", H5T_NATIVE_INT, &sp->record, 1);
   bad |= vi_h5_attr(g, "chunks", H5T_NATIVE_INT, &sp->chunks, 1);
+  int seeded = sp->chunks > 1 && sw->warm;
+  bad |= vi_h5_attr(g, "seeded", H5T_NATIVE_INT, &seeded, 1);
   bad |= vi_h5_attr(g, "nmax", H5T_NATIVE_INT, &sp->nmax, 1);
   bad |= vi_h5_attr(g, "tol", H5T_NATIVE_DOUBLE, &sp->tol, 1);
   bad |= vi_h5_attr(g, "t0", H5T_NATIVE_DOUBLE, &sw->t0, 1);

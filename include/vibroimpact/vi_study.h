@@ -86,6 +86,18 @@ VI_API int vi_sweep_set_initial(vi_sweep *sw, double t0, const double *x,
 /** 1: warm start (default); 0: every point from the initial state.
  *  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sweep_set_warm(vi_sweep *sw, int warm);
+/** The warm state the next point starts from (x, v [n], at the forcing
+ *  phase of t0): the state the last point ended in.  With
+ *  vi_sweep_set_warm_state it hands a branch from one study to another
+ *  (the program's chunked sweep seeds each chunk so).  @return VI_OK,
+ *  VI_ERR_ARG, VI_ERR_STATE (none: the last point failed or warm start
+ *  is off). */
+VI_API int vi_sweep_warm_state(const vi_sweep *sw, double *x, double *v);
+/** Start the next point from (x, v [n]) at t0 instead of the initial
+ *  state; warm start must be on.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE
+ *  (warm start off), VI_ERR_NONFINITE. */
+VI_API int vi_sweep_set_warm_state(vi_sweep *sw, const double *x,
+                                   const double *v);
 /** Set a parameter (vi_param.h): a model key changes the study's model,
  *  an initial-state key its initial state.  @return as
  *  vi_model_set_param / vi_param_set_initial (message in

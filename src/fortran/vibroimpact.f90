@@ -77,6 +77,7 @@ module vibroimpact
   public :: vi_sweep_create, vi_sweep_destroy, vi_sweep_errmsg, vi_sweep_set_periods, &
             vi_sweep_set_classify, vi_sweep_set_run, vi_sweep_set_initial, vi_sweep_set_warm, &
             vi_sweep_set_param, vi_sweep_param, vi_sweep_reset, vi_sweep_set_monitor, &
+            vi_sweep_warm_state, vi_sweep_set_warm_state, &
             vi_sweep_set_sim_hook, vi_sweep_set_cancel, vi_sweep_set_orbits, vi_sweep_iterate, &
             vi_sweep_period, vi_sweep_failed, vi_sweep_forcing_period, vi_sweep_impacts, &
             vi_sweep_strobe, vi_sweep_orbits, vi_sweep_model, vi_sweep_attractors, &
@@ -1323,6 +1324,16 @@ module vibroimpact
     integer(c_int) function vi_sweep_reset(sw) bind(C, name="vi_sweep_reset")
       import :: c_int, c_ptr
       type(c_ptr), value :: sw
+    end function
+    integer(c_int) function vi_sweep_warm_state(sw, x, v) bind(C, name="vi_sweep_warm_state")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sw
+      real(c_double), intent(out) :: x(*), v(*)
+    end function
+    integer(c_int) function vi_sweep_set_warm_state(sw, x, v) bind(C, name="vi_sweep_set_warm_state")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: sw
+      real(c_double), intent(in) :: x(*), v(*)
     end function
     !> fn: integer(c_int) function f(sw, point, status, user) bind(C), all by value
     !> (sw a c_ptr, point integer(c_int64_t), status integer(c_int))

@@ -191,6 +191,35 @@ int vi_sweep_reset(vi_sweep *sw)
   return VI_OK;
 }
 
+int vi_sweep_warm_state(const vi_sweep *sw, double *x, double *v)
+{
+  if (!sw || !x || !v) return VI_ERR_ARG;
+  if (!sw->have_state) {
+    vi_fail(((vi_sweep *)sw)->errmsg, VI_ERR_STATE, "no warm state: the last "
+            "point failed, or none was computed with warm start on");
+    return VI_ERR_STATE;
+  }
+  memcpy(x, sw->xw, sizeof(double) * (size_t)sw->n);
+  memcpy(v, sw->vw, sizeof(double) * (size_t)sw->n);
+  return VI_OK;
+}
+
+int vi_sweep_set_warm_state(vi_sweep *sw, const double *x, const double *v)
+{
+  if (!sw || !x || !v) return VI_ERR_ARG;
+  if (!sw->warm)
+    return vi_fail(sw->errmsg, VI_ERR_STATE, "a warm state with warm start "
+                   "off (vi_sweep_set_warm)");
+  for (int i = 0; i < sw->n; i++)
+    if (!isfinite(x[i]) || !isfinite(v[i]))
+      return vi_fail(sw->errmsg, VI_ERR_NONFINITE, "the warm state of "
+                     "coordinate %d is not finite", i + 1);
+  memcpy(sw->xw, x, sizeof(double) * (size_t)sw->n);
+  memcpy(sw->vw, v, sizeof(double) * (size_t)sw->n);
+  sw->have_state = 1;
+  return VI_OK;
+}
+
 int vi_sweep_set_param(vi_sweep *sw, const char *key, double value)
 {
   if (!sw) return VI_ERR_ARG;

@@ -1081,6 +1081,11 @@ static void test_sweep_misuse(void **state)
   assert_err(vi_sweep_param(sw, "forcing.omega", NULL));
   assert_err_msg(vi_sweep_param(sw, "initial.v[0]", &val), vi_sweep_errmsg(sw));
   assert_err(vi_sweep_reset(NULL));
+  assert_err(vi_sweep_warm_state(NULL, x, x));
+  assert_err(vi_sweep_warm_state(sw, x, NULL));
+  assert_err_msg(vi_sweep_warm_state(sw, x, x), vi_sweep_errmsg(sw)); /* none yet */
+  assert_err(vi_sweep_set_warm_state(NULL, x, x));
+  assert_err_msg(vi_sweep_set_warm_state(sw, x, x), vi_sweep_errmsg(sw)); /* x[1] inf */
   assert_err(vi_sweep_set_monitor(NULL, NULL, NULL, NULL));
   assert_err(vi_sweep_set_sim_hook(NULL, NULL, NULL, NULL));
   assert_err(vi_sweep_set_cancel(NULL, never_cancel, NULL, NULL));

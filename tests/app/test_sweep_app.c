@@ -141,9 +141,25 @@ static void warm_start(void **state)
   vi_sweep_free(&cold);
 }
 
-/* Pieces run on any number of threads give bit-identical diagrams; the
- * chunk rule (each chunk starts from the scene's initial state) is what a
- * serial run with the same --chunks reproduces. */
+static void assert_lines_equal(const vi_diagram *a, const vi_diagram *b, int K, int R)
+{
+  assert_int_equal(a->nlines, b->nlines);
+  for (int l = 0; l < a->nlines; l++) {
+    assert_memory_equal(a->lines[l].strobe, b->lines[l].strobe,
+                        sizeof(double) * K * R * 4);
+    for (int k = 0; k < K; k++) {
+      const vi_diagram_point *p = &a->lines[l].pt[k], *q = &b->lines[l].pt[k];
+      assert_int_equal(p->n, q->n);
+      assert_int_equal(p->m, q->m);
+      assert_int_equal(p->nimp, q->nimp);
+      if (p->nimp) assert_memory_equal(p->vn, q->vn, sizeof(double) * p->nimp);
+    }
+  }
+}
+
+/* Pieces run on any number of threads give bit-identical diagrams: each
+ * value starts from a state fixed by the chunk count alone (the seed
+ * chain's for a chunk's first value), whatever runs where. */
 static void threads_identical(void **state)
 {
   (void)state;
@@ -154,21 +170,57 @@ static void threads_identical(void **state)
   sp.dirs = 3;
   sp.threads = 1;
   vi_diagram *a = run(&sp, exact, 1);
-  sp.threads = 2;
-  vi_diagram *b = run(&sp, exact, 1);
-  for (int l = 0; l < 2; l++) {
-    assert_memory_equal(a->lines[l].strobe, b->lines[l].strobe,
-                        sizeof(double) * 12 * 20 * 4);
-    for (int k = 0; k < 12; k++) {
-      const vi_diagram_point *p = &a->lines[l].pt[k], *q = &b->lines[l].pt[k];
-      assert_int_equal(p->n, q->n);
-      assert_int_equal(p->m, q->m);
-      assert_int_equal(p->nimp, q->nimp);
-      if (p->nimp) assert_memory_equal(p->vn, q->vn, sizeof(double) * p->nimp);
-    }
+  for (int t = 2; t <= 8; t *= 2) {
+    sp.threads = t;
+    vi_diagram *b = run(&sp, exact, 1);
+    assert_lines_equal(a, b, 12, 20);
+    vi_sweep_free(&b);
   }
   vi_sweep_free(&a);
-  vi_sweep_free(&b);
+}
+
+/* Seeded chunks compute every value once, warm-started as a serial sweep
+ * does: with one value per chunk the seed chain is the whole line, so the
+ * diagram equals the unsplit one bit for bit; with the default split
+ * (vi_sweep_default_chunks: sqrt(K) values a chunk here) each chunk after
+ * the first goes on from the chain's state, and where the motion is
+ * unique (Fig. 2, Omega 0.7-1.3: P(1,2) below 0.8, P(1,1) above; up and
+ * down sweeps agree there) every value
+ * settles on the same orbit: classes equal, v_n within the transient's
+ * decay (1e-9). */
+static void seeded_chunks(void **state)
+{
+  (void)state;
+  vi_sweep_spec sp = spec("forcing.omega", 0.7, 1.3, 16);
+  sp.transient = 200;
+  sp.record = 10;
+  vi_diagram *one = run(&sp, exact, 1);
+  sp.chunks = 16;
+  vi_diagram *chain = run(&sp, exact, 1);
+  assert_lines_equal(one, chain, 16, 10);
+  sp.chunks = vi_sweep_default_chunks(&sp);
+  assert_int_equal(sp.chunks, 4); /* ceil(sqrt(16)) = 4 values a chunk */
+  sp.threads = 2;
+  vi_diagram *split = run(&sp, exact, 1);
+  for (int k = 0; k < 16; k++) {
+    const vi_diagram_point *p = &one->lines[0].pt[k], *q = &split->lines[0].pt[k];
+    assert_int_equal(p->n, q->n);
+    assert_int_equal(p->m, q->m);
+    assert_int_equal(p->nimp, q->nimp);
+    for (int64_t i = 0; i < p->nimp; i++) assert_close(p->vn[i], q->vn[i], 1e-9);
+  }
+  /* the defaults: 1000 values in chunks of 16; --both and wide maps unsplit */
+  sp.steps = 1000;
+  assert_int_equal(vi_sweep_default_chunks(&sp), 63);
+  sp.dirs = 3;
+  assert_int_equal(vi_sweep_default_chunks(&sp), 1);
+  sp.dirs = 1;
+  sp.key2 = "stop.xs";
+  sp.steps2 = 16;
+  assert_int_equal(vi_sweep_default_chunks(&sp), 1);
+  vi_sweep_free(&one);
+  vi_sweep_free(&chain);
+  vi_sweep_free(&split);
 }
 
 /* A two-parameter map: rows of the second key; row x_s = 100 is impact
@@ -324,7 +376,8 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fig2_p11),         cmocka_unit_test(harmonic_response),
       cmocka_unit_test(up_down_agree),    cmocka_unit_test(warm_start),
-      cmocka_unit_test(threads_identical), cmocka_unit_test(two_parameter_map),
+      cmocka_unit_test(threads_identical),
+      cmocka_unit_test(seeded_chunks), cmocka_unit_test(two_parameter_map),
       cmocka_unit_test(json_form),        cmocka_unit_test(p11_orbits),        cmocka_unit_test(bad_input),
       cmocka_unit_test(hdf5_layout),
   };
