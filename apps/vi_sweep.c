@@ -676,7 +676,7 @@ static piece *make_pieces(vi_diagram *sw, seedbox *box, volatile sig_atomic_t *c
                           int *nchain)
 {
   int K = sw->spec.steps, C = sw->spec.chunks, L = sw->nlines, nc = box ? L : 0;
-  piece *ps = calloc((size_t)(nc + L * C), sizeof *ps);
+  piece *ps = calloc((size_t)nc + (size_t)L * (size_t)C, sizeof *ps);
   if (!ps) return NULL;
   for (int i = 0; i < nc + L * C; i++) {
     piece *p = &ps[i];
@@ -981,9 +981,9 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
    * times, and their conversion was most of the serial time after the
    * parallel cells */
   char *v1 = malloc((size_t)K * 32), *v2 = malloc((size_t)sp->steps2 * 32);
-  for (int k = 0; v1 && k < K; k++) snprintf(v1 + 32 * k, 32, "%.17g", sw->param[k]);
+  for (int k = 0; v1 && k < K; k++) snprintf(v1 + (size_t)32 * k, 32, "%.17g", sw->param[k]);
   for (int r = 0; v2 && r < sp->steps2; r++)
-    snprintf(v2 + 32 * r, 32, "%.17g", sw->param2[r]);
+    snprintf(v2 + (size_t)32 * r, 32, "%.17g", sw->param2[r]);
   for (int w = 0; w < 5; w++) {
     fprintf(f, ", \"%s\": [", what[w]);
     for (int l = 0; l < L; l++)
@@ -991,9 +991,9 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
         const vi_diagram_point *pt = &sw->lines[l].pt[k];
         int row = sw->lines[l].row;
         if (l || k) fputs(", ", f);
-        if (w == 0 && v1) fputs(v1 + 32 * k, f);
+        if (w == 0 && v1) fputs(v1 + (size_t)32 * k, f);
         else if (w == 0) fprintf(f, "%.17g", sw->param[k]);
-        else if (w == 1 && v2) fputs(v2 + 32 * row, f);
+        else if (w == 1 && v2) fputs(v2 + (size_t)32 * row, f);
         else if (w == 1) fprintf(f, "%.17g", sw->param2[row]);
         else if (w == 4) fprintf(f, "%d", sw->attractor[(size_t)l * K + k]);
         else if (pt->n && !pt->failed) fprintf(f, "%d", w == 2 ? pt->n : pt->m);
