@@ -243,7 +243,9 @@ def restitution(f, out):
     return run
 
 
-def main():
+def main(argv=None):
+    """The command line (argv: its arguments, default sys.argv[1:]); 0 on
+    success.  Callable from Python to draw several files in one process."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("file")
     ap.add_argument("--out", default=None, help="output folder")
@@ -254,7 +256,7 @@ def main():
                     help="window start time (with --to)")
     ap.add_argument("--to", dest="t1", type=float, default=None,
                     help="window end time")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     if a.last is not None and not 0 < a.last <= 1:
         ap.error("--last must lie in (0, 1]")
     if (a.t0 is None) != (a.t1 is None):
