@@ -21,6 +21,8 @@ from ._errors import Error, strerror
 from ._core import (METHODS, Model, Result, Scene, default_scene, load_scene,
                     parse_scene)
 from ._vi import ffi as _ffi, lib as _lib
+from .studies import (basins, continuation, energy, identify, orbits, sweep,
+                      truncated_model, truncation)
 
 __version__ = _ffi.string(_lib.vi_version_string()).decode()
 
@@ -31,4 +33,6 @@ def library_version() -> str:
 
 
 __all__ = ["Error", "Model", "Result", "Scene", "load_scene", "parse_scene",
-           "default_scene", "strerror", "METHODS", "library_version"]
+           "default_scene", "strerror", "METHODS", "library_version", "sweep",
+           "basins", "orbits", "continuation", "energy", "truncation",
+           "truncated_model", "identify"]
