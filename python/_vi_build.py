@@ -57,6 +57,8 @@ double vi_model_energy(const vi_model *m, const double *x, const double *v);
 int vi_model_set_param(vi_model *m, const char *key, double value);
 int vi_model_param(const vi_model *m, const char *key, double *value);
 int vi_model_copy(const vi_model *m, vi_model **out);
+int vi_model_memory_estimate(int n, int kd, int ns, int method, int ledger,
+                             vi_int64 *bytes);
 int vi_param_kind(const char *key);
 int vi_build_chain(int n, const double *mass, const double *k,
                    const double *c, double *M, double *C, double *K, int ld);
@@ -167,15 +169,22 @@ typedef struct vi_py_run vi_py_run;
 vi_py_run *vi_py_run_new(int n, int states);
 void vi_py_run_free(vi_py_run *r);
 int vi_py_nomem(const vi_py_run *r);
-int vi_py_attach(vi_py_run *r, vi_sim *sim, double dt, int ledger);
-const double *vi_py_data(const vi_py_run *r, int group, int which,
-                         vi_int64 *len);
+void vi_py_sim_free(vi_sim *sim);
+int vi_py_prepare(vi_py_run *r, vi_sim *sim, int method, double rtol,
+                  double atol, double dt, int ledger);
+const double *vi_py_table(const vi_py_run *r, int which, vi_int64 *rows,
+                          int *width);
 int vi_py_replay(const vi_py_run *r, vi_writer *w);
 int vi_py_sim_run(vi_sim *sim, vi_py_run *r, double t_end, int *interrupted);
 int vi_py_sigint_arm(void);
 void vi_py_sigint_disarm(void);
 unsigned vi_py_sigint_count(void);
 int vi_py_cancel_since(void *user);
+double vi_py_bench_simulate(const vi_model *model, int reps, double t_end,
+                            int method, double rtol, double atol);
+double vi_py_bench_sweep(const vi_model *model, const char *key,
+                         const double *values, int nv, int transient,
+                         int record, int method, double *sink);
 """
 
 STUDY_CDEF_FILE = os.path.join(HERE, "src", "vi_py_study.cdef")
@@ -196,7 +205,7 @@ def make_builder(include_dirs, library_dirs):
         '#include <vibroimpact/vi_scene_param.h>\n'
         '#include <vibroimpact/vi_scene_edit.h>\n'
         '#include <vibroimpact/vi_writer.h>\n',
-        sources=[os.path.join("src", "vi_py.c")],
+        sources=[os.path.join("src", "vi_py.c"), os.path.join("src", "vi_py_bench.c")],
         include_dirs=[os.path.join(HERE, "src")] + include_dirs,
         library_dirs=library_dirs,
         runtime_library_dirs=library_dirs,

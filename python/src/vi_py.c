@@ -24,7 +24,21 @@ static int buf_push(vi_py_buf *b, const double *x, int64_t k)
   return 0;
 }
 
-static int push1(vi_py_buf *b, double x) { return buf_push(b, &x, 1); }
+static double *row(vi_py_run *r, int k)
+{
+  vi_py_buf *b = &r->tab[k];
+  if (buf_push(b, NULL, r->width[k])) {
+    r->nomem = 1;
+    return NULL;
+  }
+  return b->d + b->len - r->width[k];
+}
+
+static void put(double *d, const double *x, int n)
+{
+  if (x) memcpy(d, x, (size_t)n * sizeof(double));
+  else memset(d, 0, (size_t)n * sizeof(double)); /* dE without an impact */
+}
 
 vi_py_run *vi_py_run_new(int n, int states)
 {
@@ -32,64 +46,72 @@ vi_py_run *vi_py_run_new(int n, int states)
   if (!r) return NULL;
   r->n = n;
   r->states = states;
+  r->width[0] = 4 + (states ? 3 * n : 0);
+  r->width[1] = 1 + 2 * n;
+  r->width[2] = 5 + 10 * n;
   return r;
 }
 
 void vi_py_run_free(vi_py_run *r)
 {
   if (!r) return;
-  for (int k = 0; k < 8; k++) free(r->ev[k].d);
-  for (int k = 0; k < 3; k++) free(r->smp[k].d);
-  for (int k = 0; k < 15; k++) free(r->led[k].d);
+  for (int k = 0; k < 3; k++) free(r->tab[k].d);
   free(r);
 }
 
 int vi_py_nomem(const vi_py_run *r) { return r->nomem; }
 
+void vi_py_sim_free(vi_sim *sim) { vi_sim_destroy(&sim); }
+
 static int on_event(const vi_event *ev, void *user)
 {
   vi_py_run *r = user;
-  int e = push1(&r->ev[0], ev->t) | push1(&r->ev[1], ev->vn) |
-          push1(&r->ev[2], ev->ie) | push1(&r->ev[3], ev->kind) |
-          push1(&r->ev[4], ev->stop);
-  if (r->states)
-    e |= buf_push(&r->ev[5], ev->x, r->n) | buf_push(&r->ev[6], ev->v_minus, r->n) |
-         buf_push(&r->ev[7], ev->v_plus, r->n);
-  if (e) r->nomem = 1;
-  else r->events++;
-  return r->nomem; /* out of memory: stop the run, reported by the caller */
+  double *d = row(r, 0);
+  if (!d) return 1; /* out of memory: stop the run, reported by the caller */
+  int n = r->n;
+  int32_t ks[2] = {ev->kind, ev->stop}; /* two int32 columns for numpy */
+  d[0] = ev->t, d[1] = ev->vn, d[2] = ev->ie;
+  memcpy(d + 3, ks, sizeof ks);
+  if (r->states) {
+    put(d + 4, ev->x, n);
+    put(d + 4 + n, ev->v_minus, n);
+    put(d + 4 + 2 * n, ev->v_plus, n);
+  }
+  return 0;
 }
 
 static int on_sample(double t, int n, const double *x, const double *v,
                      void *user)
 {
   vi_py_run *r = user;
-  if (push1(&r->smp[0], t) | buf_push(&r->smp[1], x, n) |
-      buf_push(&r->smp[2], v, n))
-    r->nomem = 1;
-  else
-    r->samples++;
-  return r->nomem;
+  double *d = row(r, 1);
+  if (!d) return 1;
+  d[0] = t;
+  put(d + 1, x, n);
+  put(d + 1 + n, v, n);
+  return 0;
 }
 
 static int on_ledger(const vi_ledger_interval *iv, void *user)
 {
   vi_py_run *r = user;
-  int n = iv->n;
+  double *d = row(r, 2);
+  if (!d) return 1;
+  int n = r->n;
   const double *rows[10] = {iv->Ea, iv->Eb, iv->Ka, iv->Kb, iv->FE,
                             iv->DE, iv->XE, iv->CE, iv->NE, iv->dE};
-  int e = push1(&r->led[0], iv->t_a) | push1(&r->led[1], iv->t_b) |
-          push1(&r->led[2], iv->ie) | push1(&r->led[3], iv->residual) |
-          push1(&r->led[4], iv->dE != NULL);
-  for (int k = 0; k < 10; k++) e |= buf_push(&r->led[5 + k], rows[k], n);
-  if (e) r->nomem = 1;
-  else r->intervals++;
-  return r->nomem;
+  d[0] = iv->t_a, d[1] = iv->t_b, d[2] = iv->ie, d[3] = iv->residual;
+  d[4] = iv->dE != NULL;
+  for (int k = 0; k < 10; k++) put(d + 5 + k * n, rows[k], n);
+  return 0;
 }
 
-int vi_py_attach(vi_py_run *r, vi_sim *sim, double dt, int ledger)
+int vi_py_prepare(vi_py_run *r, vi_sim *sim, int method, double rtol,
+                  double atol, double dt, int ledger)
 {
-  int st = vi_sim_set_event_callback(sim, on_event, r, NULL);
+  int st = vi_sim_set_method(sim, method);
+  if (!st) st = vi_sim_set_tolerances(sim, rtol, atol);
+  if (!st) st = vi_sim_set_event_callback(sim, on_event, r, NULL);
   if (!st) st = vi_sim_set_event_states(sim, r->states);
   if (!st) st = vi_sim_set_cancel(sim, vi_py_cancel, r, NULL);
   if (!st && dt > 0) st = vi_sim_set_sampling(sim, dt, on_sample, r, NULL);
@@ -98,50 +120,46 @@ int vi_py_attach(vi_py_run *r, vi_sim *sim, double dt, int ledger)
   return st;
 }
 
-const double *vi_py_data(const vi_py_run *r, int group, int which,
-                         int64_t *len)
+const double *vi_py_table(const vi_py_run *r, int which, int64_t *rows,
+                          int *width)
 {
-  const vi_py_buf *b = group == 0 && which >= 0 && which < 8 ? &r->ev[which]
-                     : group == 1 && which >= 0 && which < 3 ? &r->smp[which]
-                     : group == 2 && which >= 0 && which < 15 ? &r->led[which]
-                     : NULL;
-  *len = b ? b->len : 0;
-  return b ? b->d : NULL;
+  if (which < 0 || which > 2) {
+    *rows = 0, *width = 0;
+    return NULL;
+  }
+  *width = r->width[which];
+  *rows = r->tab[which].len / r->width[which];
+  return r->tab[which].d;
 }
 
 int vi_py_replay(const vi_py_run *r, vi_writer *w)
 {
   int n = r->n, st = 0;
-  for (int64_t i = 0; i < r->events && !st; i++) {
+  const vi_py_buf *e = &r->tab[0], *s = &r->tab[1], *l = &r->tab[2];
+  for (int64_t i = 0; i * r->width[0] < e->len && !st; i++) {
+    const double *d = e->d + i * r->width[0];
     vi_event ev;
+    int32_t ks[2];
     memset(&ev, 0, sizeof ev);
-    ev.t = r->ev[0].d[i];
-    ev.vn = r->ev[1].d[i];
-    ev.ie = r->ev[2].d[i];
-    ev.kind = (int)r->ev[3].d[i];
-    ev.stop = (int)r->ev[4].d[i];
-    ev.n = n;
-    ev.x = r->ev[5].d + i * n;
-    ev.v_minus = r->ev[6].d + i * n;
-    ev.v_plus = r->ev[7].d + i * n;
+    memcpy(ks, d + 3, sizeof ks);
+    ev.t = d[0], ev.vn = d[1], ev.ie = d[2];
+    ev.kind = ks[0], ev.stop = ks[1], ev.n = n;
+    ev.x = d + 4, ev.v_minus = d + 4 + n, ev.v_plus = d + 4 + 2 * n;
     st = vi_writer_event(w, &ev);
   }
-  for (int64_t i = 0; i < r->samples && !st; i++)
-    st = vi_writer_sample(w, r->smp[0].d[i], r->smp[1].d + i * n,
-                          r->smp[2].d + i * n);
-  for (int64_t i = 0; i < r->intervals && !st; i++) {
+  for (int64_t i = 0; i * r->width[1] < s->len && !st; i++) {
+    const double *d = s->d + i * r->width[1];
+    st = vi_writer_sample(w, d[0], d + 1, d + 1 + n);
+  }
+  for (int64_t i = 0; i * r->width[2] < l->len && !st; i++) {
+    const double *d = l->d + i * r->width[2];
     vi_ledger_interval iv;
-    const double *row[10];
-    for (int k = 0; k < 10; k++) row[k] = r->led[5 + k].d + i * n;
     iv.n = n;
-    iv.t_a = r->led[0].d[i];
-    iv.t_b = r->led[1].d[i];
-    iv.ie = r->led[2].d[i];
-    iv.residual = r->led[3].d[i];
-    iv.Ea = row[0], iv.Eb = row[1], iv.Ka = row[2], iv.Kb = row[3];
-    iv.FE = row[4], iv.DE = row[5], iv.XE = row[6], iv.CE = row[7];
-    iv.NE = row[8];
-    iv.dE = r->led[4].d[i] != 0 ? row[9] : NULL;
+    iv.t_a = d[0], iv.t_b = d[1], iv.ie = d[2], iv.residual = d[3];
+    iv.Ea = d + 5, iv.Eb = d + 5 + n, iv.Ka = d + 5 + 2 * n;
+    iv.Kb = d + 5 + 3 * n, iv.FE = d + 5 + 4 * n, iv.DE = d + 5 + 5 * n;
+    iv.XE = d + 5 + 6 * n, iv.CE = d + 5 + 7 * n, iv.NE = d + 5 + 8 * n;
+    iv.dE = d[4] != 0 ? d + 5 + 9 * n : NULL;
     st = vi_writer_ledger(w, &iv);
   }
   return st;

