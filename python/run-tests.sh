@@ -10,6 +10,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 build=$(cd "$1" && pwd)
 shift
 venv="$build/python-venv"
+# setuptools' object cache knows no header dependencies: start clean
+rm -rf "$here/build" "$here/vibroimpact.egg-info"
 [ -x "$venv/bin/python" ] || /usr/bin/python3 -m venv --system-site-packages "$venv"
 VIBROIMPACT_BUILD_DIR="$build" "$venv/bin/python" -m pip install -q \
   --no-build-isolation --no-index --force-reinstall --no-deps "$here"

@@ -80,6 +80,14 @@ SCRIPT = textwrap.dedent("""
         print("finished")
     except KeyboardInterrupt:
         print("interrupted after %.2f s" % (time.perf_counter() - t))
+    # a study: the sweep's cancel hook
+    threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+    t = time.perf_counter()
+    try:
+        vi.sweep(m, "forcing.omega", [0.7, 0.8], transient=10**7, method="adams")
+        print("finished")
+    except KeyboardInterrupt:
+        print("sweep interrupted after %.2f s" % (time.perf_counter() - t))
     # the interpreter's own handler is back: a later Ctrl-C is Python's
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     try:
@@ -101,4 +109,6 @@ def test_ctrl_c_raises_keyboard_interrupt():
     lines = p.stdout.split("\n")
     assert lines[0].startswith("interrupted after")
     assert float(lines[0].split()[2]) < 10
-    assert lines[1] == "second interrupt"
+    assert lines[1].startswith("sweep interrupted after")
+    assert float(lines[1].split()[3]) < 10
+    assert lines[2] == "second interrupt"
