@@ -60,6 +60,9 @@ int vi_model_copy(const vi_model *m, vi_model **out);
 int vi_model_memory_estimate(int n, int kd, int ns, int method, int ledger,
                              vi_int64 *bytes);
 int vi_param_kind(const char *key);
+int vi_build_cantilever(int modes, double omega1, double zeta, double xi_stop,
+                        double *M, double *C, double *K, int ld, double *w,
+                        double *gamma);
 int vi_build_chain(int n, const double *mass, const double *k,
                    const double *c, double *M, double *C, double *K, int ld);
 

@@ -99,3 +99,22 @@ def test_model_errors():
         m.simulate(periods=10, rtol=-1)
     with pytest.raises(vi.Error):
         m.simulate(periods=10, method="rk4")
+
+
+def test_cantilever_builder():
+    """Model.cantilever: frequencies in the ratios (beta_j / beta_1)^2 of
+    the roots of cos(b) cosh(b) = -1 (scipy's brentq), and the same run as
+    the scene cantilever4.yaml that uses the same builder key."""
+    import os
+    from scipy.optimize import brentq
+    from conftest import SCENES
+    m = vi.Model.cantilever(4, 1.0, 0.05, xs=0.05, r=0.75, base=0.01, omega=0.85)
+    beta = [brentq(lambda b: np.cos(b) * np.cosh(b) + 1, (j + 0.5) * np.pi - 1.5,
+                   (j + 0.5) * np.pi + 1.0) for j in range(4)]
+    np.testing.assert_allclose(m.omega, (np.array(beta) / beta[0]) ** 2, rtol=1e-10)
+    np.testing.assert_allclose(m.zeta, 0.05, rtol=1e-12)
+    a = m.simulate(periods=300, method="exact", rtol=1e-10, atol=1e-12).impacts
+    b = vi.load_scene(os.path.join(SCENES, "cantilever4.yaml")).run().impacts
+    assert a["t"].size == b["t"].size > 100
+    np.testing.assert_allclose(a["t"], b["t"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(a["vn"], b["vn"], rtol=0, atol=1e-12)

@@ -399,6 +399,31 @@ class Model:
         return cls(M=M, C=C, K=K, stops=stops, forcing=forcing, rayleigh=rayleigh)
 
     @classmethod
+    def cantilever(cls, modes: int, omega1: float = 1.0, zeta: float = 0.0, *,
+                   xs: float = 0.1, r: float = 0.7, xi_stop: float = 1.0,
+                   base: Optional[float] = None, omega: Optional[float] = None,
+                   forcing: Optional[Mapping[str, Any]] = None) -> "Model":
+        """The paper's clamped-free Euler-Bernoulli cantilever in its first
+        ``modes`` modes (the scene key model.cantilever, vi_build_cantilever):
+        omega_j = omega1 (beta_j / beta_1)^2, modal damping zeta, the stop at
+        xi_stop along the span (1: the tip) at x_s with restitution r.  A base
+        acceleration ``base`` cos(omega t) gives the forcing a = -base gamma;
+        or pass modal ``forcing`` yourself.  Coordinates are modal."""
+        k = int(modes)
+        if not 1 <= k <= 201:
+            raise Error("a cantilever has 1..201 modes, not %d" % k, -2)
+        M, C, K = (np.zeros((k, k), order="F") for _ in range(3))
+        w, gamma = np.zeros(k), np.zeros(k)
+        check(lib.vi_build_cantilever(k, float(omega1), float(zeta), float(xi_stop), _ptr(M),
+                                      _ptr(C), _ptr(K), k, _ptr(w), _ptr(gamma)),
+              what="cantilever")
+        if base is not None:
+            if omega is None:
+                raise Error("a base acceleration needs its frequency omega", -9)
+            forcing = {"omega": omega, "a": -float(base) * gamma}
+        return cls(M=M, C=C, K=K, stops=[{"w": w, "xs": xs, "r": r}], forcing=forcing)
+
+    @classmethod
     def from_sparse(cls, M, K, C=None, *, modes: Optional[int] = None,
                     zeta: Optional[ArrayLike] = None, rayleigh=None,
                     stops: Optional[List[Mapping[str, Any]]] = None,
