@@ -19,6 +19,13 @@ typedef struct vi_fe vi_fe;
 typedef struct vi_writer vi_writer;
 typedef struct vi_sweep vi_sweep;
 typedef struct vi_scene_edit vi_scene_edit;
+enum vi_status { VI_OK, VI_STOPPED, VI_CANCELLED, VI_ERR_ARG, VI_ERR_DIM,
+  VI_ERR_NONFINITE, VI_ERR_NOT_SYMMETRIC, VI_ERR_NOT_SPD, VI_ERR_NOT_PSD,
+  VI_ERR_RESTITUTION, VI_ERR_STOP_VECTOR, VI_ERR_FREQUENCY,
+  VI_ERR_INITIAL_STATE, VI_ERR_TIME, VI_ERR_TOLERANCE, VI_ERR_STATE,
+  VI_ERR_NOMEM, VI_ERR_LAPACK, VI_ERR_INTEGRATOR, VI_ERR_UNSUPPORTED,
+  VI_ERR_ROOT, VI_ERR_NOT_CONVERGED, VI_ERR_IO, VI_ERR_PARSE,
+  VI_ERR_INVARIANT, VI_ERR_LIMIT, VI_ERR_CALLBACK, ... };
 typedef struct vi_diag {
   int code; int line; int column;
   char file[256]; char key[128]; char value[128]; char message[512];

@@ -46,8 +46,8 @@ BATTERY = textwrap.dedent(r'''
                                                 max_bytes=100), "larger than 100 bytes")
     expect("nesting", lambda: scene_text("a: " + "[" * 100000 + "]" * 100000 + "\n"),
            "nesting deeper than 32 levels")
-    expect("deep flow maps", lambda: scene_text("a: " + "{a: " * 20000 + "1" + "}" * 20000),
-           "nesting deeper")
+    expect("deep flow maps",
+           lambda: scene_text("a: " + "{a: " * 20000 + "1" + "}" * 20000), "nesting deeper")
     big = ("model:\n  chain: {n: 20000, m: 1, k: 1, c: 0.1}\nstop: {mass: 1, xs: 0.1, r: 0.7}\n"
            "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\noutput: {ledger: true}\n")
     expect("20000-mass ledger (memory)", lambda: scene_text(big).run(), "model.chain.n")
@@ -107,7 +107,8 @@ BATTERY = textwrap.dedent(r'''
     expect("K not square", lambda: vi.Model(K=np.ones((2, 3)), stops=S))
     expect("K empty", lambda: vi.Model(K=np.zeros((0, 0)), stops=S))
     expect("K 3-d", lambda: vi.Model(K=np.ones((2, 2, 2)), stops=S))
-    expect("strings", lambda: vi.Model(K=[["a", "b"], ["c", "d"]], stops=S), exc=(vi.Error, ValueError))
+    expect("strings", lambda: vi.Model(K=[["a", "b"], ["c", "d"]], stops=S),
+           exc=(vi.Error, ValueError))
     expect("w wrong length", lambda: vi.Model(K=K, stops=[{"w": [1, 2, 3], "xs": 0, "r": 0.5}]))
     expect("stop key typo", lambda: vi.Model(K=K, stops=[{"w": [0, 1], "x_s": 0, "r": 0.5}]))
     expect("no stops", lambda: vi.Model(K=K))
@@ -115,7 +116,7 @@ BATTERY = textwrap.dedent(r'''
     expect("forcing omega 0", lambda: vi.Model(K=K, stops=S, forcing={"omega": 0, "a": [1, 0]}))
     expect("chain n = 0", lambda: vi.Model.chain(0, stops=S))
     expect("chain n < 0", lambda: vi.Model.chain(-5, stops=S))
-    expect("chain huge dense", lambda: vi.Model.chain(10 ** 9, stops=S), exc=(vi.Error, MemoryError, ValueError))
+    expect("chain huge dense", lambda: vi.Model.chain(10 ** 9, stops=S), "band=True")
     expect("negative mass", lambda: vi.Model.chain(2, m=-1, stops=S, forcing=F))
     m = vi.Model.chain(2, m=1, k=1, c=0.1, stops=S, forcing=F)
     expect("t_end NaN", lambda: m.simulate(float("nan")))
@@ -151,12 +152,16 @@ BATTERY = textwrap.dedent(r'''
         vi.Model(M=np.diag([1.0, 2.0]), K=K, stops=S)))
     Ms, Ks = sp.identity(3, format="csc"), sp.csc_matrix(np.diag([1.0, 2.0, 3.0]))
     Sf = [{"dof": 0, "xs": 0.1, "r": 0.5}]
-    expect("sparse NaN", lambda: vi.Model.from_sparse(sp.csc_matrix(np.diag([1, np.nan, 1])), Ks, stops=Sf))
+    expect("sparse NaN", lambda: vi.Model.from_sparse(
+        sp.csc_matrix(np.diag([1, np.nan, 1])), Ks, stops=Sf))
     expect("sparse sizes", lambda: vi.Model.from_sparse(sp.identity(2), Ks, stops=Sf))
-    expect("sparse not symmetric", lambda: vi.Model.from_sparse(Ms, sp.csc_matrix(np.triu(np.ones((3, 3))) + np.eye(3)), stops=Sf))
+    expect("sparse not symmetric", lambda: vi.Model.from_sparse(
+        Ms, sp.csc_matrix(np.triu(np.ones((3, 3))) + np.eye(3)), stops=Sf))
     expect("sparse too many modes", lambda: vi.Model.from_sparse(Ms, Ks, modes=9, stops=Sf))
-    expect("sparse dof", lambda: vi.Model.from_sparse(Ms, Ks, stops=[{"dof": -1, "xs": 0, "r": 0.5}]))
-    expect("sparse direction", lambda: vi.Model.from_sparse(Ms, Ks, stops=[{"dof": 0, "direction": 2, "xs": 0, "r": 0.5}]))
+    expect("sparse dof", lambda: vi.Model.from_sparse(
+        Ms, Ks, stops=[{"dof": -1, "xs": 0, "r": 0.5}]))
+    expect("sparse direction", lambda: vi.Model.from_sparse(
+        Ms, Ks, stops=[{"dof": 0, "direction": 2, "xs": 0, "r": 0.5}]))
     expect("sparse zeta", lambda: vi.Model.from_sparse(Ms, Ks, zeta=[-1.0], stops=Sf))
     print("ALL %d CASES RAISED" % done)
 ''')

@@ -28,13 +28,13 @@ def _dvec(x, n: int, what: str, allow_none: bool = True):
     if x is None:
         if allow_none:
             return None
-        raise Error("%s is required" % what, -1)
+        raise Error("%s is required" % what, lib.VI_ERR_ARG)
     a = np.asarray(x, dtype=np.float64)
     if a.ndim == 0:
         a = np.full(n, float(a))
     a = np.ascontiguousarray(a.reshape(-1))
     if a.size != n:
-        raise Error("%s has %d entries, the model %d" % (what, a.size, n), -2)
+        raise Error("%s has %d entries, the model %d" % (what, a.size, n), lib.VI_ERR_DIM)
     return a
 
 
@@ -42,7 +42,7 @@ def _dmat(A, n: int, what: str):
     """A Fortran-ordered (column-major) n x n float64 matrix."""
     a = np.asarray(A, dtype=np.float64)
     if a.ndim != 2 or a.shape != (n, n):
-        raise Error("%s must be %d x %d, not %s" % (what, n, n, a.shape), -2)
+        raise Error("%s must be %d x %d, not %s" % (what, n, n, a.shape), lib.VI_ERR_DIM)
     return np.asfortranarray(a)
 
 
@@ -59,10 +59,10 @@ def _method(method) -> int:
     if isinstance(method, (int, np.integer)):
         if 0 <= int(method) < len(METHODS):
             return int(method)
-        raise Error("unknown method %r (one of %s)" % (method, ", ".join(METHODS)), -1)
+        raise Error("unknown method %r (one of %s)" % (method, ", ".join(METHODS)), lib.VI_ERR_ARG)
     m = lib.vi_method_from_name(str(method).encode())
     if m < 0:
-        raise Error("unknown method %r (one of %s)" % (method, ", ".join(METHODS)), -1)
+        raise Error("unknown method %r (one of %s)" % (method, ", ".join(METHODS)), lib.VI_ERR_ARG)
     return m
 
 
@@ -206,9 +206,9 @@ class Result:
         under its name only once complete (written as PATH.part)."""
         if self._model._generation != self._generation:
             raise Error("the model's parameters changed since this run: "
-                        "its HDF5 file would describe another model", -13)
+                        "its HDF5 file would describe another model", lib.VI_ERR_STATE)
         if self.impacts["t"].size and "x" not in self.impacts:
-            raise Error("to_hdf5 needs the events' states: run with states=True", -1)
+            raise Error("to_hdf5 needs the events' states: run with states=True", lib.VI_ERR_ARG)
         d = ffi.new("vi_diag *")
         wp = ffi.new("vi_writer **")
         st = lib.vi_writer_create(os.fsencode(os.fspath(path)), self._model._m,
@@ -318,10 +318,10 @@ class Model:
             self.dofs = _dofs if _dofs is not None else self.n
             return
         if K is None:
-            raise Error("Model needs K (and M, or the identity)", -1)
+            raise Error("Model needs K (and M, or the identity)", lib.VI_ERR_ARG)
         Ka = np.asarray(K, dtype=np.float64)
         if Ka.ndim != 2 or Ka.shape[0] != Ka.shape[1] or Ka.shape[0] < 1:
-            raise Error("K must be a square matrix, not %s" % (Ka.shape,), -2)
+            raise Error("K must be a square matrix, not %s" % (Ka.shape,), lib.VI_ERR_DIM)
         n = Ka.shape[0]
         mp = ffi.new("vi_model **")
         check(lib.vi_model_create(n, mp), what="vi_model_create")
@@ -347,12 +347,13 @@ class Model:
         if forcing:
             unknown = set(forcing) - {"omega", "a", "b", "f0"}
             if unknown:
-                raise Error("forcing: unknown keys %s (omega, a, b, f0)" % sorted(unknown), -1)
+                raise Error("forcing: unknown keys %s (omega, a, b, f0)" % sorted(unknown),
+                            lib.VI_ERR_ARG)
             vec = [_dvec(forcing.get(k), n, "forcing." + k) for k in ("a", "b", "f0")]
             self._call(lib.vi_model_set_forcing(self._m, float(forcing.get("omega", 0.0)),
                                                 *[_ptr(v) for v in vec]))
         if not stops:
-            raise Error("a model needs at least one stop", -8)
+            raise Error("a model needs at least one stop", lib.VI_ERR_STOP_VECTOR)
         for k, s in enumerate(stops):
             w = _stop_vector(s, n, k)
             self._call(lib.vi_model_add_stop(self._m, _ptr(w), float(s.get("xs", 0.0)),
@@ -376,7 +377,7 @@ class Model:
         modes: the exact method and orbits need the dense form)."""
         n = int(n)
         if n < 1:
-            raise Error("a chain needs n >= 1 masses", -2)
+            raise Error("a chain needs n >= 1 masses", lib.VI_ERR_DIM)
         _check_memory(n, 1 if band else -1)
         mv, kv, cv = (_dvec(v, n, name) for v, name in ((m, "m"), (k, "k"), (c, "c")))
         if band:
@@ -411,7 +412,7 @@ class Model:
         or pass modal ``forcing`` yourself.  Coordinates are modal."""
         k = int(modes)
         if not 1 <= k <= 201:
-            raise Error("a cantilever has 1..201 modes, not %d" % k, -2)
+            raise Error("a cantilever has 1..201 modes, not %d" % k, lib.VI_ERR_DIM)
         M, C, K = (np.zeros((k, k), order="F") for _ in range(3))
         w, gamma = np.zeros(k), np.zeros(k)
         check(lib.vi_build_cantilever(k, float(omega1), float(zeta), float(xi_stop), _ptr(M),
@@ -419,7 +420,7 @@ class Model:
               what="cantilever")
         if base is not None:
             if omega is None:
-                raise Error("a base acceleration needs its frequency omega", -9)
+                raise Error("a base acceleration needs its frequency omega", lib.VI_ERR_FREQUENCY)
             forcing = {"omega": omega, "a": -float(base) * gamma}
         return cls(M=M, C=C, K=K, stops=[{"w": w, "xs": xs, "r": r}], forcing=forcing)
 
@@ -446,7 +447,7 @@ class Model:
         n = Ks.shape[0]
         if Ks.shape != (n, n) or Ms.shape != (n, n):
             raise Error("M and K must be square and of one size (%s, %s)"
-                        % (Ms.shape, Ks.shape), -2)
+                        % (Ms.shape, Ks.shape), lib.VI_ERR_DIM)
         fp = ffi.new("vi_fe **")
         check(lib.vi_fe_create(n, fp), what="vi_fe_create")
         fe = _own(fp[0], lib.vi_fe_destroy, "vi_fe")
@@ -486,7 +487,7 @@ class Model:
         if keep_shapes:
             call(lib.vi_fe_set_keep_shapes(fe, 1))
         if not stops:
-            raise Error("a model needs at least one stop", -8)
+            raise Error("a model needs at least one stop", lib.VI_ERR_STOP_VECTOR)
         for k, s in enumerate(stops):
             if "dof" in s:
                 call(lib.vi_fe_add_stop_dof(fe, int(s["dof"]), int(s.get("direction", 1)),
@@ -562,7 +563,7 @@ class Model:
         """What the FE reduction did: modes kept, rule, massless dofs, rigid
         modes, orthogonality and largest mode residual."""
         if self._fe is None:
-            raise Error("not a from_sparse model", -17)
+            raise Error("not a from_sparse model", lib.VI_ERR_UNSUPPORTED)
         a, b, c = ffi.new("int *"), ffi.new("int *"), ffi.new("int *")
         o = ffi.new("double *")
         check(lib.vi_fe_summary(self._fe, a, b, c, o))
@@ -590,7 +591,7 @@ class Model:
         ld = ffi.new("int *")
         p = lib.vi_fe_shapes(self._fe, ld)
         if p == ffi.NULL:
-            raise Error("the mode shapes were not kept (keep_shapes=False)", -13)
+            raise Error("the mode shapes were not kept (keep_shapes=False)", lib.VI_ERR_STATE)
         Psi = self._view(p, (self.dofs, self.n))
         return np.asarray(q, dtype=np.float64) @ Psi.T
 
@@ -650,9 +651,9 @@ class Model:
         the ground)."""
         if t_end is None:
             if periods is None:
-                raise Error("simulate needs t_end or periods", -11)
+                raise Error("simulate needs t_end or periods", lib.VI_ERR_TIME)
             if not self.forcing_omega > 0:
-                raise Error("periods needs harmonic forcing (forcing.omega)", -9)
+                raise Error("periods needs harmonic forcing (forcing.omega)", lib.VI_ERR_FREQUENCY)
             t_end = t0 + periods * self.period
         meth = _METHOD_IDS.get(method)
         if meth is None:
@@ -707,25 +708,25 @@ def _check_memory(n: int, kd: int) -> None:
     if need > avail:
         raise Error("a %s model of %d coordinates needs %.3g bytes, %.3g are available%s"
                     % ("band" if kd >= 0 else "dense", n, need, avail,
-                       "" if kd >= 0 else " (band=True stores a chain in O(n))"), -23)
+                       "" if kd >= 0 else " (band=True stores a chain in O(n))"), lib.VI_ERR_LIMIT)
 
 
 def _stop_vector(s: Mapping[str, Any], n: int, k: int) -> np.ndarray:
     unknown = set(s) - {"w", "xs", "r", "dof", "direction", "mass"}
     if unknown:
         raise Error("stops[%d]: unknown keys %s (w | dof, direction, xs, r)"
-                    % (k, sorted(unknown)), -1)
+                    % (k, sorted(unknown)), lib.VI_ERR_ARG)
     if "w" in s:
         return _dvec(s["w"], n, "stops[%d].w" % k)
     dof = s.get("dof", s.get("mass"))
     if dof is None:
-        raise Error("stops[%d] needs w or dof" % k, -8)
+        raise Error("stops[%d] needs w or dof" % k, lib.VI_ERR_STOP_VECTOR)
     dof = int(dof)
     if not 0 <= dof < n:
-        raise Error("stops[%d].dof = %d outside 0..%d (0-based)" % (k, dof, n - 1), -2)
+        raise Error("stops[%d].dof = %d outside 0..%d (0-based)" % (k, dof, n - 1), lib.VI_ERR_DIM)
     d = int(s.get("direction", 1))
     if d not in (1, -1):
-        raise Error("stops[%d].direction must be +1 or -1, not %d" % (k, d), -1)
+        raise Error("stops[%d].direction must be +1 or -1, not %d" % (k, d), lib.VI_ERR_ARG)
     w = np.zeros(n)
     w[dof] = d
     return w

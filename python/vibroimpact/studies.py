@@ -17,7 +17,7 @@ from ._core import Model, _dvec, _method, _nothing, _own, _ptr
 from ._errors import Error, _s
 from ._vi import ffi, lib
 
-_CANCELLED = 2
+_CANCELLED = lib.VI_CANCELLED
 
 
 class _Cancel:
@@ -130,7 +130,7 @@ def sweep(model: Model, key: str, values: Sequence[float], *, transient: int = 1
             call(lib.vi_sweep_set_param(sw, kb, float(val)))
             st = lib.vi_sweep_iterate(sw)
             cancel.check(st)
-            if st == -9:  # VI_ERR_FREQUENCY: no period to sweep with
+            if st == lib.VI_ERR_FREQUENCY:  # no period to sweep with
                 call(st)
             out["failed"][i] = bool(lib.vi_sweep_failed(sw)) or st < 0
             pn, pm, t, ph, vn, strobe = _point(sw, n)
@@ -284,7 +284,8 @@ def continuation(model: Model, key: str, to: float, steps: int, *, n: int = 1,
         found = orbits(model, n, 1)
         ok = np.nonzero(found["stable"] & found["admissible"])[0]
         if not ok.size:
-            raise Error("no stable admissible P(%d,1) orbit to start from: give orbit=" % n, -19)
+            raise Error("no stable admissible P(%d,1) orbit to start from: give orbit=" % n,
+                        lib.VI_ERR_NOT_CONVERGED)
         i = ok[0]
         orbit = {"t": found["t"][i, 0], "x": found["x"][i, 0], "v": found["v"][i, 0]}
     meth = {"natural": 0, "arclength": 1}[method]
@@ -472,7 +473,7 @@ def identify(model: Model, t: np.ndarray, x: np.ndarray, fit: Mapping[str, Tuple
     xa = np.ascontiguousarray(x, dtype=np.float64)
     va = None if v is None else np.ascontiguousarray(v, dtype=np.float64)
     if xa.size != ta.size or (va is not None and va.size != ta.size):
-        raise Error("t, x (and v) must have one length", -2)
+        raise Error("t, x (and v) must have one length", lib.VI_ERR_DIM)
     call(lib.vi_identify_set_data(h, ta.size, _ptr(ta), _ptr(xa), _ptr(va)))
     with _Cancel() as cancel:
         call(lib.vi_identify_set_cancel(h, cancel.fn, cancel.start, ffi.NULL))
