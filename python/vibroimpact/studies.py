@@ -164,12 +164,15 @@ def basins(model: Model, key: str, values: Sequence[float], key2: str,
            values2: Sequence[float], *, transient: int = 100, record: int = 10,
            method: Union[str, int] = "auto", rtol: float = 1e-8, atol: float = 1e-10,
            tol: float = 1e-6, nmax: int = 32, x0=None, v0=None,
-           t0: float = 0.0) -> Dict[str, np.ndarray]:
+           t0: float = 0.0, threads: int = 1) -> Dict[str, np.ndarray]:
     """Basins of attraction (or a two-parameter map): every point of the
     grid values x values2 started cold from the initial state (keys
     initial.x[i], initial.v[i], initial.t0 move it; model keys change the
     model), its motion classified and the periodic ones grouped into
-    attractors (vi_sweep_attractors).
+    attractors (vi_sweep_attractors).  ``threads`` > 1 computes the points
+    on that many threads (the GIL is released in the library), each with
+    its own study of the model: the same result as one thread, since every
+    point starts cold.
 
     Returns ``value`` [P], ``value2`` [Q], ``n``, ``m`` [Q, P] (row j =
     values2[j]), ``id`` [Q, P] the attractor of each point (-1: none) and
@@ -177,8 +180,6 @@ def basins(model: Model, key: str, values: Sequence[float], key2: str,
     (NaN without impacts)."""
     v1 = np.asarray(values, dtype=np.float64).reshape(-1)
     v2 = np.asarray(values2, dtype=np.float64).reshape(-1)
-    sw, call = _new_sweep(model, transient, record, method, rtol, atol, tol, nmax, x0, v0, t0)
-    call(lib.vi_sweep_set_warm(sw, 0))
     n = model.n
     P, Q = v1.size, v2.size
     per = np.zeros(P * Q, np.intc)
@@ -186,19 +187,34 @@ def basins(model: Model, key: str, values: Sequence[float], key2: str,
     vnl = np.full(P * Q, np.nan)
     strobe = np.full((P * Q, int(record), 2 * n), np.nan)
     k1, k2 = key.encode(), key2.encode()
-    with _Cancel() as cancel:
+
+    def work(points, cancel):
+        sw, call = _new_sweep(model, transient, record, method, rtol, atol, tol, nmax,
+                              x0, v0, t0)
+        call(lib.vi_sweep_set_warm(sw, 0))
         call(lib.vi_sweep_set_cancel(sw, cancel.fn, cancel.start, ffi.NULL))
-        for j, b in enumerate(v2):
-            for i, a in enumerate(v1):
-                call(lib.vi_sweep_set_param(sw, k1, float(a)))
-                call(lib.vi_sweep_set_param(sw, k2, float(b)))
-                st = lib.vi_sweep_iterate(sw)
-                cancel.check(st)
-                p = j * P + i
-                pn, pmm, t, ph, vn, s = _point(sw, n)
-                per[p], pm[p] = (pn, pmm) if st >= 0 else (0, 0)
-                vnl[p] = vn[-1] if vn.size else np.nan
-                strobe[p, :s.shape[0]] = s
+        for p in points:
+            j, i = divmod(p, P)
+            call(lib.vi_sweep_set_param(sw, k1, float(v1[i])))
+            call(lib.vi_sweep_set_param(sw, k2, float(v2[j])))
+            st = lib.vi_sweep_iterate(sw)
+            cancel.check(st)
+            pn, pmm, t, ph, vn, s = _point(sw, n)
+            per[p], pm[p] = (pn, pmm) if st >= 0 else (0, 0)
+            vnl[p] = vn[-1] if vn.size else np.nan
+            strobe[p, :s.shape[0]] = s
+
+    threads = max(1, min(int(threads), P * Q))
+    with _Cancel() as cancel:
+        if threads == 1:
+            work(range(P * Q), cancel)
+        else:
+            from concurrent.futures import ThreadPoolExecutor
+            # interleaved blocks even out the uneven cost across the grid
+            blocks = [range(k, P * Q, threads) for k in range(threads)]
+            with ThreadPoolExecutor(threads) as ex:
+                for f in [ex.submit(work, b, cancel) for b in blocks]:
+                    f.result()
     ids = np.zeros(P * Q, np.intc)
     nattr = ffi.new("int *")
     sc = np.ascontiguousarray(strobe.reshape(P * Q, -1))
