@@ -50,10 +50,14 @@ BATTERY = textwrap.dedent(r'''
            lambda: scene_text("a: " + "{a: " * 20000 + "1" + "}" * 20000), "nesting deeper")
     big = ("model:\n  chain: {n: 20000, m: 1, k: 1, c: 0.1}\nstop: {mass: 1, xs: 0.1, r: 0.7}\n"
            "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\noutput: {ledger: true}\n")
-    expect("20000-mass ledger (memory)", lambda: scene_text(big).run(), "model.chain.n")
+    # an allowance of 2 GB, so that a machine with more memory refuses them too
+    expect("20000-mass ledger (memory)", lambda: scene_text(big).run(max_memory=2e9),
+           "model.chain.n")
     huge = ("model:\n  chain: {n: 100000, m: 1, k: 1, c: 0.1}\nstop: {mass: 1, xs: 0.1, r: 0.7}\n"
             "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\nrun: {method: exact}\n")
-    expect("100000-mass exact (memory)", lambda: scene_text(huge).run())
+    expect("100000-mass exact (memory)", lambda: scene_text(huge).run(max_memory=2e9))
+    expect("Fig. 2 in 1 kB", lambda: vi.load_scene(os.path.join(SCENES, "fig2.yaml")).run(
+        max_memory=1000), "allowed")
     ranges = [
         ("forcing: {omega: 0.9, a: [0.5, 0]}\nrun: {rtol: 10}\n", "run.rtol"),
         ("forcing: {omega: 0.9, a: [0.5, 0]}\nrun: {rtol: 1}\n", "run.rtol"),

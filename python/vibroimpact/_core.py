@@ -788,10 +788,12 @@ class Scene:
     def _copy(self) -> "Scene":
         return self.with_settings({})
 
-    def model(self) -> Model:
-        """The scene's model, built and set up (its keys' errors name the line)."""
+    def model(self, max_memory: float = 0) -> Model:
+        """The scene's model, built and set up (its keys' errors name the
+        line), after checking the memory it needs against max_memory bytes
+        (0: the machine's MemAvailable), as the program's --max-memory."""
         d = ffi.new("vi_diag *")
-        st = lib.vi_scene_check_memory(self._sc, 0.0, d)
+        st = lib.vi_scene_check_memory(self._sc, float(max_memory), d)
         mp = ffi.new("vi_model **")
         if not st:
             st = lib.vi_scene_create_model(self._sc, mp, d)
@@ -803,12 +805,14 @@ class Scene:
     def run(self, method: Optional[Union[str, int]] = None, rtol: Optional[float] = None,
             atol: Optional[float] = None, periods: Optional[float] = None, *,
             ledger: Optional[bool] = None, samples_per_period: Optional[int] = None,
-            states: bool = True, **settings: Any) -> Result:
+            states: bool = True, max_memory: float = 0, **settings: Any) -> Result:
         """Simulate the scene as ``vibroimpact run`` does, with its method,
         tolerances, initial state and outputs; arguments override the
         scene's run section (as --method, --rtol, --atol, --periods), and
         keyword settings named by scene key override the scene's keys
-        (``scene.run(**{"forcing.omega": 0.8})``, as --set)."""
+        (``scene.run(**{"forcing.omega": 0.8})``, as --set).  A model that
+        needs more than max_memory bytes (0: the machine's MemAvailable) is
+        refused before anything is allocated (--max-memory)."""
         sc = self.with_settings(settings) if settings else self
         if any(v is not None for v in (method, rtol, atol, periods)):
             if sc is self:
@@ -818,7 +822,7 @@ class Scene:
                                       -1 if method is None else _method(method))
             if st:
                 raise Error("run overrides refused: %s" % _s(lib.vi_strerror(st)), st)
-        model = sc.model()
+        model = sc.model(max_memory)
         sim = _new_sim(model)
         d = ffi.new("vi_diag *")
         st = lib.vi_scene_configure_sim(sc._sc, sim, d)
