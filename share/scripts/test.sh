@@ -33,6 +33,8 @@ log="$asan/build.log"
 builder=$!
 echo "== release tests (the asan build compiles meanwhile)"
 ctest --test-dir "$rel" --output-on-failure -j"$jobs" || status=1
+echo "== python package (pytest, against the release build)"
+"$root/python/run-tests.sh" "$rel" || status=1
 wait "$builder" || true
 echo "== asan build"
 quiet <"$log"

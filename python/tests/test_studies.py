@@ -1,0 +1,129 @@
+"""The studies from Python, checked against physics and against each
+other's independent routes (simulation vs Newton-refined orbits)."""
+import numpy as np
+import pytest
+
+import vibroimpact as vi
+
+T09 = 2 * np.pi / 0.9
+
+
+def fig2():
+    return vi.Model.chain(2, m=1, k=1, c=0.1, stops=[{"w": [0, 1], "xs": 0.1, "r": 0.7}],
+                          forcing={"omega": 0.9, "a": [0.5, 0.0]})
+
+
+def test_energy_balance_recovers_r():
+    """WB 11-13 on the P(1,1) orbit: RE = IE and r recovered from the
+    energies equals the r given (0.7), multipliers inside the unit circle."""
+    e = vi.energy(fig2())
+    assert (e["n"], e["m"]) == (1, 1)
+    assert abs(e["r_recovered"] - 0.7) < 1e-10
+    assert e["closure"] < 1e-10
+    assert abs(e["period"] - T09) < 1e-12
+    assert np.all(np.abs(e["multipliers"]) < 1)
+    assert e["min_gap"] <= 0
+    # per mode, forcing work in = damping out + energy the impact takes
+    assert abs(e["FE"].sum() - e["DE"].sum() - e["XE"].sum() - e["IE"]) < 1e-10 * e["KE_i"]
+
+
+def test_orbits_agree_with_simulation():
+    """The census' P(1,1) orbit (Newton on the impact map) has the approach
+    velocity the simulation settles to."""
+    m = fig2()
+    o = vi.orbits(m, 1, 1)
+    k = np.nonzero(o["stable"] & o["admissible"])[0]
+    assert k.size == 1
+    vn_sim = m.simulate(periods=400, method="exact", rtol=1e-12, atol=1e-14).impacts["vn"][-1]
+    assert abs(o["vn"][k[0], 0] - vn_sim) < 1e-9
+    assert abs(o["vn"][k[0], 0] - vi.energy(m)["vN"]) < 1e-9
+
+
+def test_sweep_periodic_points():
+    """At each point classified P(1,1) the recorded impacts are one
+    forcing period apart; at Omega = 0.9 the approach velocity is the
+    orbit's."""
+    m = fig2()
+    vals = np.linspace(0.85, 0.95, 5)
+    s = vi.sweep(m, "forcing.omega", vals, transient=200, record=8)
+    assert not s["failed"].any()
+    vN = vi.energy(m)["vN"]
+    for i, w in enumerate(vals):
+        t = s["impact_t"][s["impact_point"] == i]
+        if (s["n"][i], s["m"][i]) == (1, 1):
+            np.testing.assert_allclose(np.diff(t), 2 * np.pi / w, rtol=1e-7)
+    i09 = np.argmin(abs(vals - 0.9))
+    assert (s["n"][i09], s["m"][i09]) == (1, 1)
+    assert abs(s["impact_vn"][s["impact_point"] == i09][-1] - vN) < 1e-6
+    assert s["strobe"].shape == (5, 8, 4)
+    # the model itself is not changed by a sweep
+    assert m.get_param("forcing.omega") == 0.9
+
+
+def test_continuation_against_census():
+    """Points of the continued branch equal the orbits the census finds
+    afresh at the same parameter value."""
+    m = fig2()
+    c = vi.continuation(m, "forcing.omega", 0.95, 5)
+    assert c["state"] == "end" and c["param"].size >= 5
+    assert c["param"][-1] >= 0.95  # arclength: the step that passes the end
+    for i in (c["param"].size // 2, -1):
+        m2 = fig2()
+        m2.set_param("forcing.omega", c["param"][i])
+        o = vi.orbits(m2)
+        j = np.argmin(abs(o["vn"][:, 0] - c["vn"][i]))
+        assert abs(o["vn"][j, 0] - c["vn"][i]) < 1e-8
+
+
+def test_basins_one_attractor():
+    b = vi.basins(fig2(), "initial.x[2]", np.linspace(-0.3, 0.05, 3),
+                  "initial.v[2]", [0.0, 0.3], transient=150, record=6)
+    assert b["id"].shape == (2, 3)
+    assert b["nattr"] == 1 and np.all(b["id"] == 0)
+    assert np.all(b["n"] == 1)
+
+
+def test_truncation_compliance_closed_form():
+    """Fig. 2's chain in its modes (from_sparse keeps both): the compliance
+    the two modes carry is the whole w^T M^-1 w = 1 and w^T K^-1 w = 2."""
+    sp = pytest.importorskip("scipy.sparse")
+    K = np.array([[2.0, -1.0], [-1.0, 1.0]])
+    m = vi.Model.from_sparse(sp.identity(2), sp.csc_matrix(K),
+                             stops=[{"dof": 1, "xs": 0.1, "r": 0.7}],
+                             forcing={"omega": 0.9, "a": [0.5, 0.0]}, zeta=0.05)
+    tr = vi.truncation(m)
+    assert abs(tr["dynamic"][-1] - 1.0) < 1e-12
+    assert abs(tr["static"][-1] - 2.0) < 1e-12
+    assert 0 < tr["dynamic_fraction"][0] < 1
+    one = vi.truncated_model(m, 1)
+    assert one.n == 1
+    np.testing.assert_allclose(one.omega, m.omega[:1], rtol=1e-14)
+
+
+def test_identify_recovers_restitution():
+    """A recording of the gap made by the model at r = 0.7: identification
+    from starts over [0.3, 0.95] finds r = 0.7."""
+    m = fig2()
+    res = m.simulate(t_end=300 * T09, method="exact", rtol=1e-12, atol=1e-14,
+                     sample_dt=T09 / 64)
+    s = res.samples
+    keep = s["t"] >= 290 * T09
+    t, x = s["t"][keep] - s["t"][keep][0], s["x"][keep][:, 1]
+    m.set_param("stop.r", 0.5)  # the fit must not start from the answer
+    fit = vi.identify(m, t, x, {"stop.r": (0.3, 0.95)})
+    assert fit["converged"]
+    assert abs(fit["p"][0] - 0.7) < 1e-6
+    assert fit["rms"] < 1e-8
+    assert (fit["n"], fit["m"]) == (1, 1)
+
+
+def test_basins_threads_equal_serial():
+    """Basins on two threads: every point the same as on one (cold starts
+    on independent copies of the study), bit for bit."""
+    m = fig2()
+    args = (m, "initial.x[2]", np.linspace(-0.4, 0.05, 4), "initial.v[2]", [0.0, 0.4, 0.8])
+    one = vi.basins(*args, transient=60, record=4)
+    two = vi.basins(*args, transient=60, record=4, threads=2)
+    for k in ("n", "m", "id"):
+        np.testing.assert_array_equal(one[k], two[k])
+    np.testing.assert_array_equal(one["vn"], two["vn"])
