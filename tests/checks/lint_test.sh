@@ -113,7 +113,11 @@ mapfile -t files < <(printf '%s\n' "${files[@]}" | awk '!seen[$0]++')
 export -f lint_one
 export src build db headers tmp
 jobs=${VI_LINT_JOBS:-$(nproc)}
-for i in "${!files[@]}"; do printf '%s %s\n' "$i" "${files[$i]}"; done |
+# the largest files first (the analyser's time grows with a file's size):
+# a large file started last would leave the other cores idle at the end
+for i in "${!files[@]}"; do
+  printf '%s %s %s\n' "$(wc -c < "${files[$i]}")" "$i" "${files[$i]}"
+done | sort -rn | cut -d' ' -f2- |
   xargs -P "$jobs" -L 1 bash -c 'lint_one "$1" "$2"' lint_one
 bad=0 total=0
 for i in "${!files[@]}"; do
