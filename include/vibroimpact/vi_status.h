@@ -35,7 +35,7 @@ extern "C" {
   X(VI_ERR_STATE,           -13, "call out of order for this object")       \
   X(VI_ERR_NOMEM,           -14, "out of memory")                            \
   X(VI_ERR_LAPACK,          -15, "LAPACK failure")                           \
-  X(VI_ERR_INTEGRATOR,      -16, "CVODE failure")                            \
+  X(VI_ERR_INTEGRATOR,      -16, "integrator failure (CVODE or ARKODE)")      \
   X(VI_ERR_UNSUPPORTED,     -17, "not supported for this model")             \
   X(VI_ERR_ROOT,            -18, "event location failed")                    \
   X(VI_ERR_NOT_CONVERGED,   -19, "iteration did not converge")               \

@@ -75,15 +75,12 @@ static int particular(vi_cmodes *c, double Om)
   c->top = Om;
   for (int i = 0; i < c->m; i++) {
     c->top = fmax(c->top, fmax(sqrt(c->om2[i]), c->dmp[i]));
-    double k = c->om2[i] - Om * Om, dd = c->dmp[i] * Om, det = k * k + dd * dd;
-    double fa = c->fa[i], fb = c->fb[i];
-    if ((fa != 0.0 || fb != 0.0) && !(det > 0.0)) {
+    if (!vi_harmonic_particular(c->om2[i], c->dmp[i], Om, c->fa[i], c->fb[i],
+                                &c->pA[i], &c->pB[i])) {
       snprintf(c->why, sizeof c->why, "held mode %d is forced at its natural "
                "frequency without damping (resonance)", i + 1);
       return 0;
     }
-    c->pA[i] = det > 0.0 ? (k * fa - dd * fb) / det : 0.0;
-    c->pB[i] = det > 0.0 ? (k * fb + dd * fa) / det : 0.0;
   }
   return 1;
 }

@@ -8,10 +8,8 @@
 
 #include "vi_flow_internal.h"
 
-/* Harmonic particular solution of q'' + d q' + lambda q = Fc cos + Fs sin;
- * returns 0 when an undamped mode is forced exactly at resonance. */
-static int particular(double lambda, double d, double Om, double Fc, double Fs,
-                      double *A, double *B)
+int vi_harmonic_particular(double lambda, double d, double Om, double Fc,
+                           double Fs, double *A, double *B)
 {
   *A = *B = 0.0;
   if (Fc == 0.0 && Fs == 0.0) return 1;
@@ -54,7 +52,7 @@ int vi_xflow_create(const vi_model *m, vi_xflow **out)
   }
   for (int j = 0; j < n; j++) {
     double d = m->D[j + (size_t)j * n];
-    if (!particular(m->lambda[j], d, m->omega_f, m->Fa[j], m->Fb[j], &f->pA[j],
+    if (!vi_harmonic_particular(m->lambda[j], d, m->omega_f, m->Fa[j], m->Fb[j], &f->pA[j],
                     &f->pB[j]) && f->ok && m->proportional) {
       f->ok = 0;
       vi_fail(f->why, VI_ERR_UNSUPPORTED,

@@ -44,6 +44,13 @@ int vi_xflow_modal(const vi_xflow *f, const vi_model *m, double t0,
  * for proportional damping), 0 if not or out of memory. */
 int vi_xflow_available(const vi_model *m);
 
+/* The harmonic particular solution A cos + B sin of q'' + d q' + lambda q
+ * = Fc cos(Om t) + Fs sin(Om t), the one home of the formula (free and
+ * held modes alike): 0 when the mode is forced at an undamped resonance
+ * (|lambda - Om^2|^2 + (d Om)^2 below 1e-28 of max(lambda^2, Om^4)), with
+ * A = B = 0; unforced modes get 0 and return 1. */
+int vi_harmonic_particular(double lambda, double d, double Om, double Fc,
+                           double Fs, double *A, double *B);
 /* Closed-form mode j (vi_flow.c): particular solution at the forcing's
  * phase p of t, with tau = t - t0 for the polynomial part of a rigid-body
  * mode, and the homogeneous solution from (u0, v0) after tau. */

@@ -16,6 +16,15 @@
 
 #include "vi_internal.h"
 
+/* How high a rebound rises off its stop: the gap's acceleration w.a pulls
+ * it back (push > 0) after Newton's law sent it off at r v_n, so the apex
+ * is (r v_n)^2 / (2 w.a).  The one home of the formula (the run's step and
+ * tolerance after an impact, the chatter's accumulation test). */
+static inline double vi_rebound_apex(double r, double vn, double push)
+{
+  return 0.5 * r * r * vn * vn / push;
+}
+
 /* vi_contact_solve with the restitutions r [nc] of the contacts in the
  * place of the model's (r NULL: the model's r_k). */
 int vi_contact_solve_r(const vi_model *m, int nc, const int *idx,

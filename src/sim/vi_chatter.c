@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "vi_chatter_internal.h"
+#include "vi_impact_internal.h"
 #include "vi_rhs.h"
 
 /* Stop k's view of the sticking set: the other held stops S (their factor
@@ -182,7 +183,7 @@ int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
 {
   const vi_model *m = s->m;
   double r = m->rv[k], xs = m->xsv[k], wnorm = s->wnorms[k];
-  double apex = push > 0.0 ? 0.5 * r * r * vn * vn / push : HUGE_VAL;
+  double apex = push > 0.0 ? vi_rebound_apex(r, vn, push) : HUGE_VAL;
   *floor_hit = push > 0.0 && vn > 0.0 &&
                ((s->vn_floor > 0.0 && vn < s->vn_floor) ||
                 (s->dt_floor > 0.0 && dt_prev < s->dt_floor));

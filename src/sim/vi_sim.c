@@ -7,6 +7,7 @@
 
 #include "vi_exact_internal.h"
 #include "vi_flow_internal.h"
+#include "vi_impact_internal.h"
 #include "vi_sim_internal.h"
 
 static void note_method(vi_sim *s);
@@ -628,7 +629,7 @@ static int on_contact_one(vi_sim *s, int k)
    * every reported v_n to about 1 %, whatever the method (issue 20). */
   s->tol_scale = 1.0;
   if (s->h_flight > 0.0 && s->vres > 0.0 && r * vn >= 0.5 * s->vres) {
-    double apex = 0.5 * r * r * vn * vn / push;
+    double apex = vi_rebound_apex(r, vn, push);
     double dx = 10.0 * (s->atol * s->wnorms[k] + s->rtol * fabs(xs));
     s->tol_scale = fmin(1.0, fmax(1e-15 / s->rtol, 0.02 * apex / dx));
   }
