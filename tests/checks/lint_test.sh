@@ -9,7 +9,8 @@
 # by default).  Exits 77 (ctest: skipped) if clang-tidy or cppcheck is
 # missing (Debian packages clang-tidy, cppcheck).  The files are checked
 # VI_LINT_JOBS at a time (default: every core), each file's report printed
-# in the order of the list.
+# in the order of the list.  Clean files are remembered by content (see
+# VI_LINT_CACHE below): a second run checks only what changed.
 set -uo pipefail
 src=$(cd "$1" && pwd) build=$(cd "$2" && pwd)
 
@@ -83,9 +84,35 @@ if [ "${3:-}" = --all ]; then
   headers='(include|src|apps|bench)/.*\.h$'
 fi
 
+# A clean file is remembered (like ccache): its key hashes the file, its
+# compile command, every header of the project and the build, the tools'
+# versions, .clang-tidy and this script; an unchanged file is not analysed
+# again.  Files with findings are never cached.  VI_LINT_CACHE=off turns
+# it off; VI_LINT_CACHE_DIR moves it (default ~/.cache/vibroimpact/lint).
+cache=""
+if [ "${VI_LINT_CACHE:-on}" != off ]; then
+  cache=${VI_LINT_CACHE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/vibroimpact/lint}
+  mkdir -p "$cache" 2>/dev/null || cache=""
+fi
+common=$( { clang-tidy --version; cppcheck --version
+            cat "$src/.clang-tidy" "$src/tests/checks/lint_test.sh"
+            echo "$headers"
+            find "$src/src" "$src/include" "$src/apps" "$src/tests" "$src/bench" \
+                 "$src/examples" "$build/include" -name '*.h' 2>/dev/null | sort |
+              xargs cat; } | sha256sum | cut -c1-64)
+
 # One file: its report into $tmp/N.out, its finding count into $tmp/N.n.
 lint_one() {
-  local i=$1 f=$2 nt nc t0=${EPOCHREALTIME/[.,]/}
+  local i=$1 f=$2 nt nc t0=${EPOCHREALTIME/[.,]/} key=""
+  if [ -n "$cache" ]; then
+    key=$( { echo "$common"; grep -B1 "\"file\": \"$src/$f\"" "$db" | head -1
+             cat "$f"; } | sha256sum | cut -c1-64)
+    if [ -f "$cache/$key" ]; then
+      echo "ok   $f (unchanged since a clean check)" > "$tmp/$i.out"
+      echo 0 > "$tmp/$i.n"
+      return
+    fi
+  fi
   clang-tidy -p "$build" --quiet --header-filter="$headers" "$f" > "$tmp/$i.tidy" 2> /dev/null
   cppcheck --project="$db" --file-filter="$f" --enable=warning,performance,portability \
     --inline-suppr --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
@@ -96,6 +123,7 @@ lint_one() {
   nt=$(grep -cE ': (warning|error): ' "$tmp/$i.tidy")
   nc=$(grep -cE ': (warning|error|performance|portability|style): ' "$tmp/$i.cpp")
   echo $((nt + nc)) > "$tmp/$i.n"
+  [ -n "$key" ] && [ $((nt + nc)) -eq 0 ] && touch "$cache/$key"
   if [ $((nt + nc)) -gt 0 ]; then
     echo "FAIL $f: $nt clang-tidy, $nc cppcheck"
     grep -E ': (warning|error): ' "$tmp/$i.tidy" | sed "s|^$src/||; s|^|  |"
@@ -111,7 +139,7 @@ trap 'rm -rf "$tmp"' EXIT
 # a file listed twice is checked once
 mapfile -t files < <(printf '%s\n' "${files[@]}" | awk '!seen[$0]++')
 export -f lint_one
-export src build db headers tmp
+export src build db headers tmp cache common
 jobs=${VI_LINT_JOBS:-$(nproc)}
 # the largest files first (the analyser's time grows with a file's size):
 # a large file started last would leave the other cores idle at the end
