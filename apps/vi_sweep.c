@@ -237,11 +237,13 @@ static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
   vi_scene *sc = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_scene_edit_create_limited(sw->text, -1, sw->name,
-                                        sw->spec.max_depth, &ed, &d);
+  /* the key first: a value of a key no study changes (model.chain.n)
+   * would be blamed on what it breaks elsewhere in the scene */
+  int st = vi_scene_param_key(sw->sc, key, pkey, 64, &d);
+  if (!st) st = vi_scene_edit_create_limited(sw->text, -1, sw->name,
+                                             sw->spec.max_depth, &ed, &d);
   if (!st) st = vi_scene_edit_set_number(ed, key, val, &d);
   if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
-  if (!st) st = vi_scene_param_key(sw->sc, key, pkey, 64, &d);
   int omega = !st && !strcmp(pkey, "forcing.omega");
   if (st) diag_msg(&d, st, err, len);
   else if (vi_param_kind(pkey) == VI_PARAM_MODEL &&
