@@ -78,8 +78,8 @@ typedef enum vi_param_kind_t {
  *  error, whose message (naming the key and the value) is in
  *  vi_model_errmsg.  @return VI_OK, VI_ERR_ARG (NULL, an unknown or
  *  malformed key: the message lists the keys), VI_ERR_DIM (an index out
- *  of range), VI_ERR_NONFINITE, VI_ERR_FREQUENCY (Omega <= 0 with
- *  harmonic forcing), VI_ERR_RESTITUTION, VI_ERR_NOT_PSD (negative
+ *  of range), VI_ERR_NONFINITE, VI_ERR_LIMIT (|value| > 1e100),
+ *  VI_ERR_FREQUENCY (Omega <= 0 with harmonic forcing), VI_ERR_RESTITUTION, VI_ERR_NOT_PSD (negative
  *  damping), VI_ERR_STATE (damping.zeta before setup; the model held
  *  by a simulation, orbit, census or identification made from it),
  *  VI_ERR_UNSUPPORTED (damping.zeta of a band or non-proportional
