@@ -135,7 +135,10 @@ static int number(ctx *c, yaml_node_t *nd, const char *key, double *out)
   char *end;
   errno = 0;
   double v = strtod(s, &end);
-  if (end == s || *end || errno == ERANGE)
+  if (end != s && !*end && errno == ERANGE) /* 1e-400, 1e-308: numbers */
+    return fail(c, nd, VI_ERR_LIMIT, key, "%s", "beyond double precision's "
+                "range (it under- or overflows)");
+  if (end == s || *end)
     return fail(c, nd, VI_ERR_PARSE, key, "%s", "expected a number");
   if (!isfinite(v))
     return fail(c, nd, VI_ERR_NONFINITE, key, "%s", "must be finite");
