@@ -2,10 +2,11 @@
 # Hostile input to the commands (issue 29, item 6): each case ends at once
 # with a message that names the fault, or says what it costs and stops at
 # Ctrl-C; never a hang, a silent exit 0 or a message about something else.
-#   hostile_cli_test.sh APP SRC
+#   hostile_cli_test.sh APP SRC [N]   (N: the huge header's dofs, 3e8)
 set -uo pipefail
 app=$1
 src=$2
+big=${3:-300000000}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
@@ -22,8 +23,8 @@ expect() {
 
 # a Matrix Market header claiming 3e8 dofs: refused by --max-memory from
 # the header alone (it read 2 n zeros first: 6.5 s), by every command
-printf '%%%%MatrixMarket matrix coordinate real symmetric\n300000000 300000000 1\n1 1 1.0\n' \
-  > "$tmp/K.mtx"
+printf '%%%%MatrixMarket matrix coordinate real symmetric\n%d %d 1\n1 1 1.0\n' \
+  "$big" "$big" > "$tmp/K.mtx"
 cp "$tmp/K.mtx" "$tmp/M.mtx"
 printf 'model:\n  matrix_market: {M: M.mtx, K: K.mtx}\n  modes: 2\nforcing: {omega: 0.85}\nstop: {dof: 1, xs: 0.05, r: 0.75}\n' \
   > "$tmp/big.yaml"
