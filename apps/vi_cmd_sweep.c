@@ -94,7 +94,10 @@ static int num(const char *opt, const char *s, double *out)
   errno = 0;
   double v = strtod(s, &end);
   if (errno || end == s || *end || !isfinite(v)) {
-    fprintf(stderr, "vibroimpact: sweep: %s: '%s' is not a finite number\n", opt, s);
+    fprintf(stderr, "vibroimpact: sweep: %s: '%s' is %s\n", opt, s,
+            errno == ERANGE && end != s && !*end
+                ? "beyond double precision's range (it under- or overflows)"
+                : "not a finite number");
     return 0;
   }
   *out = v;
@@ -106,8 +109,8 @@ static int inum(const char *opt, const char *s, int lo, int *out)
   double v;
   if (!num(opt, s, &v)) return 0;
   if (v != floor(v) || v < lo || v > 1e8) {
-    fprintf(stderr, "vibroimpact: sweep: %s must be an integer >= %d (got '%s')\n",
-            opt, lo, s);
+    fprintf(stderr, "vibroimpact: sweep: %s must be an integer in [%d, "
+            "100000000] (got '%s')\n", opt, lo, s);
     return 0;
   }
   *out = (int)v;
@@ -256,6 +259,17 @@ static int parse(int argc, char **argv, args *a)
 }
 
 /* What the arguments must hold together; 0 or the exit status 2. */
+/* Two keys of one parameter (stop.xs is stops[1].xs). */
+static int same_key(const char *k1, const char *k2)
+{
+  char a[64], b[64];
+  snprintf(a, sizeof a, "%s", strncmp(k1, "stop.", 5) ? k1 : "");
+  snprintf(b, sizeof b, "%s", strncmp(k2, "stop.", 5) ? k2 : "");
+  if (!a[0]) snprintf(a, sizeof a, "stops[1].%.40s", k1 + 5);
+  if (!b[0]) snprintf(b, sizeof b, "stops[1].%.40s", k2 + 5);
+  return !strcmp(a, b);
+}
+
 static int check(args *a)
 {
   vi_sweep_spec *sp = &a->sp;
@@ -267,6 +281,11 @@ static int check(args *a)
   if ((sp->key2 || a->basins) && (!sp->key2 || isnan(sp->from2) || isnan(sp->to2) ||
                                   !sp->steps2)) {
     fprintf(stderr, "vibroimpact: %s: --param2 needs --from2, --to2 and --steps2\n", cmd);
+    return 2;
+  }
+  if (sp->key2 && same_key(sp->key, sp->key2)) { /* one axis was ignored */
+    fprintf(stderr, "vibroimpact: %s: --param and --param2 both name %s: a "
+            "map needs two different parameters\n", cmd, sp->key2);
     return 2;
   }
   if (a->basins && (sp->dirs != 1 || sp->orbits)) {
@@ -442,6 +461,11 @@ int vi_cmd_sweep_main(int argc, char **argv)
     free(a.sets);
     free(text);
     if (interrupted) return 128 + (int)interrupted; /* nothing written yet */
+    if (rc < 0 && (fflush(stdout) != 0 || ferror(stdout))) { /* --help lost */
+      fprintf(stderr, "vibroimpact: %s: cannot write the standard output: "
+              "%s\n", a.basins ? "basins" : "sweep", strerror(errno));
+      return 1;
+    }
     return rc < 0 ? 0 : rc;
   }
   vi_diagram *sw = NULL;

@@ -47,12 +47,24 @@ typedef struct response {
   int ok;          /* the search ran */
 } response;
 
-static void find_orbit(const vi_model *m, response *r, vi_orbit **keep)
+/* A progress line per forcing period of a long orbit search (on a
+ * terminal: the reference's, see note_reference). */
+static int on_period(const vi_progress *p, void *user)
+{
+  (void)user;
+  fprintf(stderr, "\r  reference orbit: t = %-12.6g %lld impacts ", p->t,
+          (long long)p->impacts);
+  return 0;
+}
+
+static void find_orbit(const vi_model *m, response *r, vi_orbit **keep,
+                       int progress)
 {
   vi_orbit *o = NULL;
   memset(r, 0, sizeof *r);
   r->vN = r->phase = NAN;
   if (!vi_orbit_create(m, &o) && !vi_orbit_set_initial(o, NULL, NULL) &&
+      (!progress || !vi_orbit_set_monitor(o, on_period, NULL, NULL)) &&
       !vi_orbit_find(o)) {
     r->ok = 1;
     vi_orbit_classify(o, &r->pn, &r->pm);
@@ -371,17 +383,38 @@ static int study_initial(study *S)
   return 0;
 }
 
+/* What the reference costs, said before its runs (issue 29: --reference
+ * 198 of the 200-dof beam ran for more than 600 s without a word).  The
+ * exact method steps pi/2 radians of the fastest mode, 4 omega_max / Omega
+ * steps per forcing period of O(n) work each: a beam's omega_k grows as
+ * k^2, so the reference costs the cube of its size (1 s for 20 modes, 5 s
+ * for 40, 50 s for 80). */
+static void note_reference(const study *S)
+{
+  const double *om = vi_model_omega(S->R);
+  double Om = vi_model_omega_forcing(S->R);
+  if (S->o->quiet || !om || !(Om > 0)) return;
+  double steps = 4.0 * om[S->nR - 1] / Om;
+  if (steps * S->nR < 1e6) return; /* seconds at most: nothing to say */
+  fprintf(stderr, "vibroimpact: truncation: the reference's %d modes reach "
+          "omega = %.4g: about %.2g steps per forcing period, each over all "
+          "modes; its orbit search may take minutes (a smaller --reference "
+          "is faster; Ctrl-C stops)\n", S->nR, om[S->nR - 1], steps);
+}
+
 /* The reference orbit (the balance every reduced model is measured by)
  * and the reference's first impacts. */
 static void study_reference_runs(study *S)
 {
+  note_reference(S);
   memset(&S->ref, 0, sizeof S->ref);
   S->ref.vN = S->ref.phase = NAN;
   S->r = vi_model_restitution(S->R);
   S->forced = vi_model_omega_forcing(S->R) > 0;
   if (S->forced) {
     vi_app_set_polling(0);
-    find_orbit(S->R, &S->ref, &S->oref);
+    find_orbit(S->R, &S->ref, &S->oref, S->o->progress);
+    if (S->o->progress) fputc('\n', stderr);
   }
   S->p11 = S->oref && S->ref.pn == 1 && S->ref.pm == 1;
   S->t0 = vi_scene_t0(S->sc);
@@ -433,14 +466,14 @@ static void compute_row(study *S, row *w, const int *modes_idx)
   if (!vi_model_create_truncated(S->R, k, 0, S->r, S->q0R, S->qk, NULL, &mk))
     first_impacts(mk, S->t0, S->tend, S->qk, &w->fk);
   if (S->forced) {
-    if (mk) find_orbit(mk, &w->rk, NULL);
+    if (mk) find_orbit(mk, &w->rk, NULL, 0);
     if (S->p11 && !vi_orbit_reduced_restitution(S->oref, modes_idx, k, &w->rS) &&
         !vi_model_create_truncated(S->R, k, 0, w->rS, NULL, NULL, NULL, &ms))
-      find_orbit(ms, &w->rs, NULL);
+      find_orbit(ms, &w->rs, NULL, 0);
   }
   if (k < S->nR && !vi_model_create_truncated(S->R, k, 1, S->r, S->q0R, S->qk, &carried, &mc)) {
     first_impacts(mc, S->t0, S->tend, S->qk, &w->fc1);
-    if (S->forced) find_orbit(mc, &w->rc2, NULL);
+    if (S->forced) find_orbit(mc, &w->rc2, NULL, 0);
   }
   w->fc = carried / S->Gd;
   vi_model_destroy(&mk);

@@ -311,11 +311,17 @@ static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
   vi_scene *sc = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
+  vi_diag dk; /* a key no study changes (model.chain.n) is named as such,
+                 not by what its value breaks elsewhere in the scene */
+  int kst = vi_scene_param_key(sw->sc, key, pkey, 64, &dk);
   int st = vi_scene_edit_create_limited(sw->text, -1, sw->name,
                                         sw->spec.max_depth, &ed, &d);
   if (!st) st = vi_scene_edit_set_number(ed, key, val, &d);
   if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
-  if (!st) st = vi_scene_param_key(sw->sc, key, pkey, 64, &d);
+  if (kst && (!st || strcmp(d.key, key))) { /* the scene blames another key */
+    st = kst;
+    d = dk;
+  }
   int omega = !st && !strcmp(pkey, "forcing.omega");
   if (st) diag_msg(&d, st, err, len);
   else if (vi_param_kind(pkey) == VI_PARAM_MODEL &&

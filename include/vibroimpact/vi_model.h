@@ -37,8 +37,9 @@ typedef struct vi_model vi_model;
  *  no stop (w must be set before setup).  *out receives the handle, NULL on
  *  failure.  @return VI_OK, VI_ERR_DIM (n < 1), VI_ERR_ARG, VI_ERR_NOMEM. */
 VI_API int vi_model_create(int n, vi_model **out);
-/** Destroy a model and set *model to NULL; NULL-safe.  Sims and orbits made
- *  from it must be destroyed first. */
+/** Destroy a model and set *model to NULL; NULL-safe.  Sims, orbits,
+ *  censuses and identifications made from it must be destroyed first
+ *  (they hold it: vi_model_set_param refuses while they exist). */
 VI_API void vi_model_destroy(vi_model **model);
 
 /** Create a model in band storage: n >= 1 coordinates, M, C and K
@@ -151,7 +152,8 @@ VI_API int vi_model_set_damping(vi_model *m, const double *C, int ldc);
 VI_API int vi_model_set_stiffness(vi_model *m, const double *K, int ldk);
 /** Set the forcing f(t) = a cos(omega t) + b sin(omega t) + f0 (rad per time
  *  unit; vectors [n], each may be NULL = 0).  @return VI_OK,
- *  VI_ERR_FREQUENCY (omega <= 0 with a or b non-zero), VI_ERR_NONFINITE. */
+ *  VI_ERR_FREQUENCY (omega <= 0 with a or b non-zero), VI_ERR_NONFINITE,
+ *  VI_ERR_LIMIT (an entry above 1e100 in magnitude). */
 VI_API int vi_model_set_forcing(vi_model *m, double omega, const double *a,
                                 const double *b, const double *f0);
 /** Set the stop w.x <= x_s (w [n], not zero) and the restitution r in

@@ -48,10 +48,12 @@
  *
  * After vi_model_setup the model is otherwise frozen and may be shared by
  * threads; vi_model_set_param is the exception and must not run while any
- * other thread reads the model.  Simulations and orbits made from the
- * model before a change must be destroyed and made again after it (they
- * may hold data derived from the old value).  A thread that changes
- * parameters works on its own copy (vi_model_copy).
+ * other thread reads the model.  A model held by a handle made from it
+ * (a simulation, orbit, census or identification: they keep data derived
+ * from its values) is immutable: vi_model_set_param refuses with
+ * VI_ERR_STATE until they are destroyed, also from their own callbacks
+ * during a run.  A thread that changes parameters works on its own copy
+ * (vi_model_copy; sweeps and continuations make theirs).
  */
 #ifndef VI_PARAM_H
 #define VI_PARAM_H
@@ -76,9 +78,10 @@ typedef enum vi_param_kind_t {
  *  error, whose message (naming the key and the value) is in
  *  vi_model_errmsg.  @return VI_OK, VI_ERR_ARG (NULL, an unknown or
  *  malformed key: the message lists the keys), VI_ERR_DIM (an index out
- *  of range), VI_ERR_NONFINITE, VI_ERR_FREQUENCY (Omega <= 0 with
- *  harmonic forcing), VI_ERR_RESTITUTION, VI_ERR_NOT_PSD (negative
- *  damping), VI_ERR_STATE (damping.zeta before setup),
+ *  of range), VI_ERR_NONFINITE, VI_ERR_LIMIT (|value| > 1e100),
+ *  VI_ERR_FREQUENCY (Omega <= 0 with harmonic forcing), VI_ERR_RESTITUTION, VI_ERR_NOT_PSD (negative
+ *  damping), VI_ERR_STATE (damping.zeta before setup; the model held
+ *  by a simulation, orbit, census or identification made from it),
  *  VI_ERR_UNSUPPORTED (damping.zeta of a band or non-proportional
  *  model, damping.scale of Rayleigh or modal damping), VI_ERR_NOT_SPD
  *  (mass.scale <= 0, or the set-up redone fails), VI_ERR_NOMEM. */

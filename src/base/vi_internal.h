@@ -70,8 +70,20 @@ struct vi_model {
    * bit j of shave when base j is captured */
   double *sbase, sscale[3];
   int shave;
+  /* handles holding the model (simulations, censuses, fits, writers):
+   * vi_model_set_param refuses while any does, since they keep data
+   * derived from it (vi_model_hold; atomic, several threads share one) */
+  int users;
   char errmsg[VI_MSG_LEN];
 };
+
+/* Largest magnitude of a load or parameter value, as a scene's numbers
+ * (VI_SCENE_NUM_MAX): beyond it the energies overflow and the searches
+ * for contact crawl at round-off. */
+#define VI_NUM_MAX 1e100
+
+/* A handle takes (+1) or gives back (-1) its hold on model m (vi_model.c). */
+void vi_model_hold(const vi_model *m, int delta);
 
 /* Stop k's vector w_k [n], its M^-1 w_k [n] and its modal psi_k [n]. */
 static inline const double *vi_stop_w(const vi_model *m, int k)

@@ -135,7 +135,10 @@ static int number(ctx *c, yaml_node_t *nd, const char *key, double *out)
   char *end;
   errno = 0;
   double v = strtod(s, &end);
-  if (end == s || *end || errno == ERANGE)
+  if (end != s && !*end && errno == ERANGE) /* 1e-400, 1e-308: numbers */
+    return fail(c, nd, VI_ERR_LIMIT, key, "%s", "beyond double precision's "
+                "range (it under- or overflows)");
+  if (end == s || *end)
     return fail(c, nd, VI_ERR_PARSE, key, "%s", "expected a number");
   if (!isfinite(v))
     return fail(c, nd, VI_ERR_NONFINITE, key, "%s", "must be finite");
@@ -1071,7 +1074,12 @@ static int parse_root(ctx *c, vi_scene *s)
     return fail(c, root, VI_ERR_PARSE, "stop", "%s", "missing section");
   if ((st = parse_model(c, s, mod))) return st;
   s->a = alloc_n(s, 7);
-  if (!s->a) return fail(c, root, VI_ERR_NOMEM, "", "%s", "out of memory");
+  if (!s->a) {
+    char why[160]; /* a file header's n, say, that no machine could hold */
+    snprintf(why, sizeof why, "out of memory for the scene's vectors of "
+             "%d dofs (%.3g MB)", s->n, 56.0 * s->n / 1048576.0);
+    return fail(c, mod, VI_ERR_NOMEM, "model", "%s", why);
+  }
   s->b = s->a + s->n;
   s->f0 = s->b + s->n;
   s->w = s->f0 + s->n;
@@ -1334,7 +1342,10 @@ int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
   options_finish(s);
   if (s->kind == VI_SCENE_FE) {
     s->fe.at_rest = 1;
-    for (int i = 0; i < s->n; i++)
+    /* only a scene with an initial section can leave rest: a Matrix
+     * Market header of 3e8 dofs read 2 n zeros here, 6 s before the
+     * memory check refused it (issue 29) */
+    for (int i = 0; s->line_initial && i < s->n; i++)
       if (s->x0[i] != 0 || s->v0[i] != 0) s->fe.at_rest = 0;
   }
   *out = s;

@@ -592,6 +592,31 @@ cleanup:
   return st;
 }
 
+/* What ARPACK's dsaupd / dseupd info codes mean (their documentation). */
+static const char *arpack_words(int info)
+{
+  switch (info) {
+  case -1: return "n must be positive";
+  case -2: return "the number of modes must be positive";
+  case -3: return "ncv must exceed the modes and be at most n";
+  case -4: return "the iteration limit must be positive";
+  case -5: return "which must be LM, SM, LA, SA or BE";
+  case -6: return "bmat must be I or G";
+  case -7: return "lworkl is too small";
+  case -8: return "the tridiagonal eigensolve (LAPACK dsteqr) failed";
+  case -9: return "the start vector is zero";
+  case -10: return "iparam(7) must be 1 to 5";
+  case -11: return "mode 1 does not take bmat = G";
+  case -12: return "iparam(1) must be 0 or 1";
+  case -13: return "nev = 1 does not take which = BE";
+  case -14: return "no Ritz value converged";
+  case -15: return "the Ritz values disagree with dsaupd's";
+  case -16: return "howmny = S is not implemented";
+  case -9999: return "no Lanczos factorisation could be built";
+  default: return "an unknown code";
+  }
+}
+
 /* ARPACK's reverse-communication loop on the factor L of K - sigma M and
  * the Ritz pairs: lam [k], Z [n x k].  Called under arpack_lock. */
 static int arpack(vi_fe *fe, cholmod_factor *L, cholmod_common *c, int ncv,
@@ -645,18 +670,14 @@ static int arpack(vi_fe *fe, cholmod_factor *L, cholmod_common *c, int ncv,
   }
   if (info != 0) {
     st = vi_fail(fe->errmsg, VI_ERR_LAPACK, "ARPACK dsaupd fails (info %d: "
-                 "%s)", (int)info, info == -9999 ? "no Lanczos factorisation "
-                 "could be built" : info == -9 ? "the start vector is zero"
-                 : "an argument it was given is out of range");
+                 "%s)", (int)info, arpack_words((int)info));
     goto cleanup;
   }
   dseupd_c(1, "A", sel, lam, Z, n, fe->shift, "G", n, "LM", k, tol, resid,
            ncv, V, n, iparam, ipntr, workd, workl, lworkl, &info);
   if (info != 0) {
     st = vi_fail(fe->errmsg, VI_ERR_LAPACK, "ARPACK dseupd fails (info %d: "
-                 "%s)", (int)info, info == -14 ? "no Ritz value converged"
-                 : info == -15 ? "the Ritz values disagree with dsaupd's"
-                 : "its tridiagonal eigensolve failed");
+                 "%s)", (int)info, arpack_words((int)info));
     goto cleanup;
   }
   if (iparam[4] < k)

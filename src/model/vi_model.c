@@ -146,6 +146,12 @@ void vi_model_destroy(vi_model **model)
 
 const char *vi_model_errmsg(const vi_model *m) { return m ? m->errmsg : ""; }
 
+void vi_model_hold(const vi_model *m, int delta)
+{
+  /* the count is the only field a holder writes: threads share the model */
+  if (m) __atomic_add_fetch(&((vi_model *)m)->users, delta, __ATOMIC_ACQ_REL);
+}
+
 /* Common checks of every setter: not frozen, finite values. */
 static int check_open(vi_model *m)
 {
@@ -163,6 +169,10 @@ static int check_vector(vi_model *m, const char *name, const double *v)
     if (!isfinite(v[i]))
       return vi_fail(m->errmsg, VI_ERR_NONFINITE, "%s(%d) = %g is not finite",
                      name, i + 1, v[i]);
+    else if (fabs(v[i]) > VI_NUM_MAX)
+      return vi_fail(m->errmsg, VI_ERR_LIMIT, "%s(%d) = %g: magnitude above "
+                     "1e100, outside the range where the energies stay "
+                     "finite", name, i + 1, v[i]);
   return VI_OK;
 }
 

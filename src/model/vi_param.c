@@ -370,6 +370,21 @@ static int check_modal(vi_model *m, const char *key)
   return VI_OK;
 }
 
+/* A model held by a handle (a simulation, orbit, census or fit made from
+ * it keeps its flow, forcing and stops as they were; a change under it
+ * was ignored or read freed memory) is immutable until they are gone. */
+static int check_free(vi_model *m, const char *key)
+{
+  int users = __atomic_load_n(&m->users, __ATOMIC_ACQUIRE);
+  if (users <= 0) return VI_OK;
+  return vi_fail(m->errmsg, VI_ERR_STATE, "%s: the model is in use by %d "
+                 "handle%s made from it (simulation, orbit, census or fit), "
+                 "which keep%s data derived from it: destroy %s first, or "
+                 "change a copy (vi_model_copy)", key, users,
+                 users == 1 ? "" : "s", users == 1 ? "s" : "",
+                 users == 1 ? "it" : "them");
+}
+
 /* Validate (key, value) for model m: VI_OK when the setter may run. */
 static int check_set(vi_model *m, const pkey *p, const char *key, double v)
 {
@@ -377,6 +392,9 @@ static int check_set(vi_model *m, const pkey *p, const char *key, double v)
   if (!isfinite(v))
     return vi_fail(m->errmsg, VI_ERR_NONFINITE, "%s = %g is not finite", key,
                    v);
+  if (fabs(v) > VI_NUM_MAX)
+    return vi_fail(m->errmsg, VI_ERR_LIMIT, "%s = %g: magnitude above 1e100, "
+                   "outside the range where the energies stay finite", key, v);
   switch (p->id) {
   case P_OMEGA:
     if (v < 0.0 || (v == 0.0 && (!is_zero(n, m->a) || !is_zero(n, m->b))))
@@ -444,6 +462,7 @@ int vi_model_set_param(vi_model *m, const char *key, double value)
   if (parse_key(key, &p)) return unknown(m->errmsg, key);
   int st = check_set(m, &p, key, value);
   if (st) return st;
+  if ((st = check_free(m, key))) return st;
   switch (p.id) {
   case P_OMEGA: m->omega_f = value; break;
   case P_A: case P_B: case P_F0:
@@ -485,6 +504,7 @@ int vi_model_check_param(const vi_model *m, const char *key, double value)
   vi_model *mm = (vi_model *)m; /* only errmsg is written */
   if (parse_key(key, &p)) return unknown(mm->errmsg, key);
   int st = check_set(mm, &p, key, value);
+  if (!st) st = check_free(mm, key);
   /* Omega, the forcing entries, x_s and r (the table's first keys, up to
    * P_R) and any key of a model not yet set up derive nothing that can
    * fail; damping and the scales redo a set-up, which only doing tells */
@@ -603,6 +623,7 @@ int vi_model_copy(const vi_model *m, vi_model **out)
   vi_model *c = malloc(sizeof *c);
   if (!c) return VI_ERR_NOMEM;
   *c = *m;
+  c->users = 0; /* nothing holds the copy yet */
   c->block = malloc(sizeof(double) * (m->nblock ? m->nblock : 1));
   c->Ws = NULL;
   c->MinvW = NULL;

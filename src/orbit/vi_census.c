@@ -62,6 +62,7 @@ int vi_census_create(const vi_model *model, int n, int m, vi_census **out)
     return VI_ERR_NOMEM;
   }
   c->m = model;
+  vi_model_hold(model, 1);
   c->N = model->n;
   c->n = n;
   c->mi = m;
@@ -100,6 +101,7 @@ void vi_census_destroy(vi_census **cp)
   free(c->o);
   free(c->x0);
   vi_held_cache_destroy(&c->hc);
+  vi_model_hold(c->m, -1);
   free(c);
   *cp = NULL;
 }

@@ -76,6 +76,7 @@ typedef struct ex_data {
   /* the flight */
   double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
   int p, lmax, handover;
+  unsigned polls;                   /* ex_search's nodes (the host's poll) */
   double hp, tg;                    /* grid step and start */
   vi_grid g;                        /* the grid t_k = tg + k hp: active
                                        modes [na] and every stop's g_k,
@@ -345,13 +346,14 @@ static int ex_polish(ex_data *d, int l, double a, const double *w,
 }
 
 /* First t in (a, a + h0 2^-l] with g(t) >= 0, left first; state (w, wd) at
- * a.  1 with *tc: found; 0: none; < 0: error. */
+ * a.  1 with *tc: found; 0: none; VI_CANCELLED (polled); < 0: error. */
 static int ex_search(ex_data *d, int l, double a, const double *w,
                      const double *wd, double ca, double sa, double ga,
                      double gda, double gb, double gdb, double *tc)
 {
   double wdt = ldexp(d->h0, -l), b = a + wdt, cf[4], e4 = herm_err(d->cs, wdt);
   if (b <= d->cs->skip) return 0;
+  if (vi_sim_cancelled_every(d->s, &d->polls)) return VI_CANCELLED;
   /* below the stop by more than g's round-off: nothing here (a touch
    * within round-off is no contact, and a motion resting on the stop must
    * not send the bisection into every leaf) */
@@ -798,7 +800,7 @@ static int ex_g_search(void *dp, double tk, double tb, double *tstar,
     d->cs = e;
     int hit = ex_search(d, d->p, tk, d->g.wk, d->g.wdk, d->g.ck, d->g.sk,
                         gk[k], gdk[k], gn[k], gdn[k], &tc);
-    if (hit < 0) return hit;
+    if (hit < 0 || hit == VI_CANCELLED) return hit;
     if (hit && tc < best) {
       best = tc;
       found = k;

@@ -65,7 +65,7 @@ int vi_grid_step(vi_sim *s, vi_grid *g, const vi_grid_ops *ops, void *d,
     }
     if (!g->srch) {
       int st = ops->search(d, tk, tb, &g->tstar, &g->found);
-      if (st < 0) return st;
+      if (st < 0 || st == VI_CANCELLED) return st;
       g->srch = 1;
     }
     if (g->found >= 0 && g->tstar <= t_end)

@@ -72,6 +72,8 @@ struct vi_held {
   hd_fun f[2 * VI_CONTACT_MAX + 64];
   double hq;
   int64_t evals;
+  const vi_sim *s;               /* the host's poll in hd_search */
+  unsigned polls;
 };
 
 static void hd_phase_free(vi_held *H)
@@ -301,12 +303,14 @@ static double hd_root(vi_held *H, const hd_fun *e, double a, double fa,
   return b;
 }
 
-/* First t in (a, b] with f(t) >= 0, left first. 1 with *tc, 0: none. */
+/* First t in (a, b] with f(t) >= 0, left first. 1 with *tc, 0: none,
+ * VI_CANCELLED: the host cancelled (polled: 2^HD_DEPTH leaves at worst). */
 static int hd_search(vi_held *H, const hd_fun *e, int depth, double a,
                      double fa, double fda, double b, double fb, double fdb,
                      double *tc)
 {
   double w = b - a, w2 = w * w;
+  if (vi_sim_cancelled_every(H->s, &H->polls)) return VI_CANCELLED;
   if (vi_herm_max(fa, fda, fb, fdb, w, NULL) + e->B4 * w2 * w2 / 384.0 <
       e->noise)
     return 0;
@@ -330,7 +334,8 @@ static int hd_search(vi_held *H, const hd_fun *e, int depth, double a,
   }
   double mid = a + 0.5 * w, fm, fdm;
   hd_at(H, e, mid, &fm, &fdm);
-  if (hd_search(H, e, depth + 1, a, fa, fda, mid, fm, fdm, tc)) return 1;
+  int st = hd_search(H, e, depth + 1, a, fa, fda, mid, fm, fdm, tc);
+  if (st) return st;
   return hd_search(H, e, depth + 1, mid, fm, fdm, b, fb, fdb, tc);
 }
 
@@ -540,6 +545,7 @@ int vi_held_start(vi_sim *s)
     H->wd0[i] = ud - vi_harm(&p, 1, c->pA[i], c->pB[i], 0.0);
   }
   H->t0 = s->t;
+  H->s = s;
   for (int i = 0; i < na; i++) {
     H->g.wk[i] = H->w0[H->act[i]];
     H->g.wdk[i] = H->wd0[H->act[i]];
@@ -696,9 +702,10 @@ static int hd_g_search(void *hp, double tk, double tb, double *tstar,
   int found = -1;
   for (int j = 0; j < H->nf; j++) {
     double tc;
-    if (hd_search(H, H->f + j, 0, tk, H->g.fk[j], H->g.fdk[j], tb,
-                  H->g.fn[j], H->g.fdn[j], &tc) &&
-        tc < best) {
+    int hit = hd_search(H, H->f + j, 0, tk, H->g.fk[j], H->g.fdk[j], tb,
+                        H->g.fn[j], H->g.fdn[j], &tc);
+    if (hit == VI_CANCELLED) return hit;
+    if (hit && tc < best) {
       best = tc;
       found = j;
     }

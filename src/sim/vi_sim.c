@@ -66,6 +66,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
     s->wnorms[k] = sqrt(vi_dot(n, w, w));
   }
   s->harmonic = vi_forcing_harmonic(model);
+  vi_model_hold(model, 1); /* its flow and forcing are derived from it */
   *out = s;
   return VI_OK;
 }
@@ -161,6 +162,7 @@ void vi_sim_destroy(vi_sim **sim)
   vi_force_free(s);
   vi_xflow_destroy(&s->flow);
   gsl_root_fsolver_free(s->brent);
+  vi_model_hold(s->m, -1);
   free(s->pend);
   free(s->sbuf);
   free(s->z);

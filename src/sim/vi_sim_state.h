@@ -194,6 +194,13 @@ static inline int vi_sim_cancelled(const vi_sim *s)
 {
   return s->cancel_fn && s->cancel_fn(s->cancel_user);
 }
+/* The same poll every 1024th call (*count counts them), for recursive
+ * searches whose nodes cost nanoseconds but may number 2^60 at round-off
+ * (a load near the range's end). */
+static inline int vi_sim_cancelled_every(const vi_sim *s, unsigned *count)
+{
+  return !(++*count & 1023u) && vi_sim_cancelled(s);
+}
 
 
 /* The sticking set (vi_sim_state.c): make the stops list [cnt] the stops

@@ -53,6 +53,7 @@ int vi_identify_create(const vi_model *base, int np, vi_identify **out)
   vi_identify *id = calloc(1, sizeof *id);
   if (!id) return VI_ERR_NOMEM;
   id->base = base;
+  vi_model_hold(base, 1); /* a fit changes copies of it, never it */
   id->N = base->n;
   id->np = np;
   id->fit_shift = 1;
@@ -103,6 +104,7 @@ void vi_identify_destroy(vi_identify **idp)
   free(id->acc.v);
   free(id->dudp);
   free(id->mre);
+  vi_model_hold(id->base, -1);
   free(id);
   *idp = NULL;
 }

@@ -956,6 +956,115 @@ static void test_orbit_misuse(void **state)
 /* Parameters by key: NULL handles, keys and outputs, unknown keys,
  * indices out of range, values out of their domain; a model before setup
  * takes the model keys but not the modal ratios. */
+/* Issue 29: a model held by a simulation (or orbit, census, fit) made from
+ * it is immutable, also from the simulation's own event callback during a
+ * run; the run then goes on exactly as with an untouched model. */
+typedef struct held_ctx {
+  vi_model *m;
+  int calls, refused;
+  vi_test_events ev;
+} held_ctx;
+
+static int change_in_run(const vi_event *e, void *user)
+{
+  static const char *const keys[] = {"stiffness.scale", "mass.scale",
+                                     "forcing.omega", "forcing.a[1]",
+                                     "stops[1].xs", "damping.alpha"};
+  static const double vals[] = {0.0, 2.0, 1.3, 0.7, 0.2, 0.1};
+  held_ctx *c = user;
+  for (int k = 0; k < 6; k++) {
+    c->calls++;
+    if (vi_model_set_param(c->m, keys[k], vals[k]) == VI_ERR_STATE &&
+        strstr(vi_model_errmsg(c->m), "in use") &&
+        strstr(vi_model_errmsg(c->m), keys[k]))
+      c->refused++;
+  }
+  return vi_test_collect(e, &c->ev);
+}
+
+static int cancel_after(void *user)
+{
+  return ++*(int *)user > 20000;
+}
+
+/* A load at the range's end (1e99 on a unit oscillator 0.13 from its
+ * stop) pins the mass to the stop in ever shorter chatter: the run may
+ * crawl, but the host's cancel is polled in every search. */
+static void test_load_at_range_end(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_sdof(1.0, 0.02, 1.0, 1e99, 0.0, 0.5, 0.13332, 0.8);
+  for (int meth = 0; meth < 2; meth++) {
+    int polls = 0;
+    vi_sim *s = vi_test_sim(m, meth ? VI_METHOD_ADAMS : VI_METHOD_EXACT,
+                            1e-10, 1e-12, NULL, NULL, NULL);
+    vi_sim_set_cancel(s, cancel_after, &polls, NULL);
+    int st = vi_sim_run(s, 100.0);
+    assert_true(st == VI_CANCELLED || st < 0);
+    assert_true(polls <= 20001);
+    vi_sim_destroy(&s);
+  }
+  vi_model_destroy(&m);
+}
+
+static void test_param_in_use(void **state)
+{
+  (void)state;
+  static const int methods[] = {VI_METHOD_EXACT, VI_METHOD_ADAMS};
+  for (int im = 0; im < 2; im++) {
+    vi_model *m = vi_test_fig2(), *ref = vi_test_fig2();
+    held_ctx c = {m, 0, 0, {0}};
+    vi_test_events er = {0};
+    vi_sim *s = vi_test_sim(m, methods[im], 1e-9, 1e-11, NULL, NULL, NULL);
+    assert_int_equal(vi_sim_set_event_callback(s, change_in_run, &c, NULL), VI_OK);
+    assert_int_equal(vi_sim_run(s, 150.0), VI_OK);
+    assert_int_equal(vi_test_run(ref, methods[im], 1e-9, 1e-11, NULL, NULL,
+                                 150.0, &er), VI_OK);
+    /* every change refused, the motion that of the untouched model */
+    assert_true(c.ev.count > 10);
+    assert_int_equal(c.refused, c.calls);
+    assert_int_equal(c.ev.count, er.count);
+    for (int i = 0; i < er.count; i++) {
+      assert_true(c.ev.t[i] == er.t[i]);
+      assert_true(c.ev.vn[i] == er.vn[i]);
+    }
+    /* the check says the same; reading is allowed */
+    double val;
+    assert_int_equal(vi_model_check_param(m, "forcing.omega", 1.0), VI_ERR_STATE);
+    assert_int_equal(vi_model_param(m, "forcing.omega", &val), VI_OK);
+    assert_true(val == 0.9);
+    vi_sim_destroy(&s);
+    /* released with the last holder */
+    assert_int_equal(vi_model_set_param(m, "mass.scale", 2.0), VI_OK);
+    vi_test_events_free(&c.ev);
+    vi_test_events_free(&er);
+    vi_model_destroy(&ref);
+    vi_model_destroy(&m);
+  }
+  /* the other handles holding a model: orbit, census, identification; a
+   * sweep and a continuation change their own copies */
+  vi_model *m = vi_test_fig2();
+  vi_orbit *o = NULL;
+  vi_census *ce = NULL;
+  vi_identify *id = NULL;
+  vi_sweep *sw = NULL;
+  assert_int_equal(vi_orbit_create(m, &o), VI_OK);
+  assert_int_equal(vi_census_create(m, 1, 1, &ce), VI_OK);
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_sweep_create(m, &sw), VI_OK);
+  vi_orbit_destroy(&o);
+  vi_census_destroy(&ce);
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.0), VI_ERR_STATE);
+  assert_non_null(strstr(vi_model_errmsg(m), "1 handle "));
+  vi_identify_destroy(&id);
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.0), VI_OK);
+  double om;
+  assert_int_equal(vi_sweep_param(sw, "forcing.omega", &om), VI_OK);
+  assert_true(om == 0.9); /* the sweep's copy kept its value */
+  vi_sweep_destroy(&sw);
+  vi_model_destroy(&m);
+}
+
 static void test_param_misuse(void **state)
 {
   (void)state;
@@ -972,6 +1081,14 @@ static void test_param_misuse(void **state)
   assert_err_msg(vi_model_set_param(m, "forcing.omega", INFINITY), vi_model_errmsg(m));
   assert_err_msg(vi_model_set_param(m, "damping.zeta[3]", 0.1), vi_model_errmsg(m));
   assert_err_msg(vi_model_set_param(m, "damping.zeta", -0.1), vi_model_errmsg(m));
+  /* issue 29: a load beyond the scene's 1e100 (the run never ended), a
+   * mass so small that omega^2 overflows (NaN frequencies) */
+  assert_int_equal(vi_model_set_param(m, "forcing.a[1]", 1e200), VI_ERR_LIMIT);
+  assert_non_null(strstr(vi_model_errmsg(m), "1e100"));
+  assert_int_equal(vi_model_check_param(m, "forcing.f0[2]", -1e101), VI_ERR_LIMIT);
+  assert_int_equal(vi_model_set_param(m, "mass.scale", 1e-308), VI_ERR_NONFINITE);
+  assert_non_null(strstr(vi_model_errmsg(m), "mass.scale"));
+  assert_true(vi_model_omega(m)[0] > 0.6 && vi_model_omega(m)[0] < 0.62);
   /* the check says what the setter would, and changes nothing */
   assert_err(vi_model_check_param(NULL, "forcing.omega", 1.0));
   assert_err_msg(vi_model_check_param(m, "forcing.omgea", 1.0), vi_model_errmsg(m));
@@ -1012,6 +1129,8 @@ static void test_param_misuse(void **state)
   assert_err_msg(vi_model_set_param(raw, "stop.xs", 1.0), vi_model_errmsg(raw));
   assert_int_equal(vi_model_set_param(raw, "damping.zeta", 0.1), VI_ERR_STATE);
   assert_int_equal(vi_model_set_param(raw, "forcing.a[1]", 1.0), VI_OK);
+  const double big[2] = {0.0, 1e200};
+  assert_int_equal(vi_model_set_forcing(raw, 1.0, NULL, big, NULL), VI_ERR_LIMIT);
   assert_int_equal(vi_model_set_param(raw, "forcing.omega", 0.0),
                    VI_ERR_FREQUENCY); /* harmonic forcing needs Omega */
   vi_model_destroy(&raw);
@@ -1453,6 +1572,8 @@ int main(void)
       cmocka_unit_test(test_impact_multi_misuse),
       cmocka_unit_test(test_orbit_misuse),
       cmocka_unit_test(test_param_misuse),
+      cmocka_unit_test(test_param_in_use),
+      cmocka_unit_test(test_load_at_range_end),
       cmocka_unit_test(test_sweep_misuse),
       cmocka_unit_test(test_census_misuse),
       cmocka_unit_test(test_truncated_misuse),

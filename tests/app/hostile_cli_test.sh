@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Hostile input to the commands (issue 29, item 6): each case ends at once
+# with a message that names the fault, or says what it costs and stops at
+# Ctrl-C; never a hang, a silent exit 0 or a message about something else.
+#   hostile_cli_test.sh APP SRC [N]   (N: the huge header's dofs, 3e8)
+set -uo pipefail
+app=$1
+src=$2
+big=${3:-300000000}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+no() { echo "FAIL: $*"; fail=1; }
+# expect STATUS TEXT CMD...: the exit status and a piece of stderr
+expect() {
+  local want=$1 text=$2
+  shift 2
+  timeout 20 "$@" > /dev/null 2> "$tmp/err"
+  local rc=$?
+  [ "$rc" -eq "$want" ] || no "$* : exit $rc, want $want ($(head -c 300 "$tmp/err"))"
+  grep -qF -- "$text" "$tmp/err" || no "$* : no '$text' in: $(head -c 300 "$tmp/err")"
+}
+
+# a Matrix Market header claiming 3e8 dofs: refused by --max-memory from
+# the header alone (it read 2 n zeros first: 6.5 s), by every command
+printf '%%%%MatrixMarket matrix coordinate real symmetric\n%d %d 1\n1 1 1.0\n' \
+  "$big" "$big" > "$tmp/K.mtx"
+cp "$tmp/K.mtx" "$tmp/M.mtx"
+printf 'model:\n  matrix_market: {M: M.mtx, K: K.mtx}\n  modes: 2\nforcing: {omega: 0.85}\nstop: {dof: 1, xs: 0.05, r: 0.75}\n' \
+  > "$tmp/big.yaml"
+for cmd in run truncation energy; do
+  expect 2 "more than the 100 MB allowed" timeout 3 "$app" $cmd "$tmp/big.yaml" --max-memory 100M
+done
+expect 2 "more than the 100 MB allowed" timeout 3 "$app" sweep "$tmp/big.yaml" \
+  --param forcing.omega --from 0.8 --to 0.9 --steps 2 --max-memory 100M
+
+# one parameter on both axes of a map (one axis was ignored), also spelt
+# two ways
+expect 2 "both name forcing.omega" "$app" basins --param forcing.omega --from 0.8 \
+  --to 0.9 --steps 2 --param2 forcing.omega --from2 0.8 --to2 0.9 --steps2 2
+expect 2 "both name stops[1].xs" "$app" basins --param stop.xs --from 0.1 --to 0.2 \
+  --steps 2 --param2 'stops[1].xs' --from2 0.1 --to2 0.2 --steps2 2
+
+# --help to a full device is a lost output, as for the other commands
+for cmd in sweep basins run; do
+  "$app" $cmd --help > /dev/full 2> "$tmp/err"
+  [ $? -eq 1 ] || no "$cmd --help > /dev/full: exit status"
+  grep -q "cannot write the standard output" "$tmp/err" || no "$cmd --help > /dev/full: message"
+done
+
+# a count beyond the limit says the limit
+expect 2 "in [1, 100000000] (got '1000000000')" "$app" sweep --param forcing.omega \
+  --from 0.8 --to 0.9 --steps 1000000000
+
+# a mass so small that omega^2 overflows (NaN frequencies, exit 0 once):
+# a scene's number that underflows is named so, the model key refused
+expect 2 "under- or overflows" "$app" run "$src/share/scenes/chain5.yaml" \
+  --set model.chain.m=1e-308
+expect 2 "under- or overflows" "$app" sweep --param mass.scale --from 1e-308 \
+  --to 1 --steps 2
+
+# a key no study changes is named as such, not what its value breaks
+expect 2 "model.chain.n: not a parameter a study can change" "$app" sweep \
+  "$src/share/scenes/chain5.yaml" --param model.chain.n --from 2 --to 4 --steps 3
+
+# a reference of 198 modes (minutes of orbit search): said before the
+# search, and Ctrl-C ends it (exit 130)
+"$app" truncation "$src/share/scenes/beam_fe.yaml" --modes 1..3 --reference 198 \
+  > /dev/null 2> "$tmp/trunc" &
+pid=$!
+for _ in $(seq 200); do
+  grep -q "may take minutes" "$tmp/trunc" && break
+  sleep 0.1
+done
+grep -q "reference's 198 modes reach omega = 1.4" "$tmp/trunc" ||
+  no "truncation --reference 198: no word of its cost: $(cat "$tmp/trunc")"
+kill -INT $pid
+for _ in $(seq 50); do kill -0 $pid 2> /dev/null || break; sleep 0.1; done
+if kill -0 $pid 2> /dev/null; then
+  no "truncation: Ctrl-C did not end it within 5 s"
+  kill -KILL $pid
+fi
+wait $pid
+[ $? -eq 130 ] || no "truncation after SIGINT: exit status, want 130"
+
+[ $fail -eq 0 ] && echo "hostile command-line input: all cases answered"
+exit $fail
