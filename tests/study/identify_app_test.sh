@@ -150,4 +150,60 @@ expect "outside the range" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2
 expect "writes the displacement column x" "$app" identify "$scenes/cantilever4.yaml" --data "$dir/acc.csv" --fit stop.r -o "$dir/acc.h5"
 expect "has no column 'x3'" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2both.csv" --fit stop.r --dof 1,3
 expect "needs SCENE, --data and --fit" "$app" identify "$scenes/fig2.yaml" --fit stop.r
+
+# hostile input (issue 29 d, e, f, i, j, p)
+# d: the recording (by any name) or the scene as -o is refused, untouched
+cp "$dir/fig2.csv" "$dir/rec.csv" && ln -sf rec.csv "$dir/reclink.csv"
+expect "is the recording --data" "$app" identify "$scenes/fig2.yaml" --data "$dir/rec.csv" --fit stop.r -o "$dir/rec.csv"
+expect "is the recording --data" "$app" identify "$scenes/fig2.yaml" --data "$dir/reclink.csv" --fit stop.r -o "$dir/./rec.csv"
+cmp -s "$dir/rec.csv" "$dir/fig2.csv" || bad "the recording was overwritten"
+cp "$scenes/fig2.yaml" "$dir/scene.yaml"
+"$app" identify "$dir/scene.yaml" --data "$dir/fig2.csv" --fit stop.r -o "$dir/scene.yaml" > /dev/null 2>&1 && bad "the scene as -o accepted"
+cmp -s "$dir/scene.yaml" "$scenes/fig2.yaml" || bad "the scene was overwritten"
+# e: after an error an existing -o keeps what it held (no .part left)
+echo "keep" > "$dir/old.h5"
+expect "does not repeat" "$app" identify "$scenes/fig2.yaml" --data "$dir/sine.csv" --fit stop.r -o "$dir/old.h5"
+[ "$(cat "$dir/old.h5")" = keep ] && [ ! -e "$dir/old.h5.part" ] || bad "old.h5 replaced after an error"
+# f: a NUL byte is an error naming its line and column, not a dropped sample
+$py - "$dir/fig2.csv" "$dir/nul.csv" <<'PY'
+import sys
+l = open(sys.argv[1], 'rb').read().split(b'\n')
+l[10] = l[10][:5] + b'\0' + l[10][5:]
+open(sys.argv[2], 'wb').write(b'\n'.join(l))
+PY
+expect "nul.csv:11:6: a NUL byte" "$app" identify "$scenes/fig2.yaml" --data "$dir/nul.csv" --fit stop.r
+# i: a key the scene writes (model.chain.m, by re-reading the scene) with one
+# it does not (forcing.b[1], set on the model): both fitted, m = 1 within 3 stderr
+"$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit 'forcing.b[1],model.chain.m' \
+  --json > "$dir/bm.json" || bad "forcing.b[1],model.chain.m exit $?"
+$py - "$dir/bm.json" <<'PY' || bad "forcing.b[1],model.chain.m JSON"
+import json, sys
+f = json.load(open(sys.argv[1]))["fit"]
+m, b = f["model.chain.m"], f["forcing.b[1]"]
+assert abs(m["value"] - 1) < 3 * m["stderr"] and m["stderr"] < 1e-3, m
+# b sin adds to a cos only at second order once the phase is fitted: |b| small
+assert abs(b["value"]) < 0.05, b
+PY
+# j: a UTF-8 BOM and CRLF lines (a spreadsheet's CSV): the same fit as the plain
+# file; lone-CR line ends are lines too, and a bad header is shown cut short
+"$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.r --json > "$dir/plain.json"
+{ printf '\xEF\xBB\xBF'; sed 's/$/\r/' "$dir/fig2.csv"; } > "$dir/bom.csv"
+"$app" identify "$scenes/fig2.yaml" --data "$dir/bom.csv" --fit stop.r --json > "$dir/bom.json" || bad "BOM CSV exit $?"
+tr '\n' '\r' < "$dir/fig2.csv" > "$dir/cr.csv"
+"$app" identify "$scenes/fig2.yaml" --data "$dir/cr.csv" --fit stop.r --json > "$dir/cr.json" || bad "CR CSV exit $?"
+$py - "$dir/plain.json" "$dir/bom.json" "$dir/cr.json" <<'PY' || bad "BOM/CR fits differ"
+import json, sys
+a, b, c = (json.load(open(f))["fit"]["stop.r"]["value"] for f in sys.argv[1:])
+assert a == b == c, (a, b, c)
+PY
+{ printf 't;x\r'; for i in $(seq 1 3000); do printf '%d;0.5\r' $i; done; } > "$dir/semi.csv"
+expect "semi.csv:1: the header needs columns t and x, v or a (has: t;x)" \
+  "$app" identify "$scenes/fig2.yaml" --data "$dir/semi.csv" --fit stop.r
+[ "$(wc -c < "$dir/err")" -lt 200 ] || bad "the CR-only file echoed whole: $(wc -c < "$dir/err") bytes"
+{ printf 'u;x'; for i in $(seq 1 3000); do printf ';%d' $i; done; echo; } > "$dir/long.csv"
+expect "long.csv:1: the header needs columns.*\.\.\.)" "$app" identify "$scenes/fig2.yaml" --data "$dir/long.csv" --fit stop.r
+[ "$(wc -c < "$dir/err")" -lt 200 ] || bad "a long header echoed whole"
+# p: --dof beyond int is echoed as given, not wrapped
+expect "dof 99999999999: the model has 2 coordinates" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.r --dof 99999999999
+expect "'99999999999999999999999' is not a coordinate" "$app" identify "$scenes/fig2.yaml" --data "$dir/fig2.csv" --fit stop.r --dof 99999999999999999999999
 exit $fail
