@@ -34,6 +34,35 @@ for k in ("iterations", "shift", "r_energy_balance"):
     assert k in j, k
 PY
 [ -f "$dir/beam.h5" ] || bad "no beam.h5"
+# the HDF5 file holds what the JSON reports: every solution and the
+# profile intervals (doc/identify.md's layout), the residual its own x - model
+if $py -c "import h5py" 2>/dev/null; then
+  $py - "$dir/beam.json" "$dir/beam.h5" <<'PY' || bad "beam.h5 against the JSON"
+import json, sys
+import h5py
+import numpy as np
+j = json.load(open(sys.argv[1]))
+with h5py.File(sys.argv[2], "r") as f:
+    g = f["identify"]
+    r = j["fit"]["stop.r"]
+    assert np.allclose(g["profile_lo95"][0], r["profile_ci95"][0], rtol=1e-9)
+    assert np.allclose(g["profile_hi95"][0], r["profile_ci95"][1], rtol=1e-9)
+    assert np.allclose(g["residual"][:], g["x"][:] - g["model"][:], rtol=0, atol=1e-15)
+    s = g["solutions"]
+    sol = j["solutions"]
+    assert s.attrs["count"] == len(sol) and bool(s.attrs["unique"]) == j["unique"]
+    assert s["value"].shape == (len(sol), 1)
+    for k, q in enumerate(sol):
+        fq = q["fit"]["stop.r"]
+        assert np.isclose(s["value"][k, 0], fq["value"], rtol=1e-9), (k, fq)
+        assert np.isclose(s["stderr"][k, 0], fq["stderr"], rtol=1e-9)
+        assert np.allclose(s["lo95"][k, 0], fq["ci95"][0], rtol=1e-9)
+        assert np.allclose([s["profile_lo95"][k, 0], s["profile_hi95"][k, 0]], fq["profile_ci95"], rtol=1e-9)
+        assert (s["orbit_n"][k], s["orbit_m"][k]) == (q["orbit"]["n"], q["orbit"]["m"])
+        assert np.isclose(s["residual_ratio"][k], q["residual_ratio"], rtol=1e-9)
+        assert np.isclose(s["delta_chi2"][k], q["delta_chi2"], rtol=1e-9, atol=1e-12)
+PY
+fi
 if $py -c "import h5py, matplotlib" 2>/dev/null; then
   $py "$src/share/plot_identify.py" "$dir/beam.h5" --out "$dir" > /dev/null || bad "plot"
   [ "$(stat -c %s "$dir/beam_identify.png" 2>/dev/null || echo 0)" -gt 10000 ] || bad "plot size"
