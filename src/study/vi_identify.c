@@ -487,7 +487,7 @@ int vi_identify_run(vi_identify *id)
     return vi_fail(id->errmsg, VI_ERR_ARG,
                    "the recording spans %g time units, less than one period "
                    "%g of its motion", span, nd * T);
-  id->noise = id->sigma > 0.0 ? id->sigma : vi_id_noise_estimate(id);
+  id->noise = id->sigma > 0.0 ? id->sigma : vi_id_noise_estimate(id, nd * T);
   st = id->global ? vi_id_global(id, nd) : local_only(id, nd);
   /* profile intervals of every minimum reported */
   for (int k = 0; !st && k < id->nfound; k++) st = vi_id_profile(id, &id->sol[k]);

@@ -189,10 +189,10 @@ static int same_min(const vi_identify *id, const vi_id_sol *a, const vi_id_sol *
  * chi2_0.95(P) (a minimum 145 noise variances worse is explained by the
  * noise on its own, but the best explains the data better beyond doubt).
  * s is the stated noise, or the estimated one capped at
- * 1.1 times the best's residual level (the 4th differences hold the
- * signal's own too: an accelerometer's, with the higher modes aliased at
- * 64 samples per period, are mostly signal), and never below the best's
- * level (a model error the best shares). */
+ * 1.1 times the best's residual level (an estimate is an upper bound: on
+ * a record of about one period only the 4th differences are left, and
+ * they hold the signal's own too), and never below the best's level (a
+ * model error the best shares). */
 static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
 {
   int n = *ns_, keep = 0, P = id->np + id->fit_shift, dof = id->ns - P;

@@ -123,7 +123,7 @@ double vi_id_scan_shift(vi_identify *id, double *cost_out);
 int vi_id_choose_orbit(vi_identify *id, int nd, double *cost);
 
 /* vi_identify_stats.c */
-double vi_id_noise_estimate(const vi_identify *id);
+double vi_id_noise_estimate(const vi_identify *id, double P);
 int vi_id_uncertainty(vi_identify *id, const gsl_matrix *J, double ssr);
 void vi_id_energy_route(vi_identify *id);
 

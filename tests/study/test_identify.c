@@ -304,7 +304,11 @@ static void beam_jitter(void **state)
   fit f = fit_r(m, &s, 0.6, 0);
   assert_true(f.conv);
   assert_true(fabs(f.p[0] - 0.75) < 3 * f.se[0]);
-  assert_true(isnan(f.noise)); /* no 4th differences of non-uniform samples */
+  /* no 4th differences of non-uniform samples, but the 10 periods folded
+   * onto one: each sample against its neighbours in phase (640 samples:
+   * the median's spread is about 5 %) */
+  print_message("jitter: noise estimate %.4g of 1e-4\n", f.noise);
+  assert_close(f.noise / 1e-4, 1.0, 0.15);
   assert_close(f.rms / 1e-4, 1.0, 0.1);
   vi_model_destroy(&m);
 }
@@ -597,7 +601,7 @@ static void beam_accel(void **state)
   gsl_rng_free(g);
   for (int way = 0; way < 2; way++) {
     vi_identify *id = NULL;
-    double p, se, rms;
+    double p, se, rms, nz;
     assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
     assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
     assert_int_equal(vi_identify_set_sensors(id, s.ns, s.t, way ? s.x : NULL, NULL, sa.x), VI_OK);
@@ -605,11 +609,17 @@ static void beam_accel(void **state)
     if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
     assert_int_equal(st, VI_OK);
     assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
-    assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, NULL, NULL), VI_OK);
-    print_message("accel way %d r %.5f +- %.5f rms %.3g\n", way, p, se, rms);
+    assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, &nz, NULL, NULL, NULL), VI_OK);
+    double sig = 0.002 * (way ? peak_to_peak(&r) : hi - lo);
+    print_message("accel way %d r %.5f +- %.5f rms %.3g noise estimate %.3g of %.3g\n",
+                  way, p, se, rms, nz, sig);
     assert_true(fabs(p - 0.75) < 0.02 && fabs(p - 0.75) < 3 * se);
     /* the residual is the first channel's noise: a's alone, x's with x */
-    assert_close(rms / (0.002 * (way ? peak_to_peak(&r) : hi - lo)), 1.0, 0.1);
+    assert_close(rms / sig, 1.0, 0.1);
+    /* and so is the estimate, from the recording alone (the 4th
+     * differences of a alone were 11 times it: its higher modes); 3200
+     * samples: the median's spread is about 2.5 % */
+    assert_close(nz / sig, 1.0, 0.1);
     vi_identify_destroy(&id);
   }
   series_free(&s);
