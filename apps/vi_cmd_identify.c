@@ -755,6 +755,19 @@ static void json_keys(const ident *I, const double *p, const double *se,
   printf("}");
 }
 
+/* The smallest separation of a solution from the best (noise variances
+ * over the record). */
+static double sep_of(const ident *I, const fit_result *f)
+{
+  double dmin = HUGE_VAL;
+  for (int k = 1; k < f->nsol; k++) {
+    double d = NAN;
+    vi_identify_solution_separation(I->id, k, &d, NULL);
+    dmin = fmin(dmin, d);
+  }
+  return dmin;
+}
+
 /* "solutions": every fit the data admit, best first. */
 static void json_solutions(const ident *I, const fit_result *f)
 {
@@ -773,6 +786,12 @@ static void json_solutions(const ident *I, const fit_result *f)
     json_num(ratio);
     printf(", \"delta_chi2\": ");
     json_num(dc);
+    double sd = NAN, sl = NAN;
+    vi_identify_solution_separation(I->id, k, &sd, &sl);
+    printf(", \"separation\": ");
+    json_num(sd);
+    printf(", \"record_factor\": ");
+    json_num(sl);
     printf("}");
   }
   printf("]");
@@ -819,19 +838,20 @@ static void identify_json(const ident *I, const fit_result *f)
 }
 
 /* The fits the data admit beside the best: each, and what would separate
- * them (a longer record: the residuals' difference grows with its length,
- * the noise's spread with its square root). */
+ * them (vi_identify_solution_separation: the record length at this noise
+ * for which the likelihood-ratio test tells the closest pair apart). */
 static void identify_text_solutions(const ident *I, const fit_result *f)
 {
   if (f->unique) return;
   printf("  NOT UNIQUE: the recording is explained to its noise level by");
-  double rms0 = f->rms, worst = f->rms, dc[64];
+  double dc[64], L = 0.0;
   for (int k = 0; k < f->nsol && k < 64; k++) {
-    double p[MAXKEY], se[MAXKEY], rms;
+    double p[MAXKEY], se[MAXKEY], lk = NAN;
     int n, m;
     vi_identify_solution(I->id, k, p, se, NULL, NULL, NULL);
-    vi_identify_solution_summary(I->id, k, &n, &m, &rms, NULL, &dc[k], NULL);
-    worst = fmax(worst, rms);
+    vi_identify_solution_summary(I->id, k, &n, &m, NULL, NULL, &dc[k], NULL);
+    vi_identify_solution_separation(I->id, k, NULL, &lk);
+    if (k > 0) L = isnan(lk) || isnan(L) ? NAN : fmax(L, lk);
     printf("%s P(%d,%d) with", k ? (k + 1 == f->nsol ? " and by" : ", by") : "", n, m);
     for (int j = 0; j < f->np; j++)
       printf("%s %s = %.4g +- %.2g", j ? "," : "", I->b.key[j], p[j], se[j]);
@@ -842,24 +862,15 @@ static void identify_text_solutions(const ident *I, const fit_result *f)
       printf("  (solution %d's residual is at the noise level, but %.3g noise "
              "variances above the best's: a likelihood-ratio test prefers the "
              "best)\n", k + 1, dc[k]);
-  /* rejecting the worst at 95 %: its excess N (rms^2 - rms0^2) must pass
-   * 1.645 sqrt(2 N) s^2 */
-  double ex = worst * worst - rms0 * rms0, s2 = fmax(rms0 * rms0, f->nz * f->nz);
-  int ns = I->rec.ns;
-  if (ex > 0.0 && isfinite(s2)) {
-    double L = pow(1.645 * s2 * sqrt(2.0) / (ex * sqrt((double)ns)), 2.0);
-    if (L > 100.0)
-      printf("  to tell them apart: no practical record length at this noise (over "
-             "100 times longer); a second sensor (another dof, v or a) or another "
-             "forcing level where their responses differ\n");
-    else
-      printf("  to tell them apart: a record about %.0f times longer at this noise,"
-             " or a second sensor (another dof, v or a) or another forcing level"
-             " where their responses differ\n", fmax(L, 1.5));
-  } else {
-    printf("  to tell them apart: a second sensor (another dof, v or a) or another "
-           "forcing level where their responses differ\n");
-  }
+  const char *other = "a second sensor (another dof, v or a) or another forcing "
+                      "level where their responses differ";
+  if (!(L <= 100.0)) /* NaN included: no estimate */
+    printf("  to tell them apart: %s%s\n", isnan(L) ? "" : "no practical record "
+           "length at this noise (over 100 times longer); ", other);
+  else
+    printf("  to tell them apart: a record about %.2g times longer at this noise "
+           "(their responses differ by %.3g noise variances over this one), or %s\n",
+           fmax(L, 1.1), f->nsol > 1 ? sep_of(I, f) : NAN, other);
 }
 
 /* The text report's warnings: the fit's noise ratio, correlations, the

@@ -262,6 +262,16 @@ VI_API int vi_identify_solution_profile(const vi_identify *id, int k,
 VI_API int vi_identify_solution_summary(const vi_identify *id, int k, int *n,
                                         int *m, double *rms, double *ratio,
                                         double *dchi2, double *t0);
+/** What would separate solution k from the best: *d = sum_i (y_0(t_i) -
+ *  y_k(t_i))^2 / s^2, their responses' difference over the recording in
+ *  noise variances (the likelihood-ratio statistic's mean were either
+ *  true; 0 for k = 0), and *length, the multiple of the record's length
+ *  at this noise for which the test at 95 % rejects the wrong one with
+ *  95 % power: y^2 / d, y = (3.29 + sqrt(3.29^2 + 4 chi2_0.95(P))) / 2
+ *  (NaN for k = 0, or where a model could not be rebuilt).  Either
+ *  pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
+VI_API int vi_identify_solution_separation(const vi_identify *id, int k,
+                                           double *d, double *length);
 /** The ranges [lo, hi] [np] the global stage's starts covered (the
  *  starting values themselves without it). */
 VI_API int vi_identify_search_range(const vi_identify *id, double *lo,

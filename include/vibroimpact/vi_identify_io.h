@@ -19,7 +19,8 @@
  *                           is vi_identify_solution k):
  *     value, stderr, lo95, hi95, profile_lo95, profile_hi95, flags,
  *     profile_flags [nsol x np]; orbit_n, orbit_m, rms_residual,
- *     residual_ratio, delta_chi2 [nsol]; attributes unique (1: one
+ *     residual_ratio, delta_chi2, separation, record_factor [nsol]
+ *     (vi_identify_solution_separation); attributes unique (1: one
  *     solution), count (nsol)
  *   attributes: keys (comma-separated), shift, shift_stderr, period,
  *     orbit_n, orbit_m, converged, iterations, rms_residual, noise, rcond,

@@ -30,7 +30,7 @@ static int solutions(hid_t g, const vi_identify *id, int np)
   int unique = 1, nsol = vi_identify_nsolutions(id, &unique), bad = 0;
   if (nsol < 1) return 1;
   size_t nt = (size_t)nsol * np;
-  double *b = malloc(sizeof(double) * (8 * nt + 5 * (size_t)nsol));
+  double *b = malloc(sizeof(double) * (8 * nt + 7 * (size_t)nsol));
   int *fi = malloc(sizeof(int) * 2 * (size_t)np);
   if (!b || !fi) {
     free(b);
@@ -39,13 +39,15 @@ static int solutions(hid_t g, const vi_identify *id, int np)
   }
   double *val = b, *se = val + nt, *lo = se + nt, *hi = lo + nt, *pl = hi + nt,
          *ph = pl + nt, *fl = ph + nt, *pfl = fl + nt, *on = pfl + nt,
-         *om = on + nsol, *rms = om + nsol, *rat = rms + nsol, *dc = rat + nsol;
+         *om = on + nsol, *rms = om + nsol, *rat = rms + nsol, *dc = rat + nsol,
+         *sd = dc + nsol, *sl = sd + nsol;
   for (int k = 0; k < nsol && !bad; k++) {
     size_t o = (size_t)k * np;
     int n = 0, m = 0;
     bad |= vi_identify_solution(id, k, val + o, se + o, lo + o, hi + o, fi) != VI_OK;
     bad |= vi_identify_solution_profile(id, k, pl + o, ph + o, fi + np) != VI_OK;
     bad |= vi_identify_solution_summary(id, k, &n, &m, rms + k, rat + k, dc + k, NULL) != VI_OK;
+    bad |= vi_identify_solution_separation(id, k, sd + k, sl + k) != VI_OK;
     for (int j = 0; j < np; j++) {
       fl[o + j] = fi[j];
       pfl[o + j] = fi[np + j];
@@ -67,10 +69,11 @@ static int solutions(hid_t g, const vi_identify *id, int np)
     const double *tv[8] = {val, se, lo, hi, pl, ph, fl, pfl};
     for (int q = 0; q < 8; q++)
       bad |= vi_h5_put(s, tn[q], H5T_NATIVE_DOUBLE, 2, d2, tv[q], NULL);
-    static const char *const cn[5] = {"orbit_n", "orbit_m", "rms_residual",
-                                      "residual_ratio", "delta_chi2"};
-    const double *cv[5] = {on, om, rms, rat, dc};
-    for (int q = 0; q < 5; q++)
+    static const char *const cn[7] = {"orbit_n", "orbit_m", "rms_residual",
+                                      "residual_ratio", "delta_chi2",
+                                      "separation", "record_factor"};
+    const double *cv[7] = {on, om, rms, rat, dc, sd, sl};
+    for (int q = 0; q < 7; q++)
       bad |= vi_h5_put(s, cn[q], H5T_NATIVE_DOUBLE, 1, &d1, cv[q], NULL);
     bad |= vi_h5_attr_int(s, "unique", unique) | vi_h5_attr_int(s, "count", nsol);
   }

@@ -583,6 +583,16 @@ int vi_identify_solution_summary(const vi_identify *id, int k, int *n, int *m,
   return VI_OK;
 }
 
+int vi_identify_solution_separation(const vi_identify *id, int k, double *d,
+                                    double *length)
+{
+  NEED_SOL(id, k);
+  const vi_id_sol *s = &id->sol[k];
+  if (d) *d = k == 0 ? 0.0 : s->dsep;
+  if (length) *length = k == 0 ? NAN : s->lsep;
+  return VI_OK;
+}
+
 int vi_identify_search_range(const vi_identify *id, double *lo, double *hi)
 {
   NEED_DONE(id);

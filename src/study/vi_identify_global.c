@@ -182,6 +182,53 @@ static int same_min(const vi_identify *id, const vi_id_sol *a, const vi_id_sol *
   return 1;
 }
 
+/* The first channel of minimum a at the recording's samples into y [ns];
+ * non-zero where its model cannot be built. */
+static int response_of(vi_identify *id, const vi_id_sol *a, double *y)
+{
+  vi_model *m = NULL;
+  vi_xflow *xf = NULL;
+  int N = id->N, st = vi_id_make_model(id, a->p, &m);
+  if (!st) st = vi_xflow_create(m, &xf);
+  double *z = st ? NULL : malloc(sizeof(double) * 4 * N);
+  if (!st && !z) st = VI_ERR_NOMEM;
+  for (int i = 0; !st && i < id->ns; i++) {
+    double s = id->t[i] + a->t0;
+    vi_id_orbit_state(m, xf, &a->o, s, z, z + (size_t)2 * N, NULL, NULL, NULL);
+    y[i] = vi_id_channel(id, m, s, z, id->ych, z + (size_t)2 * N);
+  }
+  free(z);
+  vi_xflow_destroy(&xf);
+  vi_model_destroy(&m);
+  return st;
+}
+
+/* How far the best and minimum k lie apart: D = sum (y_0 - y_k)^2 / s^2
+ * over the samples, the mean of the likelihood-ratio statistic were either
+ * true (its spread 2 sqrt(D)), growing with the record's length L.  The
+ * test at level c = chi2_0.95(P) rejects the wrong one with 95 % power
+ * once L D - 1.645 * 2 sqrt(L D) >= c: L = y^2 / D,
+ * y = (3.29 + sqrt(3.29^2 + 4 c)) / 2 (21 / D for P = 2). */
+static void separation(vi_identify *id, vi_id_sol *s, int n, double s2, double c)
+{
+  double *y = malloc(sizeof(double) * 2 * id->ns);
+  for (int k = 0; k < n; k++) s[k].dsep = s[k].lsep = NAN;
+  if (!y || response_of(id, &s[0], y)) {
+    free(y);
+    return;
+  }
+  double yq = 0.5 * (3.29 + sqrt(3.29 * 3.29 + 4.0 * c));
+  for (int k = 1; k < n; k++) {
+    if (response_of(id, &s[k], y + id->ns)) continue;
+    double d = 0.0;
+    for (int i = 0; i < id->ns; i++) d += (y[i] - y[id->ns + i]) * (y[i] - y[id->ns + i]);
+    s[k].dsep = d / s2;
+    s[k].lsep = s[k].dsep > 0.0 ? yq * yq / s[k].dsep : INFINITY;
+  }
+  s[0].dsep = 0.0;
+  free(y);
+}
+
 /* Rank the minima, drop repeats, and count those the data cannot tell from
  * the best: a residual the noise explains, sum of squared residuals of the
  * first channel <= s^2 chi2_0.95(ns - P), and no worse than the best by
@@ -224,6 +271,7 @@ static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
       id->nfound = k + 1;
     else break;
   id->unique = id->nfound == 1;
+  separation(id, s, id->nfound, s2, dlim);
 }
 
 int vi_id_global(vi_identify *id, int nd)

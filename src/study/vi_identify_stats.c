@@ -296,7 +296,3 @@ void vi_id_energy_route(vi_identify *id)
   if (RE >= 0.0 && RE <= id->KE) id->r12 = sqrt(1.0 - RE / id->KE);
 }
 
-/* The model's orbit the recording shows, period nd forcing periods: the
- * transient's motion and every stable admissible P(nd, 1) orbit of the
- * impact-phase scan (the start may lie where several coexist, or where the
- * transient settles on another), the one closest to the recording. */

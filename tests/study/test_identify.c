@@ -572,6 +572,48 @@ static void beam_not_unique(void **state)
   }
   assert_true(cover >= 1);
   assert_int_equal(types & 3, 3); /* P(1,1) and P(1,2) */
+  /* what separates them: their responses differ by D noise variances over
+   * the record (the likelihood-ratio statistic's mean, so the realised
+   * dchi2 of a few lies within its spread 2 sqrt(D) of it), and the record
+   * length that makes the test reject the wrong one with 95 % power is
+   * y^2 / D, y = (3.29 + sqrt(3.29^2 + 4 chi2_0.95(2))) / 2 = 4.59415 */
+  double d0, l0, d1, l1, dc1;
+  assert_int_equal(vi_identify_solution_separation(id, 0, &d0, &l0), VI_OK);
+  assert_true(d0 == 0.0 && isnan(l0));
+  assert_int_equal(vi_identify_solution_separation(id, 1, &d1, &l1), VI_OK);
+  assert_int_equal(vi_identify_solution_summary(id, 1, NULL, NULL, NULL, NULL, &dc1, NULL), VI_OK);
+  print_message("not unique: D %.3g, record factor %.3g, dchi2 %.3g\n", d1, l1, dc1);
+  assert_true(d1 > 0.0 && fabs(dc1 - d1) < 3.0 * 2.0 * sqrt(d1) + 1.0);
+  assert_close(l1 * d1 / (4.59415 * 4.59415), 1.0, 1e-5);
+  assert_int_equal(vi_identify_solution_separation(id, ns, &d1, &l1), VI_ERR_ARG);
+  /* the P(1,2) solution from the impact-phase scan alone (issue 28 item
+   * 5): from r = 0.35 the transient settles on P(2,3), where the local fit
+   * used to stop ("start nearer"); the two-impact scan offers the P(1,2)
+   * orbit, and the local fit ends on the global stage's P(1,2) minimum */
+  double q12 = NAN;
+  for (int k = 0; k < ns; k++) {
+    double p;
+    int n, mm;
+    vi_identify_solution(id, k, &p, NULL, NULL, NULL, NULL);
+    vi_identify_solution_summary(id, k, &n, &mm, NULL, NULL, NULL, NULL);
+    if (n == 1 && mm == 2) q12 = p;
+  }
+  vi_identify_destroy(&id);
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.35, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_global(id, 0), VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  int st = vi_identify_run(id);
+  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+  assert_int_equal(st, VI_OK);
+  double p12, rms, ratio;
+  int n12, m12;
+  assert_int_equal(vi_identify_params(id, &p12, NULL, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(vi_identify_solution_summary(id, 0, &n12, &m12, &rms, &ratio, NULL, NULL), VI_OK);
+  print_message("local from 0.35: P(%d,%d) r %.6f (global stage's P(1,2): %.6f), ratio %.3f\n",
+                n12, m12, p12, q12, ratio);
+  assert_true(n12 == 1 && m12 == 2 && ratio < 1.1);
+  assert_close(p12, q12, 1e-5);
   vi_identify_destroy(&id);
   series_free(&s);
   vi_model_destroy(&m);
