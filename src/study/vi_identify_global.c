@@ -97,21 +97,40 @@ static int starts(vi_identify *id, double *u)
   return ns;
 }
 
-/* The model and its orbit at the start p: the candidate, or non-zero. */
-static int at_start(vi_identify *id, int nd, cand *c)
+/* The model and its orbits at the start p: one candidate per orbit type
+ * found there (P(n,1), P(n,2), the transient's other), appended to c
+ * (*nc grows; their buffers allocated here); best [VI_ID_SLOTS] is work.
+ * VI_OK, or non-zero where the start gives none. */
+static int at_start(vi_identify *id, int nd, const double *p, orb *best,
+                    cand *c, int *nc)
 {
   vi_model *m = NULL;
+  double bc[VI_ID_SLOTS];
   vi_id_drop_cur(id);
   id->have_pred = 0;
-  int st = vi_id_make_model(id, c->p, &m);
+  int st = vi_id_make_model(id, p, &m);
   if (st) return st;
   id->cur = m;
   if ((st = vi_xflow_create(m, &id->xf))) return st;
-  if ((st = vi_id_choose_orbit(id, nd, &c->cost))) return st;
-  memcpy(id->pcur, c->p, sizeof(double) * id->np);
+  if ((st = vi_id_orbit_types(id, nd, best, bc))) return st;
+  memcpy(id->pcur, p, sizeof(double) * id->np);
   id->have_cur = 1;
-  c->t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : id->shift0;
-  vi_id_orb_copy(&c->o, &id->o, id->N);
+  for (int s = 0; s < VI_ID_SLOTS; s++) {
+    if (!(bc[s] < HUGE_VAL)) continue;
+    cand *ck = &c[*nc];
+    if ((st = vi_id_orb_alloc(&ck->o, id->N))) {
+      free(ck->o.x);
+      free(ck->o.v);
+      ck->o.x = ck->o.v = NULL;
+      return st;
+    }
+    memcpy(ck->p, p, sizeof(double) * id->np);
+    vi_id_orb_copy(&id->o, &best[s], id->N);
+    ck->cost = bc[s];
+    ck->t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : id->shift0;
+    vi_id_orb_copy(&ck->o, &best[s], id->N);
+    (*nc)++;
+  }
   return VI_OK;
 }
 
@@ -279,33 +298,36 @@ int vi_id_global(vi_identify *id, int nd)
   int np = id->np, N = id->N, st = VI_OK, nc = 0, nsol = 0;
   for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j]);
   double *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
-  cand *c = calloc((size_t)8 * MAXP, sizeof *c);
+  cand *c = calloc((size_t)8 * MAXP * VI_ID_SLOTS, sizeof *c);
+  orb best[VI_ID_SLOTS];
   char why[VI_MSG_LEN] = "";
-  if (!u || !c) {
+  memset(best, 0, sizeof best);
+  for (int q = 0; q < VI_ID_SLOTS && u && c && !st; q++) st = vi_id_orb_alloc(&best[q], N);
+  if (!u || !c || st) {
     free(u);
     free(c);
+    for (int q = 0; q < VI_ID_SLOTS; q++) {
+      free(best[q].x);
+      free(best[q].v);
+    }
     return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
   }
   int ns = starts(id, u);
   double cell = np == 1 ? 1.0 / 8 : np == 2 ? 1.0 / 5 : pow(1.0 / ns, 1.0 / np);
   for (int k = 0; k < ns && !st; k++) {
-    cand *ck = &c[nc];
+    double p[MAXP];
     for (int j = 0; j < np; j++)
-      ck->p[j] = id->glo[j] + u[(size_t)k * np + j] * (id->ghi[j] - id->glo[j]);
-    if ((st = vi_id_orb_alloc(&ck->o, N))) break;
-    int sk = at_start(id, nd, ck);
+      p[j] = id->glo[j] + u[(size_t)k * np + j] * (id->ghi[j] - id->glo[j]);
+    int sk = at_start(id, nd, p, best, c, &nc);
     if (id->cancel_hit) st = VI_CANCELLED;
     else if (sk == VI_ERR_NOMEM) st = sk;
     else if (sk) snprintf(why, sizeof why, "%s", id->errmsg);
-    if (st || sk) { /* a start that gave no candidate, or the last one */
-      free(ck->o.x);
-      free(ck->o.v);
-      ck->o.x = ck->o.v = NULL;
-    } else {
-      nc++;
-    }
   }
   free(u);
+  for (int q = 0; q < VI_ID_SLOTS; q++) {
+    free(best[q].x);
+    free(best[q].v);
+  }
   if (!st && nc == 0)
     st = vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
                  "at none of %d starts over the parameters' ranges does the "
