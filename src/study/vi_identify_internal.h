@@ -136,6 +136,11 @@ int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found);
 
 /* vi_identify_stats.c */
 double vi_id_noise_estimate(const vi_identify *id, double P);
+/* The recording folded with period P: the robust spread of each sample
+ * about the line through its neighbours in phase (the noise where P is
+ * its period); NaN where the neighbours are not much closer in phase
+ * than successive samples. */
+double vi_id_fold(const vi_identify *id, double P);
 int vi_id_uncertainty(vi_identify *id, const gsl_matrix *J, double ssr);
 void vi_id_energy_route(vi_identify *id);
 

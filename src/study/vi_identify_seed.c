@@ -101,8 +101,20 @@ int vi_id_data_period(vi_identify *id, double T)
 {
   double rat[MAX_N + 1], best = HUGE_VAL;
   int known = 0;
+  double mean = 0.0, var = 0.0;
+  for (int i = 0; i < id->ns; i++) mean += id->y[i] / id->ns;
+  for (int i = 0; i < id->ns; i++) var += (id->y[i] - mean) * (id->y[i] - mean);
+  double rms = sqrt(var / id->ns);
   for (int n = 1; n <= MAX_N; n++) {
+    /* the change over nT from the linear interpolant of the samples, or,
+     * where smaller, the recording folded with period nT: an
+     * accelerometer's signal sampled at a rate not locked to the forcing
+     * is too rich in harmonics to interpolate between samples (61.3
+     * samples per period: no repeat over T, one over 3 T where 3 x 61.3
+     * is almost whole), not between periods */
     rat[n] = repeat_ratio(id, n * T);
+    double fr = rms > 0.0 ? vi_id_fold(id, n * T) / rms : NAN;
+    if (isfinite(fr) && !(rat[n] <= fr)) rat[n] = fr;
     if (isfinite(rat[n])) {
       best = fmin(best, rat[n]);
       known = n;

@@ -70,7 +70,7 @@ static int cmp_phase(const void *a, const void *b)
  * for noise; the median of |e| scaled so is robust to the impacts.  NaN
  * where the neighbours are not much closer in phase than successive
  * samples (a record of about one period: nothing to fold). */
-static double noise_fold(const vi_identify *id, double P)
+double vi_id_fold(const vi_identify *id, double P)
 {
   int ns = id->ns;
   if (!(P > 0.0) || ns < 16 || !(id->t[ns - 1] - id->t[0] > 1.5 * P)) return NAN;
@@ -108,7 +108,7 @@ static double noise_fold(const vi_identify *id, double P)
  * P off, when Omega is fitted from a start away from the truth). */
 double vi_id_noise_estimate(const vi_identify *id, double P)
 {
-  double a = noise_diff4(id), b = noise_fold(id, P);
+  double a = noise_diff4(id), b = vi_id_fold(id, P);
   return isnan(a) ? b : isnan(b) ? a : fmin(a, b);
 }
 
