@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_identify_io.h"
@@ -69,7 +70,7 @@ typedef struct csv {
   long lno;
   int ncol, col[13], nnames;
   const char *names[13]; /* t, x, v, f, a and the xJ of --dof I,J,... */
-  char xn[8][16];
+  char xn[8][24];
 } csv;
 
 static const char *const csv_names[5] = {"t", "x", "v", "f", "a"};
@@ -170,6 +171,21 @@ static int rec_push(recording *r, const csv *c, const double *val)
   return 0;
 }
 
+/* The line for a message: up to its end, at most len - 4 characters (a
+ * file with no line ends is one long line), "..." when cut. */
+static const char *shown(const char *line, char *buf, size_t len)
+{
+  size_t n = strcspn(line, "\r\n");
+  if (n + 1 > len) {
+    memcpy(buf, line, len - 4);
+    memcpy(buf + len - 4, "...", 4);
+  } else {
+    memcpy(buf, line, n);
+    buf[n] = 0;
+  }
+  return buf;
+}
+
 /* One non-comment line: the header, or a sample; 0, or the exit status
  * after a message. */
 static int csv_line(csv *c, recording *r)
@@ -180,15 +196,17 @@ static int csv_line(csv *c, recording *r)
   if (!c->ncol) {
     c->ncol = k;
     if (c->col[0] < 0 || (c->col[1] < 0 && c->col[2] < 0 && c->col[4] < 0)) {
+      char sh[80];
       fprintf(stderr, "vibroimpact: %s:%ld: the header needs columns t and "
-              "x, v or a (has: %s)", c->path, c->lno, c->line);
+              "x, v or a (has: %s)\n", c->path, c->lno, shown(c->line, sh, sizeof sh));
       return 2;
     }
     for (int j = 5; j < c->nnames; j++)
       if (c->col[j] < 0) {
+        char sh[80];
         fprintf(stderr, "vibroimpact: %s:%ld: --dof lists coordinate %s, the header "
-                "has no column '%s' (has: %s)", c->path, c->lno, c->names[j] + 1,
-                c->names[j], c->line);
+                "has no column '%s' (has: %s)\n", c->path, c->lno, c->names[j] + 1,
+                c->names[j], shown(c->line, sh, sizeof sh));
         return 2;
       }
     return 0;
@@ -206,9 +224,28 @@ static int csv_line(csv *c, recording *r)
   return rec_push(r, c, val);
 }
 
+/* A NUL byte in the line buf [len] read at c->lno (strtod and strchr
+ * would stop there and drop the rest silently): 1 after a message naming
+ * its line and column (lone \r counted as line ends), else 0. */
+static int nul_byte(const csv *c, const char *buf, size_t len)
+{
+  const char *z = memchr(buf, 0, len);
+  if (!z) return 0;
+  long lno = c->lno;
+  const char *ls = buf;
+  for (const char *q = buf; q < z; q++)
+    if (*q == '\r' && q + 1 < z && q[1] != '\n') {
+      lno++;
+      ls = q + 1;
+    }
+  fprintf(stderr, "vibroimpact: %s:%ld:%d: a NUL byte: not a text recording\n",
+          c->path, lno, (int)(z - ls) + 1);
+  return 1;
+}
+
 /* Read the CSV; 0, or 2 after printing file:line:column: why (1 out of
  * memory). */
-static int read_csv(const char *path, recording *r, int nxe, const int *dofs)
+static int read_csv(const char *path, recording *r, int nxe, const long *dofs)
 {
   memset(r, 0, sizeof *r);
   r->nxe = nxe;
@@ -225,18 +262,34 @@ static int read_csv(const char *path, recording *r, int nxe, const int *dofs)
   for (int j = 0; j < 13; j++) c.col[j] = -1;
   for (int j = 0; j < 5; j++) c.names[j] = csv_names[j];
   for (int k = 0; k < nxe; k++) {
-    snprintf(c.xn[k], sizeof c.xn[k], "x%d", dofs[k]);
+    snprintf(c.xn[k], sizeof c.xn[k], "x%ld", dofs[k]);
     c.names[5 + k] = c.xn[k];
   }
   c.nnames = 5 + nxe;
   int rc = 0;
-  while (!rc && getline(&line, &lcap, fp) >= 0) {
+  ssize_t len;
+  while (!rc && (len = getline(&line, &lcap, fp)) >= 0) {
     c.lno++;
-    c.line = line;
-    const char *p = line;
-    while (*p == ' ' || *p == '\t') p++;
-    if (*p == '#' || *p == '\n' || *p == '\r' || !*p) continue;
-    rc = csv_line(&c, r);
+    if (nul_byte(&c, line, (size_t)len)) {
+      rc = 2;
+      break;
+    }
+    char *seg = line;
+    /* a UTF-8 byte-order mark (spreadsheets write one) is no part of the header */
+    if (c.lno == 1 && !strncmp(seg, "\xEF\xBB\xBF", 3)) seg += 3;
+    /* lines end with \n, \r\n or a lone \r (old Mac files: one getline) */
+    for (;;) {
+      char *cr = strchr(seg, '\r');
+      if (cr) *cr = 0;
+      c.line = seg;
+      const char *p = seg;
+      while (*p == ' ' || *p == '\t') p++;
+      if (!(*p == '#' || *p == '\n' || !*p)) rc = csv_line(&c, r);
+      if (!cr || rc) break;
+      seg = cr + 1;
+      if (*seg == '\n' || !*seg) break;
+      c.lno++;
+    }
   }
   if (!rc && !c.ncol) {
     fprintf(stderr, "vibroimpact: %s: no header line (t,x[,v][,a][,f])\n", path);
@@ -258,6 +311,7 @@ typedef struct builder {
   const char *text, *name; /* the scene after --set */
   int nk;
   const char *key[MAXKEY];
+  int onmodel[MAXKEY]; /* a model key the scene does not write (forcing.b[1]) */
 } builder;
 
 /* The model at trial values by re-reading the scene with the keys set. */
@@ -269,9 +323,15 @@ static int build(const double *p, void *user, vi_model **out)
   vi_diag d;
   *out = NULL;
   int st = vi_scene_edit_create(b->text, -1, b->name, &e, &d);
-  for (int j = 0; !st && j < b->nk; j++) st = vi_scene_edit_set_number(e, b->key[j], p[j], &d);
+  for (int j = 0; !st && j < b->nk; j++)
+    if (!b->onmodel[j]) st = vi_scene_edit_set_number(e, b->key[j], p[j], &d);
   if (!st) st = vi_scene_edit_parse(e, &sc, &d);
   if (!st) st = vi_scene_create_model(sc, out, &d);
+  /* keys the scene does not write cannot be edited into it: set on the
+   * model, as without the builder */
+  for (int j = 0; !st && j < b->nk; j++)
+    if (b->onmodel[j]) st = vi_model_set_param(*out, b->key[j], p[j]);
+  if (st) vi_model_destroy(out);
   vi_scene_destroy(&sc);
   vi_scene_edit_destroy(&e);
   return st;
@@ -349,7 +409,8 @@ static void usage(FILE *f)
     "  --dof I[,J..] the recording is coordinate I (1-based), not w.x; further\n"
     "                coordinates J from columns named xJ (several dofs at once)\n"
     "  --noise S     the recording's noise standard deviation, if known\n"
-    "                (else estimated from its 4th differences)\n"
+    "                (else estimated from the recording: its periods folded\n"
+    "                onto one, or its 4th differences)\n"
     "  --unstable    also fit unstable orbits (a model that cannot hold the\n"
     "                recorded motion: which shape would it need?)\n"
     "  --set K=V     override a scene key first\n"
@@ -367,7 +428,8 @@ static void usage(FILE *f)
 typedef struct id_args {
   const char *data, *fit, *out, *scene_path;
   const char *sets[64], *ranges[MAXKEY];
-  int nsets, nranges, json, dof, unstable, local, nxdof, xdof[8];
+  int nsets, nranges, json, unstable, local, nxdof;
+  long dof, xdof[8]; /* --dof: 1-based coordinates (0: w.x) */
   double noise;
 } id_args;
 
@@ -391,15 +453,18 @@ static int identify_option(int c, int argc, char **argv, id_args *a)
     a->ranges[a->nranges++] = optarg;
     break;
   case 'D':
-    a->dof = (int)strtol(optarg, &end, 10);
+    /* long, compared with the model's size later: no int wraps
+     * 99999999999 into a coordinate */
+    errno = 0;
+    a->dof = strtol(optarg, &end, 10);
     a->nxdof = 0;
     while (*end == ',' && a->nxdof < 8 && a->dof >= 1) {
       char *s0 = end + 1;
-      a->xdof[a->nxdof] = (int)strtol(s0, &end, 10);
+      a->xdof[a->nxdof] = strtol(s0, &end, 10);
       if (end == s0 || a->xdof[a->nxdof] < 1) break;
       a->nxdof++;
     }
-    if (end == optarg || *end || a->dof < 1) {
+    if (end == optarg || *end || a->dof < 1 || errno == ERANGE) {
       fprintf(stderr, "vibroimpact: --dof: '%s' is not a coordinate number "
               "(1, 2, ...) or a list of at most 9\n", optarg);
       return 2;
@@ -517,6 +582,7 @@ static int identify_key(ident *I, const char *k)
   } else if (vi_param_kind(k) == VI_PARAM_MODEL &&
              vi_model_param(I->model, k, &I->start[I->b.nk]) == VI_OK) {
     /* a model key the scene does not write (stops[2].r, damping.zeta) */
+    I->b.onmodel[I->b.nk] = 1;
   } else {
     fprintf(stderr, "vibroimpact: %s: --fit %s: %s\n", I->a.scene_path, k,
             gs == VI_ERR_PARSE ? kd.message : "not a numeric key");
@@ -583,12 +649,12 @@ static int identify_setup(ident *I)
     return 2;
   }
   if (a->dof > n) {
-    fprintf(stderr, "vibroimpact: --dof %d: the model has %d coordinates\n", a->dof, n);
+    fprintf(stderr, "vibroimpact: --dof %ld: the model has %d coordinates\n", a->dof, n);
     return 2;
   }
   for (int k = 0; k < a->nxdof; k++)
     if (a->xdof[k] > n) {
-      fprintf(stderr, "vibroimpact: --dof ...,%d: the model has %d coordinates\n",
+      fprintf(stderr, "vibroimpact: --dof ...,%ld: the model has %d coordinates\n",
               a->xdof[k], n);
       return 2;
     }
@@ -689,6 +755,19 @@ static void json_keys(const ident *I, const double *p, const double *se,
   printf("}");
 }
 
+/* The smallest separation of a solution from the best (noise variances
+ * over the record). */
+static double sep_of(const ident *I, const fit_result *f)
+{
+  double dmin = HUGE_VAL;
+  for (int k = 1; k < f->nsol; k++) {
+    double d = NAN;
+    vi_identify_solution_separation(I->id, k, &d, NULL);
+    dmin = fmin(dmin, d);
+  }
+  return dmin;
+}
+
 /* "solutions": every fit the data admit, best first. */
 static void json_solutions(const ident *I, const fit_result *f)
 {
@@ -707,6 +786,12 @@ static void json_solutions(const ident *I, const fit_result *f)
     json_num(ratio);
     printf(", \"delta_chi2\": ");
     json_num(dc);
+    double sd = NAN, sl = NAN;
+    vi_identify_solution_separation(I->id, k, &sd, &sl);
+    printf(", \"separation\": ");
+    json_num(sd);
+    printf(", \"record_factor\": ");
+    json_num(sl);
     printf("}");
   }
   printf("]");
@@ -753,19 +838,20 @@ static void identify_json(const ident *I, const fit_result *f)
 }
 
 /* The fits the data admit beside the best: each, and what would separate
- * them (a longer record: the residuals' difference grows with its length,
- * the noise's spread with its square root). */
+ * them (vi_identify_solution_separation: the record length at this noise
+ * for which the likelihood-ratio test tells the closest pair apart). */
 static void identify_text_solutions(const ident *I, const fit_result *f)
 {
   if (f->unique) return;
   printf("  NOT UNIQUE: the recording is explained to its noise level by");
-  double rms0 = f->rms, worst = f->rms, dc[64];
+  double dc[64], L = 0.0;
   for (int k = 0; k < f->nsol && k < 64; k++) {
-    double p[MAXKEY], se[MAXKEY], rms;
+    double p[MAXKEY], se[MAXKEY], lk = NAN;
     int n, m;
     vi_identify_solution(I->id, k, p, se, NULL, NULL, NULL);
-    vi_identify_solution_summary(I->id, k, &n, &m, &rms, NULL, &dc[k], NULL);
-    worst = fmax(worst, rms);
+    vi_identify_solution_summary(I->id, k, &n, &m, NULL, NULL, &dc[k], NULL);
+    vi_identify_solution_separation(I->id, k, NULL, &lk);
+    if (k > 0) L = isnan(lk) || isnan(L) ? NAN : fmax(L, lk);
     printf("%s P(%d,%d) with", k ? (k + 1 == f->nsol ? " and by" : ", by") : "", n, m);
     for (int j = 0; j < f->np; j++)
       printf("%s %s = %.4g +- %.2g", j ? "," : "", I->b.key[j], p[j], se[j]);
@@ -776,24 +862,15 @@ static void identify_text_solutions(const ident *I, const fit_result *f)
       printf("  (solution %d's residual is at the noise level, but %.3g noise "
              "variances above the best's: a likelihood-ratio test prefers the "
              "best)\n", k + 1, dc[k]);
-  /* rejecting the worst at 95 %: its excess N (rms^2 - rms0^2) must pass
-   * 1.645 sqrt(2 N) s^2 */
-  double ex = worst * worst - rms0 * rms0, s2 = fmax(rms0 * rms0, f->nz * f->nz);
-  int ns = I->rec.ns;
-  if (ex > 0.0 && isfinite(s2)) {
-    double L = pow(1.645 * s2 * sqrt(2.0) / (ex * sqrt((double)ns)), 2.0);
-    if (L > 100.0)
-      printf("  to tell them apart: no practical record length at this noise (over "
-             "100 times longer); a second sensor (another dof, v or a) or another "
-             "forcing level where their responses differ\n");
-    else
-      printf("  to tell them apart: a record about %.0f times longer at this noise,"
-             " or a second sensor (another dof, v or a) or another forcing level"
-             " where their responses differ\n", fmax(L, 1.5));
-  } else {
-    printf("  to tell them apart: a second sensor (another dof, v or a) or another "
-           "forcing level where their responses differ\n");
-  }
+  const char *other = "a second sensor (another dof, v or a) or another forcing "
+                      "level where their responses differ";
+  if (!(L <= 100.0)) /* NaN included: no estimate */
+    printf("  to tell them apart: %s%s\n", isnan(L) ? "" : "no practical record "
+           "length at this noise (over 100 times longer); ", other);
+  else
+    printf("  to tell them apart: a record about %.2g times longer at this noise "
+           "(their responses differ by %.3g noise variances over this one), or %s\n",
+           fmax(L, 1.1), f->nsol > 1 ? sep_of(I, f) : NAN, other);
 }
 
 /* The text report's warnings: the fit's noise ratio, correlations, the
@@ -867,9 +944,19 @@ int vi_cmd_identify_main(int argc, char **argv)
   if (rc >= 0) return rc;
   char target[VI_APP_PATH];
   vi_diag d;
-  if (I.a.out && vi_output_resolve(I.a.out, target, sizeof target, &d)) {
-    fprintf(stderr, "vibroimpact: %s\n", d.message);
-    return 1;
+  if (I.a.out) {
+    /* the scene or the recording as -o would be overwritten: usage errors */
+    int st = vi_output_check(I.a.out, VI_OUTPUT_REGULAR, I.a.scene_path, target,
+                             sizeof target, NULL, &d);
+    if (st) {
+      fprintf(stderr, "vibroimpact: %s\n", d.message);
+      return st == VI_ERR_ARG ? 2 : 1;
+    }
+    if (vi_output_same(target, I.a.data)) {
+      fprintf(stderr, "vibroimpact: -o %s is the recording --data %s: it would be "
+              "overwritten\n", I.a.out, I.a.data);
+      return 2;
+    }
   }
   if ((rc = identify_scene(&I)) || (rc = identify_keys(&I)) ||
       (rc = read_csv(I.a.data, &I.rec, I.a.nxdof, I.a.xdof)) || (rc = identify_setup(&I)) ||
@@ -880,7 +967,9 @@ int vi_cmd_identify_main(int argc, char **argv)
   if (I.a.json) identify_json(&I, &f);
   else identify_text(&I, &f);
   rc = f.conv ? 0 : 1;
-  if (I.a.out) {
+  if (I.a.out && !f.conv) /* an existing file keeps what it held */
+    fprintf(stderr, "vibroimpact: the fit did not converge: %s not written\n", I.a.out);
+  if (I.a.out && f.conv) {
     write_h5_fn w = load_writer();
     /* the writer commits through TARGET.part: a signal now removes it */
     char part[VI_APP_PATH + 8] = "";

@@ -9,8 +9,10 @@
  * smallest stderr of r, the scatter of the estimates over the seeds, how
  * many best fits lie within 0.01 and 1.96 stderr of the truth ("hit"),
  * how many 95 % intervals cover it (of the best fit / of any reported
- * solution, within 3 stderr for two keys), how many fits were unique, and
- * the profile interval's width against the Jacobian's.  No timing is
+ * solution, within 3 stderr for two keys; P11: of the reported P(1,1)
+ * solution, the recordings' own orbit type), how many fits were unique,
+ * the profile interval's width against the Jacobian's, and the range of
+ * the noise estimate over the noise that was added.  No timing is
  * asserted.
  *   vi_bench_identify [DATA_DIR] */
 #include <math.h>
@@ -89,13 +91,13 @@ typedef struct bcase {
 
 /* The counts over the seeds of one case. */
 typedef struct tally {
-  double tsum, tmax, sesum, semin, e1, e2, pwid;
-  int hit, cover, cover_any, unique, npw;
+  double tsum, tmax, sesum, semin, e1, e2, pwid, nzlo, nzhi;
+  int hit, cover, cover_any, cover_true, unique, npw;
 } tally;
 
 /* One fit of the case on the recording t, x [ns]; 0 or 1 after a message. */
 static int one(const bcase *c, const vi_model *m, int ns, const double *t,
-               const double *x, tally *ty)
+               const double *x, double sigma, tally *ty)
 {
   vi_identify *id = NULL;
   double p[2], se[2], l[2], h[2], pl[2], ph[2];
@@ -115,16 +117,23 @@ static int one(const bcase *c, const vi_model *m, int ns, const double *t,
     vi_identify_destroy(&id);
     return 1;
   }
-  int nsol = vi_identify_nsolutions(id, &uq), any = 0;
+  int nsol = vi_identify_nsolutions(id, &uq), any = 0, tru = 0, on, om;
+  double nz = NAN;
+  vi_identify_summary(id, NULL, NULL, NULL, &nz, NULL, NULL, NULL);
+  ty->nzlo = fmin(ty->nzlo, nz / sigma);
+  ty->nzhi = fmax(ty->nzhi, nz / sigma);
   for (int k = 0; k < nsol; k++) {
     double q[2], qs[2], ql[2], qh[2];
     vi_identify_solution(id, k, q, qs, ql, qh, NULL);
+    vi_identify_solution_summary(id, k, &on, &om, NULL, NULL, NULL, NULL);
     int in = 1;
     for (int j = 0; j < np; j++)
       in &= np > 1 ? fabs(q[j] - c->truth[j]) <= 3 * qs[j]
                    : ql[j] <= c->truth[j] && c->truth[j] <= qh[j];
     any |= in;
+    tru |= in && on == 1 && om == 1; /* the recordings' own orbit type */
   }
+  ty->cover_true += tru;
   vi_identify_destroy(&id);
   double e = p[0] - c->truth[0];
   ty->tsum += w;
@@ -163,9 +172,9 @@ int main(int argc, char **argv)
       {"beam4 r, a only 0.2%/50T", "beam4_acc.csv", 3, 50, 1, 1, 0.002, {0.75, 0}, {0.5, 0}},
       {"fig2 r 0.2%/20T from 0.5", "fig2.csv", 1, 20, 1, 1, 0.002, {0.7, 0}, {0.5, 0}},
   };
-  printf("%-31s %6s %6s %7s %7s %7s %5s %5s %5s %5s %6s\n", "case", "mean s",
-         "max s", "stderr", "min se", "scatter", "hit", "cover", "any", "uniq",
-         "prof/J");
+  printf("%-31s %6s %6s %7s %7s %7s %5s %5s %5s %5s %5s %6s %11s\n", "case", "mean s",
+         "max s", "stderr", "min se", "scatter", "hit", "cover", "any", "P11",
+         "uniq", "prof/J", "noise/sig");
   for (size_t c = 0; c < sizeof cs / sizeof cs[0]; c++) {
     double t1[64], x1[64];
     int n1 = load(dir, cs[c].file, cs[c].col, t1, x1);
@@ -183,7 +192,8 @@ int main(int argc, char **argv)
     double *t = malloc(sizeof(double) * ns), *x = malloc(sizeof(double) * ns);
     tally ty;
     memset(&ty, 0, sizeof ty);
-    ty.semin = HUGE_VAL;
+    ty.semin = ty.nzlo = HUGE_VAL;
+    ty.nzhi = -HUGE_VAL;
     int isfig2 = !strcmp(cs[c].file, "fig2.csv");
     vi_model *m = isfig2 ? fig2() : beam(cs[c].nfit > 1 ? cs[c].start[1] : 0.05, cs[c].start[0]);
     gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
@@ -193,12 +203,13 @@ int main(int argc, char **argv)
         t[i] = t1[i % 64] + floor(i / 64.0) * T;
         x[i] = x1[i % 64] + gsl_ran_gaussian(g, sigma);
       }
-      if (one(&cs[c], m, ns, t, x, &ty)) return 1;
+      if (one(&cs[c], m, ns, t, x, sigma, &ty)) return 1;
     }
     double scatter = sqrt((ty.e2 - ty.e1 * ty.e1 / seeds) / (seeds - 1));
-    printf("%-31s %6.2f %6.2f %7.4f %7.4f %7.4f %2d/10 %2d/10 %2d/10 %2d/10 %6.3f\n",
+    printf("%-31s %6.2f %6.2f %7.4f %7.4f %7.4f %2d/10 %2d/10 %2d/10 %2d/10 %2d/10 %6.3f %5.3f-%5.3f\n",
            cs[c].name, ty.tsum / seeds, ty.tmax, ty.sesum / seeds, ty.semin, scatter,
-           ty.hit, ty.cover, ty.cover_any, ty.unique, ty.npw ? ty.pwid / ty.npw : NAN);
+           ty.hit, ty.cover, ty.cover_any, ty.cover_true, ty.unique,
+           ty.npw ? ty.pwid / ty.npw : NAN, ty.nzlo, ty.nzhi);
     fflush(stdout);
     gsl_rng_free(g);
     vi_model_destroy(&m);

@@ -29,7 +29,8 @@
  * variance s^2 = SSR / (N - P) (N residuals, P fitted values with the
  * shift), 95 % intervals p +- t_{0.975, N-P} stderr.  Valid when the noise
  * is independent and the model is right: compare the residual RMS with the
- * noise level (given, or estimated from the recording's 4th differences).
+ * noise level (given, or estimated from the recording: its periods folded
+ * onto one, or its 4th differences).
  *
  * Life cycle: vi_identify_create -> vi_identify_set_param (each one) ->
  * [vi_identify_set_builder, _set_observation, _set_shift, _set_noise] ->
@@ -159,7 +160,9 @@ VI_API int vi_identify_set_shift(vi_identify *id, int fit, double t0);
  *  (vi_identify_stability then tells).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_identify_set_stable_only(vi_identify *id, int on);
 /** The recording's noise standard deviation, if known (sigma <= 0: estimate
- *  it from the 4th differences of a near-uniformly sampled recording), for
+ *  it from the recording: the smaller of its periods folded onto one, each
+ *  sample against its neighbours in phase, and the 4th differences of
+ *  near-uniform samples), for
  *  the comparison with the residual RMS.  @return VI_OK, VI_ERR_NONFINITE. */
 VI_API int vi_identify_set_noise(vi_identify *id, double sigma);
 /** The recording (copied): ns samples at times t [ns] (strictly
@@ -259,6 +262,16 @@ VI_API int vi_identify_solution_profile(const vi_identify *id, int k,
 VI_API int vi_identify_solution_summary(const vi_identify *id, int k, int *n,
                                         int *m, double *rms, double *ratio,
                                         double *dchi2, double *t0);
+/** What would separate solution k from the best: *d = sum_i (y_0(t_i) -
+ *  y_k(t_i))^2 / s^2, their responses' difference over the recording in
+ *  noise variances (the likelihood-ratio statistic's mean were either
+ *  true; 0 for k = 0), and *length, the multiple of the record's length
+ *  at this noise for which the test at 95 % rejects the wrong one with
+ *  95 % power: y^2 / d, y = (3.29 + sqrt(3.29^2 + 4 chi2_0.95(P))) / 2
+ *  (NaN for k = 0, or where a model could not be rebuilt).  Either
+ *  pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
+VI_API int vi_identify_solution_separation(const vi_identify *id, int k,
+                                           double *d, double *length);
 /** The ranges [lo, hi] [np] the global stage's starts covered (the
  *  starting values themselves without it). */
 VI_API int vi_identify_search_range(const vi_identify *id, double *lo,

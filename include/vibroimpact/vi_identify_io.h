@@ -10,7 +10,18 @@
  *                           sample falls in the fitted orbit's period P,
  *                           counted from its first impact t_1
  *   value, stderr, lo95, hi95 [np], flags [np] (VI_IDENTIFY_* bits)
+ *                           the best fit: Jacobian intervals
+ *   profile_lo95, profile_hi95, profile_flags [np]
+ *                           its profile-likelihood intervals
+ *                           (VI_IDENTIFY_PROFILE_* bits)
  *   correlation [np x np]
+ *   solutions/              every fit the data admit, best first (row k
+ *                           is vi_identify_solution k):
+ *     value, stderr, lo95, hi95, profile_lo95, profile_hi95, flags,
+ *     profile_flags [nsol x np]; orbit_n, orbit_m, rms_residual,
+ *     residual_ratio, delta_chi2, separation, record_factor [nsol]
+ *     (vi_identify_solution_separation); attributes unique (1: one
+ *     solution), count (nsol)
  *   attributes: keys (comma-separated), shift, shift_stderr, period,
  *     orbit_n, orbit_m, converged, iterations, rms_residual, noise, rcond,
  *     r_energy_balance, vN_recorded

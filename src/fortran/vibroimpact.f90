@@ -102,7 +102,8 @@ module vibroimpact
             vi_identify_set_stable_only, vi_identify_stability, vi_identify_forcing_phase, &
             vi_identify_set_sensors, vi_identify_set_global, vi_identify_profile, &
             vi_identify_nsolutions, vi_identify_solution, vi_identify_solution_profile, &
-            vi_identify_solution_summary, vi_identify_search_range, vi_identify_add_channel
+            vi_identify_solution_summary, vi_identify_search_range, vi_identify_add_channel, &
+            vi_identify_solution_separation
   public :: vi_fe_create, vi_fe_destroy, vi_fe_errmsg, vi_fe_set_mass_csc, &
             vi_fe_set_stiffness_csc, vi_fe_set_damping_csc, vi_fe_set_rayleigh, &
             vi_fe_set_modal_damping, vi_fe_set_modes, vi_fe_set_shift, &
@@ -1125,6 +1126,13 @@ module vibroimpact
       integer(c_int), value :: k
       integer(c_int), optional :: n, m
       real(c_double), optional :: rms, ratio, dchi2, t0
+    end function
+    integer(c_int) function vi_identify_solution_separation(id, k, d, length) &
+        bind(C, name="vi_identify_solution_separation")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      integer(c_int), value :: k
+      real(c_double), optional :: d, length
     end function
     !> lo, hi [np], each optional
     integer(c_int) function vi_identify_search_range(id, lo, hi) &

@@ -489,7 +489,7 @@ int vi_identify_run(vi_identify *id)
     return vi_fail(id->errmsg, VI_ERR_ARG,
                    "the recording spans %g time units, less than one period "
                    "%g of its motion", span, nd * T);
-  id->noise = id->sigma > 0.0 ? id->sigma : vi_id_noise_estimate(id);
+  id->noise = id->sigma > 0.0 ? id->sigma : vi_id_noise_estimate(id, nd * T);
   st = id->global ? vi_id_global(id, nd) : local_only(id, nd);
   /* profile intervals of every minimum reported */
   for (int k = 0; !st && k < id->nfound; k++) st = vi_id_profile(id, &id->sol[k]);
@@ -582,6 +582,16 @@ int vi_identify_solution_summary(const vi_identify *id, int k, int *n, int *m,
   if (ratio) *ratio = s->rms / id->noise;
   if (dchi2) *dchi2 = id->global ? s->dchi2 : 0.0;
   if (t0) *t0 = s->t0;
+  return VI_OK;
+}
+
+int vi_identify_solution_separation(const vi_identify *id, int k, double *d,
+                                    double *length)
+{
+  NEED_SOL(id, k);
+  const vi_id_sol *s = &id->sol[k];
+  if (d) *d = k == 0 ? 0.0 : s->dsep;
+  if (length) *length = k == 0 ? NAN : s->lsep;
   return VI_OK;
 }
 

@@ -97,21 +97,40 @@ static int starts(vi_identify *id, double *u)
   return ns;
 }
 
-/* The model and its orbit at the start p: the candidate, or non-zero. */
-static int at_start(vi_identify *id, int nd, cand *c)
+/* The model and its orbits at the start p: one candidate per orbit type
+ * found there (P(n,1), P(n,2), the transient's other), appended to c
+ * (*nc grows; their buffers allocated here); best [VI_ID_SLOTS] is work.
+ * VI_OK, or non-zero where the start gives none. */
+static int at_start(vi_identify *id, int nd, const double *p, orb *best,
+                    cand *c, int *nc)
 {
   vi_model *m = NULL;
+  double bc[VI_ID_SLOTS];
   vi_id_drop_cur(id);
   id->have_pred = 0;
-  int st = vi_id_make_model(id, c->p, &m);
+  int st = vi_id_make_model(id, p, &m);
   if (st) return st;
   id->cur = m;
   if ((st = vi_xflow_create(m, &id->xf))) return st;
-  if ((st = vi_id_choose_orbit(id, nd, &c->cost))) return st;
-  memcpy(id->pcur, c->p, sizeof(double) * id->np);
+  if ((st = vi_id_orbit_types(id, nd, best, bc))) return st;
+  memcpy(id->pcur, p, sizeof(double) * id->np);
   id->have_cur = 1;
-  c->t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : id->shift0;
-  vi_id_orb_copy(&c->o, &id->o, id->N);
+  for (int s = 0; s < VI_ID_SLOTS; s++) {
+    if (!(bc[s] < HUGE_VAL)) continue;
+    cand *ck = &c[*nc];
+    if ((st = vi_id_orb_alloc(&ck->o, id->N))) {
+      free(ck->o.x);
+      free(ck->o.v);
+      ck->o.x = ck->o.v = NULL;
+      return st;
+    }
+    memcpy(ck->p, p, sizeof(double) * id->np);
+    vi_id_orb_copy(&id->o, &best[s], id->N);
+    ck->cost = bc[s];
+    ck->t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : id->shift0;
+    vi_id_orb_copy(&ck->o, &best[s], id->N);
+    (*nc)++;
+  }
   return VI_OK;
 }
 
@@ -182,6 +201,53 @@ static int same_min(const vi_identify *id, const vi_id_sol *a, const vi_id_sol *
   return 1;
 }
 
+/* The first channel of minimum a at the recording's samples into y [ns];
+ * non-zero where its model cannot be built. */
+static int response_of(vi_identify *id, const vi_id_sol *a, double *y)
+{
+  vi_model *m = NULL;
+  vi_xflow *xf = NULL;
+  int N = id->N, st = vi_id_make_model(id, a->p, &m);
+  if (!st) st = vi_xflow_create(m, &xf);
+  double *z = st ? NULL : malloc(sizeof(double) * 4 * N);
+  if (!st && !z) st = VI_ERR_NOMEM;
+  for (int i = 0; !st && i < id->ns; i++) {
+    double s = id->t[i] + a->t0;
+    vi_id_orbit_state(m, xf, &a->o, s, z, z + (size_t)2 * N, NULL, NULL, NULL);
+    y[i] = vi_id_channel(id, m, s, z, id->ych, z + (size_t)2 * N);
+  }
+  free(z);
+  vi_xflow_destroy(&xf);
+  vi_model_destroy(&m);
+  return st;
+}
+
+/* How far the best and minimum k lie apart: D = sum (y_0 - y_k)^2 / s^2
+ * over the samples, the mean of the likelihood-ratio statistic were either
+ * true (its spread 2 sqrt(D)), growing with the record's length L.  The
+ * test at level c = chi2_0.95(P) rejects the wrong one with 95 % power
+ * once L D - 1.645 * 2 sqrt(L D) >= c: L = y^2 / D,
+ * y = (3.29 + sqrt(3.29^2 + 4 c)) / 2 (21 / D for P = 2). */
+static void separation(vi_identify *id, vi_id_sol *s, int n, double s2, double c)
+{
+  double *y = malloc(sizeof(double) * 2 * id->ns);
+  for (int k = 0; k < n; k++) s[k].dsep = s[k].lsep = NAN;
+  if (!y || response_of(id, &s[0], y)) {
+    free(y);
+    return;
+  }
+  double yq = 0.5 * (3.29 + sqrt(3.29 * 3.29 + 4.0 * c));
+  for (int k = 1; k < n; k++) {
+    if (response_of(id, &s[k], y + id->ns)) continue;
+    double d = 0.0;
+    for (int i = 0; i < id->ns; i++) d += (y[i] - y[id->ns + i]) * (y[i] - y[id->ns + i]);
+    s[k].dsep = d / s2;
+    s[k].lsep = s[k].dsep > 0.0 ? yq * yq / s[k].dsep : INFINITY;
+  }
+  s[0].dsep = 0.0;
+  free(y);
+}
+
 /* Rank the minima, drop repeats, and count those the data cannot tell from
  * the best: a residual the noise explains, sum of squared residuals of the
  * first channel <= s^2 chi2_0.95(ns - P), and no worse than the best by
@@ -189,10 +255,10 @@ static int same_min(const vi_identify *id, const vi_id_sol *a, const vi_id_sol *
  * chi2_0.95(P) (a minimum 145 noise variances worse is explained by the
  * noise on its own, but the best explains the data better beyond doubt).
  * s is the stated noise, or the estimated one capped at
- * 1.1 times the best's residual level (the 4th differences hold the
- * signal's own too: an accelerometer's, with the higher modes aliased at
- * 64 samples per period, are mostly signal), and never below the best's
- * level (a model error the best shares). */
+ * 1.1 times the best's residual level (an estimate is an upper bound: on
+ * a record of about one period only the 4th differences are left, and
+ * they hold the signal's own too), and never below the best's level (a
+ * model error the best shares). */
 static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
 {
   int n = *ns_, keep = 0, P = id->np + id->fit_shift, dof = id->ns - P;
@@ -224,6 +290,7 @@ static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
       id->nfound = k + 1;
     else break;
   id->unique = id->nfound == 1;
+  separation(id, s, id->nfound, s2, dlim);
 }
 
 int vi_id_global(vi_identify *id, int nd)
@@ -231,33 +298,36 @@ int vi_id_global(vi_identify *id, int nd)
   int np = id->np, N = id->N, st = VI_OK, nc = 0, nsol = 0;
   for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j]);
   double *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
-  cand *c = calloc((size_t)8 * MAXP, sizeof *c);
+  cand *c = calloc((size_t)8 * MAXP * VI_ID_SLOTS, sizeof *c);
+  orb best[VI_ID_SLOTS];
   char why[VI_MSG_LEN] = "";
-  if (!u || !c) {
+  memset(best, 0, sizeof best);
+  for (int q = 0; q < VI_ID_SLOTS && u && c && !st; q++) st = vi_id_orb_alloc(&best[q], N);
+  if (!u || !c || st) {
     free(u);
     free(c);
+    for (int q = 0; q < VI_ID_SLOTS; q++) {
+      free(best[q].x);
+      free(best[q].v);
+    }
     return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
   }
   int ns = starts(id, u);
   double cell = np == 1 ? 1.0 / 8 : np == 2 ? 1.0 / 5 : pow(1.0 / ns, 1.0 / np);
   for (int k = 0; k < ns && !st; k++) {
-    cand *ck = &c[nc];
+    double p[MAXP];
     for (int j = 0; j < np; j++)
-      ck->p[j] = id->glo[j] + u[(size_t)k * np + j] * (id->ghi[j] - id->glo[j]);
-    if ((st = vi_id_orb_alloc(&ck->o, N))) break;
-    int sk = at_start(id, nd, ck);
+      p[j] = id->glo[j] + u[(size_t)k * np + j] * (id->ghi[j] - id->glo[j]);
+    int sk = at_start(id, nd, p, best, c, &nc);
     if (id->cancel_hit) st = VI_CANCELLED;
     else if (sk == VI_ERR_NOMEM) st = sk;
     else if (sk) snprintf(why, sizeof why, "%s", id->errmsg);
-    if (st || sk) { /* a start that gave no candidate, or the last one */
-      free(ck->o.x);
-      free(ck->o.v);
-      ck->o.x = ck->o.v = NULL;
-    } else {
-      nc++;
-    }
   }
   free(u);
+  for (int q = 0; q < VI_ID_SLOTS; q++) {
+    free(best[q].x);
+    free(best[q].v);
+  }
   if (!st && nc == 0)
     st = vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
                  "at none of %d starts over the parameters' ranges does the "

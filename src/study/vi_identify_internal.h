@@ -6,6 +6,7 @@
  *                         residuals and their exact Jacobian
  *   vi_identify_seed.c    the recording's period, the orbit the model
  *                         shows at a start, the shift scan
+ *   vi_identify_scan2.c   every P(n, 2) orbit from a scan of impact phases
  *   vi_identify_stats.c   noise, uncertainty, the WB 12 route
  *   vi_identify_fit.c     the trust-region fit from one start
  *   vi_identify_global.c  starts over the admissible ranges, the distinct
@@ -37,6 +38,8 @@ typedef struct vi_id_sol {
   int flags[MAXP], pflags[MAXP];
   double corr[MAXP * MAXP];
   double t0, t0se, rms, ssr, rcond, dchi2; /* dchi2: its excess over the best */
+  double dsep, lsep; /* the best's and its responses apart (noise variances
+                      * over the record), the record multiple that separates them */
   int conv, iters, n, m;
   orb o; /* its orbit (buffers owned) */
 } vi_id_sol;
@@ -121,9 +124,23 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J);
 int vi_id_data_period(vi_identify *id, double T);
 double vi_id_scan_shift(vi_identify *id, double *cost_out);
 int vi_id_choose_orbit(vi_identify *id, int nd, double *cost);
+/* The best orbit of each type at the current model, slots: m = 1, m = 2,
+ * more impacts (the transient's); cost HUGE_VAL where none.  best[]'s
+ * buffers are the caller's (vi_id_orb_alloc). */
+#define VI_ID_SLOTS 3
+int vi_id_orbit_types(vi_identify *id, int nd, orb *best, double *cost);
+
+/* vi_identify_scan2.c: every P(nd, 2) orbit on one stop (admissibility
+ * and stability not checked) into out [cap] (buffers the caller's). */
+int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found);
 
 /* vi_identify_stats.c */
-double vi_id_noise_estimate(const vi_identify *id);
+double vi_id_noise_estimate(const vi_identify *id, double P);
+/* The recording folded with period P: the robust spread of each sample
+ * about the line through its neighbours in phase (the noise where P is
+ * its period); NaN where the neighbours are not much closer in phase
+ * than successive samples. */
+double vi_id_fold(const vi_identify *id, double P);
 int vi_id_uncertainty(vi_identify *id, const gsl_matrix *J, double ssr);
 void vi_id_energy_route(vi_identify *id);
 

@@ -101,8 +101,20 @@ int vi_id_data_period(vi_identify *id, double T)
 {
   double rat[MAX_N + 1], best = HUGE_VAL;
   int known = 0;
+  double mean = 0.0, var = 0.0;
+  for (int i = 0; i < id->ns; i++) mean += id->y[i] / id->ns;
+  for (int i = 0; i < id->ns; i++) var += (id->y[i] - mean) * (id->y[i] - mean);
+  double rms = sqrt(var / id->ns);
   for (int n = 1; n <= MAX_N; n++) {
+    /* the change over nT from the linear interpolant of the samples, or,
+     * where smaller, the recording folded with period nT: an
+     * accelerometer's signal sampled at a rate not locked to the forcing
+     * is too rich in harmonics to interpolate between samples (61.3
+     * samples per period: no repeat over T, one over 3 T where 3 x 61.3
+     * is almost whole), not between periods */
     rat[n] = repeat_ratio(id, n * T);
+    double fr = rms > 0.0 ? vi_id_fold(id, n * T) / rms : NAN;
+    if (isfinite(fr) && !(rat[n] <= fr)) rat[n] = fr;
     if (isfinite(rat[n])) {
       best = fmin(best, rat[n]);
       known = n;
@@ -150,94 +162,136 @@ double vi_id_scan_shift(vi_identify *id, double *cost_out)
   return best;
 }
 
-int vi_id_choose_orbit(vi_identify *id, int nd, double *cost_out)
+/* 1 when orbit c is one the fit may use: admissible, and stable unless
+ * unstable ones are wanted. */
+static int usable(vi_identify *id, const orb *c)
 {
   const vi_model *m = id->cur;
-  int N = id->N, found = 0, best = -1, cap = 16, ok = 0, st;
-  double bc = HUGE_VAL, cost = HUGE_VAL;
-  orb cand;
-  memset(&cand, 0, sizeof cand);
-  cand.x = malloc(sizeof(double) * (size_t)N * (MAX_M + 2 * cap));
-  cand.v = malloc(sizeof(double) * (size_t)N * (MAX_M + 2 * cap));
-  double *st_ = malloc(sizeof(double) * cap);
-  orb keep = id->o; /* buffers of the chosen one */
-  if (!cand.x || !cand.v || !st_) {
-    free(cand.x);
-    free(cand.v);
-    free(st_);
-    return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
+  int ok = 0;
+  if (vi_orbit_pnm_admissible_stops(m, c->n, c->m, c->stop, c->t, c->x, c->v, id->N,
+                                    NULL, &ok) || !ok ||
+      vi_orbit_pnm_multipliers_stops(m, c->n, c->m, c->stop, c->t, c->x, c->v,
+                                     id->N, id->mre, id->mim))
+    return 0;
+  if (!id->stable_only) return 1;
+  for (int i = 0; i < 2 * id->N; i++)
+    if (!(hypot(id->mre[i], id->mim[i]) < 1.0)) return 0;
+  return 1;
+}
+
+/* Orbit c scored against the recording (the shift scan's cost); kept in
+ * slot s of best[] when it scores better than what is there. */
+static void consider(vi_identify *id, const orb *c, orb *best, double *bc, int s)
+{
+  orb save = id->o;
+  double cost = HUGE_VAL;
+  id->o = *c; /* borrow its buffers for the scan */
+  vi_id_scan_shift(id, &cost);
+  id->o = save;
+  if (cost < bc[s]) {
+    bc[s] = cost;
+    vi_id_orb_copy(&best[s], c, id->N);
   }
-  double *sx = cand.x + (size_t)N * MAX_M, *sv = cand.v + (size_t)N * MAX_M;
+}
+
+int vi_id_orbit_types(vi_identify *id, int nd, orb *best, double *bc)
+{
+  const vi_model *m = id->cur;
+  int N = id->N, found = 0, cap = 16, st;
+  for (int s = 0; s < VI_ID_SLOTS; s++) bc[s] = HUGE_VAL;
+  orb cand, p2[8];
+  memset(&cand, 0, sizeof cand);
+  memset(p2, 0, sizeof p2);
+  int nomem = vi_id_orb_alloc(&cand, N);
+  for (int k = 0; k < 8; k++) nomem |= vi_id_orb_alloc(&p2[k], N);
+  double *sx = malloc(sizeof(double) * (size_t)N * 2 * cap), *sv = sx ? sx + (size_t)N * cap : NULL;
+  double *st_ = malloc(sizeof(double) * cap);
+  if (nomem || !sx || !st_) {
+    st = vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
+    goto done;
+  }
   char why[VI_MSG_LEN] = "";
   int tn = 0, tm = 0;
+  /* the transient's motion, whatever its impacts per period */
   if (!seed_orbit(id, &cand)) {
     tn = cand.n;
     tm = cand.m;
-    if (cand.n == nd) {
-      id->o = cand; /* borrow the buffers for the cost */
-      vi_id_scan_shift(id, &cost);
-      id->o = keep;
-      bc = cost;
-      best = cap;
-      vi_id_orb_copy(&keep, &cand, N);
-    }
+    if (cand.n == nd) consider(id, &cand, best, bc, cand.m == 1 ? 0 : cand.m == 2 ? 1 : 2);
   } else {
     snprintf(why, sizeof why, "%s", id->errmsg);
   }
+  /* every stable admissible P(nd, 1) of the impact-phase scan (none
+   * where it does not apply: several stops, no modes) */
   st = vi_orbit_p1_scan_polled(m, nd, 256, st_, sx, sv, N, cap, &found,
                                vi_id_poll_fn, id);
+  if (st != VI_CANCELLED && st != VI_ERR_NOMEM) st = VI_OK;
+  else found = 0;
   for (int k = 0; !st && k < found && k < cap; k++) {
-    orb c1;
+    orb c1 = cand;
     c1.n = nd;
     c1.m = 1;
     c1.stop[0] = 0;
     c1.t[0] = st_[k];
-    c1.x = sx + (size_t)k * N;
-    c1.v = sv + (size_t)k * N;
-    if (vi_orbit_pnm_admissible(m, nd, 1, c1.t, c1.x, c1.v, N, NULL, &ok) || !ok ||
-        vi_orbit_pnm_multipliers(m, nd, 1, c1.t, c1.x, c1.v, N, id->mre, id->mim))
-      continue;
-    int stable = 1;
-    for (int i = 0; i < 2 * N; i++)
-      if (!(hypot(id->mre[i], id->mim[i]) < 1.0)) stable = 0;
-    if (!stable && id->stable_only) continue;
+    memcpy(c1.x, sx + (size_t)k * N, sizeof(double) * N);
+    memcpy(c1.v, sv + (size_t)k * N, sizeof(double) * N);
+    if (!usable(id, &c1)) continue;
     vi_id_orb_normalise(&c1, vi_id_period_of(m, nd));
-    orb save = id->o;
-    id->o.n = c1.n;
-    id->o.m = 1;
-    id->o.stop[0] = 0;
-    id->o.t[0] = c1.t[0];
-    id->o.x = c1.x;
-    id->o.v = c1.v;
-    vi_id_scan_shift(id, &cost);
-    id->o = save;
-    if (cost < bc) {
-      bc = cost;
-      best = k;
-      keep.n = nd;
-      keep.m = 1;
-      keep.stop[0] = 0;
-      keep.t[0] = c1.t[0];
-      memcpy(keep.x, c1.x, sizeof(double) * N);
-      memcpy(keep.v, c1.v, sizeof(double) * N);
-    }
+    consider(id, &c1, best, bc, 0);
   }
-  free(cand.x);
-  free(cand.v);
-  free(st_);
-  if (best < 0) {
+  /* and of the two-impact scan (one stop, small models) */
+  if (!st) st = vi_id_scan_p2(id, nd, p2, 8, &found);
+  if (st == VI_CANCELLED) st = vi_fail(id->errmsg, st, "cancelled");
+  else if (st) st = vi_fail(id->errmsg, st, "out of memory");
+  for (int k = 0; !st && k < found; k++)
+    if (usable(id, &p2[k])) consider(id, &p2[k], best, bc, 1);
+  if (!st && !(bc[0] < HUGE_VAL || bc[1] < HUGE_VAL || bc[2] < HUGE_VAL)) {
     if (tn)
-      return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
-                     "the recording repeats every %d forcing period(s), but "
-                     "the model at the starting values settles on P(%d,%d) "
-                     "and the impact-phase scan finds no %sP(%d,1) orbit: "
-                     "start nearer", nd, tn, tm,
-                     id->stable_only ? "stable " : "", nd);
-    return vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED, "%s",
+      st = vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED,
+                   "the recording repeats every %d forcing period(s), but "
+                   "the model at the starting values settles on P(%d,%d) "
+                   "and the impact-phase scans find no %sP(%d,1) or P(%d,2) "
+                   "orbit: start nearer", nd, tn, tm,
+                   id->stable_only ? "stable " : "", nd, nd);
+    else
+      st = vi_fail(id->errmsg, VI_ERR_NOT_CONVERGED, "%s",
                    why[0] ? why : "no periodic orbit at the starting values");
   }
-  id->o = keep;
-  if (cost_out) *cost_out = bc;
-  return VI_OK;
+done:
+  free(cand.x);
+  free(cand.v);
+  for (int k = 0; k < 8; k++) {
+    free(p2[k].x);
+    free(p2[k].v);
+  }
+  free(sx);
+  free(st_);
+  return st;
 }
 
+/* The model's orbit the recording shows, period nd forcing periods: the
+ * transient's motion and every stable admissible P(nd, 1) and P(nd, 2)
+ * orbit of the impact-phase scans (the start may lie where several
+ * coexist, or where the transient settles on another), the one closest to
+ * the recording. */
+int vi_id_choose_orbit(vi_identify *id, int nd, double *cost_out)
+{
+  orb best[VI_ID_SLOTS];
+  double bc[VI_ID_SLOTS];
+  int st = VI_OK, N = id->N;
+  memset(best, 0, sizeof best);
+  for (int s = 0; s < VI_ID_SLOTS && !st; s++) st = vi_id_orb_alloc(&best[s], N);
+  if (st) st = vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
+  if (!st) st = vi_id_orbit_types(id, nd, best, bc);
+  if (!st) {
+    int b = 0;
+    for (int s = 1; s < VI_ID_SLOTS; s++)
+      if (bc[s] < bc[b]) b = s;
+    vi_id_orb_copy(&id->o, &best[b], N);
+    if (cost_out) *cost_out = bc[b];
+  }
+  for (int s = 0; s < VI_ID_SLOTS; s++) {
+    free(best[s].x);
+    free(best[s].v);
+  }
+  return st;
+}

@@ -18,10 +18,19 @@ static int cmp_double(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
+static double median_of(double *d, int k)
+{
+  qsort(d, k, sizeof(double), cmp_double);
+  return k % 2 ? d[k / 2] : 0.5 * (d[k / 2 - 1] + d[k / 2]);
+}
+
 /* Noise of a near-uniform recording from its 4th differences (a smooth
  * signal's are ~ A (Omega dt)^4; noise's have variance 70 sigma^2), their
- * median absolute value robust to the impacts' kinks. */
-double vi_id_noise_estimate(const vi_identify *id)
+ * median absolute value robust to the impacts' kinks.  An upper bound:
+ * a signal rich in high harmonics keeps its own (an accelerometer's, the
+ * higher modes weighted by their frequency squared: 11 times the noise on
+ * the 4-mode beam at 64 samples per period). */
+static double noise_diff4(const vi_identify *id)
 {
   int ns = id->ns;
   double dmin = HUGE_VAL, dmax = 0.0;
@@ -36,10 +45,71 @@ double vi_id_noise_estimate(const vi_identify *id)
   for (int i = 0; i + 4 < ns; i++)
     d[k++] = fabs(id->y[i] - 4 * id->y[i + 1] + 6 * id->y[i + 2] -
                   4 * id->y[i + 3] + id->y[i + 4]);
-  qsort(d, k, sizeof(double), cmp_double);
-  double med = k % 2 ? d[k / 2] : 0.5 * (d[k / 2 - 1] + d[k / 2]);
+  double med = median_of(d, k);
   free(d);
   return 1.4826 * med / sqrt(70.0);
+}
+
+typedef struct phs {
+  double ph;
+  int i;
+} phs;
+
+static int cmp_phase(const void *a, const void *b)
+{
+  double x = ((const phs *)a)->ph, y = ((const phs *)b)->ph;
+  return (x > y) - (x < y);
+}
+
+/* Noise of a recording that repeats with period P, from the samples of
+ * all its periods folded onto one (phase (t - t_1) mod P): each sample
+ * against the line through its two neighbours in phase, which belong to
+ * other periods, so the signal cancels to second order in their phase
+ * gap, whatever its harmonics (the higher modes ring in step with the
+ * orbit).  e = y - wa ya - wb yb has variance (1 + wa^2 + wb^2) sigma^2
+ * for noise; the median of |e| scaled so is robust to the impacts.  NaN
+ * where the neighbours are not much closer in phase than successive
+ * samples (a record of about one period: nothing to fold). */
+double vi_id_fold(const vi_identify *id, double P)
+{
+  int ns = id->ns;
+  if (!(P > 0.0) || ns < 16 || !(id->t[ns - 1] - id->t[0] > 1.5 * P)) return NAN;
+  phs *q = malloc(sizeof *q * ns);
+  double *d = malloc(sizeof(double) * 2 * ns);
+  if (!q || !d) {
+    free(q);
+    free(d);
+    return NAN;
+  }
+  double *gap = d + ns, step = (id->t[ns - 1] - id->t[0]) / (ns - 1) / P;
+  for (int i = 0; i < ns; i++) {
+    double f = fmod(id->t[i] - id->t[0], P) / P;
+    q[i].ph = f < 0.0 ? f + 1.0 : f;
+    q[i].i = i;
+  }
+  qsort(q, ns, sizeof *q, cmp_phase);
+  int k = 0;
+  for (int c = 0; c < ns; c++) {
+    const phs *a = &q[(c + ns - 1) % ns], *b = &q[(c + 1) % ns], *m = &q[c];
+    double pa = a->ph - (c == 0 ? 1.0 : 0.0), pb = b->ph + (c == ns - 1 ? 1.0 : 0.0);
+    double w = pb - pa, wa = w > 1e-12 * step ? (pb - m->ph) / w : 0.5, wb = 1.0 - wa;
+    double e = id->y[m->i] - wa * id->y[a->i] - wb * id->y[b->i];
+    d[k] = fabs(e) / sqrt(1.0 + wa * wa + wb * wb);
+    gap[k++] = w;
+  }
+  double med = median_of(d, k), mgap = median_of(gap, k);
+  free(q);
+  free(d);
+  return mgap <= 0.5 * step ? 1.4826 * med : NAN;
+}
+
+/* The recording's noise: the smaller of the two upper bounds above (each
+ * holds some signal where its assumption fails: the folded one a period
+ * P off, when Omega is fitted from a start away from the truth). */
+double vi_id_noise_estimate(const vi_identify *id, double P)
+{
+  double a = noise_diff4(id), b = vi_id_fold(id, P);
+  return isnan(a) ? b : isnan(b) ? a : fmin(a, b);
 }
 
 /* Standard errors, intervals, correlations and flags from the Jacobian at
@@ -187,7 +257,7 @@ void vi_id_energy_route(vi_identify *id)
     ev[i] = id->vy ? id->vy[i] - vi_dot(N, id->c, zz + N) : 0.0;
   }
   double vNm = vi_dot(N, w, o->v);
-  double nz = id->sigma > 0.0 ? id->sigma : vi_id_noise_estimate(id);
+  double nz = id->noise;
   int assisted = !(id->rms > 1.5 * nz);
   for (long k = (long)ceil((id->t[0] + id->t0 - o->t[0]) / P);; k++) {
     double s = o->t[0] + (double)k * P - id->t0; /* recording time of impact k */
@@ -226,7 +296,3 @@ void vi_id_energy_route(vi_identify *id)
   if (RE >= 0.0 && RE <= id->KE) id->r12 = sqrt(1.0 - RE / id->KE);
 }
 
-/* The model's orbit the recording shows, period nd forcing periods: the
- * transient's motion and every stable admissible P(nd, 1) orbit of the
- * impact-phase scan (the start may lie where several coexist, or where the
- * transient settles on another), the one closest to the recording. */

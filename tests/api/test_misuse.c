@@ -1528,6 +1528,8 @@ static void test_identify_misuse(void **state)
   assert_int_equal(vi_identify_solution_summary(NULL, 0, NULL, NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
   assert_int_equal(vi_identify_search_range(id, NULL, NULL), VI_ERR_STATE);
   assert_int_equal(vi_identify_search_range(NULL, NULL, NULL), VI_ERR_ARG);
+  assert_int_equal(vi_identify_solution_separation(id, 0, NULL, NULL), VI_ERR_STATE);
+  assert_int_equal(vi_identify_solution_separation(NULL, 0, NULL, NULL), VI_ERR_ARG);
   assert_err(vi_identify_set_global(NULL, 1));
   assert_err(vi_identify_add_channel(NULL, c, 0, x));
   assert_err(vi_identify_add_channel(id, c, 3, x));

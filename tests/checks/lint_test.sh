@@ -50,7 +50,7 @@ files=(
   src/model/vi_param.c tests/model/test_param.c
   src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
   src/study/vi_identify_fit.c src/study/vi_identify_global.c src/study/vi_identify_resid.c
-  src/study/vi_identify_seed.c src/study/vi_identify_stats.c
+  src/study/vi_identify_seed.c src/study/vi_identify_stats.c src/study/vi_identify_scan2.c
   src/io/vi_truncation_h5.c src/io/vi_h5_util.c
   tests/study/test_identify.c bench/vi_bench_identify.c
   src/orbit/vi_lyapunov.c tests/orbit/test_lyapunov.c

@@ -11,7 +11,7 @@ Each file holds one forcing period of the settled motion, 64 samples
 (t, x = w.x, v = w.x'), t = 0 at model time T0 (comment line); the tests
 repeat it over P periods (the motion is periodic) and add noise.  The
 jittered file holds 10 periods at non-uniform times.  Usage:
-  gen_identify_data.py OUTDIR [clearance|beam4_acc|fig2_dof1]"""
+  gen_identify_data.py OUTDIR [clearance|beam4_acc|beam4_acc_rate|fig2_dof1]"""
 import math
 import sys
 
@@ -147,6 +147,22 @@ def main():
         write_acc(f"{out}/beam4_acc.csv", T0, t, x, v, acc,
                   "beam4: steady P(1,1), one period of 64 samples with the "
                   f"acceleration a = w.x'', Omega={Om} xs={xs} r={r}")
+        return
+    if only == 'beam4_acc_rate':
+        # the tip acceleration at a sampling rate not locked to the forcing
+        # (61.3 samples per forcing period over 20 periods): no two periods
+        # are sampled at the same phases (the noise estimate's folding)
+        M, C, K, a, w = beam()
+        Om, xs, r = 0.85, 0.05, 0.75
+        T = 2 * math.pi / Om
+        T0 = 300 * T + 0.3171 * T
+        t = np.arange(int(20 * 61.3)) * T / 61.3
+        acc = np.full(len(t), np.nan)
+        x, v, _ = simulate(M, C, K, a, w, Om, xs, r, T0 + t[-1] + 1e-9, T0,
+                           T0 + t, accel=acc)
+        write_acc(f"{out}/beam4_acc_rate.csv", T0, t, x, v, acc,
+                  "beam4: steady P(1,1), 20 periods at 61.3 samples per "
+                  f"period, acceleration a = w.x'', Omega={Om} xs={xs} r={r}")
         return
     if only == 'fig2_dof1':
         # Fig. 2's chain recorded at mass 1 (x_1), not at the stop (x_2)
