@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "vi_app.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 /* Orbit of the reduced model with the first k modes and restitution r_S,
  * compared with the full orbit: impact velocity, deepest excursion from the
@@ -147,7 +147,7 @@ static int energy_scene_ok(const vi_scene *sc, const vi_model *m)
                     "so no P(1,1) orbit\n");
     return 2;
   }
-  if (vi_sweep_text_nonlinear(vi_scene_text(sc))) {
+  if (vi_app_text_nonlinear(vi_scene_text(sc))) {
     /* the orbit analysis integrates M, C, K and the stops only: a balance
      * without the springs' work would be the balance of another system */
     fprintf(stderr, "vibroimpact: energy: scene %s has nonlinear springs "

@@ -30,7 +30,7 @@
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vi_app.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 #define MAXKEY 16
 
@@ -540,7 +540,7 @@ static int identify_scene(ident *I)
   char err[600];
   vi_diag d;
   int st;
-  I->text = vi_sweep_read_text(I->a.scene_path, err, sizeof err);
+  I->text = vi_app_read_text(I->a.scene_path, err, sizeof err);
   if (!I->text) {
     fprintf(stderr, "vibroimpact: %s\n", err);
     return 2;

@@ -7,7 +7,7 @@
  * admissibility) is the library's (vi_census.h); this command parses the
  * arguments, hands the scene's run settings and initial state to the
  * census, and prints (text or JSON) or follows each admissible orbit
- * (--continue, vi_sweep_cont.c). */
+ * (--continue, vi_cmd_orbits_cont.c). */
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -19,7 +19,7 @@
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 /* The census (vi_census.h) and the model it was run on. */
 typedef struct list {
@@ -204,13 +204,13 @@ static int orbits_model(const oargs *a, vi_scene **sc, vi_model **mdl)
 {
   char err[2048];
   vi_diag d;
-  int rc = vi_sweep_load_scene(a->scene, a->sets, a->nsets, a->max_depth, sc, err,
-                               sizeof err);
+  int rc = vi_app_load_scene(a->scene, a->sets, a->nsets, a->max_depth, sc, err,
+                             sizeof err);
   if (rc) {
     fprintf(stderr, "vibroimpact: %s\n", err);
     return rc;
   }
-  if (vi_sweep_text_nonlinear(vi_scene_text(*sc))) {
+  if (vi_app_text_nonlinear(vi_scene_text(*sc))) {
     fprintf(stderr, "vibroimpact: orbits: %s has nonlinear springs; orbits are "
             "found with the linear closed-form flow, which would ignore them\n",
             a->scene ? a->scene : "the scene");
@@ -258,7 +258,7 @@ static int census(list *L, const vi_scene *sc, int phases)
   return 0;
 }
 
-/* Follow every admissible orbit found in the key (vi_sweep_cont.c). */
+/* Follow every admissible orbit found in the key (vi_cmd_orbits_cont.c). */
 static int follow_all(const list *L, const vi_scene *sc, const oargs *a)
 {
   char err[2048];
@@ -271,8 +271,8 @@ static int follow_all(const list *L, const vi_scene *sc, const oargs *a)
     if (!adm) continue;
     if (a->json && k++) printf(", ");
     vi_census_orbit(L->c, i, &t, x, x + L->N, L->N, NULL, NULL);
-    int r = vi_sweep_follow(L->mdl, sc, a->ckey, a->arclength, a->cto, a->csteps,
-                            a->np, t, x, x + L->N, a->json, err, sizeof err);
+    int r = vi_orbits_follow(L->mdl, sc, a->ckey, a->arclength, a->cto, a->csteps,
+                             a->np, t, x, x + L->N, a->json, err, sizeof err);
     if (r) {
       fprintf(stderr, "vibroimpact: orbits: --continue: %s\n", err);
       rc = r;

@@ -7,7 +7,7 @@
 #include <time.h>
 
 #include "vi_app.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 void vi_app_print_diag(const vi_diag *d, int st)
 {

@@ -20,7 +20,7 @@
 
 #include "vibroimpact.h"
 #include "vibroimpact/vi_output.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 #ifdef VI_HAVE_MPI
 #include <mpi.h>
 #endif
@@ -140,10 +140,10 @@ static int bytes(const char *s, double *out)
 
 static void table(const vi_diagram *sw)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int K = sp->steps;
   char split[160];
-  vi_sweep_split(sw, split, sizeof split);
+  vi_diagram_split(sw, split, sizeof split);
   printf("sweep of %s over %d values, %d transient + %d recorded periods per "
          "value, %d line%s (%s), %.3f s\n", sp->key, K, sp->transient, sp->record,
          sw->nlines, sw->nlines > 1 ? "s" : "", split, sw->wall);
@@ -171,7 +171,7 @@ static void table(const vi_diagram *sw)
 /* The command line, into sp and the rest; 0 to go on, else the exit
  * status (2: usage, 0: --help). */
 typedef struct args {
-  vi_sweep_spec sp;
+  vi_diagram_spec sp;
   const char *out, *scene, **sets;
   int nsets, json, quiet, basins, chunks_set;
   double max_memory; /* --max-memory bytes; 0: what the machine has */
@@ -196,7 +196,7 @@ static int parse(int argc, char **argv, args *a)
       {"orbits", optional_argument, 0, 'O'},  {"basins", no_argument, 0, 'B'},
       {"lyapunov", no_argument, 0, 'L'},     {"max-memory", required_argument, 0, 'M'},
       {"max-depth", required_argument, 0, 'D'}, {0, 0, 0, 0}};
-  vi_sweep_spec *sp = &a->sp;
+  vi_diagram_spec *sp = &a->sp;
   int c;
   optind = 1;
   opterr = 0;
@@ -272,7 +272,7 @@ static int same_key(const char *k1, const char *k2)
 
 static int check(args *a)
 {
-  vi_sweep_spec *sp = &a->sp;
+  vi_diagram_spec *sp = &a->sp;
   const char *cmd = a->basins ? "basins" : "sweep";
   if (!sp->key || isnan(sp->from) || isnan(sp->to) || !sp->steps) {
     fprintf(stderr, "vibroimpact: %s needs --param KEY --from A --to B --steps K\n", cmd);
@@ -297,7 +297,7 @@ static int check(args *a)
     sp->cold = 1;
     if (!a->chunks_set) sp->chunks = sp->steps;
   } else if (!a->chunks_set) {
-    sp->chunks = vi_sweep_default_chunks(sp);
+    sp->chunks = vi_diagram_default_chunks(sp);
   }
   /* the one output path (vi_output.h): checked before the sweep, the
    * links followed, devices, FIFOs, directories, a planted .part link and
@@ -317,7 +317,7 @@ static int check(args *a)
 
 /* MPI when started by mpirun (a plain run never touches MPI): ranks on one
  * machine share its cores, so without --threads each takes its share. */
-static int mpi_start(vi_sweep_spec *sp)
+static int mpi_start(vi_diagram_spec *sp)
 {
   int mpi = 0;
 #ifdef VI_HAVE_MPI
@@ -408,7 +408,7 @@ static int report(const args *a, vi_diagram *sw)
     fprintf(stderr, "vibroimpact: basins: out of memory\n");
     return 1;
   }
-  if (a->out && vi_sweep_write_h5(sw, a->out, err, sizeof err)) {
+  if (a->out && vi_diagram_write_h5(sw, a->out, err, sizeof err)) {
     fprintf(stderr, "vibroimpact: %s: %s\n", cmd, err);
     return 1;
   }
@@ -418,7 +418,7 @@ static int report(const args *a, vi_diagram *sw)
             (long long)sw->points_done, (long long)sw->nlines * a->sp.steps,
             a->out ? "; the file is marked incomplete" : "");
   if (a->json && a->basins) vi_basins_print_json(sw, stdout);
-  else if (a->json) vi_sweep_print_json(sw, stdout);
+  else if (a->json) vi_diagram_print_json(sw, stdout);
   else if (!a->quiet) {
     if (a->basins) vi_basins_table(sw, stdout);
     else table(sw);
@@ -437,7 +437,7 @@ int vi_cmd_sweep_main(int argc, char **argv)
 {
   args a;
   memset(&a, 0, sizeof a);
-  vi_sweep_spec sp0 = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0,
+  vi_diagram_spec sp0 = {NULL, NAN, NAN, 0, NULL, NAN, NAN, 1, 1, 500, 100, 1, 0,
                        1e-6, 32, 0, 0, 0, 0};
   a.sp = sp0;
   a.sets = calloc((size_t)argc + 2, sizeof *a.sets);
@@ -452,7 +452,7 @@ int vi_cmd_sweep_main(int argc, char **argv)
   int rc = parse(argc, argv, &a);
   if (!rc) rc = check(&a);
   char err[2048];
-  char *text = rc ? NULL : vi_sweep_read_text(a.scene, err, sizeof err);
+  char *text = rc ? NULL : vi_app_read_text(a.scene, err, sizeof err);
   if (!rc && !text) {
     fprintf(stderr, "vibroimpact: %s\n", err);
     rc = 1;
@@ -470,15 +470,15 @@ int vi_cmd_sweep_main(int argc, char **argv)
   }
   vi_diagram *sw = NULL;
   int mpi = mpi_start(&a.sp);
-  rc = vi_sweep_run_limited(text, a.scene ? a.scene : "<default scene: fig2>",
-                            a.sets, a.nsets, &a.sp, a.max_memory, a.out != NULL,
-                            &interrupted, &sw, err, sizeof err);
+  rc = vi_diagram_run_limited(text, a.scene ? a.scene : "<default scene: fig2>",
+                              a.sets, a.nsets, &a.sp, a.max_memory, a.out != NULL,
+                              &interrupted, &sw, err, sizeof err);
   free(text);
   if (rc && rc != 3 && !mpi_rank(mpi)) /* once */
     fprintf(stderr, "vibroimpact: %s: %s\n", a.basins ? "basins" : "sweep", err);
   /* rank 0 reports and writes, an interrupted sweep's points too */
   if ((!rc || rc == 3) && !sw->rank) rc = report(&a, sw);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
   free(a.sets);
   if (interrupted) rc = 128 + (int)interrupted; /* 130 SIGINT, 143 SIGTERM */
   return mpi_finish(mpi, rc);

@@ -36,7 +36,7 @@
 #include <string.h>
 
 #include "vi_app.h"
-#include "vi_sweep.h" /* --set */
+#include "vi_diagram.h" /* --set */
 #include "vibroimpact/vi_sparse.h"
 #include "vibroimpact/vi_truncation_io.h"
 

@@ -21,7 +21,7 @@
 
 #include "vi_app.h"
 #include "vi_app_blas.h"
-#include "vi_sweep.h" /* sweep, orbits, --set */
+#include "vi_diagram.h" /* sweep, orbits, --set */
 
 static int cmd_restitution(const app_opts *o);
 
@@ -416,9 +416,9 @@ int main(int argc, char **argv)
             VI_VERSION_STRING, vi_version_string());
     return 1;
   }
-  /* sweep and orbits parse their own arguments (apps/vi_sweep.h) */
+  /* sweep and orbits parse their own arguments (apps/vi_diagram.h) */
   if (argc > 1 && (!strcmp(argv[1], "sweep") || !strcmp(argv[1], "basins")))
-    return vi_sweep_exec(argc - 1, argv + 1);
+    return vi_app_sweep_exec(argc - 1, argv + 1);
   if (argc > 1 && (!strcmp(argv[1], "orbits") || !strcmp(argv[1], "identify"))) {
     /* the common handler: 130/143, nothing left on disk */
     struct sigaction so;

@@ -15,7 +15,7 @@
  * timed here by doing it; ratios of wall times within this one run.
  *
  * Runs: (1) one warm-started sweep, unsplit, serial; (2) the program's
- * default split (vi_sweep_default_chunks: seeded chunks of 16 values),
+ * default split (vi_diagram_default_chunks: seeded chunks of 16 values),
  * serial; (3) the same split on 2, 4, .. T threads, each checked
  * bit-identical to (2); (1)/(3) is what the user gains by default. */
 #include <math.h>
@@ -30,7 +30,7 @@
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 static double now(void)
 {
@@ -48,15 +48,15 @@ static double cpu(void)
 
 static double cpu_used; /* CPU seconds of the last sweep, all threads */
 
-static vi_diagram *sweep(vi_sweep_spec *sp, double *wall)
+static vi_diagram *sweep(vi_diagram_spec *sp, double *wall)
 {
   double c0 = cpu();
   static const char *sets[] = {"run.method=exact"};
   vi_diagram *sw = NULL;
   char err[2048];
   double t = now();
-  if (vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, 1, sp, NULL,
-                   &sw, err, sizeof err)) {
+  if (vi_diagram_run(vi_scene_default_text(), "fig2.yaml", sets, 1, sp, NULL,
+                     &sw, err, sizeof err)) {
     fprintf(stderr, "vi_bench_sweep: %s\n", err);
     exit(1);
   }
@@ -147,7 +147,7 @@ static int chain_bench(int n, int K)
   printf("vi_bench_sweep --chain %d: %d values of forcing.omega 0.03..0.05, "
          "5 + 2 periods each, exact method, 1 thread; %d alternating pairs\n",
          n, K, REPS);
-  vi_sweep_spec sp = {"forcing.omega", 0.03, 0.05, K, NULL, NAN, NAN, 1, 1,
+  vi_diagram_spec sp = {"forcing.omega", 0.03, 0.05, K, NULL, NAN, NAN, 1, 1,
                       5, 2, 1, 1, 1e-6, 32, 0, 0, 0, 0};
   double ratio[REPS], w_one = 0.0, w_sweep = 0.0;
   char err[2048];
@@ -155,12 +155,12 @@ static int chain_bench(int n, int K)
     double w1 = one_run(text, NULL, 0, 7);
     vi_diagram *sw = NULL;
     double t = now();
-    if (vi_sweep_run(text, "chain", NULL, 0, &sp, NULL, &sw, err, sizeof err)) {
+    if (vi_diagram_run(text, "chain", NULL, 0, &sp, NULL, &sw, err, sizeof err)) {
       fprintf(stderr, "vi_bench_sweep: %s\n", err);
       return 1;
     }
     double ws = now() - t;
-    vi_sweep_free(&sw);
+    vi_diagram_free(&sw);
     ratio[r] = ws / w1;
     printf("  pair %d: one run (parse, model, 7 periods) %7.3f s, sweep "
            "(parameters, vi_param.h) %7.3f s: %.2f x\n", r + 1, w1, ws,
@@ -212,7 +212,7 @@ int main(int argc, char **argv)
   int cores = 1;
   T = 1;
 #endif
-  vi_sweep_spec sp = {"forcing.omega", 0.5, 1.8, K, NULL, NAN, NAN, 1, 1, P, R,
+  vi_diagram_spec sp = {"forcing.omega", 0.5, 1.8, K, NULL, NAN, NAN, 1, 1, P, R,
                       1, 1, 1e-6, 32, 0, 0, 0, 0};
   double periods = (double)K * (P + R), w1, w2, w3 = INFINITY;
   printf("vi_bench_sweep: Fig. 2, Omega 0.5..1.8 in %d values, %d transient + "
@@ -222,10 +222,10 @@ int main(int argc, char **argv)
   printf("  (1) 1 sweep, 1 thread:         %8.3f s wall, %8.3f s CPU  (%.2f us "
          "CPU per forcing period)\n", w1, cpu_used, 1e6 * cpu_used / periods);
   census(a);
-  vi_sweep_free(&a);
+  vi_diagram_free(&a);
   /* the program's default split, on 1, 2, 4, .. T threads: each must give
    * the same diagram bit for bit (the split depends on K alone) */
-  sp.chunks = vi_sweep_default_chunks(&sp);
+  sp.chunks = vi_diagram_default_chunks(&sp);
   sp.threads = 1;
   vi_diagram *b = sweep(&sp, &w2);
   printf("  (2) default split (%d chunks, seeded), 1 thread: %8.3f s wall, "
@@ -237,11 +237,11 @@ int main(int argc, char **argv)
     printf("  (3) default split, %2d threads: %8.3f s wall, %8.3f s CPU  "
            "speed-up %.2f over (1), %.2f over (2); bit-identical to (2): %s\n",
            t, w3, cpu_used, w1 / w3, w2 / w3, identical(b, c) ? "yes" : "NO");
-    vi_sweep_free(&c);
+    vi_diagram_free(&c);
   }
   printf("  target: a 1000-value sweep >= 8 x faster on 16 cores than on one "
          "by default; <= 1.5 s wall for the 1000 x 600-period diagram; best "
          "here %.3f s\n", fmin(w1, fmin(w2, w3)) * 6e5 / periods);
-  vi_sweep_free(&b);
+  vi_diagram_free(&b);
   return 0;
 }

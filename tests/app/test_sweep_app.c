@@ -1,4 +1,4 @@
-/* test_sweep_app.c - the sweep program (apps/vi_sweep.c over the library's
+/* test_sweep_app.c - the sweep program (apps/vi_diagram.c over the library's
  * studies) against physics: the Fig. 2 P(1,1) orbit from an independent 40-digit shooting
  * (tests/orbit/ref_fig2_p11.py), the closed-form harmonic response when the stop
  * is out of reach, up and down sweeps agreeing where the motion is unique,
@@ -13,7 +13,7 @@
 
 #include "vi_testutil.h"
 #include "vibroimpact/vi_scene.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 /* tests/orbit/ref_fig2_p11.py (mpmath, 40 digits) */
 #define FIG2_VN 0.78766085255479729134
@@ -21,18 +21,18 @@
 
 static const char *exact[] = {"run.method=exact"};
 
-static vi_sweep_spec spec(const char *key, double from, double to, int steps)
+static vi_diagram_spec spec(const char *key, double from, double to, int steps)
 {
-  vi_sweep_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0, 0, 0, 0};
+  vi_diagram_spec s = {key, from, to, steps, NULL, NAN, NAN, 1, 1, 500, 100, 1, 1, 1e-6, 32, 0, 0, 0, 0};
   return s;
 }
 
-static vi_diagram *run(const vi_sweep_spec *sp, const char *const *sets, int nsets)
+static vi_diagram *run(const vi_diagram_spec *sp, const char *const *sets, int nsets)
 {
   vi_diagram *sw = NULL;
   char err[2048];
-  int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, nsets, sp,
-                        NULL, &sw, err, sizeof err);
+  int rc = vi_diagram_run(vi_scene_default_text(), "fig2.yaml", sets, nsets, sp,
+                          NULL, &sw, err, sizeof err);
   if (rc) fprintf(stderr, "sweep failed: %s\n", err);
   assert_int_equal(rc, 0);
   assert_non_null(sw);
@@ -45,7 +45,7 @@ static vi_diagram *run(const vi_sweep_spec *sp, const char *const *sets, int nse
 static void fig2_p11(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
+  vi_diagram_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
   vi_diagram *sw = run(&sp, exact, 1);
   const vi_diagram_point *pt = &sw->lines[0].pt[0];
   assert_int_equal(pt->n, 1);
@@ -55,7 +55,7 @@ static void fig2_p11(void **state)
   assert_close(pt->phase[pt->nimp - 1], FIG2_PHASE, 1e-9);
   /* the published README value, 6 digits */
   assert_close(pt->vn[0], 0.787661, 5e-7);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 /* Stop out of reach (x_s = 100): no impacts, P(1,0), and the stroboscopic
@@ -65,7 +65,7 @@ static void harmonic_response(void **state)
 {
   (void)state;
   const char *sets[] = {"run.method=exact", "stop.xs=100"};
-  vi_sweep_spec sp = spec("forcing.omega", 0.2, 3.0, 15);
+  vi_diagram_spec sp = spec("forcing.omega", 0.2, 3.0, 15);
   sp.transient = 400;
   sp.record = 4;
   vi_diagram *sw = run(&sp, sets, 2);
@@ -86,7 +86,7 @@ static void harmonic_response(void **state)
         assert_close(sw->lines[0].strobe[((size_t)k * sp.record + j) * 4 + i],
                      want[i], 1e-8 * amp * (1 + Om));
   }
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 /* Up and down sweeps over 0.88..0.95, where the P(1,1) orbit is the only
@@ -94,7 +94,7 @@ static void harmonic_response(void **state)
 static void up_down_agree(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.88, 0.95, 8);
+  vi_diagram_spec sp = spec("forcing.omega", 0.88, 0.95, 8);
   sp.dirs = 3;
   vi_diagram *sw = run(&sp, exact, 1);
   assert_int_equal(sw->nlines, 2);
@@ -109,7 +109,7 @@ static void up_down_agree(void **state)
     assert_close(u->vn[u->nimp - 1], d->vn[d->nimp - 1], 1e-9);
     assert_close(u->phase[u->nimp - 1], d->phase[d->nimp - 1], 1e-9);
   }
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 /* Warm start: value 2 starts where value 1 ended (same forcing phase), so
@@ -119,7 +119,7 @@ static void up_down_agree(void **state)
 static void warm_start(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 2);
+  vi_diagram_spec sp = spec("forcing.omega", 0.9, 0.9, 2);
   sp.transient = 5;
   sp.record = 5;
   vi_diagram *warm = run(&sp, exact, 1);
@@ -136,9 +136,9 @@ static void warm_start(void **state)
     far = fmax(far, fabs(w[i] - c[i]));
   }
   assert_true(far > 1e-3);
-  vi_sweep_free(&warm);
-  vi_sweep_free(&longer);
-  vi_sweep_free(&cold);
+  vi_diagram_free(&warm);
+  vi_diagram_free(&longer);
+  vi_diagram_free(&cold);
 }
 
 static void assert_lines_equal(const vi_diagram *a, const vi_diagram *b, int K, int R)
@@ -163,7 +163,7 @@ static void assert_lines_equal(const vi_diagram *a, const vi_diagram *b, int K, 
 static void threads_identical(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.7, 1.3, 12);
+  vi_diagram_spec sp = spec("forcing.omega", 0.7, 1.3, 12);
   sp.transient = 100;
   sp.record = 20;
   sp.chunks = 3;
@@ -174,15 +174,15 @@ static void threads_identical(void **state)
     sp.threads = t;
     vi_diagram *b = run(&sp, exact, 1);
     assert_lines_equal(a, b, 12, 20);
-    vi_sweep_free(&b);
+    vi_diagram_free(&b);
   }
-  vi_sweep_free(&a);
+  vi_diagram_free(&a);
 }
 
 /* Seeded chunks compute every value once, warm-started as a serial sweep
  * does: with one value per chunk the seed chain is the whole line, so the
  * diagram equals the unsplit one bit for bit; with the default split
- * (vi_sweep_default_chunks: sqrt(K) values a chunk here) each chunk after
+ * (vi_diagram_default_chunks: sqrt(K) values a chunk here) each chunk after
  * the first goes on from the chain's state, and where the motion is
  * unique (Fig. 2, Omega 0.7-1.3: P(1,2) below 0.8, P(1,1) above; up and
  * down sweeps agree there) every value
@@ -191,14 +191,14 @@ static void threads_identical(void **state)
 static void seeded_chunks(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.7, 1.3, 16);
+  vi_diagram_spec sp = spec("forcing.omega", 0.7, 1.3, 16);
   sp.transient = 200;
   sp.record = 10;
   vi_diagram *one = run(&sp, exact, 1);
   sp.chunks = 16;
   vi_diagram *chain = run(&sp, exact, 1);
   assert_lines_equal(one, chain, 16, 10);
-  sp.chunks = vi_sweep_default_chunks(&sp);
+  sp.chunks = vi_diagram_default_chunks(&sp);
   assert_int_equal(sp.chunks, 4); /* ceil(sqrt(16)) = 4 values a chunk */
   sp.threads = 2;
   vi_diagram *split = run(&sp, exact, 1);
@@ -211,16 +211,16 @@ static void seeded_chunks(void **state)
   }
   /* the defaults: 1000 values in chunks of 16; --both and wide maps unsplit */
   sp.steps = 1000;
-  assert_int_equal(vi_sweep_default_chunks(&sp), 63);
+  assert_int_equal(vi_diagram_default_chunks(&sp), 63);
   sp.dirs = 3;
-  assert_int_equal(vi_sweep_default_chunks(&sp), 1);
+  assert_int_equal(vi_diagram_default_chunks(&sp), 1);
   sp.dirs = 1;
   sp.key2 = "stop.xs";
   sp.steps2 = 16;
-  assert_int_equal(vi_sweep_default_chunks(&sp), 1);
-  vi_sweep_free(&one);
-  vi_sweep_free(&chain);
-  vi_sweep_free(&split);
+  assert_int_equal(vi_diagram_default_chunks(&sp), 1);
+  vi_diagram_free(&one);
+  vi_diagram_free(&chain);
+  vi_diagram_free(&split);
 }
 
 /* A two-parameter map: rows of the second key; row x_s = 100 is impact
@@ -228,7 +228,7 @@ static void seeded_chunks(void **state)
 static void two_parameter_map(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.85, 0.9, 2);
+  vi_diagram_spec sp = spec("forcing.omega", 0.85, 0.9, 2);
   sp.key2 = "stop.xs";
   sp.from2 = 0.1;
   sp.to2 = 100;
@@ -240,7 +240,7 @@ static void two_parameter_map(void **state)
   assert_int_equal(p->m, 1);
   assert_close(p->vn[p->nimp - 1], FIG2_VN, 1e-9);
   assert_int_equal(q->m, 0);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 /* --orbits: every P(1,1) orbit at each value.  Fig. 2 at 0.9: one, stable
@@ -250,7 +250,7 @@ static void two_parameter_map(void **state)
 static void p11_orbits(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
+  vi_diagram_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
   sp.transient = 300;
   sp.record = 10;
   sp.orbits = 360;
@@ -265,7 +265,7 @@ static void p11_orbits(void **state)
       assert_close(pt->ovn[i], pt->vn[pt->nimp - 1], 1e-9);
     }
   assert_int_equal(adm, 1);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
   static const char *chatter =
       "name: chatter\nmodel: {M: [[1.0]], C: [[0.02]], K: [[0.1]]}\n"
       "forcing: {omega: 1.0, a: [0.6], f0: [0.3]}\n"
@@ -275,7 +275,7 @@ static void p11_orbits(void **state)
   sp.transient = 10;
   sp.record = 2;
   sp.orbits = 360;
-  assert_int_equal(vi_sweep_run(chatter, "chatter.yaml", NULL, 0, &sp, NULL, &sw, err, sizeof err), 0);
+  assert_int_equal(vi_diagram_run(chatter, "chatter.yaml", NULL, 0, &sp, NULL, &sw, err, sizeof err), 0);
   pt = &sw->lines[0].pt[0];
   assert_int_equal(pt->norb, 2);
   int u = pt->ostable[0] ? 1 : 0;
@@ -283,28 +283,28 @@ static void p11_orbits(void **state)
   assert_true(pt->ostable[1 - u]);
   assert_close(pt->ovn[u], 1.6134056745831746208, 1e-11);
   assert_close(pt->ovn[1 - u], 2.1562495000219778789, 1e-11);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 /* JSON: the keys the issue names, null for an unclassified value. */
 static void json_form(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
+  vi_diagram_spec sp = spec("forcing.omega", 0.9, 0.9, 1);
   sp.transient = 0;
   sp.record = 4;
   vi_diagram *sw = run(&sp, exact, 1);
   char *buf = NULL;
   size_t len = 0;
   FILE *f = open_memstream(&buf, &len);
-  vi_sweep_print_json(sw, f);
+  vi_diagram_print_json(sw, f);
   fclose(f);
   assert_non_null(strstr(buf, "\"param\": [0.90000000000000002]"));
   assert_non_null(strstr(buf, "\"n\": [null]"));
   assert_non_null(strstr(buf, "\"m\": [null]"));
   assert_non_null(strstr(buf, "\"vn\": [["));
   free(buf);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 /* Bad input: unknown key named at its place; no output file on failure. */
@@ -313,16 +313,16 @@ static void bad_input(void **state)
   (void)state;
   vi_diagram *sw = NULL;
   char err[2048];
-  vi_sweep_spec sp = spec("forcing.omgea", 0.8, 0.9, 2);
-  int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", exact, 1, &sp,
-                        NULL, &sw, err, sizeof err);
+  vi_diagram_spec sp = spec("forcing.omgea", 0.8, 0.9, 2);
+  int rc = vi_diagram_run(vi_scene_default_text(), "fig2.yaml", exact, 1, &sp,
+                          NULL, &sw, err, sizeof err);
   assert_int_equal(rc, 2);
   assert_null(sw);
   assert_non_null(strstr(err, "fig2.yaml:9:"));
   assert_non_null(strstr(err, "forcing.omgea"));
   sp = spec("stop.r", 0.5, 1.5, 3); /* r = 1.5 is not a restitution */
-  rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", exact, 1, &sp, NULL,
-                    &sw, err, sizeof err);
+  rc = vi_diagram_run(vi_scene_default_text(), "fig2.yaml", exact, 1, &sp, NULL,
+                      &sw, err, sizeof err);
   assert_int_equal(rc, 2);
   assert_non_null(strstr(err, "fig2.yaml:10:"));
   assert_non_null(strstr(err, "stop.r = 1.5"));
@@ -332,13 +332,13 @@ static void bad_input(void **state)
 static void hdf5_layout(void **state)
 {
   (void)state;
-  vi_sweep_spec sp = spec("forcing.omega", 0.88, 0.9, 3);
+  vi_diagram_spec sp = spec("forcing.omega", 0.88, 0.9, 3);
   sp.transient = 200;
   sp.record = 10;
   vi_diagram *sw = run(&sp, exact, 1);
   char err[256];
   const char *path = "test_sweep_out.h5";
-  assert_int_equal(vi_sweep_write_h5(sw, path, err, sizeof err), 0);
+  assert_int_equal(vi_diagram_write_h5(sw, path, err, sizeof err), 0);
   hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   assert_true(f >= 0);
   int n[3], m[3];
@@ -368,7 +368,7 @@ static void hdf5_layout(void **state)
   }
   assert_close(vn[29], FIG2_VN, 1e-9);
   remove(path);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 int main(void)

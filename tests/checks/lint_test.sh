@@ -38,7 +38,7 @@ files=(
   tests/stress/test_stress_energy.c tests/stress/test_stress_stops.c
   tests/stress/test_stress_chatref.c tests/stress/test_stress_cancel.c
   apps/vi_app_h5.c apps/vi_cmd_orbits.c
-  apps/vi_sweep_cont.c apps/vi_sweep_h5.c apps/vi_sweep_main.c bench/vi_bench_sweep.c
+  apps/vi_cmd_orbits_cont.c apps/vi_diagram_h5.c apps/vi_diagram_main.c bench/vi_bench_sweep.c
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
   src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c apps/vi_cmd_energy.c
   src/sim/vi_band.c src/model/vi_band_model.c tests/sim/test_band.c bench/vi_bench_band.c
@@ -46,7 +46,7 @@ files=(
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/app/test_sweep_app.c tests/study/test_sweep.c
   src/flow/vi_constrained.c src/sim/vi_held.c tests/stress/test_stress_held.c
   tests/app/test_app.c tests/flow/test_flow.c tests/io/test_scene.c tests/study/test_sweep.c
-  bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_sweep_scene.c bench/vi_bench_chatter.c
+  bench/vi_bench.c apps/vi_cmd_sweep.c apps/vi_app_scene.c bench/vi_bench_chatter.c
   src/model/vi_param.c tests/model/test_param.c
   src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
   src/study/vi_identify_fit.c src/study/vi_identify_global.c src/study/vi_identify_resid.c

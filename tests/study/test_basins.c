@@ -1,4 +1,4 @@
-/* test_basins.c - basins of attraction (`vibroimpact basins`, apps/vi_sweep.c
+/* test_basins.c - basins of attraction (`vibroimpact basins`, apps/vi_diagram.c
  * over the library's studies, vi_study.h) on Fig. 2 at Omega = 2.4, where
  * the non-impacting harmonic response P(1,0) and an impacting P(3,1) orbit
  * coexist:
@@ -17,7 +17,7 @@
 
 #include "vi_testutil.h"
 #include "vibroimpact/vi_scene.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 #define OMEGA 2.4
 #define NX 20
@@ -27,12 +27,12 @@ static const char *sets[] = {"run.method=exact", "forcing.omega=2.4"};
 
 static vi_diagram *basins(int threads)
 {
-  vi_sweep_spec sp = {"initial.x[2]", -4.0, 0.09, NX, "initial.v[2]", -6.0, 6.0,
+  vi_diagram_spec sp = {"initial.x[2]", -4.0, 0.09, NX, "initial.v[2]", -6.0, 6.0,
                       NV, 1, 1000, 30, NX, threads, 1e-6, 32, 0, 1, 0, 0};
   vi_diagram *sw = NULL;
   char err[2048];
-  int rc = vi_sweep_run(vi_scene_default_text(), "fig2.yaml", sets, 2, &sp,
-                        NULL, &sw, err, sizeof err);
+  int rc = vi_diagram_run(vi_scene_default_text(), "fig2.yaml", sets, 2, &sp,
+                          NULL, &sw, err, sizeof err);
   if (rc) fprintf(stderr, "basins failed: %s\n", err);
   assert_int_equal(rc, 0);
   assert_int_equal(vi_basins_identify(sw), 0);
@@ -109,8 +109,8 @@ static void cells_agree(void **state)
   vi_model_destroy(&m);
   vi_diagram *s1 = basins(1);
   assert_memory_equal(s1->attractor, sw->attractor, sizeof(int) * NX * NV);
-  vi_sweep_free(&s1);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&s1);
+  vi_diagram_free(&sw);
 }
 
 /* The P(3,1) cells share one orbit whatever their phase: their last
@@ -141,7 +141,7 @@ static void one_orbit_many_phases(void **state)
   }
   /* cells landed on the orbit in different phases, and still share an id */
   assert_true(shifted > 0);
-  vi_sweep_free(&sw);
+  vi_diagram_free(&sw);
 }
 
 int main(void)

@@ -1,4 +1,4 @@
-/* vi_sweep.h - brute-force bifurcation diagrams (`vibroimpact sweep`).
+/* vi_diagram.h - brute-force bifurcation diagrams (`vibroimpact sweep`).
  *
  * One scene key (any numeric one, e.g. forcing.omega, stop.xs, forcing.a[1])
  * takes K values from..to; at each value the key is set on the model built
@@ -19,8 +19,8 @@
  * own on its OpenMP threads, and rank 0 gathers the diagram: identical
  * for any K.
  */
-#ifndef VI_SWEEP_H
-#define VI_SWEEP_H
+#ifndef VI_DIAGRAM_H
+#define VI_DIAGRAM_H
 
 #include <signal.h>
 #include <stdint.h>
@@ -28,7 +28,7 @@
 
 #include "vibroimpact.h"
 
-typedef struct vi_sweep_spec {
+typedef struct vi_diagram_spec {
   const char *key;      /* swept scene key */
   double from, to;
   int steps;            /* K >= 1 */
@@ -50,7 +50,7 @@ typedef struct vi_sweep_spec {
                            (vi_sweep_set_lyapunov) */
   int max_depth;        /* deepest YAML nesting of the scene and the --set
                            values (<= 0: VI_SCENE_MAX_DEPTH) */
-} vi_sweep_spec;
+} vi_diagram_spec;
 
 /* One parameter value of one line. */
 typedef struct vi_diagram_point {
@@ -79,14 +79,14 @@ typedef struct vi_diagram_line {
 } vi_diagram_line;
 
 typedef struct vi_diagram {
-  vi_sweep_spec spec;
+  vi_diagram_spec spec;
   int N;                /* coordinates */
   double t0;
   double *param, *param2; /* [K], [steps2] */
   int nlines;
   vi_diagram_line *lines;   /* row-major: row r, then up before down */
   char *text, *name;      /* the base scene (after --set) and its file name */
-  double wall;            /* seconds spent in vi_sweep_run */
+  double wall;            /* seconds spent in vi_diagram_run */
   int rank;               /* MPI rank (0 without MPI): only rank 0 holds
                              the whole diagram */
   int npieces;            /* lines x chunks */
@@ -99,7 +99,7 @@ typedef struct vi_diagram {
   int *attractor;         /* spec.cold: [nlines x K] attractor ids (-1:
                              none), vi_sweep_attractors; rank 0 only */
   int nattr;
-  double max_memory;      /* the memory check's limit (vi_sweep_run_limited) */
+  double max_memory;      /* the memory check's limit (vi_diagram_run_limited) */
   int writes;             /* 1: the file will be built in memory too */
   int incomplete;         /* 1: interrupted, only the points marked done */
   int64_t points_done;    /* points computed (of nlines x K) */
@@ -111,35 +111,35 @@ typedef struct vi_diagram {
  * failure, 3 when cancelled (*cancel set non-zero by a signal handler):
  * then *out holds the points done so far (incomplete = 1; the point in
  * progress in each piece is dropped). */
-int vi_sweep_run(const char *text, const char *name, const char *const *sets,
-                 int nsets, const vi_sweep_spec *spec,
-                 volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
-                 int errlen);
-/* vi_sweep_run with the memory check's limit: before the model and the
+int vi_diagram_run(const char *text, const char *name, const char *const *sets,
+                   int nsets, const vi_diagram_spec *spec,
+                   volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
+                   int errlen);
+/* vi_diagram_run with the memory check's limit: before the model and the
  * diagram are allocated, their size (the model and a simulation per
  * thread, the stroboscopic states, one impact per recorded period, and
  * with `writes` the file built in memory) is compared with max_memory
  * bytes (<= 0: MemAvailable of /proc/meminfo); more is refused (2, the
- * flags and the figures in err).  vi_sweep_run: max_memory 0, writes 0. */
-int vi_sweep_run_limited(const char *text, const char *name,
-                         const char *const *sets, int nsets,
-                         const vi_sweep_spec *spec, double max_memory,
-                         int writes, volatile sig_atomic_t *cancel,
-                         vi_diagram **out, char *err, int errlen);
+ * flags and the figures in err).  vi_diagram_run: max_memory 0, writes 0. */
+int vi_diagram_run_limited(const char *text, const char *name,
+                           const char *const *sets, int nsets,
+                           const vi_diagram_spec *spec, double max_memory,
+                           int writes, volatile sig_atomic_t *cancel,
+                           vi_diagram **out, char *err, int errlen);
 /* The bytes a diagram of spec with N coordinates holds (the estimate
- * vi_sweep_run_limited checks), scene_bytes the model's and one
+ * vi_diagram_run_limited checks), scene_bytes the model's and one
  * simulation's (vi_scene_memory_estimate). */
-double vi_sweep_memory_estimate(const vi_sweep_spec *spec, int N,
-                                double scene_bytes, int writes);
-void vi_sweep_free(vi_diagram **sw);
+double vi_diagram_memory_estimate(const vi_diagram_spec *spec, int N,
+                                  double scene_bytes, int writes);
+void vi_diagram_free(vi_diagram **sw);
 /* The chunks per line a warm sweep of spec gets without --chunks, fixed by
  * its size alone (never by the threads, so the diagram is the same on any
  * machine): one per min(16, ceil(sqrt(K))) values; 1 (each line exact, in
  * order) for --both (hysteresis asked for) and for 16 lines or more (the
  * lines are parallel enough). */
-int vi_sweep_default_chunks(const vi_sweep_spec *spec);
+int vi_diagram_default_chunks(const vi_diagram_spec *spec);
 /* How the sweep was split, in words, into s[len]. */
-void vi_sweep_split(const vi_diagram *sw, char *s, int len);
+void vi_diagram_split(const vi_diagram *sw, char *s, int len);
 
 /* Basins (spec.cold): the attractor of every cell, sw->attractor and
  * sw->nattr (vi_sweep_attractors); 0, or 1 out of memory.  Then JSON (flat
@@ -149,24 +149,24 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f);
 void vi_basins_table(const vi_diagram *sw, FILE *f);
 
 /* The diagram as one JSON object (see share/doc/sweep-layout.md). */
-void vi_sweep_print_json(const vi_diagram *sw, FILE *f);
+void vi_diagram_print_json(const vi_diagram *sw, FILE *f);
 /* The diagram to HDF5 (share/doc/sweep-layout.md): written to path.part,
  * renamed on success.  Returns 0, or 1 with a message in err. */
-int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err,
-                      int errlen);
+int vi_diagram_write_h5(const vi_diagram *sw, const char *path, char *err,
+                        int errlen);
 
 
 /* The scene file's text (path NULL: the embedded default), malloc'ed; NULL
  * with a message in err. */
-char *vi_sweep_read_text(const char *path, char *err, int errlen);
+char *vi_app_read_text(const char *path, char *err, int errlen);
 /* Read a scene file (NULL: the default) with KEY=VALUE overrides applied
  * (vi_scene_edit, at most max_depth levels of nesting, <= 0: the default)
  * and parse it.  Returns 0, 2 for bad input, 1 for I/O;
  * err names file:line:key. */
 struct vi_scene;
-int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
-                        int max_depth, struct vi_scene **out, char *err,
-                        int errlen);
+int vi_app_load_scene(const char *path, const char *const *sets, int nsets,
+                      int max_depth, struct vi_scene **out, char *err,
+                      int errlen);
 
 /* --set KEY=VALUE for run and energy: vi_sets_take removes every
  * `--set KEY=VALUE` (or `--set=KEY=VALUE`) from argv and keeps them;
@@ -183,23 +183,23 @@ int vi_sets_load(const char *path, int max_depth, struct vi_scene **out,
 
 /* 1 if the scene text has nonlinear springs (`springs:`): the closed-form
  * orbit machinery (orbits, sweep --orbits) covers linear scenes only. */
-int vi_sweep_text_nonlinear(const char *text);
+int vi_app_text_nonlinear(const char *text);
 
 /* `vibroimpact sweep ARGS`: replace this process by vibroimpact-sweep
  * (beside the program) with argv = the subcommand's; returns only on
  * failure (exit status 1, message printed). */
-int vi_sweep_exec(int argc, char **argv);
+int vi_app_sweep_exec(int argc, char **argv);
 
 /* Follow the P(n,1) orbit (t0, x0, v0 [N]: an impact and the state before
  * it) of the scene's model m in the scene key `key` from its value to `to`
  * in `steps` steps, naturally or (arclength) by pseudo-arclength around
  * folds (vi_cont.h), printing the branch and the points where it loses
  * stability, folds or grazes (text, or JSON {key, n, m, branch, events}).
- * Returns 0, 2 for bad input (err), 1 otherwise (vi_sweep_cont.c). */
-int vi_sweep_follow(const vi_model *m, const struct vi_scene *sc,
-                    const char *key, int arclength, double to, int steps,
-                    int np, double t0, const double *x0, const double *v0,
-                    int json, char *err, int errlen);
+ * Returns 0, 2 for bad input (err), 1 otherwise (vi_cmd_orbits_cont.c). */
+int vi_orbits_follow(const vi_model *m, const struct vi_scene *sc,
+                     const char *key, int arclength, double to, int steps,
+                     int np, double t0, const double *x0, const double *v0,
+                     int json, char *err, int errlen);
 
 /* `vibroimpact sweep ...` and `vibroimpact orbits ...`: argv[0] is the
  * subcommand; returns the exit status. */

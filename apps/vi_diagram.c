@@ -1,6 +1,6 @@
-/* vi_sweep.c - brute-force bifurcation diagrams: the sweep itself (warm
+/* vi_diagram.c - brute-force bifurcation diagrams: the sweep itself (warm
  * start, stroboscopic sampling, impact map, P(n, m) classification) and
- * its JSON form.  The HDF5 form is in vi_sweep_h5.c. */
+ * its JSON form.  The HDF5 form is in vi_diagram_h5.c. */
 #include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
@@ -20,7 +20,7 @@
 #include "vibroimpact/vi_scene_edit.h"
 #include "vibroimpact/vi_scene_param.h"
 #include "vi_app.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 static double now(void)
 {
@@ -131,7 +131,7 @@ static int keep_point(const vi_sweep *st, const vi_diagram *sw,
 /* A study of the diagram's model with the scene's settings. */
 static int make_study(const vi_diagram *sw, vi_sweep **out, char *err, int len)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   double t0;
   int n = sw->N;
   double *x = malloc(sizeof(double) * 2 * (size_t)n);
@@ -268,7 +268,7 @@ done:
 }
 
 /* ---- the whole sweep ------------------------------------------------------ */
-void vi_sweep_free(vi_diagram **swp)
+void vi_diagram_free(vi_diagram **swp)
 {
   if (!swp || !*swp) return;
   vi_diagram *sw = *swp;
@@ -440,8 +440,8 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
 
 /* Every rank's code is agreed on first (an error anywhere fails the sweep
  * everywhere); then ranks 1.. send their pieces' results to rank 0. */
-static int vi_sweep_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
-                           int size, int code, char *err, int errlen)
+static int vi_diagram_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
+                             int size, int code, char *err, int errlen)
 {
   /* a cancelled rank (code 3) still sends the points it did */
   int all = 0, mine[2] = {code == 3 ? 0 : code, code == 3}, both[2];
@@ -503,7 +503,7 @@ static double mem_available(void)
   return kb * 1024.0;
 }
 
-static int threads_of(const vi_sweep_spec *sp)
+static int threads_of(const vi_diagram_spec *sp)
 {
   int nth = sp->threads > 0 ? sp->threads : 1;
 #ifdef _OPENMP
@@ -512,7 +512,7 @@ static int threads_of(const vi_sweep_spec *sp)
   return nth;
 }
 
-int vi_sweep_default_chunks(const vi_sweep_spec *sp)
+int vi_diagram_default_chunks(const vi_diagram_spec *sp)
 {
   int K = sp->steps, lines = (sp->key2 ? sp->steps2 : 1) * (sp->dirs == 3 ? 2 : 1);
   if (K < 2 || sp->dirs == 3 || lines >= 16) return 1;
@@ -521,9 +521,9 @@ int vi_sweep_default_chunks(const vi_sweep_spec *sp)
   return (K + L - 1) / L;
 }
 
-void vi_sweep_split(const vi_diagram *sw, char *s, int len)
+void vi_diagram_split(const vi_diagram *sw, char *s, int len)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int C = sp->chunks;
   if (sp->cold) snprintf(s, (size_t)len, "every value from the initial state, %d "
                          "piece%s a line", C, C > 1 ? "s" : "");
@@ -533,8 +533,8 @@ void vi_sweep_split(const vi_diagram *sw, char *s, int len)
   else snprintf(s, (size_t)len, "each line in order, warm start exact");
 }
 
-double vi_sweep_memory_estimate(const vi_sweep_spec *sp, int N,
-                                double scene_bytes, int writes)
+double vi_diagram_memory_estimate(const vi_diagram_spec *sp, int N,
+                                  double scene_bytes, int writes)
 {
   double L = (double)(sp->key2 ? sp->steps2 : 1) * (sp->dirs == 3 ? 2 : 1),
          K = sp->steps, R = sp->record, n2 = 2.0 * N,
@@ -555,11 +555,11 @@ double vi_sweep_memory_estimate(const vi_sweep_spec *sp, int N,
  * 0, or 2 with the flags and the figures in err. */
 static int check_memory(const vi_diagram *sw, char *err, int errlen)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   double lim = sw->max_memory > 0 ? sw->max_memory : mem_available();
   if (!(lim > 0)) return 0; /* not known: nothing to compare */
   double scene = vi_scene_memory_estimate(sw->sc),
-         need = vi_sweep_memory_estimate(sp, sw->N, scene, sw->writes);
+         need = vi_diagram_memory_estimate(sp, sw->N, scene, sw->writes);
   if (need <= lim) return 0;
   char rows[64] = "";
   if (sp->key2) snprintf(rows, sizeof rows, " x --steps2 %d", sp->steps2);
@@ -580,7 +580,7 @@ static int check_memory(const vi_diagram *sw, char *err, int errlen)
 static int prepare(vi_diagram *sw, const char *text, const char *name,
                    const char *const *sets, int nsets, char *err, int errlen)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int K = sp->steps, rows = sp->steps2;
   vi_scene_edit *ed = NULL;
   vi_diag d;
@@ -611,7 +611,7 @@ static int prepare(vi_diagram *sw, const char *text, const char *name,
   for (int r = 0; r < rows; r++)
     sw->param2[r] = rows > 1 ? sp->from2 + (sp->to2 - sp->from2) * r / (rows - 1)
                              : sp->from2;
-  if (sp->orbits > 0 && vi_sweep_text_nonlinear(sw->text)) {
+  if (sp->orbits > 0 && vi_app_text_nonlinear(sw->text)) {
     msg(err, errlen, "%s: --orbits: the scene has nonlinear springs, and the "
         "P(1,1) orbits are found with the linear closed-form flow", sw->name);
     return 2;
@@ -635,7 +635,7 @@ static int prepare(vi_diagram *sw, const char *text, const char *name,
 /* The lines (rows x directions), their points and NaN-filled strobes. */
 static int make_lines(vi_diagram *sw)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int K = sp->steps, ndir = sp->dirs == 3 ? 2 : 1;
   size_t nz = (size_t)K * sp->record * 2 * sw->N;
   sw->nlines = sp->steps2 * ndir;
@@ -761,7 +761,7 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
       msg(err, errlen, "%s", ps[i].err);
     }
 #ifdef VI_HAVE_MPI
-  if (size > 1) code = vi_sweep_gather(sw, chunks, ntask, rank, size, code, err, errlen);
+  if (size > 1) code = vi_diagram_gather(sw, chunks, ntask, rank, size, code, err, errlen);
   sw->rank = rank;
 #endif
   free(ps);
@@ -769,25 +769,25 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
   return code;
 }
 
-int vi_sweep_run(const char *text, const char *name, const char *const *sets,
-                 int nsets, const vi_sweep_spec *spec,
-                 volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
-                 int errlen)
+int vi_diagram_run(const char *text, const char *name, const char *const *sets,
+                   int nsets, const vi_diagram_spec *spec,
+                   volatile sig_atomic_t *cancel, vi_diagram **out, char *err,
+                   int errlen)
 {
-  return vi_sweep_run_limited(text, name, sets, nsets, spec, 0, 0, cancel, out,
-                              err, errlen);
+  return vi_diagram_run_limited(text, name, sets, nsets, spec, 0, 0, cancel, out,
+                                err, errlen);
 }
 
-int vi_sweep_run_limited(const char *text, const char *name,
-                         const char *const *sets, int nsets,
-                         const vi_sweep_spec *spec, double max_memory,
-                         int writes, volatile sig_atomic_t *cancel,
-                         vi_diagram **out, char *err, int errlen)
+int vi_diagram_run_limited(const char *text, const char *name,
+                           const char *const *sets, int nsets,
+                           const vi_diagram_spec *spec, double max_memory,
+                           int writes, volatile sig_atomic_t *cancel,
+                           vi_diagram **out, char *err, int errlen)
 {
   double w0 = now();
   *out = NULL;
   err[0] = '\0';
-  const vi_sweep_spec *sp = spec;
+  const vi_diagram_spec *sp = spec;
   if (!sp->key || sp->steps < 1 || sp->record < 2 || sp->transient < 0 ||
       sp->chunks < 1 || sp->dirs < 1 || sp->dirs > 3 || !(sp->tol > 0) ||
       sp->nmax < 1 || (sp->key2 && sp->steps2 < 1)) {
@@ -812,7 +812,7 @@ int vi_sweep_run_limited(const char *text, const char *name,
   }
   if (!code) code = deal(sw, cancel, err, errlen);
   if (code && code != 3) {
-    vi_sweep_free(&sw);
+    vi_diagram_free(&sw);
     return code;
   }
   /* cancelled: the diagram of the points done, marked incomplete */
@@ -899,9 +899,9 @@ static void json_line(const vi_diagram *sw, const vi_diagram_line *ln, FILE *f)
   fprintf(f, "]");
 }
 
-void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
+void vi_diagram_print_json(const vi_diagram *sw, FILE *f)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   fprintf(f, "{\"scene\": ");
   json_str(f, sw->name);
   fprintf(f, ", ");
@@ -909,7 +909,7 @@ void vi_sweep_print_json(const vi_diagram *sw, FILE *f)
   fprintf(f, "\"key\": ");
   json_str(f, sp->key);
   char split[160];
-  vi_sweep_split(sw, split, sizeof split);
+  vi_diagram_split(sw, split, sizeof split);
   fprintf(f, ", \"transient\": %d, \"record\": %d, \"chunks\": %d, "
           "\"seeded\": %s, \"split\": ", sp->transient, sp->record, sp->chunks,
           sp->chunks > 1 && sw->warm ? "true" : "false");
@@ -970,7 +970,7 @@ int vi_basins_identify(vi_diagram *sw)
 /* Basins as JSON: one flat entry per cell (row-major: param2 rows). */
 void vi_basins_print_json(const vi_diagram *sw, FILE *f)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int K = sp->steps, L = sw->nlines;
   fprintf(f, "{\"scene\": ");
   json_str(f, sw->name);
@@ -1027,7 +1027,7 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
 /* Basins as text: the attractors, then the grid of their ids. */
 void vi_basins_table(const vi_diagram *sw, FILE *f)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int K = sp->steps;
   fprintf(f, "basins of %s x %s, %d x %d cells, %d transient + %d recorded "
           "periods each, %.3f s: %d attractor%s\n", sp->key, sp->key2, K,

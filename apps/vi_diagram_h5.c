@@ -1,4 +1,4 @@
-/* vi_sweep_h5.c - a sweep to HDF5 (layout: share/doc/sweep-layout.md).
+/* vi_diagram_h5.c - a sweep to HDF5 (layout: share/doc/sweep-layout.md).
  * Whole arrays are known when the sweep ends, so each is one contiguous
  * dataset written at once; the file is FILE.part until it is complete. */
 #include <stdio.h>
@@ -9,7 +9,7 @@
 
 #include "vibroimpact.h"
 #include "vi_h5_util.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 #include "vibroimpact/vi_output.h"
 
 /* /sweep/p11: every P(1,1) orbit at each value (sweep --orbits) */
@@ -94,7 +94,7 @@ typedef struct flat_arrays {
 /* The /sweep datasets and attributes; non-zero on any failure. */
 static int put_sweep(hid_t g, hid_t gi, const vi_diagram *sw, const flat_arrays *a)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
   hsize_t dK[1] = {(hsize_t)K}, dR2[1] = {(hsize_t)sp->steps2},
           dL[1] = {(hsize_t)L}, dLK[2] = {(hsize_t)L, (hsize_t)K},
@@ -153,9 +153,9 @@ static int put_file_attrs(hid_t f, const vi_diagram *sw)
   return bad;
 }
 
-int vi_sweep_write_h5(const vi_diagram *sw, const char *path, char *err, int errlen)
+int vi_diagram_write_h5(const vi_diagram *sw, const char *path, char *err, int errlen)
 {
-  const vi_sweep_spec *sp = &sw->spec;
+  const vi_diagram_spec *sp = &sw->spec;
   int K = sp->steps, L = sw->nlines, R = sp->record, n2 = 2 * sw->N, bad = 0;
   char part[4096 + 8];
   if (vi_output_part(path, part, (int)sizeof part)) {

@@ -1,4 +1,4 @@
-/* vi_sweep_main.c - vibroimpact-sweep: the `sweep` subcommand as its own
+/* vi_diagram_main.c - vibroimpact-sweep: the `sweep` subcommand as its own
  * program, which `vibroimpact sweep ...` runs in its place (execv, same
  * process: mpirun sees the same ranks), so that HDF5, OpenMP and MPI are
  * loaded only by sweeps. */
@@ -8,7 +8,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "vibroimpact.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 #include "vi_app_blas.h"
 
 int main(int argc, char **argv)

@@ -1,4 +1,4 @@
-/* vi_sweep_scene.c - reading a scene file with `--set KEY=VALUE` overrides
+/* vi_app_scene.c - reading a scene file with `--set KEY=VALUE` overrides
  * applied (shared by sweep, orbits, and the run / energy commands). */
 #include <errno.h>
 #include <stdio.h>
@@ -9,9 +9,9 @@
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_edit.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
-char *vi_sweep_read_text(const char *path, char *err, int errlen)
+char *vi_app_read_text(const char *path, char *err, int errlen)
 {
   if (!path) {
     char *t = strdup(vi_scene_default_text());
@@ -56,14 +56,14 @@ char *vi_sweep_read_text(const char *path, char *err, int errlen)
   return buf;
 }
 
-int vi_sweep_load_scene(const char *path, const char *const *sets, int nsets,
-                        int max_depth, vi_scene **out, char *err, int errlen)
+int vi_app_load_scene(const char *path, const char *const *sets, int nsets,
+                      int max_depth, vi_scene **out, char *err, int errlen)
 {
   vi_scene_edit *ed = NULL;
   vi_diag d;
   memset(&d, 0, sizeof d);
   *out = NULL;
-  char *text = vi_sweep_read_text(path, err, errlen);
+  char *text = vi_app_read_text(path, err, errlen);
   if (!text) return 1;
   int st = vi_scene_edit_create_limited(text, -1, path ? path : "<default "
                                         "scene: fig2>", max_depth, &ed, &d);
@@ -118,7 +118,7 @@ int vi_sets_load(const char *path, int max_depth, vi_scene **out, vi_diag *d)
   vi_scene_edit *ed = NULL;
   if (d) memset(d, 0, sizeof *d);
   *out = NULL;
-  char *text = vi_sweep_read_text(path, err, sizeof err);
+  char *text = vi_app_read_text(path, err, sizeof err);
   if (!text) {
     if (d) {
       d->code = VI_ERR_IO;
@@ -139,7 +139,7 @@ int vi_sets_load(const char *path, int max_depth, vi_scene **out, vi_diag *d)
 }
 
 /* ---- `vibroimpact sweep`: run vibroimpact-sweep in this process's place -- */
-int vi_sweep_exec(int argc, char **argv)
+int vi_app_sweep_exec(int argc, char **argv)
 {
   char self[4096];
   /* `basins` is the sweep program's other mode: it gets --basins first */
@@ -176,7 +176,7 @@ int vi_sweep_exec(int argc, char **argv)
   return 1;
 }
 
-int vi_sweep_text_nonlinear(const char *text)
+int vi_app_text_nonlinear(const char *text)
 {
   vi_scene_edit *ed = NULL;
   char buf[64];

@@ -1,4 +1,4 @@
-/* vi_sweep_cont.c - `orbits --continue`: print a branch followed by the
+/* vi_cmd_orbits_cont.c - `orbits --continue`: print a branch followed by the
  * library's continuation (vi_cont.h), as text or JSON; the numerics are
  * the library's, the parameter changes on the model (vi_param.h). */
 #include <math.h>
@@ -9,7 +9,7 @@
 #include "vibroimpact.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_param.h"
-#include "vi_sweep.h"
+#include "vi_diagram.h"
 
 static const char *const ev_json[] = {"period_doubling", "fold_or_pitchfork",
                                       "neimark_sacker", "grazing",
@@ -102,10 +102,10 @@ static void header(const out *o, int np, double p0, double to)
            "admissible");
 }
 
-int vi_sweep_follow(const vi_model *m, const vi_scene *sc, const char *key,
-                    int arclength, double to, int steps, int np, double t0,
-                    const double *x0, const double *v0, int json, char *err,
-                    int errlen)
+int vi_orbits_follow(const vi_model *m, const vi_scene *sc, const char *key,
+                     int arclength, double to, int steps, int np, double t0,
+                     const double *x0, const double *v0, int json, char *err,
+                     int errlen)
 {
   char pkey[64];
   vi_diag d;
