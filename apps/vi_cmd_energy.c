@@ -79,7 +79,7 @@ static void print_multipliers(const vi_orbit *orb, int n, int json)
 static void print_stops(const vi_orbit *orb, const vi_model *m, int json)
 {
   int ns = vi_model_num_stops(m), cnt = 0, sp[8];
-  double t[8], vn[8], T = 2 * M_PI / vi_model_omega_forcing(m);
+  double t[8], vn[8], T = vi_model_forcing_period(m);
   if (vi_orbit_impacts(orb, &cnt, t, sp, vn, NULL, NULL, 1)) return;
   if (json) {
     printf(", \"impacts\": [");

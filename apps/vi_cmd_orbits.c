@@ -72,7 +72,7 @@ static void view_read(const list *L, int i, orbit_view *o)
 static void print_json_orbit(const list *L, const orbit_view *o, int i)
 {
   int N = L->N, m = L->m;
-  double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
+  double T = vi_model_forcing_period(L->mdl);
   printf("%s{\"n\": %d, \"m\": %d, \"vN\": [", i ? ", " : "", L->n, m);
   for (int j = 0; j < m; j++) printf("%s%.17g", j ? ", " : "", o->vn[j]);
   printf("], \"stop\": [");
@@ -91,7 +91,7 @@ static void print_json_orbit(const list *L, const orbit_view *o, int i)
 static void print_text_orbit(const list *L, const orbit_view *o, int i)
 {
   int N = L->N, ns = vi_model_num_stops(L->mdl);
-  double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
+  double T = vi_model_forcing_period(L->mdl);
   printf("  orbit %d: %s, %s\n", i + 1, o->stable ? "stable" : "unstable",
          o->admissible ? "admissible" : "NOT admissible (contact between impacts, or no approach)");
   for (int j = 0; j < L->m; j++) {
@@ -113,7 +113,7 @@ static int print_orbits(const list *L, int json, const char *name)
     view_free(&o);
     return 1;
   }
-  double T = 2 * M_PI / vi_model_omega_forcing(L->mdl);
+  double T = vi_model_forcing_period(L->mdl);
   if (json) printf("{\"orbits\": [");
   else
     printf("P(%d,%d) orbits of %s (Omega = %.10g, T = %.10g): %d found\n", L->n,

@@ -200,6 +200,9 @@ VI_API const char *vi_model_errmsg(const vi_model *m);
 VI_API int vi_model_n(const vi_model *m);
 /** Forcing frequency Omega (rad per time unit; 0 without harmonic forcing). */
 VI_API double vi_model_omega_forcing(const vi_model *m);
+/** The forcing period T = 2 pi / Omega, the one place it is written out
+ *  (0 without harmonic forcing, or before setup). */
+VI_API double vi_model_forcing_period(const vi_model *m);
 /** Clearance x_s of the stop (stop 0 with several). */
 VI_API double vi_model_clearance(const vi_model *m);
 /** Coefficient of restitution r (of stop 0 with several). */

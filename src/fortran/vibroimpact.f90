@@ -63,7 +63,7 @@ module vibroimpact
             vi_model_modal_stop, vi_model_is_proportional, vi_model_to_modal, &
             vi_model_from_modal, vi_model_energy, vi_model_stop_compliance, &
             vi_model_check_run, &
-            vi_model_omega_forcing, vi_model_clearance, vi_model_restitution, &
+            vi_model_omega_forcing, vi_model_forcing_period, vi_model_clearance, vi_model_restitution, &
             vi_model_mass, vi_model_damping, vi_model_stiffness, vi_model_stop_vector, &
             vi_model_forcing_cos, vi_model_forcing_sin, vi_model_forcing_const, &
             vi_model_modal_damping, vi_model_modal_forcing_cos, &
@@ -364,6 +364,10 @@ module vibroimpact
     !> Read-only views owned by the model (c_f_pointer them: matrices are
     !> [n, n], vectors [n]); null before vi_model_setup.
     real(c_double) function vi_model_omega_forcing(model) bind(C, name="vi_model_omega_forcing")
+      import :: c_ptr, c_double
+      type(c_ptr), value :: model
+    end function
+    real(c_double) function vi_model_forcing_period(model) bind(C, name="vi_model_forcing_period")
       import :: c_ptr, c_double
       type(c_ptr), value :: model
     end function

@@ -13,6 +13,9 @@
 
 #include "vi_internal.h"
 
+/* The forcing period 2 pi / W: the library writes it out here only. */
+static inline double vi_forcing_period(double W) { return 2.0 * M_PI / W; }
+
 typedef struct vi_phase {
   double W;    /* forcing frequency Omega */
   double c, s; /* cos(W t), sin(W t) */

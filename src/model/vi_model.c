@@ -539,6 +539,11 @@ int vi_dense_setup(vi_model *m)
 
 int vi_model_n(const vi_model *m) { return m ? m->n : 0; }
 double vi_model_omega_forcing(const vi_model *m) { return FROZEN_OR(m, m->omega_f); }
+double vi_model_forcing_period(const vi_model *m)
+{
+  double w = vi_model_omega_forcing(m);
+  return w > 0 ? vi_forcing_period(w) : 0.0;
+}
 double vi_model_clearance(const vi_model *m) { return FROZEN_OR(m, m->xsv[0]); }
 double vi_model_restitution(const vi_model *m) { return FROZEN_OR(m, m->rv[0]); }
 const double *vi_model_mass(const vi_model *m) { return FROZEN_OR(m, m->M); }

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_forcing.h"
 #include "vibroimpact/vi_census.h"
 #include "vi_held_internal.h"
 #include "vi_orbit_internal.h"
@@ -67,7 +68,7 @@ int vi_census_create(const vi_model *model, int n, int m, vi_census **out)
   c->n = n;
   c->mi = m;
   c->nphase = 720;
-  c->T = 2 * M_PI / model->omega_f;
+  c->T = vi_forcing_period(model->omega_f);
   *out = c;
   return VI_OK;
 }

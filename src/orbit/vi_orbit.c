@@ -10,6 +10,7 @@
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_multiroots.h>
 
+#include "vi_forcing.h"
 #include "vi_orbit_internal.h"
 
 
@@ -73,7 +74,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   o->atol = 1e-13;
   o->max_periods = 3000;
   o->tol = 1e-6;
-  o->T = 2.0 * M_PI / model->omega_f;
+  o->T = vi_forcing_period(model->omega_f);
   o->direct = 1;
   /* the exact method where the simulation offers it for this model */
   if (o->method == VI_METHOD_EXACT && vi_sim_set_method(o->sim, o->method))

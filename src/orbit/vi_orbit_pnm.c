@@ -16,6 +16,7 @@
 #include <cblas.h>
 #include <lapacke.h>
 
+#include "vi_forcing.h"
 #include "vi_impact_internal.h"
 #include "vi_orbit_internal.h"
 
@@ -83,7 +84,7 @@ static int residual(const ws *w, int np, int mi, const double *u, double *F,
 {
   const vi_model *m = w->m;
   int n = w->n, n2 = w->n2, B = n2 + 1, D = mi * B, st;
-  double T = 2.0 * M_PI / m->omega_f;
+  double T = vi_forcing_period(m->omega_f);
   double *zp = malloc(sizeof(double) * ((size_t)n2 * n2 + 5 * (size_t)n2));
   if (!zp) return VI_ERR_NOMEM;
   double *ze = zp + n2, *f0 = ze + n2, *f1 = f0 + n2, *wk = f1 + n2,
@@ -218,7 +219,7 @@ int vi_orbit_pnm_solve_stops(const vi_model *m, int np, int mi,
     }
     /* damped step: never more than a tenth of a period in time, nor
      * twice the state scale */
-    double lam = 1.0, T = 2.0 * M_PI / m->omega_f;
+    double lam = 1.0, T = vi_forcing_period(m->omega_f);
     for (int i = 0; i < D; i++) {
       double lim = i % B ? 2.0 * scale : 0.1 * T;
       if (fabs(du[i]) * lam > lim) lam = lim / fabs(du[i]);
@@ -299,7 +300,7 @@ int vi_orbit_pnm_dparam(const vi_model *m, int np, int mi, const int *stop,
   if (param != VI_ORBIT_PARAM_OMEGA && (k < 0 || k >= m->ns)) return VI_ERR_ARG;
   ws w;
   if ((st = ws_init(&w, m, stop, 1))) return st;
-  double T = 2.0 * M_PI / m->omega_f;
+  double T = vi_forcing_period(m->omega_f);
   double *Phi = malloc(sizeof(double) * ((size_t)n2 * n2 + 6 * (size_t)n2));
   if (!Phi) {
     ws_free(&w);
@@ -351,7 +352,7 @@ int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
   if (st) return st;
   ws w;
   if ((st = ws_init(&w, m, stop, -1))) return st;
-  double T = 2.0 * M_PI / m->omega_f;
+  double T = vi_forcing_period(m->omega_f);
   size_t nn = (size_t)n2 * n2;
   double *S = malloc(sizeof(double) * (3 * nn + (size_t)n2));
   if (!S) {
@@ -429,7 +430,7 @@ int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
   if (st) return st;
   ws w;
   if ((st = ws_init(&w, m, stop, 0))) return st;
-  double T = 2.0 * M_PI / m->omega_f, worst = -HUGE_VAL;
+  double T = vi_forcing_period(m->omega_f), worst = -HUGE_VAL;
   double *z = w.buf, *zp = z + (size_t)2 * n, *zz = zp + (size_t)2 * n;
   double scale = 0.0;
   for (int k = 0; k < m->ns; k++) scale = fmax(scale, fabs(m->xsv[k]));
@@ -509,7 +510,7 @@ int vi_orbit_p1_scan_polled(const vi_model *m, int np, int nphase, double *t,
   int st = ws_init(&w, m, NULL, 1), n = m->n, n2 = 2 * n;
   if (st) return st;
   size_t nn = (size_t)n2 * n2;
-  double T = 2.0 * M_PI / m->omega_f, P = np * T;
+  double T = vi_forcing_period(m->omega_f), P = np * T;
   double *A = malloc(sizeof(double) * (2 * nn + 8 * (size_t)n2 + 2 * (size_t)nphase + 2));
   lapack_int *piv = malloc(sizeof(lapack_int) * (size_t)n2);
   if (!A || !piv) {

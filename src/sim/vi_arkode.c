@@ -18,6 +18,7 @@
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_serial.h>
 
+#include "vi_forcing.h"
 #include "vi_rhs.h"
 
 /* Prince & Dormand's RK8(7)13M pair: P. J. Prince and J. R. Dormand, "High
@@ -293,7 +294,7 @@ static int ark_start(vi_sim *s)
    * vi_cvode.c) */
   double hmax = s->hmax;
   if (s->sticking && s->m->omega_f > 0.0) {
-    double h = 2.0 * M_PI / s->m->omega_f / 32.0;
+    double h = vi_forcing_period(s->m->omega_f) / 32.0;
     hmax = hmax > 0.0 ? fmin(hmax, h) : h;
   }
   /* ARKODE sees a root only as a sign change between step ends: a step

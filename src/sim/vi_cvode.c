@@ -13,6 +13,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include "vi_forcing.h"
 #include "vi_band_internal.h"
 #include "vi_rhs.h"
 
@@ -318,7 +319,7 @@ static int cv_start(vi_sim *s)
    * root must see: resolve the forcing instead. */
   double hmax = s->hmax;
   if (s->sticking && s->m->omega_f > 0.0) {
-    double h = 2.0 * M_PI / s->m->omega_f / 32.0;
+    double h = vi_forcing_period(s->m->omega_f) / 32.0;
     hmax = hmax > 0.0 ? fmin(hmax, h) : h;
   }
   CV_TRY(CVodeSetMaxStep(d->mem, hmax));

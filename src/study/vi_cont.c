@@ -492,7 +492,7 @@ static int arclength_point(vi_cont *c)
    * impact times compare modulo the forcing period */
   if (c->npts > 3 && fabs(U[D] - c->p0) < 0.5 * c->dsmax) {
     double T = vi_model_set_param(c->m, c->key, U[D]) ? HUGE_VAL
-               : 2 * M_PI / vi_model_omega_forcing(c->m);
+               : vi_model_forcing_period(c->m);
     double dt = fmod(fabs(U[0] - c->U0[0]), T), dist = fmin(dt, T - dt);
     for (int r = 1; r < K; r++) dist = fmax(dist, fabs(U[r] - c->U0[r]));
     if (dist < 0.5 * c->dsmax) {

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_forcing.h"
 #include "vi_identify_internal.h"
 #include "vibroimpact/vi_param.h"
 
@@ -712,7 +713,7 @@ int vi_identify_forcing_phase(int ns, const double *t, const double *f,
   double al = (fc * ss - fs * cs) / det, be = (fs * cc - fc * cs) / det;
   /* alpha cos + beta sin = A cos(Omega t - phi), phi = atan2(beta, alpha):
    * t0 = -phi / Omega, into [0, T) */
-  double T = 2 * M_PI / omega, s0 = fmod(atan2(-be, al) / omega, T);
+  double T = vi_forcing_period(omega), s0 = fmod(atan2(-be, al) / omega, T);
   *t0 = s0 < 0 ? s0 + T : s0;
   return VI_OK;
 }

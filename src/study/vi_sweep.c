@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_forcing.h"
 #include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_param.h"
 #include "vibroimpact/vi_study.h"
@@ -494,7 +495,7 @@ static int point(vi_sweep *sw)
   if (!(omega > 0))
     return vi_fail(sw->errmsg, VI_ERR_FREQUENCY, "no harmonic forcing, so "
                    "no forcing period to sample");
-  sw->T = 2 * M_PI / omega;
+  sw->T = vi_forcing_period(omega);
   if (sw->cancel && sw->cancel(sw->cancel_user)) return VI_CANCELLED;
   if (sw->nphase > 0 && (st = p11_orbits(sw)))
     return vi_fail(sw->errmsg, st, "P(1,1) orbits: %s", vi_strerror(st));

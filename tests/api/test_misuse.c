@@ -545,6 +545,7 @@ static void test_model_band_getters_misuse(void **state)
   int ldg = 5;
   assert_null(vi_model_delassus(NULL, &ldg));
   assert_true(vi_model_omega_forcing(NULL) == 0.0);
+  assert_true(vi_model_forcing_period(NULL) == 0.0);
   assert_true(vi_model_restitution(NULL) == 0.0);
   assert_true(vi_model_stop_compliance(NULL) == 0.0);
   assert_null(vi_model_mass(NULL));
