@@ -554,7 +554,9 @@ static int arclength_point(vi_cont *c)
     double a1 = (hp[1] - hp[0]) / (hs[1] - hs[0]), a2 = (hp[2] - hp[1]) / (hs[2] - hs[1]);
     double c2 = (a2 - a1) / (hs[2] - hs[0]), sv = 0.5 * (hs[0] + hs[1]) - a1 / (2 * c2);
     double pf = hp[0] + a1 * (sv - hs[0]) + c2 * (sv - hs[0]) * (sv - hs[1]);
-    add_event(c, VI_CONT_FOLD, pf, NAN, NAN, NAN, cu.ok);
+    double vn = NAN, re = NAN, im = NAN;
+    refine_event(c, VI_CONT_FOLD, &pf, tt, c->x, c->v, &vn, &re, &im);
+    add_event(c, VI_CONT_FOLD, pf, vn, re, im, cu.ok);
   }
   memcpy(c->dir, c->tau, sizeof(double) * K);
   return VI_OK;

@@ -40,8 +40,8 @@ struct vi_cont_curve {
   double T[NT], Tl[NT];
   double rho;
   double tg;          /* grazing: the gap's maximum, time after the impact */
-  special sp[MAXSP];
-  int nsp;
+  special sp[MAXSP], endsp; /* endsp: where the backward pass ended */
+  int nsp, have_endsp;
   char errmsg[VI_MSG_LEN];
 };
 
@@ -273,8 +273,12 @@ static int gfun(vi_cont_curve *c, const double *Y, double *g)
     return c->mi ? graze_g(c, Y, g) : p10_gap(c, g);
   int st = mults(c, Y);
   if (st) return st;
-  *g = c->kind == VI_CONT_CURVE_FOLD ? prod_shift(c, -1, -1)
-       : c->kind == VI_CONT_CURVE_PD ? prod_shift(c, 1, -1) : prod_pairs(c);
+  /* times v_N: the saltation matrix is a rank-one update of order 1/v_N,
+   * so v_N det(Mo -+ I) stays smooth up to the end of the impacting
+   * branch (v_N = 0), where a fold or PD curve may end */
+  double vn = vi_dot(c->N, vi_stop_w(c->m, c->stop), Y + 1 + c->N);
+  *g = c->kind == VI_CONT_CURVE_FOLD ? vn * prod_shift(c, -1, -1)
+       : c->kind == VI_CONT_CURVE_PD ? vn * prod_shift(c, 1, -1) : prod_pairs(c);
   return VI_OK;
 }
 
@@ -641,6 +645,11 @@ static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double t
 {
   int nu = c->D + c->np, side = 0;
   double *bord = c->bord2, d2 = 0, Tq[NT];
+  /* v_N = 0 itself has no monodromy (the saltation matrix is singular):
+   * the point 1e-9 of the state scale before it */
+  double off = k == T_VN ? 1e-9 * c->S[1] * (ta > 0 ? 1 : -1) : 0;
+  ta -= off;
+  tb -= off;
   double a = 0, b = 1, fa = ta, fb = tb, th = ta / (ta - tb);
   double *Yr = c->Yr; /* the chord's point */
   for (int j = 0; j < nu; j++) {
@@ -656,7 +665,7 @@ static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double t
     double f;
     if (k >= 0) {
       if (tests(c, Y, Tq)) break;
-      f = Tq[k];
+      f = Tq[k] - off;
     } else if (gfun(c, Y, &f)) {
       break;
     }
@@ -846,6 +855,11 @@ static int specials(vi_cont_curve *c, int report)
     }
     if (report) add_special(c, type, Yq, loc);
     if ((k == T_GRAZE && c->Tl[T_GRAZE] < 0) || (k == T_VN && c->Tl[T_VN] > 0)) {
+      if (!report) { /* the backward pass's end: reported with the first point */
+        special e = {type, loc, Yq[D], Yq[D + 1]};
+        c->endsp = e;
+        c->have_endsp = 1;
+      }
       memcpy(c->Y, Yq, sizeof(double) * nu); /* admissible up to here */
       tests(c, c->Y, c->T);
       return 1;
@@ -892,15 +906,20 @@ static int start_curve(vi_cont_curve *c)
       break;
     }
   }
-  /* turn round: the tangent at the end, reversed */
+  /* turn round: the tangent at the end, reversed (at an end where the
+   * orbit stops impacting, v_N = 0, none: from the point before it) */
   for (int j = 0; j < nu; j++) c->taul[j] = -c->tau[j];
-  if (tangent(c, c->Y, 1, c->taul, c->tau))
-    return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "no tangent at the end of the curve");
+  if (tangent(c, c->Y, 1, c->taul, c->tau)) {
+    memcpy(c->Y, c->Yl, sizeof(double) * nu);
+    if (tangent(c, c->Y, 1, c->taul, c->tau))
+      return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "no tangent at the end of the curve");
+  }
   memcpy(c->Ys, c->Y, sizeof(double) * nu);
   memcpy(Y0, c->Y, sizeof(double) * nu);
   c->ds = c->dsmax;
   if (c->mi) tests(c, c->Y, c->T);
   c->npts = 1;
+  if (c->have_endsp) c->sp[c->nsp++] = c->endsp;
   return VI_OK;
 }
 

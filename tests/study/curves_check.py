@@ -17,7 +17,12 @@ Checks (tolerances from the issue):
      covered;
   3. every point of the P(1,0) grazing curve in (x_s, Omega), Omega in
      [0.5, 1.8]: x_s within 1e-9 relative of the closed form, the range
-     covered end to end, through the resonance at 0.618.
+     covered end to end, through the resonance at 0.618;
+  4. the fold curve of P(1,1) in (Omega, x_s) from x_s = 0.5: x_s a local
+     extremum over the impact phase of phi(t0) = w.x of the periodic orbit
+     (phi does not depend on x_s, so there two orbits merge), to 1e-9; and
+     its end, the codimension-two point where it meets v_N = 0, on the
+     closed-form P(1,0) grazing curve to 1e-9.
 usage: curves_check.py VIBROIMPACT"""
 import json
 import subprocess
@@ -113,6 +118,22 @@ def pd_mu(Om, r, xs=mp.mpf('0.1')):
     return best
 
 
+def phi_extrema(Om, r):
+    """Local extrema of phi(t0) = w.x of the P(1,1) orbit with its impact at
+    t0 (independent of x_s: the flow and the impact law are linear): where
+    two P(1,1) orbits of the level x_s = phi merge, a fold."""
+    T = 2 * mp.pi / Om
+    phi = lambda t: orbit_at(Om, r, None, t)[0][1]
+    n = 90
+    v = [phi(T * k / n) for k in range(n + 2)]
+    ext = []
+    for k in range(1, n + 1):
+        if (v[k] - v[k - 1]) * (v[k + 1] - v[k]) <= 0:
+            t = mp.findroot(lambda u: mp.diff(phi, u), T * k / n)
+            ext.append((phi(t), orbit_at(Om, r, None, t)[0][3]))
+    return ext
+
+
 def run(args):
     out = subprocess.run(args, capture_output=True, text=True, timeout=600)
     if out.returncode:
@@ -168,6 +189,34 @@ def main():
     print("%s grazing curve of P(1,0): %d points, Omega %.3g..%.3g (ordered: %s), worst relative "
           "error %.2e, peak x_s %.6g" % ("ok  " if ok else "FAIL", len(pts), Ws[0], Ws[-1], mono,
                                          worst, max(x for x, _ in pts)))
+    fails += not ok
+    # 4. the fold curve of P(1,1) in (Omega, x_s) from x_s = 0.5 (where the
+    # branch followed up from Omega = 0.9 turns back): x_s a local extremum
+    # of phi (two orbits merge), and its end on the P(1,0) grazing curve
+    js = json.loads(run([exe, "curves", "--set", "stop.xs=0.5", "--kind", "fold", "--param",
+                         "forcing.omega", "--to", "2.5", "--param2", "stop.xs", "--from2", "0",
+                         "--to2", "1.5", "--steps", "100", "--json"]))
+    pts = js["points"]
+    worst = 0
+    for W, xs in pts[::8] + [js["located"]]:
+        ext = phi_extrema(mp.mpf(W), r)
+        worst = max(worst, min(float(abs(e - xs) / abs(xs)) for e, vn in ext if vn > 0))
+    ok = worst < 1e-9 and len(pts) > 100
+    print("%s fold curve: %d points, Omega %.4g..%.4g, x_s %.4g..%.4g, worst relative distance of "
+          "x_s to an extremum of phi %.2e" % ("ok  " if ok else "FAIL", len(pts), pts[0][0],
+                                               pts[-1][0], pts[0][1], pts[-1][1], worst))
+    fails += not ok
+    ends = [e for e in js["special"] if e["type"] == "admissibility"]
+    if ends:
+        W, xs = ends[0]["point"]
+        ref = abs(system(mp.mpf(W))[1][1])
+        err = float(abs(xs - ref) / ref)
+        ok = err < 1e-9 and ends[0]["located"]
+        print("%s fold curve ends (v_N = 0) at Omega = %.12f, x_s = %.12f: on the P(1,0) grazing "
+              "curve to %.2e relative" % ("ok  " if ok else "FAIL", W, xs, err))
+    else:
+        ok = False
+        print("FAIL fold curve: no end on the loss of admissibility reported")
     fails += not ok
     sys.exit(1 if fails else 0)
 
