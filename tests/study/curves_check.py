@@ -22,7 +22,9 @@ Checks (tolerances from the issue):
      extremum over the impact phase of phi(t0) = w.x of the periodic orbit
      (phi does not depend on x_s, so there two orbits merge), to 1e-9; and
      its end, the codimension-two point where it meets v_N = 0, on the
-     closed-form P(1,0) grazing curve to 1e-9.
+     closed-form P(1,0) grazing curve to 1e-9;
+  5. the pd curve bounds the P(1,1) and P(2,2) regions of a brute-force
+     two-parameter sweep of the same plane (vibroimpact sweep).
 usage: curves_check.py VIBROIMPACT"""
 import json
 import subprocess
@@ -173,6 +175,35 @@ def main():
     ok = worst < 1e-7 and abs(rs[0] - 0.5) < 1e-12 and abs(rs[-1] - 0.9) < 1e-12 and len(pts) > 100
     print("%s pd curve: %d points, r %.3g..%.3g, worst |mu + 1| %.2e (every 8th point and the last)" %
           ("ok  " if ok else "FAIL", len(pts), rs[0], rs[-1], worst))
+    fails += not ok
+    # 5. the pd curve bounds the regions of a brute-force sweep of the plane:
+    # on each row r_k, the cells either side of the curve's Omega*(r_k) are
+    # P(1,1) and P(2,2) (a cell within a quarter cell of the curve, where
+    # the transient dies as |mu|^k with |mu| near 1, is passed over for the
+    # next one out)
+    sw = json.loads(run([exe, "sweep", "--param", "forcing.omega", "--from", "1.56", "--to", "1.68",
+                         "--steps", "25", "--param2", "stop.r", "--from2", "0.5", "--to2", "0.9",
+                         "--steps2", "21", "--transient", "1000", "--record", "40", "--threads", "2",
+                         "--json", "--quiet"]))
+    byr = sorted(pts, key=lambda pq: pq[1])
+    bad = 0
+    for line in sw["lines"]:
+        rk, Ws = line["param2"], line["param"]
+        h = Ws[1] - Ws[0]
+        i = max(j for j in range(len(byr) - 1) if byr[j][1] <= rk + 1e-12) if rk < byr[-1][1] else len(byr) - 2
+        (p0, q0), (p1, q1) = byr[i], byr[i + 1]
+        Wc = p0 + (p1 - p0) * (rk - q0) / (q1 - q0)
+        left = max(j for j, W in enumerate(Ws) if W < Wc - h / 4)
+        right = min(j for j, W in enumerate(Ws) if W > Wc + h / 4)
+        cl = (line["n"][left], line["m"][left])
+        cr = (line["n"][right], line["m"][right])
+        if cl != (1, 1) or cr != (2, 2):
+            bad += 1
+            print("  r = %.3f: curve at Omega %.6f, cells %s at %.4f and %s at %.4f" %
+                  (rk, Wc, cl, Ws[left], cr, Ws[right]))
+    ok = bad == 0
+    print("%s pd curve bounds the sweep's P(1,1) and P(2,2) regions on all %d rows (cells of %.3g)" %
+          ("ok  " if ok else "FAIL", len(sw["lines"]), h))
     fails += not ok
     # 3. the grazing curve of the non-impacting orbit in (x_s, Omega)
     js = json.loads(run([exe, "curves", "--kind", "grazing", "--orbit", "1,0", "--param", "stop.xs",
