@@ -57,8 +57,9 @@ void vi_curve_result_free(vi_curve_result *r)
 const char *vi_curve_end_name(int state)
 {
   static const char *const names[] = {"running", "end of range", "not admissible beyond",
-                                      "closed", "corrector failed", "point limit"};
-  return state >= 0 && state <= VI_CONT_CURVE_STALLED ? names[state] : "?";
+                                      "closed", "corrector failed", "point limit",
+                                      "resonance (beyond, a neutral saddle)"};
+  return state >= 0 && state <= VI_CONT_CURVE_RESONANCE ? names[state] : "?";
 }
 
 static int attr_str(hid_t loc, const char *name, const char *s)

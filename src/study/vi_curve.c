@@ -757,6 +757,13 @@ int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps, double *param)
       }
       memcpy(c->Tl, c->T, sizeof c->T);
       if ((st = tests(c, c->Y, c->T))) break;
+      if (c->T[T_VN] <= 0 && c->Tl[T_VN] > 0) { /* beyond, no impact: not an orbit */
+        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,1) orbit stops impacting "
+                     "(v_N = 0) near %s = %.17g", k == T_GRAZE ? "grazing" : k == T_FOLD ?
+                     "fold" : k == T_PD ? "period-doubling" : "Neimark-Sacker", c->n, c->key,
+                     c->Y[D]);
+        break;
+      }
       int cross = (c->T[k] < 0) != (c->Tl[k] < 0);
       if (cross && k == T_GRAZE && c->T[T_VN] <= 0 && c->Tl[T_VN] <= 0) cross = 0;
       if (cross) {
@@ -839,9 +846,11 @@ static int specials(vi_cont_curve *c, int report)
       c->tau[D] * c->taul[D] / (c->S[D] * c->S[D]) +
       c->tau[D + 1] * c->taul[D + 1] / (c->S[D + 1] * c->S[D + 1]) < 0 && report)
     add_special(c, VI_CONT_SP_CUSP, c->Y, 0);
+  int ns_res = c->kind == VI_CONT_CURVE_NS && (c->T[T_RES] < 0) != (c->Tl[T_RES] < 0);
   for (int w = 0; w < 5 && watch[c->kind][w] >= 0; w++) {
     int k = watch[c->kind][w];
     if (!((c->T[k] < 0) != (c->Tl[k] < 0)) || isnan(c->T[k]) || isnan(c->Tl[k])) continue;
+    if (ns_res && (k == T_FOLD || k == T_PD)) continue; /* the resonance itself */
     int loc = !locate(c, c->Yl, c->Y, c->Tl[k], c->T[k], k, 1, Yq), type;
     if (k == T_RES && c->kind == VI_CONT_CURVE_NS) {
       tests(c, Yq, Tq);
@@ -854,15 +863,18 @@ static int specials(vi_cont_curve *c, int report)
              : c->kind == VI_CONT_CURVE_FOLD ? VI_CONT_SP_RESONANCE_11 : VI_CONT_SP_RESONANCE_12;
     }
     if (report) add_special(c, type, Yq, loc);
-    if ((k == T_GRAZE && c->Tl[T_GRAZE] < 0) || (k == T_VN && c->Tl[T_VN] > 0)) {
+    /* ends: admissibility lost, or an NS pair turning real (beyond, a
+     * neutral saddle, no bifurcation) */
+    if ((k == T_GRAZE && c->Tl[T_GRAZE] < 0) || (k == T_VN && c->Tl[T_VN] > 0) ||
+        (k == T_RES && c->kind == VI_CONT_CURVE_NS && c->Tl[T_RES] > 0)) {
       if (!report) { /* the backward pass's end: reported with the first point */
         special e = {type, loc, Yq[D], Yq[D + 1]};
         c->endsp = e;
         c->have_endsp = 1;
       }
-      memcpy(c->Y, Yq, sizeof(double) * nu); /* admissible up to here */
+      memcpy(c->Y, Yq, sizeof(double) * nu);
       tests(c, c->Y, c->T);
-      return 1;
+      return k == T_RES ? 2 : 1;
     }
   }
   return 0;
@@ -953,7 +965,8 @@ int vi_cont_curve_iterate(vi_cont_curve *c)
     if (c->mi) tests(c, c->Y, c->T);
     c->state = VI_CONT_CURVE_END;
   }
-  if (specials(c, 1)) c->state = VI_CONT_CURVE_ENDS;
+  int e = specials(c, 1);
+  if (e) c->state = e == 2 ? VI_CONT_CURVE_RESONANCE : VI_CONT_CURVE_ENDS;
   c->npts++;
   const double *Y0 = c->Y0;
   double dist = 0;

@@ -24,7 +24,9 @@ Checks (tolerances from the issue):
      its end, the codimension-two point where it meets v_N = 0, on the
      closed-form P(1,0) grazing curve to 1e-9;
   5. the pd curve bounds the P(1,1) and P(2,2) regions of a brute-force
-     two-parameter sweep of the same plane (vibroimpact sweep).
+     two-parameter sweep of the same plane (vibroimpact sweep);
+  6. a Neimark-Sacker curve of the chain with c = 0.02, x_s = 0.2: a
+     complex pair of modulus 1 to 1e-7 at its points.
 usage: curves_check.py VIBROIMPACT"""
 import json
 import subprocess
@@ -35,7 +37,7 @@ import mpmath as mp
 mp.mp.dps = 24
 E = mp.matrix([[2, -1], [-1, 1]])
 K = E
-C = mp.mpf('0.1') * E
+C = mp.mpf('0.1') * E  # the chain's dashpots c = 0.1 (check 6: 0.02)
 a = mp.matrix([mp.mpf('0.5'), 0])
 w = mp.matrix([0, 1])
 
@@ -44,8 +46,8 @@ _cache = {}
 
 
 def system(Om):
-    if Om in _cache:
-        return _cache[Om]
+    if (Om, C[0, 0]) in _cache:
+        return _cache[(Om, C[0, 0])]
     A = mp.zeros(4, 4)
     A[0, 2] = A[1, 3] = 1
     for i in range(2):
@@ -55,8 +57,8 @@ def system(Om):
     H = K - Om**2 * mp.eye(2) + 1j * Om * C
     X = mp.lu_solve(H, a)  # x_p(t) = Re X e^{i Om t}
     _cache.clear()
-    _cache[Om] = (A, X, mp.expm(A * 2 * mp.pi / Om))
-    return _cache[Om]
+    _cache[(Om, C[0, 0])] = (A, X, mp.expm(A * 2 * mp.pi / Om))
+    return _cache[(Om, C[0, 0])]
 
 
 def zp(X, Om, t):
@@ -78,21 +80,29 @@ def orbit_at(Om, r, xs, t0):
     return z, A, X, P, R
 
 
-def p11_orbits(Om, r, xs):
-    """Every P(1,1) orbit with an approaching impact: (t0, z)."""
+def p11_orbits(Om, r, xs, n=90):
+    """Every P(1,1) orbit with an approaching impact: (t0, z), from the
+    sign changes of w.x - x_s over n impact phases."""
     T = 2 * mp.pi / Om
     g = lambda t: orbit_at(Om, r, xs, t)[0][1] - xs
-    found, n = [], 90
-    prev = g(mp.mpf(0))
+    ts = [T * k / n for k in range(n + 2)]
+    v = [g(t) for t in ts]
+    brackets = []
     for k in range(1, n + 1):
-        t = T * k / n
-        cur = g(t)
-        if (prev < 0) != (cur < 0):
-            t0 = mp.findroot(g, (T * (k - 1) / n, t), solver='anderson')
-            z = orbit_at(Om, r, xs, t0)[0]
-            if z[3] > 0:
-                found.append((t0, z))
-        prev = cur
+        if (v[k - 1] < 0) != (v[k] < 0):
+            brackets.append((ts[k - 1], ts[k]))
+        elif (v[k] - v[k - 1]) * (v[k + 1] - v[k]) <= 0:
+            # two roots closer than a sample (near a fold): either side of
+            # the extremum, if it crosses
+            te = mp.findroot(lambda u: mp.diff(g, u), ts[k])
+            if ts[k - 1] < te < ts[k + 1] and (g(te) < 0) != (v[k] < 0):
+                brackets += [(ts[k - 1], te), (te, ts[k + 1])]
+    found = []
+    for a0, b0 in brackets:
+        t0 = mp.findroot(g, (a0, b0), solver='anderson')
+        z = orbit_at(Om, r, xs, t0)[0]
+        if z[3] > 0:
+            found.append((t0, z))
     return found
 
 
@@ -248,6 +258,27 @@ def main():
     else:
         ok = False
         print("FAIL fold curve: no end on the loss of admissibility reported")
+    fails += not ok
+    # 6. a Neimark-Sacker curve of the lightly damped chain (c = 0.02,
+    # x_s = 0.2) in (Omega, r), r in [0.3, 0.9]: at its points a complex
+    # pair of multipliers of modulus 1 (the orbit with v_N > 0)
+    global C
+    C = mp.mpf('0.02') * E
+    xs = mp.mpf('0.2')
+    js = json.loads(run([exe, "curves", "--set", "stop.r=0.6", "--set", "stop.xs=0.2", "--set",
+                         "model.chain.c=0.02", "--kind", "ns", "--param", "forcing.omega", "--to",
+                         "3", "--param2", "stop.r", "--from2", "0.3", "--to2", "0.9", "--json"]))
+    pts = js["points"]
+    worst = 0
+    for W, rr in pts[::10] + [pts[-1]]:
+        best = min(min((abs(abs(m) - 1) for m in multipliers(mp.mpf(W), mp.mpf(rr), t0, z)
+                        if abs(mp.im(m)) > 1e-6), default=mp.inf)
+                   for t0, z in p11_orbits(mp.mpf(W), mp.mpf(rr), xs))
+        worst = max(worst, float(best))
+    rs = sorted(q for _, q in pts)
+    ok = worst < 1e-7 and abs(rs[0] - 0.3) < 1e-12 and abs(rs[-1] - 0.9) < 1e-12
+    print("%s ns curve: %d points, r %.3g..%.3g, worst ||mu| - 1| of the pair %.2e" %
+          ("ok  " if ok else "FAIL", len(pts), rs[0], rs[-1], worst))
     fails += not ok
     sys.exit(1 if fails else 0)
 
