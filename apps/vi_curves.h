@@ -20,7 +20,7 @@ void vi_curve_result_free(vi_curve_result *r);
 /* "end of range", "not admissible beyond", ... for a vi_cont_curve_state */
 const char *vi_curve_end_name(int state);
 /* The curve to OUT.h5 (through OUT.h5.part); 0, or 1 with err set.
- * Layout (doc/curves.md): /curve/points [npts x 2], /curve/special_points
+ * Layout (doc/curves.md): root attribute kind = "curves"; /curve/points [npts x 2], /curve/special_points
  * [nsp x 2], /curve/special_type [nsp] (names in the attribute
  * special_types), /curve/special_located [nsp]; attributes kind, param,
  * param2, orbit_n, orbit_m, located [2], end. */

@@ -108,7 +108,7 @@ int vi_curves_write_h5(const char *path, const char *kind, const char *key,
     return 1;
   }
   hid_t g = H5Gcreate2(f, "curve", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  int orb[2] = {n, m}, bad = g < 0;
+  int orb[2] = {n, m}, bad = g < 0 || attr_str(f, "kind", "curves");
   double loc[2] = {r->located, r->located2};
   static const char types[] = "0 grazing, 1 fold, 2 period_doubling, 3 cusp, "
                               "4 resonance_1_1, 5 resonance_1_2, 6 admissibility";
