@@ -24,6 +24,9 @@ static const char *const kinds[] = {"grazing", "fold", "pd", "ns"};
 static const char *const sp_names[] = {"grazing", "fold", "period_doubling", "cusp",
                                        "resonance_1_1", "resonance_1_2", "admissibility"};
 
+static const char *kind_name(int k) { return k >= 0 && k < 4 ? kinds[k] : "?"; }
+static const char *sp_name(int t) { return t >= 0 && t < 7 ? sp_names[t] : "?"; }
+
 typedef struct cargs {
   int kind, n, m, steps, json, nsets, max_depth;
   const char *scene, *key, *key2, *out, **sets;
@@ -104,8 +107,14 @@ static int curves_parse(int argc, char **argv, cargs *a)
     case 't': bad |= num(optarg, &a->to); break;
     case 'f': bad |= num(optarg, &a->from2); break;
     case 'T': bad |= num(optarg, &a->to2); break;
-    case 'S': a->steps = (int)strtol(optarg, &end, 10); bad |= *end || a->steps < 1 || a->steps > 1000000; break;
-    case 'D': a->max_depth = (int)strtol(optarg, &end, 10); bad |= *end || a->max_depth < 1; break;
+    case 'S':
+      a->steps = (int)strtol(optarg, &end, 10);
+      bad |= *end || a->steps < 1 || a->steps > 1000000;
+      break;
+    case 'D':
+      a->max_depth = (int)strtol(optarg, &end, 10);
+      bad |= *end || a->max_depth < 1;
+      break;
     case 'j': a->json = 1; break;
     case 'o': a->out = optarg; break;
     case 's': a->sets[a->nsets++] = optarg; break;
@@ -160,7 +169,7 @@ static int scene_orbit(const vi_model *m, int n, double *t, double *x, double *v
 {
   int N = vi_model_n(m), found = 0, best = -1, cap = 16, ok;
   double *tt = malloc(sizeof(double) * cap * (2 * (size_t)N + 1)), rb = HUGE_VAL, gmax;
-  double *re = malloc(sizeof(double) * 4 * (size_t)N), *im = re ? re + 2 * N : NULL;
+  double *re = malloc(sizeof(double) * 4 * (size_t)N), *im = re ? re + 2 * (size_t)N : NULL;
   if (tt && re && !vi_orbit_p1_scan(m, n, 720, tt, tt + cap, tt + cap + (size_t)N * cap, N, cap,
                                     &found)) {
     for (int i = 0; i < found && i < cap; i++) {
@@ -237,26 +246,27 @@ static void print_result(const cargs *a, const vi_curve_result *r)
 {
   if (a->json) {
     printf("{\"kind\": \"%s\", \"param\": \"%s\", \"param2\": \"%s\", \"orbit\": [%d, %d], "
-           "\"located\": [%.17g, %.17g], \"points\": [", kinds[a->kind], a->key, a->key2,
+           "\"located\": [%.17g, %.17g], \"points\": [", kind_name(a->kind), a->key, a->key2,
            a->n, a->m, r->located, r->located2);
     for (int i = 0; i < r->npts; i++)
-      printf("%s[%.17g, %.17g]", i ? ", " : "", r->pts[2 * i], r->pts[2 * i + 1]);
+      printf("%s[%.17g, %.17g]", i ? ", " : "", r->pts[2 * (size_t)i], r->pts[2 * (size_t)i + 1]);
     printf("], \"special\": [");
     for (int i = 0; i < r->nsp; i++)
       printf("%s{\"type\": \"%s\", \"point\": [%.17g, %.17g], \"located\": %s}", i ? ", " : "",
-             sp_names[r->sp_type[i]], r->sp_pts[2 * i], r->sp_pts[2 * i + 1],
+             sp_name(r->sp_type[i]), r->sp_pts[2 * (size_t)i], r->sp_pts[2 * (size_t)i + 1],
              r->sp_loc[i] ? "true" : "false");
     printf("], \"end\": \"%s\"}\n", vi_curve_end_name(r->state));
     return;
   }
   printf("%s curve of the P(%d,%d) orbit in (%s, %s): located at %s = %.12g (%s = %.12g)\n",
-         kinds[a->kind], a->n, a->m, a->key, a->key2, a->key, r->located, a->key2, r->located2);
+         kind_name(a->kind), a->n, a->m, a->key, a->key2, a->key, r->located, a->key2, r->located2);
   printf("  %d points, %s; %18s %18s\n", r->npts, vi_curve_end_name(r->state), a->key, a->key2);
   for (int i = 0; i < r->npts; i++)
-    printf("  %42.12g %18.12g\n", r->pts[2 * i], r->pts[2 * i + 1]);
+    printf("  %42.12g %18.12g\n", r->pts[2 * (size_t)i], r->pts[2 * (size_t)i + 1]);
   for (int i = 0; i < r->nsp; i++)
-    printf("  -> %s at %s = %.12g, %s = %.12g%s\n", sp_names[r->sp_type[i]], a->key,
-           r->sp_pts[2 * i], a->key2, r->sp_pts[2 * i + 1], r->sp_loc[i] ? "" : " (interpolated)");
+    printf("  -> %s at %s = %.12g, %s = %.12g%s\n", sp_name(r->sp_type[i]), a->key,
+           r->sp_pts[2 * (size_t)i], a->key2, r->sp_pts[2 * (size_t)i + 1],
+           r->sp_loc[i] ? "" : " (interpolated)");
 }
 
 int vi_cmd_curves_main(int argc, char **argv)
@@ -275,7 +285,8 @@ int vi_cmd_curves_main(int argc, char **argv)
     rc = run_curve(&a, mdl, k1, k2, &r);
   if (!rc && a.out) {
     char err[1024];
-    if (vi_curves_write_h5(a.out, kinds[a.kind], a.key, a.key2, a.n, a.m, &r, err, sizeof err)) {
+    if (vi_curves_write_h5(a.out, kind_name(a.kind), a.key, a.key2, a.n, a.m, &r, err,
+                           sizeof err)) {
       fprintf(stderr, "vibroimpact: curves: %s\n", err);
       rc = 1;
     }

@@ -18,8 +18,8 @@ int vi_curve_result_add(vi_curve_result *r, double p, double p2)
     r->pts = q;
     r->cap = cap;
   }
-  r->pts[2 * r->npts] = p;
-  r->pts[2 * r->npts + 1] = p2;
+  r->pts[2 * (size_t)r->npts] = p;
+  r->pts[2 * (size_t)r->npts + 1] = p2;
   r->npts++;
   return 0;
 }
@@ -39,8 +39,8 @@ int vi_curve_result_special(vi_curve_result *r, int type, double p, double p2, i
   }
   r->sp_type[r->nsp] = type;
   r->sp_loc[r->nsp] = located;
-  r->sp_pts[2 * r->nsp] = p;
-  r->sp_pts[2 * r->nsp + 1] = p2;
+  r->sp_pts[2 * (size_t)r->nsp] = p;
+  r->sp_pts[2 * (size_t)r->nsp + 1] = p2;
   r->nsp++;
   return 0;
 }

@@ -75,7 +75,7 @@ static double one(const bcurve *b, int *npts, int *nsp)
 
 int main(int argc, char **argv)
 {
-  int R = argc > 1 ? atoi(argv[1]) : 5;
+  int R = argc > 1 ? (int)strtol(argv[1], NULL, 10) : 5;
   static const bcurve cs[] = {
       {"pd (Omega, r), r 0.5..0.9", 0.1, 0.1, 0.7, VI_CONT_CURVE_PD, 1, "forcing.omega",
        "stop.r", 1.8, 0.5, 0.9},

@@ -244,26 +244,26 @@ static void refine_event(vi_cont *c, int type, double *p, double t, const double
                        : type == VI_CONT_GRAZING ? VI_CONT_CURVE_GRAZING : VI_CONT_CURVE_FOLD;
   double q = *p, *z = malloc(sizeof(double) * 6 * (size_t)N);
   if (!z) return;
+  double *zv = z + N, *mr = z + 2 * (size_t)N, *mi = z + 4 * (size_t)N;
   memcpy(z, x, sizeof(double) * N);
-  memcpy(z + N, v, sizeof(double) * N);
-  if (!vi_cont_refine(c->m, c->key, c->n, kind, &q, &t, z, z + N) &&
+  memcpy(zv, v, sizeof(double) * N);
+  if (!vi_cont_refine(c->m, c->key, c->n, kind, &q, &t, z, zv) &&
       !vi_model_set_param(c->m, c->key, q) &&
-      !vi_orbit_pnm_multipliers_stops(c->m, c->n, 1, &c->stop, &t, z, z + N, N, z + 2 * N,
-                                      z + 4 * N)) {
+      !vi_orbit_pnm_multipliers_stops(c->m, c->n, 1, &c->stop, &t, z, zv, N, mr, mi)) {
     *p = q;
-    *vn = vi_dot(N, vi_stop_w(c->m, c->stop), z + N);
+    *vn = vi_dot(N, vi_stop_w(c->m, c->stop), zv);
     if (type != VI_CONT_GRAZING) { /* the multiplier the condition puts on the circle */
       int b = 0;
       double target = type == VI_CONT_PERIOD_DOUBLING ? -1 : 1;
       for (int i = 1; i < 2 * N; i++) {
-        double di = type == VI_CONT_NEIMARK_SACKER ? fabs(hypot(z[2 * N + i], z[4 * N + i]) - 1)
-                    : hypot(z[2 * N + i] - target, z[4 * N + i]);
-        double db = type == VI_CONT_NEIMARK_SACKER ? fabs(hypot(z[2 * N + b], z[4 * N + b]) - 1)
-                    : hypot(z[2 * N + b] - target, z[4 * N + b]);
+        double di = type == VI_CONT_NEIMARK_SACKER ? fabs(hypot(mr[i], mi[i]) - 1)
+                    : hypot(mr[i] - target, mi[i]);
+        double db = type == VI_CONT_NEIMARK_SACKER ? fabs(hypot(mr[b], mi[b]) - 1)
+                    : hypot(mr[b] - target, mi[b]);
         if (di < db) b = i;
       }
-      *re = z[2 * N + b];
-      *im = fabs(z[4 * N + b]);
+      *re = mr[b];
+      *im = fabs(mi[b]);
     }
   }
   free(z);

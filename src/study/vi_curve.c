@@ -469,8 +469,8 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   double *p = c->Y;
   for (size_t k = 0; k < sizeof slot / sizeof slot[0]; k++) *slot[k] = p += nu + 1;
   c->re = p += nu + 1;
-  c->im = p += 2 * N;
-  c->J = p += 2 * N;
+  c->im = p += 2 * (size_t)N;
+  c->J = p += 2 * (size_t)N;
   c->B = p + (size_t)nu * nu; /* J_u [D x D], dF/dp and a spare [D] each */
   snprintf(c->key, sizeof c->key, "%s", key);
   snprintf(c->key2, sizeof c->key2, "%s", key2 ? key2 : "");
@@ -650,7 +650,7 @@ static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double t
   double off = k == T_VN ? 1e-9 * c->S[1] * (ta > 0 ? 1 : -1) : 0;
   ta -= off;
   tb -= off;
-  double a = 0, b = 1, fa = ta, fb = tb, th = ta / (ta - tb);
+  double a = 0, b = 1, fa = ta, fb = tb, th;
   double *Yr = c->Yr; /* the chord's point */
   for (int j = 0; j < nu; j++) {
     bord[j] = (Yb[j] - Ya[j]) / (c->S[j] * c->S[j]);
