@@ -100,5 +100,6 @@ int vi_cmd_energy(const app_opts *o);
 int vi_cmd_truncation(const app_opts *o);
 /* `vibroimpact identify` parses its own arguments (vi_cmd_identify.c). */
 int vi_cmd_identify_main(int argc, char **argv);
+int vi_cmd_curves_main(int argc, char **argv);
 
 #endif

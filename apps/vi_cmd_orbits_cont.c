@@ -64,9 +64,9 @@ static void event(out *o, int type, double p, double vn, double re, double im,
     if (graze) snprintf(e, len, "%s{\"type\": \"%s\", \"param\": %.17g}", sep, name, p);
     else snprintf(e, len, "%s{\"type\": \"%s\", \"param\": %.17g, \"admissible\": %s}",
                   sep, name, p, adm ? "true" : "false");
-    if (!o->json && graze) printf("    -> %s near %s = %.10g\n", tname, o->key, p);
-    else if (!o->json) printf("    -> %s near %s = %.10g%s\n", name, o->key, p,
-                              adm ? "" : " (not admissible)");
+    if (!o->json && graze) printf("    -> %s at %s = %.12g\n", tname, o->key, p);
+    else if (!o->json) printf("    -> %s at %s = %.12g (multiplier %.10g%+.3gi)%s\n", name,
+                              o->key, p, re, im, adm ? "" : " (not admissible)");
   } else { /* bisected */
     if (graze) snprintf(e, len, "%s{\"type\": \"%s\", \"param\": %.17g, \"vN\": %.17g}",
                         sep, name, p, vn);

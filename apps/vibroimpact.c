@@ -89,6 +89,8 @@ static void usage(FILE *f)
              "         basins of attraction (vibroimpact basins --help)\n"
              "       vibroimpact orbits [SCENE.yaml] [--n N] [--m M] [--json]\n"
              "         P(n,m) orbits by Newton, stable or not (--help)\n"
+             "       vibroimpact curves [SCENE.yaml] --kind grazing|fold|pd|ns --param KEY ...\n"
+             "         two-parameter bifurcation curves (--help)\n"
              "       vibroimpact identify SCENE.yaml --data REC.csv --fit KEY[,KEY...]\n"
              "         parameters from a recorded response (--help)\n");
   fprintf(f,
@@ -419,7 +421,8 @@ int main(int argc, char **argv)
   /* sweep and orbits parse their own arguments (apps/vi_diagram.h) */
   if (argc > 1 && (!strcmp(argv[1], "sweep") || !strcmp(argv[1], "basins")))
     return vi_app_sweep_exec(argc - 1, argv + 1);
-  if (argc > 1 && (!strcmp(argv[1], "orbits") || !strcmp(argv[1], "identify"))) {
+  if (argc > 1 && (!strcmp(argv[1], "orbits") || !strcmp(argv[1], "identify") ||
+                   !strcmp(argv[1], "curves"))) {
     /* the common handler: 130/143, nothing left on disk */
     struct sigaction so;
     memset(&so, 0, sizeof so);
@@ -427,6 +430,7 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &so, NULL);
     sigaction(SIGTERM, &so, NULL);
     if (argv[1][0] == 'o') return vi_cmd_orbits_main(argc - 1, argv + 1);
+    if (argv[1][0] == 'c') return vi_cmd_curves_main(argc - 1, argv + 1);
     return close_stdout(vi_cmd_identify_main(argc - 1, argv + 1));
   }
   if ((argc = vi_sets_take(argc, argv)) < 0) {

@@ -12,6 +12,7 @@ int vi_cmd_run(const app_opts *o) { (void)o; return 0; }
 int vi_cmd_energy(const app_opts *o) { (void)o; return 0; }
 int vi_cmd_truncation(const app_opts *o) { (void)o; return 0; }
 int vi_cmd_identify_main(int argc, char **argv) { (void)argc; (void)argv; return 0; }
+int vi_cmd_curves_main(int argc, char **argv) { (void)argc; (void)argv; return 0; }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -40,6 +40,7 @@
 #include "vibroimpact/vi_param.h"
 #include "vibroimpact/vi_study.h"
 #include "vibroimpact/vi_cont.h"
+#include "vibroimpact/vi_cont_curve.h"
 #include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_identify.h"
 

@@ -84,7 +84,11 @@ module vibroimpact
             vi_sweep_set_lyapunov, vi_sweep_lyapunov
   public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
             vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_set_cancel, vi_cont_iterate, vi_cont_done, &
-            vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event
+            vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event, &
+            vi_cont_refine, vi_cont_curve_create, vi_cont_curve_destroy, vi_cont_curve_errmsg, &
+            vi_cont_curve_set_orbit, vi_cont_curve_locate, vi_cont_curve_set_range, &
+            vi_cont_curve_iterate, vi_cont_curve_done, vi_cont_curve_point, &
+            vi_cont_curve_num_special, vi_cont_curve_special
   public :: vi_census_create, vi_census_destroy, vi_census_errmsg, vi_census_set_phases, &
             vi_census_set_initial, vi_census_set_sim_hook, vi_census_set_monitor, &
             vi_census_set_cancel, vi_census_run, vi_census_count, vi_census_orbit, &
@@ -1509,6 +1513,82 @@ module vibroimpact
       integer(c_int), value :: i
       integer(c_int), intent(out), optional :: type, admissible
       real(c_double), intent(out), optional :: param, vn, re, im
+    end function
+    ! ---- two-parameter curves (vi_cont_curve.h)
+    integer(c_int) function vi_cont_refine(model, key, n, kind, p, t, x, v) &
+        bind(C, name="vi_cont_refine")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: model
+      character(kind=c_char), intent(in) :: key(*)
+      integer(c_int), value :: n, kind
+      real(c_double), intent(inout) :: p, t, x(*), v(*)
+    end function
+    integer(c_int) function vi_cont_curve_create(model, kind, n, m, key, key2, out) &
+        bind(C, name="vi_cont_curve_create")
+      import :: c_int, c_ptr, c_char
+      type(c_ptr), value :: model
+      integer(c_int), value :: kind, n, m
+      character(kind=c_char), intent(in) :: key(*), key2(*)
+      type(c_ptr), intent(out) :: out
+    end function
+    subroutine vi_cont_curve_destroy(c) bind(C, name="vi_cont_curve_destroy")
+      import :: c_ptr
+      type(c_ptr) :: c
+    end subroutine
+    !> a C string (vi_string converts it)
+    type(c_ptr) function vi_cont_curve_errmsg(c) bind(C, name="vi_cont_curve_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_curve_set_orbit(c, t, x, v) &
+        bind(C, name="vi_cont_curve_set_orbit")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: t
+      real(c_double), intent(in) :: x(*), v(*)
+    end function
+    integer(c_int) function vi_cont_curve_locate(c, to, steps, param) &
+        bind(C, name="vi_cont_curve_locate")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: to
+      integer(c_int), value :: steps
+      real(c_double), intent(out), optional :: param
+    end function
+    integer(c_int) function vi_cont_curve_set_range(c, from2, to2, steps) &
+        bind(C, name="vi_cont_curve_set_range")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), value :: from2, to2
+      integer(c_int), value :: steps
+    end function
+    integer(c_int) function vi_cont_curve_iterate(c) bind(C, name="vi_cont_curve_iterate")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_curve_done(c) bind(C, name="vi_cont_curve_done")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_curve_point(c, p, p2, t, x, v, rho) &
+        bind(C, name="vi_cont_curve_point")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), intent(out), optional :: p, p2, t, x(*), v(*), rho
+    end function
+    integer(c_int) function vi_cont_curve_num_special(c) &
+        bind(C, name="vi_cont_curve_num_special")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    !> i is 0-based
+    integer(c_int) function vi_cont_curve_special(c, i, type, p, p2, located) &
+        bind(C, name="vi_cont_curve_special")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      integer(c_int), value :: i
+      integer(c_int), intent(out), optional :: type, located
+      real(c_double), intent(out), optional :: p, p2
     end function
     ! ---- the orbit census (vi_census.h)
     integer(c_int) function vi_census_create(model, n, m, out) bind(C, name="vi_census_create")

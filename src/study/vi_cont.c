@@ -11,6 +11,7 @@
 #include <lapacke.h>
 
 #include "vibroimpact/vi_cont.h"
+#include "vibroimpact/vi_cont_curve.h"
 #include "vibroimpact/vi_param.h"
 #include "vi_internal.h"
 
@@ -231,6 +232,43 @@ static int solve_at(vi_cont *c, double p, double *t, double *x, double *v,
   return st ? 1 : 0;
 }
 
+/* A point of a kind solved exactly (vi_cont_refine: the orbit's equations
+ * plus the defining condition) from the bisected or interpolated guess p
+ * and the nearby orbit (t, x, v); the event then carries the refined p,
+ * v_N and critical multiplier.  Left as guessed when Newton fails. */
+static void refine_event(vi_cont *c, int type, double *p, double t, const double *x,
+                         const double *v, double *vn, double *re, double *im)
+{
+  int N = c->N, kind = type == VI_CONT_PERIOD_DOUBLING ? VI_CONT_CURVE_PD
+                       : type == VI_CONT_NEIMARK_SACKER ? VI_CONT_CURVE_NS
+                       : type == VI_CONT_GRAZING ? VI_CONT_CURVE_GRAZING : VI_CONT_CURVE_FOLD;
+  double q = *p, *z = malloc(sizeof(double) * 6 * (size_t)N);
+  if (!z) return;
+  double *zv = z + N, *mr = z + 2 * (size_t)N, *mi = z + 4 * (size_t)N;
+  memcpy(z, x, sizeof(double) * N);
+  memcpy(zv, v, sizeof(double) * N);
+  if (!vi_cont_refine(c->m, c->key, c->n, kind, &q, &t, z, zv) &&
+      !vi_model_set_param(c->m, c->key, q) &&
+      !vi_orbit_pnm_multipliers_stops(c->m, c->n, 1, &c->stop, &t, z, zv, N, mr, mi)) {
+    *p = q;
+    *vn = vi_dot(N, vi_stop_w(c->m, c->stop), zv);
+    if (type != VI_CONT_GRAZING) { /* the multiplier the condition puts on the circle */
+      int b = 0;
+      double target = type == VI_CONT_PERIOD_DOUBLING ? -1 : 1;
+      for (int i = 1; i < 2 * N; i++) {
+        double di = type == VI_CONT_NEIMARK_SACKER ? fabs(hypot(mr[i], mi[i]) - 1)
+                    : hypot(mr[i] - target, mi[i]);
+        double db = type == VI_CONT_NEIMARK_SACKER ? fabs(hypot(mr[b], mi[b]) - 1)
+                    : hypot(mr[b] - target, mi[b]);
+        if (di < db) b = i;
+      }
+      *re = mr[b];
+      *im = fabs(mi[b]);
+    }
+  }
+  free(z);
+}
+
 static void add_event(vi_cont *c, int type, double p, double vn, double re,
                       double im, int adm)
 {
@@ -270,9 +308,11 @@ static void natural_events(vi_cont *c)
         b = pm;
       }
     }
-    if (e) add_event(c, e == 1 ? VI_CONT_GRAZING : VI_CONT_GRAZING_IMPACT, mid.p, mid.vn,
-                     NAN, NAN, mid.ok);
-    else add_event(c, mid.kind, mid.p, mid.vn, mid.re, mid.im, mid.ok);
+    int type = e == 0 ? mid.kind : e == 1 ? VI_CONT_GRAZING : VI_CONT_GRAZING_IMPACT;
+    double re = e ? NAN : mid.re, im = e ? NAN : mid.im;
+    if (type != VI_CONT_GRAZING_IMPACT)
+      refine_event(c, type, &mid.p, c->t, c->x, c->v, &mid.vn, &re, &im);
+    add_event(c, type, mid.p, mid.vn, re, im, mid.ok);
   }
 }
 
@@ -466,15 +506,19 @@ static int arclength_point(vi_cont *c)
     return VI_STOPPED;
   }
   const cstate *pr = &c->prev;
-  if (c->npts && (pr->rho < 1) != (cu.rho < 1))
-    add_event(c, cu.kind, pr->p + (cu.p - pr->p) * (1 - pr->rho) / (cu.rho - pr->rho),
-              NAN, NAN, NAN, cu.ok);
+  if (c->npts && (pr->rho < 1) != (cu.rho < 1)) {
+    double pe = pr->p + (cu.p - pr->p) * (1 - pr->rho) / (cu.rho - pr->rho), vn = NAN,
+           re = NAN, im = NAN;
+    refine_event(c, cu.kind, &pe, tt, c->Un, c->Un + N, &vn, &re, &im);
+    add_event(c, cu.kind, pe, vn, re, im, cu.ok);
+  }
   if (c->npts && ((pr->vn > 0) != (cu.vn > 0) ||
                   ((pr->gmax < 0) != (cu.gmax < 0) && (pr->vn > 0 || cu.vn > 0)))) {
     int imp = (pr->vn > 0) != (cu.vn > 0); /* v_N through 0, else the gap */
-    double f0 = imp ? pr->vn : pr->gmax, f1 = imp ? cu.vn : cu.gmax;
-    add_event(c, imp ? VI_CONT_GRAZING_IMPACT : VI_CONT_GRAZING,
-              pr->p + (cu.p - pr->p) * f0 / (f0 - f1), NAN, NAN, NAN, cu.ok);
+    double f0 = imp ? pr->vn : pr->gmax, f1 = imp ? cu.vn : cu.gmax, vn = NAN, re = NAN,
+           im = NAN, pe = pr->p + (cu.p - pr->p) * f0 / (f0 - f1);
+    if (!imp) refine_event(c, VI_CONT_GRAZING, &pe, tt, c->Un, c->Un + N, &vn, &re, &im);
+    add_event(c, imp ? VI_CONT_GRAZING_IMPACT : VI_CONT_GRAZING, pe, vn, re, im, cu.ok);
   }
   c->c = cu;
   c->prev = cu;
@@ -510,7 +554,9 @@ static int arclength_point(vi_cont *c)
     double a1 = (hp[1] - hp[0]) / (hs[1] - hs[0]), a2 = (hp[2] - hp[1]) / (hs[2] - hs[1]);
     double c2 = (a2 - a1) / (hs[2] - hs[0]), sv = 0.5 * (hs[0] + hs[1]) - a1 / (2 * c2);
     double pf = hp[0] + a1 * (sv - hs[0]) + c2 * (sv - hs[0]) * (sv - hs[1]);
-    add_event(c, VI_CONT_FOLD, pf, NAN, NAN, NAN, cu.ok);
+    double vn = NAN, re = NAN, im = NAN;
+    refine_event(c, VI_CONT_FOLD, &pf, tt, c->x, c->v, &vn, &re, &im);
+    add_event(c, VI_CONT_FOLD, pf, vn, re, im, cu.ok);
   }
   memcpy(c->dir, c->tau, sizeof(double) * K);
   return VI_OK;

@@ -1425,6 +1425,68 @@ static void test_cont_misuse(void **state)
   vi_model_destroy(&m);
 }
 
+/* Two-parameter curves (vi_cont_curve.h): NULL handles and outputs, bad
+ * kinds, orbits and keys, calls out of order, a point that is not there. */
+static void test_curve_misuse(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_cont_curve *c = NULL;
+  double x[2] = {-0.0563, 0.1}, v[2] = {0.11, 0.79}, p = 0.9, t = 0.68;
+  int type;
+  assert_err(vi_cont_curve_create(NULL, VI_CONT_CURVE_PD, 1, 1, "forcing.omega", "stop.r", &c));
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "forcing.omega", "stop.r", NULL));
+  assert_err(vi_cont_curve_create(m, 9, 1, 1, "forcing.omega", "stop.r", &c));
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 0, 1, "forcing.omega", "stop.r", &c));
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 0, "forcing.omega", "stop.r", &c));
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "forcing.omgea", "stop.r", &c));
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "stop.r", "stop.r", &c));
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "initial.x[1]", "stop.r", &c));
+  assert_err(vi_cont_refine(NULL, "forcing.omega", 1, VI_CONT_CURVE_PD, &p, &t, x, v));
+  assert_err(vi_cont_refine(m, "forcing.omega", 1, VI_CONT_CURVE_PD, NULL, &t, x, v));
+  /* no period doubling near Omega = 0.9 */
+  assert_err(vi_cont_refine(m, "forcing.omega", 1, VI_CONT_CURVE_PD, &p, &t, x, v));
+  assert_err(vi_cont_curve_iterate(NULL));
+  assert_err(vi_cont_curve_locate(NULL, 1.8, 10, NULL));
+  assert_err(vi_cont_curve_set_orbit(NULL, 0, x, v));
+  assert_err(vi_cont_curve_set_range(NULL, 0.5, 0.9, 10));
+  assert_err(vi_cont_curve_point(NULL, &p, NULL, NULL, NULL, NULL, NULL));
+  assert_err(vi_cont_curve_special(NULL, 0, &type, NULL, NULL, NULL));
+  assert_int_equal(vi_cont_curve_num_special(NULL), 0);
+  assert_int_equal(vi_cont_curve_done(NULL), 0);
+  assert_string_equal(vi_cont_curve_errmsg(NULL), "");
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "forcing.omega", "stop.r",
+                                        &c), VI_OK);
+  assert_err_msg(vi_cont_curve_locate(c, 1.8, 10, NULL), vi_cont_curve_errmsg(c)); /* no orbit */
+  assert_err_msg(vi_cont_curve_iterate(c), vi_cont_curve_errmsg(c)); /* not located */
+  assert_int_equal(vi_cont_curve_point(c, &p, NULL, NULL, NULL, NULL, NULL), VI_ERR_STATE);
+  assert_err(vi_cont_curve_set_orbit(c, 0, NULL, v));
+  assert_err(vi_cont_curve_set_orbit(c, INFINITY, x, v));
+  assert_err(vi_cont_curve_locate(c, NAN, 10, NULL));
+  assert_err(vi_cont_curve_locate(c, 1.8, 0, NULL));
+  assert_err(vi_cont_curve_set_range(c, 0.5, 0.5, 10));
+  assert_err(vi_cont_curve_set_range(c, 0.5, NAN, 10));
+  assert_err(vi_cont_curve_set_range(c, 0.5, 0.9, 0));
+  assert_err(vi_cont_curve_special(c, 0, &type, NULL, NULL, NULL));
+  /* the range of r must hold the located point's r = 0.7 */
+  assert_int_equal(vi_cont_curve_set_orbit(c, 0.68, x, v), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 1.8, 100, &p), VI_OK);
+  assert_err(vi_cont_curve_set_orbit(c, 0.68, x, v)); /* already located */
+  assert_int_equal(vi_cont_curve_set_range(c, 0.8, 0.9, 10), VI_OK);
+  assert_err_msg(vi_cont_curve_iterate(c), vi_cont_curve_errmsg(c));
+  assert_err_msg(vi_cont_curve_iterate(c), vi_cont_curve_errmsg(c)); /* done */
+  vi_cont_curve_destroy(&c);
+  vi_cont_curve_destroy(&c); /* NULL-safe */
+  /* P(1,0) takes no orbit and only the grazing kind */
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_FOLD, 1, 0, "stop.xs", "forcing.omega", &c));
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 1, 0, "stop.xs",
+                                        "forcing.omega", &c), VI_OK);
+  assert_err(vi_cont_curve_set_orbit(c, 0, x, v));
+  assert_int_equal(vi_cont_curve_locate(c, 0.2, 4, NULL), VI_STOPPED); /* grazes at 0.64 */
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 /* vi_identify_*: NULL handles, out-of-range parameters, bad data, results
  * before a fit. */
 static int ident_builder(const double *p, void *user, vi_model **out)
@@ -1581,6 +1643,7 @@ int main(void)
       cmocka_unit_test(test_census_misuse),
       cmocka_unit_test(test_truncated_misuse),
       cmocka_unit_test(test_cont_misuse),
+      cmocka_unit_test(test_curve_misuse),
       cmocka_unit_test(test_identify_misuse),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

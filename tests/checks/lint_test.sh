@@ -39,6 +39,8 @@ files=(
   tests/stress/test_stress_chatref.c tests/stress/test_stress_cancel.c
   apps/vi_app_h5.c apps/vi_cmd_orbits.c
   apps/vi_cmd_orbits_cont.c apps/vi_diagram_h5.c apps/vi_diagram_main.c bench/vi_bench_sweep.c
+  src/study/vi_curve.c apps/vi_cmd_curves.c apps/vi_curves_h5.c tests/study/test_curve.c
+  bench/vi_bench_curves.c
   src/io/vi_scene.c src/io/vi_scene_model.c src/io/vi_scene_options.c
   src/io/vi_writer.c apps/vibroimpact.c apps/vi_cmd_run.c apps/vi_cmd_energy.c
   src/sim/vi_band.c src/model/vi_band_model.c tests/sim/test_band.c bench/vi_bench_band.c

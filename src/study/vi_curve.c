@@ -1,0 +1,1013 @@
+/* vi_curve.c - codimension-one points of P(n,1) and P(1,0) orbits solved
+ * exactly and followed in two parameters (vi_cont_curve.h): Newton and
+ * pseudo-arclength on the orbit's equations plus the defining condition,
+ * codimension-two points located on the curve by regula falsi. */
+#include <complex.h>
+#include <limits.h>
+#include <stdio.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <lapacke.h>
+
+#include "vibroimpact/vi_cont_curve.h"
+#include "vibroimpact/vi_flow.h"
+#include "vibroimpact/vi_orbit.h"
+#include "vibroimpact/vi_param.h"
+#include "vi_internal.h"
+
+#define MAXSP 16
+/* the test functions watched along a curve */
+enum { T_FOLD, T_PD, T_NS, T_GRAZE, T_VN, T_RES, NT };
+
+typedef struct special {
+  int type, located;
+  double p, p2;
+} special;
+
+struct vi_cont_curve {
+  vi_model *m;
+  char key[64], key2[64];
+  int par[2], pk[2];   /* vi_orbit_pnm_dparam's parameter (or -1), stop */
+  int kind, n, mi, N, D, stop, np; /* np: free parameters now (1 or 2) */
+  int have_orbit, located, have_range, state, started;
+  double from2, to2, dsmax, ds;
+  int64_t npts, maxpts;
+  /* Y = (t, x, v, p, p2) [D + 2]; scales S; tangents; scratch */
+  double *Y, *Yl, *Ys, *tau, *taul, *S, *Yt, *Yq, *Yr, *Yg, *Y0, *bord, *bord2, *H;
+  double *J, *B, *re, *im;
+  double T[NT], Tl[NT];
+  double rho;
+  double tg;          /* grazing: the gap's maximum, time after the impact */
+  special sp[MAXSP], endsp; /* endsp: where the backward pass ended */
+  int nsp, have_endsp;
+  char errmsg[VI_MSG_LEN];
+};
+
+/* The parameter vi_orbit_pnm_dparam differentiates exactly, or -1 (as
+ * vi_cont.c: stop.* is stop 0, stops[K].* the 1-based K). */
+static int exact_param(const char *key, int *pk)
+{
+  const char *f = NULL;
+  *pk = 0;
+  if (!strcmp(key, "forcing.omega")) return VI_ORBIT_PARAM_OMEGA;
+  if (strncmp(key, "stop.", 5) == 0) f = key + 5;
+  if (strncmp(key, "stops[", 6) == 0) {
+    char *end = NULL;
+    long k = strtol(key + 6, &end, 10);
+    if (end == key + 6 || k < 1 || k > INT_MAX || strncmp(end, "].", 2) != 0) return -1;
+    *pk = (int)(k - 1);
+    f = end + 2;
+  }
+  if (f && strcmp(f, "xs") == 0) return VI_ORBIT_PARAM_XS;
+  if (f && strcmp(f, "r") == 0) return VI_ORBIT_PARAM_R;
+  return -1;
+}
+
+/* ---- the conditions -------------------------------------------------------- */
+
+/* The model at Y's parameters; 0, or -1 if one is refused. */
+static int setp(vi_cont_curve *c, const double *Y)
+{
+  if (vi_model_set_param(c->m, c->key, Y[c->D])) return -1;
+  if (c->np == 2 && vi_model_set_param(c->m, c->key2, Y[c->D + 1])) return -1;
+  return 0;
+}
+
+/* P(1,0): the largest gap over the stops of the harmonic steady state,
+ * w.K^-1 f0 + |w.(K - W^2 M + i W C)^-1 (a - i b)| - x_s (MODEL.md
+ * section 2's particular solution; a cos + b sin = Re (a - i b) e^{iWt}). */
+static int p10_gap(const vi_cont_curve *c, double *g)
+{
+  const vi_model *m = c->m;
+  int N = c->N, st = 0;
+  double W = m->omega_f;
+  double complex *Z = malloc(sizeof *Z * ((size_t)N * N + N));
+  double *K0 = malloc(sizeof(double) * ((size_t)N * N + N));
+  lapack_int *ip = malloc(sizeof(lapack_int) * (size_t)N);
+  if (!Z || !K0 || !ip) st = VI_ERR_NOMEM;
+  double complex *X = Z ? Z + (size_t)N * N : NULL;
+  double *x0 = K0 ? K0 + (size_t)N * N : NULL;
+  int f0 = 0;
+  for (int i = 0; !st && i < N; i++) {
+    X[i] = (m->a ? m->a[i] : 0) - I * (m->b ? m->b[i] : 0);
+    x0[i] = m->f0 ? m->f0[i] : 0;
+    f0 |= x0[i] != 0;
+    for (int j = 0; j < N; j++) {
+      size_t ij = i + (size_t)j * N;
+      Z[ij] = m->K[ij] - W * W * m->M[ij] + I * W * m->C[ij];
+      K0[ij] = m->K[ij];
+    }
+  }
+  if (!st && LAPACKE_zgesv(LAPACK_COL_MAJOR, N, 1, (lapack_complex_double *)Z, N, ip,
+                           (lapack_complex_double *)X, N))
+    st = VI_ERR_LAPACK;
+  if (!st && f0 && LAPACKE_dgesv(LAPACK_COL_MAJOR, N, 1, K0, N, ip, x0, N)) st = VI_ERR_LAPACK;
+  if (!st) {
+    *g = -HUGE_VAL;
+    for (int k = 0; k < m->ns; k++) {
+      const double *w = vi_stop_w(m, k);
+      double complex a = 0;
+      double s = 0;
+      for (int i = 0; i < N; i++) {
+        a += w[i] * X[i];
+        if (f0) s += w[i] * x0[i];
+      }
+      *g = fmax(*g, s + cabs(a) - m->xsv[k]);
+    }
+  }
+  free(Z);
+  free(K0);
+  free(ip);
+  return st;
+}
+
+/* The multipliers of the orbit at Y (model at Y's parameters) into re, im. */
+static int mults(vi_cont_curve *c, const double *Y)
+{
+  int N = c->N;
+  return vi_orbit_pnm_multipliers_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N,
+                                        c->re, c->im);
+}
+
+/* The product forms of the multiplier conditions; skip: an index left out
+ * (-1: none). */
+static double prod_shift(const vi_cont_curve *c, double s, int skip)
+{
+  double complex p = 1;
+  for (int i = 0; i < 2 * c->N; i++)
+    if (i != skip) p *= c->re[i] + I * c->im[i] + s;
+  return creal(p);
+}
+
+static double prod_pairs(const vi_cont_curve *c)
+{
+  double complex p = 1;
+  for (int i = 0; i < 2 * c->N; i++)
+    for (int j = i + 1; j < 2 * c->N; j++)
+      p *= (c->re[i] + I * c->im[i]) * (c->re[j] + I * c->im[j]) - 1;
+  return creal(p);
+}
+
+/* The pair (i, j) whose product is nearest 1: the NS pair. */
+static void ns_pair(const vi_cont_curve *c, int *bi, int *bj)
+{
+  double best = HUGE_VAL;
+  *bi = 0;
+  *bj = 1;
+  for (int i = 0; i < 2 * c->N; i++)
+    for (int j = i + 1; j < 2 * c->N; j++) {
+      double complex d = (c->re[i] + I * c->im[i]) * (c->re[j] + I * c->im[j]) - 1;
+      if (cabs(d) < best) {
+        best = cabs(d);
+        *bi = i;
+        *bj = j;
+      }
+    }
+}
+
+/* The index of the multiplier nearest z (real). */
+static int nearest(const vi_cont_curve *c, double z)
+{
+  int b = 0;
+  for (int i = 1; i < 2 * c->N; i++)
+    if (hypot(c->re[i] - z, c->im[i]) < hypot(c->re[b] - z, c->im[b])) b = i;
+  return b;
+}
+
+/* The largest gap between impacts of the P(n,1) orbit at Y. */
+static int gap_max(vi_cont_curve *c, const double *Y, double *g)
+{
+  int ok, N = c->N;
+  return vi_orbit_pnm_admissible_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, g,
+                                       &ok);
+}
+
+/* Grazing of a P(n,1) orbit: the gap's interior maximum by Newton on
+ * w.v(t) = 0 (w.a < 0) along the free flow from just after the impact,
+ * from the time tau0 after it; *g the gap there, *tau its time.  0, or 1
+ * when Newton leaves the flight or finds no maximum. */
+static int graze_local(vi_cont_curve *c, const double *Y, double tau0, double *g,
+                       double *tau)
+{
+  const vi_model *m = c->m;
+  int N = c->N, k = c->stop;
+  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
+  double xb[64], vb[64], vp[64];
+  if (N > 32 || !m->MinvK || !m->MinvC) return 1;
+  double vn = vi_dot(N, w, Y + 1 + N), P = (1 + m->rv[k]) * vn / m->G[k + (size_t)k * m->ns];
+  for (int i = 0; i < N; i++) vp[i] = Y[1 + N + i] - P * mw[i];
+  double L = c->n * 2 * M_PI / m->omega_f, t = tau0;
+  for (int it = 0; it < 12; it++) {
+    if (!(t > 0 && t < L) || vi_flow_physical(m, Y[0], Y + 1, vp, Y[0] + t, xb, vb)) return 1;
+    double wv = vi_dot(N, w, vb), wa = 0, W = m->omega_f, ph = W * (Y[0] + t);
+    for (int i = 0; i < N; i++) {
+      double ai = (m->Minv_a ? m->Minv_a[i] * cos(ph) : 0) +
+                  (m->Minv_b ? m->Minv_b[i] * sin(ph) : 0) + (m->Minv_f0 ? m->Minv_f0[i] : 0);
+      for (int j = 0; j < N; j++)
+        ai -= m->MinvK[i + (size_t)j * N] * xb[j] + m->MinvC[i + (size_t)j * N] * vb[j];
+      wa += w[i] * ai;
+    }
+    if (!(wa < 0)) return 1;
+    double dt = -wv / wa;
+    t += dt;
+    if (fabs(dt) <= 1e-13 * L) {
+      if (!(t > 0 && t < L) || vi_flow_physical(m, Y[0], Y + 1, vp, Y[0] + t, xb, vb)) return 1;
+      *g = vi_dot(N, w, xb) - m->xsv[k];
+      *tau = t;
+      return 0;
+    }
+  }
+  return 1;
+}
+
+/* The grazing time from scratch: the largest of 512 samples per forcing
+ * period of the flight, refined; 0, or 1 if none. */
+static int graze_scan(vi_cont_curve *c, const double *Y, double *g, double *tau)
+{
+  const vi_model *m = c->m;
+  int N = c->N, k = c->stop, K = 512 * c->n, best = -1;
+  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
+  double xb[64], vb[64], vp[64], gb = -HUGE_VAL;
+  if (N > 32) return 1;
+  double vn = vi_dot(N, w, Y + 1 + N), P = (1 + m->rv[k]) * vn / m->G[k + (size_t)k * m->ns];
+  for (int i = 0; i < N; i++) vp[i] = Y[1 + N + i] - P * mw[i];
+  double L = c->n * 2 * M_PI / m->omega_f;
+  double g1 = -HUGE_VAL, g2 = -HUGE_VAL; /* the two samples before */
+  for (int s = 1; s < K; s++) {
+    if (vi_flow_physical(m, Y[0], Y + 1, vp, Y[0] + s * L / K, xb, vb)) return 1;
+    double gs = vi_dot(N, w, xb) - m->xsv[k];
+    if (s > 2 && g1 >= g2 && g1 >= gs && g1 > gb) { /* interior maxima only */
+      gb = g1;
+      best = s - 1;
+    }
+    g2 = g1;
+    g1 = gs;
+  }
+  return best < 0 || graze_local(c, Y, best * L / K, g, tau);
+}
+
+/* The grazing condition of a P(n,1) orbit, from the tracked time. */
+static int graze_g(vi_cont_curve *c, const double *Y, double *g)
+{
+  double tau;
+  if (c->tg > 0 && !graze_local(c, Y, c->tg, g, &tau)) return VI_OK;
+  return graze_scan(c, Y, g, &tau) ? VI_ERR_NOT_CONVERGED : VI_OK;
+}
+
+/* Follow the grazing time to the accepted point Y. */
+static void graze_track(vi_cont_curve *c, const double *Y)
+{
+  double g, tau;
+  if (c->kind != VI_CONT_CURVE_GRAZING || !c->mi || setp(c, Y)) return;
+  if ((c->tg > 0 && !graze_local(c, Y, c->tg, &g, &tau)) || !graze_scan(c, Y, &g, &tau))
+    c->tg = tau;
+}
+
+/* The curve's condition g at Y (sets the model's parameters). */
+static int gfun(vi_cont_curve *c, const double *Y, double *g)
+{
+  if (setp(c, Y)) return VI_ERR_ARG;
+  if (c->kind == VI_CONT_CURVE_GRAZING)
+    return c->mi ? graze_g(c, Y, g) : p10_gap(c, g);
+  int st = mults(c, Y);
+  if (st) return st;
+  /* times v_N: the saltation matrix is a rank-one update of order 1/v_N,
+   * so v_N det(Mo -+ I) stays smooth up to the end of the impacting
+   * branch (v_N = 0), where a fold or PD curve may end */
+  double vn = vi_dot(c->N, vi_stop_w(c->m, c->stop), Y + 1 + c->N);
+  *g = c->kind == VI_CONT_CURVE_FOLD ? vn * prod_shift(c, -1, -1)
+       : c->kind == VI_CONT_CURVE_PD ? vn * prod_shift(c, 1, -1) : prod_pairs(c);
+  return VI_OK;
+}
+
+/* The conditions at Y: F [D] (the orbit's) and, with withg, g; with J,
+ * their Jacobian in the nu = D + np unknowns (column-major, leading
+ * dimension ldj): J_u exact, dF/dp exact or central differences, g's row
+ * central differences. */
+static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *J, int ldj)
+{
+  int N = c->N, D = c->D, nu = D + c->np, st = 0;
+  double *Jf = c->B; /* D x D scratch, then dF/dp [D] */
+  if (setp(c, Y)) return VI_ERR_ARG;
+  if (D) st = vi_orbit_pnm_residual_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, H,
+                                          J ? Jf : NULL);
+  if (!st && D && J) {
+    for (int j = 0; j < D; j++)
+      for (int i = 0; i < D; i++) J[i + (size_t)j * ldj] = Jf[i + (size_t)j * D];
+    for (int k = 0; k < c->np && !st; k++) {
+      double *dF = Jf + (size_t)D * D, *Fm = dF + D;
+      if (c->par[k] >= 0) {
+        st = vi_orbit_pnm_dparam(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, c->par[k],
+                                 c->pk[k], dF);
+      } else {
+        double *Yq = c->Yq, h = 1e-6 * fmax(1.0, fabs(Y[D + k]));
+        memcpy(Yq, Y, sizeof(double) * (size_t)nu);
+        Yq[D + k] += h;
+        st = setp(c, Yq) ? VI_ERR_ARG
+             : vi_orbit_pnm_residual_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, dF,
+                                           NULL);
+        Yq[D + k] -= 2 * h;
+        if (!st) st = setp(c, Yq) ? VI_ERR_ARG
+                      : vi_orbit_pnm_residual_stops(c->m, c->n, 1, &c->stop, Y, Y + 1,
+                                                    Y + 1 + N, N, Fm, NULL);
+        for (int i = 0; i < D && !st; i++) dF[i] = (dF[i] - Fm[i]) / (2 * h);
+        if (setp(c, Y)) st = VI_ERR_ARG;
+      }
+      for (int i = 0; i < D && !st; i++) J[i + (size_t)(D + k) * ldj] = dF[i];
+    }
+  }
+  if (!st && withg) st = gfun(c, Y, H + D);
+  if (!st && withg && J) {
+    double *Yq = c->Yq, gp, gm;
+    memcpy(Yq, Y, sizeof(double) * (size_t)nu);
+    for (int j = 0; j < nu && !st; j++) {
+      double h = 1e-6 * c->S[j];
+      Yq[j] = Y[j] + h;
+      st = gfun(c, Yq, &gp);
+      Yq[j] = Y[j] - h;
+      if (!st) st = gfun(c, Yq, &gm);
+      Yq[j] = Y[j];
+      J[D + (size_t)j * ldj] = (gp - gm) / (2 * h);
+    }
+    if (setp(c, Y)) st = VI_ERR_ARG;
+  }
+  return st;
+}
+
+/* Dense solve A y = b (A [k x k], overwritten); 0 or 1 (singular). */
+static int gauss(int k, double *A, double *b)
+{
+  lapack_int ip[64];
+  if (k > 64) return 1;
+  return LAPACKE_dgesv(LAPACK_COL_MAJOR, k, 1, A, k, ip, b, k) != 0;
+}
+
+/* Newton on the conditions (withg: g too) and, where they are one short,
+ * the border bord.(Y - Yref) = 0, in the nu unknowns; Y in and out.
+ * 0, or 1 if it fails (Y then undefined). */
+static int newton(vi_cont_curve *c, double *Y, int withg, const double *bord,
+                  const double *Yref)
+{
+  int D = c->D, nu = D + c->np, nh = D + withg;
+  double *H = c->H, *A = c->J;
+  if (nh + (bord != NULL) != nu) return 1;
+  for (int it = 0; it < 25; it++) {
+    if (sys(c, Y, withg, H, A, nu)) return 1;
+    if (bord) {
+      H[nh] = 0;
+      for (int j = 0; j < nu; j++) {
+        H[nh] += bord[j] * (Y[j] - Yref[j]);
+        A[nh + (size_t)j * nu] = bord[j];
+      }
+    }
+    if (gauss(nu, A, H)) return 1;
+    double dmax = 0;
+    for (int j = 0; j < nu; j++) {
+      if (!isfinite(H[j])) return 1;
+      Y[j] -= H[j];
+      dmax = fmax(dmax, fabs(H[j]) / c->S[j]);
+    }
+    if (dmax > 0.5) return 1; /* a jump: another branch */
+    if (dmax <= 1e-12) {
+      /* the F residual itself as vi_orbit_pnm_solve's test */
+      if (sys(c, Y, 0, H, NULL, nu)) return 1;
+      double fn = 0, sc = 1e-12;
+      for (int r = 0; r < D; r++) fn = fmax(fn, fabs(H[r]));
+      for (int r = 1; r < D; r++) sc = fmax(sc, fabs(Y[r]));
+      return fn <= 1e-10 * sc ? 0 : 1;
+    }
+  }
+  return 1;
+}
+
+/* Tangent at Y of the solution set (nu - 1 conditions in nu unknowns):
+ * the null vector, oriented along taul, unit in the scaled norm. */
+static int tangent(vi_cont_curve *c, const double *Y, int withg, const double *taul,
+                   double *tau)
+{
+  int nu = c->D + c->np, nh = c->D + withg;
+  double *A = c->J;
+  if (nh + 1 != nu || sys(c, Y, withg, c->H, A, nu)) return 1;
+  for (int j = 0; j < nu; j++) {
+    A[nh + (size_t)j * nu] = taul[j] / (c->S[j] * c->S[j]);
+    tau[j] = j == nh;
+  }
+  if (gauss(nu, A, tau)) return 1;
+  double nrm = 0;
+  for (int j = 0; j < nu; j++) nrm += tau[j] * tau[j] / (c->S[j] * c->S[j]);
+  nrm = sqrt(nrm);
+  for (int j = 0; j < nu; j++) tau[j] /= nrm;
+  return !(nrm > 0) || !isfinite(nrm);
+}
+
+/* The watched test functions at Y (an orbit: model at its parameters). */
+static int tests(vi_cont_curve *c, const double *Y, double *T)
+{
+  int N = c->N;
+  for (int i = 0; i < NT; i++) T[i] = NAN;
+  c->rho = NAN;
+  if (setp(c, Y)) return VI_ERR_ARG;
+  if (!c->mi) return VI_OK;
+  int st = mults(c, Y);
+  if (!st) st = gap_max(c, Y, &T[T_GRAZE]);
+  if (st) return st;
+  c->rho = 0;
+  for (int i = 0; i < 2 * N; i++) c->rho = fmax(c->rho, hypot(c->re[i], c->im[i]));
+  const double *w = vi_stop_w(c->m, c->stop);
+  T[T_VN] = vi_dot(N, w, Y + 1 + N);
+  T[T_FOLD] = prod_shift(c, -1, -1);
+  T[T_PD] = prod_shift(c, 1, -1);
+  T[T_NS] = prod_pairs(c);
+  if (c->kind == VI_CONT_CURVE_FOLD) T[T_RES] = prod_shift(c, -1, nearest(c, 1));
+  if (c->kind == VI_CONT_CURVE_PD) T[T_RES] = prod_shift(c, 1, nearest(c, -1));
+  if (c->kind == VI_CONT_CURVE_NS) { /* 4 p - s^2 of the pair: > 0 complex */
+    int i, j;
+    ns_pair(c, &i, &j);
+    double complex a = c->re[i] + I * c->im[i], b = c->re[j] + I * c->im[j];
+    T[T_RES] = creal(4 * a * b - (a + b) * (a + b));
+  }
+  return VI_OK;
+}
+
+/* ---- the handle ------------------------------------------------------------- */
+
+int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char *key,
+                         const char *key2, vi_cont_curve **out)
+{
+  if (!out) return VI_ERR_ARG;
+  *out = NULL;
+  if (!m || !key || kind < VI_CONT_CURVE_GRAZING || kind > VI_CONT_CURVE_NS || n < 1 ||
+      (mi != 0 && mi != 1) || (mi == 0 && (n != 1 || kind != VI_CONT_CURVE_GRAZING)) ||
+      vi_param_kind(key) != VI_PARAM_MODEL || strlen(key) >= 64 ||
+      (key2 && (vi_param_kind(key2) != VI_PARAM_MODEL || strlen(key2) >= 64 ||
+                !strcmp(key, key2))))
+    return VI_ERR_ARG;
+  if (!m->frozen) return VI_ERR_STATE;
+  if (mi == 0 && (m->band || !m->M || !m->C || !m->K)) return VI_ERR_UNSUPPORTED;
+  vi_cont_curve *c = calloc(1, sizeof *c);
+  if (!c) return VI_ERR_NOMEM;
+  int N = m->n, D = mi ? 2 * N + 1 : 0, nu = D + 2;
+  if (nu > 64) { /* the dense bordered systems: small models */
+    free(c);
+    return VI_ERR_UNSUPPORTED;
+  }
+  size_t nd = 14 * ((size_t)nu + 1) + (size_t)nu * nu + 4 * (size_t)N + (size_t)D * D +
+              2 * (size_t)D + 1;
+  double v0;
+  c->Y = malloc(sizeof(double) * nd);
+  if (!c->Y || vi_model_copy(m, &c->m) || vi_model_param(c->m, key, &v0) ||
+      (key2 && vi_model_param(c->m, key2, &v0))) {
+    int st = c->Y && c->m ? VI_ERR_ARG : VI_ERR_NOMEM;
+    vi_cont_curve_destroy(&c);
+    return st;
+  }
+  memset(c->Y, 0, sizeof(double) * nd);
+  double **slot[] = {&c->Yl, &c->Ys, &c->tau, &c->taul, &c->S, &c->Yt, &c->Yq,
+                     &c->Yr, &c->Yg, &c->Y0, &c->bord, &c->bord2, &c->H};
+  double *p = c->Y;
+  for (size_t k = 0; k < sizeof slot / sizeof slot[0]; k++) *slot[k] = p += nu + 1;
+  c->re = p += nu + 1;
+  c->im = p += 2 * (size_t)N;
+  c->J = p += 2 * (size_t)N;
+  c->B = p + (size_t)nu * nu; /* J_u [D x D], dF/dp and a spare [D] each */
+  snprintf(c->key, sizeof c->key, "%s", key);
+  snprintf(c->key2, sizeof c->key2, "%s", key2 ? key2 : "");
+  c->par[0] = exact_param(key, &c->pk[0]);
+  c->par[1] = key2 ? exact_param(key2, &c->pk[1]) : -1;
+  for (int k = 0; k < 2; k++)
+    if (c->pk[k] >= c->m->ns) c->par[k] = -1;
+  c->kind = kind;
+  c->n = n;
+  c->mi = mi;
+  c->N = N;
+  c->D = D;
+  c->np = 1;
+  vi_model_param(c->m, key, &c->Y[D]);
+  if (key2) vi_model_param(c->m, key2, &c->Y[D + 1]);
+  for (int j = 0; j < nu; j++) c->S[j] = 1;
+  *out = c;
+  return VI_OK;
+}
+
+void vi_cont_curve_destroy(vi_cont_curve **cp)
+{
+  if (!cp || !*cp) return;
+  vi_model_destroy(&(*cp)->m);
+  free((*cp)->Y);
+  free(*cp);
+  *cp = NULL;
+}
+
+const char *vi_cont_curve_errmsg(const vi_cont_curve *c) { return c ? c->errmsg : ""; }
+
+/* The impact's stop: the one whose gap is nearest 0 at x. */
+static void pick_stop(vi_cont_curve *c, const double *x)
+{
+  double best = HUGE_VAL;
+  c->stop = 0;
+  for (int k = 0; k < c->m->ns; k++) {
+    double g = fabs(vi_dot(c->N, vi_stop_w(c->m, k), x) - c->m->xsv[k]);
+    if (g < best) {
+      best = g;
+      c->stop = k;
+    }
+  }
+}
+
+int vi_cont_curve_set_orbit(vi_cont_curve *c, double t, const double *x, const double *v)
+{
+  if (!c || !x || !v || !c->mi) return VI_ERR_ARG;
+  if (c->located) return vi_fail(c->errmsg, VI_ERR_STATE, "the point is already located");
+  if (!isfinite(t)) return VI_ERR_NONFINITE;
+  for (int i = 0; i < c->N; i++)
+    if (!isfinite(x[i]) || !isfinite(v[i])) return VI_ERR_NONFINITE;
+  int N = c->N;
+  c->Y[0] = t;
+  memcpy(c->Y + 1, x, sizeof(double) * N);
+  memcpy(c->Y + 1 + N, v, sizeof(double) * N);
+  pick_stop(c, x);
+  c->have_orbit = 1;
+  return VI_OK;
+}
+
+/* Scales of the unknowns: the impact time by 1/Omega, the state by its
+ * size, the parameters by |p| and the range of p2. */
+static void set_scales(vi_cont_curve *c)
+{
+  int N = c->N, D = c->D;
+  double xs = 0;
+  for (int i = 1; i < D; i++) xs = fmax(xs, fabs(c->Y[i]));
+  if (!(xs > 0)) xs = 1;
+  if (D) c->S[0] = 1 / vi_model_omega_forcing(c->m);
+  for (int i = 1; i < D; i++) c->S[i] = xs;
+  (void)N;
+  double p = fabs(c->Y[D]);
+  c->S[D] = p > 0 ? p : 1;
+  c->S[D + 1] = c->have_range ? fabs(c->to2 - c->from2) : 1;
+  c->S[D + 2] = c->S[D];
+}
+
+/* ---- refining a point --------------------------------------------------------- */
+
+/* The point of the kind from Y (np = 1): Newton on (F, g) in (u, p). */
+static int refine(vi_cont_curve *c, double *Y)
+{
+  c->np = 1;
+  graze_track(c, Y);
+  memcpy(c->Yt, Y, sizeof(double) * (size_t)(c->D + 1));
+  if (newton(c, c->Yt, 1, NULL, NULL)) return VI_ERR_NOT_CONVERGED;
+  memcpy(Y, c->Yt, sizeof(double) * (size_t)(c->D + 1));
+  graze_track(c, Y);
+  return VI_OK;
+}
+
+/* A pair on the circle, not a real pair with product 1 (ns only). */
+static int ns_complex(vi_cont_curve *c, const double *Y)
+{
+  if (c->kind != VI_CONT_CURVE_NS) return 1;
+  int i, j;
+  if (setp(c, Y) || mults(c, Y)) return 0;
+  ns_pair(c, &i, &j);
+  return fabs(c->im[i]) > 1e-9;
+}
+
+int vi_cont_refine(const vi_model *m, const char *key, int n, int kind, double *p,
+                   double *t, double *x, double *v)
+{
+  if (!m || !key || !p || !t || !x || !v) return VI_ERR_ARG;
+  if (!isfinite(*p)) return VI_ERR_NONFINITE;
+  vi_cont_curve *c = NULL;
+  int st = vi_cont_curve_create(m, kind, n, 1, key, NULL, &c);
+  if (!st) st = vi_cont_curve_set_orbit(c, *t, x, v);
+  if (!st && vi_model_set_param(c->m, key, *p)) st = VI_ERR_ARG;
+  if (!st) {
+    int N = c->N;
+    c->Y[c->D] = *p;
+    set_scales(c);
+    st = refine(c, c->Y);
+    if (!st && !ns_complex(c, c->Y)) st = VI_ERR_NOT_CONVERGED;
+    if (!st) {
+      *p = c->Y[c->D];
+      *t = c->Y[0];
+      memcpy(x, c->Y + 1, sizeof(double) * N);
+      memcpy(v, c->Y + 1 + N, sizeof(double) * N);
+    }
+  }
+  vi_cont_curve_destroy(&c);
+  return st;
+}
+
+/* ---- pseudo-arclength --------------------------------------------------------- */
+
+/* One step from Y along tau (withg: the curve's condition too): predictor,
+ * corrector on the scaled border, the new tangent, a turn of more than
+ * about 25 degrees refused; ds halved on failure.  0, or 1 when ds falls
+ * below dsmax / 4096.  Y, tau advance; Yl, taul keep the last ones. */
+static int advance(vi_cont_curve *c, int withg)
+{
+  int nu = c->D + c->np;
+  double *bord = c->bord;
+  while (c->ds >= c->dsmax / 4096) {
+    for (int j = 0; j < nu; j++) {
+      c->Ys[j] = c->Y[j] + c->ds * c->tau[j]; /* Ys: the prediction here */
+      c->Yt[j] = c->Ys[j];
+      bord[j] = c->tau[j] / (c->S[j] * c->S[j]);
+    }
+    double tnew[66];
+    int bad = newton(c, c->Yt, withg, bord, c->Ys) || tangent(c, c->Yt, withg, c->tau, tnew);
+    double cs = 0;
+    for (int j = 0; !bad && j < nu; j++) cs += tnew[j] * c->tau[j] / (c->S[j] * c->S[j]);
+    if (bad || cs < 0.9) {
+      c->ds /= 2;
+      continue;
+    }
+    memcpy(c->Yl, c->Y, sizeof(double) * nu);
+    memcpy(c->taul, c->tau, sizeof(double) * nu);
+    memcpy(c->Y, c->Yt, sizeof(double) * nu);
+    memcpy(c->tau, tnew, sizeof(double) * nu);
+    c->ds = fmin(c->dsmax, 1.5 * c->ds);
+    graze_track(c, c->Y);
+    if (!c->mi && c->np == 2) /* the parameter's own size: through resonance peaks */
+      c->S[0] = fmax(c->S[c->D + 2], fabs(c->Y[0]));
+    return 0;
+  }
+  return 1;
+}
+
+/* Y on the solution set between Ya and Yb (withg: the curve) where the
+ * test T[k] (or, k < 0, the kind's condition) vanishes: regula falsi
+ * (Illinois) on the chord, each point corrected on the border
+ * perpendicular to it.  0 (Y found), or 1 (Y the interpolation). */
+static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double ta,
+                  double tb, int k, int withg, double *Y)
+{
+  int nu = c->D + c->np, side = 0;
+  double *bord = c->bord2, d2 = 0, Tq[NT];
+  /* v_N = 0 itself has no monodromy (the saltation matrix is singular):
+   * the point 1e-9 of the state scale before it */
+  double off = k == T_VN ? 1e-9 * c->S[1] * (ta > 0 ? 1 : -1) : 0;
+  ta -= off;
+  tb -= off;
+  double a = 0, b = 1, fa = ta, fb = tb, th;
+  double *Yr = c->Yr; /* the chord's point */
+  for (int j = 0; j < nu; j++) {
+    bord[j] = (Yb[j] - Ya[j]) / (c->S[j] * c->S[j]);
+    d2 += bord[j] * (Yb[j] - Ya[j]);
+  }
+  if (!(d2 > 0)) return 1;
+  for (int it = 0; it < 60; it++) {
+    th = (a * fb - b * fa) / (fb - fa);
+    for (int j = 0; j < nu; j++) Yr[j] = Ya[j] + th * (Yb[j] - Ya[j]);
+    memcpy(Y, Yr, sizeof(double) * nu);
+    if (newton(c, Y, withg, bord, Yr)) break;
+    double f;
+    if (k >= 0) {
+      if (tests(c, Y, Tq)) break;
+      f = Tq[k] - off;
+    } else if (gfun(c, Y, &f)) {
+      break;
+    }
+    if (f == 0 || fabs(b - a) < 1e-14) return 0;
+    if ((f < 0) == (fa < 0)) {
+      a = th;
+      fa = f;
+      if (side == -1) fb /= 2;
+      side = -1;
+    } else {
+      b = th;
+      fb = f;
+      if (side == 1) fa /= 2;
+      side = 1;
+    }
+    if (fabs(b - a) < 1e-13) return 0;
+  }
+  th = ta / (ta - tb);
+  for (int j = 0; j < nu; j++) Y[j] = Ya[j] + th * (Yb[j] - Ya[j]);
+  return 1;
+}
+
+/* ---- locating the first point ----------------------------------------------- */
+
+/* P(1,0): the gap on a grid of key from its value to `to`. */
+static int locate_p10(vi_cont_curve *c, double to, int steps)
+{
+  double p0 = c->Y[0], g0, g1;
+  c->S[0] = fabs(p0) > 0 ? fabs(p0) : 1;
+  int st = gfun(c, c->Y, &g0);
+  for (int k = 1; !st && k <= steps; k++) {
+    double y = p0 + (to - p0) * k / steps;
+    st = gfun(c, &y, &g1);
+    if (st || (g1 < 0) == (g0 < 0)) {
+      g0 = g1;
+      continue;
+    }
+    c->Y[0] = y - (to - p0) / steps * g1 / (g1 - g0);
+    if (refine(c, c->Y)) return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "%s: the grazing "
+                                        "point near %.17g did not converge", c->key, y);
+    return VI_OK;
+  }
+  if (st) return vi_fail(c->errmsg, st, "%s: the non-impacting orbit: %s", c->key,
+                         vi_strerror(st));
+  return vi_fail(c->errmsg, VI_STOPPED, "no grazing of the non-impacting orbit between "
+                 "%s = %.17g and %.17g", c->key, p0, to);
+}
+
+/* The kind's test among the watched ones. */
+static int kind_test(int kind)
+{
+  return kind == VI_CONT_CURVE_GRAZING ? T_GRAZE
+         : kind == VI_CONT_CURVE_FOLD ? T_FOLD : kind == VI_CONT_CURVE_PD ? T_PD : T_NS;
+}
+
+int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps, double *param)
+{
+  if (!c || steps < 1) return VI_ERR_ARG;
+  if (!isfinite(to)) return VI_ERR_NONFINITE;
+  if (c->located || (c->mi && !c->have_orbit))
+    return vi_fail(c->errmsg, VI_ERR_STATE, "%s", c->located ? "already located"
+                   : "set the orbit first");
+  int D = c->D, st;
+  c->np = 1;
+  double p0 = c->Y[D];
+  if (!c->mi) st = locate_p10(c, to, steps);
+  else {
+    /* the orbit at p0: Newton with p held by the border */
+    set_scales(c);
+    double *bord = c->bord;
+    for (int j = 0; j <= D; j++) {
+      bord[j] = j == D;
+      c->taul[j] = j == D ? (to > p0 ? 1 : -1) * c->S[D] : 0;
+    }
+    memcpy(c->Ys, c->Y, sizeof(double) * (D + 1));
+    if (newton(c, c->Y, 0, bord, c->Ys) || tangent(c, c->Y, 0, c->taul, c->tau))
+      return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "%s = %.17g: no P(%d,1) orbit from "
+                     "the orbit given", c->key, p0, c->n);
+    set_scales(c);
+    c->dsmax = c->ds = fabs(to - p0) / steps / c->S[D];
+    int k = kind_test(c->kind);
+    st = tests(c, c->Y, c->T);
+    for (int it = 0; !st; it++) {
+      if (it > 20 * steps + 100 || advance(c, 0)) {
+        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,1) branch in %s is lost "
+                     "after %.17g", k == T_GRAZE ? "grazing" : k == T_FOLD ? "fold"
+                     : k == T_PD ? "period-doubling" : "Neimark-Sacker", c->n, c->key, c->Y[D]);
+        break;
+      }
+      memcpy(c->Tl, c->T, sizeof c->T);
+      if ((st = tests(c, c->Y, c->T))) break;
+      if (c->T[T_VN] <= 0 && c->Tl[T_VN] > 0) { /* beyond, no impact: not an orbit */
+        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,1) orbit stops impacting "
+                     "(v_N = 0) near %s = %.17g", k == T_GRAZE ? "grazing" : k == T_FOLD ?
+                     "fold" : k == T_PD ? "period-doubling" : "Neimark-Sacker", c->n, c->key,
+                     c->Y[D]);
+        break;
+      }
+      int cross = (c->T[k] < 0) != (c->Tl[k] < 0);
+      if (cross && k == T_GRAZE && c->T[T_VN] <= 0 && c->Tl[T_VN] <= 0) cross = 0;
+      if (cross) {
+        double *Yg = c->Yg;
+        locate(c, c->Yl, c->Y, c->Tl[k], c->T[k], k, 0, Yg);
+        if (!refine(c, Yg) && ns_complex(c, Yg)) {
+          memcpy(c->Y, Yg, sizeof(double) * (D + 1));
+          break;
+        }
+        if (c->kind != VI_CONT_CURVE_NS) {
+          st = vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "%s: the point near %.17g did not "
+                       "converge", c->key, Yg[D]);
+          break;
+        }
+      }
+      if ((c->Y[D] - to) * (to > p0 ? 1 : -1) > 0) {
+        st = vi_fail(c->errmsg, VI_STOPPED, "no such point of the P(%d,1) orbit between %s = "
+                     "%.17g and %.17g", c->n, c->key, p0, to);
+        break;
+      }
+    }
+  }
+  if (st) return st;
+  c->located = 1;
+  c->npts = 0;
+  if (c->mi) tests(c, c->Y, c->T);
+  if (param) *param = c->Y[D];
+  return VI_OK;
+}
+
+/* ---- the curve ------------------------------------------------------------------- */
+
+int vi_cont_curve_set_range(vi_cont_curve *c, double from2, double to2, int steps)
+{
+  if (!c || steps < 1 || !c->key2[0] || from2 == to2) return VI_ERR_ARG;
+  if (!isfinite(from2) || !isfinite(to2)) return VI_ERR_NONFINITE;
+  c->from2 = from2;
+  c->to2 = to2;
+  c->maxpts = 20 * (int64_t)steps + 100;
+  c->dsmax = 1.0 / steps;
+  c->have_range = 1;
+  return VI_OK;
+}
+
+static void add_special(vi_cont_curve *c, int type, const double *Y, int located)
+{
+  if (c->nsp >= MAXSP) return;
+  special s = {type, located, Y[c->D], Y[c->D + 1]};
+  c->sp[c->nsp++] = s;
+}
+
+/* The point on the curve where p2 = b, between Yl and Y: Newton with p2
+ * held, from the chord.  Y receives it (or stays). */
+static void to_bound(vi_cont_curve *c, double b)
+{
+  int D = c->D, nu = D + 2;
+  double th = (b - c->Yl[D + 1]) / (c->Y[D + 1] - c->Yl[D + 1]);
+  double *bord = c->bord;
+  for (int j = 0; j < nu; j++) {
+    c->Yt[j] = c->Yl[j] + th * (c->Y[j] - c->Yl[j]);
+    bord[j] = j == D + 1;
+  }
+  c->Yt[D + 1] = b;
+  memcpy(c->Ys, c->Yt, sizeof(double) * nu);
+  if (!newton(c, c->Yt, 1, bord, c->Ys)) memcpy(c->Y, c->Yt, sizeof(double) * nu);
+}
+
+/* The codimension-two points between the last point and this one; 1 if
+ * one ends the curve (Y is then that point). */
+static int specials(vi_cont_curve *c, int report)
+{
+  static const int watch[4][5] = {{T_FOLD, T_PD, T_VN, -1, -1},
+                                  {T_PD, T_GRAZE, T_VN, T_RES, -1},
+                                  {T_FOLD, T_GRAZE, T_VN, T_RES, -1},
+                                  {T_FOLD, T_PD, T_GRAZE, T_VN, T_RES}};
+  int D = c->D, nu = D + 2;
+  if (!c->mi) return 0;
+  double *Yq = c->Yg, Tq[NT];
+  if (c->kind == VI_CONT_CURVE_FOLD &&
+      c->tau[D] * c->taul[D] / (c->S[D] * c->S[D]) +
+      c->tau[D + 1] * c->taul[D + 1] / (c->S[D + 1] * c->S[D + 1]) < 0 && report)
+    add_special(c, VI_CONT_SP_CUSP, c->Y, 0);
+  int ns_res = c->kind == VI_CONT_CURVE_NS && (c->T[T_RES] < 0) != (c->Tl[T_RES] < 0);
+  for (int w = 0; w < 5 && watch[c->kind][w] >= 0; w++) {
+    int k = watch[c->kind][w];
+    if (!((c->T[k] < 0) != (c->Tl[k] < 0)) || isnan(c->T[k]) || isnan(c->Tl[k])) continue;
+    if (ns_res && (k == T_FOLD || k == T_PD)) continue; /* the resonance itself */
+    int loc = !locate(c, c->Yl, c->Y, c->Tl[k], c->T[k], k, 1, Yq), type;
+    if (k == T_RES && c->kind == VI_CONT_CURVE_NS) {
+      tests(c, Yq, Tq);
+      int i, j;
+      ns_pair(c, &i, &j);
+      type = c->re[i] > 0 ? VI_CONT_SP_RESONANCE_11 : VI_CONT_SP_RESONANCE_12;
+    } else {
+      type = k == T_FOLD ? VI_CONT_SP_FOLD : k == T_PD ? VI_CONT_SP_PD
+             : k == T_GRAZE ? VI_CONT_SP_GRAZING : k == T_VN ? VI_CONT_SP_ADMISSIBILITY
+             : c->kind == VI_CONT_CURVE_FOLD ? VI_CONT_SP_RESONANCE_11 : VI_CONT_SP_RESONANCE_12;
+    }
+    if (report) add_special(c, type, Yq, loc);
+    /* ends: admissibility lost, or an NS pair turning real (beyond, a
+     * neutral saddle, no bifurcation) */
+    if ((k == T_GRAZE && c->Tl[T_GRAZE] < 0) || (k == T_VN && c->Tl[T_VN] > 0) ||
+        (k == T_RES && c->kind == VI_CONT_CURVE_NS && c->Tl[T_RES] > 0)) {
+      if (!report) { /* the backward pass's end: reported with the first point */
+        special e = {type, loc, Yq[D], Yq[D + 1]};
+        c->endsp = e;
+        c->have_endsp = 1;
+      }
+      memcpy(c->Y, Yq, sizeof(double) * nu);
+      tests(c, c->Y, c->T);
+      return k == T_RES ? 2 : 1;
+    }
+  }
+  return 0;
+}
+
+/* Follow the curve from the located point backwards to its end, unreported;
+ * then turn round.  0, or a status. */
+static int start_curve(vi_cont_curve *c)
+{
+  int D = c->D, nu = D + 2;
+  double lo = fmin(c->from2, c->to2), hi = fmax(c->from2, c->to2);
+  c->np = 2;
+  if (!(c->Y[D + 1] >= lo && c->Y[D + 1] <= hi))
+    return vi_fail(c->errmsg, VI_ERR_ARG, "%s = %.17g at the located point is outside the "
+                   "range %.17g to %.17g", c->key2, c->Y[D + 1], c->from2, c->to2);
+  set_scales(c);
+  for (int j = 0; j < nu; j++) c->taul[j] = j == D + 1 ? (c->from2 < c->to2 ? -1 : 1) : 0;
+  if (tangent(c, c->Y, 1, c->taul, c->tau)) { /* perpendicular to p2: along p */
+    for (int j = 0; j < nu; j++) c->taul[j] = j == D;
+    if (tangent(c, c->Y, 1, c->taul, c->tau))
+      return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "no tangent to the curve at %s = "
+                     "%.17g, %s = %.17g", c->key, c->Y[D], c->key2, c->Y[D + 1]);
+  }
+  double *Y0 = c->Y0;
+  memcpy(Y0, c->Y, sizeof(double) * nu);
+  c->ds = c->dsmax;
+  if (c->mi) tests(c, c->Y, c->T);
+  for (int64_t k = 0; k < c->maxpts; k++) {
+    if (advance(c, 1)) break;
+    memcpy(c->Tl, c->T, sizeof c->T);
+    if (c->mi) tests(c, c->Y, c->T);
+    if (c->Y[D + 1] < lo || c->Y[D + 1] > hi) {
+      to_bound(c, c->Y[D + 1] < lo ? lo : hi);
+      break;
+    }
+    if (specials(c, 0)) break;
+    double dist = 0;
+    for (int j = c->mi; j < nu; j++) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
+    if (k > 3 && dist < 0.5 * c->dsmax) { /* closed: start where we began */
+      memcpy(c->Y, Y0, sizeof(double) * nu);
+      break;
+    }
+  }
+  /* turn round: the tangent at the end, reversed (at an end where the
+   * orbit stops impacting, v_N = 0, none: from the point before it) */
+  for (int j = 0; j < nu; j++) c->taul[j] = -c->tau[j];
+  if (tangent(c, c->Y, 1, c->taul, c->tau)) {
+    memcpy(c->Y, c->Yl, sizeof(double) * nu);
+    if (tangent(c, c->Y, 1, c->taul, c->tau))
+      return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "no tangent at the end of the curve");
+  }
+  memcpy(c->Ys, c->Y, sizeof(double) * nu);
+  memcpy(Y0, c->Y, sizeof(double) * nu);
+  c->ds = c->dsmax;
+  if (c->mi) tests(c, c->Y, c->T);
+  c->npts = 1;
+  if (c->have_endsp) c->sp[c->nsp++] = c->endsp;
+  return VI_OK;
+}
+
+int vi_cont_curve_iterate(vi_cont_curve *c)
+{
+  if (!c) return VI_ERR_ARG;
+  c->nsp = 0;
+  if (!c->located || !c->have_range || c->state)
+    return vi_fail(c->errmsg, VI_ERR_STATE, "%s", c->state ? "the curve is done"
+                   : "locate the point and set the range first");
+  int D = c->D, nu = D + 2;
+  if (!c->started) {
+    c->started = 1;
+    int st = start_curve(c);
+    if (st) c->state = VI_CONT_CURVE_STALLED;
+    return st;
+  }
+  if (c->npts >= c->maxpts) {
+    c->state = VI_CONT_CURVE_STALLED;
+    return VI_STOPPED;
+  }
+  if (advance(c, 1)) {
+    c->state = VI_CONT_CURVE_CORRECTOR;
+    return VI_STOPPED;
+  }
+  memcpy(c->Tl, c->T, sizeof c->T);
+  if (c->mi) tests(c, c->Y, c->T);
+  double lo = fmin(c->from2, c->to2), hi = fmax(c->from2, c->to2);
+  if (c->Y[D + 1] < lo || c->Y[D + 1] > hi) {
+    to_bound(c, c->Y[D + 1] < lo ? lo : hi);
+    if (c->mi) tests(c, c->Y, c->T);
+    c->state = VI_CONT_CURVE_END;
+  }
+  int e = specials(c, 1);
+  if (e) c->state = e == 2 ? VI_CONT_CURVE_RESONANCE : VI_CONT_CURVE_ENDS;
+  c->npts++;
+  const double *Y0 = c->Y0;
+  double dist = 0;
+  for (int j = c->mi; j < nu; j++) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
+  if (!c->state && c->npts > 4 && dist < 0.5 * c->dsmax) c->state = VI_CONT_CURVE_CLOSES;
+  return VI_OK;
+}
+
+int vi_cont_curve_done(const vi_cont_curve *c) { return c ? c->state : 0; }
+
+int vi_cont_curve_point(const vi_cont_curve *c, double *p, double *p2, double *t,
+                        double *x, double *v, double *rho)
+{
+  if (!c) return VI_ERR_ARG;
+  if (!c->located) return VI_ERR_STATE;
+  int D = c->D, N = c->N;
+  if (p) *p = c->Y[D];
+  if (p2) {
+    double v2 = NAN;
+    if (c->key2[0]) v2 = c->Y[D + 1];
+    *p2 = v2;
+  }
+  if (c->mi) {
+    if (t) *t = c->Y[0];
+    if (x) memcpy(x, c->Y + 1, sizeof(double) * N);
+    if (v) memcpy(v, c->Y + 1 + N, sizeof(double) * N);
+  }
+  if (rho) *rho = c->mi ? c->rho : NAN;
+  return VI_OK;
+}
+
+int vi_cont_curve_num_special(const vi_cont_curve *c) { return c ? c->nsp : 0; }
+
+int vi_cont_curve_special(const vi_cont_curve *c, int i, int *type, double *p, double *p2,
+                          int *located)
+{
+  if (!c || i < 0 || i >= c->nsp) return VI_ERR_ARG;
+  const special *s = &c->sp[i];
+  if (type) *type = s->type;
+  if (p) *p = s->p;
+  if (p2) *p2 = s->p2;
+  if (located) *located = s->located;
+  return VI_OK;
+}

@@ -1,0 +1,287 @@
+#!/usr/bin/env python3
+"""Independent check of `vibroimpact curves` and the refined special points
+of `orbits --continue` on the Wagg & Bishop (2000) Fig. 2 chain (m = k = 1,
+c = 0.1, a = (0.5, 0), stop on mass 2 at x_s = 0.1, r = 0.7), in 24-digit
+arithmetic (python3-mpmath), sharing nothing with vibroimpact's code:
+  - P(1,1): the flow is affine, so for an impact at phase t0 the periodic
+    pre-impact state is z = (I - e^{AT} R)^-1 (I - e^{AT}) z_p(t0)
+    (R the impact map, z_p the phasor particular solution); t0 solves
+    w.x = x_s (mp.findroot); the multipliers are the eigenvalues of
+    e^{AT} S, S = R + (f+ - R f-) g^T / (g^T f-) the saltation matrix;
+  - P(1,0): the grazing clearance x_s = |w^T (K - W^2 M + i W C)^-1 a|.
+Checks (tolerances from the issue):
+  1. the period doubling at r = 0.7: orbits --continue reports Omega within
+     1e-9 of this script's, whose multiplier is -1 to 1e-10 there; dmu/dW;
+  2. every point of the P(1,1) period-doubling curve in (Omega, r), r in
+     [0.5, 0.9]: the multiplier nearest -1 within 1e-7 of -1, the range
+     covered;
+  3. every point of the P(1,0) grazing curve in (x_s, Omega), Omega in
+     [0.5, 1.8]: x_s within 1e-9 relative of the closed form, the range
+     covered end to end, through the resonance at 0.618;
+  4. the fold curve of P(1,1) in (Omega, x_s) from x_s = 0.5: x_s a local
+     extremum over the impact phase of phi(t0) = w.x of the periodic orbit
+     (phi does not depend on x_s, so there two orbits merge), to 1e-9; and
+     its end, the codimension-two point where it meets v_N = 0, on the
+     closed-form P(1,0) grazing curve to 1e-9;
+  5. the pd curve bounds the P(1,1) and P(2,2) regions of a brute-force
+     two-parameter sweep of the same plane (vibroimpact sweep);
+  6. a Neimark-Sacker curve of the chain with c = 0.02, x_s = 0.2: a
+     complex pair of modulus 1 to 1e-7 at its points.
+usage: curves_check.py VIBROIMPACT"""
+import json
+import subprocess
+import sys
+
+import mpmath as mp
+
+mp.mp.dps = 24
+E = mp.matrix([[2, -1], [-1, 1]])
+K = E
+C = mp.mpf('0.1') * E  # the chain's dashpots c = 0.1 (check 6: 0.02)
+a = mp.matrix([mp.mpf('0.5'), 0])
+w = mp.matrix([0, 1])
+
+
+_cache = {}
+
+
+def system(Om):
+    if (Om, C[0, 0]) in _cache:
+        return _cache[(Om, C[0, 0])]
+    A = mp.zeros(4, 4)
+    A[0, 2] = A[1, 3] = 1
+    for i in range(2):
+        for j in range(2):
+            A[2 + i, j] = -K[i, j]
+            A[2 + i, 2 + j] = -C[i, j]
+    H = K - Om**2 * mp.eye(2) + 1j * Om * C
+    X = mp.lu_solve(H, a)  # x_p(t) = Re X e^{i Om t}
+    _cache.clear()
+    _cache[(Om, C[0, 0])] = (A, X, mp.expm(A * 2 * mp.pi / Om))
+    return _cache[(Om, C[0, 0])]
+
+
+def zp(X, Om, t):
+    e = mp.exp(1j * Om * t)
+    return mp.matrix([mp.re(X[0] * e), mp.re(X[1] * e),
+                      mp.re(1j * Om * X[0] * e), mp.re(1j * Om * X[1] * e)])
+
+
+def impact_map(r):
+    R = mp.eye(4)
+    R[3, 3] = -r  # M = I, w = e_2: v_2+ = -r v_2-
+    return R
+
+
+def orbit_at(Om, r, xs, t0):
+    A, X, P = system(Om)
+    R = impact_map(r)
+    z = mp.lu_solve(mp.eye(4) - P * R, (mp.eye(4) - P) * zp(X, Om, t0))
+    return z, A, X, P, R
+
+
+def p11_orbits(Om, r, xs, n=90):
+    """Every P(1,1) orbit with an approaching impact: (t0, z), from the
+    sign changes of w.x - x_s over n impact phases."""
+    T = 2 * mp.pi / Om
+    g = lambda t: orbit_at(Om, r, xs, t)[0][1] - xs
+    ts = [T * k / n for k in range(n + 2)]
+    v = [g(t) for t in ts]
+    brackets = []
+    for k in range(1, n + 1):
+        if (v[k - 1] < 0) != (v[k] < 0):
+            brackets.append((ts[k - 1], ts[k]))
+        elif (v[k] - v[k - 1]) * (v[k + 1] - v[k]) <= 0:
+            # two roots closer than a sample (near a fold): either side of
+            # the extremum, if it crosses
+            te = mp.findroot(lambda u: mp.diff(g, u), ts[k])
+            if ts[k - 1] < te < ts[k + 1] and (g(te) < 0) != (v[k] < 0):
+                brackets += [(ts[k - 1], te), (te, ts[k + 1])]
+    found = []
+    for a0, b0 in brackets:
+        t0 = mp.findroot(g, (a0, b0), solver='anderson')
+        z = orbit_at(Om, r, xs, t0)[0]
+        if z[3] > 0:
+            found.append((t0, z))
+    return found
+
+
+def multipliers(Om, r, t0, z):
+    _, A, X, P, R = orbit_at(Om, r, None, t0)
+    f = lambda zz: A * zz + mp.matrix([0, 0, a[0] * mp.cos(Om * t0), a[1] * mp.cos(Om * t0)])
+    fm = f(z)
+    fp = f(R * z)
+    g = mp.matrix([0, 1, 0, 0])
+    S = R + (fp - R * fm) * g.T / (g.T * fm)[0]
+    ev = mp.eig(P * S, left=False, right=False)
+    return ev
+
+
+def mu_near(ev, target):
+    return min(ev, key=lambda m: abs(m - target))
+
+
+def pd_mu(Om, r, xs=mp.mpf('0.1')):
+    best = None
+    for t0, z in p11_orbits(Om, r, xs):
+        mu = mu_near(multipliers(Om, r, t0, z), -1)
+        if best is None or abs(mu + 1) < abs(best + 1):
+            best = mu
+    return best
+
+
+def phi_extrema(Om, r):
+    """Local extrema of phi(t0) = w.x of the P(1,1) orbit with its impact at
+    t0 (independent of x_s: the flow and the impact law are linear): where
+    two P(1,1) orbits of the level x_s = phi merge, a fold."""
+    T = 2 * mp.pi / Om
+    phi = lambda t: orbit_at(Om, r, None, t)[0][1]
+    n = 90
+    v = [phi(T * k / n) for k in range(n + 2)]
+    ext = []
+    for k in range(1, n + 1):
+        if (v[k] - v[k - 1]) * (v[k + 1] - v[k]) <= 0:
+            t = mp.findroot(lambda u: mp.diff(phi, u), T * k / n)
+            ext.append((phi(t), orbit_at(Om, r, None, t)[0][3]))
+    return ext
+
+
+def run(args):
+    out = subprocess.run(args, capture_output=True, text=True, timeout=600)
+    if out.returncode:
+        print(out.stderr)
+        sys.exit("FAIL: %s exited %d" % (" ".join(args), out.returncode))
+    return out.stdout
+
+
+def main():
+    exe = sys.argv[1]
+    fails = 0
+    # 1. the period doubling at r = 0.7
+    r = mp.mpf('0.7')
+    Wpd = mp.findroot(lambda W: mp.re(pd_mu(W, r)) + 1, mp.mpf('1.613'))
+    h = mp.mpf('1e-8')
+    dmu = (mp.re(pd_mu(Wpd + h, r)) - mp.re(pd_mu(Wpd - h, r))) / (2 * h)
+    print("reference PD at r = 0.7: Omega = %s, dmu/dOmega = %s" % (mp.nstr(Wpd, 16), mp.nstr(dmu, 6)))
+    for method in ([], ["--arclength"]):
+        js = json.loads(run([exe, "orbits", "--continue", "forcing.omega", "--to", "1.8", "--json"] + method))
+        pds = [e for b in js["branches"] for e in b["events"] if e["type"] == "period_doubling"]
+        if not pds:
+            print("FAIL: orbits --continue %s reports no period doubling" % method)
+            fails += 1
+            continue
+        err = abs(pds[0]["param"] - Wpd)
+        mu = pd_mu(mp.mpf(pds[0]["param"]), r)
+        ok = err < 1e-9 and abs(mu + 1) < 1e-8
+        print("%s orbits --continue %s: PD at %.13f, |dOmega| %.2e, |mu + 1| there %.2e" %
+              ("ok  " if ok else "FAIL", method, pds[0]["param"], err, float(abs(mu + 1))))
+        fails += not ok
+    # 2. the period-doubling curve in (Omega, r)
+    js = json.loads(run([exe, "curves", "--kind", "pd", "--param", "forcing.omega", "--to", "1.8",
+                         "--param2", "stop.r", "--from2", "0.5", "--to2", "0.9", "--json"]))
+    pts = js["points"]
+    worst = max(float(abs(pd_mu(mp.mpf(p), mp.mpf(q)) + 1)) for p, q in pts[::8] + [pts[-1]])
+    rs = sorted(q for _, q in pts)
+    ok = worst < 1e-7 and abs(rs[0] - 0.5) < 1e-12 and abs(rs[-1] - 0.9) < 1e-12 and len(pts) > 100
+    print("%s pd curve: %d points, r %.3g..%.3g, worst |mu + 1| %.2e (every 8th point and the last)" %
+          ("ok  " if ok else "FAIL", len(pts), rs[0], rs[-1], worst))
+    fails += not ok
+    # 5. the pd curve bounds the regions of a brute-force sweep of the plane:
+    # on each row r_k, the cells either side of the curve's Omega*(r_k) are
+    # P(1,1) and P(2,2) (a cell within a quarter cell of the curve, where
+    # the transient dies as |mu|^k with |mu| near 1, is passed over for the
+    # next one out)
+    sw = json.loads(run([exe, "sweep", "--param", "forcing.omega", "--from", "1.56", "--to", "1.68",
+                         "--steps", "25", "--param2", "stop.r", "--from2", "0.5", "--to2", "0.9",
+                         "--steps2", "21", "--transient", "1000", "--record", "40", "--threads", "2",
+                         "--json", "--quiet"]))
+    byr = sorted(pts, key=lambda pq: pq[1])
+    bad = 0
+    for line in sw["lines"]:
+        rk, Ws = line["param2"], line["param"]
+        h = Ws[1] - Ws[0]
+        i = max(j for j in range(len(byr) - 1) if byr[j][1] <= rk + 1e-12) if rk < byr[-1][1] else len(byr) - 2
+        (p0, q0), (p1, q1) = byr[i], byr[i + 1]
+        Wc = p0 + (p1 - p0) * (rk - q0) / (q1 - q0)
+        left = max(j for j, W in enumerate(Ws) if W < Wc - h / 4)
+        right = min(j for j, W in enumerate(Ws) if W > Wc + h / 4)
+        cl = (line["n"][left], line["m"][left])
+        cr = (line["n"][right], line["m"][right])
+        if cl != (1, 1) or cr != (2, 2):
+            bad += 1
+            print("  r = %.3f: curve at Omega %.6f, cells %s at %.4f and %s at %.4f" %
+                  (rk, Wc, cl, Ws[left], cr, Ws[right]))
+    ok = bad == 0
+    print("%s pd curve bounds the sweep's P(1,1) and P(2,2) regions on all %d rows (cells of %.3g)" %
+          ("ok  " if ok else "FAIL", len(sw["lines"]), h))
+    fails += not ok
+    # 3. the grazing curve of the non-impacting orbit in (x_s, Omega)
+    js = json.loads(run([exe, "curves", "--kind", "grazing", "--orbit", "1,0", "--param", "stop.xs",
+                         "--to", "5", "--param2", "forcing.omega", "--from2", "0.5", "--to2", "1.8",
+                         "--json"]))
+    pts = js["points"]
+    worst = 0
+    for xs, W in pts:
+        ref = abs(system(mp.mpf(W))[1][1])
+        worst = max(worst, float(abs(xs - ref) / ref))
+    Ws = [q for _, q in pts]
+    mono = all(b > a for a, b in zip(Ws, Ws[1:]))
+    ok = worst < 1e-9 and abs(Ws[0] - 0.5) < 1e-12 and abs(Ws[-1] - 1.8) < 1e-12 and mono
+    print("%s grazing curve of P(1,0): %d points, Omega %.3g..%.3g (ordered: %s), worst relative "
+          "error %.2e, peak x_s %.6g" % ("ok  " if ok else "FAIL", len(pts), Ws[0], Ws[-1], mono,
+                                         worst, max(x for x, _ in pts)))
+    fails += not ok
+    # 4. the fold curve of P(1,1) in (Omega, x_s) from x_s = 0.5 (where the
+    # branch followed up from Omega = 0.9 turns back): x_s a local extremum
+    # of phi (two orbits merge), and its end on the P(1,0) grazing curve
+    js = json.loads(run([exe, "curves", "--set", "stop.xs=0.5", "--kind", "fold", "--param",
+                         "forcing.omega", "--to", "2.5", "--param2", "stop.xs", "--from2", "0",
+                         "--to2", "1.5", "--steps", "100", "--json"]))
+    pts = js["points"]
+    worst = 0
+    for W, xs in pts[::8] + [js["located"]]:
+        ext = phi_extrema(mp.mpf(W), r)
+        worst = max(worst, min(float(abs(e - xs) / abs(xs)) for e, vn in ext if vn > 0))
+    ok = worst < 1e-9 and len(pts) > 100
+    print("%s fold curve: %d points, Omega %.4g..%.4g, x_s %.4g..%.4g, worst relative distance of "
+          "x_s to an extremum of phi %.2e" % ("ok  " if ok else "FAIL", len(pts), pts[0][0],
+                                               pts[-1][0], pts[0][1], pts[-1][1], worst))
+    fails += not ok
+    ends = [e for e in js["special"] if e["type"] == "admissibility"]
+    if ends:
+        W, xs = ends[0]["point"]
+        ref = abs(system(mp.mpf(W))[1][1])
+        err = float(abs(xs - ref) / ref)
+        ok = err < 1e-9 and ends[0]["located"]
+        print("%s fold curve ends (v_N = 0) at Omega = %.12f, x_s = %.12f: on the P(1,0) grazing "
+              "curve to %.2e relative" % ("ok  " if ok else "FAIL", W, xs, err))
+    else:
+        ok = False
+        print("FAIL fold curve: no end on the loss of admissibility reported")
+    fails += not ok
+    # 6. a Neimark-Sacker curve of the lightly damped chain (c = 0.02,
+    # x_s = 0.2) in (Omega, r), r in [0.3, 0.9]: at its points a complex
+    # pair of multipliers of modulus 1 (the orbit with v_N > 0)
+    global C
+    C = mp.mpf('0.02') * E
+    xs = mp.mpf('0.2')
+    js = json.loads(run([exe, "curves", "--set", "stop.r=0.6", "--set", "stop.xs=0.2", "--set",
+                         "model.chain.c=0.02", "--kind", "ns", "--param", "forcing.omega", "--to",
+                         "3", "--param2", "stop.r", "--from2", "0.3", "--to2", "0.9", "--json"]))
+    pts = js["points"]
+    worst = 0
+    for W, rr in pts[::10] + [pts[-1]]:
+        best = min(min((abs(abs(m) - 1) for m in multipliers(mp.mpf(W), mp.mpf(rr), t0, z)
+                        if abs(mp.im(m)) > 1e-6), default=mp.inf)
+                   for t0, z in p11_orbits(mp.mpf(W), mp.mpf(rr), xs))
+        worst = max(worst, float(best))
+    rs = sorted(q for _, q in pts)
+    ok = worst < 1e-7 and abs(rs[0] - 0.3) < 1e-12 and abs(rs[-1] - 0.9) < 1e-12
+    print("%s ns curve: %d points, r %.3g..%.3g, worst ||mu| - 1| of the pair %.2e" %
+          ("ok  " if ok else "FAIL", len(pts), rs[0], rs[-1], worst))
+    fails += not ok
+    sys.exit(1 if fails else 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,155 @@
+/* test_curve.c - special points solved exactly and two-parameter curves
+ * (vi_cont_curve.h, src/study/vi_curve.c) on the Fig. 2 chain:
+ *  - the period doubling at r = 0.7, from vi_cont_refine and from the
+ *    one-parameter continuation's event, at the 24-digit closed-form value
+ *    of tests/study/curves_check.py (Omega = 1.613045409627374), with its
+ *    multiplier at -1;
+ *  - the non-impacting orbit's grazing curve in (x_s, Omega) against
+ *    x_s = |w^T (K - W^2 M + i W C)^-1 a|, the 2 x 2 inverse written out
+ *    here (Cramer's rule), over the whole range through the resonance;
+ *  - the fold curve in (Omega, x_s) ending (v_N = 0, a codimension-two
+ *    point) on that same closed-form grazing curve.
+ * The independent mpmath checks of every curve are curves_check.py's. */
+#include <complex.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_testutil.h"
+
+#define OMEGA_PD 1.613045409627374 /* curves_check.py, 24 digits, 16 kept */
+
+/* A P(1,1) seed of Fig. 2 at Omega = 0.9 (Newton refines it). */
+static const double X0[2] = {-0.0563, 0.1}, V0[2] = {0.11, 0.79}, T0 = 0.68;
+
+/* |x_2| of the free harmonic response of the Fig. 2 chain at W. */
+static double free_amp(double W)
+{
+  /* K = [2 -1; -1 1], C = 0.1 K, M = I, a = (0.5, 0): Z = K - W^2 + i W C */
+  double complex z11 = 2 - W * W + 0.2 * I * W, z12 = -1 - 0.1 * I * W,
+                 z22 = 1 - W * W + 0.1 * I * W;
+  double complex det = z11 * z22 - z12 * z12;
+  return cabs(-z12 * 0.5 / det); /* (Z^-1)_21 a_1 */
+}
+
+static void test_pd_refined(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double p = 1.61, t = T0, x[2], v[2], re[4], im[4];
+  memcpy(x, X0, sizeof x);
+  memcpy(v, V0, sizeof v);
+  /* a seed at 1.61 (|mu + 1| 0.04): the orbit there, then the point */
+  assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, &t, x, v, 2, 0, NULL), VI_OK);
+  for (int k = 1; k <= 6; k++) { /* up the branch, 1.0 to 1.5 */
+    assert_int_equal(vi_model_set_param(m, "forcing.omega", 0.9 + 0.1 * k), VI_OK);
+    assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, &t, x, v, 2, 0, NULL), VI_OK);
+  }
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.61), VI_OK);
+  assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, &t, x, v, 2, 0, NULL), VI_OK);
+  assert_int_equal(vi_cont_refine(m, "forcing.omega", 1, VI_CONT_CURVE_PD, &p, &t, x, v), VI_OK);
+  printf("  refined PD at Omega = %.15f (reference %.15f)\n", p, OMEGA_PD);
+  assert_true(fabs(p - OMEGA_PD) < 1e-11);
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", p), VI_OK);
+  assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, &t, x, v, 2, re, im), VI_OK);
+  double d = HUGE_VAL;
+  for (int i = 0; i < 4; i++) d = fmin(d, hypot(re[i] + 1, im[i]));
+  printf("  |mu + 1| = %.2e\n", d);
+  assert_true(d < 1e-10);
+  /* the natural continuation's event, refined the same way */
+  vi_cont *c = NULL;
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 0.9), VI_OK);
+  assert_int_equal(vi_cont_create(m, "forcing.omega", 1, VI_CONT_NATURAL, &c), VI_OK);
+  assert_int_equal(vi_cont_set_range(c, 1.8, 50), VI_OK);
+  assert_int_equal(vi_cont_set_orbit(c, T0, X0, V0), VI_OK);
+  int found = 0;
+  while (!vi_cont_done(c) && !found) {
+    if (vi_cont_iterate(c) < 0) break;
+    for (int i = 0; i < vi_cont_num_events(c); i++) {
+      int type;
+      double pe, er, ei;
+      vi_cont_event(c, i, &type, &pe, NULL, &er, &ei, NULL);
+      if (type != VI_CONT_PERIOD_DOUBLING) continue;
+      printf("  continuation's PD at %.15f, multiplier %.15f%+.1ei\n", pe, er, ei);
+      assert_true(fabs(pe - OMEGA_PD) < 1e-11);
+      assert_true(fabs(er + 1) < 1e-10);
+      found = 1;
+    }
+  }
+  assert_true(found);
+  vi_cont_destroy(&c);
+  vi_model_destroy(&m);
+}
+
+static void test_p10_grazing_curve(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_cont_curve *c = NULL;
+  double p, p2, last = 0, worst = 0, peak = 0;
+  int n = 0;
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 1, 0, "stop.xs",
+                                        "forcing.omega", &c), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 5, 100, &p), VI_OK);
+  assert_true(fabs(p - free_amp(0.9)) < 1e-12 * p);
+  assert_int_equal(vi_cont_curve_set_range(c, 0.5, 1.8, 200), VI_OK);
+  while (!vi_cont_curve_done(c)) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    assert_int_equal(vi_cont_curve_point(c, &p, &p2, NULL, NULL, NULL, NULL), VI_OK);
+    if (n == 0) assert_true(p2 == 0.5);
+    else assert_true(p2 > last); /* ordered along the curve */
+    last = p2;
+    worst = fmax(worst, fabs(p - free_amp(p2)) / free_amp(p2));
+    peak = fmax(peak, p);
+    n++;
+  }
+  printf("  %d points, Omega to %.15g, peak x_s %.6g, worst relative error %.2e\n", n, last,
+         peak, worst);
+  assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_END);
+  assert_true(last == 1.8);
+  assert_true(worst < 1e-9);
+  assert_true(peak > free_amp(0.618) * (1 - 1e-3)); /* through the resonance */
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
+static void test_fold_curve_end(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  vi_cont_curve *c = NULL;
+  double t, x[2], v[2], p, p2;
+  int found;
+  assert_int_equal(vi_model_set_param(m, "stop.xs", 0.5), VI_OK);
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, &t, x, v, 2, 1, &found), VI_OK);
+  assert_int_equal(found, 1);
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_FOLD, 1, 1, "forcing.omega",
+                                        "stop.xs", &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(c, t, x, v), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 2.5, 200, &p), VI_OK);
+  printf("  fold of the branch from Omega = 0.9 at x_s = 0.5: Omega = %.12f\n", p);
+  assert_true(p > 1.1 && p < 1.12);
+  assert_int_equal(vi_cont_curve_set_range(c, 0.0, 1.5, 100), VI_OK);
+  assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+  int type, loc;
+  assert_true(vi_cont_curve_num_special(c) >= 1);
+  assert_int_equal(vi_cont_curve_special(c, 0, &type, &p, &p2, &loc), VI_OK);
+  printf("  its end: type %d at Omega = %.12f, x_s = %.12f (closed-form grazing %.12f)\n", type,
+         p, p2, free_amp(p));
+  assert_int_equal(type, VI_CONT_SP_ADMISSIBILITY);
+  assert_true(loc);
+  assert_true(fabs(p2 - free_amp(p)) < 1e-9 * p2);
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_pd_refined),
+      cmocka_unit_test(test_p10_grazing_curve),
+      cmocka_unit_test(test_fold_curve_end),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
