@@ -68,4 +68,10 @@ int vi_classify_strobes(int R, int n2, const double *z, double xscale, double to
 struct vi_census;
 void vi_census_scan_only(struct vi_census *c);
 
+/* The VI_ORBIT_PARAM_* that vi_orbit_pnm_dparam differentiates exactly for
+ * a parameter key (forcing.omega, stop.xs, stop.r, stops[K].xs,
+ * stops[K].r), *pk the 0-based stop (stop.* is stop 0, stops[K].* the
+ * 1-based K); -1 for any other key (the continuations then difference). */
+int vi_orbit_param_of_key(const char *key, int *pk);
+
 #endif

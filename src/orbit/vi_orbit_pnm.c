@@ -9,6 +9,7 @@
  * state: z(t) = Phi(t - t0) z0 + c(t0, t).  Its derivatives are exact:
  * D_z0 z(t) = Phi in closed form (vi_orbit_var.c), the time derivatives
  * the vector field itself, and the impact's the saltation matrix. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -278,6 +279,24 @@ int vi_orbit_pnm_residual(const vi_model *m, int np, int mi, const double *t,
                           double *J)
 {
   return vi_orbit_pnm_residual_stops(m, np, mi, NULL, t, x, v, ld, F, J);
+}
+
+int vi_orbit_param_of_key(const char *key, int *pk)
+{
+  const char *f = NULL;
+  *pk = 0;
+  if (!strcmp(key, "forcing.omega")) return VI_ORBIT_PARAM_OMEGA;
+  if (strncmp(key, "stop.", 5) == 0) f = key + 5;
+  if (strncmp(key, "stops[", 6) == 0) {
+    char *end = NULL;
+    long k = strtol(key + 6, &end, 10);
+    if (end == key + 6 || k < 1 || k > INT_MAX || strncmp(end, "].", 2) != 0) return -1;
+    *pk = (int)(k - 1);
+    f = end + 2;
+  }
+  if (f && strcmp(f, "xs") == 0) return VI_ORBIT_PARAM_XS;
+  if (f && strcmp(f, "r") == 0) return VI_ORBIT_PARAM_R;
+  return -1;
 }
 
 /* dF/dp of the conditions of residual(): for each segment j,

@@ -14,6 +14,7 @@
 #include "vibroimpact/vi_cont_curve.h"
 #include "vibroimpact/vi_param.h"
 #include "vi_internal.h"
+#include "vi_orbit_internal.h"
 
 #define MAXEV 16
 
@@ -63,26 +64,6 @@ static int cancelled(const vi_cont *c)
   return c->cancel && c->cancel(c->cancel_user);
 }
 
-/* The parameter vi_orbit_pnm_dparam differentiates exactly, or -1; *pk
- * the 0-based stop of stop.* (stop 0) and stops[K].* (1-based K). */
-static int exact_param(const char *key, int *pk)
-{
-  const char *f = NULL;
-  *pk = 0;
-  if (!strcmp(key, "forcing.omega")) return VI_ORBIT_PARAM_OMEGA;
-  if (strncmp(key, "stop.", 5) == 0) f = key + 5;
-  if (strncmp(key, "stops[", 6) == 0) {
-    char *end = NULL;
-    long k = strtol(key + 6, &end, 10);
-    if (end == key + 6 || k < 1 || k > INT_MAX || strncmp(end, "].", 2) != 0) return -1;
-    *pk = (int)(k - 1);
-    f = end + 2;
-  }
-  if (f && strcmp(f, "xs") == 0) return VI_ORBIT_PARAM_XS;
-  if (f && strcmp(f, "r") == 0) return VI_ORBIT_PARAM_R;
-  return -1;
-}
-
 int vi_cont_create(const vi_model *m, const char *key, int n, int method,
                    vi_cont **out)
 {
@@ -121,7 +102,7 @@ int vi_cont_create(const vi_model *m, const char *key, int n, int method,
   c->n = n;
   c->N = N;
   c->method = method;
-  c->par = exact_param(key, &c->pk);
+  c->par = vi_orbit_param_of_key(key, &c->pk);
   if (c->pk >= c->m->ns) c->par = -1; /* vi_model_param refused it above */
   *out = c;
   return VI_OK;

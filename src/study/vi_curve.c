@@ -15,6 +15,7 @@
 #include "vibroimpact/vi_flow.h"
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_param.h"
+#include "vi_orbit_internal.h"
 #include "vi_internal.h"
 
 #define MAXSP 16
@@ -44,26 +45,6 @@ struct vi_cont_curve {
   int nsp, have_endsp;
   char errmsg[VI_MSG_LEN];
 };
-
-/* The parameter vi_orbit_pnm_dparam differentiates exactly, or -1 (as
- * vi_cont.c: stop.* is stop 0, stops[K].* the 1-based K). */
-static int exact_param(const char *key, int *pk)
-{
-  const char *f = NULL;
-  *pk = 0;
-  if (!strcmp(key, "forcing.omega")) return VI_ORBIT_PARAM_OMEGA;
-  if (strncmp(key, "stop.", 5) == 0) f = key + 5;
-  if (strncmp(key, "stops[", 6) == 0) {
-    char *end = NULL;
-    long k = strtol(key + 6, &end, 10);
-    if (end == key + 6 || k < 1 || k > INT_MAX || strncmp(end, "].", 2) != 0) return -1;
-    *pk = (int)(k - 1);
-    f = end + 2;
-  }
-  if (f && strcmp(f, "xs") == 0) return VI_ORBIT_PARAM_XS;
-  if (f && strcmp(f, "r") == 0) return VI_ORBIT_PARAM_R;
-  return -1;
-}
 
 /* ---- the conditions -------------------------------------------------------- */
 
@@ -474,8 +455,8 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   c->B = p + (size_t)nu * nu; /* J_u [D x D], dF/dp and a spare [D] each */
   snprintf(c->key, sizeof c->key, "%s", key);
   snprintf(c->key2, sizeof c->key2, "%s", key2 ? key2 : "");
-  c->par[0] = exact_param(key, &c->pk[0]);
-  c->par[1] = key2 ? exact_param(key2, &c->pk[1]) : -1;
+  c->par[0] = vi_orbit_param_of_key(key, &c->pk[0]);
+  c->par[1] = key2 ? vi_orbit_param_of_key(key2, &c->pk[1]) : -1;
   for (int k = 0; k < 2; k++)
     if (c->pk[k] >= c->m->ns) c->par[k] = -1;
   c->kind = kind;
