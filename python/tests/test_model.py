@@ -118,3 +118,20 @@ def test_cantilever_builder():
     assert a["t"].size == b["t"].size > 100
     np.testing.assert_allclose(a["t"], b["t"], rtol=0, atol=1e-12)
     np.testing.assert_allclose(a["vn"], b["vn"], rtol=0, atol=1e-12)
+
+
+def test_set_param_while_a_result_holds_the_model():
+    """The library refuses to change a model a simulation holds; the Python
+    Model then goes on with a changed copy, and the earlier result keeps
+    the model it ran on: its end time is 10 periods of Omega = 0.9, the new
+    run's 10 periods of 0.8 (T = 2 pi / Omega, to round-off)."""
+    m = fig2()
+    r1 = m.simulate(periods=10, method="exact")
+    m.set_param("forcing.omega", 0.8)
+    assert m.get_param("forcing.omega") == 0.8
+    r2 = m.simulate(periods=10, method="exact")
+    assert r1.t == pytest.approx(10 * 2 * np.pi / 0.9, rel=1e-14)
+    assert r2.t == pytest.approx(10 * 2 * np.pi / 0.8, rel=1e-14)
+    assert r1.method_used == "exact" and r1.stats["impacts"] >= 9
+    with pytest.raises(vi.Error):
+        m.set_param("forcing.omgea", 1.0)  # a bad key still names itself

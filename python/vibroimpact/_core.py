@@ -262,12 +262,24 @@ def _simulate(model, sim, t_end, method, rtol, atol, *, samples_dt=0.0, ledger=F
                   method=method, generation=model._generation)
 
 
+# A simulation holds its C model (vi_sim_destroy gives the hold back): the
+# model's handle stays alive until the simulation is freed, whatever order
+# Python drops the two in.
+_sim_models: Dict[int, Any] = {}
+
+
+def _free_sim(p):
+    lib.vi_py_sim_free(p)
+    _sim_models.pop(int(ffi.cast("uintptr_t", p)), None)
+
+
 def _new_sim(model):
     sp = ffi.new("vi_sim **")
     st = lib.vi_sim_create(model._m, sp)
     if st:
         raise Error(_s(lib.vi_model_errmsg(model._m)) or _s(lib.vi_strerror(st)), st)
-    return ffi.gc(sp[0], lib.vi_py_sim_free)
+    _sim_models[int(ffi.cast("uintptr_t", sp[0]))] = model._m
+    return ffi.gc(sp[0], _free_sim)
 
 
 def _sim_check(sim, st):
@@ -601,9 +613,26 @@ class Model:
         (vi_param.h: forcing.omega, forcing.a[i], stop.xs, stop.r,
         stops[k].r, damping.alpha, damping.zeta, mass.scale,
         stiffness.scale, ...; indices 1-based as in scenes).  Do not call
-        it while another thread runs this model: copy() it instead."""
+        it while another thread runs this model: copy() it instead.  While
+        a result of an earlier run still holds the C model (the library
+        refuses to change a held model), this Model goes on with a changed
+        copy and the result keeps the model it ran on."""
         with self._lock:
-            self._call(lib.vi_model_set_param(self._m, key.encode(), float(value)))
+            st = lib.vi_model_set_param(self._m, key.encode(), float(value))
+            if st == lib.VI_ERR_STATE:
+                # a result's simulation still holds the model (the library
+                # keeps a held model immutable): change a copy, which this
+                # Model becomes; the results keep the model they ran on
+                mp = ffi.new("vi_model **")
+                if lib.vi_model_copy(self._m, mp) == 0:
+                    new = _own(mp[0], lib.vi_model_destroy, "vi_model")
+                    st = lib.vi_model_set_param(new, key.encode(), float(value))
+                    if st:
+                        raise Error(_s(lib.vi_model_errmsg(new)) or _s(lib.vi_strerror(st)), st)
+                    # views made before (omega, shapes, ...) still read the old one
+                    self.__dict__.setdefault("_former", []).append(self._m)
+                    self._m = new
+            self._call(st)
             self._generation += 1
 
     def get_param(self, key: str) -> float:
