@@ -56,7 +56,8 @@ def system(Om):
             A[2 + i, 2 + j] = -C[i, j]
     H = K - Om**2 * mp.eye(2) + 1j * Om * C
     X = mp.lu_solve(H, a)  # x_p(t) = Re X e^{i Om t}
-    _cache.clear()
+    if len(_cache) > 512:  # a few hundred frequencies per check
+        _cache.clear()
     _cache[(Om, C[0, 0])] = (A, X, mp.expm(A * 2 * mp.pi / Om))
     return _cache[(Om, C[0, 0])]
 
@@ -73,10 +74,20 @@ def impact_map(r):
     return R
 
 
+_fixed = {}
+
+
 def orbit_at(Om, r, xs, t0):
     A, X, P = system(Om)
     R = impact_map(r)
-    z = mp.lu_solve(mp.eye(4) - P * R, (mp.eye(4) - P) * zp(X, Om, t0))
+    # (I - P R)^-1 (I - P) depends on (Omega, r) only: once per pair, then a
+    # product per impact phase t0 (the scans try ~100 phases a pair)
+    F = _fixed.get((Om, r))
+    if F is None:
+        if len(_fixed) > 512:
+            _fixed.clear()
+        F = _fixed[(Om, r)] = mp.inverse(mp.eye(4) - P * R) * (mp.eye(4) - P)
+    z = F * zp(X, Om, t0)
     return z, A, X, P, R
 
 
