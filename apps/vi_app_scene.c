@@ -165,10 +165,9 @@ int vi_app_sweep_exec(int argc, char **argv)
            "vibroimpact-sweep");
   argv[0] = self;
   /* the study's threads wait for work only at the end (each piece is
-   * milliseconds or more): waiting threads sleep rather than spin, which
-   * on 16 cores took power from the ones still working (basins: 9.4x ->
-   * 11.4x).  Read by libgomp as it loads, so set before the exec; a
-   * user's own setting stands. */
+   * milliseconds or more): waiting threads sleep rather than spin, leaving
+   * the cores to those still working.  Read by libgomp as it loads, so set
+   * before the exec; a user's own setting stands. */
   setenv("OMP_WAIT_POLICY", "passive", 0);
   execv(self, argv);
   fprintf(stderr, "vibroimpact: sweep: cannot run %s: %s\n", self, strerror(errno));
