@@ -87,7 +87,7 @@ if [ "${3:-}" = --all ]; then
 fi
 
 # A clean file is remembered (like ccache): its key hashes the file, its
-# compile command, every header of the project and the build, the tools'
+# compile command (paths relative to the checkout), every header of the project and the build, the tools'
 # versions, .clang-tidy and this script; an unchanged file is not analysed
 # again.  Files with findings are never cached.  VI_LINT_CACHE=off turns
 # it off; VI_LINT_CACHE_DIR moves it (default ~/.cache/vibroimpact/lint).
@@ -107,7 +107,10 @@ common=$( { clang-tidy --version; cppcheck --version
 lint_one() {
   local i=$1 f=$2 nt nc t0=${EPOCHREALTIME/[.,]/} key=""
   if [ -n "$cache" ]; then
-    key=$( { echo "$common"; grep -B1 "\"file\": \"$src/$f\"" "$db" | head -1
+    # the command with the checkout's and the build's paths taken out: a
+    # clone elsewhere (CI's) finds what an earlier clone checked
+    key=$( { echo "$common"; grep -B1 "\"file\": \"$src/$f\"" "$db" | head -1 |
+               sed "s|$build|BUILD|g; s|$src|SRC|g"
              cat "$f"; } | sha256sum | cut -c1-64)
     if [ -f "$cache/$key" ]; then
       echo "ok   $f (unchanged since a clean check)" > "$tmp/$i.out"
