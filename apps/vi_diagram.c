@@ -128,27 +128,30 @@ static int keep_point(const vi_sweep *st, const vi_diagram *sw,
   return 0;
 }
 
+/* The initial state the scene gives its model (projected onto the modes
+ * of a finite-element scene), read back once from a sim it configured:
+ * every piece starts its study from it.  0, or a status. */
+static int initial_state(vi_diagram *sw)
+{
+  vi_sim *s = NULL;
+  sw->z0 = malloc(sizeof(double) * 2 * (size_t)sw->N);
+  if (!sw->z0) return VI_ERR_NOMEM;
+  int st = vi_sim_create(sw->model, &s);
+  if (!st) st = vi_scene_configure_sim(sw->sc, s, NULL);
+  if (!st) st = vi_sim_state(s, &sw->t0, sw->z0, sw->z0 + sw->N);
+  vi_sim_destroy(&s);
+  return st;
+}
+
 /* A study of the diagram's model with the scene's settings. */
 static int make_study(const vi_diagram *sw, vi_sweep **out, char *err, int len)
 {
   const vi_diagram_spec *sp = &sw->spec;
-  double t0;
-  int n = sw->N;
-  double *x = malloc(sizeof(double) * 2 * (size_t)n);
-  vi_sim *s = NULL;
-  if (!x || vi_sweep_create(sw->model, out) || !*out) {
-    free(x);
+  if (vi_sweep_create(sw->model, out) || !*out) {
     msg(err, len, "out of memory");
     return 1;
   }
-  /* the initial state the scene gives its model (projected onto the modes
-   * of a finite-element scene), read back from a sim it configured */
-  int st = vi_sim_create(sw->model, &s);
-  if (!st) st = vi_scene_configure_sim(sw->sc, s, NULL);
-  if (!st) st = vi_sim_state(s, &t0, x, x + n);
-  vi_sim_destroy(&s);
-  if (!st) st = vi_sweep_set_initial(*out, t0, x, x + n);
-  free(x);
+  int st = vi_sweep_set_initial(*out, sw->t0, sw->z0, sw->z0 + sw->N);
   if (!st) st = vi_sweep_set_periods(*out, sp->transient, sp->record);
   if (!st) st = vi_sweep_set_classify(*out, sp->tol, sp->nmax);
   if (!st) st = vi_sweep_set_orbits(*out, sp->orbits);
@@ -291,6 +294,7 @@ void vi_diagram_free(vi_diagram **swp)
   free(sw->param);
   free(sw->param2);
   free(sw->piece_cpu);
+  free(sw->z0);
   free(sw->text);
   free(sw->name);
   free(sw->attractor);
@@ -623,6 +627,10 @@ static int prepare(vi_diagram *sw, const char *text, const char *name,
     diag_msg(&d, st, err, errlen);
     return st == VI_ERR_NOMEM ? 1 : 2;
   }
+  if ((st = initial_state(sw))) {
+    msg(err, errlen, "%s: the scene's initial state: %s", sw->name, vi_strerror(st));
+    return st == VI_ERR_NOMEM ? 1 : 2;
+  }
   /* bad keys and values show up here, before any simulation */
   if (trial(sw, sp->key, sp->from, sw->pkey, err, errlen) ||
       trial(sw, sp->key, sp->to, sw->pkey, err, errlen) ||
@@ -843,6 +851,19 @@ static void json_nums(FILE *f, const double *x, int64_t n)
   fputc(']', f);
 }
 
+/* One failed value of the "failed" list: its parameters (param2 NaN: a
+ * 1-D sweep) and message; *first cleared. */
+static void json_failure(FILE *f, int *first, double param, double param2,
+                         const vi_diagram_point *pt)
+{
+  fprintf(f, "%s{\"param\": %.17g, ", *first ? "" : ", ", param);
+  if (!isnan(param2)) fprintf(f, "\"param2\": %.17g, ", param2);
+  fprintf(f, "\"error\": ");
+  json_str(f, pt->error ? pt->error : "");
+  fputc('}', f);
+  *first = 0;
+}
+
 /* One line: param in sweep order, and per value n, m, vn, phase. */
 static void json_line(const vi_diagram *sw, const vi_diagram_line *ln, FILE *f)
 {
@@ -887,14 +908,10 @@ static void json_line(const vi_diagram *sw, const vi_diagram_line *ln, FILE *f)
     }
   }
   fprintf(f, "], \"failed\": [");
-  for (int p = 0, first = 1; p < K; p++) {
-    const vi_diagram_point *pt = &ln->pt[ln->dir > 0 ? p : K - 1 - p];
-    if (!pt->failed) continue;
-    fprintf(f, "%s{\"param\": %.17g, \"error\": ", first ? "" : ", ",
-            sw->param[ln->dir > 0 ? p : K - 1 - p]);
-    json_str(f, pt->error ? pt->error : "");
-    fprintf(f, "}");
-    first = 0;
+  int first = 1;
+  for (int p = 0; p < K; p++) {
+    int k = ln->dir > 0 ? p : K - 1 - p;
+    if (ln->pt[k].failed) json_failure(f, &first, sw->param[k], NAN, &ln->pt[k]);
   }
   fprintf(f, "]");
 }
@@ -1011,16 +1028,12 @@ void vi_basins_print_json(const vi_diagram *sw, FILE *f)
   free(v2);
   /* every failed cell with its message (the terminal shows the first) */
   fprintf(f, ", \"failed\": [");
-  for (int l = 0, first = 1; l < L; l++)
-    for (int k = 0; k < K; k++) {
-      const vi_diagram_point *pt = &sw->lines[l].pt[k];
-      if (!pt->failed) continue;
-      fprintf(f, "%s{\"param\": %.17g, \"param2\": %.17g, \"error\": ",
-              first ? "" : ", ", sw->param[k], sw->param2[sw->lines[l].row]);
-      json_str(f, pt->error ? pt->error : "");
-      fprintf(f, "}");
-      first = 0;
-    }
+  int first = 1;
+  for (int l = 0; l < L; l++)
+    for (int k = 0; k < K; k++)
+      if (sw->lines[l].pt[k].failed)
+        json_failure(f, &first, sw->param[k], sw->param2[sw->lines[l].row],
+                     &sw->lines[l].pt[k]);
   fprintf(f, "]}\n");
 }
 

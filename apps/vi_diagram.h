@@ -82,6 +82,8 @@ typedef struct vi_diagram {
   vi_diagram_spec spec;
   int N;                /* coordinates */
   double t0;
+  double *z0;             /* [2N]: the scene's initial x then v, read once
+                             (projected onto the modes of an FE scene) */
   double *param, *param2; /* [K], [steps2] */
   int nlines;
   vi_diagram_line *lines;   /* row-major: row r, then up before down */
