@@ -5,11 +5,17 @@
  * be well-formed CSC: column pointers from 0 non-decreasing to nnz, rows in
  * range and strictly increasing within a column, the lower storage below
  * the diagonal, values finite.  The reader takes a path, so each input is
- * written to one scratch file. */
+ * written to one scratch file: a memory file (memfd) read through
+ * /proc/self/fd, since a file on disk truncated and rewritten 20 000 times
+ * waits on ext4's flush at each close (36 s of a 6 CPU-s run). */
+#ifndef _GNU_SOURCE
+#define _GNU_SOURCE /* memfd_create */
+#endif
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "vibroimpact/vi_mmio.h"
@@ -31,22 +37,18 @@ static void check(const vi_mm *m, int storage)
 }
 
 static char path[64];
-static void remove_scratch(void) { remove(path); }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-  if (!path[0]) {
-    snprintf(path, sizeof path, "fuzz_mm_%ld.mtx", (long)getpid());
-    atexit(remove_scratch);
+  static int fd = -1;
+  if (fd < 0) {
+    fd = memfd_create("fuzz_mm", 0);
+    if (fd < 0) abort();
+    snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
   }
-  FILE *f = fopen(path, "wb");
-  if (!f) return 0;
-  if (size && fwrite(data, 1, size, f) != size) {
-    fclose(f);
-    return 0;
-  }
-  fclose(f);
+  if (ftruncate(fd, 0) || (size && pwrite(fd, data, size, 0) != (ssize_t)size))
+    abort();
   static const int storages[2] = {VI_CSC_LOWER, VI_CSC_FULL};
   for (int q = 0; q < 2; q++) {
     vi_mm *m = NULL;

@@ -184,6 +184,16 @@ void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
   propagate(lambda, d, tau, &A, B, Bp, phi);
 }
 
+void vi_flow_stm2(double lambda, double d, double tau, double c[4])
+{
+  double A, B, Bp, phi;
+  propagate(lambda, d, tau, &A, &B, &Bp, &phi);
+  c[0] = A;
+  c[1] = -lambda * B;
+  c[2] = B;
+  c[3] = Bp;
+}
+
 void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
                         const vi_phase *p, double tau, double *qp,
                         double *qpd)
@@ -242,7 +252,8 @@ int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
   if (!fl->ok) return VI_ERR_UNSUPPORTED;
   if (fl->gen) { /* through physical coordinates: x = Psi q, q = Psi^T M x */
     int n = m->n;
-    double *buf = malloc(sizeof(double) * 4 * (size_t)n);
+    double small[4 * VI_FLOW_SMALL];
+    double *buf = n <= VI_FLOW_SMALL ? small : malloc(sizeof(double) * 4 * (size_t)n);
     if (!buf) return VI_ERR_NOMEM;
     vi_matvec(n, m->Psi, q0, buf);
     vi_matvec(n, m->Psi, qd0, buf + n);
@@ -250,7 +261,7 @@ int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
                           buf + 2 * (size_t)n, buf + 3 * (size_t)n);
     vi_matvec(n, m->PsiTM, buf + 2 * (size_t)n, q);
     vi_matvec(n, m->PsiTM, buf + 3 * (size_t)n, qd);
-    free(buf);
+    if (buf != small) free(buf);
     return st;
   }
   /* q = H(t) + w: H the harmonic particular solution, w the rest, which
@@ -277,7 +288,8 @@ int vi_xflow_physical(const vi_xflow *fl, const vi_model *m, double t0,
   if (!fl->ok) return VI_ERR_UNSUPPORTED;
   if (fl->gen) return flow_general(fl->gen, m, t0, x0, v0, t, x, v);
   int n = m->n;
-  double *q = malloc(sizeof(double) * 4 * (size_t)n);
+  double small[4 * VI_FLOW_SMALL];
+  double *q = n <= VI_FLOW_SMALL ? small : malloc(sizeof(double) * 4 * (size_t)n);
   if (!q) return VI_ERR_NOMEM;
   double *qd = q + n, *q1 = q + 2 * (size_t)n, *qd1 = q + 3 * (size_t)n;
   vi_matvec(n, m->PsiTM, x0, q);
@@ -287,7 +299,7 @@ int vi_xflow_physical(const vi_xflow *fl, const vi_model *m, double t0,
     vi_matvec(n, m->Psi, q1, x);
     vi_matvec(n, m->Psi, qd1, v);
   }
-  free(q);
+  if (q != small) free(q);
   return st;
 }
 

@@ -18,6 +18,11 @@
 #include "vi_internal.h"
 #include "vi_storage.h"
 
+/* Models of up to this many dofs keep a flow's scratch vectors on the stack:
+ * the per-sample flows of identification and orbits allocated at every call
+ * (15 % of a sanitized identification in the allocator). */
+#define VI_FLOW_SMALL 16
+
 typedef struct vi_general vi_general; /* vi_general.c */
 
 typedef struct vi_xflow {
@@ -65,6 +70,9 @@ void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
  * above (its F = 0 case). */
 void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
                    double *phi);
+/* The mode's 2 x 2 state-transition matrix after tau, column-major:
+ * (u, u') from (1, 0) in c[0], c[1] and from (0, 1) in c[2], c[3]. */
+void vi_flow_stm2(double lambda, double d, double tau, double c[4]);
 
 /* Exact flow for any damping (vi_general.c): the first-order
  * eigen-solution of a model whose damping is not proportional; a vi_gflow

@@ -36,27 +36,29 @@ static void mul(int n, const double *A, const double *B, double *C)
 static int stm_modal(const vi_model *m, double tau, double *Phi)
 {
   int n = m->n, n2 = 2 * n;
-  double *c = malloc(sizeof(double) * 4 * (size_t)n);
+  /* c: per mode the 2 x 2 flow, as four diagonals; W: Psi diag(c_ab) */
+  double small[4 * VI_FLOW_SMALL + VI_FLOW_SMALL * VI_FLOW_SMALL];
+  double *c = n <= VI_FLOW_SMALL ? small
+                                 : malloc(sizeof(double) * (4 + (size_t)n) * n);
   if (!c) return VI_ERR_NOMEM;
-  /* per mode: columns of the 2 x 2 flow from (1, 0) and (0, 1) */
+  double *W = c + 4 * (size_t)n;
   for (int j = 0; j < n; j++) {
-    double lam = m->lambda[j], d = m->D[j + (size_t)j * n];
-    vi_flow_homogeneous(lam, d, 1.0, 0.0, tau, &c[j], &c[2 * n + j]);
-    vi_flow_homogeneous(lam, d, 0.0, 1.0, tau, &c[n + j], &c[3 * n + j]);
+    double f[4];
+    vi_flow_stm2(m->lambda[j], m->D[j + (size_t)j * n], tau, f);
+    for (int bl = 0; bl < 4; bl++) c[(size_t)bl * n + j] = f[bl];
   }
-  /* block (a, b) = Psi diag(c_ab) Psi^T M */
+  /* block (row a, column b) of Phi = Psi diag(c_ab) Psi^T M; the diagonals
+   * are stored (aa, ba, ab, bb) as the 2 x 2 flows' columns */
   for (int bl = 0; bl < 4; bl++) {
     const double *dg = c + (size_t)bl * n;
-    int ro = (bl & 2) ? n : 0, co = (bl & 1) ? n : 0;
-    for (int l = 0; l < n; l++)
-      for (int i = 0; i < n; i++) {
-        double s = 0.0;
-        for (int j = 0; j < n; j++)
-          s += m->Psi[i + (size_t)j * n] * dg[j] * m->PsiTM[j + (size_t)l * n];
-        Phi[(ro + i) + (size_t)(co + l) * n2] = s;
-      }
+    int ro = (bl & 1) ? n : 0, co = (bl & 2) ? n : 0;
+    for (int j = 0; j < n; j++)
+      for (int i = 0; i < n; i++)
+        W[i + (size_t)j * n] = m->Psi[i + (size_t)j * n] * dg[j];
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, n, n, 1.0, W, n,
+                m->PsiTM, n, 0.0, Phi + ro + (size_t)co * n2, n2);
   }
-  free(c);
+  if (c != small) free(c);
   return VI_OK;
 }
 
