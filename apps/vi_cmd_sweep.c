@@ -87,14 +87,15 @@ static void usage(FILE *f, int basins)
     "  --quiet               no table\n");
 }
 
-static int num(const char *opt, const char *s, double *out)
+/* cmd: the command the user typed (sweep or basins), for the messages. */
+static int num(const char *cmd, const char *opt, const char *s, double *out)
 {
   char *end;
   if (!s) return 0;
   errno = 0;
   double v = strtod(s, &end);
   if (errno || end == s || *end || !isfinite(v)) {
-    fprintf(stderr, "vibroimpact: sweep: %s: '%s' is %s\n", opt, s,
+    fprintf(stderr, "vibroimpact: %s: %s: '%s' is %s\n", cmd, opt, s,
             errno == ERANGE && end != s && !*end
                 ? "beyond double precision's range (it under- or overflows)"
                 : "not a finite number");
@@ -104,13 +105,13 @@ static int num(const char *opt, const char *s, double *out)
   return 1;
 }
 
-static int inum(const char *opt, const char *s, int lo, int *out)
+static int inum(const char *cmd, const char *opt, const char *s, int lo, int *out)
 {
   double v;
-  if (!num(opt, s, &v)) return 0;
+  if (!num(cmd, opt, s, &v)) return 0;
   if (v != floor(v) || v < lo || v > 1e8) {
-    fprintf(stderr, "vibroimpact: sweep: %s must be an integer in [%d, "
-            "100000000] (got '%s')\n", opt, lo, s);
+    fprintf(stderr, "vibroimpact: %s: %s must be an integer in [%d, "
+            "100000000] (got '%s')\n", cmd, opt, lo, s);
     return 0;
   }
   *out = (int)v;
@@ -118,7 +119,7 @@ static int inum(const char *opt, const char *s, int lo, int *out)
 }
 
 /* --max-memory B: bytes, or with K, M, G. */
-static int bytes(const char *s, double *out)
+static int bytes(const char *cmd, const char *s, double *out)
 {
   char *end;
   if (!s) return 0;
@@ -130,8 +131,8 @@ static int bytes(const char *s, double *out)
     end++;
   }
   if (errno || end == s || *end || !isfinite(v) || !(v > 0)) {
-    fprintf(stderr, "vibroimpact: sweep: --max-memory: '%s' is not a size > 0 "
-            "(bytes, or with K, M, G)\n", s);
+    fprintf(stderr, "vibroimpact: %s: --max-memory: '%s' is not a size > 0 "
+            "(bytes, or with K, M, G)\n", cmd, s);
     return 0;
   }
   *out = v * mul;
@@ -200,29 +201,31 @@ static int parse(int argc, char **argv, args *a)
   int c;
   optind = 1;
   opterr = 0;
+  /* the program runs basins as sweep with --basins first */
+  const char *cmd = argc > 1 && !strcmp(argv[1], "--basins") ? "basins" : "sweep";
   while ((c = getopt_long(argc, argv, "o:", lo, NULL)) != -1) {
     int ok = 1;
     switch (c) {
     case 'k': sp->key = optarg; break;
-    case 'f': ok = num("--from", optarg, &sp->from); break;
-    case 't': ok = num("--to", optarg, &sp->to); break;
-    case 's': ok = inum("--steps", optarg, 1, &sp->steps); break;
+    case 'f': ok = num(cmd, "--from", optarg, &sp->from); break;
+    case 't': ok = num(cmd, "--to", optarg, &sp->to); break;
+    case 's': ok = inum(cmd, "--steps", optarg, 1, &sp->steps); break;
     case 'K': sp->key2 = optarg; break;
-    case 'F': ok = num("--from2", optarg, &sp->from2); break;
-    case 'T': ok = num("--to2", optarg, &sp->to2); break;
-    case 'S': ok = inum("--steps2", optarg, 1, &sp->steps2); break;
+    case 'F': ok = num(cmd, "--from2", optarg, &sp->from2); break;
+    case 'T': ok = num(cmd, "--to2", optarg, &sp->to2); break;
+    case 'S': ok = inum(cmd, "--steps2", optarg, 1, &sp->steps2); break;
     case 'd': sp->dirs = 2; break;
     case 'b': sp->dirs = 3; break;
-    case 'p': ok = inum("--transient", optarg, 0, &sp->transient); break;
-    case 'r': ok = inum("--record", optarg, 2, &sp->record); break;
-    case 'j': ok = inum("--threads", optarg, 1, &sp->threads); break;
-    case 'c': ok = inum("--chunks", optarg, 1, &sp->chunks); a->chunks_set = 1; break;
-    case 'e': ok = num("--tol", optarg, &sp->tol) && sp->tol > 0; break;
-    case 'n': ok = inum("--nmax", optarg, 1, &sp->nmax); break;
+    case 'p': ok = inum(cmd, "--transient", optarg, 0, &sp->transient); break;
+    case 'r': ok = inum(cmd, "--record", optarg, 2, &sp->record); break;
+    case 'j': ok = inum(cmd, "--threads", optarg, 1, &sp->threads); break;
+    case 'c': ok = inum(cmd, "--chunks", optarg, 1, &sp->chunks); a->chunks_set = 1; break;
+    case 'e': ok = num(cmd, "--tol", optarg, &sp->tol) && sp->tol > 0; break;
+    case 'n': ok = inum(cmd, "--nmax", optarg, 1, &sp->nmax); break;
     case 'm':
       ok = vi_method_from_name(optarg) >= 0;
-      if (!ok) fprintf(stderr, "vibroimpact: sweep: --method: '%s' is not adams, "
-                       "bdf, exact, auto or erk\n", optarg);
+      if (!ok) fprintf(stderr, "vibroimpact: %s: --method: '%s' is not adams, "
+                       "bdf, exact, auto or erk\n", cmd, optarg);
       snprintf(a->method_set, sizeof a->method_set, "run.method=%s", optarg);
       a->sets[a->nsets++] = a->method_set;
       break;
@@ -232,27 +235,27 @@ static int parse(int argc, char **argv, args *a)
     case 'q': a->quiet = 1; break;
     case 'O':
       sp->orbits = 360;
-      if (optarg) ok = inum("--orbits", optarg, 8, &sp->orbits);
+      if (optarg) ok = inum(cmd, "--orbits", optarg, 8, &sp->orbits);
       break;
     case 'B': a->basins = 1; break;
     case 'L': sp->lyapunov = 1; break;
-    case 'M': ok = bytes(optarg, &a->max_memory); break;
-    case 'D': ok = inum("--max-depth", optarg, 1, &sp->max_depth); break;
+    case 'M': ok = bytes(cmd, optarg, &a->max_memory); break;
+    case 'D': ok = inum(cmd, "--max-depth", optarg, 1, &sp->max_depth); break;
     case 'h': usage(stdout, a->basins); return -1;
     default:
-      fprintf(stderr, "vibroimpact: sweep: unknown or incomplete option '%s'\n",
+      fprintf(stderr, "vibroimpact: %s: unknown or incomplete option '%s'\n", cmd,
               argv[optind - 1]);
       usage(stderr, a->basins);
       return 2;
     }
     if (!ok) {
-      if (c == 'e') fprintf(stderr, "vibroimpact: sweep: --tol must be > 0\n");
+      if (c == 'e') fprintf(stderr, "vibroimpact: %s: --tol must be > 0\n", cmd);
       return 2;
     }
   }
   if (optind < argc) a->scene = argv[optind++];
   if (optind < argc) {
-    fprintf(stderr, "vibroimpact: sweep: unexpected argument '%s'\n", argv[optind]);
+    fprintf(stderr, "vibroimpact: %s: unexpected argument '%s'\n", cmd, argv[optind]);
     return 2;
   }
   return 0;

@@ -41,6 +41,14 @@ expect 2 "both name forcing.omega" "$app" basins --param forcing.omega --from 0.
 expect 2 "both name stops[1].xs" "$app" basins --param stop.xs --from 0.1 --to 0.2 \
   --steps 2 --param2 'stops[1].xs' --from2 0.1 --to2 0.2 --steps2 2
 
+# a bad number named with the command the user typed (basins said "sweep:")
+expect 2 "basins: --steps: 'abc' is not a finite number" "$app" basins --param \
+  forcing.omega --from 0.8 --to 0.9 --steps abc --param2 stop.r --from2 0.5 --to2 0.9 --steps2 2
+expect 2 "basins: --max-memory" "$app" basins --max-memory 0 --param forcing.omega \
+  --from 0.8 --to 0.9 --steps 2 --param2 stop.r --from2 0.5 --to2 0.9 --steps2 2
+expect 2 "sweep: --steps must be an integer" "$app" sweep --param forcing.omega \
+  --from 0.8 --to 0.9 --steps 0
+
 # --help to a full device is a lost output, as for the other commands
 for cmd in sweep basins run; do
   "$app" $cmd --help > /dev/full 2> "$tmp/err"
