@@ -15,7 +15,7 @@
 #ifndef VI_FLOW_INTERNAL_H
 #define VI_FLOW_INTERNAL_H
 
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 #include "vi_storage.h"
 
 typedef struct vi_general vi_general; /* vi_general.c */

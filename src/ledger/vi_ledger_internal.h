@@ -7,7 +7,7 @@
 #define VI_LEDGER_INTERNAL_H
 
 #include "vi_forcing.h"
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 
 typedef struct vi_ledger vi_ledger;
 

@@ -9,7 +9,7 @@
 #include <stddef.h>
 
 #include "vi_forcing.h"
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 
 struct vi_storage_ops {
   const char *name; /* "dense" or "band" */
