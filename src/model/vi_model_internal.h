@@ -1,7 +1,8 @@
 /* vi_model_internal.h - the model's definition, private to the library
  * and never installed.  The layers above model/ (impact, flow, ledger,
  * sim, orbit, study) read its arrays through this header; base/ does not
- * know it.  The storage's operations are in vi_storage.h. */
+ * know it.  The storage's operations are in vi_storage.h, the modal
+ * capability's one test is vi_model_has_modes there. */
 #ifndef VI_MODEL_INTERNAL_H
 #define VI_MODEL_INTERNAL_H
 
