@@ -25,6 +25,21 @@ static inline double vi_rebound_apex(double r, double vn, double push)
   return 0.5 * r * r * vn * vn / push;
 }
 
+/* The kinetic energy of the approach to stop k at v_n, KE_i = 1/2 v_n^2 /
+ * G_kk (WB 12), and the part of it that an impact with restitution r takes,
+ * IE = 1/2 v_n^2 (1 - r^2) / G_kk (WB 10): the closed forms of the law for
+ * one contact (vi_contact_law's impulses give the same IE to round-off),
+ * for a caller that holds v_n alone (the orbit's totals, the fit's
+ * statistics).  g is G_kk = w_k.M^-1 w_k. */
+static inline double vi_impact_ke(double vn, double g)
+{
+  return 0.5 * vn * vn / g;
+}
+static inline double vi_impact_ie(double r, double vn, double g)
+{
+  return 0.5 * vn * vn * (1.0 - r * r) / g;
+}
+
 /* Newton's law for several simultaneous contacts (vi_contact.c; the rule
  * is in vi_impact.h): the impulses P [nc] >= 0 on the stops idx [nc] for
  * the velocity v [n] before; vp [n] receives the velocity after (may be v),
