@@ -1,7 +1,7 @@
 /* vi_dense.c - dense column-major helpers (leading dimension n) and the
- * modal projection of an interleaved state (BLAS), and the small Cholesky
- * solves of the contact and constraint sets: shared by the model, the modal
- * analysis, the ledger, the orbits and the closed-form backend. */
+ * small Cholesky solves of the contact and constraint sets: shared by the
+ * model, the modal analysis, the ledger, the orbits and the closed-form
+ * backend. */
 #include <math.h>
 
 #include <cblas.h>
@@ -23,19 +23,6 @@ double vi_dot(int n, const double *x, const double *y)
   double s = 0.0;
   for (int i = 0; i < n; i++) s += x[i] * y[i];
   return s;
-}
-
-void vi_modal_project(const vi_model *m, const double *z, double *q,
-                      double *qd)
-{
-  /* z interleaves (x_i, v_i): stride 2 picks either */
-  int n = m->n;
-  if (q)
-    cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->PsiTM, n, z, 2,
-                0.0, q, 1);
-  if (qd)
-    cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->PsiTM, n, z + 1,
-                2, 0.0, qd, 1);
 }
 
 /* In-place Cholesky of the k x k matrix A (column-major, leading dimension

@@ -241,7 +241,7 @@ int vi_cmodes_create(const vi_model *m, const int *set, int cnt,
   memcpy(c->set, set, sizeof(int) * (size_t)cnt);
   double *tau = Pw + (size_t)n * cnt, *v1 = tau + n, *v2 = v1 + n, *v3 = v2 + n, *v4 = v3 + n;
   double a, b;
-  if (!m->proportional || !m->ops->modal || !m->lambda) {
+  if (!m->proportional || !vi_model_has_modes(m) || !m->lambda) {
     snprintf(c->why, sizeof c->why, "the held structure has no modes of "
              "its own in closed form (damping not proportional)");
     goto done;

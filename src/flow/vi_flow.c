@@ -33,7 +33,7 @@ int vi_xflow_create(const vi_model *m, vi_xflow **out)
   }
   f->pB = f->pA + n;
   f->ok = 1;
-  if (!m->ops->modal) { /* band storage (vi_band_model.c) */
+  if (!vi_model_has_modes(m)) { /* band storage (vi_band_model.c) */
     f->ok = 0;
     vi_fail(f->why, VI_ERR_UNSUPPORTED, "the model is in band storage: it "
             "has no modes, so no closed-form flow");

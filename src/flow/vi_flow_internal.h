@@ -15,7 +15,7 @@
 #ifndef VI_FLOW_INTERNAL_H
 #define VI_FLOW_INTERNAL_H
 
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 #include "vi_storage.h"
 
 /* Models of up to this many dofs keep a flow's scratch vectors on the stack:

@@ -14,7 +14,7 @@
 #ifndef VI_IMPACT_INTERNAL_H
 #define VI_IMPACT_INTERNAL_H
 
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 
 /* How high a rebound rises off its stop: the gap's acceleration w.a pulls
  * it back (push > 0) after Newton's law sent it off at r v_n, so the apex
@@ -24,6 +24,39 @@ static inline double vi_rebound_apex(double r, double vn, double push)
 {
   return 0.5 * r * r * vn * vn / push;
 }
+
+/* The kinetic energy of the approach to stop k at v_n, KE_i = 1/2 v_n^2 /
+ * G_kk (WB 12), and the part of it that an impact with restitution r takes,
+ * IE = 1/2 v_n^2 (1 - r^2) / G_kk (WB 10): the closed forms of the law for
+ * one contact (vi_contact_law's impulses give the same IE to round-off),
+ * for a caller that holds v_n alone (the orbit's totals, the fit's
+ * statistics).  g is G_kk = w_k.M^-1 w_k. */
+static inline double vi_impact_ke(double vn, double g)
+{
+  return 0.5 * vn * vn / g;
+}
+static inline double vi_impact_ie(double r, double vn, double g)
+{
+  return 0.5 * vn * vn * (1.0 - r * r) / g;
+}
+
+/* Newton's law for several simultaneous contacts (vi_contact.c; the rule
+ * is in vi_impact.h): the impulses P [nc] >= 0 on the stops idx [nc] for
+ * the velocity v [n] before; vp [n] receives the velocity after (may be v),
+ * vn [nc] the approach velocities w_k.v, ie [nc] the kinetic energy each
+ * contact takes (they sum to the total loss); P, vn, ie may be NULL.
+ * Returns VI_OK, VI_ERR_LIMIT (nc above VI_CONTACT_MAX),
+ * VI_ERR_NOT_CONVERGED (no active set fits: G singular on the contacts). */
+int vi_contact_solve(const vi_model *m, int nc, const int *idx,
+                     const double *v, double *vp, double *P, double *vn,
+                     double *ie);
+/* The law itself on the contacts' normal velocities u_k = w_k.v- [nc]:
+ * the impulses P [nc] (v+ = v- - sum_k P_k M^-1 w_k) and the energies ie
+ * [nc] (may be NULL) they take, with the restitutions r [nc] (NULL: the
+ * model's).  For a caller that holds the velocities in other coordinates
+ * (the exact method's modes, where q'+ = q'- - P_k psi_k). */
+int vi_contact_law(const vi_model *m, int nc, const int *idx,
+                   const double *r, const double *u, double *P, double *ie);
 
 /* vi_contact_solve with the restitutions r [nc] of the contacts in the
  * place of the model's (r NULL: the model's r_k). */

@@ -7,7 +7,7 @@
 #define VI_LEDGER_INTERNAL_H
 
 #include "vi_forcing.h"
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 
 typedef struct vi_ledger vi_ledger;
 
@@ -46,6 +46,19 @@ void vi_ledger_rates_phase(vi_ledger *L, const vi_phase *p, const double *qd,
 void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
                            const vi_ledger_held *h, const double *gq,
                            double *rates);
+/* Node i (0..7) of the 8-point Gauss-Legendre rule on [mid - h, mid + h]
+ * and its weight *w: the rule of the ledger's integrals in every backend
+ * that integrates them itself (the exact method's two, the held motion). */
+static inline double vi_gl8_node(int i, double mid, double h, double *w)
+{
+  static const double gx[4] = {0.1834346424956498, 0.5255324099163290,
+                               0.7966664774136267, 0.9602898564975363};
+  static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
+                               0.2223810344533745, 0.1012285362903763};
+  *w = gw[i % 4] * h;
+  return mid + (i < 4 ? -gx[i] : gx[i - 4]) * h;
+}
+
 /* Q += weight * rates(t, qd) (no NE): one node of a quadrature rule; the
  * _phase form with the forcing's phase at the node already taken. */
 void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,

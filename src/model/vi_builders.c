@@ -93,7 +93,7 @@ int vi_model_create_reduced(const vi_model *full, const int *modes, int k,
   if (!full || !modes || k < 1 || k > full->n) return VI_ERR_ARG;
   if (!full->frozen) return VI_ERR_STATE;
   if (full->ns > 1) return VI_ERR_UNSUPPORTED; /* one stop is reduced */
-  if (!full->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
+  if (!vi_model_has_modes(full)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   int n = full->n, st;
   double *buf = calloc(4 * (size_t)k * k + 5 * (size_t)k, sizeof(double));
   if (!buf) return VI_ERR_NOMEM;

@@ -2,6 +2,7 @@
 #include <math.h>
 
 #include "vi_forcing.h"
+#include "vi_model_internal.h"
 
 void vi_forcing_vectors(const vi_model *m, int form, const double **A,
                         const double **B, const double **C)

@@ -9,7 +9,7 @@
 #include <cblas.h>
 #include <lapacke.h>
 
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 
 /* Off-diagonal modal damping below this fraction of the largest entry is
  * round-off: the damping is proportional and modes decouple (WB 4). */
@@ -158,4 +158,17 @@ int vi_modal_setup(vi_model *m, int c_zero)
     m->zeta[j] = m->omega[j] > 0.0 ? d / (2.0 * m->omega[j]) : 0.0;
   }
   return VI_OK;
+}
+
+void vi_modal_project(const vi_model *m, const double *z, double *q,
+                      double *qd)
+{
+  /* z interleaves (x_i, v_i): stride 2 picks either */
+  int n = m->n;
+  if (q)
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->PsiTM, n, z, 2,
+                0.0, q, 1);
+  if (qd)
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, 1.0, m->PsiTM, n, z + 1,
+                2, 0.0, qd, 1);
 }

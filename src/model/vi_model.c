@@ -574,11 +574,19 @@ const double *vi_model_modal_damping(const vi_model *m, int *ld)
   return FROZEN_OR(m, m->D);
 }
 
+int vi_model_need_modes(const vi_model *m, char *buf, const char *what)
+{
+  if (vi_model_has_modes(m)) return VI_OK;
+  if (!buf) return VI_ERR_UNSUPPORTED;
+  return vi_fail(buf, VI_ERR_UNSUPPORTED, "%s the modes, which a "
+                 "band-storage model does not have", what);
+}
+
 int vi_model_to_modal(const vi_model *m, const double *x, double *q)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
-  if (!m->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
+  if (!vi_model_has_modes(m)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   if (vi_overlap(x, q, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->PsiTM, x, q);
   return VI_OK;
@@ -588,7 +596,7 @@ int vi_model_from_modal(const vi_model *m, const double *q, double *x)
 {
   if (!m || !x || !q) return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
-  if (!m->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
+  if (!vi_model_has_modes(m)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   if (vi_overlap(q, x, m->n)) return VI_ERR_ARG;
   vi_matvec(m->n, m->Psi, q, x);
   return VI_OK;

@@ -114,7 +114,7 @@ static int refresh_vector(vi_model *m, const double *f, double *minvf,
   memcpy(minvf, f, sizeof(double) * (size_t)n);
   int info = m->ops->solve_mass(m, 1, minvf);
   if (info) return info < 0 ? VI_ERR_NOMEM : VI_ERR_LAPACK;
-  if (!m->ops->modal) return VI_OK;
+  if (!vi_model_has_modes(m)) return VI_OK;
   vi_matvec_t(n, m->Psi, f, modal);
   return VI_OK;
 }
@@ -185,7 +185,7 @@ static int set_rayleigh(vi_model *m, double alpha, double beta)
   m->ray_alpha = alpha;
   m->ray_beta = beta;
   if (!m->frozen) return VI_OK;
-  if (!m->ops->modal) { /* band: its row form; no modes to redo */
+  if (!vi_model_has_modes(m)) { /* band: its row form; no modes to redo */
     refresh_band_damping(m);
     return VI_OK;
   }
@@ -358,7 +358,7 @@ static int is_zero(int n, const double *v)
 
 static int check_modal(vi_model *m, const char *key)
 {
-  if (!m->ops->modal)
+  if (!vi_model_has_modes(m))
     return vi_fail(m->errmsg, VI_ERR_UNSUPPORTED, "%s: a band model has no "
                    "modes (use damping.alpha, damping.beta)", key);
   if (!m->frozen)

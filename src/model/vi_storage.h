@@ -9,7 +9,7 @@
 #include <stddef.h>
 
 #include "vi_forcing.h"
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 
 struct vi_storage_ops {
   const char *name; /* "dense" or "band" */
@@ -53,6 +53,20 @@ struct vi_storage_ops {
    * [lo[i] ...]; NULL: not available (vi_rhs.c then calls accel) */
   void (*pack_rows)(const vi_model *m, int width, int *lo, double *R);
 };
+
+/* The modal capability, asked here and nowhere else (as SUNDIALS asks for
+ * a missing operation only in its generic wrapper): 1 if the model's
+ * storage keeps modes after setup (dense), 0 if not (band).  A caller that
+ * can go on without them branches on this; one that cannot refuses
+ * through vi_model_need_modes. */
+static inline int vi_model_has_modes(const vi_model *m)
+{
+  return m->ops->modal;
+}
+/* VI_OK if the model has modes, else VI_ERR_UNSUPPORTED with the message
+ * "<what> the modes, which a band-storage model does not have" in buf
+ * (what: e.g. "forces need"; buf NULL: the code alone) (vi_model.c). */
+int vi_model_need_modes(const vi_model *m, char *buf, const char *what);
 
 extern const vi_storage_ops vi_storage_dense; /* vi_dense_model.c */
 extern const vi_storage_ops vi_storage_band;  /* vi_band_model.c */

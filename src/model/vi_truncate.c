@@ -64,7 +64,7 @@ int vi_model_create_truncated(const vi_model *R, int k, int static_vector,
   *out = NULL;
   if (!R || (z && !zt)) return VI_ERR_ARG;
   if (!R->frozen) return VI_ERR_STATE;
-  if (!R->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
+  if (!vi_model_has_modes(R)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   int nR = R->n, corr = static_vector, n = k + corr, st;
   if (k < 1 || k > nR || (corr != 0 && corr != 1) || n > nR) return VI_ERR_ARG;
   double *T = calloc(2 * (size_t)nR * n + 3 * (size_t)n * n + 4 * (size_t)n,
@@ -105,7 +105,7 @@ int vi_model_modal_compliance(const vi_model *R, int stop, int k,
   if (!R || k < 1 || k > R->n || stop < 0 || stop >= R->ns)
     return VI_ERR_ARG;
   if (!R->frozen) return VI_ERR_STATE;
-  if (R->band) return VI_ERR_UNSUPPORTED; /* no modal coordinates */
+  if (!vi_model_has_modes(R)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   int n = R->n;
   /* modal coordinates: M = I and K diagonal (to round-off of its scale) */
   double kmax = 0;

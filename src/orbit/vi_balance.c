@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_impact_internal.h"
 #include "vi_orbit_handle.h"
 
 typedef struct bal_ctx {
@@ -115,7 +116,7 @@ int vi_balance_run(vi_orbit *o)
   o->RE = o->IE = o->KEi = 0.0;
   for (int j = 0; j < o->mi; j++) {
     int k = o->istop[j];
-    double G = m->G[k + (size_t)k * ns], ke = 0.5 * o->ivn[j] * o->ivn[j] / G;
+    double ke = vi_impact_ke(o->ivn[j], m->G[k + (size_t)k * ns]);
     o->kcnt[k]++;
     o->kKE[k] += ke;
     o->kIE[k] += o->iie[j];

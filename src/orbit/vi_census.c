@@ -51,7 +51,7 @@ int vi_census_create(const vi_model *model, int n, int m, vi_census **out)
   if (!model || n < 1 || n > MAX_NM || m < 1 || m > MAX_NM) return VI_ERR_ARG;
   if (!model->frozen || model->ns < 1) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
-  if (!model->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no closed form */
+  if (!vi_model_has_modes(model)) return VI_ERR_UNSUPPORTED; /* band: no closed form */
   vi_census *c = calloc(1, sizeof *c);
   if (!c) return VI_ERR_NOMEM;
   c->x0 = calloc(2 * (size_t)model->n, sizeof(double));

@@ -22,7 +22,7 @@ int vi_orbit_create(const vi_model *model, vi_orbit **out)
   if (!model->frozen) return VI_ERR_STATE;
   if (!(model->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   if (model->ns < 1) return VI_ERR_STATE; /* nothing to impact */
-  if (!model->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
+  if (!vi_model_has_modes(model)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   vi_orbit *o = calloc(1, sizeof *o);
   if (!o) return VI_ERR_NOMEM;
   int n = model->n, ns = model->ns;

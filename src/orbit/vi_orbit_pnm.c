@@ -150,7 +150,7 @@ static int pnm_check(const vi_model *m, int np, int mi, const int *stop)
   if (!m->frozen) return VI_ERR_STATE;
   if (!stops_ok(m, mi, stop) || np < 1 || mi < 1) return VI_ERR_ARG;
   if (m->ns < 1) return VI_ERR_STATE; /* no stop: nothing to impact */
-  if (!m->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
+  if (!vi_model_has_modes(m)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   return VI_OK;
 }
@@ -522,7 +522,7 @@ int vi_orbit_p1_scan_polled(const vi_model *m, int np, int nphase, double *t,
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (m->ns > 1) return VI_ERR_UNSUPPORTED; /* the impact map of one stop */
-  if (!m->ops->modal) return VI_ERR_UNSUPPORTED; /* band: no modes */
+  if (!vi_model_has_modes(m)) return VI_ERR_UNSUPPORTED; /* band: no modes */
   if (!(m->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   *found = 0;
   ws w;

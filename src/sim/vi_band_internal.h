@@ -1,5 +1,5 @@
 /* vi_band_internal.h - the integrator's Jacobian of a band-storage model
- * (vi_band.c); the model side is declared in vi_internal.h. */
+ * (vi_band.c); the model side is declared in vi_model_internal.h. */
 #ifndef VI_BAND_INTERNAL_H
 #define VI_BAND_INTERNAL_H
 

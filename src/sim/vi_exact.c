@@ -716,10 +716,6 @@ static int ex_start(vi_sim *s)
  * below round-off for the products of modes that make the integrands. */
 static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
 {
-  static const double gx[4] = {0.1834346424956498, 0.5255324099163290,
-                               0.7966664774136267, 0.9602898564975363};
-  static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
-                               0.2223810344533745, 0.1012285362903763};
   if (!(b > a)) return;
   double npf = ceil((b - a) / d->hq);
   int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
@@ -728,9 +724,9 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
     double pb = k + 1 == np ? b : a + (b - a) * (double)(k + 1) / (double)np;
     double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
     for (int i = 0; i < 8; i++) {
-      double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h;
+      double w, t = vi_gl8_node(i, mid, h, &w);
       ex_modes_at(d, t, d->qs, d->qds);
-      vi_ledger_accumulate(s->led, t, d->qds, NULL, gw[i % 4] * h);
+      vi_ledger_accumulate(s->led, t, d->qds, NULL, w);
     }
   }
 }

@@ -1,4 +1,7 @@
-/* vi_exact_internal.h - the pieces of the exact method (vi_exact*.c). */
+/* vi_exact_internal.h - the pieces of the exact method (vi_exact*.c): the
+ * grid backend of vi_exact.c (ex_*) and the scan of vi_exact_scan.c (sc_*)
+ * share what is declared here and no names besides (the ledger's
+ * quadrature rule, vi_gl8_node, is vi_ledger_internal.h's). */
 #ifndef VI_EXACT_INTERNAL_H
 #define VI_EXACT_INTERNAL_H
 

@@ -17,7 +17,7 @@
 
 #include "vi_exact_internal.h"
 
-typedef struct ex_data {
+typedef struct sc_data {
   int kind; /* EX_KIND_SCAN */
   vi_sim *s;
   double t0;          /* start of the current flight */
@@ -33,13 +33,13 @@ typedef struct ex_data {
   int handover;       /* the flow would cancel a far larger particular part */
   double *zfull;      /* its state at the last full evaluation [2n] */
   int64_t steps, evals;
-} ex_data;
+} sc_data;
 
 /* At t: stop k's gap and rate (k >= 0), or every stop's (k < 0: g, gd
  * [ns]); with full != 0 (and always for k < 0) also the modal state in q,
  * qd.  No stop is special: each gap comes straight from the closed form
  * (the complex modes' w_k.V, or the modes stop k sees). */
-static void ex_eval(ex_data *d, double t, int k, double *g, double *gd,
+static void sc_eval(sc_data *d, double t, int k, double *g, double *gd,
                     int full)
 {
   const vi_model *m = d->s->m;
@@ -87,35 +87,35 @@ static void ex_eval(ex_data *d, double t, int k, double *g, double *gd,
   }
 }
 
-static void ex_eval_k(ex_data *d, double t, int k, double *g, double *gd)
+static void sc_eval_k(sc_data *d, double t, int k, double *g, double *gd)
 {
-  ex_eval(d, t, k, g, gd, 0);
+  sc_eval(d, t, k, g, gd, 0);
 }
 
 /* Every stop's gap and rate at t into g, gd [ns]. */
-static void ex_eval_all(ex_data *d, double t, double *g, double *gd)
+static void sc_eval_all(sc_data *d, double t, double *g, double *gd)
 {
-  ex_eval(d, t, -1, g, gd, 1);
+  sc_eval(d, t, -1, g, gd, 1);
 }
 
 static double gap_fn(double t, void *p)
 {
-  ex_data *d = p;
+  sc_data *d = p;
   double g, gd;
-  ex_eval_k(d, t, d->stop, &g, &gd);
+  sc_eval_k(d, t, d->stop, &g, &gd);
   return g;
 }
 
 static double rate_fn(double t, void *p)
 {
-  ex_data *d = p;
+  sc_data *d = p;
   double g, gd;
-  ex_eval_k(d, t, d->stop, &g, &gd);
+  sc_eval_k(d, t, d->stop, &g, &gd);
   return gd;
 }
 
 /* x = Psi q, v = Psi q' into an interleaved state. */
-static void to_state(const vi_model *m, const ex_data *d, double *z)
+static void to_state(const vi_model *m, const sc_data *d, double *z)
 {
   int n = m->n;
   if (d->gf) {
@@ -134,9 +134,9 @@ static void to_state(const vi_model *m, const ex_data *d, double *z)
   }
 }
 
-static void ex_destroy(vi_sim *s)
+static void sc_destroy(vi_sim *s)
 {
-  ex_data *d = s->be_data;
+  sc_data *d = s->be_data;
   if (d) {
     vi_gflow_free(d->gf);
     free(d->u0);
@@ -145,14 +145,14 @@ static void ex_destroy(vi_sim *s)
   s->be_data = NULL;
 }
 
-static int ex_start(vi_sim *s)
+static int sc_start(vi_sim *s)
 {
   const vi_model *m = s->m;
   int n = s->n;
   if (s->sticking) /* the driver runs sticking phases on CVODE */
     return vi_fail(s->errmsg, VI_ERR_STATE, "internal: the closed form "
                    "cannot start in a sticking phase (t = %.17g)", s->t);
-  ex_data *d = s->be_data;
+  sc_data *d = s->be_data;
   if (!d) {
     d = calloc(1, sizeof *d);
     if (d) d->u0 = malloc(sizeof(double) * (10 * (size_t)n + 4 * (size_t)m->ns));
@@ -186,7 +186,7 @@ static int ex_start(vi_sim *s)
   d->ta = s->t;
   if (d->gf) {
     vi_gflow_start(d->gf, m, s->t, s->z);
-    ex_eval_all(d, d->ta, d->ga, d->gda);
+    sc_eval_all(d, d->ta, d->ga, d->gda);
     s->gap = d->ga[0];
     s->z_stale = 0;
     /* The gap is the sum of a particular part and a transient that cancel
@@ -222,13 +222,13 @@ static int ex_start(vi_sim *s)
     d->v0[j] = qd - qpd;
   }
   d->ta = s->t;
-  ex_eval_all(d, d->ta, d->ga, d->gda);
+  sc_eval_all(d, d->ta, d->ga, d->gda);
   return VI_OK;
 }
 
 /* First rising crossing of the gap in [a, b], or 0 if none.  g' changes sign
  * at most once in a scan step, at an extremum c; only rising pieces count. */
-static int find_contact(vi_sim *s, ex_data *d, double a, double ga,
+static int find_contact(vi_sim *s, sc_data *d, double a, double ga,
                         double gda, double b, double gb, double gdb,
                         double *tc)
 {
@@ -255,23 +255,19 @@ static int find_contact(vi_sim *s, ex_data *d, double a, double ga,
 /* Ledger integrals over [a, b] by 8-point Gauss-Legendre: a scan step spans
  * at most pi/4 of the fastest phase in the integrands (products of modes,
  * frequency <= 2 omega_top), where the rule's error is below round-off. */
-static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
+static void sc_quadrature(vi_sim *s, sc_data *d, double a, double b)
 {
-  static const double gx[4] = {0.1834346424956498, 0.5255324099163290,
-                               0.7966664774136267, 0.9602898564975363};
-  static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
-                               0.2223810344533745, 0.1012285362903763};
-  double h = 0.5 * (b - a), mid = 0.5 * (a + b), g, gd;
+  double h = 0.5 * (b - a), mid = 0.5 * (a + b), g, gd, w;
   for (int k = 0; k < 8; k++) {
-    double t = mid + (k < 4 ? -gx[k] : gx[k - 4]) * h;
-    ex_eval(d, t, 0, &g, &gd, 1);
-    vi_ledger_accumulate(s->led, t, d->qd, NULL, gw[k % 4] * h);
+    double t = vi_gl8_node(k, mid, h, &w);
+    sc_eval(d, t, 0, &g, &gd, 1);
+    vi_ledger_accumulate(s->led, t, d->qd, NULL, w);
   }
 }
 
-static int ex_step(vi_sim *s, double t_end, int *event)
+static int sc_step(vi_sim *s, double t_end, int *event)
 {
-  ex_data *d = s->be_data;
+  sc_data *d = s->be_data;
   if (d->handover) {
     *event = VI_STEP_HANDOVER;
     return VI_OK;
@@ -286,7 +282,7 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   double b = fmin(d->ta + step, t_end), tc = HUGE_VAL;
   double *gb = d->gb, *gdb = d->gdb;
   int hit = 0;
-  ex_eval_all(d, b, gb, gdb);
+  sc_eval_all(d, b, gb, gdb);
   d->steps++;
   for (int k = 0; k < d->ns; k++) {
     double t1 = HUGE_VAL;
@@ -302,9 +298,9 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   }
   *event = hit ? VI_STEP_CONTACT : VI_STEP_NONE;
   s->t = hit ? tc : b;
-  if (s->led) ex_quadrature(s, d, d->ta, s->t);
+  if (s->led) sc_quadrature(s, d, d->ta, s->t);
   double g, gd;
-  ex_eval(d, s->t, 0, &g, &gd, 1);
+  sc_eval(d, s->t, 0, &g, &gd, 1);
   to_state(s->m, d, s->z);
   s->gap = g;
   s->z_stale = 0;
@@ -316,23 +312,23 @@ static int ex_step(vi_sim *s, double t_end, int *event)
   return VI_OK;
 }
 
-static int ex_dense(vi_sim *s, double t)
+static int sc_dense(vi_sim *s, double t)
 {
-  ex_data *d = s->be_data;
+  sc_data *d = s->be_data;
   double g, gd;
-  ex_eval(d, t, 0, &g, &gd, 1);
+  sc_eval(d, t, 0, &g, &gd, 1);
   to_state(s->m, d, s->zs);
   return VI_OK;
 }
 
-static int64_t ex_stat(const void *data, int which)
+static int64_t sc_stat(const void *data, int which)
 {
-  const ex_data *d = data;
+  const sc_data *d = data;
   if (which == VI_STAT_STEPS) return d->steps;
   if (which == VI_STAT_ROOT_EVALS) return d->evals;
   return 0;
 }
 
-const vi_backend vi_backend_exact_scan = {"exact", ex_start, ex_step,
-                                          ex_dense, ex_stat, ex_destroy, NULL,
+const vi_backend vi_backend_exact_scan = {"exact", sc_start, sc_step,
+                                          sc_dense, sc_stat, sc_destroy, NULL,
                                           NULL, NULL, NULL};

@@ -43,16 +43,16 @@ int vi_sim_set_force(vi_sim *s, vi_force_fn fn, vi_force_jac_fn jac,
 {
   if (!s) return VI_ERR_ARG;
   VI_SIM_IDLE(s);
-  if (fn && !s->m->ops->modal) /* M^-1 g = Psi Psi^T g needs the modes */
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
-                   "which a band-storage model does not have");
+  int st; /* M^-1 g = Psi Psi^T g needs the modes */
+  if (fn && (st = vi_model_need_modes(s->m, s->errmsg, "forces need")))
+    return st;
   if (fn && exact_in_use(s))
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the exact method has no "
                    "closed form for a host force: choose adams, bdf, erk or "
                    "auto first");
   if (!fn && jac)
     return vi_fail(s->errmsg, VI_ERR_ARG, "a force Jacobian without a force");
-  int st = fn ? ensure_buffers(s) : VI_OK;
+  st = fn ? ensure_buffers(s) : VI_OK;
   if (st) return st;
   s->force_fn = fn;
   s->force_jac = fn ? jac : NULL;
@@ -66,9 +66,8 @@ int vi_sim_add_spring(vi_sim *s, int type, int i, int j, double k, double gap)
 {
   if (!s) return VI_ERR_ARG;
   VI_SIM_IDLE(s);
-  if (!s->m->ops->modal) /* M^-1 g = Psi Psi^T g needs the modes */
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "forces need the modes, "
-                   "which a band-storage model does not have");
+  int st; /* M^-1 g = Psi Psi^T g needs the modes */
+  if ((st = vi_model_need_modes(s->m, s->errmsg, "forces need"))) return st;
   if (type != VI_SPRING_CUBIC && type != VI_SPRING_BILINEAR)
     return vi_fail(s->errmsg, VI_ERR_ARG, "unknown spring type %d", type);
   if (i < 1 || i > s->n || j < 0 || j > s->n || i == j)
@@ -82,7 +81,7 @@ int vi_sim_add_spring(vi_sim *s, int type, int i, int j, double k, double gap)
     return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the exact method has no "
                    "closed form for a nonlinear spring: choose adams, bdf, "
                    "erk or auto first");
-  int st = ensure_buffers(s);
+  st = ensure_buffers(s);
   if (st) return st;
   struct vi_spring *sp =
       realloc(s->springs, sizeof *sp * ((size_t)s->nsprings + 1));

@@ -603,10 +603,6 @@ static double hd_report(const vi_sim *s, const vi_held *H, const double *f)
  * psi_kj q_j'. */
 static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
 {
-  static const double gx[4] = {0.1834346424956498, 0.5255324099163290,
-                               0.7966664774136267, 0.9602898564975363};
-  static const double gw[4] = {0.3626837833783620, 0.3137066458778873,
-                               0.2223810344533745, 0.1012285362903763};
   if (!(b > a)) return;
   const vi_cmodes *c = H->cm;
   double lam[VI_CONTACT_MAX];
@@ -618,7 +614,7 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
     double pb = k + 1 == np ? b : a + (b - a) * (double)(k + 1) / (double)np;
     double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
     for (int i = 0; i < 8; i++) {
-      double t = mid + (i < 4 ? -gx[i] : gx[i - 4]) * h, wgt = gw[i % 4] * h;
+      double wgt, t = vi_gl8_node(i, mid, h, &wgt);
       /* one cos/sin per node: the modes, the reactions and the ledger's
        * forcing all take this phase (an unforced model's harmonic terms
        * vanish whatever it is) */

@@ -301,9 +301,9 @@ int vi_sim_enable_ledger(vi_sim *s, int on)
   VI_SIM_IDLE(s);
   if (on != 0 && on != 1)
     return vi_fail(s->errmsg, VI_ERR_ARG, "ledger switch %d is not 0 or 1", on);
-  if (on && !s->m->ops->modal)
-    return vi_fail(s->errmsg, VI_ERR_UNSUPPORTED, "the energy ledger needs "
-                   "the modes, which a band-storage model does not have");
+  int st = on ? vi_model_need_modes(s->m, s->errmsg, "the energy ledger needs")
+               : VI_OK;
+  if (st) return st;
   vi_ledger_destroy(s->led);
   s->led = NULL;
   if (on) {

@@ -12,8 +12,8 @@
 
 #include <gsl/gsl_roots.h>
 
-#include "vi_internal.h"
 #include "vi_ledger_internal.h"
+#include "vi_model_internal.h"
 #include "vi_storage.h"
 
 /* What a backend step ended on.  HANDOVER: the backend cannot go on

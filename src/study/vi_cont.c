@@ -13,7 +13,7 @@
 #include "vibroimpact/vi_cont.h"
 #include "vibroimpact/vi_cont_curve.h"
 #include "vibroimpact/vi_param.h"
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 #include "vi_orbit_internal.h"
 
 #define MAXEV 16

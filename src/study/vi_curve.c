@@ -16,7 +16,7 @@
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_param.h"
 #include "vi_orbit_internal.h"
-#include "vi_internal.h"
+#include "vi_model_internal.h"
 
 #define MAXSP 16
 /* the test functions watched along a curve */

@@ -48,7 +48,7 @@ int vi_identify_create(const vi_model *base, int np, vi_identify **out)
   if (!base) return VI_ERR_ARG;
   if (np < 1 || np > MAXP) return VI_ERR_DIM;
   if (!base->frozen || base->ns < 1) return VI_ERR_STATE;
-  if (!base->ops->modal || !vi_xflow_available(base))
+  if (!vi_model_has_modes(base) || !vi_xflow_available(base))
     return VI_ERR_UNSUPPORTED;
   if (!(base->omega_f > 0.0)) return VI_ERR_FREQUENCY;
   vi_identify *id = calloc(1, sizeof *id);

@@ -41,7 +41,7 @@ int vi_id_make_model(vi_identify *id, const double *p, vi_model **out)
     return st ? st : VI_ERR_CALLBACK;
   }
   const vi_model *m = *out;
-  if (!m->frozen || m->n != id->N || m->ns != id->base->ns || !m->ops->modal ||
+  if (!m->frozen || m->n != id->N || m->ns != id->base->ns || !vi_model_has_modes(m) ||
       !(m->omega_f > 0.0)) {
     vi_model_destroy(out);
     return vi_fail(id->errmsg, VI_ERR_CALLBACK,

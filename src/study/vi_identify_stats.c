@@ -11,6 +11,7 @@
 #include <lapacke.h>
 
 #include "vi_identify_internal.h"
+#include "vi_impact_internal.h"
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -271,7 +272,7 @@ void vi_id_energy_route(vi_identify *id)
   free(e);
   if (cnt == 0) return;
   id->vN = sum / cnt;
-  id->KE = 0.5 * id->vN * id->vN / m->G[0];
+  id->KE = vi_impact_ke(id->vN, m->G[0]);
   /* the modal ledger of one period, from the orbit's state at t = 0 */
   double *z = malloc(sizeof(double) * 4 * N);
   vi_orbit *ob = NULL;
@@ -288,11 +289,10 @@ void vi_id_energy_route(vi_identify *id)
   free(z);
   if (isnan(RE)) {
     /* an orbit the transient cannot hold (unstable): its ledger over one
-     * period still closes, RE = IE = 1/2 vN^2 (1 - r^2) / G (WB 10, 11) */
-    double r = m->rv[0];
-    RE = 0.5 * vNm * vNm * (1.0 - r * r) / m->G[0];
+     * period still closes, RE = IE (WB 10, 11) */
+    RE = vi_impact_ie(m->rv[0], vNm, m->G[0]);
   }
   id->RE = RE;
-  if (RE >= 0.0 && RE <= id->KE) id->r12 = sqrt(1.0 - RE / id->KE);
+  vi_restitution_from_energy(RE, id->KE, &id->r12); /* WB 13; else NaN */
 }
 

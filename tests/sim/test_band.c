@@ -497,6 +497,14 @@ static void memory_exact(void **state)
   }
 }
 
+static int no_force(double t, int n, const double *x, const double *v,
+                    double *g, void *user)
+{
+  (void)t, (void)x, (void)v, (void)user;
+  for (int i = 0; i < n; i++) g[i] = 0.0;
+  return 0;
+}
+
 /* What needs the modes says so; the dense getters return NULL. */
 static void refusals(void **state)
 {
@@ -526,9 +534,37 @@ static void refusals(void **state)
   assert_non_null(strstr(vi_sim_errmsg(s), "band"));
   assert_int_equal(vi_sim_add_spring(s, VI_SPRING_CUBIC, 1, 0, 1.0, 0.0),
                    VI_ERR_UNSUPPORTED);
+  assert_string_equal(vi_sim_errmsg(s), "forces need the modes, which a "
+                                        "band-storage model does not have");
+  assert_int_equal(vi_sim_set_force(s, no_force, NULL, NULL, NULL),
+                   VI_ERR_UNSUPPORTED);
   assert_int_equal(vi_sim_set_method(s, VI_METHOD_AUTO), VI_OK);
   assert_int_equal(vi_sim_method_used(s), VI_METHOD_ADAMS);
   vi_sim_destroy(&s);
+  /* every other door that needs the modes: one test decides them all
+   * (vi_model_has_modes, src/model/vi_storage.h) */
+  vi_census *c = NULL;
+  assert_int_equal(vi_census_create(m, 1, 1, &c), VI_ERR_UNSUPPORTED);
+  assert_null(c);
+  double t1[2] = {0}, x1[20] = {0}, v1[20] = {0};
+  int iters = 0, found = 0, mode1 = 1;
+  assert_int_equal(vi_orbit_pnm_solve(m, 1, 1, t1, x1, v1, 10, 1e-10, &iters),
+                   VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 8, t1, x1, v1, 10, 2, &found),
+                   VI_ERR_UNSUPPORTED);
+  vi_model *red = NULL;
+  assert_int_equal(vi_model_create_reduced(m, &mode1, 1, 0.7, &red),
+                   VI_ERR_UNSUPPORTED);
+  assert_int_equal(vi_model_create_truncated(m, 2, 0, 0.7, NULL, NULL, NULL,
+                                             &red),
+                   VI_ERR_UNSUPPORTED);
+  assert_null(red);
+  double dyn = 0.0, stat = 0.0;
+  assert_int_equal(vi_model_modal_compliance(m, 0, 2, &dyn, &stat),
+                   VI_ERR_UNSUPPORTED);
+  vi_identify *id = NULL;
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_ERR_UNSUPPORTED);
+  assert_null(id);
   vi_model_destroy(&m);
 
   /* a dense matrix with an entry outside the band is refused, naming it */
