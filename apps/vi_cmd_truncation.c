@@ -298,7 +298,7 @@ static int study_reference_runs(study *S)
   note_reference(S);
   vi_truncation_set_cancel(S->tr, vi_app_cancel, NULL, NULL);
   if (S->o->progress) vi_truncation_set_monitor(S->tr, on_period, NULL, NULL);
-  vi_app_set_polling(0); /* a signal ends the process at once */
+  vi_app_set_polling(1); /* the study polls a signal (vi_app_cancel) */
   int st = vi_truncation_iterate(S->tr);
   if (S->o->progress) fputc('\n', stderr);
   if (st == VI_CANCELLED || st == VI_STOPPED) return vi_app_interrupt_status();
@@ -394,8 +394,7 @@ static void text_row(const study *S, const double *w)
  * study polls it); 1 after an error. */
 static int study_rows(study *S)
 {
-  double w[VI_TRUNCATION_COLUMNS];
-  vi_app_set_polling(1); /* a signal ends the rows, not the process */
+  double w[VI_TRUNCATION_COLUMNS]; /* a signal ends the rows */
   for (int k = S->lo; !vi_truncation_done(S->tr); k++) {
     int st = vi_truncation_iterate(S->tr);
     if (st == VI_CANCELLED) break;

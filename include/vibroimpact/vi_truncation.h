@@ -130,9 +130,9 @@ VI_API int vi_truncation_set_initial(vi_truncation *tr, double t0,
 VI_API int vi_truncation_set_monitor(vi_truncation *tr, vi_monitor_fn fn,
                                      void *user, vi_destroy_fn destroy);
 /** Cancellation (fn NULL: none): polled at the start of each
- *  vi_truncation_iterate, once per forcing period of every orbit search
- *  and at every step of the first-impact runs (vi_sim_set_cancel, also in
- *  a held phase).  A cancelled step returns VI_CANCELLED and leaves the
+ *  vi_truncation_iterate and at every step of the orbit searches'
+ *  simulations (vi_orbit_set_cancel) and of the first-impact runs
+ *  (vi_sim_set_cancel, also in a held phase).  A cancelled step returns VI_CANCELLED and leaves the
  *  study where it was (iterating again redoes that step).  user is
  *  handed over as vi_truncation_set_monitor does.
  *  @return VI_OK, VI_ERR_ARG. */

@@ -235,31 +235,27 @@ static int interrupted(const vi_truncation *tr)
   return tr->cancelled || tr->stopped;
 }
 
-/* What an orbit search's monitor is handed: the study and whether the
- * caller's monitor watches this search (the reference's). */
-typedef struct watch {
-  vi_truncation *tr;
-  int user;
-} watch;
-
 static int on_period(const vi_progress *p, void *user)
 {
-  watch *w = user;
-  if (w->user && w->tr->mon && w->tr->mon(p, w->tr->mon_user))
-    w->tr->stopped = 1;
-  return w->tr->stopped || poll_cancel(w->tr);
+  vi_truncation *tr = user;
+  if (tr->mon(p, tr->mon_user)) tr->stopped = 1;
+  return tr->stopped;
 }
 
+static int sim_cancel(void *user) { return poll_cancel(user); }
+
+/* The orbit search on m; the caller's monitor watches the reference's
+ * (user_monitor), the cancellation every one at every step. */
 static void find_orbit(vi_truncation *tr, const vi_model *m, response *r,
                        vi_orbit **keep, int user_monitor)
 {
   vi_orbit *o = NULL;
-  watch w = {tr, user_monitor};
-  int watched = tr->cancel || (user_monitor && tr->mon);
+  int watched = user_monitor && tr->mon;
   memset(r, 0, sizeof *r);
   r->vN = r->phase = NAN;
   if (!vi_orbit_create(m, &o) && !vi_orbit_set_initial(o, NULL, NULL) &&
-      (!watched || !vi_orbit_set_monitor(o, on_period, &w, NULL)) &&
+      (!watched || !vi_orbit_set_monitor(o, on_period, tr, NULL)) &&
+      (!tr->cancel || !vi_orbit_set_cancel(o, sim_cancel, tr, NULL)) &&
       !vi_orbit_find(o) && !interrupted(tr)) {
     r->ok = 1;
     vi_orbit_classify(o, &r->pn, &r->pm);
@@ -283,8 +279,6 @@ static int on_first(const vi_event *ev, void *user)
   f->vn[f->n++] = ev->vn;
   return f->n >= NHIT; /* nonzero: stop */
 }
-
-static int sim_cancel(void *user) { return poll_cancel(user); }
 
 /* The first impacts of m from z [2 n] at t0 (the exact method where it
  * applies): before the first contact the structure answers the forcing,
