@@ -143,7 +143,7 @@ static int study_write(study *S, int complete)
   if (u.p) {
     vi_diag d;
     vi_truncation_table(S->tr, rows, n > 1 ? n : 1, &n);
-    vi_truncation_info(S->tr, S->info);
+    vi_truncation_summary(S->tr, S->info);
     S->info[VI_TRUNCATION_INFO - 1] = complete;
     st = u.f(S->o->out_target, vi_scene_name(S->sc), vi_scene_text(S->sc),
              S->info, S->ref, n, rows, n > 1 ? n : 1, &d);
@@ -307,7 +307,7 @@ static int study_reference_runs(study *S)
     return 1;
   }
   vi_truncation_row(S->tr, 0, S->ref);
-  vi_truncation_info(S->tr, S->info);
+  vi_truncation_summary(S->tr, S->info);
   S->forced = vi_model_omega_forcing(vi_truncation_model(S->tr)) > 0;
   S->p11 = S->ref[C_RESP] == 1 && S->ref[C_RESP + 1] == 1;
   return 0;

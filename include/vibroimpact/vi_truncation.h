@@ -74,7 +74,7 @@ extern "C" {
 #endif
 
 /** Sizes of a study's row and information (vi_truncation_row,
- *  vi_truncation_info, vi_truncation_write_h5). */
+ *  vi_truncation_summary, vi_truncation_write_h5). */
 enum vi_truncation_size {
   VI_TRUNCATION_COLUMNS = 47, /**< numbers in a row (the layout above) */
   VI_TRUNCATION_INFO = 8      /**< dofs, modes_lo, modes_hi,
@@ -158,9 +158,10 @@ VI_API int vi_truncation_row(const vi_truncation *tr, int k, double *row);
  *  VI_ERR_ARG. */
 VI_API int vi_truncation_table(const vi_truncation *tr, double *rows,
                                int ldrows, int *nrows);
-/** The study's information into info [VI_TRUNCATION_INFO] (the enum's
- *  order).  @return VI_OK, VI_ERR_ARG. */
-VI_API int vi_truncation_info(const vi_truncation *tr, double *info);
+/** The study's summary into info [VI_TRUNCATION_INFO] (the enum's
+ *  order; a function named vi_truncation_info would clash with the
+ *  constant in Fortran).  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_truncation_summary(const vi_truncation *tr, double *info);
 /** The reference model (a view owned by the study; in the reference's
  *  modal coordinates); NULL for NULL. */
 VI_API const vi_model *vi_truncation_model(const vi_truncation *tr);

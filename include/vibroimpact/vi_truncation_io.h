@@ -5,7 +5,7 @@
  * The study is passed as caller-owned column-major tables: one row per
  * kept-mode count k, VI_TRUNCATION_COLUMNS columns in the layout of
  * vi_truncation.h (vi_truncation_row, vi_truncation_table give them);
- * info[VI_TRUNCATION_INFO] as vi_truncation_info gives it.  Missing values
+ * info[VI_TRUNCATION_INFO] as vi_truncation_summary gives it.  Missing values
  * are NaN. */
 #ifndef VI_TRUNCATION_IO_H
 #define VI_TRUNCATION_IO_H

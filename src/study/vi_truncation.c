@@ -487,7 +487,7 @@ int vi_truncation_table(const vi_truncation *tr, double *rows, int ldrows,
   return VI_OK;
 }
 
-int vi_truncation_info(const vi_truncation *tr, double *info)
+int vi_truncation_summary(const vi_truncation *tr, double *info)
 {
   if (!tr || !info) return VI_ERR_ARG;
   info[0] = tr->dofs;
