@@ -115,7 +115,7 @@ static vi_model *sym3(void)
 static void check_sym3(const double *info, const double *ref,
                        const double *rows)
 {
-  const double *r1 = rows, *r2 = rows + NC, *r3 = rows + 2 * NC;
+  const double *r1 = rows, *r2 = rows + NC, *r3 = rows + (size_t)2 * NC;
   assert_close(info[5], 1.0, 1e-12);
   assert_close(info[6], 0.5, 1e-12);
   assert_close(r1[C_OMEGA], 1.0, 1e-12);
@@ -140,7 +140,7 @@ static void check_sym3(const double *info, const double *ref,
   assert_close(r2[C_RS], r1[C_RS], 1e-9);
   /* the 1- and 2-mode models with the static vector are the structure */
   for (int i = 0; i < 2; i++) {
-    const double *r = rows + i * NC;
+    const double *r = rows + (size_t)i * NC;
     assert_true(r[C_SC] == 1);
     assert_close(r[C_SC_FD], 1.0, 1e-12);
     assert_true(r[C_SC_CLASS_N] == ref[C_CLASS_N]);
@@ -244,7 +244,7 @@ static void test_cancel_resumes(void **state)
   (void)state;
   vi_model *m = vi_test_fig2();
   vi_truncation *tr = NULL, *whole = NULL;
-  double ref[NC], rows[2 * NC], row[NC], x0[2] = {0, 0};
+  double ref[NC], rows[2 * NC] = {0}, row[NC] = {0}, x0[2] = {0, 0};
   assert_int_equal(vi_truncation_create(m, &whole), VI_OK);
   assert_int_equal(vi_truncation_set_initial(whole, 0, 60, x0, x0), VI_OK);
   run_study(whole, 1, 2, ref, rows);
@@ -260,8 +260,8 @@ static void test_cancel_resumes(void **state)
   assert_int_equal(vi_truncation_row(tr, 1, row), VI_ERR_STATE);
   assert_int_equal(vi_truncation_iterate(tr), VI_OK); /* n < 0: never again */
   assert_int_equal(vi_truncation_row(tr, 1, row), VI_OK);
-  for (int c = 0; c < NC; c++)
-    assert_true(memcmp(&row[c], &rows[c], sizeof(double)) == 0);
+  for (int c = 0; c < NC; c++) /* the same numbers, NaN where NaN */
+    assert_true(row[c] == rows[c] || (isnan(row[c]) && isnan(rows[c])));
   vi_truncation_destroy(&tr);
   vi_truncation_destroy(&whole);
   vi_model_destroy(&m);
