@@ -1,6 +1,7 @@
 /* vi_diagram.c - brute-force bifurcation diagrams: the sweep itself (warm
  * start, stroboscopic sampling, impact map, P(n, m) classification) and
- * its JSON form.  The HDF5 form is in vi_diagram_h5.c. */
+ * its JSON form.  The HDF5 form: vi_diagram_file.c flattens a diagram for
+ * the writer in src/io/vi_diagram_h5.c. */
 #include <math.h>
 #include <pthread.h>
 #include <stdarg.h>

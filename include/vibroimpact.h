@@ -41,6 +41,7 @@
 #include "vibroimpact/vi_study.h"
 #include "vibroimpact/vi_cont.h"
 #include "vibroimpact/vi_cont_curve.h"
+#include "vibroimpact/vi_truncation.h"
 #include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_identify.h"
 

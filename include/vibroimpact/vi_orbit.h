@@ -62,6 +62,14 @@ VI_API int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol);
 VI_API int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user,
                                 vi_destroy_fn destroy);
 
+/** Cancellation of the orbit's simulations (fn NULL: none), polled at
+ *  every step as vi_sim_set_cancel: a long transient (a reference of
+ *  many stiff modes) stops within a step; vi_orbit_find then fails
+ *  (VI_CANCELLED from the transient) and the orbit is not to be used.  user is handed over as
+ *  vi_orbit_set_monitor does.  @return VI_OK, VI_ERR_ARG. */
+VI_API int vi_orbit_set_cancel(vi_orbit *o, vi_cancel_fn fn, void *user,
+                               vi_destroy_fn destroy);
+
 /** Direct search (default on): when the transient does not settle on a
  *  P(1,1) orbit and the model has the closed-form flow, look for one with
  *  vi_orbit_p1_scan and analyse the most stable admissible one found, if

@@ -61,6 +61,7 @@ int main(int argc, char **argv)
   K_(VI_CSC_FULL); K_(VI_CSC_LOWER);
   K_(VI_FE_MASS); K_(VI_FE_DAMPING); K_(VI_FE_STIFFNESS);
   K_(VI_FE_MODES_WHOLE); K_(VI_FE_MODES_GIVEN); K_(VI_FE_MODES_HOST);
+  K_(VI_TRUNCATION_COLUMNS); K_(VI_TRUNCATION_INFO);
   /* Fortran is case-insensitive: VI_VERSION_NUMBER would clash with the
    * function vi_version_number */
   constant(f, "VI_HEADER_VERSION", VI_VERSION_NUMBER);
@@ -86,7 +87,6 @@ int main(int argc, char **argv)
   K_(VI_MM_MAX_LINE);
   K_(VI_OUTPUT_REGULAR); K_(VI_OUTPUT_STREAM);
   K_(VI_OUTPUT_FILE); K_(VI_OUTPUT_DEVICE); K_(VI_OUTPUT_STDOUT);
-  K_(VI_TRUNCATION_COLUMNS); K_(VI_TRUNCATION_INFO);
 #undef K_
   return fclose(f) != 0;
 }

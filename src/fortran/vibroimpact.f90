@@ -89,6 +89,11 @@ module vibroimpact
             vi_cont_curve_set_orbit, vi_cont_curve_locate, vi_cont_curve_set_range, &
             vi_cont_curve_iterate, vi_cont_curve_done, vi_cont_curve_point, &
             vi_cont_curve_num_special, vi_cont_curve_special
+  public :: vi_truncation_create, vi_truncation_create_fe, vi_truncation_destroy, &
+            vi_truncation_errmsg, vi_truncation_set_modes, vi_truncation_set_initial, &
+            vi_truncation_set_monitor, vi_truncation_set_cancel, vi_truncation_iterate, &
+            vi_truncation_done, vi_truncation_row, vi_truncation_table, &
+            vi_truncation_summary, vi_truncation_model
   public :: vi_census_create, vi_census_destroy, vi_census_errmsg, vi_census_set_phases, &
             vi_census_set_initial, vi_census_set_sim_hook, vi_census_set_monitor, &
             vi_census_set_cancel, vi_census_run, vi_census_count, vi_census_orbit, &
@@ -142,7 +147,7 @@ module vibroimpact
             vi_orbit_set_tolerances, vi_orbit_find, vi_orbit_classify, &
             vi_orbit_balance, vi_orbit_modal_balance, vi_orbit_reduced_restitution, &
             vi_orbit_set_initial, vi_orbit_set_transient, vi_orbit_set_monitor, &
-            vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
+            vi_orbit_set_cancel, vi_orbit_impact_state, vi_orbit_multipliers, vi_orbit_min_gap
   public :: vi_orbit_set_direct_search, vi_orbit_search_info, vi_orbit_pnm_solve, &
             vi_orbit_pnm_multipliers, vi_orbit_pnm_admissible, vi_orbit_p1_scan, &
             vi_orbit_p1_scan_polled, &
@@ -787,6 +792,13 @@ module vibroimpact
     end function
     !> fn as for vi_sim_set_monitor
     integer(c_int) function vi_orbit_set_monitor(orbit, fn, user, destroy) bind(C, name="vi_orbit_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: orbit, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> fn: integer(c_int) function f(user) bind(C), user by value
+    integer(c_int) function vi_orbit_set_cancel(orbit, fn, user, destroy) &
+        bind(C, name="vi_orbit_set_cancel")
       import :: c_int, c_ptr, c_funptr
       type(c_ptr), value :: orbit, user
       type(c_funptr), value :: fn, destroy
@@ -1513,6 +1525,86 @@ module vibroimpact
       integer(c_int), value :: i
       integer(c_int), intent(out), optional :: type, admissible
       real(c_double), intent(out), optional :: param, vn, re, im
+    end function
+    ! ---- truncation study (vi_truncation.h); a row is
+    ! ---- row(VI_TRUNCATION_COLUMNS), its k = 0 the reference
+    integer(c_int) function vi_truncation_create(model, out) bind(C, name="vi_truncation_create")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: model
+      type(c_ptr), intent(out) :: out
+    end function
+    integer(c_int) function vi_truncation_create_fe(fe, out) bind(C, name="vi_truncation_create_fe")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: fe
+      type(c_ptr), intent(out) :: out
+    end function
+    subroutine vi_truncation_destroy(tr) bind(C, name="vi_truncation_destroy")
+      import :: c_ptr
+      type(c_ptr) :: tr
+    end subroutine
+    !> a C string (vi_string converts it)
+    type(c_ptr) function vi_truncation_errmsg(tr) bind(C, name="vi_truncation_errmsg")
+      import :: c_ptr
+      type(c_ptr), value :: tr
+    end function
+    integer(c_int) function vi_truncation_set_modes(tr, lo, hi) bind(C, name="vi_truncation_set_modes")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: tr
+      integer(c_int), value :: lo, hi
+    end function
+    integer(c_int) function vi_truncation_set_initial(tr, t0, t_end, x, v) &
+        bind(C, name="vi_truncation_set_initial")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: tr
+      real(c_double), value :: t0, t_end
+      real(c_double), intent(in), optional :: x(*), v(*)  ! absent: 0
+    end function
+    !> fn as for vi_sim_set_monitor
+    integer(c_int) function vi_truncation_set_monitor(tr, fn, user, destroy) &
+        bind(C, name="vi_truncation_set_monitor")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: tr, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    !> fn: integer(c_int) function f(user) bind(C), user by value
+    integer(c_int) function vi_truncation_set_cancel(tr, fn, user, destroy) &
+        bind(C, name="vi_truncation_set_cancel")
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: tr, user
+      type(c_funptr), value :: fn, destroy
+    end function
+    integer(c_int) function vi_truncation_iterate(tr) bind(C, name="vi_truncation_iterate")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: tr
+    end function
+    integer(c_int) function vi_truncation_done(tr) bind(C, name="vi_truncation_done")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: tr
+    end function
+    integer(c_int) function vi_truncation_row(tr, k, row) bind(C, name="vi_truncation_row")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: tr
+      integer(c_int), value :: k
+      real(c_double), intent(out) :: row(*)
+    end function
+    !> rows(ldrows, VI_TRUNCATION_COLUMNS); rows absent: only nrows
+    integer(c_int) function vi_truncation_table(tr, rows, ldrows, nrows) &
+        bind(C, name="vi_truncation_table")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: tr
+      real(c_double), intent(out), optional :: rows(*)
+      integer(c_int), value :: ldrows
+      integer(c_int), intent(out) :: nrows
+    end function
+    integer(c_int) function vi_truncation_summary(tr, info) bind(C, name="vi_truncation_summary")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: tr
+      real(c_double), intent(out) :: info(*)
+    end function
+    !> the reference model: a view owned by the study
+    type(c_ptr) function vi_truncation_model(tr) bind(C, name="vi_truncation_model")
+      import :: c_ptr
+      type(c_ptr), value :: tr
     end function
     ! ---- two-parameter curves (vi_cont_curve.h)
     integer(c_int) function vi_cont_refine(model, key, n, kind, p, t, x, v) &

@@ -13,7 +13,10 @@
 ! Conventions as in module vibroimpact; strings into C end with c_null_char.
 module vibroimpact_io
   use, intrinsic :: iso_c_binding
-  use vibroimpact, only: vi_event, vi_ledger_interval
+  ! the truncation table's sizes, declared with the study (vi_truncation.h)
+  ! and still reachable from this module, as before
+  use vibroimpact, only: vi_event, vi_ledger_interval, VI_TRUNCATION_COLUMNS, &
+                         VI_TRUNCATION_INFO
   implicit none
   private
 
@@ -45,7 +48,7 @@ module vibroimpact_io
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
             vi_scene_edit_text, vi_scene_edit_parse
   public :: vi_identify_write_h5
-  public :: vi_truncation_write_h5
+  public :: vi_truncation_write_h5, VI_TRUNCATION_COLUMNS, VI_TRUNCATION_INFO
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
             vi_writer_sample, vi_writer_ledger, vi_writer_orbit, vi_writer_rows, &
             vi_writer_close, vi_writer_abort, vi_writer_errmsg, &

@@ -144,6 +144,14 @@ int vi_orbit_set_monitor(vi_orbit *o, vi_monitor_fn fn, void *user,
   return st ? vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim)) : VI_OK;
 }
 
+int vi_orbit_set_cancel(vi_orbit *o, vi_cancel_fn fn, void *user,
+                        vi_destroy_fn destroy)
+{
+  if (!o) return VI_ERR_ARG;
+  int st = vi_sim_set_cancel(o->sim, fn, user, destroy);
+  return st ? vi_fail(o->errmsg, st, "%s", vi_sim_errmsg(o->sim)) : VI_OK;
+}
+
 int vi_orbit_set_transient(vi_orbit *o, double max_periods, double tol)
 {
   if (!o) return VI_ERR_ARG;

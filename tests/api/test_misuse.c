@@ -12,6 +12,7 @@
 #include "vibroimpact/vi_builders.h"
 #include "vibroimpact/vi_census.h"
 #include "vibroimpact/vi_orbit.h"
+#include "vibroimpact/vi_truncation.h"
 #include "vibroimpact/vi_version.h"
 
 /* an error code, and the handle's message says something */
@@ -1292,6 +1293,114 @@ static void test_truncated_misuse(void **state)
   vi_model_destroy(&f);
 }
 
+static int trunc_yes(void *user)
+{
+  (void)user;
+  return 1;
+}
+
+static int trunc_stop_mon(const vi_progress *p, void *user)
+{
+  (void)p, (void)user;
+  return 1;
+}
+
+/* The truncation study (vi_truncation.h): NULL handles and outputs, bad
+ * ranges and states, calls out of order, a model not set up or in band
+ * storage, an FE reduction not set up, a cancel and a monitor that stop. */
+static void test_truncation_misuse(void **state)
+{
+  (void)state;
+  vi_model *f = vi_test_fig2(), *raw = NULL;
+  vi_truncation *tr = NULL;
+  vi_fe *fe = NULL;
+  double row[VI_TRUNCATION_COLUMNS], info[VI_TRUNCATION_INFO], x[2] = {0, 0};
+  double tab[2 * VI_TRUNCATION_COLUMNS];
+  int n = -1;
+  assert_err(vi_truncation_create(NULL, &tr));
+  assert_err(vi_truncation_create(f, NULL));
+  assert_err(vi_truncation_create_fe(NULL, &tr));
+  assert_err(vi_truncation_create_fe((const vi_fe *)NULL, NULL));
+  assert_int_equal(vi_model_create(2, &raw), VI_OK);
+  assert_int_equal(vi_truncation_create(raw, &tr), VI_ERR_STATE);
+  vi_model_destroy(&raw);
+  double mass[2] = {1, 1}, k[2] = {1, 1}, w[2] = {0, 1}, a[2] = {0.5, 0};
+  assert_int_equal(vi_model_create_chain(2, mass, k, NULL, &raw), VI_OK);
+  assert_int_equal(vi_model_set_forcing(raw, 0.9, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_set_stop(raw, w, 0.1, 0.7), VI_OK);
+  assert_int_equal(vi_model_setup(raw), VI_OK);
+  assert_int_equal(vi_truncation_create(raw, &tr), VI_ERR_UNSUPPORTED); /* band */
+  assert_null(tr);
+  vi_model_destroy(&raw);
+  assert_int_equal(vi_fe_create(4, &fe), VI_OK);
+  assert_err(vi_truncation_create_fe(fe, &tr)); /* not set up */
+  assert_null(tr);
+  vi_fe_destroy(&fe);
+  /* NULL handles */
+  assert_string_equal(vi_truncation_errmsg(NULL), "");
+  assert_err(vi_truncation_set_modes(NULL, 1, 1));
+  assert_err(vi_truncation_set_initial(NULL, 0, 1, NULL, NULL));
+  assert_err(vi_truncation_set_monitor(NULL, NULL, NULL, NULL));
+  assert_err(vi_truncation_set_cancel(NULL, NULL, NULL, NULL));
+  assert_err(vi_truncation_iterate(NULL));
+  assert_int_equal(vi_truncation_done(NULL), 0);
+  assert_err(vi_truncation_row(NULL, 0, row));
+  assert_err(vi_truncation_table(NULL, NULL, 0, &n));
+  assert_err(vi_truncation_summary(NULL, info));
+  assert_null(vi_truncation_model(NULL));
+  vi_truncation_destroy(NULL);
+  /* bad values on a study of Fig. 2 */
+  assert_int_equal(vi_truncation_create(f, &tr), VI_OK);
+  assert_non_null(vi_truncation_model(tr));
+  assert_err_msg(vi_truncation_set_modes(tr, 0, 1), vi_truncation_errmsg(tr));
+  assert_err(vi_truncation_set_modes(tr, 2, 1));
+  assert_err(vi_truncation_set_modes(tr, 1, 3)); /* two modes */
+  assert_int_equal(vi_truncation_set_initial(tr, NAN, 1, NULL, NULL), VI_ERR_NONFINITE);
+  assert_int_equal(vi_truncation_set_initial(tr, 1, 1, NULL, NULL), VI_ERR_TIME);
+  x[1] = INFINITY;
+  assert_int_equal(vi_truncation_set_initial(tr, 0, 1, x, NULL), VI_ERR_NONFINITE);
+  x[1] = 0;
+  assert_err(vi_truncation_row(tr, 0, NULL));
+  assert_err(vi_truncation_row(tr, 3, row));
+  assert_int_equal(vi_truncation_row(tr, 0, row), VI_ERR_STATE); /* no reference yet */
+  assert_int_equal(vi_truncation_row(tr, 1, row), VI_ERR_STATE);
+  assert_err(vi_truncation_table(tr, NULL, 0, NULL));
+  assert_err(vi_truncation_summary(tr, NULL));
+  /* a cancel before anything: nothing done, the study not begun */
+  assert_int_equal(vi_truncation_set_cancel(tr, trunc_yes, NULL, NULL), VI_OK);
+  assert_int_equal(vi_truncation_iterate(tr), VI_CANCELLED);
+  assert_int_equal(vi_truncation_set_cancel(tr, NULL, NULL, NULL), VI_OK);
+  /* a monitor that stops the reference's orbit search */
+  assert_int_equal(vi_truncation_set_monitor(tr, trunc_stop_mon, NULL, NULL), VI_OK);
+  assert_int_equal(vi_truncation_iterate(tr), VI_STOPPED);
+  assert_int_equal(vi_truncation_row(tr, 0, row), VI_ERR_STATE);
+  assert_int_equal(vi_truncation_set_monitor(tr, NULL, NULL, NULL), VI_OK);
+  /* begun: the settings are refused */
+  assert_int_equal(vi_truncation_set_modes(tr, 1, 1), VI_ERR_STATE);
+  assert_int_equal(vi_truncation_set_initial(tr, 0, 1, x, x), VI_ERR_STATE);
+  /* the whole study, then one step too many */
+  while (!vi_truncation_done(tr)) assert_int_equal(vi_truncation_iterate(tr), VI_OK);
+  assert_err_msg(vi_truncation_iterate(tr), vi_truncation_errmsg(tr));
+  assert_int_equal(vi_truncation_table(tr, NULL, 0, &n), VI_OK);
+  assert_int_equal(n, 2);
+  assert_err(vi_truncation_table(tr, tab, 1, &n)); /* ldrows < nrows */
+  assert_int_equal(vi_truncation_table(tr, tab, 2, &n), VI_OK);
+  assert_int_equal(vi_truncation_row(tr, 2, row), VI_OK);
+  assert_true(row[0] == 2 && tab[1] == 2);
+  assert_int_equal(vi_truncation_summary(tr, info), VI_OK);
+  assert_true(info[VI_TRUNCATION_INFO - 1] == 1);
+  vi_truncation_destroy(&tr);
+  vi_truncation_destroy(&tr); /* NULL-safe */
+  /* an orbit search cancelled within its transient */
+  vi_orbit *o = NULL;
+  assert_err(vi_orbit_set_cancel(NULL, NULL, NULL, NULL));
+  assert_int_equal(vi_orbit_create(f, &o), VI_OK);
+  assert_int_equal(vi_orbit_set_cancel(o, trunc_yes, NULL, NULL), VI_OK);
+  assert_int_equal(vi_orbit_find(o), VI_CANCELLED);
+  vi_orbit_destroy(&o);
+  vi_model_destroy(&f);
+}
+
 static int census_stop(const vi_census *c, int index, void *user)
 {
   (void)c, (void)index, (void)user;
@@ -1642,6 +1751,7 @@ int main(void)
       cmocka_unit_test(test_sweep_misuse),
       cmocka_unit_test(test_census_misuse),
       cmocka_unit_test(test_truncated_misuse),
+      cmocka_unit_test(test_truncation_misuse),
       cmocka_unit_test(test_cont_misuse),
       cmocka_unit_test(test_curve_misuse),
       cmocka_unit_test(test_identify_misuse),
