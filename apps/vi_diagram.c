@@ -328,7 +328,15 @@ static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
     d = dk;
   }
   int omega = !st && !strcmp(pkey, "forcing.omega");
-  if (st) diag_msg(&d, st, err, len);
+  if (st && !kst && strcmp(d.key, key) && vi_param_kind(key) != VI_PARAM_UNKNOWN)
+    /* a library name the scene does not spell (damping.scale): the scene
+     * blamed its own prefix ("damping: unknown key") */
+    msg(err, len, "%s: %s is a parameter of the model (vi_param.h), not a key of "
+        "the scene, and a sweep sets the scene's keys: a uniform chain's "
+        "model.chain.m, .k, .c scale its mass, stiffness and damping; "
+        "model.rayleigh.alpha/beta and model.cantilever.zeta its damping",
+        sw->name, key);
+  else if (st) diag_msg(&d, st, err, len);
   else if (vi_param_kind(pkey) == VI_PARAM_MODEL &&
            (st = vi_model_check_param(sw->model, pkey, val)))
     msg(err, len, "%s: %s", sw->name, vi_model_errmsg(sw->model));

@@ -49,6 +49,12 @@ expect 2 "basins: --max-memory" "$app" basins --max-memory 0 --param forcing.ome
 expect 2 "sweep: --steps must be an integer" "$app" sweep --param forcing.omega \
   --from 0.8 --to 0.9 --steps 0
 
+# a library parameter the scene does not spell: named, with the scene's keys
+expect 2 "damping.scale is a parameter of the model (vi_param.h), not a key of the scene" \
+  "$app" sweep --param damping.scale --from 0.8 --to 0.9 --steps 2
+expect 2 "model.chain.m, .k, .c" "$app" sweep --param forcing.omega --from 0.8 --to 0.9 \
+  --steps 2 --param2 damping.scale --from2 1 --to2 2 --steps2 2
+
 # --help to a full device is a lost output, as for the other commands
 for cmd in sweep basins run; do
   "$app" $cmd --help > /dev/full 2> "$tmp/err"
