@@ -88,10 +88,14 @@ if [ "${3:-}" = --all ]; then
 fi
 
 # A clean file is remembered (like ccache): its key hashes the file, its
-# compile command (paths relative to the checkout), every header of the project and the build, the tools'
-# versions, .clang-tidy and this script; an unchanged file is not analysed
-# again.  Files with findings are never cached.  VI_LINT_CACHE=off turns
-# it off; VI_LINT_CACHE_DIR moves it (default ~/.cache/vibroimpact/lint).
+# compile command (paths relative to the checkout), the headers its
+# compilation read (the build's depfile: the project's by content, the
+# system's by path, size and time), the tools' versions, .clang-tidy and
+# this script; an unchanged file is not analysed again, and a changed
+# header sends back only the files that include it.  Without a depfile
+# (a generator that keeps none) every header of the project counts.  Files
+# with findings are never cached.  VI_LINT_CACHE=off turns it off;
+# VI_LINT_CACHE_DIR moves it (default ~/.cache/vibroimpact/lint).
 cache=""
 if [ "${VI_LINT_CACHE:-on}" != off ]; then
   cache=${VI_LINT_CACHE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/vibroimpact/lint}
@@ -99,10 +103,30 @@ if [ "${VI_LINT_CACHE:-on}" != off ]; then
 fi
 common=$( { clang-tidy --version; cppcheck --version
             cat "$src/.clang-tidy" "$src/tests/checks/lint_test.sh"
-            echo "$headers"
-            find "$src/src" "$src/include" "$src/apps" "$src/tests" "$src/bench" \
-                 "$src/examples" "$build/include" -name '*.h' 2>/dev/null | sort |
-              xargs cat; } | sha256sum | cut -c1-64)
+            echo "$headers"; } | sha256sum | cut -c1-64)
+all_headers=$(find "$src/src" "$src/include" "$src/apps" "$src/tests" "$src/bench" \
+                   "$src/examples" "$build/include" -name '*.h' 2>/dev/null | sort |
+                xargs cat | sha256sum | cut -c1-64)
+
+# The headers file $1's compilation read, as one digest (see above).
+header_digest() {
+  local entry dir obj dep
+  entry=$(grep -B2 "\"file\": \"$src/$1\"" "$db" | head -2)
+  dir=$(sed -n 's/.*"directory": "\(.*\)",$/\1/p' <<< "$entry")
+  obj=$(sed -n 's/.* -o \([^ ]*\) .*/\1/p' <<< "$entry")
+  dep=$dir/$obj.d
+  if [ -z "$obj" ] || [ ! -f "$dep" ]; then
+    echo "all $all_headers"
+    return
+  fi
+  local h sys=() own=()
+  while read -r h; do
+    case $h in /usr/*) sys+=("$h") ;; *) own+=("$h") ;; esac
+  done < <(sed 's/^[^:]*://; s/\\$//' "$dep" | tr ' ' '\n' | grep '\.h$' | sort -u)
+  { [ ${#sys[@]} -eq 0 ] || stat -c '%n %s %Y' "${sys[@]}"
+    [ ${#own[@]} -eq 0 ] || sha256sum "${own[@]}" | sed "s|$build|BUILD|; s|$src|SRC|"
+  } | sha256sum | cut -c1-64
+}
 
 # One file: its report into $tmp/N.out, its finding count into $tmp/N.n.
 lint_one() {
@@ -112,7 +136,7 @@ lint_one() {
     # clone elsewhere (CI's) finds what an earlier clone checked
     key=$( { echo "$common"; grep -B1 "\"file\": \"$src/$f\"" "$db" | head -1 |
                sed "s|$build|BUILD|g; s|$src|SRC|g"
-             cat "$f"; } | sha256sum | cut -c1-64)
+             header_digest "$f"; cat "$f"; } | sha256sum | cut -c1-64)
     if [ -f "$cache/$key" ]; then
       echo "ok   $f (unchanged since a clean check)" > "$tmp/$i.out"
       echo 0 > "$tmp/$i.n"
@@ -145,7 +169,8 @@ trap 'rm -rf "$tmp"' EXIT
 # a file listed twice is checked once
 mapfile -t files < <(printf '%s\n' "${files[@]}" | awk '!seen[$0]++')
 export -f lint_one
-export src build db headers tmp cache common
+export src build db headers tmp cache common all_headers
+export -f header_digest
 jobs=${VI_LINT_JOBS:-$(nproc)}
 # the largest files first (the analyser's time grows with a file's size):
 # a large file started last would leave the other cores idle at the end
