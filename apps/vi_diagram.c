@@ -294,7 +294,6 @@ void vi_diagram_free(vi_diagram **swp)
   free(sw->lines);
   free(sw->param);
   free(sw->param2);
-  free(sw->piece_cpu);
   free(sw->z0);
   free(sw->text);
   free(sw->name);
@@ -732,10 +731,7 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
     return 1;
   }
   piece *ps = make_pieces(sw, bp, cancel, &nchain);
-  sw->npieces = ntask;
-  sw->piece_cpu = calloc((size_t)ntask, sizeof(double));
-  if (!ps || !sw->piece_cpu) {
-    free(ps);
+  if (!ps) {
     if (bp) box_free(bp);
     msg(err, errlen, "out of memory");
     return 1;
@@ -763,13 +759,7 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
   for (;;) {
     int q = __atomic_fetch_add(&next, 1, __ATOMIC_RELAXED);
     if (q >= nq) break;
-    piece *p = q < nchain ? &ps[q] : &chunks[rank + (q - nchain) * size];
-    struct timespec a, b;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
-    run_piece(p);
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
-    double cpu = (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
-    if (!p->chain) sw->piece_cpu[p - chunks] += cpu;
+    run_piece(q < nchain ? &ps[q] : &chunks[rank + (q - nchain) * size]);
   }
   int code = 0; /* a failure before a cancellation */
   for (int i = 0; i < nchain + ntask; i++)

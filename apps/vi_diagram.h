@@ -91,9 +91,6 @@ typedef struct vi_diagram {
   double wall;            /* seconds spent in vi_diagram_run */
   int rank;               /* MPI rank (0 without MPI): only rank 0 holds
                              the whole diagram */
-  int npieces;            /* lines x chunks */
-  double *piece_cpu;      /* [npieces] CPU seconds of each piece (its
-                             thread's clock; this rank's pieces only) */
   struct vi_scene *sc;    /* the base scene */
   vi_model *model;        /* its model, built once: values are parameters */
   char pkey[64], pkey2[64]; /* the keys as parameters (vi_param.h) */
