@@ -37,6 +37,23 @@ if not ok:
     print("FAIL: basins --json: the failed list", bad[:2])
     sys.exit(1)
 PY
+# cells are independent: the map is the same however its lines are cut
+# (default: pieces of about 8 cells) and on however many threads, failed
+# cells included
+for split in "--chunks 10" "--chunks 1" "--chunks 3 --threads 2"; do
+  "$app" "${map[@]}" $split --json > "$tmp/json_s" 2> /dev/null
+  /usr/bin/python3 - "$tmp/json" "$tmp/json_s" "$split" <<'PY' || fail=1
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+for d in (a, b):
+    for k in ("chunks", "split", "wall", "threads"):
+        d.pop(k, None)
+if a != b:
+    print("FAIL: basins %s differs from the default split in %s" %
+          (sys.argv[3], [k for k in a if a[k] != b.get(k)]))
+    sys.exit(1)
+PY
+done
 "$app" "${map[@]}" -o "$tmp/c.h5" > /dev/null 2> "$tmp/err"
 grep -q "each marked n = -1 in $tmp/c.h5" "$tmp/err" || no "basins -o: where the cells are marked"
 
