@@ -325,7 +325,7 @@ static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *
   }
   if (!st && withg) st = gfun(c, Y, H + D);
   if (!st && withg && J) {
-    double *Yq = c->Yq, gp, gm;
+    double *Yq = c->Yq, gp = 0, gm = 0;
     memcpy(Yq, Y, sizeof(double) * (size_t)nu);
     for (int j = 0; j < nu && !st; j++) {
       double h = 1e-6 * c->S[j];

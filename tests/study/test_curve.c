@@ -166,8 +166,8 @@ static void p22_orbit(const vi_model *m, double *t, double *x, double *v)
   for (int j = 0; j < 2; j++) {
     int k = (j0 + j) % 2;
     t[j] = tt[k];
-    memcpy(x + 2 * j, xx + 2 * k, sizeof(double) * 2);
-    memcpy(v + 2 * j, vv + 2 * k, sizeof(double) * 2);
+    memcpy(x + (size_t)2 * j, xx + (size_t)2 * k, sizeof(double) * 2);
+    memcpy(v + (size_t)2 * j, vv + (size_t)2 * k, sizeof(double) * 2);
   }
   vi_census_destroy(&cs);
 }
