@@ -101,8 +101,8 @@ VI_API int vi_cont_refine(const vi_model *m, const char *key, int n, int kind,
                           double *p, double *t, double *x, double *v);
 
 /** Create a curve of points of `kind` of P(n, mi) orbits, mi 1 (n >= 1),
- *  2 to 32 (fold, pd and ns; 2 n_coords + 3 unknowns per impact, at most
- *  64 in all: VI_ERR_UNSUPPORTED beyond) or 0 (n = 1: the non-impacting
+ *  2 to 32 (fold, pd and ns; mi (2 n_coords + 1) + 2 <= 64 unknowns,
+ *  VI_ERR_UNSUPPORTED beyond) or 0 (n = 1: the non-impacting
  *  orbit, kind grazing only), of a copy of the
  *  set-up model m, in the keys key and key2 (distinct; their values in m
  *  are the start).  @return VI_OK, VI_ERR_ARG (NULL, an unknown or
@@ -130,7 +130,7 @@ VI_API int vi_cont_curve_set_orbit(vi_cont_curve *c, double t, const double *x,
 VI_API int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t,
                                      const double *x, const double *v, int ld);
 /** Follow the orbit in key from its value in the model towards `to` in
- *  `steps` >= 1 steps (P(n,1): pseudo-arclength, around folds; P(1,0): the
+ *  `steps` >= 1 steps (P(n,m): pseudo-arclength, around folds; P(1,0): the
  *  gap on a grid) and stop at the first point of the curve's kind, refined
  *  (vi_cont_refine's Newton); *param (may be NULL) receives key's value
  *  there.  @return VI_OK, VI_STOPPED (none before `to`, or the branch is
@@ -153,8 +153,9 @@ VI_API int vi_cont_curve_set_range(vi_cont_curve *c, double from2, double to2,
 VI_API int vi_cont_curve_iterate(vi_cont_curve *c);
 /** A vi_cont_curve_state: 0 while running (also for NULL). */
 VI_API int vi_cont_curve_done(const vi_cont_curve *c);
-/** The last point: key's and key2's values, and for P(n,1) the impact time,
- *  x, v [n_coords] and the largest multiplier modulus (NaN for P(1,0); t,
+/** The last point: key's and key2's values, and for P(n,m) impact 0's
+ *  time, x, v [n_coords] (all impacts: vi_cont_curve_impacts) and the
+ *  largest multiplier modulus (NaN for P(1,0); t,
  *  x, v untouched); each may be NULL.  After vi_cont_curve_locate and
  *  before the first iterate: the located point.  @return VI_OK,
  *  VI_ERR_ARG, VI_ERR_STATE (no point yet). */
