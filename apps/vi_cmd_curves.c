@@ -38,7 +38,8 @@ static void curves_usage(void)
   printf("usage: vibroimpact curves [SCENE.yaml] --kind grazing|fold|pd|ns [--orbit N,M]\n"
          "         --param KEY --to B --param2 KEY2 --from2 C --to2 D [--steps K]\n"
          "         [--json] [-o OUT.h5] [--set KEY=VALUE]... [--max-depth D]\n"
-         "Follow the scene's P(N,M) orbit (default 1,1; 1,0 the non-impacting one) in\n"
+         "Follow the scene's P(N,M) orbit (default 1,1; 1,0 the non-impacting one; M > 1\n"
+         "the census's, as `orbits --n N --m M` finds it; fold, pd and ns only) in\n"
          "KEY from the scene's value towards B to its first point of the kind (grazing:\n"
          "the gap between impacts, or of the free motion, reaches the stop; fold: a\n"
          "multiplier +1; pd: -1; ns: a complex pair on the unit circle), solved by\n"
@@ -75,7 +76,7 @@ static int set_orbit(cargs *a, const char *s)
   if (end == s || *end != ',') return 1;
   const char *ms = end + 1;
   long m = strtol(ms, &end, 10);
-  if (end == ms || *end || n < 1 || n > 64 || m < 0 || m > 1 || (m == 0 && n != 1)) return 1;
+  if (end == ms || *end || n < 1 || n > 64 || m < 0 || m > 32 || (m == 0 && n != 1)) return 1;
   a->n = (int)n;
   a->m = (int)m;
   return 0;
@@ -129,10 +130,12 @@ static int curves_parse(int argc, char **argv, cargs *a)
   }
   if (optind < argc) a->scene = argv[optind++];
   if (optind < argc || a->kind < 0 || !a->key || !a->key2 || isnan(a->to) || isnan(a->from2) ||
-      isnan(a->to2) || a->from2 == a->to2 || (a->m == 0 && a->kind != 0)) {
+      isnan(a->to2) || a->from2 == a->to2 || (a->m == 0 && a->kind != 0) ||
+      (a->m > 1 && a->kind == 0)) {
     fprintf(stderr, "vibroimpact: curves: need --kind grazing|fold|pd|ns, --param KEY --to B, "
             "--param2 KEY2 --from2 C --to2 D (C != D), one scene; --orbit 1,0 is for "
-            "--kind grazing only (vibroimpact curves --help)\n");
+            "--kind grazing only, --orbit N,M with M > 1 for fold, pd and ns "
+            "(vibroimpact curves --help)\n");
     return 2;
   }
   return 0;
@@ -194,6 +197,67 @@ static int scene_orbit(const vi_model *m, int n, double *t, double *x, double *v
   return best < 0;
 }
 
+/* The sim hook: the scene's run settings on each transient. */
+static int configure(vi_sim *sim, void *user)
+{
+  return vi_scene_configure_sim(user, sim, NULL);
+}
+
+/* The impacts of orbit i of census L, rotated to start at the earliest
+ * (ascending within one orbit period, as vi_cont_curve_set_impacts wants). */
+static void census_impacts(const vi_census *L, int i, int N, int mi, double *t, double *x,
+                           double *v)
+{
+  double *b = malloc(sizeof(double) * (size_t)mi * (2 * (size_t)N + 1));
+  if (!b) return;
+  vi_census_orbit(L, i, b, b + mi, b + mi + (size_t)N * mi, N, NULL, NULL);
+  int j0 = 0;
+  for (int j = 1; j < mi; j++)
+    if (b[j] < b[j0]) j0 = j;
+  for (int j = 0; j < mi; j++) {
+    int k = (j0 + j) % mi;
+    t[j] = b[k];
+    memcpy(x + (size_t)N * j, b + mi + (size_t)N * k, sizeof(double) * N);
+    memcpy(v + (size_t)N * j, b + mi + (size_t)N * (mi + k), sizeof(double) * N);
+  }
+  free(b);
+}
+
+/* The scene's P(n,m) orbit, m > 1: of those the census finds (vi_census.h:
+ * transients from the scene's initial state and from rest, refined by
+ * Newton), the admissible one with the smallest largest multiplier.  0, or
+ * 1 if none. */
+static int scene_orbit_m(const vi_scene *sc, const vi_model *m, int n, int mi, double *t,
+                         double *x, double *v)
+{
+  int N = vi_model_n(m), best = -1, adm;
+  double rb = HUGE_VAL, t0, *re = malloc(sizeof(double) * 4 * (size_t)N), *im = NULL;
+  vi_census *L = NULL;
+  vi_sim *s0 = NULL;
+  if (re && !vi_census_create(m, n, mi, &L) && !vi_census_set_sim_hook(L, configure, (void *)sc,
+                                                                       NULL)) {
+    im = re + 2 * (size_t)N; /* x, v as the initial state's scratch */
+    if (!vi_sim_create(m, &s0) && !vi_scene_configure_sim(sc, s0, NULL) &&
+        !vi_sim_state(s0, &t0, x, v))
+      vi_census_set_initial(L, t0, x, v);
+    if (!vi_census_run(L))
+      for (int i = 0; i < vi_census_count(L); i++) {
+        double rho = 0;
+        vi_census_stability(L, i, re, im, NULL, &adm, NULL);
+        for (int j = 0; adm && j < 2 * N; j++) rho = fmax(rho, hypot(re[j], im[j]));
+        if (adm && rho < rb) {
+          rb = rho;
+          best = i;
+        }
+      }
+  }
+  if (best >= 0) census_impacts(L, best, N, mi, t, x, v);
+  vi_sim_destroy(&s0);
+  vi_census_destroy(&L);
+  free(re);
+  return best < 0;
+}
+
 /* The curve from the located point, collected into r; 0, or the status. */
 static int trace(vi_cont_curve *c, vi_curve_result *r)
 {
@@ -216,20 +280,22 @@ static int trace(vi_cont_curve *c, vi_curve_result *r)
 }
 
 /* Locate and follow; 0, or the exit status with the message printed. */
-static int run_curve(const cargs *a, const vi_model *m, const char *k1, const char *k2,
-                     vi_curve_result *r)
+static int run_curve(const cargs *a, const vi_scene *sc, const vi_model *m, const char *k1,
+                     const char *k2, vi_curve_result *r)
 {
-  int N = vi_model_n(m), st;
-  double t = 0, *x = calloc(2 * (size_t)N, sizeof(double));
+  int N = vi_model_n(m), st, mi = a->m > 1 ? a->m : 1;
+  double t[32] = {0}, *x = calloc(2 * (size_t)N * mi, sizeof(double));
   vi_cont_curve *c = NULL;
   if (!x) return 1;
-  if (a->m && scene_orbit(m, a->n, &t, x, x + N)) {
-    fprintf(stderr, "vibroimpact: curves: the scene has no admissible P(%d,1) orbit\n", a->n);
+  if (a->m && (a->m > 1 ? scene_orbit_m(sc, m, a->n, a->m, t, x, x + (size_t)N * mi)
+               : scene_orbit(m, a->n, t, x, x + N))) {
+    fprintf(stderr, "vibroimpact: curves: the scene has no admissible P(%d,%d) orbit\n", a->n,
+            a->m);
     free(x);
     return 1;
   }
   st = vi_cont_curve_create(m, a->kind, a->n, a->m, k1, k2, &c);
-  if (!st && a->m) st = vi_cont_curve_set_orbit(c, t, x, x + N);
+  if (!st && a->m) st = vi_cont_curve_set_impacts(c, t, x, x + (size_t)N * mi, N);
   if (!st) st = vi_cont_curve_locate(c, a->to, a->steps, &r->located);
   if (!st) st = vi_cont_curve_point(c, NULL, &r->located2, NULL, NULL, NULL, NULL);
   if (!st) st = vi_cont_curve_set_range(c, a->from2, a->to2, a->steps);
@@ -282,7 +348,7 @@ int vi_cmd_curves_main(int argc, char **argv)
   int rc = curves_parse(argc, argv, &a);
   if (rc < 0) rc = 0;
   else if (!rc && !(rc = curves_model(&a, &sc, &mdl, k1, k2)))
-    rc = run_curve(&a, mdl, k1, k2, &r);
+    rc = run_curve(&a, sc, mdl, k1, k2, &r);
   if (!rc && a.out) {
     char err[1024];
     if (vi_curves_write_h5(a.out, kind_name(a.kind), a.key, a.key2, a.n, a.m, &r, err,

@@ -2,8 +2,9 @@
  * Codimension-one points of an orbit located exactly, and followed in two
  * parameters (vi_param.h keys), the loop in the caller's hands.
  *
- * The orbit is a P(n,1) orbit (one impact per n forcing periods, the
- * equations of vi_orbit_pnm_residual_stops in u = (t, x, v)) or the
+ * The orbit is a P(n,m) orbit (m >= 1 impacts per n forcing periods, the
+ * equations of vi_orbit_pnm_residual_stops in u = (t_j, x_j, v_j), j < m;
+ * fold, pd and ns for every m, grazing for m = 1) or the
  * non-impacting orbit P(1,0), the harmonic steady state of the free
  * structure.  A point of a kind is where the orbit's defining condition
  * holds:
@@ -99,8 +100,10 @@ typedef enum vi_cont_curve_state {
 VI_API int vi_cont_refine(const vi_model *m, const char *key, int n, int kind,
                           double *p, double *t, double *x, double *v);
 
-/** Create a curve of points of `kind` of P(n, mi) orbits, mi 1 (n >= 1) or
- *  0 (n = 1: the non-impacting orbit, kind grazing only), of a copy of the
+/** Create a curve of points of `kind` of P(n, mi) orbits, mi 1 (n >= 1),
+ *  2 to 32 (fold, pd and ns; mi (2 n_coords + 1) + 2 <= 64 unknowns,
+ *  VI_ERR_UNSUPPORTED beyond) or 0 (n = 1: the non-impacting
+ *  orbit, kind grazing only), of a copy of the
  *  set-up model m, in the keys key and key2 (distinct; their values in m
  *  are the start).  @return VI_OK, VI_ERR_ARG (NULL, an unknown or
  *  initial-state key, a bad kind, n or mi), VI_ERR_STATE (m not set up),
@@ -115,11 +118,19 @@ VI_API void vi_cont_curve_destroy(vi_cont_curve **c);
 VI_API const char *vi_cont_curve_errmsg(const vi_cont_curve *c);
 /** The starting orbit (P(n,1)): impact time t and x, v [n_coords] just
  *  before it, a guess Newton refines.  @return VI_OK, VI_ERR_ARG (also for
- *  P(1,0)), VI_ERR_NONFINITE. */
+ *  P(1,0) and for mi > 1: vi_cont_curve_set_impacts), VI_ERR_NONFINITE. */
 VI_API int vi_cont_curve_set_orbit(vi_cont_curve *c, double t, const double *x,
                                    const double *v);
+/** The starting orbit P(n, mi), mi >= 1: its impacts' times t [mi]
+ *  (ascending, within one orbit period n T) and the states just before
+ *  them, x, v [ld x mi] column-major (ld >= n_coords), a guess Newton
+ *  refines (vi_orbit_pnm_solve_stops's layout; each impact on the stop
+ *  whose gap is nearest 0).  @return VI_OK, VI_ERR_ARG (also for P(1,0)),
+ *  VI_ERR_NONFINITE, VI_ERR_STATE (already located). */
+VI_API int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t,
+                                     const double *x, const double *v, int ld);
 /** Follow the orbit in key from its value in the model towards `to` in
- *  `steps` >= 1 steps (P(n,1): pseudo-arclength, around folds; P(1,0): the
+ *  `steps` >= 1 steps (P(n,m): pseudo-arclength, around folds; P(1,0): the
  *  gap on a grid) and stop at the first point of the curve's kind, refined
  *  (vi_cont_refine's Newton); *param (may be NULL) receives key's value
  *  there.  @return VI_OK, VI_STOPPED (none before `to`, or the branch is
@@ -142,13 +153,20 @@ VI_API int vi_cont_curve_set_range(vi_cont_curve *c, double from2, double to2,
 VI_API int vi_cont_curve_iterate(vi_cont_curve *c);
 /** A vi_cont_curve_state: 0 while running (also for NULL). */
 VI_API int vi_cont_curve_done(const vi_cont_curve *c);
-/** The last point: key's and key2's values, and for P(n,1) the impact time,
- *  x, v [n_coords] and the largest multiplier modulus (NaN for P(1,0); t,
+/** The last point: key's and key2's values, and for P(n,m) impact 0's
+ *  time, x, v [n_coords] (all impacts: vi_cont_curve_impacts) and the
+ *  largest multiplier modulus (NaN for P(1,0); t,
  *  x, v untouched); each may be NULL.  After vi_cont_curve_locate and
  *  before the first iterate: the located point.  @return VI_OK,
  *  VI_ERR_ARG, VI_ERR_STATE (no point yet). */
 VI_API int vi_cont_curve_point(const vi_cont_curve *c, double *p, double *p2,
                                double *t, double *x, double *v, double *rho);
+/** The last point's orbit, P(n, mi) with mi >= 1: the impact times t
+ *  [mi] and the states before them, x, v [ld x mi] (ld >= n_coords); each
+ *  may be NULL.  vi_cont_curve_point gives impact 0's.  @return VI_OK,
+ *  VI_ERR_ARG (also for P(1,0)), VI_ERR_STATE (no point yet). */
+VI_API int vi_cont_curve_impacts(const vi_cont_curve *c, double *t, double *x,
+                                 double *v, int ld);
 /** Number of codimension-two points the last iterate found (0 for NULL). */
 VI_API int vi_cont_curve_num_special(const vi_cont_curve *c);
 /** Codimension-two point i (0-based) of the last iterate: its type (a

@@ -86,8 +86,9 @@ module vibroimpact
             vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_set_cancel, vi_cont_iterate, vi_cont_done, &
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event, &
             vi_cont_refine, vi_cont_curve_create, vi_cont_curve_destroy, vi_cont_curve_errmsg, &
-            vi_cont_curve_set_orbit, vi_cont_curve_locate, vi_cont_curve_set_range, &
-            vi_cont_curve_iterate, vi_cont_curve_done, vi_cont_curve_point, &
+            vi_cont_curve_set_orbit, vi_cont_curve_set_impacts, vi_cont_curve_locate, &
+            vi_cont_curve_set_range, vi_cont_curve_iterate, vi_cont_curve_done, &
+            vi_cont_curve_point, vi_cont_curve_impacts, &
             vi_cont_curve_num_special, vi_cont_curve_special
   public :: vi_truncation_create, vi_truncation_create_fe, vi_truncation_destroy, &
             vi_truncation_errmsg, vi_truncation_set_modes, vi_truncation_set_initial, &
@@ -1639,6 +1640,14 @@ module vibroimpact
       real(c_double), value :: t
       real(c_double), intent(in) :: x(*), v(*)
     end function
+    !> t(mi), x, v(ld, mi): the impacts of a P(n, mi) orbit
+    integer(c_int) function vi_cont_curve_set_impacts(c, t, x, v, ld) &
+        bind(C, name="vi_cont_curve_set_impacts")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), intent(in) :: t(*), x(*), v(*)
+      integer(c_int), value :: ld
+    end function
     integer(c_int) function vi_cont_curve_locate(c, to, steps, param) &
         bind(C, name="vi_cont_curve_locate")
       import :: c_int, c_ptr, c_double
@@ -1667,6 +1676,13 @@ module vibroimpact
       import :: c_int, c_ptr, c_double
       type(c_ptr), value :: c
       real(c_double), intent(out), optional :: p, p2, t, x(*), v(*), rho
+    end function
+    integer(c_int) function vi_cont_curve_impacts(c, t, x, v, ld) &
+        bind(C, name="vi_cont_curve_impacts")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: c
+      real(c_double), intent(out), optional :: t(*), x(*), v(*)
+      integer(c_int), value :: ld
     end function
     integer(c_int) function vi_cont_curve_num_special(c) &
         bind(C, name="vi_cont_curve_num_special")

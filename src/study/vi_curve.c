@@ -1,4 +1,4 @@
-/* vi_curve.c - codimension-one points of P(n,1) and P(1,0) orbits solved
+/* vi_curve.c - codimension-one points of P(n,m) and P(1,0) orbits solved
  * exactly and followed in two parameters (vi_cont_curve.h): Newton and
  * pseudo-arclength on the orbit's equations plus the defining condition,
  * codimension-two points located on the curve by regula falsi. */
@@ -19,6 +19,8 @@
 #include "vi_model_internal.h"
 
 #define MAXSP 16
+/* impacts per orbit: the bordered systems have at most 64 unknowns */
+#define VI_CURVE_MAXI 32
 /* the test functions watched along a curve */
 enum { T_FOLD, T_PD, T_NS, T_GRAZE, T_VN, T_RES, NT };
 
@@ -32,6 +34,9 @@ struct vi_cont_curve {
   char key[64], key2[64];
   int par[2], pk[2];   /* vi_orbit_pnm_dparam's parameter (or -1), stop */
   int kind, n, mi, N, D, stop, np; /* np: free parameters now (1 or 2) */
+  int blk, ld;         /* one impact's block 2N + 1 of Y; ld of x, v in Y */
+  int stops[VI_CURVE_MAXI]; /* each impact's stop (stop = stops[0]) */
+  double tt[VI_CURVE_MAXI]; /* the impact times gathered from Y (mi > 1) */
   int have_orbit, located, have_range, state, started;
   double from2, to2, dsmax, ds;
   int64_t npts, maxpts;
@@ -55,6 +60,19 @@ static int setp(vi_cont_curve *c, const double *Y)
   if (c->np == 2 && vi_model_set_param(c->m, c->key2, Y[c->D + 1])) return -1;
   return 0;
 }
+
+/* The impact times of Y: Y itself for one impact (t at Y[0]), else
+ * gathered from the impacts' blocks (t_j at Y[j B]) into c->tt. */
+static const double *times(vi_cont_curve *c, const double *Y)
+{
+  if (c->mi <= 1) return Y;
+  for (int j = 0; j < c->mi; j++) c->tt[j] = Y[(size_t)j * c->blk];
+  return c->tt;
+}
+
+/* Whether unknown j of Y is an impact time (left out of the state's
+ * scale and of the closure test: it drifts by whole periods). */
+static int is_time(const vi_cont_curve *c, int j) { return c->mi && j < c->D && j % c->blk == 0; }
 
 /* P(1,0): the largest gap over the stops of the harmonic steady state,
  * w.K^-1 f0 + |w.(K - W^2 M + i W C)^-1 (a - i b)| - x_s (MODEL.md
@@ -108,7 +126,8 @@ static int p10_gap(const vi_cont_curve *c, double *g)
 static int mults(vi_cont_curve *c, const double *Y)
 {
   int N = c->N;
-  return vi_orbit_pnm_multipliers_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N,
+  return vi_orbit_pnm_multipliers_stops(c->m, c->n, c->mi, c->stops, times(c, Y), Y + 1,
+                                        Y + 1 + N, c->ld,
                                         c->re, c->im);
 }
 
@@ -161,7 +180,8 @@ static int nearest(const vi_cont_curve *c, double z)
 static int gap_max(vi_cont_curve *c, const double *Y, double *g)
 {
   int ok, N = c->N;
-  return vi_orbit_pnm_admissible_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, g,
+  return vi_orbit_pnm_admissible_stops(c->m, c->n, c->mi, c->stops, times(c, Y), Y + 1,
+                                       Y + 1 + N, c->ld, g,
                                        &ok);
 }
 
@@ -257,7 +277,9 @@ static int gfun(vi_cont_curve *c, const double *Y, double *g)
   /* times v_N: the saltation matrix is a rank-one update of order 1/v_N,
    * so v_N det(Mo -+ I) stays smooth up to the end of the impacting
    * branch (v_N = 0), where a fold or PD curve may end */
-  double vn = vi_dot(c->N, vi_stop_w(c->m, c->stop), Y + 1 + c->N);
+  double vn = 1; /* each impact's S has its own 1/v_N: their product */
+  for (int j = 0; j < c->mi; j++)
+    vn *= vi_dot(c->N, vi_stop_w(c->m, c->stops[j]), Y + (size_t)j * c->blk + 1 + c->N);
   *g = c->kind == VI_CONT_CURVE_FOLD ? vn * prod_shift(c, -1, -1)
        : c->kind == VI_CONT_CURVE_PD ? vn * prod_shift(c, 1, -1) : prod_pairs(c);
   return VI_OK;
@@ -272,7 +294,9 @@ static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *
   int N = c->N, D = c->D, nu = D + c->np, st = 0;
   double *Jf = c->B; /* D x D scratch, then dF/dp [D] */
   if (setp(c, Y)) return VI_ERR_ARG;
-  if (D) st = vi_orbit_pnm_residual_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, H,
+  int mi = c->mi, ld = c->ld;
+  const double *tj = D ? times(c, Y) : NULL;
+  if (D) st = vi_orbit_pnm_residual_stops(c->m, c->n, mi, c->stops, tj, Y + 1, Y + 1 + N, ld, H,
                                           J ? Jf : NULL);
   if (!st && D && J) {
     for (int j = 0; j < D; j++)
@@ -280,19 +304,19 @@ static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *
     for (int k = 0; k < c->np && !st; k++) {
       double *dF = Jf + (size_t)D * D, *Fm = dF + D;
       if (c->par[k] >= 0) {
-        st = vi_orbit_pnm_dparam(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, c->par[k],
+        st = vi_orbit_pnm_dparam(c->m, c->n, mi, c->stops, tj, Y + 1, Y + 1 + N, ld, c->par[k],
                                  c->pk[k], dF);
       } else {
         double *Yq = c->Yq, h = 1e-6 * fmax(1.0, fabs(Y[D + k]));
         memcpy(Yq, Y, sizeof(double) * (size_t)nu);
         Yq[D + k] += h;
         st = setp(c, Yq) ? VI_ERR_ARG
-             : vi_orbit_pnm_residual_stops(c->m, c->n, 1, &c->stop, Y, Y + 1, Y + 1 + N, N, dF,
+             : vi_orbit_pnm_residual_stops(c->m, c->n, mi, c->stops, tj, Y + 1, Y + 1 + N, ld, dF,
                                            NULL);
         Yq[D + k] -= 2 * h;
         if (!st) st = setp(c, Yq) ? VI_ERR_ARG
-                      : vi_orbit_pnm_residual_stops(c->m, c->n, 1, &c->stop, Y, Y + 1,
-                                                    Y + 1 + N, N, Fm, NULL);
+                      : vi_orbit_pnm_residual_stops(c->m, c->n, mi, c->stops, tj, Y + 1,
+                                                    Y + 1 + N, ld, Fm, NULL);
         for (int i = 0; i < D && !st; i++) dF[i] = (dF[i] - Fm[i]) / (2 * h);
         if (setp(c, Y)) st = VI_ERR_ARG;
       }
@@ -301,7 +325,7 @@ static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *
   }
   if (!st && withg) st = gfun(c, Y, H + D);
   if (!st && withg && J) {
-    double *Yq = c->Yq, gp, gm;
+    double *Yq = c->Yq, gp = 0, gm = 0;
     memcpy(Yq, Y, sizeof(double) * (size_t)nu);
     for (int j = 0; j < nu && !st; j++) {
       double h = 1e-6 * c->S[j];
@@ -356,7 +380,8 @@ static int newton(vi_cont_curve *c, double *Y, int withg, const double *bord,
       if (sys(c, Y, 0, H, NULL, nu)) return 1;
       double fn = 0, sc = 1e-12;
       for (int r = 0; r < D; r++) fn = fmax(fn, fabs(H[r]));
-      for (int r = 1; r < D; r++) sc = fmax(sc, fabs(Y[r]));
+      for (int r = 1; r < D; r++)
+        if (!is_time(c, r)) sc = fmax(sc, fabs(Y[r]));
       return fn <= 1e-10 * sc ? 0 : 1;
     }
   }
@@ -396,8 +421,9 @@ static int tests(vi_cont_curve *c, const double *Y, double *T)
   if (st) return st;
   c->rho = 0;
   for (int i = 0; i < 2 * N; i++) c->rho = fmax(c->rho, hypot(c->re[i], c->im[i]));
-  const double *w = vi_stop_w(c->m, c->stop);
-  T[T_VN] = vi_dot(N, w, Y + 1 + N);
+  T[T_VN] = HUGE_VAL; /* the smallest approach velocity */
+  for (int j = 0; j < c->mi; j++)
+    T[T_VN] = fmin(T[T_VN], vi_dot(N, vi_stop_w(c->m, c->stops[j]), Y + (size_t)j * c->blk + 1 + N));
   T[T_FOLD] = prod_shift(c, -1, -1);
   T[T_PD] = prod_shift(c, 1, -1);
   T[T_NS] = prod_pairs(c);
@@ -420,7 +446,8 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   if (!out) return VI_ERR_ARG;
   *out = NULL;
   if (!m || !key || kind < VI_CONT_CURVE_GRAZING || kind > VI_CONT_CURVE_NS || n < 1 ||
-      (mi != 0 && mi != 1) || (mi == 0 && (n != 1 || kind != VI_CONT_CURVE_GRAZING)) ||
+      mi < 0 || mi > VI_CURVE_MAXI || (mi == 0 && (n != 1 || kind != VI_CONT_CURVE_GRAZING)) ||
+      (mi > 1 && kind == VI_CONT_CURVE_GRAZING) ||
       vi_param_kind(key) != VI_PARAM_MODEL || strlen(key) >= 64 ||
       (key2 && (vi_param_kind(key2) != VI_PARAM_MODEL || strlen(key2) >= 64 ||
                 !strcmp(key, key2))))
@@ -429,7 +456,7 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   if (mi == 0 && (m->band || !m->M || !m->C || !m->K)) return VI_ERR_UNSUPPORTED;
   vi_cont_curve *c = calloc(1, sizeof *c);
   if (!c) return VI_ERR_NOMEM;
-  int N = m->n, D = mi ? 2 * N + 1 : 0, nu = D + 2;
+  int N = m->n, D = mi * (2 * N + 1), nu = D + 2;
   if (nu > 64) { /* the dense bordered systems: small models */
     free(c);
     return VI_ERR_UNSUPPORTED;
@@ -464,6 +491,8 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   c->mi = mi;
   c->N = N;
   c->D = D;
+  c->blk = 2 * N + 1;
+  c->ld = mi > 1 ? c->blk : N; /* impact j's x, v at Y + j B + 1, + 1 + N */
   c->np = 1;
   vi_model_param(c->m, key, &c->Y[D]);
   if (key2) vi_model_param(c->m, key2, &c->Y[D + 1]);
@@ -483,34 +512,47 @@ void vi_cont_curve_destroy(vi_cont_curve **cp)
 
 const char *vi_cont_curve_errmsg(const vi_cont_curve *c) { return c ? c->errmsg : ""; }
 
-/* The impact's stop: the one whose gap is nearest 0 at x. */
-static void pick_stop(vi_cont_curve *c, const double *x)
+/* Impact j's stop: the one whose gap is nearest 0 at x. */
+static void pick_stop(vi_cont_curve *c, int j, const double *x)
 {
   double best = HUGE_VAL;
-  c->stop = 0;
+  c->stops[j] = 0;
   for (int k = 0; k < c->m->ns; k++) {
     double g = fabs(vi_dot(c->N, vi_stop_w(c->m, k), x) - c->m->xsv[k]);
     if (g < best) {
       best = g;
-      c->stop = k;
+      c->stops[j] = k;
     }
   }
+  if (j == 0) c->stop = c->stops[0];
+}
+
+int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t, const double *x,
+                              const double *v, int ld)
+{
+  if (!c || !t || !x || !v || !c->mi || ld < c->N) return VI_ERR_ARG;
+  if (c->located) return vi_fail(c->errmsg, VI_ERR_STATE, "the point is already located");
+  int N = c->N, B = c->blk;
+  for (int j = 0; j < c->mi; j++) {
+    if (!isfinite(t[j])) return VI_ERR_NONFINITE;
+    for (int i = 0; i < N; i++)
+      if (!isfinite(x[i + (size_t)j * ld]) || !isfinite(v[i + (size_t)j * ld]))
+        return VI_ERR_NONFINITE;
+  }
+  for (int j = 0; j < c->mi; j++) {
+    c->Y[(size_t)j * B] = t[j];
+    memcpy(c->Y + (size_t)j * B + 1, x + (size_t)j * ld, sizeof(double) * N);
+    memcpy(c->Y + (size_t)j * B + 1 + N, v + (size_t)j * ld, sizeof(double) * N);
+    pick_stop(c, j, x + (size_t)j * ld);
+  }
+  c->have_orbit = 1;
+  return VI_OK;
 }
 
 int vi_cont_curve_set_orbit(vi_cont_curve *c, double t, const double *x, const double *v)
 {
-  if (!c || !x || !v || !c->mi) return VI_ERR_ARG;
-  if (c->located) return vi_fail(c->errmsg, VI_ERR_STATE, "the point is already located");
-  if (!isfinite(t)) return VI_ERR_NONFINITE;
-  for (int i = 0; i < c->N; i++)
-    if (!isfinite(x[i]) || !isfinite(v[i])) return VI_ERR_NONFINITE;
-  int N = c->N;
-  c->Y[0] = t;
-  memcpy(c->Y + 1, x, sizeof(double) * N);
-  memcpy(c->Y + 1 + N, v, sizeof(double) * N);
-  pick_stop(c, x);
-  c->have_orbit = 1;
-  return VI_OK;
+  if (!c || !x || !v || c->mi != 1) return VI_ERR_ARG;
+  return vi_cont_curve_set_impacts(c, &t, x, v, c->N);
 }
 
 /* Scales of the unknowns: the impact time by 1/Omega, the state by its
@@ -519,10 +561,10 @@ static void set_scales(vi_cont_curve *c)
 {
   int N = c->N, D = c->D;
   double xs = 0;
-  for (int i = 1; i < D; i++) xs = fmax(xs, fabs(c->Y[i]));
+  for (int i = 1; i < D; i++)
+    if (!is_time(c, i)) xs = fmax(xs, fabs(c->Y[i]));
   if (!(xs > 0)) xs = 1;
-  if (D) c->S[0] = 1 / vi_model_omega_forcing(c->m);
-  for (int i = 1; i < D; i++) c->S[i] = xs;
+  for (int i = 0; i < D; i++) c->S[i] = is_time(c, i) ? 1 / vi_model_omega_forcing(c->m) : xs;
   (void)N;
   double p = fabs(c->Y[D]);
   c->S[D] = p > 0 ? p : 1;
@@ -723,26 +765,27 @@ int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps, double *param)
     }
     memcpy(c->Ys, c->Y, sizeof(double) * (D + 1));
     if (newton(c, c->Y, 0, bord, c->Ys) || tangent(c, c->Y, 0, c->taul, c->tau))
-      return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "%s = %.17g: no P(%d,1) orbit from "
-                     "the orbit given", c->key, p0, c->n);
+      return vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "%s = %.17g: no P(%d,%d) orbit from "
+                     "the orbit given", c->key, p0, c->n, c->mi);
     set_scales(c);
     c->dsmax = c->ds = fabs(to - p0) / steps / c->S[D];
     int k = kind_test(c->kind);
     st = tests(c, c->Y, c->T);
     for (int it = 0; !st; it++) {
       if (it > 20 * steps + 100 || advance(c, 0)) {
-        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,1) branch in %s is lost "
+        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,%d) branch in %s is lost "
                      "after %.17g", k == T_GRAZE ? "grazing" : k == T_FOLD ? "fold"
-                     : k == T_PD ? "period-doubling" : "Neimark-Sacker", c->n, c->key, c->Y[D]);
+                     : k == T_PD ? "period-doubling" : "Neimark-Sacker", c->n, c->mi, c->key,
+                     c->Y[D]);
         break;
       }
       memcpy(c->Tl, c->T, sizeof c->T);
       if ((st = tests(c, c->Y, c->T))) break;
       if (c->T[T_VN] <= 0 && c->Tl[T_VN] > 0) { /* beyond, no impact: not an orbit */
-        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,1) orbit stops impacting "
+        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,%d) orbit stops impacting "
                      "(v_N = 0) near %s = %.17g", k == T_GRAZE ? "grazing" : k == T_FOLD ?
-                     "fold" : k == T_PD ? "period-doubling" : "Neimark-Sacker", c->n, c->key,
-                     c->Y[D]);
+                     "fold" : k == T_PD ? "period-doubling" : "Neimark-Sacker", c->n, c->mi,
+                     c->key, c->Y[D]);
         break;
       }
       int cross = (c->T[k] < 0) != (c->Tl[k] < 0);
@@ -761,8 +804,8 @@ int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps, double *param)
         }
       }
       if ((c->Y[D] - to) * (to > p0 ? 1 : -1) > 0) {
-        st = vi_fail(c->errmsg, VI_STOPPED, "no such point of the P(%d,1) orbit between %s = "
-                     "%.17g and %.17g", c->n, c->key, p0, to);
+        st = vi_fail(c->errmsg, VI_STOPPED, "no such point of the P(%d,%d) orbit between "
+                     "%s = %.17g and %.17g", c->n, c->mi, c->key, p0, to);
         break;
       }
     }
@@ -893,7 +936,8 @@ static int start_curve(vi_cont_curve *c)
     }
     if (specials(c, 0)) break;
     double dist = 0;
-    for (int j = c->mi; j < nu; j++) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
+    for (int j = 0; j < nu; j++)
+      if (!is_time(c, j)) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
     if (k > 3 && dist < 0.5 * c->dsmax) { /* closed: start where we began */
       memcpy(c->Y, Y0, sizeof(double) * nu);
       break;
@@ -951,7 +995,8 @@ int vi_cont_curve_iterate(vi_cont_curve *c)
   c->npts++;
   const double *Y0 = c->Y0;
   double dist = 0;
-  for (int j = c->mi; j < nu; j++) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
+  for (int j = 0; j < nu; j++)
+    if (!is_time(c, j)) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
   if (!c->state && c->npts > 4 && dist < 0.5 * c->dsmax) c->state = VI_CONT_CURVE_CLOSES;
   return VI_OK;
 }
@@ -976,6 +1021,19 @@ int vi_cont_curve_point(const vi_cont_curve *c, double *p, double *p2, double *t
     if (v) memcpy(v, c->Y + 1 + N, sizeof(double) * N);
   }
   if (rho) *rho = c->mi ? c->rho : NAN;
+  return VI_OK;
+}
+
+int vi_cont_curve_impacts(const vi_cont_curve *c, double *t, double *x, double *v, int ld)
+{
+  if (!c || !c->mi || ld < c->N) return VI_ERR_ARG;
+  if (!c->located) return VI_ERR_STATE;
+  int N = c->N, B = c->blk;
+  for (int j = 0; j < c->mi; j++) {
+    if (t) t[j] = c->Y[(size_t)j * B];
+    if (x) memcpy(x + (size_t)j * ld, c->Y + (size_t)j * B + 1, sizeof(double) * N);
+    if (v) memcpy(v + (size_t)j * ld, c->Y + (size_t)j * B + 1 + N, sizeof(double) * N);
+  }
   return VI_OK;
 }
 

@@ -1591,7 +1591,27 @@ static void test_curve_misuse(void **state)
   assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 1, 0, "stop.xs",
                                         "forcing.omega", &c), VI_OK);
   assert_err(vi_cont_curve_set_orbit(c, 0, x, v));
+  assert_err(vi_cont_curve_set_impacts(c, &t, x, v, 2));
+  assert_err(vi_cont_curve_impacts(c, &t, x, v, 2));
   assert_int_equal(vi_cont_curve_locate(c, 0.2, 4, NULL), VI_STOPPED); /* grazes at 0.64 */
+  vi_cont_curve_destroy(&c);
+  /* P(n,m), m > 1: fold, pd, ns only, up to 32 impacts; impacts as arrays */
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 2, 2, "forcing.omega", "stop.r", &c));
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 2, 33, "forcing.omega", "stop.r", &c));
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 2, 20, "forcing.omega", "stop.r",
+                                        &c), VI_ERR_UNSUPPORTED); /* 102 unknowns */
+  double t2[2] = {1, 4}, x2[4] = {0, 0.1, 0, 0.1}, v2[4] = {0, 1, 0, 1};
+  assert_err(vi_cont_curve_set_impacts(NULL, t2, x2, v2, 2));
+  assert_err(vi_cont_curve_impacts(NULL, t2, x2, v2, 2));
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 2, 2, "forcing.omega", "stop.r",
+                                        &c), VI_OK);
+  assert_err(vi_cont_curve_set_orbit(c, 1, x2, v2)); /* two impacts: set_impacts */
+  assert_err(vi_cont_curve_set_impacts(c, NULL, x2, v2, 2));
+  assert_err(vi_cont_curve_set_impacts(c, t2, x2, v2, 1)); /* ld < n */
+  t2[1] = NAN;
+  assert_err(vi_cont_curve_set_impacts(c, t2, x2, v2, 2));
+  assert_int_equal(vi_cont_curve_impacts(c, t2, x2, v2, 2), VI_ERR_STATE); /* no point yet */
+  assert_err(vi_cont_curve_impacts(c, t2, x2, v2, 1));
   vi_cont_curve_destroy(&c);
   vi_model_destroy(&m);
 }

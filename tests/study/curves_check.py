@@ -26,8 +26,20 @@ Checks (tolerances from the issue):
   5. the pd curve bounds the P(1,1) and P(2,2) regions of a brute-force
      two-parameter sweep of the same plane (vibroimpact sweep);
   6. a Neimark-Sacker curve of the chain with c = 0.02, x_s = 0.2: a
-     complex pair of modulus 1 to 1e-7 at its points.
-usage: curves_check.py VIBROIMPACT"""
+     complex pair of modulus 1 to 1e-7 at its points;
+  7. P(2,2), two impacts per 2T (born at the P(1,1) period doubling): its
+     own period-doubling curve in (Omega, r), r in [0.5, 0.9].  The orbit
+     with impacts at t_0 < t_1 < t_0 + 2T is the fixed point of the
+     composition of the two affine impact-and-flow maps, z_0 a linear solve
+     for given (t_0, t_1), which solve w.x_j = x_s (mp.findroot in 2-D,
+     seeded by a float scan of (t_0, t_1) at the first point, then by the
+     last point's times); its multipliers are the eigenvalues of
+     e^{A(t_0 + 2T - t_1)} S_1 e^{A(t_1 - t_0)} S_0: one within 1e-7 of -1;
+  8. that curve separates the P(2,2) and P(4,4) cells of a sweep.
+  9. (--fold only: 35 CPU-s) the P(2,2) fold curve in (Omega, r): a
+     multiplier within 1e-6 of +1 (at a fold it is 1 +- c sqrt(p - p*), so
+     a point rounded to a double gives |mu - 1| ~ 1e-7).
+usage: curves_check.py VIBROIMPACT [--fold]"""
 import json
 import subprocess
 import sys
@@ -154,6 +166,172 @@ def pd_mu(Om, r, xs=mp.mpf('0.1')):
     return best
 
 
+def phi_tau(A, tau):
+    """e^{A tau} for any tau (the same eigenvectors as flow_matrix)."""
+    ev, V, Vi = _eig[C[0, 0]]
+    return (V * mp.diag([mp.exp(l * tau) for l in ev]) * Vi).apply(mp.re)
+
+
+def pnm_orbit(Om, r, xs, ts, n):
+    """The P(n, m) orbit with its m = len(ts) impacts at the times ts
+    (ascending within n T): the pre-impact states z_j, each z_{j+1} =
+    e^{A dt}(R z_j - z_p(t_j)) + z_p(t_{j+1}), closed round the period by a
+    linear solve for z_0; and the impact conditions w.x_j - x_s."""
+    A, X, _ = system(Om)
+    R = impact_map(r)
+    T = 2 * mp.pi / Om
+    m = len(ts)
+    tn = list(ts) + [ts[0] + n * T]
+    Ac, bc, Ph = mp.eye(4), mp.zeros(4, 1), []
+    for j in range(m):
+        P = phi_tau(A, tn[j + 1] - tn[j])
+        Ph.append(P)
+        Aj = P * R
+        bj = zp(X, Om, tn[j + 1]) - P * zp(X, Om, tn[j])
+        Ac, bc = Aj * Ac, Aj * bc + bj
+    z = [mp.lu_solve(mp.eye(4) - Ac, bc)]
+    for j in range(m - 1):
+        z.append(Ph[j] * (R * z[j] - zp(X, Om, tn[j])) + zp(X, Om, tn[j + 1]))
+    return z, Ph, [zj[1] - xs for zj in z]
+
+
+def pnm_multipliers(Om, r, ts, n, z, Ph):
+    A, _, _ = system(Om)
+    R = impact_map(r)
+    g = mp.matrix([0, 1, 0, 0])
+    Mo = mp.eye(4)
+    for j, t in enumerate(ts):
+        f = lambda zz: A * zz + mp.matrix([0, 0, a[0] * mp.cos(Om * t), a[1] * mp.cos(Om * t)])
+        fm, fp = f(z[j]), f(R * z[j])
+        Mo = Ph[j] * (R + (fp - R * fm) * g.T / (g.T * fm)[0]) * Mo
+    return mp.eig(Mo, left=False, right=False)
+
+
+def p22_float(Om, r, xs):
+    """The P(2,2) orbit's impact conditions and multipliers in floats
+    (numpy), for the seeds: (orbit(t0, t1), mu(t0, t1), newton(t), T)."""
+    import numpy as np
+    W = float(Om)
+    T = 2 * np.pi / W
+    Kf = np.array([[2.0, -1], [-1, 1]])
+    Af = np.zeros((4, 4))
+    Af[0, 2] = Af[1, 3] = 1
+    Af[2:, :2] = -Kf
+    Cf = np.array(C.tolist(), dtype=float)
+    Af[2:, 2:] = -Cf
+    ev, V = np.linalg.eig(Af)
+    Vi = np.linalg.inv(V)
+    phi = lambda tau: ((V * np.exp(ev * tau)) @ Vi).real
+    Xf = np.linalg.solve(Kf - W ** 2 * np.eye(2) + 1j * W * Cf, [0.5, 0])
+    zpf = lambda t: np.concatenate([(Xf * np.exp(1j * W * t)).real,
+                                    (1j * W * Xf * np.exp(1j * W * t)).real])
+    Rf = np.diag([1, 1, 1, -float(r)])
+    g = np.array([0, 1.0, 0, 0])
+
+    def orbit(t0, t1):
+        P0, P1 = phi(t1 - t0), phi(t0 + 2 * T - t1)
+        A0, b0 = P0 @ Rf, zpf(t1) - P0 @ zpf(t0)
+        A1, b1 = P1 @ Rf, zpf(t0) - P1 @ zpf(t1)
+        z0 = np.linalg.solve(np.eye(4) - A1 @ A0, A1 @ b0 + b1)
+        z1 = A0 @ z0 + b0
+        return np.array([z0[1], z1[1]]) - float(xs), (z0, z1), (P0, P1)
+
+    def mu(t0, t1, target=-1):
+        _, z, P = orbit(t0, t1)
+        Mo = np.eye(4)
+        for j, t in enumerate((t0, t1)):
+            f = lambda zz: Af @ zz + np.array([0, 0, 0.5 * np.cos(W * t), 0])
+            fm, fp = f(z[j]), f(Rf @ z[j])
+            Mo = P[j] @ (Rf + np.outer(fp - Rf @ fm, g) / (g @ fm)) @ Mo
+        return min(abs(np.linalg.eigvals(Mo) - target)), min(z[0][3], z[1][3])
+
+    def newton(t):
+        t = np.array(t, dtype=float)
+        d = np.array([np.inf])
+        for it in range(30):
+            F = orbit(*t)[0]
+            h = 1e-7 * T
+            J = np.column_stack([(orbit(*(t + h * e))[0] - F) / h for e in np.eye(2)])
+            d = np.linalg.solve(J, F)
+            t = t - d
+            if abs(d).max() < 1e-12 * T:
+                break
+        # converged: the conditions' residual (at a fold the steps stall
+        # at the square root of the rounding while the residual is tiny)
+        return t, bool(np.isfinite(t).all() and abs(orbit(*t)[0]).max() < 1e-10)
+
+    return orbit, mu, newton, T
+
+
+def p22_seeds(Om, r, xs, target=-1, k=40):
+    """Impact times (t_0, t_1) of the P(2,2) orbits, in floats: cells of a
+    grid of t_0 in [0, 2T), t_1 - t_0 in (0, 2T) where both impact
+    conditions change sign, each refined by Newton, duplicates dropped; the
+    orbit with a multiplier nearest target first."""
+    import numpy as np
+    orbit, mu, newton, T = p22_float(Om, r, xs)
+    t0s = np.arange(k) * 2 * T / k
+    dts = (np.arange(k) + 0.5) * 2 * T / k
+    G = np.array([[orbit(t0, t0 + dt)[0] for dt in dts] for t0 in t0s])
+    found = []
+    for i in range(k - 1):
+        for q in range(k - 1):
+            c = G[i:i + 2, q:q + 2]
+            if not all(c[..., e].min() < 0 < c[..., e].max() for e in range(2)):
+                continue
+            t, conv = newton([t0s[i] + T / k, t0s[i] + T / k + dts[q] + T / k])
+            t[1] -= t[0] - t[0] % (2 * T)
+            t[0] %= 2 * T
+            if not (conv and 0 < t[1] - t[0] < 2 * T):
+                continue
+            if any(abs(t - u).max() < 1e-7 * T for u in found):
+                continue
+            found.append(t)
+    scored = [(mu(*t, target), t) for t in found]
+    return [tuple(t) for (m1, vn), t in sorted(scored, key=lambda e: e[0][0]) if vn > 0]
+
+
+def p22_solve(Om, r, xs, seed, tol=1e-20):
+    """The P(2,2) orbit from the impact times seed: (ts, multipliers) or
+    None (no convergence, or an impact not approaching the stop).  At a
+    fold the root is double: Newton converges linearly, to half the digits
+    (1e-12 in the times), enough for the multipliers to 1e-10."""
+    T = 2 * mp.pi / Om
+    try:
+        ts = mp.findroot(lambda t0, t1: pnm_orbit(Om, r, xs, [t0, t1], 2)[2],
+                         [mp.mpf(seed[0]), mp.mpf(seed[1])], verify=False, maxsteps=60)
+    except (ValueError, ZeroDivisionError):
+        return None
+    ts = [ts[0], ts[1]]
+    if not ts[0] < ts[1] < ts[0] + 2 * T:
+        return None
+    z, Ph, res = pnm_orbit(Om, r, xs, ts, 2)
+    if max(abs(e) for e in res) > tol or min(zj[3] for zj in z) <= 0:
+        return None
+    return ts, pnm_multipliers(Om, r, ts, 2, z, Ph)
+
+
+def p22_pd_mu(Om, r, xs, seed, target=-1, tol=1e-20, gate=1e-6):
+    """The multiplier nearest target of the P(2,2) orbits (from seed, else
+    from a scan), and the impact times of the best orbit."""
+    cands = []
+    if seed:  # the last point's orbit, moved here in floats
+        t, conv = p22_float(Om, r, xs)[2]([float(u) for u in seed])
+        cands = [tuple(t)] if conv else []
+    best = None
+    for attempt in range(2):
+        for sd in cands:
+            got = p22_solve(Om, r, xs, sd, tol)
+            if got:
+                mu = mu_near(got[1], target)
+                if best is None or abs(mu - target) < abs(best[0] - target):
+                    best = (mu, got[0])
+            if best is not None and abs(best[0] - target) < gate:
+                return best
+        cands = p22_seeds(Om, r, xs, target)
+    return best
+
+
 def phi_extrema(Om, r):
     """Local extrema of phi(t0) = w.x of the P(1,1) orbit with its impact at
     t0 (independent of x_s: the flow and the impact law are linear): where
@@ -179,7 +357,8 @@ def run(args):
 
 
 def main():
-    exe = sys.argv[1]
+    global exe_
+    exe = exe_ = sys.argv[1]
     fails = 0
     # 1. the period doubling at r = 0.7
     r = mp.mpf('0.7')
@@ -304,7 +483,89 @@ def main():
     print("%s ns curve: %d points, r %.3g..%.3g, worst ||mu| - 1| of the pair %.2e" %
           ("ok  " if ok else "FAIL", len(pts), rs[0], rs[-1], worst))
     fails += not ok
+    fails += check_p22("--fold" in sys.argv[2:])
     sys.exit(1 if fails else 0)
+
+
+def check_p22(fold=False):
+    """7 and 8: the period-doubling curve of the P(2,2) orbit; 9 (fold,
+    with --fold: 35 CPU-s, not run by ctest) its fold curve."""
+    global C
+    C = mp.mpf('0.1') * E
+    xs = mp.mpf('0.1')
+    fails = 0
+    js = json.loads(run([exe_, "curves", "--set", "forcing.omega=1.65", "--orbit", "2,2", "--kind",
+                         "pd", "--param", "forcing.omega", "--to", "1.8", "--param2", "stop.r",
+                         "--from2", "0.5", "--to2", "0.9", "--json"]))
+    pts = js["points"]
+    worst, seed = 0, None
+    for W, rr in pts[::8] + [pts[-1]]:
+        got = p22_pd_mu(mp.mpf(W), mp.mpf(rr), xs, seed)
+        if got is None:
+            worst = mp.inf
+            break
+        worst = max(worst, float(abs(got[0] + 1)))
+        seed = got[1]
+    rs = sorted(q for _, q in pts)
+    ok = (worst < 1e-7 and abs(rs[0] - 0.5) < 1e-12 and abs(rs[-1] - 0.9) < 1e-12 and
+          len(pts) > 100 and js["orbit"] == [2, 2])
+    print("%s P(2,2) pd curve: %d points, Omega %.6g..%.6g, r %.3g..%.3g, worst |mu + 1| %.2e "
+          "(every 8th point and the last)" % ("ok  " if ok else "FAIL", len(pts), pts[0][0],
+                                               pts[-1][0], rs[0], rs[-1], worst))
+    fails += not ok
+    # 8. the curve bounds the sweep's P(2,2) and P(4,4) regions (as in 5:
+    # on each row the cells either side of the curve, those within a
+    # quarter cell of it passed over)
+    sw = json.loads(run([exe_, "sweep", "--param", "forcing.omega", "--from", "1.64", "--to", "1.72",
+                         "--steps", "17", "--param2", "stop.r", "--from2", "0.5", "--to2", "0.9",
+                         "--steps2", "9", "--transient", "3000", "--record", "40", "--threads",
+                         "2", "--json", "--quiet"]))
+    byr = sorted(pts, key=lambda pq: pq[1])
+    bad = 0
+    for line in sw["lines"]:
+        rk, Ws = line["param2"], line["param"]
+        h = Ws[1] - Ws[0]
+        i = max(j for j in range(len(byr) - 1) if byr[j][1] <= rk + 1e-12) if rk < byr[-1][1] else len(byr) - 2
+        (p0, q0), (p1, q1) = byr[i], byr[i + 1]
+        Wc = p0 + (p1 - p0) * (rk - q0) / (q1 - q0)
+        left = max(j for j, W in enumerate(Ws) if W < Wc - h / 4)
+        right = min(j for j, W in enumerate(Ws) if W > Wc + h / 4)
+        cl = (line["n"][left], line["m"][left])
+        cr = (line["n"][right], line["m"][right])
+        if cl != (2, 2) or cr != (4, 4):
+            bad += 1
+            print("  r = %.3f: curve at Omega %.6f, cells %s at %.4f and %s at %.4f" %
+                  (rk, Wc, cl, Ws[left], cr, Ws[right]))
+    ok = bad == 0
+    print("%s P(2,2) pd curve bounds the sweep's P(2,2) and P(4,4) regions on all %d rows (cells "
+          "of %.3g)" % ("ok  " if ok else "FAIL", len(sw["lines"]), h))
+    fails += not ok
+    if not fold:
+        return fails
+    # 9. the P(2,2) fold curve (the branch followed down from Omega = 1.65
+    # turns at the P(1,1) period doubling onto its time-shifted copy, then
+    # folds near 1.729): a multiplier +1 (two P(2,2) orbits merge).  At a
+    # fold the two orbits' multipliers are 1 +- c sqrt(p - p*): the curve's
+    # point, rounded to a double (1e-16), gives |mu - 1| ~ 1e-8 (and may lie
+    # on the side where the orbits are complex: a residual ~ 1e-16 accepted)
+    js = json.loads(run([exe_, "curves", "--set", "forcing.omega=1.65", "--orbit", "2,2", "--kind",
+                         "fold", "--param", "forcing.omega", "--to", "1.0", "--param2", "stop.r",
+                         "--from2", "0.5", "--to2", "0.9", "--steps", "100", "--json"]))
+    pts = js["points"]
+    worst, seed = 0, None
+    for W, rr in pts[::8] + [pts[-1]]:
+        got = p22_pd_mu(mp.mpf(W), mp.mpf(rr), xs, seed, 1, 1e-14, 1e-5)
+        if got is None:
+            worst = mp.inf
+            break
+        worst = max(worst, float(abs(got[0] - 1)))
+        seed = got[1]
+    rs = sorted(q for _, q in pts)
+    ok = worst < 1e-6 and abs(rs[0] - 0.5) < 1e-12 and abs(rs[-1] - 0.9) < 1e-12 and len(pts) > 50
+    print("%s P(2,2) fold curve: %d points, Omega %.6g..%.6g, worst |mu - 1| %.2e (every 8th point "
+          "and the last)" % ("ok  " if ok else "FAIL", len(pts), pts[0][0], pts[-1][0], worst))
+    fails += not ok
+    return fails
 
 
 if __name__ == "__main__":

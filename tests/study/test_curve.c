@@ -8,7 +8,12 @@
  *    x_s = |w^T (K - W^2 M + i W C)^-1 a|, the 2 x 2 inverse written out
  *    here (Cramer's rule), over the whole range through the resonance;
  *  - the fold curve in (Omega, x_s) ending (v_N = 0, a codimension-two
- *    point) on that same closed-form grazing curve.
+ *    point) on that same closed-form grazing curve;
+ *  - the P(2,2) orbit (two impacts per 2T, born at that period doubling)
+ *    and its own period-doubling curve in (Omega, r): at every point the
+ *    orbit's equations hold, a multiplier is -1, and the product of the
+ *    multipliers is Liouville's r^4 exp(-tr(M^-1 C) 2T) (each impact
+ *    scales the phase volume by r, the damping by exp(-tr ...) per time).
  * The independent mpmath checks of every curve are curves_check.py's. */
 #include <complex.h>
 #include <math.h>
@@ -144,12 +149,92 @@ static void test_fold_curve_end(void **state)
   vi_model_destroy(&m);
 }
 
+/* The stable P(2,2) orbit of Fig. 2 at Omega = 1.65 from the census (its
+ * transients), its impacts in ascending time. */
+static void p22_orbit(const vi_model *m, double *t, double *x, double *v)
+{
+  vi_census *cs = NULL;
+  double tt[2], xx[4], vv[4];
+  int stable = 0, i = 0;
+  assert_int_equal(vi_census_create(m, 2, 2, &cs), VI_OK);
+  assert_int_equal(vi_census_run(cs), VI_OK);
+  for (; i < vi_census_count(cs) && !stable; i++)
+    assert_int_equal(vi_census_stability(cs, i, NULL, NULL, &stable, NULL, NULL), VI_OK);
+  assert_true(stable);
+  assert_int_equal(vi_census_orbit(cs, i - 1, tt, xx, vv, 2, NULL, NULL), VI_OK);
+  int j0 = tt[1] < tt[0];
+  for (int j = 0; j < 2; j++) {
+    int k = (j0 + j) % 2;
+    t[j] = tt[k];
+    memcpy(x + (size_t)2 * j, xx + (size_t)2 * k, sizeof(double) * 2);
+    memcpy(v + (size_t)2 * j, vv + (size_t)2 * k, sizeof(double) * 2);
+  }
+  vi_census_destroy(&cs);
+}
+
+static void test_p22_pd_curve(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *q = NULL;
+  vi_cont_curve *c = NULL;
+  double t[2], x[4], v[4], p, p2, re[4], im[4], F[10], worst = 0, wdet = 0, wres = 0;
+  double rmin = HUGE_VAL, rmax = -HUGE_VAL;
+  int n = 0;
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.65), VI_OK);
+  p22_orbit(m, t, x, v);
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 2, 2, "forcing.omega", "stop.r",
+                                        &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(c, t[0], x, v), VI_ERR_ARG); /* one impact only */
+  assert_int_equal(vi_cont_curve_set_impacts(c, t, x, v, 2), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 1.8, 200, &p), VI_OK);
+  printf("  P(2,2) period doubling at r = 0.7: Omega = %.12f\n", p);
+  assert_true(p > 1.66 && p < 1.70); /* between the sweep's P(2,2) and P(4,4) cells */
+  assert_int_equal(vi_cont_curve_set_range(c, 0.5, 0.9, 100), VI_OK);
+  assert_int_equal(vi_model_copy(m, &q), VI_OK);
+  while (!vi_cont_curve_done(c)) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    assert_int_equal(vi_cont_curve_point(c, &p, &p2, NULL, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_cont_curve_impacts(c, t, x, v, 2), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "forcing.omega", p), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "stop.r", p2), VI_OK);
+    assert_int_equal(vi_orbit_pnm_residual(q, 2, 2, t, x, v, 2, F, NULL), VI_OK);
+    for (int i = 0; i < 10; i++) wres = fmax(wres, fabs(F[i]));
+    assert_int_equal(vi_orbit_pnm_multipliers(q, 2, 2, t, x, v, 2, re, im), VI_OK);
+    double d = HUGE_VAL;
+    double complex pr = 1;
+    for (int i = 0; i < 4; i++) {
+      d = fmin(d, hypot(re[i] + 1, im[i]));
+      pr *= re[i] + I * im[i];
+    }
+    double liou = pow(p2, 4) * exp(-0.3 * 2 * (2 * M_PI / p)); /* tr(M^-1 C) = 0.1 (2 + 1) */
+    worst = fmax(worst, d);
+    wdet = fmax(wdet, cabs(pr - liou) / liou);
+    rmin = fmin(rmin, p2);
+    rmax = fmax(rmax, p2);
+    assert_true(t[0] < t[1] && t[1] < t[0] + 2 * (2 * M_PI / p));
+    assert_true(fabs(x[1] - 0.1) < 1e-12 && fabs(x[3] - 0.1) < 1e-12); /* on the stop */
+    assert_true(v[1] > 0 && v[3] > 0);                                 /* approaching */
+    n++;
+  }
+  printf("  %d points, r %.3g..%.3g: worst |mu + 1| %.2e, residual %.2e, relative error of the "
+         "multipliers' product %.2e\n", n, rmin, rmax, worst, wres, wdet);
+  assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_END);
+  assert_true(rmin == 0.5 && rmax == 0.9 && n > 50);
+  assert_true(worst < 1e-9);
+  assert_true(wres < 1e-11);
+  assert_true(wdet < 1e-10);
+  vi_model_destroy(&q);
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_pd_refined),
       cmocka_unit_test(test_p10_grazing_curve),
       cmocka_unit_test(test_fold_curve_end),
+      cmocka_unit_test(test_p22_pd_curve),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
