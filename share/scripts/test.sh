@@ -12,7 +12,7 @@
 #    documentation advises for speed (at -O0 its slowest tests took about
 #    ten times as long).
 #  - It compiles while the Release tests run, and its tests follow.
-# About 1 150 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
+# About 1 050 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$root/share/scripts/deps.sh"
