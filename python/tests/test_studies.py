@@ -100,6 +100,38 @@ def test_truncation_compliance_closed_form():
     np.testing.assert_allclose(one.omega, m.omega[:1], rtol=1e-14)
 
 
+def test_truncation_study_closed_form():
+    """The whole truncation study (vi_truncation.h) on Fig. 2: the first
+    mode's shape is (1, phi) / sqrt(1 + phi^2) (phi the golden ratio,
+    lambda_1 = (3 - sqrt 5) / 2), so it carries phi^2 / (1 + phi^2) of
+    w^T M^-1 w = 1 and that over lambda_1 of w^T K^-1 w = 2; with both modes
+    the model is the reference: all the compliance, r_S = r, the same
+    orbit and the same first impacts."""
+    m = fig2()
+    phi = (1 + 5 ** 0.5) / 2
+    lam1 = (3 - 5 ** 0.5) / 2
+    s = vi.truncation_study(m, initial={"t0": 0.0, "t_end": 20 * T09})
+    rows, ref, info = s["rows"], s["reference"], s["summary"]
+    np.testing.assert_array_equal(rows["k"], [1, 2])
+    assert abs(rows["omega"][0] - lam1 ** 0.5) < 1e-14
+    dyn1 = phi ** 2 / (1 + phi ** 2)
+    assert abs(rows["dynamic_fraction"][0] - dyn1) < 1e-14
+    assert abs(rows["static_fraction"][0] - dyn1 / lam1 / 2) < 1e-14
+    np.testing.assert_allclose(rows["dynamic_fraction"][1], 1.0, rtol=1e-14)
+    np.testing.assert_allclose(rows["static_fraction"][1], 1.0, rtol=1e-14)
+    assert info["dofs"] == 2 and info["reference_modes"] == 2 and info["complete"] == 1
+    assert info["restitution"] == 0.7
+    assert abs(info["compliance_dynamic"] - 1) < 1e-14 and abs(info["compliance_static"] - 2) < 1e-13
+    # both modes: the reference itself (the P(1,1) orbit of the scene)
+    assert (ref["class_n"], ref["class_m"]) == (1, 1)
+    assert (rows["class_n"][1], rows["class_m"][1]) == (1, 1)
+    assert abs(rows["vN"][1] - ref["vN"]) < 1e-9 * abs(ref["vN"])
+    assert abs(rows["r_S"][1] - 0.7) < 1e-9
+    assert rows["first_n"][1] == ref["first_n"] >= 1
+    n = int(ref["first_n"])
+    assert np.all(np.abs(rows["first_dt"][1][:min(n, 3)]) < 1e-9)
+
+
 def test_identify_recovers_restitution():
     """A recording of the gap made by the model at r = 0.7: identification
     from starts over [0.3, 0.95] finds r = 0.7."""

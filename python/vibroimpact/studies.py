@@ -450,6 +450,81 @@ def truncated_model(model: Model, k: int, *, static_vector: bool = False,
     return Model(_handle=_own(mp[0], lib.vi_model_destroy, "vi_model"))
 
 
+# The columns of a truncation study's row (vi_truncation.h), name and width.
+_TRUNCATION_COLUMNS = (
+    ("k", 1), ("omega", 1), ("dynamic_fraction", 1), ("static_fraction", 1),
+    ("class_n", 1), ("class_m", 1), ("vN", 1), ("phase", 1),
+    ("first_n", 1), ("first_t", 3), ("first_vn", 3), ("first_dt", 3), ("first_dvn_rel", 3),
+    ("release", 1), ("r_S", 1), ("r_S_class_n", 1), ("r_S_class_m", 1), ("r_S_vN", 1),
+    ("r_S_phase", 1), ("static_corrected", 1), ("sc_dynamic_fraction", 1), ("sc_class_n", 1),
+    ("sc_class_m", 1), ("sc_vN", 1), ("sc_phase", 1), ("sc_first_n", 1), ("sc_first_t", 3),
+    ("sc_first_vn", 3), ("sc_first_dt", 3), ("sc_first_dvn_rel", 3), ("sc_release", 1))
+_TRUNCATION_SUMMARY = ("dofs", "modes_lo", "modes_hi", "reference_modes", "restitution",
+                       "compliance_dynamic", "compliance_static", "complete")
+
+
+def _truncation_columns(rows: np.ndarray) -> Dict[str, np.ndarray]:
+    out, c = {}, 0
+    for name, w in _TRUNCATION_COLUMNS:
+        out[name] = rows[:, c] if w == 1 else rows[:, c:c + w]
+        c += w
+    return out
+
+
+def truncation_study(model: Model, modes: Optional[Tuple[int, int]] = None, *,
+                     initial: Optional[Mapping[str, Any]] = None) -> Dict[str, Any]:
+    """The truncation study of ``vibroimpact truncation`` (vi_truncation.h):
+    for each kept-mode count k in ``modes`` (lo, hi; default every mode),
+    the stop compliance the first k modes carry, the k-mode model's
+    response with the model's r, the r_S that carries the reference's
+    energy balance (WB 12-13) and that model's response, the same with a
+    static vector at the stop, and with ``initial`` ({"t0", "t_end", "x",
+    "v"}, x and v optional) the first impacts against the reference's.
+    The reference is ``model`` with all its modes.
+
+    Returns ``rows``: a dict of arrays over k (names as the C row's
+    columns: ``k``, ``omega``, ``dynamic_fraction``, ``r_S``,
+    ``first_t`` [k, 3], ...); ``reference``: the reference's row as a dict;
+    ``summary``: dofs, modes_lo, modes_hi, reference_modes, restitution,
+    compliance_dynamic, compliance_static, complete."""
+    tp = ffi.new("vi_truncation **")
+    _raise(lib.vi_truncation_create(model._m, tp), lib.vi_model_errmsg(model._m))
+    tr = _own(tp[0], lib.vi_truncation_destroy, "vi_truncation")
+
+    def call(st):
+        _raise(st, lib.vi_truncation_errmsg(tr))
+
+    if modes is not None:
+        call(lib.vi_truncation_set_modes(tr, int(modes[0]), int(modes[1])))
+    if initial is not None:
+        N = model.n
+        x = _dvec(initial.get("x"), N, "initial x")
+        v = _dvec(initial.get("v"), N, "initial v")
+        call(lib.vi_truncation_set_initial(tr, float(initial.get("t0", 0.0)),
+                                           float(initial["t_end"]),
+                                           _ptr(x) if x is not None else ffi.NULL,
+                                           _ptr(v) if v is not None else ffi.NULL))
+    with _Cancel() as cancel:
+        call(lib.vi_truncation_set_cancel(tr, cancel.fn, cancel.start, ffi.NULL))
+        while not lib.vi_truncation_done(tr):
+            st = lib.vi_truncation_iterate(tr)
+            cancel.check(st)
+            call(st)
+    ncol = lib.VI_TRUNCATION_COLUMNS
+    nr = ffi.new("int *")
+    call(lib.vi_truncation_table(tr, ffi.NULL, 1, nr))
+    rows = np.zeros((ncol, max(1, nr[0])))  # column-major [ld x ncol]
+    call(lib.vi_truncation_table(tr, _ptr(rows), max(1, nr[0]), nr))
+    ref = np.zeros(ncol)
+    call(lib.vi_truncation_row(tr, 0, _ptr(ref)))
+    info = np.zeros(lib.VI_TRUNCATION_INFO)
+    call(lib.vi_truncation_summary(tr, _ptr(info)))
+    table = rows.T[:nr[0]]
+    refd = {k: v[0] for k, v in _truncation_columns(ref[None, :]).items()}
+    return {"rows": _truncation_columns(table), "reference": refd,
+            "summary": dict(zip(_TRUNCATION_SUMMARY, info.tolist()))}
+
+
 # ---- identification --------------------------------------------------------------
 def identify(model: Model, t: np.ndarray, x: np.ndarray, fit: Mapping[str, Tuple[float, float]],
              *, v: Optional[np.ndarray] = None, observation=None, noise: Optional[float] = None,
