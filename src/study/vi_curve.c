@@ -16,6 +16,7 @@
 #include "vibroimpact/vi_orbit.h"
 #include "vibroimpact/vi_param.h"
 #include "vi_orbit_internal.h"
+#include "vi_forcing.h"
 #include "vi_model_internal.h"
 
 #define MAXSP 16
@@ -185,37 +186,59 @@ static int gap_max(vi_cont_curve *c, const double *Y, double *g)
                                        &ok);
 }
 
-/* Grazing of a P(n,1) orbit: the gap's interior maximum by Newton on
- * w.v(t) = 0 (w.a < 0) along the free flow from just after the impact,
- * from the time tau0 after it; *g the gap there, *tau its time.  0, or 1
- * when Newton leaves the flight or finds no maximum. */
-static int graze_local(vi_cont_curve *c, const double *Y, double tau0, double *g,
-                       double *tau)
+/* The free flight after the P(n,1) orbit's impact at Y: the post-impact
+ * state by the impact law, one exact flow for every time asked (times
+ * relative to the impact, within the flight of length L). */
+typedef struct flight {
+  const vi_model *m;
+  vi_xflow *fl;
+  double t0, L, zp[64];
+  int N;
+} flight;
+
+static int flight_start(const vi_cont_curve *c, const double *Y, flight *f)
 {
   const vi_model *m = c->m;
-  int N = c->N, k = c->stop;
-  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
-  double xb[64], vb[64], vp[64];
+  int N = c->N;
+  f->fl = NULL;
   if (N > 32 || !m->MinvK || !m->MinvC) return 1;
-  double vn = vi_dot(N, w, Y + 1 + N), P = (1 + m->rv[k]) * vn / m->G[k + (size_t)k * m->ns];
-  for (int i = 0; i < N; i++) vp[i] = Y[1 + N + i] - P * mw[i];
-  double L = c->n * 2 * M_PI / m->omega_f, t = tau0;
+  double z[64];
+  memcpy(z, Y + 1, sizeof(double) * 2 * (size_t)N); /* x, v before the impact */
+  vi_var_impact(m, c->stop, z, f->zp);
+  f->m = m;
+  f->N = N;
+  f->t0 = Y[0];
+  f->L = c->n * vi_forcing_period(m->omega_f);
+  return vi_xflow_create(m, &f->fl) != VI_OK;
+}
+
+/* The state z [2N] at t after the impact. */
+static int flight_at(const flight *f, double t, double *z)
+{
+  return vi_xflow_physical(f->fl, f->m, f->t0, f->zp, f->zp + f->N, f->t0 + t, z,
+                           z + f->N);
+}
+
+/* The gap's interior maximum of the flight by Newton on w.v(t) = 0
+ * (w.a < 0) from tau0; *g the gap there, *tau its time.  0, or 1 when
+ * Newton leaves the flight or finds no maximum. */
+static int graze_newton(const vi_cont_curve *c, const flight *f, double tau0, double *g,
+                        double *tau)
+{
+  const vi_model *m = c->m;
+  int N = c->N;
+  const double *w = vi_stop_w(m, c->stop);
+  double z[64], dz[64], t = tau0;
   for (int it = 0; it < 12; it++) {
-    if (!(t > 0 && t < L) || vi_flow_physical(m, Y[0], Y + 1, vp, Y[0] + t, xb, vb)) return 1;
-    double wv = vi_dot(N, w, vb), wa = 0, W = m->omega_f, ph = W * (Y[0] + t);
-    for (int i = 0; i < N; i++) {
-      double ai = (m->Minv_a ? m->Minv_a[i] * cos(ph) : 0) +
-                  (m->Minv_b ? m->Minv_b[i] * sin(ph) : 0) + (m->Minv_f0 ? m->Minv_f0[i] : 0);
-      for (int j = 0; j < N; j++)
-        ai -= m->MinvK[i + (size_t)j * N] * xb[j] + m->MinvC[i + (size_t)j * N] * vb[j];
-      wa += w[i] * ai;
-    }
+    if (!(t > 0 && t < f->L) || flight_at(f, t, z)) return 1;
+    vi_var_field(m, f->t0 + t, z, dz); /* (v, a) */
+    double wv = vi_dot(N, w, z + N), wa = vi_dot(N, w, dz + N);
     if (!(wa < 0)) return 1;
     double dt = -wv / wa;
     t += dt;
-    if (fabs(dt) <= 1e-13 * L) {
-      if (!(t > 0 && t < L) || vi_flow_physical(m, Y[0], Y + 1, vp, Y[0] + t, xb, vb)) return 1;
-      *g = vi_dot(N, w, xb) - m->xsv[k];
+    if (fabs(dt) <= 1e-13 * f->L) {
+      if (!(t > 0 && t < f->L) || flight_at(f, t, z)) return 1;
+      *g = vi_dot(N, w, z) - m->xsv[c->stop];
       *tau = t;
       return 0;
     }
@@ -223,22 +246,30 @@ static int graze_local(vi_cont_curve *c, const double *Y, double tau0, double *g
   return 1;
 }
 
+/* Grazing of a P(n,1) orbit from the time tau0 after its impact. */
+static int graze_local(vi_cont_curve *c, const double *Y, double tau0, double *g,
+                       double *tau)
+{
+  flight f;
+  int r = flight_start(c, Y, &f) || graze_newton(c, &f, tau0, g, tau);
+  vi_xflow_destroy(&f.fl);
+  return r;
+}
+
 /* The grazing time from scratch: the largest of 512 samples per forcing
  * period of the flight, refined; 0, or 1 if none. */
 static int graze_scan(vi_cont_curve *c, const double *Y, double *g, double *tau)
 {
   const vi_model *m = c->m;
-  int N = c->N, k = c->stop, K = 512 * c->n, best = -1;
-  const double *w = vi_stop_w(m, k), *mw = vi_stop_minvw(m, k);
-  double xb[64], vb[64], vp[64], gb = -HUGE_VAL;
-  if (N > 32) return 1;
-  double vn = vi_dot(N, w, Y + 1 + N), P = (1 + m->rv[k]) * vn / m->G[k + (size_t)k * m->ns];
-  for (int i = 0; i < N; i++) vp[i] = Y[1 + N + i] - P * mw[i];
-  double L = c->n * 2 * M_PI / m->omega_f;
+  int N = c->N, K = 512 * c->n, best = -1, r = 1;
+  const double *w = vi_stop_w(m, c->stop);
+  double z[64], gb = -HUGE_VAL;
   double g1 = -HUGE_VAL, g2 = -HUGE_VAL; /* the two samples before */
+  flight f;
+  if (flight_start(c, Y, &f)) goto done;
   for (int s = 1; s < K; s++) {
-    if (vi_flow_physical(m, Y[0], Y + 1, vp, Y[0] + s * L / K, xb, vb)) return 1;
-    double gs = vi_dot(N, w, xb) - m->xsv[k];
+    if (flight_at(&f, s * f.L / K, z)) goto done;
+    double gs = vi_dot(N, w, z) - m->xsv[c->stop];
     if (s > 2 && g1 >= g2 && g1 >= gs && g1 > gb) { /* interior maxima only */
       gb = g1;
       best = s - 1;
@@ -246,7 +277,10 @@ static int graze_scan(vi_cont_curve *c, const double *Y, double *g, double *tau)
     g2 = g1;
     g1 = gs;
   }
-  return best < 0 || graze_local(c, Y, best * L / K, g, tau);
+  r = best < 0 || graze_newton(c, &f, best * f.L / K, g, tau);
+done:
+  vi_xflow_destroy(&f.fl);
+  return r;
 }
 
 /* The grazing condition of a P(n,1) orbit, from the tracked time. */
