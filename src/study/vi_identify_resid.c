@@ -52,7 +52,7 @@ int vi_id_make_model(vi_identify *id, const double *p, vi_model **out)
   return VI_OK;
 }
 
-double vi_id_period_of(const vi_model *m, int n) { return n * 2.0 * M_PI / m->omega_f; }
+double vi_id_period_of(const vi_model *m, int n) { return n * vi_forcing_period(m->omega_f); }
 
 /* Bring the orbit's first impact into [0, P): the same periodic orbit. */
 void vi_id_orb_normalise(orb *o, double P)
