@@ -348,6 +348,31 @@ def phi_extrema(Om, r):
     return ext
 
 
+def sweep_bounds(pts, sw, below, above):
+    """The rows of a sweep in (Omega, r) on which the cells either side of
+    the curve's Omega*(r_k) (pts: [Omega, r], interpolated in r) are not
+    P`below` and P`above` (a cell within a quarter cell of the curve, where
+    the transient dies slowly, is passed over for the next one out): their
+    number, printed, and the cell width."""
+    byr = sorted(pts, key=lambda pq: pq[1])
+    bad = 0
+    for line in sw["lines"]:
+        rk, Ws = line["param2"], line["param"]
+        h = Ws[1] - Ws[0]
+        i = max(j for j in range(len(byr) - 1) if byr[j][1] <= rk + 1e-12) if rk < byr[-1][1] else len(byr) - 2
+        (p0, q0), (p1, q1) = byr[i], byr[i + 1]
+        Wc = p0 + (p1 - p0) * (rk - q0) / (q1 - q0)
+        left = max(j for j, W in enumerate(Ws) if W < Wc - h / 4)
+        right = min(j for j, W in enumerate(Ws) if W > Wc + h / 4)
+        cl = (line["n"][left], line["m"][left])
+        cr = (line["n"][right], line["m"][right])
+        if cl != below or cr != above:
+            bad += 1
+            print("  r = %.3f: curve at Omega %.6f, cells %s at %.4f and %s at %.4f" %
+                  (rk, Wc, cl, Ws[left], cr, Ws[right]))
+    return bad, h
+
+
 def run(args):
     out = subprocess.run(args, capture_output=True, text=True, timeout=600)
     if out.returncode:
@@ -398,22 +423,7 @@ def main():
                          "--steps", "25", "--param2", "stop.r", "--from2", "0.5", "--to2", "0.9",
                          "--steps2", "21", "--transient", "1000", "--record", "40", "--threads", "2",
                          "--json", "--quiet"]))
-    byr = sorted(pts, key=lambda pq: pq[1])
-    bad = 0
-    for line in sw["lines"]:
-        rk, Ws = line["param2"], line["param"]
-        h = Ws[1] - Ws[0]
-        i = max(j for j in range(len(byr) - 1) if byr[j][1] <= rk + 1e-12) if rk < byr[-1][1] else len(byr) - 2
-        (p0, q0), (p1, q1) = byr[i], byr[i + 1]
-        Wc = p0 + (p1 - p0) * (rk - q0) / (q1 - q0)
-        left = max(j for j, W in enumerate(Ws) if W < Wc - h / 4)
-        right = min(j for j, W in enumerate(Ws) if W > Wc + h / 4)
-        cl = (line["n"][left], line["m"][left])
-        cr = (line["n"][right], line["m"][right])
-        if cl != (1, 1) or cr != (2, 2):
-            bad += 1
-            print("  r = %.3f: curve at Omega %.6f, cells %s at %.4f and %s at %.4f" %
-                  (rk, Wc, cl, Ws[left], cr, Ws[right]))
+    bad, h = sweep_bounds(pts, sw, (1, 1), (2, 2))
     ok = bad == 0
     print("%s pd curve bounds the sweep's P(1,1) and P(2,2) regions on all %d rows (cells of %.3g)" %
           ("ok  " if ok else "FAIL", len(sw["lines"]), h))
@@ -520,22 +530,7 @@ def check_p22(fold=False):
                          "--steps", "17", "--param2", "stop.r", "--from2", "0.5", "--to2", "0.9",
                          "--steps2", "9", "--transient", "3000", "--record", "40", "--threads",
                          "2", "--json", "--quiet"]))
-    byr = sorted(pts, key=lambda pq: pq[1])
-    bad = 0
-    for line in sw["lines"]:
-        rk, Ws = line["param2"], line["param"]
-        h = Ws[1] - Ws[0]
-        i = max(j for j in range(len(byr) - 1) if byr[j][1] <= rk + 1e-12) if rk < byr[-1][1] else len(byr) - 2
-        (p0, q0), (p1, q1) = byr[i], byr[i + 1]
-        Wc = p0 + (p1 - p0) * (rk - q0) / (q1 - q0)
-        left = max(j for j, W in enumerate(Ws) if W < Wc - h / 4)
-        right = min(j for j, W in enumerate(Ws) if W > Wc + h / 4)
-        cl = (line["n"][left], line["m"][left])
-        cr = (line["n"][right], line["m"][right])
-        if cl != (2, 2) or cr != (4, 4):
-            bad += 1
-            print("  r = %.3f: curve at Omega %.6f, cells %s at %.4f and %s at %.4f" %
-                  (rk, Wc, cl, Ws[left], cr, Ws[right]))
+    bad, h = sweep_bounds(pts, sw, (2, 2), (4, 4))
     ok = bad == 0
     print("%s P(2,2) pd curve bounds the sweep's P(2,2) and P(4,4) regions on all %d rows (cells "
           "of %.3g)" % ("ok  " if ok else "FAIL", len(sw["lines"]), h))
