@@ -101,8 +101,8 @@ VI_API int vi_cont_refine(const vi_model *m, const char *key, int n, int kind,
                           double *p, double *t, double *x, double *v);
 
 /** Create a curve of points of `kind` of P(n, mi) orbits, mi 1 (n >= 1),
- *  2 to 32 (fold, pd and ns; mi (2 n_coords + 1) + 2 <= 64 unknowns,
- *  VI_ERR_UNSUPPORTED beyond) or 0 (n = 1: the non-impacting
+ *  2 to 32 (fold, pd and ns; the bordered systems of mi (2 n_coords +
+ *  1) + 2 unknowns are dense) or 0 (n = 1: the non-impacting
  *  orbit, kind grazing only), of a copy of the
  *  set-up model m, in the keys key and key2 (distinct; their values in m
  *  are the start).  @return VI_OK, VI_ERR_ARG (NULL, an unknown or

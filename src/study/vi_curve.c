@@ -20,7 +20,7 @@
 #include "vi_model_internal.h"
 
 #define MAXSP 16
-/* impacts per orbit: the bordered systems have at most 64 unknowns */
+/* impacts per orbit (their stops and times are kept in the handle) */
 #define VI_CURVE_MAXI 32
 /* the test functions watched along a curve */
 enum { T_FOLD, T_PD, T_NS, T_GRAZE, T_VN, T_RES, NT };
@@ -44,6 +44,9 @@ struct vi_cont_curve {
   /* Y = (t, x, v, p, p2) [D + 2]; scales S; tangents; scratch */
   double *Y, *Yl, *Ys, *tau, *taul, *S, *Yt, *Yq, *Yr, *Yg, *Y0, *bord, *bord2, *H;
   double *J, *B, *re, *im;
+  double *tnew;       /* the new tangent [nu] */
+  double *fz;         /* a flight's post-impact state, state and field [2N] each */
+  lapack_int *ip;     /* the dense solves' pivots [nu] */
   double T[NT], Tl[NT];
   double rho;
   double tg;          /* grazing: the gap's maximum, time after the impact */
@@ -192,7 +195,7 @@ static int gap_max(vi_cont_curve *c, const double *Y, double *g)
 typedef struct flight {
   const vi_model *m;
   vi_xflow *fl;
-  double t0, L, zp[64];
+  double t0, L, *zp; /* zp: the handle's scratch */
   int N;
 } flight;
 
@@ -201,10 +204,10 @@ static int flight_start(const vi_cont_curve *c, const double *Y, flight *f)
   const vi_model *m = c->m;
   int N = c->N;
   f->fl = NULL;
-  if (N > 32 || !m->MinvK || !m->MinvC) return 1;
-  double z[64];
-  memcpy(z, Y + 1, sizeof(double) * 2 * (size_t)N); /* x, v before the impact */
-  vi_var_impact(m, c->stop, z, f->zp);
+  if (!m->MinvK || !m->MinvC) return 1;
+  f->zp = c->fz;
+  memcpy(f->zp, Y + 1, sizeof(double) * 2 * (size_t)N); /* x, v before the impact */
+  vi_var_impact(m, c->stop, f->zp, f->zp);
   f->m = m;
   f->N = N;
   f->t0 = Y[0];
@@ -222,13 +225,13 @@ static int flight_at(const flight *f, double t, double *z)
 /* The gap's interior maximum of the flight by Newton on w.v(t) = 0
  * (w.a < 0) from tau0; *g the gap there, *tau its time.  0, or 1 when
  * Newton leaves the flight or finds no maximum. */
-static int graze_newton(const vi_cont_curve *c, const flight *f, double tau0, double *g,
+static int graze_newton(vi_cont_curve *c, const flight *f, double tau0, double *g,
                         double *tau)
 {
   const vi_model *m = c->m;
   int N = c->N;
   const double *w = vi_stop_w(m, c->stop);
-  double z[64], dz[64], t = tau0;
+  double *z = c->fz + 2 * (size_t)N, *dz = z + 2 * (size_t)N, t = tau0;
   for (int it = 0; it < 12; it++) {
     if (!(t > 0 && t < f->L) || flight_at(f, t, z)) return 1;
     vi_var_field(m, f->t0 + t, z, dz); /* (v, a) */
@@ -263,7 +266,7 @@ static int graze_scan(vi_cont_curve *c, const double *Y, double *g, double *tau)
   const vi_model *m = c->m;
   int N = c->N, K = 512 * c->n, best = -1, r = 1;
   const double *w = vi_stop_w(m, c->stop);
-  double z[64], gb = -HUGE_VAL;
+  double *z = c->fz + 2 * (size_t)N, gb = -HUGE_VAL;
   double g1 = -HUGE_VAL, g2 = -HUGE_VAL; /* the two samples before */
   flight f;
   if (flight_start(c, Y, &f)) goto done;
@@ -376,11 +379,9 @@ static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *
 }
 
 /* Dense solve A y = b (A [k x k], overwritten); 0 or 1 (singular). */
-static int gauss(int k, double *A, double *b)
+static int gauss(vi_cont_curve *c, int k, double *A, double *b)
 {
-  lapack_int ip[64];
-  if (k > 64) return 1;
-  return LAPACKE_dgesv(LAPACK_COL_MAJOR, k, 1, A, k, ip, b, k) != 0;
+  return LAPACKE_dgesv(LAPACK_COL_MAJOR, k, 1, A, k, c->ip, b, k) != 0;
 }
 
 /* Newton on the conditions (withg: g too) and, where they are one short,
@@ -401,7 +402,7 @@ static int newton(vi_cont_curve *c, double *Y, int withg, const double *bord,
         A[nh + (size_t)j * nu] = bord[j];
       }
     }
-    if (gauss(nu, A, H)) return 1;
+    if (gauss(c, nu, A, H)) return 1;
     double dmax = 0;
     for (int j = 0; j < nu; j++) {
       if (!isfinite(H[j])) return 1;
@@ -434,7 +435,7 @@ static int tangent(vi_cont_curve *c, const double *Y, int withg, const double *t
     A[nh + (size_t)j * nu] = taul[j] / (c->S[j] * c->S[j]);
     tau[j] = j == nh;
   }
-  if (gauss(nu, A, tau)) return 1;
+  if (gauss(c, nu, A, tau)) return 1;
   double nrm = 0;
   for (int j = 0; j < nu; j++) nrm += tau[j] * tau[j] / (c->S[j] * c->S[j]);
   nrm = sqrt(nrm);
@@ -491,15 +492,12 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   vi_cont_curve *c = calloc(1, sizeof *c);
   if (!c) return VI_ERR_NOMEM;
   int N = m->n, D = mi * (2 * N + 1), nu = D + 2;
-  if (nu > 64) { /* the dense bordered systems: small models */
-    free(c);
-    return VI_ERR_UNSUPPORTED;
-  }
-  size_t nd = 14 * ((size_t)nu + 1) + (size_t)nu * nu + 4 * (size_t)N + (size_t)D * D +
+  size_t nd = 15 * ((size_t)nu + 1) + (size_t)nu * nu + 10 * (size_t)N + (size_t)D * D +
               2 * (size_t)D + 1;
   double v0;
   c->Y = malloc(sizeof(double) * nd);
-  if (!c->Y || vi_model_copy(m, &c->m) || vi_model_param(c->m, key, &v0) ||
+  c->ip = malloc(sizeof(lapack_int) * ((size_t)nu + 1));
+  if (!c->Y || !c->ip || vi_model_copy(m, &c->m) || vi_model_param(c->m, key, &v0) ||
       (key2 && vi_model_param(c->m, key2, &v0))) {
     int st = c->Y && c->m ? VI_ERR_ARG : VI_ERR_NOMEM;
     vi_cont_curve_destroy(&c);
@@ -507,13 +505,14 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   }
   memset(c->Y, 0, sizeof(double) * nd);
   double **slot[] = {&c->Yl, &c->Ys, &c->tau, &c->taul, &c->S, &c->Yt, &c->Yq,
-                     &c->Yr, &c->Yg, &c->Y0, &c->bord, &c->bord2, &c->H};
+                     &c->Yr, &c->Yg, &c->Y0, &c->bord, &c->bord2, &c->H, &c->tnew};
   double *p = c->Y;
   for (size_t k = 0; k < sizeof slot / sizeof slot[0]; k++) *slot[k] = p += nu + 1;
   c->re = p += nu + 1;
   c->im = p += 2 * (size_t)N;
   c->J = p += 2 * (size_t)N;
   c->B = p + (size_t)nu * nu; /* J_u [D x D], dF/dp and a spare [D] each */
+  c->fz = c->B + (size_t)D * D + 2 * (size_t)D + 1;
   snprintf(c->key, sizeof c->key, "%s", key);
   snprintf(c->key2, sizeof c->key2, "%s", key2 ? key2 : "");
   c->par[0] = vi_orbit_param_of_key(key, &c->pk[0]);
@@ -540,6 +539,7 @@ void vi_cont_curve_destroy(vi_cont_curve **cp)
   if (!cp || !*cp) return;
   vi_model_destroy(&(*cp)->m);
   free((*cp)->Y);
+  free((*cp)->ip);
   free(*cp);
   *cp = NULL;
 }
@@ -672,7 +672,7 @@ static int advance(vi_cont_curve *c, int withg)
       c->Yt[j] = c->Ys[j];
       bord[j] = c->tau[j] / (c->S[j] * c->S[j]);
     }
-    double tnew[66];
+    double *tnew = c->tnew;
     int bad = newton(c, c->Yt, withg, bord, c->Ys) || tangent(c, c->Yt, withg, c->tau, tnew);
     double cs = 0;
     for (int j = 0; !bad && j < nu; j++) cs += tnew[j] * c->tau[j] / (c->S[j] * c->S[j]);

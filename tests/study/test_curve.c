@@ -87,6 +87,54 @@ static void test_pd_refined(void **state)
   vi_model_destroy(&m);
 }
 
+/* Fig. 2 beside 29 oscillators it does not touch (unforced, off the stop,
+ * at rest): a 31-dof model whose P(1,1) orbit and period doubling are Fig.
+ * 2's, found through bordered systems of 65 unknowns (the curves were
+ * limited to 64).  The point located by following the orbit in Omega from
+ * 1.6 is the closed-form one, OMEGA_PD; the curve goes on in r. */
+static void test_large_model_pd(void **state)
+{
+  (void)state;
+  enum { N = 31 };
+  static double M[N * N], C[N * N], K[N * N];
+  double a[N] = {0.5}, w[N] = {0, 1}, f0[N] = {0};
+  memset(M, 0, sizeof M);
+  memset(C, 0, sizeof C);
+  memset(K, 0, sizeof K);
+  const double E[4] = {2, -1, -1, 1};
+  for (int i = 0; i < N; i++) M[i + i * N] = 1;
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) {
+      K[i + j * N] = E[i + 2 * j];
+      C[i + j * N] = 0.1 * E[i + 2 * j];
+    }
+  for (int i = 2; i < N; i++) { /* omega_i from 2.3 to 9.3, 2 % damping */
+    K[i + i * N] = pow(2.3 + 0.25 * (i - 2), 2);
+    C[i + i * N] = 0.04 * (2.3 + 0.25 * (i - 2));
+  }
+  vi_model *m = vi_test_model(N, M, C, K, 1.6, a, f0, w, 0.1, 0.7);
+  double t = 0, x[N], v[N], p;
+  int found = 0;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, &t, x, v, N, 1, &found), VI_OK);
+  assert_int_equal(found, 1);
+  vi_cont_curve *c = NULL;
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "forcing.omega", "stop.r",
+                                        &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(c, t, x, v), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 1.62, 2, &p), VI_OK);
+  printf("  31 dofs: PD at Omega = %.15f (Fig. 2's closed form %.15f)\n", p, OMEGA_PD);
+  assert_true(fabs(p - OMEGA_PD) < 1e-10);
+  assert_int_equal(vi_cont_curve_set_range(c, 0.695, 0.705, 2), VI_OK);
+  int n = 0;
+  while (!vi_cont_curve_done(c) && n < 100) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    n++;
+  }
+  assert_true(n >= 2);
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 static void test_p10_grazing_curve(void **state)
 {
   (void)state;
@@ -235,6 +283,7 @@ int main(void)
       cmocka_unit_test(test_p10_grazing_curve),
       cmocka_unit_test(test_fold_curve_end),
       cmocka_unit_test(test_p22_pd_curve),
+      cmocka_unit_test(test_large_model_pd),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
