@@ -90,6 +90,17 @@ static int scene_hook(vi_sim *sim, void *user)
 }
 
 /* Copy the study's last point into the diagram's point k. */
+/* A point's orbit arrays for pt->norb orbits; 0, or 1 out of memory. */
+static int alloc_orbits(vi_diagram_point *pt)
+{
+  size_t no = (size_t)pt->norb;
+  pt->ovn = malloc(sizeof(double) * no);
+  pt->ophase = malloc(sizeof(double) * no);
+  pt->ostable = malloc(sizeof(int) * no);
+  pt->oadm = malloc(sizeof(int) * no);
+  return !pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm;
+}
+
 static int keep_point(const vi_sweep *st, const vi_diagram *sw,
                       vi_diagram_line *ln, int k)
 {
@@ -117,11 +128,7 @@ static int keep_point(const vi_sweep *st, const vi_diagram *sw,
   vi_sweep_orbits(st, &pt->norb, &ov, &op, &os, &oa);
   if (pt->norb <= 0) return 0;
   size_t no = (size_t)pt->norb;
-  pt->ovn = malloc(sizeof(double) * no);
-  pt->ophase = malloc(sizeof(double) * no);
-  pt->ostable = malloc(sizeof(int) * no);
-  pt->oadm = malloc(sizeof(int) * no);
-  if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) return 1;
+  if (alloc_orbits(pt)) return 1;
   memcpy(pt->ovn, ov, sizeof(double) * no);
   memcpy(pt->ophase, op, sizeof(double) * no);
   memcpy(pt->ostable, os, sizeof(int) * no);
@@ -434,11 +441,7 @@ static int unpack_piece(const vi_diagram *sw, const piece *pc, const char *b,
     TAKE(&pt->norb, sizeof pt->norb);
     if (pt->norb > 0) {
       size_t no = (size_t)pt->norb;
-      pt->ovn = malloc(sizeof(double) * no);
-      pt->ophase = malloc(sizeof(double) * no);
-      pt->ostable = malloc(sizeof(int) * no);
-      pt->oadm = malloc(sizeof(int) * no);
-      if (!pt->ovn || !pt->ophase || !pt->ostable || !pt->oadm) return 1;
+      if (alloc_orbits(pt)) return 1;
       TAKE(pt->ovn, sizeof(double) * no);
       TAKE(pt->ophase, sizeof(double) * no);
       TAKE(pt->ostable, sizeof(int) * no);
