@@ -1,5 +1,7 @@
 """The studies from Python, checked against physics and against each
 other's independent routes (simulation vs Newton-refined orbits)."""
+import os
+
 import numpy as np
 import pytest
 
@@ -130,6 +132,32 @@ def test_truncation_study_closed_form():
     assert rows["first_n"][1] == ref["first_n"] >= 1
     n = int(ref["first_n"])
     assert np.all(np.abs(rows["first_dt"][1][:min(n, 3)]) < 1e-9)
+
+
+def test_truncation_study_published_matrices():
+    """The study on matrices another FE code wrote (Harwell-Boeing
+    bcsstk01, tests/data/fe: 48 dofs, a lumped mass with 24 massless dofs):
+    its stop compliances against scipy on the matrices themselves, 1/m_d
+    (w^T M^-1 w of the massive dofs) and (K^-1)_dd (static condensation of
+    the massless dofs leaves it unchanged), and every mode kept carrying
+    all of both."""
+    sp = pytest.importorskip("scipy.sparse")
+    sio = pytest.importorskip("scipy.io")
+    data = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "fe")
+    K = sp.csc_matrix(sio.mmread(os.path.join(data, "hb_bcsstk01_K.mtx")))
+    M = sp.csc_matrix(sio.mmread(os.path.join(data, "hb_bcsstk01_M.mtx")))
+    d = 24  # the heaviest lumped mass, 200
+    m = vi.Model.from_sparse(M, K, stops=[{"dof": d, "xs": 1e-4, "r": 0.7}],
+                             forcing={"omega": 500.0, "a": 1.0}, zeta=0.02)
+    s = vi.truncation_study(m)
+    info, rows = s["summary"], s["rows"]
+    assert info["dofs"] == 24 and info["reference_modes"] == 24  # the massless ones condensed
+    assert abs(info["compliance_dynamic"] - 1 / M.diagonal()[d]) < 1e-12 / M.diagonal()[d]
+    kinv = np.linalg.inv(K.toarray())[d, d]
+    assert abs(info["compliance_static"] - kinv) < 1e-10 * kinv
+    assert np.all(np.diff(rows["dynamic_fraction"]) >= -1e-15)
+    assert abs(rows["dynamic_fraction"][-1] - 1) < 1e-12
+    assert abs(rows["static_fraction"][-1] - 1) < 1e-12
 
 
 def test_identify_recovers_restitution():
