@@ -42,7 +42,7 @@ struct vi_cont_curve {
   double from2, to2, dsmax, ds;
   int64_t npts, maxpts;
   /* Y = (t, x, v, p, p2) [D + 2]; scales S; tangents; scratch */
-  double *Y, *Yl, *Ys, *tau, *taul, *S, *Yt, *Yq, *Yr, *Yg, *Y0, *bord, *bord2, *H;
+  double *Y, *Yl, *Ys, *tau, *taul, *S, *Yt, *Yq, *Yr, *Yg, *Ye, *Y0, *bord, *bord2, *H;
   double *J, *B, *re, *im;
   double *tnew;       /* the new tangent [nu] */
   double *fz;         /* a flight's post-impact state, state and field [2N] each */
@@ -135,13 +135,12 @@ static int mults(vi_cont_curve *c, const double *Y)
                                         c->re, c->im);
 }
 
-/* The product forms of the multiplier conditions; skip: an index left out
- * (-1: none). */
-static double prod_shift(const vi_cont_curve *c, double s, int skip)
+/* The product form of the fold (s = -1) and pd (s = 1) conditions,
+ * prod_i (mu_i + s). */
+static double prod_shift(const vi_cont_curve *c, double s)
 {
   double complex p = 1;
-  for (int i = 0; i < 2 * c->N; i++)
-    if (i != skip) p *= c->re[i] + I * c->im[i] + s;
+  for (int i = 0; i < 2 * c->N; i++) p *= c->re[i] + I * c->im[i] + s;
   return creal(p);
 }
 
@@ -171,13 +170,23 @@ static void ns_pair(const vi_cont_curve *c, int *bi, int *bj)
     }
 }
 
-/* The index of the multiplier nearest z (real). */
-static int nearest(const vi_cont_curve *c, double z)
+/* d/dz prod_i (mu_i + z) at z = s, sum_i prod_{j != i} (mu_j + s): where
+ * one multiplier is at -s it is the product over the others, the 1:1 or
+ * 1:2 test on a fold or pd curve.  A symmetric function of the
+ * multipliers, so as exact as the monodromy's entries: near a double
+ * multiplier each one alone is only good to the square root of the
+ * rounding (the product over the others of the nearest one jumped by
+ * 1e-8 there, and regula falsi could not locate its zero). */
+static double dprod_shift(const vi_cont_curve *c, double s)
 {
-  int b = 0;
-  for (int i = 1; i < 2 * c->N; i++)
-    if (hypot(c->re[i] - z, c->im[i]) < hypot(c->re[b] - z, c->im[b])) b = i;
-  return b;
+  double complex sum = 0;
+  for (int i = 0; i < 2 * c->N; i++) {
+    double complex p = 1;
+    for (int j = 0; j < 2 * c->N; j++)
+      if (j != i) p *= c->re[j] + I * c->im[j] + s;
+    sum += p;
+  }
+  return creal(sum);
 }
 
 /* The largest gap between impacts of the P(n,1) orbit at Y. */
@@ -317,8 +326,8 @@ static int gfun(vi_cont_curve *c, const double *Y, double *g)
   double vn = 1; /* each impact's S has its own 1/v_N: their product */
   for (int j = 0; j < c->mi; j++)
     vn *= vi_dot(c->N, vi_stop_w(c->m, c->stops[j]), Y + (size_t)j * c->blk + 1 + c->N);
-  *g = c->kind == VI_CONT_CURVE_FOLD ? vn * prod_shift(c, -1, -1)
-       : c->kind == VI_CONT_CURVE_PD ? vn * prod_shift(c, 1, -1) : prod_pairs(c);
+  *g = c->kind == VI_CONT_CURVE_FOLD ? vn * prod_shift(c, -1)
+       : c->kind == VI_CONT_CURVE_PD ? vn * prod_shift(c, 1) : prod_pairs(c);
   return VI_OK;
 }
 
@@ -459,11 +468,11 @@ static int tests(vi_cont_curve *c, const double *Y, double *T)
   T[T_VN] = HUGE_VAL; /* the smallest approach velocity */
   for (int j = 0; j < c->mi; j++)
     T[T_VN] = fmin(T[T_VN], vi_dot(N, vi_stop_w(c->m, c->stops[j]), Y + (size_t)j * c->blk + 1 + N));
-  T[T_FOLD] = prod_shift(c, -1, -1);
-  T[T_PD] = prod_shift(c, 1, -1);
+  T[T_FOLD] = prod_shift(c, -1);
+  T[T_PD] = prod_shift(c, 1);
   T[T_NS] = prod_pairs(c);
-  if (c->kind == VI_CONT_CURVE_FOLD) T[T_RES] = prod_shift(c, -1, nearest(c, 1));
-  if (c->kind == VI_CONT_CURVE_PD) T[T_RES] = prod_shift(c, 1, nearest(c, -1));
+  if (c->kind == VI_CONT_CURVE_FOLD) T[T_RES] = dprod_shift(c, -1);
+  if (c->kind == VI_CONT_CURVE_PD) T[T_RES] = dprod_shift(c, 1);
   if (c->kind == VI_CONT_CURVE_NS) { /* 4 p - s^2 of the pair: > 0 complex */
     int i, j;
     ns_pair(c, &i, &j);
@@ -492,7 +501,7 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   vi_cont_curve *c = calloc(1, sizeof *c);
   if (!c) return VI_ERR_NOMEM;
   int N = m->n, D = mi * (2 * N + 1), nu = D + 2;
-  size_t nd = 15 * ((size_t)nu + 1) + (size_t)nu * nu + 10 * (size_t)N + (size_t)D * D +
+  size_t nd = 16 * ((size_t)nu + 1) + (size_t)nu * nu + 10 * (size_t)N + (size_t)D * D +
               2 * (size_t)D + 1;
   double v0;
   c->Y = malloc(sizeof(double) * nd);
@@ -505,7 +514,7 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   }
   memset(c->Y, 0, sizeof(double) * nd);
   double **slot[] = {&c->Yl, &c->Ys, &c->tau, &c->taul, &c->S, &c->Yt, &c->Yq,
-                     &c->Yr, &c->Yg, &c->Y0, &c->bord, &c->bord2, &c->H, &c->tnew};
+                     &c->Yr, &c->Yg, &c->Ye, &c->Y0, &c->bord, &c->bord2, &c->H, &c->tnew};
   double *p = c->Y;
   for (size_t k = 0; k < sizeof slot / sizeof slot[0]; k++) *slot[k] = p += nu + 1;
   c->re = p += nu + 1;
@@ -889,6 +898,15 @@ static void to_bound(vi_cont_curve *c, double b)
   if (!newton(c, c->Yt, 1, bord, c->Ys)) memcpy(c->Y, c->Yt, sizeof(double) * nu);
 }
 
+/* Whether test k's sign change from Tl to T ends the curve: the orbit
+ * stops being admissible (its gap reaches the stop, or v_N falls through
+ * 0), or (ns) its pair turns real. */
+static int ends_at(const vi_cont_curve *c, int k, const double *T)
+{
+  return (k == T_GRAZE && c->Tl[T_GRAZE] < 0) || (k == T_VN && c->Tl[T_VN] > 0) ||
+         (k == T_RES && c->kind == VI_CONT_CURVE_NS && c->Tl[T_RES] > 0 && !(T[T_RES] > 0));
+}
+
 /* The codimension-two points between the last point and this one; 1 if
  * one ends the curve (Y is then that point). */
 static int specials(vi_cont_curve *c, int report)
@@ -899,17 +917,43 @@ static int specials(vi_cont_curve *c, int report)
                                   {T_FOLD, T_PD, T_GRAZE, T_VN, T_RES}};
   int D = c->D, nu = D + 2;
   if (!c->mi) return 0;
-  double *Yq = c->Yg, Tq[NT];
+  double *Yq = c->Yg, Tq[NT], Te[NT];
   if (c->kind == VI_CONT_CURVE_FOLD &&
       c->tau[D] * c->taul[D] / (c->S[D] * c->S[D]) +
       c->tau[D + 1] * c->taul[D + 1] / (c->S[D + 1] * c->S[D + 1]) < 0 && report)
     add_special(c, VI_CONT_SP_CUSP, c->Y, 0);
-  int ns_res = c->kind == VI_CONT_CURVE_NS && (c->T[T_RES] < 0) != (c->Tl[T_RES] < 0);
+  /* A step that ends the curve (admissibility lost) is cut at that end,
+   * located first: beyond v_N = 0 a multiplier comes back from infinity
+   * (the saltation matrix's 1/v_N), and the products of the fold and pd
+   * tests change sign through that pole, not through a zero. */
+  int ke = -1, le = 0;
+  const double *Tb = c->T, *Yb = c->Y;
+  for (int w = 0; w < 5 && watch[c->kind][w] >= 0 && ke < 0; w++) {
+    int k = watch[c->kind][w];
+    if ((k == T_GRAZE || k == T_VN) && (c->T[k] < 0) != (c->Tl[k] < 0) && !isnan(c->T[k]) &&
+        !isnan(c->Tl[k]) && ends_at(c, k, c->T))
+      ke = k;
+  }
+  if (ke >= 0) {
+    le = !locate(c, c->Yl, c->Y, c->Tl[ke], c->T[ke], ke, 1, c->Ye);
+    if (!tests(c, c->Ye, Te)) {
+      Te[ke] = c->T[ke]; /* the end's own side: it is the one crossing */
+      Tb = Te;
+      Yb = c->Ye;
+    }
+  }
+  int ns_res = c->kind == VI_CONT_CURVE_NS && (Tb[T_RES] < 0) != (c->Tl[T_RES] < 0);
   for (int w = 0; w < 5 && watch[c->kind][w] >= 0; w++) {
     int k = watch[c->kind][w];
-    if (!((c->T[k] < 0) != (c->Tl[k] < 0)) || isnan(c->T[k]) || isnan(c->Tl[k])) continue;
+    if (!((Tb[k] < 0) != (c->Tl[k] < 0)) || isnan(Tb[k]) || isnan(c->Tl[k])) continue;
     if (ns_res && (k == T_FOLD || k == T_PD)) continue; /* the resonance itself */
-    int loc = !locate(c, c->Yl, c->Y, c->Tl[k], c->T[k], k, 1, Yq), type;
+    int loc, type;
+    if (k == ke) {
+      memcpy(Yq, c->Ye, sizeof(double) * nu);
+      loc = le;
+    } else {
+      loc = !locate(c, c->Yl, Yb, c->Tl[k], Tb[k], k, 1, Yq);
+    }
     if (k == T_RES && c->kind == VI_CONT_CURVE_NS) {
       tests(c, Yq, Tq);
       int i, j;
@@ -923,8 +967,7 @@ static int specials(vi_cont_curve *c, int report)
     if (report) add_special(c, type, Yq, loc);
     /* ends: admissibility lost, or an NS pair turning real (beyond, a
      * neutral saddle, no bifurcation) */
-    if ((k == T_GRAZE && c->Tl[T_GRAZE] < 0) || (k == T_VN && c->Tl[T_VN] > 0) ||
-        (k == T_RES && c->kind == VI_CONT_CURVE_NS && c->Tl[T_RES] > 0)) {
+    if (ends_at(c, k, Tb)) {
       if (!report) { /* the backward pass's end: reported with the first point */
         special e = {type, loc, Yq[D], Yq[D + 1]};
         c->endsp = e;
