@@ -14,7 +14,15 @@
  *    orbit's equations hold, a multiplier is -1, and the product of the
  *    multipliers is Liouville's r^4 exp(-tr(M^-1 C) 2T) (each impact
  *    scales the phase volume by r, the damping by exp(-tr ...) per time).
- * The independent mpmath checks of every curve are curves_check.py's. */
+ *  - the lightly damped chain (c = 0.02, r = 0.8): its P(1,1) period-
+ *    doubling curve in (Omega, x_s) passes two 1:2 points (a second
+ *    multiplier through -1), located at codim2_check.py's 24-digit
+ *    closed-form points; there the orbit has two multipliers at -1 and
+ *    their product is Liouville's r^2 exp(-tr(M^-1 C) T); the
+ *    Neimark-Sacker curve born at the upper one ends on it, at the same
+ *    point to round-off.
+ * The independent mpmath checks of every curve are curves_check.py's and
+ * codim2_check.py's. */
 #include <complex.h>
 #include <math.h>
 #include <stdio.h>
@@ -131,6 +139,111 @@ static void test_large_model_pd(void **state)
     n++;
   }
   assert_true(n >= 2);
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
+/* The 1:2 points of the chain with c = 0.02, r = 0.8 in (Omega, x_s):
+ * codim2_check.py's closed form (24 digits, 16 kept). */
+static const double R12[2][2] = {{0.4600125668111045, 1.123731014267325},
+                                 {0.4837169950085476, 1.233367557722454}};
+
+/* The admissible P(1,1) orbit of the chain (c = 0.02, r = 0.8) at Omega
+ * and x_s with the smallest multipliers (as `curves` picks it). */
+static vi_model *light_chain(double W, double xs, double *t, double *x, double *v)
+{
+  const double a[2] = {0.5, 0.0};
+  vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.02, xs, 0.8, W, a);
+  double tt[4], xx[8], vv[8], re[4], im[4], best = HUGE_VAL, g;
+  int found = 0, ok;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, tt, xx, vv, 2, 4, &found), VI_OK);
+  for (int k = 0; k < found && k < 4; k++) {
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, tt + k, xx + 2 * k, vv + 2 * k, 2, &g,
+                                             &ok), VI_OK);
+    assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, tt + k, xx + 2 * k, vv + 2 * k, 2, re,
+                                              im), VI_OK);
+    double rho = 0;
+    for (int i = 0; i < 4; i++) rho = fmax(rho, hypot(re[i], im[i]));
+    if (ok && rho < best) {
+      best = rho;
+      *t = tt[k];
+      memcpy(x, xx + 2 * k, sizeof(double) * 2);
+      memcpy(v, vv + 2 * k, sizeof(double) * 2);
+    }
+  }
+  assert_true(best < HUGE_VAL);
+  return m;
+}
+
+static void test_resonance_12(void **state)
+{
+  (void)state;
+  double t, x[2], v[2], p, p2, q, q2, re[4], im[4], lt = 0, lx[2] = {0}, lv[2] = {0};
+  int type, loc, n12 = 0;
+  vi_model *m = light_chain(0.5, 1.233, &t, x, v);
+  vi_cont_curve *c = NULL;
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "forcing.omega", "stop.xs",
+                                        &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(c, t, x, v), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 0.3, 200, &p), VI_OK);
+  assert_int_equal(vi_cont_curve_set_range(c, 1.1, 1.4, 200), VI_OK);
+  while (!vi_cont_curve_done(c)) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    for (int i = 0; i < vi_cont_curve_num_special(c); i++) {
+      assert_int_equal(vi_cont_curve_special(c, i, &type, &q, &q2, &loc), VI_OK);
+      if (type != VI_CONT_SP_RESONANCE_12) continue;
+      assert_true(n12 < 2 && loc);
+      printf("  1:2 at Omega = %.16g, x_s = %.16g (closed form %.16g, %.16g)\n", q, q2,
+             R12[n12][0], R12[n12][1]);
+      assert_true(fabs(q - R12[n12][0]) < 1e-12 && fabs(q2 - R12[n12][1]) < 1e-12);
+      /* the orbit there, from the last point before it */
+      vi_model *mq = NULL;
+      assert_int_equal(vi_model_copy(m, &mq), VI_OK);
+      assert_int_equal(vi_model_set_param(mq, "forcing.omega", q), VI_OK);
+      assert_int_equal(vi_model_set_param(mq, "stop.xs", q2), VI_OK);
+      assert_int_equal(vi_orbit_pnm_solve(mq, 1, 1, &lt, lx, lv, 2, 0, NULL), VI_OK);
+      assert_int_equal(vi_orbit_pnm_multipliers(mq, 1, 1, &lt, lx, lv, 2, re, im), VI_OK);
+      double d[4];
+      double complex pr = 1;
+      for (int k = 0; k < 4; k++) {
+        d[k] = hypot(re[k] + 1, im[k]);
+        pr *= re[k] + I * im[k];
+      }
+      int near = 0;
+      for (int k = 0; k < 4; k++) near += d[k] < 1e-6;
+      double liou = 0.8 * 0.8 * exp(-0.06 * 2 * M_PI / q); /* tr(M^-1 C) = 0.02 (2 + 1) */
+      printf("    multipliers' distances to -1: %.1e %.1e %.1e %.1e; product / Liouville - 1 = "
+             "%.1e\n", d[0], d[1], d[2], d[3], cabs(pr - liou) / liou);
+      assert_int_equal(near, 2);
+      assert_true(cabs(pr - liou) < 1e-10 * liou);
+      vi_model_destroy(&mq);
+      n12++;
+    }
+    assert_int_equal(vi_cont_curve_point(c, &p, &p2, &lt, lx, lv, NULL), VI_OK);
+  }
+  assert_int_equal(n12, 2);
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+  /* the NS curve from x_s = 1.15 ends on the upper one: the pair turns real at -1 */
+  m = light_chain(0.5, 1.15, &t, x, v);
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_NS, 1, 1, "forcing.omega", "stop.xs",
+                                        &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(c, t, x, v), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 0.56, 200, &p), VI_OK);
+  assert_int_equal(vi_cont_curve_set_range(c, 1.0, 1.4, 200), VI_OK);
+  n12 = 0;
+  while (!vi_cont_curve_done(c)) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    for (int i = 0; i < vi_cont_curve_num_special(c); i++) {
+      assert_int_equal(vi_cont_curve_special(c, i, &type, &q, &q2, &loc), VI_OK);
+      if (type != VI_CONT_SP_RESONANCE_12) continue;
+      printf("  the ns curve ends at Omega = %.16g, x_s = %.16g\n", q, q2);
+      assert_true(loc && fabs(q - R12[1][0]) < 1e-12 && fabs(q2 - R12[1][1]) < 1e-12);
+      n12++;
+    }
+  }
+  assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_RESONANCE);
+  assert_int_equal(n12, 1);
   vi_cont_curve_destroy(&c);
   vi_model_destroy(&m);
 }
@@ -284,6 +397,7 @@ int main(void)
       cmocka_unit_test(test_fold_curve_end),
       cmocka_unit_test(test_p22_pd_curve),
       cmocka_unit_test(test_large_model_pd),
+      cmocka_unit_test(test_resonance_12),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
