@@ -26,10 +26,12 @@ Checks:
      (`resonance`) at a located 1:2 point within 1e-9 of the reference and
      of the pd curve's;
   3. the 1:1 point that ends the NS curve of the chain at r = 0.6 in
-     (Omega, x_s), and the one on Fig. 2's fold curve (c = 0.1): within 1e-9
-     of the reference (1:1 points lie on a fold, where the orbit itself
-     moves as the square root of its parameters: the check is of the
-     point, not of multipliers at the rounded point).
+     (Omega, x_s), the fold curve crossing that NS curve (a multiplier +1
+     and a pair on the unit circle: p(1) = 0 and prod_{i<j} (mu_i mu_j - 1)
+     = 0), and the 1:1 point on Fig. 2's fold curve (c = 0.1): within 1e-9
+     of the reference (these lie on a fold, where the orbit itself moves as
+     the square root of its parameters: the check is of the point, not of
+     multipliers at the rounded point).
 usage: codim2_check.py VIBROIMPACT"""
 import json
 import os
@@ -68,7 +70,12 @@ def orbit_near(Om, r, xs, s):
 
 def tests(Om, r, t0, s):
     z = cc.orbit_at(Om, r, None, t0)[0]
-    u = [m + s for m in cc.multipliers(Om, r, t0, z)]
+    mu = cc.multipliers(Om, r, t0, z)
+    if s == 'fold-ns':  # a multiplier at +1 and a pair on the unit circle
+        u = [m - 1 for m in mu]
+        return mp.re(mp.fprod(u)), mp.re(mp.fprod(mu[i] * mu[j] - 1 for i in range(4)
+                                                  for j in range(i + 1, 4)))
+    u = [m + s for m in mu]
     p = mp.fprod(u)
     dp = mp.fsum(mp.fprod(u[:i] + u[i + 1:]) for i in range(len(u)))
     return mp.re(p), mp.re(dp)
@@ -86,7 +93,7 @@ def fold_phase(Om, r, xs):
 
 def reference(Om, xs, r, s):
     """The codimension-two point near (Omega, x_s): (Omega*, x_s*)."""
-    t0 = orbit_near(Om, r, xs, s)[0] if s > 0 else fold_phase(Om, r, xs)
+    t0 = orbit_near(Om, r, xs, s)[0] if s == 1 else fold_phase(Om, r, xs)
     sol = mp.findroot(lambda W, t: tests(W, r, t, s), (Om, t0))
     W, t = sol[0], sol[1]
     return W, cc.orbit_at(W, r, None, t)[0][1]
@@ -173,6 +180,13 @@ def main():
     else:
         ok = False
         print("FAIL ns curve at r = 0.6: no resonance_1_1 point")
+    fails += not ok
+    fo = [e for e in js["special"] if e["type"] == "fold"]
+    if fo:
+        ok = check_point(fo[0], mp.mpf('0.6'), 'fold-ns', "fold crossing that ns curve")[0]
+    else:
+        ok = False
+        print("FAIL ns curve at r = 0.6: no fold point")
     fails += not ok
     set_damping('0.1')
     js = run(exe, ["--set", "stop.xs=0.5", "--kind", "fold", "--param", "forcing.omega", "--to",
