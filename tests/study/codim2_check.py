@@ -159,8 +159,8 @@ def main():
     end = [e for e in js["special"] if e["type"] == "resonance_1_2"]
     ok = worst < 1e-7 and js["end"].startswith("resonance") and len(end) == 1
     print("%s ns curve: %d points, worst ||mu| - 1| of the pair %.1e (every 10th point), cos "
-          "theta %.6f at the point before its end (%s)" % ("ok  " if ok else "FAIL",
-                                                          len(js["points"]), worst, cmax, js["end"]))
+          "theta %.6f at the point before its end (%s)" %
+          ("ok  " if ok else "FAIL", len(js["points"]), worst, cmax, js["end"]))
     fails += not ok
     if end:
         good, ref = check_point(end[0], r, 1, "1:2 ending the ns curve")

@@ -158,17 +158,16 @@ static vi_model *light_chain(double W, double xs, double *t, double *x, double *
   int found = 0, ok;
   assert_int_equal(vi_orbit_p1_scan(m, 1, 720, tt, xx, vv, 2, 4, &found), VI_OK);
   for (int k = 0; k < found && k < 4; k++) {
-    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, tt + k, xx + 2 * k, vv + 2 * k, 2, &g,
-                                             &ok), VI_OK);
-    assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, tt + k, xx + 2 * k, vv + 2 * k, 2, re,
-                                              im), VI_OK);
+    const double *xk = xx + (size_t)2 * k, *vk = vv + (size_t)2 * k;
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, tt + k, xk, vk, 2, &g, &ok), VI_OK);
+    assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, tt + k, xk, vk, 2, re, im), VI_OK);
     double rho = 0;
     for (int i = 0; i < 4; i++) rho = fmax(rho, hypot(re[i], im[i]));
     if (ok && rho < best) {
       best = rho;
       *t = tt[k];
-      memcpy(x, xx + 2 * k, sizeof(double) * 2);
-      memcpy(v, vv + 2 * k, sizeof(double) * 2);
+      memcpy(x, xk, sizeof(double) * 2);
+      memcpy(v, vk, sizeof(double) * 2);
     }
   }
   assert_true(best < HUGE_VAL);
@@ -178,7 +177,8 @@ static vi_model *light_chain(double W, double xs, double *t, double *x, double *
 static void test_resonance_12(void **state)
 {
   (void)state;
-  double t, x[2], v[2], p, p2, q, q2, re[4], im[4], lt = 0, lx[2] = {0}, lv[2] = {0};
+  double t = 0, x[2] = {0}, v[2] = {0}, p, p2, q, q2, re[4], im[4], lt = 0, lx[2] = {0};
+  double lv[2] = {0};
   int type, loc, n12 = 0;
   vi_model *m = light_chain(0.5, 1.233, &t, x, v);
   vi_cont_curve *c = NULL;
