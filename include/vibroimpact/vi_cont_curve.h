@@ -133,8 +133,10 @@ VI_API int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t,
  *  `steps` >= 1 steps (P(n,m): pseudo-arclength, around folds; P(1,0): the
  *  gap on a grid) and stop at the first point of the curve's kind, refined
  *  (vi_cont_refine's Newton); *param (may be NULL) receives key's value
- *  there.  @return VI_OK, VI_STOPPED (none before `to`, or the branch is
- *  lost), VI_ERR_ARG, VI_ERR_NONFINITE, VI_ERR_STATE (no orbit set, or
+ *  there.  @return VI_OK, VI_STOPPED (none before `to`, the branch is
+ *  lost, or the orbit stops being admissible first: v_N through 0, or,
+ *  for fold, pd and ns, its gap between impacts reaching the stop),
+ *  VI_ERR_ARG, VI_ERR_NONFINITE, VI_ERR_STATE (no orbit set, or
  *  already located), VI_ERR_NOT_CONVERGED (no orbit from the one given),
  *  VI_ERR_NOMEM. */
 VI_API int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps,

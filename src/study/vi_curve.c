@@ -833,18 +833,29 @@ int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps, double *param)
       }
       int cross = (c->T[k] < 0) != (c->Tl[k] < 0);
       if (cross && k == T_GRAZE && c->T[T_VN] <= 0 && c->Tl[T_VN] <= 0) cross = 0;
+      /* the gap between impacts reaching the stop: beyond, the orbit goes
+       * through it (a point found there would be of no motion) */
+      int out = k != T_GRAZE && c->Tl[T_GRAZE] < 0 && !(c->T[T_GRAZE] < 0);
+      double Tq[NT];
       if (cross) {
         double *Yg = c->Yg;
         locate(c, c->Yl, c->Y, c->Tl[k], c->T[k], k, 0, Yg);
-        if (!refine(c, Yg) && ns_complex(c, Yg)) {
+        if (!refine(c, Yg) && ns_complex(c, Yg) &&
+            !(out && (tests(c, Yg, Tq) || !(Tq[T_GRAZE] < 0)))) {
           memcpy(c->Y, Yg, sizeof(double) * (D + 1));
           break;
         }
-        if (c->kind != VI_CONT_CURVE_NS) {
-          st = vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "%s: the point near %.17g did not "
-                       "converge", c->key, Yg[D]);
-          break;
-        }
+      }
+      if (out) {
+        st = vi_fail(c->errmsg, VI_STOPPED, "no %s point: the P(%d,%d) orbit grazes the stop "
+                     "(not admissible beyond) near %s = %.17g", k == T_FOLD ? "fold" : k == T_PD
+                     ? "period-doubling" : "Neimark-Sacker", c->n, c->mi, c->key, c->Y[D]);
+        break;
+      }
+      if (cross && c->kind != VI_CONT_CURVE_NS) {
+        st = vi_fail(c->errmsg, VI_ERR_NOT_CONVERGED, "%s: the point near %.17g did not "
+                     "converge", c->key, c->Yg[D]);
+        break;
       }
       if ((c->Y[D] - to) * (to > p0 ? 1 : -1) > 0) {
         st = vi_fail(c->errmsg, VI_STOPPED, "no such point of the P(%d,%d) orbit between "

@@ -248,6 +248,36 @@ static void test_resonance_12(void **state)
   vi_model_destroy(&m);
 }
 
+/* The P(2,1) orbit of the same chain at Omega = 0.5, x_s = 1.3, followed
+ * down in Omega, grazes the stop near 0.4976 before a pair of its
+ * multipliers reaches the unit circle (0.4695): that Neimark-Sacker point
+ * is of an orbit through the stop (its flight 0.38 above it by the closed
+ * form), so locate stops at the grazing instead. */
+static void test_locate_stops_at_grazing(void **state)
+{
+  (void)state;
+  const double a[2] = {0.5, 0.0};
+  vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.02, 1.3, 0.8, 0.5, a);
+  double tt[4], xx[8], vv[8], g, p;
+  int found = 0, ok = 0, k = 0;
+  assert_int_equal(vi_orbit_p1_scan(m, 2, 720, tt, xx, vv, 2, 4, &found), VI_OK);
+  for (; k < found && k < 4 && !ok; k++)
+    assert_int_equal(vi_orbit_pnm_admissible(m, 2, 1, tt + k, xx + (size_t)2 * k,
+                                             vv + (size_t)2 * k, 2, &g, &ok), VI_OK);
+  assert_true(ok);
+  k--;
+  vi_cont_curve *c = NULL;
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_NS, 2, 1, "forcing.omega", "stop.xs",
+                                        &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(c, tt[k], xx + (size_t)2 * k, vv + (size_t)2 * k),
+                   VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 0.44, 200, &p), VI_STOPPED);
+  printf("  %s\n", vi_cont_curve_errmsg(c));
+  assert_non_null(strstr(vi_cont_curve_errmsg(c), "grazes"));
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 static void test_p10_grazing_curve(void **state)
 {
   (void)state;
@@ -398,6 +428,7 @@ int main(void)
       cmocka_unit_test(test_p22_pd_curve),
       cmocka_unit_test(test_large_model_pd),
       cmocka_unit_test(test_resonance_12),
+      cmocka_unit_test(test_locate_stops_at_grazing),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
