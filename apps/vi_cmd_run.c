@@ -26,11 +26,16 @@ int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model)
 {
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_sets_active() ? vi_sets_load(o->scene, o->max_depth, scene, &d) /* --set */
-         : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
-                                            o->max_depth, scene, &d)
-                    : vi_scene_parse(vi_scene_default_text(), -1,
-                                     "<default scene: fig2>", scene, &d);
+  /* the scene's own vectors within --max-memory too, before they are
+   * allocated (a matrix file's header may claim any n) */
+  int st = vi_sets_active()
+               ? vi_sets_load(o->scene, o->max_depth, o->max_memory, scene,
+                              &d) /* --set */
+           : o->scene ? vi_scene_load_within(o->scene, o->max_scene_bytes,
+                                             o->max_depth, o->max_memory,
+                                             scene, &d)
+                      : vi_scene_parse(vi_scene_default_text(), -1,
+                                       "<default scene: fig2>", scene, &d);
   if (!st && (st = vi_scene_set_run(*scene, o->rtol, o->atol, o->periods,
                                     o->method)))
     snprintf(d.message, sizeof d.message, "%s",
