@@ -357,8 +357,8 @@ int vi_cmd_run(const app_opts *o)
   vi_app_arm_parts(h5part, part);
   if ((o->out && (rc = open_writer(&c, sc, m, outs))) || (o->csv && (rc = open_csv(&c, part))))
     goto done;
-  double omega = vi_model_omega_forcing(m), wall;
-  double period = omega > 0 ? 2 * M_PI / omega : (c.t_end - c.t0) / 100;
+  double period = vi_model_forcing_period(m), wall; /* 0: no forcing */
+  if (!(period > 0)) period = (c.t_end - c.t0) / 100;
   st = simulate(&c, s, period, spp, ledger, &wall);
   rc = 1;
   if (st < 0) {

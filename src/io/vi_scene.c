@@ -13,6 +13,7 @@
 
 #include <yaml.h>
 
+#include "base/vi_period.h"
 #include "vi_matrix_internal.h"
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
@@ -1328,8 +1329,8 @@ static void options_init(vi_scene *s)
 static void options_finish(vi_scene *s)
 {
   if (s->periods > 0 || !(s->t_end > 0))
-    s->t_end =
-        s->t0 + (s->periods > 0 ? s->periods : 100.0) * 2 * M_PI / s->omega;
+    s->t_end = s->t0 + vi_periods_time(s->periods > 0 ? s->periods : 100.0,
+                                       s->omega);
 }
 
 
