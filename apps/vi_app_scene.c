@@ -57,7 +57,8 @@ char *vi_app_read_text(const char *path, char *err, int errlen)
 }
 
 int vi_app_load_scene(const char *path, const char *const *sets, int nsets,
-                      int max_depth, vi_scene **out, char *err, int errlen)
+                      int max_depth, double max_memory, vi_scene **out,
+                      char *err, int errlen)
 {
   vi_scene_edit *ed = NULL;
   vi_diag d;
@@ -68,7 +69,7 @@ int vi_app_load_scene(const char *path, const char *const *sets, int nsets,
   int st = vi_scene_edit_create_limited(text, -1, path ? path : "<default "
                                         "scene: fig2>", max_depth, &ed, &d);
   for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
-  if (!st) st = vi_scene_edit_parse(ed, out, &d);
+  if (!st) st = vi_scene_edit_parse_within(ed, max_memory, out, &d);
   free(text);
   vi_scene_edit_destroy(&ed);
   if (st) {
@@ -108,10 +109,11 @@ int vi_sets_take(int argc, char **argv)
 
 int vi_sets_active(void) { return set_count; }
 
-int vi_sets_load(const char *path, int max_depth, vi_scene **out, vi_diag *d)
+int vi_sets_load(const char *path, int max_depth, double max_memory,
+                 vi_scene **out, vi_diag *d)
 {
   if (!set_count)
-    return path ? vi_scene_load(path, out, d)
+    return path ? vi_scene_load_within(path, 0, max_depth, max_memory, out, d)
                 : vi_scene_parse(vi_scene_default_text(), -1,
                                  "<default scene: fig2>", out, d);
   char err[512];
@@ -132,7 +134,7 @@ int vi_sets_load(const char *path, int max_depth, vi_scene **out, vi_diag *d)
   int st = vi_scene_edit_create_limited(text, -1, path ? path : "<default "
                                         "scene: fig2>", max_depth, &ed, d);
   for (int i = 0; i < set_count && !st; i++) st = vi_scene_edit_assign(ed, set_list[i], d);
-  if (!st) st = vi_scene_edit_parse(ed, out, d);
+  if (!st) st = vi_scene_edit_parse_within(ed, max_memory, out, d);
   free(text);
   vi_scene_edit_destroy(&ed);
   return st;

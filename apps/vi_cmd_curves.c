@@ -146,7 +146,8 @@ static int curves_model(const cargs *a, vi_scene **sc, vi_model **mdl, char *k1,
 {
   char err[2048];
   vi_diag d;
-  int rc = vi_app_load_scene(a->scene, a->sets, a->nsets, a->max_depth, sc, err, sizeof err);
+  int rc = vi_app_load_scene(a->scene, a->sets, a->nsets, a->max_depth, 0, sc, err,
+                             sizeof err);
   if (!rc && vi_app_text_nonlinear(vi_scene_text(*sc))) {
     snprintf(err, sizeof err, "curves: the scene has nonlinear springs; orbits are found "
              "with the linear closed-form flow, which would ignore them");

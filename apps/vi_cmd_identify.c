@@ -548,7 +548,8 @@ static int identify_scene(ident *I)
   I->keys = strdup(I->a.fit);
   st = I->keys ? vi_scene_edit_create(I->text, -1, I->a.scene_path, &I->ed, &d) : VI_ERR_NOMEM;
   for (int i = 0; i < I->a.nsets && !st; i++) st = vi_scene_edit_assign(I->ed, I->a.sets[i], &d);
-  if (!st) st = vi_scene_edit_parse(I->ed, &I->sc, &d);
+  /* the scene's vectors within what the machine has (0) */
+  if (!st) st = vi_scene_edit_parse_within(I->ed, 0, &I->sc, &d);
   if (!st) st = vi_scene_create_model(I->sc, &I->model, &d);
   if (st) {
     vi_app_print_diag(&d, st);

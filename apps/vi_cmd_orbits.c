@@ -204,7 +204,7 @@ static int orbits_model(const oargs *a, vi_scene **sc, vi_model **mdl)
 {
   char err[2048];
   vi_diag d;
-  int rc = vi_app_load_scene(a->scene, a->sets, a->nsets, a->max_depth, sc, err,
+  int rc = vi_app_load_scene(a->scene, a->sets, a->nsets, a->max_depth, 0, sc, err,
                              sizeof err);
   if (rc) {
     fprintf(stderr, "vibroimpact: %s\n", err);

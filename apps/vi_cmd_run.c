@@ -26,11 +26,16 @@ int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model)
 {
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_sets_active() ? vi_sets_load(o->scene, o->max_depth, scene, &d) /* --set */
-         : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
-                                            o->max_depth, scene, &d)
-                    : vi_scene_parse(vi_scene_default_text(), -1,
-                                     "<default scene: fig2>", scene, &d);
+  /* the scene's own vectors within --max-memory too, before they are
+   * allocated (a matrix file's header may claim any n) */
+  int st = vi_sets_active()
+               ? vi_sets_load(o->scene, o->max_depth, o->max_memory, scene,
+                              &d) /* --set */
+           : o->scene ? vi_scene_load_within(o->scene, o->max_scene_bytes,
+                                             o->max_depth, o->max_memory,
+                                             scene, &d)
+                      : vi_scene_parse(vi_scene_default_text(), -1,
+                                       "<default scene: fig2>", scene, &d);
   if (!st && (st = vi_scene_set_run(*scene, o->rtol, o->atol, o->periods,
                                     o->method)))
     snprintf(d.message, sizeof d.message, "%s",
@@ -352,8 +357,8 @@ int vi_cmd_run(const app_opts *o)
   vi_app_arm_parts(h5part, part);
   if ((o->out && (rc = open_writer(&c, sc, m, outs))) || (o->csv && (rc = open_csv(&c, part))))
     goto done;
-  double omega = vi_model_omega_forcing(m), wall;
-  double period = omega > 0 ? 2 * M_PI / omega : (c.t_end - c.t0) / 100;
+  double period = vi_model_forcing_period(m), wall; /* 0: no forcing */
+  if (!(period > 0)) period = (c.t_end - c.t0) / 100;
   st = simulate(&c, s, period, spp, ledger, &wall);
   rc = 1;
   if (st < 0) {

@@ -161,9 +161,14 @@ static int study_scene(study *S)
   const app_opts *o = S->o;
   vi_diag d;
   memset(&d, 0, sizeof d);
-  int st = vi_sets_active() ? vi_sets_load(o->scene, o->max_depth, &S->sc, &d) /* --set */
-           : o->scene ? vi_scene_load_limited(o->scene, o->max_scene_bytes,
-                                              o->max_depth, &S->sc, &d)
+  /* the scene's own vectors within --max-memory too, before they are
+   * allocated (a matrix file's header may claim any n) */
+  int st = vi_sets_active()
+               ? vi_sets_load(o->scene, o->max_depth, o->max_memory, &S->sc,
+                              &d) /* --set */
+           : o->scene ? vi_scene_load_within(o->scene, o->max_scene_bytes,
+                                             o->max_depth, o->max_memory,
+                                             &S->sc, &d)
                       : vi_scene_parse(vi_scene_default_text(), -1,
                                        "<default scene: fig2>", &S->sc, &d);
   if (!st) st = vi_scene_set_run(S->sc, o->rtol, o->atol, 0, o->method);

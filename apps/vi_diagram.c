@@ -602,7 +602,7 @@ static int prepare(vi_diagram *sw, const char *text, const char *name,
   memset(&d, 0, sizeof d);
   int st = vi_scene_edit_create_limited(text, -1, name, sp->max_depth, &ed, &d);
   for (int i = 0; i < nsets && !st; i++) st = vi_scene_edit_assign(ed, sets[i], &d);
-  if (!st) st = vi_scene_edit_parse(ed, &sw->sc, &d);
+  if (!st) st = vi_scene_edit_parse_within(ed, sw->max_memory, &sw->sc, &d);
   if (!st) {
     sw->text = strdup(vi_scene_edit_text(ed));
     sw->name = strdup(name);

@@ -160,25 +160,28 @@ int vi_diagram_write_h5(const vi_diagram *sw, const char *path, char *err,
 char *vi_app_read_text(const char *path, char *err, int errlen);
 /* Read a scene file (NULL: the default) with KEY=VALUE overrides applied
  * (vi_scene_edit, at most max_depth levels of nesting, <= 0: the default)
- * and parse it.  Returns 0, 2 for bad input, 1 for I/O;
+ * and parse it, the scene's vectors within max_memory bytes (<= 0: what
+ * the machine has; vi_scene_edit_parse_within).  Returns 0, 2 for bad
+ * input, 1 for I/O;
  * err names file:line:key. */
 struct vi_scene;
 int vi_app_load_scene(const char *path, const char *const *sets, int nsets,
-                      int max_depth, struct vi_scene **out, char *err,
-                      int errlen);
+                      int max_depth, double max_memory,
+                      struct vi_scene **out, char *err, int errlen);
 
 /* --set KEY=VALUE for run and energy: vi_sets_take removes every
  * `--set KEY=VALUE` (or `--set=KEY=VALUE`) from argv and keeps them;
  * returns the new argc, -1 for a --set without its value.  vi_sets_load
  * then loads a scene (NULL: the default) as vi_scene_load does, with them
  * applied (vi_scene_edit: errors keep the file:line of the key) and at most
- * max_depth levels of nesting (<= 0: the default, --max-depth). */
+ * max_depth levels of nesting (<= 0: the default, --max-depth), the
+ * scene's vectors within max_memory (as vi_app_load_scene). */
 int vi_sets_take(int argc, char **argv);
 /* Number of --set assignments taken (0: load scenes as usual). */
 int vi_sets_active(void);
 struct vi_diag;
-int vi_sets_load(const char *path, int max_depth, struct vi_scene **out,
-                 struct vi_diag *d);
+int vi_sets_load(const char *path, int max_depth, double max_memory,
+                 struct vi_scene **out, struct vi_diag *d);
 
 /* 1 if the scene text has nonlinear springs (`springs:`): the closed-form
  * orbit machinery (orbits, sweep --orbits) covers linear scenes only. */

@@ -113,6 +113,16 @@ VI_API int vi_scene_parse(const char *text, int64_t len, const char *name,
  *  the whole file is read or parsed. */
 VI_API int vi_scene_load_limited(const char *path, int64_t max_bytes,
                                  int max_depth, vi_scene **out, vi_diag *diag);
+/** vi_scene_load_limited within a memory budget: the scene's own vectors
+ *  of n (56 n bytes) are compared with max_memory (<= 0: MemAvailable of
+ *  /proc/meminfo, no check when that is unknown) before they are
+ *  allocated, so that a matrix file whose header claims a huge n is
+ *  refused at once; the whole model is compared by vi_scene_check_memory
+ *  after the load.  @return as vi_scene_load_limited, VI_ERR_LIMIT (diag
+ *  names the key giving n and both figures), VI_ERR_ARG (max_memory NaN). */
+VI_API int vi_scene_load_within(const char *path, int64_t max_bytes,
+                                int max_depth, double max_memory,
+                                vi_scene **out, vi_diag *diag);
 /** vi_scene_parse with a nesting limit (<= 0: VI_SCENE_MAX_DEPTH). */
 VI_API int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
                                   int max_depth, vi_scene **out,

@@ -75,6 +75,11 @@ VI_API const char *vi_scene_edit_text(const vi_scene_edit *e);
  *  @return as vi_scene_parse. */
 VI_API int vi_scene_edit_parse(const vi_scene_edit *e, vi_scene **out,
                                vi_diag *diag);
+/** vi_scene_edit_parse within a memory budget, as vi_scene_load_within.
+ *  @return as vi_scene_edit_parse, VI_ERR_LIMIT, VI_ERR_ARG (NaN). */
+VI_API int vi_scene_edit_parse_within(const vi_scene_edit *e,
+                                      double max_memory, vi_scene **out,
+                                      vi_diag *diag);
 
 #ifdef __cplusplus
 }

@@ -38,7 +38,7 @@ module vibroimpact_io
             vi_scene_t0, vi_scene_t_end, vi_scene_rtol, vi_scene_atol, &
             vi_scene_method, vi_scene_samples_per_period, vi_scene_outputs, &
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
-            vi_scene_load_limited, vi_scene_parse_limited, &
+            vi_scene_load_limited, vi_scene_parse_limited, vi_scene_load_within, &
             vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
             vi_scene_fe_summary, &
             vi_scene_create_fe, vi_scene_initial, &
@@ -46,7 +46,7 @@ module vibroimpact_io
   public :: vi_scene_edit_create, vi_scene_edit_create_limited, &
             vi_scene_edit_destroy, vi_scene_edit_set, &
             vi_scene_edit_assign, vi_scene_edit_set_number, vi_scene_edit_get, &
-            vi_scene_edit_text, vi_scene_edit_parse
+            vi_scene_edit_text, vi_scene_edit_parse, vi_scene_edit_parse_within
   public :: vi_identify_write_h5
   public :: vi_truncation_write_h5, VI_TRUNCATION_COLUMNS, VI_TRUNCATION_INFO
   public :: vi_writer_create, vi_writer_write_header, vi_writer_event, &
@@ -86,6 +86,18 @@ module vibroimpact_io
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int64_t), value :: max_bytes
       integer(c_int), value :: max_depth
+      type(c_ptr) :: scene
+      type(vi_diag), optional :: diag
+    end function
+    !> max_memory: the budget in bytes the scene's vectors of n must fit (<= 0:
+    !> what the machine has), checked before they are allocated
+    integer(c_int) function vi_scene_load_within(path, max_bytes, max_depth, max_memory, &
+        scene, diag) bind(C, name="vi_scene_load_within")
+      import :: c_int, c_int64_t, c_double, c_ptr, c_char, vi_diag
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int64_t), value :: max_bytes
+      integer(c_int), value :: max_depth
+      real(c_double), value :: max_memory
       type(c_ptr) :: scene
       type(vi_diag), optional :: diag
     end function
@@ -168,6 +180,14 @@ module vibroimpact_io
     integer(c_int) function vi_scene_edit_parse(edit, scene, diag) bind(C, name="vi_scene_edit_parse")
       import :: c_int, c_ptr, vi_diag
       type(c_ptr), value :: edit
+      type(c_ptr) :: scene
+      type(vi_diag), optional :: diag
+    end function
+    integer(c_int) function vi_scene_edit_parse_within(edit, max_memory, scene, diag) &
+        bind(C, name="vi_scene_edit_parse_within")
+      import :: c_int, c_double, c_ptr, vi_diag
+      type(c_ptr), value :: edit
+      real(c_double), value :: max_memory
       type(c_ptr) :: scene
       type(vi_diag), optional :: diag
     end function

@@ -13,6 +13,7 @@
 
 #include <yaml.h>
 
+#include "base/vi_period.h"
 #include "vi_matrix_internal.h"
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
@@ -24,6 +25,8 @@ typedef struct ctx {
   yaml_document_t doc;
   vi_diag *d;
   const char *file;
+  const double *max_memory; /* the caller's budget (<= 0: the machine's);
+                             * NULL: none checked while parsing */
 } ctx;
 
 void vi_diag_format(const vi_diag *d, char *buf, int len)
@@ -1041,6 +1044,32 @@ static int parse_run(ctx *c, vi_scene *s, yaml_node_t *root)
   return VI_OK;
 }
 
+/* The scene's 7 vectors of n (a, b, f0, w, x0, v0 and a spare) within the
+ * caller's memory budget, checked before they are allocated: a matrix
+ * file's header may claim any n, and a calloc of 7 n doubles that fails
+ * under a memory limit said "out of memory" instead of naming the budget
+ * (issue 29).  The whole model's estimate is checked after the parse
+ * (vi_scene_check_memory); this is the part the parse itself needs. */
+static int vectors_fit(ctx *c, vi_scene *s, yaml_node_t *mod)
+{
+  if (!c->max_memory) return VI_OK;
+  double lim = *c->max_memory, need = 56.0 * s->n;
+  int from_machine = !(lim > 0);
+  if (from_machine) lim = vi_scene_mem_available();
+  if (!(lim > 0) || need <= lim) return VI_OK; /* unknown, or it fits */
+  char why[224];
+  snprintf(why, sizeof why, "the scene's vectors of %d dofs alone would "
+           "need %.3g MB (the model more), more than the %.3g MB %s "
+           "(--max-memory raises the limit)", s->n, need / 1048576.0,
+           lim / 1048576.0, from_machine ? "available on this machine"
+                                         : "allowed");
+  const char *key = vi_scene_size_key(s);
+  char val[32];
+  snprintf(val, sizeof val, "%d", s->n);
+  return vi_diag_set(c->d, c->file, VI_ERR_LIMIT, LINE(mod), 1, key, val,
+                     "%s", why);
+}
+
 static int parse_root(ctx *c, vi_scene *s)
 {
   static const char *const keys[] = {"name",    "model", "forcing", "stop",
@@ -1073,6 +1102,7 @@ static int parse_root(ctx *c, vi_scene *s)
   if (!stop && !stops)
     return fail(c, root, VI_ERR_PARSE, "stop", "%s", "missing section");
   if ((st = parse_model(c, s, mod))) return st;
+  if ((st = vectors_fit(c, s, mod))) return st;
   s->a = alloc_n(s, 7);
   if (!s->a) {
     char why[160]; /* a file header's n, say, that no machine could hold */
@@ -1299,13 +1329,20 @@ static void options_init(vi_scene *s)
 static void options_finish(vi_scene *s)
 {
   if (s->periods > 0 || !(s->t_end > 0))
-    s->t_end =
-        s->t0 + (s->periods > 0 ? s->periods : 100.0) * 2 * M_PI / s->omega;
+    s->t_end = s->t0 + vi_periods_time(s->periods > 0 ? s->periods : 100.0,
+                                       s->omega);
 }
 
 
 int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
                            int max_depth, vi_scene **out, vi_diag *d)
+{
+  return vi_scene_parse_within(text, len, name, max_depth, NULL, out, d);
+}
+
+int vi_scene_parse_within(const char *text, int64_t len, const char *name,
+                          int max_depth, const double *max_memory,
+                          vi_scene **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
   if (out) *out = NULL;
@@ -1325,7 +1362,7 @@ int vi_scene_parse_limited(const char *text, int64_t len, const char *name,
   memcpy(s->text, text, (size_t)len);
   s->text[len] = '\0';
   options_init(s);
-  ctx c = {.d = d, .file = s->file};
+  ctx c = {.d = d, .file = s->file, .max_memory = max_memory};
   int st = compose(&c, s->text, (size_t)len, max_depth);
   if (st) {
     vi_scene_destroy(&s);
@@ -1358,14 +1395,19 @@ int vi_scene_parse(const char *text, int64_t len, const char *name, vi_scene **o
   return vi_scene_parse_limited(text, len, name, 0, out, d);
 }
 
-int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
-                          vi_scene **out, vi_diag *d)
+/* vi_scene_load_limited and vi_scene_load_within: max_memory as in
+ * vi_scene_parse_within. */
+static int load(const char *path, int64_t max_bytes, int max_depth,
+                const double *max_memory, vi_scene **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
   if (out) *out = NULL;
   if (!path || !out)
     return vi_diag_set(d, path, VI_ERR_ARG, 0, 0, "", "", "%s",
                        "vi_scene_load: path and out are required");
+  if (max_memory && isnan(*max_memory))
+    return vi_diag_set(d, path, VI_ERR_ARG, 0, 0, "max_memory", "nan", "%s",
+                       "the memory limit is not a number");
   if (max_bytes <= 0) max_bytes = VI_SCENE_MAX_BYTES;
   if (max_bytes > LONG_MAX - 1) max_bytes = LONG_MAX - 1;
   FILE *f = fopen(path, "rb");
@@ -1408,9 +1450,22 @@ int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
     return vi_diag_set(d, path, VI_ERR_IO, 0, 0, "", "", "cannot read: %s",
                        strerror(e));
   }
-  int st = vi_scene_parse_limited(buf ? buf : "", len, path, max_depth, out, d);
+  int st = vi_scene_parse_within(buf ? buf : "", len, path, max_depth,
+                                  max_memory, out, d);
   free(buf);
   return st;
+}
+
+int vi_scene_load_limited(const char *path, int64_t max_bytes, int max_depth,
+                          vi_scene **out, vi_diag *d)
+{
+  return load(path, max_bytes, max_depth, NULL, out, d);
+}
+
+int vi_scene_load_within(const char *path, int64_t max_bytes, int max_depth,
+                         double max_memory, vi_scene **out, vi_diag *d)
+{
+  return load(path, max_bytes, max_depth, &max_memory, out, d);
 }
 
 int vi_scene_load(const char *path, vi_scene **out, vi_diag *d)

@@ -5,6 +5,7 @@
  * text the user never saw.  libyaml still does the locating: the document
  * is loaded, the path walked node by node, and the node's marks give the
  * span to replace. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 #include <yaml.h>
 
 #include "vi_io_internal.h"
+#include "vi_scene_internal.h"
 #include "vibroimpact/vi_scene_edit.h"
 #include "vibroimpact/vi_status.h"
 
@@ -467,11 +469,15 @@ int vi_scene_edit_get(const vi_scene_edit *e, const char *key, char *buf,
   return st;
 }
 
-int vi_scene_edit_parse(const vi_scene_edit *e, vi_scene **out, vi_diag *d)
+/* vi_scene_edit_parse and vi_scene_edit_parse_within: max_memory as in
+ * vi_scene_parse_within. */
+static int parse(const vi_scene_edit *e, const double *max_memory,
+                 vi_scene **out, vi_diag *d)
 {
   if (!e || !out) return VI_ERR_ARG;
-  int st = vi_scene_parse_limited(e->text, (long)e->len, e->name, e->max_depth,
-                                  out, d);
+  if (max_memory && isnan(*max_memory)) return VI_ERR_ARG;
+  int st = vi_scene_parse_within(e->text, (long)e->len, e->name, e->max_depth,
+                                 max_memory, out, d);
   if (st && d)
     for (int i = 0; i < e->nedits; i++)
       if (d->line == e->lines[i]) {
@@ -481,4 +487,15 @@ int vi_scene_edit_parse(const vi_scene_edit *e, vi_scene **out, vi_diag *d)
         break;
       }
   return st;
+}
+
+int vi_scene_edit_parse(const vi_scene_edit *e, vi_scene **out, vi_diag *d)
+{
+  return parse(e, NULL, out, d);
+}
+
+int vi_scene_edit_parse_within(const vi_scene_edit *e, double max_memory,
+                               vi_scene **out, vi_diag *d)
+{
+  return parse(e, &max_memory, out, d);
 }

@@ -91,6 +91,22 @@ struct vi_scene {
   int line_model, line_stop, line_initial, line_run, line_forcing;
 };
 
+/* MemAvailable from /proc/meminfo in bytes; 0 when unknown
+ * (vi_scene_model.c). */
+double vi_scene_mem_available(void);
+
+/* The key that gives the scene's size n, for messages (vi_scene_model.c):
+ * model.chain.n, model.cantilever.modes, the matrix files' section or
+ * model.K. */
+const char *vi_scene_size_key(const vi_scene *s);
+
+/* vi_scene_parse_limited with a memory budget (vi_scene.c): the scene's
+ * own vectors of n are checked against *max_memory (<= 0: what the
+ * machine has) before they are allocated; NULL: not checked. */
+int vi_scene_parse_within(const char *text, int64_t len, const char *name,
+                          int max_depth, const double *max_memory,
+                          vi_scene **out, vi_diag *d);
+
 /* Coordinates of the scene's model: n, or the kept modes of an FE model. */
 int vi_scene_model_n(const vi_scene *s);
 

@@ -89,8 +89,15 @@ double vi_scene_memory_estimate(const vi_scene *s)
   return (double)bytes;
 }
 
-/* MemAvailable from /proc/meminfo in bytes; 0 when unknown. */
-static double mem_available(void)
+const char *vi_scene_size_key(const vi_scene *s)
+{
+  return s->kind == VI_SCENE_CHAIN        ? "model.chain.n"
+         : s->kind == VI_SCENE_CANTILEVER ? "model.cantilever.modes"
+         : s->kind == VI_SCENE_FE         ? s->fe.section
+                                          : "model.K";
+}
+
+double vi_scene_mem_available(void)
 {
   FILE *f = fopen("/proc/meminfo", "r");
   if (!f) return 0;
@@ -117,14 +124,11 @@ int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
     return vi_diag_set(d, s->file, VI_ERR_ARG, 0, 0, "max_bytes", "nan",
                        "the memory limit is not a number");
   int from_machine = !(max_bytes > 0);
-  if (from_machine) max_bytes = mem_available();
+  if (from_machine) max_bytes = vi_scene_mem_available();
   if (!(max_bytes > 0)) return VI_OK; /* not known: nothing to compare */
   double need = vi_scene_memory_estimate(s);
   if (need <= max_bytes) return VI_OK;
-  const char *key = s->kind == VI_SCENE_CHAIN        ? "model.chain.n"
-                    : s->kind == VI_SCENE_CANTILEVER ? "model.cantilever.modes"
-                    : s->kind == VI_SCENE_FE         ? s->fe.section
-                                                     : "model.K";
+  const char *key = vi_scene_size_key(s);
   char val[32];
   snprintf(val, sizeof val, "%d", s->n);
   return vi_diag_set(d, s->file, VI_ERR_LIMIT, s->line_model,

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/vi_period.h"
 #include "vi_scene_internal.h"
 #include "vibroimpact.h"
 
@@ -93,7 +94,7 @@ int vi_scene_set_run(vi_scene *s, double rtol, double atol, double periods,
   if (periods > 0) {
     if (!(s->omega > 0)) return VI_ERR_FREQUENCY;
     s->periods = periods;
-    s->t_end = s->t0 + periods * 2 * M_PI / s->omega;
+    s->t_end = s->t0 + vi_periods_time(periods, s->omega);
   }
   return VI_OK;
 }

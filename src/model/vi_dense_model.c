@@ -11,39 +11,40 @@
 
 #include "vi_storage.h"
 
-static void dense_accel(const vi_model *m, const vi_phase *p, const double *z,
-                        double *acc)
+/* out [n] = M^-1 (f^(k)(t) - K x - C v), x and v read with strides incx,
+ * incv: the one kernel of the model's acceleration (k = 0, the run's
+ * interleaved state or the variational field's blocked one) and of its
+ * rates (k = 1, 2, where the constant f0 drops: vi_harm ignores it), over
+ * the band of M^-1 K and M^-1 C. */
+static void dense_accel_k(const vi_model *m, const vi_phase *p, int k,
+                          const double *x, size_t incx, const double *v,
+                          size_t incv, double *out)
 {
   int n = m->n, bw = m->bw;
   const double *fa, *fb, *f0;
   vi_forcing_vectors(m, VI_FORCING_MINV, &fa, &fb, &f0);
   for (int i = 0; i < n; i++) {
-    double a = vi_harm(p, 0, fa[i], fb[i], f0[i]);
+    double a = vi_harm(p, k, fa[i], fb[i], f0[i]);
     int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
     for (int j = j0; j <= j1; j++) {
-      size_t ij = (size_t)i + (size_t)j * n;
-      a -= m->MinvK[ij] * z[2 * (size_t)j] +
-           m->MinvC[ij] * z[2 * (size_t)j + 1];
+      size_t ij = (size_t)i + (size_t)j * (size_t)n;
+      a -= m->MinvK[ij] * x[(size_t)j * incx] +
+           m->MinvC[ij] * v[(size_t)j * incv];
     }
-    acc[i] = a;
+    out[i] = a;
   }
+}
+
+static void dense_accel(const vi_model *m, const vi_phase *p, const double *z,
+                        double *acc)
+{
+  dense_accel_k(m, p, 0, z, 2, z + 1, 2, acc);
 }
 
 static void dense_accel_rate(const vi_model *m, const vi_phase *p, int k,
                              const double *u, const double *ud, double *out)
 {
-  int n = m->n, bw = m->bw;
-  const double *fa, *fb, *f0;
-  vi_forcing_vectors(m, VI_FORCING_MINV, &fa, &fb, &f0);
-  for (int i = 0; i < n; i++) {
-    double f = vi_harm(p, k, fa[i], fb[i], 0.0);
-    int j0 = i - bw < 0 ? 0 : i - bw, j1 = i + bw >= n ? n - 1 : i + bw;
-    for (int j = j0; j <= j1; j++) {
-      size_t ij = (size_t)i + (size_t)j * (size_t)n;
-      f -= m->MinvK[ij] * u[j] + m->MinvC[ij] * ud[j];
-    }
-    out[i] = f;
-  }
+  dense_accel_k(m, p, k, u, 1, ud, 1, out);
 }
 
 static void dense_apply(const vi_model *m, const double *x, int incx,

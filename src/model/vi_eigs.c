@@ -592,27 +592,40 @@ cleanup:
   return st;
 }
 
-/* What ARPACK's dsaupd / dseupd info codes mean (their documentation). */
-static const char *arpack_words(int info)
+/* What ARPACK's info codes mean, as dsaupd's and dseupd's documentation
+ * gives them (the two number some differently: -12, -13, -15, -17). */
+const char *vi_arpack_words(int eupd, int info)
 {
   switch (info) {
+  case 0: return "normal exit";
+  case 1: return "the maximum number of iterations was taken";
+  case 3: return "no shifts could be applied during a restart cycle (raise "
+                 "ncv)";
   case -1: return "n must be positive";
   case -2: return "the number of modes must be positive";
   case -3: return "ncv must exceed the modes and be at most n";
-  case -4: return "the iteration limit must be positive";
+  case -4: return "the maximum number of iterations must be positive";
   case -5: return "which must be LM, SM, LA, SA or BE";
   case -6: return "bmat must be I or G";
-  case -7: return "lworkl is too small";
+  case -7: return "the private work array workl is too short";
   case -8: return "the tridiagonal eigensolve (LAPACK dsteqr) failed";
-  case -9: return "the start vector is zero";
-  case -10: return "iparam(7) must be 1 to 5";
-  case -11: return "mode 1 does not take bmat = G";
-  case -12: return "iparam(1) must be 0 or 1";
-  case -13: return "nev = 1 does not take which = BE";
-  case -14: return "no Ritz value converged";
-  case -15: return "the Ritz values disagree with dsaupd's";
-  case -16: return "howmny = S is not implemented";
-  case -9999: return "no Lanczos factorisation could be built";
+  case -9: return "the starting vector is zero";
+  case -10: return "the mode iparam(7) must be 1 to 5";
+  case -11: return "mode 1 and bmat = G are incompatible";
+  case -12: return eupd ? "nev = 1 and which = BE are incompatible"
+                        : "the shift strategy iparam(1) must be 0 or 1";
+  case -13: return eupd ? "an unknown code"
+                        : "nev = 1 and which = BE are incompatible";
+  case -14: return eupd ? "dsaupd found no eigenvalue to sufficient accuracy"
+                        : "an unknown code";
+  case -15: return eupd ? "howmny must be A or S" : "an unknown code";
+  case -16: return eupd ? "howmny = S is not implemented" : "an unknown code";
+  case -17: return eupd ? "dseupd counted other converged Ritz values than "
+                          "dsaupd (its data were changed between the two)"
+                        : "an unknown code";
+  case -9999: return eupd ? "an unknown code"
+                          : "could not build a Lanczos (Arnoldi) "
+                            "factorisation";
   default: return "an unknown code";
   }
 }
@@ -664,20 +677,21 @@ static int arpack(vi_fe *fe, cholmod_factor *L, cholmod_common *c, int ncv,
   }
   if (info == 1 || info == 3) {
     st = vi_fail(fe->errmsg, VI_ERR_NOT_CONVERGED, "Lanczos: %d of %d modes "
-                 "converged in %d restarts (raise maxit or ncv with "
-                 "vi_fe_set_eigensolver)", (int)iparam[4], k, (int)iparam[2]);
+                 "converged in %d restarts (ARPACK dsaupd info %d: %s; raise "
+                 "maxit or ncv with vi_fe_set_eigensolver)", (int)iparam[4],
+                 k, (int)iparam[2], (int)info, vi_arpack_words(0, (int)info));
     goto cleanup;
   }
   if (info != 0) {
     st = vi_fail(fe->errmsg, VI_ERR_LAPACK, "ARPACK dsaupd fails (info %d: "
-                 "%s)", (int)info, arpack_words((int)info));
+                 "%s)", (int)info, vi_arpack_words(0, (int)info));
     goto cleanup;
   }
   dseupd_c(1, "A", sel, lam, Z, n, fe->shift, "G", n, "LM", k, tol, resid,
            ncv, V, n, iparam, ipntr, workd, workl, lworkl, &info);
   if (info != 0) {
     st = vi_fail(fe->errmsg, VI_ERR_LAPACK, "ARPACK dseupd fails (info %d: "
-                 "%s)", (int)info, arpack_words((int)info));
+                 "%s)", (int)info, vi_arpack_words(1, (int)info));
     goto cleanup;
   }
   if (iparam[4] < k)

@@ -98,4 +98,8 @@ int vi_fe_inspect(vi_fe *fe);
  * frees it), fe->shift, fe->resid. */
 int vi_fe_eigs(vi_fe *fe, double **Psi);
 
+/* ARPACK's info code in words (vi_eigs.c): of dseupd when eupd is nonzero,
+ * else of dsaupd; "an unknown code" for one neither documents. */
+const char *vi_arpack_words(int eupd, int info);
+
 #endif

@@ -12,9 +12,13 @@
 #include <math.h>
 
 #include "vi_internal.h"
+#include "vi_period.h"
 
-/* The forcing period 2 pi / W: the library writes it out here only. */
-static inline double vi_forcing_period(double W) { return 2.0 * M_PI / W; }
+/* The forcing period 2 pi / W (vi_period.h writes it out). */
+static inline double vi_forcing_period(double W)
+{
+  return vi_periods_time(1.0, W);
+}
 
 typedef struct vi_phase {
   double W;    /* forcing frequency Omega */

@@ -159,7 +159,12 @@ void vi_var_field(const vi_model *m, double t, const double *z, double *f)
   int n = m->n;
   vi_phase p = vi_phase_at(m->omega_f, t);
   memcpy(f, z + n, sizeof(double) * n);
-  /* M^-1 (f(t) - K x - C v) */
+  /* M^-1 (f(t) - K x - C v): the quantity the model's kernel computes
+   * (dense_accel_k, vi_dense_model.c), but summed in BLAS's order, which
+   * the Floquet multipliers, curves and identifications were computed in:
+   * the kernel's band loop moves them by up to 1.6e-14 relative (Fig. 2's
+   * multipliers by 3e-15, its pd curve's points by 1.6e-14; measured for
+   * issue 29), so the two become one where outputs may move. */
   for (int i = 0; i < n; i++)
     f[n + i] = vi_harm(&p, 0, m->Minv_a[i], m->Minv_b[i], m->Minv_f0[i]);
   cblas_dgemv(CblasColMajor, CblasNoTrans, n, n, -1.0, m->MinvK, n, z, 1,

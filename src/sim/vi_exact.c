@@ -714,9 +714,11 @@ static int ex_start(vi_sim *s)
 /* Ledger integrals over [a, b] by 8-point Gauss-Legendre in pieces of at
  * most a quarter radian of the fastest rate: there the rule's error is
  * below round-off for the products of modes that make the integrands. */
-static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
+static int ex_quadrature(vi_sim *s, ex_data *d, double a, double b,
+                         double *done)
 {
-  if (!(b > a)) return;
+  *done = b;
+  if (!(b > a)) return VI_OK;
   double npf = ceil((b - a) / d->hq);
   int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
   for (int64_t k = 0; k < np; k++) {
@@ -728,7 +730,12 @@ static void ex_quadrature(vi_sim *s, ex_data *d, double a, double b)
       ex_modes_at(d, t, d->qs, d->qds);
       vi_ledger_accumulate(s->led, t, d->qds, NULL, w);
     }
+    if (vi_sim_quad_cancelled(s, k, np)) { /* the integrals end at pb */
+      *done = pb;
+      return VI_CANCELLED;
+    }
   }
+  return VI_OK;
 }
 
 /* The reported gap at t inside the flight, directly (an end time between
@@ -749,14 +756,29 @@ static double ex_gap_at(ex_data *d, double t)
   return ex_report(d, g, 0);
 }
 
-/* Move to t (no contact before it): time, gap, ledger. */
-static void ex_move(vi_sim *s, ex_data *d, double t, double g)
+/* The ledger's integrals from s->t to t; cancelled inside them, the
+ * flight stops where they end (its time and gap there). */
+static int ex_ledger_to(vi_sim *s, ex_data *d, double t)
 {
-  if (s->led) ex_quadrature(s, d, s->t, t);
+  if (!s->led || ex_quadrature(s, d, s->t, t, &t) != VI_CANCELLED)
+    return VI_OK;
+  s->t = t;
+  s->gap = ex_gap_at(d, t);
+  s->z_stale = 1;
+  d->q_ok = 0;
+  return VI_CANCELLED;
+}
+
+/* Move to t (no contact before it): time, gap, ledger. */
+static int ex_move(vi_sim *s, ex_data *d, double t, double g)
+{
+  int st = ex_ledger_to(s, d, t);
+  if (st) return st;
   s->t = t;
   s->gap = g;
   s->z_stale = 1;
   d->q_ok = 0;
+  return VI_OK;
 }
 
 /* The grid scanner's view of the flight (vi_grid.h): the active modes
@@ -814,7 +836,8 @@ static int ex_g_crossing(vi_sim *s, void *dp, double tc, int which,
 {
   ex_data *d = dp;
   (void)which; /* d->hit */
-  if (s->led) ex_quadrature(s, d, s->t, tc);
+  int st = ex_ledger_to(s, d, tc);
+  if (st) return st;
   s->t = tc;
   ex_modes_at(d, tc, d->q, d->qd);
   d->tq = tc;
@@ -845,9 +868,9 @@ static double ex_g_report(vi_sim *s, void *dp, const double *f)
   return ex_report(dp, f, 1);
 }
 
-static void ex_g_move(vi_sim *s, void *dp, double t, double g)
+static int ex_g_move(vi_sim *s, void *dp, double t, double g)
 {
-  ex_move(s, dp, t, g);
+  return ex_move(s, dp, t, g);
 }
 
 static void ex_g_bounds(void *dp)
@@ -880,11 +903,9 @@ static int ex_step(vi_sim *s, double t_end, int *event)
     return VI_OK;
   }
   if (s->t < d->tg) { /* provably receding from the stop */
-    if (t_end <= d->tg) {
-      ex_move(s, d, t_end, ex_gap_at(d, t_end));
-      return VI_OK;
-    }
-    ex_move(s, d, d->tg, ex_report(d, d->g.fk, 1));
+    if (t_end <= d->tg) return ex_move(s, d, t_end, ex_gap_at(d, t_end));
+    int st = ex_move(s, d, d->tg, ex_report(d, d->g.fk, 1));
+    if (st) return st;
   }
   return vi_grid_step(s, &d->g, &ex_grid, d, t_end, event);
 }

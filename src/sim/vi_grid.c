@@ -72,10 +72,10 @@ int vi_grid_step(vi_sim *s, vi_grid *g, const vi_grid_ops *ops, void *d,
       return ops->crossing(s, d, fmax(g->tstar, s->t), g->found, event);
     if (t_end < tb) { /* the run ends inside this interval: keep t_{k+1} */
       double gap = ops->gap_at(s, d, t_end);
-      ops->move(s, d, t_end, gap);
-      return VI_OK;
+      return ops->move(s, d, t_end, gap);
     }
-    ops->move(s, d, tb, ops->report(s, d, g->fn));
+    int st = ops->move(s, d, tb, ops->report(s, d, g->fn));
+    if (st) return st;
     commit(g);
     if (g->anch) {
       g->since = 0;

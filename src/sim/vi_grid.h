@@ -43,8 +43,9 @@ typedef struct vi_grid_ops {
   double (*gap_at)(vi_sim *s, void *d, double t);
   /* the gap reported from the functions f at a grid point */
   double (*report)(vi_sim *s, void *d, const double *f);
-  /* move to t (no crossing before it): time, gap g, ledger */
-  void (*move)(vi_sim *s, void *d, double t, double g);
+  /* move to t (no crossing before it): time, gap g, ledger; VI_CANCELLED
+   * on the host's poll inside the ledger's quadrature */
+  int (*move)(vi_sim *s, void *d, double t, double g);
   /* after an anchor is committed: new derivative bounds from (wk, wdk) */
   void (*bounds)(void *d);
 } vi_grid_ops;

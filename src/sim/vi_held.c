@@ -600,10 +600,13 @@ static double hd_report(const vi_sim *s, const vi_held *H, const double *f)
 /* Ledger integrals over [a, b] (8-point Gauss-Legendre in quarter radians
  * of the fastest rate, as vi_exact.c): forcing and damping of the free
  * modes, and the held stops' constraint exchange CE_j = -sum_k lambda_k
- * psi_kj q_j'. */
-static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
+ * psi_kj q_j'.  VI_CANCELLED on the host's poll, the integrals then taken
+ * to *done (b otherwise). */
+static int hd_quadrature(vi_sim *s, vi_held *H, double a, double b,
+                         double *done)
 {
-  if (!(b > a)) return;
+  *done = b;
+  if (!(b > a)) return VI_OK;
   const vi_cmodes *c = H->cm;
   double lam[VI_CONTACT_MAX];
   const vi_ledger_held held = {c->cnt, c->set, lam};
@@ -629,7 +632,12 @@ static void hd_quadrature(vi_sim *s, vi_held *H, double a, double b)
       }
       vi_ledger_accumulate_phase(s->led, &p, H->qd, &held, wgt);
     }
+    if (vi_sim_quad_cancelled(s, k, np)) {
+      *done = pb;
+      return VI_CANCELLED;
+    }
   }
+  return VI_OK;
 }
 
 /* The reported gap at t between grid points, directly. */
@@ -646,12 +654,26 @@ static double hd_gap_at(vi_sim *s, vi_held *H, double t)
   return hd_report(s, H, H->g.fn);
 }
 
-static void hd_move(vi_sim *s, vi_held *H, double t, double g)
+/* The ledger's integrals from s->t to t; cancelled inside them, the
+ * simulation stops where they end (its time and gap there). */
+static int hd_ledger_to(vi_sim *s, vi_held *H, double t)
 {
-  if (s->led) hd_quadrature(s, H, s->t, t);
+  if (!s->led || hd_quadrature(s, H, s->t, t, &t) != VI_CANCELLED)
+    return VI_OK;
+  s->t = t;
+  s->gap = hd_gap_at(s, H, t);
+  s->z_stale = 1;
+  return VI_CANCELLED;
+}
+
+static int hd_move(vi_sim *s, vi_held *H, double t, double g)
+{
+  int st = hd_ledger_to(s, H, t);
+  if (st) return st;
   s->t = t;
   s->gap = g;
   s->z_stale = 1;
+  return VI_OK;
 }
 
 /* The grid scanner's view of a held phase (vi_grid.h): the constrained
@@ -718,7 +740,8 @@ static int hd_g_crossing(vi_sim *s, void *hp, double tc, int which,
 {
   vi_held *H = hp;
   const hd_fun *e = H->f + which;
-  if (s->led) hd_quadrature(s, H, s->t, tc);
+  int st = hd_ledger_to(s, H, tc);
+  if (st) return st;
   s->t = tc;
   s->gap = 0.0;
   s->contact_stop = e->stop;
@@ -738,9 +761,9 @@ static double hd_g_report(vi_sim *s, void *hp, const double *f)
   return hd_report(s, hp, f);
 }
 
-static void hd_g_move(vi_sim *s, void *hp, double t, double g)
+static int hd_g_move(vi_sim *s, void *hp, double t, double g)
 {
-  hd_move(s, hp, t, g);
+  return hd_move(s, hp, t, g);
 }
 
 static void hd_g_bounds(void *hp)

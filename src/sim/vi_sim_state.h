@@ -201,6 +201,16 @@ static inline int vi_sim_cancelled_every(const vi_sim *s, unsigned *count)
 {
   return !(++*count & 1023u) && vi_sim_cancelled(s);
 }
+/* The poll after panel k of a ledger quadrature of np panels, every 64th
+ * (8 nodes of every mode each): one grid step of the closed forms spans a
+ * quarter period of the fastest mode the gaps see, the panels a quarter
+ * radian of the fastest of all, so a stiff mode the stops do not see can
+ * put 1e6 panels, seconds, into one step (issue 29). */
+static inline int vi_sim_quad_cancelled(const vi_sim *s, int64_t k,
+                                        int64_t np)
+{
+  return !((k + 1) & 63) && k + 1 < np && vi_sim_cancelled(s);
+}
 
 
 /* The sticking set (vi_sim_state.c): make the stops list [cnt] the stops

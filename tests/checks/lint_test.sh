@@ -62,6 +62,7 @@ files=(
   src/model/vi_truncate.c tests/model/test_truncate.c
   src/study/vi_cont.c tests/study/test_cont.c tests/study/test_basins.c src/io/vi_scene_param.c
   src/model/vi_sparse.c src/model/vi_eigs.c tests/model/test_sparse.c
+  tests/model/test_arpack_words.c
   bench/vi_bench_sparse.c examples/c/fe_host.c
   tests/io/vi_io_testutil.c
   src/io/vi_hbio.c src/io/vi_coordio.c src/io/vi_matrix.c tests/io/test_hbio.c

@@ -69,6 +69,13 @@ static void test_scene_misuse(void **state)
   assert_int_equal(vi_scene_load_limited("x.yaml", 0, 0, NULL, &d), VI_ERR_ARG);
   assert_err_diag(vi_scene_load_limited("/nonexistent/x.yaml", 0, 0, &sc, &d), d);
   assert_null(sc);
+  assert_int_equal(vi_scene_load_within(NULL, 0, 0, 1e9, &sc, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_load_within("x.yaml", 0, 0, 1e9, NULL, &d), VI_ERR_ARG);
+  assert_err_diag(vi_scene_load_within("x.yaml", 0, 0, NAN, &sc, &d), d);
+  assert_int_equal(d.code, VI_ERR_ARG);
+  assert_err_diag(vi_scene_load_within("/nonexistent/x.yaml", 0, 0, 1e9, &sc, &d), d);
+  assert_int_equal(d.code, VI_ERR_IO);
+  assert_null(sc);
   vi_scene_destroy(NULL);
   vi_scene_destroy(&sc); /* *sc == NULL */
 
@@ -164,6 +171,8 @@ static void test_scene_edit_misuse(void **state)
   vi_scene *sc = NULL;
   assert_int_equal(vi_scene_edit_parse(NULL, &sc, &d), VI_ERR_ARG);
   assert_null(sc);
+  assert_int_equal(vi_scene_edit_parse_within(NULL, 1e9, &sc, &d), VI_ERR_ARG);
+  assert_null(sc);
 
   /* a live edit: NULL and malformed keys and values, short buffers */
   assert_int_equal(vi_scene_edit_create(text, -1, "fig2", &e, &d), VI_OK);
@@ -196,6 +205,9 @@ static void test_scene_edit_misuse(void **state)
   assert_err_diag(vi_scene_edit_get(e, "stop.r", one, 1, &d), d); /* no room */
   assert_int_equal(d.code, VI_ERR_LIMIT);
   assert_int_equal(vi_scene_edit_parse(e, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_parse_within(e, 1e9, NULL, &d), VI_ERR_ARG);
+  assert_int_equal(vi_scene_edit_parse_within(e, NAN, &sc, &d), VI_ERR_ARG);
+  assert_null(sc);
   /* a value the scene refuses: the parse names it */
   assert_int_equal(vi_scene_edit_set(e, "stop.r", "1.5", &d), VI_OK);
   assert_err_diag(vi_scene_edit_parse(e, &sc, &d), d);

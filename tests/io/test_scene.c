@@ -394,6 +394,22 @@ static void test_misuse(void **state)
   assert_int_equal(vi_scene_check_memory(sc, 1.0, &d), VI_ERR_LIMIT);
   assert_string_equal(d.key, "model.chain.n");
   assert_int_equal(vi_scene_check_memory(sc, 1e12, NULL), VI_OK);
+  /* a budget while loading: Fig. 2's 7 vectors of n = 2 doubles are 112
+   * bytes, refused by a budget of 111 before they are allocated, at the
+   * key that gives n, and allowed by 112 */
+  vi_scene *sw = NULL;
+  assert_int_equal(vi_scene_load_within(VI_SCENE_DIR "/fig2.yaml", 0, 0, 111.0,
+                                        &sw, &d), VI_ERR_LIMIT);
+  assert_null(sw);
+  assert_int_equal(d.line, 8);
+  assert_string_equal(d.key, "model.chain.n");
+  assert_string_equal(d.value, "2");
+  assert_non_null(strstr(d.message, "vectors of 2 dofs alone would need 0.000107 MB"));
+  assert_non_null(strstr(d.message, "than the 0.000106 MB allowed"));
+  assert_int_equal(vi_scene_load_within(VI_SCENE_DIR "/fig2.yaml", 0, 0, 112.0,
+                                        &sw, &d), VI_OK);
+  assert_int_equal(vi_scene_n(sw), 2);
+  vi_scene_destroy(&sw);
   /* a sim of another size: refused, no read past the scene's arrays */
   assert_int_equal(vi_scene_parse("model:\n  chain: {n: 3, m: 1, k: 1}\n"
                                   "stop: {mass: 3, xs: 0.1, r: 0.5}\n"

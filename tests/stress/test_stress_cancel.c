@@ -34,6 +34,17 @@
  *    the scan's orbit: a step cancelled at its K-th poll returns
  *    VI_CANCELLED at that poll, is not done, and iterating again (cancel
  *    off) gives the point an uncancelled run gives, to 1e-12.
+ * i. Inside one grid step of the exact method (issue 29): two uncoupled
+ *    masses, k = 1e12 and 1 (rates 1e6 and 1), the stop on the slow one.
+ *    The fast mode is invisible to the stop, so the grid steps a quarter
+ *    period of the slow one, while the ledger's quadrature takes panels of
+ *    a quarter radian of the fast one, hq = (pi/4) / 1e6: 2e6 panels in one
+ *    grid step.  Held (a preload 0.5 against x_s = 0.1, reaction 0.4, no
+ *    release) and in free flight (the slow mass at rest, 0.1 from its
+ *    stop), cancelled at the second poll: the run returns VI_CANCELLED
+ *    after the quadrature's 64th panel, t in (63 hq, 64 hq] (a grid step
+ *    later before: t = 1 held, 1.57 in flight), and the ledger, taken to
+ *    there, closes when the run goes on.
  * h. Identification (vi_identify_set_cancel) of r on that chain, from a
  *    recording of its settled motion: a whole fit takes C polls; cancelled
  *    at poll C / 2 (inside the least-squares iterations) it returns
@@ -206,6 +217,46 @@ static int on_monitor(const vi_progress *pr, void *user)
     mw->steps = pr->steps;
   }
   return 0;
+}
+
+/* i. */
+static void test_quadrature(void **state)
+{
+  (void)state;
+  const double M[4] = {1, 0, 0, 1}, K[4] = {1e12, 0, 0, 1}, C[4] = {0};
+  const double w[2] = {0, 1}, hq = 0.7853981633974483 / 1e6;
+  for (int held = 1; held >= 0; held--) {
+    const double f0[2] = {0, held ? 0.5 : 0.0};
+    vi_model *m = NULL;
+    assert_int_equal(vi_model_create(2, &m), VI_OK);
+    assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
+    assert_int_equal(vi_model_set_damping(m, C, 2), VI_OK);
+    assert_int_equal(vi_model_set_stiffness(m, K, 2), VI_OK);
+    assert_int_equal(vi_model_set_forcing(m, 0.0, NULL, NULL, f0), VI_OK);
+    assert_int_equal(vi_model_set_stop(m, w, 0.1, 0.5), VI_OK);
+    assert_int_equal(vi_model_setup(m), VI_OK);
+    const double x0[2] = {0, held ? 0.1 : 0.0}, v0[2] = {0, 0};
+    poll p = {0, 2, 0, 0};
+    vi_sim *s = st_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, 0.0, x0, v0, NULL,
+                       NULL);
+    assert_int_equal(vi_sim_enable_ledger(s, 1), VI_OK);
+    assert_int_equal(vi_sim_set_cancel(s, poll_fn, &p, NULL), VI_OK);
+    int st = vi_sim_run(s, 100.0);
+    double t, x[2], v[2];
+    assert_int_equal(vi_sim_state(s, &t, x, v), VI_OK);
+    print_message("  %s: returned %s at t = %.9g = %.6g hq, poll %lld\n",
+                  held ? "held" : "free flight", vi_strerror(st), t, t / hq,
+                  (long long)p.calls);
+    st_check(st == VI_CANCELLED);
+    st_check(t > 63.0 * hq && t <= 64.0 * hq * (1.0 + 1e-12));
+    st_check(vi_sim_stat(s, VI_STAT_STICKS) == held);
+    /* on from there: the integrals over the cut and the rest close */
+    p.at = 0;
+    st_check(vi_sim_run(s, 0.01) == VI_OK);
+    st_check(vi_sim_ledger_max_residual(s) <= 1e-9);
+    vi_sim_destroy(&s);
+    vi_model_destroy(&m);
+  }
 }
 
 static void test_from_monitor(void **state)
@@ -427,6 +478,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_every_method),
       cmocka_unit_test(test_held_phase),
+      cmocka_unit_test(test_quadrature),
       cmocka_unit_test(test_from_monitor),
       cmocka_unit_test(test_study),
       cmocka_unit_test(test_scan),
