@@ -8,6 +8,10 @@
 #    binaries, and the Release flags leave it the most to check (with NDEBUG
 #    no assert() tells the analyser what holds); the sanitizer flags change
 #    nothing it reads.  Its files are checked on every core.
+#  - So do the figure tests (label plot): what they add to the program's
+#    runs, which the sanitized build's own tests make (sweep, basins,
+#    curves, truncation and run with -o), is matplotlib drawing in Python,
+#    which no sanitizer sees (18 CPU-s of a sanitized run).
 #  - The sanitized build is compiled at -O1, the level AddressSanitizer's
 #    documentation advises for speed (at -O0 its slowest tests took about
 #    ten times as long).
@@ -45,5 +49,5 @@ fi
 echo "== asan tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir "$asan" --output-on-failure -j"$jobs" -LE 'packaging|lint' || status=1
+  ctest --test-dir "$asan" --output-on-failure -j"$jobs" -LE 'packaging|lint|plot' || status=1
 exit $status
