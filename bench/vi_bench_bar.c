@@ -43,6 +43,9 @@ int main(int argc, char **argv)
   vi_sim *s = NULL;
   if (!m || !x || !v || vi_sim_create(m, &s)) {
     fprintf(stderr, "vi_bench_bar: set-up failed\n");
+    free(x);
+    free(v);
+    vi_model_destroy(&m);
     return 1;
   }
   for (int i = 0; i < n; i++) {
@@ -58,6 +61,10 @@ int main(int argc, char **argv)
   double t2 = now();
   if (st) {
     fprintf(stderr, "vi_bench_bar: %s\n", vi_sim_errmsg(s));
+    vi_sim_destroy(&s);
+    vi_model_destroy(&m);
+    free(x);
+    free(v);
     return 1;
   }
   double t;
