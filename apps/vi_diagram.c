@@ -329,12 +329,12 @@ static int trial(const vi_diagram *sw, const char *key, double val, char *pkey,
                                         sw->spec.max_depth, &ed, &d);
   if (!st) st = vi_scene_edit_set_number(ed, key, val, &d);
   if (!st) st = vi_scene_edit_parse(ed, &sc, &d);
-  if (kst && (!st || strcmp(d.key, key))) { /* the scene blames another key */
+  if (kst && (!st || strcmp(d.key, key) != 0)) { /* the scene blames another key */
     st = kst;
     d = dk;
   }
   int omega = !st && !strcmp(pkey, "forcing.omega");
-  if (st && !kst && strcmp(d.key, key) && vi_param_kind(key) != VI_PARAM_UNKNOWN)
+  if (st && !kst && strcmp(d.key, key) != 0 && vi_param_kind(key) != VI_PARAM_UNKNOWN)
     /* a library name the scene does not spell (damping.scale): the scene
      * blamed its own prefix ("damping: unknown key") */
     msg(err, len, "%s: %s is a parameter of the model (vi_param.h), not a key of "
@@ -698,12 +698,12 @@ static void box_free(seedbox *b)
  * thread that waits for a seed waits for a chain already running), then
  * the chunks; *nchain receives the number of chains.  NULL out of memory. */
 static piece *make_pieces(vi_diagram *sw, seedbox *box, volatile sig_atomic_t *cancel,
-                          int *nchain)
+                          int ntask, int *nchain)
 {
-  int K = sw->spec.steps, C = sw->spec.chunks, L = sw->nlines, nc = box ? L : 0;
-  piece *ps = calloc((size_t)nc + (size_t)L * (size_t)C, sizeof *ps);
+  int K = sw->spec.steps, C = sw->spec.chunks, nc = box ? sw->nlines : 0;
+  piece *ps = calloc((size_t)nc + (size_t)ntask, sizeof *ps);
   if (!ps) return NULL;
-  for (int i = 0; i < nc + L * C; i++) {
+  for (int i = 0; i < nc + ntask; i++) {
     piece *p = &ps[i];
     int chunk = i < nc ? 0 : (i - nc) % C, line = i < nc ? i : (i - nc) / C;
     p->sw = sw;
@@ -719,6 +719,16 @@ static piece *make_pieces(vi_diagram *sw, seedbox *box, volatile sig_atomic_t *c
   return ps;
 }
 
+#ifdef _OPENMP
+/* The threads for nq pieces: the spec's (<= 0: OpenMP's default), no more
+ * than the pieces. */
+static int team(int threads, int nq)
+{
+  int nth = threads > 0 ? threads : omp_get_max_threads();
+  return nth > nq ? (nq > 0 ? nq : 1) : nth;
+}
+#endif
+
 /* Deal the pieces: MPI ranks take the chunks round-robin (rank r: chunks
  * r, r + size, ...), each rank's on its OpenMP threads, and every rank
  * runs the seed chains itself (no messages, the same seeds); each piece
@@ -727,13 +737,13 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
                 int errlen)
 {
   int C = sw->spec.chunks, ntask = sw->nlines * C, nchain = 0;
-  seedbox box, *bp = sw->spec.chunks > 1 && sw->warm ? &box : NULL;
+  seedbox box = {0}, *bp = sw->spec.chunks > 1 && sw->warm ? &box : NULL;
   if (bp && box_init(bp, sw)) {
     box_free(bp);
     msg(err, errlen, "out of memory");
     return 1;
   }
-  piece *ps = make_pieces(sw, bp, cancel, &nchain);
+  piece *ps = make_pieces(sw, bp, cancel, ntask, &nchain);
   if (!ps) {
     if (bp) box_free(bp);
     msg(err, errlen, "out of memory");
@@ -752,10 +762,7 @@ static int deal(vi_diagram *sw, volatile sig_atomic_t *cancel, char *err,
   int nmine = ntask > rank ? (ntask - rank + size - 1) / size : 0;
   int nq = nchain + nmine, next = 0;
 #ifdef _OPENMP
-  int nth = sw->spec.threads;
-  if (nth <= 0) nth = omp_get_max_threads();
-  if (nth > nq) nth = nq > 0 ? nq : 1;
-#pragma omp parallel num_threads(nth)
+#pragma omp parallel num_threads(team(sw->spec.threads, nq))
 #endif
   /* taken in order, chains first (an explicit counter: OpenMP's dynamic
    * schedule does not promise the order) */
