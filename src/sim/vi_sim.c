@@ -13,6 +13,25 @@
 
 static const vi_backend *method_backend(const vi_sim *s);
 
+/* The size of the forced response's terms in stop k's gap, each taken
+ * whole (they cancel in the sum, not in its round-off): the harmonic
+ * particular solution and the static response of every mode.  Band
+ * models have no modes: their integrators carry the load in the state. */
+static double particular_scale(const vi_sim *s, int k)
+{
+  const vi_model *m = s->m;
+  if (s->flow->gen) return vi_general_particular_scale(s->flow->gen, k);
+  if (!vi_model_has_modes(m)) return 0.0;
+  const double *psi = vi_stop_psi(m, k);
+  double sc = 0.0;
+  for (int j = 0; j < m->n; j++) {
+    double h = hypot(s->flow->pA[j], s->flow->pB[j]);
+    if (m->lambda[j] > 0.0) h += fabs(m->F0[j]) / m->lambda[j];
+    sc += fabs(psi[j]) * h;
+  }
+  return sc;
+}
+
 int vi_sim_create(const vi_model *model, vi_sim **out)
 {
   if (!out) return VI_ERR_ARG;
@@ -61,9 +80,11 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->ns = model->ns;
   s->wnorms = s->sbuf + 4 * (size_t)n;
   s->ie_stop = s->wnorms + s->ns;
+  s->pscale = s->ie_stop + s->ns;
   for (int k = 0; k < s->ns; k++) {
     const double *w = vi_stop_w(model, k);
     s->wnorms[k] = sqrt(vi_dot(n, w, w));
+    s->pscale[k] = particular_scale(s, k);
   }
   s->harmonic = vi_forcing_harmonic(model);
   vi_model_hold(model, 1); /* its flow and forcing are derived from it */
@@ -613,7 +634,14 @@ static int initial_contact(vi_sim *s)
   for (int k = 0; k < s->ns; k++) {
     double g, gd, xs = s->m->xsv[k];
     vi_sim_gap_k(s, k, s->z, &g, &gd);
-    if (g < -1e-13 * fmax(1.0, fabs(xs))) continue;
+    /* on the stop within the round-off of the gap's terms: x_s, the
+     * state's and the forced response's (a stop at 0.1 under a load of
+     * 1e90 is at 0 to every digit the motion has) */
+    const double *w = vi_stop_w(s->m, k);
+    double sc = fmax(fabs(xs), s->pscale[k]);
+    for (int i = 0; i < s->n; i++)
+      sc = fmax(sc, fabs(w[i] * s->z[2 * (size_t)i]));
+    if (g < -1e-13 * sc) continue;
     s->contact_stop = k;
     if (gd > 0.0) return 1;
     double push;
