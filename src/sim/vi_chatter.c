@@ -5,9 +5,6 @@
 #include <float.h>
 #include <string.h>
 
-/* the gap's effective round-off, in units of eps times its terms' size
- * (measured: about 3000 on the chain of vi_chatter_wanted) */
-enum { CHATTER_NOISE = 16384 };
 
 #include "vi_chatter_internal.h"
 #include "vi_impact_internal.h"
@@ -197,19 +194,26 @@ int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
     s->vscale = vn;
     s->vres = s->impact_ratio * vn;
   }
-  /* A bounce is not resolved, by any method, where the work the gap's
-   * round-off delta can do on it, push delta, rivals the energy it loses,
-   * (1 - r^2) v_n^2 / 2: delta is that of a sum of terms of the size of
-   * x_s, of the state's and of the forced response's along w, so a load
-   * whose response dwarfs x_s feeds each flight as much energy as the
-   * restitution takes out, and the "impacts" go on at the noise's speed
-   * for ever (a 2-mass chain under a = 1e8 with x_s = 0.1: millions at
-   * v_n ~ 1.2, 1e-8 of the motion's speed, an effective delta of about
-   * 3000 eps times those terms).  Summed then, like a tail. */
-  double gsc = fabs(xs) + s->pscale[k];
-  for (int i = 0; i < s->n; i++) gsc += fabs(vi_stop_w(m, k)[i] * x[i]);
-  int noise = push > 0.0 && (1.0 - r * r) * vn * vn <
-                                2.0 * push * CHATTER_NOISE * DBL_EPSILON * gsc;
+  /* Round-off's bounces.  In a resolved chatter, each bounce returns at
+   * about the speed r v_n it left with (exactly so under a constant push).
+   * Where the closed form's round-off of the gap (its own estimate gnoise,
+   * vi_exact.c) is within 1e4 of the energy a bounce loses,
+   * (1 - r^2) v_n^2 / 2 against push gnoise, the gap's noise can feed each
+   * flight the energy the restitution takes out: the bounces stop
+   * decaying and go on at the noise's speed for ever (a 2-mass chain under
+   * a = 1e8 with x_s = 0.1: millions at v_n ~ 1.2, 1e-8 of the motion's
+   * speed).  A bounce that follows the last within its flight time and
+   * has kept more than half of its speed beyond r (v_n > (1 + r) / 2 of
+   * the last) is then no longer resolved: summed, like a tail.  (The
+   * integrators' error is that of their tolerances, which the user sets:
+   * vi_sim_set_impact_resolution.) */
+  double vlast = s->vn_last[k];
+  s->vn_last[k] = vn;
+  int noise = s->be == &vi_backend_exact && push > 0.0 && r < 1.0 &&
+              vn > 0.0 && vlast > 0.0 && s->gnoise[k] > 0.0 &&
+              dt_prev <= 4.0 * r * vlast / push &&
+              vn > 0.5 * (1.0 + r) * vlast &&
+              (1.0 - r * r) * vn * vn < 2e4 * push * s->gnoise[k];
   if (s->vres > 0.0) {
     /* impacts a user can count on: every impact at or above the run's
      * resolution (a fraction of its velocity scale) is resolved, by every

@@ -13,10 +13,12 @@
 
 static const vi_backend *method_backend(const vi_sim *s);
 
-/* The size of the forced response's terms in stop k's gap, each taken
- * whole (they cancel in the sum, not in its round-off): the harmonic
- * particular solution and the static response of every mode.  Band
- * models have no modes: their integrators carry the load in the state. */
+/* The size of the harmonic response's terms in stop k's gap, each taken
+ * whole (the closed form sums them, with their round-off, and cancels
+ * them against the transient's while the motion builds up): the
+ * particular solution of every mode.  (The static response is carried
+ * relative to each start, vi_flow_basis; band models have no modes, and
+ * their integrators carry the load in the state.) */
 static double particular_scale(const vi_sim *s, int k)
 {
   const vi_model *m = s->m;
@@ -24,11 +26,8 @@ static double particular_scale(const vi_sim *s, int k)
   if (!vi_model_has_modes(m)) return 0.0;
   const double *psi = vi_stop_psi(m, k);
   double sc = 0.0;
-  for (int j = 0; j < m->n; j++) {
-    double h = hypot(s->flow->pA[j], s->flow->pB[j]);
-    if (m->lambda[j] > 0.0) h += fabs(m->F0[j]) / m->lambda[j];
-    sc += fabs(psi[j]) * h;
-  }
+  for (int j = 0; j < m->n; j++)
+    sc += fabs(psi[j]) * hypot(s->flow->pA[j], s->flow->pB[j]);
   return sc;
 }
 
@@ -42,7 +41,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   if (!s) return VI_ERR_NOMEM;
   int n = model->n;
   s->z = calloc(10 * (size_t)n, sizeof(double));
-  s->sbuf = calloc(4 * (size_t)n + 4 * (size_t)model->ns, sizeof(double));
+  s->sbuf = calloc(4 * (size_t)n + 5 * (size_t)model->ns, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
   s->pend = calloc((size_t)model->ns, sizeof *s->pend);
   /* each simulation builds its own exact flow (vi_flow_internal.h) */
@@ -81,6 +80,8 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->wnorms = s->sbuf + 4 * (size_t)n;
   s->ie_stop = s->wnorms + s->ns;
   s->pscale = s->ie_stop + s->ns;
+  s->gnoise = s->pscale + s->ns;
+  s->vn_last = s->gnoise + s->ns;
   for (int k = 0; k < s->ns; k++) {
     const double *w = vi_stop_w(model, k);
     s->wnorms[k] = sqrt(vi_dot(n, w, w));

@@ -74,7 +74,12 @@ struct vi_sim {
    * solution's terms, which the gap sums and cancels) [ns]: with |x_s|
    * and the state's own terms, the scale of the gap's round-off */
   double *pscale;
-  double *sbuf;  /* scratch of the several-stop code [4n + 4 ns] */
+  /* the round-off of stop k's gap along the current flight, as the
+   * closed form estimates it at its start (vi_exact.c; 0: none) [ns] */
+  double *gnoise;
+  double *vn_last; /* stop k's last approach velocity (vi_chatter.c) [ns] */
+  double *sbuf;  /* scratch of the several-stop code [4n], then the
+                    per-stop arrays above [5 ns] */
   /* Sticking holds the stops stick_k [nstick] (nstick = 0 in free flight,
    * sticking = nstick > 0); for more than one, stick_L is the Cholesky
    * factor of their Delassus block G_SS. */
