@@ -824,6 +824,28 @@ int vi_sim_run(vi_sim *s, double t_end)
  * a restart after a contact) before the run is declared stuck. */
 #define VI_STUCK_STEPS 1000
 
+/* An integrator's failure under a load whose response is far beyond
+ * atol's scale: say so after its message.  (Near a release the motion
+ * grows from rest like a power of the time since, and right after an
+ * impact a coordinate at the stop moves at the load's speed: a step
+ * within atol + rtol |x| falls below the resolution of t, or below the
+ * round-off of the error estimate.) */
+static int scale_hint(vi_sim *s, int st)
+{
+  int kp = 0;
+  for (int k = 1; k < s->ns; k++)
+    if (s->pscale[k] > s->pscale[kp]) kp = k;
+  size_t len = strlen(s->errmsg);
+  if (st == VI_ERR_INTEGRATOR && s->ns &&
+      DBL_EPSILON * s->pscale[kp] > s->atol * s->wnorms[kp] &&
+      len < sizeof s->errmsg)
+    snprintf(s->errmsg + len, sizeof s->errmsg - len, "; atol = %.3g is "
+             "far below the scale of the motion (the load's response along "
+             "stop %d is %.3g): raise atol to about 1e-10 of it, or use the "
+             "exact method", s->atol, kp + 1, s->pscale[kp]);
+  return st;
+}
+
 /* The run made no progress for VI_STUCK_STEPS steps: say why it may be. */
 static int stuck(vi_sim *s, double t_before)
 {
@@ -949,7 +971,7 @@ static int run(vi_sim *s, double t_end)
       still = 0;
       t_moved = s->t;
     } else if (++still > VI_STUCK_STEPS) {
-      return stuck(s, t_moved);
+      return scale_hint(s, stuck(s, t_moved));
     }
     int event = VI_STEP_NONE;
     s->contact_stop = 0; /* a multi-stop backend says which */
@@ -959,7 +981,7 @@ static int run(vi_sim *s, double t_end)
         cancelled = 1;
         break;
       }
-      return st;
+      return scale_hint(s, st);
     }
     if (event == VI_STEP_HANDOVER) {
       if ((st = hand_over(s))) return st;
