@@ -557,11 +557,13 @@ static void test_ranges(void **state)
   assert_null(strstr(out, "inf"));
   assert_null(strstr(out, "nan"));
   const char *imp = strstr(out, "\n  impacts "), *stk = strstr(out, " sticks ");
-  long nimp = -1, nstk = -1;
   assert_non_null(imp);
   assert_non_null(stk);
-  assert_int_equal(sscanf(imp, " impacts %ld", &nimp), 1);
-  assert_int_equal(sscanf(stk, " sticks %ld", &nstk), 1);
+  char *end = NULL;
+  long nimp = strtol(imp + strlen("\n  impacts "), &end, 10);
+  assert_true(end && *end == ' ');
+  long nstk = strtol(stk + strlen(" sticks "), &end, 10);
+  assert_true(end && (*end == ' ' || *end == '\n'));
   assert_int_equal(nimp, 2);
   assert_int_equal(nstk, 1);
   remove(scene);
