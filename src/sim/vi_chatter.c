@@ -5,7 +5,6 @@
 #include <float.h>
 #include <string.h>
 
-
 #include "vi_chatter_internal.h"
 #include "vi_impact_internal.h"
 #include "vi_rhs.h"

@@ -70,9 +70,10 @@ struct vi_sim {
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
   int ns;        /* number of stops (vi_model_add_stop) */
   double *wnorms, *ie_stop; /* |w_k| and the energy lost at stop k [ns] */
-  /* the forced response's size as stop k's gap sees it (the particular
-   * solution's terms, which the gap sums and cancels) [ns]: with |x_s|
-   * and the state's own terms, the scale of the gap's round-off */
+  /* the harmonic response's size as stop k's gap sees it (the modes'
+   * particular solutions, which the closed form sums and cancels) [ns]:
+   * with |x_s| and the state's own terms, the scale of the gap's
+   * round-off (vi_sim.c, particular_scale) */
   double *pscale;
   /* the round-off of stop k's gap along the current flight, as the
    * closed form estimates it at its start (vi_exact.c; 0: none) [ns] */
@@ -301,7 +302,7 @@ static inline int vi_sim_gap_root(const vi_sim *s, int k)
 }
 
 /* How far beyond stop k a state may sit: the integration error, or the
- * round-off of a gap summed from terms of the forced response's size
+ * round-off of a gap summed from terms of the harmonic response's size
  * where that is larger (a load so large that atol is below its digits) */
 static inline double vi_sim_gap_tol(const vi_sim *s, int k)
 {
