@@ -214,7 +214,9 @@ VI_API int vi_sim_set_chatter_threshold(vi_sim *sim, double vmin);
  *  tail is summed as soon as resolving its next impact costs more
  *  accuracy than the closed-form tail: fewer impacts, and which depends on
  *  the method).  The chatter threshold (vi_sim_set_chatter_threshold)
- *  still ends a sequence below its absolute velocity.  Resolving a bounce
+ *  still ends a sequence below its absolute velocity, and the exact method
+ *  sums a sequence whose bounces stop decaying within its round-off of the
+ *  gap (a load whose response dwarfs x_s).  Resolving a bounce
  *  of apex (r v_n)^2 / (2 w.a) needs atol below it: with loose tolerances
  *  the integrators may then fail on the penetration check
  *  (VI_ERR_INVARIANT) rather than sum it silently.

@@ -193,16 +193,38 @@ int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
     s->vscale = vn;
     s->vres = s->impact_ratio * vn;
   }
+  /* Round-off's bounces.  In a resolved chatter, each bounce returns at
+   * about the speed r v_n it left with (exactly so under a constant push).
+   * Where the closed form's round-off of the gap (its own estimate gnoise,
+   * vi_exact.c) is within 1e4 of the energy a bounce loses,
+   * (1 - r^2) v_n^2 / 2 against push gnoise, the gap's noise can feed each
+   * flight the energy the restitution takes out: the bounces stop
+   * decaying and go on at the noise's speed for ever (a 2-mass chain under
+   * a = 1e8 with x_s = 0.1: millions at v_n ~ 1.2, 1e-8 of the motion's
+   * speed).  A bounce that follows the last within its flight time and
+   * has kept more than half of its speed beyond r (v_n > (1 + r) / 2 of
+   * the last) is then no longer resolved: summed, like a tail.  (The
+   * integrators' error is that of their tolerances, which the user sets:
+   * vi_sim_set_impact_resolution.) */
+  double vlast = s->vn_last[k];
+  s->vn_last[k] = vn;
+  int noise = s->be == &vi_backend_exact && push > 0.0 && r < 1.0 &&
+              vn > 0.0 && vlast > 0.0 && s->gnoise[k] > 0.0 &&
+              dt_prev <= 4.0 * r * vlast / push &&
+              vn > 0.5 * (1.0 + r) * vlast &&
+              (1.0 - r * r) * vn * vn < 2e4 * push * s->gnoise[k];
   if (s->vres > 0.0) {
     /* impacts a user can count on: every impact at or above the run's
      * resolution (a fraction of its velocity scale) is resolved, by every
      * method alike; the chatter map sums only below it */
     return push > 0.0 && (vn <= 0.0 || *floor_hit ||
-                          (r < 1.0 && (vn < s->vres || vn < s->vchat)));
+                          (r < 1.0 && (vn < s->vres || vn < s->vchat ||
+                                       noise)));
   }
   int chatter = push > 0.0 &&
                 (vn <= 0.0 || *floor_hit ||
-                 (r < 1.0 && (vn < s->vchat || apex < 10.0 * s->atol * wnorm)));
+                 (r < 1.0 && (vn < s->vchat || noise ||
+                              apex < 10.0 * s->atol * wnorm)));
   if (!chatter && r < 1.0 && push > 0.0) {
     /* Sum the tail as soon as resolving the next impact costs more
      * accuracy than the closed-form tail: the next contact time is only

@@ -668,6 +668,7 @@ static int ex_start(vi_sim *s)
     for (int i = 0; i < na; i++) scale += fabs(e->psi[i] * d->g.wk[i]);
     double tr = 0.0;
     e->gnoise = 64.0 * DBL_EPSILON * scale;
+    s->gnoise[k] = e->gnoise;
     /* on the stop: within round-off, or beyond it by no more than the
      * driver accepts (a state handed over from CVODE after sticking),
      * which read as a contact would restart here for ever */

@@ -13,6 +13,24 @@
 
 static const vi_backend *method_backend(const vi_sim *s);
 
+/* The size of the harmonic response's terms in stop k's gap, each taken
+ * whole (the closed form sums them, with their round-off, and cancels
+ * them against the transient's while the motion builds up): the
+ * particular solution of every mode.  (The static response is carried
+ * relative to each start, vi_flow_basis; band models have no modes, and
+ * their integrators carry the load in the state.) */
+static double particular_scale(const vi_sim *s, int k)
+{
+  const vi_model *m = s->m;
+  if (s->flow->gen) return vi_general_particular_scale(s->flow->gen, k);
+  if (!vi_model_has_modes(m)) return 0.0;
+  const double *psi = vi_stop_psi(m, k);
+  double sc = 0.0;
+  for (int j = 0; j < m->n; j++)
+    sc += fabs(psi[j]) * hypot(s->flow->pA[j], s->flow->pB[j]);
+  return sc;
+}
+
 int vi_sim_create(const vi_model *model, vi_sim **out)
 {
   if (!out) return VI_ERR_ARG;
@@ -23,7 +41,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   if (!s) return VI_ERR_NOMEM;
   int n = model->n;
   s->z = calloc(10 * (size_t)n, sizeof(double));
-  s->sbuf = calloc(4 * (size_t)n + 4 * (size_t)model->ns, sizeof(double));
+  s->sbuf = calloc(4 * (size_t)n + 5 * (size_t)model->ns, sizeof(double));
   s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
   s->pend = calloc((size_t)model->ns, sizeof *s->pend);
   /* each simulation builds its own exact flow (vi_flow_internal.h) */
@@ -61,9 +79,13 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   s->ns = model->ns;
   s->wnorms = s->sbuf + 4 * (size_t)n;
   s->ie_stop = s->wnorms + s->ns;
+  s->pscale = s->ie_stop + s->ns;
+  s->gnoise = s->pscale + s->ns;
+  s->vn_last = s->gnoise + s->ns;
   for (int k = 0; k < s->ns; k++) {
     const double *w = vi_stop_w(model, k);
     s->wnorms[k] = sqrt(vi_dot(n, w, w));
+    s->pscale[k] = particular_scale(s, k);
   }
   s->harmonic = vi_forcing_harmonic(model);
   vi_model_hold(model, 1); /* its flow and forcing are derived from it */
@@ -613,7 +635,14 @@ static int initial_contact(vi_sim *s)
   for (int k = 0; k < s->ns; k++) {
     double g, gd, xs = s->m->xsv[k];
     vi_sim_gap_k(s, k, s->z, &g, &gd);
-    if (g < -1e-13 * fmax(1.0, fabs(xs))) continue;
+    /* on the stop within the round-off of the gap's terms: x_s, the
+     * state's and the forced response's (a stop at 0.1 under a load of
+     * 1e90 is at 0 to every digit the motion has) */
+    const double *w = vi_stop_w(s->m, k);
+    double sc = fmax(fabs(xs), s->pscale[k]);
+    for (int i = 0; i < s->n; i++)
+      sc = fmax(sc, fabs(w[i] * s->z[2 * (size_t)i]));
+    if (g < -1e-13 * sc) continue;
     s->contact_stop = k;
     if (gd > 0.0) return 1;
     double push;
@@ -795,6 +824,28 @@ int vi_sim_run(vi_sim *s, double t_end)
  * a restart after a contact) before the run is declared stuck. */
 #define VI_STUCK_STEPS 1000
 
+/* An integrator's failure under a load whose response is far beyond
+ * atol's scale: say so after its message.  (Near a release the motion
+ * grows from rest like a power of the time since, and right after an
+ * impact a coordinate at the stop moves at the load's speed: a step
+ * within atol + rtol |x| falls below the resolution of t, or below the
+ * round-off of the error estimate.) */
+static int scale_hint(vi_sim *s, int st)
+{
+  int kp = 0;
+  for (int k = 1; k < s->ns; k++)
+    if (s->pscale[k] > s->pscale[kp]) kp = k;
+  size_t len = strlen(s->errmsg);
+  if (st == VI_ERR_INTEGRATOR && s->ns &&
+      DBL_EPSILON * s->pscale[kp] > s->atol * s->wnorms[kp] &&
+      len < sizeof s->errmsg)
+    snprintf(s->errmsg + len, sizeof s->errmsg - len, "; atol = %.3g is "
+             "far below the scale of the motion (the load's response along "
+             "stop %d is %.3g): raise atol to about 1e-10 of it, or use the "
+             "exact method", s->atol, kp + 1, s->pscale[kp]);
+  return st;
+}
+
 /* The run made no progress for VI_STUCK_STEPS steps: say why it may be. */
 static int stuck(vi_sim *s, double t_before)
 {
@@ -920,7 +971,7 @@ static int run(vi_sim *s, double t_end)
       still = 0;
       t_moved = s->t;
     } else if (++still > VI_STUCK_STEPS) {
-      return stuck(s, t_moved);
+      return scale_hint(s, stuck(s, t_moved));
     }
     int event = VI_STEP_NONE;
     s->contact_stop = 0; /* a multi-stop backend says which */
@@ -930,7 +981,7 @@ static int run(vi_sim *s, double t_end)
         cancelled = 1;
         break;
       }
-      return st;
+      return scale_hint(s, st);
     }
     if (event == VI_STEP_HANDOVER) {
       if ((st = hand_over(s))) return st;

@@ -8,6 +8,7 @@
 #ifndef VI_SIM_STATE_H
 #define VI_SIM_STATE_H
 
+#include <float.h>
 #include <math.h>
 
 #include <gsl/gsl_roots.h>
@@ -69,7 +70,17 @@ struct vi_sim {
   int harmonic; /* a or b non-zero: cos/sin needed in the RHS */
   int ns;        /* number of stops (vi_model_add_stop) */
   double *wnorms, *ie_stop; /* |w_k| and the energy lost at stop k [ns] */
-  double *sbuf;  /* scratch of the several-stop code [4n + 4 ns] */
+  /* the harmonic response's size as stop k's gap sees it (the modes'
+   * particular solutions, which the closed form sums and cancels) [ns]:
+   * with |x_s| and the state's own terms, the scale of the gap's
+   * round-off (vi_sim.c, particular_scale) */
+  double *pscale;
+  /* the round-off of stop k's gap along the current flight, as the
+   * closed form estimates it at its start (vi_exact.c; 0: none) [ns] */
+  double *gnoise;
+  double *vn_last; /* stop k's last approach velocity (vi_chatter.c) [ns] */
+  double *sbuf;  /* scratch of the several-stop code [4n], then the
+                    per-stop arrays above [5 ns] */
   /* Sticking holds the stops stick_k [nstick] (nstick = 0 in free flight,
    * sticking = nstick > 0); for more than one, stick_L is the Cholesky
    * factor of their Delassus block G_SS. */
@@ -300,12 +311,15 @@ static inline int vi_sim_gap_root(const vi_sim *s, int k)
   return -1;
 }
 
-/* How far beyond stop k a state may sit: the integration error. */
+/* How far beyond stop k a state may sit: the integration error, or the
+ * round-off of a gap summed from terms of the harmonic response's size
+ * where that is larger (a load so large that atol is below its digits) */
 static inline double vi_sim_gap_tol(const vi_sim *s, int k)
 {
   double xs = s->m->xsv[k];
-  return 100.0 * (s->atol + s->rtol * fabs(xs)) * s->wnorms[k] +
-         1e-12 * fabs(xs);
+  double tol = 100.0 * (s->atol + s->rtol * fabs(xs)) * s->wnorms[k] +
+               1e-12 * fabs(xs);
+  return fmax(tol, 256.0 * DBL_EPSILON * s->pscale[k]);
 }
 
 /* Replace the hot operations of a SUNDIALS serial vector (and of its future

@@ -37,6 +37,7 @@ files=(
   tests/stress/test_stress_start.c tests/stress/test_stress_chain.c
   tests/stress/test_stress_energy.c tests/stress/test_stress_stops.c
   tests/stress/test_stress_chatref.c tests/stress/test_stress_cancel.c
+  tests/stress/test_stress_scale.c
   apps/vi_app_h5.c apps/vi_cmd_orbits.c
   apps/vi_cmd_orbits_cont.c apps/vi_diagram_file.c apps/vi_diagram_main.c bench/vi_bench_sweep.c
   src/study/vi_curve.c apps/vi_cmd_curves.c apps/vi_curves_h5.c tests/study/test_curve.c

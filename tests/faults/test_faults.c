@@ -541,7 +541,12 @@ static void test_ranges(void **state)
     expect(run(ARGV(scene, "--method", "exact", "-o", h5), NULL), 2, models[k][1]);
     assert_false(exists(h5));
   }
-  /* large but sane values run, and the summary holds no inf or nan */
+  /* large but sane values run, and the summary holds no inf or nan.  The
+   * stop at 0.1 lies below the round-off (1e-16 of 1e90) of every position,
+   * so the motion is that of x_s = 0, a times the unit load's (linear
+   * between impacts, Newton's law homogeneous): pressed from rest, the
+   * mass sticks at once, is released, and hits twice in three periods
+   * (test_stress_scale); it took 3 million impacts of round-off's size */
   char text[1024];
   snprintf(text, sizeof text, "%sforcing: {omega: 0.9, a: [1e90, 0]}\n"
            "run: {periods: 3, atol: 1e80}\n", CHAIN2);
@@ -551,6 +556,16 @@ static void test_ranges(void **state)
   assert_int_equal(rc, 0);
   assert_null(strstr(out, "inf"));
   assert_null(strstr(out, "nan"));
+  const char *imp = strstr(out, "\n  impacts "), *stk = strstr(out, " sticks ");
+  assert_non_null(imp);
+  assert_non_null(stk);
+  char *end = NULL;
+  long nimp = strtol(imp + strlen("\n  impacts "), &end, 10);
+  assert_true(end && *end == ' ');
+  long nstk = strtol(stk + strlen(" sticks "), &end, 10);
+  assert_true(end && (*end == ' ' || *end == '\n'));
+  assert_int_equal(nimp, 2);
+  assert_int_equal(nstk, 1);
   remove(scene);
 }
 
