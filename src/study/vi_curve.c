@@ -674,7 +674,19 @@ int vi_cont_refine(const vi_model *m, const char *key, int n, int kind, double *
 static int advance(vi_cont_curve *c, int withg)
 {
   int nu = c->D + c->np;
-  double *bord = c->bord;
+  double *bord = c->bord, dsm = c->dsmax;
+  /* Following an orbit in one parameter (locate), dsmax is the parameter's
+   * step |to - p0| / steps: where the orbit moves faster than the
+   * parameter (the scaled tangent's parameter part below 1/4: the P(2,2)
+   * branch of Fig. 2 moves its impact phases 40 times faster than Omega
+   * before its fold) the step in arclength grows, up to 16 times, so that
+   * the parameter still advances by about a quarter of that step and the
+   * point budget (20 steps + 100) reaches `to`; the turn test below keeps
+   * it short where the branch turns. */
+  if (!withg && c->np == 1) {
+    double tp = fabs(c->tau[c->D]) / c->S[c->D];
+    if (tp < 0.25) dsm *= tp > 0.25 / 16 ? 0.25 / tp : 16;
+  }
   while (c->ds >= c->dsmax / 4096) {
     for (int j = 0; j < nu; j++) {
       c->Ys[j] = c->Y[j] + c->ds * c->tau[j]; /* Ys: the prediction here */
@@ -693,7 +705,7 @@ static int advance(vi_cont_curve *c, int withg)
     memcpy(c->taul, c->tau, sizeof(double) * nu);
     memcpy(c->Y, c->Yt, sizeof(double) * nu);
     memcpy(c->tau, tnew, sizeof(double) * nu);
-    c->ds = fmin(c->dsmax, 1.5 * c->ds);
+    c->ds = fmin(dsm, 1.5 * c->ds);
     graze_track(c, c->Y);
     if (!c->mi && c->np == 2) /* the parameter's own size: through resonance peaks */
       c->S[0] = fmax(c->S[c->D + 2], fabs(c->Y[0]));

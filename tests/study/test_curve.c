@@ -419,6 +419,49 @@ static void test_p22_pd_curve(void **state)
   vi_model_destroy(&m);
 }
 
+/* The fold of the P(2,2) branch at r = 0.7, from the closed-form P(2,2)
+ * orbit of curves_check.py (pnm_orbit, 30-digit mpmath): mp.findroot in
+ * (Omega, t_0, t_1) of w.x_0 = w.x_1 = x_s and det(M - I) = 0, M the
+ * closed-form monodromy e^{A(t_0 + 2T - t_1)} S_1 e^{A(t_1 - t_0)} S_0,
+ * seeded by p22_seeds at 1.7294421 (a regular root: 1.72944210191397237). */
+#define OMEGA_FOLD22 1.72944210191397237
+
+/* The fold of the P(2,2) orbit followed up from Omega = 1.65: the branch's
+ * impact phases move about 40 times faster than Omega there, and the
+ * search once ran out of points at 1.7255 (from above it was found);
+ * now found for any step count, at the closed form's Omega, with a
+ * multiplier at +1 (at a fold the two merging orbits' multipliers are
+ * 1 +- c sqrt(p - p*): the point rounded to a double gives ~1e-8). */
+static void test_p22_fold_upward(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *q = NULL;
+  double t0[2], x0[4], v0[4];
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.65), VI_OK);
+  p22_orbit(m, t0, x0, v0);
+  static const int steps[] = {20, 200, 1000};
+  for (int s = 0; s < 3; s++) {
+    vi_cont_curve *c = NULL;
+    double t[2], x[4], v[4], p, re[4], im[4], d = HUGE_VAL;
+    assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_FOLD, 2, 2, "forcing.omega", "stop.r",
+                                          &c), VI_OK);
+    assert_int_equal(vi_cont_curve_set_impacts(c, t0, x0, v0, 2), VI_OK);
+    assert_int_equal(vi_cont_curve_locate(c, 1.8, steps[s], &p), VI_OK);
+    assert_int_equal(vi_cont_curve_impacts(c, t, x, v, 2), VI_OK);
+    assert_int_equal(vi_model_copy(m, &q), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "forcing.omega", p), VI_OK);
+    assert_int_equal(vi_orbit_pnm_multipliers(q, 2, 2, t, x, v, 2, re, im), VI_OK);
+    for (int i = 0; i < 4; i++) d = fmin(d, hypot(re[i] - 1, im[i]));
+    printf("  P(2,2) fold from 1.65 up, %d steps: Omega = %.17g (closed form %.17g), "
+           "|mu - 1| %.2e\n", steps[s], p, OMEGA_FOLD22, d);
+    assert_true(fabs(p - OMEGA_FOLD22) < 1e-11);
+    assert_true(d < 1e-6);
+    vi_model_destroy(&q);
+    vi_cont_curve_destroy(&c);
+  }
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -426,6 +469,7 @@ int main(void)
       cmocka_unit_test(test_p10_grazing_curve),
       cmocka_unit_test(test_fold_curve_end),
       cmocka_unit_test(test_p22_pd_curve),
+      cmocka_unit_test(test_p22_fold_upward),
       cmocka_unit_test(test_large_model_pd),
       cmocka_unit_test(test_resonance_12),
       cmocka_unit_test(test_locate_stops_at_grazing),
