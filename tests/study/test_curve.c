@@ -462,6 +462,56 @@ static void test_p22_fold_upward(void **state)
   vi_model_destroy(&m);
 }
 
+/* The period doubling of the P(2,2) branch at r = 0.7 from the same closed
+ * form: det(M + I) = 0 for M (fold22's root of det(M - I), the sign
+ * changed), seeded by p22_seeds at 1.6818211: 1.68182113023904291. */
+#define OMEGA_PD22 1.68182113023904291
+
+/* vi_cont_refine_pnm: P(2,2) points from orbits near them (the branch
+ * followed from 1.65 by vi_orbit_pnm_solve), at the closed form's Omega,
+ * the library's multiplier at -1 or +1 there; grazing refused (m > 1). */
+static void test_refine_pnm(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double t[2], x[4], v[4], tq[2], xq[4], vq[4], re[4], im[4];
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.65), VI_OK);
+  p22_orbit(m, t, x, v);
+  static const double guess[2] = {1.675, 1.725}, want[2] = {OMEGA_PD22, OMEGA_FOLD22};
+  static const int kind[2] = {VI_CONT_CURVE_PD, VI_CONT_CURVE_FOLD};
+  double W = 1.65;
+  for (int k = 0; k < 2; k++) {
+    while (W < guess[k] - 1e-12) { /* the branch up to the guess */
+      W += 0.0025;
+      assert_int_equal(vi_model_set_param(m, "forcing.omega", W), VI_OK);
+      assert_int_equal(vi_orbit_pnm_solve(m, 2, 2, t, x, v, 2, 0, NULL), VI_OK);
+    }
+    double p = W, d = HUGE_VAL, target = k ? 1 : -1;
+    memcpy(tq, t, sizeof t);
+    memcpy(xq, x, sizeof x);
+    memcpy(vq, v, sizeof v);
+    assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, kind[k], &p, tq, xq, vq, 2),
+                     VI_OK);
+    vi_model *q = NULL;
+    assert_int_equal(vi_model_copy(m, &q), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "forcing.omega", p), VI_OK);
+    assert_int_equal(vi_orbit_pnm_multipliers(q, 2, 2, tq, xq, vq, 2, re, im), VI_OK);
+    for (int i = 0; i < 4; i++) d = fmin(d, hypot(re[i] - target, im[i]));
+    printf("  P(2,2) %s refined from %.4g: Omega = %.17g (closed form %.17g), |mu %+g| %.2e\n",
+           k ? "fold" : "pd", W, p, want[k], -target, d);
+    assert_true(fabs(p - want[k]) < 1e-11);
+    assert_true(d < 1e-9);
+    assert_true(tq[0] < tq[1] && fabs(xq[1] - 0.1) < 1e-12 && fabs(xq[3] - 0.1) < 1e-12);
+    vi_model_destroy(&q);
+  }
+  double p = W;
+  assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, VI_CONT_CURVE_GRAZING, &p, t, x,
+                                      v, 2), VI_ERR_ARG);
+  assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, VI_CONT_CURVE_PD, &p, t, x, v, 1),
+                   VI_ERR_ARG); /* ld < n_coords */
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -470,6 +520,7 @@ int main(void)
       cmocka_unit_test(test_fold_curve_end),
       cmocka_unit_test(test_p22_pd_curve),
       cmocka_unit_test(test_p22_fold_upward),
+      cmocka_unit_test(test_refine_pnm),
       cmocka_unit_test(test_large_model_pd),
       cmocka_unit_test(test_resonance_12),
       cmocka_unit_test(test_locate_stops_at_grazing),
