@@ -140,8 +140,9 @@ VI_API int vi_cont_curve_set_orbit(vi_cont_curve *c, double t, const double *x,
 VI_API int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t,
                                      const double *x, const double *v, int ld);
 /** Follow the orbit in key from its value in the model towards `to` in
- *  `steps` >= 1 steps (P(n,m): pseudo-arclength, around folds; P(1,0): the
- *  gap on a grid) and stop at the first point of the curve's kind, refined
+ *  `steps` >= 1 steps (P(n,m): pseudo-arclength, around folds, the step
+ *  in arclength up to 16 times longer where the orbit moves faster than
+ *  key, at most 20 steps + 100 points; P(1,0): the gap on a grid) and stop at the first point of the curve's kind, refined
  *  (vi_cont_refine's Newton); *param (may be NULL) receives key's value
  *  there.  @return VI_OK, VI_STOPPED (none before `to`, the branch is
  *  lost, or the orbit stops being admissible first: v_N through 0, or,
