@@ -338,6 +338,29 @@ def p22_pd_mu(Om, r, xs, seed, target=-1, tol=1e-20, gate=1e-6):
     return best
 
 
+def p22_special(W0, r, xs, s):
+    """The P(2,2) orbit's period doubling (s = 1) or fold (s = -1) near
+    W0: a root (Omega, t_0, t_1) of w.x_0 - x_s, w.x_1 - x_s and
+    det(M + s I), M the closed-form monodromy (a regular root), seeded by
+    p22_seeds.  Gives test_curve.c's OMEGA_PD22 and OMEGA_FOLD22 (r = 0.7,
+    x_s = 0.1: 1.6818211302390429108 and 1.7294421019139723719 at 30
+    digits)."""
+    g = mp.matrix([0, 1, 0, 0])
+
+    def F(Om, t0, t1):
+        A, _, _ = system(Om)
+        R = impact_map(r)
+        z, Ph, res = pnm_orbit(Om, r, xs, [t0, t1], 2)
+        Mo = mp.eye(4)
+        for j, t in enumerate((t0, t1)):
+            f = lambda zz: A * zz + mp.matrix([0, 0, a[0] * mp.cos(Om * t), a[1] * mp.cos(Om * t)])
+            fm, fp = f(z[j]), f(R * z[j])
+            Mo = Ph[j] * (R + (fp - R * fm) * g.T / (g.T * fm)[0]) * Mo
+        return [res[0], res[1], mp.det(Mo + s * mp.eye(4))]
+    t0, t1 = p22_seeds(mp.mpf(W0), r, xs, -s)[0]
+    return mp.findroot(F, [mp.mpf(W0), mp.mpf(t0), mp.mpf(t1)], maxsteps=50)[0]
+
+
 def phi_extrema(Om, r):
     """Local extrema of phi(t0) = w.x of the P(1,1) orbit with its impact at
     t0 (independent of x_s: the flow and the impact law are linear): where
@@ -514,6 +537,13 @@ def check_p22(fold=False):
     js = json.loads(run([exe_, "curves", "--set", "forcing.omega=1.65", "--orbit", "2,2", "--kind",
                          "pd", "--param", "forcing.omega", "--to", "1.8", "--param2", "stop.r",
                          "--from2", "0.5", "--to2", "0.9", "--json"]))
+    # the located point (r = 0.7) against the closed form's root
+    ref = p22_special(js["located"][0], mp.mpf('0.7'), xs, 1)
+    dW = float(abs(js["located"][0] - ref))
+    ok = dW < 1e-12
+    print("%s P(2,2) period doubling at r = 0.7: Omega = %.16g, closed form %s (|d| %.2e)" % (
+        "ok  " if ok else "FAIL", js["located"][0], mp.nstr(ref, 20), dW))
+    fails += not ok
     pts = js["points"]
     worst, seed = 0, None
     for W, rr in pts[::8] + [pts[-1]]:

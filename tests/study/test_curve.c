@@ -420,10 +420,11 @@ static void test_p22_pd_curve(void **state)
 }
 
 /* The fold of the P(2,2) branch at r = 0.7, from the closed-form P(2,2)
- * orbit of curves_check.py (pnm_orbit, 30-digit mpmath): mp.findroot in
- * (Omega, t_0, t_1) of w.x_0 = w.x_1 = x_s and det(M - I) = 0, M the
- * closed-form monodromy e^{A(t_0 + 2T - t_1)} S_1 e^{A(t_1 - t_0)} S_0,
- * seeded by p22_seeds at 1.7294421 (a regular root: 1.72944210191397237). */
+ * orbit of curves_check.py (p22_special(1.7294421, 0.7, 0.1, -1) at
+ * mp.dps = 30): mp.findroot in (Omega, t_0, t_1) of w.x_0 = w.x_1 = x_s
+ * and det(M - I) = 0, M the closed-form monodromy
+ * e^{A(t_0 + 2T - t_1)} S_1 e^{A(t_1 - t_0)} S_0, seeded by p22_seeds
+ * (a regular root: 1.7294421019139723719). */
 #define OMEGA_FOLD22 1.72944210191397237
 
 /* The fold of the P(2,2) orbit followed up from Omega = 1.65: the branch's
@@ -463,8 +464,8 @@ static void test_p22_fold_upward(void **state)
 }
 
 /* The period doubling of the P(2,2) branch at r = 0.7 from the same closed
- * form: det(M + I) = 0 for M (fold22's root of det(M - I), the sign
- * changed), seeded by p22_seeds at 1.6818211: 1.68182113023904291. */
+ * form, det(M + I) = 0 (p22_special(1.6818211, 0.7, 0.1, 1)):
+ * 1.6818211302390429108. */
 #define OMEGA_PD22 1.68182113023904291
 
 /* vi_cont_refine_pnm: P(2,2) points from orbits near them (the branch
