@@ -53,7 +53,7 @@ extern "C" {
 /** Opaque handle of a two-parameter curve. */
 typedef struct vi_cont_curve vi_cont_curve;
 
-/** Kinds of point (vi_cont_curve_create, vi_cont_refine). */
+/** Kinds of point (vi_cont_curve_create, vi_cont_refine, vi_cont_refine_pnm). */
 typedef enum vi_cont_curve_kind {
   VI_CONT_CURVE_GRAZING = 0, /**< the gap between impacts touches the stop */
   VI_CONT_CURVE_FOLD = 1,    /**< a multiplier at +1 */
@@ -99,6 +99,16 @@ typedef enum vi_cont_curve_state {
  *  VI_ERR_NOMEM. */
 VI_API int vi_cont_refine(const vi_model *m, const char *key, int n, int kind,
                           double *p, double *t, double *x, double *v);
+/** vi_cont_refine for a P(n, mi) orbit, mi >= 1 (fold, pd and ns for every
+ *  mi; grazing for mi = 1 only, VI_ERR_ARG otherwise): *p and the
+ *  impacts' times t [mi] (ascending within n T) and the states before
+ *  them x, v [ld x mi] (column-major, ld >= n_coords; each impact on the
+ *  stop whose gap is nearest 0) are the guess and receive the point, by
+ *  the Newton vi_cont_curve_locate uses.  @return as vi_cont_refine
+ *  (VI_ERR_ARG also for mi < 1, mi > 32 or ld < n_coords). */
+VI_API int vi_cont_refine_pnm(const vi_model *m, const char *key, int n, int mi,
+                              int kind, double *p, double *t, double *x,
+                              double *v, int ld);
 
 /** Create a curve of points of `kind` of P(n, mi) orbits, mi 1 (n >= 1),
  *  2 to 32 (fold, pd and ns; the bordered systems of mi (2 n_coords +
@@ -130,8 +140,9 @@ VI_API int vi_cont_curve_set_orbit(vi_cont_curve *c, double t, const double *x,
 VI_API int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t,
                                      const double *x, const double *v, int ld);
 /** Follow the orbit in key from its value in the model towards `to` in
- *  `steps` >= 1 steps (P(n,m): pseudo-arclength, around folds; P(1,0): the
- *  gap on a grid) and stop at the first point of the curve's kind, refined
+ *  `steps` >= 1 steps (P(n,m): pseudo-arclength, around folds, the step
+ *  in arclength up to 16 times longer where the orbit moves faster than
+ *  key, at most 20 steps + 100 points; P(1,0): the gap on a grid) and stop at the first point of the curve's kind, refined
  *  (vi_cont_refine's Newton); *param (may be NULL) receives key's value
  *  there.  @return VI_OK, VI_STOPPED (none before `to`, the branch is
  *  lost, or the orbit stops being admissible first: v_N through 0, or,

@@ -85,7 +85,7 @@ module vibroimpact
   public :: vi_cont_create, vi_cont_destroy, vi_cont_errmsg, vi_cont_set_range, &
             vi_cont_set_orbit, vi_cont_set_monitor, vi_cont_set_cancel, vi_cont_iterate, vi_cont_done, &
             vi_cont_point, vi_cont_orbit, vi_cont_num_events, vi_cont_event, &
-            vi_cont_refine, vi_cont_curve_create, vi_cont_curve_destroy, vi_cont_curve_errmsg, &
+            vi_cont_refine, vi_cont_refine_pnm, vi_cont_curve_create, vi_cont_curve_destroy, vi_cont_curve_errmsg, &
             vi_cont_curve_set_orbit, vi_cont_curve_set_impacts, vi_cont_curve_locate, &
             vi_cont_curve_set_range, vi_cont_curve_iterate, vi_cont_curve_done, &
             vi_cont_curve_point, vi_cont_curve_impacts, &
@@ -1615,6 +1615,14 @@ module vibroimpact
       character(kind=c_char), intent(in) :: key(*)
       integer(c_int), value :: n, kind
       real(c_double), intent(inout) :: p, t, x(*), v(*)
+    end function
+    integer(c_int) function vi_cont_refine_pnm(model, key, n, m, kind, p, t, x, v, ld) &
+        bind(C, name="vi_cont_refine_pnm")
+      import :: c_int, c_ptr, c_char, c_double
+      type(c_ptr), value :: model
+      character(kind=c_char), intent(in) :: key(*)
+      integer(c_int), value :: n, m, kind, ld
+      real(c_double), intent(inout) :: p, t(*), x(*), v(*)
     end function
     integer(c_int) function vi_cont_curve_create(model, kind, n, m, key, key2, out) &
         bind(C, name="vi_cont_curve_create")

@@ -639,30 +639,40 @@ static int ns_complex(vi_cont_curve *c, const double *Y)
   return fabs(c->im[i]) > 1e-9;
 }
 
-int vi_cont_refine(const vi_model *m, const char *key, int n, int kind, double *p,
-                   double *t, double *x, double *v)
+int vi_cont_refine_pnm(const vi_model *m, const char *key, int n, int mi, int kind,
+                       double *p, double *t, double *x, double *v, int ld)
 {
-  if (!m || !key || !p || !t || !x || !v) return VI_ERR_ARG;
+  if (!m || !key || !p || !t || !x || !v || mi < 1) return VI_ERR_ARG;
   if (!isfinite(*p)) return VI_ERR_NONFINITE;
   vi_cont_curve *c = NULL;
-  int st = vi_cont_curve_create(m, kind, n, 1, key, NULL, &c);
-  if (!st) st = vi_cont_curve_set_orbit(c, *t, x, v);
+  /* the same handle and Newton as vi_cont_curve_locate's (grazing is
+   * refused for mi > 1 by create: its condition follows one flight) */
+  int st = vi_cont_curve_create(m, kind, n, mi, key, NULL, &c);
+  if (!st) st = vi_cont_curve_set_impacts(c, t, x, v, ld);
   if (!st && vi_model_set_param(c->m, key, *p)) st = VI_ERR_ARG;
   if (!st) {
-    int N = c->N;
+    int N = c->N, B = c->blk;
     c->Y[c->D] = *p;
     set_scales(c);
     st = refine(c, c->Y);
     if (!st && !ns_complex(c, c->Y)) st = VI_ERR_NOT_CONVERGED;
     if (!st) {
       *p = c->Y[c->D];
-      *t = c->Y[0];
-      memcpy(x, c->Y + 1, sizeof(double) * N);
-      memcpy(v, c->Y + 1 + N, sizeof(double) * N);
+      for (int j = 0; j < mi; j++) {
+        t[j] = c->Y[(size_t)j * B];
+        memcpy(x + (size_t)j * ld, c->Y + (size_t)j * B + 1, sizeof(double) * N);
+        memcpy(v + (size_t)j * ld, c->Y + (size_t)j * B + 1 + N, sizeof(double) * N);
+      }
     }
   }
   vi_cont_curve_destroy(&c);
   return st;
+}
+
+int vi_cont_refine(const vi_model *m, const char *key, int n, int kind, double *p,
+                   double *t, double *x, double *v)
+{
+  return vi_cont_refine_pnm(m, key, n, 1, kind, p, t, x, v, m ? m->n : 0);
 }
 
 /* ---- pseudo-arclength --------------------------------------------------------- */
@@ -674,7 +684,19 @@ int vi_cont_refine(const vi_model *m, const char *key, int n, int kind, double *
 static int advance(vi_cont_curve *c, int withg)
 {
   int nu = c->D + c->np;
-  double *bord = c->bord;
+  double *bord = c->bord, dsm = c->dsmax;
+  /* Following an orbit in one parameter (locate), dsmax is the parameter's
+   * step |to - p0| / steps: where the orbit moves faster than the
+   * parameter (the scaled tangent's parameter part below 1/4: the P(2,2)
+   * branch of Fig. 2 moves its impact phases 40 times faster than Omega
+   * before its fold) the step in arclength grows, up to 16 times, so that
+   * the parameter still advances by about a quarter of that step and the
+   * point budget (20 steps + 100) reaches `to`; the turn test below keeps
+   * it short where the branch turns. */
+  if (!withg && c->np == 1) {
+    double tp = fabs(c->tau[c->D]) / c->S[c->D];
+    if (tp < 0.25) dsm *= tp > 0.25 / 16 ? 0.25 / tp : 16;
+  }
   while (c->ds >= c->dsmax / 4096) {
     for (int j = 0; j < nu; j++) {
       c->Ys[j] = c->Y[j] + c->ds * c->tau[j]; /* Ys: the prediction here */
@@ -693,7 +715,7 @@ static int advance(vi_cont_curve *c, int withg)
     memcpy(c->taul, c->tau, sizeof(double) * nu);
     memcpy(c->Y, c->Yt, sizeof(double) * nu);
     memcpy(c->tau, tnew, sizeof(double) * nu);
-    c->ds = fmin(c->dsmax, 1.5 * c->ds);
+    c->ds = fmin(dsm, 1.5 * c->ds);
     graze_track(c, c->Y);
     if (!c->mi && c->np == 2) /* the parameter's own size: through resonance peaks */
       c->S[0] = fmax(c->S[c->D + 2], fabs(c->Y[0]));

@@ -1577,6 +1577,9 @@ static void test_curve_misuse(void **state)
   assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "initial.x[1]", "stop.r", &c));
   assert_err(vi_cont_refine(NULL, "forcing.omega", 1, VI_CONT_CURVE_PD, &p, &t, x, v));
   assert_err(vi_cont_refine(m, "forcing.omega", 1, VI_CONT_CURVE_PD, NULL, &t, x, v));
+  assert_err(vi_cont_refine_pnm(NULL, "forcing.omega", 1, 1, VI_CONT_CURVE_PD, &p, &t, x, v, 2));
+  assert_err(vi_cont_refine_pnm(m, "forcing.omega", 1, 0, VI_CONT_CURVE_PD, &p, &t, x, v, 2));
+  assert_err(vi_cont_refine_pnm(m, "forcing.omega", 1, 1, VI_CONT_CURVE_PD, &p, &t, x, v, 1));
   /* no period doubling near Omega = 0.9 */
   assert_err(vi_cont_refine(m, "forcing.omega", 1, VI_CONT_CURVE_PD, &p, &t, x, v));
   assert_err(vi_cont_curve_iterate(NULL));

@@ -39,6 +39,12 @@ Checks (tolerances from the issue):
   9. (--fold only: 35 CPU-s) the P(2,2) fold curve in (Omega, r): a
      multiplier within 1e-6 of +1 (at a fold it is 1 +- c sqrt(p - p*), so
      a point rounded to a double gives |mu - 1| ~ 1e-7).
+  10. a Neimark-Sacker curve of P(2,2) orbits (c = 0.02, r = 0.8, in
+     (Omega, x_s)), a loop from and back to a 1:2 point of the P(2,2)
+     orbit: at every 12th point the closed-form P(2,2) orbit (7's, the
+     damping changed) is a true P(2,2) (t_1 - t_0 away from T: not the
+     P(1,1) orbit twice), admissible (its gap between impacts, sampled,
+     below the stop), with a complex pair of modulus 1 to 1e-7.
 usage: curves_check.py VIBROIMPACT [--fold]"""
 import json
 import subprocess
@@ -332,6 +338,29 @@ def p22_pd_mu(Om, r, xs, seed, target=-1, tol=1e-20, gate=1e-6):
     return best
 
 
+def p22_special(W0, r, xs, s):
+    """The P(2,2) orbit's period doubling (s = 1) or fold (s = -1) near
+    W0: a root (Omega, t_0, t_1) of w.x_0 - x_s, w.x_1 - x_s and
+    det(M + s I), M the closed-form monodromy (a regular root), seeded by
+    p22_seeds.  Gives test_curve.c's OMEGA_PD22 and OMEGA_FOLD22 (r = 0.7,
+    x_s = 0.1: 1.6818211302390429108 and 1.7294421019139723719 at 30
+    digits)."""
+    g = mp.matrix([0, 1, 0, 0])
+
+    def F(Om, t0, t1):
+        A, _, _ = system(Om)
+        R = impact_map(r)
+        z, Ph, res = pnm_orbit(Om, r, xs, [t0, t1], 2)
+        Mo = mp.eye(4)
+        for j, t in enumerate((t0, t1)):
+            f = lambda zz: A * zz + mp.matrix([0, 0, a[0] * mp.cos(Om * t), a[1] * mp.cos(Om * t)])
+            fm, fp = f(z[j]), f(R * z[j])
+            Mo = Ph[j] * (R + (fp - R * fm) * g.T / (g.T * fm)[0]) * Mo
+        return [res[0], res[1], mp.det(Mo + s * mp.eye(4))]
+    t0, t1 = p22_seeds(mp.mpf(W0), r, xs, -s)[0]
+    return mp.findroot(F, [mp.mpf(W0), mp.mpf(t0), mp.mpf(t1)], maxsteps=50)[0]
+
+
 def phi_extrema(Om, r):
     """Local extrema of phi(t0) = w.x of the P(1,1) orbit with its impact at
     t0 (independent of x_s: the flow and the impact law are linear): where
@@ -494,6 +523,7 @@ def main():
           ("ok  " if ok else "FAIL", len(pts), rs[0], rs[-1], worst))
     fails += not ok
     fails += check_p22("--fold" in sys.argv[2:])
+    fails += check_p22_ns()
     sys.exit(1 if fails else 0)
 
 
@@ -507,6 +537,13 @@ def check_p22(fold=False):
     js = json.loads(run([exe_, "curves", "--set", "forcing.omega=1.65", "--orbit", "2,2", "--kind",
                          "pd", "--param", "forcing.omega", "--to", "1.8", "--param2", "stop.r",
                          "--from2", "0.5", "--to2", "0.9", "--json"]))
+    # the located point (r = 0.7) against the closed form's root
+    ref = p22_special(js["located"][0], mp.mpf('0.7'), xs, 1)
+    dW = float(abs(js["located"][0] - ref))
+    ok = dW < 1e-12
+    print("%s P(2,2) period doubling at r = 0.7: Omega = %.16g, closed form %s (|d| %.2e)" % (
+        "ok  " if ok else "FAIL", js["located"][0], mp.nstr(ref, 20), dW))
+    fails += not ok
     pts = js["points"]
     worst, seed = 0, None
     for W, rr in pts[::8] + [pts[-1]]:
@@ -561,6 +598,96 @@ def check_p22(fold=False):
           "and the last)" % ("ok  " if ok else "FAIL", len(pts), pts[0][0], pts[-1][0], worst))
     fails += not ok
     return fails
+
+
+def p22_gap(Om, r, xs, ts):
+    """The largest w.x - x_s of the P(2,2) orbit at ts over both flights
+    (floats, 400 samples each): < 0 when admissible."""
+    import numpy as np
+    orbit, _, _, T = p22_float(Om, r, xs)
+    _, z, _ = orbit(*[float(u) for u in ts])
+    W = float(Om)
+    Kf = np.array([[2.0, -1], [-1, 1]])
+    Af = np.zeros((4, 4))
+    Af[0, 2] = Af[1, 3] = 1
+    Af[2:, :2] = -Kf
+    Cf = np.array(C.tolist(), dtype=float)
+    Af[2:, 2:] = -Cf
+    ev, V = np.linalg.eig(Af)
+    Vi = np.linalg.inv(V)
+    Xf = np.linalg.solve(Kf - W ** 2 * np.eye(2) + 1j * W * Cf, [0.5, 0])
+    zpf = lambda t: np.concatenate([(Xf * np.exp(1j * W * t)).real,
+                                    (1j * W * Xf * np.exp(1j * W * t)).real])
+    Rf = np.diag([1, 1, 1, -float(r)])
+    tn = [float(ts[0]), float(ts[1]), float(ts[0]) + 2 * T]
+    worst = -np.inf
+    for j in range(2):
+        z0 = Rf @ z[j] - zpf(tn[j])
+        for s in np.linspace(0, tn[j + 1] - tn[j], 402)[1:-1]:
+            x = ((V * np.exp(ev * s)) @ Vi).real @ z0 + zpf(tn[j] + s)
+            worst = max(worst, x[1] - float(xs))
+    return worst
+
+
+def p22_ns_pair(Om, r, xs, seed):
+    """The P(2,2) orbit (from seed, else from a scan) whose pair of
+    multipliers with product nearest 1 is nearest the unit circle:
+    (||mu| - 1| of the pair, impact times, the pair)."""
+    cands = []
+    if seed:
+        t, conv = p22_float(Om, r, xs)[2]([float(u) for u in seed])
+        cands = [tuple(t)] if conv else []
+    best = None
+    for attempt in range(2):
+        for sd in cands:
+            got = p22_solve(Om, r, xs, sd, 1e-18)
+            if not got:
+                continue
+            mu = got[1]
+            i, j = min(((i, j) for i in range(4) for j in range(i + 1, 4)),
+                       key=lambda e: abs(mu[e[0]] * mu[e[1]] - 1))
+            dev = max(abs(abs(mu[i]) - 1), abs(abs(mu[j]) - 1))
+            if best is None or dev < best[0]:
+                best = (dev, got[0], (mu[i], mu[j]))
+        if best is not None and best[0] < 1e-6:
+            return best
+        cands = p22_seeds(Om, r, xs, 1)
+    return best
+
+
+def check_p22_ns():
+    """10. The Neimark-Sacker curve of a P(2,2) orbit of the lightly
+    damped chain (c = 0.02, r = 0.8) in (Omega, x_s)."""
+    global C
+    C = mp.mpf('0.02') * E
+    r = mp.mpf('0.8')
+    js = json.loads(run([exe_, "curves", "--set", "model.chain.c=0.02", "--set", "stop.r=0.8",
+                         "--set", "forcing.omega=0.44", "--set", "stop.xs=1.05", "--orbit", "2,2",
+                         "--kind", "ns", "--param", "forcing.omega", "--to", "0.38", "--param2",
+                         "stop.xs", "--from2", "0.9", "--to2", "1.3", "--json"]))
+    pts = js["points"]
+    worst, seed, dtmin, gap = 0, None, mp.inf, -mp.inf
+    # the ends are the 1:2 point (a double -1, the pair turning real: at
+    # the rounded point it is -1 +- 5e-8), the interior points checked
+    for W, xs in pts[1:-1:12] + [pts[-2]]:
+        got = p22_ns_pair(mp.mpf(W), r, mp.mpf(xs), seed)
+        if got is None or abs(mp.im(got[2][0])) < 1e-9:
+            worst = mp.inf
+            break
+        T = 2 * mp.pi / W
+        worst = max(worst, float(got[0]))
+        dtmin = min(dtmin, float(abs(got[1][1] - got[1][0] - T) / T))
+        gap = max(gap, p22_gap(mp.mpf(W), r, mp.mpf(xs), got[1]))
+        seed = got[1]
+    ends = [s for s in js["special"] if s["type"] == "resonance_1_2"]
+    ok = (worst < 1e-7 and dtmin > 1e-3 and gap < 0 and len(pts) > 100 and js["orbit"] == [2, 2]
+          and len(ends) >= 2 and max(abs(a - b) for a, b in zip(pts[0], pts[-1])) < 1e-9)
+    print("%s P(2,2) ns curve (c = 0.02, r = 0.8): %d points, a loop from and back to the 1:2 point "
+          "(%.10f, %.10f); worst ||mu| - 1| of the pair %.2e (every 12th point), t_1 - t_0 at "
+          "least %.3f T from T, largest gap to the stop %.3g" % (
+              "ok  " if ok else "FAIL", len(pts), pts[0][0], pts[0][1], worst, dtmin, gap))
+    C = mp.mpf('0.1') * E
+    return not ok
 
 
 if __name__ == "__main__":

@@ -419,6 +419,100 @@ static void test_p22_pd_curve(void **state)
   vi_model_destroy(&m);
 }
 
+/* The fold of the P(2,2) branch at r = 0.7, from the closed-form P(2,2)
+ * orbit of curves_check.py (p22_special(1.7294421, 0.7, 0.1, -1) at
+ * mp.dps = 30): mp.findroot in (Omega, t_0, t_1) of w.x_0 = w.x_1 = x_s
+ * and det(M - I) = 0, M the closed-form monodromy
+ * e^{A(t_0 + 2T - t_1)} S_1 e^{A(t_1 - t_0)} S_0, seeded by p22_seeds
+ * (a regular root: 1.7294421019139723719). */
+#define OMEGA_FOLD22 1.72944210191397237
+
+/* The fold of the P(2,2) orbit followed up from Omega = 1.65: the branch's
+ * impact phases move about 40 times faster than Omega there, and the
+ * search once ran out of points at 1.7255 (from above it was found);
+ * now found for any step count, at the closed form's Omega, with a
+ * multiplier at +1 (at a fold the two merging orbits' multipliers are
+ * 1 +- c sqrt(p - p*): the point rounded to a double gives ~1e-8). */
+static void test_p22_fold_upward(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *q = NULL;
+  double t0[2], x0[4], v0[4];
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.65), VI_OK);
+  p22_orbit(m, t0, x0, v0);
+  static const int steps[] = {20, 200, 1000};
+  for (int s = 0; s < 3; s++) {
+    vi_cont_curve *c = NULL;
+    double t[2], x[4], v[4], p, re[4], im[4], d = HUGE_VAL;
+    assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_FOLD, 2, 2, "forcing.omega", "stop.r",
+                                          &c), VI_OK);
+    assert_int_equal(vi_cont_curve_set_impacts(c, t0, x0, v0, 2), VI_OK);
+    assert_int_equal(vi_cont_curve_locate(c, 1.8, steps[s], &p), VI_OK);
+    assert_int_equal(vi_cont_curve_impacts(c, t, x, v, 2), VI_OK);
+    assert_int_equal(vi_model_copy(m, &q), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "forcing.omega", p), VI_OK);
+    assert_int_equal(vi_orbit_pnm_multipliers(q, 2, 2, t, x, v, 2, re, im), VI_OK);
+    for (int i = 0; i < 4; i++) d = fmin(d, hypot(re[i] - 1, im[i]));
+    printf("  P(2,2) fold from 1.65 up, %d steps: Omega = %.17g (closed form %.17g), "
+           "|mu - 1| %.2e\n", steps[s], p, OMEGA_FOLD22, d);
+    assert_true(fabs(p - OMEGA_FOLD22) < 1e-11);
+    assert_true(d < 1e-6);
+    vi_model_destroy(&q);
+    vi_cont_curve_destroy(&c);
+  }
+  vi_model_destroy(&m);
+}
+
+/* The period doubling of the P(2,2) branch at r = 0.7 from the same closed
+ * form, det(M + I) = 0 (p22_special(1.6818211, 0.7, 0.1, 1)):
+ * 1.6818211302390429108. */
+#define OMEGA_PD22 1.68182113023904291
+
+/* vi_cont_refine_pnm: P(2,2) points from orbits near them (the branch
+ * followed from 1.65 by vi_orbit_pnm_solve), at the closed form's Omega,
+ * the library's multiplier at -1 or +1 there; grazing refused (m > 1). */
+static void test_refine_pnm(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double t[2], x[4], v[4], tq[2], xq[4], vq[4], re[4], im[4];
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.65), VI_OK);
+  p22_orbit(m, t, x, v);
+  static const double guess[2] = {1.675, 1.725}, want[2] = {OMEGA_PD22, OMEGA_FOLD22};
+  static const int kind[2] = {VI_CONT_CURVE_PD, VI_CONT_CURVE_FOLD};
+  double W = 1.65;
+  for (int k = 0; k < 2; k++) {
+    while (W < guess[k] - 1e-12) { /* the branch up to the guess */
+      W += 0.0025;
+      assert_int_equal(vi_model_set_param(m, "forcing.omega", W), VI_OK);
+      assert_int_equal(vi_orbit_pnm_solve(m, 2, 2, t, x, v, 2, 0, NULL), VI_OK);
+    }
+    double p = W, d = HUGE_VAL, target = k ? 1 : -1;
+    memcpy(tq, t, sizeof t);
+    memcpy(xq, x, sizeof x);
+    memcpy(vq, v, sizeof v);
+    assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, kind[k], &p, tq, xq, vq, 2),
+                     VI_OK);
+    vi_model *q = NULL;
+    assert_int_equal(vi_model_copy(m, &q), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "forcing.omega", p), VI_OK);
+    assert_int_equal(vi_orbit_pnm_multipliers(q, 2, 2, tq, xq, vq, 2, re, im), VI_OK);
+    for (int i = 0; i < 4; i++) d = fmin(d, hypot(re[i] - target, im[i]));
+    printf("  P(2,2) %s refined from %.4g: Omega = %.17g (closed form %.17g), |mu %+g| %.2e\n",
+           k ? "fold" : "pd", W, p, want[k], -target, d);
+    assert_true(fabs(p - want[k]) < 1e-11);
+    assert_true(d < 1e-9);
+    assert_true(tq[0] < tq[1] && fabs(xq[1] - 0.1) < 1e-12 && fabs(xq[3] - 0.1) < 1e-12);
+    vi_model_destroy(&q);
+  }
+  double p = W;
+  assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, VI_CONT_CURVE_GRAZING, &p, t, x,
+                                      v, 2), VI_ERR_ARG);
+  assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, VI_CONT_CURVE_PD, &p, t, x, v, 1),
+                   VI_ERR_ARG); /* ld < n_coords */
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -426,6 +520,8 @@ int main(void)
       cmocka_unit_test(test_p10_grazing_curve),
       cmocka_unit_test(test_fold_curve_end),
       cmocka_unit_test(test_p22_pd_curve),
+      cmocka_unit_test(test_p22_fold_upward),
+      cmocka_unit_test(test_refine_pnm),
       cmocka_unit_test(test_large_model_pd),
       cmocka_unit_test(test_resonance_12),
       cmocka_unit_test(test_locate_stops_at_grazing),
