@@ -719,7 +719,7 @@ static int ex_start(vi_sim *s)
 /* Ledger integrals over [a, b] by 8-point Gauss-Legendre in np equal
  * panels of at most a quarter radian of the fastest rate: there the rule's
  * error is below round-off for the products of modes that make the
- * integrands.  Every mode is taken directly at a panel's start and carried
+ * integrands.  Every mode is taken directly at a panel's midpoint and carried
  * to its nodes by the maps of the node offsets (vi_quadmap.h); the ledger
  * needs only q'. */
 static int ex_quadrature(vi_sim *s, ex_data *d, double a, double b,
@@ -737,10 +737,10 @@ static int ex_quadrature(vi_sim *s, ex_data *d, double a, double b,
   double *restrict w = d->qs, *restrict wd = d->qds, *restrict qd = d->qn;
   size_t n = (size_t)d->n;
   for (int64_t k = 0; k < np; k++) {
-    double pa = k ? a + 2.0 * h * (double)k : a;
-    vi_phase p0 = vi_phase_at(d->Om, pa);
+    double mid = a + h * (double)(2 * k + 1);
+    vi_phase p0 = vi_phase_at(d->Om, mid);
     for (size_t j = 0; j < n; j++) {
-      ex_mode(d, (int)j, pa, w + j, wd + j);
+      ex_mode(d, (int)j, mid, w + j, wd + j);
       w[j] = m->F0[j] - m->lambda[j] * w[j]; /* the map's forcing term */
     }
     for (int i = 0; i < VI_QUADMAP_NODES; i++) {
