@@ -9,7 +9,7 @@
 
 int vi_quadmap_init(vi_quadmap *Q, int cap)
 {
-  size_t per = 3 * VI_QUADMAP_NODES * (size_t)(cap > 0 ? cap : 1);
+  size_t per = (size_t)(cap > 0 ? cap : 1) * 3 * VI_QUADMAP_NODES;
   Q->cap = cap;
   Q->buf = malloc(sizeof(double) * per * VI_QUADMAP_WAYS);
   if (!Q->buf) return VI_ERR_NOMEM;
