@@ -121,6 +121,22 @@ void vi_ledger_accumulate_phase(vi_ledger *L, const vi_phase *p,
                                 const double *qd, const vi_ledger_held *h,
                                 double weight)
 {
+  const vi_model *m = L->m;
+  if (!h && m->proportional) {
+    /* free flight, modal damping: XE and CE vanish, so only FE and DE
+     * move (the same products as vi_ledger_rates_phase's); the exact
+     * method's quadrature comes here at every node */
+    int n = L->n;
+    const double *Fa, *Fb, *F0;
+    vi_forcing_vectors(m, VI_FORCING_MODAL, &Fa, &Fb, &F0);
+    double *restrict FE = L->Q, *restrict DE = L->Q + n;
+    for (int j = 0; j < n; j++) {
+      double v = qd[j], F = vi_harm(p, 0, Fa[j], Fb[j], F0[j]);
+      FE[j] += weight * (v * F);
+      DE[j] += weight * (m->D[j + (size_t)j * (size_t)n] * v * v);
+    }
+    return;
+  }
   vi_ledger_rates_phase(L, p, qd, h, NULL, L->R);
   for (int k = 0; k < 4 * L->n; k++) L->Q[k] += weight * L->R[k];
 }

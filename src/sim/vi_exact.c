@@ -43,6 +43,7 @@
 
 #include "vi_exact_internal.h"
 #include "vi_grid.h"
+#include "vi_quadmap.h"
 #include "vi_vec.h"
 
 #define EX_LEVELS 100 /* dyadic table levels h0 2^-l */
@@ -84,8 +85,9 @@ typedef struct ex_data {
   double *gs;                       /* scratch [ns] */
   double *stk;                      /* bisection states [(EX_DEPTH+2) 2 na] */
   /* modal state at tq and the physical state handed out at tz */
-  double *q, *qd, tq, *z, tz, *qs, *qds;
+  double *q, *qd, tq, *z, tz, *qs, *qds, *qn; /* qs, qds, qn: scratch */
   int q_ok, z_ok;
+  vi_quadmap qm;                    /* the ledger quadrature's node maps */
   int64_t evals;
 } ex_data;
 
@@ -101,6 +103,7 @@ static void ex_destroy(vi_sim *s)
     free(d->act);
     free(d->lam);
     free(d->st);
+    vi_quadmap_free(&d->qm);
   }
   free(d);
   s->be_data = NULL;
@@ -417,15 +420,16 @@ static int ex_alloc(vi_sim *s, ex_data **out)
     return VI_ERR_NOMEM;
   }
   size_t nd = (3 + (size_t)ns) * (size_t)na + 6 * (size_t)na +
-              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 14 * (size_t)n +
+              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 15 * (size_t)n +
               5 * (size_t)ns + 8;
   d->act = malloc(sizeof(int) * (size_t)(na + 1));
   d->lam = malloc(sizeof(double) * nd);
   d->st = calloc((size_t)ns, sizeof *d->st);
-  if (!d->act || !d->lam || !d->st) {
+  if (!d->act || !d->lam || !d->st || vi_quadmap_init(&d->qm, n)) {
     free(d->act);
     free(d->lam);
     free(d->st);
+    vi_quadmap_free(&d->qm);
     free(d);
     vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
     return VI_ERR_NOMEM;
@@ -447,6 +451,7 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->qd = p; p += n;
   d->qs = p; p += n;
   d->qds = p; p += n;
+  d->qn = p; p += n;
   d->g.fk = p; p += ns;
   d->g.fdk = p; p += ns;
   d->g.fn = p; p += ns;
@@ -712,27 +717,45 @@ static int ex_start(vi_sim *s)
   return VI_OK;
 }
 
-/* Ledger integrals over [a, b] by 8-point Gauss-Legendre in pieces of at
- * most a quarter radian of the fastest rate: there the rule's error is
- * below round-off for the products of modes that make the integrands. */
+/* Ledger integrals over [a, b] by 8-point Gauss-Legendre in np equal
+ * panels of at most a quarter radian of the fastest rate: there the rule's
+ * error is below round-off for the products of modes that make the
+ * integrands.  Every mode is taken directly at a panel's midpoint and carried
+ * to its nodes by the maps of the node offsets (vi_quadmap.h); the ledger
+ * needs only q'. */
 static int ex_quadrature(vi_sim *s, ex_data *d, double a, double b,
                          double *done)
 {
   *done = b;
   if (!(b > a)) return VI_OK;
+  const vi_model *m = s->m;
   double npf = ceil((b - a) / d->hq);
   int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
+  double h = 0.5 * (b - a) / (double)np;
+  const vi_quadmap_set *S = vi_quadmap_get(&d->qm, h, d->Om, m->lambda,
+                                           m->D, d->n + 1);
+  const double *restrict pA = d->pA, *restrict pB = d->pB;
+  double *restrict w = d->qs, *restrict wd = d->qds, *restrict qd = d->qn;
+  size_t n = (size_t)d->n;
   for (int64_t k = 0; k < np; k++) {
-    double pa = a + (b - a) * (double)k / (double)np;
-    double pb = k + 1 == np ? b : a + (b - a) * (double)(k + 1) / (double)np;
-    double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
-    for (int i = 0; i < 8; i++) {
-      double w, t = vi_gl8_node(i, mid, h, &w);
-      ex_modes_at(d, t, d->qs, d->qds);
-      vi_ledger_accumulate(s->led, t, d->qds, NULL, w);
+    double mid = a + h * (double)(2 * k + 1);
+    vi_phase p0 = vi_phase_at(d->Om, mid);
+    for (size_t j = 0; j < n; j++) {
+      ex_mode(d, (int)j, mid, w + j, wd + j);
+      w[j] = m->F0[j] - m->lambda[j] * w[j]; /* the map's forcing term */
     }
-    if (vi_sim_quad_cancelled(s, k, np)) { /* the integrals end at pb */
-      *done = pb;
+    for (int i = 0; i < VI_QUADMAP_NODES; i++) {
+      const double *restrict B = S->T + 3 * (size_t)i * n, *restrict Bp = B + n;
+      vi_phase p = {d->Om, 0.0, 0.0};
+      vi_quadmap_phase(S, i, p0.c, p0.s, &p.c, &p.s);
+      double Wc = d->Om * p.c, Ws = d->Om * p.s;
+      for (size_t j = 0; j < n; j++)
+        qd[j] = Bp[j] * wd[j] + B[j] * w[j] + (pB[j] * Wc - pA[j] * Ws);
+      vi_ledger_accumulate_phase(s->led, &p, qd, NULL, S->w[i]);
+    }
+    d->evals += 1 + VI_QUADMAP_NODES;
+    if (vi_sim_quad_cancelled(s, k, np)) { /* the integrals end there */
+      *done = k + 1 == np ? b : a + 2.0 * h * (double)(k + 1);
       return VI_CANCELLED;
     }
   }

@@ -26,6 +26,7 @@
 
 #include "vi_grid.h"
 #include "vi_held_internal.h"
+#include "vi_quadmap.h"
 #include "vi_vec.h"
 
 #define HD_CACHE 8       /* held sets kept */
@@ -70,7 +71,8 @@ struct vi_held {
   double *T;                     /* the grid step's maps B, Bp, phi [3 na] */
   double *u, *ud, *q, *qd;       /* [m], [m], [n], [n] */
   hd_fun f[2 * VI_CONTACT_MAX + 64];
-  double hq;
+  double hq, *wf;                 /* wf: scratch [m] */
+  vi_quadmap qm;                 /* the ledger quadrature's node maps */
   int64_t evals;
   const vi_sim *s;               /* the host's poll in hd_search */
   unsigned polls;
@@ -137,6 +139,7 @@ void vi_held_free(vi_sim *s)
   if (!H) return;
   vi_held_cache_clear(&H->own);
   hd_phase_free(H);
+  vi_quadmap_free(&H->qm);
   free(H);
   s->held = NULL;
 }
@@ -349,7 +352,7 @@ static int hd_setup(vi_sim *s, vi_held *H)
   int na = 0;
   size_t nd = 2 * (size_t)mm + 3 * (size_t)mm + 2 * (size_t)nf * mm +
               6 * (size_t)mm + 3 * (size_t)mm + 2 * (size_t)mm +
-              2 * (size_t)c->n + 4 * (size_t)nf + 8;
+              2 * (size_t)c->n + 4 * (size_t)nf + (size_t)mm + 8;
   int *act = hd_grow(H->act, &H->cap_act, (size_t)mm + 1, sizeof(int));
   if (act) H->act = act;
   double *w0 = act ? hd_grow(H->w0, &H->cap_w, nd, sizeof(double)) : NULL;
@@ -383,6 +386,7 @@ static int hd_setup(vi_sim *s, vi_held *H)
   H->ud = p; p += mm;
   H->q = p; p += c->n;
   H->qd = p; p += c->n;
+  H->wf = p; p += mm;
   H->g.fk = p; p += nf;
   H->g.fdk = p; p += nf;
   H->g.fn = p; p += nf;
@@ -531,6 +535,9 @@ int vi_held_start(vi_sim *s)
   if ((st = hd_setup(s, H))) return st;
   if (!H->w0 || !H->act) /* hd_setup's success says so; the analyzer */
     return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory"); /* can't */
+  if (!H->qm.buf && vi_quadmap_init(&H->qm, s->n))
+    return vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
+  vi_quadmap_reset(&H->qm, c->m); /* these modes' maps (Omega too) */
   int n = c->n, mm = c->m, na = H->na;
   vi_modal_project(s->m, s->z, H->q, H->qd);
   vi_phase p = vi_phase_at(H->Om, s->t);
@@ -597,11 +604,13 @@ static double hd_report(const vi_sim *s, const vi_held *H, const double *f)
   return any ? worst + vi_sim_gap_tol(s, 0) : 0.0;
 }
 
-/* Ledger integrals over [a, b] (8-point Gauss-Legendre in quarter radians
- * of the fastest rate, as vi_exact.c): forcing and damping of the free
- * modes, and the held stops' constraint exchange CE_j = -sum_k lambda_k
- * psi_kj q_j'.  VI_CANCELLED on the host's poll, the integrals then taken
- * to *done (b otherwise). */
+/* Ledger integrals over [a, b] (8-point Gauss-Legendre in equal panels
+ * of at most a quarter radian of the fastest rate, as vi_exact.c, every
+ * constrained mode taken at a panel's midpoint and carried to the nodes by
+ * the maps of their offsets, vi_quadmap.h): forcing and damping of the
+ * free modes, and the held stops' constraint exchange CE_j = -sum_k
+ * lambda_k psi_kj q_j'.  VI_CANCELLED on the host's poll, the integrals
+ * then taken to *done (b otherwise). */
 static int hd_quadrature(vi_sim *s, vi_held *H, double a, double b,
                          double *done)
 {
@@ -612,17 +621,32 @@ static int hd_quadrature(vi_sim *s, vi_held *H, double a, double b,
   const vi_ledger_held held = {c->cnt, c->set, lam};
   double npf = ceil((b - a) / H->hq);
   int64_t np = npf >= 1.0 ? (int64_t)fmin(npf, 1e15) : 1;
+  double h = 0.5 * (b - a) / (double)np;
+  const vi_quadmap_set *S = vi_quadmap_get(&H->qm, h, H->Om, c->om2,
+                                           c->dmp, 1);
+  size_t mm = (size_t)H->m;
+  double *restrict w = H->wa, *restrict wd = H->wda, *restrict f = H->wf;
   for (int64_t k = 0; k < np; k++) {
-    double pa = a + (b - a) * (double)k / (double)np;
-    double pb = k + 1 == np ? b : a + (b - a) * (double)(k + 1) / (double)np;
-    double h = 0.5 * (pb - pa), mid = 0.5 * (pa + pb);
-    for (int i = 0; i < 8; i++) {
-      double wgt, t = vi_gl8_node(i, mid, h, &wgt);
-      /* one cos/sin per node: the modes, the reactions and the ledger's
-       * forcing all take this phase (an unforced model's harmonic terms
-       * vanish whatever it is) */
-      vi_phase p = vi_phase_at(H->Om, t);
-      hd_modes_phase(H, &p, t, H->u, H->ud);
+    double mid = a + h * (double)(2 * k + 1);
+    vi_phase p0 = vi_phase_at(H->Om, mid);
+    for (size_t i = 0; i < mm; i++) {
+      hd_mode(H, (int)i, mid, w + i, wd + i);
+      f[i] = c->F0[i] - c->om2[i] * w[i];
+    }
+    for (int nd = 0; nd < VI_QUADMAP_NODES; nd++) {
+      const double *restrict B = S->T + 3 * (size_t)nd * mm;
+      const double *restrict Bp = B + mm, *restrict ph = B + 2 * mm;
+      /* one phase per node: the modes, the reactions and the ledger's
+       * forcing all take it (an unforced model's harmonic terms vanish
+       * whatever it is) */
+      vi_phase p = {H->Om, 0.0, 0.0};
+      vi_quadmap_phase(S, nd, p0.c, p0.s, &p.c, &p.s);
+      for (size_t i = 0; i < mm; i++) {
+        H->u[i] = w[i] + B[i] * wd[i] + ph[i] * f[i] +
+                  vi_harm(&p, 0, c->pA[i], c->pB[i], 0.0);
+        H->ud[i] = Bp[i] * wd[i] + B[i] * f[i] +
+                   vi_harm(&p, 1, c->pA[i], c->pB[i], 0.0);
+      }
       hd_free_modal(c, H->u, H->ud, H->q, H->qd);
       for (int q = 0; q < c->cnt; q++) {
         const double *R = c->R + (size_t)q * c->m;
@@ -630,10 +654,10 @@ static int hd_quadrature(vi_sim *s, vi_held *H, double a, double b,
         for (int r = 0; r < c->m; r++)
           lam[q] -= R[r] * (H->u[r] + c->brl * H->ud[r]);
       }
-      vi_ledger_accumulate_phase(s->led, &p, H->qd, &held, wgt);
+      vi_ledger_accumulate_phase(s->led, &p, H->qd, &held, S->w[nd]);
     }
     if (vi_sim_quad_cancelled(s, k, np)) {
-      *done = pb;
+      *done = k + 1 == np ? b : a + 2.0 * h * (double)(k + 1);
       return VI_CANCELLED;
     }
   }
