@@ -15,8 +15,9 @@
 #  - The sanitized build is compiled at -O1, the level AddressSanitizer's
 #    documentation advises for speed (at -O0 its slowest tests took about
 #    ten times as long).
-#  - It compiles while the Release tests run, and its tests follow.
-# About 1 050 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
+#  - It compiles while the Release tests run, and its tests follow; the
+#    Python package's tests run beside them (their output at the end).
+# About 850 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$root/share/scripts/deps.sh"
@@ -24,30 +25,44 @@ jobs=$(nproc)
 rel="$root/build/test-release" asan="$root/build/test-asan"
 quiet() { grep -Ev '^\[|^Consolidate|^Scanning|^Built target' || true; }
 echo "== configure"
-cmake -S "$root" -B "$rel" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON >/dev/null
+mkdir -p "$root/build"
+# the two configurations side by side (cmake's checks use one core each)
 cmake -S "$root" -B "$asan" -DCMAKE_BUILD_TYPE=Debug -DVI_WERROR=ON -DVI_SANITIZE=ON \
   -DCMAKE_C_FLAGS_DEBUG="-g -O1" \
-  -DCMAKE_Fortran_FLAGS_DEBUG="-g -O1" >/dev/null
+  -DCMAKE_Fortran_FLAGS_DEBUG="-g -O1" >"$root/build/asan-configure.log" 2>&1 &
+configurer=$!
+cmake -S "$root" -B "$rel" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON >/dev/null
+if ! wait "$configurer"; then
+  cat "$root/build/asan-configure.log"
+  echo "the asan configuration failed"
+  exit 1
+fi
 echo "== release build"
 cmake --build "$rel" -j"$jobs" 2>&1 | quiet
 status=0
-# the sanitized build in the background, its output kept for the end
-log="$asan/build.log"
+# the sanitized build and the Python package's tests (one core, against
+# the release build) in the background, their output kept for the end
+log="$asan/build.log" pylog="$rel/python-tests.log"
 ( cmake --build "$asan" -j"$jobs" >"$log" 2>&1; echo $? >"$log.rc" ) &
 builder=$!
-echo "== release tests (the asan build compiles meanwhile)"
+( "$root/python/run-tests.sh" "$rel" >"$pylog" 2>&1; echo $? >"$pylog.rc" ) &
+pytests=$!
+echo "== release tests (the asan build and the python tests run meanwhile)"
 ctest --test-dir "$rel" --output-on-failure -j"$jobs" || status=1
-echo "== python package (pytest, against the release build)"
-"$root/python/run-tests.sh" "$rel" || status=1
 wait "$builder" || true
 echo "== asan build"
 quiet <"$log"
 if [ "$(cat "$log.rc")" != 0 ]; then
   echo "the asan build failed"
+  wait "$pytests" || true
   exit 1
 fi
 echo "== asan tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$asan" --output-on-failure -j"$jobs" -LE 'packaging|lint|plot' || status=1
+wait "$pytests" || true
+echo "== python package (pytest, against the release build)"
+cat "$pylog"
+[ "$(cat "$pylog.rc")" = 0 ] || status=1
 exit $status
