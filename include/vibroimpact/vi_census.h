@@ -15,7 +15,10 @@
  * Each seed is refined by Newton (vi_orbit_pnm_solve_stops); impact times
  * are moved into [0, nT).  A refined orbit equal to one already found (the
  * same impacts on the same stops up to a cyclic shift, times to 1e-7 T
- * modulo T, velocities to 1e-6 relative) is dropped.  A new orbit gets its
+ * modulo T, velocities to 1e-6 relative) is dropped, and so is a
+ * P(n/k, m/k) orbit traversed k times (its impacts recurring m/k impacts
+ * and nT/k later: a transient that settles on P(1,1) repeats with period
+ * 2T too, but it is not a P(2,2) orbit).  A new orbit gets its
  * multipliers (vi_orbit_pnm_multipliers_stops: monodromy with saltation
  * matrices), stability (all |mu| < 1) and admissibility
  * (vi_orbit_pnm_admissible_stops).  With several stops each impact keeps

@@ -193,6 +193,34 @@ static int same(const vi_census *c, const census_orbit *a, const double *t,
   return 0;
 }
 
+/* 1 if the P(n, m) orbit (t, v, stop) is a P(n/k, m/k) orbit traversed k
+ * > 1 times: every impact recurs m/k impacts later, n T/k later (1e-7 T),
+ * with the same velocities (1e-6 relative) on the same stop.  A transient
+ * that settled on a P(1,1) orbit repeats with period 2 as well, and
+ * Newton keeps it: it is not a P(2,2) orbit, and the curves and
+ * continuations that start from the census would follow the wrong one. */
+static int repeats(const vi_census *c, const double *t, const double *v,
+                   const int *stop)
+{
+  int N = c->N, m = c->mi, n = c->n;
+  for (int k = 2; k <= m; k++) {
+    if (m % k || n % k) continue;
+    int s = m / k, ok = 1;
+    double P = n * c->T, lag = P / k;
+    for (int j = 0; j < m && ok; j++) {
+      int i = (j + s) % m;
+      double d = fmod(fabs(t[i] - t[j] - lag), P), dv = 0, sv = 1;
+      for (int q = 0; q < N; q++) {
+        dv = fmax(dv, fabs(v[(size_t)i * N + q] - v[(size_t)j * N + q]));
+        sv = fmax(sv, fabs(v[(size_t)j * N + q]));
+      }
+      ok = stop[i] == stop[j] && fmin(d, P - d) < 1e-7 * c->T && dv < 1e-6 * sv;
+    }
+    if (ok) return 1;
+  }
+  return 0;
+}
+
 /* A new slot with its arrays, or NULL out of memory. */
 static census_orbit *new_slot(vi_census *c)
 {
@@ -253,7 +281,8 @@ static int add(vi_census *c, double *t, double *x, double *v, const int *stop)
   for (int j = 0; !st && j < m; j++) t[j] -= sh;
   for (int i = 0; !st && i < c->count; i++)
     if (same(c, &c->o[i], t, v, sp)) st = 1;
-  if (st) { /* not converged, or known */
+  if (!st && repeats(c, t, v, sp)) st = 1;
+  if (st) { /* not converged, known, or a shorter orbit repeated */
     free(sp);
     return VI_OK;
   }

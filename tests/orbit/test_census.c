@@ -9,6 +9,7 @@
  *   and the closed-form trace and determinant of the monodromy;
  * - rattle.yaml's symmetric clearance, P(1,2): the mirror pair (stops
  *   swapped, impact times half a period apart, equal v_N and multipliers);
+ * - a P(2,2) census does not list a P(1,1) orbit traversed twice;
  * - a monitor sees each new orbit once, in order, and can stop the census;
  *   a second run gives the same census (duplicates dropped). */
 #include <math.h>
@@ -161,12 +162,55 @@ static void rattle_mirror_pair(void **state)
   vi_model_destroy(&m);
 }
 
+/* A P(2,2) census lists primitive orbits only.  On the lightly damped
+ * chain (Fig. 2 with c = 0.02, r = 0.8, Omega = 0.5, x_s = 1.2) transients
+ * settle on a stable P(1,1) orbit; their states repeat with period 2T as
+ * well, and Newton keeps that seed, so the P(2,2) census used to list the
+ * P(1,1) orbit traversed twice (both impacts at the same phase, the same
+ * v_N), which `curves --orbit 2,2` then followed. */
+static void p22_not_p11_twice(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  assert_int_equal(vi_model_set_param(m, "damping.scale", 0.2), VI_OK);
+  assert_int_equal(vi_model_set_param(m, "stop.r", 0.8), VI_OK);
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 0.5), VI_OK);
+  assert_int_equal(vi_model_set_param(m, "stop.xs", 1.2), VI_OK);
+  double T = 2 * M_PI / 0.5, t[2], v[4], vn[2];
+  vi_census *c = NULL;
+  int stable = 0, adm = 0;
+  /* the P(1,1) orbit the transients reach */
+  assert_int_equal(vi_census_create(m, 1, 1, &c), VI_OK);
+  assert_int_equal(vi_census_run(c), VI_OK);
+  int found = 0;
+  for (int i = 0; i < vi_census_count(c); i++) {
+    assert_int_equal(vi_census_stability(c, i, NULL, NULL, &stable, &adm, NULL), VI_OK);
+    found |= stable && adm;
+  }
+  assert_true(found);
+  vi_census_destroy(&c);
+  /* no P(2,2) orbit is it twice: impacts T apart with equal velocities */
+  assert_int_equal(vi_census_create(m, 2, 2, &c), VI_OK);
+  assert_int_equal(vi_census_run(c), VI_OK);
+  for (int i = 0; i < vi_census_count(c); i++) {
+    assert_int_equal(vi_census_orbit(c, i, t, NULL, v, 2, NULL, vn), VI_OK);
+    double lag = fmod(fabs(t[1] - t[0]), 2 * T);
+    int twice = fabs(lag - T) < 1e-7 * T && fabs(vn[1] - vn[0]) < 1e-6 * fabs(vn[0]);
+    print_message("P(2,2) orbit %d: t1 - t0 = %.10g T, v_N %.10g %.10g\n", i, lag / T, vn[0],
+                  vn[1]);
+    assert_false(twice);
+  }
+  vi_census_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fig2_p11),
       cmocka_unit_test(sdof_both_orbits),
       cmocka_unit_test(rattle_mirror_pair),
+      cmocka_unit_test(p22_not_p11_twice),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
