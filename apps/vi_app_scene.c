@@ -11,8 +11,12 @@
 #include "vibroimpact/vi_scene_edit.h"
 #include "vi_diagram.h"
 
-char *vi_app_read_text(const char *path, char *err, int errlen)
+/* vi_app_read_text with a size limit: max_bytes (<= 0, or above it: the
+ * reader's own, VI_SCENE_MAX_BYTES). */
+static char *read_text_limited(const char *path, int64_t max_bytes, char *err, int errlen)
 {
+  int64_t limit = max_bytes > 0 && max_bytes < VI_SCENE_MAX_BYTES ? max_bytes
+                                                                  : VI_SCENE_MAX_BYTES;
   if (!path) {
     char *t = strdup(vi_scene_default_text());
     if (!t) snprintf(err, (size_t)errlen, "out of memory");
@@ -28,11 +32,15 @@ char *vi_app_read_text(const char *path, char *err, int errlen)
   size_t got;
   while (buf && (got = fread(buf + len, 1, cap - len - 1, f)) > 0) {
     len += got;
-    if (len > VI_SCENE_MAX_BYTES) { /* the reader's own limit */
+    if ((int64_t)len > limit) { /* --max-scene-size, or the reader's own */
       fclose(f);
       free(buf);
-      snprintf(err, (size_t)errlen, "%s: larger than %d bytes: not a scene", path,
-               VI_SCENE_MAX_BYTES);
+      if (limit == VI_SCENE_MAX_BYTES)
+        snprintf(err, (size_t)errlen, "%s: larger than %d bytes: not a scene", path,
+                 VI_SCENE_MAX_BYTES);
+      else
+        snprintf(err, (size_t)errlen, "%s: the scene is larger than %lld bytes (the limit; "
+                 "--max-scene-size raises it)", path, (long long)limit);
       return NULL;
     }
     if (cap - len < 2) {
@@ -54,6 +62,11 @@ char *vi_app_read_text(const char *path, char *err, int errlen)
   }
   buf[len] = '\0';
   return buf;
+}
+
+char *vi_app_read_text(const char *path, char *err, int errlen)
+{
+  return read_text_limited(path, 0, err, errlen);
 }
 
 int vi_app_load_scene(const char *path, const char *const *sets, int nsets,
@@ -109,18 +122,18 @@ int vi_sets_take(int argc, char **argv)
 
 int vi_sets_active(void) { return set_count; }
 
-int vi_sets_load(const char *path, int max_depth, double max_memory,
+int vi_sets_load(const char *path, int64_t max_bytes, int max_depth, double max_memory,
                  vi_scene **out, vi_diag *d)
 {
   if (!set_count)
-    return path ? vi_scene_load_within(path, 0, max_depth, max_memory, out, d)
+    return path ? vi_scene_load_within(path, max_bytes, max_depth, max_memory, out, d)
                 : vi_scene_parse(vi_scene_default_text(), -1,
                                  "<default scene: fig2>", out, d);
   char err[512];
   vi_scene_edit *ed = NULL;
   if (d) memset(d, 0, sizeof *d);
   *out = NULL;
-  char *text = vi_app_read_text(path, err, sizeof err);
+  char *text = read_text_limited(path, max_bytes, err, sizeof err);
   if (!text) {
     if (d) {
       d->code = VI_ERR_IO;

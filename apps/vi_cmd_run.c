@@ -29,7 +29,7 @@ int vi_app_load(const app_opts *o, vi_scene **scene, vi_model **model)
   /* the scene's own vectors within --max-memory too, before they are
    * allocated (a matrix file's header may claim any n) */
   int st = vi_sets_active()
-               ? vi_sets_load(o->scene, o->max_depth, o->max_memory, scene,
+               ? vi_sets_load(o->scene, o->max_scene_bytes, o->max_depth, o->max_memory, scene,
                               &d) /* --set */
            : o->scene ? vi_scene_load_within(o->scene, o->max_scene_bytes,
                                              o->max_depth, o->max_memory,

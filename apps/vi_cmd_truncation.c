@@ -164,7 +164,7 @@ static int study_scene(study *S)
   /* the scene's own vectors within --max-memory too, before they are
    * allocated (a matrix file's header may claim any n) */
   int st = vi_sets_active()
-               ? vi_sets_load(o->scene, o->max_depth, o->max_memory, &S->sc,
+               ? vi_sets_load(o->scene, o->max_scene_bytes, o->max_depth, o->max_memory, &S->sc,
                               &d) /* --set */
            : o->scene ? vi_scene_load_within(o->scene, o->max_scene_bytes,
                                              o->max_depth, o->max_memory,

@@ -174,13 +174,14 @@ int vi_app_load_scene(const char *path, const char *const *sets, int nsets,
  * returns the new argc, -1 for a --set without its value.  vi_sets_load
  * then loads a scene (NULL: the default) as vi_scene_load does, with them
  * applied (vi_scene_edit: errors keep the file:line of the key) and at most
- * max_depth levels of nesting (<= 0: the default, --max-depth), the
+ * max_depth levels of nesting (<= 0: the default, --max-depth), the file
+ * at most max_bytes (--max-scene-size; <= 0: the reader's limit), the
  * scene's vectors within max_memory (as vi_app_load_scene). */
 int vi_sets_take(int argc, char **argv);
 /* Number of --set assignments taken (0: load scenes as usual). */
 int vi_sets_active(void);
 struct vi_diag;
-int vi_sets_load(const char *path, int max_depth, double max_memory,
+int vi_sets_load(const char *path, int64_t max_bytes, int max_depth, double max_memory,
                  struct vi_scene **out, struct vi_diag *d);
 
 /* 1 if the scene text has nonlinear springs (`springs:`): the closed-form

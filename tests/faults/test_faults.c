@@ -423,6 +423,10 @@ static void test_limits(void **state)
   assert_false(exists(h5));
   expect(run(ARGV("/dev/zero", "--max-scene-size", "1K"), NULL), 2,
          "larger than 1024 bytes");
+  /* the limit holds with --set too (the scene is then read for editing) */
+  expect(run(ARGV("/dev/zero", "--max-scene-size", "1K", "--set", "stop.r=0.6", "-o", h5),
+             NULL), 2, "larger than 1024 bytes");
+  assert_false(exists(h5));
   /* nesting: refused at the limit, named */
   char *deep = path("deep.yaml");
   FILE *f = fopen(deep, "w");
