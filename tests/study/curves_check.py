@@ -734,6 +734,39 @@ def p22_gap_max(Om, r, xs, ts):
     return worst
 
 
+def p22_grazing(W0, r, xs):
+    """The P(2,2) orbit's grazing near W0 (r, x_s mpf): a root (Omega, t_0,
+    t_1, s) of w.x_0 - x_s, w.x_1 - x_s and of w.x - x_s, w.v at the time
+    s after impact j, where (j, s) is the largest sampled gap (401 samples
+    a flight) of the orbit of p22_seeds whose largest gap is nearest 0.
+    Gives test_curve.c's OMEGA_GRAZE22 (r = 0.7, x_s = 0.1, W0 = 1.6963 at
+    mp.dps = 30: 1.69630397658454887354; about 14 CPU-s,
+    not run by the check)."""
+    import numpy as np
+    cands = []
+    for ts in p22_seeds(W0, float(r), float(xs), k=16):
+        T = 2 * np.pi / W0
+        tn = [ts[0], ts[1], ts[0] + 2 * T]
+        z, _, _ = pnm_orbit(mp.mpf(W0), r, xs, [mp.mpf(u) for u in ts], 2)
+        cands.append((max((float(flight_state(mp.mpf(W0), r, ts, z, j, s)[1] - xs), j, s)
+                          for j in range(2)
+                          for s in np.linspace(0, tn[j + 1] - tn[j], 403)[1:-1]), ts))
+    (g, j, s), ts = min(cands, key=lambda e: abs(e[0][0]))
+
+    def F(Om, t0, t1, u):
+        z, _, res = pnm_orbit(Om, r, xs, [t0, t1], 2)
+        st = flight_state(Om, r, [t0, t1], z, j, u)
+        return [res[0], res[1], st[1] - xs, st[3]]
+
+    return mp.findroot(F, [mp.mpf(W0), mp.mpf(ts[0]), mp.mpf(ts[1]), mp.mpf(s)])
+
+
+def flight_state(Om, r, ts, z, j, s):
+    """The state s after impact j of the P(2,m) orbit with pre-impact states z."""
+    A, X, _ = system(Om)
+    return phi_tau(A, s) * (impact_map(r) * z[j] - zp(X, Om, ts[j])) + zp(X, Om, ts[j] + s)
+
+
 def check_p22_grazing():
     """11. the grazing curve of the P(2,2) orbit: followed from Omega = 1.65
     up to where a flight's largest gap reaches the stop (Omega = 1.696 at
