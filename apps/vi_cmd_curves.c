@@ -39,7 +39,7 @@ static void curves_usage(void)
          "         --param KEY --to B --param2 KEY2 --from2 C --to2 D [--steps K]\n"
          "         [--json] [-o OUT.h5] [--set KEY=VALUE]... [--max-depth D]\n"
          "Follow the scene's P(N,M) orbit (default 1,1; 1,0 the non-impacting one; M > 1\n"
-         "the census's, as `orbits --n N --m M` finds it; fold, pd and ns only) in\n"
+         "the census's, as `orbits --n N --m M` finds it) in\n"
          "KEY from the scene's value towards B to its first point of the kind (grazing:\n"
          "the gap between impacts, or of the free motion, reaches the stop; fold: a\n"
          "multiplier +1; pd: -1; ns: a complex pair on the unit circle), solved by\n"
@@ -130,12 +130,10 @@ static int curves_parse(int argc, char **argv, cargs *a)
   }
   if (optind < argc) a->scene = argv[optind++];
   if (optind < argc || a->kind < 0 || !a->key || !a->key2 || isnan(a->to) || isnan(a->from2) ||
-      isnan(a->to2) || a->from2 == a->to2 || (a->m == 0 && a->kind != 0) ||
-      (a->m > 1 && a->kind == 0)) {
+      isnan(a->to2) || a->from2 == a->to2 || (a->m == 0 && a->kind != 0)) {
     fprintf(stderr, "vibroimpact: curves: need --kind grazing|fold|pd|ns, --param KEY --to B, "
             "--param2 KEY2 --from2 C --to2 D (C != D), one scene; --orbit 1,0 is for "
-            "--kind grazing only, --orbit N,M with M > 1 for fold, pd and ns "
-            "(vibroimpact curves --help)\n");
+            "--kind grazing only (vibroimpact curves --help)\n");
     return 2;
   }
   return 0;

@@ -4,7 +4,7 @@
  *
  * The orbit is a P(n,m) orbit (m >= 1 impacts per n forcing periods, the
  * equations of vi_orbit_pnm_residual_stops in u = (t_j, x_j, v_j), j < m;
- * fold, pd and ns for every m, grazing for m = 1) or the
+ * every kind for every m) or the
  * non-impacting orbit P(1,0), the harmonic steady state of the free
  * structure.  A point of a kind is where the orbit's defining condition
  * holds:
@@ -12,7 +12,11 @@
  *   pd       prod_i (mu_i + 1) = 0        a multiplier at -1
  *   ns       prod_{i<j} (mu_i mu_j - 1) = 0, the pair complex: a pair on
  *            the unit circle
- *   grazing  the largest gap w.x(t) - x_s between impacts = 0 (P(1,0):
+ *   grazing  the largest gap w.x(t) - x_s between impacts = 0, over all m
+ *            flights (flight j from impact j to j + 1, the last to the
+ *            first + nT; the stop of the first impact; an interior maximum
+ *            followed by Newton on w.v = 0 in its flight, all flights
+ *            scanned where it is lost) (P(1,0):
  *            w.K^-1 f0 + |w.(K - Omega^2 M + i Omega C)^-1 (a - i b)| = x_s)
  * with mu_i the Floquet multipliers (vi_orbit_pnm_multipliers_stops: the
  * product forms are polynomials in the monodromy's entries, smooth where
@@ -99,8 +103,7 @@ typedef enum vi_cont_curve_state {
  *  VI_ERR_NOMEM. */
 VI_API int vi_cont_refine(const vi_model *m, const char *key, int n, int kind,
                           double *p, double *t, double *x, double *v);
-/** vi_cont_refine for a P(n, mi) orbit, mi >= 1 (fold, pd and ns for every
- *  mi; grazing for mi = 1 only, VI_ERR_ARG otherwise): *p and the
+/** vi_cont_refine for a P(n, mi) orbit, mi >= 1 (every kind): *p and the
  *  impacts' times t [mi] (ascending within n T) and the states before
  *  them x, v [ld x mi] (column-major, ld >= n_coords; each impact on the
  *  stop whose gap is nearest 0) are the guess and receive the point, by
@@ -111,7 +114,7 @@ VI_API int vi_cont_refine_pnm(const vi_model *m, const char *key, int n, int mi,
                               double *v, int ld);
 
 /** Create a curve of points of `kind` of P(n, mi) orbits, mi 1 (n >= 1),
- *  2 to 32 (fold, pd and ns; the bordered systems of mi (2 n_coords +
+ *  2 to 32 (every kind; the bordered systems of mi (2 n_coords +
  *  1) + 2 unknowns are dense) or 0 (n = 1: the non-impacting
  *  orbit, kind grazing only), of a copy of the
  *  set-up model m, in the keys key and key2 (distinct; their values in m

@@ -49,7 +49,8 @@ struct vi_cont_curve {
   lapack_int *ip;     /* the dense solves' pivots [nu] */
   double T[NT], Tl[NT];
   double rho;
-  double tg;          /* grazing: the gap's maximum, time after the impact */
+  double tg;          /* grazing: the gap's maximum, time after impact jg */
+  int jg;             /* grazing: its flight */
   special sp[MAXSP], endsp; /* endsp: where the backward pass ended */
   int nsp, have_endsp;
   char errmsg[VI_MSG_LEN];
@@ -198,9 +199,10 @@ static int gap_max(vi_cont_curve *c, const double *Y, double *g)
                                        &ok);
 }
 
-/* The free flight after the P(n,1) orbit's impact at Y: the post-impact
- * state by the impact law, one exact flow for every time asked (times
- * relative to the impact, within the flight of length L). */
+/* Flight j of the orbit at Y: from impact j's post-impact state (its
+ * stop's impact law) to impact j + 1, the last to the first + nT; one
+ * exact flow for every time asked (times relative to the impact, within
+ * the flight of length L). */
 typedef struct flight {
   const vi_model *m;
   vi_xflow *fl;
@@ -208,20 +210,22 @@ typedef struct flight {
   int N;
 } flight;
 
-static int flight_start(const vi_cont_curve *c, const double *Y, flight *f)
+static int flight_start(const vi_cont_curve *c, const double *Y, int j, flight *f)
 {
   const vi_model *m = c->m;
-  int N = c->N;
+  int N = c->N, B = c->blk;
+  const double *Yj = Y + (size_t)j * B; /* t, x, v of impact j */
   f->fl = NULL;
   if (!m->MinvK || !m->MinvC) return 1;
   f->zp = c->fz;
-  memcpy(f->zp, Y + 1, sizeof(double) * 2 * (size_t)N); /* x, v before the impact */
-  vi_var_impact(m, c->stop, f->zp, f->zp);
+  memcpy(f->zp, Yj + 1, sizeof(double) * 2 * (size_t)N); /* x, v before the impact */
+  vi_var_impact(m, c->stops[j], f->zp, f->zp);
   f->m = m;
   f->N = N;
-  f->t0 = Y[0];
-  f->L = c->n * vi_forcing_period(m->omega_f);
-  return vi_xflow_create(m, &f->fl) != VI_OK;
+  f->t0 = Yj[0];
+  double tn = j + 1 < c->mi ? Y[(size_t)(j + 1) * B] : Y[0] + c->n * vi_forcing_period(m->omega_f);
+  f->L = tn - f->t0;
+  return !(f->L > 0) || vi_xflow_create(m, &f->fl) != VI_OK;
 }
 
 /* The state z [2N] at t after the impact. */
@@ -258,58 +262,81 @@ static int graze_newton(vi_cont_curve *c, const flight *f, double tau0, double *
   return 1;
 }
 
-/* Grazing of a P(n,1) orbit from the time tau0 after its impact. */
-static int graze_local(vi_cont_curve *c, const double *Y, double tau0, double *g,
+/* Grazing of the orbit at Y in flight j from the time tau0 after its
+ * impact. */
+static int graze_local(vi_cont_curve *c, const double *Y, int j, double tau0, double *g,
                        double *tau)
 {
   flight f;
-  int r = flight_start(c, Y, &f) || graze_newton(c, &f, tau0, g, tau);
+  int r = flight_start(c, Y, j, &f) || graze_newton(c, &f, tau0, g, tau);
   vi_xflow_destroy(&f.fl);
   return r;
 }
 
-/* The grazing time from scratch: the largest of 512 samples per forcing
- * period of the flight, refined; 0, or 1 if none. */
-static int graze_scan(vi_cont_curve *c, const double *Y, double *g, double *tau)
+/* The grazing flight and time from scratch: in each flight the largest
+ * of 512 samples per forcing period, refined; the largest gap of those
+ * (*jg its flight); 0, or 1 if none. */
+static int graze_scan(vi_cont_curve *c, const double *Y, double *g, int *jg, double *tau)
 {
   const vi_model *m = c->m;
-  int N = c->N, K = 512 * c->n, best = -1, r = 1;
+  int N = c->N, found = 0;
   const double *w = vi_stop_w(m, c->stop);
-  double *z = c->fz + 2 * (size_t)N, gb = -HUGE_VAL;
-  double g1 = -HUGE_VAL, g2 = -HUGE_VAL; /* the two samples before */
-  flight f;
-  if (flight_start(c, Y, &f)) goto done;
-  for (int s = 1; s < K; s++) {
-    if (flight_at(&f, s * f.L / K, z)) goto done;
-    double gs = vi_dot(N, w, z) - m->xsv[c->stop];
-    if (s > 2 && g1 >= g2 && g1 >= gs && g1 > gb) { /* interior maxima only */
-      gb = g1;
-      best = s - 1;
+  double *z = c->fz + 2 * (size_t)N, T = vi_forcing_period(m->omega_f);
+  for (int j = 0; j < c->mi; j++) {
+    int best = -1, K;
+    double gb = -HUGE_VAL, g1 = -HUGE_VAL, g2 = -HUGE_VAL; /* the two samples before */
+    double gj, tj;
+    flight f;
+    if (flight_start(c, Y, j, &f)) {
+      vi_xflow_destroy(&f.fl);
+      return 1;
     }
-    g2 = g1;
-    g1 = gs;
+    /* P(n,1): 512 n samples, as before; one of several flights: as many
+     * per forcing period, at least 64 */
+    K = c->mi == 1 ? 512 * c->n : (int)fmax(64, ceil(512 * f.L / T));
+    for (int s = 1; s < K; s++) {
+      if (flight_at(&f, s * f.L / K, z)) {
+        vi_xflow_destroy(&f.fl);
+        return 1;
+      }
+      double gs = vi_dot(N, w, z) - m->xsv[c->stop];
+      if (s > 2 && g1 >= g2 && g1 >= gs && g1 > gb) { /* interior maxima only */
+        gb = g1;
+        best = s - 1;
+      }
+      g2 = g1;
+      g1 = gs;
+    }
+    if (best >= 0 && !graze_newton(c, &f, best * f.L / K, &gj, &tj) && (!found || gj > *g)) {
+      *g = gj;
+      *tau = tj;
+      *jg = j;
+      found = 1;
+    }
+    vi_xflow_destroy(&f.fl);
   }
-  r = best < 0 || graze_newton(c, &f, best * f.L / K, g, tau);
-done:
-  vi_xflow_destroy(&f.fl);
-  return r;
+  return !found;
 }
 
-/* The grazing condition of a P(n,1) orbit, from the tracked time. */
+/* The grazing condition of the orbit, from the tracked flight and time. */
 static int graze_g(vi_cont_curve *c, const double *Y, double *g)
 {
   double tau;
-  if (c->tg > 0 && !graze_local(c, Y, c->tg, g, &tau)) return VI_OK;
-  return graze_scan(c, Y, g, &tau) ? VI_ERR_NOT_CONVERGED : VI_OK;
+  int jg;
+  if (c->tg > 0 && !graze_local(c, Y, c->jg, c->tg, g, &tau)) return VI_OK;
+  return graze_scan(c, Y, g, &jg, &tau) ? VI_ERR_NOT_CONVERGED : VI_OK;
 }
 
-/* Follow the grazing time to the accepted point Y. */
+/* Follow the grazing flight and time to the accepted point Y. */
 static void graze_track(vi_cont_curve *c, const double *Y)
 {
   double g, tau;
+  int jg = c->jg;
   if (c->kind != VI_CONT_CURVE_GRAZING || !c->mi || setp(c, Y)) return;
-  if ((c->tg > 0 && !graze_local(c, Y, c->tg, &g, &tau)) || !graze_scan(c, Y, &g, &tau))
+  if ((c->tg > 0 && !graze_local(c, Y, jg, c->tg, &g, &tau)) || !graze_scan(c, Y, &g, &jg, &tau)) {
     c->tg = tau;
+    c->jg = jg;
+  }
 }
 
 /* The curve's condition g at Y (sets the model's parameters). */
@@ -491,7 +518,6 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
   *out = NULL;
   if (!m || !key || kind < VI_CONT_CURVE_GRAZING || kind > VI_CONT_CURVE_NS || n < 1 ||
       mi < 0 || mi > VI_CURVE_MAXI || (mi == 0 && (n != 1 || kind != VI_CONT_CURVE_GRAZING)) ||
-      (mi > 1 && kind == VI_CONT_CURVE_GRAZING) ||
       vi_param_kind(key) != VI_PARAM_MODEL || strlen(key) >= 64 ||
       (key2 && (vi_param_kind(key2) != VI_PARAM_MODEL || strlen(key2) >= 64 ||
                 !strcmp(key, key2))))
@@ -645,8 +671,7 @@ int vi_cont_refine_pnm(const vi_model *m, const char *key, int n, int mi, int ki
   if (!m || !key || !p || !t || !x || !v || mi < 1) return VI_ERR_ARG;
   if (!isfinite(*p)) return VI_ERR_NONFINITE;
   vi_cont_curve *c = NULL;
-  /* the same handle and Newton as vi_cont_curve_locate's (grazing is
-   * refused for mi > 1 by create: its condition follows one flight) */
+  /* the same handle and Newton as vi_cont_curve_locate's */
   int st = vi_cont_curve_create(m, kind, n, mi, key, NULL, &c);
   if (!st) st = vi_cont_curve_set_impacts(c, t, x, v, ld);
   if (!st && vi_model_set_param(c->m, key, *p)) st = VI_ERR_ARG;

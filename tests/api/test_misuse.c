@@ -1622,8 +1622,11 @@ static void test_curve_misuse(void **state)
   assert_err(vi_cont_curve_impacts(c, &t, x, v, 2));
   assert_int_equal(vi_cont_curve_locate(c, 0.2, 4, NULL), VI_STOPPED); /* grazes at 0.64 */
   vi_cont_curve_destroy(&c);
-  /* P(n,m), m > 1: fold, pd, ns only, up to 32 impacts; impacts as arrays */
-  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 2, 2, "forcing.omega", "stop.r", &c));
+  /* P(n,m), m > 1: every kind, up to 32 impacts; impacts as arrays */
+  assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 2, 33, "forcing.omega", "stop.r", &c));
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 2, 2, "forcing.omega", "stop.r",
+                                        &c), VI_OK);
+  vi_cont_curve_destroy(&c);
   assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 2, 33, "forcing.omega", "stop.r", &c));
   assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 2, 20, "forcing.omega", "stop.r",
                                         &c), VI_OK); /* 102 unknowns: no size limit */

@@ -44,7 +44,13 @@ Checks (tolerances from the issue):
      orbit: at every 12th point the closed-form P(2,2) orbit (7's, the
      damping changed) is a true P(2,2) (t_1 - t_0 away from T: not the
      P(1,1) orbit twice), admissible (its gap between impacts, sampled,
-     below the stop), with a complex pair of modulus 1 to 1e-7.
+     below the stop), with a complex pair of modulus 1 to 1e-7;
+  11. the P(2,2) grazing curve in (Omega, r) from r = 0.6 (the largest gap
+     over both flights reaching the stop): at every 12th point one of the
+     closed-form P(2,2) orbits there (7's, seeded by a float scan) has its
+     largest gap, 200 samples per flight and the velocity's zero between
+     the best sample's neighbours, 0 within 1e-8 x_s; the curve ends at
+     r = 0.734 where the other impact's v_N reaches 0 (to 1e-8 there).
 usage: curves_check.py VIBROIMPACT [--fold]"""
 import json
 import subprocess
@@ -524,6 +530,7 @@ def main():
     fails += not ok
     fails += check_p22("--fold" in sys.argv[2:])
     fails += check_p22_ns()
+    fails += check_p22_grazing()
     sys.exit(1 if fails else 0)
 
 
@@ -687,6 +694,109 @@ def check_p22_ns():
           "least %.3f T from T, largest gap to the stop %.3g" % (
               "ok  " if ok else "FAIL", len(pts), pts[0][0], pts[0][1], worst, dtmin, gap))
     C = mp.mpf('0.1') * E
+    return not ok
+
+
+def p22_gap_max(Om, r, xs, ts):
+    """The largest w.x - x_s over both flights of the P(2,2) orbit at ts
+    (floats): the largest of 200 samples per flight, then the zero of the
+    velocity w.v bracketed by its neighbours (scipy brentq, to 1e-15 of
+    the flight) -- the closed form throughout, nothing of vibroimpact's."""
+    import numpy as np
+    from scipy.optimize import brentq
+    orbit, _, _, T = p22_float(Om, r, xs)
+    _, z, _ = orbit(*[float(u) for u in ts])
+    W = float(Om)
+    Kf = np.array([[2.0, -1], [-1, 1]])
+    Af = np.zeros((4, 4))
+    Af[0, 2] = Af[1, 3] = 1
+    Af[2:, :2] = -Kf
+    Af[2:, 2:] = -np.array(C.tolist(), dtype=float)
+    ev, V = np.linalg.eig(Af)
+    Vi = np.linalg.inv(V)
+    Xf = np.linalg.solve(Kf - W ** 2 * np.eye(2) + 1j * W * -Af[2:, 2:], [0.5, 0])
+    zpf = lambda t: np.concatenate([(Xf * np.exp(1j * W * t)).real,
+                                    (1j * W * Xf * np.exp(1j * W * t)).real])
+    Rf = np.diag([1, 1, 1, -float(r)])
+    tn = [float(ts[0]), float(ts[1]), float(ts[0]) + 2 * T]
+    worst = -np.inf
+    for j in range(2):
+        z0 = Rf @ z[j] - zpf(tn[j])
+        L = tn[j + 1] - tn[j]
+        st = lambda s: ((V * np.exp(ev * s)) @ Vi).real @ z0 + zpf(tn[j] + s)
+        ss = np.linspace(0, L, 202)
+        g = ((np.exp(np.outer(ss, ev)) * (Vi @ z0)) @ V[1]).real + (
+            Xf[1] * np.exp(1j * W * (tn[j] + ss))).real  # x_2 at every sample
+        for k in range(1, 201):
+            if g[k] >= g[k - 1] and g[k] >= g[k + 1]:  # an interior maximum: w.v = 0 in between
+                s = brentq(lambda u: st(u)[3], ss[k - 1], ss[k + 1], xtol=1e-15 * L)
+                worst = max(worst, st(s)[1] - float(xs))
+    return worst
+
+
+def p22_grazing(W0, r, xs):
+    """The P(2,2) orbit's grazing near W0 (r, x_s mpf): a root (Omega, t_0,
+    t_1, s) of w.x_0 - x_s, w.x_1 - x_s and of w.x - x_s, w.v at the time
+    s after impact j, where (j, s) is the largest sampled gap (401 samples
+    a flight) of the orbit of p22_seeds whose largest gap is nearest 0.
+    Gives test_curve.c's OMEGA_GRAZE22 (r = 0.7, x_s = 0.1, W0 = 1.6963 at
+    mp.dps = 30: 1.69630397658454887354; about 14 CPU-s,
+    not run by the check)."""
+    import numpy as np
+    cands = []
+    for ts in p22_seeds(W0, float(r), float(xs), k=16):
+        T = 2 * np.pi / W0
+        tn = [ts[0], ts[1], ts[0] + 2 * T]
+        z, _, _ = pnm_orbit(mp.mpf(W0), r, xs, [mp.mpf(u) for u in ts], 2)
+        cands.append((max((float(flight_state(mp.mpf(W0), r, ts, z, j, s)[1] - xs), j, s)
+                          for j in range(2)
+                          for s in np.linspace(0, tn[j + 1] - tn[j], 403)[1:-1]), ts))
+    (g, j, s), ts = min(cands, key=lambda e: abs(e[0][0]))
+
+    def F(Om, t0, t1, u):
+        z, _, res = pnm_orbit(Om, r, xs, [t0, t1], 2)
+        st = flight_state(Om, r, [t0, t1], z, j, u)
+        return [res[0], res[1], st[1] - xs, st[3]]
+
+    return mp.findroot(F, [mp.mpf(W0), mp.mpf(ts[0]), mp.mpf(ts[1]), mp.mpf(s)])
+
+
+def flight_state(Om, r, ts, z, j, s):
+    """The state s after impact j of the P(2,m) orbit with pre-impact states z."""
+    A, X, _ = system(Om)
+    return phi_tau(A, s) * (impact_map(r) * z[j] - zp(X, Om, ts[j])) + zp(X, Om, ts[j] + s)
+
+
+def check_p22_grazing():
+    """11. the grazing curve of the P(2,2) orbit: followed from Omega = 1.65
+    up to where a flight's largest gap reaches the stop (Omega = 1.696 at
+    r = 0.7), then in (Omega, r); at every 12th point and the last, among
+    the closed-form P(2,2) orbits there (p22_seeds), one whose largest gap
+    is 0 within 1e-8 x_s."""
+    global C
+    C = mp.mpf('0.1') * E
+    js = json.loads(run([exe_, "curves", "--set", "forcing.omega=1.65", "--orbit", "2,2", "--kind",
+                         "grazing", "--param", "forcing.omega", "--to", "1.8", "--param2", "stop.r",
+                         "--from2", "0.6", "--to2", "0.8", "--steps", "50", "--json"]))
+    pts = js["points"]
+    worst = 0
+    xs = 0.1
+    for W, rr in pts[::12] + [pts[-1]]:
+        seeds = p22_seeds(W, rr, xs, k=16)
+        gs = [abs(p22_gap_max(W, rr, xs, t)) for t in seeds]
+        worst = max(worst, min(gs) / xs if gs else float("inf"))
+    # the curve ends where the other impact's approach velocity reaches 0
+    # (r = 0.734): that orbit's smallest v_N there, in the closed form
+    vn = min((p22_float(W, rr, xs)[1](*t)[1] for t in seeds),
+             key=abs, default=float("inf"))
+    rs = sorted(q for _, q in pts)
+    sp = js["special"]
+    ok = (worst < 1e-8 and abs(rs[0] - 0.6) < 1e-12 and len(pts) > 20 and js["orbit"] == [2, 2]
+          and abs(js["located"][0] - 1.6963) < 1e-4 and [s["type"] for s in sp] == ["admissibility"]
+          and sp[0]["point"] == pts[-1] and abs(vn) < 1e-8)
+    print("%s P(2,2) grazing curve: %d points, Omega %.6g..%.6g, r %.3g..%.3g, worst |max gap| / x_s "
+          "%.2e (every 12th point and the last), ends at v_N = %.1e" % (
+              "ok  " if ok else "FAIL", len(pts), pts[0][0], pts[-1][0], rs[0], rs[-1], worst, vn))
     return not ok
 
 

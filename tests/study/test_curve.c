@@ -20,7 +20,9 @@
  *    closed-form points; there the orbit has two multipliers at -1 and
  *    their product is Liouville's r^2 exp(-tr(M^-1 C) T); the
  *    Neimark-Sacker curve born at the upper one ends on it, at the same
- *    point to round-off.
+ *    point to round-off;
+ *  - the P(2,2) grazing point (largest gap over both flights at the stop)
+ *    at its closed-form Omega, and its curve in (Omega, r).
  * The independent mpmath checks of every curve are curves_check.py's and
  * codim2_check.py's. */
 #include <complex.h>
@@ -506,10 +508,81 @@ static void test_refine_pnm(void **state)
     vi_model_destroy(&q);
   }
   double p = W;
-  assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, VI_CONT_CURVE_GRAZING, &p, t, x,
-                                      v, 2), VI_ERR_ARG);
   assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, VI_CONT_CURVE_PD, &p, t, x, v, 1),
                    VI_ERR_ARG); /* ld < n_coords */
+  vi_model_destroy(&m);
+}
+
+/* The grazing of the P(2,2) orbit at r = 0.7, x_s = 0.1 (its largest gap
+ * over both flights reaching the stop), from the closed-form orbit of
+ * curves_check.py: p22_grazing(1.6963, 0.7, 0.1) at mp.dps = 30,
+ * mp.findroot in (Omega, t_0, t_1, s) of w.x_0 = w.x_1 = x_s and, at the
+ * time s after the impact whose flight has the largest sampled gap,
+ * w.x = x_s, w.v = 0 (1.69630397658454887354). */
+#define OMEGA_GRAZE22 1.69630397658454887
+
+/* The P(2,2) grazing point, refined and located, and its curve in
+ * (Omega, r) from r = 0.6: at every point the orbit's equations hold, both
+ * impacts are on the stop and approach it, and the largest gap between
+ * impacts (vi_orbit_pnm_admissible, sampled independently of the curve's
+ * tracked Newton) is 0; the curve ends where an impact's v_N reaches 0
+ * (r = 0.734, a codimension-two point; curves_check.py's check 11 tests
+ * the gap and that end against the closed form). */
+static void test_p22_grazing_curve(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2(), *q = NULL;
+  vi_cont_curve *c = NULL;
+  double t[2], x[4], v[4], tq[2], xq[4], vq[4], p, p2, F[10], wres = 0, wgap = 0;
+  double rmin = HUGE_VAL, rmax = -HUGE_VAL;
+  int n = 0, ok;
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", 1.65), VI_OK);
+  p22_orbit(m, t, x, v);
+  /* located from 1.65 and followed */
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 2, 2, "forcing.omega", "stop.r",
+                                        &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_impacts(c, t, x, v, 2), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 1.8, 200, &p), VI_OK);
+  printf("  P(2,2) grazing at r = 0.7: Omega = %.17g (closed form %.17g)\n", p, OMEGA_GRAZE22);
+  assert_true(fabs(p - OMEGA_GRAZE22) < 1e-11);
+  /* refined from that orbit moved to Omega - 0.001 (the branch that
+   * grazes: the one walked up from 1.65 by vi_orbit_pnm_solve has no
+   * interior maximum of the gap there) */
+  assert_int_equal(vi_cont_curve_impacts(c, tq, xq, vq, 2), VI_OK);
+  double pr = p - 1e-3;
+  assert_int_equal(vi_model_set_param(m, "forcing.omega", pr), VI_OK);
+  assert_int_equal(vi_orbit_pnm_solve(m, 2, 2, tq, xq, vq, 2, 0, NULL), VI_OK);
+  assert_int_equal(vi_cont_refine_pnm(m, "forcing.omega", 2, 2, VI_CONT_CURVE_GRAZING, &pr, tq, xq,
+                                      vq, 2), VI_OK);
+  printf("  refined from Omega - 0.001: %.17g\n", pr);
+  assert_true(fabs(pr - OMEGA_GRAZE22) < 1e-11);
+  assert_int_equal(vi_cont_curve_set_range(c, 0.6, 0.8, 50), VI_OK);
+  assert_int_equal(vi_model_copy(m, &q), VI_OK);
+  while (!vi_cont_curve_done(c)) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    assert_int_equal(vi_cont_curve_point(c, &p, &p2, NULL, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_cont_curve_impacts(c, t, x, v, 2), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "forcing.omega", p), VI_OK);
+    assert_int_equal(vi_model_set_param(q, "stop.r", p2), VI_OK);
+    assert_int_equal(vi_orbit_pnm_residual(q, 2, 2, t, x, v, 2, F, NULL), VI_OK);
+    for (int i = 0; i < 10; i++) wres = fmax(wres, fabs(F[i]));
+    double g;
+    assert_int_equal(vi_orbit_pnm_admissible(q, 2, 2, t, x, v, 2, &g, &ok), VI_OK);
+    wgap = fmax(wgap, fabs(g));
+    rmin = fmin(rmin, p2);
+    rmax = fmax(rmax, p2);
+    assert_true(fabs(x[1] - 0.1) < 1e-12 && fabs(x[3] - 0.1) < 1e-12); /* on the stop */
+    assert_true(v[1] > -1e-9 && v[3] > -1e-9);                         /* approaching */
+    n++;
+  }
+  printf("  %d points, r %.3g..%.3g: residual %.2e, worst |largest gap| %.2e\n", n, rmin, rmax,
+         wres, wgap);
+  assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_ENDS);
+  assert_true(rmin == 0.6 && rmax > 0.73 && rmax < 0.74 && n > 20);
+  assert_true(wres < 1e-11);
+  assert_true(wgap < 1e-9 * 0.1); /* the sampled maximum, refined, against 0: 1e-8 of x_s */
+  vi_model_destroy(&q);
+  vi_cont_curve_destroy(&c);
   vi_model_destroy(&m);
 }
 
@@ -522,6 +595,7 @@ int main(void)
       cmocka_unit_test(test_p22_pd_curve),
       cmocka_unit_test(test_p22_fold_upward),
       cmocka_unit_test(test_refine_pnm),
+      cmocka_unit_test(test_p22_grazing_curve),
       cmocka_unit_test(test_large_model_pd),
       cmocka_unit_test(test_resonance_12),
       cmocka_unit_test(test_locate_stops_at_grazing),
