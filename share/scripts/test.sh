@@ -17,7 +17,7 @@
 #    ten times as long).
 #  - It compiles while the Release tests run, and its tests follow; the
 #    Python package's tests run beside them (their output at the end).
-# About 850 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
+# About 920 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$root/share/scripts/deps.sh"
