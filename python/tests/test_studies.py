@@ -187,3 +187,45 @@ def test_basins_threads_equal_serial():
     for k in ("n", "m", "id"):
         np.testing.assert_array_equal(one[k], two[k])
     np.testing.assert_array_equal(one["vn"], two["vn"])
+
+
+def test_scale_consistent_on_published_matrices():
+    """A linear structure between impacts and a scale-free impact law: load,
+    clearance and tolerance scaled by lambda give the motion scaled by
+    lambda.  On matrices another FE code wrote (Harwell-Boeing bcsstk01,
+    48 dofs, 24 massless; a stop on its heaviest lumped mass), with loads
+    up to 1e90: the same impacts and sticking, at the same times, v_n / lambda
+    the same.  And a clearance left at 1e-4 under a 1e90 load is below the
+    load's round-off: the motion is the unit load's with x_s = 0 (on a
+    2-mass chain such a load once gave millions of round-off impacts).
+    Below lambda = 1 the absolute chatter threshold (1e-7) sums bounces, so
+    the check stops there."""
+    sp = pytest.importorskip("scipy.sparse")
+    sio = pytest.importorskip("scipy.io")
+    data = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "fe")
+    K = sp.csc_matrix(sio.mmread(os.path.join(data, "hb_bcsstk01_K.mtx")))
+    M = sp.csc_matrix(sio.mmread(os.path.join(data, "hb_bcsstk01_M.mtx")))
+    d = 24
+
+    def events(lam, xs, atol):
+        a = np.zeros(48)
+        a[d] = 1e3 * lam
+        m = vi.Model.from_sparse(M, K, stops=[{"dof": d, "xs": xs, "r": 0.7}],
+                                 forcing={"omega": 30.0, "a": a}, zeta=0.02)
+        ev = m.simulate(periods=20, method="exact", rtol=1e-10, atol=atol,
+                        states=False).impacts
+        return ev["kind"], ev["t"], ev["vn"] / lam
+
+    def same(a, b, what):
+        (k0, t0, v0), (k, t, v) = a, b
+        assert len(k) == len(k0) and np.all(k == k0), (what, len(k), len(k0))
+        assert np.max(np.abs(t - t0)) < 1e-9 * t0[-1], what
+        assert np.max(np.abs(v - v0)) < 1e-9 * np.max(np.abs(v0)), what
+
+    ref = events(1.0, 1e-4, 1e-12)
+    assert np.sum(ref[0] == 0) > 10 and np.sum(ref[0] == 1) >= 1  # impacts, then sticking
+    for lam in (1e20, 1e90):
+        same(ref, events(lam, 1e-4 * lam, 1e-12 * lam), lam)
+    touching = events(1.0, 0.0, 1e-12)
+    assert np.sum(touching[0] == 1) >= 1
+    same(touching, events(1e90, 1e-4, 1e78), "x_s = 1e-4 under 1e90")
