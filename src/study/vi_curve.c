@@ -24,6 +24,8 @@
 #define VI_CURVE_MAXI 32
 /* the test functions watched along a curve */
 enum { T_FOLD, T_PD, T_NS, T_GRAZE, T_VN, T_RES, NT };
+/* locate's other zeros: the kind's own condition, the fold's cusp test */
+enum { K_COND = -1, K_CUSP = -2 };
 
 typedef struct special {
   int type, located;
@@ -34,9 +36,9 @@ struct vi_cont_curve {
   vi_model *m;
   char key[64], key2[64];
   int par[2], pk[2];   /* vi_orbit_pnm_dparam's parameter (or -1), stop */
-  int kind, n, mi, N, D, stop, np; /* np: free parameters now (1 or 2) */
+  int kind, n, mi, N, D, np; /* np: free parameters now (1 or 2) */
   int blk, ld;         /* one impact's block 2N + 1 of Y; ld of x, v in Y */
-  int stops[VI_CURVE_MAXI]; /* each impact's stop (stop = stops[0]) */
+  int stops[VI_CURVE_MAXI]; /* each impact's stop */
   double tt[VI_CURVE_MAXI]; /* the impact times gathered from Y (mi > 1) */
   int have_orbit, located, have_range, state, started;
   double from2, to2, dsmax, ds;
@@ -50,7 +52,7 @@ struct vi_cont_curve {
   double T[NT], Tl[NT];
   double rho;
   double tg;          /* grazing: the gap's maximum, time after impact jg */
-  int jg;             /* grazing: its flight */
+  int jg, kg;         /* grazing: its flight and stop */
   special sp[MAXSP], endsp; /* endsp: where the backward pass ended */
   int nsp, have_endsp;
   char errmsg[VI_MSG_LEN];
@@ -235,15 +237,15 @@ static int flight_at(const flight *f, double t, double *z)
                            z + f->N);
 }
 
-/* The gap's interior maximum of the flight by Newton on w.v(t) = 0
- * (w.a < 0) from tau0; *g the gap there, *tau its time.  0, or 1 when
- * Newton leaves the flight or finds no maximum. */
-static int graze_newton(vi_cont_curve *c, const flight *f, double tau0, double *g,
+/* The gap's interior maximum at stop k of the flight by Newton on
+ * w.v(t) = 0 (w.a < 0) from tau0; *g the gap there, *tau its time.  0, or
+ * 1 when Newton leaves the flight or finds no maximum. */
+static int graze_newton(vi_cont_curve *c, const flight *f, int k, double tau0, double *g,
                         double *tau)
 {
   const vi_model *m = c->m;
   int N = c->N;
-  const double *w = vi_stop_w(m, c->stop);
+  const double *w = vi_stop_w(m, k);
   double *z = c->fz + 2 * (size_t)N, *dz = z + 2 * (size_t)N, t = tau0;
   for (int it = 0; it < 12; it++) {
     if (!(t > 0 && t < f->L) || flight_at(f, t, z)) return 1;
@@ -254,7 +256,7 @@ static int graze_newton(vi_cont_curve *c, const flight *f, double tau0, double *
     t += dt;
     if (fabs(dt) <= 1e-13 * f->L) {
       if (!(t > 0 && t < f->L) || flight_at(f, t, z)) return 1;
-      *g = vi_dot(N, w, z) - m->xsv[c->stop];
+      *g = vi_dot(N, w, z) - m->xsv[k];
       *tau = t;
       return 0;
     }
@@ -262,59 +264,80 @@ static int graze_newton(vi_cont_curve *c, const flight *f, double tau0, double *
   return 1;
 }
 
-/* Grazing of the orbit at Y in flight j from the time tau0 after its
- * impact. */
-static int graze_local(vi_cont_curve *c, const double *Y, int j, double tau0, double *g,
-                       double *tau)
+/* Grazing of the orbit at Y in flight j at stop k from the time tau0
+ * after its impact. */
+static int graze_local(vi_cont_curve *c, const double *Y, int j, int k, double tau0,
+                       double *g, double *tau)
 {
   flight f;
-  int r = flight_start(c, Y, j, &f) || graze_newton(c, &f, tau0, g, tau);
+  int r = flight_start(c, Y, j, &f) || graze_newton(c, &f, k, tau0, g, tau);
   vi_xflow_destroy(&f.fl);
   return r;
 }
 
-/* The grazing flight and time from scratch: in each flight the largest
- * of 512 samples per forcing period, refined; the largest gap of those
- * (*jg its flight); 0, or 1 if none. */
-static int graze_scan(vi_cont_curve *c, const double *Y, double *g, int *jg, double *tau)
+/* The grazing flight, stop and time from scratch: in each flight, at
+ * each stop (a two-sided orbit's flight may graze the stop it did not
+ * leave), the largest of 512 samples per forcing period, refined; the
+ * largest gap of those (*jg its flight, *kg its stop); 0, or 1 if none. */
+static int graze_scan(vi_cont_curve *c, const double *Y, double *g, int *jg, int *kg,
+                      double *tau)
 {
   const vi_model *m = c->m;
-  int N = c->N, found = 0;
-  const double *w = vi_stop_w(m, c->stop);
+  int N = c->N, ns = m->ns, found = 0;
   double *z = c->fz + 2 * (size_t)N, T = vi_forcing_period(m->omega_f);
-  for (int j = 0; j < c->mi; j++) {
-    int best = -1, K;
-    double gb = -HUGE_VAL, g1 = -HUGE_VAL, g2 = -HUGE_VAL; /* the two samples before */
-    double gj, tj;
+  /* per stop: the best sample, its gap, the two samples before */
+  double *gb = malloc(sizeof(double) * 4 * (size_t)ns), *g1 = gb + ns, *g2 = g1 + ns;
+  int *best = malloc(sizeof(int) * (size_t)ns);
+  for (int j = 0; gb && best && j < c->mi; j++) {
+    int K;
     flight f;
     if (flight_start(c, Y, j, &f)) {
       vi_xflow_destroy(&f.fl);
-      return 1;
+      found = 0;
+      break;
+    }
+    for (int k = 0; k < ns; k++) {
+      best[k] = -1;
+      gb[k] = g1[k] = g2[k] = -HUGE_VAL;
     }
     /* P(n,1): 512 n samples, as before; one of several flights: as many
      * per forcing period, at least 64 */
     K = c->mi == 1 ? 512 * c->n : (int)fmax(64, ceil(512 * f.L / T));
     for (int s = 1; s < K; s++) {
       if (flight_at(&f, s * f.L / K, z)) {
-        vi_xflow_destroy(&f.fl);
-        return 1;
+        K = -1;
+        break;
       }
-      double gs = vi_dot(N, w, z) - m->xsv[c->stop];
-      if (s > 2 && g1 >= g2 && g1 >= gs && g1 > gb) { /* interior maxima only */
-        gb = g1;
-        best = s - 1;
+      for (int k = 0; k < ns; k++) {
+        double gs = vi_dot(N, vi_stop_w(m, k), z) - m->xsv[k];
+        if (s > 2 && g1[k] >= g2[k] && g1[k] >= gs && g1[k] > gb[k]) { /* interior maxima */
+          gb[k] = g1[k];
+          best[k] = s - 1;
+        }
+        g2[k] = g1[k];
+        g1[k] = gs;
       }
-      g2 = g1;
-      g1 = gs;
     }
-    if (best >= 0 && !graze_newton(c, &f, best * f.L / K, &gj, &tj) && (!found || gj > *g)) {
-      *g = gj;
-      *tau = tj;
-      *jg = j;
-      found = 1;
+    if (K < 0) {
+      vi_xflow_destroy(&f.fl);
+      found = 0;
+      break;
+    }
+    for (int k = 0; k < ns; k++) {
+      double gj, tj;
+      if (best[k] >= 0 && !graze_newton(c, &f, k, best[k] * f.L / K, &gj, &tj) &&
+          (!found || gj > *g)) {
+        *g = gj;
+        *tau = tj;
+        *jg = j;
+        *kg = k;
+        found = 1;
+      }
     }
     vi_xflow_destroy(&f.fl);
   }
+  free(gb);
+  free(best);
   return !found;
 }
 
@@ -322,20 +345,22 @@ static int graze_scan(vi_cont_curve *c, const double *Y, double *g, int *jg, dou
 static int graze_g(vi_cont_curve *c, const double *Y, double *g)
 {
   double tau;
-  int jg;
-  if (c->tg > 0 && !graze_local(c, Y, c->jg, c->tg, g, &tau)) return VI_OK;
-  return graze_scan(c, Y, g, &jg, &tau) ? VI_ERR_NOT_CONVERGED : VI_OK;
+  int jg, kg;
+  if (c->tg > 0 && !graze_local(c, Y, c->jg, c->kg, c->tg, g, &tau)) return VI_OK;
+  return graze_scan(c, Y, g, &jg, &kg, &tau) ? VI_ERR_NOT_CONVERGED : VI_OK;
 }
 
 /* Follow the grazing flight and time to the accepted point Y. */
 static void graze_track(vi_cont_curve *c, const double *Y)
 {
   double g, tau;
-  int jg = c->jg;
+  int jg = c->jg, kg = c->kg;
   if (c->kind != VI_CONT_CURVE_GRAZING || !c->mi || setp(c, Y)) return;
-  if ((c->tg > 0 && !graze_local(c, Y, jg, c->tg, &g, &tau)) || !graze_scan(c, Y, &g, &jg, &tau)) {
+  if ((c->tg > 0 && !graze_local(c, Y, jg, kg, c->tg, &g, &tau)) ||
+      !graze_scan(c, Y, &g, &jg, &kg, &tau)) {
     c->tg = tau;
     c->jg = jg;
+    c->kg = kg;
   }
 }
 
@@ -593,7 +618,6 @@ static void pick_stop(vi_cont_curve *c, int j, const double *x)
       c->stops[j] = k;
     }
   }
-  if (j == 0) c->stop = c->stops[0];
 }
 
 int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t, const double *x,
@@ -647,6 +671,10 @@ static void set_scales(vi_cont_curve *c)
 static int refine(vi_cont_curve *c, double *Y)
 {
   c->np = 1;
+  /* the largest gap from scratch: the one tracked while following the
+   * orbit may be another flight's or stop's (a two-sided orbit's other
+   * stop comes nearer as the parameter moves) */
+  c->tg = 0;
   graze_track(c, Y);
   memcpy(c->Yt, Y, sizeof(double) * (size_t)(c->D + 1));
   if (newton(c, c->Yt, 1, NULL, NULL)) return VI_ERR_NOT_CONVERGED;
@@ -749,8 +777,24 @@ static int advance(vi_cont_curve *c, int withg)
   return 1;
 }
 
+/* The fold curve's cusp test at Y: the component of its tangent in the
+ * parameter plane along the last point's (taul's), scaled.  At a cusp the
+ * curve's tangent in (orbit, p, p2) stays smooth and lies along the
+ * orbit alone, so its plane part goes through zero (p' ~ s, p2' ~ s^2 in
+ * arclength s) and this component changes sign; the tangent at Y is taken
+ * oriented along dir (the chord).  1 if there is none. */
+static int cusp_test(vi_cont_curve *c, const double *Y, const double *dir, double *f)
+{
+  int D = c->D;
+  if (tangent(c, Y, 1, dir, c->tnew)) return 1;
+  *f = 0;
+  for (int j = D; j < D + 2; j++) *f += c->tnew[j] * c->taul[j] / (c->S[j] * c->S[j]);
+  return 0;
+}
+
 /* Y on the solution set between Ya and Yb (withg: the curve) where the
- * test T[k] (or, k < 0, the kind's condition) vanishes: regula falsi
+ * test T[k] (or, k = K_COND, the kind's condition; k = K_CUSP, the cusp
+ * test) vanishes: regula falsi
  * (Illinois) on the chord, each point corrected on the border
  * perpendicular to it.  0 (Y found), or 1 (Y the interpolation). */
 static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double ta,
@@ -779,6 +823,9 @@ static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double t
     if (k >= 0) {
       if (tests(c, Y, Tq)) break;
       f = Tq[k] - off;
+    } else if (k == K_CUSP) {
+      for (int j = 0; j < nu; j++) c->bord[j] = Yb[j] - Ya[j];
+      if (cusp_test(c, Y, c->bord, &f)) break;
     } else if (gfun(c, Y, &f)) {
       break;
     }
@@ -965,6 +1012,34 @@ static int ends_at(const vi_cont_curve *c, int k, const double *T)
          (k == T_RES && c->kind == VI_CONT_CURVE_NS && c->Tl[T_RES] > 0 && !(T[T_RES] > 0));
 }
 
+/* A cusp of the fold curve between the last point and this one: the
+ * plane tangent's component along the last one's changes sign.  Located
+ * where it vanishes, and a cusp only if the whole plane tangent vanishes
+ * there (else the curve merely turned by more than a right angle in the
+ * plane within a step, which it does not at a step's 25 degrees in the
+ * whole space unless its plane part is small: then it is reported as
+ * seen, unlocated). */
+static void cusp(vi_cont_curve *c)
+{
+  int D = c->D, nu = D + 2;
+  double fa = 0, fb = 0;
+  for (int j = D; j < nu; j++) {
+    double s2 = c->S[j] * c->S[j];
+    fa += c->taul[j] * c->taul[j] / s2;
+    fb += c->tau[j] * c->taul[j] / s2;
+  }
+  if (!(fb < 0)) return;
+  double *Yq = c->Yg;
+  int loc = !locate(c, c->Yl, c->Y, fa, fb, K_CUSP, 1, Yq);
+  if (loc) { /* the plane tangent there, against the whole (unit) one */
+    double pl = 0;
+    loc = !tangent(c, Yq, 1, c->tau, c->tnew);
+    for (int j = D; loc && j < nu; j++) pl += c->tnew[j] * c->tnew[j] / (c->S[j] * c->S[j]);
+    loc = loc && sqrt(pl) <= 1e-6;
+  }
+  add_special(c, VI_CONT_SP_CUSP, loc ? Yq : c->Y, loc);
+}
+
 /* The codimension-two points between the last point and this one; 1 if
  * one ends the curve (Y is then that point). */
 static int specials(vi_cont_curve *c, int report)
@@ -976,10 +1051,7 @@ static int specials(vi_cont_curve *c, int report)
   int D = c->D, nu = D + 2;
   if (!c->mi) return 0;
   double *Yq = c->Yg, Tq[NT], Te[NT];
-  if (c->kind == VI_CONT_CURVE_FOLD &&
-      c->tau[D] * c->taul[D] / (c->S[D] * c->S[D]) +
-      c->tau[D + 1] * c->taul[D + 1] / (c->S[D + 1] * c->S[D + 1]) < 0 && report)
-    add_special(c, VI_CONT_SP_CUSP, c->Y, 0);
+  if (c->kind == VI_CONT_CURVE_FOLD && report) cusp(c);
   /* A step that ends the curve (admissibility lost) is cut at that end,
    * located first: beyond v_N = 0 a multiplier comes back from infinity
    * (the saltation matrix's 1/v_N), and the products of the fold and pd

@@ -22,7 +22,11 @@
  *    Neimark-Sacker curve born at the upper one ends on it, at the same
  *    point to round-off;
  *  - the P(2,2) grazing point (largest gap over both flights at the stop)
- *    at its closed-form Omega, and its curve in (Omega, r).
+ *    at its closed-form Omega, and its curve in (Omega, r);
+ *  - an oscillator between two stops: the grazing curve of its P(1,1)
+ *    orbit (impacting the upper stop) in (lower clearance, Omega) is
+ *    where the flight touches the lower stop, against the closed-form
+ *    flight's lowest point.
  * The independent mpmath checks of every curve are curves_check.py's and
  * codim2_check.py's. */
 #include <complex.h>
@@ -586,6 +590,105 @@ static void test_p22_grazing_curve(void **state)
   vi_model_destroy(&m);
 }
 
+/* x, x' of the single-degree-of-freedom oscillator x'' + c x' + x =
+ * cos(W t), at time tau after (t0, x0, v0): particular solution plus the
+ * damped free motion, written out. */
+static void sdof_flow(double c, double W, double t0, double x0, double v0, double tau,
+                      double *x, double *v)
+{
+  double complex P = 1 / (1 - W * W + I * c * W); /* x_p = Re P e^{iWt} */
+  double complex e0 = cexp(I * W * t0), e1 = cexp(I * W * (t0 + tau));
+  double h = x0 - creal(P * e0), hp = v0 - creal(I * W * P * e0);
+  double wd = sqrt(1 - c * c / 4), d = exp(-c * tau / 2);
+  double cs = cos(wd * tau), sn = sin(wd * tau), B = (hp + c / 2 * h) / wd;
+  *x = creal(P * e1) + d * (h * cs + B * sn);
+  *v = creal(I * W * P * e1) + d * ((-c / 2) * (h * cs + B * sn) + wd * (-h * sn + B * cs));
+}
+
+/* The lowest x of the P(1,1) flight from the impact (t0, x_s, v_-) at
+ * the upper stop (restitution r): the smallest of 4096 samples, refined by
+ * Newton on x' = 0 with x'' from the equation of motion. */
+static double sdof_lowest(double c, double W, double r, double t0, double xs, double vm)
+{
+  double T = 2 * M_PI / W, best = HUGE_VAL, tb = 0, x, v;
+  for (int k = 1; k < 4096; k++) {
+    sdof_flow(c, W, t0, xs, -r * vm, k * T / 4096, &x, &v);
+    if (x < best) {
+      best = x;
+      tb = k * T / 4096;
+    }
+  }
+  for (int it = 0; it < 20; it++) {
+    sdof_flow(c, W, t0, xs, -r * vm, tb, &x, &v);
+    tb -= v / (cos(W * (t0 + tb)) - c * v - x);
+  }
+  sdof_flow(c, W, t0, xs, -r * vm, tb, &x, &v);
+  return x;
+}
+
+/* A two-sided clearance: an oscillator between stops x <= 0.5 and
+ * -x <= d.  Its P(1,1) orbit impacts the upper stop only; its grazing
+ * curve in (d, Omega) is where the flight touches the lower stop, d = -min
+ * x over the flight, whatever the clearance of the upper one: the curve
+ * follows the other stop's gap, not the impacted one's. */
+static vi_model *two_sided(double c, double r, double xs, double d)
+{
+  const double one = 1.0, up = 1.0, down = -1.0, zero = 0.0;
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(1, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, &one, 1), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, &c, 1), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, &one, 1), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 0.8, &one, NULL, &zero), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, &up, xs, r), VI_OK);
+  if (d > 0) assert_int_equal(vi_model_add_stop(m, &down, d, r), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  return m;
+}
+
+static void test_two_sided_grazing_curve(void **state)
+{
+  (void)state;
+  const double c = 0.1, r = 0.8, xs = 0.5;
+  /* the orbit from the one-stop model's scan (the scan takes one stop) */
+  vi_model *m = two_sided(c, r, xs, 0);
+  double tt[4], xx[4], vv[4], g, p, p2, t, x, v, worst = 0, lo = HUGE_VAL, hi = -HUGE_VAL;
+  int found = 0, ok = 0, k = 0, n = 0;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, tt, xx, vv, 1, 4, &found), VI_OK);
+  vi_model_destroy(&m);
+  m = two_sided(c, r, xs, 5.0);
+  for (; k < found && !ok; k++)
+    assert_int_equal(vi_orbit_pnm_admissible(m, 1, 1, tt + k, xx + k, vv + k, 1, &g, &ok), VI_OK);
+  assert_true(ok);
+  k--;
+  vi_cont_curve *cc = NULL;
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 1, 1, "stops[2].xs",
+                                        "forcing.omega", &cc), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(cc, tt[k], xx + k, vv + k), VI_OK);
+  int lst = vi_cont_curve_locate(cc, 0.0, 200, &p);
+  assert_int_equal(lst, VI_OK);
+  double ref = -sdof_lowest(c, 0.8, r, tt[k], xs, vv[k]);
+  printf("  lower stop grazed at d = %.15g (closed form %.15g)\n", p, ref);
+  assert_true(fabs(p - ref) < 1e-10 * ref);
+  assert_int_equal(vi_cont_curve_set_range(cc, 0.7, 0.9, 40), VI_OK);
+  while (!vi_cont_curve_done(cc)) {
+    assert_int_equal(vi_cont_curve_iterate(cc), VI_OK);
+    assert_int_equal(vi_cont_curve_point(cc, &p, &p2, &t, &x, &v, NULL), VI_OK);
+    assert_true(fabs(x - xs) < 1e-12 && v > 0); /* the upper stop, approached */
+    ref = -sdof_lowest(c, p2, r, t, xs, v);
+    worst = fmax(worst, fabs(p - ref) / ref);
+    lo = fmin(lo, p2);
+    hi = fmax(hi, p2);
+    n++;
+  }
+  printf("  %d points, Omega %.3g..%.3g: worst relative error %.2e\n", n, lo, hi, worst);
+  assert_int_equal(vi_cont_curve_done(cc), VI_CONT_CURVE_END);
+  assert_true(lo == 0.7 && hi == 0.9 && n > 10);
+  assert_true(worst < 1e-10);
+  vi_cont_curve_destroy(&cc);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -599,6 +702,7 @@ int main(void)
       cmocka_unit_test(test_large_model_pd),
       cmocka_unit_test(test_resonance_12),
       cmocka_unit_test(test_locate_stops_at_grazing),
+      cmocka_unit_test(test_two_sided_grazing_curve),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
