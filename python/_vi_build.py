@@ -99,6 +99,8 @@ int vi_sim_add_spring(vi_sim *sim, int type, int i, int j, double k,
 
 int vi_scene_load_limited(const char *path, vi_int64 max_bytes, int max_depth,
                           vi_scene **out, vi_diag *diag);
+int vi_scene_load_within(const char *path, vi_int64 max_bytes, int max_depth,
+                         double max_memory, vi_scene **out, vi_diag *diag);
 int vi_scene_parse(const char *text, vi_int64 len, const char *name,
                    vi_scene **out, vi_diag *diag);
 void vi_scene_destroy(vi_scene **scene);
@@ -132,6 +134,8 @@ int vi_scene_edit_assign(vi_scene_edit *e, const char *assignment,
                          vi_diag *diag);
 int vi_scene_edit_parse(const vi_scene_edit *e, vi_scene **out,
                         vi_diag *diag);
+int vi_scene_edit_parse_within(const vi_scene_edit *e, double max_memory,
+                               vi_scene **out, vi_diag *diag);
 
 int vi_fe_create(int n, vi_fe **out);
 void vi_fe_destroy(vi_fe **fe);

@@ -196,8 +196,11 @@ VI_API int vi_sim_set_initial(vi_sim *sim, double t0, const double *x0,
 /** Approach velocity below which an impact of a chattering sequence ends it:
  *  the accumulation point is taken as reached and sticking begins, if the
  *  stop is pressed on.  A sequence also ends once the next bounce would rise
- *  less than 10 atol from the stop (no longer resolved).  Default 1e-7 in
- *  the model's velocity unit; 0 leaves only the tolerance criterion.
+ *  less than 10 atol from the stop (no longer resolved).  Default 1e-7 V,
+ *  V the run's velocity scale (vi_sim_velocity_scale), so that a model
+ *  in other units (a micro-structure's 1e-6 m/s in SI) keeps its impacts;
+ *  a value set here is absolute, in the model's velocity unit; 0 leaves
+ *  only the tolerance criterion.
  *  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_sim_set_chatter_threshold(vi_sim *sim, double vmin);
 /** Impacts a user can count on: every impact whose approach velocity v_n
@@ -214,7 +217,7 @@ VI_API int vi_sim_set_chatter_threshold(vi_sim *sim, double vmin);
  *  tail is summed as soon as resolving its next impact costs more
  *  accuracy than the closed-form tail: fewer impacts, and which depends on
  *  the method).  The chatter threshold (vi_sim_set_chatter_threshold)
- *  still ends a sequence below its absolute velocity, and the exact method
+ *  still ends a sequence below its velocity, and the exact method
  *  sums a sequence whose bounces stop decaying within its round-off of the
  *  gap (a load whose response dwarfs x_s).  Resolving a bounce
  *  of apex (r v_n)^2 / (2 w.a) needs atol below it: with loose tolerances

@@ -788,9 +788,11 @@ class Scene:
     def t_end(self) -> float:
         return lib.vi_scene_t_end(self._sc)
 
-    def with_settings(self, settings: Mapping[str, Any]) -> "Scene":
+    def with_settings(self, settings: Mapping[str, Any], *, max_memory: float = 0) -> "Scene":
         """A new scene with keys changed as ``--set KEY=VALUE`` does
-        (``{"forcing.omega": 0.8, "stop.r": 0.5, "forcing.a[1]": 1}``)."""
+        (``{"forcing.omega": 0.8, "stop.r": 0.5, "forcing.a[1]": 1}``);
+        its vectors checked against max_memory bytes (0: the machine's
+        MemAvailable) before they are allocated, as load_scene."""
         d = ffi.new("vi_diag *")
         ep = ffi.new("vi_scene_edit **")
         text = self.text.encode()
@@ -809,7 +811,7 @@ class Scene:
             if st:
                 raise diag_error(d, st)
         sp = ffi.new("vi_scene **")
-        st = lib.vi_scene_edit_parse(e, sp, d)
+        st = lib.vi_scene_edit_parse_within(e, float(max_memory), sp, d)
         if st:
             raise diag_error(d, st)
         return Scene(_own(sp[0], lib.vi_scene_destroy, "vi_scene"), self._name, self.path)
@@ -877,13 +879,19 @@ class Scene:
         return "<vibroimpact.Scene %r (n = %d)>" % (self.name, self.n)
 
 
-def load_scene(path: Union[str, os.PathLike], *, max_bytes: int = 0, max_depth: int = 0) -> Scene:
+def load_scene(path: Union[str, os.PathLike], *, max_bytes: int = 0, max_depth: int = 0,
+               max_memory: float = 0) -> Scene:
     """Read and validate a scene file.  Raises vibroimpact.Error naming the
-    file, line, column, key and value of what is wrong."""
+    file, line, column, key and value of what is wrong.  The scene's own
+    vectors (56 bytes per dof) are checked against max_memory bytes (0:
+    the machine's MemAvailable) before they are allocated, so that a
+    matrix file whose header claims a huge n is refused at once, as the
+    program's --max-memory does."""
     p = os.fspath(path)
     d = ffi.new("vi_diag *")
     sp = ffi.new("vi_scene **")
-    st = lib.vi_scene_load_limited(os.fsencode(p), int(max_bytes), int(max_depth), sp, d)
+    st = lib.vi_scene_load_within(os.fsencode(p), int(max_bytes), int(max_depth),
+                                  float(max_memory), sp, d)
     if st:
         raise diag_error(d, st)
     return Scene(_own(sp[0], lib.vi_scene_destroy, "vi_scene"), p, p)

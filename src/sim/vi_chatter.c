@@ -177,6 +177,11 @@ void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma)
  * below the chatter threshold or a floor they are not wanted.  Then the
  * rest of the sequence is summed by the chatter map and sticking begins
  * at its accumulation point (Nordmark & Piiroinen 2009). */
+double vi_chatter_threshold(const vi_sim *s)
+{
+  return s->vchat >= 0.0 ? s->vchat : 1e-7 * s->vscale;
+}
+
 int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
                       double dt_prev, const double *x, const double *v,
                       int *floor_hit)
@@ -193,6 +198,7 @@ int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
     s->vscale = vn;
     s->vres = s->impact_ratio * vn;
   }
+  double vchat = vi_chatter_threshold(s);
   /* Round-off's bounces.  In a resolved chatter, each bounce returns at
    * about the speed r v_n it left with (exactly so under a constant push).
    * Where the closed form's round-off of the gap (its own estimate gnoise,
@@ -218,12 +224,12 @@ int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,
      * resolution (a fraction of its velocity scale) is resolved, by every
      * method alike; the chatter map sums only below it */
     return push > 0.0 && (vn <= 0.0 || *floor_hit ||
-                          (r < 1.0 && (vn < s->vres || vn < s->vchat ||
+                          (r < 1.0 && (vn < s->vres || vn < vchat ||
                                        noise)));
   }
   int chatter = push > 0.0 &&
                 (vn <= 0.0 || *floor_hit ||
-                 (r < 1.0 && (vn < s->vchat || noise ||
+                 (r < 1.0 && (vn < vchat || noise ||
                               apex < 10.0 * s->atol * wnorm)));
   if (!chatter && r < 1.0 && push > 0.0) {
     /* Sum the tail as soon as resolving the next impact costs more

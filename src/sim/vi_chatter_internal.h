@@ -18,6 +18,9 @@ void vi_chatter_push(vi_sim *s, int k, double t, const double *x,
 void vi_chatter_normal(vi_sim *s, int k, double *kappa, double *gamma);
 double vi_chatter_tail(double u, double r, double p0, double p1, double p2,
                        double kappa, double gamma, int64_t *count);
+/* The chatter threshold in force: the one set (vi_sim_set_chatter_threshold),
+ * else 1e-7 of the run's velocity scale (a default in any units). */
+double vi_chatter_threshold(const vi_sim *s);
 /* Whether stop k's bounces end at this impact (see vi_chatter.c); *floor_hit
  * says a floor of vi_sim_set_floors decided it. */
 int vi_chatter_wanted(vi_sim *s, int k, double vn, double push,

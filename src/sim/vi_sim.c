@@ -69,7 +69,7 @@ int vi_sim_create(const vi_model *model, vi_sim **out)
   vi_sim_note_method(s);
   s->rtol = 1e-8;
   s->atol = 1e-10;
-  s->vchat = 1e-7;
+  s->vchat = -1.0; /* the default: 1e-7 of the run's velocity scale */
   s->impact_ratio = 1e-5;
   s->ev_states = 1;
   s->tol_scale = 1.0;
@@ -489,7 +489,7 @@ static int on_contact_multi(vi_sim *s, int nc, int *idx)
     if (u[k] <= 0.0) {
       /* resting on the stop, pressed (a touch at a gap maximum, or a start
        * on the stop): sticking at any r, as for one stop */
-      if (fabs(un) <= fmax(s->vchat, 1e-9 * vscale)) hold[nh++] = j;
+      if (fabs(un) <= fmax(vi_chatter_threshold(s), 1e-9 * vscale)) hold[nh++] = j;
       continue;
     }
     if (!(P[k] > 0.0)) continue;

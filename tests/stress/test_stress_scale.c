@@ -30,6 +30,8 @@
  *     (near a release the motion grows from rest like a power of the time
  *     since, and no step within atol + rtol |x| is longer than an ulp of
  *     t); never a hang (a guard of 100 000 steps).
+ *  e. (test_default_threshold) as a., lambda = 1e-9 .. 1e20, with the
+ *     default chatter threshold, only atol scaled: the same motion.
  */
 #include <math.h>
 #include <stdio.h>
@@ -77,7 +79,8 @@ static vi_model *chain(double A, double xs)
   return m;
 }
 
-/* Three forcing periods from rest; VI_ERR_UNSUPPORTED in o->st if the
+/* Three forcing periods from rest (vchat < 0: the default chatter
+ * threshold); VI_ERR_UNSUPPORTED in o->st if the
  * method does not apply.  A guard of 100 000 steps turns a hang into a
  * failure. */
 static void run(double A, double xs, double atol, double vchat, int meth,
@@ -91,7 +94,7 @@ static void run(double A, double xs, double atol, double vchat, int meth,
   if (o->st == VI_OK) {
     st_guard guard = {0, 100000};
     assert_int_equal(vi_sim_set_tolerances(s, 1e-8, atol), VI_OK);
-    assert_int_equal(vi_sim_set_chatter_threshold(s, vchat), VI_OK);
+    if (vchat >= 0.0) assert_int_equal(vi_sim_set_chatter_threshold(s, vchat), VI_OK);
     assert_int_equal(vi_sim_set_event_callback(s, on_event, o, NULL), VI_OK);
     assert_int_equal(vi_sim_set_cancel(s, st_guard_poll, &guard, NULL), VI_OK);
     o->st = vi_sim_run(s, 3.0 * 2.0 * M_PI / 0.9);
@@ -142,6 +145,35 @@ static void test_scaled_scene(void **state)
       for (size_t i = 0; i < sizeof lambdas / sizeof lambdas[0]; i++) {
         double L = lambdas[i];
         run(L, L * xs0[c], L * 1e-10, L * 1e-7, meth, &o);
+        same_motion(&ref, &o, L, 1e-9, 1e-9);
+      }
+    }
+  }
+  st_end();
+}
+
+/* The defaults alone (only atol scaled, as a user gives it in the model's
+ * units): the default chatter threshold is relative to the run's
+ * velocity scale, so a nano-scale model keeps its impacts.  Before, an
+ * absolute 1e-7 summed them as chatter: at lambda = 1e-9 (approach
+ * velocities about 1e-9) 3 impacts and a stick for 5 impacts, and at
+ * x_s = 0 three sticks for one. */
+static void test_default_threshold(void **state)
+{
+  (void)state;
+  static const double lambdas[] = {1e-9, 1e-6, 1e-3, 1e3, 1e20};
+  static const double xs0[] = {0.1, 0.0};
+  for (int meth = 0; meth < VI_METHOD_COUNT; meth++) {
+    for (int c = 0; c < 2; c++) {
+      run_out ref, o;
+      run(1.0, xs0[c], 1e-10, -1.0, meth, &ref);
+      if (ref.st == VI_ERR_UNSUPPORTED) break;
+      st_check(c == 0 ? ref.st == VI_OK && ref.impacts == 5 && ref.sticks == 0
+                      : ref.st == VI_OK && ref.impacts == 2 && ref.sticks == 1);
+      print_message("  %s x_s = %g A, default threshold:\n", vi_method_name(meth), xs0[c]);
+      for (size_t i = 0; i < sizeof lambdas / sizeof lambdas[0]; i++) {
+        double L = lambdas[i];
+        run(L, L * xs0[c], L * 1e-10, -1.0, meth, &o);
         same_motion(&ref, &o, L, 1e-9, 1e-9);
       }
     }
@@ -207,6 +239,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_scaled_scene),
       cmocka_unit_test(test_unresolved_stop),
+      cmocka_unit_test(test_default_threshold),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
