@@ -29,10 +29,12 @@ unit circle (a stable orbit), v_N > 0 at both impacts and the largest gap
 over both flights below the stop (admissible).
 
 usage: cusp_check.py [VIBROIMPACT]   (with the program: run its `curves`
-through the cusp and compare the cusp it reports).  About 40 CPU-s.
---scan R C: the float search that found it (extremum counts of xi over a
-grid of Omega in 0.25..4 for r = R, c = C), with each candidate cusp's
-admissibility; about 20 CPU-s."""
+through the cusp, compare the cusp it reports and put its points on the
+closed-form fold).  12 CPU-s, 17 with the program.
+--scan R C: the float search that found it (the extremum count of xi over
+d on a grid of Omega, 0.25..4 in steps of 0.01, for r = R, c = C; where it
+changes, Newton on xi' = xi'' = 0), each candidate with its smallest v_N
+and largest sampled gap (curves_check.p22_gap); about 30 CPU-s."""
 import json
 import subprocess
 import sys
@@ -150,11 +152,9 @@ def flights(Om, xs, t0, t1, n=4000):
     return worst, nmax
 
 
-def scan(r, c, W0=0.25, W1=4.0, dW=0.01, N=3000):
-    """Float search: the extrema of xi over d in (0, 2T) on a grid of
-    Omega; where their count changes, Newton on xi' = xi'' = 0 in
-    (Omega, d), and the candidate's admissibility (v_N > 0, the largest
-    gap over the flights, curves_check.p22_gap_max)."""
+def xi_float(W, u, r, c):
+    """xi(d), d = u T, in floats (numpy, vectorised over u): (x_s, v_N1,
+    t_0) of the orbit with v_N0 > 0."""
     import numpy as np
     Kf = np.array([[2.0, -1], [-1, 1]])
     Cf = c * Kf
@@ -164,25 +164,30 @@ def scan(r, c, W0=0.25, W1=4.0, dW=0.01, N=3000):
     ev, V = np.linalg.eig(A)
     Vi = np.linalg.inv(V)
     Rf = np.diag([1, 1, 1, -r])
+    T = 2 * np.pi / W
+    ds = np.atleast_1d(u) * T
+    X = np.linalg.solve(Kf - W**2 * np.eye(2) + 1j * W * Cf, [0.5, 0])
+    Z = np.concatenate([X, 1j * W * X])
+    P = lambda tau: np.real((V[None] * np.exp(np.outer(tau, ev))[:, None, :]) @ Vi)
+    A0, A1 = P(ds) @ Rf, P(2 * T - ds) @ Rf
+    e = np.exp(1j * W * ds)[:, None]
+    b0 = Z[None] * e - (P(ds) @ Z)
+    b1 = Z[None] - (P(2 * T - ds) @ Z) * e
+    z0 = np.linalg.solve(np.eye(4) - A1 @ A0, (A1 @ b0[..., None])[..., 0] + b1)
+    z1 = (A0 @ z0[..., None])[..., 0] + b0
+    dl = z0[:, 1] - z1[:, 1]
+    ph = 1j * np.conj(dl) / np.abs(dl)
+    ph = np.where(np.real(z0[:, 3] * ph) < 0, -ph, ph)
+    return np.real(z0[:, 1] * ph), np.real(z1[:, 3] * ph), (np.angle(ph) / W) % T
 
-    def branch(W, u):
-        T = 2 * np.pi / W
-        ds = np.atleast_1d(u) * T
-        X = np.linalg.solve(Kf - W**2 * np.eye(2) + 1j * W * Cf, [0.5, 0])
-        Z = np.concatenate([X, 1j * W * X])
-        P = lambda tau: np.real((V[None] * np.exp(np.outer(tau, ev))[:, None, :]) @ Vi)
-        A0, A1 = P(ds) @ Rf, P(2 * T - ds) @ Rf
-        e = np.exp(1j * W * ds)[:, None]
-        b0 = Z[None] * e - (P(ds) @ Z)
-        b1 = Z[None] - (P(2 * T - ds) @ Z) * e
-        z0 = np.linalg.solve(np.eye(4) - A1 @ A0, (A1 @ b0[..., None])[..., 0] + b1)
-        z1 = (A0 @ z0[..., None])[..., 0] + b0
-        dl = z0[:, 1] - z1[:, 1]
-        ph = 1j * np.conj(dl) / np.abs(dl)
-        ph = np.where(np.real(z0[:, 3] * ph) < 0, -ph, ph)
-        return (np.real(z0[:, 1] * ph), np.real(z1[:, 3] * ph) * np.sign(1),
-                (np.angle(ph) / W) % T)
 
+def scan(r, c, W0=0.25, W1=4.0, dW=0.01, N=3000):
+    """Float search: the extrema of xi over d in (0, 2T) on a grid of
+    Omega; where their count changes, Newton on xi' = xi'' = 0 in
+    (Omega, d), and the candidate's admissibility (v_N > 0, the largest
+    gap over the flights, curves_check.p22_gap_max)."""
+    import numpy as np
+    branch = lambda W, u: xi_float(W, u, r, c)
     u = (np.arange(N) + 0.5) / N * 2
     u = u[np.abs(u - 1) > 3e-3]  # d = T: the P(1,1) orbit twice
     prev, cands = None, []
@@ -268,6 +273,14 @@ def main():
           "multipliers of modulus <= %.4f" % ("ok  " if ok else "FAIL", float(abs(mus[0] - 1)),
                                               float(max(abs(m) for m in mus[1:]))))
     fails += not ok
+    # Liouville: the saltation matrices' determinants r^2 (v_N reversed and
+    # scaled by r, e^{A tau} the rest), the flows' e^{-tr(M^-1 C) 2T}
+    liou = mp.mpf(R)**4 * mp.exp(-3 * mp.mpf(CDAMP) * 2 * T)
+    prod = mus[0] * mus[1] * mus[2] * mus[3]
+    ok = abs(prod / liou - 1) < 1e-20
+    print("%s the multipliers' product %s is Liouville's r^4 e^{-tr(M^-1 C) 2T} to %.1e" % (
+        "ok  " if ok else "FAIL", mp.nstr(mp.re(prod), 15), float(abs(prod / liou - 1))))
+    fails += not ok
     ok = agree < 1e-15
     print("%s the reduced form's root xi' = xi'' = 0 in (Omega, d) is the same point to %.1e" %
           ("ok  " if ok else "FAIL", float(agree)))
@@ -327,13 +340,38 @@ def main():
         if cusps:
             W, x = cusps[0]["point"]
             err = max(abs(W - Om), abs(x - xs))
-            ok = err < 1e-6
+            ok = err < (1e-12 if cusps[0]["located"] else 1e-3)  # else: where it is seen
             print("%s vibroimpact curves reports a cusp at (%.16g, %.16g), located %s: %.1e from "
                   "the closed form" % ("ok  " if ok else "FAIL", W, x, cusps[0]["located"],
                                        float(err)))
         else:
             ok = False
             print("FAIL vibroimpact curves reports no cusp: %s" % [s["type"] for s in js["special"]])
+        fails += not ok
+        # its points, either side of the cusp, are closed-form folds: x_s
+        # an extremum of xi over d at their Omega (d > d_c before the cusp,
+        # the branch from the generalized period doubling near d = T; d < d_c
+        # after), every 40th point and the cusp's neighbours
+        pts = js["points"]
+        ic = max(range(len(pts)), key=lambda i: pts[i][0])
+        worst, sides = 0, set()
+        import numpy as np
+        for i in sorted(set(list(range(0, len(pts), 40)) + [ic - 1, ic, ic + 1, len(pts) - 1])):
+            W, x = mp.mpf(pts[i][0]), mp.mpf(pts[i][1])
+            T = 2 * mp.pi / W
+            # the extrema of xi over d/T in 0.8..0.999 (floats), the one
+            # nearest the point refined
+            u = np.linspace(0.8, 0.999, 4000)
+            f = xi_float(float(W), u, float(R), float(CDAMP))[0]
+            k = np.where(np.diff(np.sign(np.diff(f))) != 0)[0] + 1
+            k = k[np.argmin(abs(f[k] - float(x)))]
+            d = mp.findroot(lambda dd: dxi(W, dd, 1), u[k] * T, tol=mp.mpf('1e-32'), verify=False)
+            worst = max(worst, abs(xi(W, d) - x))
+            sides.add((i < ic, d > d2) if i != ic else (True, True))
+        ok = worst < 1e-12 and sides == {(True, True), (False, False)}
+        print("%s its %d points: closed-form folds (x_s an extremum of xi) to %.1e at every 40th "
+              "point and around the cusp, d > d_c before it and d < d_c after" % (
+                  "ok  " if ok else "FAIL", len(pts), float(worst)))
         fails += not ok
     return 1 if fails else 0
 
