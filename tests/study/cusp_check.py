@@ -244,21 +244,23 @@ def main():
     W0, u0 = SEED
     T0 = 2 * mp.pi / W0
     _, t00, _, _ = reduced(mp.mpf(W0), u0 * T0)
-    Om, t0, t1 = mp.findroot(conditions, [mp.mpf(W0), t00, t00 + u0 * T0], tol=mp.mpf('1e-36'), verify=False,
-                             maxsteps=30)
+    Om, t0, t1 = mp.findroot(conditions, [mp.mpf(W0), t00, t00 + u0 * T0], tol=mp.mpf('1e-36'),
+                             verify=False, maxsteps=30)
     p, J, D2 = derivs(Om, t0, t1)
     xs = p[0]
     res = conditions(Om, t0, t1)
     T = 2 * Om**-1 * mp.pi
     # the reduced form's root, from the same float seed
     Om2, d2 = mp.findroot(lambda W, d: [dxi(W, d, 1), dxi(W, d, 2)],
-                          [mp.mpf(W0), u0 * 2 * mp.pi / W0], tol=mp.mpf('1e-32'), verify=False, maxsteps=30)
+                          [mp.mpf(W0), u0 * 2 * mp.pi / W0], tol=mp.mpf('1e-32'), verify=False,
+                          maxsteps=30)
     x2, t02, v0, v1 = reduced(Om2, d2)
     agree = max(abs(Om2 - Om), abs(d2 - (t1 - t0)), abs(x2 - xs), abs(t02 - t0))
     # the multipliers (closed-form monodromy with saltation matrices)
     z, Ph, g = cc.pnm_orbit(Om, mp.mpf(R), xs, [t0, t1], 2)
     mus = sorted(cc.pnm_multipliers(Om, mp.mpf(R), [t0, t1], 2, z, Ph), key=lambda m: abs(m - 1))
-    print("cusp of the P(2,2) fold curve, c = %s, r = %s, in (forcing.omega, stop.xs):" % (CDAMP, R))
+    print("cusp of the P(2,2) fold curve, c = %s, r = %s, in (forcing.omega, stop.xs):" %
+          (CDAMP, R))
     print("  Omega = %s" % mp.nstr(Om, 20))
     print("  x_s   = %s" % mp.nstr(xs, 20))
     print("  t_0   = %s, t_1 = %s (t_1 - t_0 = %s T)" % (mp.nstr(t0, 20), mp.nstr(t1, 20),
@@ -306,7 +308,8 @@ def main():
         e = mp.sqrt(-2 * dWx1 * dW / x3)
         ds, xsb = [], []
         for sgn in (-1, 1):
-            d = mp.findroot(lambda d: dxi(Om2 + dW, d, 1), d2 + sgn * e, tol=mp.mpf('1e-32'), verify=False)
+            d = mp.findroot(lambda d: dxi(Om2 + dW, d, 1), d2 + sgn * e, tol=mp.mpf('1e-32'),
+                            verify=False)
             ds.append(d)
             xsb.append(xi(Om2 + dW, d))
         split = abs(xsb[1] - xsb[0]) / mp.mpf(delta)**1.5
@@ -346,7 +349,8 @@ def main():
                                        float(err)))
         else:
             ok = False
-            print("FAIL vibroimpact curves reports no cusp: %s" % [s["type"] for s in js["special"]])
+            print("FAIL vibroimpact curves reports no cusp: %s" %
+                  [s["type"] for s in js["special"]])
         fails += not ok
         # its points, either side of the cusp, are closed-form folds: x_s
         # an extremum of xi over d at their Omega (d > d_c before the cusp,
