@@ -344,11 +344,11 @@ int vi_cmd_curves_main(int argc, char **argv)
   memset(&r, 0, sizeof r);
   a.sets = calloc((size_t)argc + 1, sizeof *a.sets);
   if (!a.sets) return 1;
-  int rc = curves_parse(argc, argv, &a);
-  if (rc < 0) rc = 0;
+  int rc = curves_parse(argc, argv, &a), help = rc < 0; /* help: printed, no curve */
+  if (help) rc = 0;
   else if (!rc && !(rc = curves_model(&a, &sc, &mdl, k1, k2)))
     rc = run_curve(&a, sc, mdl, k1, k2, &r);
-  if (!rc && a.out) {
+  if (!rc && !help && a.out) {
     char err[1024];
     if (vi_curves_write_h5(a.out, kind_name(a.kind), a.key, a.key2, a.n, a.m, &r, err,
                            sizeof err)) {
@@ -356,7 +356,7 @@ int vi_cmd_curves_main(int argc, char **argv)
       rc = 1;
     }
   }
-  if (!rc) print_result(&a, &r);
+  if (!rc && !help) print_result(&a, &r);
   vi_curve_result_free(&r);
   vi_model_destroy(&mdl);
   vi_scene_destroy(&sc);

@@ -71,8 +71,9 @@ typedef enum vi_cont_special_type {
                                      orbit is not admissible (the curve ends) */
   VI_CONT_SP_FOLD = 1,          /**< meets a fold curve (another multiplier +1) */
   VI_CONT_SP_PD = 2,            /**< meets a period-doubling curve (a multiplier -1) */
-  VI_CONT_SP_CUSP = 3,          /**< a cusp of a fold curve (the curve's
-                                     direction in the plane reverses) */
+  VI_CONT_SP_CUSP = 3,          /**< a cusp of a fold curve: its tangent in
+                                     the plane vanishes (two fold branches
+                                     meet; P(n,m), m >= 2, only) */
   VI_CONT_SP_RESONANCE_11 = 4,  /**< two multipliers at +1 */
   VI_CONT_SP_RESONANCE_12 = 5,  /**< two multipliers at -1: a period doubling
                                      turning into a Neimark-Sacker */

@@ -73,10 +73,17 @@ expect 2 "model.chain.m, .k, .c" "$app" sweep --param forcing.omega --from 0.8 -
   --steps 2 --param2 damping.scale --from2 1 --to2 2 --steps2 2
 
 # --help to a full device is a lost output, as for the other commands
-for cmd in sweep basins run; do
+for cmd in sweep basins run curves; do
   "$app" $cmd --help > /dev/full 2> "$tmp/err"
   [ $? -eq 1 ] || no "$cmd --help > /dev/full: exit status"
   grep -q "cannot write the standard output" "$tmp/err" || no "$cmd --help > /dev/full: message"
+done
+
+# every command's --help is the help alone (curves printed an empty
+# result after it: "? curve of ... ((null), (null))")
+for cmd in run sweep basins orbits curves truncation energy identify; do
+  "$app" $cmd --help > "$tmp/help" 2> "$tmp/err" || no "$cmd --help: exit status"
+  if grep -q "(null)" "$tmp/help" "$tmp/err"; then no "$cmd --help prints (null)"; fi
 done
 
 # a count beyond the limit says the limit

@@ -23,12 +23,14 @@
  *    point to round-off;
  *  - the P(2,2) grazing point (largest gap over both flights at the stop)
  *    at its closed-form Omega, and its curve in (Omega, r);
+ *  - a cusp of a P(2,2) fold curve (Fig. 2's chain, c = 0.05), located
+ *    at cusp_check.py's 60-digit closed-form point;
  *  - an oscillator between two stops: the grazing curve of its P(1,1)
  *    orbit (impacting the upper stop) in (lower clearance, Omega) is
  *    where the flight touches the lower stop, against the closed-form
  *    flight's lowest point.
- * The independent mpmath checks of every curve are curves_check.py's and
- * codim2_check.py's. */
+ * The independent mpmath checks of every curve are curves_check.py's,
+ * codim2_check.py's and cusp_check.py's. */
 #include <complex.h>
 #include <math.h>
 #include <stdio.h>
@@ -689,6 +691,49 @@ static void test_two_sided_grazing_curve(void **state)
   vi_model_destroy(&m);
 }
 
+/* cusp_check.py's 60-digit cusp of the P(2,2) fold curve, 16 kept */
+#define CUSP_OMEGA 0.532300653891731
+#define CUSP_XS 1.27878235550746
+
+/* A cusp of a fold curve: Fig. 2's chain with c = 0.05, its stable P(2,2)
+ * orbit at (0.535, 1.285) followed down in Omega to its fold and the fold
+ * in (Omega, x_s).  Two fold branches (two P(2,2) orbits merging) leave
+ * the cusp towards smaller Omega; the curve passes it, its plane tangent
+ * through zero, and the point is located where it vanishes: the closed
+ * form's solution of the orbit, fold and cusp conditions (u^T D2g[v,v] =
+ * 0) in 60-digit mpmath (tests/study/cusp_check.py). */
+static void test_cusp(void **state)
+{
+  (void)state;
+  const double a[2] = {0.5, 0.0};
+  vi_model *m = vi_test_chain(2, 1.0, 1.0, 0.05, 1.285, 0.7, 0.535, a);
+  double t[2], x[4], v[4], p, p2;
+  int type, loc, ncusp = 0;
+  p22_orbit(m, t, x, v);
+  vi_cont_curve *c = NULL;
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_FOLD, 2, 2, "forcing.omega", "stop.xs",
+                                        &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_impacts(c, t, x, v, 2), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 0.52, 200, &p), VI_OK);
+  printf("  P(2,2) fold at x_s = 1.285: Omega = %.15g\n", p);
+  assert_int_equal(vi_cont_curve_set_range(c, 1.27, 1.31, 200), VI_OK);
+  while (!vi_cont_curve_done(c)) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    for (int i = 0; i < vi_cont_curve_num_special(c); i++) {
+      assert_int_equal(vi_cont_curve_special(c, i, &type, &p, &p2, &loc), VI_OK);
+      if (type != VI_CONT_SP_CUSP) continue;
+      printf("  cusp at Omega = %.16g, x_s = %.16g, located %d (closed form %.15g, %.15g)\n", p,
+             p2, loc, CUSP_OMEGA, CUSP_XS);
+      assert_true(loc);
+      assert_true(fabs(p - CUSP_OMEGA) < 1e-12 && fabs(p2 - CUSP_XS) < 1e-12);
+      ncusp++;
+    }
+  }
+  assert_int_equal(ncusp, 1);
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -703,6 +748,7 @@ int main(void)
       cmocka_unit_test(test_resonance_12),
       cmocka_unit_test(test_locate_stops_at_grazing),
       cmocka_unit_test(test_two_sided_grazing_curve),
+      cmocka_unit_test(test_cusp),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
