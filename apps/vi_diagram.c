@@ -501,23 +501,6 @@ static int vi_diagram_gather(vi_diagram *sw, piece *ps, int ntask, int rank,
 }
 #endif
 
-/* MemAvailable of /proc/meminfo in bytes; 0 when unknown. */
-static double mem_available(void)
-{
-  FILE *f = fopen("/proc/meminfo", "r");
-  char line[256];
-  double kb = 0;
-  while (f && fgets(line, sizeof line, f))
-    if (!strncmp(line, "MemAvailable:", 13)) {
-      char *end;
-      kb = strtod(line + 13, &end);
-      if (end == line + 13 || !(kb > 0)) kb = 0;
-      break;
-    }
-  if (f) fclose(f);
-  return kb * 1024.0;
-}
-
 static int threads_of(const vi_diagram_spec *sp)
 {
   int nth = sp->threads > 0 ? sp->threads : 1;
@@ -571,7 +554,7 @@ double vi_diagram_memory_estimate(const vi_diagram_spec *sp, int N,
 static int check_memory(const vi_diagram *sw, char *err, int errlen)
 {
   const vi_diagram_spec *sp = &sw->spec;
-  double lim = sw->max_memory > 0 ? sw->max_memory : mem_available();
+  double lim = sw->max_memory > 0 ? sw->max_memory : vi_scene_memory_available();
   if (!(lim > 0)) return 0; /* not known: nothing to compare */
   double scene = vi_scene_memory_estimate(sw->sc),
          need = vi_diagram_memory_estimate(sp, sw->N, scene, sw->writes);
@@ -585,7 +568,7 @@ static int check_memory(const vi_diagram *sw, char *err, int errlen)
       sp->cold ? ", basins" : "", need / 1048576.0,
       8.0 * sp->steps * sp->steps2 * (sp->dirs == 3 ? 2 : 1) * sp->record * 2 *
           sw->N / 1048576.0,
-      lim / 1048576.0, sw->max_memory > 0 ? "allowed" : "available on this machine");
+      lim / 1048576.0, sw->max_memory > 0 ? "allowed" : "available to this process");
   return 2;
 }
 

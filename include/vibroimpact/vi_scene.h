@@ -114,8 +114,8 @@ VI_API int vi_scene_parse(const char *text, int64_t len, const char *name,
 VI_API int vi_scene_load_limited(const char *path, int64_t max_bytes,
                                  int max_depth, vi_scene **out, vi_diag *diag);
 /** vi_scene_load_limited within a memory budget: the scene's own vectors
- *  of n (56 n bytes) are compared with max_memory (<= 0: MemAvailable of
- *  /proc/meminfo, no check when that is unknown) before they are
+ *  of n (56 n bytes) are compared with max_memory (<= 0:
+ *  vi_scene_memory_available, no check when that is unknown) before they are
  *  allocated, so that a matrix file whose header claims a huge n is
  *  refused at once; the whole model is compared by vi_scene_check_memory
  *  after the load.  @return as vi_scene_load_limited, VI_ERR_LIMIT (diag
@@ -152,8 +152,13 @@ VI_API int vi_scene_create_fe(const vi_scene *sc, int modes, int keep,
  *  files read, the reduction before its sparse factor
  *  (vi_fe_memory_estimate) and the modal model's run); 0 for NULL. */
 VI_API double vi_scene_memory_estimate(const vi_scene *sc);
-/** Compare vi_scene_memory_estimate with max_bytes (<= 0: MemAvailable of
- *  /proc/meminfo; no check when that is unknown), before anything is
+/** Bytes this process may still allocate: MemAvailable of /proc/meminfo,
+ *  capped by what the address-space limit (RLIMIT_AS, `ulimit -v`) leaves
+ *  above the process's present size; 0 when neither is known.  The
+ *  budget the checks below use when none is given. */
+VI_API double vi_scene_memory_available(void);
+/** Compare vi_scene_memory_estimate with max_bytes (<= 0:
+ *  vi_scene_memory_available; no check when that is unknown), before anything is
  *  allocated.  @return VI_OK, VI_ERR_LIMIT (diag names the key giving the
  *  size and both figures), VI_ERR_ARG. */
 VI_API int vi_scene_check_memory(const vi_scene *sc, double max_bytes,

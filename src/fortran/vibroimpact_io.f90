@@ -39,7 +39,8 @@ module vibroimpact_io
             vi_scene_method, vi_scene_samples_per_period, vi_scene_outputs, &
             vi_scene_set_run, vi_diag_format, vi_scene_default_text, &
             vi_scene_load_limited, vi_scene_parse_limited, vi_scene_load_within, &
-            vi_scene_memory_estimate, vi_scene_check_memory, vi_scene_dofs, &
+            vi_scene_memory_estimate, vi_scene_memory_available, &
+            vi_scene_check_memory, vi_scene_dofs, &
             vi_scene_fe_summary, &
             vi_scene_create_fe, vi_scene_initial, &
             vi_scene_param_key
@@ -113,6 +114,9 @@ module vibroimpact_io
     real(c_double) function vi_scene_memory_estimate(scene) bind(C, name="vi_scene_memory_estimate")
       import :: c_double, c_ptr
       type(c_ptr), value :: scene
+    end function
+    real(c_double) function vi_scene_memory_available() bind(C, name="vi_scene_memory_available")
+      import :: c_double
     end function
     !> max_bytes <= 0: MemAvailable of /proc/meminfo
     integer(c_int) function vi_scene_check_memory(scene, max_bytes, diag) bind(C, name="vi_scene_check_memory")

@@ -1055,13 +1055,13 @@ static int vectors_fit(ctx *c, vi_scene *s, yaml_node_t *mod)
   if (!c->max_memory) return VI_OK;
   double lim = *c->max_memory, need = 56.0 * s->n;
   int from_machine = !(lim > 0);
-  if (from_machine) lim = vi_scene_mem_available();
+  if (from_machine) lim = vi_scene_memory_available();
   if (!(lim > 0) || need <= lim) return VI_OK; /* unknown, or it fits */
   char why[224];
   snprintf(why, sizeof why, "the scene's vectors of %d dofs alone would "
            "need %.3g MB (the model more), more than the %.3g MB %s "
            "(--max-memory raises the limit)", s->n, need / 1048576.0,
-           lim / 1048576.0, from_machine ? "available on this machine"
+           lim / 1048576.0, from_machine ? "available to this process"
                                          : "allowed");
   const char *key = vi_scene_size_key(s);
   char val[32];

@@ -91,9 +91,6 @@ struct vi_scene {
   int line_model, line_stop, line_initial, line_run, line_forcing;
 };
 
-/* MemAvailable from /proc/meminfo in bytes; 0 when unknown
- * (vi_scene_model.c). */
-double vi_scene_mem_available(void);
 
 /* The key that gives the scene's size n, for messages (vi_scene_model.c):
  * model.chain.n, model.cantilever.modes, the matrix files' section or

@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include "vi_scene_internal.h"
 #include "vibroimpact/vi_param.h"
@@ -97,7 +99,8 @@ const char *vi_scene_size_key(const vi_scene *s)
                                           : "model.K";
 }
 
-double vi_scene_mem_available(void)
+/* MemAvailable of /proc/meminfo in bytes; 0 when unknown. */
+static double meminfo_available(void)
 {
   FILE *f = fopen("/proc/meminfo", "r");
   if (!f) return 0;
@@ -115,6 +118,31 @@ double vi_scene_mem_available(void)
   return kb * 1024.0;
 }
 
+/* What RLIMIT_AS leaves above the process's size (/proc/self/statm's
+ * first field); HUGE_VAL without a limit, 0 if the size is unknown. */
+static double rlimit_left(void)
+{
+  struct rlimit rl;
+  if (getrlimit(RLIMIT_AS, &rl) || rl.rlim_cur == RLIM_INFINITY) return HUGE_VAL;
+  FILE *f = fopen("/proc/self/statm", "r");
+  double pages = -1;
+  if (f) {
+    if (fscanf(f, "%lf", &pages) != 1) pages = -1;
+    fclose(f);
+  }
+  long pg = sysconf(_SC_PAGESIZE);
+  if (!(pages >= 0) || pg <= 0) return 0;
+  double left = (double)rl.rlim_cur - pages * (double)pg;
+  return left > 0 ? left : 1; /* 1: known and spent (0 would mean unknown) */
+}
+
+double vi_scene_memory_available(void)
+{
+  double mem = meminfo_available(), as = rlimit_left();
+  if (!(mem > 0)) return as < HUGE_VAL ? as : 0;
+  return fmin(mem, as);
+}
+
 int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
@@ -124,7 +152,7 @@ int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
     return vi_diag_set(d, s->file, VI_ERR_ARG, 0, 0, "max_bytes", "nan",
                        "the memory limit is not a number");
   int from_machine = !(max_bytes > 0);
-  if (from_machine) max_bytes = vi_scene_mem_available();
+  if (from_machine) max_bytes = vi_scene_memory_available();
   if (!(max_bytes > 0)) return VI_OK; /* not known: nothing to compare */
   double need = vi_scene_memory_estimate(s);
   if (need <= max_bytes) return VI_OK;
@@ -136,7 +164,7 @@ int vi_scene_check_memory(const vi_scene *s, double max_bytes, vi_diag *d)
                      "the model would need about %.3g MB, more than the "
                      "%.3g MB %s (--max-memory raises the limit)",
                      need / 1048576.0, max_bytes / 1048576.0,
-                     from_machine ? "available on this machine" : "allowed");
+                     from_machine ? "available to this process" : "allowed");
 }
 
 /* ---- building the model -------------------------------------------------

@@ -49,6 +49,17 @@ if [ "$sanitized" != ON ] && [ "$big" -ge 30000000 ]; then
     expect 2 "vectors of $big dofs alone would need $mb MB (the model more), more than the 100 MB allowed" \
       bash -c 'ulimit -v 1000000 && exec timeout 3 "$@"' sh "$app" $args --max-memory 100M
   done
+  # ... and without --max-memory: the budget is what the address-space
+  # limit leaves, not the machine's free memory (the calloc failed: "out of
+  # memory", exit 1)
+  for args in "run $tmp/big.yaml" \
+    "sweep $tmp/big.yaml --param forcing.omega --from 0.8 --to 0.9 --steps 2"; do
+    # shellcheck disable=SC2086 # the arguments are words
+    expect 2 "vectors of $big dofs alone would need $mb MB (the model more), more than the" \
+      bash -c 'ulimit -v 1000000 && exec timeout 3 "$@"' sh "$app" $args
+    grep -Eq "more than the (9[0-9]{2}|[0-9]{1,2}[0-9]?) MB available to this process" "$tmp/err" ||
+      no "ulimit -v 1000000, $args: the budget is not the limit's: $(head -c 300 "$tmp/err")"
+  done
 fi
 
 # one parameter on both axes of a map (one axis was ignored), also spelt

@@ -483,7 +483,7 @@ static void test_limits(void **state)
   expect(run(ARGV("sweep", fig2, "--param", "forcing.omega", "--from", "0.8",
                   "--to", "1", "--steps", "100000", "--param2", "forcing.a[1]",
                   "--from2", "0.1", "--to2", "0.5", "--steps2", "100000", "--record",
-                  "100"), NULL), 2, "available on this machine");
+                  "100"), NULL), 2, "available to this process");
   expect(run(ARGV("basins", fig2, "--param", "initial.x[2]", "--from", "-1", "--to",
                   "0.09", "--steps", "1000", "--param2", "initial.v[2]", "--from2",
                   "-1", "--to2", "1", "--steps2", "1000", "--max-memory", "100M"),

@@ -91,6 +91,7 @@ static void test_scene_misuse(void **state)
   assert_int_equal(vi_scene_samples_per_period(NULL), 0);
   assert_int_equal(vi_scene_outputs(NULL), 0);
   assert_true(vi_scene_memory_estimate(NULL) == 0.0);
+  assert_true(vi_scene_memory_available() >= 0.0); /* no handle: never fails */
   assert_int_equal(vi_scene_check_memory(NULL, 1e12, &d), VI_ERR_ARG);
   assert_int_equal(vi_scene_set_run(NULL, 1e-8, 1e-10, 10, 0), VI_ERR_ARG);
   assert_int_equal(vi_scene_create_model(NULL, &m, &d), VI_ERR_ARG);
