@@ -192,6 +192,26 @@ static double dprod_shift(const vi_cont_curve *c, double s)
   return creal(sum);
 }
 
+/* det(Mo + s I) = prod_i (mu_i + s) of the orbit at Y (model at its
+ * parameters) by LU, without the eigenvalues: the curve's condition is
+ * evaluated 2 nu times a step for its row of the Jacobian, and the
+ * Hessenberg QR of every evaluation was most of a large model's time.
+ * Mo lies in c->B, free while sys evaluates g. */
+static int det_shift(vi_cont_curve *c, const double *Y, double s, double *d)
+{
+  int N = c->N, n2 = 2 * N;
+  double *A = c->B;
+  int st = vi_orbit_pnm_monodromy(c->m, c->n, c->mi, c->stops, times(c, Y), Y + 1, Y + 1 + N,
+                                  c->ld, A);
+  if (st) return st;
+  for (int i = 0; i < n2; i++) A[i + (size_t)i * n2] += s;
+  if (LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, A, n2, c->ip) < 0) return VI_ERR_LAPACK;
+  double p = 1; /* a zero pivot (info > 0) gives 0 */
+  for (int i = 0; i < n2; i++) p *= c->ip[i] != i + 1 ? -A[i + (size_t)i * n2] : A[i + (size_t)i * n2];
+  *d = p;
+  return VI_OK;
+}
+
 /* The largest gap between impacts of the P(n,1) orbit at Y. */
 static int gap_max(vi_cont_curve *c, const double *Y, double *g)
 {
@@ -370,17 +390,20 @@ static int gfun(vi_cont_curve *c, const double *Y, double *g)
   if (setp(c, Y)) return VI_ERR_ARG;
   if (c->kind == VI_CONT_CURVE_GRAZING)
     return c->mi ? graze_g(c, Y, g) : p10_gap(c, g);
-  int st = mults(c, Y);
-  if (st) return st;
+  if (c->kind == VI_CONT_CURVE_NS) {
+    int st = mults(c, Y);
+    if (!st) *g = prod_pairs(c);
+    return st;
+  }
   /* times v_N: the saltation matrix is a rank-one update of order 1/v_N,
    * so v_N det(Mo -+ I) stays smooth up to the end of the impacting
    * branch (v_N = 0), where a fold or PD curve may end */
-  double vn = 1; /* each impact's S has its own 1/v_N: their product */
+  double vn = 1, d; /* each impact's S has its own 1/v_N: their product */
   for (int j = 0; j < c->mi; j++)
     vn *= vi_dot(c->N, vi_stop_w(c->m, c->stops[j]), Y + (size_t)j * c->blk + 1 + c->N);
-  *g = c->kind == VI_CONT_CURVE_FOLD ? vn * prod_shift(c, -1)
-       : c->kind == VI_CONT_CURVE_PD ? vn * prod_shift(c, 1) : prod_pairs(c);
-  return VI_OK;
+  int st = det_shift(c, Y, c->kind == VI_CONT_CURVE_FOLD ? -1 : 1, &d);
+  if (!st) *g = vn * d;
+  return st;
 }
 
 /* The conditions at Y: F [D] (the orbit's) and, with withg, g; with J,
