@@ -32,6 +32,12 @@ double vi_var_salt_jump(const vi_model *m, int k, double t, const double *z,
                         double *d, double *work);
 void vi_var_saltation(const vi_model *m, int k, double t, const double *z,
                       double *S, double *work);
+/* vi_orbit_pnm_monodromy keeping its factors: Phis and Ss (each NULL or
+ * mi blocks of 2n x 2n) receive impact j's flow to the next impact and its
+ * saltation matrix, Mo = Phi_{mi-1} S_{mi-1} ... Phi_0 S_0. */
+int vi_orbit_pnm_monodromy_parts(const vi_model *m, int np, int mi, const int *stop,
+                                 const double *t, const double *x, const double *v,
+                                 int ld, double *Mo, double *Phis, double *Ss);
 /* D z(tb) / D z(ta) [2n x 2n] of the motion from ta to tb through mi
  * impacts at t [mi] on stop [mi], pre-impact states z [2n x mi] (stacked
  * x, v per impact): the exact derivative of a shooting map. */

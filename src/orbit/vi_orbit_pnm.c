@@ -366,6 +366,13 @@ int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
                            const double *t, const double *x, const double *v,
                            int ld, double *Mo)
 {
+  return vi_orbit_pnm_monodromy_parts(m, np, mi, stop, t, x, v, ld, Mo, NULL, NULL);
+}
+
+int vi_orbit_pnm_monodromy_parts(const vi_model *m, int np, int mi, const int *stop,
+                                 const double *t, const double *x, const double *v,
+                                 int ld, double *Mo, double *Phis, double *Ss)
+{
   if (!m || !t || !x || !v || !Mo || ld < m->n) return VI_ERR_ARG;
   int st = pnm_check(m, np, mi, stop), n = m->n, n2 = 2 * n;
   if (st) return st;
@@ -391,6 +398,8 @@ int vi_orbit_pnm_monodromy(const vi_model *m, int np, int mi, const int *stop,
     vi_var_saltation(m, stop_of(&w, j), t[j], z, S, w.buf);
     double t1 = j + 1 < mi ? t[j + 1] : t[0] + np * T;
     if ((st = vi_var_stm(m, t1 - t[j], Phi))) break;
+    if (Phis) memcpy(Phis + (size_t)j * nn, Phi, sizeof(double) * nn);
+    if (Ss) memcpy(Ss + (size_t)j * nn, S, sizeof(double) * nn);
     /* Mo <- Phi S Mo */
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n2, n2, n2, 1.0, S,
                 n2, Mo, n2, 0.0, tmp, n2);

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
 #include <lapacke.h>
 
 #include "vibroimpact/vi_cont_curve.h"
@@ -49,6 +50,9 @@ struct vi_cont_curve {
   double *tnew;       /* the new tangent [nu] */
   double *fz;         /* a flight's post-impact state, state and field [2N] each */
   lapack_int *ip;     /* the dense solves' pivots [nu] */
+  double *lm;         /* the condition's state derivatives (lemma_prep), or NULL */
+  lapack_int *lip;    /* and their LU's pivots [2N] */
+  double lm_det, lm_vn; /* det(Mo + s I), the product of the v_N */
   double T[NT], Tl[NT];
   double rho;
   double tg;          /* grazing: the gap's maximum, time after impact jg */
@@ -406,6 +410,88 @@ static int gfun(vi_cont_curve *c, const double *Y, double *g)
   return st;
 }
 
+/* ---- the condition's change with an impact's state ------------------------ */
+
+/* The fold or pd condition g = v_N det(Mo + s I) changes with impact j's
+ * state z_j only through its saltation matrix S_j = R + d_j g_j^T / v_n,j
+ * (the flows between impacts do not depend on it), and only by a rank
+ * one term: with Mo = P_j S_j Q_j, a change D of d_j / v_n,j gives
+ *   det(C + P_j D g_j^T Q_j) = det C (1 + rho_j . D),  C = Mo + s I,
+ *   rho_j = g_j^T Q_j C^-1 P_j
+ * (the matrix determinant lemma).  So the condition at z_j +- h e_k, the
+ * Jacobian's row by central differences as for every other unknown, costs
+ * one jump d (O(n^2)) instead of a monodromy and its factorisation
+ * (O(n^3)): a step of a model of n coordinates costs O(n^3), not O(n^4).
+ * lemma_prep factors C and forms rho_j and d_j / v_n,j for every impact;
+ * 1 if it cannot (no memory, or C exactly singular: then the monodromy
+ * is recomputed for each difference, as for the times and parameters). */
+static int lemma_prep(vi_cont_curve *c, const double *Y, double s)
+{
+  int N = c->N, n2 = 2 * N, mi = c->mi;
+  size_t nn = (size_t)n2 * n2;
+  if (!c->lm) {
+    c->lm = malloc(sizeof(double) * ((1 + 2 * (size_t)mi) * nn + 2 * (size_t)mi * n2 + mi +
+                                     8 * (size_t)n2));
+    c->lip = malloc(sizeof(lapack_int) * (size_t)n2);
+    if (!c->lm || !c->lip) {
+      free(c->lm);
+      free(c->lip);
+      c->lm = NULL;
+      c->lip = NULL;
+      return 1;
+    }
+  }
+  double *C = c->lm, *Phi = C + nn, *Sa = Phi + mi * nn, *rho = Sa + mi * nn, *q = rho + mi * n2,
+         *vnj = q + mi * n2, *r = vnj + mi, *b = r + n2, *work = b + n2;
+  const double *tj = times(c, Y);
+  if (vi_orbit_pnm_monodromy_parts(c->m, c->n, mi, c->stops, tj, Y + 1, Y + 1 + N, c->ld, C, Phi,
+                                   Sa))
+    return 1;
+  for (int i = 0; i < n2; i++) C[i + (size_t)i * n2] += s;
+  if (LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, C, n2, c->lip)) return 1;
+  c->lm_det = 1;
+  for (int i = 0; i < n2; i++)
+    c->lm_det *= c->lip[i] != i + 1 ? -C[i + (size_t)i * n2] : C[i + (size_t)i * n2];
+  c->lm_vn = 1;
+  for (int j = 0; j < mi; j++) {
+    const double *zj = Y + (size_t)j * c->blk + 1, *w = vi_stop_w(c->m, c->stops[j]);
+    double *qj = q + (size_t)j * n2;
+    vnj[j] = vi_var_salt_jump(c->m, c->stops[j], tj[j], zj, qj, work);
+    for (int i = 0; i < n2; i++) qj[i] /= vnj[j];
+    c->lm_vn *= vnj[j];
+    /* r = g_j^T Q_j, Q_j = Phi_{j-1} S_{j-1} ... Phi_0 S_0 */
+    for (int i = 0; i < n2; i++) r[i] = i < N ? w[i] : 0;
+    for (int i = j - 1; i >= 0; i--) {
+      cblas_dgemv(CblasColMajor, CblasTrans, n2, n2, 1.0, Phi + i * nn, n2, r, 1, 0.0, b, 1);
+      cblas_dgemv(CblasColMajor, CblasTrans, n2, n2, 1.0, Sa + i * nn, n2, b, 1, 0.0, r, 1);
+    }
+    /* rho_j = r C^-1 P_j, P_j = Phi_{m-1} S_{m-1} ... S_{j+1} Phi_j */
+    if (LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'T', n2, 1, C, n2, c->lip, r, n2)) return 1;
+    for (int i = mi - 1; i > j; i--) {
+      cblas_dgemv(CblasColMajor, CblasTrans, n2, n2, 1.0, Phi + i * nn, n2, r, 1, 0.0, b, 1);
+      cblas_dgemv(CblasColMajor, CblasTrans, n2, n2, 1.0, Sa + i * nn, n2, b, 1, 0.0, r, 1);
+    }
+    cblas_dgemv(CblasColMajor, CblasTrans, n2, n2, 1.0, Phi + j * nn, n2, r, 1, 0.0,
+                rho + (size_t)j * n2, 1);
+  }
+  return 0;
+}
+
+/* The condition with unknown k of Y (a state entry of impact k / blk)
+ * moved by h, from lemma_prep's pieces. */
+static double lemma_g(vi_cont_curve *c, const double *Y, int k, double h)
+{
+  int N = c->N, n2 = 2 * N, mi = c->mi, j = k / c->blk;
+  size_t nn = (size_t)n2 * n2;
+  double *rho = c->lm + (1 + 2 * (size_t)mi) * nn, *q = rho + mi * n2, *vnj = q + mi * n2,
+         *z = vnj + mi, *d = z + n2, *work = d + n2;
+  memcpy(z, Y + (size_t)j * c->blk + 1, sizeof(double) * n2);
+  z[k % c->blk - 1] += h;
+  double vn = vi_var_salt_jump(c->m, c->stops[j], times(c, Y)[j], z, d, work), e = 0;
+  for (int i = 0; i < n2; i++) e += rho[(size_t)j * n2 + i] * (d[i] / vn - q[(size_t)j * n2 + i]);
+  return c->lm_vn / vnj[j] * vn * c->lm_det * (1 + e);
+}
+
 /* The conditions at Y: F [D] (the orbit's) and, with withg, g; with J,
  * their Jacobian in the nu = D + np unknowns (column-major, leading
  * dimension ldj): J_u exact, dF/dp exact or central differences, g's row
@@ -447,9 +533,16 @@ static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *
   if (!st && withg) st = gfun(c, Y, H + D);
   if (!st && withg && J) {
     double *Yq = c->Yq, gp = 0, gm = 0;
+    /* the state entries by the determinant lemma (fold, pd) */
+    int lem = (c->kind == VI_CONT_CURVE_FOLD || c->kind == VI_CONT_CURVE_PD) && c->mi &&
+              !lemma_prep(c, Y, c->kind == VI_CONT_CURVE_FOLD ? -1 : 1);
     memcpy(Yq, Y, sizeof(double) * (size_t)nu);
     for (int j = 0; j < nu && !st; j++) {
       double h = 1e-6 * c->S[j];
+      if (lem && j < D && !is_time(c, j)) {
+        J[D + (size_t)j * ldj] = (lemma_g(c, Y, j, h) - lemma_g(c, Y, j, -h)) / (2 * h);
+        continue;
+      }
       Yq[j] = Y[j] + h;
       st = gfun(c, Yq, &gp);
       Yq[j] = Y[j] - h;
@@ -623,6 +716,8 @@ void vi_cont_curve_destroy(vi_cont_curve **cp)
   vi_model_destroy(&(*cp)->m);
   free((*cp)->Y);
   free((*cp)->ip);
+  free((*cp)->lm);
+  free((*cp)->lip);
   free(*cp);
   *cp = NULL;
 }
