@@ -125,9 +125,14 @@ static double rlimit_left(void)
   struct rlimit rl;
   if (getrlimit(RLIMIT_AS, &rl) || rl.rlim_cur == RLIM_INFINITY) return HUGE_VAL;
   FILE *f = fopen("/proc/self/statm", "r");
+  char line[128];
   double pages = -1;
   if (f) {
-    if (fscanf(f, "%lf", &pages) != 1) pages = -1;
+    if (fgets(line, sizeof line, f)) {
+      char *end;
+      pages = strtod(line, &end);
+      if (end == line) pages = -1;
+    }
     fclose(f);
   }
   long pg = sysconf(_SC_PAGESIZE);

@@ -441,8 +441,9 @@ static int lemma_prep(vi_cont_curve *c, const double *Y, double s)
       return 1;
     }
   }
-  double *C = c->lm, *Phi = C + nn, *Sa = Phi + mi * nn, *rho = Sa + mi * nn, *q = rho + mi * n2,
-         *vnj = q + mi * n2, *r = vnj + mi, *b = r + n2, *work = b + n2;
+  double *C = c->lm, *Phi = C + nn, *Sa = Phi + mi * nn, *rho = Sa + mi * nn;
+  double *q = rho + (size_t)mi * n2, *vnj = q + (size_t)mi * n2, *r = vnj + mi, *b = r + n2,
+         *work = b + n2;
   const double *tj = times(c, Y);
   if (vi_orbit_pnm_monodromy_parts(c->m, c->n, mi, c->stops, tj, Y + 1, Y + 1 + N, c->ld, C, Phi,
                                    Sa))
@@ -483,8 +484,8 @@ static double lemma_g(vi_cont_curve *c, const double *Y, int k, double h)
 {
   int N = c->N, n2 = 2 * N, mi = c->mi, j = k / c->blk;
   size_t nn = (size_t)n2 * n2;
-  double *rho = c->lm + (1 + 2 * (size_t)mi) * nn, *q = rho + mi * n2, *vnj = q + mi * n2,
-         *z = vnj + mi, *d = z + n2, *work = d + n2;
+  double *rho = c->lm + (1 + 2 * (size_t)mi) * nn, *q = rho + (size_t)mi * n2;
+  double *vnj = q + (size_t)mi * n2, *z = vnj + mi, *d = z + n2, *work = d + n2;
   memcpy(z, Y + (size_t)j * c->blk + 1, sizeof(double) * n2);
   z[k % c->blk - 1] += h;
   double vn = vi_var_salt_jump(c->m, c->stops[j], times(c, Y)[j], z, d, work), e = 0;
