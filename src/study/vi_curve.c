@@ -211,7 +211,10 @@ static int det_shift(vi_cont_curve *c, const double *Y, double s, double *d)
   for (int i = 0; i < n2; i++) A[i + (size_t)i * n2] += s;
   if (LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, A, n2, c->ip) < 0) return VI_ERR_LAPACK;
   double p = 1; /* a zero pivot (info > 0) gives 0 */
-  for (int i = 0; i < n2; i++) p *= c->ip[i] != i + 1 ? -A[i + (size_t)i * n2] : A[i + (size_t)i * n2];
+  for (int i = 0; i < n2; i++) {
+    double u = A[i + (size_t)i * n2];
+    p *= c->ip[i] != i + 1 ? -u : u;
+  }
   *d = p;
   return VI_OK;
 }
