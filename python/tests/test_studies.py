@@ -77,6 +77,46 @@ def test_continuation_against_census():
         assert abs(o["vn"][j, 0] - c["vn"][i]) < 1e-8
 
 
+def free_amplitude(W):
+    """|x_2| of Fig. 2's harmonic response at W, by numpy's solve of
+    (K - W^2 M + i W C) X = a: the P(1,0) orbit's closed form."""
+    K = np.array([[2.0, -1.0], [-1.0, 1.0]])
+    Z = K - W * W * np.eye(2) + 1j * W * 0.1 * K
+    return abs(np.linalg.solve(Z, np.array([0.5, 0.0]))[1])
+
+
+def test_curve_grazing_closed_form():
+    """The non-impacting orbit's grazing curve in (x_s, Omega) through the
+    resonance at 0.618: every point on the closed-form x_s = |x_2(Omega)|
+    to 1e-9, in order along Omega, the whole range covered."""
+    c = vi.curve(fig2(), "grazing", "stop.xs", 5, "forcing.omega", 0.5, 1.8, orbit=(1, 0))
+    assert c["end"] == "end of range" and c["orbit"] == [1, 0]
+    assert abs(c["located"][0] - free_amplitude(0.9)) < 1e-12 * c["located"][0]
+    pts = c["points"]
+    assert pts.shape[1] == 2 and len(pts) > 100
+    assert pts[0, 1] == 0.5 and pts[-1, 1] == 1.8 and np.all(np.diff(pts[:, 1]) > 0)
+    err = max(abs(xs - free_amplitude(W)) / free_amplitude(W) for xs, W in pts)
+    assert err < 1e-9
+    assert pts[:, 0].max() > free_amplitude(0.618) * (1 - 1e-3)
+
+
+def test_curve_cusp():
+    """A cusp of a P(2,2) fold curve (Fig. 2's chain with c = 0.05), from
+    the census's orbit: located at tests/study/cusp_check.py's 60-digit
+    closed-form point (the orbit, fold and cusp conditions in mpmath)."""
+    m = vi.Model.chain(2, m=1, k=1, c=0.05, stops=[{"w": [0, 1], "xs": 1.285, "r": 0.7}],
+                       forcing={"omega": 0.535, "a": [0.5, 0.0]})
+    c = vi.curve(m, "fold", "forcing.omega", 0.52, "stop.xs", 1.27, 1.31, orbit=(2, 2))
+    cusps = [s for s in c["special"] if s["type"] == "cusp"]
+    assert len(cusps) == 1 and cusps[0]["located"]
+    assert abs(cusps[0]["point"][0] - 0.532300653891731) < 1e-12
+    assert abs(cusps[0]["point"][1] - 1.27878235550746) < 1e-12
+    with pytest.raises(ValueError):
+        vi.curve(m, "cusp", "forcing.omega", 0.52, "stop.xs", 1.27, 1.31)
+    with pytest.raises(vi.Error, match="stop.nothing"):
+        vi.curve(m, "fold", "forcing.omega", 0.52, "stop.nothing", 1.27, 1.31, orbit=(2, 2))
+
+
 def test_basins_one_attractor():
     b = vi.basins(fig2(), "initial.x[2]", np.linspace(-0.3, 0.05, 3),
                   "initial.v[2]", [0.0, 0.3], transient=150, record=6)

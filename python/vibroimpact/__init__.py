@@ -21,7 +21,7 @@ from ._errors import Error, strerror
 from ._core import (METHODS, Model, Result, Scene, default_scene, load_scene,
                     parse_scene)
 from ._vi import ffi as _ffi, lib as _lib
-from .studies import (basins, continuation, energy, identify, orbits, sweep,
+from .studies import (basins, continuation, curve, energy, identify, orbits, sweep,
                       truncated_model, truncation, truncation_study)
 
 __version__ = _ffi.string(_lib.vi_version_string()).decode()
@@ -34,5 +34,5 @@ def library_version() -> str:
 
 __all__ = ["Error", "Model", "Result", "Scene", "load_scene", "parse_scene",
            "default_scene", "strerror", "METHODS", "library_version", "sweep",
-           "basins", "orbits", "continuation", "energy", "truncation",
+           "basins", "orbits", "continuation", "curve", "energy", "truncation",
            "truncated_model", "truncation_study", "identify"]

@@ -355,6 +355,93 @@ def continuation(model: Model, key: str, to: float, steps: int, *, n: int = 1,
     return out
 
 
+CURVE_KINDS = ("grazing", "fold", "pd", "ns")
+CURVE_SPECIALS = ("grazing", "fold", "period_doubling", "cusp", "resonance_1_1",
+                  "resonance_1_2", "admissibility")
+CURVE_ENDS = ("running", "end of range", "not admissible beyond", "closed",
+              "corrector failed", "point limit", "resonance (beyond, a neutral saddle)")
+
+
+def _curve_seed(model: Model, n: int, m: int) -> Mapping[str, np.ndarray]:
+    """The admissible P(n, m) orbit of the census with the smallest largest
+    multiplier (as ``vibroimpact curves`` takes the scene's), its impacts
+    from the earliest."""
+    found = orbits(model, n, m)
+    ok = np.nonzero(found["admissible"])[0]
+    if not ok.size:
+        raise Error("no admissible P(%d,%d) orbit to start from: give orbit=" % (n, m),
+                    lib.VI_ERR_NOT_CONVERGED)
+    i = ok[np.argmin(np.abs(found["multipliers"][ok]).max(axis=1))]
+    order = np.argsort(found["t"][i])
+    return {"t": found["t"][i][order], "x": found["x"][i][order], "v": found["v"][i][order]}
+
+
+def curve(model: Model, kind: str, key: str, to: float, key2: str, from2: float, to2: float, *,
+          orbit: Tuple[int, int] = (1, 1), steps: int = 200,
+          start: Optional[Mapping[str, Any]] = None) -> Dict[str, Any]:
+    """A curve of codimension-one points in two parameters (vi_cont_curve.h;
+    what ``vibroimpact curves`` computes, doc/curves.md): follow the
+    P(n, m) orbit ``orbit`` ((1, 0): the non-impacting one) in ``key`` from
+    its value in the model towards ``to`` until the first point of
+    ``kind`` (grazing, fold, pd or ns), solved exactly, then follow that
+    point in (key, key2) over key2 from ``from2`` to ``to2``, its largest
+    step 1/steps of that range.  The starting orbit is ``start`` ({"t":
+    [m] impact times ascending within nT, "x", "v": [m, N] states before
+    them}, e.g. a row of :func:`orbits`) or the census's admissible one
+    with the smallest largest multiplier.
+
+    Returns ``kind``, ``param``, ``param2``, ``orbit``, ``located`` (the
+    first point, [key, key2]), ``points`` [K, 2] in order along the curve,
+    ``special``: a list of {"type" (CURVE_SPECIALS), "point", "located"},
+    and ``end`` (CURVE_ENDS), as the command's JSON."""
+    if kind not in CURVE_KINDS:
+        raise ValueError("kind must be one of %s, not %r" % (", ".join(CURVE_KINDS), kind))
+    n, m = int(orbit[0]), int(orbit[1])
+    N = model.n
+    for k in (key, key2):  # an unknown key named (the handle says only "invalid argument")
+        model.get_param(k)
+    if m and start is None:
+        start = _curve_seed(model, n, m)
+    cp = ffi.new("vi_cont_curve **")
+    _raise(lib.vi_cont_curve_create(model._m, CURVE_KINDS.index(kind), n, m, key.encode(),
+                                    key2.encode(), cp), lib.vi_model_errmsg(model._m))
+    c = _own(cp[0], lib.vi_cont_curve_destroy, "vi_cont_curve")
+
+    def call(st):
+        _raise(st, lib.vi_cont_curve_errmsg(c))
+
+    if m:
+        t = np.ascontiguousarray(np.asarray(start["t"], float).reshape(m))
+        # [m, N] in C order is the column-major [N x m] the library takes
+        x = np.ascontiguousarray(np.asarray(start["x"], float).reshape(m, N))
+        v = np.ascontiguousarray(np.asarray(start["v"], float).reshape(m, N))
+        call(lib.vi_cont_curve_set_impacts(c, _ptr(t), _ptr(x), _ptr(v), N))
+    p, p2 = ffi.new("double *"), ffi.new("double *")
+    call(lib.vi_cont_curve_locate(c, float(to), int(steps), p))
+    call(lib.vi_cont_curve_point(c, p, p2, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL))
+    located = [p[0], p2[0]]
+    call(lib.vi_cont_curve_set_range(c, float(from2), float(to2), int(steps)))
+    points: List[List[float]] = []
+    special: List[Dict[str, Any]] = []
+    ty, loc = ffi.new("int *"), ffi.new("int *")
+    while not lib.vi_cont_curve_done(c):
+        st = lib.vi_cont_curve_iterate(c)
+        if st < 0:
+            call(st)
+        if st:
+            break
+        lib.vi_cont_curve_point(c, p, p2, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL)
+        points.append([p[0], p2[0]])
+        for i in range(lib.vi_cont_curve_num_special(c)):
+            lib.vi_cont_curve_special(c, i, ty, p, p2, loc)
+            special.append({"type": CURVE_SPECIALS[ty[0]] if 0 <= ty[0] < len(CURVE_SPECIALS)
+                            else str(ty[0]), "point": [p[0], p2[0]], "located": bool(loc[0])})
+    end = lib.vi_cont_curve_done(c)
+    return {"kind": kind, "param": key, "param2": key2, "orbit": [n, m], "located": located,
+            "points": np.array(points).reshape(-1, 2), "special": special,
+            "end": CURVE_ENDS[end] if 0 <= end < len(CURVE_ENDS) else str(end)}
+
+
 # ---- energy ------------------------------------------------------------------
 def energy(model: Model, *, x0=None, v0=None, method: Union[str, int, None] = None,
            rtol: Optional[float] = None, atol: Optional[float] = None,
