@@ -92,28 +92,34 @@ void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
   f->t0 = t0;
   f->tau_done = NAN;
   memcpy(f->QS, Q, sizeof(double) * 2 * (size_t)n);
-  for (int j = 0; j < n; j++) {
-    vi_lflight_mode *e = f->md + j;
-    double lam = m->lambda[j], d = m->D[j + (size_t)j * (size_t)n];
-    e->d = d;
-    e->h = 0.5 * d;
-    e->mu = sqrt(lam - e->h * e->h);
-    e->F0 = F0[j];
-    /* H' = Re(i W (pA - i pB) e^{i W t}), F - F0 = Re((Fa - i Fb) e^{i W t}),
-     * e^{i W t} = e^{i W t0} e^{i W tau} */
-    cx P0 = {p.c, p.s};
-    cx A = cmul((cx){pA[j], -pB[j]}, P0);
-    e->Ar = -W * A.i;
-    e->Ai = W * A.r;
-    cx P = cmul((cx){Fa[j], -Fb[j]}, P0);
-    e->Pr = P.r;
-    e->Pi = P.i;
-    /* w' = e^{-h tau} (alpha cos + beta sin)(mu tau): alpha = w'(0),
-     * w''(0) = F0 - d w' - lambda w = -h alpha + mu beta */
-    double al = wd[j], f0 = F0[j] - lam * w[j];
-    e->Gr = al;
-    e->Gi = -(f0 - e->h * al) / e->mu;
-  }
+  for (int j = 0; j < n; j++)
+    vi_lflight_mode_set(f->md + j, m->lambda[j],
+                        m->D[j + (size_t)j * (size_t)n], W, p.c, p.s, pA[j],
+                        pB[j], Fa[j], Fb[j], F0[j], w[j], wd[j]);
+}
+
+void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
+                         double c0, double s0, double pA, double pB,
+                         double Fa, double Fb, double F0, double w, double wd)
+{
+  e->d = d;
+  e->h = 0.5 * d;
+  e->mu = sqrt(lam - e->h * e->h);
+  e->F0 = F0;
+  /* H' = Re(i W (pA - i pB) e^{i W t}), F - F0 = Re((Fa - i Fb) e^{i W t}),
+   * e^{i W t} = e^{i W t0} e^{i W tau} */
+  cx P0 = {c0, s0};
+  cx A = cmul((cx){pA, -pB}, P0);
+  e->Ar = -W * A.i;
+  e->Ai = W * A.r;
+  cx P = cmul((cx){Fa, -Fb}, P0);
+  e->Pr = P.r;
+  e->Pi = P.i;
+  /* w' = e^{-h tau} (alpha cos + beta sin)(mu tau): alpha = w'(0),
+   * w''(0) = F0 - d w' - lambda w = -h alpha + mu beta */
+  double al = wd, f0 = F0 - lam * w;
+  e->Gr = al;
+  e->Gi = -(f0 - e->h * al) / e->mu;
 }
 
 void vi_lflight_eval(vi_lflight *f, double tau, double *Q)

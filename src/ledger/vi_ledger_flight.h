@@ -41,6 +41,12 @@ void vi_lflight_free(vi_lflight *f);
 void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
                       const double *pB, double t0, const double *w,
                       const double *wd, const double *Q);
+/* One mode of it: lambda, D_jj, the forcing frequency W and its phase c0,
+ * s0 = cos, sin(W t0), the particular solution pA, pB, the modal force
+ * Fa, Fb, F0, the free part's w, w' at t0. */
+void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
+                         double c0, double s0, double pA, double pB,
+                         double Fa, double Fb, double F0, double w, double wd);
 /* Q's FE, DE blocks at t0 + tau: the values at t0 plus the integrals.  A
  * repeated tau leaves Q as it is (the ledger reads the integrals several
  * times at one instant: close, begin, the next flight's start); Q must
