@@ -738,7 +738,9 @@ static int ex_start(vi_sim *s)
   return VI_OK;
 }
 
-/* Ledger integrals over [a, b] by 8-point Gauss-Legendre in np equal
+/* Where the flight's ledger has no closed form (d->lf_on = 0: a mode
+ * overdamped, critically damped, past damping ratio 1/2 or rigid): ledger
+ * integrals over [a, b] by 8-point Gauss-Legendre in np equal
  * panels of at most a quarter radian of the fastest rate: there the rule's
  * error is below round-off for the products of modes that make the
  * integrands.  Every mode is taken directly at a panel's midpoint and carried
