@@ -80,21 +80,20 @@ void vi_lflight_free(vi_lflight *f)
 }
 
 void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
-                      const double *pB, double t0, const double *w,
-                      const double *wd, const double *Q)
+                      const double *pB, double t0, const vi_phase *p,
+                      const double *w, const double *wd, const double *Q)
 {
   int n = f->n;
   const double *Fa, *Fb, *F0;
   vi_forcing_vectors(m, VI_FORCING_MODAL, &Fa, &Fb, &F0);
   double W = m->omega_f;
-  vi_phase p = vi_forcing_harmonic(m) ? vi_phase_at(W, t0) : vi_phase_none(W);
   f->W = W;
   f->t0 = t0;
   f->tau_done = NAN;
   memcpy(f->QS, Q, sizeof(double) * 2 * (size_t)n);
   for (int j = 0; j < n; j++)
     vi_lflight_mode_set(f->md + j, m->lambda[j],
-                        m->D[j + (size_t)j * (size_t)n], W, p.c, p.s, pA[j],
+                        m->D[j + (size_t)j * (size_t)n], W, p->c, p->s, pA[j],
                         pB[j], Fa[j], Fb[j], F0[j], w[j], wd[j]);
 }
 

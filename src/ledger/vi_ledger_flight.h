@@ -12,6 +12,7 @@
 #ifndef VI_LEDGER_FLIGHT_H
 #define VI_LEDGER_FLIGHT_H
 
+#include "vi_forcing.h"
 #include "vi_model_internal.h"
 
 /* One mode's coefficients (set by vi_lflight_start). */
@@ -35,12 +36,13 @@ int vi_lflight_ok(const vi_model *m);
 /* Room for m's modes: VI_OK or VI_ERR_NOMEM. */
 int vi_lflight_init(vi_lflight *f, const vi_model *m);
 void vi_lflight_free(vi_lflight *f);
-/* A flight from t0: w, w' [n] the free parts (q = H + w, H the harmonic
- * particular solution pA cos + pB sin [n]), Q the ledger's integrals then
- * (FE [n], DE [n]). */
+/* A flight from t0, p the forcing's phase there (vi_phase_at; any phase
+ * if the forcing has no harmonic part): w, w' [n] the free parts (q = H +
+ * w, H the harmonic particular solution pA cos + pB sin [n]), Q the
+ * ledger's integrals then (FE [n], DE [n]). */
 void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
-                      const double *pB, double t0, const double *w,
-                      const double *wd, const double *Q);
+                      const double *pB, double t0, const vi_phase *p,
+                      const double *w, const double *wd, const double *Q);
 /* One mode of it: lambda, D_jj, the forcing frequency W and its phase c0,
  * s0 = cos, sin(W t0), the particular solution pA, pB, the modal force
  * Fa, Fb, F0, the free part's w, w' at t0. */

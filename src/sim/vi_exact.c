@@ -649,7 +649,7 @@ static int ex_start(vi_sim *s)
   }
   d->handover = jw >= 0;
   if (d->lf_on) { /* FE, DE in closed form, computed where they are read */
-    vi_lflight_start(&d->lf, m, d->pA, d->pB, s->t, d->w0, d->wd0,
+    vi_lflight_start(&d->lf, m, d->pA, d->pB, s->t, &p, d->w0, d->wd0,
                      vi_ledger_integrals(s->led));
     vi_ledger_defer(s->led, ex_owed, d);
   }
