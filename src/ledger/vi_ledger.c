@@ -23,6 +23,7 @@ struct vi_ledger {
   vi_ledger_fn fn;
   void *user;
   vi_ledger_pending_fn pend; /* a backend's integrals owed (vi_ledger_defer) */
+  vi_ledger_since_fn since;
   void *pend_data;
 };
 
@@ -32,9 +33,11 @@ static void flush(vi_ledger *L)
   if (L->pend) L->pend(L->pend_data, L->Q);
 }
 
-void vi_ledger_defer(vi_ledger *L, vi_ledger_pending_fn fn, void *data)
+void vi_ledger_defer(vi_ledger *L, vi_ledger_pending_fn fn,
+                     vi_ledger_since_fn since, void *data)
 {
   L->pend = fn;
+  L->since = since;
   L->pend_data = data;
 }
 
@@ -43,6 +46,7 @@ void vi_ledger_settle(vi_ledger *L)
   if (!L) return;
   flush(L);
   L->pend = NULL;
+  L->since = NULL;
   L->pend_data = NULL;
 }
 
@@ -226,7 +230,9 @@ int vi_ledger_close_modal(vi_ledger *L, double t, const double *q,
   int n = L->n, stop = 0;
   flush(L);
   double *I = L->QA; /* becomes the interval's integrals, FE DE XE CE NE */
+  int own = L->since && L->since(L->pend_data, L->ta, L->QA, L->R);
   for (int k = 0; k < VI_LEDGER_BLOCKS * n; k++) I[k] = L->Q[k] - I[k];
+  if (own) memcpy(I, L->R, sizeof(double) * 2 * (size_t)n);
   double scale = DBL_MIN, sum = 0.0, ea = 0.0, eb = 0.0;
   for (int j = 0; j < n; j++) {
     double FE = I[j], DE = I[n + j], XE = I[2 * n + j], CE = I[3 * n + j];

@@ -63,7 +63,8 @@ int vi_lflight_init(vi_lflight *f, const vi_model *m)
   size_t n = (size_t)m->n;
   f->n = m->n;
   f->md = malloc(sizeof *f->md * (n ? n : 1));
-  f->QS = malloc(sizeof(double) * 2 * (n ? n : 1));
+  f->QS = malloc(sizeof(double) * 4 * (n ? n : 1));
+  f->I = f->QS ? f->QS + 2 * (n ? n : 1) : NULL;
   if (!f->md || !f->QS) {
     vi_lflight_free(f);
     return VI_ERR_NOMEM;
@@ -77,6 +78,7 @@ void vi_lflight_free(vi_lflight *f)
   free(f->QS);
   f->md = NULL;
   f->QS = NULL;
+  f->I = NULL;
 }
 
 void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
@@ -121,7 +123,8 @@ void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
   e->Gi = -(f0 - e->h * al) / e->mu;
 }
 
-void vi_lflight_eval(vi_lflight *f, double tau, double *Q)
+/* f->I: FE, DE over [t0, t0 + tau] (once per tau). */
+static void integrals(vi_lflight *f, double tau)
 {
   if (tau == f->tau_done) return;
   f->tau_done = tau;
@@ -130,7 +133,7 @@ void vi_lflight_eval(vi_lflight *f, double tau, double *Q)
   double s2 = 2.0 * sw * cw, c2 = (cw - sw) * (cw + sw);
   cx EW = eint(0.0, W, tau, 0.0, 1.0, sw, cw);    /* e^{i W s} */
   cx E2W = eint(0.0, 2.0 * W, tau, 0.0, 1.0, s2, c2); /* e^{2 i W s} */
-  double *FE = Q, *DE = Q + n;
+  double *FE = f->I, *DE = f->I + n;
   for (int j = 0; j < n; j++) {
     const vi_lflight_mode *e = f->md + j;
     double h = e->h, mu = e->mu, em, ea;
@@ -166,7 +169,23 @@ void vi_lflight_eval(vi_lflight *f, double tau, double *Q)
     double q2 = 0.5 * cmul(cmul(A, A), E2W).r + 0.5 * (A.r * A.r + A.i * A.i) * tau +
                 cmul(cmul(A, G), Ekp).r + cmul(cmul(A, conj_(G)), conj_(Ekm)).r +
                 0.5 * cmul(cmul(G, G), E2k).r + 0.5 * (G.r * G.r + G.i * G.i) * Eh.r;
-    FE[j] = f->QS[j] + fe;
-    DE[j] = f->QS[n + j] + e->d * q2;
+    FE[j] = fe;
+    DE[j] = e->d * q2;
   }
+}
+
+void vi_lflight_eval(vi_lflight *f, double tau, double *Q)
+{
+  integrals(f, tau);
+  for (int k = 0; k < 2 * f->n; k++) Q[k] = f->QS[k] + f->I[k];
+}
+
+int vi_lflight_since(vi_lflight *f, double tau, double ta, const double *QA,
+                     double *I)
+{
+  size_t b = sizeof(double) * 2 * (size_t)f->n;
+  if (ta != f->t0 || memcmp(QA, f->QS, b) != 0) return 0;
+  integrals(f, tau);
+  memcpy(I, f->I, b);
+  return 1;
 }

@@ -26,7 +26,8 @@ typedef struct vi_lflight {
   double W, t0;
   vi_lflight_mode *md; /* [n] */
   double *QS;          /* FE, DE at t0 [2n] */
-  double tau_done;     /* the last tau evaluated (NaN: none) */
+  double tau_done;     /* the last tau integrated to (NaN: none) */
+  double *I;           /* FE, DE over [t0, t0 + tau_done] [2n] */
 } vi_lflight;
 
 /* 1 if every mode of m is underdamped with damping ratio <= 1/2 (lambda >
@@ -49,10 +50,15 @@ void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
 void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
                          double c0, double s0, double pA, double pB,
                          double Fa, double Fb, double F0, double w, double wd);
-/* Q's FE, DE blocks at t0 + tau: the values at t0 plus the integrals.  A
- * repeated tau leaves Q as it is (the ledger reads the integrals several
- * times at one instant: close, begin, the next flight's start); Q must
- * not have changed in between. */
+/* Q's FE, DE blocks at t0 + tau: the values at t0 plus the integrals
+ * (computed once for a repeated tau: the ledger reads them several times
+ * at one instant, at close, begin and the next flight's start). */
 void vi_lflight_eval(vi_lflight *f, double tau, double *Q);
+/* The integrals alone over [t0, t0 + tau] into I [2n], where the ledger's
+ * interval began at this flight's start (ta = t0 and its integrals then,
+ * QA [2n], are QS): 1; else 0 and I untouched.  They spare the interval
+ * the rounding of the cumulative totals it would be the difference of. */
+int vi_lflight_since(vi_lflight *f, double tau, double ta, const double *QA,
+                     double *I);
 
 #endif

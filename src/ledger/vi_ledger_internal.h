@@ -102,7 +102,14 @@ void vi_ledger_force_totals(vi_ledger *L, double *NE);
  * change, and whoever takes Q to integrate into (vi_ledger_integrals,
  * vi_ledger_accumulate*) settles it first. */
 typedef void (*vi_ledger_pending_fn)(void *data, double *Q);
-void vi_ledger_defer(vi_ledger *L, vi_ledger_pending_fn fn, void *data);
+/* since (may be NULL): where the open interval began at ta with integrals
+ * QA [5n], the FE and DE [2n] accrued since, exactly (1), or 0 when the
+ * backend cannot tell: the interval's own integrals, not the difference
+ * of two running totals. */
+typedef int (*vi_ledger_since_fn)(void *data, double ta, const double *QA,
+                                  double *I);
+void vi_ledger_defer(vi_ledger *L, vi_ledger_pending_fn fn,
+                     vi_ledger_since_fn since, void *data);
 void vi_ledger_settle(vi_ledger *L);
 
 #endif

@@ -601,6 +601,12 @@ static void ex_owed(void *data, double *Q)
   vi_lflight_eval(&d->lf, d->s->t - d->lf.t0, Q);
 }
 
+static int ex_since(void *data, double ta, const double *QA, double *I)
+{
+  ex_data *d = data;
+  return vi_lflight_since(&d->lf, d->s->t - d->lf.t0, ta, QA, I);
+}
+
 static int ex_start(vi_sim *s)
 {
   const vi_model *m = s->m;
@@ -651,7 +657,7 @@ static int ex_start(vi_sim *s)
   if (d->lf_on) { /* FE, DE in closed form, computed where they are read */
     vi_lflight_start(&d->lf, m, d->pA, d->pB, s->t, &p, d->w0, d->wd0,
                      vi_ledger_integrals(s->led));
-    vi_ledger_defer(s->led, ex_owed, d);
+    vi_ledger_defer(s->led, ex_owed, ex_since, d);
   }
   if (d->handover)
     snprintf(s->handover_why, sizeof s->handover_why,

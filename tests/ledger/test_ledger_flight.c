@@ -87,8 +87,8 @@ static void closed(const mode_case *c, double tau, double q0, double *FE,
                    double *DE)
 {
   vi_lflight_mode md;
-  double QS[2] = {q0, q0}, Q[2];
-  vi_lflight f = {1, c->W, c->t0, &md, QS, NAN};
+  double QS[2] = {q0, q0}, Q[2], I[2];
+  vi_lflight f = {1, c->W, c->t0, &md, QS, NAN, I};
   vi_lflight_mode_set(&md, c->lam, c->d, c->W, cos(c->W * c->t0),
                       sin(c->W * c->t0), c->pA, c->pB, c->Fa, c->Fb, c->F0,
                       c->w, c->wd);
@@ -174,9 +174,10 @@ static void test_against_reference(void **state)
                 worst_former / DBL_EPSILON);
 }
 
-/* The values at t0 are carried: Q = QS + integrals; a repeated tau leaves
- * Q as it is. */
-static void test_offset_and_repeat(void **state)
+/* The values at t0 are carried: Q = QS + integrals, the same for a
+ * repeated tau; the integrals alone where the interval began with the
+ * flight (ta = t0, QA = QS), not otherwise. */
+static void test_offset_and_since(void **state)
 {
   (void)state;
   const mode_case *c = cases + 2;
@@ -186,25 +187,32 @@ static void test_offset_and_repeat(void **state)
   assert_true(fabs(FE1 - (100.0 + FE0)) <= 2 * DBL_EPSILON * 100.0);
   assert_true(fabs(DE1 - (100.0 + DE0)) <= 2 * DBL_EPSILON * 100.0);
   vi_lflight_mode md;
-  double QS[2] = {0.0, 0.0}, Q[2] = {-1.0, -1.0};
-  vi_lflight f = {1, c->W, c->t0, &md, QS, NAN};
+  double QS[2] = {100.0, 100.0}, Q[2], I[2], J[2] = {-1.0, -1.0};
+  vi_lflight f = {1, c->W, c->t0, &md, QS, NAN, I};
   vi_lflight_mode_set(&md, c->lam, c->d, c->W, cos(c->W * c->t0),
                       sin(c->W * c->t0), c->pA, c->pB, c->Fa, c->Fb, c->F0,
                       c->w, c->wd);
   vi_lflight_eval(&f, 7.0, Q);
-  assert_true(Q[0] == FE0 && Q[1] == DE0);
-  Q[0] = Q[1] = -1.0; /* not read again at the same tau */
+  assert_true(Q[0] == FE1 && Q[1] == DE1);
+  Q[0] = Q[1] = -1.0;
   vi_lflight_eval(&f, 7.0, Q);
-  assert_true(Q[0] == -1.0 && Q[1] == -1.0);
+  assert_true(Q[0] == FE1 && Q[1] == DE1);
+  const double QA[2] = {100.0, 100.0}, QB[2] = {100.0, 99.0};
+  assert_int_equal(vi_lflight_since(&f, 7.0, c->t0, QA, J), 1);
+  assert_true(J[0] == FE0 && J[1] == DE0);
+  J[0] = J[1] = -1.0;
+  assert_int_equal(vi_lflight_since(&f, 7.0, c->t0 + 1.0, QA, J), 0);
+  assert_int_equal(vi_lflight_since(&f, 7.0, c->t0, QB, J), 0);
+  assert_true(J[0] == -1.0 && J[1] == -1.0);
   vi_lflight_eval(&f, 0.0, Q); /* tau = 0: nothing integrated */
-  assert_true(Q[0] == 0.0 && Q[1] == 0.0);
+  assert_true(Q[0] == 100.0 && Q[1] == 100.0);
 }
 
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_against_reference),
-      cmocka_unit_test(test_offset_and_repeat),
+      cmocka_unit_test(test_offset_and_since),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
