@@ -16,7 +16,9 @@
  *
  * The ledger costs nothing unless enabled: vi_sim_enable_ledger adds the
  * quadratures to the integration (CVODES quadratures under the same error
- * control, or Gauss-Legendre on the closed form for VI_METHOD_EXACT). */
+ * control; for VI_METHOD_EXACT the free flights' integrals in closed form
+ * where damping is proportional and every mode underdamped with damping
+ * ratio <= 1/2, else Gauss-Legendre on the closed form). */
 #ifndef VI_LEDGER_H
 #define VI_LEDGER_H
 

@@ -22,7 +22,33 @@ struct vi_ledger {
   double ta, ie, maxres, emax;
   vi_ledger_fn fn;
   void *user;
+  vi_ledger_pending_fn pend; /* a backend's integrals owed (vi_ledger_defer) */
+  vi_ledger_since_fn since;
+  void *pend_data;
 };
+
+/* Bring Q to the owing backend's present time. */
+static void flush(vi_ledger *L)
+{
+  if (L->pend) L->pend(L->pend_data, L->Q);
+}
+
+void vi_ledger_defer(vi_ledger *L, vi_ledger_pending_fn fn,
+                     vi_ledger_since_fn since, void *data)
+{
+  L->pend = fn;
+  L->since = since;
+  L->pend_data = data;
+}
+
+void vi_ledger_settle(vi_ledger *L)
+{
+  if (!L) return;
+  flush(L);
+  L->pend = NULL;
+  L->since = NULL;
+  L->pend_data = NULL;
+}
 
 vi_ledger *vi_ledger_create(const vi_model *m)
 {
@@ -56,7 +82,11 @@ void vi_ledger_set_callback(vi_ledger *L, vi_ledger_fn fn, void *user)
   L->user = user;
 }
 
-double *vi_ledger_integrals(vi_ledger *L) { return L->Q; }
+double *vi_ledger_integrals(vi_ledger *L)
+{
+  vi_ledger_settle(L); /* the caller integrates into Q from here */
+  return L->Q;
+}
 
 double vi_ledger_open_since(const vi_ledger *L) { return L->ta; }
 
@@ -113,6 +143,7 @@ void vi_ledger_rates_state(vi_ledger *L, double t, const double *z,
 void vi_ledger_accumulate(vi_ledger *L, double t, const double *qd,
                           const vi_ledger_held *h, double weight)
 {
+  vi_ledger_settle(L);
   vi_ledger_rates(L, t, qd, h, NULL, L->R);
   for (int k = 0; k < 4 * L->n; k++) L->Q[k] += weight * L->R[k];
 }
@@ -122,6 +153,7 @@ void vi_ledger_accumulate_phase(vi_ledger *L, const vi_phase *p,
                                 double weight)
 {
   const vi_model *m = L->m;
+  vi_ledger_settle(L);
   if (!h && m->proportional) {
     /* free flight, modal damping: XE and CE vanish, so only FE and DE
      * move (the same products as vi_ledger_rates_phase's); the exact
@@ -141,22 +173,43 @@ void vi_ledger_accumulate_phase(vi_ledger *L, const vi_phase *p,
   for (int k = 0; k < 4 * L->n; k++) L->Q[k] += weight * L->R[k];
 }
 
-/* Modal energies (and, K != NULL, their kinetic parts) of a state. */
-static void modal_energy(const vi_model *m, const double *z, double *q,
-                         double *qd, double *E, double *K)
+/* Modal energies (and, K != NULL, their kinetic parts) of a modal state. */
+static void energies(const vi_model *m, const double *q, const double *qd,
+                     double *E, double *K)
 {
-  vi_modal_project(m, z, q, qd);
   for (int j = 0; j < m->n; j++) {
     if (K) K[j] = 0.5 * qd[j] * qd[j];
     E[j] = 0.5 * qd[j] * qd[j] + 0.5 * m->lambda[j] * q[j] * q[j];
   }
 }
 
+/* ... of a physical state z (q, qd: where its modes go). */
+static void modal_energy(const vi_model *m, const double *z, double *q,
+                         double *qd, double *E, double *K)
+{
+  vi_modal_project(m, z, q, qd);
+  energies(m, q, qd, E, K);
+}
+
+void vi_ledger_begin_modal(vi_ledger *L, double t, const double *q,
+                           const double *qd)
+{
+  flush(L);
+  memcpy(L->QA, L->Q, sizeof(double) * VI_LEDGER_BLOCKS * (size_t)L->n);
+  energies(L->m, q, qd, L->EA, L->KA);
+  L->ta = t;
+}
+
 void vi_ledger_begin(vi_ledger *L, double t, const double *z)
 {
-  memcpy(L->QA, L->Q, sizeof(double) * VI_LEDGER_BLOCKS * (size_t)L->n);
-  modal_energy(L->m, z, L->qs, L->qds, L->EA, L->KA);
-  L->ta = t;
+  vi_modal_project(L->m, z, L->qs, L->qds);
+  vi_ledger_begin_modal(L, t, L->qs, L->qds);
+}
+
+void vi_ledger_pre_jump_modal(vi_ledger *L, const double *q, const double *qd)
+{
+  memcpy(L->qd, qd, sizeof(double) * (size_t)L->n); /* q'(t-) */
+  energies(L->m, q, qd, L->EB, L->KB);
 }
 
 void vi_ledger_pre_jump(vi_ledger *L, const double *z)
@@ -167,9 +220,19 @@ void vi_ledger_pre_jump(vi_ledger *L, const double *z)
 int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
                     double ie, int quiet)
 {
+  vi_modal_project(L->m, z, L->qs, L->qds);
+  return vi_ledger_close_modal(L, t, L->qs, L->qds, jump, ie, quiet);
+}
+
+int vi_ledger_close_modal(vi_ledger *L, double t, const double *q,
+                          const double *qd, int jump, double ie, int quiet)
+{
   int n = L->n, stop = 0;
+  flush(L);
   double *I = L->QA; /* becomes the interval's integrals, FE DE XE CE NE */
+  int own = L->since && L->since(L->pend_data, L->ta, L->QA, L->R);
   for (int k = 0; k < VI_LEDGER_BLOCKS * n; k++) I[k] = L->Q[k] - I[k];
+  if (own) memcpy(I, L->R, sizeof(double) * 2 * (size_t)n);
   double scale = DBL_MIN, sum = 0.0, ea = 0.0, eb = 0.0;
   for (int j = 0; j < n; j++) {
     double FE = I[j], DE = I[n + j], XE = I[2 * n + j], CE = I[3 * n + j];
@@ -188,9 +251,8 @@ int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
   /* a NaN residual must show, not vanish in a comparison */
   if (res > L->maxres || isnan(res)) L->maxres = res;
   if (jump) {
-    vi_modal_project(L->m, z, NULL, L->qds); /* q'(t+) */
-    for (int j = 0; j < n; j++) {
-      L->dE[j] = 0.5 * (L->qds[j] * L->qds[j] - L->qd[j] * L->qd[j]);
+    for (int j = 0; j < n; j++) { /* qd: q'(t+) */
+      L->dE[j] = 0.5 * (qd[j] * qd[j] - L->qd[j] * L->qd[j]);
       L->dEtot[j] += L->dE[j];
     }
     L->ie += ie;
@@ -202,7 +264,7 @@ int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
                              I + 4 * (size_t)n};
     stop = L->fn(&iv, L->user) != 0;
   }
-  vi_ledger_begin(L, t, z);
+  vi_ledger_begin_modal(L, t, q, qd);
   return stop;
 }
 
@@ -212,6 +274,7 @@ void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
 {
   int n = L->n;
   size_t b = sizeof(double) * (size_t)n;
+  flush(L);
   if (E) modal_energy(L->m, z, L->qs, L->qds, E, NULL);
   if (FE) memcpy(FE, L->Q, b);
   if (DE) memcpy(DE, L->Q + n, b);
@@ -221,7 +284,8 @@ void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
   if (ie) *ie = L->ie;
 }
 
-void vi_ledger_force_totals(const vi_ledger *L, double *NE)
+void vi_ledger_force_totals(vi_ledger *L, double *NE)
 {
+  flush(L);
   memcpy(NE, L->Q + 4 * (size_t)L->n, sizeof(double) * (size_t)L->n);
 }

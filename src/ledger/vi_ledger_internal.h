@@ -67,6 +67,12 @@ void vi_ledger_accumulate_phase(vi_ledger *L, const vi_phase *p,
                                 const double *qd, const vi_ledger_held *h,
                                 double weight);
 
+/* The same three from the modal state q, q' [n] instead of z. */
+void vi_ledger_pre_jump_modal(vi_ledger *L, const double *q, const double *qd);
+int vi_ledger_close_modal(vi_ledger *L, double t, const double *q,
+                          const double *qd, int jump, double ie, int quiet);
+void vi_ledger_begin_modal(vi_ledger *L, double t, const double *q,
+                           const double *qd);
 /* An interval starts at t in state z. */
 void vi_ledger_begin(vi_ledger *L, double t, const double *z);
 /* The open interval ends in state z: record its energies before any jump. */
@@ -86,6 +92,24 @@ void vi_ledger_totals(vi_ledger *L, const double *z, double *E, double *FE,
                       double *DE, double *XE, double *CE, double *dE,
                       double *ie);
 double vi_ledger_max_residual(const vi_ledger *L);
-void vi_ledger_force_totals(const vi_ledger *L, double *NE);
+void vi_ledger_force_totals(vi_ledger *L, double *NE);
+
+/* Integrals owed: a backend whose closed form gives the integrals at any
+ * time of its flight (vi_ledger_flight.h) computes them only when they are
+ * read.  fn(data, Q) sets Q [5n] to their values at the sim's present
+ * time; every reader of Q calls it first.  vi_ledger_settle brings Q up to
+ * date and ends the debt: the backend calls it before its flight's data
+ * change, and whoever takes Q to integrate into (vi_ledger_integrals,
+ * vi_ledger_accumulate*) settles it first. */
+typedef void (*vi_ledger_pending_fn)(void *data, double *Q);
+/* since (may be NULL): where the open interval began at ta with integrals
+ * QA [5n], the FE and DE [2n] accrued since, exactly (1), or 0 when the
+ * backend cannot tell: the interval's own integrals, not the difference
+ * of two running totals. */
+typedef int (*vi_ledger_since_fn)(void *data, double ta, const double *QA,
+                                  double *I);
+void vi_ledger_defer(vi_ledger *L, vi_ledger_pending_fn fn,
+                     vi_ledger_since_fn since, void *data);
+void vi_ledger_settle(vi_ledger *L);
 
 #endif

@@ -604,4 +604,4 @@ static int ark_dense(vi_sim *s, double t)
 
 const vi_backend vi_backend_arkode = {"arkode", ark_start, ark_step, ark_dense,
                                       ark_stat, ark_destroy, NULL, NULL,
-                                      NULL, NULL};
+                                      NULL, NULL, NULL};

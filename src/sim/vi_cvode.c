@@ -544,4 +544,4 @@ static int cv_dense(vi_sim *s, double t)
 
 const vi_backend vi_backend_cvode = {"cvode", cv_start, cv_step, cv_dense,
                                      cv_stat, cv_destroy, NULL, cv_polish,
-                                     NULL, NULL};
+                                     NULL, NULL, NULL};

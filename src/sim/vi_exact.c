@@ -43,6 +43,7 @@
 
 #include "vi_exact_internal.h"
 #include "vi_grid.h"
+#include "vi_ledger_flight.h"
 #include "vi_quadmap.h"
 #include "vi_vec.h"
 
@@ -88,6 +89,8 @@ typedef struct ex_data {
   double *q, *qd, tq, *z, tz, *qs, *qds, *qn; /* qs, qds, qn: scratch */
   int q_ok, z_ok;
   vi_quadmap qm;                    /* the ledger quadrature's node maps */
+  vi_lflight lf;                    /* or the ledger in closed form */
+  int lf_on;
   int64_t evals;
 } ex_data;
 
@@ -99,11 +102,13 @@ static void ex_destroy(vi_sim *s)
     return;
   }
   if (d) {
+    vi_ledger_settle(s->led); /* the integrals this flight owes */
     for (int l = 0; l < EX_LEVELS; l++) free(d->lev[l]);
     free(d->act);
     free(d->lam);
     free(d->st);
     vi_quadmap_free(&d->qm);
+    vi_lflight_free(&d->lf);
   }
   free(d);
   s->be_data = NULL;
@@ -425,11 +430,14 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->act = malloc(sizeof(int) * (size_t)(na + 1));
   d->lam = malloc(sizeof(double) * nd);
   d->st = calloc((size_t)ns, sizeof *d->st);
-  if (!d->act || !d->lam || !d->st || vi_quadmap_init(&d->qm, n)) {
+  d->lf_on = s->led && vi_lflight_ok(m);
+  if (!d->act || !d->lam || !d->st || vi_quadmap_init(&d->qm, n) ||
+      (d->lf_on && vi_lflight_init(&d->lf, m))) {
     free(d->act);
     free(d->lam);
     free(d->st);
     vi_quadmap_free(&d->qm);
+    vi_lflight_free(&d->lf);
     free(d);
     vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
     return VI_ERR_NOMEM;
@@ -586,9 +594,23 @@ static double ex_wx_scale(const ex_data *d, const double *w, int modal)
   return sc;
 }
 
+/* The ledger's integrals at s->t, owed by the flight (vi_ledger_defer). */
+static void ex_owed(void *data, double *Q)
+{
+  ex_data *d = data;
+  vi_lflight_eval(&d->lf, d->s->t - d->lf.t0, Q);
+}
+
+static int ex_since(void *data, double ta, const double *QA, double *I)
+{
+  ex_data *d = data;
+  return vi_lflight_since(&d->lf, d->s->t - d->lf.t0, ta, QA, I);
+}
+
 static int ex_start(vi_sim *s)
 {
   const vi_model *m = s->m;
+  vi_ledger_settle(s->led); /* the last flight's integrals, to here */
   if (s->sticking) /* held stops: the constrained modes' flow */
     return vi_held_start(s);
   if (!m->proportional) return vi_backend_exact_scan.start(s);
@@ -632,6 +654,11 @@ static int ex_start(vi_sim *s)
     }
   }
   d->handover = jw >= 0;
+  if (d->lf_on) { /* FE, DE in closed form, computed where they are read */
+    vi_lflight_start(&d->lf, m, d->pA, d->pB, s->t, &p, d->w0, d->wd0,
+                     vi_ledger_integrals(s->led));
+    vi_ledger_defer(s->led, ex_owed, ex_since, d);
+  }
   if (d->handover)
     snprintf(s->handover_why, sizeof s->handover_why,
              "mode %d is forced %.3g times above its static response (near "
@@ -717,7 +744,9 @@ static int ex_start(vi_sim *s)
   return VI_OK;
 }
 
-/* Ledger integrals over [a, b] by 8-point Gauss-Legendre in np equal
+/* Where the flight's ledger has no closed form (d->lf_on = 0: a mode
+ * overdamped, critically damped, past damping ratio 1/2 or rigid): ledger
+ * integrals over [a, b] by 8-point Gauss-Legendre in np equal
  * panels of at most a quarter radian of the fastest rate: there the rule's
  * error is below round-off for the products of modes that make the
  * integrands.  Every mode is taken directly at a panel's midpoint and carried
@@ -784,7 +813,7 @@ static double ex_gap_at(ex_data *d, double t)
  * flight stops where they end (its time and gap there). */
 static int ex_ledger_to(vi_sim *s, ex_data *d, double t)
 {
-  if (!s->led || ex_quadrature(s, d, s->t, t, &t) != VI_CANCELLED)
+  if (!s->led || d->lf_on || ex_quadrature(s, d, s->t, t, &t) != VI_CANCELLED)
     return VI_OK;
   s->t = t;
   s->gap = ex_gap_at(d, t);
@@ -1026,6 +1055,17 @@ static int64_t ex_stat(const void *data, int which)
   return 0;
 }
 
+static int ex_modal(vi_sim *s, const double **q, const double **qd)
+{
+  ex_data *d = s->be_data;
+  if (s->sticking || !s->m->proportional || !d || d->kind != EX_KIND_FAST ||
+      !d->q_ok || d->tq != s->t)
+    return 1;
+  *q = d->q;
+  *qd = d->qd;
+  return 0;
+}
+
 const vi_backend vi_backend_exact = {"exact", ex_start, ex_step, ex_dense,
                                      ex_stat, ex_destroy, ex_sync, NULL,
-                                     ex_normal, ex_kick};
+                                     ex_normal, ex_kick, ex_modal};

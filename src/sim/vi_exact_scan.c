@@ -331,4 +331,4 @@ static int64_t sc_stat(const void *data, int which)
 
 const vi_backend vi_backend_exact_scan = {"exact", sc_start, sc_step,
                                           sc_dense, sc_stat, sc_destroy, NULL,
-                                          NULL, NULL, NULL};
+                                          NULL, NULL, NULL, NULL};

@@ -154,6 +154,7 @@ void vi_sim_backend_reset(vi_sim *s)
 static void use_backend(vi_sim *s, const vi_backend *be)
 {
   if (s->be == be) return;
+  vi_ledger_settle(s->led); /* integrals the leaving backend owes */
   void *pd = s->park_be == be ? s->park_data : NULL;
   s->park_be = s->be;
   s->park_data = s->be_data;
@@ -242,8 +243,14 @@ static void emit_sticks_due(vi_sim *s, double t)
  * before any jump; s->z is the state after it). */
 static void close_interval(vi_sim *s, int jump, double ie)
 {
-  if (s->led &&
-      vi_ledger_close(s->led, s->t, s->z, jump, ie, vi_sim_user_stopped(s))) {
+  const double *q, *qd;
+  if (!s->led) return;
+  /* a stale s->z: the backend's own modes are the state (after a kick) */
+  int modal = s->z_stale && s->be->modal && !s->be->modal(s, &q, &qd);
+  if (modal ? vi_ledger_close_modal(s->led, s->t, q, qd, jump, ie,
+                                    vi_sim_user_stopped(s))
+            : vi_ledger_close(s->led, s->t, s->z, jump, ie,
+                              vi_sim_user_stopped(s))) {
     s->stop = 1;
     s->event_stop = 0;
   }
@@ -283,8 +290,13 @@ static int on_contact_one(vi_sim *s, int k)
     push = vi_dot(n, w, s->vp);
   }
   if (s->led) {
-    if ((st = vi_sim_sync(s))) return st;
-    vi_ledger_pre_jump(s->led, s->z);
+    const double *q, *qd;
+    if (own && s->be->modal && !s->be->modal(s, &q, &qd)) {
+      vi_ledger_pre_jump_modal(s->led, q, qd);
+    } else {
+      if ((st = vi_sim_sync(s))) return st;
+      vi_ledger_pre_jump(s->led, s->z);
+    }
   }
   double dt_prev = s->t - s->t_last_contact;
   s->t_last_contact = s->t;
@@ -381,7 +393,10 @@ static int on_contact_one(vi_sim *s, int k)
    * M-orthogonal projection, the smallest change in kinetic-energy norm. */
   if (own && !stick) {
     s->be->kick(s, k, -g / wmw, -P);
-    if (s->led && (st = vi_sim_sync(s))) return st;
+    const double *q, *qd; /* the ledger's state after the jump */
+    if (s->led && !(s->be->modal && !s->be->modal(s, &q, &qd)) &&
+        (st = vi_sim_sync(s)))
+      return st;
   } else {
     g = vi_dot(n, w, s->x) - xs;
     for (int i = 0; i < n; i++) s->x[i] -= g * mw[i] / wmw;

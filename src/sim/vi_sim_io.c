@@ -107,6 +107,7 @@ int vi_sim_set_initial(vi_sim *s, double t0, const double *x0, const double *v0)
                      "%.17g", k + 1, g + xs, xs);
     }
   }
+  vi_ledger_settle(s->led); /* owed up to the old time */
   memcpy(s->z, s->zs, sizeof(double) * 2 * (size_t)n);
   s->z_stale = 0;
   s->t = t0;

@@ -52,6 +52,9 @@ typedef struct vi_backend {
    * start() continues from them. */
   int (*normal)(vi_sim *s, int k, double *g, double *gd, double *gdd);
   void (*kick)(vi_sim *s, int k, double a, double b);
+  /* The modal state q, q' [n] at s->t where the backend holds it (the
+   * ledger's energies need no physical state then); non-zero: not now. */
+  int (*modal)(vi_sim *s, const double **q, const double **qd);
 } vi_backend;
 
 extern const vi_backend vi_backend_cvode;

@@ -178,10 +178,58 @@ static void test_window_totals(void **state)
   vi_model_destroy(&m);
 }
 
+/* The exact method's closed-form ledger is computed when read: reading
+ * the totals mid-flight (between runs) changes nothing, a run in two
+ * pieces gives one run's totals, and a new initial state mid-run keeps
+ * the integrals owed up to the old time and closes from the new one. */
+static void test_deferred_reads(void **state)
+{
+  (void)state;
+  vi_model *m = vi_test_fig2();
+  double T = 2 * M_PI / 0.9, F1[2], D1[2], F2[2], D2[2], Fa[2], Da[2];
+  vi_sim *a = vi_test_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, NULL, NULL, NULL);
+  vi_sim *b = vi_test_sim(m, VI_METHOD_EXACT, 1e-10, 1e-12, NULL, NULL, NULL);
+  assert_int_equal(vi_sim_enable_ledger(a, 1), VI_OK);
+  assert_int_equal(vi_sim_enable_ledger(b, 1), VI_OK);
+  assert_int_equal(vi_sim_run(a, 20.3 * T), VI_OK);
+  assert_int_equal(vi_sim_run(b, 10.3 * T), VI_OK); /* mid-flight */
+  for (int k = 0; k < 3; k++) /* read, and read again */
+    assert_int_equal(vi_sim_ledger(b, NULL, F1, D1, NULL, NULL, NULL, NULL),
+                     VI_OK);
+  assert_int_equal(vi_sim_run(b, 20.3 * T), VI_OK);
+  assert_int_equal(vi_sim_ledger(a, NULL, Fa, Da, NULL, NULL, NULL, NULL),
+                   VI_OK);
+  assert_int_equal(vi_sim_ledger(b, NULL, F2, D2, NULL, NULL, NULL, NULL),
+                   VI_OK);
+  for (int j = 0; j < 2; j++) {
+    /* the same motion (the grid restarts at 10.3 T: impact times agree to
+     * the root's tolerance), the same integrals */
+    assert_close(F2[j], Fa[j], 1e-9 * fabs(Fa[j]));
+    assert_close(D2[j], Da[j], 1e-9 * fabs(Da[j]));
+    assert_true(F2[j] != F1[j] && D2[j] > D1[j]);
+  }
+  assert_true(vi_sim_ledger_max_residual(b) <= 1e-12);
+  /* a new state at 20.3 T: FE, DE so far are kept, and go on from there */
+  const double x0[2] = {0.05, -0.02}, v0[2] = {0.3, 0.1};
+  assert_int_equal(vi_sim_set_initial(b, 20.3 * T, x0, v0), VI_OK);
+  assert_int_equal(vi_sim_ledger(b, NULL, F1, D1, NULL, NULL, NULL, NULL),
+                   VI_OK);
+  for (int j = 0; j < 2; j++) {
+    assert_true(F1[j] == F2[j]);
+    assert_true(D1[j] == D2[j]);
+  }
+  assert_int_equal(vi_sim_run(b, 30.3 * T), VI_OK);
+  assert_true(vi_sim_ledger_max_residual(b) <= 1e-12);
+  vi_sim_destroy(&a);
+  vi_sim_destroy(&b);
+  vi_model_destroy(&m);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_fig2_closure),
+      cmocka_unit_test(test_deferred_reads),
       cmocka_unit_test(test_nonproportional_closure),
       cmocka_unit_test(test_conservative_run),
       cmocka_unit_test(test_sticking_ledger),

@@ -41,10 +41,14 @@
  *    a quarter radian of the fast one, hq = (pi/4) / 1e6: 2e6 panels in one
  *    grid step.  Held (a preload 0.5 against x_s = 0.1, reaction 0.4, no
  *    release) and in free flight (the slow mass at rest, 0.1 from its
- *    stop), cancelled at the second poll: the run returns VI_CANCELLED
- *    after the quadrature's 64th panel, t in (63 hq, 64 hq] (a grid step
- *    later before: t = 1 held, 1.57 in flight), and the ledger, taken to
- *    there, closes when the run goes on.
+ *    stop) with the fast mode overdamped (d = 3e6, hq = (pi/4) / 3e6; a
+ *    mode past damping ratio 1/2 has no closed-form ledger), cancelled at
+ *    the second poll: the run returns VI_CANCELLED after the quadrature's
+ *    64th panel, t in (63 hq, 64 hq] (a grid step later before: t = 1
+ *    held, 1.57 in flight), and the ledger, taken to there, closes when
+ *    the run goes on.  Undamped, the free flight's ledger is in closed
+ *    form (vi_ledger_flight.h), with no panels to poll between: cancelled
+ *    at the first poll between grid steps, t <= 1.57.
  * h. Identification (vi_identify_set_cancel) of r on that chain, from a
  *    recording of its settled motion: a whole fit takes C polls; cancelled
  *    at poll C / 2 (inside the least-squares iterations) it returns
@@ -219,14 +223,21 @@ static int on_monitor(const vi_progress *pr, void *user)
   return 0;
 }
 
-/* i. */
+/* i.  Held, and a free flight whose ledger is integrated by quadrature
+ * (an overdamped stiff mode, d = 3e6: no closed form), poll inside the
+ * quadrature; a free flight whose ledger has its closed form (undamped)
+ * has no quadrature and polls at the grid's first step. */
 static void test_quadrature(void **state)
 {
   (void)state;
-  const double M[4] = {1, 0, 0, 1}, K[4] = {1e12, 0, 0, 1}, C[4] = {0};
-  const double w[2] = {0, 1}, hq = 0.7853981633974483 / 1e6;
-  for (int held = 1; held >= 0; held--) {
+  const double M[4] = {1, 0, 0, 1}, K[4] = {1e12, 0, 0, 1};
+  const double w[2] = {0, 1};
+  for (int kase = 0; kase < 3; kase++) {
+    int held = kase == 0, closed = kase == 2;
     const double f0[2] = {0, held ? 0.5 : 0.0};
+    const double C[4] = {kase == 1 ? 3e6 : 0.0, 0, 0, 0};
+    /* a quarter radian of the fastest rate: sqrt(K), or the damping */
+    double hq = 0.7853981633974483 / (kase == 1 ? 3e6 : 1e6);
     vi_model *m = NULL;
     assert_int_equal(vi_model_create(2, &m), VI_OK);
     assert_int_equal(vi_model_set_mass(m, M, 2), VI_OK);
@@ -245,14 +256,18 @@ static void test_quadrature(void **state)
     double t, x[2], v[2];
     assert_int_equal(vi_sim_state(s, &t, x, v), VI_OK);
     print_message("  %s: returned %s at t = %.9g = %.6g hq, poll %lld\n",
-                  held ? "held" : "free flight", vi_strerror(st), t, t / hq,
-                  (long long)p.calls);
+                  held ? "held" : closed ? "free flight, closed form"
+                                         : "free flight, quadrature",
+                  vi_strerror(st), t, t / hq, (long long)p.calls);
     st_check(st == VI_CANCELLED);
-    st_check(t > 63.0 * hq && t <= 64.0 * hq * (1.0 + 1e-12));
+    if (closed) /* the grid's step: a quarter period of the slow mode */
+      st_check(t > 0.0 && t <= 1.5707963267948966 * (1.0 + 1e-12));
+    else
+      st_check(t > 63.0 * hq && t <= 64.0 * hq * (1.0 + 1e-12));
     st_check(vi_sim_stat(s, VI_STAT_STICKS) == held);
     /* on from there: the integrals over the cut and the rest close */
     p.at = 0;
-    st_check(vi_sim_run(s, 0.01) == VI_OK);
+    st_check(vi_sim_run(s, closed ? t + 1.0 : 0.01) == VI_OK);
     st_check(vi_sim_ledger_max_residual(s) <= 1e-9);
     vi_sim_destroy(&s);
     vi_model_destroy(&m);

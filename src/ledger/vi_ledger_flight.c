@@ -1,0 +1,191 @@
+/* vi_ledger_flight.c - the ledger's FE and DE over a free flight in closed
+ * form (vi_ledger_flight.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_forcing.h"
+#include "vi_internal.h"
+#include "vi_ledger_flight.h"
+
+typedef struct cx {
+  double r, i;
+} cx;
+
+static inline cx cmul(cx a, cx b)
+{
+  return (cx){a.r * b.r - a.i * b.i, a.r * b.i + a.i * b.r};
+}
+
+static inline cx conj_(cx a) { return (cx){a.r, -a.i}; }
+
+/* int_0^tau e^{z s} ds, z = x + i y with x <= 0, from e^{x tau} - 1 = em,
+ * e^{x tau} = ea and sh, ch = sin, cos(y tau / 2):
+ *   e^{z tau} - 1 = em cos(y tau) - 2 sh^2 + i ea sin(y tau),
+ * whose real part adds two terms of one sign where cos(y tau) >= 0 (no
+ * cancellation as z tau -> 0).  Below |z tau| = 1e-5 the series, whose
+ * fourth term is under 1e-22 of the first (and |z|^2 cannot underflow). */
+static cx eint(double x, double y, double tau, double em, double ea, double sh,
+               double ch)
+{
+  double zr = x * tau, zi = y * tau;
+  if (fabs(zr) + fabs(zi) < 1e-5) {
+    cx z = {zr, zi}, z2 = cmul(z, z), z3 = cmul(z2, z);
+    return (cx){tau * (1.0 + zr / 2.0 + z2.r / 6.0 + z3.r / 24.0),
+                tau * (zi / 2.0 + z2.i / 6.0 + z3.i / 24.0)};
+  }
+  double nr = em * ((ch - sh) * (ch + sh)) - 2.0 * sh * sh;
+  double ni = ea * (2.0 * sh * ch);
+  double q = 1.0 / (x * x + y * y);
+  return (cx){(nr * x + ni * y) * q, (ni * x - nr * y) * q};
+}
+
+/* e^{x tau} - 1 and e^{x tau}, x <= 0, each to its relative accuracy. */
+static void expo(double x, double tau, double *em, double *ea)
+{
+  *em = expm1(x * tau);
+  *ea = *em >= -0.5 ? 1.0 + *em : exp(x * tau);
+}
+
+int vi_lflight_ok(const vi_model *m)
+{
+  if (!m->proportional) return 0;
+  for (int j = 0; j < m->n; j++) {
+    double lam = m->lambda[j], d = m->D[j + (size_t)j * (size_t)m->n];
+    if (!(lam > 0.0) || !(d >= 0.0) || !(d * d <= lam) || !isfinite(lam))
+      return 0;
+  }
+  return 1;
+}
+
+int vi_lflight_init(vi_lflight *f, const vi_model *m)
+{
+  size_t n = (size_t)m->n;
+  f->n = m->n;
+  f->md = malloc(sizeof *f->md * (n ? n : 1));
+  f->QS = malloc(sizeof(double) * 4 * (n ? n : 1));
+  f->I = f->QS ? f->QS + 2 * (n ? n : 1) : NULL;
+  if (!f->md || !f->QS) {
+    vi_lflight_free(f);
+    return VI_ERR_NOMEM;
+  }
+  return VI_OK;
+}
+
+void vi_lflight_free(vi_lflight *f)
+{
+  free(f->md);
+  free(f->QS);
+  f->md = NULL;
+  f->QS = NULL;
+  f->I = NULL;
+}
+
+void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
+                      const double *pB, double t0, const vi_phase *p,
+                      const double *w, const double *wd, const double *Q)
+{
+  int n = f->n;
+  const double *Fa, *Fb, *F0;
+  vi_forcing_vectors(m, VI_FORCING_MODAL, &Fa, &Fb, &F0);
+  double W = m->omega_f;
+  f->W = W;
+  f->t0 = t0;
+  f->tau_done = NAN;
+  memcpy(f->QS, Q, sizeof(double) * 2 * (size_t)n);
+  for (int j = 0; j < n; j++)
+    vi_lflight_mode_set(f->md + j, m->lambda[j],
+                        m->D[j + (size_t)j * (size_t)n], W, p->c, p->s, pA[j],
+                        pB[j], Fa[j], Fb[j], F0[j], w[j], wd[j]);
+}
+
+void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
+                         double c0, double s0, double pA, double pB,
+                         double Fa, double Fb, double F0, double w, double wd)
+{
+  e->d = d;
+  e->h = 0.5 * d;
+  e->mu = sqrt(lam - e->h * e->h);
+  e->F0 = F0;
+  /* H' = Re(i W (pA - i pB) e^{i W t}), F - F0 = Re((Fa - i Fb) e^{i W t}),
+   * e^{i W t} = e^{i W t0} e^{i W tau} */
+  cx P0 = {c0, s0};
+  cx A = cmul((cx){pA, -pB}, P0);
+  e->Ar = -W * A.i;
+  e->Ai = W * A.r;
+  cx P = cmul((cx){Fa, -Fb}, P0);
+  e->Pr = P.r;
+  e->Pi = P.i;
+  /* w' = e^{-h tau} (alpha cos + beta sin)(mu tau): alpha = w'(0),
+   * w''(0) = F0 - d w' - lambda w = -h alpha + mu beta */
+  double al = wd, f0 = F0 - lam * w;
+  e->Gr = al;
+  e->Gi = -(f0 - e->h * al) / e->mu;
+}
+
+/* f->I: FE, DE over [t0, t0 + tau] (once per tau). */
+static void integrals(vi_lflight *f, double tau)
+{
+  if (tau == f->tau_done) return;
+  f->tau_done = tau;
+  int n = f->n;
+  double W = f->W, sw = sin(0.5 * W * tau), cw = cos(0.5 * W * tau);
+  double s2 = 2.0 * sw * cw, c2 = (cw - sw) * (cw + sw);
+  cx EW = eint(0.0, W, tau, 0.0, 1.0, sw, cw);    /* e^{i W s} */
+  cx E2W = eint(0.0, 2.0 * W, tau, 0.0, 1.0, s2, c2); /* e^{2 i W s} */
+  double *FE = f->I, *DE = f->I + n;
+  for (int j = 0; j < n; j++) {
+    const vi_lflight_mode *e = f->md + j;
+    double h = e->h, mu = e->mu, em, ea;
+    expo(-h, tau, &em, &ea);
+    /* e^{-2 h tau} - 1 = em (2 + em): no cancellation, em in (-1, 0] */
+    double em2 = em * (2.0 + em), ea2 = ea * ea;
+    double sm = sin(0.5 * mu * tau), cm = cos(0.5 * mu * tau), sp, cp, sn, cn;
+    /* the half angles of (mu +- W) tau by the addition theorem, to a few
+     * ulp of 1; directly where one is small and needs its relative
+     * accuracy (mu near W over a short time) */
+    if (fabs((mu - W) * tau) >= 0.5) {
+      sp = sm * cw + cm * sw;
+      cp = cm * cw - sm * sw;
+      sn = sm * cw - cm * sw;
+      cn = cm * cw + sm * sw;
+    } else {
+      sp = sin(0.5 * (mu + W) * tau);
+      cp = cos(0.5 * (mu + W) * tau);
+      sn = sin(0.5 * (mu - W) * tau);
+      cn = cos(0.5 * (mu - W) * tau);
+    }
+    cx Ek = eint(-h, mu, tau, em, ea, sm, cm);              /* kappa */
+    cx Ekp = eint(-h, mu + W, tau, em, ea, sp, cp);         /* kappa + iW */
+    cx Ekm = eint(-h, mu - W, tau, em, ea, sn, cn);         /* kappa - iW */
+    cx E2k = eint(-2.0 * h, 2.0 * mu, tau, em2, ea2, 2.0 * sm * cm,
+                  (cm - sm) * (cm + sm));                   /* 2 kappa */
+    cx Eh = eint(-2.0 * h, 0.0, tau, em2, ea2, 0.0, 1.0);   /* -2h */
+    cx A = {e->Ar, e->Ai}, G = {e->Gr, e->Gi}, P = {e->Pr, e->Pi};
+    /* Re(X) Re(Y) = (Re(X Y) + Re(X conj Y)) / 2 */
+    double fe = 0.5 * cmul(cmul(A, P), E2W).r + 0.5 * cmul(A, conj_(P)).r * tau +
+                e->F0 * cmul(A, EW).r + 0.5 * cmul(cmul(G, P), Ekp).r +
+                0.5 * cmul(cmul(G, conj_(P)), Ekm).r + e->F0 * cmul(G, Ek).r;
+    double q2 = 0.5 * cmul(cmul(A, A), E2W).r + 0.5 * (A.r * A.r + A.i * A.i) * tau +
+                cmul(cmul(A, G), Ekp).r + cmul(cmul(A, conj_(G)), conj_(Ekm)).r +
+                0.5 * cmul(cmul(G, G), E2k).r + 0.5 * (G.r * G.r + G.i * G.i) * Eh.r;
+    FE[j] = fe;
+    DE[j] = e->d * q2;
+  }
+}
+
+void vi_lflight_eval(vi_lflight *f, double tau, double *Q)
+{
+  integrals(f, tau);
+  for (int k = 0; k < 2 * f->n; k++) Q[k] = f->QS[k] + f->I[k];
+}
+
+int vi_lflight_since(vi_lflight *f, double tau, double ta, const double *QA,
+                     double *I)
+{
+  size_t b = sizeof(double) * 2 * (size_t)f->n;
+  if (ta != f->t0 || memcmp(QA, f->QS, b) != 0) return 0;
+  integrals(f, tau);
+  memcpy(I, f->I, b);
+  return 1;
+}
