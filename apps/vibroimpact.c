@@ -53,6 +53,14 @@ static void on_signal(int sig)
     if (part_a[0]) unlink(part_a);
     if (part_b[0]) unlink(part_b);
   }
+  /* said, not silent: write(2) is async-signal-safe, printf is not */
+  static const char m_int[] = "vibroimpact: interrupted (SIGINT): "
+                              "stopped, no file left behind\n";
+  static const char m_term[] = "vibroimpact: interrupted (SIGTERM): "
+                               "stopped, no file left behind\n";
+  ssize_t w = sig == SIGTERM ? write(STDERR_FILENO, m_term, sizeof m_term - 1)
+                             : write(STDERR_FILENO, m_int, sizeof m_int - 1);
+  (void)w;
   _exit(128 + sig);
 }
 

@@ -904,8 +904,10 @@ static void test_interrupted_studies(void **state)
   const char *orb[] = {"--continue", "forcing.omega", "--to", "1.5", "--steps",
                        "1000000", "--json", NULL};
   cmd_case orbits = {"orbits", {NULL}, 0};
-  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGTERM), 143, NULL);
-  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGINT), 130, NULL);
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGTERM), 143,
+         "interrupted (SIGTERM): stopped, no file left behind");
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGINT), 130,
+         "interrupted (SIGINT): stopped, no file left behind");
 }
 
 /* An interrupted truncation study: the rows done, in a valid file marked
