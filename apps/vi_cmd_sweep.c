@@ -467,7 +467,12 @@ int vi_cmd_sweep_main(int argc, char **argv)
   if (rc || interrupted) {
     free(a.sets);
     free(text);
-    if (interrupted) return 128 + (int)interrupted; /* nothing written yet */
+    if (interrupted) { /* nothing written yet: said so */
+      fprintf(stderr, "vibroimpact: %s: interrupted (%s) before the first point; no file "
+              "written\n", a.basins ? "basins" : "sweep",
+              interrupted == SIGTERM ? "SIGTERM" : "SIGINT");
+      return 128 + (int)interrupted;
+    }
     if (rc < 0 && (fflush(stdout) != 0 || ferror(stdout))) { /* --help lost */
       fprintf(stderr, "vibroimpact: %s: cannot write the standard output: "
               "%s\n", a.basins ? "basins" : "sweep", strerror(errno));
