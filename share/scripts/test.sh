@@ -18,7 +18,9 @@
 #    cheap checks (curves_runs, tests/CMakeLists.txt).
 #  - The sanitized build is compiled at -O1, the level AddressSanitizer's
 #    documentation advises for speed (at -O0 its slowest tests took about
-#    ten times as long).
+#    ten times as long), with -g1: the line tables its reports' file:line
+#    need, without the variables' debug information nobody reads here
+#    (14 % less compile time: vi_sim.c 2.20 -> 1.88 CPU-s).
 #  - It compiles while the Release tests run, and its tests follow; the
 #    Python package's tests run beside them (their output at the end).
 # About 920 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
@@ -32,8 +34,8 @@ echo "== configure"
 mkdir -p "$root/build"
 # the two configurations side by side (cmake's checks use one core each)
 cmake -S "$root" -B "$asan" -DCMAKE_BUILD_TYPE=Debug -DVI_WERROR=ON -DVI_SANITIZE=ON \
-  -DCMAKE_C_FLAGS_DEBUG="-g -O1" \
-  -DCMAKE_Fortran_FLAGS_DEBUG="-g -O1" >"$root/build/asan-configure.log" 2>&1 &
+  -DCMAKE_C_FLAGS_DEBUG="-g1 -O1" \
+  -DCMAKE_Fortran_FLAGS_DEBUG="-g1 -O1" >"$root/build/asan-configure.log" 2>&1 &
 configurer=$!
 cmake -S "$root" -B "$rel" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON >/dev/null
 if ! wait "$configurer"; then
