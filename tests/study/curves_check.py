@@ -41,7 +41,7 @@ Checks (tolerances from the issue):
      a point rounded to a double gives |mu - 1| ~ 1e-7).
   10. a Neimark-Sacker curve of P(2,2) orbits (c = 0.02, r = 0.8, in
      (Omega, x_s)), a loop from and back to a 1:2 point of the P(2,2)
-     orbit: at every 12th point the closed-form P(2,2) orbit (7's, the
+     orbit: at every 24th point the closed-form P(2,2) orbit (7's, the
      damping changed) is a true P(2,2) (t_1 - t_0 away from T: not the
      P(1,1) orbit twice), admissible (its gap between impacts, sampled,
      below the stop), with a complex pair of modulus 1 to 1e-7;
@@ -676,7 +676,7 @@ def check_p22_ns():
     worst, seed, dtmin, gap = 0, None, mp.inf, -mp.inf
     # the ends are the 1:2 point (a double -1, the pair turning real: at
     # the rounded point it is -1 +- 5e-8), the interior points checked
-    for W, xs in pts[1:-1:12] + [pts[-2]]:
+    for W, xs in pts[1:-1:24] + [pts[-2]]:
         got = p22_ns_pair(mp.mpf(W), r, mp.mpf(xs), seed)
         if got is None or abs(mp.im(got[2][0])) < 1e-9:
             worst = mp.inf
@@ -690,7 +690,7 @@ def check_p22_ns():
     ok = (worst < 1e-7 and dtmin > 1e-3 and gap < 0 and len(pts) > 100 and js["orbit"] == [2, 2]
           and len(ends) >= 2 and max(abs(a - b) for a, b in zip(pts[0], pts[-1])) < 1e-9)
     print("%s P(2,2) ns curve (c = 0.02, r = 0.8): %d points, a loop from and back to the 1:2 point "
-          "(%.10f, %.10f); worst ||mu| - 1| of the pair %.2e (every 12th point), t_1 - t_0 at "
+          "(%.10f, %.10f); worst ||mu| - 1| of the pair %.2e (every 24th point), t_1 - t_0 at "
           "least %.3f T from T, largest gap to the stop %.3g" % (
               "ok  " if ok else "FAIL", len(pts), pts[0][0], pts[0][1], worst, dtmin, gap))
     C = mp.mpf('0.1') * E
