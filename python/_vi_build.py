@@ -108,6 +108,7 @@ int vi_scene_create_model(const vi_scene *sc, vi_model **out, vi_diag *diag);
 int vi_scene_create_fe(const vi_scene *sc, int modes, int keep, vi_fe **out,
                        vi_diag *diag);
 int vi_scene_check_memory(const vi_scene *sc, double max_bytes, vi_diag *diag);
+double vi_scene_memory_available(void);
 int vi_scene_configure_sim(const vi_scene *sc, vi_sim *sim, vi_diag *diag);
 const char *vi_scene_name(const vi_scene *sc);
 const char *vi_scene_text(const vi_scene *sc);

@@ -198,3 +198,25 @@ def test_hostile_inputs_raise_errors():
         p.returncode, tail, p.stderr[-3000:])
     assert "ALL" in p.stdout and "CASES RAISED" in p.stdout
     print(p.stdout.splitlines()[-1])
+
+
+def test_address_space_limit_is_the_budget():
+    """Under `ulimit -v` (RLIMIT_AS, 2 GiB) a dense 3500-mass chain (2.9 GB)
+    is refused before allocating, the budget being what the limit leaves
+    (vi_scene_memory_available), not the machine's free memory, which may
+    well hold it.  In a child interpreter: the limit is the process's."""
+    code = textwrap.dedent('''
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+        import vibroimpact as vi
+        left = vi._lib.vi_scene_memory_available()
+        assert 0 < left < 2 << 30, left
+        try:
+            vi.Model.chain(3500, m=1, k=1, c=0.1, stops=[{"mass": 1, "xs": 0.1, "r": 0.7}],
+                           forcing={"omega": 0.9})
+        except vi.Error as e:
+            assert "are available" in str(e), str(e)
+            print("REFUSED", e)
+    ''')
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0 and "REFUSED" in p.stdout, (p.returncode, p.stdout, p.stderr[-2000:])

@@ -721,19 +721,13 @@ class Model:
 
 
 def _check_memory(n: int, kd: int) -> None:
-    """Refuse, before allocating, a model the machine's free memory cannot
-    hold (as the scene reader does with vi_scene_check_memory)."""
+    """Refuse, before allocating, a model this process cannot hold: the
+    machine's free memory capped by the address-space limit
+    (vi_scene_memory_available, the scene reader's budget)."""
     b = ffi.new("vi_int64 *")
     st = lib.vi_model_memory_estimate(n, kd, 1, 3, 0, b)
     need = float(b[0]) if st == 0 else math.inf
-    avail = math.inf
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    avail = float(line.split()[1]) * 1024
-    except OSError:
-        pass
+    avail = lib.vi_scene_memory_available() or math.inf  # 0: not known
     if need > avail:
         raise Error("a %s model of %d coordinates needs %.3g bytes, %.3g are available%s"
                     % ("band" if kd >= 0 else "dense", n, need, avail,
