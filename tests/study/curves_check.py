@@ -219,12 +219,12 @@ def pnm_multipliers(Om, r, ts, n, z, Ph):
     return mp.eig(Mo, left=False, right=False)
 
 
-def p22_float(Om, r, xs):
-    """The P(2,2) orbit's impact conditions and multipliers in floats
-    (numpy), for the seeds: (orbit(t0, t1), mu(t0, t1), newton(t), T)."""
+def float_system(Om, r):
+    """The chain (damping C) at Omega in floats (numpy): W, T, the
+    first-order matrix Af and its eigen-decomposition (ev, V, Vi), the
+    harmonic response Xf and its state zpf(t), the impact law Rf."""
     import numpy as np
     W = float(Om)
-    T = 2 * np.pi / W
     Kf = np.array([[2.0, -1], [-1, 1]])
     Af = np.zeros((4, 4))
     Af[0, 2] = Af[1, 3] = 1
@@ -232,12 +232,19 @@ def p22_float(Om, r, xs):
     Cf = np.array(C.tolist(), dtype=float)
     Af[2:, 2:] = -Cf
     ev, V = np.linalg.eig(Af)
-    Vi = np.linalg.inv(V)
-    phi = lambda tau: ((V * np.exp(ev * tau)) @ Vi).real
     Xf = np.linalg.solve(Kf - W ** 2 * np.eye(2) + 1j * W * Cf, [0.5, 0])
     zpf = lambda t: np.concatenate([(Xf * np.exp(1j * W * t)).real,
                                     (1j * W * Xf * np.exp(1j * W * t)).real])
-    Rf = np.diag([1, 1, 1, -float(r)])
+    return (W, 2 * np.pi / W, Af, ev, V, np.linalg.inv(V), Xf, zpf,
+            np.diag([1, 1, 1, -float(r)]))
+
+
+def p22_float(Om, r, xs):
+    """The P(2,2) orbit's impact conditions and multipliers in floats
+    (numpy), for the seeds: (orbit(t0, t1), mu(t0, t1), newton(t), T)."""
+    import numpy as np
+    W, T, Af, ev, V, Vi, Xf, zpf, Rf = float_system(Om, r)
+    phi = lambda tau: ((V * np.exp(ev * tau)) @ Vi).real
     g = np.array([0, 1.0, 0, 0])
 
     def orbit(t0, t1):
@@ -613,19 +620,7 @@ def p22_gap(Om, r, xs, ts):
     import numpy as np
     orbit, _, _, T = p22_float(Om, r, xs)
     _, z, _ = orbit(*[float(u) for u in ts])
-    W = float(Om)
-    Kf = np.array([[2.0, -1], [-1, 1]])
-    Af = np.zeros((4, 4))
-    Af[0, 2] = Af[1, 3] = 1
-    Af[2:, :2] = -Kf
-    Cf = np.array(C.tolist(), dtype=float)
-    Af[2:, 2:] = -Cf
-    ev, V = np.linalg.eig(Af)
-    Vi = np.linalg.inv(V)
-    Xf = np.linalg.solve(Kf - W ** 2 * np.eye(2) + 1j * W * Cf, [0.5, 0])
-    zpf = lambda t: np.concatenate([(Xf * np.exp(1j * W * t)).real,
-                                    (1j * W * Xf * np.exp(1j * W * t)).real])
-    Rf = np.diag([1, 1, 1, -float(r)])
+    W, T, _, ev, V, Vi, _, zpf, Rf = float_system(Om, r)
     tn = [float(ts[0]), float(ts[1]), float(ts[0]) + 2 * T]
     worst = -np.inf
     for j in range(2):
@@ -706,18 +701,7 @@ def p22_gap_max(Om, r, xs, ts):
     from scipy.optimize import brentq
     orbit, _, _, T = p22_float(Om, r, xs)
     _, z, _ = orbit(*[float(u) for u in ts])
-    W = float(Om)
-    Kf = np.array([[2.0, -1], [-1, 1]])
-    Af = np.zeros((4, 4))
-    Af[0, 2] = Af[1, 3] = 1
-    Af[2:, :2] = -Kf
-    Af[2:, 2:] = -np.array(C.tolist(), dtype=float)
-    ev, V = np.linalg.eig(Af)
-    Vi = np.linalg.inv(V)
-    Xf = np.linalg.solve(Kf - W ** 2 * np.eye(2) + 1j * W * -Af[2:, 2:], [0.5, 0])
-    zpf = lambda t: np.concatenate([(Xf * np.exp(1j * W * t)).real,
-                                    (1j * W * Xf * np.exp(1j * W * t)).real])
-    Rf = np.diag([1, 1, 1, -float(r)])
+    W, T, _, ev, V, Vi, Xf, zpf, Rf = float_system(Om, r)
     tn = [float(ts[0]), float(ts[1]), float(ts[0]) + 2 * T]
     worst = -np.inf
     for j in range(2):

@@ -130,20 +130,13 @@ def flights(Om, xs, t0, t1, n=4000):
     ends, where it is 0, left out) and the number of interior maxima, in
     floats (e^{A s} from A's eigenvectors, as curves_check.p22_gap)."""
     import numpy as np
-    W, r = float(Om), float(R)
-    _, z, _ = cc.p22_float(W, r, float(xs))[0](float(t0), float(t1))
-    Kf = np.array([[2.0, -1], [-1, 1]])
-    A = np.zeros((4, 4))
-    A[0, 2] = A[1, 3] = 1
-    A[2:, :2], A[2:, 2:] = -Kf, -float(CDAMP) * Kf
-    ev, V = np.linalg.eig(A)
-    Vi = np.linalg.inv(V)
-    X = np.linalg.solve(Kf - W**2 * np.eye(2) + 1j * W * float(CDAMP) * Kf, [0.5, 0])
-    Z = np.concatenate([X, 1j * W * X])
-    tn = [float(t0), float(t1), float(t0) + 4 * np.pi / W]
+    r = float(R)
+    _, z, _ = cc.p22_float(float(Om), r, float(xs))[0](float(t0), float(t1))
+    W, T, _, ev, V, Vi, X, zpf, Rf = cc.float_system(Om, r)  # cc.C: setup()'s damping
+    tn = [float(t0), float(t1), float(t0) + 2 * T]
     worst, nmax = -np.inf, 0
     for j in range(2):
-        z0 = np.diag([1, 1, 1, -r]) @ z[j] - np.real(Z * np.exp(1j * W * tn[j]))
+        z0 = Rf @ z[j] - zpf(tn[j])
         s = np.linspace(0, tn[j + 1] - tn[j], n + 2)[1:-1]
         x2 = (np.exp(np.outer(s, ev)) * (Vi @ z0)) @ V[1] + X[1] * np.exp(1j * W * (tn[j] + s))
         g = np.real(x2) - float(xs)
