@@ -25,8 +25,8 @@
 #define VI_CURVE_MAXI 32
 /* the test functions watched along a curve */
 enum { T_FOLD, T_PD, T_NS, T_GRAZE, T_VN, T_RES, NT };
-/* locate's other zeros: the kind's own condition, the fold's cusp test */
-enum { K_COND = -1, K_CUSP = -2 };
+/* locate's zero other than a test's: the fold's cusp test */
+enum { K_CUSP = -1 };
 
 typedef struct special {
   int type, located;
@@ -534,12 +534,14 @@ static int sys(vi_cont_curve *c, const double *Y, int withg, double *H, double *
       for (int i = 0; i < D && !st; i++) J[i + (size_t)(D + k) * ldj] = dF[i];
     }
   }
-  if (!st && withg) st = gfun(c, Y, H + D);
+  /* fold, pd: the state entries of g's row by the determinant lemma,
+   * whose factorisation also gives g itself (gfun's value, the same LU) */
+  int lem = withg && J && (c->kind == VI_CONT_CURVE_FOLD || c->kind == VI_CONT_CURVE_PD) &&
+            c->mi && !st && !lemma_prep(c, Y, c->kind == VI_CONT_CURVE_FOLD ? -1 : 1);
+  if (lem) H[D] = c->lm_vn * c->lm_det;
+  else if (!st && withg) st = gfun(c, Y, H + D);
   if (!st && withg && J) {
     double *Yq = c->Yq, gp = 0, gm = 0;
-    /* the state entries by the determinant lemma (fold, pd) */
-    int lem = (c->kind == VI_CONT_CURVE_FOLD || c->kind == VI_CONT_CURVE_PD) && c->mi &&
-              !lemma_prep(c, Y, c->kind == VI_CONT_CURVE_FOLD ? -1 : 1);
     memcpy(Yq, Y, sizeof(double) * (size_t)nu);
     for (int j = 0; j < nu && !st; j++) {
       double h = 1e-6 * c->S[j];
@@ -915,8 +917,7 @@ static int cusp_test(vi_cont_curve *c, const double *Y, const double *dir, doubl
 }
 
 /* Y on the solution set between Ya and Yb (withg: the curve) where the
- * test T[k] (or, k = K_COND, the kind's condition; k = K_CUSP, the cusp
- * test) vanishes: regula falsi
+ * test T[k] (or, k = K_CUSP, the cusp test) vanishes: regula falsi
  * (Illinois) on the chord, each point corrected on the border
  * perpendicular to it.  0 (Y found), or 1 (Y the interpolation). */
 static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double ta,
@@ -945,11 +946,9 @@ static int locate(vi_cont_curve *c, const double *Ya, const double *Yb, double t
     if (k >= 0) {
       if (tests(c, Y, Tq)) break;
       f = Tq[k] - off;
-    } else if (k == K_CUSP) {
+    } else {
       for (int j = 0; j < nu; j++) c->bord[j] = Yb[j] - Ya[j];
       if (cusp_test(c, Y, c->bord, &f)) break;
-    } else if (gfun(c, Y, &f)) {
-      break;
     }
     if (f == 0 || fabs(b - a) < 1e-14) return 0;
     if ((f < 0) == (fa < 0)) {
