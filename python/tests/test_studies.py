@@ -100,6 +100,47 @@ def test_curve_grazing_closed_form():
     assert pts[:, 0].max() > free_amplitude(0.618) * (1 - 1e-3)
 
 
+def test_curve_grazing_published_matrices():
+    """The non-impacting orbit's grazing curve on matrices another FE code
+    wrote (Harwell-Boeing bcsstk01: 48 dofs, 24 massless; a unit force on
+    its heaviest lumped mass, the stop there, 2 % modal damping) over
+    Omega 10..200, through 14 resonance peaks 0.2..3 % wide: the whole
+    range in order, every point on scipy's modal receptance of the
+    condensed pair to 1e-10.  (It jumped across a peak to the same x_s on
+    the far flank, then stalled on the next, before key2 was scaled by its
+    size.)"""
+    sp = pytest.importorskip("scipy.sparse")
+    sio = pytest.importorskip("scipy.io")
+    sl = pytest.importorskip("scipy.linalg")
+    data = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "data", "fe")
+    K = sio.mmread(os.path.join(data, "hb_bcsstk01_K.mtx")).toarray()
+    M = sio.mmread(os.path.join(data, "hb_bcsstk01_M.mtx")).toarray()
+    d = 24  # the heaviest lumped mass, 200
+    m = vi.Model.from_sparse(sp.csc_matrix(M), sp.csc_matrix(K),
+                             stops=[{"dof": d, "xs": 1e-4, "r": 0.7}],
+                             forcing={"omega": 30.0, "a": np.eye(48)[d]}, zeta=0.02)
+    c = vi.curve(m, "grazing", "stop.xs", 1e-12, "forcing.omega", 10.0, 200.0, orbit=(1, 0))
+    # the reference: the massless dofs condensed out, the pair's modes
+    mass = M.diagonal() > 0
+    Kc = K[np.ix_(mass, mass)] - K[np.ix_(mass, ~mass)] @ np.linalg.solve(
+        K[np.ix_(~mass, ~mass)], K[np.ix_(~mass, mass)])
+    w2, Phi = sl.eigh(Kc, M[np.ix_(mass, mass)])
+    w = np.sqrt(w2)
+    i = int(np.sum(mass[:d]))
+
+    def amp(W):
+        return abs(Phi[i] @ (Phi[i] / (w2 - W * W + 2j * 0.02 * w * W)))
+    pts = c["points"]
+    assert c["end"] == "end of range"
+    assert pts[0, 1] == 10.0 and pts[-1, 1] == 200.0 and np.all(np.diff(pts[:, 1]) > 0)
+    assert max(abs(x - amp(W)) / amp(W) for x, W in pts) < 1e-10
+    # every peak climbed: within 1 % of its height at the nearest points
+    for wj in w[(w > 10) & (w < 200)]:
+        near = abs(pts[:, 1] - wj) < 0.02 * wj
+        top = max(amp(W) for W in np.linspace(0.98 * wj, 1.02 * wj, 2001))
+        assert pts[near, 0].max() > 0.99 * top, wj
+
+
 def test_curve_cusp():
     """A cusp of a P(2,2) fold curve (Fig. 2's chain with c = 0.05), from
     the census's orbit: located at tests/study/cusp_check.py's 60-digit

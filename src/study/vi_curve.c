@@ -44,6 +44,7 @@ struct vi_cont_curve {
   int have_orbit, located, have_range, state, started;
   double from2, to2, dsmax, ds;
   int64_t npts, maxpts;
+  double far;          /* the farthest the curve has gone from Y0 (closure) */
   /* Y = (t, x, v, p, p2) [D + 2]; scales S; tangents; scratch */
   double *Y, *Yl, *Ys, *tau, *taul, *S, *Yt, *Yq, *Yr, *Yg, *Ye, *Y0, *bord, *bord2, *H;
   double *J, *B, *re, *im;
@@ -786,6 +787,13 @@ static void set_scales(vi_cont_curve *c)
   double p = fabs(c->Y[D]);
   c->S[D] = p > 0 ? p : 1;
   c->S[D + 1] = c->have_range ? fabs(c->to2 - c->from2) : 1;
+  /* P(1,0): the resonance peaks of lightly damped modes are hairpins of
+   * width zeta omega in key2 (the grazing curve x_s(Omega) of a published
+   * 48-dof model over Omega 10..200 at zeta = 0.02: 0.3 wide); scaled by
+   * a range much wider than key2's own size they are too tight to turn,
+   * so key2 is scaled by its size where that is smaller */
+  if (!c->mi && c->have_range && fabs(c->Y[D + 1]) > 0)
+    c->S[D + 1] = fmin(c->S[D + 1], fabs(c->Y[D + 1]));
   c->S[D + 2] = c->S[D];
 }
 
@@ -882,9 +890,17 @@ static int advance(vi_cont_curve *c, int withg)
     }
     double *tnew = c->tnew;
     int bad = newton(c, c->Yt, withg, bord, c->Ys) || tangent(c, c->Yt, withg, c->tau, tnew);
-    double cs = 0;
-    for (int j = 0; !bad && j < nu; j++) cs += tnew[j] * c->tau[j] / (c->S[j] * c->S[j]);
-    if (bad || cs < 0.9) {
+    /* the corrector moves on the border perpendicular to tau: a point
+     * farther than 2 ds from Y is another branch crossing that border
+     * (a grazing curve x_s(Omega) stepping over a resonance peak to the
+     * same x_s on its other flank), even where the tangents agree */
+    double cs = 0, ch = 0;
+    for (int j = 0; !bad && j < nu; j++) {
+      double e = (c->Yt[j] - c->Y[j]) / c->S[j];
+      cs += tnew[j] * c->tau[j] / (c->S[j] * c->S[j]);
+      if (!is_time(c, j)) ch += e * e;
+    }
+    if (bad || cs < 0.9 || sqrt(ch) > 2 * c->ds) {
       c->ds /= 2;
       continue;
     }
@@ -1252,6 +1268,7 @@ static int start_curve(vi_cont_curve *c)
   }
   double *Y0 = c->Y0;
   memcpy(Y0, c->Y, sizeof(double) * nu);
+  c->far = 0;
   c->ds = c->dsmax;
   if (c->mi) tests(c, c->Y, c->T);
   for (int64_t k = 0; k < c->maxpts; k++) {
@@ -1266,7 +1283,9 @@ static int start_curve(vi_cont_curve *c)
     double dist = 0;
     for (int j = 0; j < nu; j++)
       if (!is_time(c, j)) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
-    if (k > 3 && dist < 0.5 * c->dsmax) { /* closed: start where we began */
+    c->far = fmax(c->far, dist);
+    /* closed: back where it began, after going away (not a stall) */
+    if (k > 3 && c->far > 2 * c->dsmax && dist < 0.5 * c->dsmax) {
       memcpy(c->Y, Y0, sizeof(double) * nu);
       break;
     }
@@ -1281,6 +1300,7 @@ static int start_curve(vi_cont_curve *c)
   }
   memcpy(c->Ys, c->Y, sizeof(double) * nu);
   memcpy(Y0, c->Y, sizeof(double) * nu);
+  c->far = 0;
   c->ds = c->dsmax;
   if (c->mi) tests(c, c->Y, c->T);
   c->npts = 1;
@@ -1325,7 +1345,9 @@ int vi_cont_curve_iterate(vi_cont_curve *c)
   double dist = 0;
   for (int j = 0; j < nu; j++)
     if (!is_time(c, j)) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
-  if (!c->state && c->npts > 4 && dist < 0.5 * c->dsmax) c->state = VI_CONT_CURVE_CLOSES;
+  c->far = fmax(c->far, dist);
+  if (!c->state && c->npts > 4 && c->far > 2 * c->dsmax && dist < 0.5 * c->dsmax)
+    c->state = VI_CONT_CURVE_CLOSES;
   return VI_OK;
 }
 
