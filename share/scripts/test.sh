@@ -23,7 +23,7 @@
 #    (14 % less compile time: vi_sim.c 2.20 -> 1.88 CPU-s).
 #  - It compiles while the Release tests run, and its tests follow; the
 #    Python package's tests run beside them (their output at the end).
-# About 900 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
+# About 850-920 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$root/share/scripts/deps.sh"
