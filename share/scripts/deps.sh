@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install the Debian 12 packages vibroimpact needs, only those missing.
 set -euo pipefail
-pkgs=(cmake make gcc g++ gfortran binutils pkg-config libsundials-dev libgsl-dev
+pkgs=(cmake ninja-build make gcc g++ gfortran binutils pkg-config libsundials-dev libgsl-dev
       liblapacke-dev libcmocka-dev libhdf5-dev libyaml-dev
       libarpack2-dev libsuitesparse-dev
       python3-h5py python3-matplotlib doxygen xz-utils)

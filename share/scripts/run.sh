@@ -3,7 +3,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$root/share/scripts/deps.sh"
-cmake -S "$root" -B "$root/build/release" -DCMAKE_BUILD_TYPE=Release \
+"$root/share/scripts/configure.sh" "$root/build/release" "$root" -DCMAKE_BUILD_TYPE=Release \
       -DVI_BUILD_TESTS=OFF >/dev/null
 cmake --build "$root/build/release" -j"$(nproc)" >/dev/null
 exec "$root/build/release/vibroimpact" "$@"

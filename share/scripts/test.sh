@@ -33,11 +33,11 @@ quiet() { grep -Ev '^\[|^Consolidate|^Scanning|^Built target' || true; }
 echo "== configure"
 mkdir -p "$root/build"
 # the two configurations side by side (cmake's checks use one core each)
-cmake -S "$root" -B "$asan" -DCMAKE_BUILD_TYPE=Debug -DVI_WERROR=ON -DVI_SANITIZE=ON \
+"$root/share/scripts/configure.sh" "$asan" "$root" -DCMAKE_BUILD_TYPE=Debug -DVI_WERROR=ON -DVI_SANITIZE=ON \
   -DCMAKE_C_FLAGS_DEBUG="-g1 -O1" \
   -DCMAKE_Fortran_FLAGS_DEBUG="-g1 -O1" >"$root/build/asan-configure.log" 2>&1 &
 configurer=$!
-cmake -S "$root" -B "$rel" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON >/dev/null
+"$root/share/scripts/configure.sh" "$rel" "$root" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON >/dev/null
 if ! wait "$configurer"; then
   cat "$root/build/asan-configure.log"
   echo "the asan configuration failed"

@@ -127,6 +127,12 @@ double vi_chatter_tail(double u, double r, double p0, double p1, double p2,
       return -1.0;
     T += tau;
     k++;
+    /* bounces that do not shrink (r = 1 without damping) never add up: at
+     * the ratio q of this one the rest would take log(1e-17 u0 / u) / log q
+     * more; more than ten times the cap is no accumulation (this took a
+     * million flights to find out) */
+    double q = r * vret / u;
+    if (!(q < 1.0) || log(1e-17 * u0 / (r * vret)) / log(q) > 1e7) return -1.0;
     u = r * vret;
   }
   *count = k;

@@ -321,12 +321,16 @@ static void put_first(double *t, int ld, int c, const first *f,
 {
   t[(size_t)c * ld] = f->n;
   for (int j = 0; j < NHIT; j++) {
-    int have = j < f->n, cmp = have && ref && j < ref->n;
+    int have = j < f->n;
+    double dt = NAN, dv = NAN;
+    if (have && ref && j < ref->n) {
+      dt = f->t[j] - ref->t[j];
+      dv = (f->vn[j] - ref->vn[j]) / ref->vn[j];
+    }
     t[(size_t)(c + 1 + j) * ld] = have ? f->t[j] : NAN;
     t[(size_t)(c + 4 + j) * ld] = have ? f->vn[j] : NAN;
-    t[(size_t)(c + 7 + j) * ld] = cmp ? f->t[j] - ref->t[j] : NAN;
-    t[(size_t)(c + 10 + j) * ld] =
-        cmp ? (f->vn[j] - ref->vn[j]) / ref->vn[j] : NAN;
+    t[(size_t)(c + 7 + j) * ld] = dt;
+    t[(size_t)(c + 10 + j) * ld] = dv;
   }
   t[(size_t)(c + 13) * ld] = f->release;
 }

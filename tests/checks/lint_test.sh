@@ -103,11 +103,11 @@ fi
 
 # A clean file is remembered (like ccache): its key hashes the file, its
 # compile command (paths relative to the checkout), the headers its
-# compilation read (the build's depfile: the project's by content, the
-# system's by path, size and time), the tools' versions, .clang-tidy and
-# this script; an unchanged file is not analysed again, and a changed
-# header sends back only the files that include it.  Without a depfile
-# (a generator that keeps none) every header of the project counts.  Files
+# compilation read (make's depfile or Ninja's deps log: the project's by
+# content, the system's by path, size and time), the tools' versions,
+# .clang-tidy and this script; an unchanged file is not analysed again, and
+# a changed header sends back only the files that include it.  Without
+# either (another generator) every header of the project counts.  Files
 # with findings are never cached.  VI_LINT_CACHE=off turns it off;
 # VI_LINT_CACHE_DIR moves it (default ~/.cache/vibroimpact/lint).
 cache=""
@@ -129,14 +129,21 @@ header_digest() {
   dir=$(sed -n 's/.*"directory": "\(.*\)",$/\1/p' <<< "$entry")
   obj=$(sed -n 's/.* -o \([^ ]*\) .*/\1/p' <<< "$entry")
   dep=$dir/$obj.d
-  if [ -z "$obj" ] || [ ! -f "$dep" ]; then
+  local list
+  if [ -n "$obj" ] && [ -f "$dep" ]; then      # make keeps the depfile
+    list=$(sed 's/^[^:]*://; s/\\$//' "$dep" | tr ' ' '\n')
+  elif [ -n "$obj" ] && [ -f "$dir/build.ninja" ]; then  # ninja keeps its log
+    list=$(ninja -C "$dir" -t deps "$obj" 2>/dev/null | grep '^    ' | tr -d ' ' |
+           sed "s|^\([^/]\)|$dir/\1|")
+  fi
+  if ! grep -q '\.h$' <<< "${list:-}"; then
     echo "all $all_headers"
     return
   fi
   local h sys=() own=()
   while read -r h; do
     case $h in /usr/*) sys+=("$h") ;; *) own+=("$h") ;; esac
-  done < <(sed 's/^[^:]*://; s/\\$//' "$dep" | tr ' ' '\n' | grep '\.h$' | sort -u)
+  done < <(grep '\.h$' <<< "$list" | sort -u)
   { [ ${#sys[@]} -eq 0 ] || stat -c '%n %s %Y' "${sys[@]}"
     [ ${#own[@]} -eq 0 ] || sha256sum "${own[@]}" | sed "s|$build|BUILD|; s|$src|SRC|"
   } | sha256sum | cut -c1-64
@@ -160,9 +167,15 @@ lint_one() {
   clang-tidy -p "$build" --quiet --header-filter="$headers" --extra-arg=-Xclang \
     --extra-arg=-analyzer-config --extra-arg=-Xclang --extra-arg=max-nodes="$max_nodes" "$f" \
     > "$tmp/$i.tidy" 2> /dev/null
-  cppcheck --project="$db" --file-filter="$f" --enable=warning,performance,portability \
-    --inline-suppr --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
-    2> "$tmp/$i.cpp" > /dev/null
+  # the filter must be the path as the database spells it (absolute): a
+  # relative one matches nothing, and cppcheck then checks nothing, says so
+  # on stdout and exits 1 -- which is why its status is read
+  if ! cppcheck --project="$db" --file-filter="$src/$f" --enable=warning,performance,portability \
+       --inline-suppr --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
+       2> "$tmp/$i.cpp" > "$tmp/$i.cppout"; then
+    sed "s|^|$f: error: cppcheck did not check it: |" "$tmp/$i.cppout" >> "$tmp/$i.cpp"
+    grep -q . "$tmp/$i.cppout" || echo "$f: error: cppcheck failed" >> "$tmp/$i.cpp"
+  fi
   # VI_LINT_TIMES=FILE: seconds per file (wall), to find the slow ones
   [ -n "${VI_LINT_TIMES:-}" ] &&
     echo "$(( (${EPOCHREALTIME/[.,]/} - t0) / 1000 )) ms $f" >> "$VI_LINT_TIMES"
