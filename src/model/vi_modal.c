@@ -1,6 +1,7 @@
-/* vi_modal.c - generalised eigenproblem K psi = lambda M psi (LAPACK dsygvd),
- * modal damping, forcing and impact vector (MODEL.md section 3): the modes,
- * on which the exact flow (vi_flow.c) is built.  The products are BLAS-3
+/* vi_modal.c - generalised eigenproblem K psi = lambda M psi (LAPACK dsygvd,
+ * dsyevd where M is diagonal), modal damping, forcing and impact vector
+ * (MODEL.md section 3): the modes, on which the exact flow (vi_flow.c) is
+ * built.  The products are BLAS-3
  * (issue 21 item 5): the set-up costs a few dsygvd's, not n^3 dot products. */
 #include <float.h>
 #include <math.h>
@@ -68,19 +69,51 @@ static double rigidity(int n, const double *K, const double *z)
   return amax > 0.0 ? r : 0.0;
 }
 
+/* Whether M is diagonal with a positive diagonal (lumped masses, and what
+ * condensing massless dofs leaves of them). */
+static int lumped(int n, const double *M)
+{
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++)
+      if (i == j ? !(M[i + (size_t)j * n] > 0.0) : M[i + (size_t)j * n] != 0.0)
+        return 0;
+  return 1;
+}
+
+/* K z = lambda M z, itype 1 (Z^T M Z = I), eigenvalues ascending, Z into Kw
+ * (n x n); Mw: n x n workspace.  A diagonal M makes it the standard problem
+ * of S K S, S = M^-1/2, with Z = S Y: dsyevd alone, without the Cholesky
+ * congruence and back-substitution by which dsygvd spends two n^3 triangular
+ * products on a diagonal factor. */
+static lapack_int eigen(const vi_model *m, double *Kw, double *Mw)
+{
+  int n = m->n;
+  size_t nn = (size_t)n * n;
+  memcpy(Kw, m->K, sizeof(double) * nn);
+  if (!lumped(n, m->M)) {
+    memcpy(Mw, m->M, sizeof(double) * nn);
+    return LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', n, Kw, n, Mw, n,
+                          m->lambda);
+  }
+  for (int i = 0; i < n; i++) Mw[i] = 1.0 / sqrt(m->M[i + (size_t)i * n]);
+  for (int i = 0; i < n; i++) { /* S K S: column i, then row i, by S_ii */
+    cblas_dscal(n, Mw[i], Kw + (size_t)i * n, 1);
+    cblas_dscal(n, Mw[i], Kw + i, n);
+  }
+  lapack_int info = LAPACKE_dsyevd(LAPACK_COL_MAJOR, 'V', 'L', n, Kw, n, m->lambda);
+  for (int i = 0; i < n && info == 0; i++) cblas_dscal(n, Mw[i], Kw + i, n); /* Z = S Y */
+  return info;
+}
+
 int vi_modal_setup(vi_model *m, int c_zero)
 {
   int n = m->n;
   size_t nn = (size_t)n * n;
   double *Kw = m->D + nn, *Mw = Kw + nn; /* setup workspace blocks */
-  memcpy(Kw, m->K, sizeof(double) * nn);
-  memcpy(Mw, m->M, sizeof(double) * nn);
-  /* itype 1: K z = lambda M z with Z^T M Z = I, eigenvalues ascending */
-  lapack_int info = LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', n, Kw, n, Mw,
-                                   n, m->lambda);
+  lapack_int info = eigen(m, Kw, Mw);
   if (info != 0)
-    return vi_fail(m->errmsg, VI_ERR_LAPACK, "dsygvd failed (info %d)",
-                   (int)info);
+    return vi_fail(m->errmsg, VI_ERR_LAPACK, "%s failed (info %d)",
+                   lumped(n, m->M) ? "dsyevd" : "dsygvd", (int)info);
   for (int j = 0; j < n; j++)
     if (!isfinite(m->lambda[j]))
       return vi_fail(m->errmsg, VI_ERR_NONFINITE, "the modal analysis gives "
@@ -119,9 +152,16 @@ int vi_modal_setup(vi_model *m, int c_zero)
     }
     m->omega[j] = sqrt(m->lambda[j]);
   }
-  /* PsiTM = Psi^T M (x -> q) */
-  cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, n, n, n, 1.0, m->Psi,
-              n, m->M, n, 0.0, m->PsiTM, n);
+  /* PsiTM = Psi^T M (x -> q); a diagonal M scales Psi^T's columns */
+  if (lumped(n, m->M)) {
+    for (int i = 0; i < n; i++) {
+      cblas_dcopy(n, m->Psi + i, n, m->PsiTM + (size_t)i * n, 1);
+      cblas_dscal(n, m->M[i + (size_t)i * n], m->PsiTM + (size_t)i * n, 1);
+    }
+  } else {
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, n, n, n, 1.0, m->Psi,
+                n, m->M, n, 0.0, m->PsiTM, n);
+  }
   /* D = Psi^T (C Psi), made exactly symmetric */
   if (c_zero) {
     memset(m->D, 0, sizeof(double) * nn);
