@@ -3,28 +3,30 @@
 # at once"); not a test: it measures speed, which a shared machine cannot
 # judge pass/fail.
 #
-#   bench/run_cost.sh [-n N] [-p PERIODS] BUILD [BUILD...]
+#   bench/run_cost.sh [-n N] [-p PERIODS] [-l ROUNDS] BUILD [BUILD...]
 #
 # For each BUILD (a build directory holding `vibroimpact` and `vi_bench`):
 # N runs of `vibroimpact run --method exact --periods PERIODS` on the
 # default scene (Fig. 2, the ledger on) and N with the ledger off
 # (`--set output.ledger=false`), every build's runs interleaved, each a
-# fresh process; then `vi_bench PERIODS 20 limit` twice, whose exact-method
-# loop (best of its 5) is the loop alone.  Prints best and median of the
+# fresh process; then `vi_bench PERIODS 20 limit` ROUNDS times for each
+# build, interleaved, whose exact-method loop (the best of all) is the loop
+# alone.  Prints best and median of the
 # `cost` lines (the time inside vi_sim_run), of `set-up` (vi_sim_setup
 # before it, where the program prints one) and of set-up + cost, and the
-# ratios to the loop.  Defaults: N = 30, PERIODS = 100.
+# ratios to the loop.  Defaults: N = 30, PERIODS = 100, ROUNDS = 4.
 set -euo pipefail
-n=30 periods=100
-while getopts n:p: o; do
+n=30 periods=100 rounds=4
+while getopts n:p:l: o; do
   case $o in
     n) n=$OPTARG ;;
     p) periods=$OPTARG ;;
-    *) echo "usage: $0 [-n N] [-p PERIODS] BUILD [BUILD...]" >&2; exit 2 ;;
+    l) rounds=$OPTARG ;;
+    *) echo "usage: $0 [-n N] [-p PERIODS] [-l ROUNDS] BUILD [BUILD...]" >&2; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -ge 1 ] || { echo "usage: $0 [-n N] [-p PERIODS] BUILD [BUILD...]" >&2; exit 2; }
+[ $# -ge 1 ] || { echo "usage: $0 [-n N] [-p PERIODS] [-l ROUNDS] BUILD [BUILD...]" >&2; exit 2; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -42,6 +44,15 @@ for ((i = 0; i < n; i++)); do
   done
 done
 
+# the loop alone: vi_bench's best of 5, `rounds` times for each build,
+# interleaved
+for ((r = 0; r < rounds; r++)); do
+  for b in "$@"; do
+    "$b/vi_bench" "$periods" 20 limit | awk '$1 == "fig2" {print $2}' \
+      >>"$tmp/$(echo "$b" | tr / _).loop"
+  done
+done
+
 # best and median of column c of a file, and of the sum of both columns
 stats() {
   awk -v c="$2" '{print (c == 3 ? $1 + $2 : $c)}' "$1" | sort -g |
@@ -52,8 +63,7 @@ printf "%-28s %-9s %15s %15s %15s %9s %13s\n" build ledger "cost best/med" \
   "set-up best/med" "sum best/med" loop_ms "cost/loop"
 for b in "$@"; do
   k=$(echo "$b" | tr / _)
-  loop=$( (for r in 1 2; do "$b/vi_bench" "$periods" 20 limit; done) |
-    awk '$1 == "fig2" {print $2}' | sort -g | head -1)
+  loop=$(sort -g "$tmp/$k.loop" | head -1)
   for l in on off; do
     read -r cb cm <<<"$(stats "$tmp/$k.$l" 1)"
     read -r sb sm <<<"$(stats "$tmp/$k.$l" 2)"
