@@ -24,9 +24,10 @@ static inline cx conj_(cx a) { return (cx){a.r, -a.i}; }
  *   e^{z tau} - 1 = em cos(y tau) - 2 sh^2 + i ea sin(y tau),
  * whose real part adds two terms of one sign where cos(y tau) >= 0 (no
  * cancellation as z tau -> 0).  Below |z tau| = 1e-5 the series, whose
- * fourth term is under 1e-22 of the first (and |z|^2 cannot underflow). */
+ * fourth term is under 1e-22 of the first (and |z|^2 cannot underflow).
+ * iz = 1 / |z|^2 (inv2), the mode's. */
 static cx eint(double x, double y, double tau, double em, double ea, double sh,
-               double ch)
+               double ch, double iz)
 {
   double zr = x * tau, zi = y * tau;
   if (fabs(zr) + fabs(zi) < 1e-5) {
@@ -36,8 +37,7 @@ static cx eint(double x, double y, double tau, double em, double ea, double sh,
   }
   double nr = em * ((ch - sh) * (ch + sh)) - 2.0 * sh * sh;
   double ni = ea * (2.0 * sh * ch);
-  double q = 1.0 / (x * x + y * y);
-  return (cx){(nr * x + ni * y) * q, (ni * x - nr * y) * q};
+  return (cx){(nr * x + ni * y) * iz, (ni * x - nr * y) * iz};
 }
 
 /* e^{x tau} - 1 and e^{x tau}, x <= 0, each to its relative accuracy. */
@@ -69,6 +69,8 @@ int vi_lflight_init(vi_lflight *f, const vi_model *m)
     vi_lflight_free(f);
     return VI_ERR_NOMEM;
   }
+  for (size_t j = 0; j < n; j++) /* the model's: not again at every flight */
+    vi_lflight_mode_rates(f->md + j, m->lambda[j], m->D[j + j * n], m->omega_f);
   return VI_OK;
 }
 
@@ -80,6 +82,10 @@ void vi_lflight_free(vi_lflight *f)
   f->QS = NULL;
   f->I = NULL;
 }
+
+static void mode_flight(vi_lflight_mode *e, double lam, double W, double c0,
+                        double s0, double pA, double pB, double Fa, double Fb,
+                        double F0, double w, double wd);
 
 void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
                       const double *pB, double t0, const vi_phase *p,
@@ -94,18 +100,39 @@ void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
   f->tau_done = NAN;
   memcpy(f->QS, Q, sizeof(double) * 2 * (size_t)n);
   for (int j = 0; j < n; j++)
-    vi_lflight_mode_set(f->md + j, m->lambda[j],
-                        m->D[j + (size_t)j * (size_t)n], W, p->c, p->s, pA[j],
-                        pB[j], Fa[j], Fb[j], F0[j], w[j], wd[j]);
+    mode_flight(f->md + j, m->lambda[j], W, p->c, p->s, pA[j], pB[j], Fa[j],
+                Fb[j], F0[j], w[j], wd[j]);
+}
+
+/* 1 / |x + i y|^2, eint's quotient. */
+static double inv2(double x, double y) { return 1.0 / (x * x + y * y); }
+
+void vi_lflight_mode_rates(vi_lflight_mode *e, double lam, double d, double W)
+{
+  e->d = d;
+  e->h = 0.5 * d;
+  e->mu = sqrt(lam - e->h * e->h);
+  double h = e->h, mu = e->mu;
+  e->iz[0] = inv2(-h, mu);
+  e->iz[1] = inv2(-h, mu + W);
+  e->iz[2] = inv2(-h, mu - W);
+  e->iz[3] = inv2(-2.0 * h, 2.0 * mu);
+  e->iz[4] = inv2(-2.0 * h, 0.0);
 }
 
 void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
                          double c0, double s0, double pA, double pB,
                          double Fa, double Fb, double F0, double w, double wd)
 {
-  e->d = d;
-  e->h = 0.5 * d;
-  e->mu = sqrt(lam - e->h * e->h);
+  vi_lflight_mode_rates(e, lam, d, W);
+  mode_flight(e, lam, W, c0, s0, pA, pB, Fa, Fb, F0, w, wd);
+}
+
+/* A flight's coefficients of mode e, whose rates are set. */
+static void mode_flight(vi_lflight_mode *e, double lam, double W, double c0,
+                        double s0, double pA, double pB, double Fa, double Fb,
+                        double F0, double w, double wd)
+{
   e->F0 = F0;
   /* H' = Re(i W (pA - i pB) e^{i W t}), F - F0 = Re((Fa - i Fb) e^{i W t}),
    * e^{i W t} = e^{i W t0} e^{i W tau} */
@@ -131,8 +158,9 @@ static void integrals(vi_lflight *f, double tau)
   int n = f->n;
   double W = f->W, sw = sin(0.5 * W * tau), cw = cos(0.5 * W * tau);
   double s2 = 2.0 * sw * cw, c2 = (cw - sw) * (cw + sw);
-  cx EW = eint(0.0, W, tau, 0.0, 1.0, sw, cw);    /* e^{i W s} */
-  cx E2W = eint(0.0, 2.0 * W, tau, 0.0, 1.0, s2, c2); /* e^{2 i W s} */
+  cx EW = eint(0.0, W, tau, 0.0, 1.0, sw, cw, inv2(0.0, W)); /* e^{i W s} */
+  cx E2W = eint(0.0, 2.0 * W, tau, 0.0, 1.0, s2, c2,
+                inv2(0.0, 2.0 * W));                      /* e^{2 i W s} */
   double *FE = f->I, *DE = f->I + n;
   for (int j = 0; j < n; j++) {
     const vi_lflight_mode *e = f->md + j;
@@ -155,12 +183,12 @@ static void integrals(vi_lflight *f, double tau)
       sn = sin(0.5 * (mu - W) * tau);
       cn = cos(0.5 * (mu - W) * tau);
     }
-    cx Ek = eint(-h, mu, tau, em, ea, sm, cm);              /* kappa */
-    cx Ekp = eint(-h, mu + W, tau, em, ea, sp, cp);         /* kappa + iW */
-    cx Ekm = eint(-h, mu - W, tau, em, ea, sn, cn);         /* kappa - iW */
+    cx Ek = eint(-h, mu, tau, em, ea, sm, cm, e->iz[0]);      /* kappa */
+    cx Ekp = eint(-h, mu + W, tau, em, ea, sp, cp, e->iz[1]); /* kappa + iW */
+    cx Ekm = eint(-h, mu - W, tau, em, ea, sn, cn, e->iz[2]); /* kappa - iW */
     cx E2k = eint(-2.0 * h, 2.0 * mu, tau, em2, ea2, 2.0 * sm * cm,
-                  (cm - sm) * (cm + sm));                   /* 2 kappa */
-    cx Eh = eint(-2.0 * h, 0.0, tau, em2, ea2, 0.0, 1.0);   /* -2h */
+                  (cm - sm) * (cm + sm), e->iz[3]);         /* 2 kappa */
+    cx Eh = eint(-2.0 * h, 0.0, tau, em2, ea2, 0.0, 1.0, e->iz[4]); /* -2h */
     cx A = {e->Ar, e->Ai}, G = {e->Gr, e->Gi}, P = {e->Pr, e->Pi};
     /* Re(X) Re(Y) = (Re(X Y) + Re(X conj Y)) / 2 */
     double fe = 0.5 * cmul(cmul(A, P), E2W).r + 0.5 * cmul(A, conj_(P)).r * tau +

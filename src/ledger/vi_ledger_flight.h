@@ -15,10 +15,13 @@
 #include "vi_forcing.h"
 #include "vi_model_internal.h"
 
-/* One mode's coefficients (set by vi_lflight_start). */
+/* One mode's coefficients: its rates (vi_lflight_mode_rates: the model's,
+ * set once) and its flight's (vi_lflight_start). */
 typedef struct vi_lflight_mode {
   double h, mu, d, F0;
   double Ar, Ai, Gr, Gi, Pr, Pi; /* A, G, P as above */
+  double iz[5]; /* 1 / |z|^2 of the exponents kappa, kappa +- iW, 2 kappa,
+                   -2h */
 } vi_lflight_mode;
 
 typedef struct vi_lflight {
@@ -34,7 +37,7 @@ typedef struct vi_lflight {
  * 0, D_jj^2 <= lambda_j; then mu >= sqrt(3 lambda) / 2 and the free part's
  * coefficients carry no cancellation) and the damping is proportional. */
 int vi_lflight_ok(const vi_model *m);
-/* Room for m's modes: VI_OK or VI_ERR_NOMEM. */
+/* Room for m's modes and their rates: VI_OK or VI_ERR_NOMEM. */
 int vi_lflight_init(vi_lflight *f, const vi_model *m);
 void vi_lflight_free(vi_lflight *f);
 /* A flight from t0, p the forcing's phase there (vi_phase_at; any phase
@@ -46,10 +49,14 @@ void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
                       const double *w, const double *wd, const double *Q);
 /* One mode of it: lambda, D_jj, the forcing frequency W and its phase c0,
  * s0 = cos, sin(W t0), the particular solution pA, pB, the modal force
- * Fa, Fb, F0, the free part's w, w' at t0. */
+ * Fa, Fb, F0, the free part's w, w' at t0 (vi_lflight_mode_rates, then
+ * the flight's coefficients). */
 void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
                          double c0, double s0, double pA, double pB,
                          double Fa, double Fb, double F0, double w, double wd);
+/* The part of it that depends on the mode alone: h, mu, d and the
+ * exponents' 1 / |z|^2 (vi_lflight_init sets them once per mode). */
+void vi_lflight_mode_rates(vi_lflight_mode *e, double lam, double d, double W);
 /* Q's FE, DE blocks at t0 + tau: the values at t0 plus the integrals
  * (computed once for a repeated tau: the ledger reads them several times
  * at one instant, at close, begin and the next flight's start). */

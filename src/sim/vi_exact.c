@@ -431,7 +431,10 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->lam = malloc(sizeof(double) * nd);
   d->st = calloc((size_t)ns, sizeof *d->st);
   d->lf_on = s->led && vi_lflight_ok(m);
-  if (!d->act || !d->lam || !d->st || vi_quadmap_init(&d->qm, n) ||
+  /* the panels' maps only where the ledger integrates by quadrature (a
+   * change of ledger rebuilds this data, vi_sim_enable_ledger) */
+  int quad = s->led && !d->lf_on;
+  if (!d->act || !d->lam || !d->st || (quad && vi_quadmap_init(&d->qm, n)) ||
       (d->lf_on && vi_lflight_init(&d->lf, m))) {
     free(d->act);
     free(d->lam);
