@@ -186,48 +186,56 @@ static int two_collect(const vi_event *ev, void *user)
  * gives the dense model's events, stop by stop.  (Later, near t = 14, the
  * several-stop code reports "state beyond stop 1" for the dense model and
  * the band one alike: a limit of that code, not of the storage.) */
+/* The 12-mass chain with its two stops, dense (b = 0) or band (b = 1). */
+static vi_model *two_stop_chain(int b)
+{
+  int n = 12;
+  vi_model *m = NULL;
+  double *mass, *k, *c;
+  chain_data(n, 1.0, 1.0, 0.05, &mass, &k, &c);
+  if (b) {
+    assert_int_equal(vi_model_create_chain(n, mass, k, c, &m), VI_OK);
+  } else {
+    double M[3 * 144];
+    assert_int_equal(vi_build_chain(n, mass, k, c, M, M + 144, M + 288, n),
+                     VI_OK);
+    assert_int_equal(vi_model_create(n, &m), VI_OK);
+    assert_int_equal(vi_model_set_mass(m, M, n), VI_OK);
+    assert_int_equal(vi_model_set_damping(m, M + 144, n), VI_OK);
+    assert_int_equal(vi_model_set_stiffness(m, M + 288, n), VI_OK);
+  }
+  double a[12] = {0.6}, f0[12] = {0}, w1[12] = {0}, w2[12] = {0};
+  f0[5] = f0[11] = 0.4;
+  w1[11] = w2[5] = 1.0;
+  assert_int_equal(vi_model_set_forcing(m, 0.6, a, NULL, f0), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, w1, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_model_add_stop(m, w2, 0.1, 0.5), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  free(mass);
+  return m;
+}
+
+/* m's events to t_end with a method, into r. */
+static void two_stop_run(const vi_model *m, int method, double t_end, two_rec *r)
+{
+  vi_sim *s = NULL;
+  assert_int_equal(vi_sim_create(m, &s), VI_OK);
+  assert_int_equal(vi_sim_set_method(s, method), VI_OK);
+  assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
+  assert_int_equal(vi_sim_set_event_callback(s, two_collect, r, NULL), VI_OK);
+  assert_int_equal(vi_sim_run(s, t_end), VI_OK);
+  vi_sim_destroy(&s);
+}
+
 static void band_two_stops(void **state)
 {
   (void)state;
   const int methods[2] = {VI_METHOD_ADAMS, VI_METHOD_BDF};
-  int n = 12;
-  vi_model *m[2];
-  for (int b = 0; b < 2; b++) {
-    double *mass, *k, *c;
-    chain_data(n, 1.0, 1.0, 0.05, &mass, &k, &c);
-    if (b) {
-      assert_int_equal(vi_model_create_chain(n, mass, k, c, &m[b]), VI_OK);
-    } else {
-      double M[3 * 144];
-      assert_int_equal(vi_build_chain(n, mass, k, c, M, M + 144, M + 288, n),
-                       VI_OK);
-      assert_int_equal(vi_model_create(n, &m[b]), VI_OK);
-      assert_int_equal(vi_model_set_mass(m[b], M, n), VI_OK);
-      assert_int_equal(vi_model_set_damping(m[b], M + 144, n), VI_OK);
-      assert_int_equal(vi_model_set_stiffness(m[b], M + 288, n), VI_OK);
-    }
-    double a[12] = {0.6}, f0[12] = {0}, w1[12] = {0}, w2[12] = {0};
-    f0[5] = f0[11] = 0.4;
-    w1[11] = w2[5] = 1.0;
-    assert_int_equal(vi_model_set_forcing(m[b], 0.6, a, NULL, f0), VI_OK);
-    assert_int_equal(vi_model_add_stop(m[b], w1, 0.1, 0.5), VI_OK);
-    assert_int_equal(vi_model_add_stop(m[b], w2, 0.1, 0.5), VI_OK);
-    assert_int_equal(vi_model_setup(m[b]), VI_OK);
-    free(mass);
-  }
-  double t_end = 12.0;
+  vi_model *m[2] = {two_stop_chain(0), two_stop_chain(1)};
   for (int q = 0; q < 2; q++) {
     two_rec r[2];
     memset(r, 0, sizeof r);
-    for (int b = 0; b < 2; b++) {
-      vi_sim *s = NULL;
-      assert_int_equal(vi_sim_create(m[b], &s), VI_OK);
-      assert_int_equal(vi_sim_set_method(s, methods[q]), VI_OK);
-      assert_int_equal(vi_sim_set_tolerances(s, 1e-10, 1e-12), VI_OK);
-      assert_int_equal(vi_sim_set_event_callback(s, two_collect, &r[b], NULL), VI_OK);
-      assert_int_equal(vi_sim_run(s, t_end), VI_OK);
-      vi_sim_destroy(&s);
-    }
+    for (int b = 0; b < 2; b++) two_stop_run(m[b], methods[q], 12.0, &r[b]);
     assert_true(r[0].both);
     same_events(&r[0].e, &r[1].e, 1e-5);
     for (int i = 0; i < r[0].e.count && i < r[1].e.count; i++)
