@@ -264,17 +264,23 @@ void vi_xseg_start_modal(vi_xseg *s, double t0, const double *q0,
   }
 }
 
-void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd)
+void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c)
 {
   const vi_model *m = s->m;
   vi_phase p1 = vi_phase_at(m->omega_f, t);
   const double *pA = s->fl->pA, *pB = s->fl->pB;
   double tau = t - s->t0;
   for (int j = 0; j < m->n; j++) {
-    double B, Bp, phi;
-    vi_flow_basis(m->lambda[j], m->D[j + (size_t)j * m->n], tau, &B, &Bp, &phi);
+    double lam = m->lambda[j], A, B, Bp, phi;
+    propagate(lam, m->D[j + (size_t)j * m->n], tau, &A, &B, &Bp, &phi);
     q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (s->w[j] + B * s->wd[j] + phi * s->f[j]);
     qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * s->wd[j] + B * s->f[j]);
+    if (c) { /* vi_flow_stm2's */
+      c[4 * (size_t)j] = A;
+      c[4 * (size_t)j + 1] = -lam * B;
+      c[4 * (size_t)j + 2] = B;
+      c[4 * (size_t)j + 3] = Bp;
+    }
   }
 }
 
@@ -308,7 +314,7 @@ void vi_xseg_physical(vi_xseg *s, double t, double *x, double *v,
     }
     return;
   }
-  vi_xseg_modal(s, t, work, work + n);
+  vi_xseg_modal(s, t, work, work + n, NULL);
   vi_matvec(n, s->m->Psi, work, x);
   vi_matvec(n, s->m->Psi, work + n, v);
 }
@@ -336,7 +342,7 @@ int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
     vi_matvec(n, m->PsiTM, v, qd);
   } else if (!st) {
     vi_xseg_start_modal(&s, t0, q0, qd0);
-    vi_xseg_modal(&s, t, q, qd);
+    vi_xseg_modal(&s, t, q, qd, NULL);
   }
   vi_xseg_release(&s);
   if (buf != small) free(buf);

@@ -134,6 +134,7 @@ typedef struct vi_id_track {
   double *Q;             /* a block's modal states [2N x VI_ID_BLOCK] */
   double *Z;             /* physical states, for the caller [2N x VI_ID_BLOCK] */
   double *work;          /* [2N], free for the caller */
+  double *A;             /* [N x VI_ID_BLOCK], free for the caller */
   double *mem;
 } vi_id_track;
 /* Where model time s falls on the orbit o of period P: after impact *j,
@@ -146,13 +147,21 @@ int vi_id_track_init(vi_id_track *tk, const vi_model *m, const vi_xflow *xf,
                      const orb *o);
 void vi_id_track_free(vi_id_track *tk);
 /* The states z = (x, v) at t_j[i] + tau[i], i < k <= VI_ID_BLOCK, into the
- * columns of Z [2N x k] (tk->Z or the caller's). */
+ * columns of Z [2N x k] (tk->Z or the caller's); proportional damping
+ * with C [4N x k] not NULL: each mode's 2 x 2 state-transition matrix
+ * from impact j[i] to the sample too (vi_xseg_modal's). */
 void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
-                    double *Z);
+                    double *Z, double *C);
 /* The same at the model times s [k], located on the orbit: j, tau [k]
  * and kper [k] (may be NULL) as vi_id_locate's. */
 void vi_id_track_states(vi_id_track *tk, int k, const double *s, int *j,
-                        double *tau, double *kper, double *Z);
+                        double *tau, double *kper, double *Z, double *C);
+/* The accelerations x'' [N x k rep] (leading dimension N) of m in the
+ * states Z [2N x k rep] (leading dimension 2N), columns i rep .. i rep +
+ * rep - 1 at the time t[i], i < k: vi_var_field's velocity half for a
+ * block (the same sums). */
+void vi_id_accel_block(const vi_model *m, int k, int rep, const double *t,
+                       const double *Z, double *F);
 
 /* vi_identify_seed.c */
 int vi_id_data_period(vi_identify *id, double T);

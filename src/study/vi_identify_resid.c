@@ -189,6 +189,14 @@ static double chan(int N, const double *c, const vi_model *m, double s,
   return vi_dot(N, c, work + N);
 }
 
+/* The same from the state z [2N] and its acceleration a [N]
+ * (vi_id_accel_block). */
+static double chan_of(int N, const double *c, const double *z, const double *a,
+                      int order)
+{
+  return vi_dot(N, c, order < 2 ? z + (size_t)order * N : a);
+}
+
 /* c.x, c.x' or c.x'' (order 0, 1, 2) of the state z [2N] of m at model
  * time s; work [2N]. */
 double vi_id_channel(const vi_identify *id, const vi_model *m, double s,
@@ -222,17 +230,18 @@ int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
   }
   vi_id_track tk;
   if (vi_id_track_init(&tk, id->cur, id->xf, &id->o)) return GSL_ENOMEM;
-  int nb = blocks(id, d, ord, wt, cv);
+  int nb = blocks(id, d, ord, wt, cv), acc = 0;
+  for (int b = 0; b < nb; b++) acc |= ord[b] == 2;
   for (int i0 = 0; i0 < ns; i0 += VI_ID_BLOCK) {
     int k = ns - i0 < VI_ID_BLOCK ? ns - i0 : VI_ID_BLOCK;
     for (int i = 0; i < k; i++) s[i] = id->t[i0 + i] + t0;
-    vi_id_track_states(&tk, k, s, jj, tau, NULL, tk.Z);
+    vi_id_track_states(&tk, k, s, jj, tau, NULL, tk.Z, NULL);
+    if (acc) vi_id_accel_block(id->cur, k, 1, s, tk.Z, tk.A);
     for (int i = 0; i < k; i++) {
-      const double *z = tk.Z + (size_t)i * 2 * N;
+      const double *z = tk.Z + (size_t)i * 2 * N, *a = tk.A + (size_t)i * N;
       for (int b = 0; b < nb; b++)
         gsl_vector_set(f, b * ns + i0 + i,
-                       (d[b][i0 + i] - chan(N, cv[b], id->cur, s[i], z, ord[b], tk.work)) *
-                           wt[b]);
+                       (d[b][i0 + i] - chan_of(N, cv[b], z, a, ord[b])) * wt[b]);
     }
   }
   vi_id_track_free(&tk);
@@ -295,7 +304,11 @@ static int jac_models(vi_identify *id, const double *p, jac_ws *w, int j)
 typedef struct jac_blk {
   double *Zeta, *Zm, *fseg; /* per impact: zeta [2N x np], modal, f+ [2N] */
   double *U, *dZ;           /* a block's modal and physical dz [2N x np x B] */
-  double *Za, *Zb, *Zhp, *Zhm, *G0; /* states and fields [2N x B] */
+  double *Za, *Zb, *Zhp, *Zhm, *Zero; /* states [2N x B] */
+  double *C;                /* the modes' 2 x 2 flows [4N x B] */
+  double *G0, *Af, *Ahp, *Ahm; /* accelerations [N x B]: of the forcing
+                                  alone, of the states, at s +- h */
+  double *G1;               /* of the dz [N x np x B] */
   vi_id_track tk, tp[MAXP], tm[MAXP];
 } jac_blk;
 
@@ -344,7 +357,8 @@ static void blk_zeta(const vi_identify *id, const jac_ws *w, jac_blk *k)
 }
 
 /* dz = Phi(tau_i) zeta_{j_i} of every free parameter and sample of a
- * block into k->dZ (column i np + q) */
+ * block into k->dZ (column i np + q); proportional damping: each mode's
+ * 2 x 2 flow from k->C, the flights' own (vi_id_track_at) */
 static int blk_dz(const vi_identify *id, jac_blk *k, jac_ws *w, int nk,
                   const int *jj, const double *tau)
 {
@@ -362,8 +376,7 @@ static int blk_dz(const vi_identify *id, jac_blk *k, jac_ws *w, int nk,
   for (int i = 0; i < nk; i++) {
     if (!(tau[i] >= 0.0) || !isfinite(tau[i])) return VI_ERR_TIME;
     for (int a = 0; a < N; a++) {
-      double c[4];
-      vi_flow_stm2(m->lambda[a], m->D[a + (size_t)a * N], tau[i], c);
+      const double *c = k->C + 4 * ((size_t)i * N + a);
       for (int q = 0; q < np; q++) {
         if (id->col[q] < 0) continue;
         const double *zm = k->Zm + ((size_t)jj[i] * np + q) * N2;
@@ -394,7 +407,7 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
   memset(&k, 0, sizeof k);
   size_t zs = (size_t)N2 * np * o->m, bs = (size_t)N2 * np * VI_ID_BLOCK,
          vs = (size_t)N2 * VI_ID_BLOCK;
-  k.Zeta = calloc(2 * zs + (size_t)N2 * o->m + 2 * bs + 5 * vs, sizeof(double));
+  k.Zeta = calloc(2 * zs + (size_t)N2 * o->m + 3 * bs + 9 * vs, sizeof(double));
   if (!k.Zeta) return VI_ERR_NOMEM;
   k.Zm = k.Zeta + zs;
   k.fseg = k.Zm + zs;
@@ -404,7 +417,13 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
   k.Zb = k.Za + vs;
   k.Zhp = k.Zb + vs;
   k.Zhm = k.Zhp + vs;
-  k.G0 = k.Zhm + vs;
+  k.Zero = k.Zhm + vs;
+  k.C = k.Zero + vs;      /* 2 vs */
+  k.G0 = k.C + 2 * vs;    /* vs / 2 each */
+  k.Af = k.G0 + vs / 2;
+  k.Ahp = k.Af + vs / 2;
+  k.Ahm = k.Ahp + vs / 2;
+  k.G1 = k.Ahm + vs / 2;  /* bs / 2 */
   st = vi_id_track_init(&k.tk, m, id->xf, o);
   for (int q = 0; !st && q < np; q++)
     if (w->mp[q] && id->col[q] >= 0 &&
@@ -420,10 +439,14 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
     double s[VI_ID_BLOCK], tau[VI_ID_BLOCK], kper[VI_ID_BLOCK], ta[VI_ID_BLOCK],
         tb[VI_ID_BLOCK];
     for (int i = 0; i < nk; i++) s[i] = id->t[i0 + i] + t0;
-    vi_id_track_states(&k.tk, nk, s, jj, tau, kper, k.tk.Z);
+    vi_id_track_states(&k.tk, nk, s, jj, tau, kper, k.tk.Z, k.C);
     if ((st = blk_dz(id, &k, w, nk, jj, tau))) break;
-    for (int i = 0; acc && i < nk; i++) /* the forcing alone */
-      vi_var_field(m, o->t[jj[i]] + tau[i], w->zero, k.G0 + (size_t)i * N2);
+    double tt[VI_ID_BLOCK];
+    for (int i = 0; i < nk; i++) tt[i] = o->t[jj[i]] + tau[i];
+    if (acc) { /* the field is affine in the state: A dz = g(dz) - g(0) */
+      vi_id_accel_block(m, nk, 1, tt, k.Zero, k.G0);
+      vi_id_accel_block(m, nk, np, tt, k.dZ, k.G1);
+    }
     for (int q = 0; q < np; q++) {
       if (id->col[q] < 0) continue; /* held */
       double h = w->hp[q] + w->hm[q];
@@ -434,21 +457,16 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
           ta[i] = tau[i] + kper[i] * (P - vi_id_period_of(w->mp[q], o->n));
           tb[i] = tau[i] + kper[i] * (P - vi_id_period_of(w->mm[q], o->n));
         }
-        vi_id_track_at(&k.tp[q], nk, jj, ta, k.Za);
-        vi_id_track_at(&k.tm[q], nk, jj, tb, k.Zb);
+        vi_id_track_at(&k.tp[q], nk, jj, ta, k.Za, NULL);
+        vi_id_track_at(&k.tm[q], nk, jj, tb, k.Zb, NULL);
       }
       for (int i = 0; i < nk; i++) {
         double tj = o->t[jj[i]], dc[NB];
         const double *dz = k.dZ + ((size_t)i * np + q) * N2,
-                     *g0 = k.G0 + (size_t)i * N2;
-        for (int b = 0; b < nb; b++) {
-          if (ord[b] < 2) {
-            dc[b] = vi_dot(N, cv[b], dz + (size_t)ord[b] * N);
-          } else { /* the field is affine in the state: A dz */
-            vi_var_field(m, tj + tau[i], dz, w->g1);
-            dc[b] = vi_dot(N, cv[b], w->g1 + N) - vi_dot(N, cv[b], g0 + N);
-          }
-        }
+                     *g1 = k.G1 + ((size_t)i * np + q) * N, *g0 = k.G0 + (size_t)i * N;
+        for (int b = 0; b < nb; b++)
+          dc[b] = ord[b] < 2 ? vi_dot(N, cv[b], dz + (size_t)ord[b] * N)
+                             : vi_dot(N, cv[b], g1) - vi_dot(N, cv[b], g0);
         for (int b = 0; w->mp[q] && b < nb; b++)
           dc[b] += (chan(N, cv[b], w->mp[q], tj + ta[i], k.Za + (size_t)i * N2,
                          ord[b], w->g1) -
@@ -459,24 +477,28 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
       }
     }
     if (!id->fit_shift) continue;
-    double hs = 1e-6 * P, sh[VI_ID_BLOCK], tt[VI_ID_BLOCK];
+    double hs = 1e-6 * P, sp[VI_ID_BLOCK], sm[VI_ID_BLOCK], th[VI_ID_BLOCK];
     int jh[VI_ID_BLOCK];
     if (acc) { /* d/ds of the acceleration, centrally differenced */
-      for (int i = 0; i < nk; i++) sh[i] = s[i] + hs;
-      vi_id_track_states(&k.tk, nk, sh, jh, tt, NULL, k.Zhp);
-      for (int i = 0; i < nk; i++) sh[i] = s[i] - hs;
-      vi_id_track_states(&k.tk, nk, sh, jh, tt, NULL, k.Zhm);
+      for (int i = 0; i < nk; i++) {
+        sp[i] = s[i] + hs;
+        sm[i] = s[i] - hs;
+      }
+      vi_id_track_states(&k.tk, nk, sp, jh, th, NULL, k.Zhp, NULL);
+      vi_id_track_states(&k.tk, nk, sm, jh, th, NULL, k.Zhm, NULL);
+      vi_id_accel_block(m, nk, 1, sp, k.Zhp, k.Ahp);
+      vi_id_accel_block(m, nk, 1, sm, k.Zhm, k.Ahm);
     }
+    /* d/ds of c.x, c.x': the field z' at the sample */
+    vi_id_accel_block(m, nk, 1, tt, k.tk.Z, k.Af);
     for (int i = 0; i < nk; i++) {
-      vi_var_field(m, o->t[jj[i]] + tau[i], k.tk.Z + (size_t)i * N2, w->f);
       for (int b = 0; b < nb; b++) {
         double dd;
         if (ord[b] < 2) {
-          dd = vi_dot(N, cv[b], w->f + (size_t)ord[b] * N);
+          dd = vi_dot(N, cv[b], ord[b] ? k.Af + (size_t)i * N : k.tk.Z + (size_t)i * N2 + N);
         } else {
-          dd = (chan(N, cv[b], m, s[i] + hs, k.Zhp + (size_t)i * N2, 2, w->g1) -
-                chan(N, cv[b], m, s[i] - hs, k.Zhm + (size_t)i * N2, 2, w->g1)) /
-               (2.0 * hs);
+          dd = (vi_dot(N, cv[b], k.Ahp + (size_t)i * N) -
+                vi_dot(N, cv[b], k.Ahm + (size_t)i * N)) / (2.0 * hs);
         }
         gsl_matrix_set(J, b * ns + i0 + i, sc, -dd * wt[b]);
       }

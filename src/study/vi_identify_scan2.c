@@ -88,7 +88,7 @@ static void rest_response(const vi_model *m, vi_xseg *sg, int k,
         vi_xseg_physical(sg, tb, g, g + N, NULL);
       } else {
         vi_xseg_start_modal(sg, ta, zero, zero);
-        vi_xseg_modal(sg, tb, Q + (size_t)i * n2, Q + (size_t)i * n2 + N);
+        vi_xseg_modal(sg, tb, Q + (size_t)i * n2, Q + (size_t)i * n2 + N, NULL);
       }
     }
     if (sg->g) continue;

@@ -147,10 +147,12 @@ double vi_id_scan_shift(vi_identify *id, double *cost_out)
     for (int i0 = 0; i0 < use; i0 += VI_ID_BLOCK) {
       int nk = use - i0 < VI_ID_BLOCK ? use - i0 : VI_ID_BLOCK;
       for (int i = 0; i < nk; i++) s[i] = id->t[i0 + i] + t0;
-      vi_id_track_states(&tk, nk, s, jj, tau, NULL, tk.Z);
+      vi_id_track_states(&tk, nk, s, jj, tau, NULL, tk.Z, NULL);
+      if (id->ych == 2) vi_id_accel_block(id->cur, nk, 1, s, tk.Z, tk.A);
       for (int i = 0; i < nk; i++) {
-        double e = id->y[i0 + i] - vi_id_channel(id, id->cur, s[i], tk.Z + (size_t)i * 2 * N,
-                                                 id->ych, tk.work);
+        const double *z = id->ych == 2 ? tk.A + (size_t)i * N
+                                       : tk.Z + (size_t)i * 2 * N + (size_t)id->ych * N;
+        double e = id->y[i0 + i] - vi_dot(N, id->c, z);
         cost += e * e;
       }
     }

@@ -41,14 +41,16 @@ int vi_id_track_init(vi_id_track *tk, const vi_model *m, const vi_xflow *xf,
   tk->N = N;
   tk->P = vi_id_period_of(m, o->n);
   /* per impact: the flight's start [3N] and post-impact state [2N]; the
-   * block's modal and physical states [2N x VI_ID_BLOCK] and work [2N] */
+   * block's modal and physical states [2N x VI_ID_BLOCK], work [2N] and
+   * accelerations [N x VI_ID_BLOCK] */
   size_t seg = 5 * (size_t)N * o->m, blk = (size_t)N2 * VI_ID_BLOCK;
-  tk->mem = malloc(sizeof(double) * (seg + 2 * blk + N2));
+  tk->mem = malloc(sizeof(double) * (seg + 2 * blk + N2 + (size_t)N * VI_ID_BLOCK));
   if (!tk->mem) return VI_ERR_NOMEM;
   tk->zp = tk->mem + 3 * (size_t)N * o->m;
   tk->Q = tk->mem + seg;
   tk->Z = tk->Q + blk;
   tk->work = tk->Z + blk;
+  tk->A = tk->work + N2;
   for (int j = 0; j < o->m; j++) {
     double *zp = tk->zp + (size_t)j * N2;
     int st = vi_xseg_init(&tk->seg[j], xf, m, tk->mem + 3 * (size_t)N * j);
@@ -74,7 +76,7 @@ void vi_id_track_free(vi_id_track *tk)
 }
 
 void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
-                    double *Z)
+                    double *Z, double *C)
 {
   int N = tk->N, N2 = 2 * N;
   const orb *o = tk->o;
@@ -87,7 +89,8 @@ void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
   }
   for (int i = 0; i < k; i++) {
     double *q = tk->Q + (size_t)i * N2;
-    vi_xseg_modal(&tk->seg[j[i]], o->t[j[i]] + tau[i], q, q + N);
+    vi_xseg_modal(&tk->seg[j[i]], o->t[j[i]] + tau[i], q, q + N,
+                  C ? C + 4 * (size_t)N * i : NULL);
   }
   /* x = Psi q, v = Psi q' for the whole block */
   cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, k, N, 1.0,
@@ -97,12 +100,32 @@ void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
 }
 
 void vi_id_track_states(vi_id_track *tk, int k, const double *s, int *j,
-                        double *tau, double *kper, double *Z)
+                        double *tau, double *kper, double *Z, double *C)
 {
   for (int i = 0; i < k; i++) {
     double kk;
     vi_id_locate(tk->o, tk->P, s[i], &j[i], &tau[i], &kk);
     if (kper) kper[i] = kk;
   }
-  vi_id_track_at(tk, k, j, tau, Z);
+  vi_id_track_at(tk, k, j, tau, Z, C);
+}
+
+void vi_id_accel_block(const vi_model *m, int k, int rep, const double *t,
+                       const double *Z, double *F)
+{
+  int N = m->n, N2 = 2 * N;
+  /* vi_var_field's velocity half, M^-1 (f(t) - K x - C v), column by
+   * column in the same order of summation; the forcing once per time */
+  for (int i = 0; i < k; i++) {
+    double *f = F + (size_t)i * rep * N;
+    vi_phase p = vi_phase_at(m->omega_f, t[i]);
+    for (int r = 0; r < N; r++)
+      f[r] = vi_harm(&p, 0, m->Minv_a[r], m->Minv_b[r], m->Minv_f0[r]);
+    for (int c = 1; c < rep; c++) memcpy(f + (size_t)c * N, f, sizeof(double) * N);
+  }
+  int nc = k * rep;
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, nc, N, -1.0,
+              m->MinvK, N, Z, N2, 1.0, F, N);
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, nc, N, -1.0,
+              m->MinvC, N, Z + N, N2, 1.0, F, N);
 }
