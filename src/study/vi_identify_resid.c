@@ -258,8 +258,7 @@ static void dstep(const vi_identify *id, const double *p, int j, double *hp,
 }
 
 typedef struct jac_ws {
-  double *Fu, *Fp, *F, *Fa, *Fb, *Phi, *zeta, *dz, *z, *zp, *f, *za, *zb, *zt;
-  double *g0, *g1, *zero; /* fields of the acceleration rows */
+  double *Fu, *Fp, *F, *Fa, *Fb, *Phi, *dz, *g1, *zt; /* g1, zt: chan's work */
   int *ipiv;
   vi_model *mp[MAXP], *mm[MAXP];
   vi_xflow *xp[MAXP], *xm[MAXP];
@@ -394,11 +393,51 @@ static int blk_dz(const vi_identify *id, jac_blk *k, jac_ws *w, int nk,
   return VI_OK;
 }
 
+/* The shift's column of a block's rows: d/ds of c.x, c.x' from the field
+ * at the sample, of c.x'' centrally differenced. */
+static void blk_shift(const vi_identify *id, jac_blk *k, int nk, int i0,
+                      const double *s, const double *tt, gsl_matrix *J)
+{
+  const vi_model *m = id->cur;
+  int N = id->N, N2 = 2 * N, ns = id->ns, sc = id->nfree;
+  double P = vi_id_period_of(m, id->o.n), wt[NB];
+  const double *dat[NB], *cv[NB];
+  int ord[NB], nb = blocks(id, dat, ord, wt, cv), acc = 0;
+  for (int b = 0; b < nb; b++) acc |= ord[b] == 2;
+  double hs = 1e-6 * P, sp[VI_ID_BLOCK], sm[VI_ID_BLOCK], th[VI_ID_BLOCK];
+  int jh[VI_ID_BLOCK];
+  if (acc) { /* d/ds of the acceleration, centrally differenced */
+    for (int i = 0; i < nk; i++) {
+      sp[i] = s[i] + hs;
+      sm[i] = s[i] - hs;
+    }
+    vi_id_track_states(&k->tk, nk, sp, jh, th, NULL, k->Zhp, NULL);
+    vi_id_track_states(&k->tk, nk, sm, jh, th, NULL, k->Zhm, NULL);
+    vi_id_accel_block(m, nk, 1, sp, k->Zhp, k->Ahp);
+    vi_id_accel_block(m, nk, 1, sm, k->Zhm, k->Ahm);
+  }
+  /* d/ds of c.x, c.x': the field z' at the sample */
+  vi_id_accel_block(m, nk, 1, tt, k->tk.Z, k->Af);
+  for (int i = 0; i < nk; i++) {
+    for (int b = 0; b < nb; b++) {
+      double dd;
+      if (ord[b] < 2) {
+        dd = vi_dot(N, cv[b], ord[b] ? k->Af + (size_t)i * N
+                                     : k->tk.Z + (size_t)i * N2 + N);
+      } else {
+        dd = (vi_dot(N, cv[b], k->Ahp + (size_t)i * N) -
+              vi_dot(N, cv[b], k->Ahm + (size_t)i * N)) / (2.0 * hs);
+      }
+      gsl_matrix_set(J, b * ns + i0 + i, sc, -dd * wt[b]);
+    }
+  }
+}
+
 static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
 {
   const vi_model *m = id->cur;
   const orb *o = &id->o;
-  int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, sc = id->nfree, st;
+  int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
   double P = vi_id_period_of(m, o->n), wt[NB];
   const double *dat[NB], *cv[NB];
   int ord[NB], nb = blocks(id, dat, ord, wt, cv), acc = 0;
@@ -476,33 +515,7 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
           gsl_matrix_set(J, b * ns + i0 + i, id->col[q], -dc[b] * wt[b]);
       }
     }
-    if (!id->fit_shift) continue;
-    double hs = 1e-6 * P, sp[VI_ID_BLOCK], sm[VI_ID_BLOCK], th[VI_ID_BLOCK];
-    int jh[VI_ID_BLOCK];
-    if (acc) { /* d/ds of the acceleration, centrally differenced */
-      for (int i = 0; i < nk; i++) {
-        sp[i] = s[i] + hs;
-        sm[i] = s[i] - hs;
-      }
-      vi_id_track_states(&k.tk, nk, sp, jh, th, NULL, k.Zhp, NULL);
-      vi_id_track_states(&k.tk, nk, sm, jh, th, NULL, k.Zhm, NULL);
-      vi_id_accel_block(m, nk, 1, sp, k.Zhp, k.Ahp);
-      vi_id_accel_block(m, nk, 1, sm, k.Zhm, k.Ahm);
-    }
-    /* d/ds of c.x, c.x': the field z' at the sample */
-    vi_id_accel_block(m, nk, 1, tt, k.tk.Z, k.Af);
-    for (int i = 0; i < nk; i++) {
-      for (int b = 0; b < nb; b++) {
-        double dd;
-        if (ord[b] < 2) {
-          dd = vi_dot(N, cv[b], ord[b] ? k.Af + (size_t)i * N : k.tk.Z + (size_t)i * N2 + N);
-        } else {
-          dd = (vi_dot(N, cv[b], k.Ahp + (size_t)i * N) -
-                vi_dot(N, cv[b], k.Ahm + (size_t)i * N)) / (2.0 * hs);
-        }
-        gsl_matrix_set(J, b * ns + i0 + i, sc, -dd * wt[b]);
-      }
-    }
+    if (id->fit_shift) blk_shift(id, &k, nk, i0, s, tt, J);
   }
   blk_free(&k, np);
   return st;
@@ -522,7 +535,7 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   jac_ws w;
   memset(&w, 0, sizeof w);
   size_t nd = (size_t)D * D + (size_t)D * np + 3 * (size_t)D +
-              (size_t)N2 * N2 + 12 * (size_t)N2;
+              (size_t)N2 * N2 + 3 * (size_t)N2;
   w.Fu = malloc(sizeof(double) * nd);
   w.ipiv = malloc(sizeof(int) * D);
   if (!w.Fu || !w.ipiv) {
@@ -534,18 +547,9 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   w.Fa = w.F + D;
   w.Fb = w.Fa + D;
   w.Phi = w.Fb + D;
-  w.zeta = w.Phi + (size_t)N2 * N2;
-  w.dz = w.zeta + N2;
-  w.z = w.dz + N2;
-  w.zp = w.z + N2;
-  w.f = w.zp + N2;
-  w.za = w.f + N2;
-  w.zb = w.za + N2;
-  w.zt = w.zb + N2;
-  w.g0 = w.zt + N2;
-  w.g1 = w.g0 + N2;
-  w.zero = w.g1 + N2;
-  memset(w.zero, 0, sizeof(double) * N2);
+  w.dz = w.Phi + (size_t)N2 * N2;
+  w.g1 = w.dz + N2;
+  w.zt = w.g1 + N2;
   /* the orbit's sensitivity du/dp = -F_u^-1 F_p (exact F_u) */
   st = vi_orbit_pnm_residual_stops(m, o->n, o->m, o->stop, o->t, o->x, o->v,
                                    N, w.F, w.Fu);
