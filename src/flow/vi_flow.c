@@ -129,8 +129,7 @@ static void propagate(double lambda, double d, double tau, double *A,
      * 1 - cos = 2 s^2 (no cancellation); e from expm1 where that keeps
      * its relative accuracy (e >= 1/2) */
     double mu = sqrt(mu2), th = 0.5 * mu * tau, sh, ch;
-    sh = sin(th);
-    ch = cos(th);
+    sincos(th, &sh, &ch); /* what an optimised build makes of sin, cos */
     double em1 = expm1(-h * tau), e = em1 >= -0.5 ? 1.0 + em1 : exp(-h * tau);
     double c = (ch - sh) * (ch + sh), sn = 2.0 * sh * ch;
     *B = e * sn / mu;
@@ -268,13 +267,15 @@ void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c)
 {
   const vi_model *m = s->m;
   vi_phase p1 = vi_phase_at(m->omega_f, t);
-  const double *pA = s->fl->pA, *pB = s->fl->pB;
+  const double *pA = s->fl->pA, *pB = s->fl->pB, *lambda = m->lambda, *D = m->D;
+  const double *w = s->w, *wd = s->wd, *f = s->f;
   double tau = t - s->t0;
-  for (int j = 0; j < m->n; j++) {
-    double lam = m->lambda[j], A, B, Bp, phi;
-    propagate(lam, m->D[j + (size_t)j * m->n], tau, &A, &B, &Bp, &phi);
-    q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (s->w[j] + B * s->wd[j] + phi * s->f[j]);
-    qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * s->wd[j] + B * s->f[j]);
+  int n = m->n;
+  for (int j = 0; j < n; j++) {
+    double lam = lambda[j], A, B, Bp, phi;
+    propagate(lam, D[j + (size_t)j * n], tau, &A, &B, &Bp, &phi);
+    if (q) q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (w[j] + B * wd[j] + phi * f[j]);
+    if (qd) qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * wd[j] + B * f[j]);
     if (c) { /* vi_flow_stm2's */
       c[4 * (size_t)j] = A;
       c[4 * (size_t)j + 1] = -lam * B;

@@ -70,9 +70,10 @@ void vi_xseg_release(vi_xseg *s);
 void vi_xseg_start(vi_xseg *s, double t0, const double *x0, const double *v0);
 void vi_xseg_start_modal(vi_xseg *s, double t0, const double *q0,
                          const double *qd0);
-/* The state at t >= t0: modal (proportional damping only; with c
- * [4n] not NULL each mode's 2 x 2 state-transition matrix over t - t0
- * too, as vi_flow_stm2's, from the same propagator) or physical, work
+/* The state at t >= t0: modal (proportional damping only; q or qd may be
+ * NULL where that half is not wanted; with c [4n] not NULL each mode's
+ * 2 x 2 state-transition matrix over t - t0 too, as vi_flow_stm2's, from
+ * the same propagator) or physical, work
  * [2n] (proportional damping; unused otherwise; the physical one uses s's
  * scratch for other damping). */
 void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c);

@@ -129,6 +129,9 @@ typedef struct vi_id_track {
   const orb *o;
   int N, nseg;
   double P;              /* the orbit's period */
+  int halves;            /* of the states wanted: 1 x, 2 v, 3 both (init's
+                            choice; x alone or v alone spares the other's
+                            half of the work where proportional) */
   vi_xseg seg[MAX_M];    /* the flight from each impact */
   double *zp;            /* post-impact states [2N x o->m] */
   double *Q;             /* a block's modal states [2N x VI_ID_BLOCK] */
@@ -156,6 +159,8 @@ void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
  * and kper [k] (may be NULL) as vi_id_locate's. */
 void vi_id_track_states(vi_id_track *tk, int k, const double *s, int *j,
                         double *tau, double *kper, double *Z, double *C);
+/* The halves (tk->halves) a channel of order 0, 1, 2 needs. */
+int vi_id_halves(int order);
 /* The accelerations x'' [N x k rep] (leading dimension N) of m in the
  * states Z [2N x k rep] (leading dimension 2N), columns i rep .. i rep +
  * rep - 1 at the time t[i], i < k: vi_var_field's velocity half for a

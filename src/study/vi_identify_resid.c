@@ -231,7 +231,11 @@ int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
   vi_id_track tk;
   if (vi_id_track_init(&tk, id->cur, id->xf, &id->o)) return GSL_ENOMEM;
   int nb = blocks(id, d, ord, wt, cv), acc = 0;
-  for (int b = 0; b < nb; b++) acc |= ord[b] == 2;
+  tk.halves = 0;
+  for (int b = 0; b < nb; b++) {
+    acc |= ord[b] == 2;
+    tk.halves |= vi_id_halves(ord[b]);
+  }
   for (int i0 = 0; i0 < ns; i0 += VI_ID_BLOCK) {
     int k = ns - i0 < VI_ID_BLOCK ? ns - i0 : VI_ID_BLOCK;
     for (int i = 0; i < k; i++) s[i] = id->t[i0 + i] + t0;

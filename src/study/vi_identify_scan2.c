@@ -32,21 +32,13 @@ typedef struct leg {
 /* a [n2 x n2] = b c (column-major). */
 static void mul(int n2, const double *b, const double *c, double *a)
 {
-  for (int j = 0; j < n2; j++)
-    for (int i = 0; i < n2; i++) {
-      double s = 0.0;
-      for (int k = 0; k < n2; k++) s += b[i + k * n2] * c[k + j * n2];
-      a[i + j * n2] = s;
-    }
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n2, n2, n2, 1.0, b, n2,
+              c, n2, 0.0, a, n2);
 }
 
 static void matvec(int n2, const double *a, const double *x, double *y)
 {
-  for (int i = 0; i < n2; i++) {
-    double s = 0.0;
-    for (int k = 0; k < n2; k++) s += a[i + k * n2] * x[k];
-    y[i] = s;
-  }
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n2, n2, 1.0, a, n2, x, 1, 0.0, y, 1);
 }
 
 /* The matrices of the legs tau and P - tau; work [3 n2^2]. */

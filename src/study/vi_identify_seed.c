@@ -141,6 +141,7 @@ double vi_id_scan_shift(vi_identify *id, double *cost_out)
   vi_id_track tk;
   if (vi_id_track_init(&tk, id->cur, id->xf, &id->o)) return 0.0;
   double P = tk.P;
+  tk.halves = vi_id_halves(id->ych);
   while (use < id->ns && id->t[use] - id->t[0] < 2.0 * P && use < 1024) use++;
   for (int k = 0; k < 128; k++) {
     double t0 = k * P / 128.0, cost = 0.0;

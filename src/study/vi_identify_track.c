@@ -40,6 +40,7 @@ int vi_id_track_init(vi_id_track *tk, const vi_model *m, const vi_xflow *xf,
   tk->o = o;
   tk->N = N;
   tk->P = vi_id_period_of(m, o->n);
+  tk->halves = 3;
   /* per impact: the flight's start [3N] and post-impact state [2N]; the
    * block's modal and physical states [2N x VI_ID_BLOCK], work [2N] and
    * accelerations [N x VI_ID_BLOCK] */
@@ -87,16 +88,19 @@ void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
     }
     return;
   }
+  int hx = tk->halves & 1, hv = tk->halves & 2;
   for (int i = 0; i < k; i++) {
     double *q = tk->Q + (size_t)i * N2;
-    vi_xseg_modal(&tk->seg[j[i]], o->t[j[i]] + tau[i], q, q + N,
+    vi_xseg_modal(&tk->seg[j[i]], o->t[j[i]] + tau[i], hx ? q : NULL, hv ? q + N : NULL,
                   C ? C + 4 * (size_t)N * i : NULL);
   }
   /* x = Psi q, v = Psi q' for the whole block */
-  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, k, N, 1.0,
-              tk->m->Psi, N, tk->Q, N2, 0.0, Z, N2);
-  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, k, N, 1.0,
-              tk->m->Psi, N, tk->Q + N, N2, 0.0, Z + N, N2);
+  if (hx)
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, k, N, 1.0,
+                tk->m->Psi, N, tk->Q, N2, 0.0, Z, N2);
+  if (hv)
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, k, N, 1.0,
+                tk->m->Psi, N, tk->Q + N, N2, 0.0, Z + N, N2);
 }
 
 void vi_id_track_states(vi_id_track *tk, int k, const double *s, int *j,
@@ -109,6 +113,8 @@ void vi_id_track_states(vi_id_track *tk, int k, const double *s, int *j,
   }
   vi_id_track_at(tk, k, j, tau, Z, C);
 }
+
+int vi_id_halves(int order) { return order == 0 ? 1 : order == 1 ? 2 : 3; }
 
 void vi_id_accel_block(const vi_model *m, int k, int rep, const double *t,
                        const double *Z, double *F)
