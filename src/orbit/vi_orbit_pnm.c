@@ -524,6 +524,7 @@ int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
     /* 512 samples per forcing period, then golden-section on each
      * interior local maximum of the gap */
     int K = (int)fmax(64.0, 512.0 * (t1 - t0) / T);
+    if (K < 64) K = 64; /* a span beyond int's range */
     double h = (t1 - t0) / K;
     double *gk = realloc(gs, sizeof(double) * ((size_t)K + 1));
     if (!gk) {
