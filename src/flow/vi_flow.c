@@ -129,8 +129,7 @@ static void propagate(double lambda, double d, double tau, double *A,
      * 1 - cos = 2 s^2 (no cancellation); e from expm1 where that keeps
      * its relative accuracy (e >= 1/2) */
     double mu = sqrt(mu2), th = 0.5 * mu * tau, sh, ch;
-    sh = sin(th);
-    ch = cos(th);
+    sincos(th, &sh, &ch); /* what an optimised build makes of sin, cos */
     double em1 = expm1(-h * tau), e = em1 >= -0.5 ? 1.0 + em1 : exp(-h * tau);
     double c = (ch - sh) * (ch + sh), sn = 2.0 * sh * ch;
     *B = e * sn / mu;
@@ -217,68 +216,138 @@ void vi_flow_particular(const vi_model *m, const vi_xflow *f, int j,
   *qpd = qd;
 }
 
-/* Non-proportional damping: the first-order eigen-solution (vi_general.c). */
-static int flow_general(const vi_general *gen, const vi_model *m, double t0,
-                        const double *x0, const double *v0, double t,
-                        double *x, double *v)
+/* ---- one flight from its start (vi_xseg) ---------------------------------- */
+
+int vi_xseg_init(vi_xseg *s, const vi_xflow *fl, const vi_model *m, double *buf)
 {
   int n = m->n;
-  double *z = malloc(sizeof(double) * 2 * (size_t)n);
-  vi_gflow *f = vi_gflow_create(gen);
-  if (!z || !f) {
-    free(z);
-    vi_gflow_free(f);
+  memset(s, 0, sizeof *s);
+  s->fl = fl;
+  s->m = m;
+  s->w = buf;
+  s->wd = buf + n;
+  s->f = buf + 2 * (size_t)n;
+  if (!fl->gen) return VI_OK;
+  /* non-proportional damping: the first-order eigen-solution (vi_general.c),
+   * which holds interleaved states (x_1, v_1, ...) */
+  s->g = vi_gflow_create(fl->gen);
+  s->z = malloc(sizeof(double) * 2 * (size_t)n);
+  if (!s->g || !s->z) {
+    vi_xseg_release(s);
     return VI_ERR_NOMEM;
   }
-  for (int i = 0; i < n; i++) {
-    z[2 * (size_t)i] = x0[i];
-    z[2 * (size_t)i + 1] = v0[i];
-  }
-  vi_gflow_start(f, m, t0, z);
-  vi_gflow_eval(f, m, t, 0, NULL, NULL, z);
-  for (int i = 0; i < n; i++) {
-    x[i] = z[2 * (size_t)i];
-    v[i] = z[2 * (size_t)i + 1];
-  }
-  vi_gflow_free(f);
-  free(z);
   return VI_OK;
 }
+
+void vi_xseg_release(vi_xseg *s)
+{
+  vi_gflow_free(s->g);
+  free(s->z);
+  s->g = NULL;
+  s->z = NULL;
+}
+
+/* q = H(t) + w: H the harmonic particular solution, w the rest, which obeys
+ * w'' + d w' + lambda w = F0 and runs relative to its start */
+void vi_xseg_start_modal(vi_xseg *s, double t0, const double *q0,
+                         const double *qd0)
+{
+  const vi_model *m = s->m;
+  vi_phase p0 = vi_phase_at(m->omega_f, t0);
+  const double *pA = s->fl->pA, *pB = s->fl->pB;
+  s->t0 = t0;
+  for (int j = 0; j < m->n; j++) {
+    s->w[j] = q0[j] - vi_harm(&p0, 0, pA[j], pB[j], 0.0);
+    s->wd[j] = qd0[j] - vi_harm(&p0, 1, pA[j], pB[j], 0.0);
+    s->f[j] = m->F0[j] - m->lambda[j] * s->w[j];
+  }
+}
+
+void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c)
+{
+  const vi_model *m = s->m;
+  vi_phase p1 = vi_phase_at(m->omega_f, t);
+  const double *pA = s->fl->pA, *pB = s->fl->pB, *lambda = m->lambda, *D = m->D;
+  const double *w = s->w, *wd = s->wd, *f = s->f;
+  double tau = t - s->t0;
+  int n = m->n;
+  for (int j = 0; j < n; j++) {
+    double lam = lambda[j], A, B, Bp, phi;
+    propagate(lam, D[j + (size_t)j * n], tau, &A, &B, &Bp, &phi);
+    if (q) q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (w[j] + B * wd[j] + phi * f[j]);
+    if (qd) qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * wd[j] + B * f[j]);
+    if (c) { /* vi_flow_stm2's */
+      c[4 * (size_t)j] = A;
+      c[4 * (size_t)j + 1] = -lam * B;
+      c[4 * (size_t)j + 2] = B;
+      c[4 * (size_t)j + 3] = Bp;
+    }
+  }
+}
+
+void vi_xseg_start(vi_xseg *s, double t0, const double *x0, const double *v0)
+{
+  int n = s->m->n;
+  if (s->g) {
+    for (int i = 0; i < n; i++) {
+      s->z[2 * (size_t)i] = x0[i];
+      s->z[2 * (size_t)i + 1] = v0[i];
+    }
+    s->t0 = t0;
+    vi_gflow_start(s->g, s->m, t0, s->z);
+    return;
+  }
+  /* the modal start in w, wd, then its own flight from there */
+  vi_matvec(n, s->m->PsiTM, x0, s->w);
+  vi_matvec(n, s->m->PsiTM, v0, s->wd);
+  vi_xseg_start_modal(s, t0, s->w, s->wd);
+}
+
+void vi_xseg_physical(vi_xseg *s, double t, double *x, double *v,
+                      double *work)
+{
+  int n = s->m->n;
+  if (s->g) {
+    vi_gflow_eval(s->g, s->m, t, 0, NULL, NULL, s->z);
+    for (int i = 0; i < n; i++) {
+      x[i] = s->z[2 * (size_t)i];
+      v[i] = s->z[2 * (size_t)i + 1];
+    }
+    return;
+  }
+  vi_xseg_modal(s, t, work, work + n, NULL);
+  vi_matvec(n, s->m->Psi, work, x);
+  vi_matvec(n, s->m->Psi, work + n, v);
+}
+
+/* ---- the flow from one start to one time ----------------------------------- */
 
 int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
                    const double *q0, const double *qd0, double t, double *q,
                    double *qd)
 {
   if (!fl->ok) return VI_ERR_UNSUPPORTED;
-  if (fl->gen) { /* through physical coordinates: x = Psi q, q = Psi^T M x */
-    int n = m->n;
-    double small[4 * VI_FLOW_SMALL];
-    double *buf = n <= VI_FLOW_SMALL ? small : malloc(sizeof(double) * 4 * (size_t)n);
-    if (!buf) return VI_ERR_NOMEM;
-    vi_matvec(n, m->Psi, q0, buf);
-    vi_matvec(n, m->Psi, qd0, buf + n);
-    int st = flow_general(fl->gen, m, t0, buf, buf + n, t,
-                          buf + 2 * (size_t)n, buf + 3 * (size_t)n);
-    vi_matvec(n, m->PsiTM, buf + 2 * (size_t)n, q);
-    vi_matvec(n, m->PsiTM, buf + 3 * (size_t)n, qd);
-    if (buf != small) free(buf);
-    return st;
+  int n = m->n;
+  double small[7 * VI_FLOW_SMALL];
+  double *buf = n <= VI_FLOW_SMALL ? small : malloc(sizeof(double) * 7 * (size_t)n);
+  if (!buf) return VI_ERR_NOMEM;
+  vi_xseg s;
+  int st = vi_xseg_init(&s, fl, m, buf);
+  if (!st && fl->gen) { /* through physical coordinates: x = Psi q, q = Psi^T M x */
+    double *x = buf + 3 * (size_t)n, *v = x + n;
+    vi_matvec(n, m->Psi, q0, x);
+    vi_matvec(n, m->Psi, qd0, v);
+    vi_xseg_start(&s, t0, x, v);
+    vi_xseg_physical(&s, t, x, v, NULL);
+    vi_matvec(n, m->PsiTM, x, q);
+    vi_matvec(n, m->PsiTM, v, qd);
+  } else if (!st) {
+    vi_xseg_start_modal(&s, t0, q0, qd0);
+    vi_xseg_modal(&s, t, q, qd, NULL);
   }
-  /* q = H(t) + w: H the harmonic particular solution, w the rest, which
-   * obeys w'' + d w' + lambda w = F0 and runs relative to its start */
-  double tau = t - t0, Om = m->omega_f;
-  vi_phase p0 = vi_phase_at(Om, t0), p1 = vi_phase_at(Om, t);
-  const double *pA = fl->pA, *pB = fl->pB;
-  for (int j = 0; j < m->n; j++) {
-    double lam = m->lambda[j], d = m->D[j + (size_t)j * m->n], B, Bp, phi;
-    double w0 = q0[j] - vi_harm(&p0, 0, pA[j], pB[j], 0.0);
-    double wd0 = qd0[j] - vi_harm(&p0, 1, pA[j], pB[j], 0.0);
-    double f = m->F0[j] - lam * w0;
-    vi_flow_basis(lam, d, tau, &B, &Bp, &phi);
-    q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (w0 + B * wd0 + phi * f);
-    qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * wd0 + B * f);
-  }
-  return VI_OK;
+  vi_xseg_release(&s);
+  if (buf != small) free(buf);
+  return st;
 }
 
 int vi_xflow_physical(const vi_xflow *fl, const vi_model *m, double t0,
@@ -286,20 +355,18 @@ int vi_xflow_physical(const vi_xflow *fl, const vi_model *m, double t0,
                       double *v)
 {
   if (!fl->ok) return VI_ERR_UNSUPPORTED;
-  if (fl->gen) return flow_general(fl->gen, m, t0, x0, v0, t, x, v);
   int n = m->n;
-  double small[4 * VI_FLOW_SMALL];
-  double *q = n <= VI_FLOW_SMALL ? small : malloc(sizeof(double) * 4 * (size_t)n);
-  if (!q) return VI_ERR_NOMEM;
-  double *qd = q + n, *q1 = q + 2 * (size_t)n, *qd1 = q + 3 * (size_t)n;
-  vi_matvec(n, m->PsiTM, x0, q);
-  vi_matvec(n, m->PsiTM, v0, qd);
-  int st = vi_xflow_modal(fl, m, t0, q, qd, t, q1, qd1);
-  if (st == VI_OK) {
-    vi_matvec(n, m->Psi, q1, x);
-    vi_matvec(n, m->Psi, qd1, v);
+  double small[5 * VI_FLOW_SMALL];
+  double *buf = n <= VI_FLOW_SMALL ? small : malloc(sizeof(double) * 5 * (size_t)n);
+  if (!buf) return VI_ERR_NOMEM;
+  vi_xseg s;
+  int st = vi_xseg_init(&s, fl, m, buf);
+  if (!st) {
+    vi_xseg_start(&s, t0, x0, v0);
+    vi_xseg_physical(&s, t, x, v, buf + 3 * (size_t)n);
   }
-  if (q != small) free(q);
+  vi_xseg_release(&s);
+  if (buf != small) free(buf);
   return st;
 }
 

@@ -45,6 +45,40 @@ int vi_xflow_physical(const vi_xflow *f, const vi_model *m, double t0,
 int vi_xflow_modal(const vi_xflow *f, const vi_model *m, double t0,
                    const double *q0, const double *qd0, double t, double *q,
                    double *qd);
+/* One flight of a flow (ok) from its start: what every time of it shares,
+ * the modal start relative to the harmonic particular solution (or the
+ * first-order modal amplitudes of vi_general.c), so that a caller
+ * evaluating many times of one flight (identification: every sample
+ * between two impacts) starts it once.  vi_xflow_physical and
+ * vi_xflow_modal are a start and one evaluation of a vi_xseg. */
+typedef struct vi_gflow vi_gflow;
+typedef struct vi_xseg {
+  const vi_xflow *fl;
+  const vi_model *m;
+  double t0;
+  double *w, *wd, *f; /* per mode: q - H, q' - H' at t0, F0 - lambda w [n] */
+  vi_gflow *g;        /* non-proportional damping: the first-order flow */
+  double *z;          /* and its interleaved state [2n] */
+} vi_xseg;
+/* s for flights of the flow fl of m; buf [3n] is the caller's and is
+ * kept.  VI_OK or VI_ERR_NOMEM (non-proportional damping allocates);
+ * vi_xseg_release frees what init allocated (not buf). */
+int vi_xseg_init(vi_xseg *s, const vi_xflow *fl, const vi_model *m, double *buf);
+void vi_xseg_release(vi_xseg *s);
+/* Start from (x0, v0) at t0, or (proportional damping only) from the
+ * modal (q0, qd0), which may be s->w, s->wd. */
+void vi_xseg_start(vi_xseg *s, double t0, const double *x0, const double *v0);
+void vi_xseg_start_modal(vi_xseg *s, double t0, const double *q0,
+                         const double *qd0);
+/* The state at t >= t0: modal (proportional damping only; q or qd may be
+ * NULL where that half is not wanted; with c [4n] not NULL each mode's
+ * 2 x 2 state-transition matrix over t - t0 too, as vi_flow_stm2's, from
+ * the same propagator) or physical, work
+ * [2n] (proportional damping; unused otherwise; the physical one uses s's
+ * scratch for other damping). */
+void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c);
+void vi_xseg_physical(vi_xseg *s, double t, double *x, double *v,
+                      double *work);
 /* 1 if the closed-form flow of m exists (builds one to find out: cheap
  * for proportional damping), 0 if not or out of memory. */
 int vi_xflow_available(const vi_model *m);
@@ -79,7 +113,6 @@ void vi_flow_stm2(double lambda, double d, double tau, double c[4]);
  * is the flow from one start.  vi_general_create: VI_OK, VI_ERR_NOMEM,
  * VI_ERR_LAPACK or VI_ERR_UNSUPPORTED (not safely diagonalisable, or a
  * resonance), with the reason in why [VI_MSG_LEN]. */
-typedef struct vi_gflow vi_gflow;
 int vi_general_create(const vi_model *m, vi_general **out, char *why);
 void vi_general_destroy(vi_general **g);
 double vi_general_top_frequency(const vi_general *g, double omega_f);

@@ -436,16 +436,51 @@ int vi_orbit_pnm_multipliers(const vi_model *m, int np, int mi,
 }
 
 /* the largest gap max_k (w_k.x - x_k) over the stops of the free flow
- * from (t0, zp) at t */
-static double gap_at(const ws *w, double t0, const double *zp, double t,
-                     double *z)
+ * from seg's start (t0, zp) at t; work [2n] */
+static double gap_at(const ws *w, vi_xseg *seg, double t, double *z,
+                     double *work)
 {
   const vi_model *m = w->m;
-  if (flow(w, t0, zp, t, z)) return NAN;
+  if (!w->xf || !w->xf->ok || !(t >= seg->t0)) return NAN;
+  vi_xseg_physical(seg, t, z, z + w->n, work);
   double g = -HUGE_VAL;
   for (int k = 0; k < m->ns; k++)
     g = fmax(g, vi_dot(m->n, vi_stop_w(m, k), z) - m->xsv[k]);
   return g;
+}
+
+/* gap_at at t0 + k h, k = 1..K, into g [K + 1] (g[0] unused): the grid
+ * in blocks of 64 whose modal states go to physical positions in one
+ * product; work [3n x 64] */
+static void grid_gaps(const ws *w, vi_xseg *seg, double t0, double h, int K,
+                      double *g, double *work)
+{
+  const vi_model *m = w->m;
+  int n = m->n;
+  if (!w->xf || !w->xf->ok || seg->g) {
+    for (int k = 1; k <= K; k++) g[k] = gap_at(w, seg, t0 + k * h, work, work + 2 * (size_t)n);
+    return;
+  }
+  double *Q = work, *X = work + 2 * (size_t)n * 64;
+  for (int k0 = 1; k0 <= K; k0 += 64) {
+    int nk = K - k0 + 1 < 64 ? K - k0 + 1 : 64;
+    for (int i = 0; i < nk; i++) {
+      double t = t0 + (k0 + i) * h;
+      if (!(t >= seg->t0)) { /* gap_at's NaN */
+        memset(Q + 2 * (size_t)n * i, 0, sizeof(double) * 2 * (size_t)n);
+        continue;
+      }
+      vi_xseg_modal(seg, t, Q + 2 * (size_t)n * i, Q + 2 * (size_t)n * i + n, NULL);
+    }
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, nk, n, 1.0, m->Psi, n,
+                Q, 2 * n, 0.0, X, n);
+    for (int i = 0; i < nk; i++) {
+      double gi = -HUGE_VAL;
+      for (int q = 0; q < m->ns; q++)
+        gi = fmax(gi, vi_dot(n, vi_stop_w(m, q), X + (size_t)n * i) - m->xsv[q]);
+      g[k0 + i] = t0 + (k0 + i) * h >= seg->t0 ? gi : NAN;
+    }
+  }
 }
 
 int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
@@ -459,7 +494,19 @@ int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
   ws w;
   if ((st = ws_init(&w, m, stop, 0))) return st;
   double T = vi_forcing_period(m->omega_f), worst = -HUGE_VAL;
-  double *z = w.buf, *zp = z + (size_t)2 * n, *zz = zp + (size_t)2 * n;
+  double *z = w.buf, *zp = z + (size_t)2 * n, *zz = zp + (size_t)2 * n,
+         *wk = zz + (size_t)2 * n, *sb = wk + (size_t)2 * n;
+  /* the flight from each impact is started once (sb [3n]): its gap is
+   * sampled 512 times a period, in blocks (gs, gw), and more */
+  vi_xseg seg;
+  seg.g = NULL;
+  seg.z = NULL;
+  double *gs = NULL, *gw = malloc(sizeof(double) * 3 * (size_t)n * 64);
+  if (!gw || (w.xf && (st = vi_xseg_init(&seg, w.xf, m, sb)))) {
+    free(gw);
+    ws_free(&w);
+    return gw ? st : VI_ERR_NOMEM;
+  }
   double scale = 0.0;
   for (int k = 0; k < m->ns; k++) scale = fmax(scale, fabs(m->xsv[k]));
   for (int j = 0; j < mi; j++) scale = fmax(scale, norm_inf(n, x + (size_t)j * ld));
@@ -472,21 +519,32 @@ int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
     vi_var_impact(m, s, z, zp);
     double t0 = t[j], t1 = j + 1 < mi ? t[j + 1] : t[0] + np * T;
     if (!(t1 > t0)) *ok = 0;
+    seg.t0 = t0; /* gap_at's time check where there is no flow */
+    if (w.xf && w.xf->ok) vi_xseg_start(&seg, t0, zp, zp + n);
     /* 512 samples per forcing period, then golden-section on each
      * interior local maximum of the gap */
     int K = (int)fmax(64.0, 512.0 * (t1 - t0) / T);
-    double h = (t1 - t0) / K, gp = -HUGE_VAL, gc = gap_at(&w, t0, zp, t0 + h, zz);
+    if (K < 64) K = 64; /* a span beyond int's range */
+    double h = (t1 - t0) / K;
+    double *gk = realloc(gs, sizeof(double) * ((size_t)K + 1));
+    if (!gk) {
+      st = VI_ERR_NOMEM;
+      break;
+    }
+    gs = gk;
+    grid_gaps(&w, &seg, t0, h, K, gs, gw);
+    double gp = -HUGE_VAL, gc = gs[1];
     for (int k = 1; k < K; k++) {
-      double gn = gap_at(&w, t0, zp, t0 + (k + 1) * h, zz);
+      double gn = gs[k + 1];
       /* interior maxima only: the gap rises to 0 at the next impact */
       if (k > 1 && k + 1 < K - 1 && gc >= gp && gc >= gn) {
         double a = t0 + (k - 1) * h, b = t0 + (k + 1) * h;
         const double gr = 0.6180339887498949;
         double c1 = b - gr * (b - a), c2 = a + gr * (b - a);
-        double g1 = gap_at(&w, t0, zp, c1, zz), g2 = gap_at(&w, t0, zp, c2, zz);
+        double g1 = gap_at(&w, &seg, c1, zz, wk), g2 = gap_at(&w, &seg, c2, zz, wk);
         for (int it = 0; it < 40; it++) {
-          if (g1 > g2) { b = c2; c2 = c1; g2 = g1; c1 = b - gr * (b - a); g1 = gap_at(&w, t0, zp, c1, zz); }
-          else { a = c1; c1 = c2; g1 = g2; c2 = a + gr * (b - a); g2 = gap_at(&w, t0, zp, c2, zz); }
+          if (g1 > g2) { b = c2; c2 = c1; g2 = g1; c1 = b - gr * (b - a); g1 = gap_at(&w, &seg, c1, zz, wk); }
+          else { a = c1; c1 = c2; g1 = g2; c2 = a + gr * (b - a); g2 = gap_at(&w, &seg, c2, zz, wk); }
         }
         worst = fmax(worst, fmax(fmax(g1, g2), gc));
       }
@@ -495,10 +553,13 @@ int vi_orbit_pnm_admissible_stops(const vi_model *m, int np, int mi,
       gc = gn;
     }
   }
-  if (isnan(worst)) st = VI_ERR_UNSUPPORTED;
+  free(gs);
+  free(gw);
+  if (!st && isnan(worst)) st = VI_ERR_UNSUPPORTED;
   /* contact between impacts beyond round-off of the flow */
   if (worst > 1e-10 * scale) *ok = 0;
   if (gmax) *gmax = worst;
+  vi_xseg_release(&seg);
   ws_free(&w);
   return st;
 }

@@ -4,6 +4,7 @@
  *   vi_identify.c         set-up, the run's order, the result getters
  *   vi_identify_resid.c   models at trial values, the orbit continued,
  *                         residuals and their exact Jacobian
+ *   vi_identify_track.c   the orbit at many times (the samples), in blocks
  *   vi_identify_seed.c    the recording's period, the orbit the model
  *                         shows at a start, the shift scan
  *   vi_identify_scan2.c   every P(n, 2) orbit from a scan of impact phases
@@ -119,6 +120,53 @@ void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,
                  double *t0);
 int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f);
 int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J);
+
+/* vi_identify_track.c: the orbit o of m at many times.  Samples are
+ * evaluated in blocks of at most VI_ID_BLOCK. */
+#define VI_ID_BLOCK 64
+typedef struct vi_id_track {
+  const vi_model *m;
+  const orb *o;
+  int N, nseg;
+  double P;              /* the orbit's period */
+  int halves;            /* of the states wanted: 1 x, 2 v, 3 both (init's
+                            choice; x alone or v alone spares the other's
+                            half of the work where proportional) */
+  vi_xseg seg[MAX_M];    /* the flight from each impact */
+  double *zp;            /* post-impact states [2N x o->m] */
+  double *Q;             /* a block's modal states [2N x VI_ID_BLOCK] */
+  double *Z;             /* physical states, for the caller [2N x VI_ID_BLOCK] */
+  double *work;          /* [2N], free for the caller */
+  double *A;             /* [N x VI_ID_BLOCK], free for the caller */
+  double *mem;
+} vi_id_track;
+/* Where model time s falls on the orbit o of period P: after impact *j,
+ * *tau later, in the *k-th orbit period from the first impact. */
+void vi_id_locate(const orb *o, double P, double s, int *j, double *tau,
+                  double *k);
+/* Start the flights of o's impacts (o and m are kept, not copied):
+ * VI_OK or VI_ERR_NOMEM; vi_id_track_free frees (also after a failure). */
+int vi_id_track_init(vi_id_track *tk, const vi_model *m, const vi_xflow *xf,
+                     const orb *o);
+void vi_id_track_free(vi_id_track *tk);
+/* The states z = (x, v) at t_j[i] + tau[i], i < k <= VI_ID_BLOCK, into the
+ * columns of Z [2N x k] (tk->Z or the caller's); proportional damping
+ * with C [4N x k] not NULL: each mode's 2 x 2 state-transition matrix
+ * from impact j[i] to the sample too (vi_xseg_modal's). */
+void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
+                    double *Z, double *C);
+/* The same at the model times s [k], located on the orbit: j, tau [k]
+ * and kper [k] (may be NULL) as vi_id_locate's. */
+void vi_id_track_states(vi_id_track *tk, int k, const double *s, int *j,
+                        double *tau, double *kper, double *Z, double *C);
+/* The halves (tk->halves) a channel of order 0, 1, 2 needs. */
+int vi_id_halves(int order);
+/* The accelerations x'' [N x k rep] (leading dimension N) of m in the
+ * states Z [2N x k rep] (leading dimension 2N), columns i rep .. i rep +
+ * rep - 1 at the time t[i], i < k: vi_var_field's velocity half for a
+ * block (the same sums). */
+void vi_id_accel_block(const vi_model *m, int k, int rep, const double *t,
+                       const double *Z, double *F);
 
 /* vi_identify_seed.c */
 int vi_id_data_period(vi_identify *id, double T);

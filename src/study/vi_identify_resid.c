@@ -119,25 +119,6 @@ int vi_id_ensure(vi_identify *id, const double *p)
   return VI_OK;
 }
 
-/* Where model time s falls on the orbit: after impact *j, *tau later, in
- * the *k-th orbit period from the first impact. */
-static void locate(const orb *o, double P, double s, int *j, double *tau,
-                   double *k)
-{
-  double ph = s - o->t[0], kk = floor(ph / P);
-  ph -= kk * P;
-  if (ph >= P) {
-    ph -= P;
-    kk += 1.0;
-  }
-  if (ph < 0.0) ph = 0.0;
-  int jj = o->m - 1;
-  while (jj > 0 && o->t[jj] - o->t[0] > ph) jj--;
-  *j = jj;
-  *tau = ph - (o->t[jj] - o->t[0]);
-  *k = kk;
-}
-
 /* State z = (x, v) [2N] of the orbit of m at model time s; zp [2N] the
  * post-impact state of the segment. */
 void vi_id_orbit_state(const vi_model *m, const vi_xflow *xf, const orb *o,
@@ -146,7 +127,7 @@ void vi_id_orbit_state(const vi_model *m, const vi_xflow *xf, const orb *o,
 {
   int N = m->n, j;
   double tau, k;
-  locate(o, vi_id_period_of(m, o->n), s, &j, &tau, &k);
+  vi_id_locate(o, vi_id_period_of(m, o->n), s, &j, &tau, &k);
   memcpy(z, o->x + (size_t)j * N, sizeof(double) * N);
   memcpy(z + N, o->v + (size_t)j * N, sizeof(double) * N);
   vi_var_impact(m, o->stop[j], z, zp);
@@ -208,6 +189,14 @@ static double chan(int N, const double *c, const vi_model *m, double s,
   return vi_dot(N, c, work + N);
 }
 
+/* The same from the state z [2N] and its acceleration a [N]
+ * (vi_id_accel_block). */
+static double chan_of(int N, const double *c, const double *z, const double *a,
+                      int order)
+{
+  return vi_dot(N, c, order < 2 ? z + (size_t)order * N : a);
+}
+
 /* c.x, c.x' or c.x'' (order 0, 1, 2) of the state z [2N] of m at model
  * time s; work [2N]. */
 double vi_id_channel(const vi_identify *id, const vi_model *m, double s,
@@ -229,32 +218,37 @@ void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,
 int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
 {
   vi_identify *id = ctx;
-  int N = id->N, ns = id->ns, ord[NB];
-  double p[MAXP] = {0}, t0, z[64], zp[64], wt[NB];
+  int N = id->N, ns = id->ns, ord[NB], jj[VI_ID_BLOCK];
+  double p[MAXP] = {0}, t0, wt[NB], s[VI_ID_BLOCK], tau[VI_ID_BLOCK];
   const double *d[NB], *cv[NB];
-  double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
-  if (!zz) return GSL_ENOMEM;
-  double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
-  if (vi_id_poll_cancel(id)) { /* stops the GSL iteration */
-    if (zz != z) free(zz);
-    return GSL_EBADFUNC;
-  }
+  if (vi_id_poll_cancel(id)) return GSL_EBADFUNC; /* stops the GSL iteration */
   vi_id_split(id, th, p, &t0);
   if (vi_id_ensure(id, p)) {
     /* no admissible orbit there: a cost no step can accept */
     gsl_vector_set_all(f, 1e3 * id->scale);
-    if (zz != z) free(zz);
     return GSL_SUCCESS;
   }
-  int nb = blocks(id, d, ord, wt, cv);
-  for (int i = 0; i < ns; i++) {
-    double s = id->t[i] + t0;
-    vi_id_orbit_state(id->cur, id->xf, &id->o, s, zz, zzp, NULL, NULL, NULL);
-    for (int b = 0; b < nb; b++)
-      gsl_vector_set(f, b * ns + i,
-                     (d[b][i] - chan(N, cv[b], id->cur, s, zz, ord[b], zzp)) * wt[b]);
+  vi_id_track tk;
+  if (vi_id_track_init(&tk, id->cur, id->xf, &id->o)) return GSL_ENOMEM;
+  int nb = blocks(id, d, ord, wt, cv), acc = 0;
+  tk.halves = 0;
+  for (int b = 0; b < nb; b++) {
+    acc |= ord[b] == 2;
+    tk.halves |= vi_id_halves(ord[b]);
   }
-  if (zz != z) free(zz);
+  for (int i0 = 0; i0 < ns; i0 += VI_ID_BLOCK) {
+    int k = ns - i0 < VI_ID_BLOCK ? ns - i0 : VI_ID_BLOCK;
+    for (int i = 0; i < k; i++) s[i] = id->t[i0 + i] + t0;
+    vi_id_track_states(&tk, k, s, jj, tau, NULL, tk.Z, NULL);
+    if (acc) vi_id_accel_block(id->cur, k, 1, s, tk.Z, tk.A);
+    for (int i = 0; i < k; i++) {
+      const double *z = tk.Z + (size_t)i * 2 * N, *a = tk.A + (size_t)i * N;
+      for (int b = 0; b < nb; b++)
+        gsl_vector_set(f, b * ns + i0 + i,
+                       (d[b][i0 + i] - chan_of(N, cv[b], z, a, ord[b])) * wt[b]);
+    }
+  }
+  vi_id_track_free(&tk);
   return GSL_SUCCESS;
 }
 
@@ -268,8 +262,7 @@ static void dstep(const vi_identify *id, const double *p, int j, double *hp,
 }
 
 typedef struct jac_ws {
-  double *Fu, *Fp, *F, *Fa, *Fb, *Phi, *zeta, *dz, *z, *zp, *f, *za, *zb, *zt;
-  double *g0, *g1, *zero; /* fields of the acceleration rows */
+  double *Fu, *Fp, *F, *Fa, *Fb, *Phi, *dz, *g1, *zt; /* g1, zt: chan's work */
   int *ipiv;
   vi_model *mp[MAXP], *mm[MAXP];
   vi_xflow *xp[MAXP], *xm[MAXP];
@@ -304,10 +297,238 @@ static int jac_models(vi_identify *id, const double *p, jac_ws *w, int j)
   return vi_xflow_create(w->mm[j], &w->xm[j]);
 }
 
+/* The Jacobian's rows at the samples from the orbit's sensitivity du/dp
+ * (w->Fp, negated): impact j's du/dp through the impact law, moved to the
+ * sample by the state-transition matrix, dz(s) = Phi(tau) zeta_j with
+ * zeta_j = R (dx_j, dv_j) - dt_j f+; zeta_j is the impact's alone, so it
+ * is formed once per impact (and, for proportional damping, taken to modal
+ * coordinates once: Phi(tau) is then each mode's 2 x 2 flow); a block of
+ * samples goes back to physical coordinates in one product. */
+typedef struct jac_blk {
+  double *Zeta, *Zm, *fseg; /* per impact: zeta [2N x np], modal, f+ [2N] */
+  double *U, *dZ;           /* a block's modal and physical dz [2N x np x B] */
+  double *Za, *Zb, *Zhp, *Zhm, *Zero; /* states [2N x B] */
+  double *C;                /* the modes' 2 x 2 flows [4N x B] */
+  double *G0, *Af, *Ahp, *Ahm; /* accelerations [N x B]: of the forcing
+                                  alone, of the states, at s +- h */
+  double *G1;               /* of the dz [N x np x B] */
+  vi_id_track tk, tp[MAXP], tm[MAXP];
+} jac_blk;
+
+static void blk_free(jac_blk *k, int np)
+{
+  vi_id_track_free(&k->tk);
+  for (int q = 0; q < np; q++) {
+    if (k->tp[q].mem) vi_id_track_free(&k->tp[q]);
+    if (k->tm[q].mem) vi_id_track_free(&k->tm[q]);
+  }
+  free(k->Zeta);
+}
+
+/* zeta and f+ of each impact (free parameters only; the rest stay 0) */
+static void blk_zeta(const vi_identify *id, const jac_ws *w, jac_blk *k)
+{
+  const vi_model *m = id->cur;
+  const orb *o = &id->o;
+  int N = id->N, N2 = 2 * N, np = id->np, B = N2 + 1, D = o->m * B;
+  for (int j = 0; j < o->m; j++) {
+    int sj = o->stop[j];
+    double *f = k->fseg + (size_t)j * N2;
+    vi_var_field(m, o->t[j], k->tk.zp + (size_t)j * N2, f);
+    for (int q = 0; q < np; q++) {
+      if (id->col[q] < 0) continue; /* held */
+      const double *du = w->Fp + (size_t)q * D + (size_t)j * B;
+      double dt = -du[0], *zeta = k->Zeta + ((size_t)j * np + q) * N2;
+      for (int r = 0; r < N2; r++) w->dz[r] = -du[1 + r];
+      vi_var_impact(m, sj, w->dz, zeta);
+      for (int r = 0; r < N2; r++) zeta[r] -= dt * f[r];
+      if (id->kind[q] == VI_IDENTIFY_R && id->kst[q] == sj) {
+        /* d v+/dr = -(w.v-) M^-1 w / (w^T M^-1 w) (WB 2) */
+        const double *vj = o->v + (size_t)j * N, *Mw = vi_stop_minvw(m, sj);
+        double g = vi_dot(N, vi_stop_w(m, sj), vj) / m->G[sj + (size_t)sj * m->ns];
+        for (int r = 0; r < N; r++) zeta[N + r] -= g * Mw[r];
+      }
+    }
+  }
+  if (m->proportional) { /* [q; q'] = Psi^T M [x; v] of every column */
+    int nc = o->m * np;
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, nc, N, 1.0,
+                m->PsiTM, N, k->Zeta, N2, 0.0, k->Zm, N2);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, nc, N, 1.0,
+                m->PsiTM, N, k->Zeta + N, N2, 0.0, k->Zm + N, N2);
+  }
+}
+
+/* dz = Phi(tau_i) zeta_{j_i} of every free parameter and sample of a
+ * block into k->dZ (column i np + q); proportional damping: each mode's
+ * 2 x 2 flow from k->C, the flights' own (vi_id_track_at) */
+static int blk_dz(const vi_identify *id, jac_blk *k, jac_ws *w, int nk,
+                  const int *jj, const double *tau)
+{
+  const vi_model *m = id->cur;
+  int N = id->N, N2 = 2 * N, np = id->np;
+  if (!m->proportional) {
+    for (int i = 0; i < nk; i++) {
+      if (vi_var_stm(m, tau[i], w->Phi)) return VI_ERR_TIME;
+      cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N2, np, N2, 1.0,
+                  w->Phi, N2, k->Zeta + (size_t)jj[i] * np * N2, N2, 0.0,
+                  k->dZ + (size_t)i * np * N2, N2);
+    }
+    return VI_OK;
+  }
+  for (int i = 0; i < nk; i++) {
+    if (!(tau[i] >= 0.0) || !isfinite(tau[i])) return VI_ERR_TIME;
+    for (int a = 0; a < N; a++) {
+      const double *c = k->C + 4 * ((size_t)i * N + a);
+      for (int q = 0; q < np; q++) {
+        if (id->col[q] < 0) continue;
+        const double *zm = k->Zm + ((size_t)jj[i] * np + q) * N2;
+        double *u = k->U + ((size_t)i * np + q) * N2;
+        u[a] = c[0] * zm[a] + c[2] * zm[N + a];
+        u[N + a] = c[1] * zm[a] + c[3] * zm[N + a];
+      }
+    }
+  }
+  int nc = nk * np; /* x = Psi q, v = Psi q' */
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, nc, N, 1.0,
+              m->Psi, N, k->U, N2, 0.0, k->dZ, N2);
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, nc, N, 1.0,
+              m->Psi, N, k->U + N, N2, 0.0, k->dZ + N, N2);
+  return VI_OK;
+}
+
+/* The shift's column of a block's rows: d/ds of c.x, c.x' from the field
+ * at the sample, of c.x'' centrally differenced. */
+static void blk_shift(const vi_identify *id, jac_blk *k, int nk, int i0,
+                      const double *s, const double *tt, gsl_matrix *J)
+{
+  const vi_model *m = id->cur;
+  int N = id->N, N2 = 2 * N, ns = id->ns, sc = id->nfree;
+  double P = vi_id_period_of(m, id->o.n), wt[NB];
+  const double *dat[NB], *cv[NB];
+  int ord[NB], nb = blocks(id, dat, ord, wt, cv), acc = 0;
+  for (int b = 0; b < nb; b++) acc |= ord[b] == 2;
+  double hs = 1e-6 * P, sp[VI_ID_BLOCK], sm[VI_ID_BLOCK], th[VI_ID_BLOCK];
+  int jh[VI_ID_BLOCK];
+  if (acc) { /* d/ds of the acceleration, centrally differenced */
+    for (int i = 0; i < nk; i++) {
+      sp[i] = s[i] + hs;
+      sm[i] = s[i] - hs;
+    }
+    vi_id_track_states(&k->tk, nk, sp, jh, th, NULL, k->Zhp, NULL);
+    vi_id_track_states(&k->tk, nk, sm, jh, th, NULL, k->Zhm, NULL);
+    vi_id_accel_block(m, nk, 1, sp, k->Zhp, k->Ahp);
+    vi_id_accel_block(m, nk, 1, sm, k->Zhm, k->Ahm);
+  }
+  /* d/ds of c.x, c.x': the field z' at the sample */
+  vi_id_accel_block(m, nk, 1, tt, k->tk.Z, k->Af);
+  for (int i = 0; i < nk; i++) {
+    for (int b = 0; b < nb; b++) {
+      double dd;
+      if (ord[b] < 2) {
+        dd = vi_dot(N, cv[b], ord[b] ? k->Af + (size_t)i * N
+                                     : k->tk.Z + (size_t)i * N2 + N);
+      } else {
+        dd = (vi_dot(N, cv[b], k->Ahp + (size_t)i * N) -
+              vi_dot(N, cv[b], k->Ahm + (size_t)i * N)) / (2.0 * hs);
+      }
+      gsl_matrix_set(J, b * ns + i0 + i, sc, -dd * wt[b]);
+    }
+  }
+}
+
+static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
+{
+  const vi_model *m = id->cur;
+  const orb *o = &id->o;
+  int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
+  double P = vi_id_period_of(m, o->n), wt[NB];
+  const double *dat[NB], *cv[NB];
+  int ord[NB], nb = blocks(id, dat, ord, wt, cv), acc = 0;
+  for (int b = 0; b < nb; b++) acc |= ord[b] == 2;
+  jac_blk k;
+  memset(&k, 0, sizeof k);
+  size_t zs = (size_t)N2 * np * o->m, bs = (size_t)N2 * np * VI_ID_BLOCK,
+         vs = (size_t)N2 * VI_ID_BLOCK;
+  k.Zeta = calloc(2 * zs + (size_t)N2 * o->m + 3 * bs + 9 * vs, sizeof(double));
+  if (!k.Zeta) return VI_ERR_NOMEM;
+  k.Zm = k.Zeta + zs;
+  k.fseg = k.Zm + zs;
+  k.U = k.fseg + (size_t)N2 * o->m;
+  k.dZ = k.U + bs;
+  k.Za = k.dZ + bs;
+  k.Zb = k.Za + vs;
+  k.Zhp = k.Zb + vs;
+  k.Zhm = k.Zhp + vs;
+  k.Zero = k.Zhm + vs;
+  k.C = k.Zero + vs;      /* 2 vs */
+  k.G0 = k.C + 2 * vs;    /* vs / 2 each */
+  k.Af = k.G0 + vs / 2;
+  k.Ahp = k.Af + vs / 2;
+  k.Ahm = k.Ahp + vs / 2;
+  k.G1 = k.Ahm + vs / 2;  /* bs / 2 */
+  st = vi_id_track_init(&k.tk, m, id->xf, o);
+  for (int q = 0; !st && q < np; q++)
+    if (w->mp[q] && id->col[q] >= 0 &&
+        !(st = vi_id_track_init(&k.tp[q], w->mp[q], w->xp[q], o)))
+      st = vi_id_track_init(&k.tm[q], w->mm[q], w->xm[q], o);
+  if (st) {
+    blk_free(&k, np);
+    return st;
+  }
+  blk_zeta(id, w, &k);
+  for (int i0 = 0; i0 < ns; i0 += VI_ID_BLOCK) {
+    int nk = ns - i0 < VI_ID_BLOCK ? ns - i0 : VI_ID_BLOCK, jj[VI_ID_BLOCK];
+    double s[VI_ID_BLOCK], tau[VI_ID_BLOCK], kper[VI_ID_BLOCK], ta[VI_ID_BLOCK],
+        tb[VI_ID_BLOCK];
+    for (int i = 0; i < nk; i++) s[i] = id->t[i0 + i] + t0;
+    vi_id_track_states(&k.tk, nk, s, jj, tau, kper, k.tk.Z, k.C);
+    if ((st = blk_dz(id, &k, w, nk, jj, tau))) break;
+    double tt[VI_ID_BLOCK];
+    for (int i = 0; i < nk; i++) tt[i] = o->t[jj[i]] + tau[i];
+    if (acc) { /* the field is affine in the state: A dz = g(dz) - g(0) */
+      vi_id_accel_block(m, nk, 1, tt, k.Zero, k.G0);
+      vi_id_accel_block(m, nk, np, tt, k.dZ, k.G1);
+    }
+    for (int q = 0; q < np; q++) {
+      if (id->col[q] < 0) continue; /* held */
+      double h = w->hp[q] + w->hm[q];
+      if (w->mp[q]) {
+        /* the response's own dependence at a fixed orbit (Omega: the
+         * forcing and the period, k periods on), differenced */
+        for (int i = 0; i < nk; i++) {
+          ta[i] = tau[i] + kper[i] * (P - vi_id_period_of(w->mp[q], o->n));
+          tb[i] = tau[i] + kper[i] * (P - vi_id_period_of(w->mm[q], o->n));
+        }
+        vi_id_track_at(&k.tp[q], nk, jj, ta, k.Za, NULL);
+        vi_id_track_at(&k.tm[q], nk, jj, tb, k.Zb, NULL);
+      }
+      for (int i = 0; i < nk; i++) {
+        double tj = o->t[jj[i]], dc[NB];
+        const double *dz = k.dZ + ((size_t)i * np + q) * N2,
+                     *g1 = k.G1 + ((size_t)i * np + q) * N, *g0 = k.G0 + (size_t)i * N;
+        for (int b = 0; b < nb; b++)
+          dc[b] = ord[b] < 2 ? vi_dot(N, cv[b], dz + (size_t)ord[b] * N)
+                             : vi_dot(N, cv[b], g1) - vi_dot(N, cv[b], g0);
+        for (int b = 0; w->mp[q] && b < nb; b++)
+          dc[b] += (chan(N, cv[b], w->mp[q], tj + ta[i], k.Za + (size_t)i * N2,
+                         ord[b], w->g1) -
+                    chan(N, cv[b], w->mm[q], tj + tb[i], k.Zb + (size_t)i * N2,
+                         ord[b], w->zt)) / h;
+        for (int b = 0; b < nb; b++)
+          gsl_matrix_set(J, b * ns + i0 + i, id->col[q], -dc[b] * wt[b]);
+      }
+    }
+    if (id->fit_shift) blk_shift(id, &k, nk, i0, s, tt, J);
+  }
+  blk_free(&k, np);
+  return st;
+}
+
 int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
 {
   vi_identify *id = ctx;
-  int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
+  int N = id->N, N2 = 2 * N, np = id->np, st;
   double p[MAXP] = {0}, t0;
   if (vi_id_poll_cancel(id)) return GSL_EBADFUNC;
   vi_id_split(id, th, p, &t0);
@@ -318,7 +539,7 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   jac_ws w;
   memset(&w, 0, sizeof w);
   size_t nd = (size_t)D * D + (size_t)D * np + 3 * (size_t)D +
-              (size_t)N2 * N2 + 12 * (size_t)N2;
+              (size_t)N2 * N2 + 3 * (size_t)N2;
   w.Fu = malloc(sizeof(double) * nd);
   w.ipiv = malloc(sizeof(int) * D);
   if (!w.Fu || !w.ipiv) {
@@ -330,18 +551,9 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   w.Fa = w.F + D;
   w.Fb = w.Fa + D;
   w.Phi = w.Fb + D;
-  w.zeta = w.Phi + (size_t)N2 * N2;
-  w.dz = w.zeta + N2;
-  w.z = w.dz + N2;
-  w.zp = w.z + N2;
-  w.f = w.zp + N2;
-  w.za = w.f + N2;
-  w.zb = w.za + N2;
-  w.zt = w.zb + N2;
-  w.g0 = w.zt + N2;
-  w.g1 = w.g0 + N2;
-  w.zero = w.g1 + N2;
-  memset(w.zero, 0, sizeof(double) * N2);
+  w.dz = w.Phi + (size_t)N2 * N2;
+  w.g1 = w.dz + N2;
+  w.zt = w.g1 + N2;
   /* the orbit's sensitivity du/dp = -F_u^-1 F_p (exact F_u) */
   st = vi_orbit_pnm_residual_stops(m, o->n, o->m, o->stop, o->t, o->x, o->v,
                                    N, w.F, w.Fu);
@@ -375,87 +587,7 @@ int vi_id_res_df(const gsl_vector *th, void *ctx, gsl_matrix *J)
   memcpy(id->pacc, p, sizeof(double) * np);
   for (size_t i = 0; i < (size_t)D * np; i++) id->dudp[i] = -w.Fp[i];
   id->have_pred = 1;
-  double P = vi_id_period_of(m, o->n), wt[NB];
-  const double *dat[NB], *cv[NB];
-  int ord[NB], nb = blocks(id, dat, ord, wt, cv), sc = id->nfree;
-  for (int i = 0; i < ns; i++) {
-    int j;
-    double tau, kper, s = id->t[i] + t0;
-    vi_id_orbit_state(m, id->xf, o, s, w.z, w.zp, &j, &tau, &kper);
-    double tj = o->t[j];
-    int sj = o->stop[j];
-    vi_var_field(m, tj, w.zp, w.f);
-    if (vi_var_stm(m, tau, w.Phi)) {
-      jac_free(&w, np);
-      return GSL_EBADFUNC;
-    }
-    vi_var_field(m, tj + tau, w.zero, w.g0); /* the forcing alone */
-    for (int q = 0; q < np; q++) {
-      if (id->col[q] < 0) continue; /* held */
-      /* du/dp of impact j, through the impact law, moved to the sample:
-       * dz(s) = Phi(tau) [R (dx_j, dv_j) - dt_j f+] */
-      const double *du = w.Fp + (size_t)q * D + (size_t)j * B;
-      double dt = -du[0], dc[NB];
-      for (int r = 0; r < N2; r++) w.dz[r] = -du[1 + r];
-      vi_var_impact(m, sj, w.dz, w.zeta);
-      for (int r = 0; r < N2; r++) w.zeta[r] -= dt * w.f[r];
-      if (id->kind[q] == VI_IDENTIFY_R && id->kst[q] == sj) {
-        /* d v+/dr = -(w.v-) M^-1 w / (w^T M^-1 w) (WB 2) */
-        const double *vj = o->v + (size_t)j * N, *Mw = vi_stop_minvw(m, sj);
-        double g = vi_dot(N, vi_stop_w(m, sj), vj) / m->G[sj + (size_t)sj * m->ns];
-        for (int r = 0; r < N; r++) w.zeta[N + r] -= g * Mw[r];
-      }
-      cblas_dgemv(CblasColMajor, CblasNoTrans, N2, N2, 1.0, w.Phi, N2,
-                  w.zeta, 1, 0.0, w.dz, 1);
-      for (int b = 0; b < nb; b++) {
-        if (ord[b] < 2) {
-          dc[b] = vi_dot(N, cv[b], w.dz + (size_t)ord[b] * N);
-        } else { /* the field is affine in the state: A dz */
-          vi_var_field(m, tj + tau, w.dz, w.g1);
-          dc[b] = vi_dot(N, cv[b], w.g1 + N) - vi_dot(N, cv[b], w.g0 + N);
-        }
-      }
-      if (w.mp[q]) {
-        /* the response's own dependence at a fixed orbit (Omega: the
-         * forcing and the period, k periods on), differenced */
-        double *zt = w.zt;
-        double ta = tau + kper * (P - vi_id_period_of(w.mp[q], o->n));
-        double tb = tau + kper * (P - vi_id_period_of(w.mm[q], o->n));
-        memcpy(zt, o->x + (size_t)j * N, sizeof(double) * N);
-        memcpy(zt + N, o->v + (size_t)j * N, sizeof(double) * N);
-        vi_var_impact(w.mp[q], sj, zt, w.zeta);
-        vi_xflow_physical(w.xp[q], w.mp[q], tj, w.zeta, w.zeta + N, tj + ta,
-                          w.za, w.za + N);
-        memcpy(zt, o->x + (size_t)j * N, sizeof(double) * N);
-        memcpy(zt + N, o->v + (size_t)j * N, sizeof(double) * N);
-        vi_var_impact(w.mm[q], sj, zt, w.zeta);
-        vi_xflow_physical(w.xm[q], w.mm[q], tj, w.zeta, w.zeta + N, tj + tb,
-                          w.zb, w.zb + N);
-        double h = w.hp[q] + w.hm[q];
-        for (int b = 0; b < nb; b++)
-          dc[b] += (chan(N, cv[b], w.mp[q], tj + ta, w.za, ord[b], w.g1) -
-                    chan(N, cv[b], w.mm[q], tj + tb, w.zb, ord[b], w.zt)) / h;
-      }
-      for (int b = 0; b < nb; b++)
-        gsl_matrix_set(J, b * ns + i, id->col[q], -dc[b] * wt[b]);
-    }
-    if (id->fit_shift) {
-      vi_var_field(m, tj + tau, w.z, w.f);
-      for (int b = 0; b < nb; b++) {
-        double dd;
-        if (ord[b] < 2) {
-          dd = vi_dot(N, cv[b], w.f + (size_t)ord[b] * N);
-        } else { /* d/ds of the acceleration, centrally differenced */
-          double h = 1e-6 * P;
-          vi_id_orbit_state(m, id->xf, o, s + h, w.za, w.zt, NULL, NULL, NULL);
-          vi_id_orbit_state(m, id->xf, o, s - h, w.zb, w.zt, NULL, NULL, NULL);
-          dd = (chan(N, cv[b], m, s + h, w.za, 2, w.g1) -
-                chan(N, cv[b], m, s - h, w.zb, 2, w.g1)) / (2.0 * h);
-        }
-        gsl_matrix_set(J, b * ns + i, sc, -dd * wt[b]);
-      }
-    }
-  }
+  st = jac_samples(id, &w, t0, J);
   jac_free(&w, np);
-  return GSL_SUCCESS;
+  return st ? (st == VI_ERR_NOMEM ? GSL_ENOMEM : GSL_EBADFUNC) : GSL_SUCCESS;
 }

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_blas.h>
 #include <lapacke.h>
 
 #include "vi_identify_internal.h"
@@ -31,21 +32,13 @@ typedef struct leg {
 /* a [n2 x n2] = b c (column-major). */
 static void mul(int n2, const double *b, const double *c, double *a)
 {
-  for (int j = 0; j < n2; j++)
-    for (int i = 0; i < n2; i++) {
-      double s = 0.0;
-      for (int k = 0; k < n2; k++) s += b[i + k * n2] * c[k + j * n2];
-      a[i + j * n2] = s;
-    }
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n2, n2, n2, 1.0, b, n2,
+              c, n2, 0.0, a, n2);
 }
 
 static void matvec(int n2, const double *a, const double *x, double *y)
 {
-  for (int i = 0; i < n2; i++) {
-    double s = 0.0;
-    for (int k = 0; k < n2; k++) s += a[i + k * n2] * x[k];
-    y[i] = s;
-  }
+  cblas_dgemv(CblasColMajor, CblasNoTrans, n2, n2, 1.0, a, n2, x, 1, 0.0, y, 1);
 }
 
 /* The matrices of the legs tau and P - tau; work [3 n2^2]. */
@@ -66,19 +59,45 @@ static void leg_setup(const vi_model *m, const double *J, double tau, double P,
   L->ok = LAPACKE_dgetrf(LAPACK_COL_MAJOR, n2, n2, L->lu, n2, L->piv) == 0;
 }
 
-/* The periodic motion with impacts at t1 and t1 + tau: pre-impact states
- * z1, z2 [2N]; work [6N].  0, or non-zero where the leg is singular. */
-static int fixed_point(const vi_identify *id, const leg *L, double t1,
-                       double tau, double P, double *z1, double *z2,
-                       double *work)
+/* The forced response from rest over both legs of the impacts at t1[i]
+ * and t1[i] + tau, i < k: g1 from t1 to t1 + tau and g2 from there to
+ * t1 + P into the columns of G1, G2 [2N x k].  At rest the modal start is
+ * 0: the modal responses of all k go to physical coordinates in one
+ * product per block; Q [2N x k], sg a flight of the model's flow. */
+static void rest_response(const vi_model *m, vi_xseg *sg, int k,
+                          const double *t1, double tau, double P, double *Q,
+                          double *G1, double *G2)
 {
-  const vi_model *m = id->cur;
   int N = m->n, n2 = 2 * N;
-  double *zero = work, *g1 = zero + n2, *g2 = g1 + n2;
+  double zero[MAXN2] = {0};
+  for (int second = 0; second < 2; second++) {
+    double *G = second ? G2 : G1;
+    for (int i = 0; i < k; i++) {
+      double ta = second ? t1[i] + tau : t1[i], tb = second ? t1[i] + P : t1[i] + tau;
+      double *g = G + (size_t)i * n2;
+      if (sg->g) { /* other damping: the first-order flow's own map */
+        vi_xseg_start(sg, ta, zero, zero);
+        vi_xseg_physical(sg, tb, g, g + N, NULL);
+      } else {
+        vi_xseg_start_modal(sg, ta, zero, zero);
+        vi_xseg_modal(sg, tb, Q + (size_t)i * n2, Q + (size_t)i * n2 + N, NULL);
+      }
+    }
+    if (sg->g) continue;
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, k, N, 1.0, m->Psi,
+                N, Q, n2, 0.0, G, n2);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, N, k, N, 1.0, m->Psi,
+                N, Q + N, n2, 0.0, G + N, n2);
+  }
+}
+
+/* The periodic motion with impacts at t1 and t1 + tau from the forced
+ * response g1, g2 [2N] of its legs (rest_response): pre-impact states
+ * z1, z2 [2N].  0, or non-zero where the leg is singular. */
+static int fixed_point(const leg *L, int n2, const double *g1,
+                       const double *g2, double *z1, double *z2)
+{
   if (!L->ok) return 1;
-  memset(zero, 0, sizeof(double) * n2);
-  vi_xflow_physical(id->xf, m, t1, zero, zero, t1 + tau, g1, g1 + N);
-  vi_xflow_physical(id->xf, m, t1 + tau, zero, zero, t1 + P, g2, g2 + N);
   matvec(n2, L->c2, g1, z1);
   for (int i = 0; i < n2; i++) z1[i] += g2[i];
   if (LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', n2, 1, L->lu, n2, L->piv, z1, n2)) return 1;
@@ -125,7 +144,7 @@ int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found)
   const double *w = vi_stop_w(m, 0);
   size_t nn = (size_t)n2 * n2;
   double *J = malloc(sizeof(double) * (nn * (3 * (size_t)K2 + 7) + (size_t)n2 * 12 +
-                                       4 * (size_t)K1 * K2));
+                                       4 * (size_t)K1 * K2 + 3 * (size_t)n2 * K1));
   lapack_int *piv = malloc(sizeof(lapack_int) * (size_t)n2 * (K2 + 1));
   leg *L = malloc(sizeof *L * (size_t)(K2 + 1));
   if (!J || !piv || !L) {
@@ -138,6 +157,16 @@ int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found)
   double *z1 = work + 3 * nn, *z2 = z1 + n2, *fw = z2 + n2;
   double *h1 = fw + 3 * (size_t)n2, *h2 = h1 + (size_t)K1 * K2,
          *a1 = h2 + (size_t)K1 * K2, *a2 = a1 + (size_t)K1 * K2;
+  double *Q = a2 + (size_t)K1 * K2, *G1 = Q + (size_t)n2 * K1, *G2 = G1 + (size_t)n2 * K1;
+  double t1s[64 * 2], sbuf[3 * MAXN2 / 2];
+  vi_xseg sg;
+  if (vi_xseg_init(&sg, id->xf, m, sbuf)) {
+    free(J);
+    free(piv);
+    free(L);
+    return VI_ERR_NOMEM;
+  }
+  for (int i = 0; i < K1; i++) t1s[i] = P * i / K1;
   for (int k = 0; k <= K2; k++) {
     L[k].lu = mats + nn * 3 * (size_t)k;
     L[k].c2 = L[k].lu + nn;
@@ -157,9 +186,10 @@ int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found)
     if (vi_id_poll_cancel(id)) st = VI_CANCELLED;
     double tau = tau_at(P, k + 1.0, K2);
     leg_setup(m, J, tau, P, &L[k], work);
+    if (L[k].ok) rest_response(m, &sg, K1, t1s, tau, P, Q, G1, G2);
     for (int i = 0; i < K1; i++) {
       size_t q = (size_t)i + (size_t)K1 * k;
-      if (fixed_point(id, &L[k], P * i / K1, tau, P, z1, z2, fw)) {
+      if (fixed_point(&L[k], n2, G1 + (size_t)i * n2, G2 + (size_t)i * n2, z1, z2)) {
         h1[q] = h2[q] = NAN;
         continue;
       }
@@ -190,7 +220,8 @@ int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found)
       if (bad || !app || !(l1 <= 0.0 && u1 >= 0.0 && l2 <= 0.0 && u2 >= 0.0)) continue;
       double t1 = P * (i + 0.5) / K1, tau = tau_at(P, k + 1.5, K2);
       leg_setup(m, J, tau, P, Lc, work);
-      if (fixed_point(id, Lc, t1, tau, P, z1, z2, fw)) continue;
+      if (Lc->ok) rest_response(m, &sg, 1, &t1, tau, P, Q, G1, G2);
+      if (fixed_point(Lc, n2, G1, G2, z1, z2)) continue;
       orb *o = &out[*found < cap ? *found : cap - 1];
       orb c;
       c.n = nd;
@@ -198,7 +229,7 @@ int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found)
       c.stop[0] = c.stop[1] = 0;
       c.t[0] = t1;
       c.t[1] = t1 + tau;
-      /* fw is free after fixed_point: the seed's states */
+      /* fw is free: the seed's states */
       c.x = fw;
       c.v = fw + 2 * (size_t)N;
       memcpy(c.x, z1, sizeof(double) * N);
@@ -225,6 +256,7 @@ int vi_id_scan_p2(vi_identify *id, int nd, orb *out, int cap, int *found)
       }
     }
   }
+  vi_xseg_release(&sg);
   free(J);
   free(piv);
   free(L);

@@ -136,28 +136,33 @@ int vi_id_data_period(vi_identify *id, double T)
 double vi_id_scan_shift(vi_identify *id, double *cost_out)
 {
   if (cost_out) *cost_out = HUGE_VAL;
-  double P = vi_id_period_of(id->cur, id->o.n), best = 0.0, bc = HUGE_VAL;
-  int N = id->N, use = 0;
-  double z[64], zp[64];
-  double *zz = N <= 32 ? z : malloc(sizeof(double) * 4 * N);
-  if (!zz) return 0.0;
-  double *zzp = N <= 32 ? zp : zz + (size_t)2 * N;
+  double best = 0.0, bc = HUGE_VAL, s[VI_ID_BLOCK], tau[VI_ID_BLOCK];
+  int N = id->N, use = 0, jj[VI_ID_BLOCK];
+  vi_id_track tk;
+  if (vi_id_track_init(&tk, id->cur, id->xf, &id->o)) return 0.0;
+  double P = tk.P;
+  tk.halves = vi_id_halves(id->ych);
   while (use < id->ns && id->t[use] - id->t[0] < 2.0 * P && use < 1024) use++;
   for (int k = 0; k < 128; k++) {
     double t0 = k * P / 128.0, cost = 0.0;
-    for (int i = 0; i < use; i++) {
-      vi_id_orbit_state(id->cur, id->xf, &id->o, id->t[i] + t0, zz, zzp, NULL, NULL,
-                  NULL);
-      double e = id->y[i] - vi_id_channel(id, id->cur, id->t[i] + t0, zz,
-                                          id->ych, zzp);
-      cost += e * e;
+    for (int i0 = 0; i0 < use; i0 += VI_ID_BLOCK) {
+      int nk = use - i0 < VI_ID_BLOCK ? use - i0 : VI_ID_BLOCK;
+      for (int i = 0; i < nk; i++) s[i] = id->t[i0 + i] + t0;
+      vi_id_track_states(&tk, nk, s, jj, tau, NULL, tk.Z, NULL);
+      if (id->ych == 2) vi_id_accel_block(id->cur, nk, 1, s, tk.Z, tk.A);
+      for (int i = 0; i < nk; i++) {
+        const double *z = id->ych == 2 ? tk.A + (size_t)i * N
+                                       : tk.Z + (size_t)i * 2 * N + (size_t)id->ych * N;
+        double e = id->y[i0 + i] - vi_dot(N, id->c, z);
+        cost += e * e;
+      }
     }
     if (cost < bc) {
       bc = cost;
       best = t0;
     }
   }
-  if (zz != z) free(zz);
+  vi_id_track_free(&tk);
   if (cost_out) *cost_out = bc;
   return best;
 }

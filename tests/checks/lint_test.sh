@@ -54,6 +54,7 @@ files=(
   src/study/vi_identify.c src/io/vi_identify_h5.c apps/vi_cmd_identify.c
   src/study/vi_identify_fit.c src/study/vi_identify_global.c src/study/vi_identify_resid.c
   src/study/vi_identify_seed.c src/study/vi_identify_stats.c src/study/vi_identify_scan2.c
+  src/study/vi_identify_track.c
   src/io/vi_truncation_h5.c src/io/vi_h5_util.c src/io/vi_diagram_h5.c
   src/study/vi_truncation.c tests/study/test_truncation.c
   tests/study/test_identify.c bench/vi_bench_identify.c
