@@ -338,7 +338,7 @@ int vi_xflow_modal(const vi_xflow *fl, const vi_model *m, double t0,
     vi_matvec(n, m->Psi, q0, x);
     vi_matvec(n, m->Psi, qd0, v);
     vi_xseg_start(&s, t0, x, v);
-    vi_xseg_physical(&s, t, x, v, NULL);
+    vi_xseg_physical(&s, t, x, v, buf + 5 * (size_t)n);
     vi_matvec(n, m->PsiTM, x, q);
     vi_matvec(n, m->PsiTM, v, qd);
   } else if (!st) {

@@ -73,9 +73,8 @@ void vi_xseg_start_modal(vi_xseg *s, double t0, const double *q0,
 /* The state at t >= t0: modal (proportional damping only; q or qd may be
  * NULL where that half is not wanted; with c [4n] not NULL each mode's
  * 2 x 2 state-transition matrix over t - t0 too, as vi_flow_stm2's, from
- * the same propagator) or physical, work
- * [2n] (proportional damping; unused otherwise; the physical one uses s's
- * scratch for other damping). */
+ * the same propagator) or physical, through work [2n] (which other
+ * damping, evaluated in s's own scratch, leaves alone). */
 void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c);
 void vi_xseg_physical(vi_xseg *s, double t, double *x, double *v,
                       double *work);

@@ -77,7 +77,7 @@ static void rest_response(const vi_model *m, vi_xseg *sg, int k,
       double *g = G + (size_t)i * n2;
       if (sg->g) { /* other damping: the first-order flow's own map */
         vi_xseg_start(sg, ta, zero, zero);
-        vi_xseg_physical(sg, tb, g, g + N, NULL);
+        vi_xseg_physical(sg, tb, g, g + N, Q);
       } else {
         vi_xseg_start_modal(sg, ta, zero, zero);
         vi_xseg_modal(sg, tb, Q + (size_t)i * n2, Q + (size_t)i * n2 + N, NULL);

@@ -85,7 +85,7 @@ void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
   if (tk->seg[0].g) { /* other damping: the first-order flow's own map */
     for (int i = 0; i < k; i++) {
       double *z = Z + (size_t)i * N2;
-      vi_xseg_physical(&tk->seg[j[i]], o->t[j[i]] + tau[i], z, z + N, NULL);
+      vi_xseg_physical(&tk->seg[j[i]], o->t[j[i]] + tau[i], z, z + N, tk->Q);
     }
     return;
   }
