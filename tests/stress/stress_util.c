@@ -8,6 +8,14 @@
 
 int st_failures;
 
+void st_check_(int ok, const char *cond, const char *file, int line)
+{
+  if (!ok) {
+    print_error("check failed: %s (%s:%d)\n", cond, file, line);
+    st_failures++;
+  }
+}
+
 void st_end(void)
 {
   int f = st_failures;
