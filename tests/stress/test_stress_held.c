@@ -261,67 +261,124 @@ static const struct { int ne; double t, v; } bar_ref[] = {
     {500, 0.00088466116610149445, 0.099553874153702135},
 };
 
+/* The bar of ne elements held on its stop from rest (x = BAR_X0, v =
+ * BAR_V0), run with a method and tolerances to t_end: the model, the
+ * initial state (x, v, of ne + 1 entries, to be freed) and the event log.
+ * (The set-up and each case of the bar tests in their own functions: the
+ * lint's path-sensitive analyser explored the loops over the cases to its
+ * node budget.) */
+static vi_sim *bar_run(int ne, int method, double rtol, double atol, double t_end,
+                       vi_model **m, double **x, double **v, hlog **log, int *st)
+{
+  int n = ne + 1;
+  *m = bar_model(ne, 0.0);
+  assert_non_null(*m);
+  double *x0 = malloc(sizeof(double) * n), *v0 = malloc(sizeof(double) * n);
+  assert_true(x0 && v0);
+  for (int i = 0; i < n; i++) {
+    x0[i] = BAR_X0;
+    v0[i] = BAR_V0;
+  }
+  *x = x0;
+  *v = v0;
+  *log = calloc(1, sizeof **log);
+  assert_non_null(*log);
+  vi_sim *s = held_sim(*m, method, rtol, atol, x0, v0, *log);
+  *st = vi_sim_run(s, t_end);
+  return s;
+}
+
+/* The index of the first release in l (-1: none), their number in *count. */
+static int hlog_release(const hlog *l, int *count)
+{
+  int ir = -1;
+  *count = 0;
+  for (int i = 0; i < l->count; i++)
+    if (l->kind[i] == VI_EVENT_RELEASE) {
+      ++*count;
+      if (ir < 0) ir = i;
+    }
+  return ir;
+}
+
+/* Case q of bar_ref with the automatic method; prev_t, prev_v: the
+ * distances to the continuum limit of the previous (coarser) case. */
+static void impacting_bar_case(size_t q, double tc, double *prev_t, double *prev_v)
+{
+  int ne = bar_ref[q].ne, n = ne + 1, st;
+  vi_model *m;
+  double *x, *v;
+  hlog *log;
+  vi_sim *s = bar_run(ne, VI_METHOD_AUTO, 1e-8, 1e-10, 1.5e-3, &m, &x, &v, &log, &st);
+  assert_int_equal(st, VI_OK);
+  int nrel, ir = hlog_release(log, &nrel);
+  assert_int_equal(nrel, 1);
+  if (ir < 0) ir = 0; /* (failed above) */
+  /* momentum of the free bar after release: 1^T M v / (rho S L) */
+  double t;
+  assert_int_equal(vi_sim_state(s, &t, x, v), VI_OK);
+  const double *M = vi_model_mass(m);
+  double P = 0.0;
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) P += M[i + (size_t)j * n] * v[j];
+  double vr = P / (BAR_RHO * BAR_S * BAR_L);
+  double et = fabs(log->t[ir] - bar_ref[q].t), ev = fabs(vr - bar_ref[q].v);
+  printf("bar, %4d elements: release %.17g (ref %.17g, error %.3g s), "
+         "rebound %.12f (ref error %.3g), continuum gap %.3g s, %.3g m/s, "
+         "rhs_evals %lld\n", ne, log->t[ir], bar_ref[q].t, et, vr, ev,
+         log->t[ir] - tc, 0.1 - vr,
+         (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
+  /* the issue's target is 1e-11 s; the modal sums reach 1e-13 s (a rigid
+   * mode left at dsygvd's round-off eigenvalue cost 2e-13 s here).  From
+   * 100 elements on (n >= 64) the held bar's modes come from the secular
+   * equation, below from the dense eigen-solve (vi_constrained.c): both
+   * against the same reference */
+  assert_true(et <= 1e-13);
+  /* momentum after release: round-off of the modal sums */
+  assert_true(ev <= 1e-12);
+  assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
+  /* the continuum limit is approached from below, monotonically */
+  assert_true(log->t[ir] < tc && tc - log->t[ir] < *prev_t);
+  assert_true(vr < 0.1 && 0.1 - vr < *prev_v);
+  *prev_t = tc - log->t[ir];
+  *prev_v = 0.1 - vr;
+  vi_sim_destroy(&s);
+  free(log);
+  free(x);
+  free(v);
+  vi_model_destroy(&m);
+}
+
 static void test_impacting_bar(void **state)
 {
   (void)state;
   const double tc = 5e-4 + 2.0 * BAR_L / sqrt(BAR_E / BAR_RHO);
   double prev_t = HUGE_VAL, prev_v = HUGE_VAL;
-  for (size_t q = 0; q < sizeof bar_ref / sizeof bar_ref[0]; q++) {
-    int ne = bar_ref[q].ne, n = ne + 1;
-    vi_model *m = bar_model(ne, 0.0);
-    assert_non_null(m);
-    double *x = malloc(sizeof(double) * n), *v = malloc(sizeof(double) * n);
-    assert_true(x && v);
-    for (int i = 0; i < n; i++) {
-      x[i] = BAR_X0;
-      v[i] = BAR_V0;
-    }
-    hlog *log = calloc(1, sizeof *log);
-    assert_non_null(log);
-    vi_sim *s = held_sim(m, VI_METHOD_AUTO, 1e-8, 1e-10, x, v, log);
-    assert_int_equal(vi_sim_run(s, 1.5e-3), VI_OK);
-    int ir = -1, nrel = 0;
-    for (int i = 0; i < log->count; i++)
-      if (log->kind[i] == VI_EVENT_RELEASE) {
-        nrel++;
-        if (ir < 0) ir = i;
-      }
-    assert_int_equal(nrel, 1);
-    if (ir < 0) ir = 0; /* (failed above) */
-    /* momentum of the free bar after release: 1^T M v / (rho S L) */
-    double t;
-    assert_int_equal(vi_sim_state(s, &t, x, v), VI_OK);
-    const double *M = vi_model_mass(m);
-    double P = 0.0;
-    for (int j = 0; j < n; j++)
-      for (int i = 0; i < n; i++) P += M[i + (size_t)j * n] * v[j];
-    double vr = P / (BAR_RHO * BAR_S * BAR_L);
-    double et = fabs(log->t[ir] - bar_ref[q].t), ev = fabs(vr - bar_ref[q].v);
-    printf("bar, %4d elements: release %.17g (ref %.17g, error %.3g s), "
-           "rebound %.12f (ref error %.3g), continuum gap %.3g s, %.3g m/s, "
-           "rhs_evals %lld\n", ne, log->t[ir], bar_ref[q].t, et, vr, ev,
-           log->t[ir] - tc, 0.1 - vr,
-           (long long)vi_sim_stat(s, VI_STAT_RHS_EVALS));
-    /* the issue's target is 1e-11 s; the modal sums reach 1e-13 s (a rigid
-     * mode left at dsygvd's round-off eigenvalue cost 2e-13 s here).  From
-     * 100 elements on (n >= 64) the held bar's modes come from the secular
-     * equation, below from the dense eigen-solve (vi_constrained.c): both
-     * against the same reference */
-    assert_true(et <= 1e-13);
-    /* momentum after release: round-off of the modal sums */
-    assert_true(ev <= 1e-12);
-    assert_int_equal(vi_sim_stat(s, VI_STAT_RHS_EVALS), 0);
-    /* the continuum limit is approached from below, monotonically */
-    assert_true(log->t[ir] < tc && tc - log->t[ir] < prev_t);
-    assert_true(vr < 0.1 && 0.1 - vr < prev_v);
-    prev_t = tc - log->t[ir];
-    prev_v = 0.1 - vr;
-    vi_sim_destroy(&s);
-    free(log);
-    free(x);
-    free(v);
-    vi_model_destroy(&m);
-  }
+  for (size_t q = 0; q < sizeof bar_ref / sizeof bar_ref[0]; q++)
+    impacting_bar_case(q, tc, &prev_t, &prev_v);
+}
+
+/* Case b of bar_ref with a stiff method at tight tolerances. */
+static void bar_stiff_case(int method, int b)
+{
+  int ne = bar_ref[b].ne, st;
+  vi_model *m;
+  double *x, *v;
+  hlog *log;
+  vi_sim *s = bar_run(ne, method, 1e-10, 1e-14, 1.2e-3, &m, &x, &v, &log, &st);
+  int nrel, ir = hlog_release(log, &nrel);
+  printf("bar, %d elements, %s: %s, release error %.3g s\n", ne,
+         vi_method_name(method), st ? vi_sim_errmsg(s) : "ok",
+         ir >= 0 ? log->t[ir] - bar_ref[b].t : HUGE_VAL);
+  assert_int_equal(st, VI_OK);
+  assert_true(ir >= 0);
+  if (ir < 0) ir = 0; /* (failed above) */
+  assert_true(fabs(log->t[ir] - bar_ref[b].t) <= 1e-10);
+  vi_sim_destroy(&s);
+  free(log);
+  free(x);
+  free(v);
+  vi_model_destroy(&m);
 }
 
 static void test_bar_stiff_methods(void **state)
@@ -329,36 +386,7 @@ static void test_bar_stiff_methods(void **state)
   (void)state;
   const int methods[2] = {VI_METHOD_BDF, VI_METHOD_ADAMS};
   for (size_t q = 0; q < 2; q++)
-    for (int b = 0; b < 2; b++) {
-      int ne = bar_ref[b].ne, n = ne + 1;
-      vi_model *m = bar_model(ne, 0.0);
-      assert_non_null(m);
-      double *x = malloc(sizeof(double) * n), *v = malloc(sizeof(double) * n);
-      assert_true(x && v);
-      for (int i = 0; i < n; i++) {
-        x[i] = BAR_X0;
-        v[i] = BAR_V0;
-      }
-      hlog *log = calloc(1, sizeof *log);
-      assert_non_null(log);
-      vi_sim *s = held_sim(m, methods[q], 1e-10, 1e-14, x, v, log);
-      int st = vi_sim_run(s, 1.2e-3);
-      int ir = -1;
-      for (int i = 0; i < log->count && ir < 0; i++)
-        if (log->kind[i] == VI_EVENT_RELEASE) ir = i;
-      printf("bar, %d elements, %s: %s, release error %.3g s\n", ne,
-             vi_method_name(methods[q]), st ? vi_sim_errmsg(s) : "ok",
-             ir >= 0 ? log->t[ir] - bar_ref[b].t : HUGE_VAL);
-      assert_int_equal(st, VI_OK);
-      assert_true(ir >= 0);
-      if (ir < 0) ir = 0; /* (failed above) */
-      assert_true(fabs(log->t[ir] - bar_ref[b].t) <= 1e-10);
-      vi_sim_destroy(&s);
-      free(log);
-      free(x);
-      free(v);
-      vi_model_destroy(&m);
-    }
+    for (int b = 0; b < 2; b++) bar_stiff_case(methods[q], b);
 }
 
 static void test_bar_chatter(void **state)
