@@ -9,6 +9,7 @@ pkgs+=(libopenmpi-dev openmpi-bin)  # vibroimpact sweep under mpirun
 pkgs+=(clang clang-tidy cppcheck)    # the fuzz targets (libFuzzer) and the lint test
 pkgs+=(python3-dev python3-venv python3-setuptools python3-wheel python3-cffi
        python3-numpy python3-scipy python3-pytest)  # the Python package (python/)
+pkgs+=(python3-mpmath python3-gmpy2)  # the tests' closed-form references
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
