@@ -20,7 +20,8 @@
 #    documentation advises for speed (at -O0 its slowest tests took about
 #    ten times as long), with -g1: the line tables its reports' file:line
 #    need, without the variables' debug information nobody reads here
-#    (14 % less compile time: vi_sim.c 2.20 -> 1.88 CPU-s).
+#    (14 % less compile time: vi_sim.c 2.20 -> 1.88 CPU-s).  The tests'
+#    own code is compiled at -O0 there (tests/CMakeLists.txt says why).
 #  - It compiles while the Release tests run, and its tests follow; the
 #    Python package's tests run beside them (their output at the end).
 # About 850-920 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
