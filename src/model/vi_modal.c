@@ -81,16 +81,16 @@ static int lumped(int n, const double *M)
 }
 
 /* K z = lambda M z, itype 1 (Z^T M Z = I), eigenvalues ascending, Z into Kw
- * (n x n); Mw: n x n workspace.  A diagonal M makes it the standard problem
+ * (n x n); diag: M is lumped; Mw: n x n workspace.  A diagonal M makes it the standard problem
  * of S K S, S = M^-1/2, with Z = S Y: dsyevd alone, without the Cholesky
  * congruence and back-substitution by which dsygvd spends two n^3 triangular
  * products on a diagonal factor. */
-static lapack_int eigen(const vi_model *m, double *Kw, double *Mw)
+static lapack_int eigen(const vi_model *m, int diag, double *Kw, double *Mw)
 {
   int n = m->n;
   size_t nn = (size_t)n * n;
   memcpy(Kw, m->K, sizeof(double) * nn);
-  if (!lumped(n, m->M)) {
+  if (!diag) {
     memcpy(Mw, m->M, sizeof(double) * nn);
     return LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', n, Kw, n, Mw, n,
                           m->lambda);
@@ -110,10 +110,11 @@ int vi_modal_setup(vi_model *m, int c_zero)
   int n = m->n;
   size_t nn = (size_t)n * n;
   double *Kw = m->D + nn, *Mw = Kw + nn; /* setup workspace blocks */
-  lapack_int info = eigen(m, Kw, Mw);
+  int diag = lumped(n, m->M);
+  lapack_int info = eigen(m, diag, Kw, Mw);
   if (info != 0)
     return vi_fail(m->errmsg, VI_ERR_LAPACK, "%s failed (info %d)",
-                   lumped(n, m->M) ? "dsyevd" : "dsygvd", (int)info);
+                   diag ? "dsyevd" : "dsygvd", (int)info);
   for (int j = 0; j < n; j++)
     if (!isfinite(m->lambda[j]))
       return vi_fail(m->errmsg, VI_ERR_NONFINITE, "the modal analysis gives "
@@ -153,7 +154,7 @@ int vi_modal_setup(vi_model *m, int c_zero)
     m->omega[j] = sqrt(m->lambda[j]);
   }
   /* PsiTM = Psi^T M (x -> q); a diagonal M scales Psi^T's columns */
-  if (lumped(n, m->M)) {
+  if (diag) {
     for (int i = 0; i < n; i++) {
       cblas_dcopy(n, m->Psi + i, n, m->PsiTM + (size_t)i * n, 1);
       cblas_dscal(n, m->M[i + (size_t)i * n], m->PsiTM + (size_t)i * n, 1);
