@@ -7,7 +7,7 @@ pkgs=(cmake ninja-build make gcc g++ gfortran binutils pkg-config libsundials-de
       python3-h5py python3-matplotlib doxygen xz-utils)
 pkgs+=(libopenmpi-dev openmpi-bin)  # vibroimpact sweep under mpirun
 pkgs+=(clang clang-tidy cppcheck)    # the fuzz targets (libFuzzer) and the lint test
-pkgs+=(python3-dev python3-venv python3-setuptools python3-wheel python3-cffi
+pkgs+=(python3-dev python3-venv python3-pip python3-setuptools python3-wheel python3-cffi
        python3-numpy python3-scipy python3-pytest)  # the Python package (python/)
 pkgs+=(python3-mpmath python3-gmpy2)  # the tests' closed-form references
 missing=()

@@ -102,6 +102,11 @@ if [ "${3:-}" = --all ]; then
   headers='(include|src|apps|bench)/.*\.h$'
 fi
 
+# The test files are analysed with cmocka_analyzer.h force-included:
+# there a failed assertion ends the test (the header says why).  Only the
+# analysis sees it; the tests are compiled as they are.
+cmocka_h=$src/tests/checks/cmocka_analyzer.h
+
 # A clean file is remembered (like ccache): its key hashes the file, its
 # compile command (paths relative to the checkout), the headers its
 # compilation read (make's depfile or Ninja's deps log: the project's by
@@ -117,7 +122,7 @@ if [ "${VI_LINT_CACHE:-on}" != off ]; then
   mkdir -p "$cache" 2>/dev/null || cache=""
 fi
 common=$( { clang-tidy --version; cppcheck --version
-            cat "$src/.clang-tidy" "$src/tests/checks/lint_test.sh"
+            cat "$src/.clang-tidy" "$src/tests/checks/lint_test.sh" "$cmocka_h"
             echo "$headers $max_nodes"; } | sha256sum | cut -c1-64)
 all_headers=$(find "$src/src" "$src/include" "$src/apps" "$src/tests" "$src/bench" \
                    "$src/examples" "$build/include" -name '*.h' 2>/dev/null | sort |
@@ -165,9 +170,11 @@ lint_one() {
       return
     fi
   fi
+  local shim=()
+  case $f in tests/*) shim=(--extra-arg=-include --extra-arg="$cmocka_h") ;; esac
   clang-tidy -p "$build" --quiet --header-filter="$headers" --extra-arg=-Xclang \
-    --extra-arg=-analyzer-config --extra-arg=-Xclang --extra-arg=max-nodes="$max_nodes" "$f" \
-    > "$tmp/$i.tidy" 2> /dev/null
+    --extra-arg=-analyzer-config --extra-arg=-Xclang --extra-arg=max-nodes="$max_nodes" \
+    "${shim[@]}" "$f" > "$tmp/$i.tidy" 2> /dev/null
   # the filter must be the path as the database spells it (absolute): a
   # relative one matches nothing, and cppcheck then checks nothing, says so
   # on stdout and exits 1 -- which is why its status is read
@@ -199,7 +206,7 @@ trap 'rm -rf "$tmp"' EXIT
 # a file listed twice is checked once
 mapfile -t files < <(printf '%s\n' "${files[@]}" | awk '!seen[$0]++')
 export -f lint_one
-export src build db headers tmp cache common all_headers max_nodes
+export src build db headers tmp cache common all_headers max_nodes cmocka_h
 export -f header_digest
 jobs=${VI_LINT_JOBS:-$(nproc)}
 # the largest files first (the analyser's time grows with a file's size):

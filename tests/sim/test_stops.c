@@ -849,6 +849,7 @@ static void test_rattle_stick_release(void **state)
   double ef = 0.0;
   for (int j = 0; j < ev.count; j++) {
     int k = ev.stop[j];
+    assert_true(k == 0 || k == 1);
     if (ev.kind[j] == VI_EVENT_STICK) {
       assert_int_equal(held, -1); /* one wall at a time */
       held = k;
