@@ -104,9 +104,7 @@ static void ex_destroy(vi_sim *s)
   if (d) {
     vi_ledger_settle(s->led); /* the integrals this flight owes */
     for (int l = 0; l < EX_LEVELS; l++) free(d->lev[l]);
-    free(d->act);
-    free(d->lam);
-    free(d->st);
+    free(d->st); /* and act, lam: one block */
     vi_quadmap_free(&d->qm);
     vi_lflight_free(&d->lf);
   }
@@ -239,13 +237,29 @@ static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
   d->evals++;
 }
 
+/* ex_mode, and the closed form's sines and exponentials handed to the
+ * ledger's flight (vi_lflight_share): its integrals to t, read at a
+ * contact, would compute them again. */
+static void ex_mode_led(ex_data *d, int j, double t, double *w, double *wd)
+{
+  const vi_model *m = d->s->m;
+  double B, Bp, ph, half[4], lam = m->lambda[j], tau = t - d->t0;
+  if (vi_flow_basis_half(lam, m->D[j + (size_t)j * d->n], tau, &B, &Bp, &ph,
+                         half))
+    vi_lflight_share(&d->lf, j, tau, half);
+  double f = m->F0[j] - lam * d->w0[j];
+  *w = d->w0[j] + B * d->wd0[j] + ph * f;
+  *wd = Bp * d->wd0[j] + B * f;
+}
+
 /* Every mode's q, q' at t. */
 static void ex_modes_at(ex_data *d, double t, double *q, double *qd)
 {
   vi_phase p = vi_phase_at(d->Om, t);
   for (int j = 0; j < d->n; j++) {
     double w, wd;
-    ex_mode(d, j, t, &w, &wd);
+    if (d->lf_on) ex_mode_led(d, j, t, &w, &wd);
+    else ex_mode(d, j, t, &w, &wd);
     q[j] = w + vi_harm(&p, 0, d->pA[j], d->pB[j], 0.0);
     qd[j] = wd + vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
   }
@@ -427,17 +441,16 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   size_t nd = (3 + (size_t)ns) * (size_t)na + 6 * (size_t)na +
               (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 15 * (size_t)n +
               5 * (size_t)ns + 8;
-  d->act = malloc(sizeof(int) * (size_t)(na + 1));
-  d->lam = malloc(sizeof(double) * nd);
-  d->st = calloc((size_t)ns, sizeof *d->st);
+  /* the stops [ns], the doubles [nd] and act [na + 1] in one block: a
+   * small model's set-up allocates three times, not six */
+  size_t bs = sizeof *d->st * (size_t)ns;
+  d->st = malloc(bs + sizeof(double) * nd + sizeof(int) * (size_t)(na + 1));
   d->lf_on = s->led && vi_lflight_ok(m);
   /* the panels' maps only where the ledger integrates by quadrature (a
    * change of ledger rebuilds this data, vi_sim_enable_ledger) */
   int quad = s->led && !d->lf_on;
-  if (!d->act || !d->lam || !d->st || (quad && vi_quadmap_init(&d->qm, n)) ||
+  if (!d->st || (quad && vi_quadmap_init(&d->qm, n)) ||
       (d->lf_on && vi_lflight_init(&d->lf, m))) {
-    free(d->act);
-    free(d->lam);
     free(d->st);
     vi_quadmap_free(&d->qm);
     vi_lflight_free(&d->lf);
@@ -445,6 +458,9 @@ static int ex_alloc(vi_sim *s, ex_data **out)
     vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
     return VI_ERR_NOMEM;
   }
+  memset(d->st, 0, bs);
+  d->lam = (double *)((char *)d->st + bs);
+  d->act = (int *)(d->lam + nd);
   double *p = d->lam;
   p += na;
   d->dmp = p; p += na;
