@@ -77,6 +77,9 @@ typedef struct ex_data {
   double lc[EX_LEVELS], ls[EX_LEVELS]; /* cos, sin of Omega h0 2^-l */
   /* the flight */
   double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
+  double *amp;                      /* each mode's harmonic amplification
+                                       max(lambda, Om^2) / |lambda - Om^2 +
+                                       i d Om| [n] (the model's) */
   int p, lmax, handover;
   unsigned polls;                   /* ex_search's nodes (the host's poll) */
   double hp, tg;                    /* grid step and start */
@@ -439,7 +442,7 @@ static int ex_alloc(vi_sim *s, ex_data **out)
     return VI_ERR_NOMEM;
   }
   size_t nd = (3 + (size_t)ns) * (size_t)na + 6 * (size_t)na +
-              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 15 * (size_t)n +
+              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 16 * (size_t)n +
               5 * (size_t)ns + 8;
   /* the stops [ns], the doubles [nd] and act [na + 1] in one block: a
    * small model's set-up allocates three times, not six */
@@ -474,6 +477,7 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->stk = p; p += (size_t)(EX_DEPTH + 2) * 2 * na;
   d->w0 = p; p += n;
   d->wd0 = p; p += n;
+  d->amp = p; p += n;
   d->q = p; p += n;
   d->qd = p; p += n;
   d->qs = p; p += n;
@@ -502,6 +506,8 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   }
   for (int j = 0, i = 0; j < n; j++) {
     double dm = m->D[j + (size_t)j * n], rate = fmax(sqrt(m->lambda[j]), dm);
+    double lam = m->lambda[j], Om2 = d->Om * d->Om;
+    d->amp[j] = fmax(lam, Om2) / hypot(lam - Om2, dm * d->Om); /* ex_start */
     all = fmax(all, rate);
     if (!ex_active(m, j)) continue;
     d->act[i] = j;
@@ -662,8 +668,7 @@ static int ex_start(vi_sim *s)
     double Hd = vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
     d->w0[j] = d->q[j] - H;
     d->wd0[j] = d->qd[j] - Hd;
-    double lam = m->lambda[j], dm = m->D[j + (size_t)j * n];
-    double amp = fmax(lam, Om * Om) / hypot(lam - Om * Om, dm * Om);
+    double amp = d->amp[j]; /* the model's: set once (ex_alloc) */
     for (int k = 0; k < d->ns && amp > 1e6; k++) {
       double hs = fabs(vi_stop_psi(m, k)[j]) * hypot(d->pA[j], d->pB[j]);
       if (4.0 * DBL_EPSILON * hs > s->atol * s->wnorms[k] && hs > worst) {
@@ -682,10 +687,7 @@ static int ex_start(vi_sim *s)
     snprintf(s->handover_why, sizeof s->handover_why,
              "mode %d is forced %.3g times above its static response (near "
              "resonance, little damping): the closed form would cancel its "
-             "particular solution %.3g", jw + 1,
-             fmax(m->lambda[jw], Om * Om) /
-                 hypot(m->lambda[jw] - Om * Om, m->D[jw + (size_t)jw * n] * Om),
-             worst);
+             "particular solution %.3g", jw + 1, d->amp[jw], worst);
   for (int i = 0; i < na; i++) {
     int j = d->act[i];
     d->g.wk[i] = d->w0[j];
