@@ -68,7 +68,8 @@ int vi_lflight_init(vi_lflight *f, const vi_model *m)
   /* the modes [n], then QS and I [2n each]: one block */
   f->md = malloc((sizeof *f->md + sizeof(double) * 4) * c);
   if (!f->md) return VI_ERR_NOMEM;
-  f->QS = (double *)(f->md + c);
+  void *rest = f->md + c; /* a mode is doubles only */
+  f->QS = rest;
   f->I = f->QS + 2 * c;
   for (size_t j = 0; j < n; j++) /* the model's: not again at every flight */
     vi_lflight_mode_rates(f->md + j, m->lambda[j], m->D[j + j * n], m->omega_f);

@@ -462,8 +462,10 @@ static int ex_alloc(vi_sim *s, ex_data **out)
     return VI_ERR_NOMEM;
   }
   memset(d->st, 0, bs);
-  d->lam = (double *)((char *)d->st + bs);
-  d->act = (int *)(d->lam + nd);
+  void *rest = d->st + ns; /* ex_stop's size is a multiple of a double's */
+  d->lam = rest;
+  rest = d->lam + nd;
+  d->act = rest;
   double *p = d->lam;
   p += na;
   d->dmp = p; p += na;
