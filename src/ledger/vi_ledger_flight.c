@@ -123,6 +123,7 @@ void vi_lflight_mode_rates(vi_lflight_mode *e, double lam, double d, double W)
   e->iz[2] = inv2(-h, mu - W);
   e->iz[3] = inv2(-2.0 * h, 2.0 * mu);
   e->iz[4] = inv2(-2.0 * h, 0.0);
+  e->tau_h = NAN; /* no values of the flow's yet */
 }
 
 void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
@@ -139,7 +140,7 @@ static void mode_flight(vi_lflight_mode *e, double lam, double W, double c0,
                         double F0, double w, double wd)
 {
   e->F0 = F0;
-  e->tau_h = NAN; /* no values of the flow's yet */
+  e->tau_h = NAN; /* none of this flight's yet */
   /* H' = Re(i W (pA - i pB) e^{i W t}), F - F0 = Re((Fa - i Fb) e^{i W t}),
    * e^{i W t} = e^{i W t0} e^{i W tau} */
   cx P0 = {c0, s0};
