@@ -14,7 +14,8 @@
 # alone.  Prints best and median of the
 # `cost` lines (the time inside vi_sim_run), of `set-up` (vi_sim_setup
 # before it, where the program prints one) and of set-up + cost, and the
-# ratios to the loop.  Defaults: N = 30, PERIODS = 100, ROUNDS = 4.
+# ratios to the loop (cost's best and median, the sum's best).  Defaults:
+# N = 30, PERIODS = 100, ROUNDS = 4.
 set -euo pipefail
 n=30 periods=100 rounds=4
 while getopts n:p:l: o; do
@@ -59,8 +60,8 @@ stats() {
     awk '{a[NR] = $1} END{printf "%.3f %.3f", a[1], a[int((NR + 1) / 2)]}'
 }
 
-printf "%-28s %-9s %15s %15s %15s %9s %13s\n" build ledger "cost best/med" \
-  "set-up best/med" "sum best/med" loop_ms "cost/loop"
+printf "%-28s %-9s %15s %15s %15s %9s %13s %8s\n" build ledger "cost best/med" \
+  "set-up best/med" "sum best/med" loop_ms "cost/loop" sum/loop
 for b in "$@"; do
   k=$(echo "$b" | tr / _)
   loop=$(sort -g "$tmp/$k.loop" | head -1)
@@ -70,9 +71,10 @@ for b in "$@"; do
     read -r tb tm <<<"$(stats "$tmp/$k.$l" 3)"
     awk -v b="$b" -v l="$l" -v cb="$cb" -v cm="$cm" -v sb="$sb" -v sm="$sm" \
       -v tb="$tb" -v tm="$tm" -v loop="$loop" 'BEGIN{
-      printf "%-28s %-9s %7s %7s %7s %7s %7s %7s %9.4f %6.2f %6.2f\n", b, l,
-        cb, cm, sb, sm, tb, tm, loop, cb / loop, cm / loop}'
+      printf "%-28s %-9s %7s %7s %7s %7s %7s %7s %9.4f %6.2f %6.2f %8.2f\n", b, l,
+        cb, cm, sb, sm, tb, tm, loop, cb / loop, cm / loop, tb / loop}'
   done
 done
 echo "(cost/loop: best and median of the cost lines over the best loop;" \
+  "sum/loop: the best set-up + cost over it (issue 29's target: 1.3);" \
   "$n runs each, Fig. 2, exact, $periods periods)"

@@ -96,15 +96,17 @@ int vi_xflow_available(const vi_model *m)
  * under-, over- and critically damped modes, each evaluated where it has
  * no cancellation (A = 1 - lambda phi only on the short-time branch, where
  * lambda phi <= 1/2; the overdamped branch folds the exponential into the
- * hyperbolic functions, so that a heavily damped mode cannot overflow). */
-static void propagate(double lambda, double d, double tau, double *A,
-                      double *B, double *Bp, double *phi)
+ * hyperbolic functions, so that a heavily damped mode cannot overflow).
+ * half (may be NULL): sin, cos (mu tau / 2), e^{-h tau} - 1, e^{-h tau}
+ * where the underdamped closed form took them (returns 1; else 0). */
+static int propagate(double lambda, double d, double tau, double *A,
+                     double *B, double *Bp, double *phi, double *half)
 {
   double D = d * tau, L = lambda * tau * tau;
   if (tau == 0.0) {
     *B = *phi = 0.0;
     *A = *Bp = 1.0;
-    return;
+    return 0;
   }
   if (D <= 1.0 && L <= 1.0) {
     /* phi = sum T_k, T_{k+2} = -(D (k+1) T_{k+1} + L T_k) / ((k+2)(k+1)) */
@@ -121,7 +123,7 @@ static void propagate(double lambda, double d, double tau, double *A,
     *B = b / tau;
     *Bp = 1.0 - d * *B - lambda * ph;
     *A = 1.0 - lambda * ph;
-    return;
+    return 0;
   }
   double h = 0.5 * d, mu2 = lambda - h * h;
   if (mu2 > 0.0) {
@@ -137,7 +139,12 @@ static void propagate(double lambda, double d, double tau, double *A,
     *A = e * (c + h * sn / mu);
     /* 1 - A = (1 - e) + e (1 - cos) - h B */
     *phi = (-em1 + 2.0 * e * sh * sh - h * *B) / lambda;
-    return;
+    if (!half) return 0;
+    half[0] = sh;
+    half[1] = ch;
+    half[2] = em1;
+    half[3] = e;
+    return 1;
   }
   if (mu2 < 0.0) {
     double ka = sqrt(-mu2), r1 = -lambda / (h + ka), r2 = -(h + ka);
@@ -158,20 +165,21 @@ static void propagate(double lambda, double d, double tau, double *A,
       double E2 = expm1(r2 * tau) / r2;
       *phi = (E1 - E2) / (2.0 * ka);
     }
-    return;
+    return 0;
   }
   double e = exp(-h * tau); /* critical damping, lambda = h^2 > 0 */
   *B = tau * e;
   *Bp = e * (1.0 - h * tau);
   *A = e * (1.0 + h * tau);
   *phi = (1.0 - *A) / lambda;
+  return 0;
 }
 
 void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
                          double tau, double *u, double *ud)
 {
   double A, B, Bp, phi;
-  propagate(lambda, d, tau, &A, &B, &Bp, &phi);
+  propagate(lambda, d, tau, &A, &B, &Bp, &phi, NULL);
   *u = A * u0 + B * v0;
   *ud = Bp * v0 - lambda * B * u0;
 }
@@ -180,13 +188,20 @@ void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
                    double *phi)
 {
   double A;
-  propagate(lambda, d, tau, &A, B, Bp, phi);
+  propagate(lambda, d, tau, &A, B, Bp, phi, NULL);
+}
+
+int vi_flow_basis_half(double lambda, double d, double tau, double *B,
+                       double *Bp, double *phi, double half[4])
+{
+  double A;
+  return propagate(lambda, d, tau, &A, B, Bp, phi, half);
 }
 
 void vi_flow_stm2(double lambda, double d, double tau, double c[4])
 {
   double A, B, Bp, phi;
-  propagate(lambda, d, tau, &A, &B, &Bp, &phi);
+  propagate(lambda, d, tau, &A, &B, &Bp, &phi, NULL);
   c[0] = A;
   c[1] = -lambda * B;
   c[2] = B;
@@ -273,7 +288,7 @@ void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c)
   int n = m->n;
   for (int j = 0; j < n; j++) {
     double lam = lambda[j], A, B, Bp, phi;
-    propagate(lam, D[j + (size_t)j * n], tau, &A, &B, &Bp, &phi);
+    propagate(lam, D[j + (size_t)j * n], tau, &A, &B, &Bp, &phi, NULL);
     if (q) q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (w[j] + B * wd[j] + phi * f[j]);
     if (qd) qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * wd[j] + B * f[j]);
     if (c) { /* vi_flow_stm2's */

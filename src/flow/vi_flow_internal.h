@@ -103,6 +103,13 @@ void vi_flow_homogeneous(double lambda, double d, double u0, double v0,
  * above (its F = 0 case). */
 void vi_flow_basis(double lambda, double d, double tau, double *B, double *Bp,
                    double *phi);
+/* The same, and where the underdamped closed form took them (1; else 0)
+ * the values it shares with the ledger's integrals over the flight
+ * (vi_ledger_flight.h), which would compute them again: sin, cos (mu tau /
+ * 2), e^{-h tau} - 1 and e^{-h tau} (h = d / 2, mu = sqrt(lambda - h^2))
+ * into half [4]. */
+int vi_flow_basis_half(double lambda, double d, double tau, double *B,
+                       double *Bp, double *phi, double half[4]);
 /* The mode's 2 x 2 state-transition matrix after tau, column-major:
  * (u, u') from (1, 0) in c[0], c[1] and from (0, 1) in c[2], c[3]. */
 void vi_flow_stm2(double lambda, double d, double tau, double c[4]);

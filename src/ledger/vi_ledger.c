@@ -191,13 +191,20 @@ static void modal_energy(const vi_model *m, const double *z, double *q,
   energies(m, q, qd, E, K);
 }
 
+/* An interval starts at t, Q being up to date. */
+static void begin_now(vi_ledger *L, double t, const double *q,
+                      const double *qd)
+{
+  memcpy(L->QA, L->Q, sizeof(double) * VI_LEDGER_BLOCKS * (size_t)L->n);
+  energies(L->m, q, qd, L->EA, L->KA);
+  L->ta = t;
+}
+
 void vi_ledger_begin_modal(vi_ledger *L, double t, const double *q,
                            const double *qd)
 {
   flush(L);
-  memcpy(L->QA, L->Q, sizeof(double) * VI_LEDGER_BLOCKS * (size_t)L->n);
-  energies(L->m, q, qd, L->EA, L->KA);
-  L->ta = t;
+  begin_now(L, t, q, qd);
 }
 
 void vi_ledger_begin(vi_ledger *L, double t, const double *z)
@@ -224,14 +231,24 @@ int vi_ledger_close(vi_ledger *L, double t, const double *z, int jump,
   return vi_ledger_close_modal(L, t, L->qs, L->qds, jump, ie, quiet);
 }
 
+/* fmax (a NaN loses to a number), inline: five calls at every interval */
+static inline double max_num(double a, double b)
+{
+  if (isnan(a)) return b;
+  return a >= b || isnan(b) ? a : b;
+}
+
 int vi_ledger_close_modal(vi_ledger *L, double t, const double *q,
                           const double *qd, int jump, double ie, int quiet)
 {
   int n = L->n, stop = 0;
   flush(L);
   double *I = L->QA; /* becomes the interval's integrals, FE DE XE CE NE */
+  /* FE, DE: the backend's own integrals over the interval where it has
+   * them, else (and the other blocks) the difference of the totals */
   int own = L->since && L->since(L->pend_data, L->ta, L->QA, L->R);
-  for (int k = 0; k < VI_LEDGER_BLOCKS * n; k++) I[k] = L->Q[k] - I[k];
+  for (int k = own ? 2 * n : 0; k < VI_LEDGER_BLOCKS * n; k++)
+    I[k] = L->Q[k] - I[k];
   if (own) memcpy(I, L->R, sizeof(double) * 2 * (size_t)n);
   double scale = DBL_MIN, sum = 0.0, ea = 0.0, eb = 0.0;
   for (int j = 0; j < n; j++) {
@@ -240,13 +257,13 @@ int vi_ledger_close_modal(vi_ledger *L, double t, const double *q,
     sum += L->EB[j] - L->EA[j] - FE + DE + XE - CE - NE;
     ea += L->EA[j];
     eb += L->EB[j];
-    scale = fmax(scale, fabs(FE) + fabs(DE) + fabs(XE) + fabs(CE) + fabs(NE));
+    scale = max_num(scale, fabs(FE) + fabs(DE) + fabs(XE) + fabs(CE) + fabs(NE));
   }
   /* relative to the energy scale of the run so far: the micro-bounces at
    * the end of a chattering sequence carry 1e-11 of it, and their own
    * energy would turn the quadrature's absolute error into a large ratio */
-  L->emax = fmax(L->emax, fmax(ea, eb));
-  scale = fmax(scale, L->emax);
+  L->emax = max_num(L->emax, max_num(ea, eb));
+  scale = max_num(scale, L->emax);
   double res = fabs(sum) / scale;
   /* a NaN residual must show, not vanish in a comparison */
   if (res > L->maxres || isnan(res)) L->maxres = res;
@@ -264,7 +281,7 @@ int vi_ledger_close_modal(vi_ledger *L, double t, const double *q,
                              I + 4 * (size_t)n};
     stop = L->fn(&iv, L->user) != 0;
   }
-  vi_ledger_begin_modal(L, t, q, qd);
+  begin_now(L, t, q, qd); /* Q flushed above */
   return stop;
 }
 

@@ -26,7 +26,7 @@ static inline cx conj_(cx a) { return (cx){a.r, -a.i}; }
  * cancellation as z tau -> 0).  Below |z tau| = 1e-5 the series, whose
  * fourth term is under 1e-22 of the first (and |z|^2 cannot underflow).
  * iz = 1 / |z|^2 (inv2), the mode's. */
-static cx eint(double x, double y, double tau, double em, double ea, double sh,
+static inline cx eint(double x, double y, double tau, double em, double ea, double sh,
                double ch, double iz)
 {
   double zr = x * tau, zi = y * tau;
@@ -47,6 +47,9 @@ static void expo(double x, double tau, double *em, double *ea)
   *ea = *em >= -0.5 ? 1.0 + *em : exp(x * tau);
 }
 
+/* 1 / |x + i y|^2, eint's quotient. */
+static double inv2(double x, double y) { return 1.0 / (x * x + y * y); }
+
 int vi_lflight_ok(const vi_model *m)
 {
   if (!m->proportional) return 0;
@@ -60,15 +63,14 @@ int vi_lflight_ok(const vi_model *m)
 
 int vi_lflight_init(vi_lflight *f, const vi_model *m)
 {
-  size_t n = (size_t)m->n;
+  size_t n = (size_t)m->n, c = n ? n : 1;
   f->n = m->n;
-  f->md = malloc(sizeof *f->md * (n ? n : 1));
-  f->QS = malloc(sizeof(double) * 4 * (n ? n : 1));
-  f->I = f->QS ? f->QS + 2 * (n ? n : 1) : NULL;
-  if (!f->md || !f->QS) {
-    vi_lflight_free(f);
-    return VI_ERR_NOMEM;
-  }
+  /* the modes [n], then QS and I [2n each]: one block */
+  f->md = malloc((sizeof *f->md + sizeof(double) * 4) * c);
+  if (!f->md) return VI_ERR_NOMEM;
+  void *rest = f->md + c; /* a mode is doubles only */
+  f->QS = rest;
+  f->I = f->QS + 2 * c;
   for (size_t j = 0; j < n; j++) /* the model's: not again at every flight */
     vi_lflight_mode_rates(f->md + j, m->lambda[j], m->D[j + j * n], m->omega_f);
   return VI_OK;
@@ -76,8 +78,7 @@ int vi_lflight_init(vi_lflight *f, const vi_model *m)
 
 void vi_lflight_free(vi_lflight *f)
 {
-  free(f->md);
-  free(f->QS);
+  free(f->md); /* and QS, I */
   f->md = NULL;
   f->QS = NULL;
   f->I = NULL;
@@ -104,8 +105,12 @@ void vi_lflight_start(vi_lflight *f, const vi_model *m, const double *pA,
                 Fb[j], F0[j], w[j], wd[j]);
 }
 
-/* 1 / |x + i y|^2, eint's quotient. */
-static double inv2(double x, double y) { return 1.0 / (x * x + y * y); }
+void vi_lflight_share(vi_lflight *f, int j, double tau, const double half[4])
+{
+  vi_lflight_mode *e = f->md + j;
+  e->tau_h = tau;
+  memcpy(e->half, half, sizeof e->half);
+}
 
 void vi_lflight_mode_rates(vi_lflight_mode *e, double lam, double d, double W)
 {
@@ -118,6 +123,7 @@ void vi_lflight_mode_rates(vi_lflight_mode *e, double lam, double d, double W)
   e->iz[2] = inv2(-h, mu - W);
   e->iz[3] = inv2(-2.0 * h, 2.0 * mu);
   e->iz[4] = inv2(-2.0 * h, 0.0);
+  e->tau_h = NAN; /* no values of the flow's yet */
 }
 
 void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
@@ -134,6 +140,7 @@ static void mode_flight(vi_lflight_mode *e, double lam, double W, double c0,
                         double F0, double w, double wd)
 {
   e->F0 = F0;
+  e->tau_h = NAN; /* none of this flight's yet */
   /* H' = Re(i W (pA - i pB) e^{i W t}), F - F0 = Re((Fa - i Fb) e^{i W t}),
    * e^{i W t} = e^{i W t0} e^{i W tau} */
   cx P0 = {c0, s0};
@@ -150,6 +157,67 @@ static void mode_flight(vi_lflight_mode *e, double lam, double W, double c0,
   e->Gi = -(f0 - e->h * al) / e->mu;
 }
 
+/* sin, cos (mu tau / 2), e^{-h tau} - 1 and e^{-h tau} of mode e: the
+ * flow's where it shared them at this tau (vi_lflight_share), the same
+ * expressions of the same values, so the same numbers. */
+static void mode_half(const vi_lflight_mode *e, double tau, double *sm,
+                      double *cm, double *em, double *ea)
+{
+  if (tau == e->tau_h) {
+    *sm = e->half[0];
+    *cm = e->half[1];
+    *em = e->half[2];
+    *ea = e->half[3];
+    return;
+  }
+  expo(-e->h, tau, em, ea);
+  *sm = sin(0.5 * e->mu * tau);
+  *cm = cos(0.5 * e->mu * tau);
+}
+
+/* FE, DE of mode e over [t0, t0 + tau] into *fe, *q2 (DE / d): EW, E2W
+ * the integrals of e^{i W s}, e^{2 i W s}, sw, cw = sin, cos(W tau / 2). */
+static void mode_integrals(const vi_lflight_mode *e, double W, double tau,
+                           double sw, double cw, cx EW, cx E2W, double *fe,
+                           double *q2)
+{
+  double h = e->h, mu = e->mu, em, ea, sm, cm, sp, cp, sn, cn;
+  mode_half(e, tau, &sm, &cm, &em, &ea);
+  /* e^{-2 h tau} - 1 = em (2 + em): no cancellation, em in (-1, 0] */
+  double em2 = em * (2.0 + em), ea2 = ea * ea;
+  /* the half angles of (mu +- W) tau by the addition theorem, to a few
+   * ulp of 1; directly where one is small and needs its relative
+   * accuracy (mu near W over a short time) */
+  if (fabs((mu - W) * tau) >= 0.5) {
+    sp = sm * cw + cm * sw;
+    cp = cm * cw - sm * sw;
+    sn = sm * cw - cm * sw;
+    cn = cm * cw + sm * sw;
+  } else {
+    sp = sin(0.5 * (mu + W) * tau);
+    cp = cos(0.5 * (mu + W) * tau);
+    sn = sin(0.5 * (mu - W) * tau);
+    cn = cos(0.5 * (mu - W) * tau);
+  }
+  /* kappa: only in the terms of a constant force (F0 0 * any finite
+   * value: the 0 the integral would give) */
+  cx Ek = e->F0 != 0.0 ? eint(-h, mu, tau, em, ea, sm, cm, e->iz[0])
+                       : (cx){0.0, 0.0};
+  cx Ekp = eint(-h, mu + W, tau, em, ea, sp, cp, e->iz[1]); /* kappa + iW */
+  cx Ekm = eint(-h, mu - W, tau, em, ea, sn, cn, e->iz[2]); /* kappa - iW */
+  cx E2k = eint(-2.0 * h, 2.0 * mu, tau, em2, ea2, 2.0 * sm * cm,
+                (cm - sm) * (cm + sm), e->iz[3]);         /* 2 kappa */
+  cx Eh = eint(-2.0 * h, 0.0, tau, em2, ea2, 0.0, 1.0, e->iz[4]); /* -2h */
+  cx A = {e->Ar, e->Ai}, G = {e->Gr, e->Gi}, P = {e->Pr, e->Pi};
+  /* Re(X) Re(Y) = (Re(X Y) + Re(X conj Y)) / 2 */
+  *fe = 0.5 * cmul(cmul(A, P), E2W).r + 0.5 * cmul(A, conj_(P)).r * tau +
+        e->F0 * cmul(A, EW).r + 0.5 * cmul(cmul(G, P), Ekp).r +
+        0.5 * cmul(cmul(G, conj_(P)), Ekm).r + e->F0 * cmul(G, Ek).r;
+  *q2 = 0.5 * cmul(cmul(A, A), E2W).r + 0.5 * (A.r * A.r + A.i * A.i) * tau +
+        cmul(cmul(A, G), Ekp).r + cmul(cmul(A, conj_(G)), conj_(Ekm)).r +
+        0.5 * cmul(cmul(G, G), E2k).r + 0.5 * (G.r * G.r + G.i * G.i) * Eh.r;
+}
+
 /* f->I: FE, DE over [t0, t0 + tau] (once per tau). */
 static void integrals(vi_lflight *f, double tau)
 {
@@ -158,47 +226,19 @@ static void integrals(vi_lflight *f, double tau)
   int n = f->n;
   double W = f->W, sw = sin(0.5 * W * tau), cw = cos(0.5 * W * tau);
   double s2 = 2.0 * sw * cw, c2 = (cw - sw) * (cw + sw);
-  cx EW = eint(0.0, W, tau, 0.0, 1.0, sw, cw, inv2(0.0, W)); /* e^{i W s} */
+  cx EW = {0.0, 0.0}; /* e^{i W s}: only in the terms of a constant force */
+  for (int j = 0; j < n; j++)
+    if (f->md[j].F0 != 0.0) {
+      EW = eint(0.0, W, tau, 0.0, 1.0, sw, cw, inv2(0.0, W));
+      break;
+    }
   cx E2W = eint(0.0, 2.0 * W, tau, 0.0, 1.0, s2, c2,
                 inv2(0.0, 2.0 * W));                      /* e^{2 i W s} */
   double *FE = f->I, *DE = f->I + n;
   for (int j = 0; j < n; j++) {
-    const vi_lflight_mode *e = f->md + j;
-    double h = e->h, mu = e->mu, em, ea;
-    expo(-h, tau, &em, &ea);
-    /* e^{-2 h tau} - 1 = em (2 + em): no cancellation, em in (-1, 0] */
-    double em2 = em * (2.0 + em), ea2 = ea * ea;
-    double sm = sin(0.5 * mu * tau), cm = cos(0.5 * mu * tau), sp, cp, sn, cn;
-    /* the half angles of (mu +- W) tau by the addition theorem, to a few
-     * ulp of 1; directly where one is small and needs its relative
-     * accuracy (mu near W over a short time) */
-    if (fabs((mu - W) * tau) >= 0.5) {
-      sp = sm * cw + cm * sw;
-      cp = cm * cw - sm * sw;
-      sn = sm * cw - cm * sw;
-      cn = cm * cw + sm * sw;
-    } else {
-      sp = sin(0.5 * (mu + W) * tau);
-      cp = cos(0.5 * (mu + W) * tau);
-      sn = sin(0.5 * (mu - W) * tau);
-      cn = cos(0.5 * (mu - W) * tau);
-    }
-    cx Ek = eint(-h, mu, tau, em, ea, sm, cm, e->iz[0]);      /* kappa */
-    cx Ekp = eint(-h, mu + W, tau, em, ea, sp, cp, e->iz[1]); /* kappa + iW */
-    cx Ekm = eint(-h, mu - W, tau, em, ea, sn, cn, e->iz[2]); /* kappa - iW */
-    cx E2k = eint(-2.0 * h, 2.0 * mu, tau, em2, ea2, 2.0 * sm * cm,
-                  (cm - sm) * (cm + sm), e->iz[3]);         /* 2 kappa */
-    cx Eh = eint(-2.0 * h, 0.0, tau, em2, ea2, 0.0, 1.0, e->iz[4]); /* -2h */
-    cx A = {e->Ar, e->Ai}, G = {e->Gr, e->Gi}, P = {e->Pr, e->Pi};
-    /* Re(X) Re(Y) = (Re(X Y) + Re(X conj Y)) / 2 */
-    double fe = 0.5 * cmul(cmul(A, P), E2W).r + 0.5 * cmul(A, conj_(P)).r * tau +
-                e->F0 * cmul(A, EW).r + 0.5 * cmul(cmul(G, P), Ekp).r +
-                0.5 * cmul(cmul(G, conj_(P)), Ekm).r + e->F0 * cmul(G, Ek).r;
-    double q2 = 0.5 * cmul(cmul(A, A), E2W).r + 0.5 * (A.r * A.r + A.i * A.i) * tau +
-                cmul(cmul(A, G), Ekp).r + cmul(cmul(A, conj_(G)), conj_(Ekm)).r +
-                0.5 * cmul(cmul(G, G), E2k).r + 0.5 * (G.r * G.r + G.i * G.i) * Eh.r;
-    FE[j] = fe;
-    DE[j] = e->d * q2;
+    double q2;
+    mode_integrals(f->md + j, W, tau, sw, cw, EW, E2W, FE + j, &q2);
+    DE[j] = f->md[j].d * q2;
   }
 }
 

@@ -7,8 +7,9 @@
  * F_j and D_jj q_j'^2 are sums of exponentials e^{z tau} with Re z <= 0,
  * each integrated exactly: int_0^tau e^{z s} ds = (e^{z tau} - 1) / z,
  * its numerator formed without cancellation.  No quadrature rule, no
- * panels; the integrals at any time of the flight cost 4 sincos and 2
- * expm1 per mode. */
+ * panels; the integrals at any time of the flight cost one sincos of W
+ * tau / 2 and per mode one sincos and one expm1, which the flow shares
+ * where it took them at the same time (vi_lflight_share). */
 #ifndef VI_LEDGER_FLIGHT_H
 #define VI_LEDGER_FLIGHT_H
 
@@ -22,6 +23,7 @@ typedef struct vi_lflight_mode {
   double Ar, Ai, Gr, Gi, Pr, Pi; /* A, G, P as above */
   double iz[5]; /* 1 / |z|^2 of the exponents kappa, kappa +- iW, 2 kappa,
                    -2h */
+  double tau_h, half[4]; /* the flow's values at tau_h (vi_lflight_share) */
 } vi_lflight_mode;
 
 typedef struct vi_lflight {
@@ -57,6 +59,11 @@ void vi_lflight_mode_set(vi_lflight_mode *e, double lam, double d, double W,
 /* The part of it that depends on the mode alone: h, mu, d and the
  * exponents' 1 / |z|^2 (vi_lflight_init sets them once per mode). */
 void vi_lflight_mode_rates(vi_lflight_mode *e, double lam, double d, double W);
+/* The flow's sin, cos (mu tau / 2), e^{-h tau} - 1 and e^{-h tau} of mode
+ * j at tau from the flight's start (vi_flow_basis_half, the same
+ * expressions as the integrals'), which the integrals to that tau take
+ * instead of computing them again. */
+void vi_lflight_share(vi_lflight *f, int j, double tau, const double half[4]);
 /* Q's FE, DE blocks at t0 + tau: the values at t0 plus the integrals
  * (computed once for a repeated tau: the ledger reads them several times
  * at one instant, at close, begin and the next flight's start). */

@@ -77,6 +77,9 @@ typedef struct ex_data {
   double lc[EX_LEVELS], ls[EX_LEVELS]; /* cos, sin of Omega h0 2^-l */
   /* the flight */
   double t0, *w0, *wd0;             /* w, w' of every mode at t0 [n] */
+  double *amp;                      /* each mode's harmonic amplification
+                                       max(lambda, Om^2) / |lambda - Om^2 +
+                                       i d Om| [n] (the model's) */
   int p, lmax, handover;
   unsigned polls;                   /* ex_search's nodes (the host's poll) */
   double hp, tg;                    /* grid step and start */
@@ -104,9 +107,7 @@ static void ex_destroy(vi_sim *s)
   if (d) {
     vi_ledger_settle(s->led); /* the integrals this flight owes */
     for (int l = 0; l < EX_LEVELS; l++) free(d->lev[l]);
-    free(d->act);
-    free(d->lam);
-    free(d->st);
+    free(d->st); /* and act, lam: one block */
     vi_quadmap_free(&d->qm);
     vi_lflight_free(&d->lf);
   }
@@ -239,13 +240,29 @@ static void ex_anchor(ex_data *d, double t, double *w, double *wd, double *c,
   d->evals++;
 }
 
+/* ex_mode, and the closed form's sines and exponentials handed to the
+ * ledger's flight (vi_lflight_share): its integrals to t, read at a
+ * contact, would compute them again. */
+static void ex_mode_led(ex_data *d, int j, double t, double *w, double *wd)
+{
+  const vi_model *m = d->s->m;
+  double B, Bp, ph, half[4], lam = m->lambda[j], tau = t - d->t0;
+  if (vi_flow_basis_half(lam, m->D[j + (size_t)j * d->n], tau, &B, &Bp, &ph,
+                         half))
+    vi_lflight_share(&d->lf, j, tau, half);
+  double f = m->F0[j] - lam * d->w0[j];
+  *w = d->w0[j] + B * d->wd0[j] + ph * f;
+  *wd = Bp * d->wd0[j] + B * f;
+}
+
 /* Every mode's q, q' at t. */
 static void ex_modes_at(ex_data *d, double t, double *q, double *qd)
 {
   vi_phase p = vi_phase_at(d->Om, t);
   for (int j = 0; j < d->n; j++) {
     double w, wd;
-    ex_mode(d, j, t, &w, &wd);
+    if (d->lf_on) ex_mode_led(d, j, t, &w, &wd);
+    else ex_mode(d, j, t, &w, &wd);
     q[j] = w + vi_harm(&p, 0, d->pA[j], d->pB[j], 0.0);
     qd[j] = wd + vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
   }
@@ -425,19 +442,18 @@ static int ex_alloc(vi_sim *s, ex_data **out)
     return VI_ERR_NOMEM;
   }
   size_t nd = (3 + (size_t)ns) * (size_t)na + 6 * (size_t)na +
-              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 15 * (size_t)n +
+              (size_t)(EX_DEPTH + 2) * 2 * (size_t)na + 16 * (size_t)n +
               5 * (size_t)ns + 8;
-  d->act = malloc(sizeof(int) * (size_t)(na + 1));
-  d->lam = malloc(sizeof(double) * nd);
-  d->st = calloc((size_t)ns, sizeof *d->st);
+  /* the stops [ns], the doubles [nd] and act [na + 1] in one block: a
+   * small model's set-up allocates three times, not six */
+  size_t bs = sizeof *d->st * (size_t)ns;
+  d->st = malloc(bs + sizeof(double) * nd + sizeof(int) * (size_t)(na + 1));
   d->lf_on = s->led && vi_lflight_ok(m);
   /* the panels' maps only where the ledger integrates by quadrature (a
    * change of ledger rebuilds this data, vi_sim_enable_ledger) */
   int quad = s->led && !d->lf_on;
-  if (!d->act || !d->lam || !d->st || (quad && vi_quadmap_init(&d->qm, n)) ||
+  if (!d->st || (quad && vi_quadmap_init(&d->qm, n)) ||
       (d->lf_on && vi_lflight_init(&d->lf, m))) {
-    free(d->act);
-    free(d->lam);
     free(d->st);
     vi_quadmap_free(&d->qm);
     vi_lflight_free(&d->lf);
@@ -445,6 +461,11 @@ static int ex_alloc(vi_sim *s, ex_data **out)
     vi_fail(s->errmsg, VI_ERR_NOMEM, "out of memory");
     return VI_ERR_NOMEM;
   }
+  memset(d->st, 0, bs);
+  void *rest = d->st + ns; /* ex_stop's size is a multiple of a double's */
+  d->lam = rest;
+  rest = d->lam + nd;
+  d->act = rest;
   double *p = d->lam;
   p += na;
   d->dmp = p; p += na;
@@ -458,6 +479,7 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   d->stk = p; p += (size_t)(EX_DEPTH + 2) * 2 * na;
   d->w0 = p; p += n;
   d->wd0 = p; p += n;
+  d->amp = p; p += n;
   d->q = p; p += n;
   d->qd = p; p += n;
   d->qs = p; p += n;
@@ -486,6 +508,8 @@ static int ex_alloc(vi_sim *s, ex_data **out)
   }
   for (int j = 0, i = 0; j < n; j++) {
     double dm = m->D[j + (size_t)j * n], rate = fmax(sqrt(m->lambda[j]), dm);
+    double lam = m->lambda[j], Om2 = d->Om * d->Om;
+    d->amp[j] = fmax(lam, Om2) / hypot(lam - Om2, dm * d->Om); /* ex_start */
     all = fmax(all, rate);
     if (!ex_active(m, j)) continue;
     d->act[i] = j;
@@ -646,8 +670,7 @@ static int ex_start(vi_sim *s)
     double Hd = vi_harm(&p, 1, d->pA[j], d->pB[j], 0.0);
     d->w0[j] = d->q[j] - H;
     d->wd0[j] = d->qd[j] - Hd;
-    double lam = m->lambda[j], dm = m->D[j + (size_t)j * n];
-    double amp = fmax(lam, Om * Om) / hypot(lam - Om * Om, dm * Om);
+    double amp = d->amp[j]; /* the model's: set once (ex_alloc) */
     for (int k = 0; k < d->ns && amp > 1e6; k++) {
       double hs = fabs(vi_stop_psi(m, k)[j]) * hypot(d->pA[j], d->pB[j]);
       if (4.0 * DBL_EPSILON * hs > s->atol * s->wnorms[k] && hs > worst) {
@@ -666,10 +689,7 @@ static int ex_start(vi_sim *s)
     snprintf(s->handover_why, sizeof s->handover_why,
              "mode %d is forced %.3g times above its static response (near "
              "resonance, little damping): the closed form would cancel its "
-             "particular solution %.3g", jw + 1,
-             fmax(m->lambda[jw], Om * Om) /
-                 hypot(m->lambda[jw] - Om * Om, m->D[jw + (size_t)jw * n] * Om),
-             worst);
+             "particular solution %.3g", jw + 1, d->amp[jw], worst);
   for (int i = 0; i < na; i++) {
     int j = d->act[i];
     d->g.wk[i] = d->w0[j];

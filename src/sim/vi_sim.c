@@ -2,6 +2,7 @@
  * monitors and callbacks, over an integrator backend.  The settings and
  * the getters are in vi_sim_io.c. */
 #include <float.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -115,6 +116,17 @@ static const vi_backend *held_backend(vi_sim *s)
   return &vi_backend_cvode;
 }
 
+/* The method note's text from *at on: src, at most max characters of it,
+ * cut where the note is full (as snprintf would); no printf at every
+ * set-up (a thousand instructions, and its code's first use). */
+static void note_put(vi_sim *s, size_t *at, const char *src, size_t max)
+{
+  size_t cap = sizeof s->method_note - 1;
+  for (size_t k = 0; k < max && src[k] && *at < cap; k++)
+    s->method_note[(*at)++] = src[k];
+  s->method_note[*at] = '\0';
+}
+
 void vi_sim_note_method(vi_sim *s)
 {
   s->method_used = uses_exact(s)                  ? VI_METHOD_EXACT
@@ -122,15 +134,16 @@ void vi_sim_note_method(vi_sim *s)
                    : s->method == VI_METHOD_ERK   ? VI_METHOD_ERK
                                                   : VI_METHOD_ADAMS;
   if (s->handed_over) return; /* the hand-over wrote its own note */
-  if (s->method == VI_METHOD_AUTO)
-    snprintf(s->method_note, sizeof s->method_note, "%s (auto: %.400s)",
-             vi_method_name(s->method_used),
-             s->nforces     ? "nonlinear forces have no closed form"
-             : s->flow->ok ? "closed-form flow available"
-                           : s->flow->why);
-  else
-    snprintf(s->method_note, sizeof s->method_note, "%s",
-             vi_method_name(s->method_used));
+  size_t at = 0;
+  note_put(s, &at, vi_method_name(s->method_used), SIZE_MAX);
+  if (s->method != VI_METHOD_AUTO) return;
+  note_put(s, &at, " (auto: ", SIZE_MAX);
+  note_put(s, &at,
+           s->nforces     ? "nonlinear forces have no closed form"
+           : s->flow->ok ? "closed-form flow available"
+                         : s->flow->why,
+           400);
+  note_put(s, &at, ")", SIZE_MAX);
 }
 
 void vi_sim_backend_reset(vi_sim *s)

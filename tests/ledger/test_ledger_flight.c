@@ -21,6 +21,7 @@
 #include <cmocka.h>
 
 #include "vibroimpact.h"
+#include "vi_flow_internal.h"
 #include "vi_ledger_flight.h"
 #include "vi_ledger_internal.h"
 
@@ -208,11 +209,55 @@ static void test_offset_and_since(void **state)
   assert_true(Q[0] == 100.0 && Q[1] == 100.0);
 }
 
+/* |x - ref| within k ulp of ref (long double reference) */
+static int near_ulp(double x, long double ref, double k)
+{
+  return fabsl(x - ref) <= k * DBL_EPSILON * fabsl(ref);
+}
+
+/* The flow's own sin, cos (mu tau / 2) and exponentials, shared at a
+ * contact (vi_flow_basis_half, vi_lflight_share): they are those
+ * functions' values at the arguments the library rounds (2 eps against
+ * long double), and the integrals taking them are the integrals computing
+ * them again, bit for bit; a share for another tau is not taken. */
+static void test_shared_values(void **state)
+{
+  (void)state;
+  int shared = 0;
+  for (size_t k = 0; k < sizeof cases / sizeof *cases; k++)
+    for (size_t i = 0; i < sizeof taus / sizeof *taus; i++) {
+      const mode_case *c = cases + k;
+      double tau = taus[i], B, Bp, ph, v[4], FE, DE, Q[2];
+      if (!vi_flow_basis_half(c->lam, c->d, tau, &B, &Bp, &ph, v)) continue;
+      shared++;
+      double h = 0.5 * c->d, mu = sqrt(c->lam - h * h), a = 0.5 * mu * tau;
+      assert_true(near_ulp(v[0], sinl(a), 2) && near_ulp(v[1], cosl(a), 2));
+      assert_true(near_ulp(v[2], expm1l(-h * tau), 2));
+      assert_true(near_ulp(v[3], expl(-h * tau), 2));
+      closed(c, tau, 0.0, &FE, &DE);
+      vi_lflight_mode md;
+      double QS[2] = {0.0, 0.0}, I[2];
+      vi_lflight f = {1, c->W, c->t0, &md, QS, NAN, I};
+      vi_lflight_mode_set(&md, c->lam, c->d, c->W, cos(c->W * c->t0),
+                          sin(c->W * c->t0), c->pA, c->pB, c->Fa, c->Fb,
+                          c->F0, c->w, c->wd);
+      vi_lflight_share(&f, 0, 2.0 * tau, v); /* another time's: not taken */
+      vi_lflight_eval(&f, tau, Q);
+      assert_true(Q[0] == FE && Q[1] == DE);
+      f.tau_done = NAN;
+      vi_lflight_share(&f, 0, tau, v);
+      vi_lflight_eval(&f, tau, Q);
+      assert_true(Q[0] == FE && Q[1] == DE);
+    }
+  assert_true(shared >= 20); /* the flow's closed form past its series */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_against_reference),
       cmocka_unit_test(test_offset_and_since),
+      cmocka_unit_test(test_shared_values),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
