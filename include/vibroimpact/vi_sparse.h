@@ -194,7 +194,7 @@ VI_API int vi_fe_set_accuracy(vi_fe *fe, double tol);
 VI_API int vi_fe_set_shift(vi_fe *fe, double sigma);
 /** Lanczos settings: tol, ARPACK's relative accuracy of the Ritz values
  *  (0: the default, machine precision); ncv, the Lanczos basis size (0: the
- *  default min(n, max(2k + 1, k + 20)); else k < ncv <= n, checked at
+ *  default min(n, k + max(20, 3k/2)); else k < ncv <= n, checked at
  *  setup); maxit, restart iterations (0: default 1000).  The start vector
  *  is fixed, so a setup is reproducible.  @return VI_OK, VI_ERR_ARG (negative or
  *  non-finite), VI_ERR_DIM (ncv), VI_ERR_STATE. */

@@ -709,7 +709,7 @@ static int lanczos(vi_fe *fe, cholmod_factor *L, cholmod_common *c,
                    double *Psi)
 {
   int n = fe->n, k = fe->k, st;
-  int ncv = fe->ncv > 0 ? fe->ncv : (2 * k + 1 > k + 20 ? 2 * k + 1 : k + 20);
+  int ncv = fe->ncv > 0 ? fe->ncv : vi_fe_default_ncv(k);
   if (ncv > n - fe->n0) ncv = n - fe->n0;
   if (ncv <= k)
     return vi_fail(fe->errmsg, VI_ERR_DIM, "Lanczos basis ncv = %d must "

@@ -1116,7 +1116,7 @@ int vi_fe_memory_estimate(int n, int64_t nnz, int k, int keep,
   *bytes = 0;
   if (n < 1 || k < 1 || k > n || nnz < 0) return VI_ERR_DIM;
   if (keep != 0 && keep != 1) return VI_ERR_ARG;
-  double dn = n, dk = k, ncv = fmin(dn, fmax(2.0 * dk + 1.0, dk + 20.0));
+  double dn = n, dk = k, ncv = fmin(dn, vi_fe_default_ncv(k));
   /* three CSC copies (12 bytes an entry, colptr) and the caller's arrays
    * for K - sigma M; the Lanczos basis V [n x ncv], workd [3n], the
    * eigenvectors Z [n x k], the solver's vectors (4n) and the full Psi */
