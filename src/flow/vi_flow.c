@@ -300,6 +300,57 @@ void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c)
   }
 }
 
+/* c [4] (a 2 x 2 transition matrix, column-major) carried over a step
+ * whose own is (Ah, -lam Bh; Bh, Bph). */
+static void stm_step(double c[4], double lam, double Ah, double Bh, double Bph)
+{
+  for (int col = 0; col < 4; col += 2) {
+    double u = c[col], v = c[col + 1];
+    c[col] = Ah * u + Bh * v;
+    c[col + 1] = -lam * Bh * u + Bph * v;
+  }
+}
+
+void vi_xseg_modal_run(const vi_xseg *s, double t, double h, int k,
+                       double *q, double *qd, size_t ld, double *c)
+{
+  const vi_model *m = s->m;
+  double cs[VI_XSEG_RUN], sn[VI_XSEG_RUN];
+  vi_phase p = vi_phase_at(m->omega_f, t), ph = vi_phase_at(m->omega_f, h);
+  for (int i = 0; i < k; i++) {
+    double c0 = p.c;
+    cs[i] = p.c;
+    sn[i] = p.s;
+    p.c = c0 * ph.c - p.s * ph.s;
+    p.s = p.s * ph.c + c0 * ph.s;
+  }
+  int n = m->n;
+  double tau = t - s->t0;
+  for (int j = 0; j < n; j++) {
+    double lam = m->lambda[j], d = m->D[j + (size_t)j * n], F0 = m->F0[j];
+    double A, B, Bp, phi, Ah, Bh, Bph, phih;
+    propagate(lam, d, tau, &A, &B, &Bp, &phi, NULL);
+    propagate(lam, d, h, &Ah, &Bh, &Bph, &phih, NULL);
+    /* vi_xseg_modal's deviation from the harmonic at t, then by steps:
+     * u(tau + h) = A(h) u + B(h) u' + phi(h) F0, u' likewise */
+    double u = s->w[j] + B * s->wd[j] + phi * s->f[j];
+    double v = Bp * s->wd[j] + B * s->f[j], st[4] = {A, -lam * B, B, Bp};
+    double pA = s->fl->pA[j], pB = s->fl->pB[j];
+    for (int i = 0; i < k; i++) {
+      vi_phase pi = {p.W, cs[i], sn[i]};
+      if (q) q[i * ld + j] = vi_harm(&pi, 0, pA, pB, 0.0) + u;
+      if (qd) qd[i * ld + j] = vi_harm(&pi, 1, pA, pB, 0.0) + v;
+      if (c) {
+        memcpy(c + 4 * ((size_t)n * i + j), st, sizeof st);
+        stm_step(st, lam, Ah, Bh, Bph);
+      }
+      double un = Ah * u + Bh * v + phih * F0;
+      v = -lam * Bh * u + Bph * v + Bh * F0;
+      u = un;
+    }
+  }
+}
+
 void vi_xseg_start(vi_xseg *s, double t0, const double *x0, const double *v0)
 {
   int n = s->m->n;

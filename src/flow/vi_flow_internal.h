@@ -76,6 +76,17 @@ void vi_xseg_start_modal(vi_xseg *s, double t0, const double *q0,
  * the same propagator) or physical, through work [2n] (which other
  * damping, evaluated in s's own scratch, leaves alone). */
 void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c);
+/* The longest run of vi_xseg_modal_run. */
+#define VI_XSEG_RUN 64
+/* vi_xseg_modal at the k <= VI_XSEG_RUN times t + i h, i = 0..k-1 (a
+ * recording's samples within one flight): sample i's q, qd at q + i ld,
+ * qd + i ld and its c at c + 4 n i (any may be NULL).  The closed form is
+ * evaluated at t only; each later sample is the one before carried over h
+ * by the flight's own map (the flow's exact affine step, its propagator
+ * taken once per mode) and the forcing's phase by one rotation: no sine
+ * or exponential per sample, a few ulp more per step. */
+void vi_xseg_modal_run(const vi_xseg *s, double t, double h, int k,
+                       double *q, double *qd, size_t ld, double *c);
 void vi_xseg_physical(vi_xseg *s, double t, double *x, double *v,
                       double *work);
 /* 1 if the closed-form flow of m exists (builds one to find out: cheap

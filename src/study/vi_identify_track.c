@@ -7,6 +7,7 @@
  * law, two products with Psi^T M, the phase at the impact) and mapped
  * itself back with two matrix-vector products, that was 54 % of
  * test_identify's time (Release, reference BLAS). */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,6 +78,24 @@ void vi_id_track_free(vi_id_track *tk)
   tk->nseg = 0;
 }
 
+/* How many of the k samples from the first lie in its flight at a steady
+ * step (*h): a recording's, whose times are uniform to their round-off
+ * (at most VI_XSEG_RUN, at least 1).  A time off the step by more than a
+ * few ulp of the flight's start ends the run. */
+static int uniform_run(int k, const int *j, const double *tau, double t0,
+                       double *h)
+{
+  int r = 1;
+  *h = 0.0;
+  if (k < 2 || j[1] != j[0]) return 1;
+  *h = tau[1] - tau[0];
+  double tol = 16.0 * DBL_EPSILON * (fabs(t0) + fabs(tau[0]) + VI_XSEG_RUN * fabs(*h));
+  while (r < k && r < VI_XSEG_RUN && j[r] == j[0] &&
+         fabs(tau[r] - (tau[0] + r * *h)) <= tol)
+    r++;
+  return r;
+}
+
 void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
                     double *Z, double *C)
 {
@@ -90,10 +109,11 @@ void vi_id_track_at(vi_id_track *tk, int k, const int *j, const double *tau,
     return;
   }
   int hx = tk->halves & 1, hv = tk->halves & 2;
-  for (int i = 0; i < k; i++) {
-    double *q = tk->Q + (size_t)i * N2;
-    vi_xseg_modal(&tk->seg[j[i]], o->t[j[i]] + tau[i], hx ? q : NULL, hv ? q + N : NULL,
-                  C ? C + 4 * (size_t)N * i : NULL);
+  for (int i = 0, r; i < k; i += r) {
+    double *q = tk->Q + (size_t)i * N2, h;
+    r = uniform_run(k - i, j + i, tau + i, o->t[j[i]], &h);
+    vi_xseg_modal_run(&tk->seg[j[i]], o->t[j[i]] + tau[i], h, r, hx ? q : NULL,
+                      hv ? q + N : NULL, (size_t)N2, C ? C + 4 * (size_t)N * i : NULL);
   }
   /* x = Psi q, v = Psi q' for the whole block */
   if (hx)
