@@ -69,9 +69,7 @@ static double rigidity(int n, const double *K, const double *z)
   return amax > 0.0 ? r : 0.0;
 }
 
-/* Whether M is diagonal with a positive diagonal (lumped masses, and what
- * condensing massless dofs leaves of them). */
-static int lumped(int n, const double *M)
+int vi_mass_lumped(int n, const double *M)
 {
   for (int j = 0; j < n; j++)
     for (int i = 0; i < n; i++)
@@ -105,12 +103,11 @@ static lapack_int eigen(const vi_model *m, int diag, double *Kw, double *Mw)
   return info;
 }
 
-int vi_modal_setup(vi_model *m, int c_zero)
+int vi_modal_setup(vi_model *m, int c_zero, int diag)
 {
   int n = m->n;
   size_t nn = (size_t)n * n;
   double *Kw = m->D + nn, *Mw = Kw + nn; /* setup workspace blocks */
-  int diag = lumped(n, m->M);
   lapack_int info = eigen(m, diag, Kw, Mw);
   if (info != 0)
     return vi_fail(m->errmsg, VI_ERR_LAPACK, "%s failed (info %d)",

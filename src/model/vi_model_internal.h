@@ -90,9 +90,15 @@ static inline const double *vi_stop_psi(const vi_model *m, int k)
  * sets (vi_contact.c), the held motion solves with their G (vi_sim). */
 #define VI_CONTACT_MAX 12
 
+/* Whether M is diagonal with a positive diagonal (lumped masses, and what
+ * condensing massless dofs leaves of them): decided once per set-up, by
+ * vi_dense_setup (vi_modal.c). */
+int vi_mass_lumped(int n, const double *M);
+
 /* Modal analysis (vi_modal.c), called by vi_model_setup after M's
- * Cholesky factorisation; checks K and C (c_zero: C = 0) semidefinite. */
-int vi_modal_setup(vi_model *m, int c_zero);
+ * Cholesky factorisation; checks K and C (c_zero: C = 0) semidefinite;
+ * diag: M is lumped (vi_mass_lumped). */
+int vi_modal_setup(vi_model *m, int c_zero, int diag);
 
 /* Modal coordinates q = Psi^T M x and velocities qd = Psi^T M v of an
  * interleaved state z = (x_1, v_1, ...); q or qd may be NULL
