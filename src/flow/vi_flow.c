@@ -280,24 +280,7 @@ void vi_xseg_start_modal(vi_xseg *s, double t0, const double *q0,
 
 void vi_xseg_modal(const vi_xseg *s, double t, double *q, double *qd, double *c)
 {
-  const vi_model *m = s->m;
-  vi_phase p1 = vi_phase_at(m->omega_f, t);
-  const double *pA = s->fl->pA, *pB = s->fl->pB, *lambda = m->lambda, *D = m->D;
-  const double *w = s->w, *wd = s->wd, *f = s->f;
-  double tau = t - s->t0;
-  int n = m->n;
-  for (int j = 0; j < n; j++) {
-    double lam = lambda[j], A, B, Bp, phi;
-    propagate(lam, D[j + (size_t)j * n], tau, &A, &B, &Bp, &phi, NULL);
-    if (q) q[j] = vi_harm(&p1, 0, pA[j], pB[j], 0.0) + (w[j] + B * wd[j] + phi * f[j]);
-    if (qd) qd[j] = vi_harm(&p1, 1, pA[j], pB[j], 0.0) + (Bp * wd[j] + B * f[j]);
-    if (c) { /* vi_flow_stm2's */
-      c[4 * (size_t)j] = A;
-      c[4 * (size_t)j + 1] = -lam * B;
-      c[4 * (size_t)j + 2] = B;
-      c[4 * (size_t)j + 3] = Bp;
-    }
-  }
+  vi_xseg_modal_run(s, t, 0.0, 1, q, qd, 0, c); /* a run of one */
 }
 
 /* c [4] (a 2 x 2 transition matrix, column-major) carried over a step
@@ -316,7 +299,8 @@ void vi_xseg_modal_run(const vi_xseg *s, double t, double h, int k,
 {
   const vi_model *m = s->m;
   double cs[VI_XSEG_RUN], sn[VI_XSEG_RUN];
-  vi_phase p = vi_phase_at(m->omega_f, t), ph = vi_phase_at(m->omega_f, h);
+  vi_phase p = vi_phase_at(m->omega_f, t);
+  vi_phase ph = k > 1 ? vi_phase_at(m->omega_f, h) : p;
   for (int i = 0; i < k; i++) {
     double c0 = p.c;
     cs[i] = p.c;
@@ -328,10 +312,10 @@ void vi_xseg_modal_run(const vi_xseg *s, double t, double h, int k,
   double tau = t - s->t0;
   for (int j = 0; j < n; j++) {
     double lam = m->lambda[j], d = m->D[j + (size_t)j * n], F0 = m->F0[j];
-    double A, B, Bp, phi, Ah, Bh, Bph, phih;
+    double A, B, Bp, phi, Ah = 1.0, Bh = 0.0, Bph = 1.0, phih = 0.0;
     propagate(lam, d, tau, &A, &B, &Bp, &phi, NULL);
-    propagate(lam, d, h, &Ah, &Bh, &Bph, &phih, NULL);
-    /* vi_xseg_modal's deviation from the harmonic at t, then by steps:
+    if (k > 1) propagate(lam, d, h, &Ah, &Bh, &Bph, &phih, NULL);
+    /* the deviation from the harmonic, in closed form at t, then by steps:
      * u(tau + h) = A(h) u + B(h) u' + phi(h) F0, u' likewise */
     double u = s->w[j] + B * s->wd[j] + phi * s->f[j];
     double v = Bp * s->wd[j] + B * s->f[j], st[4] = {A, -lam * B, B, Bp};
@@ -340,10 +324,9 @@ void vi_xseg_modal_run(const vi_xseg *s, double t, double h, int k,
       vi_phase pi = {p.W, cs[i], sn[i]};
       if (q) q[i * ld + j] = vi_harm(&pi, 0, pA, pB, 0.0) + u;
       if (qd) qd[i * ld + j] = vi_harm(&pi, 1, pA, pB, 0.0) + v;
-      if (c) {
-        memcpy(c + 4 * ((size_t)n * i + j), st, sizeof st);
-        stm_step(st, lam, Ah, Bh, Bph);
-      }
+      if (c) memcpy(c + 4 * ((size_t)n * i + j), st, sizeof st);
+      if (i + 1 == k) break;
+      if (c) stm_step(st, lam, Ah, Bh, Bph);
       double un = Ah * u + Bh * v + phih * F0;
       v = -lam * Bh * u + Bph * v + Bh * F0;
       u = un;
