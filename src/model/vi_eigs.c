@@ -21,6 +21,7 @@
 #include <lapacke.h>
 
 #include "vi_fe_internal.h"
+#include "vi_model_internal.h"
 
 /* A pivot of K's factor below this fraction of its own diagonal entry
  * K_jj marks K as singular to working precision (a free structure, whose
@@ -565,7 +566,13 @@ static int eigs_dense(vi_fe *fe, double *Psi)
     LAPACKE_dlacpy(LAPACK_COL_MAJOR, 'A', nz, nm, Kzm, n, X, nz);
   }
   fe->shift = 0.0;
-  info = LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', nm, A, n, B, nm, lam);
+  /* lumped masses (what condensing the massless dofs often leaves): the
+   * dense set-up's standard problem; Z is free until the modes are put
+   * back in order */
+  if (vi_mass_lumped(nm, B))
+    info = vi_eig_lumped(nm, A, n, B, nm + 1, lam, Z);
+  else
+    info = LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', nm, A, n, B, nm, lam);
   if (info > nm) {
     st = vi_fail(fe->errmsg, VI_ERR_NOT_SPD, "M is not positive definite "
                  "on its %d dofs with mass (Cholesky fails at the %d-th)", nm,

@@ -79,10 +79,7 @@ int vi_mass_lumped(int n, const double *M)
 }
 
 /* K z = lambda M z, itype 1 (Z^T M Z = I), eigenvalues ascending, Z into Kw
- * (n x n); diag: M is lumped; Mw: n x n workspace.  A diagonal M makes it the standard problem
- * of S K S, S = M^-1/2, with Z = S Y: dsyevd alone, without the Cholesky
- * congruence and back-substitution by which dsygvd spends two n^3 triangular
- * products on a diagonal factor. */
+ * (n x n); diag: M is lumped (then vi_eig_lumped); Mw: n x n workspace. */
 static lapack_int eigen(const vi_model *m, int diag, double *Kw, double *Mw)
 {
   int n = m->n;
@@ -93,14 +90,20 @@ static lapack_int eigen(const vi_model *m, int diag, double *Kw, double *Mw)
     return LAPACKE_dsygvd(LAPACK_COL_MAJOR, 1, 'V', 'L', n, Kw, n, Mw, n,
                           m->lambda);
   }
-  for (int i = 0; i < n; i++) Mw[i] = 1.0 / sqrt(m->M[i + (size_t)i * n]);
+  return vi_eig_lumped(n, Kw, n, m->M, n + 1, m->lambda, Mw);
+}
+
+int vi_eig_lumped(int n, double *A, int lda, const double *mass, int inc,
+                  double *lam, double *s)
+{
+  for (int i = 0; i < n; i++) s[i] = 1.0 / sqrt(mass[(size_t)i * inc]);
   for (int i = 0; i < n; i++) { /* S K S: column i, then row i, by S_ii */
-    cblas_dscal(n, Mw[i], Kw + (size_t)i * n, 1);
-    cblas_dscal(n, Mw[i], Kw + i, n);
+    cblas_dscal(n, s[i], A + (size_t)i * lda, 1);
+    cblas_dscal(n, s[i], A + i, lda);
   }
-  lapack_int info = LAPACKE_dsyevd(LAPACK_COL_MAJOR, 'V', 'L', n, Kw, n, m->lambda);
-  for (int i = 0; i < n && info == 0; i++) cblas_dscal(n, Mw[i], Kw + i, n); /* Z = S Y */
-  return info;
+  lapack_int info = LAPACKE_dsyevd(LAPACK_COL_MAJOR, 'V', 'L', n, A, lda, lam);
+  for (int i = 0; i < n && info == 0; i++) cblas_dscal(n, s[i], A + i, lda); /* Z = S Y */
+  return (int)info;
 }
 
 int vi_modal_setup(vi_model *m, int c_zero, int diag)

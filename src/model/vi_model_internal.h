@@ -95,6 +95,15 @@ static inline const double *vi_stop_psi(const vi_model *m, int k)
  * vi_dense_setup (vi_modal.c). */
 int vi_mass_lumped(int n, const double *M);
 
+/* K z = lambda M z for a lumped M (itype 1, Z^T M Z = I), eigenvalues
+ * ascending into lam [n]: the standard problem of S K S, S = M^-1/2, with
+ * Z = S Y, by dsyevd alone (dsygvd would spend two n^3 triangular
+ * products on the diagonal factor).  K in A (lda), overwritten by Z; the
+ * masses m_i = mass[i inc]; s [n] workspace.  dsyevd's info (vi_modal.c;
+ * the dense set-up and the FE reduction's dense path). */
+int vi_eig_lumped(int n, double *A, int lda, const double *mass, int inc,
+                  double *lam, double *s);
+
 /* Modal analysis (vi_modal.c), called by vi_model_setup after M's
  * Cholesky factorisation; checks K and C (c_zero: C = 0) semidefinite;
  * diag: M is lumped (vi_mass_lumped). */
