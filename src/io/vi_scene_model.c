@@ -443,6 +443,15 @@ static int create_fe_model(const vi_scene *s, vi_model **out, vi_diag *d)
   return st;
 }
 
+/* An explicit M with a zero on its diagonal: a massless dof, which only
+ * the finite-element set-up condenses. */
+static int massless(const vi_scene *s)
+{
+  for (int j = 0; s->kind == VI_SCENE_EXPLICIT && j < s->n; j++)
+    if (s->M[j + (size_t)j * s->n] == 0.0) return 1;
+  return 0;
+}
+
 int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
 {
   if (d) memset(d, 0, sizeof *d);
@@ -503,8 +512,10 @@ int vi_scene_create_model(const vi_scene *s, vi_model **out, vi_diag *d)
   if (!st) st = fill_model(s, &x, m, key, sizeof key, &line);
   free(x.buf);
   if (st) {
-    vi_diag_set(d, s->file, st, line, line ? 1 : 0, key, "", "%s",
-                m ? vi_model_errmsg(m) : vi_strerror(st));
+    vi_diag_set(d, s->file, st, line, line ? 1 : 0, key, "", "%s%s",
+                m ? vi_model_errmsg(m) : vi_strerror(st),
+                st == VI_ERR_NOT_SPD && massless(s) ? " (a scene: M and K as "
+                "files under model.matrices)" : "");
     vi_model_destroy(&m);
     return st;
   }

@@ -538,10 +538,20 @@ int vi_dense_setup(vi_model *m)
     memcpy(L, m->M, sizeof(double) * nn);
     info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', n, L, n);
   }
-  if (info != 0)
+  if (info != 0) {
+    /* a zero row is the common case from an FE code: a massless dof,
+     * which the finite-element set-up condenses and this one cannot */
+    int j = (int)info - 1, zero = j < n;
+    for (int i = 0; i < n && zero; i++) zero = m->M[i + (size_t)j * n] == 0.0;
+    if (zero)
+      return vi_fail(m->errmsg, VI_ERR_NOT_SPD, "M is not positive definite: "
+                     "dof %d has no mass (row %d of M is zero); the finite-element "
+                     "set-up (vi_fe_setup) condenses massless dofs",
+                     j + 1, j + 1);
     return vi_fail(m->errmsg, VI_ERR_NOT_SPD,
                    "M is not positive definite (Cholesky fails at column %d)",
                    (int)info);
+  }
   /* right-hand sides [K C a b f0] (C only if non-zero), solved in place in
    * the model's own arrays */
   memcpy(m->MinvK, m->K, sizeof(double) * nn);

@@ -329,25 +329,47 @@ static void test_stdout_full(void **state)
 }
 
 /* ---- signals in every phase ---------------------------------------------- */
-/* Start, wait `delay` s (the process must still be running: it is in the
- * phase), signal, and return the exit status; prints the response time.
- * The delays, 0.5 s (0.3 for the parser), leave a loaded machine time to
- * reach the phase past the program's start and set-up (whose own words
- * differ: c0143d9); each phase has seconds of work.  The child computes
- * throughout, so each tenth of a second costs CPU (the studies waited
- * 1.0 s; at 0.3 s one loaded run in about ten failed, at 0.5 none of six
- * beside three busy loops). */
-static int signal_in(const char *what, char *const argv[], double delay, int sig)
+/* CPU seconds the process has used (user + system, /proc/PID/stat's
+ * fields 14 and 15, in clock ticks), or -1 once it cannot be read. */
+static double cpu_of(pid_t pid)
+{
+  char p[64], buf[1024];
+  snprintf(p, sizeof p, "/proc/%d/stat", (int)pid);
+  FILE *f = fopen(p, "r");
+  size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+  if (f) fclose(f);
+  buf[n] = '\0';
+  const char *s = strrchr(buf, ')'); /* the command name may hold spaces */
+  unsigned long ut, st;
+  if (!s || sscanf(s + 1, " %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %lu %lu",
+                   &ut, &st) != 2)
+    return -1.0;
+  return (double)(ut + st) / (double)sysconf(_SC_CLK_TCK);
+}
+
+/* Start, wait until the process has used `work` CPU seconds (it must
+ * still be running: it is in the phase), signal, and return the exit
+ * status; prints the response time.  The wait counts the child's CPU, not
+ * the clock: a loaded machine (or a sanitized build) slows the start and
+ * the set-up before the phase as much as the clock, so a fixed delay
+ * signalled some runs before the phase began, where the program's words
+ * differ (c0143d9; one loaded run in about ten at 0.3 s).  Each phase has
+ * seconds of work past its first 0.3 CPU-s. */
+static int signal_in(const char *what, char *const argv[], double work, int sig)
 {
   pid_t pid = start(argv, NULL, NULL, NULL);
-  usleep((useconds_t)(delay * 1e6));
+  double c = 0.0, w0 = now();
   int st;
+  while ((c = cpu_of(pid)) < work && c >= 0.0 && now() - w0 < 120.0 &&
+         waitpid(pid, &st, WNOHANG) == 0)
+    usleep(2000);
   assert_int_equal(waitpid(pid, &st, WNOHANG), 0); /* still in the phase */
+  assert_true(c >= work);
   double t0 = now();
   kill(pid, sig);
   int rc = finish(pid);
-  print_message("%-34s %s answered in %.3f s, exit %d\n", what,
-                sig == SIGINT ? "SIGINT " : "SIGTERM", now() - t0, rc);
+  print_message("%-34s %s after %.2f CPU-s, answered in %.3f s, exit %d\n", what,
+                sig == SIGINT ? "SIGINT " : "SIGTERM", c, now() - t0, rc);
   return rc;
 }
 
@@ -377,7 +399,7 @@ static void test_signals(void **state)
                     "stop: {mass: 1, xs: 0.1, r: 0.7}\n"
                     "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\n"
                     "run: {periods: 1, method: exact}\n");
-  rc = signal_in("building the model (n = 2500)", ARGV(chain, "-o", h5), 0.5,
+  rc = signal_in("building the model (n = 2500)", ARGV(chain, "-o", h5), 0.3,
                  SIGTERM);
   assert_int_equal(rc, 143);
   assert_false(exists(h5));
@@ -395,7 +417,7 @@ static void test_signals(void **state)
     char what[64];
     snprintf(what, sizeof what, "running (Omega 1e-6, %s)", methods[k]);
     rc = signal_in(what, ARGV(slow, "--method", (char *)methods[k], "-o", h5,
-                              "--quiet"), 0.5, sig);
+                              "--quiet"), 0.3, sig);
     assert_int_equal(rc, 128 + sig);
     assert_non_null(strstr(slurp(path("stderr")), "marked incomplete"));
     assert_false(exists(part));
@@ -410,7 +432,7 @@ static void test_signals(void **state)
     remove(h5);
   }
   /* the energy analysis: no file until the orbit is found */
-  rc = signal_in("energy (Omega 1e-6)", ARGV("energy", slow, "-o", h5), 0.5,
+  rc = signal_in("energy (Omega 1e-6)", ARGV("energy", slow, "-o", h5), 0.3,
                  SIGINT);
   assert_int_equal(rc, 130);
   assert_false(exists(h5));
@@ -879,11 +901,11 @@ static void test_interrupted_studies(void **state)
                        "1.0", "--steps", "20000", "--transient", "500", "--record",
                        "4", "--threads", "1", "--quiet", "-o", h5, NULL};
   cmd_case sweep_long = {"sweep", {NULL}, 1};
-  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.5,
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.3,
                    SIGINT), 130, "marked incomplete");
   check_incomplete(h5, 20000);
   remove(h5);
-  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.5,
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.3,
                    SIGTERM), 143, "interrupted (SIGTERM)");
   check_incomplete(h5, 20000);
   remove(h5);
@@ -893,7 +915,7 @@ static void test_interrupted_studies(void **state)
                        "-1", "--to2", "1", "--steps2", "150", "--transient", "500",
                        "--record", "4", "--threads", "1", "--quiet", "-o", h5, NULL};
   cmd_case basins = {"basins", {NULL}, 1};
-  expect(signal_in("basins -o (150 x 150)", cmd_argv(&basins, scene, bas), 0.5,
+  expect(signal_in("basins -o (150 x 150)", cmd_argv(&basins, scene, bas), 0.3,
                    SIGINT), 130, "marked incomplete");
   check_incomplete(h5, 150LL * 150);
   remove(h5);
@@ -901,7 +923,7 @@ static void test_interrupted_studies(void **state)
   const char *js[] = {"--param", "forcing.omega", "--from", "0.8", "--to", "1.0",
                       "--steps", "20000", "--transient", "500", "--record", "4",
                       "--threads", "1", "--json", NULL};
-  expect(signal_in("sweep --json", cmd_argv(&sweep_long, scene, js), 0.5, SIGINT),
+  expect(signal_in("sweep --json", cmd_argv(&sweep_long, scene, js), 0.3, SIGINT),
          130, NULL);
   const char *out = slurp(path("stdout"));
   assert_non_null(strstr(out, "\"complete\": false"));
@@ -910,9 +932,9 @@ static void test_interrupted_studies(void **state)
   const char *orb[] = {"--continue", "forcing.omega", "--to", "1.5", "--steps",
                        "1000000", "--json", NULL};
   cmd_case orbits = {"orbits", {NULL}, 0};
-  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGTERM), 143,
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.3, SIGTERM), 143,
          "interrupted (SIGTERM): stopped, no file left behind");
-  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.5, SIGINT), 130,
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.3, SIGINT), 130,
          "interrupted (SIGINT): stopped, no file left behind");
 }
 

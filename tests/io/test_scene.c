@@ -100,6 +100,20 @@ static void test_malformed_scenes(void **state)
     vi_scene_destroy(&sc);
     assert_null(sc);
   }
+  /* a lumped M with a massless dof: the dof named, and where such a
+   * model is taken (its files, condensed by the FE reduction) */
+  vi_scene *sc = NULL;
+  vi_model *m = NULL;
+  vi_diag d;
+  assert_int_equal(vi_scene_parse("model:\n  M: [[1, 0], [0, 0]]\n  K: [[2, -1], [-1, 1]]\n"
+                                  "stop: {w: [0, 1], xs: 0.1, r: 0.7}\nrun: {t_end: 10}\n", -1,
+                                  "lumped.yaml", &sc, &d), VI_OK);
+  assert_int_equal(vi_scene_create_model(sc, &m, &d), VI_ERR_NOT_SPD);
+  assert_null(m);
+  assert_int_equal(d.line, 2);
+  assert_non_null(strstr(d.message, "dof 2 has no mass"));
+  assert_non_null(strstr(d.message, "model.matrices"));
+  vi_scene_destroy(&sc);
 }
 
 /* A scene's built-in springs reach the simulation: the free Duffing

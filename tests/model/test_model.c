@@ -77,6 +77,13 @@ static void test_symmetry_and_definiteness(void **state)
   const double Msing[4] = {1, 1, 1, 1}; /* semidefinite is not enough for M */
   assert_int_equal(vi_model_set_mass(m, Msing, 2), VI_OK);
   assert_int_equal(vi_model_setup(m), VI_ERR_NOT_SPD);
+  assert_msg_has(m, "Cholesky fails at column 2");
+  /* a massless dof (a lumped FE mass): named, and where to take it */
+  const double Mzero[4] = {1, 0, 0, 0};
+  assert_int_equal(vi_model_set_mass(m, Mzero, 2), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_ERR_NOT_SPD);
+  assert_msg_has(m, "dof 2 has no mass");
+  assert_msg_has(m, "vi_fe_setup");
 
   assert_int_equal(vi_model_set_mass(m, I2, 2), VI_OK);
   const double Kind[4] = {1, 0, 0, -0.5};
