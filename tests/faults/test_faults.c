@@ -340,10 +340,13 @@ static double cpu_of(pid_t pid)
   if (f) fclose(f);
   buf[n] = '\0';
   const char *s = strrchr(buf, ')'); /* the command name may hold spaces */
-  unsigned long ut, st;
-  if (!s || sscanf(s + 1, " %*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %lu %lu",
-                   &ut, &st) != 2)
-    return -1.0;
+  if (!s) return -1.0;
+  /* the space before each field from 3 (the state) to 14 (utime) */
+  for (int field = 3; field <= 14 && s; field++) s = strchr(s + 1, ' ');
+  if (!s) return -1.0;
+  char *end;
+  unsigned long ut = strtoul(s, &end, 10), st = strtoul(end, &end, 10);
+  if (*end != ' ') return -1.0;
   return (double)(ut + st) / (double)sysconf(_SC_CLK_TCK);
 }
 
