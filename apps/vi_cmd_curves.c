@@ -275,6 +275,7 @@ static int trace(vi_cont_curve *c, vi_curve_result *r)
     }
   }
   r->state = vi_cont_curve_done(c);
+  r->start = vi_cont_curve_start(c);
   return VI_OK;
 }
 
@@ -320,12 +321,14 @@ static void print_result(const cargs *a, const vi_curve_result *r)
       printf("%s{\"type\": \"%s\", \"point\": [%.17g, %.17g], \"located\": %s}", i ? ", " : "",
              sp_name(r->sp_type[i]), r->sp_pts[2 * (size_t)i], r->sp_pts[2 * (size_t)i + 1],
              r->sp_loc[i] ? "true" : "false");
-    printf("], \"end\": \"%s\"}\n", vi_curve_end_name(r->state));
+    printf("], \"start\": \"%s\", \"end\": \"%s\"}\n", vi_curve_end_name(r->start),
+           vi_curve_end_name(r->state));
     return;
   }
   printf("%s curve of the P(%d,%d) orbit in (%s, %s): located at %s = %.12g (%s = %.12g)\n",
          kind_name(a->kind), a->n, a->m, a->key, a->key2, a->key, r->located, a->key2, r->located2);
-  printf("  %d points, %s; %18s %18s\n", r->npts, vi_curve_end_name(r->state), a->key, a->key2);
+  printf("  %d points (first: %s; last: %s) %18s %18s\n", r->npts,
+         vi_curve_end_name(r->start), vi_curve_end_name(r->state), a->key, a->key2);
   for (int i = 0; i < r->npts; i++)
     printf("  %42.12g %18.12g\n", r->pts[2 * (size_t)i], r->pts[2 * (size_t)i + 1]);
   for (int i = 0; i < r->nsp; i++)

@@ -10,7 +10,7 @@ typedef struct vi_curve_result {
   int nsp, spcap;
   int *sp_type, *sp_loc;    /* vi_cont_special_type; 1 solved, 0 interpolated */
   double *sp_pts;           /* [nsp][2] */
-  int state;                /* vi_cont_curve_state at the end */
+  int state, start;         /* vi_cont_curve_state at the end, at the start */
 } vi_curve_result;
 
 /* Append a point / a special point; 0, or 1 out of memory. */
@@ -23,7 +23,7 @@ const char *vi_curve_end_name(int state);
  * Layout (doc/curves.md): root attribute kind = "curves"; /curve/points [npts x 2], /curve/special_points
  * [nsp x 2], /curve/special_type [nsp] (names in the attribute
  * special_types), /curve/special_located [nsp]; attributes kind, param,
- * param2, orbit_n, orbit_m, located [2], end. */
+ * param2, orbit_n, orbit_m, located [2], start, end. */
 int vi_curves_write_h5(const char *path, const char *kind, const char *key,
                        const char *key2, int n, int m, const vi_curve_result *r,
                        char *err, int errlen);

@@ -116,6 +116,7 @@ int vi_curves_write_h5(const char *path, const char *kind, const char *key,
     bad |= attr_str(g, "kind", kind) | attr_str(g, "param", key) | attr_str(g, "param2", key2);
     bad |= attr_num(g, "orbit", H5T_NATIVE_INT, orb, 2);
     bad |= attr_num(g, "located", H5T_NATIVE_DOUBLE, loc, 2);
+    bad |= attr_str(g, "start", vi_curve_end_name(r->start));
     bad |= attr_str(g, "end", vi_curve_end_name(r->state));
     bad |= attr_str(g, "special_types", types);
     bad |= dset(g, "points", H5T_NATIVE_DOUBLE, r->pts, 2, (hsize_t)r->npts);

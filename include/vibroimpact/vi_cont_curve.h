@@ -170,6 +170,13 @@ VI_API int vi_cont_curve_set_range(vi_cont_curve *c, double from2, double to2,
 VI_API int vi_cont_curve_iterate(vi_cont_curve *c);
 /** A vi_cont_curve_state: 0 while running (also for NULL). */
 VI_API int vi_cont_curve_done(const vi_cont_curve *c);
+/** Why the curve begins where it does: the vi_cont_curve_state at which
+ *  the first iterate's backward pass from the located point ended (its
+ *  first point): VI_CONT_CURVE_END at the range's bound, _ENDS or
+ *  _RESONANCE at the codimension-two point reported with it, _CORRECTOR,
+ *  _CLOSES (a closed curve: the located point) or _STALLED.  0 before the
+ *  first iterate (also for NULL). */
+VI_API int vi_cont_curve_start(const vi_cont_curve *c);
 /** The last point: key's and key2's values, and for P(n,m) impact 0's
  *  time, x, v [n_coords] (all impacts: vi_cont_curve_impacts) and the
  *  largest multiplier modulus (NaN for P(1,0); t,

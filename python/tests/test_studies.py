@@ -90,7 +90,7 @@ def test_curve_grazing_closed_form():
     resonance at 0.618: every point on the closed-form x_s = |x_2(Omega)|
     to 1e-9, in order along Omega, the whole range covered."""
     c = vi.curve(fig2(), "grazing", "stop.xs", 5, "forcing.omega", 0.5, 1.8, orbit=(1, 0))
-    assert c["end"] == "end of range" and c["orbit"] == [1, 0]
+    assert c["start"] == c["end"] == "end of range" and c["orbit"] == [1, 0]
     assert abs(c["located"][0] - free_amplitude(0.9)) < 1e-12 * c["located"][0]
     pts = c["points"]
     assert pts.shape[1] == 2 and len(pts) > 100
@@ -131,7 +131,7 @@ def test_curve_grazing_published_matrices():
     def amp(W):
         return abs(Phi[i] @ (Phi[i] / (w2 - W * W + 2j * 0.02 * w * W)))
     pts = c["points"]
-    assert c["end"] == "end of range"
+    assert c["start"] == c["end"] == "end of range"
     assert pts[0, 1] == 10.0 and pts[-1, 1] == 200.0 and np.all(np.diff(pts[:, 1]) > 0)
     assert max(abs(x - amp(W)) / amp(W) for x, W in pts) < 1e-10
     # every peak climbed: within 1 % of its height at the nearest points

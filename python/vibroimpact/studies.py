@@ -436,9 +436,10 @@ def curve(model: Model, kind: str, key: str, to: float, key2: str, from2: float,
             lib.vi_cont_curve_special(c, i, ty, p, p2, loc)
             special.append({"type": CURVE_SPECIALS[ty[0]] if 0 <= ty[0] < len(CURVE_SPECIALS)
                             else str(ty[0]), "point": [p[0], p2[0]], "located": bool(loc[0])})
-    end = lib.vi_cont_curve_done(c)
+    end, start = lib.vi_cont_curve_done(c), lib.vi_cont_curve_start(c)
     return {"kind": kind, "param": key, "param2": key2, "orbit": [n, m], "located": located,
             "points": np.array(points).reshape(-1, 2), "special": special,
+            "start": CURVE_ENDS[start] if 0 <= start < len(CURVE_ENDS) else str(start),
             "end": CURVE_ENDS[end] if 0 <= end < len(CURVE_ENDS) else str(end)}
 
 

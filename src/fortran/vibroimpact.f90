@@ -88,7 +88,7 @@ module vibroimpact
             vi_cont_refine, vi_cont_refine_pnm, vi_cont_curve_create, vi_cont_curve_destroy, vi_cont_curve_errmsg, &
             vi_cont_curve_set_orbit, vi_cont_curve_set_impacts, vi_cont_curve_locate, &
             vi_cont_curve_set_range, vi_cont_curve_iterate, vi_cont_curve_done, &
-            vi_cont_curve_point, vi_cont_curve_impacts, &
+            vi_cont_curve_start, vi_cont_curve_point, vi_cont_curve_impacts, &
             vi_cont_curve_num_special, vi_cont_curve_special
   public :: vi_truncation_create, vi_truncation_create_fe, vi_truncation_destroy, &
             vi_truncation_errmsg, vi_truncation_set_modes, vi_truncation_set_initial, &
@@ -1676,6 +1676,10 @@ module vibroimpact
       type(c_ptr), value :: c
     end function
     integer(c_int) function vi_cont_curve_done(c) bind(C, name="vi_cont_curve_done")
+      import :: c_int, c_ptr
+      type(c_ptr), value :: c
+    end function
+    integer(c_int) function vi_cont_curve_start(c) bind(C, name="vi_cont_curve_start")
       import :: c_int, c_ptr
       type(c_ptr), value :: c
     end function

@@ -42,6 +42,7 @@ struct vi_cont_curve {
   int stops[VI_CURVE_MAXI]; /* each impact's stop */
   double tt[VI_CURVE_MAXI]; /* the impact times gathered from Y (mi > 1) */
   int have_orbit, located, have_range, state, started;
+  int start_state;     /* why the backward pass ended (vi_cont_curve_start) */
   double from2, to2, dsmax, ds;
   int64_t npts, maxpts;
   double far;          /* the farthest the curve has gone from Y0 (closure) */
@@ -1271,15 +1272,24 @@ static int start_curve(vi_cont_curve *c)
   c->far = 0;
   c->ds = c->dsmax;
   if (c->mi) tests(c, c->Y, c->T);
+  c->start_state = VI_CONT_CURVE_STALLED; /* unless the loop ends otherwise */
   for (int64_t k = 0; k < c->maxpts; k++) {
-    if (advance(c, 1)) break;
+    if (advance(c, 1)) {
+      c->start_state = VI_CONT_CURVE_CORRECTOR;
+      break;
+    }
     memcpy(c->Tl, c->T, sizeof c->T);
     if (c->mi) tests(c, c->Y, c->T);
     if (c->Y[D + 1] < lo || c->Y[D + 1] > hi) {
       to_bound(c, c->Y[D + 1] < lo ? lo : hi);
+      c->start_state = VI_CONT_CURVE_END;
       break;
     }
-    if (specials(c, 0)) break;
+    int e = specials(c, 0);
+    if (e) {
+      c->start_state = e == 2 ? VI_CONT_CURVE_RESONANCE : VI_CONT_CURVE_ENDS;
+      break;
+    }
     double dist = 0;
     for (int j = 0; j < nu; j++)
       if (!is_time(c, j)) dist = fmax(dist, fabs(c->Y[j] - Y0[j]) / c->S[j]);
@@ -1287,6 +1297,7 @@ static int start_curve(vi_cont_curve *c)
     /* closed: back where it began, after going away (not a stall) */
     if (k > 3 && c->far > 2 * c->dsmax && dist < 0.5 * c->dsmax) {
       memcpy(c->Y, Y0, sizeof(double) * nu);
+      c->start_state = VI_CONT_CURVE_CLOSES;
       break;
     }
   }
@@ -1352,6 +1363,8 @@ int vi_cont_curve_iterate(vi_cont_curve *c)
 }
 
 int vi_cont_curve_done(const vi_cont_curve *c) { return c ? c->state : 0; }
+
+int vi_cont_curve_start(const vi_cont_curve *c) { return c && c->started ? c->start_state : 0; }
 
 int vi_cont_curve_point(const vi_cont_curve *c, double *p, double *p2, double *t,
                         double *x, double *v, double *rho)

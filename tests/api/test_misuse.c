@@ -1590,6 +1590,7 @@ static void test_curve_misuse(void **state)
   assert_err(vi_cont_curve_special(NULL, 0, &type, NULL, NULL, NULL));
   assert_int_equal(vi_cont_curve_num_special(NULL), 0);
   assert_int_equal(vi_cont_curve_done(NULL), 0);
+  assert_int_equal(vi_cont_curve_start(NULL), 0);
   assert_string_equal(vi_cont_curve_errmsg(NULL), "");
   assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "forcing.omega", "stop.r",
                                         &c), VI_OK);

@@ -389,6 +389,7 @@ static void test_p22_pd_curve(void **state)
   printf("  P(2,2) period doubling at r = 0.7: Omega = %.12f\n", p);
   assert_true(p > 1.66 && p < 1.70); /* between the sweep's P(2,2) and P(4,4) cells */
   assert_int_equal(vi_cont_curve_set_range(c, 0.5, 0.9, 100), VI_OK);
+  assert_int_equal(vi_cont_curve_start(c), 0); /* not yet followed */
   assert_int_equal(vi_model_copy(m, &q), VI_OK);
   while (!vi_cont_curve_done(c)) {
     assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
@@ -417,6 +418,8 @@ static void test_p22_pd_curve(void **state)
   }
   printf("  %d points, r %.3g..%.3g: worst |mu + 1| %.2e, residual %.2e, relative error of the "
          "multipliers' product %.2e\n", n, rmin, rmax, worst, wres, wdet);
+  /* both ends at the range's bounds, the first point at one of them */
+  assert_int_equal(vi_cont_curve_start(c), VI_CONT_CURVE_END);
   assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_END);
   assert_true(rmin == 0.5 && rmax == 0.9 && n > 50);
   assert_true(worst < 1e-9);
@@ -583,6 +586,8 @@ static void test_p22_grazing_curve(void **state)
   }
   printf("  %d points, r %.3g..%.3g: residual %.2e, worst |largest gap| %.2e\n", n, rmin, rmax,
          wres, wgap);
+  /* from the range's bound r = 0.6 to where the orbit stops being admissible */
+  assert_int_equal(vi_cont_curve_start(c), VI_CONT_CURVE_END);
   assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_ENDS);
   assert_true(rmin == 0.6 && rmax > 0.73 && rmax < 0.74 && n > 20);
   assert_true(wres < 1e-11);
@@ -730,6 +735,10 @@ static void test_cusp(void **state)
     }
   }
   assert_int_equal(ncusp, 1);
+  /* the upper branch's first point: where the corrector fails short of the
+   * generalized period doubling of P(1,1) (doc/curves.md), said so */
+  assert_int_equal(vi_cont_curve_start(c), VI_CONT_CURVE_CORRECTOR);
+  assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_END);
   vi_cont_curve_destroy(&c);
   vi_model_destroy(&m);
 }
