@@ -151,9 +151,9 @@ VI_API int vi_cont_curve_set_impacts(vi_cont_curve *c, const double *t,
  *  there.  @return VI_OK, VI_STOPPED (none before `to`, the branch is
  *  lost, or the orbit stops being admissible first: v_N through 0, or,
  *  for fold, pd and ns, its gap between impacts reaching the stop),
- *  VI_ERR_ARG, VI_ERR_NONFINITE, VI_ERR_STATE (no orbit set, or
- *  already located), VI_ERR_NOT_CONVERGED (no orbit from the one given),
- *  VI_ERR_NOMEM. */
+ *  VI_ERR_ARG (also `to` equal to key's value), VI_ERR_NONFINITE,
+ *  VI_ERR_STATE (no orbit set, or already located), VI_ERR_NOT_CONVERGED
+ *  (no orbit from the one given), VI_ERR_NOMEM. */
 VI_API int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps,
                                 double *param);
 /** The range of key2, from2 to to2 (distinct; the located point's key2

@@ -883,7 +883,8 @@ static int advance(vi_cont_curve *c, int withg)
     double tp = fabs(c->tau[c->D]) / c->S[c->D];
     if (tp < 0.25) dsm *= tp > 0.25 / 16 ? 0.25 / tp : 16;
   }
-  while (c->ds >= c->dsmax / 4096) {
+  /* a step of no length is no step (ds halved from 0 stays 0) */
+  while (c->ds >= c->dsmax / 4096 && c->ds > 0) {
     for (int j = 0; j < nu; j++) {
       c->Ys[j] = c->Y[j] + c->ds * c->tau[j]; /* Ys: the prediction here */
       c->Yt[j] = c->Ys[j];
@@ -1029,6 +1030,9 @@ int vi_cont_curve_locate(vi_cont_curve *c, double to, int steps, double *param)
   int D = c->D, st;
   c->np = 1;
   double p0 = c->Y[D];
+  if (to == p0) /* a search of no length: its step would be 0 */
+    return vi_fail(c->errmsg, VI_ERR_ARG, "%s: the search's end %.17g is the model's "
+                   "value: nothing to search", c->key, to);
   if (!c->mi) st = locate_p10(c, to, steps);
   else {
     /* the orbit at p0: Newton with p held by the border */

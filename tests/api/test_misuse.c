@@ -1607,6 +1607,11 @@ static void test_curve_misuse(void **state)
   assert_err(vi_cont_curve_special(c, 0, &type, NULL, NULL, NULL));
   /* the range of r must hold the located point's r = 0.7 */
   assert_int_equal(vi_cont_curve_set_orbit(c, 0.68, x, v), VI_OK);
+  /* a search that ends where it begins (its step of no length spun) */
+  double om = 0;
+  assert_int_equal(vi_model_param(m, "forcing.omega", &om), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, om, 100, &p), VI_ERR_ARG);
+  assert_non_null(strstr(vi_cont_curve_errmsg(c), "nothing to search"));
   assert_int_equal(vi_cont_curve_locate(c, 1.8, 100, &p), VI_OK);
   assert_err(vi_cont_curve_set_orbit(c, 0.68, x, v)); /* already located */
   assert_int_equal(vi_cont_curve_set_range(c, 0.8, 0.9, 10), VI_OK);

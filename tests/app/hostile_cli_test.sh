@@ -101,6 +101,13 @@ done
 expect 2 "in [1, 100000000] (got '1000000000')" "$app" sweep --param forcing.omega \
   --from 0.8 --to 0.9 --steps 1000000000
 
+# a curve's search that ends where it begins (the default scene's Omega
+# is 0.9): refused at once; its step of no length spun forever
+expect 2 "forcing.omega: the search's end 0.90000000000000002 is the model's value" \
+  "$app" curves --kind pd --param forcing.omega --to 0.9 --param2 stop.r --from2 0.5 --to2 0.9
+expect 2 "nothing to search" "$app" curves --kind grazing --orbit 1,0 --param stop.xs \
+  --to 0.1 --param2 forcing.omega --from2 0.5 --to2 1.8
+
 # a mass so small that omega^2 overflows (NaN frequencies, exit 0 once):
 # a scene's number that underflows is named so, the model key refused
 expect 2 "under- or overflows" "$app" run "$src/share/scenes/chain5.yaml" \
