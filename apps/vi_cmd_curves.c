@@ -108,10 +108,16 @@ static int curves_parse(int argc, char **argv, cargs *a)
     case 't': bad |= num(optarg, &a->to); break;
     case 'f': bad |= num(optarg, &a->from2); break;
     case 'T': bad |= num(optarg, &a->to2); break;
-    case 'S':
-      a->steps = (int)strtol(optarg, &end, 10);
-      bad |= *end || a->steps < 1 || a->steps > 1000000;
+    case 'S': {
+      long k = strtol(optarg, &end, 10);
+      if (*end || end == optarg || k < 1 || k > 1000000) {
+        fprintf(stderr, "vibroimpact: curves: --steps must be a whole number in [1, 1000000] "
+                "(got '%s')\n", optarg);
+        return 2;
+      }
+      a->steps = (int)k;
       break;
+    }
     case 'D':
       a->max_depth = (int)strtol(optarg, &end, 10);
       bad |= *end || a->max_depth < 1;
@@ -161,6 +167,26 @@ static int curves_model(const cargs *a, vi_scene **sc, vi_model **mdl, char *k1,
     snprintf(err, sizeof err, "curves: the scene has no harmonic forcing");
     rc = 2;
   }
+  /* what vi_cont_curve_create refuses without a handle to say why */
+  for (int k = 0; k < 2 && !rc; k++)
+    if (vi_param_kind(k ? k2 : k1) == VI_PARAM_INITIAL_STATE) {
+      snprintf(err, sizeof err, "curves: %s %s is an initial-state key: a curve's two "
+               "parameters are the model's (forcing, stop, damping, ...), and an orbit "
+               "makes its own initial state", k ? "--param2" : "--param", k ? k2 : k1);
+      rc = 2;
+    }
+  if (!rc && !strcmp(k1, k2)) {
+    snprintf(err, sizeof err, "curves: --param and --param2 are both %s: a curve needs two "
+             "different parameters", k1);
+    rc = 2;
+  }
+  double v; /* an index beyond the model's coordinates, stops or modes */
+  for (int k = 0; k < 2 && !rc; k++)
+    if (vi_model_param(*mdl, k ? k2 : k1, &v)) {
+      snprintf(err, sizeof err, "curves: %s: %s", k ? "--param2" : "--param",
+               vi_model_errmsg(*mdl));
+      rc = 2;
+    }
   if (rc) fprintf(stderr, "vibroimpact: %s\n", err);
   return rc;
 }

@@ -116,13 +116,14 @@ int vi_orbits_follow(const vi_model *m, const vi_scene *sc, const char *key,
   o->arc = arclength;
   o->key = key;
   int st = vi_scene_param_key(sc, key, pkey, sizeof pkey, &d), rc = 2;
+  double p0;
   if (st) vi_diag_format(&d, err, errlen);
+  else if ((st = vi_model_param(m, pkey, &p0))) /* an index beyond the model's */
+    snprintf(err, (size_t)errlen, "%s", vi_model_errmsg(m));
   else if ((st = vi_cont_create(m, pkey, np, arclength ? VI_CONT_ARCLENGTH : VI_CONT_NATURAL, &c)) ||
            (st = vi_cont_set_range(c, to, steps)) || (st = vi_cont_set_orbit(c, t0, x0, v0)))
     snprintf(err, (size_t)errlen, "%s: %s", key, vi_strerror(st));
   if (st) goto done;
-  double p0;
-  vi_model_param(m, pkey, &p0);
   if (arclength) header(o, np, p0, to);
   st = vi_cont_iterate(c);
   if (st) {

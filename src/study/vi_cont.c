@@ -80,8 +80,11 @@ int vi_cont_create(const vi_model *m, const char *key, int n, int method,
   c->x = malloc(sizeof(double) * nd);
   if (!c->x || vi_model_copy(m, &c->m) ||
       vi_model_param(c->m, key, &c->p0)) {
+    /* decided before the handle goes (destroy clears c: this said "out
+     * of memory" for a key the model does not have, forcing.a[3] of 2) */
+    int st = c->x && c->m ? VI_ERR_ARG : VI_ERR_NOMEM;
     vi_cont_destroy(&c);
-    return c ? VI_ERR_ARG : VI_ERR_NOMEM;
+    return st;
   }
   c->v = c->x + N;
   c->xp = c->v + N;

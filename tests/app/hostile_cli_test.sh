@@ -108,6 +108,22 @@ expect 2 "forcing.omega: the search's end 0.90000000000000002 is the model's val
 expect 2 "nothing to search" "$app" curves --kind grazing --orbit 1,0 --param stop.xs \
   --to 0.1 --param2 forcing.omega --from2 0.5 --to2 1.8
 
+# a study's key the model does not have, or cannot vary: named, with why
+# (orbits said "out of memory" for forcing.a[3] of Fig. 2's two
+# coordinates, curves "invalid argument")
+expect 2 "forcing.a[3]: index 3 is outside 1..2 (coordinates)" \
+  "$app" orbits --continue 'forcing.a[3]' --to 1
+expect 2 "initial.x[1] is the initial state" "$app" orbits --continue 'initial.x[1]' --to 1
+expect 2 "--param2: stops[2].r: index 2 is outside 1..1 (stops)" "$app" curves --kind pd \
+  --param forcing.omega --to 1.8 --param2 'stops[2].r' --from2 0.5 --to2 0.9
+expect 2 "--param2 initial.x[1] is an initial-state key" "$app" curves --kind pd \
+  --param forcing.omega --to 1.8 --param2 'initial.x[1]' --from2 0.5 --to2 0.9
+expect 2 "--param and --param2 are both forcing.omega" "$app" curves --kind pd \
+  --param forcing.omega --to 1.8 --param2 forcing.omega --from2 0.5 --to2 0.9
+expect 2 "--steps must be a whole number in [1, 1000000] (got '100000000')" "$app" curves \
+  --kind pd --param forcing.omega --to 1.8 --param2 stop.r --from2 0.5 --to2 0.9 \
+  --steps 100000000
+
 # a mass so small that omega^2 overflows (NaN frequencies, exit 0 once):
 # a scene's number that underflows is named so, the model key refused
 expect 2 "under- or overflows" "$app" run "$src/share/scenes/chain5.yaml" \
