@@ -156,6 +156,15 @@ def test_curve_cusp():
         vi.curve(m, "cusp", "forcing.omega", 0.52, "stop.xs", 1.27, 1.31)
     with pytest.raises(vi.Error, match="stop.nothing"):
         vi.curve(m, "fold", "forcing.omega", 0.52, "stop.nothing", 1.27, 1.31, orbit=(2, 2))
+    # the same key twice, after a failure that left the model a message
+    with pytest.raises(ValueError, match="both forcing.omega"):
+        vi.curve(m, "fold", "forcing.omega", 0.52, "forcing.omega", 1.27, 1.31, orbit=(2, 2))
+    # a search that ends where it begins: refused, not spun
+    with pytest.raises(vi.Error, match="nothing to search"):
+        vi.curve(m, "fold", "forcing.omega", 0.535, "stop.xs", 1.27, 1.31, orbit=(2, 2))
+    # the upper fold branch begins where the corrector fails short of the
+    # generalized period doubling (doc/curves.md)
+    assert c["start"] == "corrector failed" and c["end"] == "end of range"
 
 
 def test_basins_one_attractor():

@@ -393,13 +393,17 @@ def curve(model: Model, kind: str, key: str, to: float, key2: str, from2: float,
     Returns ``kind``, ``param``, ``param2``, ``orbit``, ``located`` (the
     first point, [key, key2]), ``points`` [K, 2] in order along the curve,
     ``special``: a list of {"type" (CURVE_SPECIALS), "point", "located"},
-    and ``end`` (CURVE_ENDS), as the command's JSON."""
+    and ``start`` and ``end`` (CURVE_ENDS: why the first and the last
+    point end the curve), as the command's JSON."""
     if kind not in CURVE_KINDS:
         raise ValueError("kind must be one of %s, not %r" % (", ".join(CURVE_KINDS), kind))
     n, m = int(orbit[0]), int(orbit[1])
     N = model.n
     for k in (key, key2):  # an unknown key named (the handle says only "invalid argument")
         model.get_param(k)
+    if key == key2:  # refused by the library with no message of its own
+        raise ValueError("key and key2 are both %s: a curve needs two different parameters"
+                         % key)
     if m and start is None:
         start = _curve_seed(model, n, m)
     cp = ffi.new("vi_cont_curve **")
