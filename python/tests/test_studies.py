@@ -319,3 +319,19 @@ def test_scale_consistent_on_published_matrices():
     touching = events(1.0, 0.0, 1e-12)
     assert np.sum(touching[0] == 1) >= 1
     same(touching, events(1e90, 1e-4, 1e78), "x_s = 1e-4 under 1e90")
+
+
+def test_failed_create_says_its_own_fault():
+    """A study refused at its creation says its own fault, not what an
+    earlier failure left in the model's message (a continuation in a key
+    the model lacks read "out of memory"; a census of 0 periods the index
+    message of a get_param before it)."""
+    m = fig2()
+    with pytest.raises(vi.Error, match=r"index 3 is outside 1\.\.2"):
+        m.get_param("forcing.a[3]")
+    with pytest.raises(vi.Error) as e:
+        vi.orbits(m, 0, 1)
+    assert "forcing.a[3]" not in str(e.value) and e.value.args[0]
+    with pytest.raises(vi.Error) as e:
+        vi.continuation(m, "forcing.a[3]", 1.0, 10)
+    assert "memory" not in str(e.value)

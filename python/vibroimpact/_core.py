@@ -2,7 +2,7 @@
 import math
 import os
 import threading
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
@@ -273,11 +273,20 @@ def _free_sim(p):
     _sim_models.pop(int(ffi.cast("uintptr_t", p)), None)
 
 
+def _on_model(model: "Model", call: Callable[[], int]) -> None:
+    """Run a call that reports through the model's message (a handle's
+    create, a derived model): its failure carries that message only if the
+    call wrote it, not one an earlier failure left there."""
+    before = _s(lib.vi_model_errmsg(model._m))
+    st = call()
+    if st < 0:
+        after = _s(lib.vi_model_errmsg(model._m))
+        raise Error(after if after and after != before else _s(lib.vi_strerror(st)), st)
+
+
 def _new_sim(model):
     sp = ffi.new("vi_sim **")
-    st = lib.vi_sim_create(model._m, sp)
-    if st:
-        raise Error(_s(lib.vi_model_errmsg(model._m)) or _s(lib.vi_strerror(st)), st)
+    _on_model(model, lambda: lib.vi_sim_create(model._m, sp))
     _sim_models[int(ffi.cast("uintptr_t", sp[0]))] = model._m
     return ffi.gc(sp[0], _free_sim)
 

@@ -8,12 +8,11 @@ vi_census.h, vi_cont.h, vi_orbit.h, vi_builders.h, vi_identify.h) on a
 model built once: parameters change by key (vi_param.h), never by
 rebuilding.  The GIL is released inside every library call and Ctrl-C
 cancels through the studies' cancel hooks (KeyboardInterrupt)."""
-import math
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from ._core import Model, _dvec, _method, _nothing, _own, _ptr
+from ._core import Model, _dvec, _method, _nothing, _on_model, _own, _ptr
 from ._errors import Error, _s
 from ._vi import ffi, lib
 
@@ -58,7 +57,7 @@ def _dcopy(p, n) -> np.ndarray:
 # ---- sweeps and basins -----------------------------------------------------
 def _new_sweep(model: Model, transient, record, method, rtol, atol, tol, nmax, x0, v0, t0):
     sp = ffi.new("vi_sweep **")
-    _raise(lib.vi_sweep_create(model._m, sp), lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_sweep_create(model._m, sp))
     sw = _own(sp[0], lib.vi_sweep_destroy, "vi_sweep")
 
     def call(st):
@@ -238,7 +237,7 @@ def orbits(model: Model, n: int = 1, m: int = 1, *, phases: int = 720, x0=None, 
     ``stable``, ``admissible`` [K] bool, ``gmax`` [K] the largest gap
     between impacts."""
     cp = ffi.new("vi_census **")
-    _raise(lib.vi_census_create(model._m, int(n), int(m), cp), lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_census_create(model._m, int(n), int(m), cp))
     c = _own(cp[0], lib.vi_census_destroy, "vi_census")
     N = model.n
 
@@ -306,8 +305,7 @@ def continuation(model: Model, key: str, to: float, steps: int, *, n: int = 1,
         orbit = {"t": found["t"][i, 0], "x": found["x"][i, 0], "v": found["v"][i, 0]}
     meth = {"natural": 0, "arclength": 1}[method]
     cp = ffi.new("vi_cont **")
-    _raise(lib.vi_cont_create(model._m, key.encode(), int(n), meth, cp),
-           lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_cont_create(model._m, key.encode(), int(n), meth, cp))
     c = _own(cp[0], lib.vi_cont_destroy, "vi_cont")
 
     def call(st):
@@ -407,8 +405,8 @@ def curve(model: Model, kind: str, key: str, to: float, key2: str, from2: float,
     if m and start is None:
         start = _curve_seed(model, n, m)
     cp = ffi.new("vi_cont_curve **")
-    _raise(lib.vi_cont_curve_create(model._m, CURVE_KINDS.index(kind), n, m, key.encode(),
-                                    key2.encode(), cp), lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_cont_curve_create(
+        model._m, CURVE_KINDS.index(kind), n, m, key.encode(), key2.encode(), cp))
     c = _own(cp[0], lib.vi_cont_curve_destroy, "vi_cont_curve")
 
     def call(st):
@@ -461,7 +459,7 @@ def energy(model: Model, *, x0=None, v0=None, method: Union[str, int, None] = No
     model of the first 1, 2, .. modes needs (NaN where none exists).
     Other motions give ``n``, ``m`` only."""
     op = ffi.new("vi_orbit **")
-    _raise(lib.vi_orbit_create(model._m, op), lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_orbit_create(model._m, op))
     o = _own(op[0], lib.vi_orbit_destroy, "vi_orbit")
     N = model.n
 
@@ -521,8 +519,8 @@ def truncation(model: Model, kmax: Optional[int] = None, stop: int = 0) -> Dict[
     N = model.n
     kmax = N if kmax is None else int(kmax)
     dyn, sta = np.zeros(N), np.zeros(N)
-    st = lib.vi_model_modal_compliance(model._m, int(stop), N, _ptr(dyn), _ptr(sta))
-    _raise(st, lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_model_modal_compliance(model._m, int(stop), N, _ptr(dyn),
+                                                           _ptr(sta)))
     with np.errstate(invalid="ignore", divide="ignore"):
         return {"k": np.arange(1, kmax + 1), "dynamic": dyn[:kmax], "static": sta[:kmax],
                 "dynamic_fraction": dyn[:kmax] / dyn[-1], "static_fraction": sta[:kmax] / sta[-1]}
@@ -536,9 +534,8 @@ def truncated_model(model: Model, k: int, *, static_vector: bool = False,
     if r is None:
         r = model.get_param("stop.r")
     mp = ffi.new("vi_model **")
-    st = lib.vi_model_create_truncated(model._m, int(k), 1 if static_vector else 0, float(r),
-                                       ffi.NULL, ffi.NULL, ffi.NULL, mp)
-    _raise(st, lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_model_create_truncated(
+        model._m, int(k), 1 if static_vector else 0, float(r), ffi.NULL, ffi.NULL, ffi.NULL, mp))
     return Model(_handle=_own(mp[0], lib.vi_model_destroy, "vi_model"))
 
 
@@ -580,7 +577,7 @@ def truncation_study(model: Model, modes: Optional[Tuple[int, int]] = None, *,
     ``summary``: dofs, modes_lo, modes_hi, reference_modes, restitution,
     compliance_dynamic, compliance_static, complete."""
     tp = ffi.new("vi_truncation **")
-    _raise(lib.vi_truncation_create(model._m, tp), lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_truncation_create(model._m, tp))
     tr = _own(tp[0], lib.vi_truncation_destroy, "vi_truncation")
 
     def call(st):
@@ -636,7 +633,7 @@ def identify(model: Model, t: np.ndarray, x: np.ndarray, fit: Mapping[str, Tuple
     keys = list(fit)
     P = len(keys)
     ip = ffi.new("vi_identify **")
-    _raise(lib.vi_identify_create(model._m, P, ip), lib.vi_model_errmsg(model._m))
+    _on_model(model, lambda: lib.vi_identify_create(model._m, P, ip))
     h = _own(ip[0], lib.vi_identify_destroy, "vi_identify")
 
     def call(st):
