@@ -448,6 +448,36 @@ static int take_best(vi_identify *id)
   return VI_OK;
 }
 
+/* A fitted forcing frequency: the model's period at the given start
+ * proves nothing about the recording's, so the recording's own period
+ * (vi_id_data_lag) sets the start, the multiple 2 pi n / lag nearest the
+ * given one (n <= MAX_N, within the bounds), and *nd = n, the orbit's
+ * period in forcing periods; the global stage starts from each multiple
+ * within its range (vi_id_global). */
+static int omega_start(vi_identify *id, int *nd)
+{
+  int j = id->jom, best = 0;
+  double lo = id->lo[j] > 0.0 ? id->lo[j] : 0.1 * id->p0[j], bd = HUGE_VAL;
+  double lag = vi_id_data_lag(id, MAX_N * 2.0 * M_PI / lo);
+  if (!(lag > 0.0)) return VI_ERR_ARG;
+  for (int n = 1; n <= MAX_N; n++) {
+    double om = 2.0 * M_PI * n / lag, d = fabs(log(om / id->p0[j]));
+    if (om >= id->lo[j] && om <= id->hi[j] && (!best || d < bd)) {
+      best = n;
+      bd = d;
+    }
+  }
+  if (!best)
+    return vi_fail(id->errmsg, VI_ERR_ARG, "the recording repeats every %g time units, so "
+                   "the forcing frequency is 2 pi n / %g for n = 1..%d: none lies in "
+                   "forcing.omega's range [%g, %g]", lag, lag, MAX_N, id->lo[j], id->hi[j]);
+  id->lag = lag;
+  id->p0[j] = 2.0 * M_PI * best / lag;
+  *nd = vi_id_data_period(id, lag / best); /* the recording's period in the new T */
+  if (!*nd) *nd = best;
+  return VI_OK;
+}
+
 int vi_identify_run(vi_identify *id)
 {
   if (!id) return VI_ERR_ARG;
@@ -466,6 +496,11 @@ int vi_identify_run(vi_identify *id)
   vi_id_free_solutions(id);
   vi_id_hold(id, -1, NAN);
   if (vi_id_poll_cancel(id)) return vi_fail(id->errmsg, VI_CANCELLED, "cancelled");
+  id->jom = -1;
+  for (int j = 0; j < np; j++)
+    if (id->kind[j] == VI_IDENTIFY_OMEGA) id->jom = j;
+  int nom = 0;
+  if (id->jom >= 0 && id->ns >= 4 * P + 8 && (st = omega_start(id, &nom))) return st;
   /* the model at the starting values: the recording's period */
   vi_id_drop_cur(id);
   id->have_pred = 0;
@@ -484,7 +519,7 @@ int vi_identify_run(vi_identify *id)
   if (id->ns < 4 * P + 8)
     return vi_fail(id->errmsg, VI_ERR_ARG,
                    "too few samples: %d for %d fitted values", id->ns, P);
-  int nd = vi_id_data_period(id, T);
+  int nd = nom ? nom : vi_id_data_period(id, T);
   if (!nd) return VI_ERR_ARG;
   if (span < nd * T)
     return vi_fail(id->errmsg, VI_ERR_ARG,

@@ -70,11 +70,12 @@ static double halton(int k, int b)
   return r;
 }
 
-/* The starts: a grid of cell centres for one and two parameters (8, and
- * 5 x 5), a Halton design of 8 np points for more; their number. */
-static int starts(vi_identify *id, double *u)
+/* The starts in np parameters: a grid of cell centres for one and two
+ * (8, and 5 x 5), a Halton design of 8 np points for more, one for none;
+ * their number. */
+static int starts(int np, double *u)
 {
-  int np = id->np;
+  if (np == 0) return 1;
   static const int primes[MAXP] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31,
                                    37, 41, 43, 47, 53, 59, 61, 67, 71, 73,
                                    79, 83, 89, 97, 101, 103, 107, 109, 113,
@@ -95,6 +96,48 @@ static int starts(vi_identify *id, double *u)
   for (int k = 0; k < ns; k++)
     for (int j = 0; j < np; j++) u[(size_t)k * np + j] = halton(k + 1, primes[j]);
   return ns;
+}
+
+/* |log| of frequency w over the given start's, nearest first. */
+static double om_dist(const vi_identify *id, double w)
+{
+  return fabs(log(w / id->p0[id->jom]));
+}
+
+/* The forcing frequencies the starts take when it is fitted: the
+ * recording's period (vi_id_data_lag) allows only 2 pi n / lag, n <=
+ * MAX_N, and at each the motion's period d T for a divisor d of n (lag
+ * may be a multiple of the recording's own period: an accelerometer's
+ * samples, out of step with the forcing, line up only there).  Those in
+ * its range into om, nd [4 MAX_N], nearest the given frequency first,
+ * the smaller d first; their number.  One, the given frequency (or none,
+ * NaN) with nd0, where none is in the range or it is not fitted. */
+static int om_starts(const vi_identify *id, int nd0, double *om, int *nd)
+{
+  int jo = id->jom, nq = 0;
+  for (int n = 1; jo >= 0 && n <= MAX_N; n++) {
+    double w = 2.0 * M_PI * n / id->lag;
+    for (int d = 1; w >= id->glo[jo] && w <= id->ghi[jo] && d <= n; d++)
+      if (n % d == 0) {
+        om[nq] = w;
+        nd[nq++] = d;
+      }
+  }
+  if (!nq) {
+    om[0] = jo >= 0 ? id->p0[jo] : NAN;
+    nd[0] = nd0;
+    return 1;
+  }
+  for (int a = 1; a < nq; a++) /* insertion: stable, so d stays ascending */
+    for (int b = a; b > 0 && om_dist(id, om[b]) < om_dist(id, om[b - 1]); b--) {
+      double w = om[b];
+      int d = nd[b];
+      om[b] = om[b - 1];
+      nd[b] = nd[b - 1];
+      om[b - 1] = w;
+      nd[b - 1] = d;
+    }
+  return nq;
 }
 
 /* The model and its orbits at the start p: one candidate per orbit type
@@ -297,7 +340,7 @@ int vi_id_global(vi_identify *id, int nd)
 {
   int np = id->np, N = id->N, st = VI_OK, nc = 0, nsol = 0;
   for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j]);
-  double *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
+  double om_at[4 * MAX_N], *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
   cand *c = calloc((size_t)8 * MAXP * VI_ID_SLOTS, sizeof *c);
   orb best[VI_ID_SLOTS];
   char why[VI_MSG_LEN] = "";
@@ -312,17 +355,22 @@ int vi_id_global(vi_identify *id, int nd)
     }
     return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
   }
-  int ns = starts(id, u);
-  double cell = np == 1 ? 1.0 / 8 : np == 2 ? 1.0 / 5 : pow(1.0 / ns, 1.0 / np);
-  for (int k = 0; k < ns && !st; k++) {
-    double p[MAXP];
-    for (int j = 0; j < np; j++)
-      p[j] = id->glo[j] + u[(size_t)k * np + j] * (id->ghi[j] - id->glo[j]);
-    int sk = at_start(id, nd, p, best, c, &nc);
-    if (id->cancel_hit) st = VI_CANCELLED;
-    else if (sk == VI_ERR_NOMEM) st = sk;
-    else if (sk) snprintf(why, sizeof why, "%s", id->errmsg);
-  }
+  int om_nd[4 * MAX_N], nq = om_starts(id, nd, om_at, om_nd), npo = np - (id->jom >= 0);
+  int ns = starts(npo, u), jo = id->jom;
+  if (nq * ns > 8 * MAXP) nq = ns >= 8 * MAXP ? 1 : 8 * MAXP / ns; /* the candidates' room */
+  double cell = npo <= 1 ? 1.0 / 8 : npo == 2 ? 1.0 / 5 : pow(1.0 / ns, 1.0 / npo);
+  for (int q = 0; q < nq && !st; q++)
+    for (int k = 0; k < ns && !st; k++) {
+      double p[MAXP];
+      for (int j = 0, i = 0; j < np; j++)
+        p[j] = j == jo ? om_at[q]
+                       : id->glo[j] + u[(size_t)k * npo + i++] * (id->ghi[j] - id->glo[j]);
+      int sk = at_start(id, om_nd[q], p, best, c, &nc);
+      if (id->cancel_hit) st = VI_CANCELLED;
+      else if (sk == VI_ERR_NOMEM) st = sk;
+      else if (sk) snprintf(why, sizeof why, "%s", id->errmsg);
+    }
+  ns *= nq;
   free(u);
   for (int q = 0; q < VI_ID_SLOTS; q++) {
     free(best[q].x);

@@ -81,6 +81,10 @@ struct vi_identify {
   /* the global stage: on, and the ranges it searched */
   int global;
   double glo[MAXP], ghi[MAXP];
+  /* a fitted forcing frequency: its parameter (-1: none) and the
+   * recording's own period, which sets its starts (2 pi n / lag) */
+  int jom;
+  double lag;
   /* results */
   int done, conv, iters;
   double p[MAXP], se[MAXP], l95[MAXP], h95[MAXP], t0, t0se, rms, noise, rcond;
@@ -170,6 +174,12 @@ void vi_id_accel_block(const vi_model *m, int k, int rep, const double *t,
 
 /* vi_identify_seed.c */
 int vi_id_data_period(vi_identify *id, double T);
+/* The recording's own period in time units, without the model (for a
+ * fitted forcing frequency), searched up to pmax (and 1 / 1.5 of the
+ * span): the first lag it repeats over, or the smallest multiple of it
+ * up to MAX_N that repeats as well as the best; 0 with errmsg set where
+ * there is none. */
+double vi_id_data_lag(vi_identify *id, double pmax);
 double vi_id_scan_shift(vi_identify *id, double *cost_out);
 int vi_id_choose_orbit(vi_identify *id, int nd, double *cost);
 /* The best orbit of each type at the current model, slots: m = 1, m = 2,

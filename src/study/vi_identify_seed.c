@@ -131,6 +131,81 @@ int vi_id_data_period(vi_identify *id, double T)
   return 0;
 }
 
+/* repeat_ratio's least value over [a, b] by golden section: its lag, the
+ * value into *r.  (Not the fold: its median is small at lags that are no
+ * period, where a sample's neighbours in phase fall half a sample apart.) */
+static double lag_min(const vi_identify *id, double a, double b, double *r)
+{
+  const double g = 0.5 * (sqrt(5.0) - 1.0);
+  double c = b - g * (b - a), d = a + g * (b - a);
+  double fc = repeat_ratio(id, c), fd = repeat_ratio(id, d);
+  for (int it = 0; it < 48 && b - a > 1e-12 * b; it++) {
+    if (fc <= fd || isnan(fd)) {
+      b = d;
+      d = c;
+      fd = fc;
+      c = b - g * (b - a);
+      fc = repeat_ratio(id, c);
+    } else {
+      a = c;
+      c = d;
+      fc = fd;
+      d = a + g * (b - a);
+      fd = repeat_ratio(id, d);
+    }
+  }
+  *r = fmin(fc, fd);
+  return fc <= fd ? c : d;
+}
+
+double vi_id_data_lag(vi_identify *id, double pmax)
+{
+  int ns = id->ns;
+  double span = id->t[ns - 1] - id->t[0], dt = span / (ns - 1), mean = 0.0, var = 0.0;
+  for (int i = 0; i < ns; i++) mean += id->y[i] / ns;
+  for (int i = 0; i < ns; i++) var += (id->y[i] - mean) * (id->y[i] - mean);
+  double rms = sqrt(var / ns), pmin = 4.0 * dt;
+  pmax = fmin(pmax, span / 1.5);
+  if (!(pmax > pmin) || !(rms > 0.0)) {
+    vi_fail(id->errmsg, VI_ERR_ARG, "the recording is too short (or constant) to show "
+            "its own period, which fits the forcing frequency");
+    return 0.0;
+  }
+  /* the first lag where the change dips below 0.3 of the variation (it
+   * rises from 0 at lag 0, so a dip is a local minimum after a fall), on
+   * a grid of half a sample or finer */
+  double h = fmax(0.5 * dt, (pmax - pmin) / 4000.0), r0 = NAN, r1 = NAN, P1 = 0.0, q1 = NAN;
+  int nl = (int)((pmax - pmin) / h) + 1;
+  for (int l = 0; l <= nl && P1 == 0.0; l++) {
+    double P = pmin + l * h, r2 = repeat_ratio(id, P);
+    if (r1 < 0.3 && r1 <= r2 && r1 < r0) P1 = lag_min(id, P - 2.0 * h, P, &q1);
+    r0 = r1;
+    r1 = r2;
+  }
+  if (P1 == 0.0) {
+    vi_fail(id->errmsg, VI_ERR_ARG, "the recording repeats with no period up to %g (its "
+            "span %g / 1.5): a motion that is not periodic, or too short a recording to "
+            "fit the forcing frequency from", pmax, span);
+    return 0.0;
+  }
+  /* a motion of period k P1 whose parts nearly repeat: the smallest
+   * multiple that repeats as well as the best (vi_id_data_period's rule) */
+  double rk[MAX_N + 1], Pk[MAX_N + 1], best = q1, P = P1;
+  int K = 1;
+  rk[1] = q1;
+  Pk[1] = P1;
+  for (int k = 2; k <= MAX_N && k * P1 <= pmax; k++, K++) {
+    Pk[k] = lag_min(id, k * P1 - 2.0 * h, k * P1 + 2.0 * h, &rk[k]);
+    best = fmin(best, rk[k]);
+  }
+  for (int k = K; k >= 1; k--)
+    if (rk[k] < 0.3 && rk[k] <= fmax(1.5 * best, best + 0.05)) P = Pk[k];
+  /* (a signal too rich in harmonics to interpolate, an accelerometer's,
+   * repeats only where its samples line up: P may be a multiple of its
+   * period, which each frequency's vi_id_data_period then finds) */
+  return P;
+}
+
 /* Starting shift: the best of 128 over one orbit period, on the first two
  * periods of the recording. */
 double vi_id_scan_shift(vi_identify *id, double *cost_out)

@@ -348,6 +348,60 @@ static void fig2(void **state)
   vi_model_destroy(&m);
 }
 
+/* The forcing frequency fitted from a naive guess: the recording's own
+ * period (SciPy's Fig. 2 orbit, Omega = 0.9) sets the starts, 2 pi n / its
+ * period, so guesses 0.55 to 2.8 times the truth all end on it, with r;
+ * and with the stop's position, which a global stage spreading Omega over
+ * +-50 % missed even from the truth (its residual 3000 times the noise).
+ * A recording that repeats with no period says so. */
+static void fig2_omega(void **state)
+{
+  (void)state;
+  static rec r;
+  load("fig2.csv", &r);
+  vi_model *m = vi_test_fig2();
+  series s = repeat(&r, 20, 0.002 * peak_to_peak(&r), 5);
+  const double guess[] = {0.5, 0.8, 1.3, 2.5}, om = 0.9;
+  for (int g = 0; g < 5; g++) {
+    int with_xs = g == 4, conv = 0;
+    vi_identify *id = NULL;
+    double p[2], se[2];
+    assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_OMEGA, 0, with_xs ? om : guess[g],
+                                           0.0, HUGE_VAL), VI_OK);
+    if (with_xs)
+      assert_int_equal(vi_identify_set_param_key(id, 1, "stop.xs", NAN, NAN), VI_OK);
+    else
+      assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
+    assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+    assert_int_equal(vi_identify_run(id), VI_OK);
+    assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_identify_summary(id, &conv, NULL, NULL, NULL, NULL, NULL, NULL), VI_OK);
+    print_message("from Omega %.2f: Omega %.8f +- %.1e, %s %.6f +- %.1e\n",
+                  with_xs ? om : guess[g], p[0], se[0], with_xs ? "xs" : "r", p[1], se[1]);
+    assert_true(conv);
+    assert_true(fabs(p[0] - om) < 3 * se[0] && se[0] < 1e-4 * om);
+    assert_true(fabs(p[1] - (with_xs ? 0.1 : 0.7)) < 3 * se[1] && se[1] < 0.01);
+    vi_identify_destroy(&id);
+  }
+  /* noise repeats with no period */
+  unsigned long x = 12345;
+  for (int i = 0; i < s.ns; i++) {
+    x = x * 6364136223846793005UL + 1442695040888963407UL;
+    s.x[i] = (double)(x >> 11) / 9007199254740992.0 - 0.5;
+  }
+  vi_identify *id = NULL;
+  assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_OMEGA, 0, 0.9, 0.0, HUGE_VAL),
+                   VI_OK);
+  assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+  assert_int_equal(vi_identify_run(id), VI_ERR_ARG);
+  assert_non_null(strstr(vi_identify_errmsg(id), "repeats with no period"));
+  vi_identify_destroy(&id);
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
 /* What the data cannot say: the restitution of a stop the motion never
  * reaches is flagged, its error infinite; a fit on a bound is flagged. */
 static void undetermined(void **state)
@@ -775,6 +829,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(beam_exact),   cmocka_unit_test(fig2),
+      cmocka_unit_test(fig2_omega),
       cmocka_unit_test(bad_data),     cmocka_unit_test(undetermined),
       cmocka_unit_test(beam_jitter),  cmocka_unit_test(beam_r_xs),
       cmocka_unit_test(beam_noise),    cmocka_unit_test(clearance),
