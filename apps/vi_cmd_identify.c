@@ -602,6 +602,11 @@ static int identify_keys(ident *I)
       fprintf(stderr, "vibroimpact: --fit: more than %d keys\n", MAXKEY);
       return 2;
     }
+    for (int q = 0; q < I->b.nk; q++)
+      if (!strcmp(I->b.key[q], k)) {
+        fprintf(stderr, "vibroimpact: --fit: %s is listed twice\n", k);
+        return 2;
+      }
     if (identify_key(I, k)) return 2;
     I->b.key[I->b.nk++] = k;
   }
@@ -667,6 +672,10 @@ static int identify_setup(ident *I)
   }
   for (int j = 0; j < nk && !st; j++) {
     st = vi_identify_set_param_key(I->id, j, I->b.key[j], NAN, NAN);
+    if (st && vi_param_kind(I->b.key[j]) == VI_PARAM_MODEL) { /* stop.r and stops[1].r */
+      fprintf(stderr, "vibroimpact: --fit: %s\n", vi_identify_errmsg(I->id));
+      return 2;
+    }
     if (st) /* a scene key vi_param.h does not know: the builder sets it */
       st = vi_identify_set_param(I->id, j, VI_IDENTIFY_OTHER, 0, I->start[j],
                                  -HUGE_VAL, HUGE_VAL);

@@ -140,6 +140,13 @@ int vi_identify_set_param(vi_identify *id, int j, int kind, int k, double p0,
     return vi_fail(id->errmsg, VI_ERR_ARG,
                    "parameter %d: start %g outside the range [%g, %g]", j + 1,
                    p0, lo, hi);
+  /* the same number twice is two columns of one: no fit tells them apart
+   * (each came out "not determined", at two different values) */
+  for (int q = 0; q < id->np; q++)
+    if (q != j && id->pset[q] && kind != VI_IDENTIFY_OTHER && id->kind[q] == kind &&
+        (kind == VI_IDENTIFY_OMEGA || id->kst[q] == k))
+      return vi_fail(id->errmsg, VI_ERR_ARG, "parameter %d: %s is parameter %d already",
+                     j + 1, id->key[q], q + 1);
   id->kind[j] = kind;
   id->kst[j] = kind == VI_IDENTIFY_XS || kind == VI_IDENTIFY_R ? k : 0;
   if (kind == VI_IDENTIFY_OMEGA) snprintf(id->key[j], sizeof id->key[j], "forcing.omega");
@@ -185,6 +192,10 @@ int vi_identify_set_param_key(vi_identify *id, int j, const char *key,
   else if ((k = stop_key(key, "xs")) >= 0) kind = VI_IDENTIFY_XS;
   else if ((k = stop_key(key, "r")) >= 0) kind = VI_IDENTIFY_R;
   if (k < 0) k = 0;
+  for (int q = 0; q < id->np; q++)
+    if (q != j && id->pset[q] && !strcmp(id->key[q], key))
+      return vi_fail(id->errmsg, VI_ERR_ARG, "parameter %d: %s is parameter %d already",
+                     j + 1, key, q + 1);
   if (isnan(lo)) lo = -HUGE_VAL;
   if (isnan(hi)) hi = HUGE_VAL;
   if ((st = vi_identify_set_param(id, j, kind, k, p0, lo, hi))) return st;

@@ -124,6 +124,12 @@ expect 2 "--steps must be a whole number in [1, 1000000] (got '100000000')" "$ap
   --kind pd --param forcing.omega --to 1.8 --param2 stop.r --from2 0.5 --to2 0.9 \
   --steps 100000000
 
+# a fitted key twice (fitted at two values, each "not determined", exit 0)
+expect 2 "--fit: stop.r is listed twice" "$app" identify "$src/share/scenes/fig2.yaml" \
+  --data "$src/tests/study/data/fig2.csv" --fit stop.r,stop.r
+expect 2 "parameter 2: stop.r is parameter 1 already" "$app" identify \
+  "$src/share/scenes/fig2.yaml" --data "$src/tests/study/data/fig2.csv" --fit 'stop.r,stops[1].r'
+
 # a mass so small that omega^2 overflows (NaN frequencies, exit 0 once):
 # a scene's number that underflows is named so, the model key refused
 expect 2 "under- or overflows" "$app" run "$src/share/scenes/chain5.yaml" \

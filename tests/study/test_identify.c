@@ -461,6 +461,16 @@ static void bad_data(void **state)
   assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
   assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
   series s = repeat(&r, 4, 0.0, 1);
+  /* one number twice: refused, by kind and by key (stop.r is stops[1].r) */
+  vi_identify *i2 = NULL;
+  assert_int_equal(vi_identify_create(m, 2, &i2), VI_OK);
+  assert_int_equal(vi_identify_set_param_key(i2, 0, "stop.r", NAN, NAN), VI_OK);
+  assert_int_equal(vi_identify_set_param_key(i2, 1, "stops[1].r", NAN, NAN), VI_ERR_ARG);
+  assert_non_null(strstr(vi_identify_errmsg(i2), "is parameter 1 already"));
+  assert_int_equal(vi_identify_set_param(i2, 1, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_ERR_ARG);
+  assert_int_equal(vi_identify_set_param_key(i2, 0, "stop.r", 0.2, 0.9), VI_OK); /* itself */
+  assert_int_equal(vi_identify_set_param(i2, 1, VI_IDENTIFY_XS, 0, 0.1, 0, 1), VI_OK);
+  vi_identify_destroy(&i2);
   assert_int_equal(vi_identify_set_data(id, 10, s.t, s.x, NULL), VI_ERR_ARG);
   assert_non_null(strstr(vi_identify_errmsg(id), "too few"));
   s.t[7] = s.t[6];
