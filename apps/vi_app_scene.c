@@ -190,6 +190,16 @@ int vi_app_sweep_exec(int argc, char **argv)
   return 1;
 }
 
+int vi_app_same_key(const char *k1, const char *k2)
+{
+  char a[64], b[64];
+  snprintf(a, sizeof a, "%s", strncmp(k1, "stop.", 5) ? k1 : "");
+  snprintf(b, sizeof b, "%s", strncmp(k2, "stop.", 5) ? k2 : "");
+  if (!a[0]) snprintf(a, sizeof a, "stops[1].%.40s", k1 + 5);
+  if (!b[0]) snprintf(b, sizeof b, "stops[1].%.40s", k2 + 5);
+  return !strcmp(a, b);
+}
+
 int vi_app_text_nonlinear(const char *text)
 {
   vi_scene_edit *ed = NULL;

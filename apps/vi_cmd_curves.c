@@ -16,8 +16,8 @@
 #include "vibroimpact/vi_output.h"
 #include "vibroimpact/vi_scene.h"
 #include "vibroimpact/vi_scene_param.h"
-#include "vi_curves.h"
 #include "vi_app.h"
+#include "vi_curves.h"
 #include "vi_diagram.h"
 
 static const char *const kinds[] = {"grazing", "fold", "pd", "ns"};
@@ -175,9 +175,9 @@ static int curves_model(const cargs *a, vi_scene **sc, vi_model **mdl, char *k1,
                "makes its own initial state", k ? "--param2" : "--param", k ? k2 : k1);
       rc = 2;
     }
-  if (!rc && !strcmp(k1, k2)) {
-    snprintf(err, sizeof err, "curves: --param and --param2 are both %s: a curve needs two "
-             "different parameters", k1);
+  if (!rc && vi_app_same_key(k1, k2)) {
+    snprintf(err, sizeof err, "curves: --param %s and --param2 %s name one parameter: a "
+             "curve needs two different parameters", k1, k2);
     rc = 2;
   }
   double v; /* an index beyond the model's coordinates, stops or modes */

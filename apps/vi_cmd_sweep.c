@@ -262,17 +262,6 @@ static int parse(int argc, char **argv, args *a)
 }
 
 /* What the arguments must hold together; 0 or the exit status 2. */
-/* Two keys of one parameter (stop.xs is stops[1].xs). */
-static int same_key(const char *k1, const char *k2)
-{
-  char a[64], b[64];
-  snprintf(a, sizeof a, "%s", strncmp(k1, "stop.", 5) ? k1 : "");
-  snprintf(b, sizeof b, "%s", strncmp(k2, "stop.", 5) ? k2 : "");
-  if (!a[0]) snprintf(a, sizeof a, "stops[1].%.40s", k1 + 5);
-  if (!b[0]) snprintf(b, sizeof b, "stops[1].%.40s", k2 + 5);
-  return !strcmp(a, b);
-}
-
 static int check(args *a)
 {
   vi_diagram_spec *sp = &a->sp;
@@ -286,7 +275,7 @@ static int check(args *a)
     fprintf(stderr, "vibroimpact: %s: --param2 needs --from2, --to2 and --steps2\n", cmd);
     return 2;
   }
-  if (sp->key2 && same_key(sp->key, sp->key2)) { /* one axis was ignored */
+  if (sp->key2 && vi_app_same_key(sp->key, sp->key2)) { /* one axis was ignored */
     fprintf(stderr, "vibroimpact: %s: --param and --param2 both name %s: a "
             "map needs two different parameters\n", cmd, sp->key2);
     return 2;

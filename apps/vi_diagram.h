@@ -184,6 +184,9 @@ struct vi_diag;
 int vi_sets_load(const char *path, int64_t max_bytes, int max_depth, double max_memory,
                  struct vi_scene **out, struct vi_diag *d);
 
+/* Two keys of one parameter (stop.xs is stops[1].xs): 1 or 0. */
+int vi_app_same_key(const char *k1, const char *k2);
+
 /* 1 if the scene text has nonlinear springs (`springs:`): the closed-form
  * orbit machinery (orbits, sweep --orbits) covers linear scenes only. */
 int vi_app_text_nonlinear(const char *text);

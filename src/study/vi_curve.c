@@ -660,6 +660,13 @@ static int tests(vi_cont_curve *c, const double *Y, double *T)
 
 /* ---- the handle ------------------------------------------------------------- */
 
+/* Two keys of one number (stop.r is stops[1].r). */
+static int same_param(const char *key, const char *key2)
+{
+  int k1, k2, a = vi_orbit_param_of_key(key, &k1), b = vi_orbit_param_of_key(key2, &k2);
+  return !strcmp(key, key2) || (a >= 0 && a == b && k1 == k2);
+}
+
 int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char *key,
                          const char *key2, vi_cont_curve **out)
 {
@@ -669,7 +676,7 @@ int vi_cont_curve_create(const vi_model *m, int kind, int n, int mi, const char 
       mi < 0 || mi > VI_CURVE_MAXI || (mi == 0 && (n != 1 || kind != VI_CONT_CURVE_GRAZING)) ||
       vi_param_kind(key) != VI_PARAM_MODEL || strlen(key) >= 64 ||
       (key2 && (vi_param_kind(key2) != VI_PARAM_MODEL || strlen(key2) >= 64 ||
-                !strcmp(key, key2))))
+                same_param(key, key2))))
     return VI_ERR_ARG;
   if (!m->frozen) return VI_ERR_STATE;
   if (mi == 0 && (m->band || !m->M || !m->C || !m->K)) return VI_ERR_UNSUPPORTED;

@@ -1573,6 +1573,9 @@ static void test_curve_misuse(void **state)
   assert_err(vi_cont_curve_create(m, 9, 1, 1, "forcing.omega", "stop.r", &c));
   assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 0, 1, "forcing.omega", "stop.r", &c));
   assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 0, "forcing.omega", "stop.r", &c));
+  /* one number under two names */
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "stop.r", "stops[1].r", &c),
+                   VI_ERR_ARG);
   assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "forcing.omgea", "stop.r", &c));
   assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "stop.r", "stop.r", &c));
   assert_err(vi_cont_curve_create(m, VI_CONT_CURVE_PD, 1, 1, "initial.x[1]", "stop.r", &c));

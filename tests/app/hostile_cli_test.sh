@@ -118,8 +118,10 @@ expect 2 "--param2: stops[2].r: index 2 is outside 1..1 (stops)" "$app" curves -
   --param forcing.omega --to 1.8 --param2 'stops[2].r' --from2 0.5 --to2 0.9
 expect 2 "--param2 initial.x[1] is an initial-state key" "$app" curves --kind pd \
   --param forcing.omega --to 1.8 --param2 'initial.x[1]' --from2 0.5 --to2 0.9
-expect 2 "--param and --param2 are both forcing.omega" "$app" curves --kind pd \
-  --param forcing.omega --to 1.8 --param2 forcing.omega --from2 0.5 --to2 0.9
+expect 2 "--param forcing.omega and --param2 forcing.omega name one parameter" "$app" curves \
+  --kind pd --param forcing.omega --to 1.8 --param2 forcing.omega --from2 0.5 --to2 0.9
+expect 2 "--param stop.r and --param2 stops[1].r name one parameter" "$app" curves \
+  --kind pd --param stop.r --to 0.5 --param2 'stops[1].r' --from2 0.5 --to2 0.9
 expect 2 "--steps must be a whole number in [1, 1000000] (got '100000000')" "$app" curves \
   --kind pd --param forcing.omega --to 1.8 --param2 stop.r --from2 0.5 --to2 0.9 \
   --steps 100000000
