@@ -209,7 +209,11 @@ VI_API int vi_identify_add_channel(vi_identify *id, const double *c, int order,
  *  there).  @return VI_OK, VI_ERR_ARG. */
 VI_API int vi_identify_set_global(vi_identify *id, int on);
 /** Fit.  Checks that the recording repeats with a multiple of the forcing
- *  period, finds the model's orbits with that period (over the ranges, or
+ *  period (with Omega fitted, VI_IDENTIFY_OMEGA: finds the recording's own
+ *  period P without the model, moves Omega's start to the 2 pi n / P
+ *  nearest it within its bounds, and starts the global stage from each
+ *  such multiple in its range instead of spreading Omega), finds the
+ *  model's orbits with that period (over the ranges, or
  *  at the starting values: vi_identify_set_global), scans the shift,
  *  runs the least squares (at most 200 iterations each) and the profile
  *  intervals of each solution.  VI_OK when the fit completed, converged
@@ -217,7 +221,8 @@ VI_API int vi_identify_set_global(vi_identify *id, int on);
  *  @return VI_OK, VI_ERR_STATE (no data, a parameter not set),
  *  VI_ERR_ARG (too few samples per fitted value, a recording shorter than
  *  one orbit period, or one that does not repeat with the model's orbit
- *  period: message), VI_ERR_NOT_CONVERGED (the model's motion at the
+ *  period, or, Omega fitted, with any period below 1 / 1.5 of its span,
+ *  or none of whose multiples lies in Omega's bounds: message), VI_ERR_NOT_CONVERGED (the model's motion at the
  *  starting values is not periodic, or its orbit cannot be held), the
  *  builder's code, VI_CANCELLED (vi_identify_set_cancel), VI_ERR_NOMEM. */
 VI_API int vi_identify_run(vi_identify *id);

@@ -462,9 +462,10 @@ static int take_best(vi_identify *id)
 /* A fitted forcing frequency: the model's period at the given start
  * proves nothing about the recording's, so the recording's own period
  * (vi_id_data_lag) sets the start, the multiple 2 pi n / lag nearest the
- * given one (n <= MAX_N, within the bounds), and *nd = n, the orbit's
- * period in forcing periods; the global stage starts from each multiple
- * within its range (vi_id_global). */
+ * given one (n <= MAX_N, within the bounds), and *nd, the recording's
+ * period in the forcing periods of that start (n, unless the lag is a
+ * multiple of the recording's period); the global stage starts from each
+ * multiple within its range (vi_id_global). */
 static int omega_start(vi_identify *id, int *nd)
 {
   int j = id->jom, best = 0;
