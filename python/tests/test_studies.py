@@ -267,6 +267,27 @@ def test_identify_recovers_restitution():
     assert (fit["n"], fit["m"]) == (1, 1)
 
 
+def test_identify_forcing_frequency_from_far():
+    """The forcing frequency and r from SciPy's recording of Fig. 2
+    (tests/study/data/fig2.csv: DOP853 with the impact law, not our code),
+    one period repeated over 10 with noise, from Omega = 0.55 and 1.6:
+    the recording's own period sets the starts, and both end on 0.9, 0.7."""
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "study", "data",
+                        "fig2.csv")
+    one = np.loadtxt(path, delimiter=",", comments="#", skiprows=3)
+    T = 2 * np.pi / 0.9
+    t = np.concatenate([one[:, 0] + k * T for k in range(10)])
+    x = np.tile(one[:, 1], 10) + 1e-4 * np.random.default_rng(7).standard_normal(t.size)
+    for om0 in (0.55, 1.6):
+        m = fig2()
+        m.set_param("forcing.omega", om0)
+        m.set_param("stop.r", 0.5)
+        fit = vi.identify(m, t, x, {"forcing.omega": (np.nan, np.nan), "stop.r": (0, 1)})
+        assert fit["converged"] and (fit["n"], fit["m"]) == (1, 1)
+        assert abs(fit["p"][0] - 0.9) < 3 * fit["se"][0] and fit["se"][0] < 1e-5
+        assert abs(fit["p"][1] - 0.7) < 3 * fit["se"][1] and fit["se"][1] < 1e-3
+
+
 def test_basins_threads_equal_serial():
     """Basins on two threads: every point the same as on one (cold starts
     on independent copies of the study), bit for bit."""
