@@ -356,3 +356,17 @@ def test_failed_create_says_its_own_fault():
     with pytest.raises(vi.Error) as e:
         vi.continuation(m, "forcing.a[3]", 1.0, 10)
     assert "memory" not in str(e.value)
+
+
+def test_study_arguments_named():
+    """Arguments the library refuses without a message of its own are named
+    here (they read "invalid argument", or a numpy reshape error)."""
+    m = fig2()
+    with pytest.raises(ValueError, match="at least one value"):
+        vi.basins(m, "initial.x[2]", [], "initial.v[2]", [0.0])
+    with pytest.raises(ValueError, match="1..64"):
+        vi.orbits(m, 0, 1)
+    with pytest.raises(ValueError, match="2 coordinates"):
+        vi.truncated_model(m, 3)
+    with pytest.raises(ValueError, match="steps must be >= 1"):
+        vi.curve(m, "pd", "forcing.omega", 1.8, "stop.r", 0.5, 0.9, steps=0)
