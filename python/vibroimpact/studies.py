@@ -180,8 +180,8 @@ def basins(model: Model, key: str, values: Sequence[float], key2: str,
     v1 = np.asarray(values, dtype=np.float64).reshape(-1)
     v2 = np.asarray(values2, dtype=np.float64).reshape(-1)
     if not v1.size or not v2.size:
-        raise ValueError("basins needs at least one value of each key (got %d x %d)"
-                         % (v1.size, v2.size))
+        raise Error("basins needs at least one value of each key (got %d x %d)"
+                    % (v1.size, v2.size), lib.VI_ERR_ARG)
     n = model.n
     P, Q = v1.size, v2.size
     per = np.zeros(P * Q, np.intc)
@@ -240,7 +240,7 @@ def orbits(model: Model, n: int = 1, m: int = 1, *, phases: int = 720, x0=None, 
     ``stable``, ``admissible`` [K] bool, ``gmax`` [K] the largest gap
     between impacts."""
     if not (1 <= int(n) <= 64 and 1 <= int(m) <= 64):  # the census's limits
-        raise ValueError("orbits: n = %d and m = %d must lie in 1..64" % (n, m))
+        raise Error("orbits: n = %d and m = %d must lie in 1..64" % (n, m), lib.VI_ERR_ARG)
     cp = ffi.new("vi_census **")
     _on_model(model, lambda: lib.vi_census_create(model._m, int(n), int(m), cp))
     c = _own(cp[0], lib.vi_census_destroy, "vi_census")
@@ -401,14 +401,14 @@ def curve(model: Model, kind: str, key: str, to: float, key2: str, from2: float,
     if kind not in CURVE_KINDS:
         raise ValueError("kind must be one of %s, not %r" % (", ".join(CURVE_KINDS), kind))
     if int(steps) < 1:
-        raise ValueError("steps must be >= 1, not %d" % steps)
+        raise Error("steps must be >= 1, not %d" % steps, lib.VI_ERR_ARG)
     n, m = int(orbit[0]), int(orbit[1])
     N = model.n
     for k in (key, key2):  # an unknown key named (the handle says only "invalid argument")
         model.get_param(k)
     if key == key2:  # refused by the library with no message of its own
-        raise ValueError("key and key2 are both %s: a curve needs two different parameters"
-                         % key)
+        raise Error("key and key2 are both %s: a curve needs two different parameters" % key,
+                    lib.VI_ERR_ARG)
     if m and start is None:
         start = _curve_seed(model, n, m)
     cp = ffi.new("vi_cont_curve **")
@@ -541,8 +541,8 @@ def truncated_model(model: Model, k: int, *, static_vector: bool = False,
     if r is None:
         r = model.get_param("stop.r")
     if not 1 <= int(k) <= model.n - (1 if static_vector else 0):
-        raise ValueError("k = %d modes: the model has %d coordinates (k + 1 with "
-                         "static_vector)" % (k, model.n))
+        raise Error("k = %d modes: the model has %d coordinates (k + 1 with static_vector)"
+                    % (k, model.n), lib.VI_ERR_ARG)
     mp = ffi.new("vi_model **")
     _on_model(model, lambda: lib.vi_model_create_truncated(
         model._m, int(k), 1 if static_vector else 0, float(r), ffi.NULL, ffi.NULL, ffi.NULL, mp))
