@@ -357,7 +357,7 @@ static double cpu_of(pid_t pid)
  * the set-up before the phase as much as the clock, so a fixed delay
  * signalled some runs before the phase began, where the program's words
  * differ (c0143d9; one loaded run in about ten at 0.3 s).  Each phase has
- * seconds of work past its first 0.3 CPU-s. */
+ * seconds of work past its first 0.2 CPU-s. */
 static int signal_in(const char *what, char *const argv[], double work, int sig)
 {
   pid_t pid = start(argv, NULL, NULL, NULL);
@@ -391,7 +391,7 @@ static void test_signals(void **state)
   char *h5 = path("sig.h5"), part[600];
   snprintf(part, sizeof part, "%s.part", h5);
   int rc = signal_in("parsing (20000 levels)",
-                     ARGV(deep, "--max-depth", "1000000", "-o", h5), 0.3, SIGINT);
+                     ARGV(deep, "--max-depth", "1000000", "-o", h5), 0.2, SIGINT);
   assert_int_equal(rc, 130);
   assert_false(exists(h5));
   assert_false(exists(part));
@@ -402,7 +402,7 @@ static void test_signals(void **state)
                     "stop: {mass: 1, xs: 0.1, r: 0.7}\n"
                     "forcing: {omega: 0.9, on: [1], amplitude: 0.5}\n"
                     "run: {periods: 1, method: exact}\n");
-  rc = signal_in("building the model (n = 2500)", ARGV(chain, "-o", h5), 0.3,
+  rc = signal_in("building the model (n = 2500)", ARGV(chain, "-o", h5), 0.2,
                  SIGTERM);
   assert_int_equal(rc, 143);
   assert_false(exists(h5));
@@ -420,7 +420,7 @@ static void test_signals(void **state)
     char what[64];
     snprintf(what, sizeof what, "running (Omega 1e-6, %s)", methods[k]);
     rc = signal_in(what, ARGV(slow, "--method", (char *)methods[k], "-o", h5,
-                              "--quiet"), 0.3, sig);
+                              "--quiet"), 0.2, sig);
     assert_int_equal(rc, 128 + sig);
     assert_non_null(strstr(slurp(path("stderr")), "marked incomplete"));
     assert_false(exists(part));
@@ -435,7 +435,7 @@ static void test_signals(void **state)
     remove(h5);
   }
   /* the energy analysis: no file until the orbit is found */
-  rc = signal_in("energy (Omega 1e-6)", ARGV("energy", slow, "-o", h5), 0.3,
+  rc = signal_in("energy (Omega 1e-6)", ARGV("energy", slow, "-o", h5), 0.2,
                  SIGINT);
   assert_int_equal(rc, 130);
   assert_false(exists(h5));
@@ -904,11 +904,11 @@ static void test_interrupted_studies(void **state)
                        "1.0", "--steps", "20000", "--transient", "500", "--record",
                        "4", "--threads", "1", "--quiet", "-o", h5, NULL};
   cmd_case sweep_long = {"sweep", {NULL}, 1};
-  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.3,
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.2,
                    SIGINT), 130, "marked incomplete");
   check_incomplete(h5, 20000);
   remove(h5);
-  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.3,
+  expect(signal_in("sweep -o (20000 steps)", cmd_argv(&sweep_long, scene, lng), 0.2,
                    SIGTERM), 143, "interrupted (SIGTERM)");
   check_incomplete(h5, 20000);
   remove(h5);
@@ -918,7 +918,7 @@ static void test_interrupted_studies(void **state)
                        "-1", "--to2", "1", "--steps2", "150", "--transient", "500",
                        "--record", "4", "--threads", "1", "--quiet", "-o", h5, NULL};
   cmd_case basins = {"basins", {NULL}, 1};
-  expect(signal_in("basins -o (150 x 150)", cmd_argv(&basins, scene, bas), 0.3,
+  expect(signal_in("basins -o (150 x 150)", cmd_argv(&basins, scene, bas), 0.2,
                    SIGINT), 130, "marked incomplete");
   check_incomplete(h5, 150LL * 150);
   remove(h5);
@@ -926,7 +926,7 @@ static void test_interrupted_studies(void **state)
   const char *js[] = {"--param", "forcing.omega", "--from", "0.8", "--to", "1.0",
                       "--steps", "20000", "--transient", "500", "--record", "4",
                       "--threads", "1", "--json", NULL};
-  expect(signal_in("sweep --json", cmd_argv(&sweep_long, scene, js), 0.3, SIGINT),
+  expect(signal_in("sweep --json", cmd_argv(&sweep_long, scene, js), 0.2, SIGINT),
          130, NULL);
   const char *out = slurp(path("stdout"));
   assert_non_null(strstr(out, "\"complete\": false"));
@@ -935,9 +935,9 @@ static void test_interrupted_studies(void **state)
   const char *orb[] = {"--continue", "forcing.omega", "--to", "1.5", "--steps",
                        "1000000", "--json", NULL};
   cmd_case orbits = {"orbits", {NULL}, 0};
-  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.3, SIGTERM), 143,
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.2, SIGTERM), 143,
          "interrupted (SIGTERM): stopped, no file left behind");
-  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.3, SIGINT), 130,
+  expect(signal_in("orbits", cmd_argv(&orbits, scene, orb), 0.2, SIGINT), 130,
          "interrupted (SIGINT): stopped, no file left behind");
 }
 
