@@ -202,7 +202,8 @@ double vi_id_data_lag(vi_identify *id, double pmax)
     if (rk[k] < 0.3 && rk[k] <= fmax(1.5 * best, best + 0.05)) P = Pk[k];
   /* (a signal too rich in harmonics to interpolate, an accelerometer's,
    * repeats only where its samples line up: P may be a multiple of its
-   * period, which each frequency's vi_id_data_period then finds) */
+   * period, which vi_id_data_period finds for the start and the divisors
+   * of each multiple cover in the global stage, om_starts) */
   return P;
 }
 
