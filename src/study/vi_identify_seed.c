@@ -78,33 +78,39 @@ static double interp(const vi_identify *id, double s)
   return id->y[a] + u * (id->y[b] - id->y[a]);
 }
 
-/* RMS change of the recording over a time lag P against its RMS
- * variation, over the samples that have a partner; NaN if fewer than 8. */
-static double repeat_ratio(const vi_identify *id, double P)
+/* The recording's RMS variation about its mean. */
+static double rms_of(const vi_identify *id)
 {
-  int ns = id->ns, cnt = 0;
-  double mean = 0.0, var = 0.0, d = 0.0;
+  int ns = id->ns;
+  double mean = 0.0, var = 0.0;
   for (int i = 0; i < ns; i++) mean += id->y[i] / ns;
   for (int i = 0; i < ns; i++) var += (id->y[i] - mean) * (id->y[i] - mean);
-  for (int i = 0; i < ns && id->t[i] + P <= id->t[ns - 1]; i++, cnt++) {
+  return sqrt(var / ns);
+}
+
+/* RMS change of the recording over a time lag P against rms, its RMS
+ * variation, over every stride-th sample that has a partner; NaN if fewer
+ * than 8. */
+static double lag_change(const vi_identify *id, double P, double rms, int stride)
+{
+  int ns = id->ns, cnt = 0;
+  double d = 0.0;
+  for (int i = 0; i < ns && id->t[i] + P <= id->t[ns - 1]; i += stride, cnt++) {
     double e = interp(id, id->t[i] + P) - id->y[i];
     d += e * e;
   }
-  if (cnt < 8 || !(var > 0.0)) return NAN;
-  return sqrt(d / cnt) / sqrt(var / ns);
+  if (cnt < 8 || !(rms > 0.0)) return NAN;
+  return sqrt(d / cnt) / rms;
 }
+
 
 /* The recording's period in forcing periods T: the smallest n <= MAX_N it
  * repeats with, as well as with the best one up to the noise (0 if none;
  * 1 when it is too short to tell). */
 int vi_id_data_period(vi_identify *id, double T)
 {
-  double rat[MAX_N + 1], best = HUGE_VAL;
+  double rat[MAX_N + 1], best = HUGE_VAL, rms = rms_of(id);
   int known = 0;
-  double mean = 0.0, var = 0.0;
-  for (int i = 0; i < id->ns; i++) mean += id->y[i] / id->ns;
-  for (int i = 0; i < id->ns; i++) var += (id->y[i] - mean) * (id->y[i] - mean);
-  double rms = sqrt(var / id->ns);
   for (int n = 1; n <= MAX_N; n++) {
     /* the change over nT from the linear interpolant of the samples, or,
      * where smaller, the recording folded with period nT: an
@@ -112,7 +118,7 @@ int vi_id_data_period(vi_identify *id, double T)
      * is too rich in harmonics to interpolate between samples (61.3
      * samples per period: no repeat over T, one over 3 T where 3 x 61.3
      * is almost whole), not between periods */
-    rat[n] = repeat_ratio(id, n * T);
+    rat[n] = lag_change(id, n * T, rms, 1);
     double fr = rms > 0.0 ? vi_id_fold(id, n * T) / rms : NAN;
     if (isfinite(fr) && !(rat[n] <= fr)) rat[n] = fr;
     if (isfinite(rat[n])) {
@@ -131,27 +137,28 @@ int vi_id_data_period(vi_identify *id, double T)
   return 0;
 }
 
-/* repeat_ratio's least value over [a, b] by golden section: its lag, the
+/* lag_change's least value over [a, b] by golden section: its lag, the
  * value into *r.  (Not the fold: its median is small at lags that are no
  * period, where a sample's neighbours in phase fall half a sample apart.) */
-static double lag_min(const vi_identify *id, double a, double b, double *r)
+static double lag_min(const vi_identify *id, double a, double b, double rms, int stride,
+                      double *r)
 {
   const double g = 0.5 * (sqrt(5.0) - 1.0);
   double c = b - g * (b - a), d = a + g * (b - a);
-  double fc = repeat_ratio(id, c), fd = repeat_ratio(id, d);
+  double fc = lag_change(id, c, rms, stride), fd = lag_change(id, d, rms, stride);
   for (int it = 0; it < 48 && b - a > 1e-12 * b; it++) {
     if (fc <= fd || isnan(fd)) {
       b = d;
       d = c;
       fd = fc;
       c = b - g * (b - a);
-      fc = repeat_ratio(id, c);
+      fc = lag_change(id, c, rms, stride);
     } else {
       a = c;
       c = d;
       fc = fd;
       d = a + g * (b - a);
-      fd = repeat_ratio(id, d);
+      fd = lag_change(id, d, rms, stride);
     }
   }
   *r = fmin(fc, fd);
@@ -160,11 +167,12 @@ static double lag_min(const vi_identify *id, double a, double b, double *r)
 
 double vi_id_data_lag(vi_identify *id, double pmax)
 {
-  int ns = id->ns;
-  double span = id->t[ns - 1] - id->t[0], dt = span / (ns - 1), mean = 0.0, var = 0.0;
-  for (int i = 0; i < ns; i++) mean += id->y[i] / ns;
-  for (int i = 0; i < ns; i++) var += (id->y[i] - mean) * (id->y[i] - mean);
-  double rms = sqrt(var / ns), pmin = 4.0 * dt;
+  /* the change over a lag from at most 4096 samples of the recording (a
+   * long one's 64 000 took 5 s of scanning otherwise) against its partners
+   * interpolated in the whole */
+  int ns = id->ns, sd = ns > 4096 ? ns / 4096 : 1;
+  double span = id->t[ns - 1] - id->t[0], dt = span / (ns - 1);
+  double rms = rms_of(id), pmin = 4.0 * dt;
   pmax = fmin(pmax, span / 1.5);
   if (!(pmax > pmin) || !(rms > 0.0)) {
     vi_fail(id->errmsg, VI_ERR_ARG, "the recording is too short (or constant) to show "
@@ -177,8 +185,8 @@ double vi_id_data_lag(vi_identify *id, double pmax)
   double h = fmax(0.5 * dt, (pmax - pmin) / 4000.0), r0 = NAN, r1 = NAN, P1 = 0.0, q1 = NAN;
   int nl = (int)((pmax - pmin) / h) + 1;
   for (int l = 0; l <= nl && P1 == 0.0; l++) {
-    double P = pmin + l * h, r2 = repeat_ratio(id, P);
-    if (r1 < 0.3 && r1 <= r2 && r1 < r0) P1 = lag_min(id, P - 2.0 * h, P, &q1);
+    double P = pmin + l * h, r2 = lag_change(id, P, rms, sd);
+    if (r1 < 0.3 && r1 <= r2 && r1 < r0) P1 = lag_min(id, P - 2.0 * h, P, rms, sd, &q1);
     r0 = r1;
     r1 = r2;
   }
@@ -195,7 +203,7 @@ double vi_id_data_lag(vi_identify *id, double pmax)
   rk[1] = q1;
   Pk[1] = P1;
   for (int k = 2; k <= MAX_N && k * P1 <= pmax; k++, K++) {
-    Pk[k] = lag_min(id, k * P1 - 2.0 * h, k * P1 + 2.0 * h, &rk[k]);
+    Pk[k] = lag_min(id, k * P1 - 2.0 * h, k * P1 + 2.0 * h, rms, sd, &rk[k]);
     best = fmin(best, rk[k]);
   }
   for (int k = K; k >= 1; k--)
