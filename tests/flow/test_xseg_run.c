@@ -2,7 +2,8 @@
  * (vi_xseg_modal_run, internal: the identification's samples) against the
  * closed form at each time (vi_xseg_modal): the flow's semigroup property,
  * carried over 64 steps, in every damping regime the propagator has and
- * with a constant force. */
+ * with a constant force; and the run's last state against Runge-Kutta on
+ * the physical equations, which shares no code with either. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -35,9 +36,37 @@ static vi_model *chain(double k, double c, double f0)
   return m;
 }
 
+/* An independent reference: x'' = f(t) - C x' - K x (M = I) by classical
+ * Runge-Kutta from (t0, x0, v0) to t, steps of 0.002 / omega_max (its
+ * global error some 1e-10 of the motion over these runs). */
+static void rk4(const vi_model *m, double t0, const double *x0, const double *v0, double t,
+                double *x, double *v)
+{
+  const double *K = m->K, *C = m->C, *a = m->a, *b = m->b, *f0 = m->f0, W = m->omega_f;
+  double z[4] = {x0[0], x0[1], v0[0], v0[1]}, k[4][4], y[4];
+  int steps = (int)ceil((t - t0) * vi_model_omega(m)[1] / 0.002);
+  double h = (t - t0) / steps;
+  for (int s = 0; s < steps; s++)
+    for (int st = 0; st < 4; st++) {
+      double c = st == 0 ? 0.0 : st == 3 ? 1.0 : 0.5, tt = t0 + (s + c) * h;
+      for (int i = 0; i < 4; i++) y[i] = z[i] + (st ? c * h * k[st - 1][i] : 0.0);
+      for (int i = 0; i < 2; i++) {
+        k[st][i] = y[2 + i];
+        k[st][2 + i] = a[i] * cos(W * tt) + b[i] * sin(W * tt) + f0[i];
+        for (int j = 0; j < 2; j++)
+          k[st][2 + i] -= C[i + 2 * j] * y[2 + j] + K[i + 2 * j] * y[j];
+      }
+      if (st == 3)
+        for (int i = 0; i < 4; i++)
+          z[i] += h / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+    }
+  x[0] = z[0], x[1] = z[1], v[0] = z[2], v[1] = z[3];
+}
+
 /* 64 samples from t0 + 0.37 at step h: q, q' and the transition matrices
  * of the run against the closed form at each time, relative to the run's
- * largest |q|, |q'| and to each matrix's largest entry. */
+ * largest |q|, |q'| and to each matrix's largest entry; the run's last
+ * state in physical coordinates against Runge-Kutta (rk4). */
 static void check_run(vi_model *m, double h)
 {
   const int n = 2, k = VI_XSEG_RUN;
@@ -68,8 +97,18 @@ static void check_run(vi_model *m, double h)
       worst_c = fmax(worst_c, dc / nc);
     }
   }
-  print_message("zeta %.3g, %.3g, h = %g: q, q' within %.2e, transitions %.2e\n",
-                vi_model_zeta(m)[0], vi_model_zeta(m)[1], h, worst, worst_c);
+  /* the last sample, x = Psi q, against the reference */
+  double xr[2], vr[2], tl = t + (k - 1) * h, worst_rk = 0.0;
+  const double *ql = Q + (size_t)(2 * n) * (k - 1), *P = m->Psi;
+  rk4(m, 1.1, x0, v0, tl, xr, vr);
+  for (int i = 0; i < n; i++) {
+    double xi = P[i] * ql[0] + P[i + n] * ql[1], vi = P[i] * ql[2] + P[i + n] * ql[3];
+    worst_rk = fmax(worst_rk, fmax(fabs(xi - xr[i]), fabs(vi - vr[i])) / scale);
+  }
+  print_message("zeta %.3g, %.3g, h = %g: q, q' within %.2e, transitions %.2e, "
+                "Runge-Kutta at t = %.4g within %.2e\n", vi_model_zeta(m)[0],
+                vi_model_zeta(m)[1], h, worst, worst_c, tl, worst_rk);
+  assert_true(worst_rk < 1e-10);
   /* 64 steps of a few ulp each; a transition matrix's entries span 1 to
    * lambda B ~ omega, so its own round-off is relative to lambda */
   double lam = vi_model_omega(m)[1] * vi_model_omega(m)[1];
