@@ -24,7 +24,7 @@
 #    own code is compiled at -O0 there (tests/CMakeLists.txt says why).
 #  - It compiles while the Release tests run, and its tests follow; the
 #    Python package's tests run beside them (their output at the end).
-# About 720-780 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
+# About 720-790 CPU-seconds on a 2-core machine once SUNDIALS is built (README.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$root/share/scripts/deps.sh"
