@@ -44,6 +44,12 @@ static inline void vi_user_set(void **slot, vi_destroy_fn *fslot, void *user,
   *fslot = destroy;
 }
 
+/* The x in [a, b] where f(ctx, x) is least, its value into *fx (if not
+ * NULL), by golden section until the bracket is within tol or after maxit
+ * steps; f unimodal there (vi_minimize.c). */
+double vi_golden_min(double (*f)(void *ctx, double x), void *ctx, double a, double b,
+                     double tol, int maxit, double *fx);
+
 /* 1 if the arrays [n] at a and b share memory (the API forbids it where an
  * output would overwrite an input still being read). */
 static inline int vi_overlap(const double *a, const double *b, int n)

@@ -199,6 +199,15 @@ double vi_id_noise_estimate(const vi_identify *id, double P);
  * its period); NaN where the neighbours are not much closer in phase
  * than successive samples. */
 double vi_id_fold(const vi_identify *id, double P);
+/* The period near P (within about W) over which the recording folds
+ * best in RMS, that RMS into *rms (NaN where it does not fold): a
+ * record's period to a fraction of a sample over its whole span, where
+ * the lag between its samples' interpolants is known only to a sample
+ * (an accelerometer out of step with the forcing); P where nothing folds
+ * clearly better.  P and NaN where the best RMS over a part of the record
+ * exceeds limit. */
+double vi_id_fold_period(const vi_identify *id, double P, double W, double limit,
+                         double *rms);
 int vi_id_uncertainty(vi_identify *id, const gsl_matrix *J, double ssr);
 void vi_id_energy_route(vi_identify *id);
 

@@ -137,32 +137,27 @@ int vi_id_data_period(vi_identify *id, double T)
   return 0;
 }
 
-/* lag_change's least value over [a, b] by golden section: its lag, the
- * value into *r.  (Not the fold: its median is small at lags that are no
- * period, where a sample's neighbours in phase fall half a sample apart.) */
+/* lag_change as vi_golden_min's function of the lag. */
+typedef struct lag_ctx {
+  const vi_identify *id;
+  double rms;
+  int stride;
+} lag_ctx;
+
+static double lag_at(void *ctx, double P)
+{
+  const lag_ctx *c = ctx;
+  return lag_change(c->id, P, c->rms, c->stride);
+}
+
+/* lag_change's least value over [a, b]: its lag, the value into *r.  (Not
+ * the fold: its median is small at lags that are no period, where a
+ * sample's neighbours in phase fall half a sample apart.) */
 static double lag_min(const vi_identify *id, double a, double b, double rms, int stride,
                       double *r)
 {
-  const double g = 0.5 * (sqrt(5.0) - 1.0);
-  double c = b - g * (b - a), d = a + g * (b - a);
-  double fc = lag_change(id, c, rms, stride), fd = lag_change(id, d, rms, stride);
-  for (int it = 0; it < 48 && b - a > 1e-12 * b; it++) {
-    if (fc <= fd || isnan(fd)) {
-      b = d;
-      d = c;
-      fd = fc;
-      c = b - g * (b - a);
-      fc = lag_change(id, c, rms, stride);
-    } else {
-      a = c;
-      c = d;
-      fc = fd;
-      d = a + g * (b - a);
-      fd = lag_change(id, d, rms, stride);
-    }
-  }
-  *r = fmin(fc, fd);
-  return fc <= fd ? c : d;
+  lag_ctx c = {id, rms, stride};
+  return vi_golden_min(lag_at, &c, a, b, 1e-12 * b, 48, r);
 }
 
 double vi_id_data_lag(vi_identify *id, double pmax)
@@ -208,11 +203,26 @@ double vi_id_data_lag(vi_identify *id, double pmax)
   }
   for (int k = K; k >= 1; k--)
     if (rk[k] < 0.3 && rk[k] <= fmax(1.5 * best, best + 0.05)) P = Pk[k];
-  /* (a signal too rich in harmonics to interpolate, an accelerometer's,
-   * repeats only where its samples line up: P may be a multiple of its
-   * period, which vi_id_data_period finds for the start and the divisors
-   * of each multiple cover in the global stage, om_starts) */
-  return P;
+  /* a signal too rich in harmonics to interpolate, an accelerometer's,
+   * repeats only where its samples line up (61.3 samples a period: every
+   * 3 periods, to about a sample): P may be a multiple of its period,
+   * known to a sample.  The whole record folded with P / k, for each k,
+   * finds the period to a fraction of a sample over the span: the
+   * shortest of those that fold clearly better than P (folded with a lag
+   * its samples nearly repeat over, the record lands them on each other
+   * and shows no error of the lag) and within twice the best RMS.  Not
+   * where P folds as well: a recording sampled in step with its period
+   * folds as well with many a P / k that lands each sample on its own
+   * copies from other periods (Fig. 2's 64 a period: k = 3, 5, 7). */
+  double fr[MAX_N + 1], Pf[MAX_N + 1], fbest = HUGE_VAL;
+  int kf = 0;
+  for (int k = 1; k <= MAX_N && P / k >= pmin; k++, kf++) {
+    Pf[k] = vi_id_fold_period(id, P / k, 2.0 * h / k, k == 1 ? HUGE_VAL : fr[1], &fr[k]);
+    if (fr[k] < fbest) fbest = fr[k];
+  }
+  for (int k = kf; k >= 2; k--)
+    if (fr[k] < 0.5 * fr[1] && fr[k] <= 2.0 * fbest) return Pf[k];
+  return kf ? Pf[1] : P;
 }
 
 /* Starting shift: the best of 128 over one orbit period, on the first two

@@ -51,6 +51,9 @@ static double noise_diff4(const vi_identify *id)
   return 1.4826 * med / sqrt(70.0);
 }
 
+/* Samples a fold looks at, at most (evenly strided over a longer record). */
+#define FOLD_MAX 2048
+
 typedef struct phs {
   double ph;
   int i;
@@ -62,46 +65,143 @@ static int cmp_phase(const void *a, const void *b)
   return (x > y) - (x < y);
 }
 
-/* Noise of a recording that repeats with period P, from the samples of
- * all its periods folded onto one (phase (t - t_1) mod P): each sample
- * against the line through its two neighbours in phase, which belong to
- * other periods, so the signal cancels to second order in their phase
- * gap, whatever its harmonics (the higher modes ring in step with the
- * orbit).  e = y - wa ya - wb yb has variance (1 + wa^2 + wb^2) sigma^2
- * for noise; the median of |e| scaled so is robust to the impacts.  NaN
- * where the neighbours are not much closer in phase than successive
- * samples (a record of about one period: nothing to fold). */
+/* Every stride-th of the first m samples folded with period P (phase
+ * (t - t_1) mod P): into e each sample against the line through its two
+ * neighbours in phase, which belong to other periods, so the signal
+ * cancels to second order in their phase gap, whatever its harmonics
+ * (the higher modes ring in step with the orbit), scaled by
+ * sqrt(1 + wa^2 + wb^2) so that noise of spread sigma gives sigma; into
+ * gap their phase gaps.  q, e, gap hold m / stride + 1.  The count, 0
+ * where the samples span less than 1.5 P. */
+static int fold_resid(const vi_identify *id, double P, int m, int stride, phs *q,
+                      double *e, double *gap)
+{
+  if (!(P > 0.0) || m < 16 || !(id->t[m - 1] - id->t[0] > 1.5 * P)) return 0;
+  int k = 0;
+  for (int i = 0; i < m; i += stride, k++) {
+    double f = fmod(id->t[i] - id->t[0], P) / P;
+    q[k].ph = f < 0.0 ? f + 1.0 : f;
+    q[k].i = i;
+  }
+  double step = (id->t[m - 1] - id->t[0]) / (m - 1) / P;
+  qsort(q, k, sizeof *q, cmp_phase);
+  for (int c = 0; c < k; c++) {
+    const phs *a = &q[(c + k - 1) % k], *b = &q[(c + 1) % k], *s = &q[c];
+    double pa = a->ph - (c == 0 ? 1.0 : 0.0), pb = b->ph + (c == k - 1 ? 1.0 : 0.0);
+    double w = pb - pa, wa = w > 1e-12 * step ? (pb - s->ph) / w : 0.5, wb = 1.0 - wa;
+    e[c] = (id->y[s->i] - wa * id->y[a->i] - wb * id->y[b->i]) / sqrt(1.0 + wa * wa + wb * wb);
+    gap[c] = w;
+  }
+  return k;
+}
+
+/* Noise of a recording that repeats with period P, from its periods
+ * folded onto one (fold_resid): the median of |e|, robust to the
+ * impacts.  NaN where the neighbours are not much closer in phase than
+ * successive samples (a record of about one period: nothing to fold). */
 double vi_id_fold(const vi_identify *id, double P)
 {
   int ns = id->ns;
-  if (!(P > 0.0) || ns < 16 || !(id->t[ns - 1] - id->t[0] > 1.5 * P)) return NAN;
   phs *q = malloc(sizeof *q * ns);
-  double *d = malloc(sizeof(double) * 2 * ns);
-  if (!q || !d) {
-    free(q);
-    free(d);
-    return NAN;
+  double *d = malloc(sizeof(double) * 2 * ns), r = NAN;
+  int k = q && d ? fold_resid(id, P, ns, 1, q, d, d + ns) : 0;
+  if (k) {
+    for (int c = 0; c < k; c++) d[c] = fabs(d[c]);
+    double med = median_of(d, k), mgap = median_of(d + ns, k);
+    if (mgap <= 0.5 * (id->t[ns - 1] - id->t[0]) / (ns - 1) / P) r = 1.4826 * med;
   }
-  double *gap = d + ns, step = (id->t[ns - 1] - id->t[0]) / (ns - 1) / P;
-  for (int i = 0; i < ns; i++) {
-    double f = fmod(id->t[i] - id->t[0], P) / P;
-    q[i].ph = f < 0.0 ? f + 1.0 : f;
-    q[i].i = i;
-  }
-  qsort(q, ns, sizeof *q, cmp_phase);
-  int k = 0;
-  for (int c = 0; c < ns; c++) {
-    const phs *a = &q[(c + ns - 1) % ns], *b = &q[(c + 1) % ns], *m = &q[c];
-    double pa = a->ph - (c == 0 ? 1.0 : 0.0), pb = b->ph + (c == ns - 1 ? 1.0 : 0.0);
-    double w = pb - pa, wa = w > 1e-12 * step ? (pb - m->ph) / w : 0.5, wb = 1.0 - wa;
-    double e = id->y[m->i] - wa * id->y[a->i] - wb * id->y[b->i];
-    d[k] = fabs(e) / sqrt(1.0 + wa * wa + wb * wb);
-    gap[k++] = w;
-  }
-  double med = median_of(d, k), mgap = median_of(gap, k);
   free(q);
   free(d);
-  return mgap <= 0.5 * step ? 1.4826 * med : NAN;
+  return r;
+}
+
+/* The RMS of fold_resid's e over every stride-th of the first m samples
+ * (not the median: a period off by a little moves the samples far from
+ * their partners only in the periods far apart, a minority); NaN where
+ * it does not fold. */
+static double fold_rms(const vi_identify *id, double P, int m, int stride, phs *q, double *e)
+{
+  int k = fold_resid(id, P, m, stride, q, e, e + m);
+  double s = 0.0;
+  for (int c = 0; c < k; c++) s += e[c] * e[c];
+  return k ? sqrt(s / k) : NAN;
+}
+
+/* fold_rms over the whole record as vi_golden_min's function of P. */
+typedef struct fold_ctx {
+  const vi_identify *id;
+  int stride;
+  phs *q;
+  double *e;
+} fold_ctx;
+
+static double fold_at(void *ctx, double P)
+{
+  const fold_ctx *c = ctx;
+  return fold_rms(c->id, P, c->id->ns, c->stride, c->q, c->e);
+}
+
+double vi_id_fold_period(const vi_identify *id, double P, double W, double limit, double *rms)
+{
+  int ns = id->ns;
+  double span = id->t[ns - 1] - id->t[0], dt = span / (ns - 1);
+  *rms = NAN;
+  if (!(span > 4.0 * P) || !(W > 0.0)) return P;
+  phs *q = malloc(sizeof *q * ns);
+  double *e = malloc(sizeof(double) * 2 * ns);
+  if (!q || !e) {
+    free(q);
+    free(e);
+    return P;
+  }
+  /* stages over ever longer parts of the record, each 8 times the last:
+   * over a part S long, a change dP of the period moves its last samples
+   * by S dP / P, so a quarter of dt P / S is the stage's step, and the
+   * next stage searches two of them either side; at most FOLD_MAX samples
+   * a stage, evenly strided (their phases still far denser than the
+   * samples') */
+  double c = P, S = fmin(span, fmax(4.0 * P, 32.0 * dt * P / W)), step = W;
+  for (;;) {
+    int m = ns;
+    while (m > 16 && id->t[m - 1] - id->t[0] > S) m--;
+    int sd = m > FOLD_MAX ? m / FOLD_MAX : 1;
+    step = 0.25 * dt * c / S;
+    int nk = (int)ceil(W / step);
+    double best = c, bv = fold_rms(id, c, m, sd, q, e);
+    for (int k = -nk; k <= nk; k++) {
+      double v = fold_rms(id, c + k * step, m, sd, q, e);
+      if (v < bv) {
+        bv = v;
+        best = c + k * step;
+      }
+    }
+    c = best;
+    W = 2.0 * step;
+    if (!(bv <= limit)) { /* no period here that could win */
+      free(q);
+      free(e);
+      return P;
+    }
+    if (S >= span) break;
+    S = fmin(span, 8.0 * S);
+  }
+  /* to a thousandth of the last stage's step about its best */
+  fold_ctx fc = {id, ns > FOLD_MAX ? ns / FOLD_MAX : 1, q, e};
+  double cf = fold_at(&fc, c), pf = fold_at(&fc, P), gf;
+  double gc = vi_golden_min(fold_at, &fc, c - step, c + step, 1e-3 * step, 64, &gf);
+  if (gf < cf) {
+    cf = gf;
+    c = gc;
+  }
+  free(q);
+  free(e);
+  /* taken only where it folds clearly better: a recording sampled in
+   * step with P folds at the noise over a range about dt P / span wide,
+   * where the lag, which lands its samples on each other, is the better
+   * estimate */
+  int better = cf < 0.5 * pf;
+  *rms = better ? cf : pf;
+  return better ? c : P;
 }
 
 /* The recording's noise: the smaller of the two upper bounds above (each

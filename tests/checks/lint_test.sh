@@ -18,6 +18,7 @@ src=$(cd "$1" && pwd) build=$(cd "$2" && pwd)
 files=(
   src/base/vi_status.c src/base/vi_version.c src/model/vi_model.c src/model/vi_modal.c
   src/impact/vi_impact.c src/model/vi_builders.c src/ledger/vi_ledger.c src/sim/vi_nvector.c src/base/vi_dense.c
+  src/base/vi_minimize.c
   src/sim/vi_force.c src/orbit/vi_orbit_pnm.c src/io/vi_scene_edit.c src/impact/vi_contact.c
   src/sim/vi_sim.c src/sim/vi_sim_io.c src/sim/vi_chatter.c src/sim/vi_cvode.c src/sim/vi_arkode.c src/sim/vi_rhs.c
   src/io/vi_output.c src/model/vi_range.c src/io/vi_mmio.c tests/io/test_mmio.c apps/vi_cmd_truncation.c

@@ -778,6 +778,31 @@ static void beam_accel_rate(void **state)
   assert_close(nz / sig, 1.0, 0.15);
   assert_close(rms / sig, 1.0, 0.1);
   vi_identify_destroy(&id);
+  /* and the forcing frequency with r, from guesses 0.59 and 1.53 times
+   * the truth: the record repeats only every 3 periods, to about a
+   * sample, so its period comes from the record folded with a third of
+   * that lag (it used to end on a P(1,2) at Omega 0.8498 with residuals
+   * 53 times the noise, whatever the guess) */
+  const double guess[] = {0.5, 1.3};
+  for (int k = 0; k < 2; k++) {
+    double q[2], sq[2];
+    assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_OMEGA, 0, guess[k], 0.0,
+                                           HUGE_VAL), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
+    assert_int_equal(vi_identify_set_sensors(id, r.ns, r.t, NULL, NULL, a), VI_OK);
+    assert_int_equal(vi_identify_run(id), VI_OK);
+    assert_int_equal(vi_identify_params(id, q, sq, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, &n, &mm), VI_OK);
+    print_message("accel at 61.3 per period from Omega %.2f: Omega %.8f +- %.1e, r %.5f +- "
+                  "%.5f, P(%d,%d), rms / noise %.3f\n", guess[k], q[0], sq[0], q[1], sq[1], n,
+                  mm, rms / sig);
+    assert_true(n == 1 && mm == 1);
+    assert_true(fabs(q[0] - 0.85) < 3 * sq[0] && sq[0] < 1e-5);
+    assert_true(fabs(q[1] - 0.75) < 0.02 && fabs(q[1] - 0.75) < 3 * sq[1]);
+    assert_close(rms / sig, 1.0, 0.1);
+    vi_identify_destroy(&id);
+  }
   free(a);
   vi_model_destroy(&m);
 }
