@@ -819,7 +819,8 @@ static void identify_json(const ident *I, const fit_result *f)
   printf(", \"noise\": ");
   json_num(f->nz);
   printf(", \"shift\": ");
-  json_num(f->t0);
+  if (isfinite(f->t0)) printf("%.17g", f->t0); /* an absolute clock's needs them all */
+  else printf("null");
   printf(", \"shift_stderr\": ");
   json_num(f->t0se);
   printf(", \"shift_forcing\": ");
@@ -929,7 +930,11 @@ static void identify_text(const ident *I, const fit_result *f)
              f->pfl[j] & VI_IDENTIFY_PROFILE_BOUND ? "  reaches the bound" : "",
              f->pfl[j] & VI_IDENTIFY_PROFILE_ORBIT ? "  ends where the orbit changes" : "");
   }
-  printf("  shift t0               = %.6g +- %.2g (model time = t + t0)", f->t0, f->t0se);
+  /* digits enough for its error: a recording on an absolute clock (1.7e9
+   * s) has t0 near minus that */
+  double rel = fabs(f->t0) / f->t0se;
+  int dg = isfinite(rel) && rel > 1e5 ? (int)fmin(17.0, ceil(log10(rel)) + 2.0) : 6;
+  printf("  shift t0               = %.*g +- %.2g (model time = t + t0)", dg, f->t0, f->t0se);
   if (isfinite(f->tf)) printf("; forcing column's phase: %.6g", f->tf);
   printf("\n  %s in %d iterations; residual RMS %.3g", f->conv ? "converged" : "NOT CONVERGED",
          f->iters, f->rms);

@@ -316,7 +316,7 @@ int vi_identify_set_sensors(vi_identify *id, int ns, const double *t,
     free(na);
     return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
   }
-  memcpy(nt, t, sz);
+  for (int i = 0; i < ns; i++) nt[i] = t[i] - t[0]; /* exact (Sterbenz) */
   memcpy(ny, yy, sz);
   if (vv) memcpy(nv, vv, sz);
   if (aa) memcpy(na, aa, sz);
@@ -325,6 +325,7 @@ int vi_identify_set_sensors(vi_identify *id, int ns, const double *t,
   free(id->vy);
   free(id->ay);
   id->t = nt;
+  id->tref = t[0];
   id->y = ny;
   id->vy = nv;
   id->ay = na;
@@ -368,7 +369,7 @@ int vi_identify_add_channel(vi_identify *id, const double *c, int order,
   for (int i = 0; i < id->ns; i++)
     if (!isfinite(y[i]))
       return vi_fail(id->errmsg, VI_ERR_NONFINITE, "channel %d: sample %d is not "
-                     "finite (t = %g, %g)", id->nch + 1, i + 1, id->t[i], y[i]);
+                     "finite (t = %g, %g)", id->nch + 1, i + 1, id->t[i] + id->tref, y[i]);
   double *nc = malloc(sizeof(double) * id->N), *ny = malloc(sizeof(double) * id->ns);
   if (!nc || !ny) {
     free(nc);
@@ -414,7 +415,7 @@ static int local_only(vi_identify *id, int nd)
   memcpy(id->pcur, id->p0, sizeof(double) * id->np);
   id->have_cur = 1;
   for (int j = 0; j < id->np; j++) id->glo[j] = id->ghi[j] = id->p0[j];
-  double t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : id->shift0;
+  double t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : vi_id_shift0(id);
   id->sol = calloc(1, sizeof *id->sol);
   if (!id->sol || vi_id_orb_alloc(&id->sol->o, id->N)) {
     if (id->sol) {
@@ -654,7 +655,7 @@ int vi_identify_search_range(const vi_identify *id, double *lo, double *hi)
 int vi_identify_shift(const vi_identify *id, double *t0, double *se)
 {
   NEED_DONE(id);
-  if (t0) *t0 = id->t0;
+  if (t0) *t0 = id->t0 - id->tref; /* on the caller's clock */
   if (se) *se = id->t0se;
   return VI_OK;
 }
@@ -715,8 +716,8 @@ int vi_identify_response(const vi_identify *id, int nt, const double *t,
       free(z);
       return VI_ERR_NONFINITE;
     }
-    vi_id_orbit_state(id->cur, id->xf, &id->o, t[i] + id->t0, z, z + (size_t)2 * N, NULL,
-                NULL, NULL);
+    vi_id_orbit_state(id->cur, id->xf, &id->o, t[i] - id->tref + id->t0, z,
+                      z + (size_t)2 * N, NULL, NULL, NULL);
     x[i] = vi_dot(N, id->c, z);
     if (v) v[i] = vi_dot(N, id->c, z + N);
   }

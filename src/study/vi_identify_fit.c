@@ -49,7 +49,7 @@ int vi_id_lm(vi_identify *id, const double *p, double t0, double *pout,
       return vi_fail(id->errmsg, VI_ERR_NOMEM, "out of memory");
     }
     memcpy(pout, p, sizeof(double) * np);
-    *t0out = id->shift0;
+    *t0out = vi_id_shift0(id);
     st = vi_id_ensure(id, pout);
     if (!st) vi_id_res_f(th, id, f);
     *ssr = 0.0;

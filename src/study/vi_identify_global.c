@@ -170,7 +170,7 @@ static int at_start(vi_identify *id, int nd, const double *p, orb *best,
     memcpy(ck->p, p, sizeof(double) * id->np);
     vi_id_orb_copy(&id->o, &best[s], id->N);
     ck->cost = bc[s];
-    ck->t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : id->shift0;
+    ck->t0 = id->fit_shift && isnan(id->shift0) ? vi_id_scan_shift(id, NULL) : vi_id_shift0(id);
     vi_id_orb_copy(&ck->o, &best[s], id->N);
     (*nc)++;
   }

@@ -58,7 +58,12 @@ struct vi_identify {
   int fit_shift, stable_only;
   double shift0, sigma, mumax; /* mumax: the fitted orbit's largest |multiplier| */
   int ns;
-  double *t, *y, *vy, *ay; /* recording: y the first channel */
+  /* recording: y the first channel; t from its first sample, which is at
+   * tref on the caller's clock (a clock that reads 1.7e9 at the record,
+   * or 1e5 periods on, would make Omega and the shift one direction:
+   * the shift is fitted from the record's start, reported on the
+   * caller's clock) */
+  double *t, *y, *vy, *ay, tref;
   int ych;                 /* y's order: 0 c.x, 1 c.x', 2 c.x'' */
   int nch, chord[MAXCH];   /* more channels: order, observation, data */
   double *chc[MAXCH], *chy[MAXCH];
@@ -171,6 +176,13 @@ int vi_id_halves(int order);
  * block (the same sums). */
 void vi_id_accel_block(const vi_model *m, int k, int rep, const double *t,
                        const double *Z, double *F);
+
+/* The held shift (vi_identify_set_shift) from the record's start; NaN if
+ * none. */
+static inline double vi_id_shift0(const vi_identify *id)
+{
+  return id->shift0 + id->tref;
+}
 
 /* vi_identify_seed.c */
 int vi_id_data_period(vi_identify *id, double T);

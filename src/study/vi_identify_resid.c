@@ -212,7 +212,7 @@ void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,
 {
   for (int j = 0; j < id->np; j++)
     p[j] = id->col[j] >= 0 ? gsl_vector_get(th, id->col[j]) : id->hval[j];
-  *t0 = id->fit_shift ? gsl_vector_get(th, id->nfree) : id->shift0;
+  *t0 = id->fit_shift ? gsl_vector_get(th, id->nfree) : vi_id_shift0(id);
 }
 
 int vi_id_res_f(const gsl_vector *th, void *ctx, gsl_vector *f)
@@ -397,13 +397,14 @@ static int blk_dz(const vi_identify *id, jac_blk *k, jac_ws *w, int nk,
   return VI_OK;
 }
 
-/* The shift's column of a block's rows: d/ds of c.x, c.x' from the field
- * at the sample, of c.x'' centrally differenced. */
-static void blk_shift(const vi_identify *id, jac_blk *k, int nk, int i0,
-                      const double *s, const double *tt, gsl_matrix *J)
+/* d/ds of each channel at a block's samples into dds [nb x VI_ID_BLOCK]
+ * (the response's rate along the orbit): of c.x, c.x' from the field at
+ * the sample, of c.x'' centrally differenced. */
+static void blk_rate(const vi_identify *id, jac_blk *k, int nk, const double *s,
+                     const double *tt, double *dds)
 {
   const vi_model *m = id->cur;
-  int N = id->N, N2 = 2 * N, ns = id->ns, sc = id->nfree;
+  int N = id->N, N2 = 2 * N;
   double P = vi_id_period_of(m, id->o.n), wt[NB];
   const double *dat[NB], *cv[NB];
   int ord[NB], nb = blocks(id, dat, ord, wt, cv), acc = 0;
@@ -422,19 +423,13 @@ static void blk_shift(const vi_identify *id, jac_blk *k, int nk, int i0,
   }
   /* d/ds of c.x, c.x': the field z' at the sample */
   vi_id_accel_block(m, nk, 1, tt, k->tk.Z, k->Af);
-  for (int i = 0; i < nk; i++) {
-    for (int b = 0; b < nb; b++) {
-      double dd;
-      if (ord[b] < 2) {
-        dd = vi_dot(N, cv[b], ord[b] ? k->Af + (size_t)i * N
-                                     : k->tk.Z + (size_t)i * N2 + N);
-      } else {
-        dd = (vi_dot(N, cv[b], k->Ahp + (size_t)i * N) -
-              vi_dot(N, cv[b], k->Ahm + (size_t)i * N)) / (2.0 * hs);
-      }
-      gsl_matrix_set(J, b * ns + i0 + i, sc, -dd * wt[b]);
-    }
-  }
+  for (int i = 0; i < nk; i++)
+    for (int b = 0; b < nb; b++)
+      dds[b * VI_ID_BLOCK + i] =
+          ord[b] < 2 ? vi_dot(N, cv[b], ord[b] ? k->Af + (size_t)i * N
+                                                : k->tk.Z + (size_t)i * N2 + N)
+                     : (vi_dot(N, cv[b], k->Ahp + (size_t)i * N) -
+                        vi_dot(N, cv[b], k->Ahm + (size_t)i * N)) / (2.0 * hs);
 }
 
 static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
@@ -442,7 +437,7 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
   const vi_model *m = id->cur;
   const orb *o = &id->o;
   int N = id->N, N2 = 2 * N, ns = id->ns, np = id->np, st;
-  double P = vi_id_period_of(m, o->n), wt[NB];
+  double wt[NB];
   const double *dat[NB], *cv[NB];
   int ord[NB], nb = blocks(id, dat, ord, wt, cv), acc = 0;
   for (int b = 0; b < nb; b++) acc |= ord[b] == 2;
@@ -479,29 +474,30 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
   blk_zeta(id, w, &k);
   for (int i0 = 0; i0 < ns; i0 += VI_ID_BLOCK) {
     int nk = ns - i0 < VI_ID_BLOCK ? ns - i0 : VI_ID_BLOCK, jj[VI_ID_BLOCK];
-    double s[VI_ID_BLOCK], tau[VI_ID_BLOCK], kper[VI_ID_BLOCK], ta[VI_ID_BLOCK],
-        tb[VI_ID_BLOCK];
+    double s[VI_ID_BLOCK], tau[VI_ID_BLOCK], kper[VI_ID_BLOCK];
     for (int i = 0; i < nk; i++) s[i] = id->t[i0 + i] + t0;
     vi_id_track_states(&k.tk, nk, s, jj, tau, kper, k.tk.Z, k.C);
     if ((st = blk_dz(id, &k, w, nk, jj, tau))) break;
-    double tt[VI_ID_BLOCK];
+    double tt[VI_ID_BLOCK], dds[NB * VI_ID_BLOCK];
     for (int i = 0; i < nk; i++) tt[i] = o->t[jj[i]] + tau[i];
     if (acc) { /* the field is affine in the state: A dz = g(dz) - g(0) */
       vi_id_accel_block(m, nk, 1, tt, k.Zero, k.G0);
       vi_id_accel_block(m, nk, np, tt, k.dZ, k.G1);
     }
+    blk_rate(id, &k, nk, s, tt, dds);
     for (int q = 0; q < np; q++) {
       if (id->col[q] < 0) continue; /* held */
-      double h = w->hp[q] + w->hm[q];
+      double h = w->hp[q] + w->hm[q], dper = 0.0;
       if (w->mp[q]) {
         /* the response's own dependence at a fixed orbit (Omega: the
-         * forcing and the period, k periods on), differenced */
-        for (int i = 0; i < nk; i++) {
-          ta[i] = tau[i] + kper[i] * (P - vi_id_period_of(w->mp[q], o->n));
-          tb[i] = tau[i] + kper[i] * (P - vi_id_period_of(w->mm[q], o->n));
-        }
-        vi_id_track_at(&k.tp[q], nk, jj, ta, k.Za, NULL);
-        vi_id_track_at(&k.tm[q], nk, jj, tb, k.Zb, NULL);
+         * forcing), differenced at the sample's place in its period; the
+         * period's change moves that place by kper dP (the sample kper
+         * periods on), taken with the response's rate, not differenced:
+         * a recording whose clock starts 10^5 periods before its first
+         * sample moves it by a large part of a period at the step h */
+        dper = (vi_id_period_of(w->mm[q], o->n) - vi_id_period_of(w->mp[q], o->n)) / h;
+        vi_id_track_at(&k.tp[q], nk, jj, tau, k.Za, NULL);
+        vi_id_track_at(&k.tm[q], nk, jj, tau, k.Zb, NULL);
       }
       for (int i = 0; i < nk; i++) {
         double tj = o->t[jj[i]], dc[NB];
@@ -511,15 +507,19 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
           dc[b] = ord[b] < 2 ? vi_dot(N, cv[b], dz + (size_t)ord[b] * N)
                              : vi_dot(N, cv[b], g1) - vi_dot(N, cv[b], g0);
         for (int b = 0; w->mp[q] && b < nb; b++)
-          dc[b] += (chan(N, cv[b], w->mp[q], tj + ta[i], k.Za + (size_t)i * N2,
+          dc[b] += (chan(N, cv[b], w->mp[q], tj + tau[i], k.Za + (size_t)i * N2,
                          ord[b], w->g1) -
-                    chan(N, cv[b], w->mm[q], tj + tb[i], k.Zb + (size_t)i * N2,
-                         ord[b], w->zt)) / h;
+                    chan(N, cv[b], w->mm[q], tj + tau[i], k.Zb + (size_t)i * N2,
+                         ord[b], w->zt)) / h +
+                   dds[b * VI_ID_BLOCK + i] * kper[i] * dper;
         for (int b = 0; b < nb; b++)
           gsl_matrix_set(J, b * ns + i0 + i, id->col[q], -dc[b] * wt[b]);
       }
     }
-    if (id->fit_shift) blk_shift(id, &k, nk, i0, s, tt, J);
+    /* the shift's column: the response's rate */
+    for (int i = 0; id->fit_shift && i < nk; i++)
+      for (int b = 0; b < nb; b++)
+        gsl_matrix_set(J, b * ns + i0 + i, id->nfree, -dds[b * VI_ID_BLOCK + i] * wt[b]);
   }
   blk_free(&k, np);
   return st;

@@ -404,6 +404,69 @@ static void fig2_omega(void **state)
   vi_model_destroy(&m);
 }
 
+/* A recording on an absolute clock: SciPy's Fig. 2 orbit with its times
+ * 123456.789 and 1.7e9 on (a data logger's Unix seconds), Omega and r
+ * fitted from 0.85.  The fit is the same as from 0 (to a tenth of a
+ * standard error: 1.7e9 has a quantum of 2.4e-7 in double), so are the
+ * profile intervals, and the shift moves with the clock, t0 + offset
+ * equal to the first fit's within its standard error (model time t + t0).
+ * With the shift measured from the caller's 0, Omega and the shift were
+ * one direction: at 123456.789 the profile of Omega collapsed to a point
+ * and its stderr read 1700 times too small (9.3e-11 on the beam). */
+static void clock_offset(void **state)
+{
+  (void)state;
+  static rec r;
+  load("fig2.csv", &r);
+  vi_model *m = vi_test_fig2();
+  series s = repeat(&r, 20, 0.002 * peak_to_peak(&r), 9);
+  const double off[] = {0.0, 123456.789, 1.7e9};
+  double p0[2], se0[2], lo0[2], hi0[2], t00 = 0.0, x0 = 0.0;
+  double *t = malloc(sizeof(double) * s.ns);
+  for (int k = 0; k < 3; k++) {
+    vi_identify *id = NULL;
+    double p[2], se[2], lo[2], hi[2], t0, t0se, x;
+    int pfl[2], conv;
+    for (int i = 0; i < s.ns; i++) t[i] = s.t[i] + off[k];
+    assert_int_equal(vi_identify_create(m, 2, &id), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_OMEGA, 0, 0.85, 0.0, HUGE_VAL),
+                     VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
+    assert_int_equal(vi_identify_set_data(id, s.ns, t, s.x, NULL), VI_OK);
+    assert_int_equal(vi_identify_run(id), VI_OK);
+    assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_identify_profile(id, lo, hi, pfl), VI_OK);
+    assert_int_equal(vi_identify_shift(id, &t0, &t0se), VI_OK);
+    assert_int_equal(vi_identify_summary(id, &conv, NULL, NULL, NULL, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_identify_response(id, 1, t + 100, &x, NULL), VI_OK);
+    print_message("clock + %.10g: Omega %.10f +- %.2e [%.10f, %.10f], r %.6f +- %.1e, t0 %.17g "
+                  "+- %.1e\n", off[k], p[0], se[0], lo[0], hi[0], p[1], se[1], t0, t0se);
+    assert_true(conv);
+    assert_int_equal(pfl[0] & VI_IDENTIFY_PROFILE_DIFFERS, 0);
+    assert_true(fabs(p[0] - 0.9) < 3 * se[0] && fabs(p[1] - 0.7) < 3 * se[1]);
+    if (k == 0) {
+      memcpy(p0, p, sizeof p);
+      memcpy(se0, se, sizeof se);
+      memcpy(lo0, lo, sizeof lo);
+      memcpy(hi0, hi, sizeof hi);
+      t00 = t0;
+      x0 = x;
+    } else {
+      for (int j = 0; j < 2; j++) {
+        assert_true(fabs(p[j] - p0[j]) < 0.1 * se0[j]);
+        assert_close(se[j] / se0[j], 1.0, 0.01);
+        assert_true(fabs(lo[j] - lo0[j]) < 0.1 * se0[j] && fabs(hi[j] - hi0[j]) < 0.1 * se0[j]);
+      }
+      assert_true(fabs(t0 + off[k] - t00) < t0se);
+      assert_close(x, x0, 1e-3 * peak_to_peak(&r)); /* the same response at the same sample */
+    }
+    vi_identify_destroy(&id);
+  }
+  free(t);
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
 /* What the data cannot say: the restitution of a stop the motion never
  * reaches is flagged, its error infinite; a fit on a bound is flagged. */
 static void undetermined(void **state)
@@ -867,6 +930,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(beam_exact),   cmocka_unit_test(fig2),
       cmocka_unit_test(fig2_omega),
+      cmocka_unit_test(clock_offset),
       cmocka_unit_test(bad_data),     cmocka_unit_test(undetermined),
       cmocka_unit_test(beam_jitter),  cmocka_unit_test(beam_r_xs),
       cmocka_unit_test(beam_noise),    cmocka_unit_test(clearance),
