@@ -909,6 +909,13 @@ static void identify_text_notes(const ident *I, const fit_result *f)
   if (f->rcond < 1e-10)
     printf("  warning: the Jacobian is ill-conditioned (rcond %.2g): the data "
            "do not determine every parameter\n", f->rcond);
+  /* fewer than 2 samples a forcing period, and the model does not explain
+   * them: a recording in milliseconds against a model in seconds reads so */
+  const recording *rec = &I->rec;
+  double per = f->P / f->on, dt = (rec->t[rec->ns - 1] - rec->t[0]) / (rec->ns - 1);
+  if (dt > 0.5 * per && f->rms > 1.5 * f->nz)
+    printf("  note: %.3g samples a forcing period (2 pi / Omega = %.6g): is the "
+           "recording's time in the model's unit?\n", per / dt, per);
 }
 
 static void identify_text(const ident *I, const fit_result *f)

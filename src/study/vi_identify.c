@@ -484,6 +484,16 @@ static int omega_start(vi_identify *id, int *nd)
     return vi_fail(id->errmsg, VI_ERR_ARG, "the recording repeats every %g time units, so "
                    "the forcing frequency is 2 pi n / %g for n = 1..%d: none lies in "
                    "forcing.omega's range [%g, %g]", lag, lag, MAX_N, id->lo[j], id->hi[j]);
+  /* where no multiple comes within a factor 10 of the start and no bounds
+   * say otherwise, the recording's clock is likely in other units than
+   * the model's (milliseconds against seconds) */
+  double near = 2.0 * M_PI * best / lag;
+  if (bd > log(10.0) && !(id->lo[j] > 0.0 && isfinite(id->hi[j])))
+    return vi_fail(id->errmsg, VI_ERR_ARG, "the recording repeats every %g time units, so "
+                   "the forcing frequency is 2 pi n / %g for n = 1..%d, at best %g: %.3g "
+                   "times the start %g (is the recording's time in the model's unit? "
+                   "Bounds on forcing.omega that hold %g allow it)", lag, lag, MAX_N, near,
+                   near / id->p0[j], id->p0[j], near);
   id->lag = lag;
   id->p0[j] = 2.0 * M_PI * best / lag;
   *nd = vi_id_data_period(id, lag / best); /* the recording's period in the new T */

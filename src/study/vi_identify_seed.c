@@ -160,6 +160,24 @@ static double lag_min(const vi_identify *id, double a, double b, double rms, int
   return vi_golden_min(lag_at, &c, a, b, 1e-12 * b, 48, r);
 }
 
+/* The first lag in [a, b] where the change dips below 0.3 of the
+ * variation (it rises from 0 at lag 0, so a dip is a local minimum after a
+ * fall), on a grid of h, refined: the lag and its change into *q; 0 if
+ * none. */
+static double first_dip(const vi_identify *id, double a, double b, double h, double rms,
+                        int sd, double *q)
+{
+  double r0 = NAN, r1 = NAN;
+  int nl = (int)((b - a) / h) + 1;
+  for (int l = 0; l <= nl; l++) {
+    double P = a + l * h, r2 = lag_change(id, P, rms, sd);
+    if (r1 < 0.3 && r1 <= r2 && r1 < r0) return lag_min(id, P - 2.0 * h, P, rms, sd, q);
+    r0 = r1;
+    r1 = r2;
+  }
+  return 0.0;
+}
+
 double vi_id_data_lag(vi_identify *id, double pmax)
 {
   /* the change over a lag from at most 4096 samples of the recording (a
@@ -174,16 +192,15 @@ double vi_id_data_lag(vi_identify *id, double pmax)
             "its own period, which fits the forcing frequency");
     return 0.0;
   }
-  /* the first lag where the change dips below 0.3 of the variation (it
-   * rises from 0 at lag 0, so a dip is a local minimum after a fall), on
-   * a grid of half a sample or finer */
-  double h = fmax(0.5 * dt, (pmax - pmin) / 4000.0), r0 = NAN, r1 = NAN, P1 = 0.0, q1 = NAN;
-  int nl = (int)((pmax - pmin) / h) + 1;
-  for (int l = 0; l <= nl && P1 == 0.0; l++) {
-    double P = pmin + l * h, r2 = lag_change(id, P, rms, sd);
-    if (r1 < 0.3 && r1 <= r2 && r1 < r0) P1 = lag_min(id, P - 2.0 * h, P, rms, sd, &q1);
-    r0 = r1;
-    r1 = r2;
+  /* the first dip on a grid of half a sample or finer */
+  double h = fmax(0.5 * dt, (pmax - pmin) / 4000.0), q1 = NAN;
+  double P1 = first_dip(id, pmin, pmax, h, rms, sd, &q1);
+  if (P1 == 0.0 && pmax < span / 1.5) {
+    /* none where the forcing frequency's range puts it: look on, to say
+     * where it repeats (a recording in milliseconds, a model in seconds) */
+    h = fmax(0.5 * dt, (span / 1.5 - pmax) / 4000.0);
+    P1 = first_dip(id, pmax, span / 1.5, h, rms, sd, &q1);
+    pmax = span / 1.5;
   }
   if (P1 == 0.0) {
     vi_fail(id->errmsg, VI_ERR_ARG, "the recording repeats with no period up to %g (its "

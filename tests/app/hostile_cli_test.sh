@@ -132,6 +132,14 @@ expect 2 "--fit: stop.r is listed twice" "$app" identify "$src/share/scenes/fig2
 expect 2 "parameter 2: stop.r is parameter 1 already" "$app" identify \
   "$src/share/scenes/fig2.yaml" --data "$src/tests/study/data/fig2.csv" --fit 'stop.r,stops[1].r'
 
+# a recording in milliseconds against a model in seconds: the forcing
+# frequency would be 1000 times the start (it went on to fit 900 rad/s)
+awk -F, '/^#/ || /^t/ {next} {for (k = 0; k < 4; k++) a[k] = a[k] sprintf("%.17g,%s\n",
+     ($1 + k * 6.981317007977318) * 1000, $2)} END {printf "t,x\n"; for (k = 0; k < 4; k++)
+     printf "%s", a[k]}' "$src/tests/study/data/fig2.csv" > "$tmp/ms.csv"
+expect 2 "is the recording's time in the model's unit?" "$app" identify \
+  "$src/share/scenes/fig2.yaml" --data "$tmp/ms.csv" --fit forcing.omega,stop.r
+
 # a mass so small that omega^2 overflows (NaN frequencies, exit 0 once):
 # a scene's number that underflows is named so, the model key refused
 expect 2 "under- or overflows" "$app" run "$src/share/scenes/chain5.yaml" \
