@@ -717,7 +717,52 @@ typedef struct fit_result {
   double p[MAXKEY], se[MAXKEY], l95[MAXKEY], h95[MAXKEY], R[MAXKEY * MAXKEY];
   double pl[MAXKEY], ph[MAXKEY];
   double rms, nz, rcond, t0, t0se, r12, vN, KE, RE, P, mu, tf;
+  int nout, out[8];     /* samples beyond OUTLIER noise levels: count, the worst */
+  double outz[8], rest; /* their distances in noise levels; the others' RMS / noise */
 } fit_result;
+
+/* A sample this many noise levels from the fitted motion is an outlier
+ * (a Gaussian sample lies beyond 6 sigma once in 5e8). */
+#define OUTLIER 6.0
+
+/* The samples of the first channel (x or v) beyond OUTLIER noise levels
+ * from the fitted response, the worst 8 kept, and the others' RMS: a
+ * glitch of one sample makes a least-squares fit's residual read "not
+ * explained" (Fig. 2 with one sample 0.5 off: ratio 23.5). */
+static void identify_outliers(const ident *I, fit_result *f)
+{
+  const recording *r = &I->rec;
+  const double *y = r->x ? r->x : r->v;
+  f->nout = 0;
+  f->rest = NAN;
+  if (!y || !(f->nz > 0.0)) return;
+  double *mo = malloc(sizeof(double) * 2 * (size_t)r->ns), ss = 0.0;
+  if (!mo || vi_identify_response(I->id, r->ns, r->t, mo, mo + r->ns)) {
+    free(mo);
+    return;
+  }
+  const double *m = r->x ? mo : mo + r->ns;
+  for (int i = 0; i < r->ns; i++) {
+    double z = fabs(y[i] - m[i]) / f->nz;
+    if (!(z > OUTLIER)) {
+      ss += z * z;
+      continue;
+    }
+    int k = f->nout < 8 ? f->nout : 7; /* keep the worst 8, largest first */
+    if (f->nout >= 8 && !(z > f->outz[7])) k = -1;
+    for (; k > 0 && z > f->outz[k - 1]; k--) {
+      f->outz[k] = f->outz[k - 1];
+      f->out[k] = f->out[k - 1];
+    }
+    if (k >= 0) {
+      f->outz[k] = z;
+      f->out[k] = i;
+    }
+    f->nout++;
+  }
+  if (f->nout < r->ns) f->rest = sqrt(ss / (r->ns - f->nout));
+  free(mo);
+}
 
 static void identify_results(const ident *I, fit_result *f)
 {
@@ -734,6 +779,7 @@ static void identify_results(const ident *I, fit_result *f)
   vi_identify_orbit_period(id, &f->P, NULL);
   vi_identify_stability(id, &f->mu);
   f->tf = forcing_shift(&I->rec, vi_model_omega_forcing(I->model));
+  identify_outliers(I, f);
 }
 
 /* One fit's keys: {KEY: {value, stderr, ci95, profile_ci95, ...}}. */
@@ -830,7 +876,12 @@ static void identify_json(const ident *I, const fit_result *f)
   printf(", \"orbit\": {\"n\": %d, \"m\": %d, \"stable\": %s, \"multiplier\": ",
          f->on, f->om, f->mu < 1.0 ? "true" : "false");
   json_num(f->mu);
-  printf("}, \"samples\": %d, \"correlation\": [", I->rec.ns);
+  printf("}, \"samples\": %d, \"outliers\": {\"count\": %d, \"samples\": [", I->rec.ns,
+         f->nout);
+  for (int k = 0; k < f->nout && k < 8; k++) printf("%s%d", k ? ", " : "", f->out[k] + 1);
+  printf("], \"rms_ratio_without\": ");
+  json_num(f->nout ? f->rest : NAN);
+  printf("}, \"correlation\": [");
   for (int i = 0; i < np; i++) {
     printf("%s[", i ? ", " : "");
     for (int j = 0; j < np; j++) {
@@ -909,6 +960,14 @@ static void identify_text_notes(const ident *I, const fit_result *f)
   if (f->rcond < 1e-10)
     printf("  warning: the Jacobian is ill-conditioned (rcond %.2g): the data "
            "do not determine every parameter\n", f->rcond);
+  if (f->nout) {
+    const recording *r = &I->rec;
+    printf("  note: %d sample%s beyond %g noise levels from the fitted motion (sample %d, "
+           "t = %.6g: %.3g noise levels%s); the others' residual RMS is %.3g of the noise%s\n",
+           f->nout, f->nout > 1 ? "s lie" : " lies", OUTLIER, f->out[0] + 1, r->t[f->out[0]],
+           f->outz[0], f->nout > 1 ? ", the worst" : "", f->rest,
+           f->nout <= r->ns / 100 + 1 ? ": outliers? A least-squares fit moves with them" : "");
+  }
   /* fewer than 2 samples a forcing period, and the model does not explain
    * them: a recording in milliseconds against a model in seconds reads so */
   const recording *rec = &I->rec;
