@@ -671,6 +671,15 @@ static int initial_contact(vi_sim *s)
     for (int i = 0; i < s->n; i++)
       sc = fmax(sc, fabs(w[i] * s->z[2 * (size_t)i]));
     if (g < -1e-13 * sc) continue;
+    /* and at rest on it within the round-off of the velocities' terms,
+     * the state's and the forced response's: a state handed on from a
+     * sticking phase (a sweep's warm start) carries w.x' of 1e-21 either
+     * way, which started free would let the load press it through the
+     * stop with no sign change of the gap to see */
+    double vsc = fabs(s->m->omega_f) * s->pscale[k];
+    for (int i = 0; i < s->n; i++)
+      vsc = fmax(vsc, fabs(w[i] * s->z[2 * (size_t)i + 1]));
+    if (fabs(gd) <= 1e-13 * vsc) gd = 0.0;
     s->contact_stop = k;
     if (gd > 0.0) return 1;
     double push;

@@ -286,6 +286,35 @@ static void test_sticking_release_time(void **state)
   vi_model_destroy(&m);
 }
 
+/* The same load on a mass on a spring, handed on from a sticking phase
+ * as a sweep's warm start hands on the last value's state: on the stop
+ * x_s = 0 (the spring unloaded there) with x' = -1e-21 or 1e-21 (the held
+ * phase's round-off), pressed.  It sticks at once and releases at
+ * acos(-g / a) / W, as the free mass does.  (Started free, every method let the load press it
+ * through the stop: the gap grows from 0 with no sign change to see; a
+ * 20-mode FE sweep failed so, 3.75e-9 beyond a stop at 1e-7.) */
+static void test_sticking_handed_on(void **state)
+{
+  (void)state;
+  double g = 0.5, a = 1.0, W = 2.0, x0 = 0.0, v0[2] = {-1e-21, 1e-21};
+  vi_model *m = vi_test_sdof(1.0, 0.0, 1.0, a, g, W, 0.0, 0.7);
+  double trel = acos(-g / a) / W;
+  for (int k = 0; k < 3; k++)
+    for (int j = 0; j < 2; j++) {
+      vi_test_events ev = {0};
+      vi_sim *s = vi_test_sim(m, methods[k], 1e-10, 1e-12, &x0, &v0[j], &ev);
+      assert_int_equal(vi_sim_run(s, trel + 0.1), VI_OK);
+      assert_true(ev.count >= 2);
+      assert_int_equal(ev.kind[ev.count - 2], VI_EVENT_STICK);
+      assert_true(ev.t[ev.count - 2] < 1e-12);
+      assert_int_equal(ev.kind[ev.count - 1], VI_EVENT_RELEASE);
+      assert_close(ev.t[ev.count - 1], trel, 1e-9);
+      vi_sim_destroy(&s);
+      vi_test_events_free(&ev);
+    }
+  vi_model_destroy(&m);
+}
+
 /* Stopping from a callback returns VI_STOPPED; a second run continues. */
 static int stop_after_three(const vi_event *ev, void *u)
 {
@@ -797,6 +826,7 @@ int main(void)
       cmocka_unit_test(test_chattering_accumulates_then_sticks),
       cmocka_unit_test(test_chatter_at_roundoff),
       cmocka_unit_test(test_sticking_release_time),
+      cmocka_unit_test(test_sticking_handed_on),
       cmocka_unit_test(test_cancel_and_resume),
       cmocka_unit_test(test_run_to_event),
       cmocka_unit_test(test_callback_stop_and_resume),
