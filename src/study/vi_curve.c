@@ -1284,7 +1284,12 @@ static int start_curve(vi_cont_curve *c)
   c->ds = c->dsmax;
   if (c->mi) tests(c, c->Y, c->T);
   c->start_state = VI_CONT_CURVE_STALLED; /* unless the loop ends otherwise */
-  for (int64_t k = 0; k < c->maxpts; k++) {
+  /* at most half the points behind the located point: the pass from the
+   * start retraces them, and the other half is the curve ahead (with the
+   * whole budget here, a long way back left none: the 4-mode FE beam's
+   * grazing curve ran 4100 points back from Omega 0.855 to 0.11 and
+   * stopped short of where it was located, never going on towards --to) */
+  for (int64_t k = 0; k < c->maxpts / 2; k++) {
     if (advance(c, 1)) {
       c->start_state = VI_CONT_CURVE_CORRECTOR;
       break;

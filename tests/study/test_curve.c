@@ -700,6 +700,74 @@ static void test_two_sided_grazing_curve(void **state)
 #define CUSP_OMEGA 0.532300653891731
 #define CUSP_XS 1.27878235550746
 
+/* The point budget is shared: at most half of it behind the located point.
+ * The 4-mode cantilever's grazing curve in (Omega, x_s), x_s in [0.01,
+ * 0.2], located at Omega = 0.855 (x_s = 0.05), runs a long way back (to
+ * Omega 0.17 over more than the budget at 20 steps) and, ahead, through
+ * two folds to Omega 1.59 where x_s reaches 0.01.  With the whole budget
+ * spent behind, the curve stopped short of its located point (the pass
+ * from the start retraces the way back), never going on. */
+static void test_curve_budget(void **state)
+{
+  (void)state;
+  double M[16], C[16], K[16], w[4], g[4], a[4], p, p2, pmax = 0.0;
+  assert_int_equal(vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g), VI_OK);
+  for (int j = 0; j < 4; j++) a[j] = -0.01 * g[j];
+  vi_model *m = NULL;
+  assert_int_equal(vi_model_create(4, &m), VI_OK);
+  assert_int_equal(vi_model_set_mass(m, M, 4), VI_OK);
+  assert_int_equal(vi_model_set_damping(m, C, 4), VI_OK);
+  assert_int_equal(vi_model_set_stiffness(m, K, 4), VI_OK);
+  assert_int_equal(vi_model_set_forcing(m, 0.85, a, NULL, NULL), VI_OK);
+  assert_int_equal(vi_model_set_stop(m, w, 0.05, 0.75), VI_OK);
+  assert_int_equal(vi_model_setup(m), VI_OK);
+  /* its stable P(1,1) orbit (the scan's with the smallest multipliers) */
+  double tt[8], xx[32], vv[32], re[8], im[8], t = 0, x[4], v[4], rb = HUGE_VAL;
+  int found = 0;
+  assert_int_equal(vi_orbit_p1_scan(m, 1, 720, tt, xx, vv, 4, 8, &found), VI_OK);
+  for (int i = 0; i < found && i < 8; i++) {
+    double rho = 0.0;
+    assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, tt + i, xx + 4 * i, vv + 4 * i, 4, re,
+                                              im), VI_OK);
+    for (int j = 0; j < 8; j++) rho = fmax(rho, hypot(re[j], im[j]));
+    if (rho < rb) {
+      rb = rho;
+      t = tt[i];
+      memcpy(x, xx + 4 * i, sizeof x);
+      memcpy(v, vv + 4 * i, sizeof v);
+    }
+  }
+  assert_true(rb < 1.0);
+  vi_cont_curve *c = NULL;
+  assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 1, 1, "forcing.omega",
+                                        "stop.xs", &c), VI_OK);
+  assert_int_equal(vi_cont_curve_set_orbit(c, t, x, v), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 0.95, 20, &p), VI_OK);
+  double located = p;
+  assert_int_equal(vi_cont_curve_set_range(c, 0.01, 0.2, 20), VI_OK);
+  int n = 0, folds = 0;
+  while (!vi_cont_curve_done(c)) {
+    assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
+    assert_int_equal(vi_cont_curve_point(c, &p, &p2, NULL, NULL, NULL, NULL), VI_OK);
+    for (int i = 0; i < vi_cont_curve_num_special(c); i++) {
+      int type;
+      assert_int_equal(vi_cont_curve_special(c, i, &type, NULL, NULL, NULL), VI_OK);
+      folds += type == VI_CONT_SP_FOLD;
+    }
+    pmax = fmax(pmax, p);
+    n++;
+  }
+  printf("  %d points, located at Omega %.6f, on to %.6f (x_s %.6f), %d folds; first: %d, "
+         "last: %d\n", n, located, pmax, p2, folds, vi_cont_curve_start(c),
+         vi_cont_curve_done(c));
+  assert_int_equal(vi_cont_curve_start(c), VI_CONT_CURVE_STALLED);
+  assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_END);
+  assert_true(n <= 20 * 20 + 100);
+  assert_true(pmax > 1.5 && p2 == 0.01 && folds == 2);
+  vi_cont_curve_destroy(&c);
+  vi_model_destroy(&m);
+}
+
 /* A cusp of a fold curve: Fig. 2's chain with c = 0.05, its stable P(2,2)
  * orbit at (0.535, 1.285) followed down in Omega to its fold and the fold
  * in (Omega, x_s).  Two fold branches (two P(2,2) orbits merging) leave
@@ -758,6 +826,7 @@ int main(void)
       cmocka_unit_test(test_locate_stops_at_grazing),
       cmocka_unit_test(test_two_sided_grazing_curve),
       cmocka_unit_test(test_cusp),
+      cmocka_unit_test(test_curve_budget),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
