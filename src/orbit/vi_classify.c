@@ -47,6 +47,26 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
   for (int j = 1; j <= 3; j++)
     for (int i = 0; i < 2 * o->n; i++)
       if (fabs(vi_classify_strobe(o, kp - (int64_t)j * n)[i] - zk[i]) > o->tol * zscale) return 0;
+  /* nor still settling to a period q dividing n: its change over q periods
+   * shrinking beyond the noise.  A transient can repeat over n periods
+   * long before it does over q: a free vibration at 1.26 Omega (5 cycles
+   * in 4 periods, the NLEVP sandwich beam at Omega = 100) read P(4,0) for
+   * a damped linear motion, whose only steady state is P(1,0); so would a
+   * multiplier near -1 read P(2,2) */
+  for (int q = 1; q < n; q++) {
+    if (n % q) continue;
+    const double *zq = vi_classify_strobe(o, kp - q), *zn = vi_classify_strobe(o, kp - n),
+                 *znq = vi_classify_strobe(o, kp - n - q);
+    double a = 0.0, b = 0.0;
+    for (int i = 0; i < 2 * o->n; i++) {
+      a = fmax(a, fabs(zk[i] - zq[i]));
+      b = fmax(b, fabs(zn[i] - znq[i]));
+    }
+    /* (the strobes are good to the integration's tolerance, far below
+     * the classification's: two states that repeat within tol may still
+     * show a change shrinking well beyond their own error) */
+    if (b - a > fmax(1e-2 * b, 100.0 * o->rtol * zscale)) return 0;
+  }
   int64_t k0 = vi_classify_first_after(o, t_now - 3 * nT), k1 = vi_classify_first_after(o, t_now - 2 * nT),
           k2 = vi_classify_first_after(o, t_now - nT), k3 = o->nimp;
   if (k0 <= o->nimp - RING) return 0; /* the ring no longer holds them */
@@ -73,7 +93,8 @@ int vi_classify_repeats(const vi_orbit *o, int64_t kp, int n, int *m)
  * state z_0..z_R [n2 each] (to tol relative to the largest entry or the
  * stops' scale xscale, vi_orbit_xs_scale);
  * m the impacts t [nimp] in the last n periods before t_end.  0 for n
- * when none repeats. */
+ * when none repeats, or when the motion is still settling towards a
+ * shorter period. */
 int vi_classify_strobes(int R, int n2, const double *z, double xscale, double tol,
                         int nmax, const double *t, int64_t nimp, double T,
                         double t_end, int *m)
@@ -88,6 +109,20 @@ int vi_classify_strobes(int R, int n2, const double *z, double xscale, double to
       for (int i = 0; ok && i < n2; i++)
         ok = fabs(z[(size_t)(k + n) * n2 + i] - z[(size_t)k * n2 + i]) <= eps;
     if (!ok) continue;
+    /* a motion still settling to a period q dividing n (vi_classify_repeats):
+     * its change over q periods at the record's end shrunk from the
+     * record's start, at the same place in the n periods, by more than
+     * the tolerance; not periodic yet */
+    for (int q = 1; q < n; q++) {
+      if (n % q) continue;
+      int k0 = R - n * ((R - q) / n); /* the first k = R mod n with k >= q */
+      double a = 0.0, b = 0.0;
+      for (int i = 0; i < n2; i++) {
+        a = fmax(a, fabs(z[(size_t)R * n2 + i] - z[(size_t)(R - q) * n2 + i]));
+        b = fmax(b, fabs(z[(size_t)k0 * n2 + i] - z[(size_t)(k0 - q) * n2 + i]));
+      }
+      if (b - a > fmax(1e-2 * b, eps)) return 0;
+    }
     double t1 = t_end - n * T - 1e-9 * T;
     for (int64_t j = 0; j < nimp; j++) *m += t[j] >= t1;
     return n;
