@@ -89,8 +89,8 @@ typedef enum vi_cont_curve_state {
   VI_CONT_CURVE_CLOSES = 3,    /**< a closed curve came back to its start */
   VI_CONT_CURVE_CORRECTOR = 4, /**< the corrector failed (step 1/4096 of the
                                     largest) */
-  VI_CONT_CURVE_STALLED = 5,   /**< the point limit: 20 steps + 100 (at most half
-                                    behind the located point) */
+  VI_CONT_CURVE_STALLED = 5,   /**< the point limit: 20 steps + 100, each way
+                                    from the located point */
   VI_CONT_CURVE_RESONANCE = 6  /**< an NS curve's pair turns real (1:1 or
                                     1:2 resonance): beyond, a neutral saddle */
 } vi_cont_curve_state;

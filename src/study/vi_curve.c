@@ -44,7 +44,7 @@ struct vi_cont_curve {
   int have_orbit, located, have_range, state, started;
   int start_state;     /* why the backward pass ended (vi_cont_curve_start) */
   double from2, to2, dsmax, ds;
-  int64_t npts, maxpts;
+  int64_t npts, maxpts, nback; /* nback: the backward pass's steps */
   double far;          /* the farthest the curve has gone from Y0 (closure) */
   /* Y = (t, x, v, p, p2) [D + 2]; scales S; tangents; scratch */
   double *Y, *Yl, *Ys, *tau, *taul, *S, *Yt, *Yq, *Yr, *Yg, *Ye, *Y0, *bord, *bord2, *H;
@@ -1284,12 +1284,13 @@ static int start_curve(vi_cont_curve *c)
   c->ds = c->dsmax;
   if (c->mi) tests(c, c->Y, c->T);
   c->start_state = VI_CONT_CURVE_STALLED; /* unless the loop ends otherwise */
-  /* at most half the points behind the located point: the pass from the
-   * start retraces them, and the other half is the curve ahead (with the
-   * whole budget here, a long way back left none: the 4-mode FE beam's
-   * grazing curve ran 4100 points back from Omega 0.855 to 0.11 and
-   * stopped short of where it was located, never going on towards --to) */
-  for (int64_t k = 0; k < c->maxpts / 2; k++) {
+  /* the budget holds each way from the located point: the pass from the
+   * start retraces these steps, then has maxpts more (with one budget for
+   * both, a long way back left none ahead: the 4-mode FE beam's grazing
+   * curve ran 4100 points back from Omega 0.855 to 0.11 and stopped short
+   * of where it was located, never going on towards --to) */
+  c->nback = 0;
+  for (int64_t k = 0; k < c->maxpts; k++, c->nback++) {
     if (advance(c, 1)) {
       c->start_state = VI_CONT_CURVE_CORRECTOR;
       break;
@@ -1349,7 +1350,7 @@ int vi_cont_curve_iterate(vi_cont_curve *c)
     if (st) c->state = VI_CONT_CURVE_STALLED;
     return st;
   }
-  if (c->npts >= c->maxpts) {
+  if (c->npts >= c->nback + c->maxpts) {
     c->state = VI_CONT_CURVE_STALLED;
     return VI_STOPPED;
   }
