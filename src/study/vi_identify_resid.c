@@ -478,7 +478,7 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
     for (int i = 0; i < nk; i++) s[i] = id->t[i0 + i] + t0;
     vi_id_track_states(&k.tk, nk, s, jj, tau, kper, k.tk.Z, k.C);
     if ((st = blk_dz(id, &k, w, nk, jj, tau))) break;
-    double tt[VI_ID_BLOCK], dds[NB * VI_ID_BLOCK];
+    double tt[VI_ID_BLOCK], dds[NB * VI_ID_BLOCK] = {0};
     for (int i = 0; i < nk; i++) tt[i] = o->t[jj[i]] + tau[i];
     if (acc) { /* the field is affine in the state: A dz = g(dz) - g(0) */
       vi_id_accel_block(m, nk, 1, tt, k.Zero, k.G0);

@@ -710,7 +710,7 @@ static void test_two_sided_grazing_curve(void **state)
 static void test_curve_budget(void **state)
 {
   (void)state;
-  double M[16], C[16], K[16], w[4], g[4], a[4], p, p2, pmax = 0.0;
+  double M[16], C[16], K[16], w[4], g[4], a[4], p, p2 = NAN, pmax = 0.0;
   assert_int_equal(vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g), VI_OK);
   for (int j = 0; j < 4; j++) a[j] = -0.01 * g[j];
   vi_model *m = NULL;
@@ -727,14 +727,14 @@ static void test_curve_budget(void **state)
   assert_int_equal(vi_orbit_p1_scan(m, 1, 720, tt, xx, vv, 4, 8, &found), VI_OK);
   for (int i = 0; i < found && i < 8; i++) {
     double rho = 0.0;
-    assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, tt + i, xx + 4 * i, vv + 4 * i, 4, re,
-                                              im), VI_OK);
+    const double *xi = xx + (size_t)4 * i, *vi = vv + (size_t)4 * i;
+    assert_int_equal(vi_orbit_pnm_multipliers(m, 1, 1, tt + i, xi, vi, 4, re, im), VI_OK);
     for (int j = 0; j < 8; j++) rho = fmax(rho, hypot(re[j], im[j]));
     if (rho < rb) {
       rb = rho;
       t = tt[i];
-      memcpy(x, xx + 4 * i, sizeof x);
-      memcpy(v, vv + 4 * i, sizeof v);
+      memcpy(x, xi, sizeof x);
+      memcpy(v, vi, sizeof v);
     }
   }
   assert_true(rb < 1.0);
