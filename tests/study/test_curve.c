@@ -703,7 +703,7 @@ static void test_two_sided_grazing_curve(void **state)
 /* The point budget holds each way from the located point.  The 4-mode
  * cantilever's grazing curve in (Omega, x_s), x_s in [0.01, 0.2], located
  * at Omega = 0.855 (x_s = 0.05), runs a long way back (beyond the budget
- * at 20 steps) and, ahead, through two folds to Omega 1.59 where x_s
+ * at 10 steps) and, ahead, through two folds to Omega 1.59 where x_s
  * reaches 0.01.  With one budget for both ways, spent behind, the curve
  * stopped short of its located point (the pass from the start retraces
  * the way back), never going on. */
@@ -742,9 +742,9 @@ static void test_curve_budget(void **state)
   assert_int_equal(vi_cont_curve_create(m, VI_CONT_CURVE_GRAZING, 1, 1, "forcing.omega",
                                         "stop.xs", &c), VI_OK);
   assert_int_equal(vi_cont_curve_set_orbit(c, t, x, v), VI_OK);
-  assert_int_equal(vi_cont_curve_locate(c, 0.95, 20, &p), VI_OK);
+  assert_int_equal(vi_cont_curve_locate(c, 0.95, 10, &p), VI_OK);
   double located = p;
-  assert_int_equal(vi_cont_curve_set_range(c, 0.01, 0.2, 20), VI_OK);
+  assert_int_equal(vi_cont_curve_set_range(c, 0.01, 0.2, 10), VI_OK);
   int n = 0, folds = 0;
   while (!vi_cont_curve_done(c)) {
     assert_int_equal(vi_cont_curve_iterate(c), VI_OK);
@@ -762,7 +762,7 @@ static void test_curve_budget(void **state)
          vi_cont_curve_done(c));
   assert_int_equal(vi_cont_curve_start(c), VI_CONT_CURVE_STALLED);
   assert_int_equal(vi_cont_curve_done(c), VI_CONT_CURVE_END);
-  assert_true(n <= 2 * (20 * 20 + 100)); /* each way from the located point */
+  assert_true(n <= 2 * (20 * 10 + 100)); /* each way from the located point */
   assert_true(pmax > 1.5 && p2 == 0.01 && folds == 2);
   vi_cont_curve_destroy(&c);
   vi_model_destroy(&m);
