@@ -288,6 +288,28 @@ def test_identify_forcing_frequency_from_far():
         assert abs(fit["p"][1] - 0.7) < 3 * fit["se"][1] and fit["se"][1] < 1e-3
 
 
+def test_identify_absolute_clock():
+    """The same recording on a data logger's clock (1.7e9 s on): the same
+    Omega and r, and the shift on the caller's clock (t0 + 1.7e9 the first
+    fit's), the response the same at the same samples."""
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "study", "data",
+                        "fig2.csv")
+    one = np.loadtxt(path, delimiter=",", comments="#", skiprows=3)
+    T = 2 * np.pi / 0.9
+    t = np.concatenate([one[:, 0] + k * T for k in range(10)])
+    x = np.tile(one[:, 1], 10) + 1e-4 * np.random.default_rng(7).standard_normal(t.size)
+    fits = []
+    for off in (0.0, 1.7e9):
+        m = fig2()
+        m.set_param("stop.r", 0.5)
+        fits.append(vi.identify(m, t + off, x, {"forcing.omega": (np.nan, np.nan),
+                                                "stop.r": (0, 1)}))
+    a, b = fits
+    np.testing.assert_allclose(b["p"], a["p"], rtol=0, atol=0.1 * a["se"].min())
+    assert abs(b["t0"] + 1.7e9 - a["t0"]) < 1e-3
+    np.testing.assert_allclose(b["response"], a["response"], rtol=0, atol=1e-6)
+
+
 def test_basins_threads_equal_serial():
     """Basins on two threads: every point the same as on one (cold starts
     on independent copies of the study), bit for bit."""

@@ -640,7 +640,7 @@ int vi_identify_solution_summary(const vi_identify *id, int k, int *n, int *m,
   if (rms) *rms = s->rms;
   if (ratio) *ratio = s->rms / id->noise;
   if (dchi2) *dchi2 = id->global ? s->dchi2 : 0.0;
-  if (t0) *t0 = s->t0;
+  if (t0) *t0 = s->t0 - id->tref; /* on the caller's clock (vi_identify_shift) */
   return VI_OK;
 }
 

@@ -436,6 +436,10 @@ static void clock_offset(void **state)
     assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
     assert_int_equal(vi_identify_profile(id, lo, hi, pfl), VI_OK);
     assert_int_equal(vi_identify_shift(id, &t0, &t0se), VI_OK);
+    double ts;
+    assert_int_equal(vi_identify_solution_summary(id, 0, NULL, NULL, NULL, NULL, NULL, &ts),
+                     VI_OK);
+    assert_true(ts == t0); /* every door on the caller's clock */
     assert_int_equal(vi_identify_summary(id, &conv, NULL, NULL, NULL, NULL, NULL, NULL), VI_OK);
     assert_int_equal(vi_identify_response(id, 1, t + 100, &x, NULL), VI_OK);
     print_message("clock + %.10g: Omega %.10f +- %.2e [%.10f, %.10f], r %.6f +- %.1e, t0 %.17g "
