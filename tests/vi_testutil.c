@@ -64,6 +64,15 @@ vi_model *vi_test_model(int n, const double *M, const double *C,
   return m;
 }
 
+vi_model *vi_test_beam(int modes, double xs, double r)
+{
+  double M[64], C[64], K[64], w[8], g[8], a[8];
+  assert_true(modes >= 1 && modes <= 8);
+  assert_int_equal(vi_build_cantilever(modes, 1.0, 0.05, 1.0, M, C, K, modes, w, g), VI_OK);
+  for (int j = 0; j < modes; j++) a[j] = -0.01 * g[j];
+  return vi_test_model(modes, M, C, K, 0.85, a, NULL, w, xs, r);
+}
+
 const double vi_test_np3_M[9] = {2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 1.0};
 const double vi_test_np3_K[9] = {3, -1, 0, -1, 2, -1, 0, -1, 1};
 const double vi_test_np3_C[9] = {0.25, 0, 0, 0, 0.02, 0, 0, 0, 0.05};

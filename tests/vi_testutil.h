@@ -34,6 +34,12 @@ vi_model *vi_test_model(int n, const double *M, const double *C,
                         const double *K, double omega, const double *a,
                         const double *f0, const double *w, double xs, double r);
 
+/* The paper's beam (WB 2000 section 4): the clamped-free cantilever's
+ * first `modes` modes (vi_build_cantilever, omega_1 = 1, zeta = 0.05, the
+ * stop at the tip), a base acceleration 0.01 cos(0.85 t) and the stop at
+ * xs with r; modes <= 8. */
+vi_model *vi_test_beam(int modes, double xs, double r);
+
 /* The non-proportional 3-DOF fixture (also share/scenes/nonproportional.yaml):
  * non-diagonal M, a damper that is not proportional, stop w = (0.2, -0.5, 1)
  * at xs with r = 0.6, forcing a = (0.6, 0, 0.3) cos(0.8 t) + f0 (f0 may be

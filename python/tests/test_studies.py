@@ -267,17 +267,23 @@ def test_identify_recovers_restitution():
     assert (fit["n"], fit["m"]) == (1, 1)
 
 
-def test_identify_forcing_frequency_from_far():
-    """The forcing frequency and r from SciPy's recording of Fig. 2
-    (tests/study/data/fig2.csv: DOP853 with the impact law, not our code),
-    one period repeated over 10 with noise, from Omega = 0.55 and 1.6:
-    the recording's own period sets the starts, and both end on 0.9, 0.7."""
+def _fig2_recording():
+    """SciPy's Fig. 2 recording (tests/study/data/fig2.csv: DOP853 with the
+    impact law, not our code), one period repeated over 10, noise 1e-4."""
     path = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "study", "data",
                         "fig2.csv")
     one = np.loadtxt(path, delimiter=",", comments="#", skiprows=3)
     T = 2 * np.pi / 0.9
     t = np.concatenate([one[:, 0] + k * T for k in range(10)])
-    x = np.tile(one[:, 1], 10) + 1e-4 * np.random.default_rng(7).standard_normal(t.size)
+    return t, np.tile(one[:, 1], 10) + 1e-4 * np.random.default_rng(7).standard_normal(t.size)
+
+
+def test_identify_forcing_frequency_from_far():
+    """The forcing frequency and r from SciPy's recording of Fig. 2
+    (tests/study/data/fig2.csv: DOP853 with the impact law, not our code),
+    one period repeated over 10 with noise, from Omega = 0.55 and 1.6:
+    the recording's own period sets the starts, and both end on 0.9, 0.7."""
+    t, x = _fig2_recording()
     for om0 in (0.55, 1.6):
         m = fig2()
         m.set_param("forcing.omega", om0)
@@ -292,12 +298,7 @@ def test_identify_absolute_clock():
     """The same recording on a data logger's clock (1.7e9 s on): the same
     Omega and r, and the shift on the caller's clock (t0 + 1.7e9 the first
     fit's), the response the same at the same samples."""
-    path = os.path.join(os.path.dirname(__file__), "..", "..", "tests", "study", "data",
-                        "fig2.csv")
-    one = np.loadtxt(path, delimiter=",", comments="#", skiprows=3)
-    T = 2 * np.pi / 0.9
-    t = np.concatenate([one[:, 0] + k * T for k in range(10)])
-    x = np.tile(one[:, 1], 10) + 1e-4 * np.random.default_rng(7).standard_normal(t.size)
+    t, x = _fig2_recording()
     fits = []
     for off in (0.0, 1.7e9):
         m = fig2()

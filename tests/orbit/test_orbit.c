@@ -178,10 +178,7 @@ static void test_cantilever_modes(void **state)
 static void test_beam_reduced_restitution(void **state)
 {
   (void)state;
-  double M[16], C[16], K[16], w[4], g[4], a[4];
-  assert_int_equal(vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g), VI_OK);
-  for (int j = 0; j < 4; j++) a[j] = -0.01 * g[j];
-  vi_model *m = vi_test_model(4, M, C, K, 0.85, a, NULL, w, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   assert_close(vi_model_stop_compliance(m), 16.0, 1e-9); /* 4 tip values of 2 */
   vi_orbit *o = found(m, 1, 1);
   double rr, cl, r1;

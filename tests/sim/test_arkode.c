@@ -83,18 +83,7 @@ static void test_free_flight_matches_closed_form(void **state)
 static void test_beam_slow_contact(void **state)
 {
   (void)state;
-  double M[16], C[16], K[16], w[4], gamma[4], a[4];
-  assert_int_equal(vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, gamma),
-                   VI_OK);
-  for (int j = 0; j < 4; j++) a[j] = -0.01 * gamma[j];
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(4, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, 4), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, 4), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, 4), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, 0.85, a, NULL, NULL), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, 0.05, 0.75), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   vi_test_events ref = {0}, ev = {0};
   assert_int_equal(vi_test_run(m, VI_METHOD_EXACT, 1e-12, 1e-14, NULL, NULL,
                                60.0, &ref), VI_OK);

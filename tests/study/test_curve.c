@@ -710,17 +710,8 @@ static void test_two_sided_grazing_curve(void **state)
 static void test_curve_budget(void **state)
 {
   (void)state;
-  double M[16], C[16], K[16], w[4], g[4], a[4], p, p2 = NAN, pmax = 0.0;
-  assert_int_equal(vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g), VI_OK);
-  for (int j = 0; j < 4; j++) a[j] = -0.01 * g[j];
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(4, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, 4), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, 4), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, 4), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, 0.85, a, NULL, NULL), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, 0.05, 0.75), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
+  double p, p2 = NAN, pmax = 0.0;
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   /* its stable P(1,1) orbit (the scan's with the smallest multipliers) */
   double tt[8], xx[32], vv[32], re[8], im[8], t = 0, x[4], v[4], rb = HUGE_VAL;
   int found = 0;

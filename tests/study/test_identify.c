@@ -58,23 +58,6 @@ static void load(const char *name, rec *r)
   assert_true(isfinite(r->T0));
 }
 
-/* The 4-mode cantilever of share/scenes/cantilever4.yaml (modes 1..nm). */
-static vi_model *beam(int nm, double xs, double r)
-{
-  double M[16], C[16], K[16], w[4], g[4], a[4];
-  assert_int_equal(vi_build_cantilever(nm, 1.0, 0.05, 1.0, M, C, K, nm, w, g), VI_OK);
-  for (int j = 0; j < nm; j++) a[j] = -0.01 * g[j];
-  vi_model *m = NULL;
-  assert_int_equal(vi_model_create(nm, &m), VI_OK);
-  assert_int_equal(vi_model_set_mass(m, M, nm), VI_OK);
-  assert_int_equal(vi_model_set_damping(m, C, nm), VI_OK);
-  assert_int_equal(vi_model_set_stiffness(m, K, nm), VI_OK);
-  assert_int_equal(vi_model_set_forcing(m, 0.85, a, NULL, NULL), VI_OK);
-  assert_int_equal(vi_model_set_stop(m, w, xs, r), VI_OK);
-  assert_int_equal(vi_model_setup(m), VI_OK);
-  return m;
-}
-
 /* One period of 64 samples repeated over `periods`, noise sigma. */
 typedef struct series {
   int ns;
@@ -166,7 +149,7 @@ static void beam_exact(void **state)
   static rec r;
   load("beam4.csv", &r);
   double T = 2 * M_PI / 0.85;
-  vi_model *m = beam(4, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   series s = repeat(&r, 3, 0.0, 1);
   fit f = fit_r(m, &s, 0.6, 0);
   assert_true(f.conv);
@@ -203,7 +186,7 @@ static void beam_noise(void **state)
   (void)state;
   static rec r;
   load("beam4.csv", &r);
-  vi_model *m = beam(4, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   double pp = peak_to_peak(&r);
   struct { int periods; double level, se_lo, se_hi; } cs[2] = {
       {50, 0.002, 0.003, 0.008}, {20, 0.01, 0.02, 0.06}};
@@ -253,7 +236,7 @@ static void beam_r_xs(void **state)
   (void)state;
   static rec r;
   load("beam4.csv", &r);
-  vi_model *m = beam(4, 0.0495, 0.7);
+  vi_model *m = vi_test_beam(4, 0.0495, 0.7);
   double pp = peak_to_peak(&r);
   series s = repeat(&r, 50, 0.002 * pp, 11);
   double p[2][2], se[2][2], R[4];
@@ -295,7 +278,7 @@ static void beam_jitter(void **state)
   (void)state;
   static rec r;
   load("beam4_jitter.csv", &r);
-  vi_model *m = beam(4, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(g, 5);
   for (int i = 0; i < r.ns; i++) r.x[i] += gsl_ran_gaussian(g, 1e-4);
@@ -633,7 +616,7 @@ static void beam_global(void **state)
   (void)state;
   static rec r;
   load("beam4.csv", &r);
-  vi_model *m = beam(4, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   series s = repeat(&r, 50, 0.002 * peak_to_peak(&r), 1);
   static const double r0[3] = {0.05, 0.5, 0.95};
   double first = NAN;
@@ -679,7 +662,7 @@ static void beam_not_unique(void **state)
   (void)state;
   static rec r;
   load("beam4.csv", &r);
-  vi_model *m = beam(4, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   series s = repeat(&r, 20, 0.01 * peak_to_peak(&r), 3);
   vi_identify *id = NULL;
   assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
@@ -759,7 +742,7 @@ static void beam_accel(void **state)
   (void)state;
   static rec r;
   load("beam4_acc.csv", &r);
-  vi_model *m = beam(4, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   double lo = HUGE_VAL, hi = -HUGE_VAL;
   for (int i = 0; i < r.ns; i++) {
     lo = fmin(lo, r.a[i]);
@@ -815,7 +798,7 @@ static void beam_accel_rate(void **state)
   static rec r;
   load("beam4_acc_rate.csv", &r);
   assert_int_equal(r.ns, 1226);
-  vi_model *m = beam(4, 0.05, 0.75);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
   double lo = HUGE_VAL, hi = -HUGE_VAL, *a = malloc(sizeof(double) * r.ns);
   for (int i = 0; i < r.ns; i++) {
     lo = fmin(lo, r.a[i]);
