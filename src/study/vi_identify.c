@@ -152,7 +152,7 @@ int vi_identify_set_param(vi_identify *id, int j, int kind, int k, double p0,
   if (kind == VI_IDENTIFY_OMEGA) snprintf(id->key[j], sizeof id->key[j], "forcing.omega");
   else if (kind == VI_IDENTIFY_XS) snprintf(id->key[j], sizeof id->key[j], "stops[%d].xs", k + 1);
   else if (kind == VI_IDENTIFY_R) snprintf(id->key[j], sizeof id->key[j], "stops[%d].r", k + 1);
-  id->p0[j] = p0;
+  id->p0[j] = id->pgiven[j] = p0;
   id->lo[j] = lo;
   id->hi[j] = hi;
   id->pset[j] = 1;
@@ -520,8 +520,10 @@ int vi_identify_run(vi_identify *id)
   vi_id_hold(id, -1, NAN);
   if (vi_id_poll_cancel(id)) return vi_fail(id->errmsg, VI_CANCELLED, "cancelled");
   id->jom = -1;
-  for (int j = 0; j < np; j++)
+  for (int j = 0; j < np; j++) {
+    id->p0[j] = id->pgiven[j]; /* a second run starts where the caller said */
     if (id->kind[j] == VI_IDENTIFY_OMEGA) id->jom = j;
+  }
   int nom = 0;
   if (id->jom >= 0 && id->ns >= 4 * P + 8 && (st = omega_start(id, &nom))) return st;
   /* the model at the starting values: the recording's period */

@@ -50,6 +50,7 @@ struct vi_identify {
   int N, np;
   int kind[MAXP], kst[MAXP], pset[MAXP];
   double p0[MAXP], lo[MAXP], hi[MAXP];
+  double pgiven[MAXP]; /* the caller's starts; p0 is a run's (Omega snapped) */
   char key[MAXP][64]; /* the vi_param.h key of each parameter */
   vi_identify_model_fn fn;
   void *user;
