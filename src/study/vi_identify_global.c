@@ -34,10 +34,13 @@ static int observes_stop(const vi_identify *id, int k)
  * observed through its own gap coordinate within 5 % of the recorded
  * span of its top (the stop cannot lie below the motion, which would
  * cross it, nor far above it, which would never reach it); otherwise the
- * given bounds, or +-50 % of the starting value where there are none. */
-static void start_range(const vi_identify *id, int j, double *a, double *b)
+ * given bounds, or +-50 % of the starting value where there are none (or,
+ * when widened, a factor id->widen either way of a positive start of a key
+ * with no natural range, in log: *lg = 1). */
+static void start_range(const vi_identify *id, int j, double *a, double *b, int *lg)
 {
   double lo = id->lo[j], hi = id->hi[j], p0 = id->p0[j];
+  *lg = 0;
   if (id->kind[j] == VI_IDENTIFY_XS && id->ych == 0 && observes_stop(id, id->kst[j])) {
     double ymin = HUGE_VAL, ymax = -HUGE_VAL;
     for (int i = 0; i < id->ns; i++) {
@@ -49,14 +52,27 @@ static void start_range(const vi_identify *id, int j, double *a, double *b)
     hi = fmin(hi, ymax + 0.05 * sp);
   }
   double h = p0 != 0.0 ? 0.5 * fabs(p0) : 0.5;
+  if (id->widen > 0.0 && vi_id_open_key(id, j)) {
+    if (!isfinite(lo)) lo = fmax(id->lo[j], p0 / id->widen);
+    if (!isfinite(hi)) hi = fmin(id->hi[j], p0 * id->widen);
+    *lg = lo > 0.0 && lo < hi;
+  }
   if (!isfinite(lo)) lo = fmax(id->lo[j], p0 - h);
   if (!isfinite(hi)) hi = fmin(id->hi[j], p0 + h);
   if (!(lo < hi)) { /* the data's range outside the bounds: the bounds */
     lo = fmax(id->lo[j], p0 - h);
     hi = fmin(id->hi[j], p0 + h);
+    *lg = 0;
   }
   *a = lo;
   *b = hi;
+}
+
+/* Parameter j's start at u in (0, 1) of its range. */
+static double from_unit(const vi_identify *id, int j, double u)
+{
+  double a = id->glo[j], b = id->ghi[j];
+  return id->glog[j] ? a * pow(b / a, u) : a + u * (b - a);
 }
 
 /* Radical inverse of k in base b (a Halton coordinate in (0, 1)). */
@@ -188,7 +204,8 @@ static double udist(const vi_identify *id, const double *p, const double *q)
 {
   double d = 0.0;
   for (int j = 0; j < id->np; j++) {
-    double e = (p[j] - q[j]) / (id->ghi[j] - id->glo[j]);
+    double e = id->glog[j] ? log(p[j] / q[j]) / log(id->ghi[j] / id->glo[j])
+                           : (p[j] - q[j]) / (id->ghi[j] - id->glo[j]);
     d = fmax(d, fabs(e));
   }
   return d;
@@ -339,7 +356,7 @@ static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
 int vi_id_global(vi_identify *id, int nd)
 {
   int np = id->np, N = id->N, st = VI_OK, nc = 0, nsol = 0;
-  for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j]);
+  for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j], &id->glog[j]);
   double om_at[4 * MAX_N], *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
   cand *c = calloc((size_t)8 * MAXP * VI_ID_SLOTS, sizeof *c);
   orb best[VI_ID_SLOTS];
@@ -363,8 +380,7 @@ int vi_id_global(vi_identify *id, int nd)
     for (int k = 0; k < ns && !st; k++) {
       double p[MAXP];
       for (int j = 0, i = 0; j < np; j++)
-        p[j] = j == jo ? om_at[q]
-                       : id->glo[j] + u[(size_t)k * npo + i++] * (id->ghi[j] - id->glo[j]);
+        p[j] = j == jo ? om_at[q] : from_unit(id, j, u[(size_t)k * npo + i++]);
       int sk = at_start(id, om_nd[q], p, best, c, &nc);
       if (id->cancel_hit) st = VI_CANCELLED;
       else if (sk == VI_ERR_NOMEM) st = sk;

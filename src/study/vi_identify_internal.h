@@ -87,6 +87,10 @@ struct vi_identify {
   /* the global stage: on, and the ranges it searched */
   int global;
   double glo[MAXP], ghi[MAXP];
+  int glog[MAXP]; /* 1: the starts spread in log over [glo, ghi] */
+  double widen;   /* > 0: keys with no natural range spread a factor widen
+                     either way of a positive start, in log (vi_identify.c,
+                     widen_retry); 0: +-50 % */
   /* a fitted forcing frequency: its parameter (-1: none) and the
    * recording's own period, which sets its starts (2 pi n / lag) */
   int jom;
@@ -183,6 +187,14 @@ void vi_id_accel_block(const vi_model *m, int k, int rep, const double *t,
 static inline double vi_id_shift0(const vi_identify *id)
 {
   return id->shift0 + id->tref;
+}
+
+/* A key with no natural range (not Omega, x_s or r), a positive start and
+ * an open side: its starts may be widened (vi_identify.c, widen_retry). */
+static inline int vi_id_open_key(const vi_identify *id, int j)
+{
+  return id->kind[j] == VI_IDENTIFY_OTHER && id->p0[j] > 0.0 &&
+         (!isfinite(id->lo[j]) || !isfinite(id->hi[j]));
 }
 
 /* vi_identify_seed.c */
