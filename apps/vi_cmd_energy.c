@@ -313,9 +313,11 @@ static void energy_text(const vi_scene *sc, const vi_model *m,
            b->om[j], b->ze[j], b->FE[j], b->DE[j], b->XE[j],
            b->FE[j] - b->DE[j] - b->XE[j], b->reff[j]);
   printf("  KE_i = %.10g   RE = %.10g   IE = %.10g\n", b->KE, b->RE, b->IE);
-  printf("  r recovered (WB 12) = %.12f   (scene r = %g)   closure "
-         "|RE-IE|/KE_i = %.3g\n",
-         b->rr, vi_model_restitution(m), b->cl);
+  /* r^2 = 1 - RE/KE_i is known to the closure: r = 0 reads sqrt of it */
+  double r2 = b->rr * b->rr, rlo = sqrt(fmax(r2 - b->cl, 0.0)), rhi = sqrt(r2 + b->cl);
+  printf("  r recovered (WB 12) = %.12f (within [%.12f, %.12f] by the closure)   "
+         "(scene r = %g)   closure |RE-IE|/KE_i = %.3g\n",
+         b->rr, rlo, rhi, vi_model_restitution(m), b->cl);
   print_multipliers(orb, b->n, 0);
   for (int k = 1; k <= b->kmax; k++) {
     if (b->ok[k - 1])

@@ -66,4 +66,8 @@ expect(3 "\"m\": 2, \"impacts\": .*\"stops\": \\[{\"stop\": 0, \"impacts\": 1, .
 # sequence (stops 0 and 1, half a period apart)
 expect(0 "{\"n\": 1, \"m\": 2, \"vN\": \\[0\\.4504816660[0-9]*, 0\\.4504816660[0-9]*\\], \"stop\": \\[0, 1\\].*\"stable\": true, \"admissible\": true" ""
        orbits ${SCENES}/rattle.yaml --m 2 --json)
+# r = 0: all the approach energy lost; WB 12 gives r only to the square
+# root of the closure, and the interval the text prints holds 0
+expect(0 "r recovered \\(WB 12\\) = 0\\.0000000[0-9]+ \\(within \\[0\\.000000000000, 0\\.0000000[0-9]+\\] by the closure\\)" ""
+       energy ${S} --method exact --set stop.r=0)
 message(STATUS "--set, energy --json classification, orbits --json and --continue: ok")
