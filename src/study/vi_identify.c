@@ -614,6 +614,15 @@ int vi_identify_run(vi_identify *id)
   if (!st) st = take_best(id);
   if (id->cancel_hit) return vi_fail(id->errmsg, VI_CANCELLED, "cancelled");
   if (st) return st;
+  if (!(id->sigma > 0.0)) {
+    /* the folded estimate again at the fitted orbit's period: the start's
+     * may be off by part of a sample over a short record, which the fold
+     * of a signal as rich as an accelerometer's reads as noise (6 periods
+     * of the beam's tip acceleration: 50 times the noise).  Both are upper
+     * bounds; the smaller holds */
+    double nf = vi_id_noise_estimate(id, vi_id_period_of(id->cur, id->o.n));
+    if (nf < id->noise) id->noise = nf;
+  }
   vi_id_energy_route(id);
   id->mumax = NAN;
   const orb *o = &id->o;
