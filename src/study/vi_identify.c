@@ -395,13 +395,19 @@ int vi_identify_set_global(vi_identify *id, int on)
   return VI_OK;
 }
 
+/* The minima s [n] and their orbits' buffers. */
+static void free_sols(vi_id_sol *s, int n)
+{
+  for (int k = 0; k < n; k++) {
+    free(s[k].o.x);
+    free(s[k].o.v);
+  }
+  free(s);
+}
+
 void vi_id_free_solutions(vi_identify *id)
 {
-  for (int k = 0; k < id->nsol; k++) {
-    free(id->sol[k].o.x);
-    free(id->sol[k].o.v);
-  }
-  free(id->sol);
+  free_sols(id->sol, id->nsol);
   id->sol = NULL;
   id->nsol = id->nfound = 0;
 }
@@ -487,10 +493,10 @@ static int widen_retry(vi_identify *id, int nd)
     int st = vi_id_global(id, nd);
     id->widen = 0.0;
     int better = !st && id->nsol > 0 && (kn == 0 || id->sol[0].ssr < keep[0].ssr);
-    vi_identify old = *id; /* the side not kept, to free */
-    if (!better) {
-      old.sol = id->sol;
-      old.nsol = id->nsol;
+    if (better) {
+      free_sols(keep, kn);
+    } else {
+      free_sols(id->sol, id->nsol);
       id->sol = keep;
       id->nsol = kn;
       id->nfound = kf;
@@ -498,11 +504,7 @@ static int widen_retry(vi_identify *id, int nd)
       memcpy(id->glo, klo, sizeof klo);
       memcpy(id->ghi, khi, sizeof khi);
       memcpy(id->glog, klog, sizeof klog);
-    } else {
-      old.sol = keep;
-      old.nsol = kn;
     }
-    vi_id_free_solutions(&old);
     if (st == VI_ERR_NOMEM || st == VI_CANCELLED) return st;
   }
   return VI_OK;

@@ -484,7 +484,8 @@ static int jac_samples(vi_identify *id, jac_ws *w, double t0, gsl_matrix *J)
       vi_id_accel_block(m, nk, 1, tt, k.Zero, k.G0);
       vi_id_accel_block(m, nk, np, tt, k.dZ, k.G1);
     }
-    blk_rate(id, &k, nk, s, tt, dds);
+    /* the rate serves the shift's column and a period's change (Omega) */
+    if (id->fit_shift || id->jom >= 0) blk_rate(id, &k, nk, s, tt, dds);
     for (int q = 0; q < np; q++) {
       if (id->col[q] < 0) continue; /* held */
       double h = w->hp[q] + w->hm[q], dper = 0.0;
