@@ -14,7 +14,9 @@
 # alone.  Prints best and median of the
 # `cost` lines (the time inside vi_sim_run), of `set-up` (vi_sim_setup
 # before it, where the program prints one) and of set-up + cost, and the
-# ratios to the loop (cost's best and median, the sum's best).  Defaults:
+# ratios to the loop (cost's best and median, the sum's best); then
+# `vi_bench PERIODS 20 setup` (the first set-up of a process against later
+# ones, with their page faults).  Defaults:
 # N = 30, PERIODS = 100, ROUNDS = 4.
 set -euo pipefail
 n=30 periods=100 rounds=4
@@ -74,6 +76,11 @@ for b in "$@"; do
       printf "%-28s %-9s %7s %7s %7s %7s %7s %7s %9.4f %6.2f %6.2f %8.2f\n", b, l,
         cb, cm, sb, sm, tb, tm, loop, cb / loop, cm / loop, tb / loop}'
   done
+done
+# the set-up in a process's first sim against later ones (vi_bench setup):
+# what is first touch, paid once a process, and what a set-up costs
+for b in "$@"; do
+  echo "$b: $("$b/vi_bench" "$periods" 20 setup | tail -2 | tr -s ' ' | paste -sd ';')"
 done
 echo "(cost/loop: best and median of the cost lines over the best loop;" \
   "sum/loop: the best set-up + cost over it (issue 29's target: 1.3);" \

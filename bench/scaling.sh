@@ -48,11 +48,11 @@ basins=(basins --param 'initial.x[2]' --from -1 --to 0.09 --steps "$grid"
   --transient 100 --record 20 --set run.method=exact --json --quiet)
 
 # one timed run: "wall cpu" appended to $tmp/NAME.T, the JSON kept per T
+# (bash's own time: a lent machine may have no /usr/bin/time)
 one() {
-  local name=$1 t=$2
+  local name=$1 t=$2 TIMEFORMAT='%R %U %S'
   shift 2
-  /usr/bin/time -f "%e %U %S" -o "$tmp/time" "$app" "$@" --threads "$t" \
-    >"$tmp/$name.$t.json" 2>/dev/null
+  { time "$app" "$@" --threads "$t" >"$tmp/$name.$t.json" 2>/dev/null; } 2>"$tmp/time"
   awk '{print $1, $2 + $3}' "$tmp/time" >>"$tmp/$name.$t"
 }
 
