@@ -319,7 +319,7 @@ static void separation(vi_identify *id, vi_id_sol *s, int n, double s2, double c
  * a record of about one period only the 4th differences are left, and
  * they hold the signal's own too), and never below the best's level (a
  * model error the best shares). */
-static void rank(vi_identify *id, vi_id_sol *s, int *ns_)
+void vi_id_rank(vi_identify *id, vi_id_sol *s, int *ns_)
 {
   int n = *ns_, keep = 0, P = id->np + id->fit_shift, dof = id->ns - P;
   if (n < 1 || !s) return;
@@ -446,7 +446,7 @@ int vi_id_global(vi_identify *id, int nd)
     free(s);
     return st == VI_CANCELLED ? vi_fail(id->errmsg, st, "cancelled") : st;
   }
-  rank(id, s, &nsol);
+  vi_id_rank(id, s, &nsol);
   id->sol = s;
   id->nsol = nsol;
   return VI_OK;

@@ -244,6 +244,10 @@ void vi_id_hold(vi_identify *id, int j, double v);
 
 /* vi_identify_global.c */
 int vi_id_global(vi_identify *id, int nd);
+/* Rank the minima s [*n] (best first, repeats dropped, *n updated) and
+ * count in id those the data cannot tell from the best (nfound, unique,
+ * the separations). */
+void vi_id_rank(vi_identify *id, vi_id_sol *s, int *n);
 int vi_id_profile(vi_identify *id, vi_id_sol *s);
 
 #endif
