@@ -1008,13 +1008,34 @@ static void identify_text(const ident *I, const fit_result *f)
   identify_text_solutions(I, f);
 }
 
+/* The library's message with "parameter j" named by its --fit key (the
+ * keys only the scene knows reach the library without a name). */
+static void print_named(const ident *I, const char *msg)
+{
+  const char *tag = "parameter ";
+  for (const char *p = msg, *q; *p; p = q) {
+    q = strstr(p, tag);
+    if (!q) {
+      fputs(p, stderr);
+      break;
+    }
+    char *end;
+    long j = strtol(q + strlen(tag), &end, 10);
+    fwrite(p, 1, (size_t)(q - p), stderr);
+    if (end > q + strlen(tag) && j >= 1 && j <= I->b.nk) fputs(I->b.key[j - 1], stderr);
+    else fwrite(q, 1, (size_t)(end - q), stderr);
+    q = end;
+  }
+}
+
 /* Run the fit; 0, or the exit status after a message. */
 static int identify_run(ident *I)
 {
   int st = vi_identify_run(I->id);
   if (!st) return 0;
-  fprintf(stderr, "vibroimpact: identify %s with %s: %s\n", I->a.scene_path, I->a.data,
-          vi_identify_errmsg(I->id));
+  fprintf(stderr, "vibroimpact: identify %s with %s: ", I->a.scene_path, I->a.data);
+  print_named(I, vi_identify_errmsg(I->id));
+  fputc('\n', stderr);
   return st == VI_ERR_ARG || st == VI_ERR_NOT_CONVERGED || st == VI_ERR_STATE ? 2 : 1;
 }
 

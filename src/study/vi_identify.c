@@ -479,9 +479,10 @@ static int explained(const vi_identify *id)
 
 /* The global stage once more, its starts spread a factor `widen` either
  * way of the given start in log over the keys with no natural range, or
- * (widen 0) +-50 % about the best minimum's values instead of the given
- * ones; its minima ranked with those found before (the search range
- * reported: what all the stages covered). */
+ * (widen < 0) +-50 % about the best minimum's values of the keys with no
+ * natural range, bounded or not (the bounds may be decades apart); its
+ * minima ranked with those found before (the search range reported: what
+ * all the stages covered). */
 static int global_again(vi_identify *id, int nd, double widen)
 {
   vi_id_sol *keep = id->sol;
@@ -491,7 +492,7 @@ static int global_again(vi_identify *id, int nd, double widen)
   memcpy(khi, id->ghi, sizeof khi);
   memcpy(klog, id->glog, sizeof klog);
   memcpy(p0, id->p0, sizeof p0);
-  if (!(widen > 0.0)) memcpy(id->p0, keep[0].p, sizeof(double) * id->np);
+  if (widen < 0.0) memcpy(id->p0, keep[0].p, sizeof(double) * id->np);
   id->sol = NULL;
   id->nsol = id->nfound = 0;
   id->widen = widen;
@@ -527,34 +528,60 @@ static int global_again(vi_identify *id, int nd, double widen)
 /* A key with no natural range spread over +-50 % of a start 3 to 10 times
  * off the truth (a naive guess of a forcing amplitude) may give the local
  * fits no start in the recording's orbit's basin, or one only in another
- * orbit's that explains the data nearly as well.  So the global stage
- * again about the best minimum (its values may hold the right amplitude
- * with the wrong orbit: the cantilever's base 0.0100 with a P(1,2) at r =
- * 0.32 and 1.03 noise levels, where the recording's P(1,1) at r = 0.75
- * exists only for bases within 5 % of 0.01), and where the best does not
- * explain the data (explained), with such keys spread a factor 4, then 8,
- * either way in log, each new best searched about again; all the minima
- * ranked together.  (No one grid served: of 12 fits from such guesses, 6
- * ended right with +-50 %, 7 with a factor 4 alone, 8 with 8 alone, 11
- * with the three in turn, 12 with the searches about the best.) */
+ * orbit's that explains the data nearly as well; so may bounds decades
+ * apart.  So the global stage again about the best minimum, such keys
+ * +-50 % of its values (they may hold the right amplitude with the wrong
+ * orbit: the cantilever's base 0.0100 with a P(1,2) at r = 0.32 and 1.03
+ * noise levels, where the recording's P(1,1) at r = 0.75 exists only for
+ * bases within 5 % of 0.01), and where the best does not explain the data
+ * (explained) and a key has no bounds, with such keys spread a factor 4,
+ * then 8, either way of the start in log, each new best searched about
+ * again; all the minima ranked together.  (No one grid served: of 12 fits
+ * from such guesses, 6 ended right with +-50 %, 7 with a factor 4 alone,
+ * 8 with 8 alone, 11 with the three in turn, 12 with the searches about
+ * the best.) */
 static int widen_retry(vi_identify *id, int nd)
 {
   static const double factor[2] = {4.0, 8.0};
-  int open = 0, st = VI_OK;
+  int open = 0, other = 0, st = VI_OK;
   /* the sum of squares of the best searched about: searched again where
    * a new best lowers it by more than a noise variance (not the same
    * minimum re-found to a few digits more) */
   double centred = HUGE_VAL, s2 = id->noise > 0.0 ? id->noise * id->noise : 0.0;
-  for (int j = 0; j < id->np; j++) open |= vi_id_open_key(id, j);
-  for (int k = 0, nre = 0; k <= 2 && open && !st; k++) {
+  for (int j = 0; j < id->np; j++) {
+    open |= vi_id_open_key(id, j);
+    other |= id->kind[j] == VI_IDENTIFY_OTHER;
+  }
+  for (int k = 0, nre = 0; k <= 2 && other && !st; k++) {
     while (!st && id->nsol > 0 && id->sol[0].ssr < centred - s2 && nre++ < 4) {
       centred = id->sol[0].ssr;
-      st = global_again(id, nd, 0.0);
+      st = global_again(id, nd, -1.0);
     }
-    if (st || k == 2 || explained(id)) break;
+    if (st || k == 2 || !open || explained(id)) break;
     st = global_again(id, nd, factor[k]);
   }
   return st;
+}
+
+/* The message of a global search that found nothing: why the last start
+ * failed, and the ranges the starts covered, which the value lies outside
+ * or between (the 4-mode beam's damping ratio 0.05 from 0.5: 0.0625 to 4
+ * at the widest). */
+static void searched(vi_identify *id, const char *why)
+{
+  char r[160] = ""; /* with why's first 250: the message fits */
+  size_t n = 0;
+  for (int j = 0; j < id->np && n < sizeof r; j++) {
+    if (j == id->jom) continue; /* its starts are the recording's multiples */
+    char name[80];
+    if (id->key[j][0]) snprintf(name, sizeof name, "%s", id->key[j]);
+    else snprintf(name, sizeof name, "parameter %d", j + 1);
+    int w = snprintf(r + n, sizeof r - n, "%s%s %.3g to %.3g", n ? ", " : "", name,
+                     id->slo[j], id->shi[j]);
+    n += w > 0 ? (size_t)w : 0;
+  }
+  snprintf(id->errmsg, sizeof id->errmsg, "%.250s; the starts covered %s: a start "
+           "nearer the value, or bounds that hold it, let the search reach it", why, r);
 }
 
 /* A fitted forcing frequency: the model's period at the given start
@@ -612,6 +639,7 @@ int vi_identify_run(vi_identify *id)
   }
   int np = id->np, P = np + id->fit_shift, st;
   id->errmsg[0] = 0;
+  id->nsearch = 0;
   id->cancel_hit = 0;
   vi_id_free_solutions(id);
   vi_id_hold(id, -1, NAN);
@@ -656,7 +684,7 @@ int vi_identify_run(vi_identify *id)
     int sw = widen_retry(id, nd);
     if (sw) st = sw;
     else if (st && id->nsol > 0) st = VI_OK;
-    else if (st) snprintf(id->errmsg, sizeof id->errmsg, "%s", why);
+    else if (st) searched(id, why);
   }
   /* profile intervals of every minimum reported */
   for (int k = 0; !st && k < id->nfound; k++) st = vi_id_profile(id, &id->sol[k]);

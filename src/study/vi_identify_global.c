@@ -36,7 +36,9 @@ static int observes_stop(const vi_identify *id, int k)
  * cross it, nor far above it, which would never reach it); otherwise the
  * given bounds, or +-50 % of the starting value where there are none (or,
  * when widened, a factor id->widen either way of a positive start of a key
- * with no natural range, in log: *lg = 1). */
+ * with no natural range; about a minimum, id->widen < 0, +-50 % of such
+ * a key's value where its bounds are open or decades apart); in log (*lg =
+ * 1) where the range is positive and a decade or more wide. */
 static void start_range(const vi_identify *id, int j, double *a, double *b, int *lg)
 {
   double lo = id->lo[j], hi = id->hi[j], p0 = id->p0[j];
@@ -52,6 +54,14 @@ static void start_range(const vi_identify *id, int j, double *a, double *b, int 
     hi = fmin(hi, ymax + 0.05 * sp);
   }
   double h = p0 != 0.0 ? 0.5 * fabs(p0) : 0.5;
+  if (id->widen < 0.0 && id->kind[j] == VI_IDENTIFY_OTHER &&
+      (!isfinite(lo) || !isfinite(hi) || (lo > 0.0 && hi >= 10.0 * lo))) {
+    /* about a minimum (p0 its value): +-50 % within the bounds, where
+     * they are open or decades apart (not r's [0, 1]: five starts cover
+     * it, and the minimum's r may be the wrong one) */
+    lo = fmax(id->lo[j], p0 - h);
+    hi = fmin(id->hi[j], p0 + h);
+  }
   if (id->widen > 0.0 && vi_id_open_key(id, j)) {
     if (!isfinite(lo)) lo = fmax(id->lo[j], p0 / id->widen);
     if (!isfinite(hi)) hi = fmin(id->hi[j], p0 * id->widen);
@@ -64,6 +74,10 @@ static void start_range(const vi_identify *id, int j, double *a, double *b, int 
     hi = fmin(id->hi[j], p0 + h);
     *lg = 0;
   }
+  /* bounds a decade or more apart on a positive key (a damping ratio
+   * bounded to [0.001, 0.9]): starts even in log, or the lowest of five
+   * would lie at 0.09 */
+  if (lo > 0.0 && hi >= 10.0 * lo && id->kind[j] != VI_IDENTIFY_OMEGA) *lg = 1;
   *a = lo;
   *b = hi;
 }
@@ -356,7 +370,12 @@ void vi_id_rank(vi_identify *id, vi_id_sol *s, int *ns_)
 int vi_id_global(vi_identify *id, int nd)
 {
   int np = id->np, N = id->N, st = VI_OK, nc = 0, nsol = 0;
-  for (int j = 0; j < np; j++) start_range(id, j, &id->glo[j], &id->ghi[j], &id->glog[j]);
+  for (int j = 0; j < np; j++) {
+    start_range(id, j, &id->glo[j], &id->ghi[j], &id->glog[j]);
+    id->slo[j] = id->nsearch ? fmin(id->slo[j], id->glo[j]) : id->glo[j];
+    id->shi[j] = id->nsearch ? fmax(id->shi[j], id->ghi[j]) : id->ghi[j];
+  }
+  id->nsearch++;
   double om_at[4 * MAX_N], *u = malloc(sizeof(double) * 8 * MAXP * MAXP);
   cand *c = calloc((size_t)8 * MAXP * VI_ID_SLOTS, sizeof *c);
   orb best[VI_ID_SLOTS];

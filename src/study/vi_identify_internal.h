@@ -88,9 +88,13 @@ struct vi_identify {
   int global;
   double glo[MAXP], ghi[MAXP];
   int glog[MAXP]; /* 1: the starts spread in log over [glo, ghi] */
+  double slo[MAXP], shi[MAXP]; /* what every global stage of the run */
+  int nsearch;                 /* searched, together (the message of a
+                                  search that found nothing names it) */
   double widen;   /* > 0: keys with no natural range spread a factor widen
                      either way of a positive start, in log (vi_identify.c,
-                     widen_retry); 0: +-50 % */
+                     widen_retry); 0: +-50 %; < 0: +-50 % about a minimum,
+                     within the bounds */
   /* a fitted forcing frequency: its parameter (-1: none) and the
    * recording's own period, which sets its starts (2 pi n / lag) */
   int jom;
