@@ -725,43 +725,16 @@ typedef struct fit_result {
  * (a Gaussian sample lies beyond 6 sigma once in 5e8). */
 #define OUTLIER 6.0
 
-/* The samples of the first channel (x or v) beyond OUTLIER noise levels
- * from the fitted response, the worst 8 kept, and the others' RMS: a
- * glitch of one sample makes a least-squares fit's residual read "not
+/* The samples of the first channel beyond OUTLIER noise levels from the
+ * fitted response, the worst 8, and the others' RMS (vi_identify_outliers):
+ * a glitch of one sample makes a least-squares fit's residual read "not
  * explained" (Fig. 2 with one sample 0.5 off: ratio 23.5). */
 static void identify_outliers(const ident *I, fit_result *f)
 {
-  const recording *r = &I->rec;
-  const double *y = r->x ? r->x : r->v;
-  f->nout = 0;
-  f->rest = NAN;
-  if (!y || !(f->nz > 0.0)) return;
-  double *mo = malloc(sizeof(double) * 2 * (size_t)r->ns), ss = 0.0;
-  if (!mo || vi_identify_response(I->id, r->ns, r->t, mo, mo + r->ns)) {
-    free(mo);
-    return;
+  if (vi_identify_outliers(I->id, OUTLIER, 8, f->out, f->outz, &f->nout, &f->rest)) {
+    f->nout = 0;
+    f->rest = NAN;
   }
-  const double *m = r->x ? mo : mo + r->ns;
-  for (int i = 0; i < r->ns; i++) {
-    double z = fabs(y[i] - m[i]) / f->nz;
-    if (!(z > OUTLIER)) {
-      ss += z * z;
-      continue;
-    }
-    int k = f->nout < 8 ? f->nout : 7; /* keep the worst 8, largest first */
-    if (f->nout >= 8 && !(z > f->outz[7])) k = -1;
-    for (; k > 0 && z > f->outz[k - 1]; k--) {
-      f->outz[k] = f->outz[k - 1];
-      f->out[k] = f->out[k - 1];
-    }
-    if (k >= 0) {
-      f->outz[k] = z;
-      f->out[k] = i;
-    }
-    f->nout++;
-  }
-  if (f->nout < r->ns) f->rest = sqrt(ss / (r->ns - f->nout));
-  free(mo);
 }
 
 static void identify_results(const ident *I, fit_result *f)

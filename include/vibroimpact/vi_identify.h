@@ -311,6 +311,20 @@ VI_API int vi_identify_orbit_period(const vi_identify *id, double *period,
  *  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE, VI_ERR_NONFINITE. */
 VI_API int vi_identify_response(const vi_identify *id, int nt,
                                 const double *t, double *x, double *v);
+/** The samples of the recording's first channel (vi_identify_set_data's
+ *  x, or v without it; vi_identify_set_sensors' first) that lie more than
+ *  `level` noise levels (vi_identify_summary's noise) from the fitted
+ *  motion: their number *count; the min(cap, *count) worst, farthest
+ *  first, into idx [cap] (0-based sample numbers) and z [cap] (their
+ *  distances in noise levels); *rest the other samples' residual RMS over
+ *  the noise (NaN where none is left).  A Gaussian sample lies beyond 6
+ *  noise levels once in 5e8: a few such samples are glitches the least
+ *  squares moved with (remove them and fit again), many a model that does
+ *  not explain the data.  Pointers may be NULL (idx and z with cap 0).
+ *  @return VI_OK, VI_ERR_ARG (NULL id, level not > 0, cap < 0, or cap > 0
+ *  with idx or z NULL), VI_ERR_STATE (no completed run). */
+VI_API int vi_identify_outliers(const vi_identify *id, double level, int cap,
+                                int *idx, double *z, int *count, double *rest);
 /** The WB 12 route (MODEL.md section 5) at the fitted orbit, for a P(1,1)
  *  orbit observed at the stop (c = w): the model's residual energy RE =
  *  sum_j (FE_j - DE_j - XE_j) over one period (the modal ledger of the

@@ -311,6 +311,32 @@ def test_identify_absolute_clock():
     np.testing.assert_allclose(b["response"], a["response"], rtol=0, atol=1e-6)
 
 
+def test_identify_outliers():
+    """SciPy's Fig. 2 recording (noise 1e-4, 640 samples: a Gaussian
+    sample lies beyond 6 noise levels once in 5e8): none named; with
+    sample 321 moved by 0.01 (100 noise levels) that sample alone, at 100
+    levels to within its own noise and the fit's pull, and the others'
+    RMS the noise's."""
+    t, x = _fig2_recording()
+    for glitch in (False, True):
+        y = x.copy()
+        if glitch:
+            y[321] += 0.01
+        m = fig2()
+        m.set_param("stop.r", 0.5)
+        fit = vi.identify(m, t, y, {"stop.r": (0, 1)})
+        o = fit["outliers"]
+        if not glitch:
+            assert o["count"] == 0 and o["samples"] == [] and o["z"].size == 0
+        else:
+            assert o["count"] == 1 and o["samples"] == [321], o
+            # in noise levels of the estimate: 0.01 off, to 4 of the true noise
+            assert abs(o["z"][0] * fit["noise"] - 0.01) < 4e-4, (o, fit["noise"])
+        # the others' residual is the noise, against the estimate (an
+        # upper bound in expectation, read within 20 % from 640 samples)
+        assert 0.8 < o["rms_ratio_without"] * fit["noise"] / 1e-4 < 1.05, (o, fit["noise"])
+
+
 def test_basins_threads_equal_serial():
     """Basins on two threads: every point the same as on one (cold starts
     on independent copies of the study), bit for bit."""

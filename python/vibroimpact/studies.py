@@ -638,8 +638,11 @@ def identify(model: Model, t: np.ndarray, x: np.ndarray, fit: Mapping[str, Tuple
     intervals), ``profile_lo95``, ``profile_hi95``, ``solutions`` [S, P]
     every fit the noise admits (best first) and ``unique``; ``converged``,
     ``iterations``, ``rms``, ``noise``, ``n``, ``m`` (the orbit's P(n, m)),
-    ``t0`` the fitted time shift and ``response`` the fitted model's c.x at
-    the recording's times."""
+    ``t0`` the fitted time shift, ``response`` the fitted model's c.x at
+    the recording's times and ``outliers``: the samples of x beyond 6 noise
+    levels from it (``count``; the worst 8, farthest first, as 0-based
+    ``samples`` and their distances ``z`` in noise levels;
+    ``rms_ratio_without`` the others' residual RMS over the noise)."""
     keys = list(fit)
     P = len(keys)
     ip = ffi.new("vi_identify **")
@@ -695,5 +698,13 @@ def identify(model: Model, t: np.ndarray, x: np.ndarray, fit: Mapping[str, Tuple
     out["t0"] = d[3][0]
     resp = np.zeros(ta.size)
     call(lib.vi_identify_response(h, ta.size, _ptr(ta), _ptr(resp), ffi.NULL))
+    # samples beyond 6 noise levels (once in 5e8 for Gaussian noise), the
+    # worst 8 farthest first, as the program reports them
+    cap, oc, rest = 8, ffi.new("int *"), ffi.new("double *")
+    oi, oz = ffi.new("int[]", cap), np.zeros(cap)
+    call(lib.vi_identify_outliers(h, 6.0, cap, oi, _ptr(oz), oc, rest))
+    k = min(cap, oc[0])
+    out["outliers"] = {"count": oc[0], "samples": [oi[i] for i in range(k)],
+                       "z": oz[:k].copy(), "rms_ratio_without": rest[0]}
     out["response"] = resp
     return out

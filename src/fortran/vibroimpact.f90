@@ -109,6 +109,7 @@ module vibroimpact
             vi_identify_set_data, vi_identify_run, vi_identify_params, vi_identify_shift, &
             vi_identify_correlation, vi_identify_summary, vi_identify_nparams, &
             vi_identify_orbit_period, vi_identify_response, vi_identify_energy_restitution, &
+            vi_identify_outliers, &
             vi_identify_set_stable_only, vi_identify_stability, vi_identify_forcing_phase, &
             vi_identify_set_sensors, vi_identify_set_global, vi_identify_profile, &
             vi_identify_nsolutions, vi_identify_solution, vi_identify_solution_profile, &
@@ -1223,6 +1224,18 @@ module vibroimpact
       real(c_double), intent(in) :: t(*)
       real(c_double) :: x(*)
       real(c_double), optional :: v(*)
+    end function
+    !> idx, z [cap] (idx: 0-based sample numbers); count, rest optional
+    integer(c_int) function vi_identify_outliers(id, level, cap, idx, z, count, rest) &
+        bind(C, name="vi_identify_outliers")
+      import :: c_int, c_ptr, c_double
+      type(c_ptr), value :: id
+      real(c_double), value :: level
+      integer(c_int), value :: cap
+      integer(c_int), optional :: idx(*)
+      real(c_double), optional :: z(*)
+      integer(c_int), optional :: count
+      real(c_double), optional :: rest
     end function
     integer(c_int) function vi_identify_forcing_phase(ns, t, f, omega, t0) &
         bind(C, name="vi_identify_forcing_phase")

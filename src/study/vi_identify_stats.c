@@ -213,6 +213,44 @@ double vi_id_noise_estimate(const vi_identify *id, double P)
   return isnan(a) ? b : isnan(b) ? a : fmin(a, b);
 }
 
+int vi_identify_outliers(const vi_identify *id, double level, int cap, int *idx,
+                         double *z, int *count, double *rest)
+{
+  if (!id || !(level > 0.0) || cap < 0 || (cap > 0 && (!idx || !z))) return VI_ERR_ARG;
+  if (!id->done) return VI_ERR_STATE;
+  if (count) *count = 0;
+  if (rest) *rest = NAN;
+  if (!(id->noise > 0.0) || !isfinite(id->noise)) return VI_OK;
+  int N = id->N, n = 0;
+  double *w = malloc(sizeof(double) * 6 * N), ss = 0.0;
+  if (!w) return VI_ERR_NOMEM;
+  for (int i = 0; i < id->ns; i++) {
+    double s = id->t[i] + id->t0;
+    vi_id_orbit_state(id->cur, id->xf, &id->o, s, w, w + (size_t)2 * N, NULL, NULL, NULL);
+    double d = fabs(id->y[i] - vi_id_channel(id, id->cur, s, w, id->ych, w + (size_t)4 * N)) /
+               id->noise;
+    if (!(d > level)) {
+      ss += d * d;
+      continue;
+    }
+    /* the worst cap kept, farthest first: insertion from the end */
+    int k = n < cap ? n : cap - 1;
+    if (k >= 0 && (n < cap || d > z[cap - 1])) {
+      for (; k > 0 && d > z[k - 1]; k--) {
+        z[k] = z[k - 1];
+        idx[k] = idx[k - 1];
+      }
+      z[k] = d;
+      idx[k] = i;
+    }
+    n++;
+  }
+  free(w);
+  if (count) *count = n;
+  if (rest && n < id->ns) *rest = sqrt(ss / (id->ns - n));
+  return VI_OK;
+}
+
 /* Standard errors, intervals, correlations and flags from the Jacobian at
  * the optimum, columns scaled to unit norm, by its SVD: cov = s^2 V S^-2 V^T
  * (scaled back); directions with no singular value are infinitely

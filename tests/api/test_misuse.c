@@ -1746,6 +1746,18 @@ static void test_identify_misuse(void **state)
   assert_int_equal(vi_identify_orbit_period(NULL, R, NULL), VI_ERR_ARG);
   assert_int_equal(vi_identify_response(id, 1, t, x, NULL), VI_ERR_STATE);
   assert_int_equal(vi_identify_response(NULL, 1, t, x, NULL), VI_ERR_ARG);
+  {
+    int oi[2], oc = -1;
+    double oz[2];
+    assert_int_equal(vi_identify_outliers(id, 6.0, 2, oi, oz, &oc, NULL), VI_ERR_STATE);
+    assert_int_equal(vi_identify_outliers(NULL, 6.0, 2, oi, oz, &oc, NULL), VI_ERR_ARG);
+    assert_int_equal(vi_identify_outliers(id, 0.0, 2, oi, oz, &oc, NULL), VI_ERR_ARG);
+    assert_int_equal(vi_identify_outliers(id, NAN, 2, oi, oz, &oc, NULL), VI_ERR_ARG);
+    assert_int_equal(vi_identify_outliers(id, 6.0, -1, oi, oz, &oc, NULL), VI_ERR_ARG);
+    assert_int_equal(vi_identify_outliers(id, 6.0, 2, NULL, oz, &oc, NULL), VI_ERR_ARG);
+    assert_int_equal(vi_identify_outliers(id, 6.0, 2, oi, NULL, &oc, NULL), VI_ERR_ARG);
+    assert_int_equal(oc, -1); /* nothing written on an error */
+  }
   assert_int_equal(vi_identify_energy_restitution(id, NULL, NULL, NULL, NULL), VI_ERR_STATE);
   assert_int_equal(vi_identify_energy_restitution(NULL, NULL, NULL, NULL, NULL), VI_ERR_ARG);
   /* issue 28: the solutions, profile and sensors API */

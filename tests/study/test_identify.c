@@ -364,6 +364,60 @@ static void beam_base_naive(void **state)
   vi_model_destroy(&m);
 }
 
+/* Outliers (vi_identify_outliers): 50 periods of the beam at 0.2 % noise
+ * (3200 samples; a Gaussian sample lies beyond 6 noise levels once in
+ * 5e8, so none is expected: 6e-6 for the record).  One sample moved by 100
+ * noise levels is the one named, at 100 noise levels to within its own
+ * noise and the fit's pull on it (4 levels), the others' RMS
+ * the noise's (the noise level being estimated: within 10 %); moved by a
+ * constant 10 noise levels over its last 40 samples, all 40 are counted
+ * and the worst two returned farthest first. */
+static void outliers(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4.csv", &r);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
+  double sig = 0.002 * peak_to_peak(&r);
+  series s = repeat(&r, 50, sig, 4);
+  for (int way = 0; way < 3; way++) {
+    if (way == 1) s.x[1234] += 100.0 * sig;
+    if (way == 2) {
+      s.x[1234] -= 100.0 * sig;
+      for (int i = s.ns - 40; i < s.ns; i++) s.x[i] += 10.0 * sig;
+    }
+    vi_identify *id = NULL;
+    assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
+    assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
+    assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
+    int st = vi_identify_run(id);
+    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+    assert_int_equal(st, VI_OK);
+    int idx[2] = {-1, -1}, n = -1;
+    double z[2] = {NAN, NAN}, rest = NAN, nz;
+    assert_int_equal(vi_identify_summary(id, NULL, NULL, NULL, &nz, NULL, NULL, NULL), VI_OK);
+    assert_int_equal(vi_identify_outliers(id, 6.0, 2, idx, z, &n, &rest), VI_OK);
+    print_message("outliers, case %d: %d (sample %d at %.2f, %d at %.2f), the others' RMS "
+                  "%.3f of the noise %.3g (%.3g)\n", way, n, idx[0], z[0], idx[1], z[1],
+                  rest, nz, sig);
+    assert_close(nz / sig, 1.0, 0.1);
+    assert_close(rest, 1.0, 0.1);
+    if (way == 0) assert_int_equal(n, 0);
+    if (way == 1) {
+      assert_int_equal(n, 1);
+      assert_int_equal(idx[0], 1234);
+      assert_true(fabs(z[0] * nz / sig - 100.0) < 4.0);
+    }
+    if (way == 2) {
+      assert_int_equal(n, 40);
+      assert_true(idx[0] >= s.ns - 40 && idx[1] >= s.ns - 40 && z[0] >= z[1] && z[1] > 6.0);
+    }
+    vi_identify_destroy(&id);
+  }
+  series_free(&s);
+  vi_model_destroy(&m);
+}
+
 /* Fig. 2 (the 2-mass chain): r from 0.5 at 0.2 % noise over 20 periods. */
 static void fig2(void **state)
 {
@@ -1032,6 +1086,7 @@ int main(void)
       cmocka_unit_test(forcing_phase), cmocka_unit_test(beam_global),
       cmocka_unit_test(beam_not_unique), cmocka_unit_test(beam_accel),
       cmocka_unit_test(beam_accel_rate), cmocka_unit_test(beam_base_naive),
+      cmocka_unit_test(outliers),
       cmocka_unit_test(fig2_sensors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
