@@ -538,8 +538,8 @@ static int global_again(vi_identify *id, int nd, double widen)
  * then 8, either way of the start in log, each new best searched about
  * again; all the minima ranked together.  (No one grid served: of 12 fits
  * from such guesses, 6 ended right with +-50 %, 7 with a factor 4 alone,
- * 8 with 8 alone, 11 with the three in turn, 12 with the searches about
- * the best.) */
+ * 8 with 8 alone, 11 with the three in turn; of 14, doc/identify.md's,
+ * 10 without the searches about the best, 14 with them.) */
 static int widen_retry(vi_identify *id, int nd)
 {
   static const double factor[2] = {4.0, 8.0};

@@ -211,24 +211,31 @@ static void beam_noise(void **state)
 
 /* r and x_s together, and the exact derivative against a builder's
  * differenced one (the same optimum and errors). */
-typedef struct bctx { int calls; } bctx;
-static int build_r(const double *p, void *user, vi_model **out)
+/* The 4-mode beam (vi_test_beam) with restitution r, clearance xs and
+ * base amplitude b, built as a builder must: a status, never an abort. */
+static int beam_model(double r, double xs, double b, vi_model **out)
 {
-  ((bctx *)user)->calls++;
   double M[16], C[16], K[16], w[4], g[4], a[4];
   vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g);
-  for (int j = 0; j < 4; j++) a[j] = -0.01 * g[j];
+  for (int j = 0; j < 4; j++) a[j] = -b * g[j];
   vi_model *m = NULL;
   int st = vi_model_create(4, &m);
   if (!st) st = vi_model_set_mass(m, M, 4);
   if (!st) st = vi_model_set_damping(m, C, 4);
   if (!st) st = vi_model_set_stiffness(m, K, 4);
   if (!st) st = vi_model_set_forcing(m, 0.85, a, NULL, NULL);
-  if (!st) st = vi_model_set_stop(m, w, p[1], p[0]);
+  if (!st) st = vi_model_set_stop(m, w, xs, r);
   if (!st) st = vi_model_setup(m);
   if (st) vi_model_destroy(&m);
   *out = m;
   return st;
+}
+
+typedef struct bctx { int calls; } bctx;
+static int build_r(const double *p, void *user, vi_model **out)
+{
+  ((bctx *)user)->calls++;
+  return beam_model(p[0], p[1], 0.01, out);
 }
 
 static void beam_r_xs(void **state)
@@ -300,20 +307,7 @@ static void beam_jitter(void **state)
 static int build_rb(const double *p, void *user, vi_model **out)
 {
   (void)user;
-  double M[16], C[16], K[16], w[4], g[4], a[4];
-  vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g);
-  for (int j = 0; j < 4; j++) a[j] = -p[1] * g[j];
-  vi_model *m = NULL;
-  int st = vi_model_create(4, &m);
-  if (!st) st = vi_model_set_mass(m, M, 4);
-  if (!st) st = vi_model_set_damping(m, C, 4);
-  if (!st) st = vi_model_set_stiffness(m, K, 4);
-  if (!st) st = vi_model_set_forcing(m, 0.85, a, NULL, NULL);
-  if (!st) st = vi_model_set_stop(m, w, 0.05, p[0]);
-  if (!st) st = vi_model_setup(m);
-  if (st) vi_model_destroy(&m);
-  *out = m;
-  return st;
+  return beam_model(p[0], 0.05, p[1], out);
 }
 
 /* A naive amplitude: the beam's base amplitude (truth 0.01) from 0.005
