@@ -56,11 +56,12 @@ static void start_range(const vi_identify *id, int j, double *a, double *b, int 
   double h = p0 != 0.0 ? 0.5 * fabs(p0) : 0.5;
   if (id->widen < 0.0 && id->kind[j] == VI_IDENTIFY_OTHER &&
       (!isfinite(lo) || !isfinite(hi) || (lo > 0.0 && hi >= 10.0 * lo))) {
-    /* about a minimum (p0 its value): +-50 % within the bounds, where
-     * they are open or decades apart (not r's [0, 1]: five starts cover
-     * it, and the minimum's r may be the wrong one) */
-    lo = fmax(id->lo[j], p0 - h);
-    hi = fmin(id->hi[j], p0 + h);
+    /* about a minimum (p0 its value): +-|widen| of it within the bounds,
+     * where they are open or decades apart (not r's [0, 1]: five starts
+     * cover it, and the minimum's r may be the wrong one) */
+    double hz = p0 != 0.0 ? -id->widen * fabs(p0) : h;
+    lo = fmax(id->lo[j], p0 - hz);
+    hi = fmin(id->hi[j], p0 + hz);
   }
   if (id->widen > 0.0 && vi_id_open_key(id, j)) {
     if (!isfinite(lo)) lo = fmax(id->lo[j], p0 / id->widen);

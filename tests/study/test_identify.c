@@ -211,9 +211,10 @@ static void beam_noise(void **state)
 
 /* r and x_s together, and the exact derivative against a builder's
  * differenced one (the same optimum and errors). */
-/* The 4-mode beam (vi_test_beam) with restitution r, clearance xs and
- * base amplitude b, built as a builder must: a status, never an abort. */
-static int beam_model(double r, double xs, double b, vi_model **out)
+/* The 4-mode beam (vi_test_beam) forced at om with restitution r,
+ * clearance xs and base amplitude b, built as a builder must: a status,
+ * never an abort. */
+static int beam_model(double om, double r, double xs, double b, vi_model **out)
 {
   double M[16], C[16], K[16], w[4], g[4], a[4];
   vi_build_cantilever(4, 1.0, 0.05, 1.0, M, C, K, 4, w, g);
@@ -223,7 +224,7 @@ static int beam_model(double r, double xs, double b, vi_model **out)
   if (!st) st = vi_model_set_mass(m, M, 4);
   if (!st) st = vi_model_set_damping(m, C, 4);
   if (!st) st = vi_model_set_stiffness(m, K, 4);
-  if (!st) st = vi_model_set_forcing(m, 0.85, a, NULL, NULL);
+  if (!st) st = vi_model_set_forcing(m, om, a, NULL, NULL);
   if (!st) st = vi_model_set_stop(m, w, xs, r);
   if (!st) st = vi_model_setup(m);
   if (st) vi_model_destroy(&m);
@@ -235,7 +236,7 @@ typedef struct bctx { int calls; } bctx;
 static int build_r(const double *p, void *user, vi_model **out)
 {
   ((bctx *)user)->calls++;
-  return beam_model(p[0], p[1], 0.01, out);
+  return beam_model(0.85, p[0], p[1], 0.01, out);
 }
 
 static void beam_r_xs(void **state)
@@ -307,7 +308,14 @@ static void beam_jitter(void **state)
 static int build_rb(const double *p, void *user, vi_model **out)
 {
   (void)user;
-  return beam_model(p[0], 0.05, p[1], out);
+  return beam_model(0.85, p[0], 0.05, p[1], out);
+}
+
+/* Omega, r and the base amplitude by a builder. */
+static int build_orb(const double *p, void *user, vi_model **out)
+{
+  (void)user;
+  return beam_model(p[0], p[1], 0.05, p[2], out);
 }
 
 /* A naive amplitude: the beam's base amplitude (truth 0.01) from 0.005
@@ -1013,6 +1021,60 @@ static void beam_accel_rate(void **state)
   vi_model_destroy(&m);
 }
 
+/* The forcing frequency, r and the base amplitude from the accelerometer
+ * (beam4_acc_rate.csv, 61.3 samples a period, 0.2 % noise) from Omega
+ * 1.3, r 0.5 and half the base.  The searches about the best minimum
+ * (+-50 %) end on a P(1,3) at base 0.01043 at 14 noise levels: the
+ * recording's P(1,1) exists for bases within a few per cent of 0.01 and
+ * the grid's starts lie 20 % apart.  Searched again closer about that
+ * minimum (+-25 %, then +-12.5 %) while it does not explain the data, the
+ * fit ends on the truth: all three within 3 standard errors, the residual
+ * at the noise.  (From a base of 0.003 the +-50 % searches happen to
+ * reach it.) */
+static void beam_accel_naive(void **state)
+{
+  (void)state;
+  static rec r;
+  load("beam4_acc_rate.csv", &r);
+  vi_model *m = vi_test_beam(4, 0.05, 0.75);
+  double lo = HUGE_VAL, hi = -HUGE_VAL, *a = malloc(sizeof(double) * r.ns);
+  for (int i = 0; i < r.ns; i++) {
+    lo = fmin(lo, r.a[i]);
+    hi = fmax(hi, r.a[i]);
+  }
+  double sig = 0.002 * (hi - lo), p[3], se[3], rms;
+  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(g, 31);
+  for (int i = 0; i < r.ns; i++) a[i] = r.a[i] + gsl_ran_gaussian(g, sig);
+  gsl_rng_free(g);
+  vi_identify *id = NULL;
+  int n, mm;
+  assert_int_equal(vi_identify_create(m, 3, &id), VI_OK);
+  assert_int_equal(vi_identify_set_builder(id, build_orb, NULL, NULL), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_OMEGA, 0, 1.3, 0.0, HUGE_VAL),
+                   VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_OTHER, 0, 0.5, 0, 1), VI_OK);
+  assert_int_equal(vi_identify_set_param(id, 2, VI_IDENTIFY_OTHER, 0, 0.005, -HUGE_VAL,
+                                         HUGE_VAL), VI_OK);
+  assert_int_equal(vi_identify_set_sensors(id, r.ns, r.t, NULL, NULL, a), VI_OK);
+  int st = vi_identify_run(id);
+  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+  assert_int_equal(st, VI_OK);
+  assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
+  assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, &n, &mm), VI_OK);
+  print_message("accel from Omega 1.3, base 0.005: Omega %.8f +- %.1e, r %.5f +- %.1e, "
+                "base %.7f +- %.1e, P(%d,%d), rms / noise %.3f\n", p[0], se[0], p[1], se[1],
+                p[2], se[2], n, mm, rms / sig);
+  assert_true(n == 1 && mm == 1);
+  assert_true(fabs(p[0] - 0.85) < 3 * se[0]);
+  assert_true(fabs(p[1] - 0.75) < 3 * se[1]);
+  assert_true(fabs(p[2] - 0.01) < 3 * se[2]);
+  assert_close(rms / sig, 1.0, 0.1);
+  vi_identify_destroy(&id);
+  free(a);
+  vi_model_destroy(&m);
+}
+
 /* Sensors elsewhere (issue 28): Fig. 2 recorded at mass 1 (x_1; the stop
  * is on x_2), 0.2 % noise over 20 periods, r from 0.5; the velocity of
  * x_2 alone; and both masses at once (x_1 with x_2 as an added channel:
@@ -1080,7 +1142,7 @@ int main(void)
       cmocka_unit_test(forcing_phase), cmocka_unit_test(beam_global),
       cmocka_unit_test(beam_not_unique), cmocka_unit_test(beam_accel),
       cmocka_unit_test(beam_accel_rate), cmocka_unit_test(beam_base_naive),
-      cmocka_unit_test(outliers),
+      cmocka_unit_test(outliers),      cmocka_unit_test(beam_accel_naive),
       cmocka_unit_test(fig2_sensors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
