@@ -535,7 +535,8 @@ static int global_again(vi_identify *id, int nd, double widen)
  * noise levels, where the recording's P(1,1) at r = 0.75 exists only for
  * bases within 5 % of 0.01), and where the best does not explain the data
  * (explained) and a key has no bounds, with such keys spread a factor 4,
- * then 8, either way of the start in log, each new best searched about
+ * 8, then 16 (a damping ratio of 0.05 from 0.5), either way of the start
+ * in log, each new best searched about
  * again, a best that does not explain the data closer (+-25 %, +-12.5 %:
  * the grid's starts 20 % apart missed a window of a few per cent); all
  * the minima ranked together.  (No one grid served: of 12 fits
@@ -544,7 +545,7 @@ static int global_again(vi_identify *id, int nd, double widen)
  * 10 without the searches about the best, 14 with them.) */
 static int widen_retry(vi_identify *id, int nd)
 {
-  static const double factor[2] = {4.0, 8.0};
+  static const double factor[3] = {4.0, 8.0, 16.0};
   int open = 0, other = 0, st = VI_OK;
   /* the sum of squares of the best searched about: searched again where
    * a new best lowers it by more than a noise variance (not the same
@@ -554,7 +555,7 @@ static int widen_retry(vi_identify *id, int nd)
     open |= vi_id_open_key(id, j);
     other |= id->kind[j] == VI_IDENTIFY_OTHER;
   }
-  for (int k = 0, nre = 0; k <= 2 && other && !st; k++) {
+  for (int k = 0, nre = 0; k <= 3 && other && !st; k++) {
     double zoom = 0.5;
     while (!st && id->nsol > 0 && nre < 6) {
       if (id->sol[0].ssr < centred - s2) zoom = 0.5; /* a new best */
@@ -564,7 +565,7 @@ static int widen_retry(vi_identify *id, int nd)
       nre++;
       st = global_again(id, nd, -zoom);
     }
-    if (st || k == 2 || !open || explained(id)) break;
+    if (st || k == 3 || !open || explained(id)) break;
     st = global_again(id, nd, factor[k]);
   }
   return st;
@@ -572,8 +573,8 @@ static int widen_retry(vi_identify *id, int nd)
 
 /* The message of a global search that found nothing: why the last start
  * failed, and the ranges the starts covered, which the value lies outside
- * or between (the 4-mode beam's damping ratio 0.05 from 0.5: 0.0625 to 4
- * at the widest). */
+ * or between (the 4-mode beam's damping ratio 0.05 from 1.0: 0.0625 to
+ * 16 at the widest). */
 static void searched(vi_identify *id, const char *why)
 {
   char r[160] = ""; /* with why's first 250: the message fits */
