@@ -197,11 +197,18 @@ VI_API int vi_identify_add_channel(vi_identify *id, const double *c, int order,
  *  for one parameter, 5 x 5 for two, a Halton design of 8 np points for
  *  more; over r in [0, 1], a stop observed through its own gap
  *  coordinate within 5 % of the recording's span of its top, the given
- *  bounds, or +-50 % of the start where there are none:
- *  vi_identify_search_range), at each the model's orbits with the
- *  recording's period (its transient and the impact-phase scan) scored
- *  against the recording, and the least squares from the best of each
- *  orbit type and the next best distinct ones (2 + np fits in all).
+ *  bounds (in log where positive and a decade or more apart), or +-50 %
+ *  of the start where there are none: vi_identify_search_range), at each
+ *  the model's orbits with the recording's period (its transient and the
+ *  impact-phase scan) scored against the recording, and the least squares
+ *  from the best of each orbit type and the next best distinct ones (2 +
+ *  np fits in all).  With VI_IDENTIFY_OTHER parameters the stage runs
+ *  again about the best minimum (+-50 % of those whose bounds are open or
+ *  decades apart; +-25 % and +-12.5 % about a best whose residual exceeds
+ *  1.5 noise levels), and where the best still exceeds it, with the
+ *  parameters that have a positive start and an open side spread a factor
+ *  4, 8, then 16 either way of it; the minima of every stage are ranked
+ *  together.
  *  Every distinct minimum whose displacement residual the noise explains
  *  (SSR <= s^2 chi2_0.95(ns - P), s the noise or the best's residual
  *  level if larger) is a solution (vi_identify_nsolutions), best first.
@@ -277,8 +284,9 @@ VI_API int vi_identify_solution_summary(const vi_identify *id, int k, int *n,
  *  pointer may be NULL.  @return VI_OK, VI_ERR_ARG, VI_ERR_STATE. */
 VI_API int vi_identify_solution_separation(const vi_identify *id, int k,
                                            double *d, double *length);
-/** The ranges [lo, hi] [np] the global stage's starts covered (the
- *  starting values themselves without it). */
+/** The ranges [lo, hi] [np] the global stage's starts covered, every
+ *  stage of the last run together (the starting values themselves
+ *  without it). */
 VI_API int vi_identify_search_range(const vi_identify *id, double *lo,
                                     double *hi);
 /** The fitted (or held) shift *t0 and its standard error *se (0 if held).

@@ -810,8 +810,9 @@ int vi_identify_solution_separation(const vi_identify *id, int k, double *d,
 int vi_identify_search_range(const vi_identify *id, double *lo, double *hi)
 {
   NEED_DONE(id);
-  if (lo) memcpy(lo, id->glo, sizeof(double) * id->np);
-  if (hi) memcpy(hi, id->ghi, sizeof(double) * id->np);
+  /* every stage's (a stage that found nothing new covered them too) */
+  if (lo) memcpy(lo, id->nsearch ? id->slo : id->glo, sizeof(double) * id->np);
+  if (hi) memcpy(hi, id->nsearch ? id->shi : id->ghi, sizeof(double) * id->np);
   return VI_OK;
 }
 

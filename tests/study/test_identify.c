@@ -360,6 +360,14 @@ static void beam_base_naive(void **state)
     assert_true(fabs(p[0] - 0.75) < 3 * se[0]);
     assert_true(fabs(p[1] - 0.01) < 3 * se[1]);
     assert_true(rms < 1.05 * nz);
+    /* the range every stage searched: with no bounds, 8 times the start
+     * either way (the stage that found the P(1,2)); within bounds, them */
+    double lo[2], hi[2];
+    assert_int_equal(vi_identify_search_range(id, lo, hi), VI_OK);
+    print_message("  searched r %g to %g, b %g to %g\n", lo[0], hi[0], lo[1], hi[1]);
+    assert_true(lo[0] == 0.0 && hi[0] == 1.0);
+    assert_close(lo[1], k ? 0.001 : 0.005 / 8, 1e-12);
+    assert_close(hi[1], k ? 0.1 : 0.005 * 8, 1e-12);
     vi_identify_destroy(&id);
   }
   series_free(&s);
