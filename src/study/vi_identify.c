@@ -477,12 +477,12 @@ static int explained(const vi_identify *id)
   return id->nsol > 0 && !(id->sol[0].rms > 1.5 * id->noise);
 }
 
-/* The global stage once more, its starts spread a factor `widen` either
+/* The global stage once more: its starts spread a factor `widen` either
  * way of the given start in log over the keys with no natural range, or
- * (widen < 0) +-50 % about the best minimum's values of the keys with no
- * natural range, bounded or not (the bounds may be decades apart); its
- * minima ranked with those found before (the search range reported: what
- * all the stages covered). */
+ * (widen < 0) |widen| either way of the best minimum's values over those
+ * keys whose bounds are open or decades apart; its minima ranked with
+ * those found before (vi_identify_search_range: what every stage
+ * searched). */
 static int global_again(vi_identify *id, int nd, double widen)
 {
   vi_id_sol *keep = id->sol;
@@ -525,24 +525,22 @@ static int global_again(vi_identify *id, int nd, double widen)
   return VI_OK;
 }
 
-/* A key with no natural range spread over +-50 % of a start 3 to 10 times
- * off the truth (a naive guess of a forcing amplitude) may give the local
- * fits no start in the recording's orbit's basin, or one only in another
- * orbit's that explains the data nearly as well; so may bounds decades
- * apart.  So the global stage again about the best minimum, such keys
- * +-50 % of its values (they may hold the right amplitude with the wrong
- * orbit: the cantilever's base 0.0100 with a P(1,2) at r = 0.32 and 1.03
- * noise levels, where the recording's P(1,1) at r = 0.75 exists only for
- * bases within 5 % of 0.01), and where the best does not explain the data
- * (explained) and a key has no bounds, with such keys spread a factor 4,
- * 8, then 16 (a damping ratio of 0.05 from 0.5), either way of the start
- * in log, each new best searched about
- * again, a best that does not explain the data closer (+-25 %, +-12.5 %:
- * the grid's starts 20 % apart missed a window of a few per cent); all
- * the minima ranked together.  (No one grid served: of 12 fits
- * from such guesses, 6 ended right with +-50 %, 7 with a factor 4 alone,
- * 8 with 8 alone, 11 with the three in turn; of 14, doc/identify.md's,
- * 10 without the searches about the best, 14 with them.) */
+/* A naive guess of an amplitude or a damping (3 to 16 times off) may
+ * give the local fits no start in the recording's orbit's basin, or one
+ * only in another orbit's that explains the data nearly as well; so may
+ * bounds decades apart.  So the global stage runs again:
+ *  - about the best minimum, +-50 % of its values (they may hold the
+ *    right amplitude with the wrong orbit: the cantilever's base 0.0100
+ *    with a P(1,2) at r = 0.32 and 1.03 noise levels, where the
+ *    recording's P(1,1) at r = 0.75 exists only within 5 % of 0.01), and
+ *    again about each new best;
+ *  - closer, +-25 % then +-12.5 %, about a best that does not explain the
+ *    data (starts 20 % apart missed a window of a few per cent);
+ *  - where the best still does not, with the open keys spread a factor
+ *    4, 8, then 16 either way of the start in log.
+ * All the minima are ranked together.  (No one grid served: of 14 fits
+ * from such guesses, doc/identify.md's, 10 ended right without the
+ * searches about the best, 14 with them.) */
 static int widen_retry(vi_identify *id, int nd)
 {
   static const double factor[3] = {4.0, 8.0, 16.0};

@@ -394,6 +394,10 @@ int vi_id_global(vi_identify *id, int nd)
   }
   int om_nd[4 * MAX_N], nq = om_starts(id, nd, om_at, om_nd), npo = np - (id->jom >= 0);
   int ns = starts(npo, u), jo = id->jom;
+  /* about a minimum: its own forcing frequency (the first, nearest it),
+   * each period multiple there; the others were searched before */
+  for (int q = 1; id->widen < 0.0 && q < nq; q++)
+    if (om_at[q] != om_at[0]) nq = q;
   if (nq * ns > 8 * MAXP) nq = ns >= 8 * MAXP ? 1 : 8 * MAXP / ns; /* the candidates' room */
   double cell = npo <= 1 ? 1.0 / 8 : npo == 2 ? 1.0 / 5 : pow(1.0 / ns, 1.0 / npo);
   for (int q = 0; q < nq && !st; q++)
