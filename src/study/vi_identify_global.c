@@ -141,8 +141,9 @@ static double om_dist(const vi_identify *id, double w)
  * may be a multiple of the recording's own period: an accelerometer's
  * samples, out of step with the forcing, line up only there).  Those in
  * its range into om, nd [4 MAX_N], nearest the given frequency first,
- * the smaller d first; their number.  One, the given frequency (or none,
- * NaN) with nd0, where none is in the range or it is not fitted. */
+ * the smaller d first (about a minimum, the nearest alone); their number.
+ * One, the given frequency (or none, NaN) with nd0, where none is in the
+ * range or it is not fitted. */
 static int om_starts(const vi_identify *id, int nd0, double *om, int *nd)
 {
   int jo = id->jom, nq = 0;
@@ -168,6 +169,10 @@ static int om_starts(const vi_identify *id, int nd0, double *om, int *nd)
       om[b - 1] = w;
       nd[b - 1] = d;
     }
+  /* about a minimum (id->widen < 0): its own frequency alone, with each
+   * period multiple there; the others were searched before */
+  for (int q = 1; id->widen < 0.0 && q < nq; q++)
+    if (om[q] != om[0]) return q;
   return nq;
 }
 
@@ -282,16 +287,9 @@ static int response_of(vi_identify *id, const vi_id_sol *a, double *y)
 {
   vi_model *m = NULL;
   vi_xflow *xf = NULL;
-  int N = id->N, st = vi_id_make_model(id, a->p, &m);
+  int st = vi_id_make_model(id, a->p, &m);
   if (!st) st = vi_xflow_create(m, &xf);
-  double *z = st ? NULL : malloc(sizeof(double) * 4 * N);
-  if (!st && !z) st = VI_ERR_NOMEM;
-  for (int i = 0; !st && i < id->ns; i++) {
-    double s = id->t[i] + a->t0;
-    vi_id_orbit_state(m, xf, &a->o, s, z, z + (size_t)2 * N, NULL, NULL, NULL);
-    y[i] = vi_id_channel(id, m, s, z, id->ych, z + (size_t)2 * N);
-  }
-  free(z);
+  if (!st) st = vi_id_first_channel(id, m, xf, &a->o, a->t0, y);
   vi_xflow_destroy(&xf);
   vi_model_destroy(&m);
   return st;
@@ -394,10 +392,6 @@ int vi_id_global(vi_identify *id, int nd)
   }
   int om_nd[4 * MAX_N], nq = om_starts(id, nd, om_at, om_nd), npo = np - (id->jom >= 0);
   int ns = starts(npo, u), jo = id->jom;
-  /* about a minimum: its own forcing frequency (the first, nearest it),
-   * each period multiple there; the others were searched before */
-  for (int q = 1; id->widen < 0.0 && q < nq; q++)
-    if (om_at[q] != om_at[0]) nq = q;
   if (nq * ns > 8 * MAXP) nq = ns >= 8 * MAXP ? 1 : 8 * MAXP / ns; /* the candidates' room */
   double cell = npo <= 1 ? 1.0 / 8 : npo == 2 ? 1.0 / 5 : pow(1.0 / ns, 1.0 / npo);
   for (int q = 0; q < nq && !st; q++)

@@ -133,6 +133,8 @@ void vi_id_orbit_state(const vi_model *m, const vi_xflow *xf, const orb *o,
                        double *tauo, double *ko);
 double vi_id_channel(const vi_identify *id, const vi_model *m, double s,
                      const double *z, int order, double *work);
+int vi_id_first_channel(const vi_identify *id, const vi_model *m, const vi_xflow *xf,
+                        const orb *o, double t0, double *y);
 int vi_id_nres(const vi_identify *id);
 void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,
                  double *t0);

@@ -205,6 +205,23 @@ double vi_id_channel(const vi_identify *id, const vi_model *m, double s,
   return chan(id->N, id->c, m, s, z, order, work);
 }
 
+/* The first channel of the motion o of m (xf its flow) shifted by t0 at
+ * every sample of the recording into y [ns]; VI_OK or VI_ERR_NOMEM. */
+int vi_id_first_channel(const vi_identify *id, const vi_model *m, const vi_xflow *xf,
+                        const orb *o, double t0, double *y)
+{
+  int N = id->N;
+  double *w = malloc(sizeof(double) * 6 * N);
+  if (!w) return VI_ERR_NOMEM;
+  for (int i = 0; i < id->ns; i++) {
+    double s = id->t[i] + t0;
+    vi_id_orbit_state(m, xf, o, s, w, w + (size_t)2 * N, NULL, NULL, NULL);
+    y[i] = vi_id_channel(id, m, s, w, id->ych, w + (size_t)4 * N);
+  }
+  free(w);
+  return VI_OK;
+}
+
 /* The parameters and shift of the fit's vector th (held ones at their
  * values). */
 void vi_id_split(const vi_identify *id, const gsl_vector *th, double *p,

@@ -221,14 +221,14 @@ int vi_identify_outliers(const vi_identify *id, double level, int cap, int *idx,
   if (count) *count = 0;
   if (rest) *rest = NAN;
   if (!(id->noise > 0.0) || !isfinite(id->noise)) return VI_OK;
-  int N = id->N, n = 0;
-  double *w = malloc(sizeof(double) * 6 * N), ss = 0.0;
-  if (!w) return VI_ERR_NOMEM;
+  int n = 0;
+  double *m = malloc(sizeof(double) * id->ns), ss = 0.0;
+  if (!m || vi_id_first_channel(id, id->cur, id->xf, &id->o, id->t0, m)) {
+    free(m);
+    return VI_ERR_NOMEM;
+  }
   for (int i = 0; i < id->ns; i++) {
-    double s = id->t[i] + id->t0;
-    vi_id_orbit_state(id->cur, id->xf, &id->o, s, w, w + (size_t)2 * N, NULL, NULL, NULL);
-    double d = fabs(id->y[i] - vi_id_channel(id, id->cur, s, w, id->ych, w + (size_t)4 * N)) /
-               id->noise;
+    double d = fabs(id->y[i] - m[i]) / id->noise;
     if (!(d > level)) {
       ss += d * d;
       continue;
@@ -245,7 +245,7 @@ int vi_identify_outliers(const vi_identify *id, double level, int cap, int *idx,
     }
     n++;
   }
-  free(w);
+  free(m);
   if (count) *count = n;
   if (rest && n < id->ns) *rest = sqrt(ss / (id->ns - n));
   return VI_OK;

@@ -102,6 +102,14 @@ static double peak_to_peak(const rec *r)
   return hi - lo;
 }
 
+/* vi_identify_run, its message shown where it fails. */
+static void run_ok(vi_identify *id)
+{
+  int st = vi_identify_run(id);
+  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
+  assert_int_equal(st, VI_OK);
+}
+
 /* Fit r (from r0) of the model m to s; the results. */
 typedef struct fit {
   double p[2], se[2], lo[2], hi[2], t0, rms, noise;
@@ -117,9 +125,7 @@ static fit fit_rg(const vi_model *m, const series *s, double r0, int with_v,
   assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, r0, 0, 1), VI_OK);
   assert_int_equal(vi_identify_set_global(id, global), VI_OK);
   assert_int_equal(vi_identify_set_data(id, s->ns, s->t, s->x, with_v ? s->v : NULL), VI_OK);
-  int st = vi_identify_run(id);
-  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-  assert_int_equal(st, VI_OK);
+  run_ok(id);
   assert_int_equal(vi_identify_params(id, f.p, f.se, f.lo, f.hi, f.flags), VI_OK);
   assert_int_equal(vi_identify_shift(id, &f.t0, NULL), VI_OK);
   assert_int_equal(vi_identify_summary(id, &f.conv, &f.iters, &f.rms, &f.noise,
@@ -259,9 +265,7 @@ static void beam_r_xs(void **state)
     assert_int_equal(vi_identify_set_param(id, 0, kr, 0, 0.7, 0, 1), VI_OK);
     assert_int_equal(vi_identify_set_param(id, 1, kx, 0, 0.0495, 0.03, 0.07), VI_OK);
     assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
-    int st = vi_identify_run(id);
-    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-    assert_int_equal(st, VI_OK);
+    run_ok(id);
     assert_int_equal(vi_identify_params(id, p[way], se[way], NULL, NULL, NULL), VI_OK);
     assert_int_equal(vi_identify_correlation(id, R, 2), VI_OK);
     assert_close(R[0], 1.0, 1e-12);
@@ -348,9 +352,7 @@ static void beam_base_naive(void **state)
     assert_int_equal(vi_identify_set_param(id, 1, VI_IDENTIFY_OTHER, 0, b0[k], blo[k],
                                            bhi[k]), VI_OK);
     assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
-    int st = vi_identify_run(id);
-    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-    assert_int_equal(st, VI_OK);
+    run_ok(id);
     assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
     assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, &nz, NULL, &n, &mm), VI_OK);
     print_message("base from %g in [%g, %g]: r %.5f +- %.1e, b %.7f +- %.1e, P(%d,%d), "
@@ -400,9 +402,7 @@ static void outliers(void **state)
     assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
     assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.6, 0, 1), VI_OK);
     assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
-    int st = vi_identify_run(id);
-    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-    assert_int_equal(st, VI_OK);
+    run_ok(id);
     int idx[2] = {-1, -1}, n = -1;
     double z[2] = {NAN, NAN}, rest = NAN, nz;
     assert_int_equal(vi_identify_summary(id, NULL, NULL, NULL, &nz, NULL, NULL, NULL), VI_OK);
@@ -778,9 +778,7 @@ static void beam_global(void **state)
     assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
     assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, r0[k], 0, 1), VI_OK);
     assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
-    int st = vi_identify_run(id);
-    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-    assert_int_equal(st, VI_OK);
+    run_ok(id);
     assert_int_equal(vi_identify_params(id, &p, &se, &l, &h, &fl), VI_OK);
     assert_int_equal(vi_identify_profile(id, &pl, &ph, &pfl), VI_OK);
     assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, &n, &mm), VI_OK);
@@ -869,9 +867,7 @@ static void beam_not_unique(void **state)
   assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.35, 0, 1), VI_OK);
   assert_int_equal(vi_identify_set_global(id, 0), VI_OK);
   assert_int_equal(vi_identify_set_data(id, s.ns, s.t, s.x, NULL), VI_OK);
-  int st = vi_identify_run(id);
-  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-  assert_int_equal(st, VI_OK);
+  run_ok(id);
   double p12, rms, ratio;
   int n12, m12;
   assert_int_equal(vi_identify_params(id, &p12, NULL, NULL, NULL, NULL), VI_OK);
@@ -913,9 +909,7 @@ static void beam_accel(void **state)
     assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
     assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
     assert_int_equal(vi_identify_set_sensors(id, s.ns, s.t, way ? s.x : NULL, NULL, sa.x), VI_OK);
-    int st = vi_identify_run(id);
-    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-    assert_int_equal(st, VI_OK);
+    run_ok(id);
     assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
     assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, &nz, NULL, NULL, NULL), VI_OK);
     double sig = 0.002 * (way ? peak_to_peak(&r) : hi - lo);
@@ -935,6 +929,27 @@ static void beam_accel(void **state)
   vi_model_destroy(&m);
 }
 
+/* The beam's tip acceleration (beam4_acc_rate.csv, 1226 samples at 61.3
+ * a period) into r, and a copy with noise of 0.2 % of its span (seed 31),
+ * *sig, returned (the caller frees it). */
+static double *accel_record(rec *r, double *sig)
+{
+  load("beam4_acc_rate.csv", r);
+  assert_int_equal(r->ns, 1226);
+  double lo = HUGE_VAL, hi = -HUGE_VAL, *a = malloc(sizeof(double) * r->ns);
+  assert_non_null(a);
+  for (int i = 0; i < r->ns; i++) {
+    lo = fmin(lo, r->a[i]);
+    hi = fmax(hi, r->a[i]);
+  }
+  *sig = 0.002 * (hi - lo);
+  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(g, 31);
+  for (int i = 0; i < r->ns; i++) a[i] = r->a[i] + gsl_ran_gaussian(g, *sig);
+  gsl_rng_free(g);
+  return a;
+}
+
 /* An accelerometer sampled at a rate not locked to the forcing (issue 28
  * item 4): the independent recording of the tip's w.x'' at 61.3 samples
  * per period over 20 periods, 0.2 % noise.  No two periods share sample
@@ -947,28 +962,15 @@ static void beam_accel_rate(void **state)
 {
   (void)state;
   static rec r;
-  load("beam4_acc_rate.csv", &r);
-  assert_int_equal(r.ns, 1226);
+  double sig, *a = accel_record(&r, &sig);
   vi_model *m = vi_test_beam(4, 0.05, 0.75);
-  double lo = HUGE_VAL, hi = -HUGE_VAL, *a = malloc(sizeof(double) * r.ns);
-  for (int i = 0; i < r.ns; i++) {
-    lo = fmin(lo, r.a[i]);
-    hi = fmax(hi, r.a[i]);
-  }
-  double sig = 0.002 * (hi - lo);
-  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(g, 31);
-  for (int i = 0; i < r.ns; i++) a[i] = r.a[i] + gsl_ran_gaussian(g, sig);
-  gsl_rng_free(g);
   vi_identify *id = NULL;
   double p, se, rms, nz;
   int n, mm;
   assert_int_equal(vi_identify_create(m, 1, &id), VI_OK);
   assert_int_equal(vi_identify_set_param(id, 0, VI_IDENTIFY_R, 0, 0.5, 0, 1), VI_OK);
   assert_int_equal(vi_identify_set_sensors(id, r.ns, r.t, NULL, NULL, a), VI_OK);
-  int st = vi_identify_run(id);
-  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-  assert_int_equal(st, VI_OK);
+  run_ok(id);
   assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
   assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, &nz, NULL, &n, &mm), VI_OK);
   print_message("accel at 61.3 per period: r %.5f +- %.5f, P(%d,%d), rms %.3g, noise "
@@ -1044,18 +1046,8 @@ static void beam_accel_naive(void **state)
 {
   (void)state;
   static rec r;
-  load("beam4_acc_rate.csv", &r);
+  double sig, *a = accel_record(&r, &sig), p[3], se[3], rms;
   vi_model *m = vi_test_beam(4, 0.05, 0.75);
-  double lo = HUGE_VAL, hi = -HUGE_VAL, *a = malloc(sizeof(double) * r.ns);
-  for (int i = 0; i < r.ns; i++) {
-    lo = fmin(lo, r.a[i]);
-    hi = fmax(hi, r.a[i]);
-  }
-  double sig = 0.002 * (hi - lo), p[3], se[3], rms;
-  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(g, 31);
-  for (int i = 0; i < r.ns; i++) a[i] = r.a[i] + gsl_ran_gaussian(g, sig);
-  gsl_rng_free(g);
   vi_identify *id = NULL;
   int n, mm;
   assert_int_equal(vi_identify_create(m, 3, &id), VI_OK);
@@ -1065,9 +1057,7 @@ static void beam_accel_naive(void **state)
   assert_int_equal(vi_identify_set_param(id, 2, VI_IDENTIFY_OTHER, 0, 0.005, -HUGE_VAL,
                                          HUGE_VAL), VI_OK);
   assert_int_equal(vi_identify_set_sensors(id, r.ns, r.t, NULL, NULL, a), VI_OK);
-  int st = vi_identify_run(id);
-  if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-  assert_int_equal(st, VI_OK);
+  run_ok(id);
   assert_int_equal(vi_identify_params(id, p, se, NULL, NULL, NULL), VI_OK);
   assert_int_equal(vi_identify_summary(id, NULL, NULL, &rms, NULL, NULL, &n, &mm), VI_OK);
   print_message("accel from Omega 1.3, base 0.005: Omega %.8f +- %.1e, r %.5f +- %.1e, "
@@ -1122,9 +1112,7 @@ static void fig2_sensors(void **state)
       assert_int_equal(vi_identify_set_data(id, s1.ns, s1.t, s1.x, NULL), VI_OK);
       assert_int_equal(vi_identify_add_channel(id, c2, 0, s3.x), VI_OK);
     }
-    int st = vi_identify_run(id);
-    if (st) fprintf(stderr, "identify: %s\n", vi_identify_errmsg(id));
-    assert_int_equal(st, VI_OK);
+    run_ok(id);
     assert_int_equal(vi_identify_params(id, &p, &se, NULL, NULL, NULL), VI_OK);
     print_message("fig2 way %d r %.5f +- %.5f\n", way, p, se);
     assert_true(fabs(p - 0.7) < 3 * se && se < 0.02);
